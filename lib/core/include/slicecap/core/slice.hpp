@@ -1,0 +1,94 @@
+// Slices (METHOD.md 2): the two kinds, the measured elevation pairs, samples at arbitrary azimuths.
+#pragma once
+
+#include <array>
+#include <compare>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "slicecap/core/grid.hpp"
+#include "slicecap/core/rgb.hpp"
+
+namespace slicecap {
+
+/// \brief Axial: camera and light keep phi_v = phi_i + 15 deg. Diagonal: phi_i = 360 - phi_v.
+enum class SliceKind { Axial, Diagonal };
+
+/// \brief The axial slice's azimuth offset alpha_A (the paper's alpha).
+inline constexpr double kAxialOffsetDeg = 15.0;
+
+/// \brief "axial" or "diagonal" (the spelling of the slice CSV).
+std::string_view toString(SliceKind kind);
+/// \brief The kind spelled exactly "axial" or "diagonal", or nullopt.
+std::optional<SliceKind> parseSliceKind(std::string_view text);
+
+/// \brief Nominal light and view elevations of a slice, whole degrees.
+struct ElevationPair {
+  int thetaIDeg = 0;
+  int thetaVDeg = 0;
+  friend constexpr auto operator<=>(const ElevationPair&, const ElevationPair&) = default;
+};
+
+/// \brief The four pairs the rig measures (METHOD.md 2.1), in this order.
+inline constexpr std::array<ElevationPair, 4> kMeasuredPairs{
+    {{30, 30}, {30, 75}, {75, 30}, {75, 75}}};
+/// \brief The elevations the rig measures; Method B interpolates and extrapolates from them.
+inline constexpr std::array<int, 2> kMeasuredElevationsDeg{30, 75};
+
+/// \brief Which slice: kind and nominal elevation pair.
+struct SliceId {
+  SliceKind kind = SliceKind::Diagonal;
+  ElevationPair elevations;
+  friend constexpr auto operator<=>(const SliceId&, const SliceId&) = default;
+};
+
+/// \brief e.g. "axial 30/75".
+std::string toString(const SliceId& id);
+
+/// \brief One measured (or simulated) BRDF sample at its actual light and view directions.
+struct SliceSample {
+  Direction light;
+  Direction view;
+  Rgb value;  ///< linear BRDF, 1/sr
+};
+
+/// \brief The light and view azimuths of a point on a slice's line.
+struct AzimuthPair {
+  double phiIDeg = 0.0;
+  double phiVDeg = 0.0;
+};
+
+/// \brief The slice parameter of a sample: its light azimuth on an axial slice, its view azimuth on
+/// a diagonal slice (METHOD.md 2.1), in [0, 360).
+double sliceParameterDeg(SliceKind kind, const SliceSample& sample);
+
+/// \brief The point of the slice line at a parameter: axial (x, x + 15), diagonal (360 - x, x),
+/// both wrapped to [0, 360).
+AzimuthPair slicePoint(SliceKind kind, double parameterDeg);
+
+/// \brief One slice: its identity and its samples in capture order.
+struct Slice {
+  SliceId id;
+  std::vector<SliceSample> samples;
+};
+
+/// \brief The slices of one material (up to 8 in a full capture; any subset is representable).
+/// Slices are kept ordered by SliceId; an empty slice is never stored.
+class SliceSet {
+ public:
+  /// \brief Appends a sample to the slice `id`, creating the slice on first use.
+  void add(const SliceId& id, const SliceSample& sample);
+  /// \brief The slice with this id, or nullptr when it has no samples.
+  const Slice* find(const SliceId& id) const;
+  const std::vector<Slice>& slices() const { return slices_; }
+  std::size_t sampleCount() const;
+  bool empty() const { return slices_.empty(); }
+
+ private:
+  std::vector<Slice> slices_;
+};
+
+}  // namespace slicecap

@@ -1,0 +1,56 @@
+// Slice kinds, ids and the SliceSet container.
+#include "slicecap/core/slice.hpp"
+
+#include <algorithm>
+
+#include "slicecap/core/angles.hpp"
+
+namespace slicecap {
+
+std::string_view toString(SliceKind kind) {
+  return kind == SliceKind::Axial ? "axial" : "diagonal";
+}
+
+std::optional<SliceKind> parseSliceKind(std::string_view text) {
+  if (text == "axial") return SliceKind::Axial;
+  if (text == "diagonal") return SliceKind::Diagonal;
+  return std::nullopt;
+}
+
+std::string toString(const SliceId& id) {
+  return std::string(toString(id.kind)) + " " + std::to_string(id.elevations.thetaIDeg) + "/" +
+         std::to_string(id.elevations.thetaVDeg);
+}
+
+double sliceParameterDeg(SliceKind kind, const SliceSample& sample) {
+  return wrapDeg360(kind == SliceKind::Axial ? sample.light.phiDeg : sample.view.phiDeg);
+}
+
+AzimuthPair slicePoint(SliceKind kind, double parameterDeg) {
+  if (kind == SliceKind::Axial) {
+    return {wrapDeg360(parameterDeg), wrapDeg360(parameterDeg + kAxialOffsetDeg)};
+  }
+  return {wrapDeg360(360.0 - parameterDeg), wrapDeg360(parameterDeg)};
+}
+
+void SliceSet::add(const SliceId& id, const SliceSample& sample) {
+  auto it = std::lower_bound(slices_.begin(), slices_.end(), id,
+                             [](const Slice& s, const SliceId& key) { return s.id < key; });
+  if (it == slices_.end() || it->id != id) it = slices_.insert(it, Slice{id, {}});
+  it->samples.push_back(sample);
+}
+
+const Slice* SliceSet::find(const SliceId& id) const {
+  auto it = std::lower_bound(slices_.begin(), slices_.end(), id,
+                             [](const Slice& s, const SliceId& key) { return s.id < key; });
+  return (it != slices_.end() && it->id == id) ? &*it : nullptr;
+}
+
+std::size_t SliceSet::sampleCount() const {
+  std::size_t count = 0;
+  for (const Slice& s : slices_)
+    count += s.samples.size();
+  return count;
+}
+
+}  // namespace slicecap

@@ -1,0 +1,22 @@
+// Full 81 x 81 tables on disk: the raw .f32 of shared/data/nbrdf-bonn81, and EXR, chosen by
+// extension.
+#pragma once
+
+#include <filesystem>
+
+#include "slicecap/core/abrdf.hpp"
+
+namespace slicecap::io {
+
+/// \brief Reads 81 * 81 * 3 little-endian float32 values [light][view][rgb], no header. Throws
+/// IoError naming the path when it cannot be opened, has another size, or holds a non-finite value.
+Abrdf readF32Table(const std::filesystem::path& path);
+
+/// \brief Writes the raw little-endian float32 layout. Throws IoError naming the path on failure.
+void writeF32Table(const std::filesystem::path& path, const Abrdf& table);
+
+/// \brief A table from `.exr` (readAbrdfExr) or `.f32` (readF32Table); any other extension throws
+/// IoError.
+Abrdf readTable(const std::filesystem::path& path);
+
+}  // namespace slicecap::io

@@ -1,0 +1,132 @@
+// OpenEXR reading and writing of the ABRDF table.
+#include "slicecap/io/abrdf_exr.hpp"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+
+#include <cmath>
+#include <vector>
+
+#include "slicecap/core/version.hpp"
+#include "slicecap/io/io_error.hpp"
+
+namespace slicecap::io {
+namespace {
+
+constexpr const char* kPrefix = "slicecap:";
+constexpr const char* kChannels[3] = {"R", "G", "B"};
+constexpr int kSize = Abrdf::kDirections;
+
+IoError error(const std::filesystem::path& path, const std::string& what) {
+  return IoError(path.string() + ": " + what);
+}
+
+}  // namespace
+
+void writeAbrdfExr(const std::filesystem::path& path, const Abrdf& table,
+                   const ExrAttributes& attributes) {
+  Imf::Header header(kSize, kSize);
+  header.compression() = Imf::ZIP_COMPRESSION;
+  for (const char* name : kChannels)
+    header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+  ExrAttributes all = attributes;
+  all["layout"] = "bonn81";
+  all["quantity"] = "brdf";
+  all.try_emplace("version", kVersion);
+  for (const auto& [key, value] : all)
+    header.insert(kPrefix + key, Imf::StringAttribute(value));
+
+  // The frame buffer reads straight from the table: row = light, column = view, 3 floats a pixel.
+  const float* base = table.values().data();
+  constexpr std::size_t xStride = 3 * sizeof(float);
+  constexpr std::size_t yStride = xStride * kSize;
+  Imf::FrameBuffer frame;
+  for (int c = 0; c < 3; ++c) {
+    frame.insert(kChannels[c],
+                 Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(base + c)),
+                            xStride, yStride));
+  }
+  try {
+    Imf::OutputFile file(path.c_str(), header);
+    file.setFrameBuffer(frame);
+    file.writePixels(kSize);
+  } catch (const std::exception& e) {
+    throw error(path, std::string("cannot write EXR: ") + e.what());
+  }
+}
+
+Abrdf readAbrdfExr(const std::filesystem::path& path, ExrAttributes* attributes) {
+  Abrdf table;
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imf::Header& header = file.header();
+    const Imath::Box2i window = header.dataWindow();
+    const int width = window.max.x - window.min.x + 1;
+    const int height = window.max.y - window.min.y + 1;
+    if (width != kSize || height != kSize) {
+      throw error(path, "ABRDF EXR must be 81 x 81 (light rows x view columns), got " +
+                            std::to_string(height) + " x " + std::to_string(width));
+    }
+    for (const char* name : kChannels) {
+      if (!header.channels().findChannel(name)) {
+        throw error(path, std::string("ABRDF EXR has no channel ") + name + " (needs R, G, B)");
+      }
+    }
+    ExrAttributes found;
+    for (auto it = header.begin(); it != header.end(); ++it) {
+      const std::string name = it.name();
+      if (name.rfind(kPrefix, 0) != 0) continue;
+      if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) {
+        found[name.substr(std::string(kPrefix).size())] = s->value();
+      }
+    }
+    auto require = [&](const std::string& key, const std::string& expected) {
+      auto it = found.find(key);
+      if (it == found.end()) {
+        throw error(path, "missing header attribute " + std::string(kPrefix) + key +
+                              " (expected \"" + expected + "\"); is this a slicecap ABRDF?");
+      }
+      if (it->second != expected) {
+        throw error(path, "header attribute " + std::string(kPrefix) + key + " is \"" + it->second +
+                              "\", expected \"" + expected + "\"");
+      }
+    };
+    require("layout", "bonn81");
+    require("quantity", "brdf");
+
+    float* base = table.values().data();
+    constexpr std::size_t xStride = 3 * sizeof(float);
+    constexpr std::size_t yStride = xStride * kSize;
+    // OpenEXR addresses pixels by their data-window coordinates, so the base is shifted by its
+    // origin.
+    const std::ptrdiff_t originOffset = -std::ptrdiff_t(window.min.x) * std::ptrdiff_t(xStride) -
+                                        std::ptrdiff_t(window.min.y) * std::ptrdiff_t(yStride);
+    Imf::FrameBuffer frame;
+    for (int c = 0; c < 3; ++c) {
+      frame.insert(kChannels[c],
+                   Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + c) + originOffset, xStride,
+                              yStride));
+    }
+    file.setFrameBuffer(frame);
+    file.readPixels(window.min.y, window.max.y);
+    if (attributes) *attributes = std::move(found);
+  } catch (const IoError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw error(path, std::string("cannot read EXR: ") + e.what());
+  }
+  for (std::size_t i = 0; i < table.values().size(); ++i) {
+    if (!std::isfinite(table.values()[i])) {
+      const std::size_t pixel = i / 3;
+      throw error(path, "non-finite value at light " + std::to_string(pixel / kSize) + ", view " +
+                            std::to_string(pixel % kSize) + ", channel " + kChannels[i % 3]);
+    }
+  }
+  return table;
+}
+
+}  // namespace slicecap::io

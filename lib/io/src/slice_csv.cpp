@@ -1,0 +1,150 @@
+// Slice CSV reading (strict, with file:line errors) and writing.
+#include "slicecap/io/slice_csv.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "slicecap/core/version.hpp"
+#include "slicecap/io/io_error.hpp"
+
+namespace slicecap::io {
+namespace {
+
+constexpr std::array<const char*, 8> kColumns{"slice", "theta_i", "phi_i", "theta_v",
+                                              "phi_v", "r",       "g",     "b"};
+
+std::string_view trim(std::string_view s) {
+  const auto first = s.find_first_not_of(" \t\r");
+  if (first == std::string_view::npos) return {};
+  const auto last = s.find_last_not_of(" \t\r");
+  return s.substr(first, last - first + 1);
+}
+
+std::vector<std::string_view> splitFields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    fields.push_back(
+        trim(line.substr(start, comma == std::string_view::npos ? line.npos : comma - start)));
+    if (comma == std::string_view::npos) return fields;
+    start = comma + 1;
+  }
+}
+
+int nearestRingDeg(double thetaDeg) {
+  const int rounded = static_cast<int>(std::lround(thetaDeg / 15.0)) * 15;
+  return std::clamp(rounded, 0, 75);
+}
+
+}  // namespace
+
+ElevationPair nominalElevations(double thetaIDeg, double thetaVDeg) {
+  return {nearestRingDeg(thetaIDeg), nearestRingDeg(thetaVDeg)};
+}
+
+SliceSet parseSliceCsv(std::istream& in, const std::string& sourceName) {
+  std::string line;
+  int lineNumber = 0;
+  auto fail = [&](const std::string& what) {
+    return IoError(sourceName + ":" + std::to_string(lineNumber) + ": " + what);
+  };
+
+  std::array<int, kColumns.size()> columnOf{};
+  std::size_t headerFields = 0;
+  bool haveHeader = false;
+  SliceSet slices;
+  while (std::getline(in, line)) {
+    ++lineNumber;
+    const std::string_view text = trim(line);
+    if (text.empty() || text.front() == '#') continue;
+    const std::vector<std::string_view> fields = splitFields(text);
+    if (!haveHeader) {
+      headerFields = fields.size();
+      for (std::size_t k = 0; k < kColumns.size(); ++k) {
+        columnOf[k] = -1;
+        for (std::size_t f = 0; f < fields.size(); ++f) {
+          if (fields[f] == kColumns[k]) columnOf[k] = static_cast<int>(f);
+        }
+        if (columnOf[k] < 0) {
+          throw fail(std::string("header has no column '") + kColumns[k] +
+                     "' (expected slice,theta_i,phi_i,theta_v,phi_v,r,g,b)");
+        }
+      }
+      haveHeader = true;
+      continue;
+    }
+    if (fields.size() != headerFields) {
+      throw fail("expected " + std::to_string(headerFields) + " fields, got " +
+                 std::to_string(fields.size()) + " (truncated line?)");
+    }
+    const std::string_view kindText = fields[columnOf[0]];
+    const auto kind = parseSliceKind(kindText);
+    if (!kind)
+      throw fail("unknown slice kind '" + std::string(kindText) + "' (expected axial or diagonal)");
+    std::array<double, 7> numbers{};
+    for (std::size_t k = 1; k < kColumns.size(); ++k) {
+      const std::string_view field = fields[columnOf[k]];
+      double value = 0.0;
+      const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), value);
+      if (ec != std::errc() || end != field.data() + field.size() || field.empty()) {
+        throw fail(std::string("column ") + kColumns[k] + ": '" + std::string(field) +
+                   "' is not a number");
+      }
+      if (!std::isfinite(value))
+        throw fail(std::string("column ") + kColumns[k] + " is not finite");
+      numbers[k - 1] = value;
+    }
+    const double thetaIDeg = numbers[0], phiIDeg = numbers[1], thetaVDeg = numbers[2],
+                 phiVDeg = numbers[3];
+    for (std::size_t k : {1u, 3u}) {
+      if (numbers[k - 1] < 0.0 || numbers[k - 1] >= 90.0) {
+        throw fail(std::string(kColumns[k]) + " " + std::string(fields[columnOf[k]]) +
+                   " is outside [0, 90) deg");
+      }
+    }
+    slices.add({*kind, nominalElevations(thetaIDeg, thetaVDeg)},
+               {{thetaIDeg, phiIDeg}, {thetaVDeg, phiVDeg}, {numbers[4], numbers[5], numbers[6]}});
+  }
+  if (in.bad()) throw IoError(sourceName + ": read error");
+  if (!haveHeader) throw IoError(sourceName + ": empty slice CSV (no header line)");
+  if (slices.empty()) throw IoError(sourceName + ": slice CSV has a header but no samples");
+  return slices;
+}
+
+SliceSet readSliceCsv(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw IoError(path.string() + ": cannot open slice CSV");
+  return parseSliceCsv(in, path.string());
+}
+
+void writeSliceCsv(std::ostream& out, const SliceSet& slices) {
+  out << "# slicecap " << kVersion
+      << " slice samples; angles in degrees, r,g,b linear BRDF in 1/sr\n";
+  out << "slice,theta_i,phi_i,theta_v,phi_v,r,g,b\n";
+  char buffer[256];
+  for (const Slice& slice : slices.slices()) {
+    for (const SliceSample& s : slice.samples) {
+      std::snprintf(buffer, sizeof buffer, "%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
+                    std::string(toString(slice.id.kind)).c_str(), s.light.thetaDeg, s.light.phiDeg,
+                    s.view.thetaDeg, s.view.phiDeg, s.value.r(), s.value.g(), s.value.b());
+      out << buffer;
+    }
+  }
+}
+
+void writeSliceCsv(const std::filesystem::path& path, const SliceSet& slices) {
+  std::ofstream out(path);
+  if (!out) throw IoError(path.string() + ": cannot create slice CSV");
+  writeSliceCsv(out, slices);
+  out.flush();
+  if (!out) throw IoError(path.string() + ": write failed");
+}
+
+}  // namespace slicecap::io

@@ -1,0 +1,67 @@
+// Raw float32 tables and the extension-based table reader.
+#include "slicecap/io/table_file.hpp"
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <vector>
+
+#include "slicecap/io/abrdf_exr.hpp"
+#include "slicecap/io/io_error.hpp"
+
+namespace slicecap::io {
+namespace {
+
+constexpr std::size_t kBytes = Abrdf::kValueCount * sizeof(float);
+
+// The file is little-endian; the host may not be.
+std::uint32_t toLittleEndian(std::uint32_t v) {
+  if constexpr (std::endian::native == std::endian::little) return v;
+  return ((v & 0xffu) << 24) | ((v & 0xff00u) << 8) | ((v >> 8) & 0xff00u) | (v >> 24);
+}
+
+}  // namespace
+
+Abrdf readF32Table(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path.string() + ": cannot open table");
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() != kBytes) {
+    throw IoError(path.string() + ": a .f32 table must hold 81*81*3 float32 = " +
+                  std::to_string(kBytes) + " bytes, this one has " + std::to_string(bytes.size()));
+  }
+  Abrdf table;
+  std::span<float> values = table.values();
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    std::uint32_t word;
+    std::memcpy(&word, bytes.data() + i * sizeof(float), sizeof word);
+    values[i] = std::bit_cast<float>(toLittleEndian(word));
+    if (!std::isfinite(values[i])) {
+      throw IoError(path.string() + ": non-finite value at float index " + std::to_string(i));
+    }
+  }
+  return table;
+}
+
+void writeF32Table(const std::filesystem::path& path, const Abrdf& table) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw IoError(path.string() + ": cannot create table");
+  for (float v : table.values()) {
+    const std::uint32_t word = toLittleEndian(std::bit_cast<std::uint32_t>(v));
+    out.write(reinterpret_cast<const char*>(&word), sizeof word);
+  }
+  out.flush();
+  if (!out) throw IoError(path.string() + ": write failed");
+}
+
+Abrdf readTable(const std::filesystem::path& path) {
+  const std::string extension = path.extension().string();
+  if (extension == ".exr") return readAbrdfExr(path);
+  if (extension == ".f32") return readF32Table(path);
+  throw IoError(path.string() + ": unknown table format '" + extension +
+                "' (expected .exr or .f32)");
+}
+
+}  // namespace slicecap::io

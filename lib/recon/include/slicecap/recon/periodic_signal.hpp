@@ -1,0 +1,39 @@
+// A 360-degree periodic RGB signal known at arbitrary positions, read by periodic linear
+// interpolation.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "slicecap/core/rgb.hpp"
+
+namespace slicecap::recon {
+
+/// \brief One known value of a periodic signal.
+struct SignalPoint {
+  double positionDeg = 0.0;
+  Rgb value;
+};
+
+/// \brief A slice as a 2-pi periodic 1-D signal (METHOD.md 2.4). Positions are wrapped to [0, 360);
+/// points that share a position are averaged. Between neighbours (cyclically) the value is linear.
+class PeriodicSignal {
+ public:
+  /// \brief Throws std::invalid_argument when `points` is empty or holds a non-finite number.
+  explicit PeriodicSignal(std::span<const SignalPoint> points);
+
+  /// \brief The interpolated value at any position (wrapped first).
+  Rgb at(double positionDeg) const;
+
+  /// \brief Per-channel minimum and maximum over the known points.
+  const Rgb& minimum() const { return minimum_; }
+  const Rgb& maximum() const { return maximum_; }
+  /// \brief The distinct known points, sorted by position.
+  const std::vector<SignalPoint>& points() const { return points_; }
+
+ private:
+  std::vector<SignalPoint> points_;
+  Rgb minimum_, maximum_;
+};
+
+}  // namespace slicecap::recon

@@ -1,0 +1,154 @@
+// Method B: two interpolation steps (views, then lights), each weighted by a fitted elevation lobe.
+#include "slicecap/recon/method_b.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+
+#include "slicecap/recon/errors.hpp"
+
+namespace slicecap::recon {
+namespace {
+
+constexpr std::array<int, 6> kAllElevationsDeg{0, 15, 30, 45, 60, 75};
+constexpr int kLowDeg = kMeasuredElevationsDeg[0];
+constexpr int kHighDeg = kMeasuredElevationsDeg[1];
+
+bool isMeasured(int thetaDeg) {
+  return thetaDeg == kLowDeg || thetaDeg == kHighDeg;
+}
+
+// Known data of one elevation pair: its block, its monospectral mean, and the monospectral values
+// of the samples it was measured from (empty for pairs predicted in step 1).
+struct PairData {
+  Subspace block;
+  double mean = 0.0;
+  std::vector<double> sampleValues;
+};
+
+// The fitted lobe of one line through a low and a high pair, by Ceres, with the closed form as the
+// checked fallback. Measured pairs contribute every sample, predicted ones their model mean.
+ElevationLobe fitLine(const std::string& line, const PairData& low, const PairData& high,
+                      const LobeFitParams& params, MethodBReport* report) {
+  std::vector<ElevationSample> samples;
+  for (auto [pair, thetaDeg] : {std::pair{&low, kLowDeg}, std::pair{&high, kHighDeg}}) {
+    if (pair->sampleValues.empty()) samples.push_back({double(thetaDeg), pair->mean});
+    for (double v : pair->sampleValues)
+      samples.push_back({double(thetaDeg), v});
+  }
+  LineFit record{line, fitElevationLobe(samples, params), false};
+  ElevationLobe lobe = record.fit.lobe;
+  if (!record.fit.converged) {
+    lobe = closedFormLobe(kLowDeg, low.mean, kHighDeg, high.mean, params.minimumValue);
+    record.usedClosedForm = true;
+  }
+  if (report) report->fits.push_back(std::move(record));
+  return lobe;
+}
+
+// The block at `targetDeg` along a line, from the known low and high blocks (METHOD.md 4.2).
+// `resample` moves a known block to the target elevation along the varying direction.
+template <typename Resample>
+Subspace interpolateAlongLine(const ElevationLobe& lobe, const Subspace& low, const Subspace& high,
+                              int targetDeg, Resample resample) {
+  const double fLow = lobe.shape(kLowDeg);
+  const double fHigh = lobe.shape(kHighDeg);
+  const double fTarget = lobe.shape(targetDeg);
+  if (targetDeg < kLowDeg) return resample(low, targetDeg).scale(fTarget / fLow);
+  double t = std::abs(fHigh - fLow) < 1e-12 ? double(targetDeg - kLowDeg) / (kHighDeg - kLowDeg)
+                                            : (fTarget - fLow) / (fHigh - fLow);
+  t = std::clamp(t, 0.0, 1.0);
+  return Subspace::blend(resample(low, targetDeg), resample(high, targetDeg), t);
+}
+
+Subspace resampleViews(const Subspace& s, int thetaDeg) {
+  return s.resampledToViewElevation(thetaDeg);
+}
+Subspace resampleLights(const Subspace& s, int thetaDeg) {
+  return s.resampledToLightElevation(thetaDeg);
+}
+
+}  // namespace
+
+bool MethodBReport::allConverged() const {
+  return std::all_of(fits.begin(), fits.end(), [](const LineFit& f) { return f.fit.converged; });
+}
+
+Abrdf reconstructMethodB(const SliceSet& slices, const MethodBParams& params,
+                         MethodBReport* report) {
+  std::string error;
+  if (!params.fit.isValid(&error)) throw std::invalid_argument("Method B: " + error);
+
+  std::string missing;
+  for (ElevationPair pair : kMeasuredPairs) {
+    for (SliceKind kind : {SliceKind::Axial, SliceKind::Diagonal}) {
+      if (params.isotropic && kind == SliceKind::Axial) continue;
+      if (!slices.find({kind, pair}))
+        missing += (missing.empty() ? "" : ", ") + toString(SliceId{kind, pair});
+    }
+  }
+  if (!missing.empty()) {
+    throw ReconstructionError(
+        "Method B needs every measured slice; missing: " + missing +
+        (params.isotropic ? "" : " (use --isotropic with diagonal slices only)"));
+  }
+
+  // Known blocks keyed by (theta_i, theta_v); step 1 adds the predicted ones.
+  std::map<ElevationPair, PairData> known;
+  for (ElevationPair pair : kMeasuredPairs) {
+    const Slice* diagonal = slices.find({SliceKind::Diagonal, pair});
+    const Slice* axial = params.isotropic ? nullptr : slices.find({SliceKind::Axial, pair});
+    PairData data{axial ? reconstructSubspace(*axial, *diagonal, params.torusRule)
+                        : reconstructIsotropicSubspace(*diagonal, params.torusRule),
+                  0.0,
+                  {}};
+    // Every sample counts at its pair's nominal elevations: the lobe is a curve over the line's
+    // varying elevation, and a capture's jittered angles belong to the pair they were taken for.
+    for (const Slice* slice : {diagonal, axial}) {
+      if (!slice) continue;
+      for (const SliceSample& s : slice->samples)
+        data.sampleValues.push_back(s.value.mean());
+    }
+    double sum = 0.0;
+    for (double v : data.sampleValues)
+      sum += v;
+    data.mean = sum / double(data.sampleValues.size());
+    known.emplace(pair, std::move(data));
+  }
+
+  // Step 1: views, at each measured light elevation.
+  for (int thetaIDeg : kMeasuredElevationsDeg) {
+    const PairData& low = known.at({thetaIDeg, kLowDeg});
+    const PairData& high = known.at({thetaIDeg, kHighDeg});
+    const ElevationLobe lobe =
+        fitLine("views at theta_i " + std::to_string(thetaIDeg), low, high, params.fit, report);
+    for (int thetaVDeg : kAllElevationsDeg) {
+      if (isMeasured(thetaVDeg)) continue;
+      PairData predicted{
+          interpolateAlongLine(lobe, low.block, high.block, thetaVDeg, resampleViews),
+          low.mean * lobe.shape(thetaVDeg) / lobe.shape(kLowDeg),
+          {}};
+      known.emplace(ElevationPair{thetaIDeg, thetaVDeg}, std::move(predicted));
+    }
+  }
+  // Step 2: lights, at every view elevation.
+  Abrdf table;
+  for (int thetaVDeg : kAllElevationsDeg) {
+    const PairData& low = known.at({kLowDeg, thetaVDeg});
+    const PairData& high = known.at({kHighDeg, thetaVDeg});
+    const ElevationLobe lobe =
+        fitLine("lights at theta_v " + std::to_string(thetaVDeg), low, high, params.fit, report);
+    low.block.writeTo(table);
+    high.block.writeTo(table);
+    for (int thetaIDeg : kAllElevationsDeg) {
+      if (isMeasured(thetaIDeg)) continue;
+      interpolateAlongLine(lobe, low.block, high.block, thetaIDeg, resampleLights).writeTo(table);
+    }
+  }
+  for (float& v : table.values())
+    v = std::max(v, 0.0f);
+  return table;
+}
+
+}  // namespace slicecap::recon

@@ -1,0 +1,92 @@
+// Simulated acquisition: slice samples read off a full table at their exact azimuths.
+#include "slicecap/recon/slice_extraction.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+#include "slicecap/core/angles.hpp"
+
+namespace slicecap::recon {
+namespace {
+
+struct RingWeight {
+  int azimuthIndex;
+  double weight;
+};
+
+// The one or two ring positions that make up an azimuth, with their weights.
+std::array<RingWeight, 2> ringWeights(const Ring& ring, double phiDeg, AzimuthLookup lookup) {
+  if (ring.count == 1) return {{{0, 1.0}, {0, 0.0}}};
+  const double position = wrapDeg360(phiDeg) / ring.stepDeg();
+  int lower = static_cast<int>(std::floor(position));
+  const double f = position - lower;
+  lower %= ring.count;
+  const int upper = (lower + 1) % ring.count;
+  if (lookup == AzimuthLookup::Nearest) return {{{f > 0.5 ? upper : lower, 1.0}, {0, 0.0}}};
+  return {{{lower, 1.0 - f}, {upper, f}}};
+}
+
+}  // namespace
+
+std::vector<GridWeight> lookupWeights(ElevationPair elevations, const AzimuthPair& azimuths,
+                                      AzimuthLookup lookup) {
+  const Ring& lightRing = bonn::ringAt(elevations.thetaIDeg);
+  const Ring& viewRing = bonn::ringAt(elevations.thetaVDeg);
+  std::vector<GridWeight> weights;
+  for (const RingWeight& l : ringWeights(lightRing, azimuths.phiIDeg, lookup)) {
+    if (l.weight == 0.0) continue;
+    for (const RingWeight& v : ringWeights(viewRing, azimuths.phiVDeg, lookup)) {
+      if (v.weight == 0.0) continue;
+      weights.push_back(
+          {lightRing.index(l.azimuthIndex), viewRing.index(v.azimuthIndex), l.weight * v.weight});
+    }
+  }
+  return weights;
+}
+
+Rgb sampleTable(const Abrdf& table, ElevationPair elevations, const AzimuthPair& azimuths,
+                AzimuthLookup lookup) {
+  Rgb value;
+  for (const GridWeight& w : lookupWeights(elevations, azimuths, lookup))
+    value += table.at(w.light, w.view) * w.weight;
+  return value;
+}
+
+bool ExtractionParams::isValid(std::string* error) const {
+  if (!stepDeg) return true;
+  const double count = 360.0 / *stepDeg;
+  if (!std::isfinite(count) || count < 2.0 || count > 360.0 ||
+      std::abs(count - std::round(count)) > 1e-9) {
+    if (error) *error = "slice step must divide 360 deg into 2 to 360 equal parts";
+    return false;
+  }
+  return true;
+}
+
+int samplesPerSlice(ElevationPair pair, const ExtractionParams& params) {
+  if (params.stepDeg) return static_cast<int>(std::lround(360.0 / *params.stepDeg));
+  return std::max(bonn::ringAt(pair.thetaIDeg).count, bonn::ringAt(pair.thetaVDeg).count);
+}
+
+SliceSet extractSlices(const Abrdf& table, const ExtractionParams& params) {
+  std::string error;
+  if (!params.isValid(&error)) throw std::invalid_argument(error);
+  SliceSet slices;
+  for (ElevationPair pair : kMeasuredPairs) {
+    const int count = samplesPerSlice(pair, params);
+    for (SliceKind kind : {SliceKind::Axial, SliceKind::Diagonal}) {
+      if (params.diagonalOnly && kind == SliceKind::Axial) continue;
+      for (int k = 0; k < count; ++k) {
+        const AzimuthPair at = slicePoint(kind, k * 360.0 / count);
+        slices.add({kind, pair}, {{double(pair.thetaIDeg), at.phiIDeg},
+                                  {double(pair.thetaVDeg), at.phiVDeg},
+                                  sampleTable(table, pair, at, params.lookup)});
+      }
+    }
+  }
+  return slices;
+}
+
+}  // namespace slicecap::recon

@@ -1,0 +1,118 @@
+// Subspace blocks: extraction from and insertion into the table, ring resampling and blending.
+#include "slicecap/recon/subspace.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace slicecap::recon {
+
+Subspace::Subspace(ElevationPair elevations)
+    : elevations_(elevations),
+      lightRing_(&bonn::ringAt(elevations.thetaIDeg)),
+      viewRing_(&bonn::ringAt(elevations.thetaVDeg)),
+      values_(std::size_t(lightRing_->count) * viewRing_->count) {}
+
+Subspace Subspace::fromTable(const Abrdf& table, ElevationPair elevations) {
+  Subspace s(elevations);
+  for (int p = 0; p < s.lightRing_->count; ++p) {
+    for (int q = 0; q < s.viewRing_->count; ++q) {
+      s.at(p, q) = table.at(s.lightRing_->index(p), s.viewRing_->index(q));
+    }
+  }
+  return s;
+}
+
+void Subspace::writeTo(Abrdf& table) const {
+  for (int p = 0; p < lightRing_->count; ++p) {
+    for (int q = 0; q < viewRing_->count; ++q) {
+      table.set(lightRing_->index(p), viewRing_->index(q), at(p, q));
+    }
+  }
+}
+
+namespace {
+
+// Where target azimuth k of ring `to` falls on a ring of `fromCount` azimuths: two neighbours and
+// the weight of the second. To a ring of one the caller averages instead.
+struct RingTap {
+  int lower, upper;
+  double weight;
+};
+
+std::vector<RingTap> ringTaps(int fromCount, const Ring& to) {
+  std::vector<RingTap> taps(to.count);
+  const double fromStepDeg = 360.0 / fromCount;
+  for (int k = 0; k < to.count; ++k) {
+    const double position = to.azimuthDeg(k) / fromStepDeg;
+    const int j = static_cast<int>(std::floor(position));
+    taps[k] = {j % fromCount, (j + 1) % fromCount, position - j};
+  }
+  return taps;
+}
+
+// Resamples the values value(0..fromCount-1) of one ring onto `to`, writing out(k).
+template <typename Get, typename Put>
+void resampleInto(int fromCount, const Ring& to, const std::vector<RingTap>& taps, Get value,
+                  Put out) {
+  if (to.count == 1) {
+    Rgb sum;
+    for (int j = 0; j < fromCount; ++j)
+      sum += value(j);
+    out(0, sum * (1.0 / fromCount));
+    return;
+  }
+  for (int k = 0; k < to.count; ++k)
+    out(k, lerp(value(taps[k].lower), value(taps[k].upper), taps[k].weight));
+}
+
+}  // namespace
+
+std::vector<Rgb> resampleRing(const std::vector<Rgb>& values, const Ring& to) {
+  const int from = static_cast<int>(values.size());
+  if (from == 0) throw std::invalid_argument("resampleRing: empty ring");
+  std::vector<Rgb> out(to.count);
+  resampleInto(
+      from, to, ringTaps(from, to), [&](int j) { return values[j]; },
+      [&](int k, const Rgb& v) { out[k] = v; });
+  return out;
+}
+
+Subspace Subspace::resampledToViewElevation(int thetaVDeg) const {
+  Subspace out({elevations_.thetaIDeg, thetaVDeg});
+  const std::vector<RingTap> taps = ringTaps(viewRing_->count, *out.viewRing_);
+  for (int p = 0; p < lightRing_->count; ++p) {
+    resampleInto(
+        viewRing_->count, *out.viewRing_, taps, [&](int q) { return at(p, q); },
+        [&](int q, const Rgb& v) { out.at(p, q) = v; });
+  }
+  return out;
+}
+
+Subspace Subspace::resampledToLightElevation(int thetaIDeg) const {
+  Subspace out({thetaIDeg, elevations_.thetaVDeg});
+  const std::vector<RingTap> taps = ringTaps(lightRing_->count, *out.lightRing_);
+  for (int q = 0; q < viewRing_->count; ++q) {
+    resampleInto(
+        lightRing_->count, *out.lightRing_, taps, [&](int p) { return at(p, q); },
+        [&](int p, const Rgb& v) { out.at(p, q) = v; });
+  }
+  return out;
+}
+
+Subspace& Subspace::scale(double factor) {
+  for (Rgb& v : values_)
+    v *= factor;
+  return *this;
+}
+
+Subspace Subspace::blend(const Subspace& a, const Subspace& b, double t) {
+  if (a.elevations_ != b.elevations_) {
+    throw std::invalid_argument("Subspace::blend: blocks of different elevations");
+  }
+  Subspace out(a.elevations_);
+  for (std::size_t i = 0; i < out.values_.size(); ++i)
+    out.values_[i] = lerp(a.values_[i], b.values_[i], t);
+  return out;
+}
+
+}  // namespace slicecap::recon

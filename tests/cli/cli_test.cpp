@@ -1,0 +1,95 @@
+// The command line: exit codes, help, and the generate -> sample -> reconstruct -> compare
+// pipeline.
+#include "slicecap/cli/cli.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "../support/test_support.hpp"
+#include "slicecap/io/abrdf_exr.hpp"
+
+namespace slicecap::cli {
+namespace {
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+Result run(std::vector<std::string> args) {
+  std::ostringstream out, err;
+  const int code = runCli(args, out, err);
+  return {code, out.str(), err.str()};
+}
+
+TEST(Cli, HelpAndVersionSucceed) {
+  EXPECT_EQ(run({"--help"}).code, kExitOk);
+  EXPECT_NE(run({"--help"}).out.find("reconstruct"), std::string::npos);
+  EXPECT_EQ(run({"--version"}).code, kExitOk);
+  for (const char* command : {"reconstruct", "sample", "compare", "generate"}) {
+    const Result r = run({command, "--help"});
+    EXPECT_EQ(r.code, kExitOk) << command;
+    EXPECT_NE(r.out.find("usage: slicecap"), std::string::npos) << command;
+  }
+}
+
+TEST(Cli, BadUsageExitsWithTwo) {
+  EXPECT_EQ(run({}).code, kExitUsage);
+  EXPECT_EQ(run({"frobnicate"}).code, kExitUsage);
+  EXPECT_EQ(run({"reconstruct"}).code, kExitUsage) << "missing SLICES.csv";
+  EXPECT_EQ(run({"reconstruct", "a.csv"}).code, kExitUsage) << "missing -o";
+  EXPECT_EQ(run({"reconstruct", "a.csv", "-o"}).code, kExitUsage) << "-o without a value";
+  EXPECT_EQ(run({"reconstruct", "a.csv", "-o", "x.exr", "--method", "z"}).code, kExitUsage);
+  EXPECT_EQ(run({"sample", "t.f32", "-o", "s.csv", "--step", "seven"}).code, kExitUsage);
+  EXPECT_EQ(run({"sample", "t.f32", "-o", "s.csv", "--step", "7"}).code, kExitUsage);
+  const Result r = run({"compare", "a.exr", "b.exr", "--colour"});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_NE(r.err.find("unknown option --colour"), std::string::npos) << r.err;
+}
+
+TEST(Cli, FailuresExitWithOneAndNameTheInput) {
+  const auto dir = test::freshTempDir();
+  const Result r =
+      run({"reconstruct", (dir / "missing.csv").string(), "-o", (dir / "x.exr").string()});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_NE(r.err.find("missing.csv"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.exr"));
+}
+
+TEST(Cli, TheWholeOfflinePipelineRuns) {
+  const auto dir = test::freshTempDir();
+  const std::string truth = (dir / "truth.exr").string(), slices = (dir / "s.csv").string(),
+                    result = (dir / "r.exr").string();
+  ASSERT_EQ(run({"generate", "brushed-steel-30", "-o", truth}).code, kExitOk);
+  ASSERT_EQ(run({"sample", truth, "-o", slices}).code, kExitOk);
+  const Result rec = run({"reconstruct", slices, "-o", result, "--json"});
+  ASSERT_EQ(rec.code, kExitOk) << rec.err;
+  const auto summary = nlohmann::json::parse(rec.out);
+  EXPECT_EQ(summary["samples"], 168);
+  EXPECT_EQ(summary["all_fits_converged"], true);
+  io::ExrAttributes attributes;
+  io::readAbrdfExr(result, &attributes);
+  EXPECT_EQ(attributes.at("method"), "B");
+  const Result cmp = run({"compare", truth, result, "--json"});
+  ASSERT_EQ(cmp.code, kExitOk) << cmp.err;
+  const auto metrics = nlohmann::json::parse(cmp.out);
+  EXPECT_GT(metrics["psnr_db"].get<double>(), 15.0);
+  EXPECT_LT(metrics["delta_e"].get<double>(), 10.0);
+}
+
+TEST(Cli, IsotropicReconstructionFromDiagonalSlicesOnly) {
+  const auto dir = test::freshTempDir();
+  const std::string truth = (dir / "t.f32").string(), slices = (dir / "s.csv").string();
+  ASSERT_EQ(run({"generate", "blue-plastic", "-o", truth}).code, kExitOk);
+  ASSERT_EQ(run({"sample", truth, "-o", slices, "--diagonal-only"}).code, kExitOk);
+  EXPECT_EQ(run({"reconstruct", slices, "-o", (dir / "a.exr").string()}).code, kExitFailure)
+      << "the full method needs the axial slices";
+  EXPECT_EQ(run({"reconstruct", slices, "-o", (dir / "i.exr").string(), "--isotropic"}).code,
+            kExitOk);
+}
+
+}  // namespace
+}  // namespace slicecap::cli

@@ -1,0 +1,79 @@
+// The Bonn grid: ring layout, index round trips and the file-name anchors of METHOD.md 1.2.
+#include "slicecap/core/grid.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "slicecap/core/angles.hpp"
+
+namespace slicecap {
+namespace {
+
+TEST(BonnGrid, HasEightyOneDirectionsInSixRings) {
+  int total = 0;
+  for (const Ring& ring : bonn::kRings) {
+    EXPECT_EQ(ring.firstIndex, total);
+    total += ring.count;
+  }
+  EXPECT_EQ(total, 81);
+  EXPECT_EQ(bonn::kRings[5].stepDeg(), 15.0);
+  EXPECT_EQ(bonn::kRings[4].stepDeg(), 18.0);
+}
+
+TEST(BonnGrid, IndexAndDirectionRoundTrip) {
+  std::set<std::pair<double, double>> seen;
+  for (int i = 0; i < bonn::kDirectionCount; ++i) {
+    const Direction d = bonn::direction(i);
+    EXPECT_EQ(bonn::indexOf(d), i);
+    EXPECT_TRUE(seen.insert({d.thetaDeg, d.phiDeg}).second) << "duplicate direction at " << i;
+    EXPECT_GE(d.phiDeg, 0.0);
+    EXPECT_LT(d.phiDeg, 360.0);
+  }
+}
+
+TEST(BonnGrid, MatchesTheUbo2003FileNameAnchors) {
+  // "00008 tl000 pl000 tv030 pv030": view (30, 30) is index 8.
+  EXPECT_EQ(bonn::indexOf({30, 30}), 8);
+  // "00162 tl015 pl060 tv000 pv000": light (15, 60) is index 2.
+  EXPECT_EQ(bonn::indexOf({15, 60}), 2);
+  EXPECT_EQ(bonn::indexOf({75, 345}), 80);
+  EXPECT_EQ(bonn::indexOf({0, 123}), 0) << "the pole ignores azimuth";
+  EXPECT_EQ(bonn::indexOf({45, 360 + 20}), 20) << "azimuths are wrapped";
+}
+
+TEST(BonnGrid, RejectsDirectionsOffTheGrid) {
+  EXPECT_THROW(bonn::indexOf({30, 15}), std::invalid_argument);
+  EXPECT_THROW(bonn::indexOf({40, 0}), std::invalid_argument);
+  EXPECT_THROW(bonn::direction(81), std::out_of_range);
+  EXPECT_THROW(bonn::direction(-1), std::out_of_range);
+  EXPECT_THROW(bonn::ringAt(50), std::invalid_argument);
+  EXPECT_FALSE(bonn::ringOfElevation(29.9).has_value());
+}
+
+TEST(Directions, VectorRoundTrip) {
+  for (int i = 0; i < bonn::kDirectionCount; ++i) {
+    const Direction d = bonn::direction(i);
+    const UnitVector v = toUnitVector(d);
+    EXPECT_NEAR(v.x * v.x + v.y * v.y + v.z * v.z, 1.0, 1e-12);
+    const Direction back = toDirection(v);
+    EXPECT_NEAR(back.thetaDeg, d.thetaDeg, 1e-9);
+    if (d.thetaDeg > 0) {
+      EXPECT_NEAR(azimuthDifferenceDeg(back.phiDeg, d.phiDeg), 0.0, 1e-9);
+    }
+  }
+  EXPECT_THROW(toDirection({0, 0, 0}), std::invalid_argument);
+}
+
+TEST(Angles, WrapAndDifference) {
+  EXPECT_DOUBLE_EQ(wrapDeg360(-15.0), 345.0);
+  EXPECT_DOUBLE_EQ(wrapDeg360(720.0), 0.0);
+  EXPECT_LT(wrapDeg360(-1e-14), 360.0);
+  EXPECT_DOUBLE_EQ(azimuthDifferenceDeg(10.0, 350.0), 20.0);
+  EXPECT_DOUBLE_EQ(azimuthDifferenceDeg(350.0, 10.0), -20.0);
+  EXPECT_NEAR(radToDeg(degToRad(75.0)), 75.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace slicecap
