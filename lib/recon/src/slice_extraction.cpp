@@ -6,41 +6,30 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "slicecap/core/angles.hpp"
+#include "slicecap/core/grid_interpolation.hpp"
 
 namespace slicecap::recon {
 namespace {
 
-struct RingWeight {
-  int azimuthIndex;
-  double weight;
-};
-
-// The one or two ring positions that make up an azimuth, with their weights.
-std::array<RingWeight, 2> ringWeights(const Ring& ring, double phiDeg, AzimuthLookup lookup) {
-  if (ring.count == 1) return {{{0, 1.0}, {0, 0.0}}};
-  const double position = wrapDeg360(phiDeg) / ring.stepDeg();
-  int lower = static_cast<int>(std::floor(position));
-  const double f = position - lower;
-  lower %= ring.count;
-  const int upper = (lower + 1) % ring.count;
-  if (lookup == AzimuthLookup::Nearest) return {{{f > 0.5 ? upper : lower, 1.0}, {0, 0.0}}};
-  return {{{lower, 1.0 - f}, {upper, f}}};
+// The ring taps of an azimuth under the lookup rule; nearest breaks exact half-step ties toward the
+// lower index.
+std::array<DirectionTap, 2> ringTaps(const Ring& ring, double phiDeg, AzimuthLookup lookup) {
+  const std::array<DirectionTap, 2> taps = ringAzimuthTaps(ring, phiDeg);
+  if (lookup == AzimuthLookup::Linear) return taps;
+  return {{{taps[1].weight > 0.5 ? taps[1].index : taps[0].index, 1.0}, {taps[0].index, 0.0}}};
 }
 
 }  // namespace
 
 std::vector<GridWeight> lookupWeights(ElevationPair elevations, const AzimuthPair& azimuths,
                                       AzimuthLookup lookup) {
-  const Ring& lightRing = bonn::ringAt(elevations.thetaIDeg);
-  const Ring& viewRing = bonn::ringAt(elevations.thetaVDeg);
   std::vector<GridWeight> weights;
-  for (const RingWeight& l : ringWeights(lightRing, azimuths.phiIDeg, lookup)) {
+  for (const DirectionTap& l :
+       ringTaps(bonn::ringAt(elevations.thetaIDeg), azimuths.phiIDeg, lookup)) {
     if (l.weight == 0.0) continue;
-    for (const RingWeight& v : ringWeights(viewRing, azimuths.phiVDeg, lookup)) {
-      if (v.weight == 0.0) continue;
-      weights.push_back(
-          {lightRing.index(l.azimuthIndex), viewRing.index(v.azimuthIndex), l.weight * v.weight});
+    for (const DirectionTap& v :
+         ringTaps(bonn::ringAt(elevations.thetaVDeg), azimuths.phiVDeg, lookup)) {
+      if (v.weight != 0.0) weights.push_back({l.index, v.index, l.weight * v.weight});
     }
   }
   return weights;

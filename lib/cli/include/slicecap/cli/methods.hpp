@@ -1,0 +1,47 @@
+// The reconstruction methods the commands offer, by name (`--method b`, `eval --methods b,a`).
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "slicecap/core/abrdf.hpp"
+#include "slicecap/core/slice.hpp"
+#include "slicecap/recon/slice_sum.hpp"
+
+namespace slicecap::cli {
+
+/// \brief Options every method receives; a method ignores what does not apply to it.
+struct MethodOptions {
+  bool isotropic = false;  ///< only the diagonal slices are measured (eq. 5)
+  recon::TorusRule torusRule = recon::TorusRule::FundamentalSquare;
+};
+
+/// \brief What a method produced: the table and what a person or a script should know about it.
+struct MethodRun {
+  Abrdf table;
+  std::string exrMethodName;          ///< `slicecap:method` of the EXR, e.g. "B-isotropic"
+  std::vector<std::string> warnings;  ///< printed on stderr (e.g. a fit that did not converge)
+  std::vector<std::string> lines;     ///< a human summary, printed on stdout
+  nlohmann::json details;             ///< the same for --json
+};
+
+/// \brief A named method: `run` throws (e.g. recon::ReconstructionError naming a missing slice)
+/// when the samples cannot give a table.
+struct Method {
+  std::string name;
+  std::string summary;
+  std::function<MethodRun(const SliceSet&, const MethodOptions&)> run;
+};
+
+/// \brief Every method, in the order --help lists them.
+const std::vector<Method>& reconstructionMethods();
+
+/// \brief The method of this name; UsageError listing the known names otherwise.
+const Method& findMethod(const std::string& name);
+
+/// \brief "b, a, ..." for help texts.
+std::string methodNames();
+
+}  // namespace slicecap::cli

@@ -1,0 +1,156 @@
+// libpng reading and writing with errors turned into IoError (libpng reports through longjmp).
+#include "slicecap/io/png_image.hpp"
+
+#include <png.h>
+
+#include <csetjmp>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "slicecap/io/io_error.hpp"
+
+namespace slicecap::io {
+namespace {
+
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+using File = std::unique_ptr<std::FILE, FileCloser>;
+
+// libpng's error callback: keep the message; the caller longjmps back to its setjmp.
+void onError(png_structp png, png_const_charp message) {
+  auto* text = static_cast<std::string*>(png_get_error_ptr(png));
+  if (text) *text = message;
+  png_longjmp(png, 1);
+}
+void onWarning(png_structp, png_const_charp) {}
+
+// Runs `libpngCalls` under libpng's error trap and returns false if libpng reported an error.
+// Only libpng calls may run inside: a longjmp out of them must not skip any C++ destructor, so
+// every buffer is made before and outside this call.
+template <typename Calls>
+bool trapLibpngErrors(png_structp png, Calls&& libpngCalls) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  libpngCalls();
+  return true;
+}
+
+}  // namespace
+
+bool PngImage::isValid() const {
+  return width > 0 && height > 0 && channels >= 1 && channels <= 4 &&
+         (bitDepth == 8 || bitDepth == 16) &&
+         samples.size() == std::size_t(width) * height * channels;
+}
+
+PngImage readPng(const std::filesystem::path& path) {
+  File file(std::fopen(path.c_str(), "rb"));
+  if (!file) throw IoError(path.string() + ": cannot open PNG");
+  png_byte signature[8];
+  if (std::fread(signature, 1, 8, file.get()) != 8 || png_sig_cmp(signature, 0, 8) != 0) {
+    throw IoError(path.string() + ": not a PNG file");
+  }
+  std::string message;
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &message, onError, onWarning);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!info) {
+    png_destroy_read_struct(&png, nullptr, nullptr);
+    throw IoError(path.string() + ": out of memory reading PNG");
+  }
+  auto fail = [&](const std::string& what) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return IoError(path.string() + ": " + what + " (" + message + ")");
+  };
+  const bool headerRead = trapLibpngErrors(png, [&] {
+    png_init_io(png, file.get());
+    png_set_sig_bytes(png, 8);
+    png_read_info(png, info);
+    const int colourType = png_get_color_type(png, info);
+    const int depth = png_get_bit_depth(png, info);
+    if (colourType == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
+    if (colourType == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(png);
+    if (png_get_valid(png, info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(png);
+    png_read_update_info(png, info);
+  });
+  if (!headerRead) throw fail("corrupt PNG header");
+  PngImage image;
+  image.width = static_cast<int>(png_get_image_width(png, info));
+  image.height = static_cast<int>(png_get_image_height(png, info));
+  image.channels = png_get_channels(png, info);
+  image.bitDepth = png_get_bit_depth(png, info);
+  const std::size_t rowBytes = png_get_rowbytes(png, info);
+  std::vector<png_byte> pixels(rowBytes * image.height);
+  std::vector<png_bytep> rows(image.height);
+  for (int y = 0; y < image.height; ++y)
+    rows[y] = pixels.data() + rowBytes * y;
+  const bool pixelsRead = trapLibpngErrors(png, [&] {
+    png_read_image(png, rows.data());
+    png_read_end(png, nullptr);
+  });
+  if (!pixelsRead) throw fail("corrupt or truncated PNG");
+  png_destroy_read_struct(&png, &info, nullptr);
+
+  image.samples.resize(std::size_t(image.width) * image.height * image.channels);
+  for (int y = 0; y < image.height; ++y) {
+    const png_byte* row = rows[y];
+    std::uint16_t* out = image.samples.data() + std::size_t(y) * image.width * image.channels;
+    const std::size_t count = std::size_t(image.width) * image.channels;
+    for (std::size_t i = 0; i < count; ++i) {
+      // PNG stores 16-bit samples big-endian.
+      out[i] = image.bitDepth == 16 ? std::uint16_t((row[2 * i] << 8) | row[2 * i + 1]) : row[i];
+    }
+  }
+  return image;
+}
+
+void writePng(const std::filesystem::path& path, const PngImage& image) {
+  if (!image.isValid())
+    throw IoError(path.string() + ": cannot write an image of inconsistent shape");
+  if (image.bitDepth == 8) {
+    for (std::uint16_t s : image.samples) {
+      if (s > 255) throw IoError(path.string() + ": sample above 255 in an 8-bit image");
+    }
+  }
+  const int colourTypes[] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
+                             PNG_COLOR_TYPE_RGB_ALPHA};
+  const std::size_t rowSamples = std::size_t(image.width) * image.channels;
+  const std::size_t bytesPerSample = image.bitDepth / 8;
+  std::vector<png_byte> pixels(rowSamples * bytesPerSample * image.height);
+  for (std::size_t i = 0; i < image.samples.size(); ++i) {
+    if (bytesPerSample == 2) {  // PNG is big-endian
+      pixels[2 * i] = png_byte(image.samples[i] >> 8);
+      pixels[2 * i + 1] = png_byte(image.samples[i] & 0xff);
+    } else {
+      pixels[i] = png_byte(image.samples[i]);
+    }
+  }
+  std::vector<png_bytep> rows(image.height);
+  for (int y = 0; y < image.height; ++y)
+    rows[y] = pixels.data() + rowSamples * bytesPerSample * y;
+
+  File file(std::fopen(path.c_str(), "wb"));
+  if (!file) throw IoError(path.string() + ": cannot create PNG");
+  std::string message;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &message, onError, onWarning);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    throw IoError(path.string() + ": out of memory writing PNG");
+  }
+  const bool written = trapLibpngErrors(png, [&] {
+    png_init_io(png, file.get());
+    png_set_IHDR(png, info, image.width, image.height, image.bitDepth, colourTypes[image.channels],
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_compression_level(png, 3);  // speed over size: frames are written while capturing
+    png_write_info(png, info);
+    png_write_image(png, rows.data());
+    png_write_end(png, nullptr);
+  });
+  png_destroy_write_struct(&png, &info);
+  if (!written) throw IoError(path.string() + ": cannot write PNG (" + message + ")");
+  if (std::fflush(file.get()) != 0 || std::ferror(file.get()))
+    throw IoError(path.string() + ": write failed");
+}
+
+}  // namespace slicecap::io

@@ -1,0 +1,84 @@
+// PNG round trips at 8 and 16 bits, and errors for missing, foreign, truncated and corrupt files.
+#include "slicecap/io/png_image.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "../support/test_support.hpp"
+#include "slicecap/io/io_error.hpp"
+
+namespace slicecap::io {
+namespace {
+
+PngImage gradient(int channels, int bitDepth) {
+  PngImage image{37, 23, channels, bitDepth, {}};
+  image.samples.resize(std::size_t(37) * 23 * channels);
+  const int top = bitDepth == 16 ? 65535 : 255;
+  for (std::size_t i = 0; i < image.samples.size(); ++i)
+    image.samples[i] = std::uint16_t((i * 7919) % (top + 1));
+  return image;
+}
+
+std::string readError(const std::filesystem::path& path) {
+  try {
+    readPng(path);
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(PngImage, RoundTripsEveryDepthAndChannelCount) {
+  const auto dir = test::freshTempDir();
+  for (int bitDepth : {8, 16}) {
+    for (int channels = 1; channels <= 4; ++channels) {
+      const PngImage image = gradient(channels, bitDepth);
+      const auto path =
+          dir / ("g" + std::to_string(bitDepth) + "_" + std::to_string(channels) + ".png");
+      writePng(path, image);
+      const PngImage back = readPng(path);
+      EXPECT_EQ(back.width, 37);
+      EXPECT_EQ(back.height, 23);
+      EXPECT_EQ(back.channels, channels);
+      EXPECT_EQ(back.bitDepth, bitDepth);
+      EXPECT_EQ(back.samples, image.samples) << path;
+    }
+  }
+}
+
+TEST(PngImage, RejectsMissingForeignTruncatedAndCorruptFiles) {
+  const auto dir = test::freshTempDir();
+  EXPECT_NE(readError(dir / "none.png").find("none.png: cannot open"), std::string::npos);
+  std::ofstream(dir / "text.png") << "hello, not an image";
+  EXPECT_NE(readError(dir / "text.png").find("not a PNG"), std::string::npos);
+
+  writePng(dir / "whole.png", gradient(3, 16));
+  const auto size = std::filesystem::file_size(dir / "whole.png");
+  std::filesystem::copy_file(dir / "whole.png", dir / "cut.png");
+  std::filesystem::resize_file(dir / "cut.png", size / 2);
+  EXPECT_NE(readError(dir / "cut.png").find("cut.png: corrupt or truncated PNG"),
+            std::string::npos);
+
+  std::filesystem::copy_file(dir / "whole.png", dir / "flipped.png");
+  {
+    std::fstream f(dir / "flipped.png", std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(std::streamoff(size / 2));
+    const char garbage[16] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16};
+    f.write(garbage, sizeof garbage);
+  }
+  EXPECT_NE(readError(dir / "flipped.png").find("flipped.png"), std::string::npos);
+}
+
+TEST(PngImage, RefusesToWriteInconsistentImages) {
+  const auto dir = test::freshTempDir();
+  PngImage bad = gradient(3, 8);
+  bad.samples.pop_back();
+  EXPECT_THROW(writePng(dir / "bad.png", bad), IoError);
+  PngImage tooBright = gradient(1, 8);
+  tooBright.samples[5] = 256;
+  EXPECT_THROW(writePng(dir / "bright.png", tooBright), IoError);
+}
+
+}  // namespace
+}  // namespace slicecap::io
