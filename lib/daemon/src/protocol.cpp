@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 
+#include "slicecap/capture/session_store.hpp"
+
 namespace slicecap::daemon {
 namespace {
 
@@ -48,7 +50,7 @@ std::optional<std::string> optionalText(const json& args, const char* name) {
 
 std::string sessionId(const json& args, const char* name) {
   std::string id = text(args, name);
-  if (!isValidSessionId(id)) {
+  if (!capture::isValidSessionId(id)) {
     throw Refusal{ErrorCode::BadRequest, std::string("argument \"") + name +
                                              "\" must be 1-64 characters of a-z, 0-9, _ and -"};
   }
@@ -133,12 +135,6 @@ std::string_view errorCodeName(ErrorCode code) {
 
 std::string_view commandName(const Command& command) {
   return kCommandNames[command.index()];
-}
-
-bool isValidSessionId(std::string_view id) {
-  return !id.empty() && id.size() <= 64 && std::all_of(id.begin(), id.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
-  });
 }
 
 std::variant<Request, ProtocolError> parseRequest(std::string_view line) {

@@ -98,7 +98,4 @@ std::string encodeResult(std::int64_t requestId, const nlohmann::json& result);
 /// "message":...}}.
 std::string encodeError(const ProtocolError& error);
 
-/// \brief A session id is 1-64 characters of [a-z0-9_-] (it names a directory on the box).
-bool isValidSessionId(std::string_view id);
-
 }  // namespace slicecap::daemon
