@@ -81,3 +81,16 @@ def test_read_merl_names_the_file_and_the_problem(tmp_path):
     (tmp_path / "short.binary").write_bytes(np.array([90, 90, 180], "<i4").tobytes() + b"\0" * 80)
     with pytest.raises(SlicecapFileError, match="short.binary: MERL file has 92 bytes"):
         read_merl(tmp_path / "short.binary")
+
+
+def test_the_command_refuses_an_anisotropic_capture_and_names_it(tmp_path, capsys):
+    from slicecap import export_merl as command
+    from slicecap import write_abrdf_exr
+
+    write_abrdf_exr(tmp_path / "brushed.exr", tabulate(anisotropic_lobe))
+    assert command.run([str(tmp_path / "brushed.exr"), "-o", str(tmp_path / "x.binary")]) == 1
+    error = capsys.readouterr().err
+    assert "brushed.exr" in error and "anisotropic" in error
+    assert not (tmp_path / "x.binary").exists()
+    assert command.run([str(tmp_path / "none.exr"), "-o", str(tmp_path / "x.binary")]) == 1
+    assert "none.exr: cannot read EXR" in capsys.readouterr().err

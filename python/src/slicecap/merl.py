@@ -114,9 +114,9 @@ def export_merl(path, table, *, allow_anisotropic: bool = False) -> float:
     anisotropy = grid_anisotropy(values)
     if anisotropy > MAX_ANISOTROPY and not allow_anisotropic:
         raise ValueError(
-            f"{os.fspath(path)}: the table is anisotropic ({100 * anisotropy:.1f} % change under "
-            f"rotations, above {100 * MAX_ANISOTROPY:.0f} %); MERL holds isotropic materials only "
-            "(allow_anisotropic=True writes its azimuthal average)")
+            f"the table is anisotropic ({100 * anisotropy:.1f} % change under rotations, above "
+            f"{100 * MAX_ANISOTROPY:.0f} %); MERL holds isotropic materials only (allow_anisotropic "
+            "or --allow-anisotropic exports its azimuthal average)")
     merl = merl_values_of_table(values) / SCALE[:, None, None, None]
     try:
         with open(path, "wb") as file:
