@@ -52,8 +52,10 @@ def main():
             "diffuse": {"type": "diffuse", "reflectance": {"type": "rgb", "value": albedo}},
             "slicecap": {"type": "slicecap", "filename": path},
         }
-        print(f"{args.variant}, sphere {args.size} x {args.size}, {args.spp} spp, "
-              f"best of {args.repeats} after a warm-up")
+        print(
+            f"{args.variant}, sphere {args.size} x {args.size}, {args.spp} spp, "
+            f"best of {args.repeats} after a warm-up"
+        )
         for lighting in ("points", "envmap"):
             results = {}
             for name, bsdf in bsdfs.items():

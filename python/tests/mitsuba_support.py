@@ -1,35 +1,28 @@
 """Helpers for the tests that need Mitsuba: variant selection that skips with a clear message,
-tiny scenes, an analytic Phong BSDF in Python."""
+a tiny sphere scene (z up), an analytic Phong BSDF in Python."""
 
 import numpy as np
 import pytest
 
+from slicecap.scenes import sky_image
+
 
 def use_variant(variant: str):
     """Imports mitsuba, switches to `variant` and registers the plugin; skips when impossible."""
-    mi = pytest.importorskip("mitsuba", reason="mitsuba is not installed (requirements-mitsuba.txt)")
+    mi = pytest.importorskip(
+        "mitsuba", reason="mitsuba is not installed (requirements-mitsuba.txt)"
+    )
     try:
         mi.set_variant(variant)
     except (ImportError, AttributeError) as e:
-        pytest.skip(f"Mitsuba variant {variant} is unavailable here ({e}); llvm variants need "
-                    "libLLVM >= 15 with DRJIT_LIBLLVM_PATH (scripts/python-test sets it)")
+        pytest.skip(
+            f"Mitsuba variant {variant} is unavailable here ({e}); llvm variants need "
+            "libLLVM >= 15 with DRJIT_LIBLLVM_PATH (scripts/python-test sets it)"
+        )
     import slicecap.mitsuba_bsdf
 
     slicecap.mitsuba_bsdf.register()
     return mi
-
-
-def sky_bitmap(mi, width=64, height=32):
-    """A small procedural environment: a blue-white sky, a warm sun patch and a dark ground."""
-    v = (np.arange(height) + 0.5) / height
-    u = (np.arange(width) + 0.5) / width
-    sky = np.stack([0.4 + 0.6 * (1 - v), 0.5 + 0.5 * (1 - v), np.ones_like(v)], axis=-1)
-    ground = np.tile([0.15, 0.12, 0.10], (height, 1))
-    rows = np.where((v < 0.5)[:, None], sky, ground)
-    image = np.repeat(rows[:, None, :], width, axis=1)
-    sun = (np.abs(u[None, :] - 0.3) < 0.04) & (np.abs(v[:, None] - 0.25) < 0.06)
-    image[sun] = (30.0, 27.0, 20.0)
-    return mi.Bitmap(image.astype(np.float32))
 
 
 def sphere_scene(mi, bsdf: dict, size=48, spp=64, seed=0, lights="both"):
@@ -39,17 +32,27 @@ def sphere_scene(mi, bsdf: dict, size=48, spp=64, seed=0, lights="both"):
         "sensor": {
             "type": "perspective",
             "fov": 28,
-            "to_world": mi.ScalarTransform4f().look_at(origin=[0, -1.5, 4.5], target=[0, 0, 0], up=[0, 0, 1]),
+            "to_world": mi.ScalarTransform4f().look_at(
+                origin=[0, -1.5, 4.5], target=[0, 0, 0], up=[0, 0, 1]
+            ),
             "film": {"type": "hdrfilm", "width": size, "height": size, "pixel_format": "rgb"},
             "sampler": {"type": "independent", "sample_count": spp, "seed": seed},
         },
         "sphere": {"type": "sphere", "bsdf": bsdf},
     }
     if lights in ("both", "points"):
-        scene["key"] = {"type": "point", "position": [3, -3, 4], "intensity": {"type": "rgb", "value": 30.0}}
-        scene["rim"] = {"type": "point", "position": [-4, 2, 1], "intensity": {"type": "rgb", "value": 12.0}}
+        scene["key"] = {
+            "type": "point",
+            "position": [3, -3, 4],
+            "intensity": {"type": "rgb", "value": 30.0},
+        }
+        scene["rim"] = {
+            "type": "point",
+            "position": [-4, 2, 1],
+            "intensity": {"type": "rgb", "value": 12.0},
+        }
     if lights in ("both", "envmap"):
-        scene["sky"] = {"type": "envmap", "bitmap": sky_bitmap(mi)}
+        scene["sky"] = {"type": "envmap", "bitmap": mi.Bitmap(sky_image(64, 32))}
     return mi.load_dict(scene)
 
 

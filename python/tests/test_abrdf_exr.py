@@ -68,7 +68,10 @@ def test_rejects_a_missing_channel(tmp_path):
 
 def test_rejects_another_layout_no_layout_and_another_quantity(tmp_path):
     write_raw_exr(
-        tmp_path / "utia.exr", 81, 81, "RGB",
+        tmp_path / "utia.exr",
+        81,
+        81,
+        "RGB",
         {"slicecap:layout": "utia", "slicecap:quantity": "brdf"},
     )
     assert read_error(tmp_path / "utia.exr").endswith(
@@ -76,27 +79,33 @@ def test_rejects_another_layout_no_layout_and_another_quantity(tmp_path):
     )
     write_raw_exr(tmp_path / "plain.exr", 81, 81, "RGB", {})
     assert read_error(tmp_path / "plain.exr").endswith(
-        'missing header attribute slicecap:layout (expected "bonn81"); '
-        "is this a slicecap ABRDF?"
+        'missing header attribute slicecap:layout (expected "bonn81"); ' "is this a slicecap ABRDF?"
     )
     write_raw_exr(
-        tmp_path / "abrdf.exr", 81, 81, "RGB",
+        tmp_path / "abrdf.exr",
+        81,
+        81,
+        "RGB",
         {"slicecap:layout": "bonn81", "slicecap:quantity": "abrdf"},
     )
-    assert "slicecap:quantity is \"abrdf\"" in read_error(tmp_path / "abrdf.exr")
+    assert 'slicecap:quantity is "abrdf"' in read_error(tmp_path / "abrdf.exr")
 
 
 def test_rejects_non_finite_values(tmp_path):
     table = np.zeros((81, 81, 3), dtype=np.float32)
     table[5, 6, 2] = np.nan
     write_abrdf_exr(tmp_path / "nan.exr", table)
-    assert read_error(tmp_path / "nan.exr").endswith("non-finite value at light 5, view 6, channel B")
+    assert read_error(tmp_path / "nan.exr").endswith(
+        "non-finite value at light 5, view 6, channel B"
+    )
 
 
 def test_rejects_missing_and_corrupt_files(tmp_path):
     assert str(tmp_path / "none.exr") in read_error(tmp_path / "none.exr")
     (tmp_path / "junk.exr").write_text("this is not an EXR file")
-    assert read_error(tmp_path / "junk.exr").startswith(str(tmp_path / "junk.exr") + ": cannot read")
+    assert read_error(tmp_path / "junk.exr").startswith(
+        str(tmp_path / "junk.exr") + ": cannot read"
+    )
     write_abrdf_exr(tmp_path / "whole.exr", ramp_table())
     whole = (tmp_path / "whole.exr").read_bytes()
     (tmp_path / "cut.exr").write_bytes(whole[: len(whole) // 2])
@@ -124,11 +133,13 @@ def test_rejects_tables_of_another_shape():
 def test_reads_what_the_cpp_side_writes_and_the_reverse(tmp_path, slicecap_cli):
     subprocess.run(
         [slicecap_cli, "generate", "satin-blue-45", "-o", tmp_path / "cpp.exr"],
-        check=True, capture_output=True,
+        check=True,
+        capture_output=True,
     )
     subprocess.run(
         [slicecap_cli, "generate", "satin-blue-45", "-o", tmp_path / "cpp.f32"],
-        check=True, capture_output=True,
+        check=True,
+        capture_output=True,
     )
     table = read_abrdf_exr(tmp_path / "cpp.exr")
     f32 = np.fromfile(tmp_path / "cpp.f32", dtype="<f4").reshape(81, 81, 3)
@@ -139,12 +150,15 @@ def test_reads_what_the_cpp_side_writes_and_the_reverse(tmp_path, slicecap_cli):
     write_abrdf_exr(tmp_path / "py.exr", table.values * 0.5, {"method": "analytic"})
     compared = subprocess.run(
         [slicecap_cli, "compare", tmp_path / "cpp.exr", tmp_path / "py.exr", "--json"],
-        check=True, capture_output=True, text=True,
+        check=True,
+        capture_output=True,
+        text=True,
     )
     # The C++ reader sees exactly half the reference in the Python-written file.
     assert json.loads(compared.stdout)["relative_rmse"] == pytest.approx(0.5, abs=1e-6)
     rejected = subprocess.run(
         [slicecap_cli, "compare", tmp_path / "cpp.exr", tmp_path / "none.exr"],
-        capture_output=True, text=True,
+        capture_output=True,
+        text=True,
     )
     assert rejected.returncode == 1

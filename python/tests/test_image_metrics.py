@@ -44,9 +44,9 @@ def test_png_is_written_with_valid_chunks(tmp_path):
     assert read_png_size(tmp_path / "x.png") == (7, 5)
     data = (tmp_path / "x.png").read_bytes()
     start = data.index(b"IDAT") + 4
-    length = int.from_bytes(data[start - 8:start - 4], "big")
-    rows = np.frombuffer(zlib.decompress(data[start:start + length]), np.uint8).reshape(5, 22)
-    assert tuple(rows[1, 1 + 3 * 2:1 + 3 * 3]) == (255, 128, 3)
+    length = int.from_bytes(data[start - 8 : start - 4], "big")
+    rows = np.frombuffer(zlib.decompress(data[start : start + length]), np.uint8).reshape(5, 22)
+    assert tuple(rows[1, 1 + 3 * 2 : 1 + 3 * 3]) == (255, 128, 3)
 
 
 def test_text_masks_have_one_glyph_per_character():

@@ -8,7 +8,12 @@ from slicecap import SlicecapFileError, tabulate
 from slicecap.grid import GRID_DIRECTIONS_DEG, to_unit_vectors
 from slicecap.isotropic import IsotropicTable
 from slicecap.merl import (
-    directions_of_half_diff, export_merl, grid_anisotropy, half_diff_angles, merl_lookup, read_merl,
+    directions_of_half_diff,
+    export_merl,
+    grid_anisotropy,
+    half_diff_angles,
+    merl_lookup,
+    read_merl,
 )
 
 from mitsuba_support import phong

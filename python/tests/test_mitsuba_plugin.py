@@ -68,8 +68,9 @@ def test_rows_are_lights_in_radiance_and_importance_modes(llvm, tmp_path):
     view_deg = random_directions_deg(rng, 500)
     expected = evaluate(table, light_deg, view_deg)
     for mode in (llvm.TransportMode.Radiance, llvm.TransportMode.Importance):
-        np.testing.assert_allclose(eval_plugin(llvm, bsdf, view_deg, light_deg, mode), expected,
-                                   rtol=2e-4)
+        np.testing.assert_allclose(
+            eval_plugin(llvm, bsdf, view_deg, light_deg, mode), expected, rtol=2e-4
+        )
 
 
 def test_reciprocal_input_stays_reciprocal(llvm, tmp_path):
@@ -154,31 +155,55 @@ def test_phong_table_renders_like_an_analytic_phong_bsdf(llvm, tmp_path, lights)
     write_abrdf_exr(tmp_path / "phong.exr", tabulate(phong(kd, ks, exponent)))
     llvm.register_bsdf("analytic_phong", analytic_phong_bsdf_class(llvm, kd, ks, exponent))
 
-    def image(bsdf, seed):
-        return render(llvm, sphere_scene(llvm, bsdf, lights=lights, spp=128), seed=seed)
+    def image(bsdf):
+        # One seed for both: the camera rays and light samples coincide, so what differs is the
+        # BSDF (and, under the environment, the sampling of its reflected rays).
+        return render(llvm, sphere_scene(llvm, bsdf, lights=lights, spp=128), seed=1)
 
-    test = image({"type": "slicecap", "filename": str(tmp_path / "phong.exr")}, 1)
-    reference = image({"type": "analytic_phong"}, 2)
-    reference_again = image({"type": "analytic_phong"}, 3)
-
-    def relative_rmse(a, b):
-        return np.sqrt(np.mean((a - b) ** 2) / np.mean(b**2))
-
-    # Beyond the noise (two seeds of the analytic BSDF), the table differs from the formula by
-    # its sampling every 15 deg and linear interpolation: for this lobe about 3 % of the BRDF
-    # (cos-weighted relative RMSE over the hemisphere, up to 5 % with grazing angles).
-    noise = relative_rmse(reference_again, reference)
-    excess = np.sqrt(max(relative_rmse(test, reference) ** 2 - noise**2, 0.0))
+    test = image({"type": "slicecap", "filename": str(tmp_path / "phong.exr")})
+    reference = image({"type": "analytic_phong"})
+    # The table is the lobe sampled every 15 deg and interpolated linearly: 2.7 % (up to 4.8 %
+    # with grazing angles) cos-weighted relative RMSE of the BRDF over the hemisphere. Measured
+    # on the renderings: 3.6 % under the point lights, 1.2 % under the environment.
+    relative_rmse = np.sqrt(np.mean((test - reference) ** 2) / np.mean(reference**2))
     relative_mean = abs(test.mean() - reference.mean()) / reference.mean()
-    assert excess < 0.06, (excess, noise)
+    assert relative_rmse < 0.05, relative_rmse
     assert relative_mean < 0.01, relative_mean
+
+
+def test_lambertian_table_under_point_lights_is_diffuse_to_float_precision(llvm, tmp_path):
+    albedo = [0.7, 0.45, 0.2]
+    write_abrdf_exr(
+        tmp_path / "lambert.exr", np.broadcast_to(np.array(albedo, np.float32) / np.pi, (81, 81, 3))
+    )
+    test = render(
+        llvm,
+        sphere_scene(
+            llvm, {"type": "slicecap", "filename": str(tmp_path / "lambert.exr")}, lights="points"
+        ),
+        seed=1,
+    )
+    reference = render(
+        llvm,
+        sphere_scene(
+            llvm,
+            {"type": "diffuse", "reflectance": {"type": "rgb", "value": albedo}},
+            lights="points",
+        ),
+        seed=1,
+    )
+    np.testing.assert_allclose(test, reference, rtol=1e-4, atol=1e-6)
 
 
 def test_malformed_exr_gives_the_readers_error(llvm, tmp_path):
     import OpenEXR
 
-    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage,
-              "slicecap:layout": "bonn81", "slicecap:quantity": "brdf"}
+    header = {
+        "compression": OpenEXR.ZIP_COMPRESSION,
+        "type": OpenEXR.scanlineimage,
+        "slicecap:layout": "bonn81",
+        "slicecap:quantity": "brdf",
+    }
     pixels = {c: np.zeros((81, 81), np.float32) for c in "RG"}
     with OpenEXR.File(header, pixels) as file:
         file.write(str(tmp_path / "rg.exr"))
@@ -209,5 +234,10 @@ def test_scalar_variant_evaluates_and_samples_like_llvm(tmp_path):
         bs, weight = bsdf.sample(ctx, si, 0.37, mi.Point2f(0.21, 0.66))
         assert bs.pdf > 0 and bs.wo.z > 0
         np.testing.assert_allclose(bs.pdf, bsdf.pdf(ctx, si, bs.wo), rtol=1e-5)
-    image = render(mi, sphere_scene(mi, {"type": "slicecap", "filename": str(tmp_path / "random.exr")}, size=8, spp=4))
+    image = render(
+        mi,
+        sphere_scene(
+            mi, {"type": "slicecap", "filename": str(tmp_path / "random.exr")}, size=8, spp=4
+        ),
+    )
     assert np.all(np.isfinite(image)) and image.mean() > 0

@@ -15,18 +15,37 @@ def tiny_run(args, capsys):
 
 
 def test_a_material_against_itself_scores_zero_and_another_does_not(tmp_path, capsys):
-    write_abrdf_exr(tmp_path / "glossy.exr", tabulate(phong([0.3, 0.2, 0.1], [0.3] * 3, 10)),
-                    {"material": "glossy"})
+    write_abrdf_exr(
+        tmp_path / "glossy.exr",
+        tabulate(phong([0.3, 0.2, 0.1], [0.3] * 3, 10)),
+        {"material": "glossy"},
+    )
     write_abrdf_exr(tmp_path / "matte.exr", tabulate(phong([0.3, 0.2, 0.1], [0.0] * 3, 1)))
-    code, out = tiny_run([str(tmp_path / "glossy.exr"), "--reference", str(tmp_path / "glossy.exr"),
-                          "-o", str(tmp_path / "same.png")], capsys)
+    code, out = tiny_run(
+        [
+            str(tmp_path / "glossy.exr"),
+            "--reference",
+            str(tmp_path / "glossy.exr"),
+            "-o",
+            str(tmp_path / "same.png"),
+        ],
+        capsys,
+    )
     assert code == 0, out.err
     assert out.out.count("dE   0.00") == 4 and out.out.count("PSNR 100.00 dB") == 4
     width, height = read_png_size(tmp_path / "same.png")
     assert width == 8 + 4 * (16 + 8) and height > 3 * 16
 
-    code, out = tiny_run([str(tmp_path / "matte.exr"), "--reference", str(tmp_path / "glossy.exr"),
-                          "-o", str(tmp_path / "different.png")], capsys)
+    code, out = tiny_run(
+        [
+            str(tmp_path / "matte.exr"),
+            "--reference",
+            str(tmp_path / "glossy.exr"),
+            "-o",
+            str(tmp_path / "different.png"),
+        ],
+        capsys,
+    )
     assert code == 0, out.err
     assert "dE   0.00" not in out.out
 

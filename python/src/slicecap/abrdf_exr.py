@@ -30,7 +30,7 @@ def _error(path, what: str) -> SlicecapFileError:
 def slicecap_attributes(header: dict) -> dict[str, str]:
     """The `slicecap:*` string attributes of an EXR header, without the prefix."""
     return {
-        name[len(PREFIX):]: value
+        name[len(PREFIX) :]: value
         for name, value in header.items()
         if name.startswith(PREFIX) and isinstance(value, str)
     }
@@ -114,9 +114,7 @@ def write_abrdf_exr(path, table, attributes: dict[str, str] | None = None) -> No
         "type": OpenEXR.scanlineimage,
     }
     header.update({PREFIX + key: str(value) for key, value in merged.items()})
-    channels = {
-        name: np.ascontiguousarray(abrdf.values[..., c]) for c, name in enumerate(CHANNELS)
-    }
+    channels = {name: np.ascontiguousarray(abrdf.values[..., c]) for c, name in enumerate(CHANNELS)}
     try:
         with OpenEXR.File(header, channels) as file:
             file.write(os.fspath(path))

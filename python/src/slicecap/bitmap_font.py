@@ -72,13 +72,14 @@ def text_mask(text: str, scale: int = 2) -> np.ndarray:
     return np.kron(mask, np.ones((scale, scale), dtype=bool)).astype(bool)
 
 
-def draw_text(canvas: np.ndarray, text: str, row: int, column: int, colour=(255, 255, 255),
-              scale: int = 2) -> None:
+def draw_text(
+    canvas: np.ndarray, text: str, row: int, column: int, colour=(255, 255, 255), scale: int = 2
+) -> None:
     """Draws `text` into an (H, W, 3) uint8 canvas at (row, column), clipped at its edges."""
     mask = text_mask(text, scale)
     height = min(mask.shape[0], canvas.shape[0] - row)
     width = min(mask.shape[1], canvas.shape[1] - column)
     if height <= 0 or width <= 0:
         return
-    region = canvas[row:row + height, column:column + width]
+    region = canvas[row : row + height, column : column + width]
     region[mask[:height, :width]] = colour

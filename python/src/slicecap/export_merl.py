@@ -13,18 +13,22 @@ from slicecap.merl import MAX_ANISOTROPY, export_merl
 
 
 def run(argv) -> int:
-    parser = argparse.ArgumentParser(prog="python -m slicecap.export_merl",
-                                     description="Export an isotropic ABRDF EXR to MERL .binary")
+    parser = argparse.ArgumentParser(
+        prog="python -m slicecap.export_merl",
+        description="Export an isotropic ABRDF EXR to MERL .binary",
+    )
     parser.add_argument("material", help="the ABRDF EXR")
     parser.add_argument("-o", "--output", required=True, help="the MERL file to write")
-    parser.add_argument("--allow-anisotropic", action="store_true",
-                        help=f"export the azimuthal average of a table that changes by more than "
-                             f"{100 * MAX_ANISOTROPY:.0f} %% under rotation")
+    parser.add_argument(
+        "--allow-anisotropic",
+        action="store_true",
+        help=f"export the azimuthal average of a table that changes by more than "
+        f"{100 * MAX_ANISOTROPY:.0f} %% under rotation",
+    )
     args = parser.parse_args(argv)
     try:
         material = load_material(args.material)
-        anisotropy = export_merl(args.output, material,
-                                 allow_anisotropic=args.allow_anisotropic)
+        anisotropy = export_merl(args.output, material, allow_anisotropic=args.allow_anisotropic)
     except SlicecapFileError as e:
         print(f"slicecap.export_merl: {e}", file=sys.stderr)
         return 1

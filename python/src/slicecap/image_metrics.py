@@ -13,11 +13,13 @@ import numpy as np
 
 MAX_PSNR_DB = 100.0
 EXPOSURE_PERCENTILE = 99.5
-_SRGB_TO_XYZ = np.array([
-    [0.4124564, 0.3575761, 0.1804375],
-    [0.2126729, 0.7151522, 0.0721750],
-    [0.0193339, 0.1191920, 0.9503041],
-])
+_SRGB_TO_XYZ = np.array(
+    [
+        [0.4124564, 0.3575761, 0.1804375],
+        [0.2126729, 0.7151522, 0.0721750],
+        [0.0193339, 0.1191920, 0.9503041],
+    ]
+)
 
 
 @dataclass(frozen=True)
@@ -29,8 +31,11 @@ class ImageMetrics:
 
 def srgb_encode(linear: np.ndarray) -> np.ndarray:
     linear = np.asarray(linear, dtype=np.float64)
-    return np.where(linear <= 0.0031308, 12.92 * linear,
-                    1.055 * np.power(np.maximum(linear, 0.0031308), 1 / 2.4) - 0.055)
+    return np.where(
+        linear <= 0.0031308,
+        12.92 * linear,
+        1.055 * np.power(np.maximum(linear, 0.0031308), 1 / 2.4) - 0.055,
+    )
 
 
 def srgb_decode(encoded: np.ndarray) -> np.ndarray:
@@ -50,8 +55,10 @@ def _lab(srgb8: np.ndarray) -> np.ndarray:
     xyz /= _SRGB_TO_XYZ.sum(axis=1)
     delta = 6.0 / 29.0
     f = np.where(xyz > delta**3, np.cbrt(xyz), xyz / (3 * delta**2) + 4.0 / 29.0)
-    return np.stack([116 * f[..., 1] - 16, 500 * (f[..., 0] - f[..., 1]),
-                     200 * (f[..., 1] - f[..., 2])], axis=-1)
+    return np.stack(
+        [116 * f[..., 1] - 16, 500 * (f[..., 0] - f[..., 1]), 200 * (f[..., 1] - f[..., 2])],
+        axis=-1,
+    )
 
 
 def exposure_of(reference: np.ndarray, mask: np.ndarray | None = None) -> float:
@@ -63,8 +70,9 @@ def exposure_of(reference: np.ndarray, mask: np.ndarray | None = None) -> float:
     return exposure
 
 
-def compare_images(reference: np.ndarray, test: np.ndarray,
-                   mask: np.ndarray | None = None) -> ImageMetrics:
+def compare_images(
+    reference: np.ndarray, test: np.ndarray, mask: np.ndarray | None = None
+) -> ImageMetrics:
     """dE, RMSE and PSNR of `test` against `reference` (H, W, 3 linear), over `mask` pixels."""
     if reference.shape != test.shape:
         raise ValueError(f"images differ in shape: {reference.shape} vs {test.shape}")

@@ -64,8 +64,10 @@ class IsotropicTable:
     def evaluate(self, theta_light_deg, theta_view_deg, phi_difference_deg) -> np.ndarray:
         """(..., 3) BRDF at light and view elevations and azimuth difference phi_v - phi_i."""
         theta_light_deg, theta_view_deg, difference = np.broadcast_arrays(
-            np.asarray(theta_light_deg, float), np.asarray(theta_view_deg, float),
-            wrap_deg360(phi_difference_deg))
+            np.asarray(theta_light_deg, float),
+            np.asarray(theta_view_deg, float),
+            wrap_deg360(phi_difference_deg),
+        )
         result = np.zeros(theta_light_deg.shape + (3,))
         for ring_l, weight_l in self._elevation_taps(theta_light_deg):
             for ring_v, weight_v in self._elevation_taps(theta_view_deg):
@@ -74,7 +76,8 @@ class IsotropicTable:
                 position = difference / self.spacing_deg[ring_l, ring_v]
                 lower = np.floor(position).astype(np.int64)
                 f = (position - lower)[..., None]
-                value = ((1 - f) * self.profiles[offset + lower % length]
-                         + f * self.profiles[offset + (lower + 1) % length])
+                value = (1 - f) * self.profiles[offset + lower % length] + f * self.profiles[
+                    offset + (lower + 1) % length
+                ]
                 result += value * (weight_l * weight_v)[..., None]
         return result

@@ -49,20 +49,35 @@ def half_diff_angles(to_light: np.ndarray, to_view: np.ndarray) -> tuple[np.ndar
 def directions_of_half_diff(theta_half, phi_half, theta_diff, phi_diff):
     """(to_light, to_view) unit vectors of half/difference angles (the inverse of the above)."""
     diff = np.stack(
-        [np.sin(theta_diff) * np.cos(phi_diff), np.sin(theta_diff) * np.sin(phi_diff),
-         np.cos(theta_diff)], -1)
+        [
+            np.sin(theta_diff) * np.cos(phi_diff),
+            np.sin(theta_diff) * np.sin(phi_diff),
+            np.cos(theta_diff),
+        ],
+        -1,
+    )
     to_light = _rotate_z(_rotate_y(diff, theta_half), phi_half)
-    half = np.stack([np.sin(theta_half) * np.cos(phi_half), np.sin(theta_half) * np.sin(phi_half),
-                     np.cos(theta_half)], -1)
+    half = np.stack(
+        [
+            np.sin(theta_half) * np.cos(phi_half),
+            np.sin(theta_half) * np.sin(phi_half),
+            np.cos(theta_half),
+        ],
+        -1,
+    )
     to_view = 2.0 * np.sum(half * to_light, axis=-1, keepdims=True) * half - to_light
     return to_light, to_view
 
 
 def bin_indices(theta_half, theta_diff, phi_diff) -> np.ndarray:
     """The flat MERL index of half/difference angles (BRDFRead.cpp's nearest-bin rule)."""
-    half_position = np.sqrt(np.maximum(theta_half, 0.0) / (np.pi / 2) * THETA_HALF_BINS * THETA_HALF_BINS)
+    half_position = np.sqrt(
+        np.maximum(theta_half, 0.0) / (np.pi / 2) * THETA_HALF_BINS * THETA_HALF_BINS
+    )
     i = np.clip(half_position.astype(np.int64), 0, THETA_HALF_BINS - 1)
-    j = np.clip((theta_diff / (np.pi / 2) * THETA_DIFF_BINS).astype(np.int64), 0, THETA_DIFF_BINS - 1)
+    j = np.clip(
+        (theta_diff / (np.pi / 2) * THETA_DIFF_BINS).astype(np.int64), 0, THETA_DIFF_BINS - 1
+    )
     phi_diff = np.where(phi_diff < 0.0, phi_diff + np.pi, phi_diff)
     k = np.clip((phi_diff / np.pi * PHI_DIFF_BINS).astype(np.int64), 0, PHI_DIFF_BINS - 1)
     return (i * THETA_DIFF_BINS + j) * PHI_DIFF_BINS + k
@@ -75,10 +90,16 @@ def grid_anisotropy(table: np.ndarray) -> float:
     differences, norms = 0.0, 0.0
     for ring_a in RINGS:
         for ring_b in RINGS:
+            if ring_a.count == 1 and ring_b.count == 1:
+                continue  # pole to pole: no rotation changes it
             step_a, step_b = 360 // ring_a.count, 360 // ring_b.count
-            rotation = math.lcm(step_a if ring_a.count > 1 else 1, step_b if ring_b.count > 1 else 1)
-            block = table[ring_a.first_index:ring_a.first_index + ring_a.count,
-                          ring_b.first_index:ring_b.first_index + ring_b.count].astype(np.float64)
+            rotation = math.lcm(
+                step_a if ring_a.count > 1 else 1, step_b if ring_b.count > 1 else 1
+            )
+            block = table[
+                ring_a.first_index : ring_a.first_index + ring_a.count,
+                ring_b.first_index : ring_b.first_index + ring_b.count,
+            ].astype(np.float64)
             for angle in range(rotation, 360, rotation):
                 shift_a = angle // step_a if ring_a.count > 1 else 0
                 shift_b = angle // step_b if ring_b.count > 1 else 0
@@ -101,7 +122,8 @@ def merl_values_of_table(table: np.ndarray) -> np.ndarray:
     view_deg = to_directions_deg(to_view[visible])
     values = np.zeros(th.shape + (3,))
     values[visible] = IsotropicTable(table).evaluate(
-        light_deg[:, 0], view_deg[:, 0], view_deg[:, 1] - light_deg[:, 1])
+        light_deg[:, 0], view_deg[:, 0], view_deg[:, 1] - light_deg[:, 1]
+    )
     return np.moveaxis(values, -1, 0)
 
 
@@ -115,8 +137,9 @@ def export_merl(path, table, *, allow_anisotropic: bool = False) -> float:
     if anisotropy > MAX_ANISOTROPY and not allow_anisotropic:
         raise ValueError(
             f"the table is anisotropic ({100 * anisotropy:.1f} % change under rotations, above "
-            f"{100 * MAX_ANISOTROPY:.0f} %); MERL holds isotropic materials only (allow_anisotropic "
-            "or --allow-anisotropic exports its azimuthal average)")
+            f"{100 * MAX_ANISOTROPY:.0f} %); MERL holds isotropic materials only "
+            "(allow_anisotropic or --allow-anisotropic exports its azimuthal average)"
+        )
     merl = merl_values_of_table(values) / SCALE[:, None, None, None]
     try:
         with open(path, "wb") as file:
@@ -137,10 +160,13 @@ def read_merl(path) -> np.ndarray:
     expected_dims = (THETA_HALF_BINS, THETA_DIFF_BINS, PHI_DIFF_BINS)
     count = 3 * THETA_HALF_BINS * THETA_DIFF_BINS * PHI_DIFF_BINS
     if len(raw) < 12 or tuple(np.frombuffer(raw[:12], "<i4")) != expected_dims:
-        raise SlicecapFileError(f"{os.fspath(path)}: not a MERL BRDF (dimensions must be 90 90 180)")
+        raise SlicecapFileError(
+            f"{os.fspath(path)}: not a MERL BRDF (dimensions must be 90 90 180)"
+        )
     if len(raw) != 12 + 8 * count:
         raise SlicecapFileError(
-            f"{os.fspath(path)}: MERL file has {len(raw)} bytes, expected {12 + 8 * count}")
+            f"{os.fspath(path)}: MERL file has {len(raw)} bytes, expected {12 + 8 * count}"
+        )
     data = np.frombuffer(raw[12:], "<f8").reshape(3, *expected_dims)
     return data * SCALE[:, None, None, None]
 

@@ -74,10 +74,14 @@ class _Tables:
         self.brdf = self._array(values.reshape(-1))
         radiance = sampling.build_sampling_tables(values, known_side="view")
         importance = sampling.build_sampling_tables(values, known_side="light")
-        self.pmf = {side: self._array(t.pmf.reshape(-1)) for side, t in
-                    (("view", radiance), ("light", importance))}
-        self.cdf = {side: self._array(t.cdf.reshape(-1)) for side, t in
-                    (("view", radiance), ("light", importance))}
+        self.pmf = {
+            side: self._array(t.pmf.reshape(-1))
+            for side, t in (("view", radiance), ("light", importance))
+        }
+        self.cdf = {
+            side: self._array(t.cdf.reshape(-1))
+            for side, t in (("view", radiance), ("light", importance))
+        }
         self.bins = sampling.COS_BINS * sampling.PHI_BINS
         self.bin_solid_angle_sr = radiance.bin_solid_angle_sr
 
@@ -95,7 +99,7 @@ class _Tables:
             return dr.gather(mi.Color3f, self.brdf, index, active)
         if not active:
             return mi.Color3f(0.0)
-        return mi.Color3f(*(float(x) for x in self.brdf[3 * index: 3 * index + 3]))
+        return mi.Color3f(*(float(x) for x in self.brdf[3 * index : 3 * index + 3]))
 
 
 def _bin_of(v):
@@ -114,7 +118,9 @@ def _make_class():
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
             if "filename" not in props:
-                raise ValueError("slicecap BSDF: the property 'filename' (an ABRDF EXR) is required")
+                raise ValueError(
+                    "slicecap BSDF: the property 'filename' (an ABRDF EXR) is required"
+                )
             self.filename = str(props["filename"])
             self.material = load_material(self.filename)
             self.tables = _Tables(self.material.values)
@@ -144,8 +150,9 @@ def _make_class():
             bin_index = _bin_of(unknown)
             tabulated = mi.Float(0.0)
             for index, weight in direction_taps(known):
-                mass = self.tables.gather(self.tables.pmf[side], index * self.tables.bins + bin_index,
-                                          active)
+                mass = self.tables.gather(
+                    self.tables.pmf[side], index * self.tables.bins + bin_index, active
+                )
                 tabulated += weight * mass
             tabulated /= self.tables.bin_solid_angle_sr
             cosine = dr.maximum(unknown.z, 0.0) * dr.inv_pi
@@ -190,16 +197,21 @@ def _make_class():
                 running = running + weight
             u = dr.clip((sample1 - start) / dr.maximum(width, 1e-12), 0.0, 0.99999994)
             use_cosine = u < sampling.COSINE_SHARE
-            u = dr.select(use_cosine, u / sampling.COSINE_SHARE,
-                          (u - sampling.COSINE_SHARE) / (1.0 - sampling.COSINE_SHARE))
+            u = dr.select(
+                use_cosine,
+                u / sampling.COSINE_SHARE,
+                (u - sampling.COSINE_SHARE) / (1.0 - sampling.COSINE_SHARE),
+            )
             # A histogram bin of the chosen tap by its mass, then a uniform point inside it.
             row = chosen_index * self.tables.bins
             cdf = self.tables.cdf[side]
             bin_index = dr.binary_search(
-                0, self.tables.bins - 1,
-                lambda i: self.tables.gather(cdf, row + i, active) <= u)
+                0, self.tables.bins - 1, lambda i: self.tables.gather(cdf, row + i, active) <= u
+            )
             cos_theta = (mi.Float(bin_index // sampling.PHI_BINS) + sample2.x) / sampling.COS_BINS
-            phi = (mi.Float(bin_index % sampling.PHI_BINS) + sample2.y) * (dr.two_pi / sampling.PHI_BINS)
+            phi = (mi.Float(bin_index % sampling.PHI_BINS) + sample2.y) * (
+                dr.two_pi / sampling.PHI_BINS
+            )
             sin_theta = dr.safe_sqrt(1.0 - cos_theta * cos_theta)
             tabulated_wo = mi.Vector3f(sin_theta * dr.cos(phi), sin_theta * dr.sin(phi), cos_theta)
             cosine_wo = mi.warp.square_to_cosine_hemisphere(sample2)

@@ -33,15 +33,19 @@ def _parse(argv):
     parser = argparse.ArgumentParser(
         prog="python -m slicecap.render",
         description="Render a slicecap ABRDF EXR on a sphere and a cylinder under point lights "
-                    "and an environment map, beside a reference with dE and PSNR.")
+        "and an environment map, beside a reference with dE and PSNR.",
+    )
     parser.add_argument("material", help="the ABRDF EXR to render")
     parser.add_argument("--reference", help="an ABRDF EXR to render beside it and compare with")
     parser.add_argument("-o", "--output", required=True, help="the picture to write (.png)")
     parser.add_argument("--size", type=int, default=256, help="pixels per rendering (default 256)")
     parser.add_argument("--spp", type=int, default=64, help="samples per pixel (default 64)")
     parser.add_argument("--seed", type=int, default=0, help="sampler seed (default 0)")
-    parser.add_argument("--variant", default="llvm_ad_rgb",
-                        help="Mitsuba variant (default llvm_ad_rgb; scalar_rgb works, slowly)")
+    parser.add_argument(
+        "--variant",
+        default="llvm_ad_rgb",
+        help="Mitsuba variant (default llvm_ad_rgb; scalar_rgb works, slowly)",
+    )
     return parser.parse_args(argv)
 
 
@@ -56,7 +60,8 @@ def _set_variant(variant: str):
         raise RuntimeError(
             f"Mitsuba variant {variant} is unavailable ({e}); for llvm_ad_rgb install "
             "libLLVM >= 15 (Debian 12: apt-get install libllvm19) and set DRJIT_LIBLLVM_PATH, "
-            "or use --variant scalar_rgb") from e
+            "or use --variant scalar_rgb"
+        ) from e
     import slicecap.mitsuba_bsdf
 
     slicecap.mitsuba_bsdf.register()
@@ -99,8 +104,9 @@ def compose(rows: list[tuple[str, dict]], exposures: dict, captions: dict, size:
             y = title_height + r * row_height
             if c == 0:
                 _draw_fitting(canvas, label, y, x, width - x, (200, 200, 120))
-            canvas[y + label_height:y + label_height + size, x:x + size] = _display(
-                images[(shape, lighting)], exposures[(shape, lighting)])
+            canvas[y + label_height : y + label_height + size, x : x + size] = _display(
+                images[(shape, lighting)], exposures[(shape, lighting)]
+            )
         y = title_height + len(rows) * row_height
         for k, line in enumerate(captions.get((shape, lighting), [])):
             _draw_fitting(canvas, line, y + k * _LINE, x, size, (150, 220, 150))
@@ -136,8 +142,10 @@ def run(argv) -> int:
                 metrics = compare_images(reference_images[key], images[key], mask)
                 captions[key] = [f"dE {metrics.delta_e:.2f}", f"PSNR {metrics.psnr_db:.1f} dB"]
                 differences[key] = DIFFERENCE_GAIN * np.abs(images[key] - reference_images[key])
-                print(f"{key[0]:8s} {key[1]:6s}  dE {metrics.delta_e:6.2f}  "
-                      f"RMSE {metrics.rmse:6.2f}  PSNR {metrics.psnr_db:6.2f} dB")
+                print(
+                    f"{key[0]:8s} {key[1]:6s}  dE {metrics.delta_e:6.2f}  "
+                    f"RMSE {metrics.rmse:6.2f}  PSNR {metrics.psnr_db:6.2f} dB"
+                )
             rows.append((f"difference x{DIFFERENCE_GAIN:g}", differences))
         else:
             for key in COLUMNS:
@@ -150,8 +158,10 @@ def run(argv) -> int:
     except OSError as e:
         print(f"slicecap.render: {args.output}: {e.strerror}", file=sys.stderr)
         return 1
-    print(f"wrote {args.output} ({canvas.shape[1]} x {canvas.shape[0]}, "
-          f"{time.perf_counter() - started:.1f} s)")
+    print(
+        f"wrote {args.output} ({canvas.shape[1]} x {canvas.shape[0]}, "
+        f"{time.perf_counter() - started:.1f} s)"
+    )
     return 0
 
 

@@ -42,8 +42,12 @@ def _bin_sample_directions_deg() -> np.ndarray:
     cos_theta = (np.arange(COS_BINS)[:, None] + offsets[None, :]) / COS_BINS
     phi_deg = (np.arange(PHI_BINS)[:, None] + offsets[None, :]) * 360.0 / PHI_BINS
     theta_deg = np.degrees(np.arccos(cos_theta))
-    grid_theta = np.broadcast_to(theta_deg[:, None, :, None], (COS_BINS, PHI_BINS, SUBSAMPLES, SUBSAMPLES))
-    grid_phi = np.broadcast_to(phi_deg[None, :, None, :], (COS_BINS, PHI_BINS, SUBSAMPLES, SUBSAMPLES))
+    grid_theta = np.broadcast_to(
+        theta_deg[:, None, :, None], (COS_BINS, PHI_BINS, SUBSAMPLES, SUBSAMPLES)
+    )
+    grid_phi = np.broadcast_to(
+        phi_deg[None, :, None, :], (COS_BINS, PHI_BINS, SUBSAMPLES, SUBSAMPLES)
+    )
     directions = np.stack([grid_theta, grid_phi], axis=-1)
     return directions.reshape(COS_BINS * PHI_BINS, SUBSAMPLES * SUBSAMPLES, 2)
 
@@ -73,5 +77,7 @@ def build_sampling_tables(table: np.ndarray, known_side: str = "view") -> Sampli
 def bin_of(cos_theta: np.ndarray, phi_deg: np.ndarray) -> np.ndarray:
     """The flat bin index of directions (numpy reference of the plugin's lookup)."""
     a = np.clip(np.floor(cos_theta * COS_BINS), 0, COS_BINS - 1).astype(np.int64)
-    b = np.clip(np.floor(np.mod(phi_deg, 360.0) / 360.0 * PHI_BINS), 0, PHI_BINS - 1).astype(np.int64)
+    b = np.clip(np.floor(np.mod(phi_deg, 360.0) / 360.0 * PHI_BINS), 0, PHI_BINS - 1).astype(
+        np.int64
+    )
     return a * PHI_BINS + b
