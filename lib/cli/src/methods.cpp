@@ -2,7 +2,9 @@
 #include "slicecap/cli/methods.hpp"
 
 #include "slicecap/cli/args.hpp"
+#include "slicecap/recon/method_a.hpp"
 #include "slicecap/recon/method_b.hpp"
+#include "slicecap/recon/scattered_rbf.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -33,6 +35,40 @@ MethodRun runMethodB(const SliceSet& slices, const MethodOptions& options) {
   return run;
 }
 
+MethodRun runMethodA(const SliceSet& slices, const MethodOptions& options) {
+  recon::MethodAParams params;
+  params.isotropic = options.isotropic;
+  params.torusRule = options.torusRule;
+  MethodRun run{recon::reconstructMethodA(slices, params),
+                options.isotropic ? "A-isotropic" : "A",
+                {},
+                {},
+                {}};
+  const recon::MethodASystem& system = recon::sharedMethodASystem();
+  run.details["rbf_centres"] = system.centreEntries().size();
+  run.details["rbf_shape_rad"] = system.interpolant().shapeRad();
+  run.lines.push_back("multiquadric RBF over " + std::to_string(system.centreEntries().size()) +
+                      " centres, r0 = " + std::to_string(system.interpolant().shapeRad()) + " rad");
+  return run;
+}
+
+MethodRun runUniform(const SliceSet& samples, const MethodOptions&) {
+  MethodRun run{recon::reconstructScattered(samples), "uniform-RBF", {}, {}, {}};
+  std::size_t onSlices = 0;
+  for (const Slice& s : samples.slices()) {
+    if (s.id.kind != SliceKind::Point) onSlices += s.samples.size();
+  }
+  run.details["rbf_centres"] = samples.sampleCount();
+  run.lines.push_back("multiquadric RBF over " + std::to_string(samples.sampleCount()) +
+                      " samples at their own directions");
+  if (onSlices > 0) {
+    run.warnings.push_back(std::to_string(onSlices) +
+                           " samples lie on slices; the uniform method interpolates them as "
+                           "points (made for `slicecap sample --uniform`)");
+  }
+  return run;
+}
+
 }  // namespace
 
 const std::vector<Method>& reconstructionMethods() {
@@ -40,6 +76,12 @@ const std::vector<Method>& reconstructionMethods() {
       {"b",
        "Method B of the paper (METHOD.md 4): slice-sum subspaces, lobe-weighted elevation blends",
        runMethodB},
+      {"a",
+       "Method A of the paper (METHOD.md 5): slice-sum subspaces, 4-D RBF in onion coordinates",
+       runMethodA},
+      {"uniform",
+       "the uniform baseline (METHOD.md 6.3): RBF over point samples, e.g. sample --uniform 13",
+       runUniform, Acquisition::UniformGrid13},
   };
   return methods;
 }
