@@ -2,6 +2,7 @@
 #include "slicecap/cli/methods.hpp"
 
 #include "slicecap/cli/args.hpp"
+#include "slicecap/recon/halfway_method.hpp"
 #include "slicecap/recon/method_a.hpp"
 #include "slicecap/recon/method_b.hpp"
 #include "slicecap/recon/scattered_rbf.hpp"
@@ -69,6 +70,32 @@ MethodRun runUniform(const SliceSet& samples, const MethodOptions&) {
   return run;
 }
 
+MethodRun runHalfway(const SliceSet& slices, const MethodOptions& options) {
+  recon::HalfwayParams params;
+  params.isotropic = options.isotropic;
+  params.torusRule = options.torusRule;
+  recon::HalfwayReport report;
+  MethodRun run{recon::reconstructHalfway(slices, params, &report),
+                options.isotropic ? "halfway-isotropic" : "halfway",
+                {},
+                {},
+                {}};
+  run.details["treated_isotropic"] = report.treatedIsotropic;
+  run.details["axial_variation"] =
+      report.axialVariation ? nlohmann::json(*report.axialVariation) : nlohmann::json();
+  run.details["neighbours"] = params.neighbours;
+  const std::string variation =
+      report.axialVariation ? std::to_string(*report.axialVariation) : std::string("none");
+  run.lines.push_back(report.treatedIsotropic
+                          ? "isotropic (axial variation " + variation +
+                                "): Method B from 30 to 75 deg, halfway neighbours below 30 deg"
+                          : "anisotropic (axial variation " + variation +
+                                "): every unmeasured entry from its halfway neighbours");
+  if (report.treatedIsotropic && !report.methodB.allConverged())
+    run.warnings.push_back("some lobe fits did not converge; their closed form was used");
+  return run;
+}
+
 }  // namespace
 
 const std::vector<Method>& reconstructionMethods() {
@@ -82,6 +109,11 @@ const std::vector<Method>& reconstructionMethods() {
       {"uniform",
        "the uniform baseline (METHOD.md 6.3): RBF over point samples, e.g. sample --uniform 13",
        runUniform, Acquisition::UniformGrid13},
+      {"halfway",
+       "slicecap's improvement: unmeasured entries from the measured ones nearest in halfway\n"
+       "           and difference angle (anisotropic), or Method B with them below 30 deg "
+       "(isotropic)",
+       runHalfway},
   };
   return methods;
 }

@@ -18,7 +18,8 @@ bool isMeasuredPair(int light, int view) {
   return std::find(kMeasuredPairs.begin(), kMeasuredPairs.end(), pair) != kMeasuredPairs.end();
 }
 
-// The centres in kMeasuredPairs order, each subspace row-major (light azimuth, then view).
+}  // namespace
+
 std::vector<TableEntry> measuredEntries() {
   std::vector<TableEntry> entries;
   for (ElevationPair pair : kMeasuredPairs) {
@@ -41,6 +42,8 @@ std::vector<TableEntry> unmeasuredEntries() {
   }
   return entries;
 }
+
+namespace {
 
 std::vector<FeaturePoint> featuresOf(const std::vector<TableEntry>& entries, OnionFrame frame) {
   std::vector<FeaturePoint> features;

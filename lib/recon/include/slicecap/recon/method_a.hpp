@@ -21,6 +21,12 @@ struct TableEntry {
   int view = 0;
 };
 
+/// \brief The entries of the four measured subspaces, in kMeasuredPairs order, each subspace
+/// row-major (light azimuth, then view): 1296 entries, the same for every capture.
+std::vector<TableEntry> measuredEntries();
+/// \brief Every other entry of the table (5265), light-major.
+std::vector<TableEntry> unmeasuredEntries();
+
 /// \brief Options of Method A.
 struct MethodAParams {
   /// \brief Use only the diagonal slices (eq. 5); the axial ones may then be absent.
