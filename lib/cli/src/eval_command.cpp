@@ -242,8 +242,7 @@ Command evalCommand() {
       "reconstruction and its x10 difference in the paper's 81 x 81 layout, numbers under each.\n"
       "A material or method that fails is reported on stderr and the run goes on; exit code 1 "
       "then.\n\nmethods:\n";
-  for (const Method& m : reconstructionMethods())
-    description += "  " + m.name + "  " + m.summary + "\n";
+  description += methodHelpLines();
   return {{"eval",
            "MATERIALS... [--methods b,a,uniform|all] [--out DIR] [--no-sheets] [--json] [--quiet]",
            description,

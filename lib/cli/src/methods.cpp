@@ -1,6 +1,8 @@
 // The method registry: each method is one entry here.
 #include "slicecap/cli/methods.hpp"
 
+#include <algorithm>
+
 #include "slicecap/cli/args.hpp"
 #include "slicecap/recon/halfway_method.hpp"
 #include "slicecap/recon/method_a.hpp"
@@ -110,9 +112,8 @@ const std::vector<Method>& reconstructionMethods() {
        "the uniform baseline (METHOD.md 6.3): RBF over point samples, e.g. sample --uniform 13",
        runUniform, Acquisition::UniformGrid13},
       {"halfway",
-       "slicecap's improvement: unmeasured entries from the measured ones nearest in halfway\n"
-       "           and difference angle (anisotropic), or Method B with them below 30 deg "
-       "(isotropic)",
+       "slicecap's improvement (README): unmeasured entries from the nearest measured ones in\n"
+       "           halfway angle; for isotropic materials only where Method B extrapolates",
        runHalfway},
   };
   return methods;
@@ -130,6 +131,16 @@ std::string methodNames() {
   for (const Method& m : reconstructionMethods())
     names += (names.empty() ? "" : ", ") + m.name;
   return names;
+}
+
+std::string methodHelpLines() {
+  std::size_t width = 0;
+  for (const Method& m : reconstructionMethods())
+    width = std::max(width, m.name.size());
+  std::string lines;
+  for (const Method& m : reconstructionMethods())
+    lines += "  " + m.name + std::string(width + 2 - m.name.size(), ' ') + m.summary + "\n";
+  return lines;
 }
 
 }  // namespace slicecap::cli

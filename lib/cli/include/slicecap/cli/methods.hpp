@@ -51,4 +51,7 @@ const Method& findMethod(const std::string& name);
 /// \brief "b, a, ..." for help texts.
 std::string methodNames();
 
+/// \brief One line per method, "  name     summary", names padded to one column, for --help.
+std::string methodHelpLines();
+
 }  // namespace slicecap::cli
