@@ -28,6 +28,12 @@ TEST(ScatteredRbf, ReproducesAConstantTable) {
   const Abrdf truth = models::tabulate(*models::makeLambert({0.3, 0.5, 0.7}));
   EXPECT_LT(test::maxAbsDifference(reconstructScattered(extractUniformSamples(truth, 13)), truth),
             1e-6);
+  ScatteredRbfParams gamma;
+  gamma.rbf.valueGamma = 2.2;
+  EXPECT_LT(
+      test::maxAbsDifference(reconstructScattered(extractUniformSamples(truth, 13), gamma), truth),
+      1e-6)
+      << "the gamma round trip keeps a constant";
 }
 
 TEST(ScatteredRbf, AveragesSamplesAtTheSameDirections) {

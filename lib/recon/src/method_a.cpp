@@ -67,7 +67,7 @@ Eigen::MatrixXf MethodASystem::interpolateOthers(const Eigen::MatrixXd& centreVa
   return evaluation_ * coefficients;
 }
 
-Abrdf MethodASystem::interpolate(const std::vector<Subspace>& measured) const {
+Abrdf MethodASystem::interpolate(const std::vector<Subspace>& measured, double valueGamma) const {
   if (measured.size() != kMeasuredPairs.size()) {
     throw std::invalid_argument("Method A needs the " + std::to_string(kMeasuredPairs.size()) +
                                 " measured subspaces");
@@ -82,7 +82,7 @@ Abrdf MethodASystem::interpolate(const std::vector<Subspace>& measured) const {
     for (int p = 0; p < s.lightRing().count; ++p) {
       for (int q = 0; q < s.viewRing().count; ++q, ++row) {
         for (int c = 0; c < 3; ++c)
-          values(row, c) = s.at(p, q)[c];
+          values(row, c) = toInterpolatedValue(s.at(p, q)[c], valueGamma);
       }
     }
     s.writeTo(table);
@@ -90,8 +90,8 @@ Abrdf MethodASystem::interpolate(const std::vector<Subspace>& measured) const {
   const Eigen::MatrixXf others = interpolateOthers(values);
   for (std::size_t j = 0; j < others_.size(); ++j) {
     for (int c = 0; c < 3; ++c) {
-      table.channel(others_[j].light, others_[j].view, c) =
-          std::max(0.0f, others(static_cast<Eigen::Index>(j), c));
+      table.channel(others_[j].light, others_[j].view, c) = static_cast<float>(
+          fromInterpolatedValue(others(static_cast<Eigen::Index>(j), c), valueGamma));
     }
   }
   for (float& v : table.values())
@@ -119,7 +119,7 @@ Abrdf reconstructMethodA(const SliceSet& slices, const MethodAParams& params) {
   if (!params.isValid(&error)) throw std::invalid_argument("Method A: " + error);
   const std::vector<Subspace> measured =
       reconstructMeasuredSubspaces(slices, params.isotropic, params.torusRule, "Method A");
-  return sharedMethodASystem(params.frame, params.rbf).interpolate(measured);
+  return sharedMethodASystem(params.frame, params.rbf).interpolate(measured, params.rbf.valueGamma);
 }
 
 }  // namespace slicecap::recon

@@ -23,7 +23,21 @@ bool RbfParams::isValid(std::string* error) const {
     if (error) *error = "the RBF shape parameter r0 must be positive";
     return false;
   }
+  if (!(std::isfinite(valueGamma) && valueGamma > 0.0)) {
+    if (error) *error = "the RBF value gamma must be positive";
+    return false;
+  }
   return true;
+}
+
+double toInterpolatedValue(double value, double valueGamma) {
+  const double v = std::max(0.0, value);
+  return valueGamma == 1.0 ? v : std::pow(v, 1.0 / valueGamma);
+}
+
+double fromInterpolatedValue(double interpolated, double valueGamma) {
+  const double v = std::max(0.0, interpolated);
+  return valueGamma == 1.0 ? v : std::pow(v, valueGamma);
 }
 
 double medianNearestNeighbourDistance(std::span<const FeaturePoint> points) {

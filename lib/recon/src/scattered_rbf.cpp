@@ -38,7 +38,8 @@ Abrdf reconstructScattered(const SliceSet& samples, const ScatteredRbfParams& pa
   for (const auto& [feature, accumulated] : byFeature) {
     const auto row = static_cast<Eigen::Index>(centres.size());
     for (int c = 0; c < 3; ++c)
-      values(row, c) = accumulated.sum[c] / accumulated.count;
+      values(row, c) =
+          toInterpolatedValue(accumulated.sum[c] / accumulated.count, params.rbf.valueGamma);
     centres.push_back(feature);
   }
   const RbfInterpolant rbf(std::move(centres), params.rbf);
@@ -48,8 +49,8 @@ Abrdf reconstructScattered(const SliceSet& samples, const ScatteredRbfParams& pa
     for (int v = 0; v < bonn::kDirectionCount; ++v) {
       const FeaturePoint x = onionFeatures(bonn::direction(l), bonn::direction(v), params.frame);
       for (int c = 0; c < 3; ++c) {
-        table.channel(l, v, c) =
-            static_cast<float>(std::max(0.0, rbf.evaluate(coefficients.col(c), x)));
+        table.channel(l, v, c) = static_cast<float>(
+            fromInterpolatedValue(rbf.evaluate(coefficients.col(c), x), params.rbf.valueGamma));
       }
     }
   }

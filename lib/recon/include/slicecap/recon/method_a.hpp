@@ -54,9 +54,10 @@ class MethodASystem {
   explicit MethodASystem(OnionFrame frame = OnionFrame::ViewRelative, const RbfParams& rbf = {});
 
   /// \brief The full table from the four measured subspaces (kMeasuredPairs order): their values
-  /// are kept, every other entry is interpolated, negatives are clipped to 0. Throws
-  /// std::invalid_argument when the subspaces are not the measured pairs in that order.
-  Abrdf interpolate(const std::vector<Subspace>& measured) const;
+  /// are kept, every other entry is interpolated (as v^(1/valueGamma), RbfParams), negatives are
+  /// clipped to 0. Throws std::invalid_argument when the subspaces are not the measured pairs in
+  /// that order.
+  Abrdf interpolate(const std::vector<Subspace>& measured, double valueGamma = 1.0) const;
 
   /// \brief Many tables at once (e.g. texture pixels): centre values, 1296 x k in
   /// centreEntries() order, to the interpolant at otherEntries(), 5265 x k (not clipped).

@@ -17,9 +17,19 @@ struct RbfParams {
   /// \brief r0 of the kernel sqrt(r^2 + r0^2), in feature-space radians; unset = the median
   /// nearest-neighbour distance among the centres (~0.26 rad on Method A's centres).
   std::optional<double> shapeRad;
-  /// \brief Returns false, with a reason, when shapeRad is set but not positive and finite.
+  /// \brief The methods built on the interpolant (Method A, the uniform baseline) interpolate
+  /// v^(1/valueGamma) and raise the result back. 1: linear BRDF values. 2.2: close to the 8-bit
+  /// sRGB data the paper interpolated (METHOD.md 6.2), which compresses the highlights the
+  /// multiquadric otherwise overshoots between elevations.
+  double valueGamma = 1.0;
+  /// \brief Returns false, with a reason, when shapeRad is set but not positive and finite, or
+  /// valueGamma is not positive and finite.
   bool isValid(std::string* error) const;
 };
+
+/// \brief v^(1/gamma) of a value clipped to >= 0, and its inverse (clipped likewise).
+double toInterpolatedValue(double value, double valueGamma);
+double fromInterpolatedValue(double interpolated, double valueGamma);
 
 /// \brief Median over the points of the distance to the nearest other point; 0 for fewer than
 /// two points.
