@@ -47,12 +47,13 @@ SliceSet simulateCapture(const Abrdf& table, Acquisition acquisition) {
 
 std::string formatRow(const std::string& label, const eval::Metrics& m, double milliseconds) {
   char line[160];
-  std::snprintf(line, sizeof line, "  %-12s %7.2f %8.2f %8.2f %9.4f %9.2f", label.c_str(), m.deltaE,
+  std::snprintf(line, sizeof line, "  %-14s %7.2f %8.2f %8.2f %9.4f %9.2f", label.c_str(), m.deltaE,
                 m.rmse, m.psnrDb, m.relativeRmse, milliseconds);
   return line;
 }
 
-constexpr const char* kTableHeader = "  method            dE     RMSE  PSNR dB  rel.RMSE        ms";
+constexpr const char* kTableHeader =
+    "  method              dE     RMSE  PSNR dB  rel.RMSE        ms";
 
 // Runs every method on one material; failures become rows with an error.
 struct MaterialResult {
@@ -120,11 +121,11 @@ void printSummary(std::ostream& out, const std::vector<eval::MethodSummary>& sum
   }
   if (uniform && uniform->materials > 0 && summaries.size() > 1) {
     out << "\nmargin over the uniform baseline (positive = better than uniform)\n"
-        << "  method            dE     RMSE  PSNR dB\n";
+        << "  method              dE     RMSE  PSNR dB\n";
     char line[128];
     for (const eval::MethodSummary& s : summaries) {
       if (&s == uniform || s.materials == 0) continue;
-      std::snprintf(line, sizeof line, "  %-12s %+7.2f %+8.2f %+8.2f\n", s.method.c_str(),
+      std::snprintf(line, sizeof line, "  %-14s %+7.2f %+8.2f %+8.2f\n", s.method.c_str(),
                     uniform->mean.deltaE - s.mean.deltaE, uniform->mean.rmse - s.mean.rmse,
                     s.mean.psnrDb - uniform->mean.psnrDb);
       out << line;
