@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "slicecap/recon/measured_subspaces.hpp"
+#include "slicecap/recon/rbf_interpolant.hpp"
 
 namespace slicecap::recon {
 namespace {
@@ -58,6 +59,8 @@ bool HalfwayParams::isValid(std::string* error) const {
     reason = "differenceWeight must be finite and >= 0";
   else if (!std::isfinite(foreshorteningExponent))
     reason = "foreshorteningExponent must be finite";
+  else if (!(std::isfinite(valueGamma) && valueGamma > 0.0))
+    reason = "valueGamma must be positive";
   if (reason.empty()) return true;
   if (error) *error = reason;
   return false;
@@ -129,13 +132,14 @@ Abrdf HalfwaySystem::interpolate(const std::vector<Subspace>& measured) const {
     for (int t = 0; t < k; ++t) {
       const Tap& tap = taps_[j * k + t];
       for (int c = 0; c < 3; ++c) {
-        sum[c] +=
-            tap.weight * std::max(0.0, values[tap.centre][c] - floor[c]) * centreScale_[tap.centre];
+        sum[c] += tap.weight *
+                  toInterpolatedValue((values[tap.centre][c] - floor[c]) * centreScale_[tap.centre],
+                                      params_.valueGamma);
       }
     }
     for (int c = 0; c < 3; ++c) {
-      table.channel(others_[j].light, others_[j].view, c) =
-          static_cast<float>(floor[c] + sum[c] * otherScale_[j]);
+      table.channel(others_[j].light, others_[j].view, c) = static_cast<float>(
+          floor[c] + fromInterpolatedValue(sum[c], params_.valueGamma) * otherScale_[j]);
     }
   }
   for (float& v : table.values())
@@ -145,10 +149,11 @@ Abrdf HalfwaySystem::interpolate(const std::vector<Subspace>& measured) const {
 
 const HalfwaySystem& sharedHalfwaySystem(const HalfwayParams& params) {
   static std::mutex mutex;
-  static std::map<std::tuple<bool, int, double, double>, std::unique_ptr<HalfwaySystem>> systems;
+  static std::map<std::tuple<bool, int, double, double, double>, std::unique_ptr<HalfwaySystem>>
+      systems;
   const std::lock_guard lock(mutex);
   auto& slot = systems[{params.isotropic, params.neighbours, params.differenceWeight,
-                        params.foreshorteningExponent}];
+                        params.foreshorteningExponent, params.valueGamma}];
   if (!slot) slot = std::make_unique<HalfwaySystem>(params);
   return *slot;
 }

@@ -32,6 +32,9 @@ struct HalfwayParams {
   /// \brief Exponent p of the foreshortening carried over: the specular part is moved as
   /// f (cos theta_i cos theta_v)^p (p = 1: a microfacet lobe's D F G / 4).
   double foreshorteningExponent = 1.0;
+  /// \brief The neighbours are averaged as v^(1/valueGamma) (> 0), as a-gamma interpolates: a
+  /// geometric-leaning mean that keeps a narrow highlight from spreading at full height.
+  double valueGamma = 2.2;
   /// \brief Returns false, with a reason, for options out of range.
   bool isValid(std::string* error) const;
 };
@@ -47,8 +50,9 @@ class HalfwaySystem {
 
   /// \brief The full table from the four measured subspaces (kMeasuredPairs order): their values
   /// are kept; every other entry is a diffuse floor (each channel's 2nd percentile of the measured
-  /// values) plus the weighted specular remainder of its neighbours, moved by the foreshortening
-  /// ratio. Throws std::invalid_argument when the subspaces are not the measured pairs in order.
+  /// values) plus the weighted specular remainder of its neighbours (averaged as v^(1/gamma)),
+  /// moved by the foreshortening ratio. Throws std::invalid_argument when the subspaces are not the
+  /// measured pairs in order.
   Abrdf interpolate(const std::vector<Subspace>& measured) const;
 
   const std::vector<TableEntry>& otherEntries() const { return others_; }
