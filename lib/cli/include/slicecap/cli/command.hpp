@@ -21,12 +21,12 @@ struct Command {
   std::function<int(const ParsedArgs&, Streams&)> run;
 };
 
+Command evalCommand();
+Command previewCommand();
 Command reconstructCommand();
 Command sampleCommand();
 Command compareCommand();
 Command generateCommand();
-Command evalCommand();
-Command previewCommand();
 
 /// \brief Every subcommand, in the order `slicecap --help` lists them.
 std::vector<Command> allCommands();
