@@ -28,7 +28,8 @@ bool CameraModel::isValid(std::string* error) const {
   for (const auto& [name, value] :
        {std::pair{"k1", d.k1}, std::pair{"k2", d.k2}, std::pair{"p1", d.p1}, std::pair{"p2", d.p2},
         std::pair{"k3", d.k3}}) {
-    if (!std::isfinite(value)) return fail(error, std::string("distortion ") + name + " is not finite");
+    if (!std::isfinite(value))
+      return fail(error, std::string("distortion ") + name + " is not finite");
   }
   // The radial factor's derivative d(r (1 + k1 r^2 + k2 r^4 + k3 r^6))/dr must stay positive up to
   // the farthest image corner (with margin), or undistortion is ambiguous.
@@ -53,17 +54,26 @@ Eigen::Vector2d CameraModel::distort(const Eigen::Vector2d& n) const {
 }
 
 Eigen::Vector2d CameraModel::undistort(const Eigen::Vector2d& distorted) const {
+  return undistort(distorted, distorted);
+}
+
+Eigen::Vector2d CameraModel::undistort(const Eigen::Vector2d& distorted,
+                                       const Eigen::Vector2d& start) const {
   if (distortion.isZero()) return distorted;
-  // Newton's method on distort(n) = distorted, started at the distorted point; the Jacobian is
-  // numerical (the model is smooth and this runs once per pixel per camera, not per frame).
-  Eigen::Vector2d n = distorted;
-  for (int iteration = 0; iteration < 50; ++iteration) {
+  // Newton's method on distort(n) = distorted with the analytic Jacobian.
+  const Distortion& d = distortion;
+  Eigen::Vector2d n = start;
+  for (int iteration = 0; iteration < 30; ++iteration) {
     const Eigen::Vector2d residual = distort(n) - distorted;
-    if (residual.norm() < 1e-13) break;
-    constexpr double h = 1e-7;
+    if (residual.norm() < 1e-14) break;
+    const double x = n.x(), y = n.y(), r2 = x * x + y * y;
+    const double radial = 1 + r2 * (d.k1 + r2 * (d.k2 + r2 * d.k3));
+    const double dRadial = d.k1 + r2 * (2 * d.k2 + 3 * r2 * d.k3);  // d radial / d r2
     Eigen::Matrix2d jacobian;
-    jacobian.col(0) = (distort(n + Eigen::Vector2d(h, 0)) - distort(n - Eigen::Vector2d(h, 0))) / (2 * h);
-    jacobian.col(1) = (distort(n + Eigen::Vector2d(0, h)) - distort(n - Eigen::Vector2d(0, h))) / (2 * h);
+    jacobian << radial + 2 * x * x * dRadial + 2 * d.p1 * y + 6 * d.p2 * x,
+        2 * x * y * dRadial + 2 * d.p1 * x + 2 * d.p2 * y,
+        2 * x * y * dRadial + 2 * d.p1 * x + 2 * d.p2 * y,
+        radial + 2 * y * y * dRadial + 6 * d.p1 * y + 2 * d.p2 * x;
     n -= jacobian.inverse() * residual;
   }
   return n;

@@ -41,6 +41,8 @@ struct CameraModel {
   /// \brief The inverse of distort, by fixed-point iteration (as cv::undistortPoints); converges
   /// to better than 1e-9 for any model that isValid() inside its image.
   Eigen::Vector2d undistort(const Eigen::Vector2d& distorted) const;
+  /// \brief The same, started from `start` (a neighbouring pixel's result converges in 2 steps).
+  Eigen::Vector2d undistort(const Eigen::Vector2d& distorted, const Eigen::Vector2d& start) const;
 
   /// \brief Pixel of a point in the camera frame (mm or any unit), or nullopt behind the camera.
   std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& pointInCamera) const;
