@@ -25,6 +25,8 @@ Command reconstructCommand();
 Command sampleCommand();
 Command compareCommand();
 Command generateCommand();
+Command targetCommand();
+Command simulateCommand();
 
 /// \brief Every subcommand, in the order `slicecap --help` lists them.
 std::vector<Command> allCommands();
