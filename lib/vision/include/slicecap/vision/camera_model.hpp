@@ -16,6 +16,7 @@ struct CameraIntrinsics {
   double fyPx = 1000.0;  ///< focal length along y, pixels
   double cxPx = 639.5;   ///< principal point, pixels
   double cyPx = 359.5;
+  friend bool operator==(const CameraIntrinsics&, const CameraIntrinsics&) = default;
 };
 
 /// \brief OpenCV's distortion (k1, k2, p1, p2, k3) applied to normalised coordinates (x, y) =
@@ -24,12 +25,14 @@ struct CameraIntrinsics {
 struct Distortion {
   double k1 = 0.0, k2 = 0.0, p1 = 0.0, p2 = 0.0, k3 = 0.0;
   bool isZero() const { return k1 == 0.0 && k2 == 0.0 && p1 == 0.0 && p2 == 0.0 && k3 == 0.0; }
+  friend bool operator==(const Distortion&, const Distortion&) = default;
 };
 
 /// \brief A calibrated camera: camera frame x right, y down, z forward (OpenCV).
 struct CameraModel {
   CameraIntrinsics intrinsics;
   Distortion distortion;
+  friend bool operator==(const CameraModel&, const CameraModel&) = default;
 
   /// \brief False with a reason naming the field when the size or focal lengths are not positive,
   /// a value is not finite, or the distortion folds over inside the image (the distorted radius
