@@ -58,6 +58,23 @@ TEST(RigPlan, RealisticSweepsHaveEveryImperfectionAndStayNearTheSlice) {
     blurred += p.exposurePoses.size() > 1;
     occluded += p.occluder.has_value();
     aimedOff += p.aimedOff;
+    if (p.aimedOff) {
+      // Some marker corner is out of the image, the window centre is in it.
+      const vision::CameraModel camera = vision::defaultSimulatedCamera();
+      bool cut = false;
+      for (const vision::Marker& m : vision::defaultTarget().markers) {
+        for (const vision::PointMm& c : m.cornersMm) {
+          const auto px = camera.project(p.pose.toCamera({c.xMm, c.yMm, 0.0}));
+          cut = cut || !px || px->x() < 0 || px->y() < 0 ||
+                px->x() > camera.intrinsics.widthPx - 1 || px->y() > camera.intrinsics.heightPx - 1;
+        }
+      }
+      EXPECT_TRUE(cut) << "frame " << k << " is aimed off with every marker in view";
+      const auto centre = camera.project(p.pose.toCamera({0, 0, 0}));
+      ASSERT_TRUE(centre.has_value());
+      EXPECT_TRUE(centre->x() > 0 && centre->y() > 0 && centre->x() < camera.intrinsics.widthPx &&
+                  centre->y() < camera.intrinsics.heightPx);
+    }
     dimmer += p.exposureScale < 1.0;
     EXPECT_EQ(p.ledOn, k % 2 == 0);
     // An off frame shares its on frame's exposure (ambient subtraction needs the same one).

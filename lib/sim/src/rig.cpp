@@ -21,15 +21,30 @@ bool fail(std::string* error, const std::string& what) {
   return false;
 }
 
-// True when the whole sheet (and so every marker) is in the image.
-bool sheetFullyInView(const vision::CameraModel& camera, const vision::Pose& pose,
-                      const vision::RectMm& sheet) {
-  for (double x : {sheet.xMinMm, sheet.xMaxMm}) {
-    for (double y : {sheet.yMinMm, sheet.yMaxMm}) {
-      const auto px = camera.project(pose.toCamera({x, y, 0.0}));
-      if (!px || px->x() < 0 || px->y() < 0 || px->x() > camera.intrinsics.widthPx - 1 ||
-          px->y() > camera.intrinsics.heightPx - 1)
-        return false;
+bool inImage(const vision::CameraModel& camera, const vision::Pose& pose,
+             const vision::PointMm& p) {
+  const auto px = camera.project(pose.toCamera({p.xMm, p.yMm, 0.0}));
+  return px && px->x() >= 0 && px->y() >= 0 && px->x() <= camera.intrinsics.widthPx - 1 &&
+         px->y() <= camera.intrinsics.heightPx - 1;
+}
+
+// True when every marker corner is in the image.
+bool markersFullyInView(const vision::CameraModel& camera, const vision::Pose& pose,
+                        const vision::TargetGeometry& target) {
+  for (const vision::Marker& m : target.markers) {
+    for (const vision::PointMm& c : m.cornersMm) {
+      if (!inImage(camera, pose, c)) return false;
+    }
+  }
+  return true;
+}
+
+// True when the whole window is in the image.
+bool windowInView(const vision::CameraModel& camera, const vision::Pose& pose,
+                  const vision::RectMm& window) {
+  for (double x : {window.xMinMm, window.xMaxMm}) {
+    for (double y : {window.yMinMm, window.yMaxMm}) {
+      if (!inImage(camera, pose, {x, y})) return false;
     }
   }
   return true;
@@ -136,12 +151,14 @@ std::vector<FramePlan> planSweep(const SliceId& slice, double alphaDeg, const Ri
     const double rollDeg = params.rollJitterDeg * normal(rng);
     Eigen::Vector3d aim(params.aimJitterMm * normal(rng), params.aimJitterMm * normal(rng), 0.0);
     if (uniform(rng) < params.markersOutOfViewFraction) {
-      // Swing the aim away until the sheet is cut by the image border (the window stays in view).
+      // Swing the aim away until a marker is cut by the image border while the window stays in
+      // view; when the window would leave first, the frame is taken as aimed.
       const double angle = 2 * std::numbers::pi * uniform(rng);
       const Eigen::Vector3d away(std::cos(angle), std::sin(angle), 0.0);
       for (double offsetMm = 20.0; offsetMm <= 200.0; offsetMm += 5.0) {
         const vision::Pose pose = vision::lookAtPose(centre, aim + offsetMm * away, up, rollDeg);
-        if (!sheetFullyInView(camera, pose, target.sheet)) {
+        if (!windowInView(camera, pose, target.window)) break;
+        if (!markersFullyInView(camera, pose, target)) {
           aim += offsetMm * away;
           plan.aimedOff = true;
           break;

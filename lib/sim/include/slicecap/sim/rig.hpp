@@ -81,7 +81,7 @@ struct FramePlan {
   double exposureUs = 0.0;     ///< 0 until the sweep's base exposure is chosen
   double gain = 1.0;
   std::optional<Occluder> occluder;
-  bool aimedOff = false;  ///< aimed so that some markers leave the image
+  bool aimedOff = false;  ///< aimed so that some markers leave the image (the window stays in)
 };
 
 /// \brief The frames of one sweep: the slice's parameter goes once around (0..360), the light at
