@@ -10,8 +10,8 @@ namespace slicecap::cli {
 
 std::vector<Command> allCommands() {
   return {reconstructCommand(), sampleCommand(), compareCommand(), generateCommand(),
-          evalCommand(),        previewCommand(), sessionCommand(), sweepCommand(),
-          statusCommand(),      exportCommand()};
+          evalCommand(),        previewCommand(), targetCommand(), simulateCommand(),
+          sessionCommand(),     sweepCommand(),   statusCommand(), exportCommand()};
 }
 
 namespace {

@@ -31,6 +31,8 @@ Command sessionCommand();
 Command sweepCommand();
 Command statusCommand();
 Command exportCommand();
+Command targetCommand();
+Command simulateCommand();
 
 /// \brief Every subcommand, in the order `slicecap --help` lists them.
 std::vector<Command> allCommands();

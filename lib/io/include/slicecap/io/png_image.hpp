@@ -1,39 +1,22 @@
 // PNG files as raw samples: 8- or 16-bit, gray, gray+alpha, RGB or RGBA, no colour conversion.
 #pragma once
 
-#include <cstdint>
 #include <filesystem>
-#include <vector>
+
+#include "slicecap/core/image.hpp"
 
 namespace slicecap::io {
 
-/// \brief An image of raw integer samples, row-major, channels interleaved. 8-bit images hold
-/// 0..255 in the 16-bit samples. Nothing is linearised: what the samples mean (sRGB-encoded or
-/// linear) is the caller's convention (e.g. a recording's pixel encoding).
-struct PngImage {
-  int width = 0;
-  int height = 0;
-  int channels = 0;  ///< 1 gray, 2 gray+alpha, 3 RGB, 4 RGBA
-  int bitDepth = 8;  ///< 8 or 16
-  std::vector<std::uint16_t> samples;
-
-  std::uint16_t& at(int x, int y, int c) {
-    return samples[(std::size_t(y) * width + x) * channels + c];
-  }
-  std::uint16_t at(int x, int y, int c) const {
-    return samples[(std::size_t(y) * width + x) * channels + c];
-  }
-  /// \brief True when the shape is consistent (positive size, 1-4 channels, 8/16 bits, sample
-  /// count).
-  bool isValid() const;
-};
+/// \brief The image a PNG holds (slicecap::Image: raw 8- or 16-bit samples, no colour conversion).
+using PngImage = Image;
 
 /// \brief Reads a PNG; palette and low-bit-depth images are expanded to 8 bits. Throws IoError
 /// naming the path (missing, not a PNG, truncated, corrupt: libpng's own message is included).
 PngImage readPng(const std::filesystem::path& path);
 
 /// \brief Writes a PNG of the image's depth and channels. Throws IoError naming the path, also for
-/// an invalid image or a sample above 255 in an 8-bit image.
-void writePng(const std::filesystem::path& path, const PngImage& image);
+/// an invalid image or a sample above 255 in an 8-bit image. A positive `pixelsPerMetre` is stored
+/// in the pHYs chunk, so viewers print the image at true scale (the printable target).
+void writePng(const std::filesystem::path& path, const PngImage& image, double pixelsPerMetre = 0.0);
 
 }  // namespace slicecap::io

@@ -1,0 +1,62 @@
+// The camera interface every source implements: libcamera, V4L2 (the daemon) and the file camera.
+#pragma once
+
+#include <chrono>
+#include <optional>
+#include <string>
+
+#include "slicecap/core/pixel_encoding.hpp"
+#include "slicecap/hal/frame.hpp"
+
+namespace slicecap::hal {
+
+/// \brief What the session asks for. Exposure and gain are locked when set (the capture needs
+/// frames whose brightness it can relate); nullopt leaves them to the camera.
+struct CameraConfig {
+  int widthPx = 1280;
+  int heightPx = 720;
+  PixelEncoding encoding = PixelEncoding::Srgb8;
+  std::optional<double> exposureUs;
+  std::optional<double> gain;
+  int bufferCount = 4;  ///< frames the source may queue ahead
+};
+
+/// \brief The outcome of Camera::configure, as libcamera's CameraConfiguration::validate: Valid
+/// (taken as asked), Adjusted (the config was changed to what the source can do; read it back),
+/// Invalid (nothing usable; `reason` says why).
+struct ConfigResult {
+  enum class Status { Valid, Adjusted, Invalid };
+  Status status = Status::Valid;
+  std::string reason;  ///< what was adjusted, or why it is invalid
+};
+
+/// \brief The outcome of waiting for a frame. Expected outcomes are values, not exceptions:
+/// EndOfStream (a file camera played its last frame), Timeout, Error (the device failed; the
+/// session pauses the sweep and reports `error`).
+struct CaptureResult {
+  enum class Status { Frame, EndOfStream, Timeout, Error };
+  Status status = Status::Frame;
+  std::optional<Frame> frame;  ///< set exactly when status is Frame
+  std::string error;
+};
+
+/// \brief A frame source. Call order: configure, start, nextFrame..., stop (start again is
+/// allowed). Calls out of order throw std::logic_error. One instance per device; implementations
+/// share one libcamera CameraManager per process among themselves (issue 6).
+class Camera {
+ public:
+  virtual ~Camera() = default;
+  /// \brief A human-readable id, e.g. the recording's path or the sensor's name.
+  virtual std::string id() const = 0;
+  /// \brief Validates `config` and adjusts it in place to what the source can deliver.
+  virtual ConfigResult configure(CameraConfig& config) = 0;
+  virtual void start() = 0;
+  virtual void stop() = 0;
+  /// \brief The next frame, waiting at most `timeout` for it.
+  virtual CaptureResult nextFrame(std::chrono::milliseconds timeout) = 0;
+  /// \brief A descriptor that becomes readable when a frame is ready, for the daemon's poll loop;
+  /// nullopt when frames are always ready at once (the file camera).
+  virtual std::optional<int> readyDescriptor() const { return std::nullopt; }
+};
+
+}  // namespace slicecap::hal

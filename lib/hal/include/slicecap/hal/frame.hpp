@@ -1,0 +1,29 @@
+// A camera frame: the pixels and what the camera and the LED were doing when it was taken.
+#pragma once
+
+#include <cstdint>
+
+#include "slicecap/core/image.hpp"
+#include "slicecap/core/pixel_encoding.hpp"
+
+namespace slicecap::hal {
+
+/// \brief What a frame was taken with. Real cameras report exposure and gain in their metadata
+/// (libcamera's ExposureTime and AnalogueGain x DigitalGain controls); `ledOn` is filled by
+/// whoever drives the LED (the session, from its strobe schedule; a recording, from its manifest).
+struct FrameMetadata {
+  std::uint64_t sequence = 0;    ///< counts from 0 at start(); gaps mean dropped frames
+  std::int64_t timestampUs = 0;  ///< sensor timestamp (start of exposure), microseconds
+  double exposureUs = 0.0;       ///< exposure time, microseconds
+  double gain = 1.0;             ///< total gain (analogue x digital)
+  bool ledOn = true;
+};
+
+/// \brief One frame: gray or RGB samples in `encoding` (8-bit sRGB or 16-bit linear).
+struct Frame {
+  Image image;
+  PixelEncoding encoding = PixelEncoding::Srgb8;
+  FrameMetadata metadata;
+};
+
+}  // namespace slicecap::hal

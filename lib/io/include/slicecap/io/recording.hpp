@@ -1,0 +1,92 @@
+// A recording: a directory with recording.json (camera, encoding, slice, target, frames) and PNG
+// frames; what a camera session and the virtual rig both write (docs/recording-format.md).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "slicecap/core/image.hpp"
+#include "slicecap/core/pixel_encoding.hpp"
+#include "slicecap/core/slice.hpp"
+#include "slicecap/vision/camera_model.hpp"
+#include "slicecap/vision/target.hpp"
+
+namespace slicecap::io {
+
+/// \brief The version this build writes and the newest it reads.
+inline constexpr int kRecordingFormatVersion = 1;
+/// \brief The manifest's file name inside a recording directory.
+inline constexpr const char* kRecordingManifest = "recording.json";
+
+/// \brief One frame's entry: its PNG (relative to the recording directory) and what the camera and
+/// the LED were doing.
+struct RecordedFrame {
+  std::string file;
+  std::int64_t timestampUs = 0;  ///< capture time, microseconds, strictly increasing
+  bool ledOn = true;
+  double exposureUs = 0.0;  ///< exposure time, microseconds (> 0)
+  double gain = 1.0;        ///< total (analogue x digital) gain, >= 1 on a real sensor, > 0 here
+  friend bool operator==(const RecordedFrame&, const RecordedFrame&) = default;
+};
+
+/// \brief The slice a recording was taken for: kind, nominal elevations, the axial offset.
+struct RecordedSlice {
+  SliceId id;
+  double alphaDeg = kAxialOffsetDeg;
+  friend bool operator==(const RecordedSlice&, const RecordedSlice&) = default;
+};
+
+/// \brief Everything recording.json holds.
+struct Recording {
+  int formatVersion = kRecordingFormatVersion;
+  std::string createdBy;  ///< e.g. "slicecap simulate 0.1.0"
+  vision::CameraModel camera;
+  /// When set, recording.json refers to this calibration file (relative to the directory) instead
+  /// of embedding the camera; `camera` then holds what the file says.
+  std::optional<std::string> calibrationFile;
+  PixelEncoding encoding = PixelEncoding::Srgb8;
+  std::optional<RecordedSlice> slice;  ///< absent for e.g. a calibration recording
+  vision::TargetGeometry target;
+  std::vector<RecordedFrame> frames;
+  friend bool operator==(const Recording&, const Recording&) = default;
+};
+
+/// \brief Reads and validates `directory`/recording.json (or the file itself when given): every
+/// field's type and range, the camera, the target, each frame's file (relative, inside the
+/// directory, present), timestamps strictly increasing. Throws IoError "FILE: FIELD: problem",
+/// e.g. "rec/recording.json: frames[3].exposure_us: expected a positive number, got -5".
+Recording readRecording(const std::filesystem::path& directory);
+
+/// \brief Writes `directory`/recording.json atomically (temporary file, fsync, rename). With a
+/// calibrationFile the camera is not embedded. Throws IoError naming the path.
+void writeRecordingManifest(const std::filesystem::path& directory, const Recording& recording);
+
+/// \brief The directory's absolute path of a frame's file.
+std::filesystem::path framePath(const std::filesystem::path& directory, const RecordedFrame& frame);
+
+/// \brief Writes a recording frame by frame: each append writes the PNG, then rewrites the
+/// manifest atomically, so a crash loses at most the frame being written.
+class RecordingWriter {
+ public:
+  /// \brief Creates `directory` (it must not hold a recording.json yet) and writes the manifest of
+  /// `header` (its frames must be empty). Throws IoError naming the directory.
+  RecordingWriter(std::filesystem::path directory, Recording header);
+
+  /// \brief Appends a frame: `image` must match the camera's size, have 1 or 3 channels and the
+  /// encoding's bit depth; `frame.file` is set to frame-NNNNN.png. Throws IoError naming the file,
+  /// or std::invalid_argument for an image of the wrong shape or a timestamp that does not
+  /// increase.
+  const RecordedFrame& append(const Image& image, RecordedFrame frame);
+
+  const Recording& recording() const { return recording_; }
+  const std::filesystem::path& directory() const { return directory_; }
+
+ private:
+  std::filesystem::path directory_;
+  Recording recording_;
+};
+
+}  // namespace slicecap::io

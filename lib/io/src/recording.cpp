@@ -1,0 +1,195 @@
+// recording.json: reading with field-level validation, atomic writing, frame-by-frame appends.
+#include "slicecap/io/recording.hpp"
+
+#include <stdexcept>
+
+#include "json_fields.hpp"
+#include "slicecap/io/png_image.hpp"
+#include "slicecap/io/target_json.hpp"
+
+namespace slicecap::io {
+
+using json_fields::Location;
+using nlohmann::json;
+
+namespace {
+
+constexpr const char* kFormatName = "slicecap-recording";
+
+json frameToJson(const RecordedFrame& f) {
+  return {{"file", f.file},
+          {"timestamp_us", f.timestampUs},
+          {"led_on", f.ledOn},
+          {"exposure_us", f.exposureUs},
+          {"gain", f.gain}};
+}
+
+json toJson(const Recording& r) {
+  json frames = json::array();
+  for (const RecordedFrame& f : r.frames)
+    frames.push_back(frameToJson(f));
+  json out = {{"format", kFormatName},
+              {"format_version", r.formatVersion},
+              {"created_by", r.createdBy},
+              {"camera", r.calibrationFile ? json{{"calibration_file", *r.calibrationFile}}
+                                           : cameraToJson(r.camera)},
+              {"pixel_encoding", std::string(toString(r.encoding))}};
+  if (r.slice) {
+    out["slice"] = {{"kind", std::string(toString(r.slice->id.kind))},
+                    {"theta_i_deg", r.slice->id.elevations.thetaIDeg},
+                    {"theta_v_deg", r.slice->id.elevations.thetaVDeg},
+                    {"alpha_deg", r.slice->alphaDeg}};
+  }
+  out["target"] = targetToJson(r.target);
+  out["frames"] = frames;
+  return out;
+}
+
+// A frame file must stay inside the recording: relative, no "..".
+bool isPlainRelative(const std::string& file) {
+  const std::filesystem::path p(file);
+  if (file.empty() || p.is_absolute()) return false;
+  for (const auto& part : p) {
+    if (part == "..") return false;
+  }
+  return true;
+}
+
+RecordedSlice sliceFromJson(const json& value, const Location& at) {
+  namespace f = json_fields;
+  f::object(value, at);
+  const std::string kindText = f::string(value, "kind", at);
+  const auto kind = parseSliceKind(kindText);
+  if (!kind) (at / "kind").fail("expected \"axial\" or \"diagonal\", got \"" + kindText + "\"");
+  RecordedSlice slice;
+  slice.id.kind = *kind;
+  for (const auto& [key, field] : {std::pair{"theta_i_deg", &slice.id.elevations.thetaIDeg},
+                                   std::pair{"theta_v_deg", &slice.id.elevations.thetaVDeg}}) {
+    const std::int64_t theta = f::integer(value, key, at);
+    if (theta < 0 || theta >= 90) (at / key).fail("expected whole degrees in 0..89");
+    *field = static_cast<int>(theta);
+  }
+  slice.alphaDeg = f::number(value, "alpha_deg", at);
+  if (slice.alphaDeg <= -180.0 || slice.alphaDeg > 180.0)
+    (at / "alpha_deg").fail("expected (-180, 180]");
+  return slice;
+}
+
+}  // namespace
+
+std::filesystem::path framePath(const std::filesystem::path& directory,
+                                const RecordedFrame& frame) {
+  return directory / frame.file;
+}
+
+Recording readRecording(const std::filesystem::path& input) {
+  namespace f = json_fields;
+  const bool isFile = std::filesystem::is_regular_file(input);
+  const std::filesystem::path directory = isFile ? input.parent_path() : input;
+  const std::filesystem::path manifest = isFile ? input : input / kRecordingManifest;
+  if (!std::filesystem::exists(manifest))
+    throw IoError(manifest.string() + ": no recording here (" + kRecordingManifest +
+                  " is missing)");
+  const json root = readJsonFile(manifest);
+  const Location at{manifest.string(), ""};
+  f::object(root, at);
+  Recording r;
+  if (f::string(root, "format", at) != kFormatName)
+    (at / "format").fail(std::string("expected \"") + kFormatName + "\"");
+  const std::int64_t version = f::integer(root, "format_version", at);
+  if (version < 1 || version > kRecordingFormatVersion)
+    (at / "format_version")
+        .fail("version " + std::to_string(version) + " is not readable by this build (reads 1.." +
+              std::to_string(kRecordingFormatVersion) + ")");
+  r.formatVersion = static_cast<int>(version);
+  if (root.contains("created_by")) r.createdBy = f::string(root, "created_by", at);
+
+  const json& camera = f::object(f::member(root, "camera", at), at / "camera");
+  if (camera.contains("calibration_file")) {
+    const std::string file = f::string(camera, "calibration_file", at / "camera");
+    if (!isPlainRelative(file))
+      (at / "camera" / "calibration_file").fail("must be a relative path inside the recording");
+    const std::filesystem::path calibration = directory / file;
+    if (!std::filesystem::exists(calibration))
+      (at / "camera" / "calibration_file").fail("'" + calibration.string() + "' does not exist");
+    r.calibrationFile = file;
+    r.camera = cameraFromJson(readJsonFile(calibration), calibration.string());
+  } else {
+    r.camera = cameraFromJson(camera, manifest.string(), "camera");
+  }
+
+  const std::string encoding = f::string(root, "pixel_encoding", at);
+  const auto parsed = parsePixelEncoding(encoding);
+  if (!parsed)
+    (at / "pixel_encoding").fail("expected \"srgb8\" or \"linear16\", got \"" + encoding + "\"");
+  r.encoding = *parsed;
+  if (root.contains("slice") && !root["slice"].is_null())
+    r.slice = sliceFromJson(root["slice"], at / "slice");
+  r.target = targetFromJson(f::member(root, "target", at), manifest.string(), "target");
+
+  const json& frames = f::array(root, "frames", at);
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const Location here = (at / "frames")[i];
+    f::object(frames[i], here);
+    RecordedFrame frame;
+    frame.file = f::string(frames[i], "file", here);
+    if (!isPlainRelative(frame.file))
+      (here / "file").fail("must be a relative path inside the recording");
+    if (!std::filesystem::is_regular_file(directory / frame.file))
+      (here / "file").fail("'" + (directory / frame.file).string() + "' does not exist");
+    frame.timestampUs = f::integer(frames[i], "timestamp_us", here);
+    if (!r.frames.empty() && frame.timestampUs <= r.frames.back().timestampUs)
+      (here / "timestamp_us")
+          .fail("timestamps must increase (previous frame: " +
+                std::to_string(r.frames.back().timestampUs) + ")");
+    frame.ledOn = f::boolean(frames[i], "led_on", here);
+    frame.exposureUs = f::positiveNumber(frames[i], "exposure_us", here);
+    frame.gain = f::positiveNumber(frames[i], "gain", here);
+    r.frames.push_back(frame);
+  }
+  return r;
+}
+
+void writeRecordingManifest(const std::filesystem::path& directory, const Recording& recording) {
+  writeJsonFileAtomically(directory / kRecordingManifest, toJson(recording));
+}
+
+RecordingWriter::RecordingWriter(std::filesystem::path directory, Recording header)
+    : directory_(std::move(directory)), recording_(std::move(header)) {
+  if (!recording_.frames.empty())
+    throw std::invalid_argument("RecordingWriter: the header must not list frames yet");
+  std::error_code error;
+  std::filesystem::create_directories(directory_, error);
+  if (error)
+    throw IoError(directory_.string() + ": cannot create directory (" + error.message() + ")");
+  if (std::filesystem::exists(directory_ / kRecordingManifest))
+    throw IoError(directory_.string() + ": already holds a recording; refusing to overwrite it");
+  writeRecordingManifest(directory_, recording_);
+}
+
+const RecordedFrame& RecordingWriter::append(const Image& image, RecordedFrame frame) {
+  const vision::CameraIntrinsics& k = recording_.camera.intrinsics;
+  if (!image.isValid() || image.width != k.widthPx || image.height != k.heightPx ||
+      (image.channels != 1 && image.channels != 3) ||
+      image.bitDepth != bitDepthOf(recording_.encoding))
+    throw std::invalid_argument(
+        "RecordingWriter: frame " + std::to_string(recording_.frames.size()) + " is not a " +
+        std::to_string(k.widthPx) + " x " + std::to_string(k.heightPx) + " gray or RGB image of " +
+        std::string(toString(recording_.encoding)));
+  if (!recording_.frames.empty() && frame.timestampUs <= recording_.frames.back().timestampUs)
+    throw std::invalid_argument("RecordingWriter: timestamps must increase");
+  char name[32];
+  std::snprintf(name, sizeof name, "frame-%05zu.png", recording_.frames.size());
+  frame.file = name;
+  writePng(directory_ / frame.file, image);
+  recording_.frames.push_back(frame);
+  try {
+    writeRecordingManifest(directory_, recording_);
+  } catch (...) {
+    recording_.frames.pop_back();
+    throw;
+  }
+  return recording_.frames.back();
+}
+
+}  // namespace slicecap::io

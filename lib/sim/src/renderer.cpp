@@ -1,0 +1,336 @@
+// The virtual camera: per-pixel ray to the target plane, LED and ambient irradiance, the target's
+// albedo raster, the material's BRDF on a grid over the window; then occluder, noise, encoding.
+#include "slicecap/sim/renderer.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+
+#include "slicecap/eval/metrics.hpp"
+#include "slicecap/vision/target_surface.hpp"
+
+namespace slicecap::sim {
+namespace {
+
+constexpr int kTexelFloats = 4;  // albedo r, g, b (the desk where off the sheet), window
+constexpr float kInvPi = static_cast<float>(1.0 / std::numbers::pi);
+constexpr double kArmAlbedo = 0.05;  // the light arm: black anodised aluminium
+constexpr double kWallAlbedo = 0.3;  // what the camera sees above the horizon
+
+UnitVector unit(const Eigen::Vector3d& v) {
+  const Eigen::Vector3d n = v.normalized();
+  return {n.x(), n.y(), n.z()};
+}
+
+// 4096 standard normal samples (16 KB, stays in L1), picked by random 12-bit indices: sensor
+// noise at ~1 ns a sample.
+const std::vector<float>& gaussianTable() {
+  static const std::vector<float> table = [] {
+    std::mt19937 rng(12345);
+    std::normal_distribution<float> normal(0.0f, 1.0f);
+    std::vector<float> t(4096);
+    for (float& v : t)
+      v = normal(rng);
+    return t;
+  }();
+  return table;
+}
+
+// 8-bit sRGB code of every 16-bit linear level.
+const std::vector<std::uint8_t>& srgbTable() {
+  static const std::vector<std::uint8_t> table = [] {
+    std::vector<std::uint8_t> t(65536);
+    for (std::size_t i = 0; i < t.size(); ++i)
+      t[i] = static_cast<std::uint8_t>(std::lround(eval::srgbEncode(i / 65535.0) * 255.0));
+    return t;
+  }();
+  return table;
+}
+
+struct SplitMix64 {
+  std::uint64_t state;
+  std::uint64_t next() {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  }
+};
+
+bool insideConvexQuad(const Occluder& q, double x, double y) {
+  bool positive = false, negative = false;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector2d& a = q.cornersPx[i];
+    const Eigen::Vector2d& b = q.cornersPx[(i + 1) % 4];
+    const double cross = (b.x() - a.x()) * (y - a.y()) - (b.y() - a.y()) * (x - a.x());
+    positive |= cross > 0;
+    negative |= cross < 0;
+  }
+  return !(positive && negative);
+}
+
+}  // namespace
+
+FrameRenderer::FrameRenderer(vision::CameraModel camera, vision::TargetGeometry target,
+                             std::shared_ptr<const models::ReflectanceModel> material,
+                             const RigParams& rig, RenderSettings settings)
+    : camera_(std::move(camera)),
+      target_(std::move(target)),
+      material_(std::move(material)),
+      rig_(rig),
+      settings_(settings) {
+  std::string error;
+  if (!camera_.isValid(&error)) throw std::invalid_argument("camera: " + error);
+  if (!material_) throw std::invalid_argument("FrameRenderer: no material");
+  if (settings_.brdfGridNodes < 3 || settings_.brdfGridNodes % 2 == 0)
+    throw std::invalid_argument("FrameRenderer: the BRDF grid needs an odd node count >= 3");
+  const int width = camera_.intrinsics.widthPx, height = camera_.intrinsics.heightPx;
+  rays_.resize(std::size_t(width) * height * 2);
+  const vision::CameraIntrinsics& k = camera_.intrinsics;
+  for (int y = 0; y < height; ++y) {
+    Eigen::Vector2d n((0 - k.cxPx) / k.fxPx, (y - k.cyPx) / k.fyPx);
+    for (int x = 0; x < width; ++x) {
+      n = camera_.undistort({(x - k.cxPx) / k.fxPx, (y - k.cyPx) / k.fyPx}, n);
+      rays_[2 * (std::size_t(y) * width + x)] = static_cast<float>(n.x());
+      rays_[2 * (std::size_t(y) * width + x) + 1] = static_cast<float>(n.y());
+    }
+  }
+  // Shot and read noise's standard deviation at 256 signal levels (a square root a sample is a
+  // third of the frame's time otherwise; 1/256 steps change sigma by well under its own noise).
+  noiseSigma_.resize(256);
+  for (std::size_t i = 0; i < noiseSigma_.size(); ++i) {
+    const double signal = (i + 0.5) / 256.0;
+    const double shot = rig_.fullWellElectrons > 0.0 ? signal / rig_.fullWellElectrons : 0.0;
+    noiseSigma_[i] = static_cast<float>(std::sqrt(rig_.readNoise * rig_.readNoise + shot));
+  }
+  // The raster reaches one texel past the sheet so that its edge is filtered like any other.
+  const double margin = 1.0 / settings_.texelsPerMm;
+  texArea_ = {target_.sheet.xMinMm - margin, target_.sheet.yMinMm - margin,
+              target_.sheet.xMaxMm + margin, target_.sheet.yMaxMm + margin};
+  const vision::TargetRaster raster =
+      vision::rasterizeTarget(vision::TargetSurface(target_), texArea_, settings_.texelsPerMm, 4);
+  texWidth_ = raster.width;
+  texHeight_ = raster.height;
+  texels_.resize(std::size_t(texWidth_) * texHeight_ * kTexelFloats);
+  // The desk is folded into the albedo, so a texel is 16 bytes and off-raster pixels are desk.
+  for (std::size_t i = 0; i < std::size_t(texWidth_) * texHeight_; ++i) {
+    for (int c = 0; c < 3; ++c)
+      texels_[kTexelFloats * i + c] =
+          static_cast<float>(raster.albedo[3 * i + c] + rig_.deskAlbedo * (1.0 - raster.sheet[i]));
+    texels_[kTexelFloats * i + 3] = raster.window[i];
+  }
+}
+
+double FrameRenderer::pixelScale(const FrameScene& scene) const {
+  return rig_.sensorResponse * scene.exposureUs * 1e-6 * scene.gain;
+}
+
+double FrameRenderer::ledIrradiance(const FrameScene& scene, const Eigen::Vector3d& pointMm) const {
+  if (!scene.ledOn) return 0.0;
+  const Eigen::Vector3d toLight = scene.lightMm - pointMm;
+  const double distanceM = toLight.norm() * 1e-3;
+  const double cosine = std::max(0.0, toLight.z() / toLight.norm());
+  return rig_.ledIntensityWPerSr * cosine / (distanceM * distanceM);
+}
+
+PointRadiometry FrameRenderer::windowPoint(const FrameScene& scene,
+                                           const Eigen::Vector3d& pointMm) const {
+  const Eigen::Vector3d cameraMm = scene.exposurePoses.front().cameraCentreMm();
+  const UnitVector toView = unit(cameraMm - pointMm);
+  PointRadiometry r;
+  r.ledIrradiance = ledIrradiance(scene, pointMm);
+  r.brdf = material_->evaluate(unit(scene.lightMm - pointMm), toView);
+  const Rgb ambient = material_->evaluate({0.0, 0.0, 1.0}, toView);
+  r.expectedLinear =
+      (r.brdf * r.ledIrradiance + ambient * rig_.ambientIrradiance) * pixelScale(scene);
+  return r;
+}
+
+// Everything about one exposure pose that is the same for all its pixels.
+struct FrameRenderer::PoseState {
+  Eigen::Matrix3f imageToPlane;  // normalised image coordinates -> target plane (mm)
+  std::vector<float> grid;       // window radiance x pixel scale at the BRDF grid's nodes
+  float nodeStepX = 0, nodeStepY = 0;
+};
+
+FrameRenderer::PoseState FrameRenderer::prepare(const vision::Pose& pose, const FrameScene& scene,
+                                                double scale) const {
+  PoseState state;
+  Eigen::Matrix3d planeToImage;
+  planeToImage << pose.rotation.col(0), pose.rotation.col(1), pose.translationMm;
+  state.imageToPlane = planeToImage.inverse().cast<float>();
+  // Window radiance (LED and ambient) at the nodes, already scaled to pixel values.
+  const int nodes = settings_.brdfGridNodes;
+  const vision::RectMm& window = target_.window;
+  state.nodeStepX = static_cast<float>(window.widthMm() / (nodes - 1));
+  state.nodeStepY = static_cast<float>(window.heightMm() / (nodes - 1));
+  state.grid.resize(std::size_t(nodes) * nodes * 3);
+  const Eigen::Vector3d cameraMm = pose.cameraCentreMm();
+  for (int j = 0; j < nodes; ++j) {
+    for (int i = 0; i < nodes; ++i) {
+      const Eigen::Vector3d point(window.xMinMm + i * window.widthMm() / (nodes - 1),
+                                  window.yMinMm + j * window.heightMm() / (nodes - 1), 0.0);
+      const UnitVector toView = unit(cameraMm - point);
+      Rgb radiance = material_->evaluate({0.0, 0.0, 1.0}, toView) * rig_.ambientIrradiance;
+      if (scene.ledOn && scene.lightMm.z() > 0.0)
+        radiance +=
+            material_->evaluate(unit(scene.lightMm - point), toView) * ledIrradiance(scene, point);
+      for (int c = 0; c < 3; ++c)
+        state.grid[3 * (std::size_t(j) * nodes + i) + c] = static_cast<float>(radiance[c] * scale);
+    }
+  }
+  return state;
+}
+
+void FrameRenderer::accumulateRow(const PoseState& state, const FrameScene& scene, double scale,
+                                  int row, float* out) const {
+  const Eigen::Matrix3f& h = state.imageToPlane;
+  const int nodes = settings_.brdfGridNodes;
+  const float ledFactor = scene.ledOn ? static_cast<float>(rig_.ledIntensityWPerSr * 1e6) : 0.0f;
+  const float lx = static_cast<float>(scene.lightMm.x()),
+              ly = static_cast<float>(scene.lightMm.y());
+  const float lz = static_cast<float>(scene.lightMm.z());
+  const float ambient = static_cast<float>(rig_.ambientIrradiance);
+  const float lambertScale = static_cast<float>(scale) * kInvPi;
+  const float desk = static_cast<float>(rig_.deskAlbedo);
+  const float sky = static_cast<float>(kWallAlbedo * rig_.ambientIrradiance * scale) * kInvPi;
+  const float texX0 = static_cast<float>(texArea_.xMinMm),
+              texY1 = static_cast<float>(texArea_.yMaxMm);
+  const float tpm = static_cast<float>(settings_.texelsPerMm);
+  const float winX0 = static_cast<float>(target_.window.xMinMm),
+              winY0 = static_cast<float>(target_.window.yMinMm);
+  const float maxNode = nodes - 1.0001f;
+  const int width = camera_.intrinsics.widthPx;
+  const float* ray = &rays_[2 * std::size_t(row) * width];
+  // Pass 1, branch-free so that it vectorises: each pixel's point on the plane and its Lambertian
+  // radiance factor (irradiance x pixel scale / pi). Behind the camera (w <= 0) is the sky.
+  thread_local std::vector<float> planeX, planeY, lambertOf;
+  planeX.resize(width), planeY.resize(width), lambertOf.resize(width);
+  const float h00 = h(0, 0), h01 = h(0, 1), h02 = h(0, 2), h10 = h(1, 0), h11 = h(1, 1),
+              h12 = h(1, 2);
+  const float h20 = h(2, 0), h21 = h(2, 1), h22 = h(2, 2);
+  const float ledPart = lz > 0.0f ? ledFactor * lz : 0.0f;
+  for (int px = 0; px < width; ++px) {
+    const float xn = ray[2 * px], yn = ray[2 * px + 1];
+    const float w = h20 * xn + h21 * yn + h22;
+    const float invW = 1.0f / w;
+    const float x = (h00 * xn + h01 * yn + h02) * invW;
+    const float y = (h10 * xn + h11 * yn + h12) * invW;
+    const float dx = lx - x, dy = ly - y;
+    const float d2 = dx * dx + dy * dy + lz * lz;
+    planeX[px] = x;
+    planeY[px] = y;
+    lambertOf[px] = w > 0.0f ? (ambient + ledPart / (d2 * std::sqrt(d2))) * lambertScale : -1.0f;
+  }
+  // Pass 2: the target's raster, the desk, the window's radiance.
+  for (int px = 0; px < width; ++px, out += 3) {
+    const float lambert = lambertOf[px];
+    if (lambert < 0.0f) {  // above the horizon: a dim wall
+      out[0] += sky, out[1] += sky, out[2] += sky;
+      continue;
+    }
+    const float x = planeX[px], y = planeY[px];
+    const float tx = (x - texX0) * tpm - 0.5f, ty = (texY1 - y) * tpm - 0.5f;
+    if (!(tx >= 0.0f && ty >= 0.0f && tx < texWidth_ - 1 && ty < texHeight_ - 1)) {
+      const float v = lambert * desk;
+      out[0] += v, out[1] += v, out[2] += v;
+      continue;
+    }
+    const int ix = static_cast<int>(tx), iy = static_cast<int>(ty);
+    const float fx = tx - ix, fy = ty - iy;
+    const float w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy, w11 = fx * fy;
+    const float* t00 = &texels_[kTexelFloats * (std::size_t(iy) * texWidth_ + ix)];
+    const float* t01 = t00 + kTexelFloats * texWidth_;
+    float texel[kTexelFloats];
+    for (int c = 0; c < kTexelFloats; ++c)
+      texel[c] =
+          w00 * t00[c] + w10 * t00[c + kTexelFloats] + w01 * t01[c] + w11 * t01[c + kTexelFloats];
+    for (int c = 0; c < 3; ++c)
+      out[c] += lambert * texel[c];
+    if (texel[3] > 0.0f) {
+      const float gx = std::clamp((x - winX0) / state.nodeStepX, 0.0f, maxNode);
+      const float gy = std::clamp((y - winY0) / state.nodeStepY, 0.0f, maxNode);
+      const int gi = static_cast<int>(gx), gj = static_cast<int>(gy);
+      const float ex = gx - gi, ey = gy - gj;
+      const float* g00 = &state.grid[3 * (std::size_t(gj) * nodes + gi)];
+      const float* g01 = g00 + 3 * nodes;
+      for (int c = 0; c < 3; ++c)
+        out[c] += texel[3] * ((1 - ey) * ((1 - ex) * g00[c] + ex * g00[c + 3]) +
+                              ey * ((1 - ex) * g01[c] + ex * g01[c + 3]));
+    }
+  }
+}
+
+template <typename RowSink>
+void FrameRenderer::renderRows(const FrameScene& scene, RowSink&& sink) const {
+  if (scene.exposurePoses.empty())
+    throw std::invalid_argument("FrameRenderer: a scene needs a pose");
+  const double scale = pixelScale(scene) / static_cast<double>(scene.exposurePoses.size());
+  std::vector<PoseState> states;
+  for (const vision::Pose& pose : scene.exposurePoses)
+    states.push_back(prepare(pose, scene, scale));
+  const int width = camera_.intrinsics.widthPx, height = camera_.intrinsics.heightPx;
+  // The light arm, a convex quad: pixels inside show its dark anodised surface in room light.
+  const float arm = static_cast<float>(kArmAlbedo / std::numbers::pi * rig_.ambientIrradiance *
+                                       pixelScale(scene));
+  double armTop = height, armBottom = -1;
+  if (scene.occluder) {
+    for (const Eigen::Vector2d& c : scene.occluder->cornersPx)
+      armTop = std::min(armTop, c.y()), armBottom = std::max(armBottom, c.y());
+  }
+  std::vector<float> row(std::size_t(width) * 3);
+  for (int y = 0; y < height; ++y) {
+    std::fill(row.begin(), row.end(), 0.0f);
+    for (const PoseState& state : states)
+      accumulateRow(state, scene, scale, y, row.data());
+    if (scene.occluder && y >= armTop - 1 && y <= armBottom + 1) {
+      for (int x = 0; x < width; ++x) {
+        if (insideConvexQuad(*scene.occluder, x, y))
+          row[3 * x] = row[3 * x + 1] = row[3 * x + 2] = arm;
+      }
+    }
+    sink(y, row.data());
+  }
+}
+
+std::vector<float> FrameRenderer::renderLinear(const FrameScene& scene) const {
+  const int width = camera_.intrinsics.widthPx;
+  std::vector<float> linear(std::size_t(width) * camera_.intrinsics.heightPx * 3);
+  renderRows(scene, [&](int y, const float* row) {
+    std::copy(row, row + 3 * width, &linear[3 * std::size_t(y) * width]);
+  });
+  return linear;
+}
+
+Image FrameRenderer::render(const FrameScene& scene) const {
+  const int width = camera_.intrinsics.widthPx, height = camera_.intrinsics.heightPx;
+  const bool srgb = rig_.encoding == PixelEncoding::Srgb8;
+  Image image{width, height, 3, srgb ? 8 : 16,
+              std::vector<std::uint16_t>(std::size_t(width) * height * 3)};
+  const bool noisy = rig_.readNoise > 0.0 || rig_.fullWellElectrons > 0.0;
+  const std::vector<float>& gauss = gaussianTable();
+  const std::vector<std::uint8_t>& toSrgb = srgbTable();
+  SplitMix64 rng{scene.noiseSeed};
+  std::uint64_t bits = 0;
+  int bitsLeft = 0;
+  renderRows(scene, [&](int y, const float* row) {
+    std::uint16_t* out = &image.samples[3 * std::size_t(y) * width];
+    for (int i = 0; i < 3 * width; ++i) {
+      float v = row[i];
+      if (noisy) {
+        if (bitsLeft == 0) bits = rng.next(), bitsLeft = 5;
+        v += noiseSigma_[static_cast<std::size_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f)] *
+             gauss[bits & 0xfff];
+        bits >>= 12, --bitsLeft;
+      }
+      const auto level = static_cast<std::uint16_t>(std::clamp(v, 0.0f, 1.0f) * 65535.0f + 0.5f);
+      out[i] = srgb ? toSrgb[level] : level;
+    }
+  });
+  return image;
+}
+
+}  // namespace slicecap::sim

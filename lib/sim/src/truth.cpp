@@ -1,0 +1,138 @@
+// truth.json writing and reading.
+#include "slicecap/sim/truth.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/io/target_json.hpp"
+
+namespace slicecap::sim {
+
+using nlohmann::json;
+
+namespace {
+
+json vec(const Eigen::Vector3d& v) {
+  return json::array({v.x(), v.y(), v.z()});
+}
+json rgb(const Rgb& v) {
+  return json::array({v[0], v[1], v[2]});
+}
+json direction(const Direction& d) {
+  return {{"theta_deg", d.thetaDeg}, {"phi_deg", d.phiDeg}};
+}
+
+// Reading: truth files are written by this code, so a malformed one is reported by the JSON
+// library's own message (which names the key) with the file's path.
+Eigen::Vector3d toVec(const json& j) {
+  return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
+}
+Rgb toRgb(const json& j) {
+  return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
+}
+Direction toDirection(const json& j) {
+  return {j.at("theta_deg").get<double>(), j.at("phi_deg").get<double>()};
+}
+
+}  // namespace
+
+void writeTruth(const std::filesystem::path& directory, const SweepTruth& truth) {
+  json frames = json::array();
+  for (const FrameTruth& f : truth.frames) {
+    json rotation = json::array();
+    for (int r = 0; r < 3; ++r)
+      rotation.push_back({f.pose.rotation(r, 0), f.pose.rotation(r, 1), f.pose.rotation(r, 2)});
+    frames.push_back(
+        {{"file", f.file},
+         {"timestamp_us", f.timestampUs},
+         {"led_on", f.ledOn},
+         {"exposure_us", f.exposureUs},
+         {"gain", f.gain},
+         {"slice_parameter_deg", f.sliceParameterDeg},
+         {"pose", {{"rotation", rotation}, {"translation_mm", vec(f.pose.translationMm)}}},
+         {"camera_centre_mm", vec(f.pose.cameraCentreMm())},
+         {"view", direction(f.view)},
+         {"camera_distance_mm", f.cameraDistanceMm},
+         {"light_mm", vec(f.lightMm)},
+         {"light", direction(f.light)},
+         {"led_irradiance_w_per_m2", f.ledIrradiance},
+         {"brdf", rgb(f.brdf)},
+         {"expected_linear", rgb(f.expectedLinear)},
+         {"motion_blur_px", f.motionBlurPx},
+         {"occluded", f.occluded},
+         {"aimed_off", f.aimedOff},
+         {"markers_in_view", f.markersInView}});
+  }
+  const json root = {
+      {"format", "slicecap-truth"},
+      {"format_version", 1},
+      {"material", truth.material},
+      {"material_description", truth.materialDescription},
+      {"slice",
+       {{"kind", std::string(toString(truth.slice.id.kind))},
+        {"theta_i_deg", truth.slice.id.elevations.thetaIDeg},
+        {"theta_v_deg", truth.slice.id.elevations.thetaVDeg},
+        {"alpha_deg", truth.slice.alphaDeg}}},
+      {"radiometry",
+       {{"led_intensity_w_per_sr", truth.ledIntensityWPerSr},
+        {"sensor_response", truth.sensorResponse},
+        {"ambient_irradiance_w_per_m2", truth.ambientIrradiance},
+        {"model",
+         "pixel_linear = sensor_response * exposure_s * gain * radiance; LED irradiance = "
+         "intensity * cos(theta_i) / d_m^2; window radiance = brdf * E_led + brdf(light at the "
+         "normal, view) * E_ambient; printed parts and desk: albedo / pi * (E_led + E_ambient); "
+         "pose: X_camera = rotation * X_target + translation_mm (OpenCV camera axes)"}}},
+      {"frames", frames}};
+  io::writeJsonFileAtomically(directory / kTruthFile, root);
+}
+
+SweepTruth readTruth(const std::filesystem::path& directory) {
+  const std::filesystem::path path = directory / kTruthFile;
+  const json root = io::readJsonFile(path);
+  try {
+    SweepTruth t;
+    t.material = root.at("material").get<std::string>();
+    t.materialDescription = root.at("material_description").get<std::string>();
+    const json& s = root.at("slice");
+    const auto kind = parseSliceKind(s.at("kind").get<std::string>());
+    if (!kind) throw io::IoError(path.string() + ": slice.kind: unknown kind");
+    t.slice = {{*kind, {s.at("theta_i_deg").get<int>(), s.at("theta_v_deg").get<int>()}},
+               s.at("alpha_deg").get<double>()};
+    const json& r = root.at("radiometry");
+    t.ledIntensityWPerSr = r.at("led_intensity_w_per_sr").get<double>();
+    t.sensorResponse = r.at("sensor_response").get<double>();
+    t.ambientIrradiance = r.at("ambient_irradiance_w_per_m2").get<double>();
+    for (const json& f : root.at("frames")) {
+      FrameTruth ft;
+      ft.file = f.at("file").get<std::string>();
+      ft.timestampUs = f.at("timestamp_us").get<std::int64_t>();
+      ft.ledOn = f.at("led_on").get<bool>();
+      ft.exposureUs = f.at("exposure_us").get<double>();
+      ft.gain = f.at("gain").get<double>();
+      ft.sliceParameterDeg = f.at("slice_parameter_deg").get<double>();
+      for (int row = 0; row < 3; ++row) {
+        for (int column = 0; column < 3; ++column)
+          ft.pose.rotation(row, column) =
+              f.at("pose").at("rotation").at(row).at(column).get<double>();
+      }
+      ft.pose.translationMm = toVec(f.at("pose").at("translation_mm"));
+      ft.view = toDirection(f.at("view"));
+      ft.cameraDistanceMm = f.at("camera_distance_mm").get<double>();
+      ft.lightMm = toVec(f.at("light_mm"));
+      ft.light = toDirection(f.at("light"));
+      ft.ledIrradiance = f.at("led_irradiance_w_per_m2").get<double>();
+      ft.brdf = toRgb(f.at("brdf"));
+      ft.expectedLinear = toRgb(f.at("expected_linear"));
+      ft.motionBlurPx = f.at("motion_blur_px").get<double>();
+      ft.occluded = f.at("occluded").get<bool>();
+      ft.aimedOff = f.at("aimed_off").get<bool>();
+      ft.markersInView = f.at("markers_in_view").get<std::vector<int>>();
+      t.frames.push_back(std::move(ft));
+    }
+    return t;
+  } catch (const json::exception& e) {
+    throw io::IoError(path.string() + ": " + e.what());
+  }
+}
+
+}  // namespace slicecap::sim

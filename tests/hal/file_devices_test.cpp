@@ -1,0 +1,147 @@
+// The file camera plays a recording with its timestamps and metadata; the file LED logs changes.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "../support/test_support.hpp"
+#include "slicecap/hal/file_camera.hpp"
+#include "slicecap/hal/file_led.hpp"
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/io/recording.hpp"
+
+namespace slicecap::hal {
+namespace {
+
+using namespace std::chrono_literals;
+
+// Three 8 x 6 RGB frames, 40 ms apart from t = 1 s, alternating LED, the third at gain 2.
+std::filesystem::path threeFrameRecording() {
+  const auto dir = test::freshTempDir() / "rec";
+  io::Recording header;
+  header.camera.intrinsics = {8, 6, 10.0, 10.0, 3.5, 2.5};
+  header.target = vision::defaultTarget();
+  io::RecordingWriter writer(dir, header);
+  for (int i = 0; i < 3; ++i) {
+    Image image{8, 6, 3, 8,
+                std::vector<std::uint16_t>(8 * 6 * 3, static_cast<std::uint16_t>(10 * i))};
+    writer.append(image, {"", 1'000'000 + 40'000 * i, i % 2 == 0, 2000.0 + i, i == 2 ? 2.0 : 1.0});
+  }
+  return dir;
+}
+
+TEST(FileCamera, PlaysEveryFrameWithItsTimestampAndMetadataThenEnds) {
+  FakeClock clock;
+  FileCamera camera(threeFrameRecording(), clock);
+  CameraConfig config;
+  EXPECT_EQ(camera.configure(config).status, ConfigResult::Status::Adjusted);
+  EXPECT_EQ(config.widthPx, 8);
+  EXPECT_EQ(camera.configure(config).status, ConfigResult::Status::Valid);
+  camera.start();
+  for (int i = 0; i < 3; ++i) {
+    const CaptureResult r = camera.nextFrame(100ms);
+    ASSERT_EQ(r.status, CaptureResult::Status::Frame) << r.error;
+    EXPECT_EQ(r.frame->metadata.sequence, std::uint64_t(i));
+    EXPECT_EQ(r.frame->metadata.timestampUs, 1'000'000 + 40'000 * i);
+    EXPECT_EQ(r.frame->metadata.ledOn, i % 2 == 0);
+    EXPECT_EQ(r.frame->metadata.exposureUs, 2000.0 + i);
+    EXPECT_EQ(r.frame->metadata.gain, i == 2 ? 2.0 : 1.0);
+    EXPECT_EQ(r.frame->image.at(7, 5, 2), 10 * i);
+  }
+  EXPECT_EQ(camera.nextFrame(100ms).status, CaptureResult::Status::EndOfStream);
+}
+
+TEST(FileCamera, PacedPlaybackWaitsOnTheClockAndTimesOut) {
+  FakeClock clock(500);
+  FileCameraOptions options;
+  options.paced = true;
+  FileCamera camera(threeFrameRecording(), clock, options);
+  CameraConfig config;
+  config.widthPx = 8;
+  config.heightPx = 6;
+  camera.configure(config);
+  camera.start();
+  EXPECT_EQ(camera.nextFrame(0ms).status, CaptureResult::Status::Frame);
+  EXPECT_EQ(clock.nowUs(), 500);
+  // The next frame is due 40 ms after the first: a 10 ms wait times out, a longer one gets it.
+  EXPECT_EQ(camera.nextFrame(10ms).status, CaptureResult::Status::Timeout);
+  EXPECT_EQ(camera.nextFrame(100ms).status, CaptureResult::Status::Frame);
+  EXPECT_EQ(clock.nowUs(), 500 + 40'000);
+}
+
+TEST(FileCamera, LoopsWithIncreasingTimestampsAndReportsBadFramesAsErrors) {
+  FakeClock clock;
+  const auto dir = threeFrameRecording();
+  FileCameraOptions options;
+  options.loop = true;
+  options.failAtSequence = 4;
+  FileCamera camera(dir, clock, options);
+  CameraConfig config;
+  config.widthPx = 8;
+  config.heightPx = 6;
+  camera.configure(config);
+  camera.start();
+  std::int64_t previous = 0;
+  for (int i = 0; i < 4; ++i) {
+    const CaptureResult r = camera.nextFrame(0ms);
+    ASSERT_EQ(r.status, CaptureResult::Status::Frame);
+    EXPECT_GT(r.frame->metadata.timestampUs, previous);
+    previous = r.frame->metadata.timestampUs;
+  }
+  EXPECT_EQ(previous, 1'000'000 + 120'000);  // the loop goes on at the recording's frame period
+  const CaptureResult injected = camera.nextFrame(0ms);
+  EXPECT_EQ(injected.status, CaptureResult::Status::Error);
+  EXPECT_NE(injected.error.find("frame-00001.png"), std::string::npos) << injected.error;
+  std::ofstream(dir / "frame-00002.png") << "not a png";
+  const CaptureResult corrupt = camera.nextFrame(0ms);
+  EXPECT_EQ(corrupt.status, CaptureResult::Status::Error);
+  EXPECT_NE(corrupt.error.find("frame-00002.png"), std::string::npos) << corrupt.error;
+  EXPECT_EQ(camera.nextFrame(0ms).status, CaptureResult::Status::Frame);  // playback goes on
+}
+
+TEST(FileCamera, RefusesCallsOutOfOrderAndNamesAMissingRecording) {
+  FakeClock clock;
+  FileCamera camera(threeFrameRecording(), clock);
+  EXPECT_THROW(camera.start(), std::logic_error);
+  EXPECT_THROW(camera.nextFrame(0ms), std::logic_error);
+  const auto missing = test::freshTempDir() / "nothing-here";
+  try {
+    FileCamera none(missing, clock);
+    FAIL() << "a missing recording was accepted";
+  } catch (const io::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("nothing-here"), std::string::npos) << e.what();
+  }
+}
+
+TEST(FileLed, LogsEveryChangeWithItsTimeAndEndsOff) {
+  const auto log = test::freshTempDir() / "led.log";
+  FakeClock clock(100);
+  {
+    FileLed led(log, clock);
+    EXPECT_FALSE(led.isOn());
+    clock.advanceUs(50);
+    led.set(true);
+    led.set(true);  // no change, no line
+    clock.advanceUs(25);
+    led.set(false);
+    clock.advanceUs(25);
+    led.set(true);
+    clock.advanceUs(5);
+  }
+  const std::vector<LedEvent> expected = {
+      {100, false}, {150, true}, {175, false}, {200, true}, {205, false}};
+  EXPECT_EQ(readLedLog(log), expected);
+}
+
+TEST(FileLed, ReaderNamesTheBadLine) {
+  const auto log = test::freshTempDir() / "led.log";
+  std::ofstream(log) << "10 on\n20 dim\n";
+  try {
+    readLedLog(log);
+    FAIL() << "a bad line was accepted";
+  } catch (const DeviceError& e) {
+    EXPECT_NE(std::string(e.what()).find("led.log:2"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace slicecap::hal

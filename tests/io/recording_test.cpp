@@ -1,0 +1,112 @@
+// recording.json: what the writer appends reads back, and every bad field is named.
+#include "slicecap/io/recording.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "../support/test_support.hpp"
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/io/target_json.hpp"
+
+namespace slicecap::io {
+namespace {
+
+Recording smallHeader(PixelEncoding encoding) {
+  Recording r;
+  r.createdBy = "recording_test";
+  r.camera.intrinsics = {16, 12, 20.0, 21.0, 7.5, 5.5};
+  r.camera.distortion = {-0.05, 0.01, 0.001, -0.001, 0.0};
+  r.encoding = encoding;
+  r.slice = RecordedSlice{{SliceKind::Axial, {30, 75}}, 15.0};
+  r.target = vision::defaultTarget();
+  return r;
+}
+
+Image gradient(int channels, int bitDepth, int offset) {
+  Image image{16, 12, channels, bitDepth, std::vector<std::uint16_t>(16 * 12 * channels)};
+  for (std::size_t i = 0; i < image.samples.size(); ++i)
+    image.samples[i] =
+        static_cast<std::uint16_t>((i * 37 + offset) % (bitDepth == 8 ? 256 : 65536));
+  return image;
+}
+
+// Writes a two-frame recording, then lets `edit` change its manifest's JSON.
+std::filesystem::path editedRecording(const std::function<void(nlohmann::json&)>& edit) {
+  const auto dir = test::freshTempDir() / "rec";
+  RecordingWriter writer(dir, smallHeader(PixelEncoding::Srgb8));
+  writer.append(gradient(3, 8, 0), {"", 1000, true, 5000.0, 1.0});
+  writer.append(gradient(3, 8, 1), {"", 34333, false, 5000.0, 1.0});
+  nlohmann::json manifest = readJsonFile(dir / kRecordingManifest);
+  edit(manifest);
+  std::ofstream(dir / kRecordingManifest) << manifest.dump(1);
+  return dir;
+}
+
+std::string readError(const std::filesystem::path& dir) {
+  try {
+    readRecording(dir);
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Recording, WriterAppendsFramesThatReadBackExactly) {
+  for (PixelEncoding encoding : {PixelEncoding::Srgb8, PixelEncoding::Linear16}) {
+    const auto dir = test::freshTempDir() / std::string(toString(encoding));
+    RecordingWriter writer(dir, smallHeader(encoding));
+    const int bits = bitDepthOf(encoding);
+    writer.append(gradient(3, bits, 0), {"", 0, true, 8000.0, 2.0});
+    writer.append(gradient(1, bits, 5), {"", 33333, false, 8000.0, 2.0});
+    const Recording read = readRecording(dir);
+    EXPECT_EQ(read, writer.recording());
+    EXPECT_EQ(read.frames[1].file, "frame-00001.png");
+    EXPECT_EQ(read.camera.distortion.p1, 0.001);
+  }
+}
+
+TEST(Recording, WriterRefusesToOverwriteARecordingAndRejectsBadFrames) {
+  const auto dir = test::freshTempDir() / "rec";
+  RecordingWriter writer(dir, smallHeader(PixelEncoding::Srgb8));
+  EXPECT_THROW(RecordingWriter(dir, smallHeader(PixelEncoding::Srgb8)), IoError);
+  EXPECT_THROW(writer.append(gradient(3, 16, 0), {"", 0, true, 1.0, 1.0}), std::invalid_argument);
+  writer.append(gradient(3, 8, 0), {"", 10, true, 1.0, 1.0});
+  EXPECT_THROW(writer.append(gradient(3, 8, 0), {"", 10, true, 1.0, 1.0}), std::invalid_argument);
+  // What was captured before the bad frame is still there.
+  EXPECT_EQ(readRecording(dir).frames.size(), 1u);
+}
+
+TEST(Recording, ReaderNamesTheFieldThatIsWrong) {
+  struct Case {
+    const char* field;
+    std::function<void(nlohmann::json&)> edit;
+  };
+  const std::vector<Case> cases = {
+      {"frames[1].exposure_us", [](auto& j) { j["frames"][1]["exposure_us"] = -5; }},
+      {"frames[1].timestamp_us", [](auto& j) { j["frames"][1]["timestamp_us"] = 1000; }},
+      {"frames[0].file", [](auto& j) { j["frames"][0]["file"] = "../elsewhere.png"; }},
+      {"frames[1].file", [](auto& j) { j["frames"][1]["file"] = "missing.png"; }},
+      {"frames[0].led_on", [](auto& j) { j["frames"][0]["led_on"] = "yes"; }},
+      {"pixel_encoding", [](auto& j) { j["pixel_encoding"] = "raw10"; }},
+      {"slice.kind", [](auto& j) { j["slice"]["kind"] = "sideways"; }},
+      {"camera.fx_px", [](auto& j) { j["camera"]["fx_px"] = 0; }},
+      {"format_version", [](auto& j) { j["format_version"] = 99; }},
+      {"target", [](auto& j) { j.erase("target"); }},
+  };
+  for (const Case& c : cases) {
+    const std::string message = readError(editedRecording(c.edit));
+    EXPECT_NE(message.find(kRecordingManifest), std::string::npos) << message;
+    EXPECT_NE(message.find(c.field), std::string::npos) << c.field << ": " << message;
+  }
+}
+
+TEST(Recording, ReaderNamesADirectoryWithoutARecording) {
+  const auto dir = test::freshTempDir();
+  const std::string message = readError(dir);
+  EXPECT_NE(message.find(dir.string()), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace slicecap::io
