@@ -8,6 +8,7 @@
 
 #include "../support/apriltag_detector.hpp"
 #include "../support/test_support.hpp"
+#include "slicecap/eval/metrics.hpp"
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/sim/material.hpp"
@@ -95,6 +96,34 @@ TEST(VirtualRig, WindowPixelIsTruthBrdfTimesLedIrradianceTimesExposureWithinOneP
     EXPECT_EQ(checked, 6);
   }
   std::cout << "worst window pixel error against truth " << 100 * worst << " %\n";
+}
+
+TEST(VirtualRig, SrgbFramesDecodeToTheTruthWithinTheirQuantisation) {
+  const auto dir = test::freshTempDir() / "sweep";
+  SweepSetup setup = idealSetup(PixelEncoding::Srgb8, 0.3, 4);
+  setup.materialSpec = "satin-blue-45";
+  const FrameRenderer renderer(setup.camera, setup.target, loadMaterial(setup.materialSpec),
+                               setup.rig);
+  const SweepTruth truth =
+      simulateSweep(dir, {{SliceKind::Axial, {30, 30}}, kAxialOffsetDeg}, renderer, setup);
+  for (const FrameTruth& f : truth.frames) {
+    SCOPED_TRACE(f.file);
+    const Image frame = io::readPng(dir / f.file);
+    ASSERT_EQ(frame.bitDepth, 8);
+    const auto centrePx = setup.camera.project(f.pose.toCamera(Eigen::Vector3d::Zero()));
+    ASSERT_TRUE(centrePx.has_value());
+    const int x = static_cast<int>(std::lround(centrePx->x()));
+    const int y = static_cast<int>(std::lround(centrePx->y()));
+    for (int ch = 0; ch < 3; ++ch) {
+      // The nearest pixel: within 0.6 px of the centre, where the window's radiance changes
+      // by far less than one 8-bit step.
+      const int code = frame.at(x, y, ch);
+      const double expected = f.expectedLinear[ch];
+      const double step = eval::srgbDecode((code + 0.5) / 255.0) - eval::srgbDecode(code / 255.0);
+      EXPECT_NEAR(eval::srgbDecode(code / 255.0), expected, step + 0.005 * expected)
+          << "channel " << ch << ", code " << code;
+    }
+  }
 }
 
 TEST(VirtualRig, TruthPosesReprojectMarkerCornersOntoDetectedCornersWithinHalfAPixel) {
