@@ -56,6 +56,26 @@ TEST(RigCommands, SimulateWritesARecordingWithTruth) {
   EXPECT_NE(again.err.find(dir.string()), std::string::npos) << again.err;
 }
 
+TEST(RigCommands, SimulateSessionWritesTheEightSlices) {
+  const auto dir = test::freshTempDir() / "session";
+  const Result r = run({"simulate", "--material", "lambert:albedo=0.4", "--session", dir.string(),
+                        "--frames", "2", "--ideal", "--encoding", "linear16"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  int recordings = 0;
+  for (SliceKind kind : {SliceKind::Axial, SliceKind::Diagonal}) {
+    for (const ElevationPair& pair : kMeasuredPairs) {
+      const std::string name = std::string(toString(kind)) + "-" + std::to_string(pair.thetaIDeg) +
+                               "-" + std::to_string(pair.thetaVDeg);
+      const io::Recording recording = io::readRecording(dir / name);
+      EXPECT_EQ(recording.slice->id, (SliceId{kind, pair})) << name;
+      EXPECT_EQ(recording.encoding, PixelEncoding::Linear16);
+      EXPECT_EQ(recording.frames.size(), 2u);
+      ++recordings;
+    }
+  }
+  EXPECT_EQ(recordings, 8);
+}
+
 TEST(RigCommands, SimulateNamesBadInput) {
   const auto dir = test::freshTempDir();
   const Result material =

@@ -102,6 +102,25 @@ TEST(Recording, ReaderNamesTheFieldThatIsWrong) {
   }
 }
 
+TEST(Recording, CameraMayComeFromACalibrationFileInsideTheRecording) {
+  const auto dir = test::freshTempDir() / "rec";
+  Recording header = smallHeader(PixelEncoding::Srgb8);
+  header.calibrationFile = "camera.json";
+  std::filesystem::create_directories(dir);
+  writeJsonFileAtomically(dir / "camera.json", cameraToJson(header.camera));
+  RecordingWriter writer(dir, header);
+  writer.append(gradient(3, 8, 0), {"", 0, true, 100.0, 1.0});
+  EXPECT_FALSE(readJsonFile(dir / kRecordingManifest)["camera"].contains("fx_px"));
+  EXPECT_EQ(readRecording(dir), writer.recording());
+  // A bad calibration is named by its own file and field.
+  nlohmann::json camera = readJsonFile(dir / "camera.json");
+  camera["fy_px"] = -1;
+  std::ofstream(dir / "camera.json") << camera.dump();
+  const std::string message = readError(dir);
+  EXPECT_NE(message.find("camera.json"), std::string::npos) << message;
+  EXPECT_NE(message.find("fy_px"), std::string::npos) << message;
+}
+
 TEST(Recording, ReaderNamesADirectoryWithoutARecording) {
   const auto dir = test::freshTempDir();
   const std::string message = readError(dir);

@@ -8,6 +8,7 @@
 
 #include "../support/apriltag_detector.hpp"
 #include "../support/test_support.hpp"
+#include "slicecap/eval/metrics.hpp"
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/sim/material.hpp"
@@ -97,6 +98,34 @@ TEST(VirtualRig, WindowPixelIsTruthBrdfTimesLedIrradianceTimesExposureWithinOneP
   std::cout << "worst window pixel error against truth " << 100 * worst << " %\n";
 }
 
+TEST(VirtualRig, SrgbFramesDecodeToTheTruthWithinTheirQuantisation) {
+  const auto dir = test::freshTempDir() / "sweep";
+  SweepSetup setup = idealSetup(PixelEncoding::Srgb8, 0.3, 4);
+  setup.materialSpec = "satin-blue-45";
+  const FrameRenderer renderer(setup.camera, setup.target, loadMaterial(setup.materialSpec),
+                               setup.rig);
+  const SweepTruth truth =
+      simulateSweep(dir, {{SliceKind::Axial, {30, 30}}, kAxialOffsetDeg}, renderer, setup);
+  for (const FrameTruth& f : truth.frames) {
+    SCOPED_TRACE(f.file);
+    const Image frame = io::readPng(dir / f.file);
+    ASSERT_EQ(frame.bitDepth, 8);
+    const auto centrePx = setup.camera.project(f.pose.toCamera(Eigen::Vector3d::Zero()));
+    ASSERT_TRUE(centrePx.has_value());
+    const int x = static_cast<int>(std::lround(centrePx->x()));
+    const int y = static_cast<int>(std::lround(centrePx->y()));
+    for (int ch = 0; ch < 3; ++ch) {
+      // The nearest pixel: within 0.6 px of the centre, where the window's radiance changes
+      // by far less than one 8-bit step.
+      const int code = frame.at(x, y, ch);
+      const double expected = f.expectedLinear[ch];
+      const double step = eval::srgbDecode((code + 0.5) / 255.0) - eval::srgbDecode(code / 255.0);
+      EXPECT_NEAR(eval::srgbDecode(code / 255.0), expected, step + 0.005 * expected)
+          << "channel " << ch << ", code " << code;
+    }
+  }
+}
+
 TEST(VirtualRig, TruthPosesReprojectMarkerCornersOntoDetectedCornersWithinHalfAPixel) {
   const auto dir = test::freshTempDir();
   SweepSetup setup = idealSetup(PixelEncoding::Linear16, 0.3, 4);
@@ -105,11 +134,14 @@ TEST(VirtualRig, TruthPosesReprojectMarkerCornersOntoDetectedCornersWithinHalfAP
   const FrameRenderer renderer(setup.camera, setup.target, loadMaterial(setup.materialSpec),
                                setup.rig);
   double worst = 0.0;
-  // Camera at theta_v = 30 deg: at 75 deg the tags are foreshortened four times (1.6 px a bit
-  // across) and the AprilTag library's own corner error reaches ~0.6 px (measured), so those
-  // sweeps would test the detector rather than the renderer.
   for (const SliceId& slice :
-       {SliceId{SliceKind::Axial, {30, 30}}, SliceId{SliceKind::Diagonal, {75, 30}}}) {
+       {SliceId{SliceKind::Axial, {30, 30}}, SliceId{SliceKind::Diagonal, {75, 30}},
+        SliceId{SliceKind::Diagonal, {30, 75}}}) {
+    // With the camera at theta_v = 75 deg the tags are foreshortened four times (1.6 px a bit
+    // across) and the AprilTag library's own corner error reaches ~0.6 px (measured) while the
+    // corners' mean offset stays under 0.05 px: there, the mean tests the renderer and each
+    // corner only loosely.
+    const bool grazing = slice.elevations.thetaVDeg == 75;
     const auto recording = dir / sliceDirectoryName(slice);
     const SweepTruth truth = simulateSweep(recording, {slice, kAxialOffsetDeg}, renderer, setup);
     for (const FrameTruth& f : truth.frames) {
@@ -117,7 +149,11 @@ TEST(VirtualRig, TruthPosesReprojectMarkerCornersOntoDetectedCornersWithinHalfAP
       // An ideal sweep keeps the whole target in view, LED on or off.
       EXPECT_EQ(f.markersInView.size(), setup.target.markers.size());
       const auto found = test::detectTags(io::readPng(recording / f.file));
-      EXPECT_EQ(found.size(), setup.target.markers.size());
+      // At grazing view the detector misses a few tags (up to 4 of 16 measured).
+      EXPECT_GE(found.size(),
+                grazing ? setup.target.markers.size() / 2 : setup.target.markers.size());
+      Eigen::Vector2d offsetSum = Eigen::Vector2d::Zero();
+      int corners = 0;
       for (const vision::Marker& m : setup.target.markers) {
         if (!found.count(m.id)) continue;
         for (int k = 0; k < 4; ++k) {
@@ -125,14 +161,17 @@ TEST(VirtualRig, TruthPosesReprojectMarkerCornersOntoDetectedCornersWithinHalfAP
               setup.camera.project(f.pose.toCamera({m.cornersMm[k].xMm, m.cornersMm[k].yMm, 0.0}));
           ASSERT_TRUE(expected.has_value());
           const auto& got = found.at(m.id).cornersPx[k];
-          const double error = std::hypot(got[0] - expected->x(), got[1] - expected->y());
-          worst = std::max(worst, error);
-          EXPECT_LT(error, 0.5) << "id " << m.id << " corner " << k;
+          const Eigen::Vector2d offset(got[0] - expected->x(), got[1] - expected->y());
+          offsetSum += offset;
+          ++corners;
+          if (!grazing) worst = std::max(worst, offset.norm());
+          EXPECT_LT(offset.norm(), grazing ? 1.0 : 0.5) << "id " << m.id << " corner " << k;
         }
       }
+      EXPECT_LT((offsetSum / corners).norm(), 0.1) << "the rendered target is shifted";
     }
   }
-  std::cout << "worst marker corner reprojection error " << worst << " px\n";
+  std::cout << "worst marker corner reprojection error (theta_v 30) " << worst << " px\n";
 }
 
 TEST(VirtualRig, RealisticFramesShowTheMarkersTheTruthSaysAreInView) {

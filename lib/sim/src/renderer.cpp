@@ -25,20 +25,6 @@ UnitVector unit(const Eigen::Vector3d& v) {
   return {n.x(), n.y(), n.z()};
 }
 
-// 4096 standard normal samples (16 KB, stays in L1), picked by random 12-bit indices: sensor
-// noise at ~1 ns a sample.
-const std::vector<float>& gaussianTable() {
-  static const std::vector<float> table = [] {
-    std::mt19937 rng(12345);
-    std::normal_distribution<float> normal(0.0f, 1.0f);
-    std::vector<float> t(4096);
-    for (float& v : t)
-      v = normal(rng);
-    return t;
-  }();
-  return table;
-}
-
 // 8-bit sRGB code of every 16-bit linear level.
 const std::vector<std::uint8_t>& srgbTable() {
   static const std::vector<std::uint8_t> table = [] {
@@ -50,15 +36,42 @@ const std::vector<std::uint8_t>& srgbTable() {
   return table;
 }
 
-struct SplitMix64 {
-  std::uint64_t state;
-  std::uint64_t next() {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
+// A 32-bit integer hash (lowbias32): sensor noise from (seed, sample index) without a sequential
+// generator, so that the encoding loop vectorises.
+inline std::uint32_t hash32(std::uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352dU;
+  x ^= x >> 15;
+  x *= 0x846ca68bU;
+  x ^= x >> 16;
+  return x;
+}
+
+// Sensor noise and encoding of one row: linear levels first (branch-free, vectorised), then the
+// sRGB table. The noise is the sum of a hash's four bytes, centred and scaled to unit variance
+// (Irwin-Hall: near-normal, bounded at +-3.5 sigma, plenty for shot and read noise).
+// [0, 1] as minss/maxss.
+inline float clampUnit(float v) {
+  return std::min(std::max(v, 0.0f), 1.0f);
+}
+
+template <bool Noisy>
+void encodeRow(const float* row, int count, std::uint32_t rowSeed, float readNoise2,
+               float perFullWell, std::uint16_t* out) {
+  constexpr float kInvByteSumSd = 1.0f / 147.8006f;  // sqrt(4 * (256^2 - 1) / 12)
+  for (int i = 0; i < count; ++i) {
+    float v = row[i];
+    if constexpr (Noisy) {
+      const std::uint32_t h = hash32(rowSeed + static_cast<std::uint32_t>(i));
+      // Signed before float: SSE2 converts only signed integers without branches.
+      const auto byteSum = static_cast<std::int32_t>((h & 255u) + ((h >> 8) & 255u) +
+                                                     ((h >> 16) & 255u) + (h >> 24));
+      const float normal = (static_cast<float>(byteSum) - 510.0f) * kInvByteSumSd;
+      v += std::sqrt(readNoise2 + clampUnit(v) * perFullWell) * normal;
+    }
+    out[i] = static_cast<std::uint16_t>(static_cast<std::int32_t>(clampUnit(v) * 65535.0f + 0.5f));
   }
-};
+}
 
 bool insideConvexQuad(const Occluder& q, double x, double y) {
   bool positive = false, negative = false;
@@ -97,14 +110,6 @@ FrameRenderer::FrameRenderer(vision::CameraModel camera, vision::TargetGeometry 
       rays_[2 * (std::size_t(y) * width + x)] = static_cast<float>(n.x());
       rays_[2 * (std::size_t(y) * width + x) + 1] = static_cast<float>(n.y());
     }
-  }
-  // Shot and read noise's standard deviation at 256 signal levels (a square root a sample is a
-  // third of the frame's time otherwise; 1/256 steps change sigma by well under its own noise).
-  noiseSigma_.resize(256);
-  for (std::size_t i = 0; i < noiseSigma_.size(); ++i) {
-    const double signal = (i + 0.5) / 256.0;
-    const double shot = rig_.fullWellElectrons > 0.0 ? signal / rig_.fullWellElectrons : 0.0;
-    noiseSigma_[i] = static_cast<float>(std::sqrt(rig_.readNoise * rig_.readNoise + shot));
   }
   // The raster reaches one texel past the sheet so that its edge is filtered like any other.
   const double margin = 1.0 / settings_.texelsPerMm;
@@ -311,23 +316,22 @@ Image FrameRenderer::render(const FrameScene& scene) const {
   Image image{width, height, 3, srgb ? 8 : 16,
               std::vector<std::uint16_t>(std::size_t(width) * height * 3)};
   const bool noisy = rig_.readNoise > 0.0 || rig_.fullWellElectrons > 0.0;
-  const std::vector<float>& gauss = gaussianTable();
+  // Variance in full-scale units: read noise squared plus the signal over the full well.
+  const auto readNoise2 = static_cast<float>(rig_.readNoise * rig_.readNoise);
+  const auto perFullWell =
+      static_cast<float>(rig_.fullWellElectrons > 0.0 ? 1.0 / rig_.fullWellElectrons : 0.0);
+  const auto frameSeed = static_cast<std::uint32_t>(scene.noiseSeed ^ (scene.noiseSeed >> 32));
   const std::vector<std::uint8_t>& toSrgb = srgbTable();
-  SplitMix64 rng{scene.noiseSeed};
-  std::uint64_t bits = 0;
-  int bitsLeft = 0;
   renderRows(scene, [&](int y, const float* row) {
     std::uint16_t* out = &image.samples[3 * std::size_t(y) * width];
-    for (int i = 0; i < 3 * width; ++i) {
-      float v = row[i];
-      if (noisy) {
-        if (bitsLeft == 0) bits = rng.next(), bitsLeft = 5;
-        v += noiseSigma_[static_cast<std::size_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f)] *
-             gauss[bits & 0xfff];
-        bits >>= 12, --bitsLeft;
-      }
-      const auto level = static_cast<std::uint16_t>(std::clamp(v, 0.0f, 1.0f) * 65535.0f + 0.5f);
-      out[i] = srgb ? toSrgb[level] : level;
+    const std::uint32_t rowSeed = hash32(frameSeed ^ hash32(static_cast<std::uint32_t>(y)));
+    if (noisy)
+      encodeRow<true>(row, 3 * width, rowSeed, readNoise2, perFullWell, out);
+    else
+      encodeRow<false>(row, 3 * width, rowSeed, readNoise2, perFullWell, out);
+    if (srgb) {
+      for (int i = 0; i < 3 * width; ++i)
+        out[i] = toSrgb[out[i]];
     }
   });
   return image;

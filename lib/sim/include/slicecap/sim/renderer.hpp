@@ -85,8 +85,7 @@ class FrameRenderer {
   std::shared_ptr<const models::ReflectanceModel> material_;
   RigParams rig_;
   RenderSettings settings_;
-  std::vector<float> rays_;        // undistorted normalised (x, y) of every pixel
-  std::vector<float> noiseSigma_;  // noise standard deviation by signal level
+  std::vector<float> rays_;    // undistorted normalised (x, y) of every pixel
   std::vector<float> texels_;  // per texel: albedo r, g, b (printed fraction, plus desk), window
   int texWidth_ = 0, texHeight_ = 0;
   vision::RectMm texArea_;
