@@ -2,6 +2,8 @@
 #include "slicecap/cli/methods.hpp"
 
 #include "slicecap/cli/args.hpp"
+#include "slicecap/prior/prior_location.hpp"
+#include "slicecap/prior/prior_reconstruction.hpp"
 #include "slicecap/recon/method_b.hpp"
 
 namespace slicecap::cli {
@@ -33,6 +35,33 @@ MethodRun runMethodB(const SliceSet& slices, const MethodOptions& options) {
   return run;
 }
 
+MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
+  prior::PriorParams params;
+  params.isotropicOnly = options.isotropic;
+  prior::PriorReport report;
+  MethodRun run{prior::reconstructWithPrior(slices, prior::defaultPriorModel(), params, &report),
+                options.isotropic ? "prior-isotropic" : "prior",
+                {},
+                {},
+                {}};
+  nlohmann::json pairs = nlohmann::json::array();
+  for (ElevationPair p : report.measuredPairs)
+    pairs.push_back(std::to_string(p.thetaIDeg) + "/" + std::to_string(p.thetaVDeg));
+  run.details["prior"] = {{"file", prior::locatePriorModel().string()},
+                          {"measured_pairs", pairs},
+                          {"anisotropy_terms", report.anisotropyTermsUsed},
+                          {"isotropic_gcv", report.isotropicScore},
+                          {"anisotropic_gcv", report.anisotropicScore},
+                          {"fit_rms_log", report.fitRmsLog}};
+  run.lines.push_back("prior fit: RMS log residual " + std::to_string(report.fitRmsLog) +
+                      (report.anisotropyTermsUsed ? "; half-vector anisotropy terms used"
+                                                  : "; isotropic fit"));
+  if (report.measuredPairs.size() < kMeasuredPairs.size())
+    run.warnings.push_back("only " + std::to_string(report.measuredPairs.size()) +
+                           " elevation pairs measured; the others come from the prior alone");
+  return run;
+}
+
 }  // namespace
 
 const std::vector<Method>& reconstructionMethods() {
@@ -40,6 +69,10 @@ const std::vector<Method>& reconstructionMethods() {
       {"b",
        "Method B of the paper (METHOD.md 4): slice-sum subspaces, lobe-weighted elevation blends",
        runMethodB},
+      {"prior",
+       "learned prior (issue 10): PCA of measured tables fitted at the samples' actual angles, "
+       "half-vector anisotropy, measured slices kept; any subset of slices",
+       runPrior},
   };
   return methods;
 }

@@ -25,6 +25,8 @@ Command reconstructCommand();
 Command sampleCommand();
 Command compareCommand();
 Command generateCommand();
+Command isotropyCommand();
+Command priorTrainCommand();
 
 /// \brief Every subcommand, in the order `slicecap --help` lists them.
 std::vector<Command> allCommands();
