@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -135,15 +136,18 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
   Eigen::MatrixXf logTable = basis * coefficients;
   logTable.colwise() += Eigen::Map<const Eigen::VectorXf>(model.mean.data(), kEntries);
   if (useAnisotropy) {
-    const Eigen::MatrixXd& all = anisotropic.coefficients;
-    for (int e = 0; e < kEntries; ++e) {
-      for (int c = 0; c < 3; ++c) {
-        double sum = 0.0;
-        for (int j = 0; j < kHalfVectorTermCount; ++j)
-          sum += gridTerms[e][j] * all(k + j, c);
-        logTable(e, c) += static_cast<float>(sum);
-      }
-    }
+    // One matrix-vector product per channel over a float copy of the grid's terms (a general
+    // matrix product would repack the 6561 x 24 terms on every call).
+    using TermMatrix = Eigen::Matrix<float, Eigen::Dynamic, kHalfVectorTermCount, Eigen::RowMajor>;
+    static const TermMatrix terms =
+        Eigen::Map<
+            const Eigen::Matrix<double, Eigen::Dynamic, kHalfVectorTermCount, Eigen::RowMajor>>(
+            gridTerms[0].data(), kEntries, kHalfVectorTermCount)
+            .cast<float>();
+    const Eigen::MatrixXf termCoefficients =
+        anisotropic.coefficients.bottomRows(kHalfVectorTermCount).cast<float>();
+    for (int c = 0; c < 3; ++c)
+      logTable.col(c).noalias() += terms * termCoefficients.col(c);
   }
 
   // The samples' residuals against the fitted table, read as the sample was (linear taps).
@@ -166,11 +170,16 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
   }
   const std::vector<Rgb> field = residualField(residuals);
 
+  static const std::array<double, 81> cosTheta = [] {
+    std::array<double, 81> c{};
+    for (int d = 0; d < 81; ++d)
+      c[d] = std::cos(degToRad(bonn::direction(d).thetaDeg));
+    return c;
+  }();
   Abrdf table;
   for (int l = 0; l < 81; ++l) {
-    const double cosL = std::cos(degToRad(bonn::direction(l).thetaDeg));
     for (int v = 0; v < 81; ++v) {
-      const double cc = cosL * std::cos(degToRad(bonn::direction(v).thetaDeg));
+      const double cc = cosTheta[l] * cosTheta[v];
       const int e = l * 81 + v;
       for (int c = 0; c < 3; ++c) {
         const double value = (std::exp(double(logTable(e, c)) + field[e][c]) - floor[c]) / cc;
