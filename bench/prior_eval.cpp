@@ -1,7 +1,8 @@
 // The evaluation of issue 10: the learned prior against Method B in the same run, on held-out
 // measured tables (basis from MERL, tested on RGL + Nielsen), 5-fold cross-validation over all
 // 159, fewer sweeps, the anisotropic analytic materials, capture noise, and the isotropy test's
-// error rates. Usage: prior_eval [TABLES_DIR] [--per-material]   (scripts/prior-eval)
+// error rates. Usage: prior_eval [TABLES_DIR] [--per-material] [--isotropy-only]
+// (scripts/prior-eval)
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -148,14 +149,20 @@ prior::PriorModel train(const std::vector<const Material*>& set) {
   return prior::trainPriorModel(tables);
 }
 
+// The isotropy test with the prior that has not seen the material (priorFor).
 void isotropyRates(const std::string& label, const std::vector<const Material*>& materials,
+                   const std::function<const prior::PriorModel&(const Material&)>& priorFor,
                    Sweeps sweeps, bool noisy, bool expectIsotropic) {
   int wrong = 0;
   std::string names;
+  std::vector<double> diagonal, axial, ratio;
   for (std::size_t i = 0; i < materials.size(); ++i) {
     const SliceSet slices =
         capture(materials[i]->table, sweeps, noisy, 1000u + unsigned(i) * 7919u);
-    const prior::IsotropyVerdict v = prior::testIsotropy(slices);
+    const prior::IsotropyVerdict v = prior::testIsotropy(slices, priorFor(*materials[i]));
+    ratio.push_back(v.priorScoreRatio);
+    diagonal.push_back(v.diagonalScore);
+    axial.push_back(v.axialScore);
     if (v.isotropic != expectIsotropic) {
       ++wrong;
       names += " " + materials[i]->name;
@@ -164,17 +171,50 @@ void isotropyRates(const std::string& label, const std::vector<const Material*>&
   std::printf("  %-28s %-10s %-5s called %s: %d of %zu%s%s\n", label.c_str(), sweepName(sweeps),
               noisy ? "noisy" : "ideal", expectIsotropic ? "anisotropic" : "isotropic", wrong,
               materials.size(), wrong ? ":" : "", wrong && wrong < 12 ? names.c_str() : "");
+  // Score quantiles (min, 5 %, median, 95 %, max): where the thresholds sit between the sets.
+  for (auto* scores : {&ratio, &diagonal, &axial}) {
+    std::sort(scores->begin(), scores->end());
+    auto at = [&](double q) { return (*scores)[std::size_t(q * double(scores->size() - 1))]; };
+    std::printf("      %s scores: %.3f %.3f %.3f %.3f %.3f\n",
+                scores == &ratio      ? "GCV ratio"
+                : scores == &diagonal ? "diagonal "
+                                      : "axial    ",
+                at(0), at(0.05), at(0.5), at(0.95), at(1));
+  }
 }
+
+// 5-fold priors of a set (fold = index mod 5 of the sorted names): each table's prior never saw it.
+struct FoldPriors {
+  std::vector<const Material*> set;
+  std::vector<prior::PriorModel> folds;
+  explicit FoldPriors(const std::vector<const Material*>& materials) : set(materials) {
+    for (int f = 0; f < 5; ++f) {
+      std::vector<const Material*> training;
+      for (std::size_t i = 0; i < set.size(); ++i) {
+        if (int(i % 5) != f) training.push_back(set[i]);
+      }
+      folds.push_back(train(training));
+    }
+  }
+  std::function<const prior::PriorModel&(const Material&)> lookup() const {
+    return [this](const Material& m) -> const prior::PriorModel& {
+      const auto it = std::find(set.begin(), set.end(), &m);
+      return folds[std::size_t(it - set.begin()) % 5];
+    };
+  }
+};
 
 }  // namespace
 
 int main(int argc, char** argv) {
   std::filesystem::path dir = "../shared/data/nbrdf-bonn81";
-  bool perMaterial = false;
+  bool perMaterial = false, isotropyOnly = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--per-material")
       perMaterial = true;
+    else if (a == "--isotropy-only")
+      isotropyOnly = true;
     else
       dir = a;
   }
@@ -205,46 +245,51 @@ int main(int argc, char** argv) {
   std::printf("%zu tables (%zu MERL, %zu RGL + Nielsen)\n", shared.size(), merl.size(),
               heldOut.size());
 
-  std::printf("\nheld-out: prior trained on MERL only, tested on RGL + Nielsen\n");
-  const prior::PriorModel merlPrior = train(merl);
-  auto fromMerl = [&](const Material&) -> const prior::PriorModel& { return merlPrior; };
-  for (bool noisy : {false, true}) {
-    for (Sweeps s : {Sweeps::All8, Sweeps::Diagonal4, Sweeps::Diagonal2})
-      runCondition("held-out RGL+Nielsen", heldOut, fromMerl, s, noisy, perMaterial);
-  }
-
-  std::printf("\n5-fold cross-validation over all %zu tables (fold = index mod 5, sorted names)\n",
-              all.size());
-  std::vector<prior::PriorModel> folds;
-  for (int f = 0; f < 5; ++f) {
-    std::vector<const Material*> training;
-    for (std::size_t i = 0; i < all.size(); ++i) {
-      if (int(i % 5) != f) training.push_back(all[i]);
+  if (!isotropyOnly) {
+    std::printf("\nheld-out: prior trained on MERL only, tested on RGL + Nielsen\n");
+    const prior::PriorModel merlPrior = train(merl);
+    auto fromMerl = [&](const Material&) -> const prior::PriorModel& { return merlPrior; };
+    for (bool noisy : {false, true}) {
+      for (Sweeps s : {Sweeps::All8, Sweeps::Diagonal4, Sweeps::Diagonal2})
+        runCondition("held-out RGL+Nielsen", heldOut, fromMerl, s, noisy, perMaterial);
     }
-    folds.push_back(train(training));
-  }
-  auto fromFold = [&](const Material& m) -> const prior::PriorModel& {
-    const auto it = std::find(all.begin(), all.end(), &m);
-    return folds[std::size_t(it - all.begin()) % 5];
-  };
-  for (bool noisy : {false, true}) {
-    for (Sweeps s : {Sweeps::All8, Sweeps::Diagonal4, Sweeps::Diagonal2})
-      runCondition("5-fold CV, all 159", all, fromFold, s, noisy, false);
+
+    // 5-fold cross-validation (fold = index mod 5 of the sorted names): each table is
+    // reconstructed with the prior trained on the other four folds.
+    auto crossValidate = [&](const std::string& label, const std::vector<const Material*>& set) {
+      const FoldPriors folds(set);
+      for (bool noisy : {false, true}) {
+        for (Sweeps s : {Sweeps::All8, Sweeps::Diagonal4, Sweeps::Diagonal2})
+          runCondition(label, set, folds.lookup(), s, noisy, perMaterial);
+      }
+    };
+    std::printf(
+        "\n5-fold cross-validation within the 100 MERL tables (where parameters are tuned)\n");
+    crossValidate("5-fold CV, MERL only", merl);
+    std::printf("\n5-fold cross-validation over all %zu tables\n", all.size());
+    crossValidate("5-fold CV, all 159", all);
+
+    std::printf("\nanisotropic analytic materials (prior trained on all 159 tables)\n");
+    const prior::PriorModel allPrior = train(all);
+    for (bool noisy : {false, true}) {
+      for (Sweeps s : {Sweeps::All8, Sweeps::Diagonal4})
+        runCondition(
+            "anisotropic analytic", anisotropic,
+            [&](const Material&) -> const prior::PriorModel& { return allPrior; }, s, noisy, true);
+    }
   }
 
-  std::printf("\nanisotropic analytic materials (prior trained on all 159 tables)\n");
-  const prior::PriorModel allPrior = train(all);
-  for (bool noisy : {false, true})
-    runCondition(
-        "anisotropic analytic", anisotropic,
-        [&](const Material&) -> const prior::PriorModel& { return allPrior; }, Sweeps::All8, noisy,
-        true);
-
-  std::printf("\nisotropy test error rates\n");
+  std::printf(
+      "\nisotropy test error rates (thresholds set on MERL; MERL: 5-fold priors within "
+      "MERL; others: the MERL prior)\n");
+  const FoldPriors merlFolds(merl);
+  const prior::PriorModel merlOnly = train(merl);
+  auto fromMerlOnly = [&](const Material&) -> const prior::PriorModel& { return merlOnly; };
   for (bool noisy : {false, true}) {
     for (Sweeps s : {Sweeps::Diagonal4, Sweeps::All8}) {
-      isotropyRates("shared (isotropic) tables", all, s, noisy, true);
-      isotropyRates("anisotropic analytic", anisotropic, s, noisy, false);
+      isotropyRates("MERL (tuning set)", merl, merlFolds.lookup(), s, noisy, true);
+      isotropyRates("RGL + Nielsen (isotropic)", heldOut, fromMerlOnly, s, noisy, true);
+      isotropyRates("anisotropic analytic", anisotropic, fromMerlOnly, s, noisy, false);
     }
   }
   return 0;

@@ -213,14 +213,36 @@ TEST(IsotropyTest, TellsIsotropicFromAnisotropicMaterials) {
   recon::ExtractionParams diagonal;
   diagonal.diagonalOnly = true;
   for (const models::NamedMaterial& m : models::isotropicMaterials()) {
-    const IsotropyVerdict v =
-        testIsotropy(recon::extractSlices(models::tabulate(*m.model), diagonal));
+    const IsotropyVerdict v = testIsotropy(
+        recon::extractSlices(models::tabulate(*m.model), diagonal), defaultPriorModel());
     EXPECT_TRUE(v.isotropic) << m.name << ": " << v.reason;
+    EXPECT_TRUE(v.informative) << "the 30/75 and 75/30 diagonal slices can show anisotropy";
   }
+  // Grain at 30 deg and along phi = 0, which the symmetry of the diagonal slices cannot show.
+  for (const char* name : {"brushed-steel-30", "brushed-aluminium"}) {
+    const IsotropyVerdict v =
+        testIsotropy(recon::extractSlices(models::tabulate(*models::findMaterial(name)), diagonal),
+                     defaultPriorModel());
+    EXPECT_FALSE(v.isotropic) << name << ": " << v.reason;
+    EXPECT_LT(v.priorScoreRatio, IsotropyParams{}.priorScoreRatio) << name;
+  }
+}
+
+TEST(IsotropyTest, AxialSlicesThatVaryMeanAnisotropy) {
   const IsotropyVerdict v = testIsotropy(
-      recon::extractSlices(models::tabulate(*models::findMaterial("brushed-steel-30")), diagonal));
+      recon::extractSlices(models::tabulate(*models::findMaterial("brushed-brass-120"))));
   EXPECT_FALSE(v.isotropic) << v.reason;
-  EXPECT_GT(v.diagonalScore, IsotropyParams{}.diagonalThreshold);
+  EXPECT_GT(v.axialScore, IsotropyParams{}.axialThreshold);
+}
+
+TEST(IsotropyTest, EqualElevationDiagonalSlicesCannotTell) {
+  recon::ExtractionParams diagonal;
+  diagonal.diagonalOnly = true;
+  const Abrdf truth = models::tabulate(*models::findMaterial("brushed-steel-30"));
+  const SliceSet twoSweeps = keepPairs(recon::extractSlices(truth, diagonal), {{30, 30}, {75, 75}});
+  const IsotropyVerdict v = testIsotropy(twoSweeps, defaultPriorModel());
+  EXPECT_FALSE(v.informative);
+  EXPECT_NE(v.reason.find("cannot tell"), std::string::npos) << v.reason;
 }
 
 TEST(IsotropyTest, NeedsSlices) {

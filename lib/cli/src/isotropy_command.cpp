@@ -6,6 +6,7 @@
 #include "slicecap/cli/command.hpp"
 #include "slicecap/io/slice_csv.hpp"
 #include "slicecap/prior/isotropy_test.hpp"
+#include "slicecap/prior/prior_location.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -14,16 +15,20 @@ int run(const ParsedArgs& args, Streams& io) {
   prior::IsotropyParams params;
   params.diagonalThreshold = args.number("diagonal-threshold", params.diagonalThreshold);
   params.axialThreshold = args.number("axial-threshold", params.axialThreshold);
+  params.priorScoreRatio = args.number("prior-ratio", params.priorScoreRatio);
   std::string error;
   if (!params.isValid(&error)) throw UsageError("isotropy: " + error);
   const SliceSet slices = io::readSliceCsv(args.positional[0]);
-  const prior::IsotropyVerdict verdict = prior::testIsotropy(slices, params);
+  const prior::IsotropyVerdict verdict =
+      prior::testIsotropy(slices, prior::defaultPriorModel(), params);
   if (args.flag("json")) {
     nlohmann::json j{{"input", args.positional[0]},
                      {"isotropic", verdict.isotropic},
                      {"axial_sweeps_needed", !verdict.isotropic},
                      {"diagonal_score", verdict.diagonalScore},
                      {"axial_score", verdict.axialScore},
+                     {"prior_gcv_ratio", verdict.priorScoreRatio},
+                     {"informative", verdict.informative},
                      {"reason", verdict.reason}};
     for (const prior::SliceIsotropyScore& s : verdict.slices)
       j["slices"].push_back({{"slice", toString(s.slice)}, {"score", s.score}});
@@ -32,8 +37,9 @@ int run(const ParsedArgs& args, Streams& io) {
     for (const prior::SliceIsotropyScore& s : verdict.slices)
       io.out << "  " << toString(s.slice) << ": " << std::fixed << std::setprecision(3) << s.score
              << "\n";
-    io.out << (verdict.isotropic ? "isotropic: the axial sweeps are not needed\n"
-                                 : "anisotropic: measure the axial sweeps\n")
+    io.out << (!verdict.isotropic    ? "anisotropic: measure the axial sweeps\n"
+               : verdict.informative ? "isotropic: the axial sweeps are not needed\n"
+                                     : "cannot tell: measure the axial sweeps to be sure\n")
            << verdict.reason << "\n";
   }
   // Exit 0 either way: the verdict is a result, not a failure; scripts read --json or the line.
@@ -47,18 +53,22 @@ Command isotropyCommand() {
       {"isotropy",
        "SLICES.csv [--json] [--diagonal-threshold X] [--axial-threshold X]",
        "Say whether a material looks isotropic from its slices, i.e. whether the axial sweeps "
-       "are needed.\n"
-       "An isotropic material's diagonal slice is half-turn periodic (x, x + 180) and, at "
-       "mixed elevations,\n"
-       "mirror symmetric (x, -x); its axial slice is constant. Each slice is scored by the RMS "
-       "of log\n"
-       "differences (values below 1 % of the largest cos-weighted sample are raised to it); "
-       "above the\n"
-       "threshold means anisotropic. Diagonal sweeps cannot see a grain that runs along phi = 0 "
-       "or 90 deg.",
+       "are needed\n"
+       "after the diagonal ones. The slices are fitted with the learned prior at their actual "
+       "angles, with and\n"
+       "without half-vector anisotropy terms: anisotropic when the terms cut the fit's GCV score "
+       "below\n"
+       "--prior-ratio of the isotropic fit's. Also scored: each axial slice's RMS log spread "
+       "(constant when\n"
+       "isotropic) and each diagonal slice's RMS log asymmetry (half-turn and, at mixed "
+       "elevations, mirror).\n"
+       "Only equal-elevation diagonal slices (30/30, 75/75) cannot show anisotropy: the answer "
+       "is then\n"
+       "\"cannot tell\". Exit 0 whatever the verdict.",
        {{"json", 0, "", "print JSON instead of text"},
-        {"diagonal-threshold", 0, "X", "largest isotropic diagonal score (default 0.15)"},
-        {"axial-threshold", 0, "X", "largest isotropic axial score (default 0.15)"}},
+        {"prior-ratio", 0, "X", "largest GCV ratio that means anisotropic (default 0.3)"},
+        {"diagonal-threshold", 0, "X", "largest isotropic diagonal asymmetry (default 2.0)"},
+        {"axial-threshold", 0, "X", "largest isotropic axial spread (default 0.2)"}},
        1,
        1},
       run};

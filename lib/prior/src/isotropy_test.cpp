@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "slicecap/core/angles.hpp"
+#include "slicecap/prior/prior_reconstruction.hpp"
 #include "slicecap/recon/periodic_signal.hpp"
 
 namespace slicecap::prior {
@@ -19,6 +20,35 @@ double logValue(const SliceSample& s, double floor) {
       std::max(0.0, s.value.mean()) * std::cos(degToRad(std::min(s.light.thetaDeg, 90.0))) + floor);
 }
 
+// The verdict and its sentence from the scores.
+void decide(IsotropyVerdict& verdict, const IsotropyParams& params) {
+  const bool axialSays = verdict.axialScore > params.axialThreshold;
+  const bool diagonalSays = verdict.diagonalScore > params.diagonalThreshold;
+  const bool priorSays = verdict.priorScoreRatio < params.priorScoreRatio;
+  verdict.isotropic = !axialSays && !diagonalSays && !priorSays;
+  std::ostringstream reason;
+  if (axialSays) {
+    reason << "anisotropic: an axial slice varies (RMS log spread " << verdict.axialScore << " > "
+           << params.axialThreshold << ")";
+  } else if (priorSays) {
+    reason << "anisotropic: half-vector anisotropy terms explain the samples far better than an "
+           << "isotropic fit (GCV ratio " << verdict.priorScoreRatio << " < "
+           << params.priorScoreRatio << "); measure the axial slices too";
+  } else if (diagonalSays) {
+    reason << "anisotropic: a diagonal slice is not half-turn/mirror symmetric (RMS log asymmetry "
+           << verdict.diagonalScore << " > " << params.diagonalThreshold
+           << "); measure the axial slices too";
+  } else if (!verdict.informative) {
+    reason << "cannot tell: equal-elevation diagonal slices cannot show anisotropy "
+           << "(reciprocity and central symmetry make them symmetric); measure a mixed-elevation "
+           << "diagonal sweep (30/75 or 75/30) or the axial sweeps";
+  } else {
+    reason << "no anisotropy seen (GCV ratio " << verdict.priorScoreRatio << ", diagonal asymmetry "
+           << verdict.diagonalScore << "); the diagonal sweeps suffice";
+  }
+  verdict.reason = reason.str();
+}
+
 }  // namespace
 
 bool IsotropyParams::isValid(std::string* error) const {
@@ -28,6 +58,10 @@ bool IsotropyParams::isValid(std::string* error) const {
   }
   if (!(diagonalThreshold > 0.0) || !(axialThreshold > 0.0)) {
     if (error) *error = "thresholds must be positive";
+    return false;
+  }
+  if (!(priorScoreRatio > 0.0 && priorScoreRatio <= 1.0)) {
+    if (error) *error = "prior score ratio must lie in (0, 1]";
     return false;
   }
   return true;
@@ -65,8 +99,10 @@ IsotropyVerdict testIsotropy(const SliceSet& slices, const IsotropyParams& param
         ++terms;
       }
     } else {
-      // At equal elevations reciprocity alone makes s(x) = s(-x), so only mixed pairs test it.
+      // At equal elevations reciprocity alone makes s(x) = s(-x), so only mixed pairs test it;
+      // the half-turn sees only surfaces without central symmetry (no microfacet model).
       const bool mirrorInformative = slice.id.elevations.thetaIDeg != slice.id.elevations.thetaVDeg;
+      score.informative = mirrorInformative;
       for (const auto& p : signal.points()) {
         const double halfTurn = p.value[0] - signal.at(p.positionDeg + 180.0)[0];
         squares += halfTurn * halfTurn;
@@ -84,24 +120,26 @@ IsotropyVerdict testIsotropy(const SliceSet& slices, const IsotropyParams& param
     worst = std::max(worst, score.score);
   }
   if (!anyUsable) throw std::invalid_argument("isotropy test: no slice has two or more samples");
-  const bool diagonalSays = verdict.diagonalScore > params.diagonalThreshold;
-  const bool axialSays = verdict.axialScore > params.axialThreshold;
-  verdict.isotropic = !diagonalSays && !axialSays;
-  std::ostringstream reason;
-  if (axialSays) {
-    reason << "anisotropic: an axial slice varies (RMS log spread " << verdict.axialScore << " > "
-           << params.axialThreshold << ")";
-  } else if (diagonalSays) {
-    reason << "anisotropic: a diagonal slice is not half-turn/mirror symmetric (RMS log asymmetry "
-           << verdict.diagonalScore << " > " << params.diagonalThreshold
-           << "); measure the axial slices too";
-  } else {
-    reason << "no anisotropy seen (diagonal asymmetry " << verdict.diagonalScore
-           << " <= " << params.diagonalThreshold
-           << "); the diagonal sweeps suffice, unless the material's "
-           << "grain runs along phi = 0 or 90 deg, which diagonal sweeps cannot see";
-  }
-  verdict.reason = reason.str();
+  verdict.informative =
+      std::any_of(slices.slices().begin(), slices.slices().end(), [](const Slice& s) {
+        return s.id.kind == SliceKind::Axial ||
+               s.id.elevations.thetaIDeg != s.id.elevations.thetaVDeg;
+      });
+  decide(verdict, params);
+  return verdict;
+}
+
+IsotropyVerdict testIsotropy(const SliceSet& slices, const PriorModel& model,
+                             const IsotropyParams& params) {
+  IsotropyVerdict verdict = testIsotropy(slices, params);
+  if (!verdict.informative) return verdict;
+  PriorReport report;
+  PriorParams fit;
+  fit.anisotropyScoreRatio = params.priorScoreRatio;
+  reconstructWithPrior(slices, model, fit, &report);
+  if (report.isotropicScore > 0.0 && std::isfinite(report.anisotropicScore))
+    verdict.priorScoreRatio = report.anisotropicScore / report.isotropicScore;
+  decide(verdict, params);
   return verdict;
 }
 
