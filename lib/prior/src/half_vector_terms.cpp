@@ -14,6 +14,8 @@ HalfVectorTerms halfVectorTerms(const UnitVector& light, const UnitVector& view)
   const double phiH = std::atan2(y, x);
   HalfVectorTerms terms{};
   int t = 0;
+  for (int node = 1; node <= 6; ++node)
+    terms[t++] = std::max(0.0, 1.0 - std::abs(thetaHDeg - 15.0 * node) / 15.0);
   for (int m = 1; m <= 2; ++m) {
     const double c = std::cos(2 * m * phiH), s = std::sin(2 * m * phiH);
     for (int node = 1; node <= 6; ++node) {

@@ -123,32 +123,33 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
     penalty[j] = params.ridge * model.residualVariance / model.variance[j];
   penalty.tail(kHalfVectorTermCount).setConstant(params.anisotropyRidge);
 
-  const RidgeFit isotropic = ridgeFit(design.leftCols(k), penalty.head(k), targets);
+  const int isotropicColumns = k + kIsotropicTermCount;
+  const RidgeFit isotropic =
+      ridgeFit(design.leftCols(isotropicColumns), penalty.head(isotropicColumns), targets);
   RidgeFit anisotropic;
   if (!params.isotropicOnly) anisotropic = ridgeFit(design, penalty, targets);
   const bool useAnisotropy =
       !params.isotropicOnly && anisotropic.score < params.anisotropyScoreRatio * isotropic.score;
 
-  // The fitted log table L = mean + basis c (+ half-vector terms d), [entry][channel].
-  Eigen::MatrixXf coefficients =
-      (useAnisotropy ? anisotropic : isotropic).coefficients.topRows(k).cast<float>();
+  // The fitted log table L = mean + basis c + half-vector terms d, [entry][channel].
+  const RidgeFit& chosen = useAnisotropy ? anisotropic : isotropic;
+  const Eigen::MatrixXf coefficients = chosen.coefficients.topRows(k).cast<float>();
+  Eigen::MatrixXf termCoefficients = Eigen::MatrixXf::Zero(kHalfVectorTermCount, 3);
+  termCoefficients.topRows(chosen.coefficients.rows() - k) =
+      chosen.coefficients.bottomRows(chosen.coefficients.rows() - k).cast<float>();
   const Eigen::Map<const Eigen::MatrixXf> basis(model.basis.data(), kEntries, k);
   Eigen::MatrixXf logTable = basis * coefficients;
   logTable.colwise() += Eigen::Map<const Eigen::VectorXf>(model.mean.data(), kEntries);
-  if (useAnisotropy) {
-    // One matrix-vector product per channel over a float copy of the grid's terms (a general
-    // matrix product would repack the 6561 x 24 terms on every call).
-    using TermMatrix = Eigen::Matrix<float, Eigen::Dynamic, kHalfVectorTermCount, Eigen::RowMajor>;
-    static const TermMatrix terms =
-        Eigen::Map<
-            const Eigen::Matrix<double, Eigen::Dynamic, kHalfVectorTermCount, Eigen::RowMajor>>(
-            gridTerms[0].data(), kEntries, kHalfVectorTermCount)
-            .cast<float>();
-    const Eigen::MatrixXf termCoefficients =
-        anisotropic.coefficients.bottomRows(kHalfVectorTermCount).cast<float>();
-    for (int c = 0; c < 3; ++c)
-      logTable.col(c).noalias() += terms * termCoefficients.col(c);
-  }
+  // One matrix-vector product per channel over a float copy of the grid's terms (a general
+  // matrix product would repack the 6561 x 30 terms on every call).
+  using TermMatrix = Eigen::Matrix<float, Eigen::Dynamic, kHalfVectorTermCount, Eigen::RowMajor>;
+  static const TermMatrix terms =
+      Eigen::Map<
+          const Eigen::Matrix<double, Eigen::Dynamic, kHalfVectorTermCount, Eigen::RowMajor>>(
+          gridTerms[0].data(), kEntries, kHalfVectorTermCount)
+          .cast<float>();
+  for (int c = 0; c < 3; ++c)
+    logTable.col(c).noalias() += terms * termCoefficients.col(c);
 
   // The samples' residuals against the fitted table, read as the sample was (linear taps).
   SliceResiduals residuals;
