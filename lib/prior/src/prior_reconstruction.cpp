@@ -123,9 +123,12 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
     penalty[j] = params.ridge * model.residualVariance / model.variance[j];
   penalty.tail(kHalfVectorTermCount).setConstant(params.anisotropyRidge);
 
+  // The isotropic fit: the basis alone, or with the isotropic hats when they lower the GCV score.
   const int isotropicColumns = k + kIsotropicTermCount;
-  const RidgeFit isotropic =
+  const RidgeFit basisOnly = ridgeFit(design.leftCols(k), penalty.head(k), targets);
+  const RidgeFit withHats =
       ridgeFit(design.leftCols(isotropicColumns), penalty.head(isotropicColumns), targets);
+  const RidgeFit& isotropic = withHats.score < basisOnly.score ? withHats : basisOnly;
   RidgeFit anisotropic;
   if (!params.isotropicOnly) anisotropic = ridgeFit(design, penalty, targets);
   const bool useAnisotropy =
