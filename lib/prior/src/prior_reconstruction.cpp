@@ -36,17 +36,29 @@ struct RidgeFit {
   double score = std::numeric_limits<double>::infinity();
 };
 
-RidgeFit ridgeFit(const Eigen::MatrixXd& design, const Eigen::VectorXd& penalty,
-                  const Eigen::MatrixXd& targets) {
-  const Eigen::MatrixXd normal = design.transpose() * design;
+// The products of the full design that every nested fit (its first `columns` columns) reuses.
+struct NormalEquations {
+  Eigen::MatrixXd normal;         // D^T D
+  Eigen::MatrixXd designTargets;  // D^T Y
+  double targetSquares = 0.0;     // |Y|^2
+  double rows = 0.0;
+};
+
+RidgeFit ridgeFit(const NormalEquations& equations, int columns, const Eigen::VectorXd& penalty) {
+  const auto normal = equations.normal.topLeftCorner(columns, columns);
+  const auto designTargets = equations.designTargets.topRows(columns);
   Eigen::MatrixXd system = normal;
-  system.diagonal() += penalty;
+  system.diagonal() += penalty.head(columns);
   const Eigen::LLT<Eigen::MatrixXd> llt(system);
   RidgeFit fit;
-  fit.coefficients = llt.solve(design.transpose() * targets);
-  const double rss = (design * fit.coefficients - targets).squaredNorm();
-  const double n = double(design.rows());
-  const double effective = llt.solve(normal).trace();
+  fit.coefficients = llt.solve(designTargets);
+  // |D c - Y|^2 = |Y|^2 - 2 c^T D^T Y + c^T D^T D c, summed over the channels.
+  const double rss =
+      std::max(0.0, equations.targetSquares -
+                        2.0 * (fit.coefficients.array() * designTargets.array()).sum() +
+                        (fit.coefficients.array() * (normal * fit.coefficients).array()).sum());
+  const double effective = llt.solve(Eigen::MatrixXd(normal)).trace();
+  const double n = equations.rows;
   if (n > effective + 1e-9) fit.score = n * rss / 3.0 / ((n - effective) * (n - effective));
   return fit;
 }
@@ -125,21 +137,24 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
 
   // The isotropic fit: the basis alone, or with the isotropic hats when they lower the GCV score.
   const int isotropicColumns = k + kIsotropicTermCount;
-  const RidgeFit basisOnly = ridgeFit(design.leftCols(k), penalty.head(k), targets);
-  const RidgeFit withHats =
-      ridgeFit(design.leftCols(isotropicColumns), penalty.head(isotropicColumns), targets);
+  NormalEquations equations;
+  equations.normal.noalias() = design.transpose() * design;
+  equations.designTargets.noalias() = design.transpose() * targets;
+  equations.targetSquares = targets.squaredNorm();
+  equations.rows = double(n);
+  const RidgeFit basisOnly = ridgeFit(equations, k, penalty);
+  const RidgeFit withHats = ridgeFit(equations, isotropicColumns, penalty);
   const RidgeFit& isotropic = withHats.score < basisOnly.score ? withHats : basisOnly;
   RidgeFit anisotropic;
-  if (!params.isotropicOnly) anisotropic = ridgeFit(design, penalty, targets);
+  if (!params.isotropicOnly) anisotropic = ridgeFit(equations, k + kHalfVectorTermCount, penalty);
   const bool useAnisotropy =
       !params.isotropicOnly && anisotropic.score < params.anisotropyScoreRatio * isotropic.score;
 
   // The fitted log table L = mean + basis c + half-vector terms d, [entry][channel].
   const RidgeFit& chosen = useAnisotropy ? anisotropic : isotropic;
   const Eigen::MatrixXf coefficients = chosen.coefficients.topRows(k).cast<float>();
-  Eigen::MatrixXf termCoefficients = Eigen::MatrixXf::Zero(kHalfVectorTermCount, 3);
-  termCoefficients.topRows(chosen.coefficients.rows() - k) =
-      chosen.coefficients.bottomRows(chosen.coefficients.rows() - k).cast<float>();
+  const int termsUsed = static_cast<int>(chosen.coefficients.rows()) - k;
+  const Eigen::MatrixXf termCoefficients = chosen.coefficients.bottomRows(termsUsed).cast<float>();
   const Eigen::Map<const Eigen::MatrixXf> basis(model.basis.data(), kEntries, k);
   Eigen::MatrixXf logTable = basis * coefficients;
   logTable.colwise() += Eigen::Map<const Eigen::VectorXf>(model.mean.data(), kEntries);
@@ -151,8 +166,10 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
           const Eigen::Matrix<double, Eigen::Dynamic, kHalfVectorTermCount, Eigen::RowMajor>>(
           gridTerms[0].data(), kEntries, kHalfVectorTermCount)
           .cast<float>();
-  for (int c = 0; c < 3; ++c)
-    logTable.col(c).noalias() += terms * termCoefficients.col(c);
+  if (termsUsed > 0) {
+    for (int c = 0; c < 3; ++c)
+      logTable.col(c).noalias() += terms.leftCols(termsUsed) * termCoefficients.col(c);
+  }
 
   // The samples' residuals against the fitted table, read as the sample was (linear taps).
   SliceResiduals residuals;
