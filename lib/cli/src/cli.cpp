@@ -10,8 +10,9 @@ namespace slicecap::cli {
 
 std::vector<Command> allCommands() {
   return {reconstructCommand(), sampleCommand(), compareCommand(), generateCommand(),
-          evalCommand(),        previewCommand(), targetCommand(), simulateCommand(),
-          sessionCommand(),     sweepCommand(),   statusCommand(), exportCommand()};
+          evalCommand(),        previewCommand(), isotropyCommand(), priorTrainCommand(),
+          targetCommand(),      simulateCommand(), sessionCommand(), sweepCommand(),
+          statusCommand(),      exportCommand()};
 }
 
 namespace {

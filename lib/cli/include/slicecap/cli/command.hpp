@@ -33,6 +33,8 @@ Command statusCommand();
 Command exportCommand();
 Command targetCommand();
 Command simulateCommand();
+Command isotropyCommand();
+Command priorTrainCommand();
 
 /// \brief Every subcommand, in the order `slicecap --help` lists them.
 std::vector<Command> allCommands();

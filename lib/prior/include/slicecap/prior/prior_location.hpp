@@ -1,0 +1,23 @@
+// Where the shipped prior file is found at run time.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include "slicecap/prior/prior_model.hpp"
+
+namespace slicecap::prior {
+
+/// \brief The places searched, in order: $SLICECAP_PRIOR (a file), the installed file
+/// (<datadir>/slicecap/prior.bin of the build's install prefix), the source tree's
+/// data/prior/prior.bin (a build used in place).
+std::vector<std::filesystem::path> priorSearchPath();
+
+/// \brief The first existing file of priorSearchPath(); PriorError listing every path tried if
+/// none exists.
+std::filesystem::path locatePriorModel();
+
+/// \brief The model of locatePriorModel(), read once per process (readPriorModel's errors).
+const PriorModel& defaultPriorModel();
+
+}  // namespace slicecap::prior

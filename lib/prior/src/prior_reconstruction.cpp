@@ -1,0 +1,227 @@
+// The prior fit: ridge regression of the basis (and half-vector terms) to log-mapped samples,
+// model selection by generalised cross-validation, then the measured residuals kept.
+#include "slicecap/prior/prior_reconstruction.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "half_vector_terms.hpp"
+#include "residual_field.hpp"
+#include "slicecap/core/angles.hpp"
+#include "slicecap/core/grid_interpolation.hpp"
+#include "slicecap/recon/errors.hpp"
+
+namespace slicecap::prior {
+namespace {
+
+constexpr int kEntries = kFeatureCount;
+
+struct SampleRow {
+  std::vector<TableTap> taps;
+  Rgb weighted;  ///< value times cos(theta_i) cos(theta_v), clipped at 0
+  const SliceId* slice;
+  double parameterDeg;
+};
+
+double cosDeg(double angleDeg) {
+  return std::cos(degToRad(std::min(angleDeg, 90.0)));
+}
+
+// One ridge fit of the design to the three channels' targets.
+struct RidgeFit {
+  Eigen::MatrixXd coefficients;  // columns x 3
+  double score = std::numeric_limits<double>::infinity();
+};
+
+// The products of the full design that every nested fit (its first `columns` columns) reuses.
+struct NormalEquations {
+  Eigen::MatrixXd normal;         // D^T D
+  Eigen::MatrixXd designTargets;  // D^T Y
+  double targetSquares = 0.0;     // |Y|^2
+  double rows = 0.0;
+};
+
+RidgeFit ridgeFit(const NormalEquations& equations, int columns, const Eigen::VectorXd& penalty) {
+  const auto normal = equations.normal.topLeftCorner(columns, columns);
+  const auto designTargets = equations.designTargets.topRows(columns);
+  Eigen::MatrixXd system = normal;
+  system.diagonal() += penalty.head(columns);
+  const Eigen::LLT<Eigen::MatrixXd> llt(system);
+  RidgeFit fit;
+  fit.coefficients = llt.solve(designTargets);
+  // |D c - Y|^2 = |Y|^2 - 2 c^T D^T Y + c^T D^T D c, summed over the channels.
+  const double rss =
+      std::max(0.0, equations.targetSquares -
+                        2.0 * (fit.coefficients.array() * designTargets.array()).sum() +
+                        (fit.coefficients.array() * (normal * fit.coefficients).array()).sum());
+  const double effective = llt.solve(Eigen::MatrixXd(normal)).trace();
+  const double n = equations.rows;
+  if (n > effective + 1e-9) fit.score = n * rss / 3.0 / ((n - effective) * (n - effective));
+  return fit;
+}
+
+}  // namespace
+
+bool PriorParams::isValid(std::string* error) const {
+  auto bad = [&](const char* what) {
+    if (error) *error = what;
+    return false;
+  };
+  if (!(ridge > 0.0) || !std::isfinite(ridge)) return bad("ridge must be positive");
+  if (!(anisotropyRidge > 0.0) || !std::isfinite(anisotropyRidge))
+    return bad("anisotropy ridge must be positive");
+  if (!(anisotropyScoreRatio >= 0.0 && anisotropyScoreRatio <= 1.0))
+    return bad("anisotropy score ratio must lie in [0, 1]");
+  return true;
+}
+
+Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
+                           const PriorParams& params, PriorReport* report) {
+  std::string error;
+  if (!params.isValid(&error)) throw std::invalid_argument("prior reconstruction: " + error);
+  std::vector<SampleRow> rows;
+  rows.reserve(slices.sampleCount());
+  for (const Slice& slice : slices.slices()) {
+    for (const SliceSample& s : slice.samples) {
+      SampleRow row{{}, {}, &slice.id, sliceParameterDeg(slice.id.kind, s)};
+      try {
+        row.taps = tableTaps(s.light, s.view);
+      } catch (const std::invalid_argument& e) {
+        throw recon::ReconstructionError("slice " + toString(slice.id) + ": " + e.what());
+      }
+      const double cc = cosDeg(s.light.thetaDeg) * cosDeg(s.view.thetaDeg);
+      for (std::size_t c = 0; c < 3; ++c) {
+        if (!std::isfinite(s.value[c]))
+          throw recon::ReconstructionError("slice " + toString(slice.id) + ": non-finite sample");
+        row.weighted[c] = std::max(0.0, s.value[c]) * cc;
+      }
+      rows.push_back(std::move(row));
+    }
+  }
+  if (rows.empty()) throw recon::ReconstructionError("the prior needs at least one sample");
+
+  // The floor of the log map, per channel, relative to the largest sample (as in training).
+  Rgb floor;
+  for (const SampleRow& r : rows) {
+    for (std::size_t c = 0; c < 3; ++c)
+      floor[c] = std::max(floor[c], r.weighted[c]);
+  }
+  for (std::size_t c = 0; c < 3; ++c)
+    floor[c] = std::max(floor[c] * model.floorFraction, std::numeric_limits<double>::min());
+
+  const int n = static_cast<int>(rows.size());
+  const int k = model.components();
+  const auto& gridTerms = gridHalfVectorTerms();
+  Eigen::MatrixXd design = Eigen::MatrixXd::Zero(n, k + kHalfVectorTermCount);
+  Eigen::MatrixXd targets(n, 3);
+  for (int i = 0; i < n; ++i) {
+    double meanAtSample = 0.0;
+    for (const TableTap& tap : rows[i].taps) {
+      const int entry = tap.light * 81 + tap.view;
+      meanAtSample += tap.weight * model.mean[entry];
+      for (int j = 0; j < k; ++j)
+        design(i, j) += tap.weight * model.component(j)[entry];
+      for (int j = 0; j < kHalfVectorTermCount; ++j)
+        design(i, k + j) += tap.weight * gridTerms[entry][j];
+    }
+    for (int c = 0; c < 3; ++c)
+      targets(i, c) = std::log(rows[i].weighted[c] + floor[c]) - meanAtSample;
+  }
+  Eigen::VectorXd penalty(k + kHalfVectorTermCount);
+  for (int j = 0; j < k; ++j)
+    penalty[j] = params.ridge * model.residualVariance / model.variance[j];
+  penalty.tail(kHalfVectorTermCount).setConstant(params.anisotropyRidge);
+
+  // The isotropic fit: the basis alone, or with the isotropic hats when they lower the GCV score.
+  const int isotropicColumns = k + kIsotropicTermCount;
+  NormalEquations equations;
+  equations.normal.noalias() = design.transpose() * design;
+  equations.designTargets.noalias() = design.transpose() * targets;
+  equations.targetSquares = targets.squaredNorm();
+  equations.rows = double(n);
+  const RidgeFit basisOnly = ridgeFit(equations, k, penalty);
+  const RidgeFit withHats = ridgeFit(equations, isotropicColumns, penalty);
+  const RidgeFit& isotropic = withHats.score < basisOnly.score ? withHats : basisOnly;
+  RidgeFit anisotropic;
+  if (!params.isotropicOnly) anisotropic = ridgeFit(equations, k + kHalfVectorTermCount, penalty);
+  const bool useAnisotropy =
+      !params.isotropicOnly && anisotropic.score < params.anisotropyScoreRatio * isotropic.score;
+
+  // The fitted log table L = mean + basis c + half-vector terms d, [entry][channel].
+  const RidgeFit& chosen = useAnisotropy ? anisotropic : isotropic;
+  const Eigen::MatrixXf coefficients = chosen.coefficients.topRows(k).cast<float>();
+  const int termsUsed = static_cast<int>(chosen.coefficients.rows()) - k;
+  const Eigen::MatrixXf termCoefficients = chosen.coefficients.bottomRows(termsUsed).cast<float>();
+  const Eigen::Map<const Eigen::MatrixXf> basis(model.basis.data(), kEntries, k);
+  Eigen::MatrixXf logTable = basis * coefficients;
+  logTable.colwise() += Eigen::Map<const Eigen::VectorXf>(model.mean.data(), kEntries);
+  // One matrix-vector product per channel over a float copy of the grid's terms (a general
+  // matrix product would repack the 6561 x 30 terms on every call).
+  using TermMatrix = Eigen::Matrix<float, Eigen::Dynamic, kHalfVectorTermCount, Eigen::RowMajor>;
+  static const TermMatrix terms =
+      Eigen::Map<
+          const Eigen::Matrix<double, Eigen::Dynamic, kHalfVectorTermCount, Eigen::RowMajor>>(
+          gridTerms[0].data(), kEntries, kHalfVectorTermCount)
+          .cast<float>();
+  if (termsUsed > 0) {
+    for (int c = 0; c < 3; ++c)
+      logTable.col(c).noalias() += terms.leftCols(termsUsed) * termCoefficients.col(c);
+  }
+
+  // The samples' residuals against the fitted table, read as the sample was (linear taps).
+  SliceResiduals residuals;
+  double squares = 0.0;
+  for (const SampleRow& r : rows) {
+    Rgb predicted;
+    for (const TableTap& tap : r.taps) {
+      for (int c = 0; c < 3; ++c)
+        predicted[c] +=
+            tap.weight * (std::exp(double(logTable(tap.light * 81 + tap.view, c))) - floor[c]);
+    }
+    Rgb residual;
+    for (std::size_t c = 0; c < 3; ++c) {
+      residual[c] =
+          std::log(r.weighted[c] + floor[c]) - std::log(std::max(predicted[c], 0.0) + floor[c]);
+      squares += residual[c] * residual[c];
+    }
+    residuals[*r.slice].push_back({r.parameterDeg, residual});
+  }
+  const std::vector<Rgb> field = residualField(residuals);
+
+  static const std::array<double, 81> cosTheta = [] {
+    std::array<double, 81> c{};
+    for (int d = 0; d < 81; ++d)
+      c[d] = std::cos(degToRad(bonn::direction(d).thetaDeg));
+    return c;
+  }();
+  Abrdf table;
+  for (int l = 0; l < 81; ++l) {
+    for (int v = 0; v < 81; ++v) {
+      const double cc = cosTheta[l] * cosTheta[v];
+      const int e = l * 81 + v;
+      for (int c = 0; c < 3; ++c) {
+        const double value = (std::exp(double(logTable(e, c)) + field[e][c]) - floor[c]) / cc;
+        table.channel(l, v, c) = static_cast<float>(std::max(value, 0.0));
+      }
+    }
+  }
+  if (report) {
+    report->samples = rows.size();
+    report->measuredPairs.clear();
+    for (const Slice& s : slices.slices()) {
+      if (std::find(report->measuredPairs.begin(), report->measuredPairs.end(), s.id.elevations) ==
+          report->measuredPairs.end())
+        report->measuredPairs.push_back(s.id.elevations);
+    }
+    report->anisotropyTermsUsed = useAnisotropy;
+    report->isotropicScore = isotropic.score;
+    report->anisotropicScore = params.isotropicOnly ? 0.0 : anisotropic.score;
+    report->fitRmsLog = std::sqrt(squares / (3.0 * n));
+  }
+  return table;
+}
+
+}  // namespace slicecap::prior
