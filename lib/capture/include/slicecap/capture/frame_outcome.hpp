@@ -1,0 +1,37 @@
+// What the capture pipeline makes of one frame of a sweep: the seam between the per-frame
+// pipeline (markers, pose, gate, sample) and its users, the daemon's frame loop and
+// `slicecap process`.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "slicecap/capture/frame_sample.hpp"
+#include "slicecap/core/slice.hpp"
+#include "slicecap/hal/frame.hpp"
+
+namespace slicecap::capture {
+
+/// \brief One frame's outcome. Exactly one of: a sample (an accepted LED-on frame), an ambient
+/// frame (an LED-off frame kept to subtract room light from its neighbours; not a sample), or a
+/// rejection with its reason, one of the stable snake_case names the status and the report
+/// count: "too_few_markers", "elevation_off", "blurred", "window_clipped", "window_occluded",
+/// "pose_residual", "no_ambient_frame", "bad_frame".
+struct FrameOutcome {
+  enum class Kind { Sample, Ambient, Rejected };
+  Kind kind = Kind::Rejected;
+  std::optional<FrameSample> sample;  ///< set exactly when kind == Sample
+  std::string rejectReason;           ///< set exactly when kind == Rejected
+  std::string detail;                 ///< free text for logs and reports (e.g. "3 of 16 tags")
+  /// \brief View elevation minus the slice's nominal, deg, whenever a pose was found (shown live
+  /// so the person can correct the arm).
+  std::optional<double> viewElevationErrorDeg;
+};
+
+/// \brief Turns the frames of a sweep of `slice` into outcomes, in capture order. Implementations
+/// keep state across frames (tracking, the last LED-off frame) and are reset between sweeps by
+/// constructing a new one.
+using FrameProcessor = std::function<FrameOutcome(const hal::Frame& frame, const SliceId& slice)>;
+
+}  // namespace slicecap::capture
