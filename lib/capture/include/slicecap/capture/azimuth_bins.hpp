@@ -1,0 +1,45 @@
+// Binning a sweep's frames by the slice parameter (15 deg bins) and combining each bin robustly.
+#pragma once
+
+#include <vector>
+
+#include "slicecap/capture/frame_sample.hpp"
+#include "slicecap/core/slice.hpp"
+
+namespace slicecap::capture {
+
+/// \brief The bins of one slice: bin k is centred on parameter k * width (the positions of the
+/// ideal slice samples) and spans half a width either side. The parameter is the light azimuth on
+/// an axial slice and the view azimuth on a diagonal one (sliceParameterDeg).
+class AzimuthBins {
+ public:
+  /// \brief `binWidthDeg` must divide 360 (std::invalid_argument otherwise); 15 deg gives 24 bins.
+  explicit AzimuthBins(SliceKind kind, double binWidthDeg = 15.0);
+
+  int binCount() const { return static_cast<int>(bins_.size()); }
+  /// \brief The bin a slice parameter falls in.
+  int binOf(double parameterDeg) const;
+  /// \brief The bin of a sample's slice parameter.
+  int binOf(const FrameSample& sample) const;
+
+  void add(const FrameSample& sample);
+  /// \brief Removes every sample (a redone sweep).
+  void clear();
+
+  const std::vector<FrameSample>& samplesIn(int bin) const { return bins_[bin]; }
+  int filledCount() const;
+  std::vector<bool> filled() const;
+
+  /// \brief One slice sample per non-empty bin: the per-channel median of its values (robust to a
+  /// blurred or occluded frame that passed the gate), at the mean light and view directions of its
+  /// frames (elevations averaged, azimuths by circular mean): the sample sits at the measured
+  /// angles, not at the bin centre.
+  std::vector<SliceSample> combine() const;
+
+ private:
+  SliceKind kind_;
+  double binWidthDeg_;
+  std::vector<std::vector<FrameSample>> bins_;
+};
+
+}  // namespace slicecap::capture

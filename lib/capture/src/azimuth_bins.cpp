@@ -1,0 +1,94 @@
+// Azimuth bins: assignment by slice parameter, median values, circular-mean angles.
+#include "slicecap/capture/azimuth_bins.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "slicecap/core/angles.hpp"
+
+namespace slicecap::capture {
+namespace {
+
+double median(std::vector<double> values) {
+  const std::size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + mid, values.end());
+  if (values.size() % 2 == 1) return values[mid];
+  const double upper = values[mid];
+  return (*std::max_element(values.begin(), values.begin() + mid) + upper) / 2.0;
+}
+
+double circularMeanDeg(const std::vector<double>& azimuthsDeg) {
+  double x = 0.0, y = 0.0;
+  for (double a : azimuthsDeg) {
+    x += std::cos(degToRad(a));
+    y += std::sin(degToRad(a));
+  }
+  return wrapDeg360(radToDeg(std::atan2(y, x)));
+}
+
+}  // namespace
+
+AzimuthBins::AzimuthBins(SliceKind kind, double binWidthDeg)
+    : kind_(kind), binWidthDeg_(binWidthDeg) {
+  const double count = 360.0 / binWidthDeg;
+  if (!std::isfinite(count) || count < 1.0 || std::abs(count - std::round(count)) > 1e-9) {
+    throw std::invalid_argument("azimuth bin width must divide 360 deg");
+  }
+  bins_.resize(static_cast<std::size_t>(std::lround(count)));
+}
+
+int AzimuthBins::binOf(double parameterDeg) const {
+  const int bin =
+      static_cast<int>(std::floor(wrapDeg360(parameterDeg + binWidthDeg_ / 2.0) / binWidthDeg_));
+  return std::min(bin, binCount() - 1);
+}
+
+int AzimuthBins::binOf(const FrameSample& sample) const {
+  return binOf(sliceParameterDeg(kind_, {sample.light, sample.view, sample.value}));
+}
+
+void AzimuthBins::add(const FrameSample& sample) {
+  bins_[binOf(sample)].push_back(sample);
+}
+
+void AzimuthBins::clear() {
+  for (auto& bin : bins_)
+    bin.clear();
+}
+
+int AzimuthBins::filledCount() const {
+  return static_cast<int>(
+      std::count_if(bins_.begin(), bins_.end(), [](const auto& b) { return !b.empty(); }));
+}
+
+std::vector<bool> AzimuthBins::filled() const {
+  std::vector<bool> out;
+  for (const auto& bin : bins_)
+    out.push_back(!bin.empty());
+  return out;
+}
+
+std::vector<SliceSample> AzimuthBins::combine() const {
+  std::vector<SliceSample> out;
+  for (const auto& bin : bins_) {
+    if (bin.empty()) continue;
+    std::vector<double> channel[3], lightPhi, viewPhi;
+    double lightTheta = 0.0, viewTheta = 0.0;
+    for (const FrameSample& s : bin) {
+      for (std::size_t c = 0; c < 3; ++c)
+        channel[c].push_back(s.value[c]);
+      lightTheta += s.light.thetaDeg;
+      viewTheta += s.view.thetaDeg;
+      lightPhi.push_back(s.light.phiDeg);
+      viewPhi.push_back(s.view.phiDeg);
+    }
+    const double n = double(bin.size());
+    out.push_back({{lightTheta / n, circularMeanDeg(lightPhi)},
+                   {viewTheta / n, circularMeanDeg(viewPhi)},
+                   {median(channel[0]), median(channel[1]), median(channel[2])}});
+  }
+  return out;
+}
+
+}  // namespace slicecap::capture

@@ -1,0 +1,101 @@
+// The control protocol between `slicecap` and `slicecapd`: one JSON object a line, versioned.
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+
+#include "slicecap/core/slice.hpp"
+
+namespace slicecap::daemon {
+
+/// \brief The protocol version this build speaks; requests carry it as "v".
+inline constexpr int kProtocolVersion = 1;
+/// \brief Longest request line accepted, in bytes (without the newline); longer ones get
+/// `too_large`.
+inline constexpr std::size_t kMaxRequestBytes = 64 * 1024;
+
+/// \brief Why a request was refused; the wire spelling is errorCodeName().
+enum class ErrorCode {
+  ParseError,          ///< not JSON, or not an object
+  TooLarge,            ///< longer than kMaxRequestBytes
+  UnsupportedVersion,  ///< "v" is not kProtocolVersion
+  BadRequest,          ///< unknown command, missing or invalid argument
+  NotFound,            ///< no such session
+  Conflict,            ///< not possible in the current state (e.g. a sweep already running)
+  Unavailable,         ///< the camera or LED failed; the sweep is paused
+  StorageError,        ///< the store could not write (e.g. disk full); nothing was acknowledged
+  Internal,            ///< a bug: reported, the daemon stays up
+};
+std::string_view errorCodeName(ErrorCode code);
+
+// The commands. Each holds exactly the validated arguments it needs.
+struct Hello {};
+struct SessionNew {
+  std::string material;           ///< free text, what the person is capturing
+  std::optional<std::string> id;  ///< a chosen session id (else the daemon makes one)
+};
+struct SessionList {};
+struct SessionShow {
+  std::string id;
+};
+struct SessionResume {
+  std::string id;
+};
+struct SessionDelete {
+  std::string id;
+};
+struct SweepStart {
+  SliceId slice;
+};
+struct SweepStop {};
+struct SweepRedo {
+  SliceId slice;  ///< discards that slice's samples and starts it again
+};
+struct Status {};
+struct Reconstruct {
+  std::optional<std::string> id;  ///< default: the current session
+  std::string method = "b";
+};
+struct Export {
+  std::optional<std::string> id;  ///< default: the current session
+  std::string directory;          ///< absolute path on the box
+};
+
+using Command =
+    std::variant<Hello, SessionNew, SessionList, SessionShow, SessionResume, SessionDelete,
+                 SweepStart, SweepStop, SweepRedo, Status, Reconstruct, Export>;
+
+/// \brief The wire name of a command ("session.new", ...).
+std::string_view commandName(const Command& command);
+
+/// \brief A parsed, validated request.
+struct Request {
+  std::int64_t id = 0;  ///< chosen by the client, echoed in the response
+  Command command;
+};
+
+/// \brief A refusal: the code, a message naming the field, and the request id if one was readable.
+struct ProtocolError {
+  ErrorCode code = ErrorCode::BadRequest;
+  std::string message;
+  std::optional<std::int64_t> requestId;
+};
+
+/// \brief Parses one request line (without its newline). Never throws: any input, however malformed
+/// or large, gives either a Request or a ProtocolError.
+std::variant<Request, ProtocolError> parseRequest(std::string_view line);
+
+/// \brief The request line for a command (the client side), without the newline.
+std::string encodeRequest(const Request& request);
+
+/// \brief A success response line: {"v":1,"id":ID,"ok":true,"result":RESULT}.
+std::string encodeResult(std::int64_t requestId, const nlohmann::json& result);
+/// \brief An error response line: {"v":1,"id":ID|null,"ok":false,"error":{"code":...,
+/// "message":...}}.
+std::string encodeError(const ProtocolError& error);
+
+}  // namespace slicecap::daemon

@@ -1,0 +1,176 @@
+// Parsing and checking slicecapd.conf.
+#include "slicecap/daemon/config.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace slicecap::daemon {
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t\r");
+  if (first == std::string::npos) return "";
+  return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
+}
+
+double positiveNumber(const std::string& value, const std::string& what) {
+  double number = 0.0;
+  const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), number);
+  if (ec != std::errc() || end != value.data() + value.size() || !std::isfinite(number) ||
+      number <= 0.0) {
+    throw std::invalid_argument("'" + value + "' is not " + what);
+  }
+  return number;
+}
+
+bool boolean(const std::string& value) {
+  if (value == "true" || value == "yes" || value == "1") return true;
+  if (value == "false" || value == "no" || value == "0") return false;
+  throw std::invalid_argument("'" + value + "' is not true or false");
+}
+
+using Setter = std::function<void(DaemonConfig&, const std::string&)>;
+
+const std::map<std::string, Setter>& setters() {
+  static const std::map<std::string, Setter> table{
+      {"camera",
+       [](DaemonConfig& c, const std::string& v) {
+         if (v == "libcamera")
+           c.camera = DaemonConfig::CameraKind::Libcamera;
+         else if (v == "v4l2")
+           c.camera = DaemonConfig::CameraKind::V4l2;
+         else if (v == "file")
+           c.camera = DaemonConfig::CameraKind::File;
+         else
+           throw std::invalid_argument("'" + v + "' is not libcamera, v4l2 or file");
+       }},
+      {"camera_device", [](DaemonConfig& c, const std::string& v) { c.cameraDevice = v; }},
+      {"camera_recording", [](DaemonConfig& c, const std::string& v) { c.recording = v; }},
+      {"resolution",
+       [](DaemonConfig& c, const std::string& v) {
+         const auto x = v.find('x');
+         if (x == std::string::npos) throw std::invalid_argument("'" + v + "' is not WIDTHxHEIGHT");
+         const double w = positiveNumber(v.substr(0, x), "a width"),
+                      h = positiveNumber(v.substr(x + 1), "a height");
+         if (w != std::floor(w) || h != std::floor(h) || w > 8192 || h > 8192 || w < 64 || h < 64) {
+           throw std::invalid_argument("'" + v + "' must be whole pixels between 64 and 8192");
+         }
+         c.widthPx = int(w);
+         c.heightPx = int(h);
+       }},
+      {"exposure_us",
+       [](DaemonConfig& c, const std::string& v) {
+         c.exposureUs = v.empty() ? std::nullopt
+                                  : std::optional(positiveNumber(v, "a positive exposure in us"));
+       }},
+      {"gain",
+       [](DaemonConfig& c, const std::string& v) {
+         c.gain = v.empty() ? std::nullopt : std::optional(positiveNumber(v, "a positive gain"));
+       }},
+      {"calibration", [](DaemonConfig& c, const std::string& v) { c.calibration = v; }},
+      {"led_chip", [](DaemonConfig& c, const std::string& v) { c.ledChip = v; }},
+      {"led_line", [](DaemonConfig& c, const std::string& v) { c.ledLine = v; }},
+      {"led_active_low",
+       [](DaemonConfig& c, const std::string& v) { c.ledActiveLow = boolean(v); }},
+      {"led_alternate", [](DaemonConfig& c, const std::string& v) { c.ledAlternate = boolean(v); }},
+      {"led_log", [](DaemonConfig& c, const std::string& v) { c.ledLog = v; }},
+      {"target", [](DaemonConfig& c, const std::string& v) { c.target = v; }},
+      {"storage", [](DaemonConfig& c, const std::string& v) { c.storage = v; }},
+      {"record_frames", [](DaemonConfig& c, const std::string& v) { c.recordFrames = boolean(v); }},
+      {"socket", [](DaemonConfig& c, const std::string& v) { c.socket = v; }},
+      {"socket_group", [](DaemonConfig& c, const std::string& v) { c.socketGroup = v; }},
+  };
+  return table;
+}
+
+}  // namespace
+
+DaemonConfig parseDaemonConfig(std::istream& in, const std::string& sourceName) {
+  DaemonConfig config;
+  std::set<std::string> seen;
+  std::string line;
+  for (int lineNumber = 1; std::getline(in, line); ++lineNumber) {
+    const std::string text = trim(line.substr(0, line.find('#')));
+    if (text.empty()) continue;
+    const std::string where = sourceName + ":" + std::to_string(lineNumber) + ": ";
+    const auto equals = text.find('=');
+    if (equals == std::string::npos)
+      throw ConfigError(where + "expected 'key = value', got '" + text + "'");
+    const std::string key = trim(text.substr(0, equals));
+    const std::string value = trim(text.substr(equals + 1));
+    const auto setter = setters().find(key);
+    if (setter == setters().end()) throw ConfigError(where + "unknown key '" + key + "'");
+    if (!seen.insert(key).second) throw ConfigError(where + key + ": set twice");
+    try {
+      setter->second(config, value);
+    } catch (const std::invalid_argument& e) {
+      throw ConfigError(where + key + ": " + e.what());
+    }
+  }
+  // Whole-file rules: a setting that makes sense only with another.
+  const std::string where = sourceName + ": ";
+  if (config.camera == DaemonConfig::CameraKind::File && config.recording.empty()) {
+    throw ConfigError(
+        where + "camera = file needs camera_recording (a recording or simulated session folder)");
+  }
+  if (config.storage.is_relative()) throw ConfigError(where + "storage must be an absolute path");
+  if (config.socket.is_relative()) throw ConfigError(where + "socket must be an absolute path");
+  if (config.ledLine.empty()) throw ConfigError(where + "led_line must name the LED's GPIO line");
+  return config;
+}
+
+DaemonConfig readDaemonConfig(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(path.string() + ": cannot open the configuration file");
+  return parseDaemonConfig(in, path.string());
+}
+
+std::string DaemonConfig::documentedDefaults() {
+  return R"(# slicecapd configuration. `key = value`; `#` starts a comment. Unknown keys are errors.
+# The daemon checks every field when it starts and names the line of any mistake.
+
+# Camera: libcamera (Raspberry Pi camera modules), v4l2 (USB cameras) or file (plays a recording
+# or a simulated session; for tests and demonstrations without hardware).
+camera = libcamera
+# libcamera camera id or /dev/videoN; empty takes the first camera found.
+camera_device =
+# With camera = file: the recording or simulated session folder to play.
+camera_recording =
+# Frame size in pixels.
+resolution = 1280x720
+# Locked exposure (microseconds) and analogue gain; empty lets the daemon choose them at sweep start
+# and keep them fixed for the sweep.
+exposure_us =
+gain =
+# Camera intrinsics and distortion (from `slicecap calibrate`); empty uses the sensor's nominal model.
+calibration =
+
+# LED: the GPIO chip and line that drive the LED driver (never an LED straight on a pin; see
+# firmware/README.md). The line by name (as `gpioinfo` lists it) or by offset.
+led_chip = gpiochip0
+led_line = GPIO17
+led_active_low = false
+# Switch the LED off every other frame, so ambient light can be measured and removed.
+led_alternate = true
+# With camera = file: the file the LED's changes are written to (empty: <storage>/led.log).
+led_log =
+
+# The printed target: "default" (slicecap target's built-in one) or a target JSON file.
+target = default
+# Where sessions are kept (one folder each; samples are on disk before they are acknowledged).
+storage = /var/lib/slicecap
+# Also keep every raw frame as a recording, to re-process a session on a desktop.
+record_frames = false
+
+# The control socket, when systemd does not pass one (slicecapd.socket), and the group allowed to use it.
+socket = /run/slicecap/slicecapd.sock
+socket_group = slicecap
+)";
+}
+
+}  // namespace slicecap::daemon

@@ -1,0 +1,59 @@
+// Durable storage: an append-only record journal (fsync per record) and atomic whole-file
+// replacement.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace slicecap::io {
+
+/// \brief What opening a journal found and repaired.
+struct JournalRecovery {
+  std::size_t records = 0;  ///< intact records read
+  std::size_t tornTailBytes =
+      0;  ///< bytes of an unfinished last record (a crash mid-append), cut off
+  std::vector<std::size_t> corruptLines;  ///< 1-based lines whose checksum failed; skipped
+};
+
+/// \brief An append-only file of records, one a line as "<crc32 hex8> <record>\n". append() returns
+/// only when the record is on disk (fdatasync), so an acknowledged record survives kill -9 and
+/// power loss; a record torn by a crash is cut off when the journal is next opened.
+class Journal {
+ public:
+  /// \brief Opens or creates the journal; fills `records` with the intact records in order. Throws
+  /// IoError naming the path when it cannot be opened, read or repaired.
+  static Journal open(const std::filesystem::path& path, std::vector<std::string>* records,
+                      JournalRecovery* recovery = nullptr);
+
+  Journal(Journal&& other) noexcept;
+  Journal& operator=(Journal&& other) noexcept;
+  Journal(const Journal&) = delete;
+  Journal& operator=(const Journal&) = delete;
+  ~Journal();
+
+  /// \brief Appends one record (it may not contain a newline: std::invalid_argument) and syncs it.
+  /// Throws IoError naming the path when the write or sync fails (e.g. disk full); the journal is
+  /// then cut back to its previous length, so every record before stays valid.
+  void append(std::string_view record);
+
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  Journal(std::filesystem::path path, int fd, std::uint64_t size);
+  std::filesystem::path path_;
+  int fd_ = -1;
+  std::uint64_t size_ = 0;
+};
+
+/// \brief Replaces `path` with `contents` atomically (a temporary in the same folder, fsync,
+/// rename, fsync of the folder): readers see the old file or the new one, never a mix. Throws
+/// IoError.
+void writeFileAtomically(const std::filesystem::path& path, std::string_view contents);
+
+/// \brief CRC-32 (IEEE 802.3, as zlib) of bytes.
+std::uint32_t crc32(std::string_view bytes);
+
+}  // namespace slicecap::io

@@ -1,0 +1,170 @@
+// The record journal and atomic file replacement, on POSIX file descriptors for explicit syncs.
+#include "slicecap/io/journal.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#include "slicecap/io/io_error.hpp"
+
+namespace slicecap::io {
+namespace {
+
+IoError systemError(const std::filesystem::path& path, const std::string& what) {
+  return IoError(path.string() + ": " + what + ": " + std::strerror(errno));
+}
+
+// Writes all bytes, retrying short writes and EINTR; false on error (errno set).
+bool writeAll(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    data += n;
+    size -= std::size_t(n);
+  }
+  return true;
+}
+
+std::string hex8(std::uint32_t value) {
+  char text[9];
+  std::snprintf(text, sizeof text, "%08x", value);
+  return text;
+}
+
+void syncDirectory(const std::filesystem::path& directory) {
+  const int fd =
+      ::open(directory.empty() ? "." : directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) throw systemError(directory, "cannot open folder to sync it");
+  const int result = ::fsync(fd);
+  ::close(fd);
+  if (result != 0) throw systemError(directory, "cannot sync folder");
+}
+
+}  // namespace
+
+std::uint32_t crc32(std::string_view bytes) {
+  static const auto table = [] {
+    std::array<std::uint32_t, 256> t{};
+    for (std::uint32_t i = 0; i < 256; ++i) {
+      std::uint32_t c = i;
+      for (int k = 0; k < 8; ++k)
+        c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  std::uint32_t crc = 0xFFFFFFFFu;
+  for (unsigned char b : bytes)
+    crc = table[(crc ^ b) & 0xFF] ^ (crc >> 8);
+  return crc ^ 0xFFFFFFFFu;
+}
+
+Journal::Journal(std::filesystem::path path, int fd, std::uint64_t size)
+    : path_(std::move(path)), fd_(fd), size_(size) {}
+
+Journal::Journal(Journal&& other) noexcept
+    : path_(std::move(other.path_)), fd_(other.fd_), size_(other.size_) {
+  other.fd_ = -1;
+}
+
+Journal& Journal::operator=(Journal&& other) noexcept {
+  if (this != &other) {
+    if (fd_ >= 0) ::close(fd_);
+    path_ = std::move(other.path_);
+    fd_ = other.fd_;
+    size_ = other.size_;
+    other.fd_ = -1;
+  }
+  return *this;
+}
+
+Journal::~Journal() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+Journal Journal::open(const std::filesystem::path& path, std::vector<std::string>* records,
+                      JournalRecovery* recovery) {
+  const bool existed = std::filesystem::exists(path);
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0640);
+  if (fd < 0) throw systemError(path, "cannot open journal");
+  Journal journal(path, fd, 0);
+  if (!existed) syncDirectory(path.parent_path());
+
+  std::string contents;
+  char buffer[65536];
+  while (true) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw systemError(path, "cannot read journal");
+    if (n == 0) break;
+    contents.append(buffer, std::size_t(n));
+  }
+  JournalRecovery found;
+  std::size_t lineStart = 0, lineNumber = 0;
+  while (lineStart < contents.size()) {
+    const std::size_t newline = contents.find('\n', lineStart);
+    if (newline == std::string::npos) break;  // torn tail, handled below
+    ++lineNumber;
+    const std::string_view line(contents.data() + lineStart, newline - lineStart);
+    const bool wellFormed = line.size() >= 9 && line[8] == ' ';
+    const std::string_view record = wellFormed ? line.substr(9) : std::string_view();
+    if (wellFormed && hex8(crc32(record)) == line.substr(0, 8)) {
+      if (records) records->emplace_back(record);
+      ++found.records;
+    } else {
+      found.corruptLines.push_back(lineNumber);
+    }
+    lineStart = newline + 1;
+  }
+  found.tornTailBytes = contents.size() - lineStart;
+  if (found.tornTailBytes > 0) {
+    if (::ftruncate(fd, off_t(lineStart)) != 0 || ::fsync(fd) != 0)
+      throw systemError(path, "cannot cut torn record");
+  }
+  journal.size_ = lineStart;
+  if (::lseek(fd, off_t(lineStart), SEEK_SET) < 0) throw systemError(path, "cannot seek journal");
+  if (recovery) *recovery = found;
+  return journal;
+}
+
+void Journal::append(std::string_view record) {
+  if (record.find('\n') != std::string_view::npos)
+    throw std::invalid_argument("journal record contains a newline");
+  const std::string line = hex8(crc32(record)) + " " + std::string(record) + "\n";
+  if (!writeAll(fd_, line.data(), line.size()) || ::fdatasync(fd_) != 0) {
+    const IoError error = systemError(path_, "cannot append to journal");
+    // Leave no partial record behind; the next open would cut it anyway.
+    if (::ftruncate(fd_, off_t(size_)) == 0) ::lseek(fd_, off_t(size_), SEEK_SET);
+    throw error;
+  }
+  size_ += line.size();
+}
+
+void writeFileAtomically(const std::filesystem::path& path, std::string_view contents) {
+  const std::filesystem::path temporary = path.string() + ".tmp";
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0640);
+  if (fd < 0) throw systemError(temporary, "cannot create");
+  if (!writeAll(fd, contents.data(), contents.size()) || ::fsync(fd) != 0) {
+    const IoError error = systemError(temporary, "cannot write");
+    ::close(fd);
+    ::unlink(temporary.c_str());
+    throw error;
+  }
+  ::close(fd);
+  if (::rename(temporary.c_str(), path.c_str()) != 0) {
+    const IoError error = systemError(path, "cannot replace");
+    ::unlink(temporary.c_str());
+    throw error;
+  }
+  syncDirectory(path.parent_path());
+}
+
+}  // namespace slicecap::io

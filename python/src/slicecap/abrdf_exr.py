@@ -1,0 +1,122 @@
+"""ABRDF EXR reading and writing, with the C++ reader's checks and messages (lib/io/abrdf_exr).
+
+One 81 x 81 image, channels R, G, B as float32 (ZIP), row = light index, column = view index,
+BRDF in 1/sr; string attributes `slicecap:layout` = "bonn81" and `slicecap:quantity` = "brdf".
+"""
+
+import os
+
+import numpy as np
+import OpenEXR
+
+from slicecap.abrdf import Abrdf
+
+PREFIX = "slicecap:"
+CHANNELS = ("R", "G", "B")
+SIZE = 81
+ABRDF_LAYOUT = "bonn81"
+VERSION = "0.1.0 (python)"
+
+
+class SlicecapFileError(RuntimeError):
+    """A file that cannot be read or written as asked; the message starts with the file's path
+    (the Python counterpart of the C++ slicecap::io::IoError)."""
+
+
+def _error(path, what: str) -> SlicecapFileError:
+    return SlicecapFileError(f"{os.fspath(path)}: {what}")
+
+
+def slicecap_attributes(header: dict) -> dict[str, str]:
+    """The `slicecap:*` string attributes of an EXR header, without the prefix."""
+    return {
+        name[len(PREFIX) :]: value
+        for name, value in header.items()
+        if name.startswith(PREFIX) and isinstance(value, str)
+    }
+
+
+def read_exr_header(path) -> dict:
+    """The header of any EXR file (no pixels); raises SlicecapFileError naming the file."""
+    try:
+        with OpenEXR.File(os.fspath(path), header_only=True) as file:
+            return dict(file.header())
+    except Exception as e:  # the bindings raise several types for missing and corrupt files
+        raise _error(path, f"cannot read EXR: {e}") from e
+
+
+def _require(path, found: dict[str, str], key: str, expected: str) -> None:
+    if key not in found:
+        raise _error(
+            path,
+            f'missing header attribute {PREFIX}{key} (expected "{expected}"); '
+            "is this a slicecap ABRDF?",
+        )
+    if found[key] != expected:
+        raise _error(
+            path, f'header attribute {PREFIX}{key} is "{found[key]}", expected "{expected}"'
+        )
+
+
+def read_abrdf_exr(path) -> Abrdf:
+    """Reads an ABRDF EXR; checks the 81 x 81 size, the R, G, B channels, `slicecap:layout` =
+    "bonn81", `slicecap:quantity` = "brdf" and finite values. Raises SlicecapFileError whose
+    message names the file and what is wrong (the same messages as the C++ reader)."""
+    try:
+        with OpenEXR.File(os.fspath(path), separate_channels=True) as file:
+            header = dict(file.header())
+            low, high = header["dataWindow"]
+            width = int(high[0] - low[0] + 1)
+            height = int(high[1] - low[1] + 1)
+            if width != SIZE or height != SIZE:
+                raise _error(
+                    path,
+                    "ABRDF EXR must be 81 x 81 (light rows x view columns), "
+                    f"got {height} x {width}",
+                )
+            channels = file.channels()
+            for name in CHANNELS:
+                if name not in channels:
+                    raise _error(path, f"ABRDF EXR has no channel {name} (needs R, G, B)")
+            found = slicecap_attributes(header)
+            _require(path, found, "layout", ABRDF_LAYOUT)
+            _require(path, found, "quantity", "brdf")
+            values = np.stack(
+                [np.asarray(channels[name].pixels, dtype=np.float32) for name in CHANNELS],
+                axis=-1,
+            )
+    except SlicecapFileError:
+        raise
+    except Exception as e:  # missing, truncated or not an EXR at all
+        raise _error(path, f"cannot read EXR: {e}") from e
+    bad = np.argwhere(~np.isfinite(values))
+    if len(bad):
+        light, view, channel = bad[0]
+        raise _error(
+            path,
+            f"non-finite value at light {light}, view {view}, channel {CHANNELS[channel]}",
+        )
+    return Abrdf(values, found)
+
+
+def write_abrdf_exr(path, table, attributes: dict[str, str] | None = None) -> None:
+    """Writes an (81, 81, 3) table or an Abrdf (ZIP compressed, float32). The writer always sets
+    layout = "bonn81", quantity = "brdf" and (unless given) version. Raises SlicecapFileError
+    naming the file on failure, ValueError for a table of another shape."""
+    abrdf = table if isinstance(table, Abrdf) else Abrdf(np.asarray(table))
+    merged = dict(abrdf.attributes)
+    merged.update(attributes or {})
+    merged["layout"] = ABRDF_LAYOUT
+    merged["quantity"] = "brdf"
+    merged.setdefault("version", VERSION)
+    header = {
+        "compression": OpenEXR.ZIP_COMPRESSION,
+        "type": OpenEXR.scanlineimage,
+    }
+    header.update({PREFIX + key: str(value) for key, value in merged.items()})
+    channels = {name: np.ascontiguousarray(abrdf.values[..., c]) for c, name in enumerate(CHANNELS)}
+    try:
+        with OpenEXR.File(header, channels) as file:
+            file.write(os.fspath(path))
+    except Exception as e:
+        raise _error(path, f"cannot write EXR: {e}") from e

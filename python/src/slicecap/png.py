@@ -1,0 +1,39 @@
+"""A minimal PNG writer (8-bit RGB), so the renderer's picture needs no imaging library."""
+
+import os
+import struct
+import zlib
+
+import numpy as np
+
+
+def _chunk(kind: bytes, data: bytes) -> bytes:
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+
+def write_png(path, image: np.ndarray) -> None:
+    """Writes an (H, W, 3) uint8 image; raises OSError (naming the file) when it cannot."""
+    image = np.ascontiguousarray(image, dtype=np.uint8)
+    if image.ndim != 3 or image.shape[2] != 3:
+        raise ValueError(f"write_png: expected an (H, W, 3) image, got {image.shape}")
+    height, width = image.shape[:2]
+    rows = np.concatenate([np.zeros((height, 1), np.uint8), image.reshape(height, -1)], axis=1)
+    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    data = (
+        b"\x89PNG\r\n\x1a\n"
+        + _chunk(b"IHDR", header)
+        + _chunk(b"sRGB", b"\x00")
+        + _chunk(b"IDAT", zlib.compress(rows.tobytes(), 6))
+        + _chunk(b"IEND", b"")
+    )
+    with open(os.fspath(path), "wb") as file:
+        file.write(data)
+
+
+def read_png_size(path) -> tuple[int, int]:
+    """(width, height) from a PNG's header (for checks)."""
+    with open(os.fspath(path), "rb") as file:
+        head = file.read(24)
+    if head[:8] != b"\x89PNG\r\n\x1a\n":
+        raise ValueError(f"{os.fspath(path)}: not a PNG file")
+    return struct.unpack(">II", head[16:24])

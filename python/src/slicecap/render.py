@@ -1,0 +1,173 @@
+"""python -m slicecap.render MATERIAL.exr [--reference REF.exr] -o OUT.png
+
+Renders a captured material (and a reference, when given) on a sphere and a cylinder, each under
+a few point lights and under one environment map, through the Mitsuba 3 BSDF `slicecap`, and
+writes one picture: a row per material, a row of differences (x2) when there is a reference, and
+under each column the dE and PSNR of the material's rendering against the reference's (the
+paper's 8-bit metrics, slicecap.image_metrics). Exit codes: 0 success, 1 failure (a message
+naming the input), 2 bad usage.
+"""
+
+import argparse
+import os
+import sys
+import time
+
+import numpy as np
+
+from slicecap.abrdf_exr import SlicecapFileError
+from slicecap.bitmap_font import GLYPH_HEIGHT, GLYPH_WIDTH, draw_text
+from slicecap.image_metrics import compare_images, exposure_of, srgb_encode
+from slicecap.materials import load_material
+from slicecap.png import write_png
+from slicecap.scenes import LIGHTINGS, SHAPES, object_mask, scene_dict
+
+COLUMNS = [(shape, lighting) for shape in SHAPES for lighting in LIGHTINGS]
+_TEXT_SCALE = 2
+DIFFERENCE_GAIN = 2.0
+_LINE = (GLYPH_HEIGHT + 3) * _TEXT_SCALE
+_MARGIN = 8
+
+
+def _parse(argv):
+    parser = argparse.ArgumentParser(
+        prog="python -m slicecap.render",
+        description="Render a slicecap ABRDF EXR on a sphere and a cylinder under point lights "
+        "and an environment map, beside a reference with dE and PSNR.",
+    )
+    parser.add_argument("material", help="the ABRDF EXR to render")
+    parser.add_argument("--reference", help="an ABRDF EXR to render beside it and compare with")
+    parser.add_argument("-o", "--output", required=True, help="the picture to write (.png)")
+    parser.add_argument("--size", type=int, default=256, help="pixels per rendering (default 256)")
+    parser.add_argument("--spp", type=int, default=64, help="samples per pixel (default 64)")
+    parser.add_argument("--seed", type=int, default=0, help="sampler seed (default 0)")
+    parser.add_argument(
+        "--variant",
+        default="llvm_ad_rgb",
+        help="Mitsuba variant (default llvm_ad_rgb; scalar_rgb works, slowly)",
+    )
+    return parser.parse_args(argv)
+
+
+def _set_variant(variant: str):
+    try:
+        import mitsuba as mi
+    except ImportError:
+        raise RuntimeError("mitsuba is not installed: pip install mitsuba (see the README)")
+    try:
+        mi.set_variant(variant)
+    except (ImportError, AttributeError) as e:
+        raise RuntimeError(
+            f"Mitsuba variant {variant} is unavailable ({e}); for llvm_ad_rgb install "
+            "libLLVM >= 15 (Debian 12: apt-get install libllvm19) and set DRJIT_LIBLLVM_PATH, "
+            "or use --variant scalar_rgb"
+        ) from e
+    import slicecap.mitsuba_bsdf
+
+    slicecap.mitsuba_bsdf.register()
+    return mi
+
+
+def render_material(mi, path, size: int, spp: int, seed: int) -> dict:
+    """{(shape, lighting): (size, size, 3) linear rendering} of one EXR."""
+    bsdf = {"type": "slicecap", "filename": os.fspath(path)}
+    images = {}
+    for shape, lighting in COLUMNS:
+        scene = mi.load_dict(scene_dict(mi, shape, lighting, bsdf, size, spp))
+        images[(shape, lighting)] = np.array(mi.render(scene, seed=seed), dtype=np.float64)
+    return images
+
+
+def _display(image: np.ndarray, exposure: float) -> np.ndarray:
+    return np.floor(srgb_encode(np.clip(image / exposure, 0.0, 1.0)) * 255 + 0.5).astype(np.uint8)
+
+
+def _draw_fitting(canvas, text: str, row: int, column: int, width: int, colour) -> None:
+    """Text at the larger scale when it fits in `width` pixels, else at the smaller."""
+    scale = _TEXT_SCALE if len(text) * (GLYPH_WIDTH + 1) * _TEXT_SCALE <= width else 1
+    draw_text(canvas, text, row, column, colour=colour, scale=scale)
+
+
+def compose(rows: list[tuple[str, dict]], exposures: dict, captions: dict, size: int) -> np.ndarray:
+    """The picture: column titles, one row of renderings per (label, images), captions below."""
+    title_height = _LINE + _MARGIN
+    label_height = _LINE
+    caption_height = 2 * _LINE + _MARGIN
+    row_height = label_height + size + _MARGIN
+    height = title_height + len(rows) * row_height + caption_height
+    width = _MARGIN + len(COLUMNS) * (size + _MARGIN)
+    canvas = np.full((height, width, 3), 24, dtype=np.uint8)
+    for c, (shape, lighting) in enumerate(COLUMNS):
+        x = _MARGIN + c * (size + _MARGIN)
+        _draw_fitting(canvas, f"{shape}/{lighting}", _MARGIN, x, size, (255, 255, 255))
+        for r, (label, images) in enumerate(rows):
+            y = title_height + r * row_height
+            if c == 0:
+                _draw_fitting(canvas, label, y, x, width - x, (200, 200, 120))
+            canvas[y + label_height : y + label_height + size, x : x + size] = _display(
+                images[(shape, lighting)], exposures[(shape, lighting)]
+            )
+        y = title_height + len(rows) * row_height
+        for k, line in enumerate(captions.get((shape, lighting), [])):
+            _draw_fitting(canvas, line, y + k * _LINE, x, size, (150, 220, 150))
+    return canvas
+
+
+def _label(path, material) -> str:
+    name = material.attributes.get("material") or os.path.splitext(os.path.basename(path))[0]
+    return f"{name} ({material.attributes.get('method', '?')})"
+
+
+def run(argv) -> int:
+    args = _parse(argv)
+    if args.size < 8 or args.spp < 1:
+        print("slicecap.render: --size must be >= 8 and --spp >= 1", file=sys.stderr)
+        return 2
+    try:
+        material = load_material(args.material)
+        reference = load_material(args.reference) if args.reference else None
+        mi = _set_variant(args.variant)
+        started = time.perf_counter()
+        images = render_material(mi, args.material, args.size, args.spp, args.seed)
+        rows = [(_label(args.material, material), images)]
+        exposures, captions = {}, {}
+        masks = {shape: object_mask(mi, shape, args.size) for shape in SHAPES}
+        if reference is not None:
+            reference_images = render_material(mi, args.reference, args.size, args.spp, args.seed)
+            rows.append((_label(args.reference, reference), reference_images))
+            differences = {}
+            for key in COLUMNS:
+                mask = masks[key[0]]
+                exposures[key] = exposure_of(reference_images[key], mask)
+                metrics = compare_images(reference_images[key], images[key], mask)
+                captions[key] = [f"dE {metrics.delta_e:.2f}", f"PSNR {metrics.psnr_db:.1f} dB"]
+                differences[key] = DIFFERENCE_GAIN * np.abs(images[key] - reference_images[key])
+                print(
+                    f"{key[0]:8s} {key[1]:6s}  dE {metrics.delta_e:6.2f}  "
+                    f"RMSE {metrics.rmse:6.2f}  PSNR {metrics.psnr_db:6.2f} dB"
+                )
+            rows.append((f"difference x{DIFFERENCE_GAIN:g}", differences))
+        else:
+            for key in COLUMNS:
+                exposures[key] = exposure_of(images[key], masks[key[0]])
+        canvas = compose(rows, exposures, captions, args.size)
+        write_png(args.output, canvas)
+    except (SlicecapFileError, RuntimeError, ValueError) as e:
+        print(f"slicecap.render: {e}", file=sys.stderr)
+        return 1
+    except OSError as e:
+        print(f"slicecap.render: {args.output}: {e.strerror}", file=sys.stderr)
+        return 1
+    print(
+        f"wrote {args.output} ({canvas.shape[1]} x {canvas.shape[0]}, "
+        f"{time.perf_counter() - started:.1f} s)"
+    )
+    return 0
+
+
+def main() -> None:
+    sys.exit(run(sys.argv[1:]))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,164 @@
+"""ABRDF EXR in Python: exact round trips, the C++ reader's rejections and messages, and files
+that cross between the C++ and the Python side."""
+
+import json
+import subprocess
+
+import numpy as np
+import OpenEXR
+import pytest
+
+from slicecap import Abrdf, SlicecapFileError, read_abrdf_exr, write_abrdf_exr
+
+GOOD_ATTRIBUTES = {"slicecap:layout": "bonn81", "slicecap:quantity": "brdf"}
+
+
+def ramp_table() -> np.ndarray:
+    return (np.arange(81 * 81 * 3, dtype=np.float32) * 1e-3 + 1e-7).reshape(81, 81, 3)
+
+
+def write_raw_exr(path, width, height, channels, attributes):
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    header.update(attributes)
+    pixels = {c: np.full((height, width), 0.5, dtype=np.float32) for c in channels}
+    with OpenEXR.File(header, pixels) as file:
+        file.write(str(path))
+
+
+def read_error(path) -> str:
+    with pytest.raises(SlicecapFileError) as raised:
+        read_abrdf_exr(path)
+    return str(raised.value)
+
+
+def test_round_trips_values_and_attributes_exactly(tmp_path):
+    table = ramp_table()
+    write_abrdf_exr(tmp_path / "t.exr", table, {"method": "B", "material": "felt"})
+    back = read_abrdf_exr(tmp_path / "t.exr")
+    np.testing.assert_array_equal(back.values, table)
+    assert back.attributes["layout"] == "bonn81"
+    assert back.attributes["quantity"] == "brdf"
+    assert back.attributes["method"] == "B"
+    assert back.attributes["material"] == "felt"
+    assert back.attributes["version"]
+
+
+def test_rows_are_lights_and_columns_are_views(tmp_path):
+    table = np.zeros((81, 81, 3), dtype=np.float32)
+    table[2, 8] = (1, 2, 3)
+    write_abrdf_exr(tmp_path / "t.exr", table)
+    with OpenEXR.File(str(tmp_path / "t.exr"), separate_channels=True) as file:
+        red = file.channels()["R"].pixels
+    assert red[2, 8] == 1.0, "row 2 (light), column 8 (view)"
+    assert red[8, 2] == 0.0
+
+
+def test_rejects_a_wrong_size(tmp_path):
+    write_raw_exr(tmp_path / "small.exr", 81, 80, "RGB", GOOD_ATTRIBUTES)
+    error = read_error(tmp_path / "small.exr")
+    assert error.startswith(str(tmp_path / "small.exr") + ": ")
+    assert "must be 81 x 81 (light rows x view columns), got 80 x 81" in error
+
+
+def test_rejects_a_missing_channel(tmp_path):
+    write_raw_exr(tmp_path / "rg.exr", 81, 81, "RG", GOOD_ATTRIBUTES)
+    error = read_error(tmp_path / "rg.exr")
+    assert error == f"{tmp_path / 'rg.exr'}: ABRDF EXR has no channel B (needs R, G, B)"
+
+
+def test_rejects_another_layout_no_layout_and_another_quantity(tmp_path):
+    write_raw_exr(
+        tmp_path / "utia.exr",
+        81,
+        81,
+        "RGB",
+        {"slicecap:layout": "utia", "slicecap:quantity": "brdf"},
+    )
+    assert read_error(tmp_path / "utia.exr").endswith(
+        'header attribute slicecap:layout is "utia", expected "bonn81"'
+    )
+    write_raw_exr(tmp_path / "plain.exr", 81, 81, "RGB", {})
+    assert read_error(tmp_path / "plain.exr").endswith(
+        'missing header attribute slicecap:layout (expected "bonn81"); ' "is this a slicecap ABRDF?"
+    )
+    write_raw_exr(
+        tmp_path / "abrdf.exr",
+        81,
+        81,
+        "RGB",
+        {"slicecap:layout": "bonn81", "slicecap:quantity": "abrdf"},
+    )
+    assert 'slicecap:quantity is "abrdf"' in read_error(tmp_path / "abrdf.exr")
+
+
+def test_rejects_non_finite_values(tmp_path):
+    table = np.zeros((81, 81, 3), dtype=np.float32)
+    table[5, 6, 2] = np.nan
+    write_abrdf_exr(tmp_path / "nan.exr", table)
+    assert read_error(tmp_path / "nan.exr").endswith(
+        "non-finite value at light 5, view 6, channel B"
+    )
+
+
+def test_rejects_missing_and_corrupt_files(tmp_path):
+    assert str(tmp_path / "none.exr") in read_error(tmp_path / "none.exr")
+    (tmp_path / "junk.exr").write_text("this is not an EXR file")
+    assert read_error(tmp_path / "junk.exr").startswith(
+        str(tmp_path / "junk.exr") + ": cannot read"
+    )
+    write_abrdf_exr(tmp_path / "whole.exr", ramp_table())
+    whole = (tmp_path / "whole.exr").read_bytes()
+    (tmp_path / "cut.exr").write_bytes(whole[: len(whole) // 2])
+    assert str(tmp_path / "cut.exr") in read_error(tmp_path / "cut.exr")
+    with pytest.raises(SlicecapFileError, match="no/such/dir.exr: cannot write EXR"):
+        write_abrdf_exr(tmp_path / "no" / "such" / "dir.exr", ramp_table())
+
+
+def test_half_float_channels_are_read_as_float32(tmp_path):
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    header.update(GOOD_ATTRIBUTES)
+    half = ramp_table().astype(np.float16)
+    with OpenEXR.File(header, {c: half[..., i].copy() for i, c in enumerate("RGB")}) as file:
+        file.write(str(tmp_path / "half.exr"))
+    back = read_abrdf_exr(tmp_path / "half.exr")
+    assert back.values.dtype == np.float32
+    np.testing.assert_array_equal(back.values, half.astype(np.float32))
+
+
+def test_rejects_tables_of_another_shape():
+    with pytest.raises(ValueError, match=r"\(81, 81, 3\)"):
+        Abrdf(np.zeros((81, 80, 3)))
+
+
+def test_reads_what_the_cpp_side_writes_and_the_reverse(tmp_path, slicecap_cli):
+    subprocess.run(
+        [slicecap_cli, "generate", "satin-blue-45", "-o", tmp_path / "cpp.exr"],
+        check=True,
+        capture_output=True,
+    )
+    subprocess.run(
+        [slicecap_cli, "generate", "satin-blue-45", "-o", tmp_path / "cpp.f32"],
+        check=True,
+        capture_output=True,
+    )
+    table = read_abrdf_exr(tmp_path / "cpp.exr")
+    f32 = np.fromfile(tmp_path / "cpp.f32", dtype="<f4").reshape(81, 81, 3)
+    np.testing.assert_array_equal(table.values, f32)
+    assert table.attributes["material"] == "satin-blue-45"
+    assert table.attributes["method"] == "analytic"
+
+    write_abrdf_exr(tmp_path / "py.exr", table.values * 0.5, {"method": "analytic"})
+    compared = subprocess.run(
+        [slicecap_cli, "compare", tmp_path / "cpp.exr", tmp_path / "py.exr", "--json"],
+        check=True,
+        capture_output=True,
+        text=True,
+    )
+    # The C++ reader sees exactly half the reference in the Python-written file.
+    assert json.loads(compared.stdout)["relative_rmse"] == pytest.approx(0.5, abs=1e-6)
+    rejected = subprocess.run(
+        [slicecap_cli, "compare", tmp_path / "cpp.exr", tmp_path / "none.exr"],
+        capture_output=True,
+        text=True,
+    )
+    assert rejected.returncode == 1

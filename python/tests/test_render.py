@@ -1,0 +1,64 @@
+"""python -m slicecap.render: the picture, the metrics it prints, and its failures."""
+
+import pytest
+
+from slicecap import render, tabulate, write_abrdf_exr
+from slicecap.png import read_png_size
+
+from mitsuba_support import phong
+
+
+def tiny_run(args, capsys):
+    pytest.importorskip("mitsuba", reason="mitsuba is not installed (requirements-mitsuba.txt)")
+    code = render.run(args + ["--size", "16", "--spp", "2", "--variant", "scalar_rgb"])
+    return code, capsys.readouterr()
+
+
+def test_a_material_against_itself_scores_zero_and_another_does_not(tmp_path, capsys):
+    write_abrdf_exr(
+        tmp_path / "glossy.exr",
+        tabulate(phong([0.3, 0.2, 0.1], [0.3] * 3, 10)),
+        {"material": "glossy"},
+    )
+    write_abrdf_exr(tmp_path / "matte.exr", tabulate(phong([0.3, 0.2, 0.1], [0.0] * 3, 1)))
+    code, out = tiny_run(
+        [
+            str(tmp_path / "glossy.exr"),
+            "--reference",
+            str(tmp_path / "glossy.exr"),
+            "-o",
+            str(tmp_path / "same.png"),
+        ],
+        capsys,
+    )
+    assert code == 0, out.err
+    assert out.out.count("dE   0.00") == 4 and out.out.count("PSNR 100.00 dB") == 4
+    width, height = read_png_size(tmp_path / "same.png")
+    assert width == 8 + 4 * (16 + 8) and height > 3 * 16
+
+    code, out = tiny_run(
+        [
+            str(tmp_path / "matte.exr"),
+            "--reference",
+            str(tmp_path / "glossy.exr"),
+            "-o",
+            str(tmp_path / "different.png"),
+        ],
+        capsys,
+    )
+    assert code == 0, out.err
+    assert "dE   0.00" not in out.out
+
+    code, out = tiny_run([str(tmp_path / "glossy.exr"), "-o", str(tmp_path / "alone.png")], capsys)
+    assert code == 0 and "dE" not in out.out
+    assert read_png_size(tmp_path / "alone.png")[1] < height
+
+
+def test_a_bad_input_fails_with_the_readers_message(tmp_path, capsys):
+    (tmp_path / "junk.exr").write_text("not an EXR")
+    code, out = tiny_run([str(tmp_path / "junk.exr"), "-o", str(tmp_path / "x.png")], capsys)
+    assert code == 1
+    assert f"{tmp_path / 'junk.exr'}: cannot read EXR" in out.err
+    with pytest.raises(SystemExit) as usage:
+        render.run([str(tmp_path / "junk.exr")])
+    assert usage.value.code == 2

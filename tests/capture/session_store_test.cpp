@@ -1,0 +1,124 @@
+// Session directories: create, list, reopen, redo, resume after kill -9, errors naming the file.
+#include "slicecap/capture/session_store.hpp"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+
+#include "../support/test_support.hpp"
+#include "slicecap/io/io_error.hpp"
+
+namespace slicecap::capture {
+namespace {
+
+const SliceId kAxial3030{SliceKind::Axial, {30, 30}};
+const SliceId kDiagonal7575{SliceKind::Diagonal, {75, 75}};
+
+FrameSample sampleAt(double parameterDeg, double value, std::uint64_t frame = 0) {
+  return {std::int64_t(frame) * 33000,
+          frame,
+          {30, parameterDeg},
+          {30, parameterDeg + 15},
+          Rgb::gray(value)};
+}
+
+TEST(SessionStore, CreatesListsReopensAndRemoves) {
+  const auto root = test::freshTempDir();
+  {
+    SessionStore store = SessionStore::create(root, "felt-1", "red felt");
+    store.recordSweepStarted(kAxial3030);
+    for (int k = 0; k < 24; ++k)
+      store.recordSample(kAxial3030, sampleAt(k * 15.0, 0.1 * k, std::uint64_t(k)));
+    store.recordSweepStopped(kAxial3030);
+  }
+  SessionStore::create(root, "leather", "brown leather");
+  const std::vector<SessionInfo> sessions = SessionStore::list(root);
+  ASSERT_EQ(sessions.size(), 2u);
+  EXPECT_EQ(sessions[0].id, "felt-1");
+  EXPECT_EQ(sessions[0].material, "red felt");
+
+  const SessionStore reopened = SessionStore::open(root, "felt-1");
+  EXPECT_EQ(reopened.sampleCount(), 24u);
+  EXPECT_EQ(reopened.bins(kAxial3030).filledCount(), 24);
+  EXPECT_FALSE(reopened.activeSweep().has_value());
+  const SliceSet slices = reopened.slices();
+  ASSERT_NE(slices.find(kAxial3030), nullptr);
+  EXPECT_NEAR(slices.find(kAxial3030)->samples[5].value.r(), 0.5, 1e-12);
+
+  EXPECT_THROW(SessionStore::create(root, "felt-1", "again"), io::IoError);
+  SessionStore::remove(root, "leather");
+  EXPECT_EQ(SessionStore::list(root).size(), 1u);
+  EXPECT_THROW(SessionStore::open(root, "leather"), io::IoError);
+  EXPECT_THROW(SessionStore::create(root, "../escape", "x"), std::invalid_argument);
+}
+
+TEST(SessionStore, RedoDiscardsOnlyThatSliceAndPersists) {
+  const auto root = test::freshTempDir();
+  {
+    SessionStore store = SessionStore::create(root, "s", "m");
+    store.recordSample(kAxial3030, sampleAt(0, 1));
+    store.recordSample(kDiagonal7575, sampleAt(0, 2));
+    store.redo(kAxial3030);
+    store.recordSample(kAxial3030, sampleAt(30, 3));
+  }
+  const SessionStore store = SessionStore::open(root, "s");
+  EXPECT_EQ(store.sampleCount(kAxial3030), 1u);
+  EXPECT_EQ(store.sampleCount(kDiagonal7575), 1u);
+  EXPECT_DOUBLE_EQ(store.slices().find(kAxial3030)->samples[0].value.r(), 3.0);
+}
+
+TEST(SessionStore, ResumesAfterKillDashNineWithEveryAcknowledgedSample) {
+  const auto root = test::freshTempDir();
+  SessionStore::create(root, "s", "m");
+  int pipeFds[2];
+  ASSERT_EQ(pipe(pipeFds), 0);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    close(pipeFds[0]);
+    SessionStore store = SessionStore::open(root, "s");
+    store.recordSweepStarted(kDiagonal7575);
+    for (std::uint64_t i = 0;; ++i) {
+      store.recordSample(kDiagonal7575, sampleAt(double(i % 24) * 15.0, 1.0, i));
+      const char ack = 'a';
+      if (write(pipeFds[1], &ack, 1) != 1) _exit(1);
+    }
+  }
+  close(pipeFds[1]);
+  int acknowledged = 0;
+  char ack;
+  while (acknowledged < 200 && read(pipeFds[0], &ack, 1) == 1)
+    ++acknowledged;
+  kill(child, SIGKILL);
+  waitpid(child, nullptr, 0);
+  close(pipeFds[0]);
+  const SessionStore store = SessionStore::open(root, "s");
+  EXPECT_GE(store.sampleCount(), std::size_t(acknowledged));
+  EXPECT_EQ(store.activeSweep(), kDiagonal7575) << "the interrupted sweep is the one to resume";
+}
+
+TEST(SessionStore, CorruptRecordsNameTheJournalAndTheRecord) {
+  const auto root = test::freshTempDir();
+  {
+    SessionStore store = SessionStore::create(root, "s", "m");
+    store.recordSample(kAxial3030, sampleAt(0, 1));
+  }
+  // A valid checksum over a record of an unknown type (e.g. a newer daemon's journal).
+  io::Journal::open(root / "s" / "journal", nullptr)
+      .append("{\"t\":\"teleport\",\"slice\":{\"kind\":\"axial\",\"theta_i\":30,\"theta_v\":30}}");
+  try {
+    SessionStore::open(root, "s");
+    FAIL();
+  } catch (const io::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("journal: record 2"), std::string::npos) << e.what();
+  }
+  std::ofstream(root / "s" / "session.json") << "{\"format\":7}";
+  EXPECT_THROW(SessionStore::open(root, "s"), io::IoError);
+  EXPECT_TRUE(SessionStore::list(root).empty()) << "an unreadable session is not listed";
+}
+
+}  // namespace
+}  // namespace slicecap::capture

@@ -1,0 +1,75 @@
+// slicecapd.conf: the documented defaults parse to the defaults; every mistake names its line and
+// key.
+#include "slicecap/daemon/config.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+namespace slicecap::daemon {
+namespace {
+
+DaemonConfig parse(const std::string& text) {
+  std::istringstream in(text);
+  return parseDaemonConfig(in, "slicecapd.conf");
+}
+
+std::string error(const std::string& text) {
+  try {
+    parse(text);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DaemonConfig, TheDocumentedDefaultsAreTheDefaults) {
+  const DaemonConfig fromFile = parse(DaemonConfig::documentedDefaults());
+  const DaemonConfig defaults;
+  EXPECT_EQ(fromFile.camera, defaults.camera);
+  EXPECT_EQ(fromFile.widthPx, defaults.widthPx);
+  EXPECT_EQ(fromFile.heightPx, defaults.heightPx);
+  EXPECT_EQ(fromFile.ledLine, defaults.ledLine);
+  EXPECT_EQ(fromFile.ledAlternate, defaults.ledAlternate);
+  EXPECT_EQ(fromFile.storage, defaults.storage);
+  EXPECT_EQ(fromFile.socket, defaults.socket);
+  EXPECT_EQ(fromFile.socketGroup, defaults.socketGroup);
+  EXPECT_FALSE(fromFile.exposureUs.has_value());
+  EXPECT_EQ(parse("").storage, defaults.storage) << "an empty file is the defaults";
+}
+
+TEST(DaemonConfig, ReadsEveryKind) {
+  const DaemonConfig c = parse(
+      "camera = file  # plays a simulated session\n"
+      "camera_recording = /srv/sim/felt\n"
+      "resolution = 1920x1080\n"
+      "exposure_us = 8000\n"
+      "led_active_low = yes\n"
+      "led_line = 23\n"
+      "storage = /tmp/slicecap\n");
+  EXPECT_EQ(c.camera, DaemonConfig::CameraKind::File);
+  EXPECT_EQ(c.recording, "/srv/sim/felt");
+  EXPECT_EQ(c.widthPx, 1920);
+  EXPECT_EQ(c.exposureUs, 8000.0);
+  EXPECT_TRUE(c.ledActiveLow);
+  EXPECT_EQ(c.ledLine, "23");
+}
+
+TEST(DaemonConfig, NamesTheLineAndKeyOfEveryMistake) {
+  EXPECT_EQ(error("camera = webcam\n"),
+            "slicecapd.conf:1: camera: 'webcam' is not libcamera, v4l2 or file");
+  EXPECT_EQ(error("\n\nresoluton = 640x480\n"), "slicecapd.conf:3: unknown key 'resoluton'");
+  EXPECT_EQ(error("resolution = 640\n"), "slicecapd.conf:1: resolution: '640' is not WIDTHxHEIGHT");
+  EXPECT_NE(error("resolution = 99999x10\n").find("between 64 and 8192"), std::string::npos);
+  EXPECT_EQ(error("gain = -2\n"), "slicecapd.conf:1: gain: '-2' is not a positive gain");
+  EXPECT_EQ(error("led_alternate = maybe\n"),
+            "slicecapd.conf:1: led_alternate: 'maybe' is not true or false");
+  EXPECT_EQ(error("storage = /a\nstorage = /b\n"), "slicecapd.conf:2: storage: set twice");
+  EXPECT_EQ(error("just words\n"), "slicecapd.conf:1: expected 'key = value', got 'just words'");
+  EXPECT_NE(error("camera = file\n").find("needs camera_recording"), std::string::npos);
+  EXPECT_NE(error("storage = relative/dir\n").find("absolute"), std::string::npos);
+  EXPECT_THROW(readDaemonConfig("/nonexistent/slicecapd.conf"), ConfigError);
+}
+
+}  // namespace
+}  // namespace slicecap::daemon

@@ -1,0 +1,218 @@
+// The control socket under load and abuse: every client answered, the server never stops.
+#include "slicecap/daemon/control_server.hpp"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <fstream>
+#include <thread>
+
+#include "../support/test_support.hpp"
+#include "slicecap/daemon/control_client.hpp"
+
+namespace slicecap::daemon {
+namespace {
+
+using namespace std::chrono_literals;
+
+// A daemon-like server on the test's main thread; `clients` runs on another thread, then stops it.
+void serve(const std::filesystem::path& socket, RequestHandler handler,
+           const std::function<void()>& clients) {
+  EventLoop loop;
+  const int listenFd = openListenSocket({socket, 0660, std::nullopt});
+  ControlServer server(loop, listenFd, std::move(handler));
+  std::exception_ptr failure;
+  std::thread worker([&] {
+    try {
+      clients();
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    loop.stop();
+  });
+  loop.run();
+  worker.join();
+  ::close(listenFd);
+  if (failure) std::rethrow_exception(failure);
+}
+
+nlohmann::json echo(const Request& request) {
+  if (std::holds_alternative<SessionShow>(request.command)) {
+    const std::string& id = std::get<SessionShow>(request.command).id;
+    if (id == "missing") throw RequestError(ErrorCode::NotFound, "no session missing");
+    if (id == "bug") throw std::logic_error("a bug");
+    return {{"id", id}};
+  }
+  return {{"command", commandName(request.command)}};
+}
+
+// A raw connection for sending arbitrary bytes.
+int rawConnect(const std::filesystem::path& socket) {
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::strcpy(address.sun_path, socket.c_str());
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0)
+    throw std::runtime_error("connect");
+  return fd;
+}
+
+std::string readLines(int fd, int count) {
+  std::string text;
+  char chunk[65536];
+  while (std::count(text.begin(), text.end(), '\n') < count) {
+    const ssize_t n = ::recv(fd, chunk, sizeof chunk, 0);
+    if (n <= 0) break;
+    text.append(chunk, std::size_t(n));
+  }
+  return text;
+}
+
+TEST(ControlServer, AnswersRequestsAndRefusalsInOrder) {
+  const auto socket = test::freshTempDir() / "ctl.sock";
+  serve(socket, echo, [&] {
+    ControlClient client(socket);
+    EXPECT_EQ(client.call(Hello{})["command"], "hello");
+    EXPECT_EQ(client.call(SessionShow{"felt"})["id"], "felt");
+    try {
+      client.call(SessionShow{"missing"});
+      ADD_FAILURE() << "expected a refusal";
+    } catch (const DaemonError& e) {
+      EXPECT_EQ(e.code(), "not_found");
+      EXPECT_STREQ(e.what(), "no session missing");
+    }
+    EXPECT_THROW(client.call(SessionShow{"bug"}), DaemonError)
+        << "a handler bug is answered as internal";
+    EXPECT_EQ(client.call(Status{})["command"], "status") << "and the server goes on";
+  });
+}
+
+TEST(ControlServer, SurvivesTenThousandMalformedLines) {
+  const auto socket = test::freshTempDir() / "ctl.sock";
+  serve(socket, echo, [&] {
+    const int fd = rawConnect(socket);
+    std::string burst;
+    for (int i = 0; i < 10000; ++i) {
+      switch (i % 5) {
+        case 0:
+          burst += "garbage " + std::to_string(i) + "\n";
+          break;
+        case 1:
+          burst += "{\"v\":1}\n";
+          break;
+        case 2:
+          burst += "{\"v\":1,\"id\":" + std::to_string(i) + ",\"cmd\":\"nope\"}\n";
+          break;
+        case 3:
+          burst += std::string("\x00\xff\r\n", 4);
+          break;
+        default:
+          burst += "{\"v\":9,\"id\":1,\"cmd\":\"status\"}\n";
+      }
+    }
+    std::thread writer([&] { ::send(fd, burst.data(), burst.size(), MSG_NOSIGNAL); });
+    const std::string answers = readLines(fd, 10000);
+    writer.join();
+    EXPECT_EQ(std::count(answers.begin(), answers.end(), '\n'), 10000);
+    EXPECT_EQ(answers.find("\"ok\":true"), std::string::npos);
+    ::close(fd);
+    ControlClient after(socket);
+    EXPECT_EQ(after.call(Hello{})["command"], "hello");
+  });
+}
+
+TEST(ControlServer, ServesAHundredConcurrentClients) {
+  const auto socket = test::freshTempDir() / "ctl.sock";
+  serve(socket, echo, [&] {
+    std::atomic<int> answered = 0;
+    std::vector<std::thread> clients;
+    for (int c = 0; c < 100; ++c) {
+      clients.emplace_back([&, c] {
+        ControlClient client(socket);
+        for (int r = 0; r < 20; ++r) {
+          const std::string id = "c" + std::to_string(c) + "-" + std::to_string(r);
+          if (client.call(SessionShow{id})["id"] == id) ++answered;
+        }
+      });
+    }
+    for (auto& t : clients)
+      t.join();
+    EXPECT_EQ(answered, 2000);
+  });
+}
+
+TEST(ControlServer, RefusesAnOversizedLineAndKeepsTheConnection) {
+  const auto socket = test::freshTempDir() / "ctl.sock";
+  serve(socket, echo, [&] {
+    const int fd = rawConnect(socket);
+    const std::string huge =
+        std::string(kMaxRequestBytes * 3, 'x') + "\n" + encodeRequest({7, Hello{}}) + "\n";
+    std::thread writer([&] { ::send(fd, huge.data(), huge.size(), MSG_NOSIGNAL); });
+    const std::string answers = readLines(fd, 2);
+    writer.join();
+    EXPECT_NE(answers.find("too_large"), std::string::npos);
+    EXPECT_NE(answers.find("\"id\":7,\"ok\":true"), std::string::npos) << answers;
+    ::close(fd);
+  });
+}
+
+TEST(ControlServer, ForgetsClientsThatHangUpMidLine) {
+  const auto socket = test::freshTempDir() / "ctl.sock";
+  serve(socket, echo, [&] {
+    for (int i = 0; i < 50; ++i) {
+      const int fd = rawConnect(socket);
+      ::send(fd, "{\"v\":1,\"id\":", 12, MSG_NOSIGNAL);
+      ::close(fd);
+    }
+    ControlClient client(socket);
+    EXPECT_EQ(client.call(Hello{})["command"], "hello");
+  });
+}
+
+TEST(ListenSocket, ReplacesAStaleSocketButNotALiveOneOrAFile) {
+  const auto dir = test::freshTempDir();
+  const int first = openListenSocket({dir / "a.sock", 0660, std::nullopt});
+  EXPECT_THROW(openListenSocket({dir / "a.sock", 0660, std::nullopt}), std::runtime_error)
+      << "live";
+  ::close(first);  // the file stays behind, as after a crash
+  const int second = openListenSocket({dir / "a.sock", 0660, std::nullopt});
+  EXPECT_GE(second, 0);
+  ::close(second);
+  std::ofstream(dir / "file.sock") << "not a socket";
+  EXPECT_THROW(openListenSocket({dir / "file.sock", 0660, std::nullopt}), std::runtime_error);
+  EXPECT_EQ(
+      std::filesystem::status(dir / "a.sock").permissions() & std::filesystem::perms::others_all,
+      std::filesystem::perms::none);
+}
+
+TEST(EventLoop, RunsTimersPostedWorkAndSignals) {
+  EventLoop loop({SIGUSR1});
+  int ticks = 0, once = 0, signals = 0;
+  bool posted = false;
+  const auto repeating = loop.addTimer(2ms, true, [&] { ++ticks; });
+  loop.addTimer(1ms, false, [&] { ++once; });
+  loop.onSignal([&](int s) {
+    if (s == SIGUSR1) ++signals;
+  });
+  std::thread other([&] {
+    std::this_thread::sleep_for(20ms);
+    loop.post([&] { posted = true; });
+    ::kill(::getpid(), SIGUSR1);
+    std::this_thread::sleep_for(20ms);
+    loop.stop();
+  });
+  loop.run();
+  other.join();
+  loop.cancelTimer(repeating);
+  EXPECT_GE(ticks, 3);
+  EXPECT_EQ(once, 1);
+  EXPECT_TRUE(posted);
+  EXPECT_EQ(signals, 1);
+}
+
+}  // namespace
+}  // namespace slicecap::daemon
