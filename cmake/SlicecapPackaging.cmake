@@ -5,6 +5,7 @@
 #   /lib/systemd/system/                         systemd/*.service|socket|timer|path
 #   /usr/lib/sysusers.d/slicecap.conf            systemd/*.sysusers (the service user and group;
 #   /usr/lib/tmpfiles.d/slicecap.conf            systemd/*.tmpfiles  created by the postinst)
+#   /etc/slicecap/slicecapd.conf                 `slicecapd --print-config`, when slicecapd exists
 #   /etc/slicecap/                               files given to slicecap_install_config() (conffiles)
 #   /usr/share/slicecap/                         files given to slicecap_install_data() (e.g. a prior)
 #   /usr/share/slicecap/firmware/                firmware/* (config.txt fragment, overlay, wiring)
@@ -45,6 +46,9 @@ function(slicecap_package)
       slicecap_man_page(${program})
     endif()
   endforeach()
+  if(TARGET slicecapd)
+    _slicecap_default_config(slicecapd)
+  endif()
 
   file(GLOB units CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/systemd/*.service"
        "${PROJECT_SOURCE_DIR}/systemd/*.socket" "${PROJECT_SOURCE_DIR}/systemd/*.timer"
@@ -92,6 +96,20 @@ function(slicecap_man_page program)
     VERBATIM)
   add_custom_target(${program}_man ALL DEPENDS "${page}")
   install(FILES "${page}" DESTINATION "${CMAKE_INSTALL_MANDIR}/man1")
+endfunction()
+
+# The daemon's documented default configuration, /etc/slicecap/PROGRAM.conf, is what `PROGRAM
+# --print-config` writes (daemon/config.hpp): generated at build time so that it cannot drift from the code.
+function(_slicecap_default_config program)
+  set(conf "${CMAKE_BINARY_DIR}/packaging/${program}.conf")
+  add_custom_command(
+    OUTPUT "${conf}"
+    COMMAND ${CMAKE_CROSSCOMPILING_EMULATOR} "$<TARGET_FILE:${program}>" --print-config > "${conf}.tmp"
+    COMMAND "${CMAKE_COMMAND}" -E rename "${conf}.tmp" "${conf}"
+    DEPENDS ${program}
+    COMMENT "Default configuration of ${program} from its --print-config")
+  add_custom_target(${program}_conf ALL DEPENDS "${conf}")
+  slicecap_install_config(FILES "${conf}")
 endfunction()
 
 function(_slicecap_cpack_deb)
