@@ -9,7 +9,8 @@
 namespace slicecap::cli {
 
 std::vector<Command> allCommands() {
-  return {reconstructCommand(), sampleCommand(), compareCommand(), generateCommand()};
+  return {reconstructCommand(), sampleCommand(), compareCommand(), generateCommand(),
+          sessionCommand(),     sweepCommand(),  statusCommand(),  exportCommand()};
 }
 
 namespace {

@@ -99,8 +99,8 @@ Command parseCommand(std::string_view name, const json& args) {
     return Reconstruct{optionalSessionId(args, "id"), optionalText(args, "method").value_or("b")};
   }
   if (name == "export") {
-    std::string directory = text(args, "directory");
-    if (directory.front() != '/')
+    std::string directory = optionalText(args, "directory").value_or("");
+    if (!directory.empty() && directory.front() != '/')
       throw Refusal{ErrorCode::BadRequest, "argument \"directory\" must be an absolute path"};
     return Export{optionalSessionId(args, "id"), std::move(directory)};
   }
@@ -195,7 +195,7 @@ std::string encodeRequest(const Request& request) {
           args["method"] = c.method;
         } else if constexpr (std::is_same_v<T, Export>) {
           if (c.id) args["id"] = *c.id;
-          args["directory"] = c.directory;
+          if (!c.directory.empty()) args["directory"] = c.directory;
         }
       },
       request.command);

@@ -25,6 +25,10 @@ Command reconstructCommand();
 Command sampleCommand();
 Command compareCommand();
 Command generateCommand();
+Command sessionCommand();
+Command sweepCommand();
+Command statusCommand();
+Command exportCommand();
 
 /// \brief Every subcommand, in the order `slicecap --help` lists them.
 std::vector<Command> allCommands();

@@ -62,7 +62,10 @@ struct Reconstruct {
 };
 struct Export {
   std::optional<std::string> id;  ///< default: the current session
-  std::string directory;          ///< absolute path on the box
+  /// Absolute path on the box; empty: the session's own `export/` folder, which the daemon can
+  /// always write (its unit allows writes to its state folder only) and `slicecap export` copies
+  /// from.
+  std::string directory;
 };
 
 using Command =

@@ -1,0 +1,287 @@
+// The commands a person on SSH uses to drive slicecapd: session, sweep, status, export. Each sends
+// protocol commands over the control socket and prints the answer for a person, or as JSON.
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <thread>
+
+#include "slicecap/cli/cli.hpp"
+#include "slicecap/cli/command.hpp"
+#include "slicecap/daemon/control_client.hpp"
+
+namespace slicecap::cli {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+constexpr const char* kDefaultSocket = "/run/slicecap/slicecapd.sock";
+
+const OptionSpec kSocketOption{
+    "socket", 0, "PATH",
+    "slicecapd's control socket (default $SLICECAP_SOCKET or " + std::string(kDefaultSocket) + ")"};
+const OptionSpec kJsonOption{"json", 0, "", "print the daemon's answer as JSON"};
+
+fs::path socketPath(const ParsedArgs& args) {
+  if (auto given = args.value("socket")) return *given;
+  if (const char* env = std::getenv("SLICECAP_SOCKET"); env != nullptr && *env != '\0') return env;
+  return kDefaultSocket;
+}
+
+/// Sends one command; a refusal becomes an exception carrying the daemon's message (exit 1).
+json call(const ParsedArgs& args, const daemon::Command& command) {
+  daemon::ControlClient client(socketPath(args));
+  return client.call(command);
+}
+
+SliceId sliceFrom(const ParsedArgs& args, std::size_t first) {
+  const auto kind = parseSliceKind(args.positional.at(first));
+  if (!kind)
+    throw UsageError("slice kind '" + args.positional[first] + "' is not axial or diagonal");
+  auto elevation = [&](std::size_t i, const char* name) {
+    const std::string& text = args.positional.at(i);
+    if (text != "30" && text != "75")
+      throw UsageError(std::string(name) + " '" + text + "' must be 30 or 75 (deg)");
+    return std::stoi(text);
+  };
+  return {*kind, {elevation(first + 1, "THETA_I"), elevation(first + 2, "THETA_V")}};
+}
+
+std::string bar(const json& bins) {
+  std::string text = "[";
+  for (const json& filled : bins)
+    text += filled.get<bool>() ? '#' : '.';
+  return text + "]";
+}
+
+std::string padded(std::string text, std::size_t width) {
+  if (text.size() < width) text.append(width - text.size(), ' ');
+  return text;
+}
+
+void printSession(std::ostream& out, const json& session) {
+  out << "session " << session["id"].get<std::string>() << " ("
+      << session["material"].get<std::string>() << "), " << session["samples"] << " samples";
+  if (session.contains("created")) out << ", created " << session["created"].get<std::string>();
+  out << "\n";
+  if (session.contains("slices"))
+    for (const json& slice : session["slices"])
+      out << "  " << padded(slice["name"].get<std::string>(), 16) << slice["bins_filled"]
+          << "/24 bins, " << slice["samples"] << " samples\n";
+}
+
+void printStatus(std::ostream& out, const json& status) {
+  if (status["session"].is_null()) {
+    out << "no current session\n";
+  } else {
+    printSession(out, status["session"]);
+  }
+  if (!status["sweep"].is_null()) {
+    const json& sweep = status["sweep"];
+    out << "sweep " << sweep["slice"]["name"].get<std::string>() << ": "
+        << sweep["state"].get<std::string>() << "\n"
+        << "  bins " << bar(sweep["bins"]) << " " << sweep["bins_filled"] << "/24\n";
+    if (!sweep["view_elevation_error_deg"].is_null()) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%+.1f", sweep["view_elevation_error_deg"].get<double>());
+      out << "  view elevation error " << text << " deg\n";
+    }
+    if (!sweep["rejected"].empty()) {
+      out << "  rejected frames:";
+      for (const auto& [reason, count] : sweep["rejected"].items())
+        out << " " << reason << " " << count.get<std::size_t>();
+      out << "\n";
+    }
+  }
+  if (status.contains("error")) out << "error: " << status["error"].get<std::string>() << "\n";
+  out << "next: " << status["next"].get<std::string>() << "\n";
+}
+
+int finish(const ParsedArgs& args, Streams& io, const json& result,
+           const std::function<void(std::ostream&, const json&)>& print) {
+  if (args.flag("json"))
+    io.out << result.dump(2) << "\n";
+  else
+    print(io.out, result);
+  return kExitOk;
+}
+
+int runSession(const ParsedArgs& args, Streams& io) {
+  const std::string& action = args.positional[0];
+  auto needs = [&](std::size_t count, const char* synopsis) {
+    if (args.positional.size() != count + 1)
+      throw UsageError("session " + action + ": usage: slicecap session " + action + " " +
+                       synopsis);
+  };
+  if (action == "new") {
+    needs(1, "MATERIAL [--id ID]");
+    return finish(args, io, call(args, daemon::SessionNew{args.positional[1], args.value("id")}),
+                  printSession);
+  }
+  if (action == "list") {
+    needs(0, "");
+    return finish(args, io, call(args, daemon::SessionList{}),
+                  [](std::ostream& out, const json& r) {
+                    if (r["sessions"].empty()) out << "no sessions\n";
+                    for (const json& s : r["sessions"])
+                      out << (s["current"].get<bool>() ? "* " : "  ") << s["id"].get<std::string>()
+                          << "  " << s["created"].get<std::string>() << "  "
+                          << s["material"].get<std::string>() << "\n";
+                  });
+  }
+  if (action == "show") {
+    needs(1, "ID");
+    return finish(args, io, call(args, daemon::SessionShow{args.positional[1]}), printSession);
+  }
+  if (action == "resume") {
+    needs(1, "ID");
+    return finish(args, io, call(args, daemon::SessionResume{args.positional[1]}), printSession);
+  }
+  if (action == "delete") {
+    needs(1, "ID");
+    return finish(args, io, call(args, daemon::SessionDelete{args.positional[1]}),
+                  [](std::ostream& out, const json& r) {
+                    out << "deleted " << r["deleted"].get<std::string>() << "\n";
+                  });
+  }
+  throw UsageError("session: unknown action '" + action + "' (new, list, show, resume, delete)");
+}
+
+void printSweep(std::ostream& out, const json& sweep) {
+  out << "sweep " << sweep["slice"]["name"].get<std::string>() << ": "
+      << sweep["state"].get<std::string>() << ", " << sweep["samples"] << " samples, bins "
+      << bar(sweep["bins"]) << " " << sweep["bins_filled"] << "/24\n";
+  if (sweep.contains("pause_reason"))
+    out << "  " << sweep["pause_reason"].get<std::string>() << "\n";
+}
+
+int runSweep(const ParsedArgs& args, Streams& io) {
+  const std::string& action = args.positional[0];
+  if (action == "stop") {
+    if (args.positional.size() != 1) throw UsageError("sweep stop takes no arguments");
+    return finish(args, io, call(args, daemon::SweepStop{}), printSweep);
+  }
+  if (action == "start" || action == "redo") {
+    if (args.positional.size() != 4)
+      throw UsageError("sweep " + action + ": usage: slicecap sweep " + action +
+                       " axial|diagonal THETA_I THETA_V");
+    const SliceId slice = sliceFrom(args, 1);
+    const daemon::Command command =
+        action == "start" ? daemon::Command{daemon::SweepStart{slice}} : daemon::SweepRedo{slice};
+    return finish(args, io, call(args, command), printSweep);
+  }
+  throw UsageError("sweep: unknown action '" + action + "' (start, stop, redo)");
+}
+
+volatile std::sig_atomic_t interrupted = 0;
+
+int runStatus(const ParsedArgs& args, Streams& io) {
+  if (!args.flag("watch")) return finish(args, io, call(args, daemon::Status{}), printStatus);
+  const double intervalSeconds = args.number("interval", 0.5);
+  if (intervalSeconds < 0.05) throw UsageError("--interval must be at least 0.05 s");
+  const double count = args.number("count", 0);
+  interrupted = 0;
+  auto previous = std::signal(SIGINT, [](int) { interrupted = 1; });
+  daemon::ControlClient client(socketPath(args));
+  for (long shown = 0; !interrupted && (count <= 0 || shown < long(count)); ++shown) {
+    const json status = client.call(daemon::Status{});
+    if (args.flag("json")) {
+      io.out << status.dump() << "\n";
+    } else {
+      io.out << "\x1b[H\x1b[2J";  // home and clear: one screen that updates in place
+      printStatus(io.out, status);
+      io.out << "(Ctrl-C to stop watching; the sweep goes on)\n";
+    }
+    io.out.flush();
+    std::this_thread::sleep_for(std::chrono::duration<double>(intervalSeconds));
+  }
+  std::signal(SIGINT, previous);
+  return kExitOk;
+}
+
+int runExport(const ParsedArgs& args, Streams& io) {
+  const fs::path destination = args.required("output");
+  const json result = call(args, daemon::Export{args.positional[0], ""});
+  std::error_code error;
+  fs::create_directories(destination, error);
+  if (error) throw std::runtime_error(destination.string() + ": cannot create: " + error.message());
+  json copied = json::array();
+  for (const json& file : result["files"]) {
+    const fs::path source = file.get<std::string>();
+    const fs::path target = destination / source.filename();
+    fs::copy_file(source, target, fs::copy_options::overwrite_existing, error);
+    if (error)
+      throw std::runtime_error("cannot copy " + source.string() + " to " + target.string() + ": " +
+                               error.message());
+    copied.push_back(target.string());
+  }
+  json answer = {{"session", result["session"]}, {"files", copied}};
+  return finish(args, io, answer, [](std::ostream& out, const json& r) {
+    out << "exported session " << r["session"].get<std::string>() << ":\n";
+    for (const json& f : r["files"])
+      out << "  " << f.get<std::string>() << "\n";
+  });
+}
+
+}  // namespace
+
+Command sessionCommand() {
+  return {
+      {"session",
+       "new MATERIAL [--id ID] | list | show ID | resume ID | delete ID [--socket PATH] [--json]",
+       "Manage capture sessions on slicecapd: start one for a material, list them, show one "
+       "with\nits slices, make an earlier one current again, or delete one.",
+       {{"id", 0, "ID", "session new: the session's id (1-64 of a-z 0-9 _ -; default s<UTC time>)"},
+        kSocketOption,
+        kJsonOption},
+       1,
+       2},
+      runSession};
+}
+
+Command sweepCommand() {
+  return {{"sweep",
+           "start|redo axial|diagonal THETA_I THETA_V | stop [--socket PATH] [--json]",
+           "Start, stop or redo the sweep of one slice of the current session. THETA_I and "
+           "THETA_V are\nthe light and view elevations, 30 or 75 deg. `sweep start` of a paused "
+           "sweep continues it;\n`redo` discards the slice's samples and sweeps it again.",
+           {kSocketOption, kJsonOption},
+           1,
+           4},
+          runSweep};
+}
+
+Command statusCommand() {
+  return {{"status",
+           "[--watch [--interval S] [--count N]] [--socket PATH] [--json]",
+           "What slicecapd is doing: the current session and its slices, the sweep's bins as a "
+           "bar of 24\ncells, the view elevation error now, rejected frames by reason, and what "
+           "to do next.\n--watch redraws it until Ctrl-C.",
+           {{"watch", 'w', "", "redraw continuously"},
+            {"interval", 0, "S", "seconds between redraws (default 0.5)"},
+            {"count", 0, "N", "stop after N redraws (default: until Ctrl-C)"},
+            kSocketOption,
+            kJsonOption},
+           0,
+           0},
+          runStatus};
+}
+
+Command exportCommand() {
+  return {{"export",
+           "SESSION -o DIR [--socket PATH] [--json]",
+           "Export a session from slicecapd into DIR: its ABRDF EXR files (reconstructing with "
+           "Method B\nif there is none yet), a PNG preview of each, the slices CSV and a JSON "
+           "summary.",
+           {{"output", 'o', "DIR", "the folder to copy the files into (required)"},
+            kSocketOption,
+            kJsonOption},
+           1,
+           1},
+          runExport};
+}
+
+}  // namespace slicecap::cli

@@ -1,0 +1,74 @@
+// The daemon's sessions and sweeps: what each control command does, what the frame loop reports,
+// and the status a person watches. Independent of cameras and of how frames become samples.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <variant>
+
+#include "slicecap/capture/session_store.hpp"
+#include "slicecap/core/abrdf.hpp"
+#include "slicecap/daemon/protocol.hpp"
+
+namespace slicecap::daemon {
+
+/// \brief Reconstructs a full table from a session's slices with a named method (the registry
+/// lives with the CLI, which the daemon's main injects). Throws std::exception with a message a
+/// person can act on (e.g. which slices are missing).
+using ReconstructFunction = std::function<Abrdf(const SliceSet& slices, const std::string& method)>;
+/// \brief Writes a PNG preview of a table (optional: export leaves the preview out without it).
+using PreviewFunction =
+    std::function<void(const Abrdf& table, const std::filesystem::path& pngPath)>;
+
+/// \brief The state machine behind the control protocol. One session is current at a time; at
+/// most one sweep runs. Every change is durable (SessionStore) before the command's reply. The
+/// current session's id is kept in <storage>/current, so a restarted daemon comes back to it; a
+/// sweep that was running when the daemon died comes back paused ("interrupted"), with every
+/// acknowledged sample, and `sweep.start` of the same slice continues it.
+class SessionManager {
+ public:
+  /// \brief Opens the storage root (creating it) and the session that was current. Throws
+  /// io::IoError naming the folder if it cannot be used.
+  SessionManager(std::filesystem::path storageRoot, ReconstructFunction reconstruct,
+                 PreviewFunction preview = {});
+  ~SessionManager();
+
+  /// \brief Carries out one command. Never throws: refusals and failures come back as a
+  /// ProtocolError with a message for the person at the other end.
+  std::variant<nlohmann::json, ProtocolError> handle(const Command& command);
+
+  /// \brief True while a sweep runs and is not paused: the frame loop wants frames and strobes
+  /// the LED; otherwise the LED stays off.
+  bool capturing() const;
+  /// \brief The slice being swept (running or paused).
+  std::optional<SliceId> sweepSlice() const;
+
+  /// \brief Stores a frame's sample durably. If the store cannot write (disk full), the sweep
+  /// stops with a storage error in its status and this returns false; nothing stored is lost.
+  bool acceptSample(const capture::FrameSample& sample);
+  /// \brief Counts a rejected frame under its reason ("too_few_markers", "elevation_off", ...).
+  void rejectFrame(const std::string& reason);
+  /// \brief The view elevation's distance from the slice's nominal in the last posed frame, shown
+  /// live so the person can correct the arm.
+  void noteViewElevationErrorDeg(double errorDeg);
+  /// \brief The camera or LED failed: the sweep pauses (samples kept) with the reason shown.
+  void pauseSweep(const std::string& reason);
+
+  /// \brief What `slicecap status` shows (also the reply to the status command).
+  nlohmann::json status() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+/// \brief The eight slices in the order a person sweeps them (axial then diagonal, elevation
+/// pairs 30/30, 30/75, 75/30, 75/75).
+const std::vector<SliceId>& sweepOrder();
+
+}  // namespace slicecap::daemon

@@ -1,0 +1,449 @@
+// Sessions and sweeps behind the control protocol: every change durable before its reply.
+#include "slicecap/daemon/session_manager.hpp"
+
+#include <chrono>
+#include <ctime>
+#include <fstream>
+#include <system_error>
+
+#include "slicecap/core/version.hpp"
+#include "slicecap/io/abrdf_exr.hpp"
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/io/journal.hpp"
+#include "slicecap/io/slice_csv.hpp"
+
+namespace slicecap::daemon {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+// Thrown inside this file only, turned into a ProtocolError by handle().
+struct Refusal {
+  ErrorCode code;
+  std::string message;
+};
+
+constexpr int kBinsPerSlice = 24;
+
+std::string utcNow(const char* format) {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, format, &utc);
+  return text;
+}
+
+json sliceJson(const SliceId& slice) {
+  return {{"name", toString(slice)},
+          {"kind", std::string(toString(slice.kind))},
+          {"theta_i", slice.elevations.thetaIDeg},
+          {"theta_v", slice.elevations.thetaVDeg}};
+}
+
+std::string startCommand(const SliceId& slice) {
+  return "slicecap sweep start " + std::string(toString(slice.kind)) + " " +
+         std::to_string(slice.elevations.thetaIDeg) + " " +
+         std::to_string(slice.elevations.thetaVDeg);
+}
+
+json slicesJson(const capture::SessionStore& store) {
+  json slices = json::array();
+  for (const SliceId& slice : sweepOrder()) {
+    const capture::AzimuthBins& bins = store.bins(slice);
+    json entry = sliceJson(slice);
+    entry["samples"] = store.sampleCount(slice);
+    entry["bins_filled"] = bins.filledCount();
+    slices.push_back(std::move(entry));
+  }
+  return slices;
+}
+
+json sessionJson(const capture::SessionStore& store) {
+  const capture::SessionInfo& info = store.info();
+  json session = {{"id", info.id},
+                  {"material", info.material},
+                  {"created", info.createdUtc},
+                  {"directory", store.directory().string()},
+                  {"samples", store.sampleCount()},
+                  {"slices", slicesJson(store)}};
+  if (store.recovery().tornTailBytes > 0)
+    session["torn_tail_bytes_dropped"] = store.recovery().tornTailBytes;
+  if (!store.recovery().corruptLines.empty())
+    session["corrupt_journal_lines"] = store.recovery().corruptLines;
+  return session;
+}
+
+}  // namespace
+
+const std::vector<SliceId>& sweepOrder() {
+  static const std::vector<SliceId> order = [] {
+    std::vector<SliceId> slices;
+    for (SliceKind kind : {SliceKind::Axial, SliceKind::Diagonal})
+      for (int thetaI : kMeasuredElevationsDeg)
+        for (int thetaV : kMeasuredElevationsDeg)
+          slices.push_back({kind, {thetaI, thetaV}});
+    return slices;
+  }();
+  return order;
+}
+
+struct SessionManager::State {
+  struct Sweep {
+    explicit Sweep(const SliceId& swept) : slice(swept) {}
+    SliceId slice;
+    bool paused = false;
+    std::string pauseReason;
+    std::size_t acceptedThisRun = 0;
+    std::map<std::string, std::size_t> rejected;
+    std::optional<double> viewElevationErrorDeg;
+  };
+
+  fs::path root;
+  ReconstructFunction reconstruct;
+  PreviewFunction preview;
+  std::optional<capture::SessionStore> session;
+  std::optional<Sweep> sweep;
+  std::string lastError;
+
+  fs::path currentFile() const { return root / "current"; }
+
+  void makeCurrent(capture::SessionStore store) {
+    session.emplace(std::move(store));
+    io::writeFileAtomically(currentFile(), session->info().id + "\n");
+    sweep.reset();
+    if (const std::optional<SliceId> active = session->activeSweep()) {
+      sweep.emplace(*active);
+      sweep->paused = true;
+      sweep->pauseReason = "interrupted (the daemon stopped during this sweep); `" +
+                           startCommand(*active) + "` continues it";
+    }
+  }
+
+  capture::SessionStore& current() {
+    if (!session)
+      throw Refusal{ErrorCode::Conflict,
+                    "no current session: `slicecap session new MATERIAL` "
+                    "or `slicecap session resume ID`"};
+    return *session;
+  }
+
+  bool exists(const std::string& id) const { return fs::is_directory(root / id); }
+
+  void requireNoSweep(const char* what) const {
+    if (sweep)
+      throw Refusal{ErrorCode::Conflict, std::string("cannot ") + what + " while sweep " +
+                                             toString(sweep->slice) + " is " +
+                                             (sweep->paused ? "paused" : "running") +
+                                             ": `slicecap sweep stop` first"};
+  }
+
+  /// The session a command names, or the current one; a temporary store for another session.
+  capture::SessionStore& target(const std::optional<std::string>& id,
+                                std::optional<capture::SessionStore>& other) {
+    if (!id || (session && session->info().id == *id)) return current();
+    if (!exists(*id)) throw Refusal{ErrorCode::NotFound, "no session '" + *id + "'"};
+    other.emplace(capture::SessionStore::open(root, *id));
+    return *other;
+  }
+
+  std::string newSessionId() const {
+    const std::string base = utcNow("s%Y%m%d-%H%M%S");
+    std::string id = base;
+    for (int suffix = 2; exists(id); ++suffix)
+      id = base + "-" + std::to_string(suffix);
+    return id;
+  }
+
+  json run(const Hello&) {
+    return {{"daemon", "slicecapd"}, {"version", kVersion}, {"protocol", kProtocolVersion}};
+  }
+
+  json run(const SessionNew& command) {
+    requireNoSweep("start a new session");
+    const std::string id = command.id.value_or(newSessionId());
+    if (exists(id)) throw Refusal{ErrorCode::Conflict, "session '" + id + "' exists already"};
+    makeCurrent(capture::SessionStore::create(root, id, command.material));
+    return sessionJson(*session);
+  }
+
+  json run(const SessionList&) {
+    json sessions = json::array();
+    for (const capture::SessionInfo& info : capture::SessionStore::list(root))
+      sessions.push_back({{"id", info.id},
+                          {"material", info.material},
+                          {"created", info.createdUtc},
+                          {"current", session && session->info().id == info.id}});
+    return {{"sessions", std::move(sessions)}};
+  }
+
+  json run(const SessionShow& command) {
+    std::optional<capture::SessionStore> other;
+    json shown = sessionJson(target(command.id, other));
+    shown["current"] = !other.has_value();
+    return shown;
+  }
+
+  json run(const SessionResume& command) {
+    if (session && session->info().id == command.id) return sessionJson(*session);
+    requireNoSweep("switch sessions");
+    if (!exists(command.id)) throw Refusal{ErrorCode::NotFound, "no session '" + command.id + "'"};
+    makeCurrent(capture::SessionStore::open(root, command.id));
+    return sessionJson(*session);
+  }
+
+  json run(const SessionDelete& command) {
+    const bool isCurrent = session && session->info().id == command.id;
+    if (isCurrent) requireNoSweep("delete the current session");
+    if (!exists(command.id)) throw Refusal{ErrorCode::NotFound, "no session '" + command.id + "'"};
+    if (isCurrent) {
+      session.reset();
+      std::error_code ignored;
+      fs::remove(currentFile(), ignored);
+    }
+    capture::SessionStore::remove(root, command.id);
+    return {{"deleted", command.id}};
+  }
+
+  json run(const SweepStart& command) {
+    capture::SessionStore& store = current();
+    if (sweep) {
+      if (sweep->slice == command.slice && sweep->paused) {
+        sweep->paused = false;
+        sweep->pauseReason.clear();
+        lastError.clear();
+        return sweepJson();
+      }
+      throw Refusal{ErrorCode::Conflict, "sweep " + toString(sweep->slice) + " is " +
+                                             (sweep->paused ? "paused" : "running") +
+                                             ": `slicecap sweep stop` first"};
+    }
+    store.recordSweepStarted(command.slice);
+    sweep.emplace(command.slice);
+    lastError.clear();
+    return sweepJson();
+  }
+
+  json run(const SweepStop&) {
+    capture::SessionStore& store = current();
+    if (!sweep) throw Refusal{ErrorCode::Conflict, "no sweep is running"};
+    store.recordSweepStopped(sweep->slice);
+    json stopped = sweepJson();
+    stopped["state"] = "stopped";
+    sweep.reset();
+    return stopped;
+  }
+
+  json run(const SweepRedo& command) {
+    capture::SessionStore& store = current();
+    if (sweep && sweep->slice != command.slice)
+      throw Refusal{ErrorCode::Conflict, "sweep " + toString(sweep->slice) +
+                                             " is in progress: `slicecap sweep stop` first"};
+    store.redo(command.slice);
+    if (!sweep) store.recordSweepStarted(command.slice);
+    sweep.emplace(command.slice);
+    lastError.clear();
+    return sweepJson();
+  }
+
+  json run(const Status&) { return statusJson(); }
+
+  json run(const Reconstruct& command) {
+    if (sweep && !sweep->paused)
+      throw Refusal{ErrorCode::Conflict, "a sweep is running: `slicecap sweep stop` first"};
+    std::optional<capture::SessionStore> other;
+    capture::SessionStore& store = target(command.id, other);
+    const fs::path path = reconstructInto(store, command.method);
+    return {{"session", store.info().id},
+            {"method", command.method},
+            {"samples", store.sampleCount()},
+            {"exr", path.string()}};
+  }
+
+  json run(const Export& command) {
+    std::optional<capture::SessionStore> other;
+    capture::SessionStore& store = target(command.id, other);
+    const fs::path directory =
+        command.directory.empty() ? store.directory() / "export" : fs::path(command.directory);
+    std::error_code error;
+    fs::create_directories(directory, error);
+    if (error)
+      throw io::IoError(directory.string() +
+                        ": cannot create the export folder: " + error.message());
+
+    std::vector<fs::path> tables;
+    for (const fs::directory_entry& entry : fs::directory_iterator(store.directory()))
+      if (entry.path().extension() == ".exr") tables.push_back(entry.path());
+    if (tables.empty()) tables.push_back(reconstructInto(store, "b"));
+
+    json files = json::array();
+    for (const fs::path& table : tables) {
+      const fs::path copy = directory / (store.info().id + "-" + table.filename().string());
+      fs::copy_file(table, copy, fs::copy_options::overwrite_existing, error);
+      if (error) throw io::IoError(copy.string() + ": cannot write: " + error.message());
+      files.push_back(copy.string());
+      if (preview) {
+        fs::path png = copy;
+        png.replace_extension(".png");
+        preview(io::readAbrdfExr(table), png);
+        files.push_back(png.string());
+      }
+    }
+    const fs::path csv = directory / (store.info().id + "-slices.csv");
+    io::writeSliceCsv(csv, store.slices());
+    files.push_back(csv.string());
+    json summary = sessionJson(store);
+    summary["exported"] = utcNow("%Y-%m-%dT%H:%M:%SZ");
+    summary["slicecap_version"] = kVersion;
+    const fs::path summaryPath = directory / (store.info().id + "-summary.json");
+    io::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
+    files.push_back(summaryPath.string());
+    return {{"session", store.info().id}, {"directory", directory.string()}, {"files", files}};
+  }
+
+  fs::path reconstructInto(capture::SessionStore& store, const std::string& method) {
+    const SliceSet slices = store.slices();
+    if (slices.empty())
+      throw Refusal{ErrorCode::Conflict,
+                    "session '" + store.info().id + "' has no samples to reconstruct from"};
+    Abrdf table;
+    try {
+      table = reconstruct(slices, method);
+    } catch (const std::exception& error) {
+      throw Refusal{ErrorCode::Conflict,
+                    "reconstruction with method '" + method + "' failed: " + error.what()};
+    }
+    const fs::path path = store.directory() / ("abrdf-" + method + ".exr");
+    io::writeAbrdfExr(
+        path, table,
+        {{"method", method}, {"material", store.info().material}, {"session", store.info().id}});
+    return path;
+  }
+
+  json sweepJson() const {
+    const capture::AzimuthBins& bins = session->bins(sweep->slice);
+    json rejected = json::object();
+    for (const auto& [reason, count] : sweep->rejected)
+      rejected[reason] = count;
+    json state = {{"slice", sliceJson(sweep->slice)},
+                  {"state", sweep->paused ? "paused" : "capturing"},
+                  {"bins", bins.filled()},
+                  {"bins_filled", bins.filledCount()},
+                  {"samples", session->sampleCount(sweep->slice)},
+                  {"accepted_this_run", sweep->acceptedThisRun},
+                  {"rejected", std::move(rejected)},
+                  {"view_elevation_error_deg", nullptr}};
+    if (sweep->paused) state["pause_reason"] = sweep->pauseReason;
+    if (sweep->viewElevationErrorDeg)
+      state["view_elevation_error_deg"] = *sweep->viewElevationErrorDeg;
+    return state;
+  }
+
+  std::string nextStep() const {
+    if (!session) return "slicecap session new MATERIAL";
+    if (sweep) {
+      if (sweep->paused) return sweep->pauseReason;
+      const int filled = session->bins(sweep->slice).filledCount();
+      if (filled >= kBinsPerSlice) return "all 24 bins filled: slicecap sweep stop";
+      return "keep sweeping " + toString(sweep->slice) + ": " + std::to_string(filled) +
+             " of 24 bins filled";
+    }
+    for (const SliceId& slice : sweepOrder())
+      if (session->bins(slice).filledCount() < kBinsPerSlice) return startCommand(slice);
+    return "every slice is swept: slicecap reconstruct";
+  }
+
+  json statusJson() const {
+    json status = {{"session", nullptr}, {"sweep", nullptr}, {"next", nextStep()}};
+    if (session) {
+      status["session"] = {{"id", session->info().id},
+                           {"material", session->info().material},
+                           {"samples", session->sampleCount()},
+                           {"slices", slicesJson(*session)}};
+    }
+    if (sweep) status["sweep"] = sweepJson();
+    if (!lastError.empty()) status["error"] = lastError;
+    return status;
+  }
+};
+
+SessionManager::SessionManager(fs::path storageRoot, ReconstructFunction reconstruct,
+                               PreviewFunction preview)
+    : state_(std::make_unique<State>()) {
+  state_->root = std::move(storageRoot);
+  state_->reconstruct = std::move(reconstruct);
+  state_->preview = std::move(preview);
+  std::error_code error;
+  fs::create_directories(state_->root, error);
+  if (error || !fs::is_directory(state_->root))
+    throw io::IoError(state_->root.string() + ": cannot use as session storage: " +
+                      (error ? error.message() : "not a folder"));
+  std::ifstream current(state_->currentFile());
+  std::string id;
+  if (current >> id && capture::isValidSessionId(id) && state_->exists(id)) {
+    state_->makeCurrent(capture::SessionStore::open(state_->root, id));
+  }
+}
+
+SessionManager::~SessionManager() = default;
+
+std::variant<json, ProtocolError> SessionManager::handle(const Command& command) {
+  try {
+    return std::visit([this](const auto& c) { return state_->run(c); }, command);
+  } catch (const Refusal& refusal) {
+    return ProtocolError{refusal.code, refusal.message, std::nullopt};
+  } catch (const io::IoError& error) {
+    return ProtocolError{ErrorCode::StorageError, error.what(), std::nullopt};
+  } catch (const std::exception& error) {
+    return ProtocolError{ErrorCode::Internal, error.what(), std::nullopt};
+  }
+}
+
+bool SessionManager::capturing() const {
+  return state_->sweep && !state_->sweep->paused;
+}
+
+std::optional<SliceId> SessionManager::sweepSlice() const {
+  if (!state_->sweep) return std::nullopt;
+  return state_->sweep->slice;
+}
+
+bool SessionManager::acceptSample(const capture::FrameSample& sample) {
+  if (!capturing()) return false;
+  try {
+    state_->session->recordSample(state_->sweep->slice, sample);
+  } catch (const io::IoError& error) {
+    // Nothing half-written counts (the journal rolls a failed append back); the sweep waits for
+    // the person to free space and start it again.
+    state_->sweep->paused = true;
+    state_->sweep->pauseReason = std::string("storage error: ") + error.what() +
+                                 "; free space, then `" + startCommand(state_->sweep->slice) +
+                                 "` continues";
+    state_->lastError = error.what();
+    return false;
+  }
+  ++state_->sweep->acceptedThisRun;
+  return true;
+}
+
+void SessionManager::rejectFrame(const std::string& reason) {
+  if (state_->sweep) ++state_->sweep->rejected[reason];
+}
+
+void SessionManager::noteViewElevationErrorDeg(double errorDeg) {
+  if (state_->sweep) state_->sweep->viewElevationErrorDeg = errorDeg;
+}
+
+void SessionManager::pauseSweep(const std::string& reason) {
+  if (!state_->sweep) return;
+  state_->sweep->paused = true;
+  state_->sweep->pauseReason = reason + "; `" + startCommand(state_->sweep->slice) + "` continues";
+  state_->lastError = reason;
+}
+
+json SessionManager::status() const {
+  return state_->statusJson();
+}
+
+}  // namespace slicecap::daemon

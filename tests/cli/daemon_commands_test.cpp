@@ -1,0 +1,141 @@
+// The person-facing daemon commands against a live control socket served by a SessionManager in
+// this process: what they print, their JSON, exit codes, and errors naming the socket.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "../support/test_support.hpp"
+#include "slicecap/cli/cli.hpp"
+#include "slicecap/daemon/control_server.hpp"
+#include "slicecap/daemon/event_loop.hpp"
+#include "slicecap/daemon/session_manager.hpp"
+
+namespace slicecap::cli {
+namespace {
+
+using nlohmann::json;
+using ::testing::HasSubstr;
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+Abrdf flatTable(const SliceSet&, const std::string&) {
+  Abrdf table;
+  for (int light = 0; light < bonn::kDirectionCount; ++light)
+    for (int view = 0; view < bonn::kDirectionCount; ++view)
+      table.set(light, view, Rgb::gray(0.2));
+  return table;
+}
+
+/// A control socket in a short /tmp path (Unix socket paths are limited to 108 bytes), served on
+/// its own thread.
+class LiveDaemon {
+ public:
+  explicit LiveDaemon(const std::filesystem::path& storage) : manager_(storage, flatTable) {
+    char pattern[] = "/tmp/slicecap-cli-XXXXXX";
+    socketDir_ = ::mkdtemp(pattern);
+    socket_ = socketDir_ / "s.sock";
+    const int listenFd = daemon::openListenSocket({socket_, 0600, std::nullopt});
+    server_ =
+        std::make_unique<daemon::ControlServer>(loop_, listenFd, [this](const daemon::Request& r) {
+          auto reply = manager_.handle(r.command);
+          if (auto* error = std::get_if<daemon::ProtocolError>(&reply))
+            throw daemon::RequestError(error->code, error->message);
+          return std::get<json>(reply);
+        });
+    thread_ = std::thread([this] { loop_.run(); });
+  }
+  ~LiveDaemon() {
+    loop_.stop();
+    thread_.join();
+    server_.reset();
+    std::filesystem::remove_all(socketDir_);
+  }
+
+  Result run(std::vector<std::string> args) {
+    args.push_back("--socket");
+    args.push_back(socket_.string());
+    std::ostringstream out, err;
+    const int code = runCli(args, out, err);
+    return {code, out.str(), err.str()};
+  }
+
+  daemon::SessionManager& manager() { return manager_; }
+
+ private:
+  daemon::SessionManager manager_;
+  daemon::EventLoop loop_;
+  std::unique_ptr<daemon::ControlServer> server_;
+  std::filesystem::path socketDir_, socket_;
+  std::thread thread_;
+};
+
+TEST(DaemonCommands, ASessionFromNewToExport) {
+  const auto dir = test::freshTempDir();
+  LiveDaemon daemon(dir / "storage");
+
+  Result r = daemon.run({"session", "new", "red felt", "--id", "felt"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("session felt (red felt)"));
+
+  r = daemon.run({"sweep", "start", "axial", "30", "30"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("capturing"));
+  for (int k = 0; k < 5; ++k)  // frames arrive through the frame loop in the daemon
+    daemon.manager().acceptSample(
+        {k, std::uint64_t(k), {30, k * 15.0}, {30, k * 15.0 + 15}, Rgb::gray(0.2)});
+
+  r = daemon.run({"status"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("[#####...................] 5/24"));
+  EXPECT_THAT(r.out, HasSubstr("next: keep sweeping axial 30/30"));
+
+  r = daemon.run({"status", "--json"});
+  const json status = json::parse(r.out);
+  EXPECT_EQ(status["sweep"]["bins_filled"], 5);
+
+  r = daemon.run({"status", "--watch", "--count", "2", "--interval", "0.05", "--json"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 2);
+
+  EXPECT_EQ(daemon.run({"sweep", "stop"}).code, kExitOk);
+  r = daemon.run({"session", "list"});
+  EXPECT_THAT(r.out, HasSubstr("* felt"));
+
+  r = daemon.run({"export", "felt", "-o", (dir / "desk").string(), "--json"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  const json exported = json::parse(r.out);
+  EXPECT_EQ(exported["files"].size(), 3u);  // EXR, slices CSV, summary (no preview injected)
+  for (const json& file : exported["files"])
+    EXPECT_TRUE(std::filesystem::exists(file.get<std::string>())) << file;
+}
+
+TEST(DaemonCommands, RefusalsAndBadUsageHaveTheirExitCodes) {
+  LiveDaemon daemon(test::freshTempDir());
+  Result r = daemon.run({"sweep", "start", "axial", "30", "30"});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_THAT(r.err, HasSubstr("no current session"));
+  EXPECT_EQ(daemon.run({"sweep", "start", "axial", "30", "45"}).code, kExitUsage);
+  EXPECT_EQ(daemon.run({"sweep", "sideways", "axial", "30", "30"}).code, kExitUsage);
+  EXPECT_EQ(daemon.run({"session", "show"}).code, kExitUsage);
+  r = daemon.run({"session", "show", "nobody"});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_THAT(r.err, HasSubstr("no session 'nobody'"));
+}
+
+TEST(DaemonCommands, AMissingDaemonIsNamedWithItsSocket) {
+  std::ostringstream out, err;
+  const std::vector<std::string> args = {"status", "--socket", "/tmp/slicecap-no-daemon.sock"};
+  EXPECT_EQ(runCli(args, out, err), kExitFailure);
+  EXPECT_THAT(err.str(), HasSubstr("/tmp/slicecap-no-daemon.sock"));
+}
+
+}  // namespace
+}  // namespace slicecap::cli

@@ -1,0 +1,233 @@
+// The session state machine behind the protocol: lifecycle, refusals, restart after a kill,
+// storage failure mid-sweep, reconstruct and export.
+#include "slicecap/daemon/session_manager.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/resource.h>
+
+#include <fstream>
+
+#include "../support/test_support.hpp"
+#include "slicecap/io/abrdf_exr.hpp"
+#include "slicecap/io/slice_csv.hpp"
+
+namespace slicecap::daemon {
+namespace {
+
+using nlohmann::json;
+using ::testing::HasSubstr;
+
+const SliceId kAxial3030{SliceKind::Axial, {30, 30}};
+const SliceId kAxial3075{SliceKind::Axial, {30, 75}};
+
+capture::FrameSample sampleAt(double parameterDeg, double value, std::uint64_t frame) {
+  return {std::int64_t(frame) * 33000,
+          frame,
+          {30, parameterDeg},
+          {30, parameterDeg + 15},
+          Rgb::gray(value)};
+}
+
+// Stands in for the method registry: the mean sample value everywhere, or a failure.
+Abrdf meanOfSlices(const SliceSet& slices, const std::string& method) {
+  if (method == "needs-more") throw std::runtime_error("missing slices: diagonal 75/75");
+  double sum = 0;
+  for (const Slice& slice : slices.slices())
+    for (const SliceSample& sample : slice.samples)
+      sum += sample.value.r();
+  Abrdf table;
+  const auto mean = static_cast<float>(sum / double(slices.sampleCount()));
+  for (int light = 0; light < bonn::kDirectionCount; ++light)
+    for (int view = 0; view < bonn::kDirectionCount; ++view)
+      table.set(light, view, Rgb::gray(mean));
+  return table;
+}
+
+json ok(SessionManager& manager, const Command& command) {
+  auto reply = manager.handle(command);
+  if (auto* error = std::get_if<ProtocolError>(&reply)) {
+    ADD_FAILURE() << commandName(command) << " refused: " << error->message;
+    return {};
+  }
+  return std::get<json>(reply);
+}
+
+ProtocolError refused(SessionManager& manager, const Command& command) {
+  auto reply = manager.handle(command);
+  if (auto* error = std::get_if<ProtocolError>(&reply)) return *error;
+  ADD_FAILURE() << commandName(command) << " was accepted: " << std::get<json>(reply).dump();
+  return {};
+}
+
+TEST(SessionManager, WalksAPersonThroughASweep) {
+  SessionManager manager(test::freshTempDir(), meanOfSlices);
+  EXPECT_EQ(manager.status()["next"], "slicecap session new MATERIAL");
+  const json session = ok(manager, SessionNew{"red felt", std::string("felt")});
+  EXPECT_EQ(session["id"], "felt");
+  EXPECT_EQ(manager.status()["next"], "slicecap sweep start axial 30 30");
+  EXPECT_FALSE(manager.capturing());
+
+  ok(manager, SweepStart{kAxial3030});
+  EXPECT_TRUE(manager.capturing());
+  for (int k = 0; k < 10; ++k)
+    EXPECT_TRUE(manager.acceptSample(sampleAt(k * 15.0, 0.5, k)));
+  manager.rejectFrame("too_few_markers");
+  manager.rejectFrame("too_few_markers");
+  manager.rejectFrame("elevation_off");
+  manager.noteViewElevationErrorDeg(-2.5);
+  const json status = manager.status();
+  EXPECT_EQ(status["sweep"]["state"], "capturing");
+  EXPECT_EQ(status["sweep"]["bins_filled"], 10);
+  EXPECT_EQ(status["sweep"]["bins"].size(), 24u);
+  EXPECT_EQ(status["sweep"]["rejected"]["too_few_markers"], 2);
+  EXPECT_EQ(status["sweep"]["rejected"]["elevation_off"], 1);
+  EXPECT_DOUBLE_EQ(status["sweep"]["view_elevation_error_deg"].get<double>(), -2.5);
+  EXPECT_THAT(status["next"].get<std::string>(), HasSubstr("10 of 24 bins"));
+
+  const json stopped = ok(manager, SweepStop{});
+  EXPECT_EQ(stopped["state"], "stopped");
+  EXPECT_FALSE(manager.capturing());
+  EXPECT_FALSE(manager.acceptSample(sampleAt(0, 0.5, 99)));  // no sweep: nothing stored
+  EXPECT_EQ(manager.status()["session"]["samples"], 10);
+  EXPECT_EQ(manager.status()["next"], "slicecap sweep start axial 30 30");  // not all 24 bins
+}
+
+TEST(SessionManager, RefusesWhatTheStateDoesNotAllow) {
+  SessionManager manager(test::freshTempDir(), meanOfSlices);
+  EXPECT_EQ(refused(manager, SweepStart{kAxial3030}).code, ErrorCode::Conflict);
+  EXPECT_EQ(refused(manager, SessionShow{"nobody"}).code, ErrorCode::NotFound);
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  EXPECT_EQ(refused(manager, SessionNew{"again", std::string("felt")}).code, ErrorCode::Conflict);
+  ok(manager, SweepStart{kAxial3030});
+  EXPECT_THAT(refused(manager, SweepStart{kAxial3075}).message, HasSubstr("axial 30/30"));
+  EXPECT_EQ(refused(manager, SessionNew{"other", std::nullopt}).code, ErrorCode::Conflict);
+  EXPECT_EQ(refused(manager, SessionDelete{"felt"}).code, ErrorCode::Conflict);
+  EXPECT_EQ(refused(manager, Reconstruct{std::nullopt, "b"}).code, ErrorCode::Conflict);
+  EXPECT_EQ(refused(manager, SweepRedo{kAxial3075}).code, ErrorCode::Conflict);
+  ok(manager, SweepStop{});
+  EXPECT_EQ(refused(manager, SweepStop{}).code, ErrorCode::Conflict);
+  ok(manager, SessionDelete{"felt"});
+  EXPECT_TRUE(manager.status()["session"].is_null());
+}
+
+TEST(SessionManager, AKilledDaemonComesBackToItsSweepWithEverySample) {
+  const auto root = test::freshTempDir();
+  {
+    SessionManager manager(root, meanOfSlices);
+    ok(manager, SessionNew{"felt", std::string("felt")});
+    ok(manager, SweepStart{kAxial3030});
+    for (int k = 0; k < 7; ++k)
+      ASSERT_TRUE(manager.acceptSample(sampleAt(k * 15.0, 0.5, k)));
+    // No stop: the object goes away as a killed daemon's state would.
+  }
+  SessionManager restarted(root, meanOfSlices);
+  const json status = restarted.status();
+  EXPECT_EQ(status["session"]["id"], "felt");
+  EXPECT_EQ(status["sweep"]["state"], "paused");
+  EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(), HasSubstr("interrupted"));
+  EXPECT_EQ(status["sweep"]["samples"], 7);
+  EXPECT_FALSE(restarted.capturing());
+  EXPECT_EQ(refused(restarted, SweepStart{kAxial3075}).code, ErrorCode::Conflict);
+  ok(restarted, SweepStart{kAxial3030});
+  EXPECT_TRUE(restarted.capturing());
+  EXPECT_TRUE(restarted.acceptSample(sampleAt(7 * 15.0, 0.5, 7)));
+  EXPECT_EQ(restarted.status()["sweep"]["samples"], 8);
+}
+
+TEST(SessionManager, RedoDiscardsOnlyThatSlice) {
+  SessionManager manager(test::freshTempDir(), meanOfSlices);
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  ok(manager, SweepStart{kAxial3030});
+  for (int k = 0; k < 5; ++k)
+    manager.acceptSample(sampleAt(k * 15.0, 0.5, k));
+  ok(manager, SweepStop{});
+  ok(manager, SweepStart{kAxial3075});
+  for (int k = 0; k < 3; ++k)
+    manager.acceptSample(sampleAt(k * 15.0, 0.5, k));
+  ok(manager, SweepStop{});
+  const json redone = ok(manager, SweepRedo{kAxial3030});
+  EXPECT_EQ(redone["samples"], 0);
+  EXPECT_TRUE(manager.capturing());
+  EXPECT_EQ(manager.status()["session"]["samples"], 3);
+}
+
+TEST(SessionManager, ACameraFailurePausesTheSweepAndStartContinuesIt) {
+  SessionManager manager(test::freshTempDir(), meanOfSlices);
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  ok(manager, SweepStart{kAxial3030});
+  manager.acceptSample(sampleAt(0, 0.5, 0));
+  manager.pauseSweep("camera error: frame 12 failed");
+  EXPECT_FALSE(manager.capturing());
+  EXPECT_FALSE(manager.acceptSample(sampleAt(15, 0.5, 1)));
+  const json status = manager.status();
+  EXPECT_EQ(status["sweep"]["state"], "paused");
+  EXPECT_THAT(status["error"].get<std::string>(), HasSubstr("frame 12"));
+  ok(manager, SweepStart{kAxial3030});
+  EXPECT_TRUE(manager.capturing());
+  EXPECT_EQ(manager.status()["sweep"]["samples"], 1);
+}
+
+TEST(SessionManager, AFullDiskPausesTheSweepAndKeepsWhatWasStored) {
+  const auto root = test::freshTempDir();
+  std::size_t stored = 0;
+  {
+    SessionManager manager(root, meanOfSlices);
+    ok(manager, SessionNew{"felt", std::string("felt")});
+    ok(manager, SweepStart{kAxial3030});
+    // A file size limit makes the journal's appends fail as a full disk would (EFBIG).
+    const std::uintmax_t journalBytes = std::filesystem::file_size(root / "felt" / "journal");
+    ::signal(SIGXFSZ, SIG_IGN);
+    rlimit previous{};
+    ::getrlimit(RLIMIT_FSIZE, &previous);
+    rlimit limited = previous;
+    limited.rlim_cur = journalBytes + 1000;
+    ::setrlimit(RLIMIT_FSIZE, &limited);
+    for (int k = 0; k < 200 && manager.acceptSample(sampleAt((k % 24) * 15.0, 0.5, k)); ++k)
+      ++stored;
+    ::setrlimit(RLIMIT_FSIZE, &previous);
+    ASSERT_GT(stored, 0u);
+    ASSERT_LT(stored, 200u);
+    const json status = manager.status();
+    EXPECT_EQ(status["sweep"]["state"], "paused");
+    EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(), HasSubstr("storage error"));
+    EXPECT_FALSE(manager.capturing());
+  }
+  SessionManager reopened(root, meanOfSlices);
+  EXPECT_EQ(reopened.status()["session"]["samples"], stored);
+}
+
+TEST(SessionManager, ReconstructsAndExportsTheFilesADesktopNeeds) {
+  const auto root = test::freshTempDir();
+  int previews = 0;
+  SessionManager manager(root, meanOfSlices, [&](const Abrdf&, const std::filesystem::path& png) {
+    std::ofstream(png) << "png";
+    ++previews;
+  });
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  EXPECT_EQ(refused(manager, Reconstruct{std::nullopt, "b"}).code, ErrorCode::Conflict);
+  ok(manager, SweepStart{kAxial3030});
+  for (int k = 0; k < 24; ++k)
+    manager.acceptSample(sampleAt(k * 15.0, 0.25, k));
+  ok(manager, SweepStop{});
+  EXPECT_THAT(refused(manager, Reconstruct{std::nullopt, "needs-more"}).message,
+              HasSubstr("missing slices"));
+  const json reconstructed = ok(manager, Reconstruct{std::nullopt, "b"});
+  const Abrdf table = io::readAbrdfExr(reconstructed["exr"].get<std::string>());
+  EXPECT_FLOAT_EQ(table.at(3, 40).g(), 0.25);
+
+  const json exported = ok(manager, Export{std::nullopt, ""});
+  const std::filesystem::path directory = exported["directory"].get<std::string>();
+  EXPECT_EQ(directory, root / "felt" / "export");
+  EXPECT_EQ(exported["files"].size(), 4u);  // EXR, its preview, slices CSV, summary
+  EXPECT_EQ(previews, 1);
+  EXPECT_EQ(io::readSliceCsv(directory / "felt-slices.csv").sampleCount(), 24u);
+  std::ifstream summaryFile(directory / "felt-summary.json");
+  const json summary = json::parse(summaryFile);
+  EXPECT_EQ(summary["material"], "felt");
+  EXPECT_EQ(summary["samples"], 24);
+}
+
+}  // namespace
+}  // namespace slicecap::daemon

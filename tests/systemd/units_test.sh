@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# `systemd-analyze verify` on the units; any warning (an unknown key, a bad value) fails the test.
+# Usage: units_test.sh SYSTEMD_DIR [SLICECAPD_BINARY]. verify also checks that ExecStart's program
+# exists and is executable; until slicecapd is built, a stand-in script takes its path, so this
+# test checks the units' text, not the daemon.
+set -euo pipefail
+units=$1
+daemon=${2:-}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+if [[ -z $daemon ]]; then
+  daemon=$work/slicecapd
+  printf '#!/bin/sh\nexit 0\n' >"$daemon"
+  chmod +x "$daemon"
+fi
+for unit in slicecapd.service slicecapd.socket; do
+  sed "s#/usr/bin/slicecapd#$daemon#g" "$units/$unit" >"$work/$unit"
+done
+if ! systemd-analyze verify --man=no "$work/slicecapd.socket" "$work/slicecapd.service" 2>"$work/log"; then
+  cat "$work/log" >&2
+  echo "FAIL: systemd-analyze verify rejected the units" >&2
+  exit 1
+fi
+# Containers without a booted systemd print notes about PID 1 that say nothing of our units.
+if grep -v -e 'PID 1' -e 'container' "$work/log" | grep -q .; then
+  cat "$work/log" >&2
+  echo "FAIL: systemd-analyze verify warned about the units" >&2
+  exit 1
+fi
+grep -q '^Type=notify$' "$units/slicecapd.service" || { echo "FAIL: not Type=notify" >&2; exit 1; }
+grep -q '^ExecStopPost=.*--led-off' "$units/slicecapd.service" ||
+  { echo "FAIL: no ExecStopPost turning the LED off" >&2; exit 1; }
+echo "units verified"
