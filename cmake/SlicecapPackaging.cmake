@@ -2,13 +2,15 @@
 # is whatever the tree has when it is configured:
 #   /usr/bin/slicecap, /usr/bin/slicecapd        the programs, where those targets exist
 #   /usr/share/man/man1/<program>.1.gz           from each program's --help (and each subcommand's)
-#   /lib/systemd/system/                         systemd/*.service|socket|timer|path
-#   /usr/lib/sysusers.d/slicecap.conf            systemd/*.sysusers (the service user and group;
-#   /usr/lib/tmpfiles.d/slicecap.conf            systemd/*.tmpfiles  created by the postinst)
+#   /lib/systemd/system/                         systemd/*.service|socket|timer|path  (these four
+#   /usr/lib/sysusers.d/slicecap.conf            systemd/*.sysusers: user and group    only once
+#   /usr/lib/tmpfiles.d/slicecap.conf            systemd/*.tmpfiles                    slicecapd exists;
+#   /lib/udev/rules.d/                           systemd/*.rules                       postinst applies them)
 #   /etc/slicecap/slicecapd.conf                 `slicecapd --print-config`, when slicecapd exists
 #   /etc/slicecap/                               files given to slicecap_install_config() (conffiles)
 #   /usr/share/slicecap/                         files given to slicecap_install_data() (e.g. a prior)
-#   /usr/share/slicecap/firmware/                firmware/* (config.txt fragment, overlay, wiring)
+#   /usr/share/slicecap/firmware/                firmware/* (config.txt fragment, overlay, wiring),
+#                                                and each firmware/NAME-overlay.dts compiled to NAME.dtbo
 #   /usr/share/doc/slicecap/                     README.md, copyright
 # Runtime dependencies are not guessed here: scripts/deb-depends reads the shared libraries the installed
 # programs link and names the Debian packages that ship them (in the sysroot for a cross build).
@@ -50,23 +52,32 @@ function(slicecap_package)
     _slicecap_default_config(slicecapd)
   endif()
 
-  file(GLOB units CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/systemd/*.service"
-       "${PROJECT_SOURCE_DIR}/systemd/*.socket" "${PROJECT_SOURCE_DIR}/systemd/*.timer"
-       "${PROJECT_SOURCE_DIR}/systemd/*.path")
-  if(units)
-    # Debian 12 keeps packaged units under /lib (lintian: systemd-service-file-outside-lib).
-    install(FILES ${units} DESTINATION /lib/systemd/system)
-  endif()
-  foreach(kind sysusers tmpfiles)
-    file(GLOB files CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/systemd/*.${kind}")
-    foreach(f IN LISTS files)
-      get_filename_component(stem "${f}" NAME_WE)
-      install(FILES "${f}" DESTINATION "lib/${kind}.d" RENAME "${stem}.conf")
+  # The daemon's system files ship with the daemon: units naming a missing /usr/bin/slicecapd would be
+  # enabled and started on install, and fail.
+  if(TARGET slicecapd)
+    file(GLOB units CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/systemd/*.service"
+         "${PROJECT_SOURCE_DIR}/systemd/*.socket" "${PROJECT_SOURCE_DIR}/systemd/*.timer"
+         "${PROJECT_SOURCE_DIR}/systemd/*.path")
+    if(units)
+      # Debian 12 keeps packaged units under /lib (lintian: systemd-service-file-outside-lib).
+      install(FILES ${units} DESTINATION /lib/systemd/system)
+    endif()
+    foreach(kind sysusers tmpfiles)
+      file(GLOB files CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/systemd/*.${kind}")
+      foreach(f IN LISTS files)
+        get_filename_component(stem "${f}" NAME_WE)
+        install(FILES "${f}" DESTINATION "lib/${kind}.d" RENAME "${stem}.conf")
+      endforeach()
     endforeach()
-  endforeach()
+    file(GLOB rules CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/systemd/*.rules")
+    if(rules)
+      install(FILES ${rules} DESTINATION /lib/udev/rules.d)
+    endif()
+  endif()
 
   file(GLOB firmware CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/firmware/*")
   install(FILES ${firmware} DESTINATION "${CMAKE_INSTALL_DATADIR}/slicecap/firmware")
+  _slicecap_overlays()
   install(FILES "${PROJECT_SOURCE_DIR}/README.md" "${PROJECT_SOURCE_DIR}/cmake/packaging/copyright"
           DESTINATION "${CMAKE_INSTALL_DOCDIR}")
   # A native package's changelog.gz (Debian policy 12.7); its date honours SOURCE_DATE_EPOCH.
@@ -110,6 +121,31 @@ function(_slicecap_default_config program)
     COMMENT "Default configuration of ${program} from its --print-config")
   add_custom_target(${program}_conf ALL DEPENDS "${conf}")
   slicecap_install_config(FILES "${conf}")
+endfunction()
+
+# Each firmware/NAME-overlay.dts is also shipped compiled, as firmware/NAME.dtbo (the name
+# /boot/firmware/overlays/ and config.txt use; firmware/README.md), so the box needs no dtc.
+function(_slicecap_overlays)
+  file(GLOB sources CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/firmware/*.dts")
+  if(NOT sources)
+    return()
+  endif()
+  find_program(SLICECAP_DTC dtc REQUIRED)
+  set(blobs)
+  foreach(dts IN LISTS sources)
+    get_filename_component(stem "${dts}" NAME_WE)
+    string(REGEX REPLACE "-overlay$" "" stem "${stem}")
+    set(dtbo "${CMAKE_BINARY_DIR}/firmware/${stem}.dtbo")
+    add_custom_command(
+      OUTPUT "${dtbo}"
+      COMMAND "${SLICECAP_DTC}" -@ -I dts -O dtb -o "${dtbo}" "${dts}"
+      DEPENDS "${dts}"
+      COMMENT "Device-tree overlay ${stem}.dtbo"
+      VERBATIM)
+    list(APPEND blobs "${dtbo}")
+  endforeach()
+  add_custom_target(slicecap_overlays ALL DEPENDS ${blobs})
+  install(FILES ${blobs} DESTINATION "${CMAKE_INSTALL_DATADIR}/slicecap/firmware")
 endfunction()
 
 function(_slicecap_cpack_deb)

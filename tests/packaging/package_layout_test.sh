@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# The package picks up what the daemon's issue will add (slicecapd, systemd units, sysusers, tmpfiles,
-# firmware, data) with no change to the packaging: a scratch project with stand-ins for those files is
-# packaged by cmake/SlicecapPackaging.cmake and scripts/package, and the .deb must hold each in its place,
-# with /etc/slicecap/slicecapd.conf generated from `slicecapd --print-config` and marked as a conffile.
+# The package picks up what the daemon's issue adds (slicecapd, systemd units, sysusers, tmpfiles, udev
+# rules, firmware with its overlay compiled, data) with no change to the packaging: a scratch project
+# with stand-ins for those files is packaged by cmake/SlicecapPackaging.cmake and scripts/package, and
+# the .deb must hold each in its place, with /etc/slicecap/slicecapd.conf generated from `slicecapd
+# --print-config` and marked as a conffile.
 # Usage: package_layout_test.sh REPO_DIR
 set -euo pipefail
 repo=$1
@@ -44,6 +45,8 @@ printf 'g slicecap -\nu slicecap -:slicecap "slicecap daemon" /var/lib/slicecap\
 printf 'd /var/lib/slicecap 0750 slicecap slicecap -\n' >systemd/slicecap.tmpfiles
 printf 'not a unit\n' >systemd/README.md
 printf 'overlay\n' >firmware/led.dtbo
+printf 'SUBSYSTEM=="gpio", KERNEL=="gpiochip*", GROUP="gpio", MODE="0660"\n' >systemd/60-slicecap-gpio.rules
+printf '/dts-v1/;\n/plugin/;\n/ { compatible = "brcm,bcm2711"; };\n' >firmware/slicecap-led-overlay.dts
 
 cmake -S . -B build -G Ninja -DCMAKE_INSTALL_PREFIX=/usr >build.log 2>&1 || { cat build.log; fail "configure"; }
 deb=$(scripts/package build / 2>>build.log | tail -n1) || { cat build.log; fail "scripts/package"; }
@@ -54,6 +57,8 @@ for path in /usr/bin/slicecap /usr/bin/slicecapd /usr/share/man/man1/slicecap.1.
   /usr/share/man/man1/slicecapd.1.gz /lib/systemd/system/slicecapd.service \
   /usr/lib/sysusers.d/slicecap.conf /usr/lib/tmpfiles.d/slicecap.conf /etc/slicecap/slicecapd.conf \
   /usr/share/slicecap/firmware/led.dtbo /usr/share/slicecap/priors/led.dtbo \
+  /lib/udev/rules.d/60-slicecap-gpio.rules /usr/share/slicecap/firmware/slicecap-led-overlay.dts \
+  /usr/share/slicecap/firmware/slicecap-led.dtbo \
   /usr/share/doc/slicecap/copyright /usr/share/doc/slicecap/changelog.gz; do
   grep -qx "$path" <<<"$contents" || fail "$path is not in the package"
 done
