@@ -10,7 +10,8 @@ namespace slicecap::cli {
 
 std::vector<Command> allCommands() {
   return {reconstructCommand(), sampleCommand(), compareCommand(), generateCommand(),
-          sessionCommand(),     sweepCommand(),  statusCommand(),  exportCommand()};
+          evalCommand(),        previewCommand(), sessionCommand(), sweepCommand(),
+          statusCommand(),      exportCommand()};
 }
 
 namespace {

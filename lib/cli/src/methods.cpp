@@ -1,8 +1,13 @@
 // The method registry: each method is one entry here.
 #include "slicecap/cli/methods.hpp"
 
+#include <algorithm>
+
 #include "slicecap/cli/args.hpp"
+#include "slicecap/recon/halfway_method.hpp"
+#include "slicecap/recon/method_a.hpp"
 #include "slicecap/recon/method_b.hpp"
+#include "slicecap/recon/scattered_rbf.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -33,6 +38,96 @@ MethodRun runMethodB(const SliceSet& slices, const MethodOptions& options) {
   return run;
 }
 
+// The paper interpolated 8-bit sRGB data (METHOD.md 6.2); 2.2 is close to that encoding.
+constexpr double kPaperValueGamma = 2.2;
+
+MethodRun runMethodAWithGamma(const SliceSet& slices, const MethodOptions& options,
+                              double valueGamma) {
+  recon::MethodAParams params;
+  params.isotropic = options.isotropic;
+  params.torusRule = options.torusRule;
+  params.rbf.valueGamma = valueGamma;
+  const std::string name = valueGamma == 1.0 ? "A" : "A-gamma";
+  MethodRun run{recon::reconstructMethodA(slices, params),
+                options.isotropic ? name + "-isotropic" : name,
+                {},
+                {},
+                {}};
+  run.details["value_gamma"] = valueGamma;
+  const recon::MethodASystem& system = recon::sharedMethodASystem();
+  run.details["rbf_centres"] = system.centreEntries().size();
+  run.details["rbf_shape_rad"] = system.interpolant().shapeRad();
+  run.lines.push_back("multiquadric RBF over " + std::to_string(system.centreEntries().size()) +
+                      " centres, r0 = " + std::to_string(system.interpolant().shapeRad()) + " rad");
+  return run;
+}
+
+MethodRun runMethodA(const SliceSet& slices, const MethodOptions& options) {
+  return runMethodAWithGamma(slices, options, 1.0);
+}
+
+MethodRun runMethodAGamma(const SliceSet& slices, const MethodOptions& options) {
+  return runMethodAWithGamma(slices, options, kPaperValueGamma);
+}
+
+MethodRun runUniformWithGamma(const SliceSet& samples, double valueGamma) {
+  recon::ScatteredRbfParams params;
+  params.rbf.valueGamma = valueGamma;
+  MethodRun run{recon::reconstructScattered(samples, params),
+                valueGamma == 1.0 ? "uniform-RBF" : "uniform-RBF-gamma",
+                {},
+                {},
+                {}};
+  run.details["value_gamma"] = valueGamma;
+  std::size_t onSlices = 0;
+  for (const Slice& s : samples.slices()) {
+    if (s.id.kind != SliceKind::Point) onSlices += s.samples.size();
+  }
+  run.details["rbf_centres"] = samples.sampleCount();
+  run.lines.push_back("multiquadric RBF over " + std::to_string(samples.sampleCount()) +
+                      " samples at their own directions");
+  if (onSlices > 0) {
+    run.warnings.push_back(std::to_string(onSlices) +
+                           " samples lie on slices; the uniform method interpolates them as "
+                           "points (made for `slicecap sample --uniform`)");
+  }
+  return run;
+}
+
+MethodRun runUniform(const SliceSet& samples, const MethodOptions&) {
+  return runUniformWithGamma(samples, 1.0);
+}
+
+MethodRun runUniformGamma(const SliceSet& samples, const MethodOptions&) {
+  return runUniformWithGamma(samples, kPaperValueGamma);
+}
+
+MethodRun runHalfway(const SliceSet& slices, const MethodOptions& options) {
+  recon::HalfwayParams params;
+  params.isotropic = options.isotropic;
+  params.torusRule = options.torusRule;
+  recon::HalfwayReport report;
+  MethodRun run{recon::reconstructHalfway(slices, params, &report),
+                options.isotropic ? "halfway-isotropic" : "halfway",
+                {},
+                {},
+                {}};
+  run.details["treated_isotropic"] = report.treatedIsotropic;
+  run.details["axial_variation"] =
+      report.axialVariation ? nlohmann::json(*report.axialVariation) : nlohmann::json();
+  run.details["neighbours"] = params.neighbours;
+  const std::string variation =
+      report.axialVariation ? std::to_string(*report.axialVariation) : std::string("none");
+  run.lines.push_back(report.treatedIsotropic
+                          ? "isotropic (axial variation " + variation +
+                                "): Method B from 30 to 75 deg, halfway neighbours below 30 deg"
+                          : "anisotropic (axial variation " + variation +
+                                "): every unmeasured entry from its halfway neighbours");
+  if (report.treatedIsotropic && !report.methodB.allConverged())
+    run.warnings.push_back("some lobe fits did not converge; their closed form was used");
+  return run;
+}
+
 }  // namespace
 
 const std::vector<Method>& reconstructionMethods() {
@@ -40,6 +135,21 @@ const std::vector<Method>& reconstructionMethods() {
       {"b",
        "Method B of the paper (METHOD.md 4): slice-sum subspaces, lobe-weighted elevation blends",
        runMethodB},
+      {"a",
+       "Method A of the paper (METHOD.md 5): slice-sum subspaces, 4-D RBF in onion coordinates",
+       runMethodA},
+      {"uniform",
+       "the uniform baseline (METHOD.md 6.3): RBF over point samples, e.g. sample --uniform 13",
+       runUniform, Acquisition::UniformGrid13},
+      {"a-gamma",
+       "Method A interpolating v^(1/2.2), close to the paper's 8-bit sRGB data (METHOD.md 6.2)",
+       runMethodAGamma},
+      {"uniform-gamma", "the uniform baseline interpolating v^(1/2.2), as a-gamma", runUniformGamma,
+       Acquisition::UniformGrid13},
+      {"halfway",
+       "slicecap's improvement (README): unmeasured entries from the nearest measured ones in\n"
+       "halfway angle; for isotropic materials only where Method B extrapolates",
+       runHalfway},
   };
   return methods;
 }
@@ -56,6 +166,22 @@ std::string methodNames() {
   for (const Method& m : reconstructionMethods())
     names += (names.empty() ? "" : ", ") + m.name;
   return names;
+}
+
+std::string methodHelpLines() {
+  std::size_t width = 0;
+  for (const Method& m : reconstructionMethods())
+    width = std::max(width, m.name.size());
+  std::string lines;
+  for (const Method& m : reconstructionMethods()) {
+    std::string summary = m.summary;
+    // A summary's further lines start in the summaries' column.
+    for (std::size_t at = summary.find('\n'); at != std::string::npos;
+         at = summary.find('\n', at + 1))
+      summary.insert(at + 1, std::string(width + 4, ' '));
+    lines += "  " + m.name + std::string(width + 2 - m.name.size(), ' ') + summary + "\n";
+  }
+  return lines;
 }
 
 }  // namespace slicecap::cli

@@ -69,10 +69,12 @@ Command reconstructCommand() {
       "SLICES.csv holds the samples (slice,theta_i,phi_i,theta_v,phi_v,r,g,b); each sample "
       "belongs\n"
       "to the slice of its kind at its elevations rounded to the nearest Bonn ring (30 or 75).\n"
-      "Method b needs the axial and diagonal slices at 30/30, 30/75, 75/30, 75/75, or with\n"
-      "--isotropic only the four diagonal ones.\n\nmethods:\n";
-  for (const Method& m : reconstructionMethods())
-    description += "  " + m.name + "  " + m.summary + "\n";
+      "Methods b, a and halfway need the axial and diagonal slices at 30/30, 30/75, 75/30, 75/75, "
+      "or "
+      "with\n"
+      "--isotropic only the four diagonal ones; uniform takes point samples (sample --uniform).\n"
+      "\nmethods:\n";
+  description += methodHelpLines();
   return {
       {"reconstruct",
        "SLICES.csv -o OUT.exr [--method NAME] [--isotropic] [--torus square|pi-symmetric] [--json]",

@@ -1,4 +1,5 @@
 // `slicecap sample`: a full table -> its ideal slices as CSV (the simulated acquisition).
+#include <cmath>
 #include <filesystem>
 #include <ostream>
 
@@ -6,11 +7,31 @@
 #include "slicecap/io/slice_csv.hpp"
 #include "slicecap/io/table_file.hpp"
 #include "slicecap/recon/slice_extraction.hpp"
+#include "slicecap/recon/uniform_sampling.hpp"
 
 namespace slicecap::cli {
 namespace {
 
+// The uniform baseline's capture: N x N point samples at farthest-point grid directions.
+int runUniform(const ParsedArgs& args, Streams& io) {
+  for (const char* option : {"step", "diagonal-only", "lookup"}) {
+    if (args.value(option) || args.flag(option))
+      throw UsageError(std::string("sample: --uniform takes no --") + option);
+  }
+  const double count = *args.optionalNumber("uniform");
+  if (count != std::floor(count) || count < 1 || count > bonn::kDirectionCount)
+    throw UsageError("--uniform: the number of directions must be a whole number from 1 to 81");
+  const std::filesystem::path output = args.required("output");
+  const SliceSet samples =
+      recon::extractUniformSamples(io::readTable(args.positional[0]), static_cast<int>(count));
+  io::writeSliceCsv(output, samples);
+  io.out << "wrote " << samples.sampleCount() << " point samples (" << count << " light x " << count
+         << " view directions) to " << output.string() << "\n";
+  return 0;
+}
+
 int run(const ParsedArgs& args, Streams& io) {
+  if (args.value("uniform")) return runUniform(args, io);
   recon::ExtractionParams params;
   params.stepDeg = args.optionalNumber("step");
   params.diagonalOnly = args.flag("diagonal-only");
@@ -36,16 +57,22 @@ int run(const ParsedArgs& args, Streams& io) {
 
 Command sampleCommand() {
   return {{"sample",
-           "TABLE -o SLICES.csv [--step DEG] [--diagonal-only] [--lookup linear|nearest]",
+           "TABLE -o SLICES.csv [--step DEG] [--diagonal-only] [--lookup linear|nearest] | "
+           "TABLE -o SAMPLES.csv --uniform N",
            "Take the ideal slices of a full table (EXR or .f32), as a perfect capture would "
            "measure them.\n"
            "By default each slice has max(n(theta_i), n(theta_v)) samples (168 in all, METHOD.md "
            "2.2);\n"
-           "--step 15 gives 24 a slice (192, as the real rig records).",
+           "--step 15 gives 24 a slice (192, as the real rig records).\n"
+           "--uniform N takes the uniform baseline instead: N light x N view directions of the "
+           "grid,\n"
+           "spread by farthest-point selection from the pole (METHOD.md 6.3), as point samples\n"
+           "(N = 13: the paper's 169); reconstruct them with --method uniform.",
            {{"output", 'o', "SLICES.csv", "where to write the slice CSV (required)"},
             {"step", 0, "DEG", "slice step in degrees (must divide 360)"},
             {"diagonal-only", 0, "", "only the four diagonal slices (isotropic capture)"},
-            {"lookup", 0, "RULE", "linear (default) or nearest ring azimuth between grid points"}},
+            {"lookup", 0, "RULE", "linear (default) or nearest ring azimuth between grid points"},
+            {"uniform", 0, "N", "N x N point samples of the uniform baseline instead of slices"}},
            1,
            1},
           run};

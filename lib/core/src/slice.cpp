@@ -2,18 +2,28 @@
 #include "slicecap/core/slice.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "slicecap/core/angles.hpp"
 
 namespace slicecap {
 
 std::string_view toString(SliceKind kind) {
-  return kind == SliceKind::Axial ? "axial" : "diagonal";
+  switch (kind) {
+    case SliceKind::Axial:
+      return "axial";
+    case SliceKind::Diagonal:
+      return "diagonal";
+    case SliceKind::Point:
+      return "point";
+  }
+  return "unknown";
 }
 
 std::optional<SliceKind> parseSliceKind(std::string_view text) {
   if (text == "axial") return SliceKind::Axial;
   if (text == "diagonal") return SliceKind::Diagonal;
+  if (text == "point") return SliceKind::Point;
   return std::nullopt;
 }
 
@@ -23,10 +33,12 @@ std::string toString(const SliceId& id) {
 }
 
 double sliceParameterDeg(SliceKind kind, const SliceSample& sample) {
+  if (kind == SliceKind::Point) throw std::invalid_argument("a point sample lies on no slice");
   return wrapDeg360(kind == SliceKind::Axial ? sample.light.phiDeg : sample.view.phiDeg);
 }
 
 AzimuthPair slicePoint(SliceKind kind, double parameterDeg) {
+  if (kind == SliceKind::Point) throw std::invalid_argument("a point sample lies on no slice");
   if (kind == SliceKind::Axial) {
     return {wrapDeg360(parameterDeg), wrapDeg360(parameterDeg + kAxialOffsetDeg)};
   }

@@ -87,7 +87,8 @@ SliceSet parseSliceCsv(std::istream& in, const std::string& sourceName) {
     const std::string_view kindText = fields[columnOf[0]];
     const auto kind = parseSliceKind(kindText);
     if (!kind)
-      throw fail("unknown slice kind '" + std::string(kindText) + "' (expected axial or diagonal)");
+      throw fail("unknown slice kind '" + std::string(kindText) +
+                 "' (expected axial, diagonal or point)");
     std::array<double, 7> numbers{};
     for (std::size_t k = 1; k < kColumns.size(); ++k) {
       const std::string_view field = fields[columnOf[k]];

@@ -25,6 +25,8 @@ SliceCoordinates sliceCoordinates(double phiIDeg, double phiVDeg) {
 PeriodicSignal toSignal(const Slice& slice) {
   if (slice.samples.empty())
     throw ReconstructionError("slice " + toString(slice.id) + " has no samples");
+  if (slice.id.kind == SliceKind::Point)
+    throw ReconstructionError("point samples (" + toString(slice.id) + ") lie on no slice");
   std::vector<SignalPoint> points;
   points.reserve(slice.samples.size());
   for (const SliceSample& s : slice.samples)

@@ -21,6 +21,8 @@ struct Command {
   std::function<int(const ParsedArgs&, Streams&)> run;
 };
 
+Command evalCommand();
+Command previewCommand();
 Command reconstructCommand();
 Command sampleCommand();
 Command compareCommand();

@@ -27,12 +27,19 @@ struct MethodRun {
   nlohmann::json details;             ///< the same for --json
 };
 
+/// \brief What a method reconstructs from, so that `eval` can simulate its capture.
+enum class Acquisition {
+  Slices,         ///< the 8 slices, 168 samples (METHOD.md 2.2)
+  UniformGrid13,  ///< 13 light x 13 view directions, 169 point samples (METHOD.md 6.3)
+};
+
 /// \brief A named method: `run` throws (e.g. recon::ReconstructionError naming a missing slice)
 /// when the samples cannot give a table.
 struct Method {
   std::string name;
   std::string summary;
   std::function<MethodRun(const SliceSet&, const MethodOptions&)> run;
+  Acquisition acquisition = Acquisition::Slices;
 };
 
 /// \brief Every method, in the order --help lists them.
@@ -43,5 +50,8 @@ const Method& findMethod(const std::string& name);
 
 /// \brief "b, a, ..." for help texts.
 std::string methodNames();
+
+/// \brief One line per method, "  name     summary", names padded to one column, for --help.
+std::string methodHelpLines();
 
 }  // namespace slicecap::cli

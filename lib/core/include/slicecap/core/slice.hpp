@@ -15,14 +15,16 @@
 namespace slicecap {
 
 /// \brief Axial: camera and light keep phi_v = phi_i + 15 deg. Diagonal: phi_i = 360 - phi_v.
-enum class SliceKind { Axial, Diagonal };
+/// Point: a sample at its own light and view directions, on no slice (e.g. the uniform 13 x 13
+/// baseline of METHOD.md 6.3); such samples are grouped by their nominal elevation pair only.
+enum class SliceKind { Axial, Diagonal, Point };
 
 /// \brief The axial slice's azimuth offset alpha_A (the paper's alpha).
 inline constexpr double kAxialOffsetDeg = 15.0;
 
-/// \brief "axial" or "diagonal" (the spelling of the slice CSV).
+/// \brief "axial", "diagonal" or "point" (the spelling of the slice CSV).
 std::string_view toString(SliceKind kind);
-/// \brief The kind spelled exactly "axial" or "diagonal", or nullopt.
+/// \brief The kind spelled exactly "axial", "diagonal" or "point", or nullopt.
 std::optional<SliceKind> parseSliceKind(std::string_view text);
 
 /// \brief Nominal light and view elevations of a slice, whole degrees.
@@ -62,11 +64,11 @@ struct AzimuthPair {
 };
 
 /// \brief The slice parameter of a sample: its light azimuth on an axial slice, its view azimuth on
-/// a diagonal slice (METHOD.md 2.1), in [0, 360).
+/// a diagonal slice (METHOD.md 2.1), in [0, 360). Point samples have none (std::invalid_argument).
 double sliceParameterDeg(SliceKind kind, const SliceSample& sample);
 
 /// \brief The point of the slice line at a parameter: axial (x, x + 15), diagonal (360 - x, x),
-/// both wrapped to [0, 360).
+/// both wrapped to [0, 360). Point samples lie on no line (std::invalid_argument).
 AzimuthPair slicePoint(SliceKind kind, double parameterDeg);
 
 /// \brief One slice: its identity and its samples in capture order.

@@ -24,7 +24,7 @@ struct SliceCoordinates {
 SliceCoordinates sliceCoordinates(double phiIDeg, double phiVDeg);
 
 /// \brief A slice as a periodic signal of its parameter; throws ReconstructionError naming the
-/// slice when it has no samples or a non-finite one.
+/// slice when it has no samples, a non-finite one, or is a group of point samples.
 PeriodicSignal toSignal(const Slice& slice);
 
 /// \brief Eq. 2-4 with the resolved mapping and the normalisation of METHOD.md 3.3, per channel, on

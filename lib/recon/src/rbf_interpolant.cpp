@@ -1,0 +1,131 @@
+// The factored multiquadric system and its evaluation rows.
+#include "slicecap/recon/rbf_interpolant.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace slicecap::recon {
+namespace {
+
+double squaredDistance(const FeaturePoint& a, const FeaturePoint& b) {
+  double sum = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    sum += (a[k] - b[k]) * (a[k] - b[k]);
+  return sum;
+}
+
+}  // namespace
+
+bool RbfParams::isValid(std::string* error) const {
+  if (shapeRad && !(std::isfinite(*shapeRad) && *shapeRad > 0.0)) {
+    if (error) *error = "the RBF shape parameter r0 must be positive";
+    return false;
+  }
+  if (!(std::isfinite(valueGamma) && valueGamma > 0.0)) {
+    if (error) *error = "the RBF value gamma must be positive";
+    return false;
+  }
+  return true;
+}
+
+double toInterpolatedValue(double value, double valueGamma) {
+  const double v = std::max(0.0, value);
+  return valueGamma == 1.0 ? v : std::pow(v, 1.0 / valueGamma);
+}
+
+double fromInterpolatedValue(double interpolated, double valueGamma) {
+  const double v = std::max(0.0, interpolated);
+  return valueGamma == 1.0 ? v : std::pow(v, valueGamma);
+}
+
+double medianNearestNeighbourDistance(std::span<const FeaturePoint> points) {
+  if (points.size() < 2) return 0.0;
+  std::vector<double> nearest(points.size(), std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    for (std::size_t j = i + 1; j < points.size(); ++j) {
+      const double d = squaredDistance(points[i], points[j]);
+      nearest[i] = std::min(nearest[i], d);
+      nearest[j] = std::min(nearest[j], d);
+    }
+  }
+  const auto middle = nearest.begin() + nearest.size() / 2;
+  std::nth_element(nearest.begin(), middle, nearest.end());
+  return std::sqrt(*middle);
+}
+
+RbfInterpolant::RbfInterpolant(std::vector<FeaturePoint> centres, const RbfParams& params)
+    : centres_(std::move(centres)) {
+  std::string error;
+  if (!params.isValid(&error)) throw std::invalid_argument(error);
+  if (centres_.empty()) throw std::invalid_argument("RBF interpolation needs at least one centre");
+  const std::size_t n = centres_.size();
+  for (const FeaturePoint& c : centres_) {
+    if (!std::all_of(c.begin(), c.end(), [](double x) { return std::isfinite(x); }))
+      throw std::invalid_argument("RBF centre with a non-finite coordinate");
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) {
+      if (squaredDistance(centres_[i], centres_[j]) < 1e-18) {
+        throw std::invalid_argument("RBF centres " + std::to_string(i) + " and " +
+                                    std::to_string(j) + " coincide");
+      }
+    }
+  }
+  shapeRad_ = params.shapeRad.value_or(medianNearestNeighbourDistance(centres_));
+  // A single centre has no neighbour; any positive r0 gives the same (constant) interpolant.
+  if (!(shapeRad_ > 0.0)) shapeRad_ = 1.0;
+
+  Eigen::MatrixXd system(n + 1, n + 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i; j < n; ++j)
+      system(i, j) = system(j, i) = kernel(centres_[i], centres_[j]);
+    system(i, n) = system(n, i) = 1.0;
+  }
+  system(n, n) = 0.0;
+  lu_.compute(system);
+}
+
+double RbfInterpolant::kernel(const FeaturePoint& a, const FeaturePoint& b) const {
+  return std::sqrt(squaredDistance(a, b) + shapeRad_ * shapeRad_);
+}
+
+Eigen::MatrixXd RbfInterpolant::coefficients(const Eigen::MatrixXd& values) const {
+  const auto n = static_cast<Eigen::Index>(centres_.size());
+  if (values.rows() != n) {
+    throw std::invalid_argument("RBF values have " + std::to_string(values.rows()) + " rows for " +
+                                std::to_string(n) + " centres");
+  }
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n + 1, values.cols());
+  rhs.topRows(n) = values;
+  return lu_.solve(rhs);
+}
+
+Eigen::MatrixXf RbfInterpolant::evaluationMatrix(std::span<const FeaturePoint> points) const {
+  const auto n = static_cast<Eigen::Index>(centres_.size());
+  Eigen::MatrixXf rows(static_cast<Eigen::Index>(points.size()), n + 1);
+  for (std::size_t j = 0; j < points.size(); ++j) {
+    const auto row = static_cast<Eigen::Index>(j);
+    for (Eigen::Index i = 0; i < n; ++i)
+      rows(row, i) = static_cast<float>(kernel(points[j], centres_[i]));
+    rows(row, n) = 1.0f;
+  }
+  return rows;
+}
+
+double RbfInterpolant::evaluate(const Eigen::VectorXd& coefficients,
+                                const FeaturePoint& point) const {
+  const std::size_t n = centres_.size();
+  double value = coefficients(static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i)
+    value += coefficients(static_cast<Eigen::Index>(i)) * kernel(point, centres_[i]);
+  return value;
+}
+
+std::size_t RbfInterpolant::memoryBytes() const {
+  const std::size_t n = centres_.size() + 1;
+  return n * n * sizeof(double) + n * sizeof(int);
+}
+
+}  // namespace slicecap::recon

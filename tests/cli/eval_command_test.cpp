@@ -1,0 +1,106 @@
+// `slicecap eval` and `slicecap preview`: reports, sheets, progress, and failures that cost only
+// their own rows.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "../support/test_support.hpp"
+#include "slicecap/cli/cli.hpp"
+#include "slicecap/io/png_image.hpp"
+
+namespace slicecap::cli {
+namespace {
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+Result run(std::vector<std::string> args) {
+  std::ostringstream out, err;
+  const int code = runCli(args, out, err);
+  return {code, out.str(), err.str()};
+}
+
+std::vector<std::string> linesOf(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);)
+    lines.push_back(line);
+  return lines;
+}
+
+TEST(EvalCommand, WritesReportsAndASheetPerMaterial) {
+  const auto dir = test::freshTempDir();
+  const Result r = run({"eval", "satin-blue-45", "blue-plastic", "--methods", "b,uniform,halfway",
+                        "--out", dir.string()});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_NE(r.out.find("means over 2 materials"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("margin over the uniform baseline"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("eval 2/2 blue-plastic"), std::string::npos) << "progress: " << r.err;
+  EXPECT_EQ(linesOf(dir / "report.csv").size(), 1u + 2 * 3);
+  std::ifstream jsonFile(dir / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(jsonFile);
+  ASSERT_EQ(report["means"].size(), 3u);
+  EXPECT_EQ(report["means"][0]["method"], "b");
+  EXPECT_EQ(report["means"][0]["materials"], 2);
+  EXPECT_EQ(report["materials"][1]["samples"], 169) << "the uniform capture: 13 x 13 points";
+  for (const char* sheet : {"satin-blue-45.png", "blue-plastic.png"}) {
+    const io::PngImage png = io::readPng(dir / sheet);
+    EXPECT_EQ(png.channels, 3);
+    EXPECT_GT(png.width, 4 * 81) << "reference and three reconstructions side by side";
+  }
+}
+
+TEST(EvalCommand, JsonGoesToStdoutAndQuietSilencesProgress) {
+  const Result r = run({"eval", "matte-paint", "--methods", "b", "--json", "--quiet"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(r.out);
+  EXPECT_EQ(report["materials"][0]["material"], "matte-paint");
+  EXPECT_EQ(report["materials"][0]["delta_e"], 0.0) << "Lambertian: exact";
+}
+
+TEST(EvalCommand, ABadTableCostsOnlyItsOwnRows) {
+  const auto dir = test::freshTempDir();
+  const auto broken = dir / "broken.f32";
+  std::ofstream(broken) << "not a table";
+  const auto out = dir / "out";
+  const Result r = run({"eval", broken.string(), "matte-paint", "--methods", "b", "--out",
+                        out.string(), "--no-sheets"});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_NE(r.err.find("broken.f32"), std::string::npos) << r.err;
+  const std::vector<std::string> csv = linesOf(out / "report.csv");
+  ASSERT_EQ(csv.size(), 2u);
+  EXPECT_EQ(csv[1].rfind("matte-paint,b,", 0), 0u) << csv[1];
+  EXPECT_FALSE(std::filesystem::exists(out / "matte-paint.png")) << "--no-sheets";
+}
+
+TEST(EvalCommand, BadArgumentsAreUsageErrorsOrNamed) {
+  EXPECT_EQ(run({"eval"}).code, kExitUsage);
+  Result r = run({"eval", "matte-paint", "--methods", "b,zz"});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_NE(r.err.find("'zz'"), std::string::npos) << r.err;
+  EXPECT_EQ(run({"eval", "matte-paint", "--methods", "b,b"}).code, kExitUsage);
+  r = run({"eval", "no-such-material"});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_NE(r.err.find("no-such-material"), std::string::npos) << r.err;
+  const Result help = run({"eval", "--help"});
+  EXPECT_NE(help.out.find("halfway"), std::string::npos) << "every registered method is listed";
+}
+
+TEST(PreviewCommand, WritesALayoutAndSpheres) {
+  const auto dir = test::freshTempDir();
+  const auto png = dir / "satin.png";
+  const Result r = run({"preview", "satin-red-90", "-o", png.string()});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  const io::PngImage image = io::readPng(png);
+  EXPECT_GT(image.width, 81 * 3);
+  EXPECT_EQ(run({"preview", "satin-red-90", "-o", (dir / "x.jpg").string()}).code, kExitUsage);
+  EXPECT_EQ(run({"preview", "satin-red-90"}).code, kExitUsage) << "-o is required";
+}
+
+}  // namespace
+}  // namespace slicecap::cli

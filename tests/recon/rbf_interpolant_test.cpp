@@ -1,0 +1,81 @@
+// The RBF interpolant: exact at its centres, exact for constants, checked inputs.
+#include "slicecap/recon/rbf_interpolant.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace slicecap::recon {
+namespace {
+
+std::vector<FeaturePoint> randomPoints(int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  std::vector<FeaturePoint> points(count);
+  for (FeaturePoint& p : points) {
+    for (double& x : p)
+      x = u(rng);
+  }
+  return points;
+}
+
+TEST(RbfInterpolant, ReproducesTheValuesAtItsCentres) {
+  const std::vector<FeaturePoint> centres = randomPoints(60, 1);
+  const RbfInterpolant rbf(centres);
+  Eigen::MatrixXd values(60, 2);
+  for (int i = 0; i < 60; ++i) {
+    values(i, 0) = std::sin(centres[i][0]) + centres[i][3];
+    values(i, 1) = std::exp(-centres[i][1] * centres[i][1]);
+  }
+  const Eigen::MatrixXd coefficients = rbf.coefficients(values);
+  ASSERT_EQ(coefficients.rows(), 61);
+  for (int i = 0; i < 60; ++i) {
+    EXPECT_NEAR(rbf.evaluate(coefficients.col(0), centres[i]), values(i, 0), 1e-9);
+    EXPECT_NEAR(rbf.evaluate(coefficients.col(1), centres[i]), values(i, 1), 1e-9);
+  }
+}
+
+TEST(RbfInterpolant, ReproducesAConstantEverywhere) {
+  const RbfInterpolant rbf(randomPoints(40, 2));
+  const Eigen::MatrixXd coefficients = rbf.coefficients(Eigen::MatrixXd::Constant(40, 1, 0.7));
+  for (const FeaturePoint& p : randomPoints(20, 3))
+    EXPECT_NEAR(rbf.evaluate(coefficients.col(0), p), 0.7, 1e-9);
+}
+
+TEST(RbfInterpolant, EvaluationMatrixMatchesPointEvaluation) {
+  const RbfInterpolant rbf(randomPoints(50, 4));
+  Eigen::MatrixXd values = Eigen::MatrixXd::Random(50, 3);
+  const Eigen::MatrixXd coefficients = rbf.coefficients(values);
+  const std::vector<FeaturePoint> points = randomPoints(30, 5);
+  const Eigen::MatrixXf rows = rbf.evaluationMatrix(points);
+  ASSERT_EQ(rows.rows(), 30);
+  ASSERT_EQ(rows.cols(), 51);
+  const Eigen::MatrixXd product = rows.cast<double>() * coefficients;
+  for (int j = 0; j < 30; ++j) {
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(product(j, c), rbf.evaluate(coefficients.col(c), points[j]), 1e-3);
+  }
+}
+
+TEST(RbfInterpolant, ShapeDefaultsToTheMedianNearestNeighbourDistance) {
+  // Points on a line, 0.1 apart except one gap of 0.5: the median nearest distance is 0.1.
+  std::vector<FeaturePoint> points;
+  for (double x : {0.0, 0.1, 0.2, 0.3, 0.8})
+    points.push_back({x, 0, 0, 0});
+  EXPECT_NEAR(medianNearestNeighbourDistance(points), 0.1, 1e-12);
+  EXPECT_NEAR(RbfInterpolant(points).shapeRad(), 0.1, 1e-12);
+  EXPECT_DOUBLE_EQ(RbfInterpolant(points, {0.3}).shapeRad(), 0.3);
+}
+
+TEST(RbfInterpolant, RejectsInputsThatGiveNoInterpolant) {
+  EXPECT_THROW(RbfInterpolant({}), std::invalid_argument);
+  EXPECT_THROW(RbfInterpolant({{0, 0, 0, 0}, {0, 0, 0, 0}}), std::invalid_argument);
+  EXPECT_THROW(RbfInterpolant({{0, 0, 0, NAN}}), std::invalid_argument);
+  EXPECT_THROW(RbfInterpolant(randomPoints(3, 6), {-1.0}), std::invalid_argument);
+  const RbfInterpolant rbf(randomPoints(3, 7));
+  EXPECT_THROW(rbf.coefficients(Eigen::MatrixXd::Zero(4, 1)), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace slicecap::recon
