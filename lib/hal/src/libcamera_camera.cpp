@@ -1,0 +1,385 @@
+// libcamera capture: one shared CameraManager, locked controls, mapped dmabufs, and completed
+// requests handed from libcamera's thread to the caller through an eventfd.
+#include "slicecap/hal/libcamera_camera.hpp"
+
+#include <libcamera/camera_manager.h>
+#include <libcamera/control_ids.h>
+#include <libcamera/formats.h>
+#include <libcamera/framebuffer_allocator.h>
+#include <libcamera/request.h>
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <deque>
+#include <map>
+#include <mutex>
+
+#include "libcamera_compat.hpp"
+#include "slicecap/hal/raw_frame.hpp"
+
+namespace slicecap::hal {
+namespace {
+
+// The manager and its users, counted under one lock: a new manager is made only after the last
+// user has destroyed the old one (a weak_ptr would expire before its deleter finished, and a
+// second manager made in that moment aborts the process).
+std::mutex managerMutex;
+libcamera::CameraManager* managerInstance = nullptr;
+std::size_t managerUsers = 0;
+
+void releaseCameraManager(libcamera::CameraManager*) {
+  const std::lock_guard lock(managerMutex);
+  if (--managerUsers > 0) return;
+  managerInstance->stop();
+  delete managerInstance;
+  managerInstance = nullptr;
+}
+
+/// The process's one CameraManager, alive while any camera (or listing) holds it.
+std::shared_ptr<libcamera::CameraManager> sharedCameraManager() {
+  const std::lock_guard lock(managerMutex);
+  if (managerInstance == nullptr) {
+    auto manager = std::make_unique<libcamera::CameraManager>();
+    if (const int result = manager->start(); result != 0)
+      throw CameraError(std::string("libcamera: cannot start the camera manager: ") +
+                        std::strerror(-result));
+    managerInstance = manager.release();
+  }
+  ++managerUsers;
+  return std::shared_ptr<libcamera::CameraManager>(managerInstance, releaseCameraManager);
+}
+
+struct FormatChoice {
+  libcamera::PixelFormat format;
+  RawLayout layout;
+};
+
+/// libcamera names formats by DRM fourcc (little-endian words): RGB888 is B,G,R in memory.
+const FormatChoice kFormats[] = {{libcamera::formats::YUYV, RawLayout::Yuyv},
+                                 {libcamera::formats::BGR888, RawLayout::Rgb24},
+                                 {libcamera::formats::RGB888, RawLayout::Bgr24},
+                                 {libcamera::formats::XRGB8888, RawLayout::Bgrx32},
+                                 {libcamera::formats::YUV420, RawLayout::Yuv420}};
+
+std::optional<RawLayout> layoutOf(const libcamera::PixelFormat& format) {
+  for (const FormatChoice& choice : kFormats)
+    if (choice.format == format) return choice.layout;
+  return std::nullopt;
+}
+
+struct Mapping {
+  void* start = MAP_FAILED;
+  std::size_t length = 0;
+};
+
+}  // namespace
+
+std::vector<std::string> listLibcameraCameras() {
+  const std::shared_ptr<libcamera::CameraManager> manager = sharedCameraManager();
+  std::vector<std::string> ids;
+  for (const std::shared_ptr<libcamera::Camera>& camera : manager->cameras())
+    ids.push_back(camera->id());
+  return ids;
+}
+
+struct LibcameraCamera::State {
+  // Declared first so it is destroyed last: cameras must go before their manager.
+  std::shared_ptr<libcamera::CameraManager> manager;
+  std::shared_ptr<libcamera::Camera> camera;
+  bool acquired = false;
+  std::unique_ptr<libcamera::CameraConfiguration> configuration;
+  std::unique_ptr<libcamera::FrameBufferAllocator> allocator;
+  std::vector<std::unique_ptr<libcamera::Request>> requests;
+  std::vector<Mapping> mappings;
+  std::map<const libcamera::FrameBuffer*, std::vector<std::span<const std::uint8_t>>> planes;
+  CameraConfig config;
+  RawLayout layout = RawLayout::Yuyv;
+  std::size_t strideBytes = 0;
+  bool configured = false;
+  bool streaming = false;
+  std::optional<std::uint32_t> firstSequence;
+  int readyFd = -1;
+  std::mutex completedMutex;
+  std::deque<libcamera::Request*> completed;
+
+  // Runs on libcamera's thread.
+  void onRequestCompleted(libcamera::Request* request) {
+    if (request->status() == libcamera::Request::RequestCancelled) return;
+    {
+      const std::lock_guard lock(completedMutex);
+      completed.push_back(request);
+    }
+    const std::uint64_t one = 1;
+    [[maybe_unused]] const ssize_t written = ::write(readyFd, &one, sizeof one);
+  }
+
+  std::string name() const { return "camera " + camera->id(); }
+
+  [[noreturn]] void fail(const std::string& what, int negativeErrno) const {
+    throw CameraError(name() + ": " + what + ": " + std::strerror(-negativeErrno));
+  }
+
+  void mapBuffers(libcamera::Stream* stream) {
+    std::map<int, Mapping> byDescriptor;
+    for (const std::unique_ptr<libcamera::FrameBuffer>& buffer : allocator->buffers(stream)) {
+      std::vector<std::span<const std::uint8_t>> spans;
+      for (const libcamera::FrameBuffer::Plane& plane : buffer->planes()) {
+        const int fd = plane.fd.get();
+        auto found = byDescriptor.find(fd);
+        if (found == byDescriptor.end()) {
+          Mapping mapping;
+          mapping.length = static_cast<std::size_t>(::lseek(fd, 0, SEEK_END));
+          mapping.start = ::mmap(nullptr, mapping.length, PROT_READ, MAP_SHARED, fd, 0);
+          if (mapping.start == MAP_FAILED) fail("cannot map a frame buffer", -errno);
+          mappings.push_back(mapping);
+          found = byDescriptor.emplace(fd, mapping).first;
+        }
+        const std::size_t offset =
+            plane.offset == libcamera::FrameBuffer::Plane::kInvalidOffset ? 0 : plane.offset;
+        if (offset + plane.length > found->second.length)
+          throw CameraError(name() + ": a buffer plane lies outside its dmabuf");
+        spans.emplace_back(static_cast<const std::uint8_t*>(found->second.start) + offset,
+                           plane.length);
+      }
+      planes[buffer.get()] = std::move(spans);
+    }
+  }
+
+  void unmapBuffers() {
+    for (const Mapping& mapping : mappings) ::munmap(mapping.start, mapping.length);
+    mappings.clear();
+    planes.clear();
+  }
+
+  RawFrameView viewOf(const libcamera::FrameBuffer& buffer) const {
+    const std::vector<std::span<const std::uint8_t>>& spans = planes.at(&buffer);
+    RawFrameView raw;
+    raw.layout = layout;
+    raw.widthPx = config.widthPx;
+    raw.heightPx = config.heightPx;
+    raw.strideBytes[0] = strideBytes;
+    if (layout == RawLayout::Yuv420) {
+      const std::size_t chromaStride = strideBytes / 2;
+      const std::size_t lumaBytes = strideBytes * std::size_t(config.heightPx);
+      const std::size_t chromaBytes = chromaStride * std::size_t((config.heightPx + 1) / 2);
+      raw.strideBytes[1] = raw.strideBytes[2] = chromaStride;
+      if (spans.size() >= 3) {
+        for (int plane = 0; plane < 3; ++plane) raw.planes[plane] = spans[plane];
+      } else if (!spans.empty() && spans[0].size() >= lumaBytes + 2 * chromaBytes) {
+        raw.planes[0] = spans[0].subspan(0, lumaBytes);
+        raw.planes[1] = spans[0].subspan(lumaBytes, chromaBytes);
+        raw.planes[2] = spans[0].subspan(lumaBytes + chromaBytes, chromaBytes);
+      }
+    } else if (!spans.empty()) {
+      raw.planes[0] = spans[0];
+    }
+    return raw;
+  }
+};
+
+LibcameraCamera::LibcameraCamera(const std::string& cameraId) : state_(std::make_unique<State>()) {
+  state_->manager = sharedCameraManager();
+  if (cameraId.empty()) {
+    const std::vector<std::shared_ptr<libcamera::Camera>> cameras = state_->manager->cameras();
+    if (cameras.empty())
+      throw CameraError("libcamera: no camera found (is the camera connected and enabled in "
+                        "config.txt? `cam --list` lists what libcamera sees)");
+    state_->camera = cameras.front();
+  } else {
+    state_->camera = state_->manager->get(cameraId);
+    if (!state_->camera)
+      throw CameraError("libcamera: no camera with id '" + cameraId + "'");
+  }
+  if (const int result = state_->camera->acquire(); result != 0)
+    state_->fail("cannot acquire it (in use by another program?)", result);
+  state_->acquired = true;
+  state_->readyFd = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK | EFD_SEMAPHORE);
+  if (state_->readyFd < 0) state_->fail("cannot create an eventfd", -errno);
+}
+
+LibcameraCamera::~LibcameraCamera() {
+  stop();
+  if (state_->acquired) state_->camera->release();
+  state_->configuration.reset();
+  state_->camera.reset();
+  if (state_->readyFd >= 0) ::close(state_->readyFd);
+}
+
+std::string LibcameraCamera::id() const { return state_->camera->id(); }
+
+ConfigResult LibcameraCamera::configure(CameraConfig& config) {
+  if (state_->streaming) throw std::logic_error("LibcameraCamera::configure while streaming");
+  state_->configuration = libcamera_compat::generateConfiguration(
+      *state_->camera, libcamera::StreamRole::VideoRecording);
+  if (!state_->configuration || state_->configuration->empty())
+    return {ConfigResult::Status::Invalid, state_->name() + " offers no video stream"};
+  libcamera::StreamConfiguration& stream = state_->configuration->at(0);
+  const std::vector<libcamera::PixelFormat> offered = stream.formats().pixelformats();
+  std::optional<libcamera::PixelFormat> chosen;
+  for (const FormatChoice& choice : kFormats) {
+    if (std::find(offered.begin(), offered.end(), choice.format) != offered.end()) {
+      chosen = choice.format;
+      break;
+    }
+  }
+  if (!chosen)
+    return {ConfigResult::Status::Invalid,
+            state_->name() + " offers none of YUYV, BGR888, RGB888, XRGB8888, YUV420"};
+  stream.pixelFormat = *chosen;
+  stream.size = libcamera::Size(static_cast<unsigned>(config.widthPx),
+                                static_cast<unsigned>(config.heightPx));
+  stream.bufferCount = static_cast<unsigned>(std::max(config.bufferCount, 2));
+  libcamera_compat::keepSensorOrientation(*state_->configuration);
+
+  std::vector<std::string> adjustments;
+  switch (state_->configuration->validate()) {
+    case libcamera::CameraConfiguration::Invalid:
+      return {ConfigResult::Status::Invalid,
+              state_->name() + " cannot deliver " + stream.toString()};
+    case libcamera::CameraConfiguration::Adjusted:
+      adjustments.push_back("libcamera adjusted the stream to " + stream.toString());
+      break;
+    case libcamera::CameraConfiguration::Valid:
+      break;
+  }
+  const std::optional<RawLayout> layout = layoutOf(stream.pixelFormat);
+  if (!layout)
+    return {ConfigResult::Status::Invalid,
+            state_->name() + " changed the format to " + stream.pixelFormat.toString() +
+                ", which slicecap cannot read"};
+  if (const int result = state_->camera->configure(state_->configuration.get()); result != 0)
+    state_->fail("cannot apply the configuration " + stream.toString(), result);
+
+  config.widthPx = static_cast<int>(stream.size.width);
+  config.heightPx = static_cast<int>(stream.size.height);
+  config.bufferCount = static_cast<int>(stream.bufferCount);
+  if (config.encoding != PixelEncoding::Srgb8) {
+    adjustments.push_back("encoding linear16 -> srgb8 (processed streams are 8-bit)");
+    config.encoding = PixelEncoding::Srgb8;
+  }
+  state_->layout = *layout;
+  state_->strideBytes = stream.stride;
+  state_->config = config;
+  state_->configured = true;
+  if (adjustments.empty()) return {ConfigResult::Status::Valid, ""};
+  std::string reason;
+  for (const std::string& adjustment : adjustments) reason += (reason.empty() ? "" : "; ") + adjustment;
+  return {ConfigResult::Status::Adjusted, reason};
+}
+
+void LibcameraCamera::start() {
+  if (!state_->configured) throw std::logic_error("LibcameraCamera::start before configure");
+  if (state_->streaming) return;
+  libcamera::Stream* stream = state_->configuration->at(0).stream();
+  state_->allocator = std::make_unique<libcamera::FrameBufferAllocator>(state_->camera);
+  if (const int result = state_->allocator->allocate(stream); result < 0)
+    state_->fail("cannot allocate frame buffers", result);
+  state_->mapBuffers(stream);
+  for (const std::unique_ptr<libcamera::FrameBuffer>& buffer : state_->allocator->buffers(stream)) {
+    std::unique_ptr<libcamera::Request> request = state_->camera->createRequest();
+    if (!request) throw CameraError(state_->name() + ": cannot create a request");
+    if (const int result = request->addBuffer(stream, buffer.get()); result != 0)
+      state_->fail("cannot attach a buffer to a request", result);
+    state_->requests.push_back(std::move(request));
+  }
+
+  // Locked for the whole sweep: the capture relates frames to each other and to the white
+  // reference, which a drifting auto exposure or white balance would break.
+  libcamera::ControlList controls;
+  controls.set(libcamera::controls::AwbEnable, false);
+  if (state_->config.exposureUs || state_->config.gain) {
+    controls.set(libcamera::controls::AeEnable, false);
+    if (state_->config.exposureUs)
+      controls.set(libcamera::controls::ExposureTime,
+                   static_cast<std::int32_t>(*state_->config.exposureUs));
+    if (state_->config.gain)
+      controls.set(libcamera::controls::AnalogueGain, static_cast<float>(*state_->config.gain));
+  }
+  state_->camera->requestCompleted.connect(state_.get(), &State::onRequestCompleted);
+  if (const int result = state_->camera->start(&controls); result != 0) {
+    state_->camera->requestCompleted.disconnect(state_.get());
+    state_->fail("cannot start", result);
+  }
+  state_->streaming = true;
+  state_->firstSequence.reset();
+  for (const std::unique_ptr<libcamera::Request>& request : state_->requests)
+    if (const int result = state_->camera->queueRequest(request.get()); result != 0) {
+      stop();
+      state_->fail("cannot queue a request", result);
+    }
+}
+
+void LibcameraCamera::stop() {
+  if (!state_->streaming) return;
+  state_->camera->stop();  // completes every pending request as cancelled, synchronously
+  state_->camera->requestCompleted.disconnect(state_.get());
+  state_->streaming = false;
+  {
+    const std::lock_guard lock(state_->completedMutex);
+    state_->completed.clear();
+  }
+  std::uint64_t drained = 0;
+  while (::read(state_->readyFd, &drained, sizeof drained) > 0) {
+  }
+  state_->requests.clear();
+  state_->unmapBuffers();
+  state_->allocator.reset();
+}
+
+std::optional<int> LibcameraCamera::readyDescriptor() const { return state_->readyFd; }
+
+CaptureResult LibcameraCamera::nextFrame(std::chrono::milliseconds timeout) {
+  if (!state_->streaming) throw std::logic_error("LibcameraCamera::nextFrame before start");
+  pollfd ready{state_->readyFd, POLLIN, 0};
+  if (::poll(&ready, 1, static_cast<int>(timeout.count())) <= 0)
+    return {CaptureResult::Status::Timeout, std::nullopt, ""};
+  std::uint64_t count = 0;
+  if (::read(state_->readyFd, &count, sizeof count) <= 0)
+    return {CaptureResult::Status::Timeout, std::nullopt, ""};
+  libcamera::Request* request = nullptr;
+  {
+    const std::lock_guard lock(state_->completedMutex);
+    if (state_->completed.empty()) return {CaptureResult::Status::Timeout, std::nullopt, ""};
+    request = state_->completed.front();
+    state_->completed.pop_front();
+  }
+  // The request goes back to the camera whatever happens to its frame below.
+  struct Requeue {
+    State& state;
+    libcamera::Request* request;
+    ~Requeue() {
+      request->reuse(libcamera::Request::ReuseBuffers);
+      if (state.streaming) state.camera->queueRequest(request);
+    }
+  } requeue{*state_, request};
+
+  const libcamera::FrameBuffer* buffer = request->buffers().begin()->second;
+  const libcamera::FrameMetadata& metadata = buffer->metadata();
+  if (metadata.status != libcamera::FrameMetadata::FrameSuccess)
+    return {CaptureResult::Status::Error, std::nullopt,
+            state_->name() + ": frame " + std::to_string(metadata.sequence) + " failed"};
+  Frame frame;
+  try {
+    frame.image = toImage(state_->viewOf(*buffer));
+  } catch (const RawFrameError& error) {
+    return {CaptureResult::Status::Error, std::nullopt,
+            state_->name() + ": frame " + std::to_string(metadata.sequence) + ": " + error.what()};
+  }
+  if (!state_->firstSequence) state_->firstSequence = metadata.sequence;
+  frame.encoding = PixelEncoding::Srgb8;
+  frame.metadata.sequence = metadata.sequence - *state_->firstSequence;
+  frame.metadata.timestampUs = static_cast<std::int64_t>(metadata.timestamp / 1000);
+  const libcamera::ControlList& reported = request->metadata();
+  frame.metadata.exposureUs = reported.get(libcamera::controls::ExposureTime)
+                                  .value_or(state_->config.exposureUs.value_or(0.0));
+  frame.metadata.gain = double(reported.get(libcamera::controls::AnalogueGain).value_or(1.0f)) *
+                        double(reported.get(libcamera::controls::DigitalGain).value_or(1.0f));
+  return {CaptureResult::Status::Frame, std::move(frame), ""};
+}
+
+}  // namespace slicecap::hal

@@ -1,0 +1,368 @@
+// V4L2 capture: format negotiation, manual controls, mmap buffers, poll-driven dequeue.
+#include "slicecap/hal/v4l2_camera.hpp"
+
+#include <fcntl.h>
+#include <linux/videodev2.h>
+#include <poll.h>
+#include <sys/ioctl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "slicecap/hal/raw_frame.hpp"
+
+namespace slicecap::hal {
+namespace {
+
+int retryIoctl(int fd, unsigned long request, void* argument) {
+  int result = 0;
+  do {
+    result = ::ioctl(fd, request, argument);
+  } while (result == -1 && errno == EINTR);
+  return result;
+}
+
+struct FormatChoice {
+  std::uint32_t fourcc;
+  RawLayout layout;
+};
+
+/// The formats slicecap takes, best first for each encoding. Compressed formats are left out on
+/// purpose: JPEG's quantisation would be part of every measured value.
+std::vector<FormatChoice> preferredFormats(PixelEncoding encoding) {
+  std::vector<FormatChoice> formats = {{V4L2_PIX_FMT_YUYV, RawLayout::Yuyv},
+                                       {V4L2_PIX_FMT_RGB24, RawLayout::Rgb24},
+                                       {V4L2_PIX_FMT_BGR24, RawLayout::Bgr24},
+                                       {V4L2_PIX_FMT_YUV420, RawLayout::Yuv420},
+                                       {V4L2_PIX_FMT_GREY, RawLayout::Grey8}};
+  const FormatChoice y16{V4L2_PIX_FMT_Y16, RawLayout::Y16};
+  if (encoding == PixelEncoding::Linear16)
+    formats.insert(formats.begin(), y16);
+  else
+    formats.push_back(y16);
+  return formats;
+}
+
+std::string fourccText(std::uint32_t fourcc) {
+  std::string text(4, ' ');
+  for (int i = 0; i < 4; ++i) text[i] = static_cast<char>((fourcc >> (8 * i)) & 0xff);
+  return text;
+}
+
+struct MappedBuffer {
+  void* start = MAP_FAILED;
+  std::size_t length = 0;
+};
+
+}  // namespace
+
+struct V4l2Camera::State {
+  std::string device;
+  std::string card;
+  int fd = -1;
+  bool configured = false;
+  bool streaming = false;
+  CameraConfig config;
+  RawLayout layout = RawLayout::Yuyv;
+  std::size_t strideBytes = 0;
+  std::size_t imageBytes = 0;
+  std::vector<MappedBuffer> buffers;
+  std::optional<std::uint32_t> firstSequence;
+
+  [[noreturn]] void fail(const std::string& what, int error) const {
+    throw CameraError(device + ": " + what + ": " + std::strerror(error));
+  }
+
+  std::optional<v4l2_queryctrl> queryControl(std::uint32_t id) const {
+    v4l2_queryctrl query{};
+    query.id = id;
+    if (retryIoctl(fd, VIDIOC_QUERYCTRL, &query) != 0) return std::nullopt;
+    if ((query.flags & V4L2_CTRL_FLAG_DISABLED) != 0) return std::nullopt;
+    return query;
+  }
+
+  bool setControl(std::uint32_t id, std::int32_t value) const {
+    v4l2_control control{};
+    control.id = id;
+    control.value = value;
+    return retryIoctl(fd, VIDIOC_S_CTRL, &control) == 0;
+  }
+
+  /// Sets a control to `wanted` clamped and stepped to its range; returns the value set, or
+  /// nullopt when the device lacks the control or refuses it.
+  std::optional<std::int32_t> setRangedControl(std::uint32_t id, double wanted) const {
+    const std::optional<v4l2_queryctrl> query = queryControl(id);
+    if (!query) return std::nullopt;
+    const double step = query->step > 0 ? query->step : 1;
+    double value = std::round((wanted - query->minimum) / step) * step + query->minimum;
+    value = std::min<double>(std::max<double>(value, query->minimum), query->maximum);
+    const auto set = static_cast<std::int32_t>(value);
+    if (!setControl(id, set)) return std::nullopt;
+    return set;
+  }
+
+  void releaseBuffers() {
+    for (MappedBuffer& buffer : buffers)
+      if (buffer.start != MAP_FAILED) ::munmap(buffer.start, buffer.length);
+    buffers.clear();
+    v4l2_requestbuffers request{};
+    request.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    request.memory = V4L2_MEMORY_MMAP;
+    request.count = 0;
+    retryIoctl(fd, VIDIOC_REQBUFS, &request);
+  }
+};
+
+V4l2Camera::V4l2Camera(const std::filesystem::path& device) : state_(std::make_unique<State>()) {
+  state_->device = device.string();
+  state_->fd = ::open(device.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
+  if (state_->fd < 0) state_->fail("cannot open the camera", errno);
+  v4l2_capability capability{};
+  if (retryIoctl(state_->fd, VIDIOC_QUERYCAP, &capability) != 0) {
+    const int error = errno;
+    ::close(state_->fd);
+    state_->fail("not a V4L2 device", error);
+  }
+  const std::uint32_t caps = (capability.capabilities & V4L2_CAP_DEVICE_CAPS) != 0
+                                 ? capability.device_caps
+                                 : capability.capabilities;
+  state_->card = reinterpret_cast<const char*>(capability.card);
+  if ((caps & V4L2_CAP_VIDEO_CAPTURE) == 0 || (caps & V4L2_CAP_STREAMING) == 0) {
+    ::close(state_->fd);
+    throw CameraError(state_->device + " (" + state_->card +
+                      "): not a single-planar video capture device with streaming I/O");
+  }
+}
+
+V4l2Camera::~V4l2Camera() {
+  if (state_->streaming) {
+    int type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    retryIoctl(state_->fd, VIDIOC_STREAMOFF, &type);
+  }
+  state_->releaseBuffers();
+  ::close(state_->fd);
+}
+
+std::string V4l2Camera::id() const { return state_->device + " (" + state_->card + ")"; }
+
+ConfigResult V4l2Camera::configure(CameraConfig& config) {
+  if (state_->streaming) throw std::logic_error("V4l2Camera::configure while streaming");
+  std::vector<std::uint32_t> offered;
+  v4l2_fmtdesc description{};
+  description.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  while (retryIoctl(state_->fd, VIDIOC_ENUM_FMT, &description) == 0) {
+    offered.push_back(description.pixelformat);
+    ++description.index;
+  }
+  std::optional<FormatChoice> chosen;
+  for (const FormatChoice& candidate : preferredFormats(config.encoding)) {
+    if (std::find(offered.begin(), offered.end(), candidate.fourcc) != offered.end()) {
+      chosen = candidate;
+      break;
+    }
+  }
+  if (!chosen) {
+    std::string list;
+    for (std::uint32_t fourcc : offered) list += (list.empty() ? "" : ", ") + fourccText(fourcc);
+    return {ConfigResult::Status::Invalid,
+            "no uncompressed format slicecap can read (the camera offers: " +
+                (list.empty() ? std::string("none") : list) + ")"};
+  }
+
+  std::vector<std::string> adjustments;
+  v4l2_format format{};
+  format.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  format.fmt.pix.width = static_cast<std::uint32_t>(config.widthPx);
+  format.fmt.pix.height = static_cast<std::uint32_t>(config.heightPx);
+  format.fmt.pix.pixelformat = chosen->fourcc;
+  format.fmt.pix.field = V4L2_FIELD_NONE;
+  if (retryIoctl(state_->fd, VIDIOC_S_FMT, &format) != 0) state_->fail("cannot set the format", errno);
+  if (format.fmt.pix.pixelformat != chosen->fourcc)
+    return {ConfigResult::Status::Invalid,
+            "the driver replaced " + fourccText(chosen->fourcc) + " by " +
+                fourccText(format.fmt.pix.pixelformat)};
+  if (int(format.fmt.pix.width) != config.widthPx || int(format.fmt.pix.height) != config.heightPx) {
+    adjustments.push_back("size " + std::to_string(config.widthPx) + "x" +
+                          std::to_string(config.heightPx) + " -> " +
+                          std::to_string(format.fmt.pix.width) + "x" +
+                          std::to_string(format.fmt.pix.height));
+    config.widthPx = int(format.fmt.pix.width);
+    config.heightPx = int(format.fmt.pix.height);
+  }
+  if (encodingOf(chosen->layout) != config.encoding) {
+    adjustments.push_back(std::string("encoding ") + std::string(toString(config.encoding)) +
+                          " -> " + std::string(toString(encodingOf(chosen->layout))));
+    config.encoding = encodingOf(chosen->layout);
+  }
+  state_->layout = chosen->layout;
+  state_->strideBytes = format.fmt.pix.bytesperline != 0
+                            ? format.fmt.pix.bytesperline
+                            : minimalStrideBytes(chosen->layout, config.widthPx, 0);
+  state_->imageBytes = format.fmt.pix.sizeimage;
+
+  // Locked white balance and gain control, then exposure: a sweep's frames must be comparable.
+  state_->setControl(V4L2_CID_AUTO_WHITE_BALANCE, 0);
+  if (config.exposureUs) {
+    state_->setControl(V4L2_CID_EXPOSURE_AUTO, V4L2_EXPOSURE_MANUAL);
+    const std::optional<std::int32_t> set =
+        state_->setRangedControl(V4L2_CID_EXPOSURE_ABSOLUTE, *config.exposureUs / 100.0);
+    if (!set) {
+      adjustments.push_back("no manual exposure: left to the camera");
+      config.exposureUs.reset();
+    } else if (std::abs(*set * 100.0 - *config.exposureUs) > 1e-6) {
+      adjustments.push_back("exposure " + std::to_string(*config.exposureUs) + " us -> " +
+                            std::to_string(*set * 100) + " us");
+      config.exposureUs = *set * 100.0;
+    }
+  }
+  if (config.gain) {
+    state_->setControl(V4L2_CID_AUTOGAIN, 0);
+    const std::optional<std::int32_t> set = state_->setRangedControl(V4L2_CID_GAIN, *config.gain);
+    if (!set) {
+      adjustments.push_back("no manual gain: left to the camera");
+      config.gain.reset();
+    } else if (*set != *config.gain) {
+      adjustments.push_back("gain " + std::to_string(*config.gain) + " -> " + std::to_string(*set));
+      config.gain = *set;
+    }
+  }
+  config.bufferCount = std::max(config.bufferCount, 2);
+  state_->config = config;
+  state_->configured = true;
+  if (adjustments.empty()) return {ConfigResult::Status::Valid, ""};
+  std::string reason;
+  for (const std::string& adjustment : adjustments) reason += (reason.empty() ? "" : "; ") + adjustment;
+  return {ConfigResult::Status::Adjusted, reason};
+}
+
+void V4l2Camera::start() {
+  if (!state_->configured) throw std::logic_error("V4l2Camera::start before configure");
+  if (state_->streaming) return;
+  v4l2_requestbuffers request{};
+  request.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  request.memory = V4L2_MEMORY_MMAP;
+  request.count = static_cast<std::uint32_t>(state_->config.bufferCount);
+  if (retryIoctl(state_->fd, VIDIOC_REQBUFS, &request) != 0)
+    state_->fail("cannot allocate buffers", errno);
+  if (request.count < 2)
+    throw CameraError(state_->device + ": the driver gave " + std::to_string(request.count) +
+                      " buffer(s); streaming needs at least 2");
+  for (std::uint32_t index = 0; index < request.count; ++index) {
+    v4l2_buffer buffer{};
+    buffer.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    buffer.memory = V4L2_MEMORY_MMAP;
+    buffer.index = index;
+    if (retryIoctl(state_->fd, VIDIOC_QUERYBUF, &buffer) != 0) {
+      const int error = errno;
+      state_->releaseBuffers();
+      state_->fail("cannot query buffer " + std::to_string(index), error);
+    }
+    MappedBuffer mapped;
+    mapped.length = buffer.length;
+    mapped.start = ::mmap(nullptr, buffer.length, PROT_READ | PROT_WRITE, MAP_SHARED, state_->fd,
+                          buffer.m.offset);
+    if (mapped.start == MAP_FAILED) {
+      const int error = errno;
+      state_->releaseBuffers();
+      state_->fail("cannot map buffer " + std::to_string(index), error);
+    }
+    state_->buffers.push_back(mapped);
+    if (retryIoctl(state_->fd, VIDIOC_QBUF, &buffer) != 0) {
+      const int error = errno;
+      state_->releaseBuffers();
+      state_->fail("cannot queue buffer " + std::to_string(index), error);
+    }
+  }
+  int type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  if (retryIoctl(state_->fd, VIDIOC_STREAMON, &type) != 0) {
+    const int error = errno;
+    state_->releaseBuffers();
+    state_->fail("cannot start streaming", error);
+  }
+  state_->streaming = true;
+  state_->firstSequence.reset();
+}
+
+void V4l2Camera::stop() {
+  if (!state_->streaming) return;
+  int type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  retryIoctl(state_->fd, VIDIOC_STREAMOFF, &type);
+  state_->streaming = false;
+  state_->releaseBuffers();
+}
+
+std::optional<int> V4l2Camera::readyDescriptor() const { return state_->fd; }
+
+CaptureResult V4l2Camera::nextFrame(std::chrono::milliseconds timeout) {
+  if (!state_->streaming) throw std::logic_error("V4l2Camera::nextFrame before start");
+  pollfd ready{state_->fd, POLLIN, 0};
+  const int polled = ::poll(&ready, 1, static_cast<int>(timeout.count()));
+  if (polled == 0) return {CaptureResult::Status::Timeout, std::nullopt, ""};
+  if (polled < 0 && errno != EINTR)
+    return {CaptureResult::Status::Error, std::nullopt,
+            state_->device + ": poll: " + std::strerror(errno)};
+  v4l2_buffer buffer{};
+  buffer.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  buffer.memory = V4L2_MEMORY_MMAP;
+  if (retryIoctl(state_->fd, VIDIOC_DQBUF, &buffer) != 0) {
+    if (errno == EAGAIN) return {CaptureResult::Status::Timeout, std::nullopt, ""};
+    return {CaptureResult::Status::Error, std::nullopt,
+            state_->device + ": cannot dequeue a frame: " + std::strerror(errno)};
+  }
+  // The buffer goes back to the driver whatever happens to its contents below.
+  struct Requeue {
+    int fd;
+    v4l2_buffer& buffer;
+    ~Requeue() { retryIoctl(fd, VIDIOC_QBUF, &buffer); }
+  } requeue{state_->fd, buffer};
+  if ((buffer.flags & V4L2_BUF_FLAG_ERROR) != 0)
+    return {CaptureResult::Status::Error, std::nullopt,
+            state_->device + ": the driver marked frame " + std::to_string(buffer.sequence) +
+                " as corrupted"};
+  const MappedBuffer& mapped = state_->buffers.at(buffer.index);
+  RawFrameView raw;
+  raw.layout = state_->layout;
+  raw.widthPx = state_->config.widthPx;
+  raw.heightPx = state_->config.heightPx;
+  const std::size_t used = buffer.bytesused != 0 ? buffer.bytesused : mapped.length;
+  const auto* bytes = static_cast<const std::uint8_t*>(mapped.start);
+  if (raw.layout == RawLayout::Yuv420) {
+    const std::size_t lumaBytes = state_->strideBytes * std::size_t(raw.heightPx);
+    const std::size_t chromaStride = state_->strideBytes / 2;
+    const std::size_t chromaBytes = chromaStride * std::size_t((raw.heightPx + 1) / 2);
+    if (used < lumaBytes + 2 * chromaBytes)
+      return {CaptureResult::Status::Error, std::nullopt,
+              state_->device + ": frame " + std::to_string(buffer.sequence) + " is truncated"};
+    raw.planes[0] = {bytes, lumaBytes};
+    raw.planes[1] = {bytes + lumaBytes, chromaBytes};
+    raw.planes[2] = {bytes + lumaBytes + chromaBytes, chromaBytes};
+    raw.strideBytes[0] = state_->strideBytes;
+    raw.strideBytes[1] = raw.strideBytes[2] = chromaStride;
+  } else {
+    raw.planes[0] = {bytes, std::min(used, mapped.length)};
+    raw.strideBytes[0] = state_->strideBytes;
+  }
+  Frame frame;
+  try {
+    frame.image = toImage(raw);
+  } catch (const RawFrameError& error) {
+    return {CaptureResult::Status::Error, std::nullopt,
+            state_->device + ": frame " + std::to_string(buffer.sequence) + ": " + error.what()};
+  }
+  if (!state_->firstSequence) state_->firstSequence = buffer.sequence;
+  frame.encoding = encodingOf(raw.layout);
+  frame.metadata.sequence = buffer.sequence - *state_->firstSequence;
+  frame.metadata.timestampUs =
+      std::int64_t(buffer.timestamp.tv_sec) * 1'000'000 + buffer.timestamp.tv_usec;
+  frame.metadata.exposureUs = state_->config.exposureUs.value_or(0.0);
+  frame.metadata.gain = state_->config.gain.value_or(1.0);
+  return {CaptureResult::Status::Frame, std::move(frame), ""};
+}
+
+}  // namespace slicecap::hal
