@@ -1,0 +1,57 @@
+// slicecapd's core: one event loop serving the control socket, pumping camera frames through the
+// capture pipeline into the session, strobing the LED, and talking to systemd.
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include "slicecap/capture/frame_outcome.hpp"
+#include "slicecap/daemon/session_manager.hpp"
+#include "slicecap/hal/camera.hpp"
+#include "slicecap/hal/led.hpp"
+
+namespace slicecap::daemon {
+
+/// \brief Everything the daemon runs with; slicecapd's main builds it from the configuration,
+/// tests from fakes.
+struct DaemonParts {
+  std::filesystem::path storage;
+  /// The camera for a sweep of a slice: a live camera returns the one it opened at start (so a
+  /// missing camera fails the start, before READY); the file camera opens that slice's recording.
+  /// Throws (std::exception with a message) when it cannot.
+  std::function<std::shared_ptr<hal::Camera>(const SliceId&)> cameraFor;
+  hal::CameraConfig cameraConfig;
+  std::unique_ptr<hal::Led> led;
+  /// Switch the LED off every other frame, so the pipeline can subtract room light.
+  bool ledAlternate = true;
+  /// A fresh per-frame pipeline for each sweep run (it keeps tracking state across frames).
+  std::function<capture::FrameProcessor()> newFrameProcessor;
+  ReconstructFunction reconstruct;
+  PreviewFunction preview;
+  /// How often a camera without a ready descriptor (the file camera) is asked for a frame.
+  std::chrono::microseconds filePollInterval = std::chrono::milliseconds(2);
+};
+
+/// \brief The daemon. The LED is on only while a sweep is capturing, and off when a sweep pauses
+/// or stops, when the camera fails, when run() returns and in the destructor.
+class Daemon {
+ public:
+  /// \brief Takes the listening socket (socket-activated or bound by the caller) and switches the
+  /// LED off. Throws io::IoError if the storage cannot be used.
+  Daemon(DaemonParts parts, int listenFd);
+  ~Daemon();
+  Daemon(const Daemon&) = delete;
+  Daemon& operator=(const Daemon&) = delete;
+
+  /// \brief Serves until SIGTERM or SIGINT (or stop()); tells systemd READY=1 first and pings its
+  /// watchdog at half the interval when it asks for one.
+  void run();
+  /// \brief Thread-safe: makes run() return.
+  void stop();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace slicecap::daemon

@@ -1,0 +1,189 @@
+// slicecapd's event loop: control requests, frames, the LED, systemd's readiness and watchdog.
+#include "slicecap/daemon/daemon.hpp"
+
+#include <signal.h>
+#include <sys/epoll.h>
+#include <systemd/sd-daemon.h>
+
+#include <iostream>
+
+#include "slicecap/daemon/control_server.hpp"
+#include "slicecap/daemon/event_loop.hpp"
+
+namespace slicecap::daemon {
+
+struct Daemon::State {
+  DaemonParts parts;
+  EventLoop loop{{SIGTERM, SIGINT}};
+  SessionManager manager;
+  std::unique_ptr<ControlServer> server;
+
+  // The running sweep's devices; empty while nothing captures.
+  std::shared_ptr<hal::Camera> camera;
+  std::optional<SliceId> cameraSlice;
+  capture::FrameProcessor processor;
+  std::optional<int> watchedFd;
+  std::optional<EventLoop::TimerId> pollTimer;
+
+  explicit State(DaemonParts p)
+      : parts(std::move(p)), manager(parts.storage, parts.reconstruct, parts.preview) {}
+
+  void ledOff() noexcept {
+    try {
+      parts.led->set(false);
+    } catch (const std::exception& error) {
+      std::cerr << "slicecapd: cannot switch the LED off: " << error.what() << "\n";
+    }
+  }
+
+  void stopCamera() {
+    if (watchedFd) loop.unwatch(*watchedFd);
+    if (pollTimer) loop.cancelTimer(*pollTimer);
+    watchedFd.reset();
+    pollTimer.reset();
+    if (camera) {
+      try {
+        camera->stop();
+      } catch (const std::exception& error) {
+        std::cerr << "slicecapd: stopping the camera: " << error.what() << "\n";
+      }
+    }
+    camera.reset();
+    cameraSlice.reset();
+    processor = nullptr;
+    ledOff();
+  }
+
+  void startCamera(const SliceId& slice) {
+    try {
+      std::shared_ptr<hal::Camera> opened = parts.cameraFor(slice);
+      hal::CameraConfig config = parts.cameraConfig;
+      const hal::ConfigResult result = opened->configure(config);
+      if (result.status == hal::ConfigResult::Status::Invalid)
+        throw std::runtime_error(opened->id() + ": " + result.reason);
+      opened->start();
+      camera = std::move(opened);
+    } catch (const std::exception& error) {
+      manager.pauseSweep(std::string("camera error: ") + error.what());
+      ledOff();
+      return;
+    }
+    cameraSlice = slice;
+    processor = parts.newFrameProcessor();
+    if (const std::optional<int> fd = camera->readyDescriptor()) {
+      watchedFd = *fd;
+      loop.watch(*fd, EPOLLIN, [this](std::uint32_t) { pumpFrame(); });
+    } else {
+      pollTimer = loop.addTimer(parts.filePollInterval, true, [this] { pumpFrame(); });
+    }
+  }
+
+  /// Brings the devices in line with the session state after anything that may change it.
+  void reconcile() {
+    const std::optional<SliceId> wanted =
+        manager.capturing() ? manager.sweepSlice() : std::optional<SliceId>();
+    if (cameraSlice && cameraSlice != wanted) stopCamera();
+    if (wanted && !cameraSlice) startCamera(*wanted);
+    if (!manager.capturing()) ledOff();
+  }
+
+  void pumpFrame() {
+    if (!camera || !cameraSlice) return;
+    hal::CaptureResult result = camera->nextFrame(std::chrono::milliseconds(0));
+    switch (result.status) {
+      case hal::CaptureResult::Status::Timeout:
+        return;
+      case hal::CaptureResult::Status::EndOfStream:
+        manager.pauseSweep("the camera's recording has ended");
+        reconcile();
+        return;
+      case hal::CaptureResult::Status::Error:
+        manager.pauseSweep("camera error: " + result.error);
+        reconcile();
+        return;
+      case hal::CaptureResult::Status::Frame:
+        break;
+    }
+    hal::Frame& frame = *result.frame;
+    strobe(frame);
+    capture::FrameOutcome outcome;
+    try {
+      outcome = processor(frame, *cameraSlice);
+    } catch (const std::exception& error) {
+      outcome.kind = capture::FrameOutcome::Kind::Rejected;
+      outcome.rejectReason = "bad_frame";
+      outcome.detail = error.what();
+    }
+    if (outcome.viewElevationErrorDeg)
+      manager.noteViewElevationErrorDeg(*outcome.viewElevationErrorDeg);
+    switch (outcome.kind) {
+      case capture::FrameOutcome::Kind::Sample:
+        manager.acceptSample(*outcome.sample);
+        break;
+      case capture::FrameOutcome::Kind::Rejected:
+        manager.rejectFrame(outcome.rejectReason);
+        break;
+      case capture::FrameOutcome::Kind::Ambient:
+        break;
+    }
+    reconcile();  // a storage error pauses the sweep, and the LED must go off at once
+  }
+
+  /// A recorded frame says whether the LED was on, and the LED follows it (its log then shows
+  /// what a live run would have done). A live frame is tagged with the LED state it was exposed
+  /// under, and with alternation the LED flips for the next one.
+  void strobe(hal::Frame& frame) {
+    if (!camera->readyDescriptor()) {
+      parts.led->set(frame.metadata.ledOn);
+      return;
+    }
+    frame.metadata.ledOn = parts.led->isOn();
+    parts.led->set(parts.ledAlternate ? !parts.led->isOn() : true);
+  }
+
+  nlohmann::json handle(const Request& request) {
+    auto reply = manager.handle(request.command);
+    reconcile();
+    if (auto* error = std::get_if<ProtocolError>(&reply))
+      throw RequestError(error->code, error->message);
+    return std::get<nlohmann::json>(reply);
+  }
+};
+
+Daemon::Daemon(DaemonParts parts, int listenFd)
+    : state_(std::make_unique<State>(std::move(parts))) {
+  state_->ledOff();
+  state_->server = std::make_unique<ControlServer>(
+      state_->loop, listenFd, [this](const Request& request) { return state_->handle(request); });
+}
+
+Daemon::~Daemon() {
+  state_->stopCamera();
+  state_->ledOff();
+}
+
+void Daemon::run() {
+  state_->loop.onSignal([this](int) { state_->loop.stop(); });
+  std::uint64_t watchdogUs = 0;
+  if (sd_watchdog_enabled(0, &watchdogUs) > 0 && watchdogUs > 0) {
+    state_->loop.addTimer(std::chrono::microseconds(watchdogUs / 2), true,
+                          [] { sd_notify(0, "WATCHDOG=1"); });
+  }
+  // A restarted daemon may come back to a paused sweep; nothing captures until a person says so.
+  state_->reconcile();
+  sd_notify(0, "READY=1");
+  try {
+    state_->loop.run();
+  } catch (...) {
+    state_->stopCamera();
+    throw;
+  }
+  sd_notify(0, "STOPPING=1");
+  state_->stopCamera();
+}
+
+void Daemon::stop() {
+  state_->loop.stop();
+}
+
+}  // namespace slicecap::daemon

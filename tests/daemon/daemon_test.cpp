@@ -1,0 +1,163 @@
+// The daemon's frame loop on the file camera with a stand-in pipeline: frames become samples in
+// the session, the LED follows the sweep and is off whenever nothing captures, and camera
+// failures and the end of a recording pause the sweep without losing samples.
+#include "slicecap/daemon/daemon.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <thread>
+
+#include "../support/test_support.hpp"
+#include "slicecap/daemon/control_client.hpp"
+#include "slicecap/daemon/control_server.hpp"
+#include "slicecap/hal/clock.hpp"
+#include "slicecap/hal/file_camera.hpp"
+#include "slicecap/hal/file_led.hpp"
+#include "slicecap/io/recording.hpp"
+#include "slicecap/vision/camera_model.hpp"
+#include "slicecap/vision/target.hpp"
+
+namespace slicecap::daemon {
+namespace {
+
+using nlohmann::json;
+using ::testing::HasSubstr;
+
+const SliceId kAxial3030{SliceKind::Axial, {30, 30}};
+constexpr int kFrames = 20;  // alternating LED on/off: 10 samples
+
+std::filesystem::path writeRecording(const std::filesystem::path& directory) {
+  io::Recording header;
+  header.createdBy = "daemon_test";
+  header.camera = vision::defaultSimulatedCamera();
+  header.camera.intrinsics = {32, 24, 30.0, 30.0, 15.5, 11.5};
+  header.encoding = PixelEncoding::Srgb8;
+  header.slice = io::RecordedSlice{kAxial3030};
+  header.target = vision::defaultTarget();
+  io::RecordingWriter writer(directory, header);
+  Image image{32, 24, 3, 8, std::vector<std::uint16_t>(32 * 24 * 3, 128)};
+  for (int k = 0; k < kFrames; ++k)
+    writer.append(image, {"", 1000 + k * 33'000, k % 2 == 0, 10'000.0, 1.0});
+  return directory;
+}
+
+// Stands in for the capture pipeline: a sample per LED-on frame, spread over the bins.
+capture::FrameProcessor standInPipeline() {
+  return [](const hal::Frame& frame, const SliceId&) {
+    capture::FrameOutcome outcome;
+    outcome.viewElevationErrorDeg = 1.5;
+    if (!frame.metadata.ledOn) {
+      outcome.kind = capture::FrameOutcome::Kind::Ambient;
+      return outcome;
+    }
+    const double phi = double(frame.metadata.sequence / 2 % 24) * 15.0;
+    outcome.kind = capture::FrameOutcome::Kind::Sample;
+    outcome.sample = capture::FrameSample{frame.metadata.timestampUs,
+                                          frame.metadata.sequence,
+                                          {30, phi},
+                                          {30, phi + 15},
+                                          Rgb::gray(0.3)};
+    return outcome;
+  };
+}
+
+class DaemonOnFileCamera : public ::testing::Test {
+ protected:
+  void start(std::optional<std::uint64_t> failAtSequence = std::nullopt) {
+    dir_ = test::freshTempDir();
+    const auto recording = writeRecording(dir_ / "recording");
+    char pattern[] = "/tmp/slicecapd-test-XXXXXX";
+    socketDir_ = ::mkdtemp(pattern);
+    socket_ = socketDir_ / "s.sock";
+    ledLog_ = dir_ / "led.log";
+    DaemonParts parts;
+    parts.storage = dir_ / "storage";
+    parts.cameraFor = [this, recording, failAtSequence](const SliceId&) {
+      hal::FileCameraOptions options;
+      options.failAtSequence = failAtSequence;
+      return std::make_shared<hal::FileCamera>(recording, clock_, options);
+    };
+    parts.cameraConfig = {32, 24, PixelEncoding::Srgb8, std::nullopt, std::nullopt, 4};
+    parts.led = std::make_unique<hal::FileLed>(ledLog_, clock_);
+    parts.newFrameProcessor = standInPipeline;
+    parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };
+    daemon_ =
+        std::make_unique<Daemon>(std::move(parts), openListenSocket({socket_, 0600, std::nullopt}));
+    thread_ = std::thread([this] { daemon_->run(); });
+  }
+
+  void TearDown() override {
+    if (daemon_) {
+      daemon_->stop();
+      thread_.join();
+      daemon_.reset();
+    }
+    std::filesystem::remove_all(socketDir_);
+  }
+
+  json call(const Command& command) { return ControlClient(socket_).call(command); }
+
+  json waitForPause() {
+    for (int attempt = 0; attempt < 500; ++attempt) {
+      json status = call(Status{});
+      if (!status["sweep"].is_null() && status["sweep"]["state"] == "paused") return status;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    ADD_FAILURE() << "the sweep never paused";
+    return call(Status{});
+  }
+
+  std::vector<hal::LedEvent> ledLog() const { return hal::readLedLog(ledLog_); }
+
+  hal::SteadyClock clock_;
+  std::filesystem::path dir_, socketDir_, socket_, ledLog_;
+  std::unique_ptr<Daemon> daemon_;
+  std::thread thread_;
+};
+
+TEST_F(DaemonOnFileCamera, FramesBecomeSamplesAndTheLedGoesOffWhenTheRecordingEnds) {
+  start();
+  EXPECT_FALSE(ledLog().back().on);
+  call(SessionNew{"grey card", std::string("grey")});
+  call(SweepStart{kAxial3030});
+  const json status = waitForPause();
+  EXPECT_EQ(status["sweep"]["samples"], kFrames / 2);
+  EXPECT_EQ(status["sweep"]["bins_filled"], kFrames / 2);
+  EXPECT_DOUBLE_EQ(status["sweep"]["view_elevation_error_deg"].get<double>(), 1.5);
+  EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(), HasSubstr("recording has ended"));
+  const std::vector<hal::LedEvent> log = ledLog();
+  EXPECT_FALSE(log.back().on);
+  EXPECT_GE(std::count_if(log.begin(), log.end(), [](const hal::LedEvent& e) { return e.on; }),
+            kFrames / 2);  // strobed with the frames
+  call(SweepStop{});
+  EXPECT_EQ(call(Status{})["session"]["samples"], kFrames / 2);
+}
+
+TEST_F(DaemonOnFileCamera, ACameraFailurePausesTheSweepAndKeepsEverySampleBeforeIt) {
+  start(std::uint64_t{7});
+  call(SessionNew{"grey card", std::string("grey")});
+  call(SweepStart{kAxial3030});
+  const json status = waitForPause();
+  EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(), HasSubstr("camera error"));
+  EXPECT_THAT(status["error"].get<std::string>(), HasSubstr("injected camera failure"));
+  EXPECT_EQ(status["sweep"]["samples"], 4);  // frames 0, 2, 4, 6 had the LED on
+  EXPECT_FALSE(ledLog().back().on);
+  // The daemon is still there: the status answers, and the sweep can go on.
+  call(SweepStart{kAxial3030});
+  EXPECT_GE(waitForPause()["sweep"]["samples"].get<int>(), 4);
+}
+
+TEST_F(DaemonOnFileCamera, StoppingTheDaemonMidSweepLeavesTheLedOff) {
+  start();
+  call(SessionNew{"grey card", std::string("grey")});
+  call(SweepStart{kAxial3030});
+  daemon_->stop();
+  thread_.join();
+  daemon_.reset();
+  EXPECT_FALSE(ledLog().back().on);
+}
+
+}  // namespace
+}  // namespace slicecap::daemon
