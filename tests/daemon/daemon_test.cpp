@@ -81,7 +81,7 @@ class DaemonOnFileCamera : public ::testing::Test {
     };
     parts.cameraConfig = {32, 24, PixelEncoding::Srgb8, std::nullopt, std::nullopt, 4};
     parts.led = std::make_unique<hal::FileLed>(ledLog_, clock_);
-    parts.newFrameProcessor = standInPipeline;
+    parts.newFrameProcessor = [](const SliceId&) { return standInPipeline(); };
     parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };
     daemon_ =
         std::make_unique<Daemon>(std::move(parts), openListenSocket({socket_, 0600, std::nullopt}));

@@ -69,7 +69,7 @@ struct Daemon::State {
       return;
     }
     cameraSlice = slice;
-    processor = parts.newFrameProcessor();
+    processor = parts.newFrameProcessor(slice);
     if (const std::optional<int> fd = camera->readyDescriptor()) {
       watchedFd = *fd;
       loop.watch(*fd, EPOLLIN, [this](std::uint32_t) { pumpFrame(); });

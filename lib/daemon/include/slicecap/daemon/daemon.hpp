@@ -24,8 +24,9 @@ struct DaemonParts {
   std::unique_ptr<hal::Led> led;
   /// Switch the LED off every other frame, so the pipeline can subtract room light.
   bool ledAlternate = true;
-  /// A fresh per-frame pipeline for each sweep run (it keeps tracking state across frames).
-  std::function<capture::FrameProcessor()> newFrameProcessor;
+  /// A fresh per-frame pipeline for each sweep run of a slice (it keeps tracking state across
+  /// frames; the file camera's recordings may each have their own camera and target).
+  std::function<capture::FrameProcessor(const SliceId&)> newFrameProcessor;
   ReconstructFunction reconstruct;
   PreviewFunction preview;
   /// How often a camera without a ready descriptor (the file camera) is asked for a frame.
