@@ -8,22 +8,16 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "../support/cli_runner.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 
 namespace slicecap::cli {
 namespace {
 
-struct Result {
-  int code;
-  std::string out, err;
-};
+using Result = test::CliResult;
 
-Result run(std::vector<std::string> args) {
-  std::ostringstream out, err;
-  const int code = runCli(args, out, err);
-  return {code, out.str(), err.str()};
-}
+Result run(const std::vector<std::string>& args) { return test::runSlicecap(args); }
 
 TEST(Cli, HelpAndVersionSucceed) {
   EXPECT_EQ(run({"--help"}).code, kExitOk);

@@ -3,6 +3,7 @@
 
 #include <sstream>
 
+#include "../support/cli_runner.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/cli/cli.hpp"
 #include "slicecap/io/png_image.hpp"
@@ -12,16 +13,9 @@
 namespace slicecap::cli {
 namespace {
 
-struct Result {
-  int code;
-  std::string out, err;
-};
+using Result = test::CliResult;
 
-Result run(std::vector<std::string> args) {
-  std::ostringstream out, err;
-  const int code = runCli(args, out, err);
-  return {code, out.str(), err.str()};
-}
+Result run(const std::vector<std::string>& args) { return test::runSlicecap(args); }
 
 TEST(RigCommands, TargetWritesEveryFormatAndItsGeometry) {
   const auto dir = test::freshTempDir();

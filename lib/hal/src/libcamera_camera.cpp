@@ -266,10 +266,7 @@ ConfigResult LibcameraCamera::configure(CameraConfig& config) {
   state_->strideBytes = stream.stride;
   state_->config = config;
   state_->configured = true;
-  if (adjustments.empty()) return {ConfigResult::Status::Valid, ""};
-  std::string reason;
-  for (const std::string& adjustment : adjustments) reason += (reason.empty() ? "" : "; ") + adjustment;
-  return {ConfigResult::Status::Adjusted, reason};
+  return ConfigResult::fromAdjustments(adjustments);
 }
 
 void LibcameraCamera::start() {

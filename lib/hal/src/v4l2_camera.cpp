@@ -235,10 +235,7 @@ ConfigResult V4l2Camera::configure(CameraConfig& config) {
   config.bufferCount = std::max(config.bufferCount, 2);
   state_->config = config;
   state_->configured = true;
-  if (adjustments.empty()) return {ConfigResult::Status::Valid, ""};
-  std::string reason;
-  for (const std::string& adjustment : adjustments) reason += (reason.empty() ? "" : "; ") + adjustment;
-  return {ConfigResult::Status::Adjusted, reason};
+  return ConfigResult::fromAdjustments(adjustments);
 }
 
 void V4l2Camera::start() {

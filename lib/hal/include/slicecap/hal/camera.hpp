@@ -4,6 +4,7 @@
 #include <chrono>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "slicecap/core/pixel_encoding.hpp"
 #include "slicecap/hal/frame.hpp"
@@ -28,6 +29,15 @@ struct ConfigResult {
   enum class Status { Valid, Adjusted, Invalid };
   Status status = Status::Valid;
   std::string reason;  ///< what was adjusted, or why it is invalid
+
+  /// \brief Valid when nothing was adjusted, else Adjusted with the adjustments joined by "; ".
+  static ConfigResult fromAdjustments(const std::vector<std::string>& adjustments) {
+    if (adjustments.empty()) return {Status::Valid, ""};
+    std::string joined;
+    for (const std::string& adjustment : adjustments)
+      joined += (joined.empty() ? "" : "; ") + adjustment;
+    return {Status::Adjusted, joined};
+  }
 };
 
 /// \brief The outcome of waiting for a frame. Expected outcomes are values, not exceptions:
