@@ -12,7 +12,8 @@ std::vector<Command> allCommands() {
   return {reconstructCommand(), sampleCommand(), compareCommand(), generateCommand(),
           evalCommand(),        previewCommand(), isotropyCommand(), priorTrainCommand(),
           targetCommand(),      simulateCommand(), sessionCommand(), sweepCommand(),
-          statusCommand(),      exportCommand()};
+          statusCommand(),      exportCommand(),
+          processCommand(),     captureOfflineCommand()};
 }
 
 namespace {

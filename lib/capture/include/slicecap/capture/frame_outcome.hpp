@@ -27,6 +27,18 @@ struct FrameOutcome {
   /// \brief View elevation minus the slice's nominal, deg, whenever a pose was found (shown live
   /// so the person can correct the arm).
   std::optional<double> viewElevationErrorDeg;
+  /// \brief What the pipeline measured, as far as it got (reports and tests).
+  struct Measurement {
+    int markerCount = 0;
+    std::optional<Direction> view;  ///< toward the camera from the window centre
+    double cameraDistanceMm = 0.0;
+    double poseResidualPx = 0.0;
+    std::optional<Direction> nominalLight;   ///< the slice's theta_i, phi_i from phi_v
+    std::optional<Direction> measuredLight;  ///< from the point-light fit
+    double measuredLightSigmaDeg = 0.0;
+    double sharpness = 0.0;
+  };
+  Measurement measurement;
 };
 
 /// \brief Turns the frames of a sweep of `slice` into outcomes, in capture order. Implementations

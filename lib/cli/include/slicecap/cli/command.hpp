@@ -35,6 +35,8 @@ Command targetCommand();
 Command simulateCommand();
 Command isotropyCommand();
 Command priorTrainCommand();
+Command processCommand();
+Command captureOfflineCommand();
 
 /// \brief Every subcommand, in the order `slicecap --help` lists them.
 std::vector<Command> allCommands();

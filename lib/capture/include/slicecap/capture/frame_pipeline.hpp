@@ -1,0 +1,67 @@
+// The per-frame capture pipeline: markers, pose, light direction, gate, BRDF sample.
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include "slicecap/capture/frame_outcome.hpp"
+#include "slicecap/capture/marker_detector.hpp"
+#include "slicecap/vision/camera_model.hpp"
+#include "slicecap/vision/target.hpp"
+
+namespace slicecap::capture {
+
+/// \brief The gate's tolerances and the pipeline's options.
+struct PipelineSettings {
+  MarkerDetectorSettings detector;
+  int minMarkers = 4;                  ///< fewer detected markers: "too_few_markers"
+  double elevationToleranceDeg = 5.0;  ///< |theta_v - nominal| above this: "elevation_off"
+  double maxPoseResidualPx = 1.5;      ///< RMS reprojection error above this: "pose_residual"
+  /// \brief Edge sharpness of the markers' borders (largest 1-px step over the edge's full step,
+  /// ~1 when sharp, ~1/L for L px of motion blur) below this: "blurred".
+  double minSharpness = 0.4;
+  /// \brief Any window or white-reference pixel channel at or above this fraction of full scale:
+  /// "window_clipped".
+  double clipFraction = 0.98;
+  /// \brief The point-light fit's relative RMS residual over the white references above this
+  /// means something (the light arm, a finger) covers part of them: "window_occluded".
+  double maxReferenceResidual = 0.05;
+  /// \brief Side of the square of the window that is averaged, as a fraction of the window.
+  double windowSampleFraction = 0.25;
+  /// \brief The measured light direction replaces the nominal one when its sigma is below this.
+  double measuredLightMaxSigmaDeg = 0.5;
+  double nominalLightDistanceMm = 300.0;  ///< start of the point-light fit
+  /// \brief LED-on frames need an LED-off frame to subtract (false: no ambient subtraction).
+  bool requireAmbient = true;
+};
+
+/// \brief Turns the frames of one sweep into outcomes; keeps the latest LED-off frame. Construct
+/// a new one per sweep.
+class FramePipeline {
+ public:
+  /// \brief Throws std::invalid_argument naming the problem for an invalid camera or target.
+  FramePipeline(vision::TargetGeometry target, vision::CameraModel camera,
+                PipelineSettings settings = {});
+  ~FramePipeline();
+  FramePipeline(FramePipeline&&) noexcept;
+  FramePipeline& operator=(FramePipeline&&) noexcept;
+
+  /// \brief One frame: an LED-off frame becomes Ambient (and is kept for the next LED-on frames);
+  /// an LED-on frame a Sample or a Rejection with its reason. Never throws for bad pixels: a frame
+  /// of the wrong size or encoding is rejected as "bad_frame".
+  FrameOutcome process(const hal::Frame& frame, const SliceId& slice);
+  /// \brief Offline use: the ambient frame for LED-on frames before the first LED-off one (the
+  /// live loop just rejects those as "no_ambient_frame").
+  void setAmbientFrame(const hal::Frame& frame);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+/// \brief A FramePipeline as the FrameProcessor the daemon's frame loop calls.
+FrameProcessor makeFramePipeline(const vision::TargetGeometry& target,
+                                 const vision::CameraModel& camera,
+                                 const PipelineSettings& settings = {});
+
+}  // namespace slicecap::capture

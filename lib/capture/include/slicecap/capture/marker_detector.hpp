@@ -1,0 +1,52 @@
+// tag36h11 marker detection with the AprilTag library, corners in OpenCV's pixel convention.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "slicecap/hal/frame.hpp"
+
+namespace slicecap::capture {
+
+/// \brief One detected tag: its id and corners p[0..3] (the library's order), pixels, pixel
+/// centres at integer coordinates.
+struct DetectedMarker {
+  int id = 0;
+  std::array<Eigen::Vector2d, 4> cornersPx{};
+};
+
+/// \brief Detector options.
+struct MarkerDetectorSettings {
+  /// \brief The library's quad_decimate. 2 finds the quads on a half-size image and refines the
+  /// corners on the full one (refine_edges): measured by bench/capture_bench.cpp (see the README
+  /// section "Processing recordings") to be several times faster than 1 at 1280 x 720 with the
+  /// same markers found at the rig's ~30 cm; 1 is for small or far targets.
+  float decimation = 2.0f;
+};
+
+/// \brief Wraps an apriltag_detector_t for tag36h11 (single-threaded, no blur: quad_sigma would
+/// blur the buffer it is given). Not thread-safe; one per frame loop.
+class MarkerDetector {
+ public:
+  explicit MarkerDetector(MarkerDetectorSettings settings = {});
+  ~MarkerDetector();
+  MarkerDetector(const MarkerDetector&) = delete;
+  MarkerDetector& operator=(const MarkerDetector&) = delete;
+
+  /// \brief The markers in `frame` with no bit errors (an 8-bit gray view of the image: the mean
+  /// of R, G, B; 16-bit linear samples are put on an sRGB-like curve first so the markers keep
+  /// their contrast in the shadows).
+  std::vector<DetectedMarker> detect(const hal::Frame& frame);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+/// \brief apriltag 3.3 places pixel centres at +0.5 (measured in
+/// tests/vision/target_detection_test.cpp); subtracting it gives OpenCV's convention.
+inline constexpr double kApriltagPixelOffset = 0.5;
+
+}  // namespace slicecap::capture

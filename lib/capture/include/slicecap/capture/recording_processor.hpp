@@ -1,0 +1,38 @@
+// Offline processing of a recorded sweep: every frame through the pipeline, into azimuth bins.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+#include <vector>
+
+#include "slicecap/capture/azimuth_bins.hpp"
+#include "slicecap/capture/frame_outcome.hpp"
+#include "slicecap/capture/frame_pipeline.hpp"
+#include "slicecap/core/slice.hpp"
+
+namespace slicecap::capture {
+
+/// \brief What became of one recording.
+struct RecordingResult {
+  std::filesystem::path directory;
+  SliceId slice;
+  std::vector<std::string> frameFiles;  ///< per frame, as in recording.json
+  std::vector<FrameOutcome> outcomes;   ///< per frame, in order
+  AzimuthBins bins{SliceKind::Axial};
+  std::map<std::string, int> rejections;  ///< count by reason
+  int ambientFrames = 0;
+  /// \brief The report's entry: per frame the pose, light, gate outcome; per bin its frames.
+  nlohmann::json toJson() const;
+};
+
+/// \brief Runs `directory` (a recording with a slice) through a FramePipeline. The first LED-off
+/// frame is also the ambient of the LED-on frames before it. A frame whose PNG is missing,
+/// corrupt or of the wrong size is a "bad_frame" rejection naming the file. Throws io::IoError
+/// for a bad recording.json (naming the field) and std::invalid_argument for a recording without
+/// a slice (e.g. a calibration recording), naming the directory.
+RecordingResult processRecording(const std::filesystem::path& directory,
+                                 const PipelineSettings& settings = {});
+
+}  // namespace slicecap::capture

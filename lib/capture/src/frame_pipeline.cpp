@@ -1,0 +1,333 @@
+// The per-frame pipeline: detect, pose, gate, measure the window against the white references.
+#include "slicecap/capture/frame_pipeline.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "slicecap/capture/light_model.hpp"
+#include "slicecap/capture/planar_pose.hpp"
+#include "slicecap/core/angles.hpp"
+
+namespace slicecap::capture {
+namespace {
+
+// Linear value (1 = full scale) of every 8-bit sRGB code.
+const std::vector<double>& srgbToLinear() {
+  static const std::vector<double> table = [] {
+    std::vector<double> t(256);
+    for (int i = 0; i < 256; ++i) {
+      const double v = i / 255.0;
+      t[i] = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+    }
+    return t;
+  }();
+  return table;
+}
+
+// Reads a frame's pixels as linear light, bilinearly, at sub-pixel positions.
+class LinearView {
+ public:
+  explicit LinearView(const hal::Frame& frame) : frame_(frame) {}
+
+  bool inside(const Eigen::Vector2d& px) const {
+    return px.x() >= 0 && px.y() >= 0 && px.x() <= frame_.image.width - 1.0 &&
+           px.y() <= frame_.image.height - 1.0;
+  }
+  // Linear value of one sample, and whether it is clipped.
+  double linear(int x, int y, int c, double clipFraction, bool* clipped) const {
+    const Image& im = frame_.image;
+    const int channel = im.channels >= 3 ? c : 0;
+    const std::uint16_t raw = im.at(x, y, channel);
+    if (frame_.encoding == PixelEncoding::Srgb8) {
+      if (raw >= clipFraction * 255.0) *clipped = true;
+      return srgbToLinear()[std::min<int>(raw, 255)];
+    }
+    if (raw >= clipFraction * 65535.0) *clipped = true;
+    return raw / 65535.0;
+  }
+  Rgb at(const Eigen::Vector2d& px, double clipFraction, bool* clipped) const {
+    const int x0 = std::min(static_cast<int>(px.x()), frame_.image.width - 2);
+    const int y0 = std::min(static_cast<int>(px.y()), frame_.image.height - 2);
+    const double fx = px.x() - x0, fy = px.y() - y0;
+    Rgb value;
+    for (int c = 0; c < 3; ++c) {
+      const double top = (1 - fx) * linear(x0, y0, c, clipFraction, clipped) +
+                         fx * linear(x0 + 1, y0, c, clipFraction, clipped);
+      const double bottom = (1 - fx) * linear(x0, y0 + 1, c, clipFraction, clipped) +
+                            fx * linear(x0 + 1, y0 + 1, c, clipFraction, clipped);
+      value[c] = (1 - fy) * top + fy * bottom;
+    }
+    return value;
+  }
+  double gray(const Eigen::Vector2d& px) const {
+    bool ignored = false;
+    return at(px, 2.0, &ignored).mean();
+  }
+
+ private:
+  const hal::Frame& frame_;
+};
+
+// Grid points covering a rectangle of the target, about `stepMm` apart, inset by half a step.
+std::vector<Eigen::Vector2d> gridPoints(const vision::RectMm& rect, int perSide) {
+  std::vector<Eigen::Vector2d> points;
+  for (int j = 0; j < perSide; ++j)
+    for (int i = 0; i < perSide; ++i)
+      points.push_back({rect.xMinMm + (i + 0.5) * rect.widthMm() / perSide,
+                        rect.yMinMm + (j + 0.5) * rect.heightMm() / perSide});
+  return points;
+}
+
+struct RegionMean {
+  Rgb value;
+  bool inside = true;
+  bool clipped = false;
+};
+
+// Mean linear colour over target points, divided by exposure x gain (camera units per us).
+RegionMean regionMean(const hal::Frame& frame, const vision::Pose& pose,
+                      const vision::CameraModel& camera, const std::vector<Eigen::Vector2d>& points,
+                      double clipFraction) {
+  const LinearView view(frame);
+  RegionMean mean;
+  for (const auto& p : points) {
+    const auto px = camera.project(pose.toCamera({p.x(), p.y(), 0.0}));
+    if (!px || !view.inside(*px)) {
+      mean.inside = false;
+      return mean;
+    }
+    mean.value += view.at(*px, clipFraction, &mean.clipped);
+  }
+  const double scale = frame.metadata.exposureUs * frame.metadata.gain;
+  mean.value *= 1.0 / (static_cast<double>(points.size()) * (scale > 0 ? scale : 1.0));
+  return mean;
+}
+
+// Sharpness of one marker edge: the largest 1-px step of the profile across its midpoint over
+// the whole step from 3 px inside to 3 px outside.
+double edgeSharpness(const LinearView& view, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d mid = (a + b) / 2.0;
+  Eigen::Vector2d normal(-(b - a).y(), (b - a).x());
+  if (normal.norm() < 1e-9) return 0.0;
+  normal.normalize();
+  constexpr int kSteps = 24;  // quarter-pixel steps over [-3, 3] px
+  std::vector<double> profile;
+  for (int k = 0; k <= kSteps; ++k) {
+    const Eigen::Vector2d p = mid + normal * (-3.0 + 6.0 * k / kSteps);
+    if (!view.inside(p)) return -1.0;
+    profile.push_back(view.gray(p));
+  }
+  const double step = std::abs(profile.back() - profile.front());
+  if (step < 1e-6) return -1.0;
+  double largest = 0.0;
+  for (int k = 0; k + 4 <= kSteps; ++k)
+    largest = std::max(largest, std::abs(profile[k + 4] - profile[k]));
+  return largest / step;
+}
+
+FrameOutcome rejected(std::string reason, std::string detail, FrameOutcome outcome = {}) {
+  outcome.kind = FrameOutcome::Kind::Rejected;
+  outcome.sample.reset();
+  outcome.rejectReason = std::move(reason);
+  outcome.detail = std::move(detail);
+  return outcome;
+}
+
+}  // namespace
+
+struct FramePipeline::State {
+  vision::TargetGeometry target;
+  vision::CameraModel camera;
+  PipelineSettings settings;
+  MarkerDetector detector;
+  std::vector<Eigen::Vector2d> windowPoints;
+  struct Reference {
+    std::vector<Eigen::Vector2d> points;
+    Eigen::Vector2d centre;
+    Rgb albedo;
+  };
+  std::vector<Reference> references;
+  std::optional<hal::Frame> ambient;
+  std::uint64_t frameIndex = 0;
+
+  State(vision::TargetGeometry t, vision::CameraModel c, PipelineSettings s)
+      : target(std::move(t)), camera(std::move(c)), settings(s), detector(s.detector) {}
+};
+
+FramePipeline::FramePipeline(vision::TargetGeometry target, vision::CameraModel camera,
+                             PipelineSettings settings)
+    : state_(std::make_unique<State>(std::move(target), std::move(camera), settings)) {
+  std::string error;
+  if (!state_->camera.isValid(&error))
+    throw std::invalid_argument("capture pipeline: camera: " + error);
+  if (const auto problem = vision::findTargetProblem(state_->target))
+    throw std::invalid_argument("capture pipeline: target: " + *problem);
+  const vision::RectMm& w = state_->target.window;
+  const double half = settings.windowSampleFraction * std::min(w.widthMm(), w.heightMm()) / 2.0;
+  const vision::PointMm c = w.centre();
+  state_->windowPoints = gridPoints({c.xMm - half, c.yMm - half, c.xMm + half, c.yMm + half}, 9);
+  // Each white patch gives up to 4 observations (its quarters), inset from the edges so a
+  // slightly wrong pose or blur does not mix in the window or a marker.
+  for (const auto& patch : state_->target.patches) {
+    if (patch.kind != vision::PatchKind::White) continue;
+    const vision::RectMm& r = patch.rect;
+    const int nx = r.widthMm() > 2 * r.heightMm() ? 4 : (r.widthMm() * 2 < r.heightMm() ? 1 : 2);
+    const int ny = r.heightMm() > 2 * r.widthMm() ? 4 : (r.heightMm() * 2 < r.widthMm() ? 1 : 2);
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const double x0 = r.xMinMm + i * r.widthMm() / nx, x1 = x0 + r.widthMm() / nx;
+        const double y0 = r.yMinMm + j * r.heightMm() / ny, y1 = y0 + r.heightMm() / ny;
+        const double inset = 0.2 * std::min(x1 - x0, y1 - y0);
+        const vision::RectMm part{x0 + inset, y0 + inset, x1 - inset, y1 - inset};
+        state_->references.push_back(
+            {gridPoints(part, 3), {part.centre().xMm, part.centre().yMm}, patch.albedo});
+      }
+  }
+  if (state_->references.size() < 5)
+    throw std::invalid_argument("capture pipeline: target: fewer than 5 white reference areas");
+}
+
+FramePipeline::~FramePipeline() = default;
+FramePipeline::FramePipeline(FramePipeline&&) noexcept = default;
+FramePipeline& FramePipeline::operator=(FramePipeline&&) noexcept = default;
+
+void FramePipeline::setAmbientFrame(const hal::Frame& frame) {
+  state_->ambient = frame;
+}
+
+FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slice) {
+  State& s = *state_;
+  const std::uint64_t index = s.frameIndex++;
+  const auto& k = s.camera.intrinsics;
+  if (!frame.image.isValid() || frame.image.width != k.widthPx ||
+      frame.image.height != k.heightPx || frame.image.bitDepth != bitDepthOf(frame.encoding) ||
+      (frame.image.channels != 1 && frame.image.channels != 3))
+    return rejected(
+        "bad_frame",
+        "frame " + std::to_string(frame.image.width) + " x " + std::to_string(frame.image.height) +
+            " x " + std::to_string(frame.image.channels) + " at " +
+            std::to_string(frame.image.bitDepth) + " bits, expected " + std::to_string(k.widthPx) +
+            " x " + std::to_string(k.heightPx) + " of " + std::string(toString(frame.encoding)));
+  if (!frame.metadata.ledOn) {
+    s.ambient = frame;
+    FrameOutcome outcome;
+    outcome.kind = FrameOutcome::Kind::Ambient;
+    return outcome;
+  }
+  FrameOutcome outcome;
+  auto& m = outcome.measurement;
+  const auto markers = s.detector.detect(frame);
+  std::vector<PlaneCorrespondence> corners;
+  std::vector<const DetectedMarker*> known;
+  for (const auto& marker : markers) {
+    const vision::Marker* geometry = s.target.findMarker(marker.id);
+    if (!geometry) continue;
+    known.push_back(&marker);
+    for (int c = 0; c < 4; ++c)
+      corners.push_back(
+          {{geometry->cornersMm[c].xMm, geometry->cornersMm[c].yMm}, marker.cornersPx[c]});
+  }
+  m.markerCount = static_cast<int>(known.size());
+  const std::string markerText =
+      std::to_string(known.size()) + " of " + std::to_string(s.target.markers.size()) + " markers";
+  if (m.markerCount < s.settings.minMarkers)
+    return rejected("too_few_markers", markerText, outcome);
+  const auto estimate = estimatePlanarPose(corners, s.camera);
+  if (!estimate) return rejected("too_few_markers", markerText + ", no pose", outcome);
+  const vision::Pose& pose = estimate->pose;
+  const Eigen::Vector3d cameraCentre = pose.cameraCentreMm();
+  m.poseResidualPx = estimate->residualRmsPx;
+  m.cameraDistanceMm = cameraCentre.norm();
+  if (cameraCentre.z() <= 0) return rejected("pose_residual", "camera below the target", outcome);
+  m.view = vision::directionFrom(Eigen::Vector3d::Zero(), cameraCentre);
+  outcome.viewElevationErrorDeg = m.view->thetaDeg - slice.elevations.thetaVDeg;
+  const double phiLight = slice.kind == SliceKind::Axial
+                              ? wrapDeg360(m.view->phiDeg - kAxialOffsetDeg)
+                              : wrapDeg360(360.0 - m.view->phiDeg);
+  m.nominalLight = Direction{static_cast<double>(slice.elevations.thetaIDeg), phiLight};
+  if (m.poseResidualPx > s.settings.maxPoseResidualPx)
+    return rejected("pose_residual", std::to_string(m.poseResidualPx) + " px", outcome);
+  if (std::abs(*outcome.viewElevationErrorDeg) > s.settings.elevationToleranceDeg)
+    return rejected("elevation_off", "view elevation " + std::to_string(m.view->thetaDeg) + " deg",
+                    outcome);
+  // Blur: motion smears the edges across the motion, so the blurriest quarter of the edges counts.
+  const LinearView view(frame);
+  std::vector<double> sharpness;
+  for (const DetectedMarker* marker : known)
+    for (int c = 0; c < 4; ++c) {
+      const double value =
+          edgeSharpness(view, marker->cornersPx[c], marker->cornersPx[(c + 1) % 4]);
+      if (value >= 0) sharpness.push_back(value);
+    }
+  std::sort(sharpness.begin(), sharpness.end());
+  m.sharpness = sharpness.empty() ? 0.0 : sharpness[sharpness.size() / 4];
+  if (m.sharpness < s.settings.minSharpness)
+    return rejected("blurred", "edge sharpness " + std::to_string(m.sharpness), outcome);
+
+  const RegionMean window =
+      regionMean(frame, pose, s.camera, s.windowPoints, s.settings.clipFraction);
+  if (!window.inside) return rejected("window_occluded", "window out of the image", outcome);
+  if (window.clipped) return rejected("window_clipped", "window saturated", outcome);
+  if (s.settings.requireAmbient && !s.ambient)
+    return rejected("no_ambient_frame", "no LED-off frame yet", outcome);
+  Rgb windowRadiance = window.value;
+  if (s.ambient)
+    windowRadiance -= regionMean(*s.ambient, pose, s.camera, s.windowPoints, 2.0).value;
+  std::vector<ReferenceObservation> observations;
+  for (const auto& reference : s.references) {
+    RegionMean area = regionMean(frame, pose, s.camera, reference.points, s.settings.clipFraction);
+    if (!area.inside) continue;
+    if (area.clipped) return rejected("window_clipped", "white reference saturated", outcome);
+    if (s.ambient)
+      area.value -= regionMean(*s.ambient, pose, s.camera, reference.points, 2.0).value;
+    if (!(area.value.minChannel() > 0)) continue;
+    observations.push_back(
+        {{reference.centre.x(), reference.centre.y(), 0.0}, area.value, reference.albedo});
+  }
+  if (observations.size() < 5)
+    return rejected("window_occluded", "white references out of the image", outcome);
+  LightFitParams fitParams;
+  const UnitVector toLight = toUnitVector(*m.nominalLight);
+  fitParams.initialPositionMm = {toLight.x * s.settings.nominalLightDistanceMm,
+                                 toLight.y * s.settings.nominalLightDistanceMm,
+                                 toLight.z * s.settings.nominalLightDistanceMm};
+  LightFit fit;
+  try {
+    fit = fitPointLight(observations, fitParams);
+  } catch (const std::invalid_argument& error) {
+    return rejected("window_occluded", error.what(), outcome);
+  }
+  if (!fit.converged || fit.relativeResidualRms > s.settings.maxReferenceResidual)
+    return rejected("window_occluded",
+                    "white references disagree by " + std::to_string(fit.relativeResidualRms),
+                    outcome);
+  m.measuredLight = fit.light.directionFrom({0.0, 0.0, 0.0});
+  m.measuredLightSigmaDeg = fit.directionSigmaDeg;
+  const Rgb irradiance = fit.light.irradianceAt({0.0, 0.0, 0.0});
+  FrameSample sample;
+  sample.timestampUs = frame.metadata.timestampUs;
+  sample.frameIndex = index;
+  sample.view = *m.view;
+  sample.light = m.measuredLightSigmaDeg < s.settings.measuredLightMaxSigmaDeg ? *m.measuredLight
+                                                                               : *m.nominalLight;
+  for (int c = 0; c < 3; ++c)
+    sample.value[c] = irradiance[c] > 0 ? std::max(0.0, windowRadiance[c]) / irradiance[c] : 0.0;
+  outcome.kind = FrameOutcome::Kind::Sample;
+  outcome.sample = sample;
+  outcome.detail = markerText;
+  return outcome;
+}
+
+FrameProcessor makeFramePipeline(const vision::TargetGeometry& target,
+                                 const vision::CameraModel& camera,
+                                 const PipelineSettings& settings) {
+  auto pipeline = std::make_shared<FramePipeline>(target, camera, settings);
+  return [pipeline](const hal::Frame& frame, const SliceId& slice) {
+    return pipeline->process(frame, slice);
+  };
+}
+
+}  // namespace slicecap::capture

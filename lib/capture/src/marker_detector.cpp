@@ -1,0 +1,78 @@
+// tag36h11 detection: an 8-bit gray copy of the frame handed to the AprilTag library.
+#include "slicecap/capture/marker_detector.hpp"
+
+#include <apriltag/apriltag.h>
+#include <apriltag/common/image_u8.h>
+#include <apriltag/common/zarray.h>
+#include <apriltag/tag36h11.h>
+
+#include <cmath>
+#include <cstdint>
+
+namespace slicecap::capture {
+
+struct MarkerDetector::State {
+  apriltag_family_t* family = nullptr;
+  apriltag_detector_t* detector = nullptr;
+  image_u8_t* gray = nullptr;
+  std::vector<std::uint8_t> linearToGray;  // 16-bit linear -> 8-bit, square-root curve
+};
+
+MarkerDetector::MarkerDetector(MarkerDetectorSettings settings)
+    : state_(std::make_unique<State>()) {
+  state_->family = tag36h11_create();
+  state_->detector = apriltag_detector_create();
+  apriltag_detector_add_family_bits(state_->detector, state_->family, 1);
+  state_->detector->quad_decimate = settings.decimation;
+  state_->detector->quad_sigma = 0.0f;
+  state_->detector->nthreads = 1;
+  state_->detector->refine_edges = true;
+  state_->linearToGray.resize(65536);
+  for (int i = 0; i < 65536; ++i)
+    state_->linearToGray[i] =
+        static_cast<std::uint8_t>(std::lround(255.0 * std::sqrt(i / 65535.0)));
+}
+
+MarkerDetector::~MarkerDetector() {
+  if (state_->gray) image_u8_destroy(state_->gray);
+  apriltag_detector_destroy(state_->detector);
+  tag36h11_destroy(state_->family);
+}
+
+std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame) {
+  const Image& image = frame.image;
+  if (!state_->gray || state_->gray->width != image.width || state_->gray->height != image.height) {
+    if (state_->gray) image_u8_destroy(state_->gray);
+    state_->gray = image_u8_create(image.width, image.height);
+  }
+  image_u8_t* gray = state_->gray;
+  const int used = image.channels >= 3 ? 3 : 1;
+  const bool linear = image.bitDepth == 16;
+  const std::uint16_t* in = image.samples.data();
+  for (int y = 0; y < image.height; ++y) {
+    std::uint8_t* row = gray->buf + static_cast<std::size_t>(y) * gray->stride;
+    const std::uint16_t* px = in + static_cast<std::size_t>(y) * image.width * image.channels;
+    for (int x = 0; x < image.width; ++x, px += image.channels) {
+      int sum = 0;
+      for (int c = 0; c < used; ++c)
+        sum += px[c];
+      const int mean = sum / used;
+      row[x] = linear ? state_->linearToGray[mean] : static_cast<std::uint8_t>(mean);
+    }
+  }
+  zarray_t* detections = apriltag_detector_detect(state_->detector, gray);
+  std::vector<DetectedMarker> found;
+  for (int i = 0; i < zarray_size(detections); ++i) {
+    apriltag_detection_t* d = nullptr;
+    zarray_get(detections, i, &d);
+    if (d->hamming > 0) continue;
+    DetectedMarker marker{d->id, {}};
+    for (int c = 0; c < 4; ++c)
+      marker.cornersPx[c] = {d->p[c][0] - kApriltagPixelOffset, d->p[c][1] - kApriltagPixelOffset};
+    found.push_back(marker);
+  }
+  apriltag_detections_destroy(detections);
+  return found;
+}
+
+}  // namespace slicecap::capture

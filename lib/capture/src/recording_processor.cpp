@@ -1,0 +1,127 @@
+// Offline processing of a recording: read each PNG, run the pipeline, bin the samples.
+#include "slicecap/capture/recording_processor.hpp"
+
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/io/png_image.hpp"
+#include "slicecap/io/recording.hpp"
+
+namespace slicecap::capture {
+namespace {
+
+nlohmann::json directionJson(const std::optional<Direction>& d) {
+  if (!d) return nullptr;
+  return {{"theta_deg", d->thetaDeg}, {"phi_deg", d->phiDeg}};
+}
+
+std::string kindName(FrameOutcome::Kind kind) {
+  switch (kind) {
+    case FrameOutcome::Kind::Sample:
+      return "sample";
+    case FrameOutcome::Kind::Ambient:
+      return "ambient";
+    case FrameOutcome::Kind::Rejected:
+      return "rejected";
+  }
+  return "rejected";
+}
+
+hal::Frame frameOf(Image image, const io::Recording& recording, const io::RecordedFrame& entry,
+                   std::uint64_t sequence) {
+  hal::Frame frame;
+  frame.image = std::move(image);
+  frame.encoding = recording.encoding;
+  frame.metadata = {sequence, entry.timestampUs, entry.exposureUs, entry.gain, entry.ledOn};
+  return frame;
+}
+
+}  // namespace
+
+RecordingResult processRecording(const std::filesystem::path& directory,
+                                 const PipelineSettings& settings) {
+  const io::Recording recording = io::readRecording(directory);
+  if (!recording.slice)
+    throw std::invalid_argument(directory.string() +
+                                ": recording.json has no slice (a calibration recording?)");
+  RecordingResult result;
+  result.directory = directory;
+  result.slice = recording.slice->id;
+  result.bins = AzimuthBins(result.slice.kind);
+  FramePipeline pipeline(recording.target, recording.camera, settings);
+  for (std::size_t i = 0; i < recording.frames.size(); ++i) {
+    if (recording.frames[i].ledOn) continue;
+    try {
+      pipeline.setAmbientFrame(frameOf(io::readPng(io::framePath(directory, recording.frames[i])),
+                                       recording, recording.frames[i], i));
+    } catch (const io::IoError&) {
+      continue;  // counted as bad_frame when its turn comes
+    }
+    break;
+  }
+  for (std::size_t i = 0; i < recording.frames.size(); ++i) {
+    const io::RecordedFrame& entry = recording.frames[i];
+    result.frameFiles.push_back(entry.file);
+    FrameOutcome outcome;
+    try {
+      outcome = pipeline.process(
+          frameOf(io::readPng(io::framePath(directory, entry)), recording, entry, i), result.slice);
+    } catch (const io::IoError& error) {
+      outcome.kind = FrameOutcome::Kind::Rejected;
+      outcome.rejectReason = "bad_frame";
+      outcome.detail = error.what();
+    }
+    if (outcome.kind == FrameOutcome::Kind::Sample) {
+      outcome.sample->frameIndex = i;
+      result.bins.add(*outcome.sample);
+    } else if (outcome.kind == FrameOutcome::Kind::Ambient) {
+      ++result.ambientFrames;
+    } else {
+      ++result.rejections[outcome.rejectReason];
+    }
+    result.outcomes.push_back(std::move(outcome));
+  }
+  return result;
+}
+
+nlohmann::json RecordingResult::toJson() const {
+  nlohmann::json frames = nlohmann::json::array();
+  for (std::size_t i = 0; i < outcomes.size(); ++i) {
+    const FrameOutcome& o = outcomes[i];
+    const auto& m = o.measurement;
+    nlohmann::json f = {{"file", frameFiles[i]},
+                        {"outcome", kindName(o.kind)},
+                        {"markers", m.markerCount},
+                        {"view", directionJson(m.view)},
+                        {"camera_distance_mm", m.cameraDistanceMm},
+                        {"pose_residual_px", m.poseResidualPx},
+                        {"sharpness", m.sharpness},
+                        {"nominal_light", directionJson(m.nominalLight)},
+                        {"measured_light", directionJson(m.measuredLight)},
+                        {"measured_light_sigma_deg", m.measuredLightSigmaDeg}};
+    if (o.kind == FrameOutcome::Kind::Rejected) f["reason"] = o.rejectReason;
+    if (!o.detail.empty()) f["detail"] = o.detail;
+    if (o.sample) {
+      f["light"] = directionJson(o.sample->light);
+      f["brdf"] = {o.sample->value[0], o.sample->value[1], o.sample->value[2]};
+      f["bin"] = bins.binOf(*o.sample);
+    }
+    frames.push_back(std::move(f));
+  }
+  nlohmann::json binList = nlohmann::json::array();
+  for (int b = 0; b < bins.binCount(); ++b) {
+    nlohmann::json used = nlohmann::json::array();
+    for (const FrameSample& s : bins.samplesIn(b))
+      used.push_back(s.frameIndex);
+    binList.push_back({{"bin", b}, {"frames", used}});
+  }
+  return {{"recording", directory.string()},
+          {"slice", toString(slice)},
+          {"bins_filled", bins.filledCount()},
+          {"rejections", rejections},
+          {"frames", frames},
+          {"bins", binList}};
+}
+
+}  // namespace slicecap::capture

@@ -1,0 +1,160 @@
+// `slicecap process` (recordings -> slice CSV) and `slicecap capture-offline` (session -> EXR).
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "slicecap/capture/recording_processor.hpp"
+#include "slicecap/cli/command.hpp"
+#include "slicecap/cli/methods.hpp"
+#include "slicecap/io/abrdf_exr.hpp"
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/io/recording.hpp"
+#include "slicecap/io/slice_csv.hpp"
+
+namespace slicecap::cli {
+namespace {
+
+capture::PipelineSettings settingsOf(const ParsedArgs& args) {
+  capture::PipelineSettings settings;
+  settings.elevationToleranceDeg =
+      args.number("elevation-tolerance", settings.elevationToleranceDeg);
+  settings.maxPoseResidualPx = args.number("max-residual", settings.maxPoseResidualPx);
+  settings.minMarkers = static_cast<int>(args.number("min-markers", settings.minMarkers));
+  settings.detector.decimation =
+      static_cast<float>(args.number("decimation", settings.detector.decimation));
+  if (!(settings.elevationToleranceDeg > 0) || !(settings.maxPoseResidualPx > 0) ||
+      settings.minMarkers < 2 || !(settings.detector.decimation >= 1))
+    throw UsageError(
+        "--elevation-tolerance and --max-residual must be > 0, --min-markers >= 2, "
+        "--decimation >= 1");
+  return settings;
+}
+
+// Runs every recording, prints the summary, returns the slices (each recording one slice).
+SliceSet processAll(const std::vector<std::filesystem::path>& recordings,
+                    const capture::PipelineSettings& settings, Streams& io,
+                    nlohmann::json* report) {
+  SliceSet slices;
+  std::map<SliceId, std::filesystem::path> seen;
+  for (const auto& directory : recordings) {
+    capture::RecordingResult result = capture::processRecording(directory, settings);
+    if (const auto previous = seen.find(result.slice); previous != seen.end())
+      throw UsageError(directory.string() + ": slice " + toString(result.slice) +
+                       " was already given by " + previous->second.string());
+    seen[result.slice] = directory;
+    for (const SliceSample& sample : result.bins.combine())
+      slices.add(result.slice, sample);
+    const int samples = static_cast<int>(
+        std::count_if(result.outcomes.begin(), result.outcomes.end(),
+                      [](const auto& o) { return o.kind == capture::FrameOutcome::Kind::Sample; }));
+    io.err << toString(result.slice) << " (" << directory.string()
+           << "): " << result.bins.filledCount() << " of " << result.bins.binCount() << " bins, "
+           << samples << " samples, " << result.ambientFrames << " ambient";
+    for (const auto& [reason, count] : result.rejections)
+      io.err << ", " << count << " " << reason;
+    io.err << "\n";
+    if (report) (*report)["recordings"].push_back(result.toJson());
+  }
+  return slices;
+}
+
+void writeReport(const std::filesystem::path& path, const nlohmann::json& report) {
+  std::ofstream out(path);
+  out << report.dump(1) << "\n";
+  if (!out) throw io::IoError(path.string() + ": cannot write the report");
+}
+
+int runProcess(const ParsedArgs& args, Streams& io) {
+  const std::filesystem::path output = args.required("output");
+  std::vector<std::filesystem::path> recordings(args.positional.begin(), args.positional.end());
+  nlohmann::json report = {{"recordings", nlohmann::json::array()}};
+  const auto reportPath = args.value("report");
+  const SliceSet slices =
+      processAll(recordings, settingsOf(args), io, reportPath ? &report : nullptr);
+  io::writeSliceCsv(output, slices);
+  if (reportPath) writeReport(*reportPath, report);
+  io.out << "wrote " << slices.sampleCount() << " samples in " << slices.slices().size()
+         << " slices to " << output.string() << "\n";
+  return 0;
+}
+
+int runCaptureOffline(const ParsedArgs& args, Streams& io) {
+  const std::filesystem::path session = args.positional[0];
+  const std::filesystem::path output = args.required("output");
+  std::vector<std::filesystem::path> recordings;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(session, error))
+    if (std::filesystem::exists(entry.path() / io::kRecordingManifest))
+      recordings.push_back(entry.path());
+  if (error) throw io::IoError(session.string() + ": " + error.message());
+  if (recordings.empty())
+    throw io::IoError(session.string() + ": no recording (a directory with " +
+                      io::kRecordingManifest + ") inside");
+  std::sort(recordings.begin(), recordings.end());
+  nlohmann::json report = {{"recordings", nlohmann::json::array()}};
+  const auto reportPath = args.value("report");
+  const SliceSet slices =
+      processAll(recordings, settingsOf(args), io, reportPath ? &report : nullptr);
+  if (const auto csv = args.value("slices")) io::writeSliceCsv(*csv, slices);
+  if (reportPath) writeReport(*reportPath, report);
+  const Method& method = findMethod(args.value("method").value_or("b"));
+  MethodOptions options;
+  options.isotropic = args.flag("isotropic");
+  const MethodRun result = method.run(slices, options);
+  io::writeAbrdfExr(output, result.table,
+                    {{"method", result.exrMethodName},
+                     {"source", session.filename().string()},
+                     {"samples", std::to_string(slices.sampleCount())}});
+  for (const std::string& warning : result.warnings)
+    io.err << "warning: " << warning << "\n";
+  io.out << "reconstructed " << slices.sampleCount() << " samples in " << slices.slices().size()
+         << " slices with method " << result.exrMethodName << "; wrote " << output.string() << "\n";
+  return 0;
+}
+
+std::vector<OptionSpec> pipelineOptions() {
+  return {{"report", 0, "FILE", "per frame pose, light, gate outcome; per bin its frames (JSON)"},
+          {"elevation-tolerance", 0, "DEG", "reject frames this far off the view elevation (5)"},
+          {"max-residual", 0, "PX", "reject poses with a larger RMS reprojection error (1.5)"},
+          {"min-markers", 0, "N", "reject frames with fewer markers (4)"},
+          {"decimation", 0, "D", "the AprilTag detector's quad decimation (2)"}};
+}
+
+}  // namespace
+
+Command processCommand() {
+  std::vector<OptionSpec> options = {{"output", 'o', "SLICES.csv", "the slice CSV (required)"}};
+  for (auto& o : pipelineOptions())
+    options.push_back(o);
+  return {{"process", "RECORDING... -o SLICES.csv [--report report.json] [options]",
+           "Run recorded sweeps through the capture pipeline: detect the tag36h11 markers, the\n"
+           "camera pose from all their corners, the light direction (nominal elevation, azimuth\n"
+           "from the slice; the point-light fit to the white references when it is certain),\n"
+           "the gate (rejections: too_few_markers, elevation_off, blurred, window_clipped,\n"
+           "window_occluded, pose_residual, no_ambient_frame, bad_frame), the window's BRDF\n"
+           "(LED-off frame subtracted, divided by the fitted irradiance), 15 deg azimuth bins\n"
+           "combined by median. One recording per slice; its slice comes from recording.json.\n"
+           "Prints per slice the bins filled and the rejections by reason on stderr.",
+           options, 1, 64},
+          runProcess};
+}
+
+Command captureOfflineCommand() {
+  std::vector<OptionSpec> options = {
+      {"output", 'o', "OUT.exr", "the reconstructed ABRDF (required)"},
+      {"method", 0, "NAME", "reconstruction method (default b)"},
+      {"isotropic", 0, "", "use the diagonal slices only"},
+      {"slices", 0, "FILE", "also write the slice CSV"}};
+  for (auto& o : pipelineOptions())
+    options.push_back(o);
+  return {{"capture-offline", "SESSION_DIR -o OUT.exr [--method b] [options]",
+           "slicecap process on every recording under SESSION_DIR (e.g. what simulate --session\n"
+           "or a capture session wrote), then slicecap reconstruct: the session to the EXR in\n"
+           "one step.",
+           options, 1, 1},
+          runCaptureOffline};
+}
+
+}  // namespace slicecap::cli
