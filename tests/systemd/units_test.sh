@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # `systemd-analyze verify` on the units; any warning (an unknown key, a bad value) fails the test.
 # Usage: units_test.sh SYSTEMD_DIR [SLICECAPD_BINARY]. verify also checks that ExecStart's program
-# exists and is executable; until slicecapd is built, a stand-in script takes its path, so this
-# test checks the units' text, not the daemon.
+# exists and is executable: the built slicecapd takes /usr/bin/slicecapd's place (without one, a
+# stand-in script does, and the test checks the units' text only).
 set -euo pipefail
 units=$1
 daemon=${2:-}

@@ -1,0 +1,212 @@
+// slicecapd's start-up: every device and file the configuration names is opened here, so a
+// mistake stops the start with a message before systemd hears READY.
+#include "slicecapd_setup.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <ostream>
+
+#include "slicecap/capture/frame_pipeline.hpp"
+#include "slicecap/cli/methods.hpp"
+#include "slicecap/core/version.hpp"
+#include "slicecap/daemon/config.hpp"
+#include "slicecap/daemon/control_server.hpp"
+#include "slicecap/daemon/daemon.hpp"
+#include "slicecap/eval/metrics.hpp"
+#include "slicecap/hal/clock.hpp"
+#include "slicecap/hal/file_camera.hpp"
+#include "slicecap/hal/file_led.hpp"
+#include "slicecap/hal/gpiod_led.hpp"
+#include "slicecap/hal/libcamera_camera.hpp"
+#include "slicecap/hal/v4l2_camera.hpp"
+#include "slicecap/io/png_image.hpp"
+#include "slicecap/io/recording.hpp"
+#include "slicecap/io/target_json.hpp"
+#include "slicecap/render/sheets.hpp"
+#include "slicecap/vision/target.hpp"
+
+namespace slicecap::slicecapd {
+namespace {
+
+namespace fs = std::filesystem;
+using daemon::DaemonConfig;
+
+constexpr const char* kUsage =
+    "usage: slicecapd [--config FILE] [--print-config | --check-config | --led-off]\n"
+    "  --config FILE    the configuration (default /etc/slicecap/slicecapd.conf)\n"
+    "  --print-config   print the default configuration, every key documented, and exit\n"
+    "  --check-config   read and check the configuration, open nothing, and exit\n"
+    "  --led-off        switch the LED off and exit (the service's ExecStopPost)\n"
+    "  --version        print the version and exit\n";
+
+struct Options {
+  fs::path config = "/etc/slicecap/slicecapd.conf";
+  bool printConfig = false, checkConfig = false, ledOff = false, version = false, help = false;
+};
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+Options parseOptions(std::span<const std::string> args) {
+  Options options;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    if (arg == "--config") {
+      if (i + 1 >= args.size()) throw UsageError("--config needs a FILE");
+      options.config = args[++i];
+    } else if (arg == "--print-config") {
+      options.printConfig = true;
+    } else if (arg == "--check-config") {
+      options.checkConfig = true;
+    } else if (arg == "--led-off") {
+      options.ledOff = true;
+    } else if (arg == "--version") {
+      options.version = true;
+    } else if (arg == "--help" || arg == "-h") {
+      options.help = true;
+    } else {
+      throw UsageError("unknown argument '" + arg + "'");
+    }
+  }
+  return options;
+}
+
+std::unique_ptr<hal::Led> openLed(const DaemonConfig& config, hal::Clock& clock) {
+  if (config.camera == DaemonConfig::CameraKind::File) {
+    const fs::path log = config.ledLog.empty() ? config.storage / "led.log" : config.ledLog;
+    fs::create_directories(log.parent_path());
+    return std::make_unique<hal::FileLed>(log, clock);
+  }
+  return std::make_unique<hal::GpiodLed>(
+      hal::GpioLineSpec{config.ledChip, config.ledLine, config.ledActiveLow});
+}
+
+/// The recording a file camera plays for a slice: the configured recording itself, or the one of
+/// that slice in a session folder (as `slicecap simulate --session` writes).
+fs::path recordingFor(const fs::path& configured, const SliceId& slice) {
+  if (fs::exists(configured / io::kRecordingManifest)) return configured;
+  std::error_code error;
+  for (const fs::directory_entry& entry : fs::directory_iterator(configured, error)) {
+    if (!fs::exists(entry.path() / io::kRecordingManifest)) continue;
+    const io::Recording recording = io::readRecording(entry.path());
+    if (recording.slice && recording.slice->id == slice) return entry.path();
+  }
+  throw std::runtime_error(configured.string() + ": no recording of slice " + toString(slice));
+}
+
+Abrdf reconstruct(const SliceSet& slices, const std::string& method) {
+  return cli::findMethod(method).run(slices, cli::MethodOptions{}).table;
+}
+
+void preview(const Abrdf& table, const fs::path& png) {
+  char line[96];
+  std::snprintf(line, sizeof line, "normalised to max f cos = %.4g 1/sr",
+                eval::cosWeightedMaximum(table));
+  io::writePng(png, render::previewSheet(png.stem().string(), {line}, table).toPng());
+}
+
+int serve(const DaemonConfig& config, std::ostream& err) {
+  static hal::SteadyClock clock;
+  daemon::DaemonParts parts;
+  parts.storage = config.storage;
+  parts.led = openLed(config, clock);
+  parts.ledAlternate = config.ledAlternate;
+  parts.cameraConfig.widthPx = config.widthPx;
+  parts.cameraConfig.heightPx = config.heightPx;
+  parts.cameraConfig.exposureUs = config.exposureUs;
+  parts.cameraConfig.gain = config.gain;
+
+  const vision::TargetGeometry target =
+      config.target == "default" ? vision::defaultTarget() : io::readTargetJson(config.target);
+  vision::CameraModel cameraModel = vision::defaultSimulatedCamera();
+  if (!config.calibration.empty())
+    cameraModel = io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
+
+  switch (config.camera) {
+    case DaemonConfig::CameraKind::Libcamera: {
+      auto camera = std::make_shared<hal::LibcameraCamera>(config.cameraDevice);
+      parts.cameraFor = [camera](const SliceId&) { return camera; };
+      break;
+    }
+    case DaemonConfig::CameraKind::V4l2: {
+      auto camera = std::make_shared<hal::V4l2Camera>(
+          config.cameraDevice.empty() ? std::string("/dev/video0") : config.cameraDevice);
+      parts.cameraFor = [camera](const SliceId&) { return camera; };
+      break;
+    }
+    case DaemonConfig::CameraKind::File: {
+      const fs::path recordings = config.recording;
+      parts.cameraFor = [recordings](const SliceId& slice) {
+        hal::FileCameraOptions options;
+        options.paced = true;  // frames at their recorded rate, as a live camera delivers them
+        return std::make_shared<hal::FileCamera>(recordingFor(recordings, slice), clock, options);
+      };
+      break;
+    }
+  }
+  const bool fromRecordings = config.camera == DaemonConfig::CameraKind::File;
+  const fs::path recordings = config.recording;
+  parts.newFrameProcessor = [=](const SliceId& slice) {
+    if (!fromRecordings) return capture::makeFramePipeline(target, cameraModel, {});
+    // A recording carries the camera and target it was taken with.
+    const io::Recording recording = io::readRecording(recordingFor(recordings, slice));
+    return capture::makeFramePipeline(recording.target, recording.camera, {});
+  };
+  parts.reconstruct = reconstruct;
+  parts.preview = preview;
+
+  bool fromSystemd = false;
+  const int listenFd = daemon::openListenSocket(
+      {config.socket, 0660,
+       config.socketGroup.empty() ? std::nullopt : std::optional<std::string>(config.socketGroup)},
+      &fromSystemd);
+  daemon::Daemon daemon(std::move(parts), listenFd);
+  err << "slicecapd " << kVersion << ": serving "
+      << (fromSystemd ? std::string("the socket systemd passed") : config.socket.string())
+      << ", sessions in " << config.storage.string() << "\n";
+  daemon.run();
+  return 0;
+}
+
+}  // namespace
+
+int run(std::span<const std::string> args, std::ostream& out, std::ostream& err) {
+  Options options;
+  try {
+    options = parseOptions(args);
+  } catch (const UsageError& error) {
+    err << "slicecapd: " << error.what() << "\n" << kUsage;
+    return 2;
+  }
+  if (options.help) {
+    out << kUsage;
+    return 0;
+  }
+  if (options.version) {
+    out << "slicecapd " << kVersion << "\n";
+    return 0;
+  }
+  if (options.printConfig) {
+    out << DaemonConfig::documentedDefaults();
+    return 0;
+  }
+  try {
+    const DaemonConfig config = daemon::readDaemonConfig(options.config);
+    if (options.checkConfig) {
+      out << options.config.string() << ": ok\n";
+      return 0;
+    }
+    if (options.ledOff) {
+      hal::SteadyClock clock;
+      openLed(config, clock)->set(false);
+      return 0;
+    }
+    return serve(config, err);
+  } catch (const std::exception& error) {
+    err << "slicecapd: " << error.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace slicecap::slicecapd
