@@ -16,10 +16,33 @@ struct MarkerDetector::State {
   apriltag_detector_t* detector = nullptr;
   image_u8_t* gray = nullptr;
   std::vector<std::uint8_t> linearToGray;  // 16-bit linear -> 8-bit, square-root curve
+  MarkerDetectorSettings settings;
+  bool retried = false;
 };
+
+namespace {
+
+std::vector<DetectedMarker> runDetector(apriltag_detector_t* detector, image_u8_t* gray) {
+  zarray_t* detections = apriltag_detector_detect(detector, gray);
+  std::vector<DetectedMarker> found;
+  for (int i = 0; i < zarray_size(detections); ++i) {
+    apriltag_detection_t* d = nullptr;
+    zarray_get(detections, i, &d);
+    if (d->hamming > 0) continue;
+    DetectedMarker marker{d->id, {}};
+    for (int c = 0; c < 4; ++c)
+      marker.cornersPx[c] = {d->p[c][0] - kApriltagPixelOffset, d->p[c][1] - kApriltagPixelOffset};
+    found.push_back(marker);
+  }
+  apriltag_detections_destroy(detections);
+  return found;
+}
+
+}  // namespace
 
 MarkerDetector::MarkerDetector(MarkerDetectorSettings settings)
     : state_(std::make_unique<State>()) {
+  state_->settings = settings;
   state_->family = tag36h11_create();
   state_->detector = apriltag_detector_create();
   apriltag_detector_add_family_bits(state_->detector, state_->family, 1);
@@ -60,19 +83,21 @@ std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame) {
       row[x] = linear ? state_->linearToGray[mean] : static_cast<std::uint8_t>(mean);
     }
   }
-  zarray_t* detections = apriltag_detector_detect(state_->detector, gray);
-  std::vector<DetectedMarker> found;
-  for (int i = 0; i < zarray_size(detections); ++i) {
-    apriltag_detection_t* d = nullptr;
-    zarray_get(detections, i, &d);
-    if (d->hamming > 0) continue;
-    DetectedMarker marker{d->id, {}};
-    for (int c = 0; c < 4; ++c)
-      marker.cornersPx[c] = {d->p[c][0] - kApriltagPixelOffset, d->p[c][1] - kApriltagPixelOffset};
-    found.push_back(marker);
+  state_->detector->quad_decimate = state_->settings.decimation;
+  std::vector<DetectedMarker> found = runDetector(state_->detector, gray);
+  state_->retried = false;
+  if (static_cast<int>(found.size()) < state_->settings.fullResolutionBelow &&
+      state_->settings.decimation > 1.0f) {
+    state_->detector->quad_decimate = 1.0f;
+    std::vector<DetectedMarker> full = runDetector(state_->detector, gray);
+    state_->retried = true;
+    if (full.size() > found.size()) found = std::move(full);
   }
-  apriltag_detections_destroy(detections);
   return found;
+}
+
+bool MarkerDetector::lastNeededFullResolution() const {
+  return state_->retried;
 }
 
 }  // namespace slicecap::capture

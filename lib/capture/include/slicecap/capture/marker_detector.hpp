@@ -24,6 +24,11 @@ struct MarkerDetectorSettings {
   /// section "Processing recordings") to be several times faster than 1 at 1280 x 720 with the
   /// same markers found at the rig's ~30 cm; 1 is for small or far targets.
   float decimation = 2.0f;
+  /// \brief With fewer markers than this found after decimation, detect again at full
+  /// resolution: at the 75 deg view elevation the tags are foreshortened to a quarter of their
+  /// height and the half-size image loses most of them (measured on a simulated session: 9 of 24
+  /// LED-on frames of axial 75/75 kept at decimation 2 alone, 23 of 24 with this).
+  int fullResolutionBelow = 8;
 };
 
 /// \brief Wraps an apriltag_detector_t for tag36h11 (single-threaded, no blur: quad_sigma would
@@ -39,6 +44,8 @@ class MarkerDetector {
   /// of R, G, B; 16-bit linear samples are put on an sRGB-like curve first so the markers keep
   /// their contrast in the shadows).
   std::vector<DetectedMarker> detect(const hal::Frame& frame);
+  /// \brief Detections of the last detect() that needed the full-resolution retry.
+  bool lastNeededFullResolution() const;
 
  private:
   struct State;
