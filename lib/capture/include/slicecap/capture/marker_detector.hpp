@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "slicecap/hal/frame.hpp"
@@ -15,6 +16,11 @@ namespace slicecap::capture {
 struct DetectedMarker {
   int id = 0;
   std::array<Eigen::Vector2d, 4> cornersPx{};
+};
+
+/// \brief A rectangle of the image, pixels (x0, y0 inclusive, width x height).
+struct PixelRect {
+  int x0 = 0, y0 = 0, width = 0, height = 0;
 };
 
 /// \brief Detector options.
@@ -43,7 +49,10 @@ class MarkerDetector {
   /// \brief The markers in `frame` with no bit errors (an 8-bit gray view of the image: the mean
   /// of R, G, B; 16-bit linear samples are put on an sRGB-like curve first so the markers keep
   /// their contrast in the shadows).
-  std::vector<DetectedMarker> detect(const hal::Frame& frame);
+  /// With `region`, only that part of the image (clamped to it) is searched: the target's area
+  /// from the previous pose, the detector's cost being proportional to the pixels it sees.
+  std::vector<DetectedMarker> detect(const hal::Frame& frame,
+                                     const std::optional<PixelRect>& region = std::nullopt);
   /// \brief Detections of the last detect() that needed the full-resolution retry.
   bool lastNeededFullResolution() const;
 
