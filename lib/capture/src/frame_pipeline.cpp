@@ -128,6 +128,29 @@ double edgeSharpness(const LinearView& view, const Eigen::Vector2d& a, const Eig
   return largest / step;
 }
 
+int countKnown(const std::vector<DetectedMarker>& markers, const vision::TargetGeometry& target) {
+  return static_cast<int>(std::count_if(markers.begin(), markers.end(), [&](const auto& m) {
+    return target.findMarker(m.id) != nullptr;
+  }));
+}
+
+// The image box of the sheet seen from `pose`, grown by a quarter of its size on every side.
+std::optional<PixelRect> sheetRegion(const vision::Pose& pose, const vision::CameraModel& camera,
+                                     const vision::RectMm& sheet) {
+  double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
+  for (const double x : {sheet.xMinMm, sheet.xMaxMm})
+    for (const double y : {sheet.yMinMm, sheet.yMaxMm}) {
+      const auto px = camera.project(pose.toCamera({x, y, 0.0}));
+      if (!px) return std::nullopt;
+      x0 = std::min(x0, px->x()), x1 = std::max(x1, px->x());
+      y0 = std::min(y0, px->y()), y1 = std::max(y1, px->y());
+    }
+  const double mx = 0.25 * (x1 - x0) + 16.0, my = 0.25 * (y1 - y0) + 16.0;
+  return PixelRect{static_cast<int>(std::floor(x0 - mx)), static_cast<int>(std::floor(y0 - my)),
+                   static_cast<int>(std::ceil(x1 - x0 + 2 * mx)),
+                   static_cast<int>(std::ceil(y1 - y0 + 2 * my))};
+}
+
 FrameOutcome rejected(std::string reason, std::string detail, FrameOutcome outcome = {}) {
   outcome.kind = FrameOutcome::Kind::Rejected;
   outcome.sample.reset();
@@ -152,6 +175,7 @@ struct FramePipeline::State {
   std::vector<Reference> references;
   std::optional<hal::Frame> ambient;
   std::uint64_t frameIndex = 0;
+  std::optional<vision::Pose> lastPose;  // the previous frame's, for the detector's region
 
   State(vision::TargetGeometry t, vision::CameraModel c, PipelineSettings s)
       : target(std::move(t)), camera(std::move(c)), settings(s), detector(s.detector) {}
@@ -219,7 +243,16 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   }
   FrameOutcome outcome;
   auto& m = outcome.measurement;
-  const auto markers = s.detector.detect(frame);
+  // Tracking: search only where the sheet was in the previous frame (plus a margin for the
+  // hand's motion between frames); the detector's cost goes with the pixels it is given, so this
+  // is what brings a frame near the budget (bench/capture_bench.cpp). A miss there searches the
+  // whole frame before giving up.
+  std::optional<PixelRect> region;
+  if (s.lastPose) region = sheetRegion(*s.lastPose, s.camera, s.target.sheet);
+  std::vector<DetectedMarker> markers = s.detector.detect(frame, region);
+  if (region && countKnown(markers, s.target) < s.settings.minMarkers)
+    markers = s.detector.detect(frame);
+  s.lastPose.reset();
   std::vector<PlaneCorrespondence> corners;
   std::vector<const DetectedMarker*> known;
   for (const auto& marker : markers) {
@@ -238,6 +271,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   const auto estimate = estimatePlanarPose(corners, s.camera);
   if (!estimate) return rejected("too_few_markers", markerText + ", no pose", outcome);
   const vision::Pose& pose = estimate->pose;
+  if (estimate->residualRmsPx <= s.settings.maxPoseResidualPx) s.lastPose = pose;
   const Eigen::Vector3d cameraCentre = pose.cameraCentreMm();
   m.poseResidualPx = estimate->residualRmsPx;
   m.cameraDistanceMm = cameraCentre.norm();

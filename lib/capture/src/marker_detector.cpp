@@ -6,6 +6,7 @@
 #include <apriltag/common/zarray.h>
 #include <apriltag/tag36h11.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -16,10 +17,35 @@ struct MarkerDetector::State {
   apriltag_detector_t* detector = nullptr;
   image_u8_t* gray = nullptr;
   std::vector<std::uint8_t> linearToGray;  // 16-bit linear -> 8-bit, square-root curve
+  MarkerDetectorSettings settings;
+  bool retried = false;
 };
+
+namespace {
+
+std::vector<DetectedMarker> runDetector(apriltag_detector_t* detector, image_u8_t* gray,
+                                        const PixelRect& area) {
+  zarray_t* detections = apriltag_detector_detect(detector, gray);
+  std::vector<DetectedMarker> found;
+  for (int i = 0; i < zarray_size(detections); ++i) {
+    apriltag_detection_t* d = nullptr;
+    zarray_get(detections, i, &d);
+    if (d->hamming > 0) continue;
+    DetectedMarker marker{d->id, {}};
+    for (int c = 0; c < 4; ++c)
+      marker.cornersPx[c] = {d->p[c][0] - kApriltagPixelOffset + area.x0,
+                             d->p[c][1] - kApriltagPixelOffset + area.y0};
+    found.push_back(marker);
+  }
+  apriltag_detections_destroy(detections);
+  return found;
+}
+
+}  // namespace
 
 MarkerDetector::MarkerDetector(MarkerDetectorSettings settings)
     : state_(std::make_unique<State>()) {
+  state_->settings = settings;
   state_->family = tag36h11_create();
   state_->detector = apriltag_detector_create();
   apriltag_detector_add_family_bits(state_->detector, state_->family, 1);
@@ -39,20 +65,30 @@ MarkerDetector::~MarkerDetector() {
   tag36h11_destroy(state_->family);
 }
 
-std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame) {
+std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame,
+                                                   const std::optional<PixelRect>& region) {
   const Image& image = frame.image;
-  if (!state_->gray || state_->gray->width != image.width || state_->gray->height != image.height) {
+  PixelRect area{0, 0, image.width, image.height};
+  if (region) {
+    const int x0 = std::clamp(region->x0, 0, image.width),
+              y0 = std::clamp(region->y0, 0, image.height);
+    const int x1 = std::clamp(region->x0 + region->width, 0, image.width);
+    const int y1 = std::clamp(region->y0 + region->height, 0, image.height);
+    if (x1 - x0 >= 16 && y1 - y0 >= 16) area = {x0, y0, x1 - x0, y1 - y0};
+  }
+  if (!state_->gray || state_->gray->width != area.width || state_->gray->height != area.height) {
     if (state_->gray) image_u8_destroy(state_->gray);
-    state_->gray = image_u8_create(image.width, image.height);
+    state_->gray = image_u8_create(area.width, area.height);
   }
   image_u8_t* gray = state_->gray;
   const int used = image.channels >= 3 ? 3 : 1;
   const bool linear = image.bitDepth == 16;
   const std::uint16_t* in = image.samples.data();
-  for (int y = 0; y < image.height; ++y) {
+  for (int y = 0; y < area.height; ++y) {
     std::uint8_t* row = gray->buf + static_cast<std::size_t>(y) * gray->stride;
-    const std::uint16_t* px = in + static_cast<std::size_t>(y) * image.width * image.channels;
-    for (int x = 0; x < image.width; ++x, px += image.channels) {
+    const std::uint16_t* px =
+        in + (static_cast<std::size_t>(y + area.y0) * image.width + area.x0) * image.channels;
+    for (int x = 0; x < area.width; ++x, px += image.channels) {
       int sum = 0;
       for (int c = 0; c < used; ++c)
         sum += px[c];
@@ -60,19 +96,21 @@ std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame) {
       row[x] = linear ? state_->linearToGray[mean] : static_cast<std::uint8_t>(mean);
     }
   }
-  zarray_t* detections = apriltag_detector_detect(state_->detector, gray);
-  std::vector<DetectedMarker> found;
-  for (int i = 0; i < zarray_size(detections); ++i) {
-    apriltag_detection_t* d = nullptr;
-    zarray_get(detections, i, &d);
-    if (d->hamming > 0) continue;
-    DetectedMarker marker{d->id, {}};
-    for (int c = 0; c < 4; ++c)
-      marker.cornersPx[c] = {d->p[c][0] - kApriltagPixelOffset, d->p[c][1] - kApriltagPixelOffset};
-    found.push_back(marker);
+  state_->detector->quad_decimate = state_->settings.decimation;
+  std::vector<DetectedMarker> found = runDetector(state_->detector, gray, area);
+  state_->retried = false;
+  if (static_cast<int>(found.size()) < state_->settings.fullResolutionBelow &&
+      state_->settings.decimation > 1.0f) {
+    state_->detector->quad_decimate = 1.0f;
+    std::vector<DetectedMarker> full = runDetector(state_->detector, gray, area);
+    state_->retried = true;
+    if (full.size() > found.size()) found = std::move(full);
   }
-  apriltag_detections_destroy(detections);
   return found;
+}
+
+bool MarkerDetector::lastNeededFullResolution() const {
+  return state_->retried;
 }
 
 }  // namespace slicecap::capture

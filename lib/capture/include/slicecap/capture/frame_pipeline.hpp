@@ -27,7 +27,7 @@ struct PipelineSettings {
   /// means something (the light arm, a finger) covers part of them: "window_occluded".
   double maxReferenceResidual = 0.05;
   /// \brief Side of the square of the window that is averaged, as a fraction of the window.
-  double windowSampleFraction = 0.25;
+  double windowSampleFraction = 0.2;
   /// \brief The measured light direction replaces the nominal one when its sigma is below this.
   double measuredLightMaxSigmaDeg = 0.5;
   double nominalLightDistanceMm = 300.0;  ///< start of the point-light fit

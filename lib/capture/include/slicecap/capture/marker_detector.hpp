@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "slicecap/hal/frame.hpp"
@@ -17,6 +18,11 @@ struct DetectedMarker {
   std::array<Eigen::Vector2d, 4> cornersPx{};
 };
 
+/// \brief A rectangle of the image, pixels (x0, y0 inclusive, width x height).
+struct PixelRect {
+  int x0 = 0, y0 = 0, width = 0, height = 0;
+};
+
 /// \brief Detector options.
 struct MarkerDetectorSettings {
   /// \brief The library's quad_decimate. 2 finds the quads on a half-size image and refines the
@@ -24,6 +30,11 @@ struct MarkerDetectorSettings {
   /// section "Processing recordings") to be several times faster than 1 at 1280 x 720 with the
   /// same markers found at the rig's ~30 cm; 1 is for small or far targets.
   float decimation = 2.0f;
+  /// \brief With fewer markers than this found after decimation, detect again at full
+  /// resolution: at the 75 deg view elevation the tags are foreshortened to a quarter of their
+  /// height and the half-size image loses most of them (measured on a simulated session: 9 of 24
+  /// LED-on frames of axial 75/75 kept at decimation 2 alone, 23 of 24 with this).
+  int fullResolutionBelow = 8;
 };
 
 /// \brief Wraps an apriltag_detector_t for tag36h11 (single-threaded, no blur: quad_sigma would
@@ -38,7 +49,12 @@ class MarkerDetector {
   /// \brief The markers in `frame` with no bit errors (an 8-bit gray view of the image: the mean
   /// of R, G, B; 16-bit linear samples are put on an sRGB-like curve first so the markers keep
   /// their contrast in the shadows).
-  std::vector<DetectedMarker> detect(const hal::Frame& frame);
+  /// With `region`, only that part of the image (clamped to it) is searched: the target's area
+  /// from the previous pose, the detector's cost being proportional to the pixels it sees.
+  std::vector<DetectedMarker> detect(const hal::Frame& frame,
+                                     const std::optional<PixelRect>& region = std::nullopt);
+  /// \brief Detections of the last detect() that needed the full-resolution retry.
+  bool lastNeededFullResolution() const;
 
  private:
   struct State;

@@ -1,0 +1,214 @@
+// The capture pipeline on virtual-rig recordings: angles and samples against truth.json, the
+// gate's reasons, bad input as counted rejections or errors naming the input.
+#include "slicecap/capture/frame_pipeline.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "../support/test_support.hpp"
+#include "slicecap/capture/planar_pose.hpp"
+#include "slicecap/capture/recording_processor.hpp"
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/io/png_image.hpp"
+#include "slicecap/io/recording.hpp"
+#include "slicecap/sim/material.hpp"
+#include "slicecap/sim/simulate.hpp"
+
+namespace slicecap::capture {
+namespace {
+
+constexpr const char* kMaterial = "ward:diffuse=0.3,0.2,0.1,specular=0.2,ax=0.2,ay=0.3,tangent=30";
+
+// A short sweep (8 frames: 4 with the LED on) written to a fresh directory.
+std::filesystem::path simulate(const SliceId& slice, sim::RigParams rig, int frames = 8) {
+  const auto dir = test::freshTempDir() / sim::sliceDirectoryName(slice);
+  sim::SweepSetup setup;
+  rig.framesPerSlice = frames;
+  setup.rig = rig;
+  setup.materialSpec = kMaterial;
+  const sim::FrameRenderer renderer(setup.camera, setup.target, sim::loadMaterial(kMaterial),
+                                    setup.rig);
+  sim::simulateSweep(dir, {slice, kAxialOffsetDeg}, renderer, setup);
+  return dir;
+}
+
+double angleBetweenDeg(const Direction& a, const Direction& b) {
+  const UnitVector u = toUnitVector(a), v = toUnitVector(b);
+  return std::acos(std::clamp(u.x * v.x + u.y * v.y + u.z * v.z, -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+hal::Frame frameOf(const std::filesystem::path& dir, std::size_t index) {
+  const io::Recording recording = io::readRecording(dir);
+  const io::RecordedFrame& entry = recording.frames[index];
+  hal::Frame frame{io::readPng(io::framePath(dir, entry)), recording.encoding, {}};
+  frame.metadata = {index, entry.timestampUs, entry.exposureUs, entry.gain, entry.ledOn};
+  return frame;
+}
+
+TEST(FramePipeline, IdealSweepMatchesTruthInViewAnglesAndBrdf) {
+  for (const SliceId& slice :
+       {SliceId{SliceKind::Axial, {30, 30}}, SliceId{SliceKind::Diagonal, {75, 30}}}) {
+    SCOPED_TRACE(toString(slice));
+    // 16-bit linear frames: noise-free 8-bit sRGB would add a systematic quantisation error of a
+    // few percent in the dark blue channel (nothing dithers it).
+    sim::RigParams rig = sim::RigParams::ideal();
+    rig.encoding = PixelEncoding::Linear16;
+    // No room light: with 8 frames the LED-off neighbour is 45 deg away along the sweep, and the
+    // anisotropic material's reflection of the ceiling differs there (a 48-frame sweep has 7.5).
+    rig.ambientIrradiance = 0.0;
+    const auto dir = simulate(slice, rig);
+    const RecordingResult result = processRecording(dir);
+    const sim::SweepTruth truth = sim::readTruth(dir);
+    ASSERT_EQ(result.outcomes.size(), truth.frames.size());
+    int samples = 0;
+    for (std::size_t i = 0; i < truth.frames.size(); ++i) {
+      const FrameOutcome& o = result.outcomes[i];
+      const sim::FrameTruth& t = truth.frames[i];
+      if (!t.ledOn) {
+        EXPECT_EQ(o.kind, FrameOutcome::Kind::Ambient);
+        continue;
+      }
+      ASSERT_EQ(o.kind, FrameOutcome::Kind::Sample) << o.rejectReason << ": " << o.detail;
+      ++samples;
+      EXPECT_LT(angleBetweenDeg(o.sample->view, t.view), 0.2);
+      EXPECT_NEAR(o.measurement.cameraDistanceMm, t.cameraDistanceMm, 1.0);
+      EXPECT_LT(o.measurement.poseResidualPx, 0.5);
+      // The ideal rig's light is exactly at the nominal direction.
+      EXPECT_LT(angleBetweenDeg(*o.measurement.nominalLight, t.light), 0.2);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(o.sample->value[c], t.brdf[c], 0.03 * t.brdf[c]) << "channel " << c;
+    }
+    EXPECT_EQ(samples, 4);
+    EXPECT_EQ(result.bins.filledCount(), 4);
+  }
+}
+
+TEST(FramePipeline, GateCountsElevationOffTooFewMarkersAndBadFrames) {
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  const auto dir = simulate(slice, sim::RigParams::ideal(), 2);
+  const io::Recording recording = io::readRecording(dir);
+  FramePipeline pipeline(recording.target, recording.camera);
+  pipeline.setAmbientFrame(frameOf(dir, 1));
+  const hal::Frame good = frameOf(dir, 0);
+
+  // Swept at 30 deg, processed as a 75 deg slice: the camera is 45 deg off.
+  const FrameOutcome off = pipeline.process(good, {SliceKind::Axial, {30, 75}});
+  EXPECT_EQ(off.rejectReason, "elevation_off");
+  ASSERT_TRUE(off.viewElevationErrorDeg.has_value());
+  EXPECT_NEAR(*off.viewElevationErrorDeg, -45.0, 1.0);
+
+  // A blank frame (no target in view) and one with all but the top rows blanked.
+  hal::Frame blank = good;
+  std::fill(blank.image.samples.begin(), blank.image.samples.end(), 128);
+  EXPECT_EQ(pipeline.process(blank, slice).rejectReason, "too_few_markers");
+  hal::Frame cut = good;
+  std::fill(cut.image.samples.begin() + cut.image.samples.size() / 8, cut.image.samples.end(), 128);
+  const FrameOutcome few = pipeline.process(cut, slice);
+  EXPECT_EQ(few.rejectReason, "too_few_markers");
+  EXPECT_LT(few.measurement.markerCount, 4);
+
+  hal::Frame small = good;
+  small.image.width /= 2;
+  small.image.samples.resize(small.image.samples.size() / 2);
+  const FrameOutcome bad = pipeline.process(small, slice);
+  EXPECT_EQ(bad.rejectReason, "bad_frame");
+  EXPECT_NE(bad.detail.find("expected 1280 x 720"), std::string::npos) << bad.detail;
+
+  // The rejections left no state behind: the same good frame is still a sample.
+  EXPECT_EQ(pipeline.process(good, slice).kind, FrameOutcome::Kind::Sample);
+}
+
+TEST(FramePipeline, NoAmbientFrameYetIsRejectedLive) {
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  const auto dir = simulate(slice, sim::RigParams::ideal(), 2);
+  const io::Recording recording = io::readRecording(dir);
+  const FrameProcessor process = makeFramePipeline(recording.target, recording.camera);
+  EXPECT_EQ(process(frameOf(dir, 0), slice).rejectReason, "no_ambient_frame");
+  EXPECT_EQ(process(frameOf(dir, 1), slice).kind, FrameOutcome::Kind::Ambient);
+  EXPECT_EQ(process(frameOf(dir, 0), slice).kind, FrameOutcome::Kind::Sample);
+}
+
+TEST(FramePipeline, RealisticSweepRejectsBlurredAndOccludedFramesWithReasons) {
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  sim::RigParams rig = sim::RigParams::realistic();
+  rig.motionBlurFraction = 0.5;
+  rig.motionBlurMaxPx = 8.0;
+  rig.occlusionFraction = 0.0;
+  rig.markersOutOfViewFraction = 0.0;
+  const auto dir = simulate(slice, rig, 16);
+  const RecordingResult result = processRecording(dir);
+  const sim::SweepTruth truth = sim::readTruth(dir);
+  int blurredSeen = 0;
+  for (std::size_t i = 0; i < truth.frames.size(); ++i) {
+    const sim::FrameTruth& t = truth.frames[i];
+    const FrameOutcome& o = result.outcomes[i];
+    if (!t.ledOn) continue;
+    if (t.motionBlurPx > 4.0) {
+      ++blurredSeen;
+      EXPECT_EQ(o.kind, FrameOutcome::Kind::Rejected)
+          << "frame " << i << " blur " << t.motionBlurPx;
+    }
+    if (t.motionBlurPx == 0.0) {
+      ASSERT_EQ(o.kind, FrameOutcome::Kind::Sample) << o.rejectReason << ": " << o.detail;
+      EXPECT_LT(angleBetweenDeg(o.sample->view, t.view), 0.2);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(o.sample->value[c], t.brdf[c], 0.05 * t.brdf[c]) << "frame " << i;
+    }
+  }
+  EXPECT_GT(blurredSeen, 0) << "the seed gave no strongly blurred frame: the test shows nothing";
+  int rejected = 0;
+  for (const auto& [reason, count] : result.rejections)
+    rejected += count;
+  EXPECT_GE(rejected, blurredSeen);
+}
+
+TEST(FramePipeline, CorruptPngIsACountedRejectionAndMissingFieldAnError) {
+  const SliceId slice{SliceKind::Diagonal, {30, 30}};
+  const auto dir = simulate(slice, sim::RigParams::ideal(), 4);
+  const io::Recording recording = io::readRecording(dir);
+  const auto victim = io::framePath(dir, recording.frames[2]);
+  std::filesystem::resize_file(victim, std::filesystem::file_size(victim) / 2);
+  const RecordingResult result = processRecording(dir);
+  EXPECT_EQ(result.rejections.at("bad_frame"), 1);
+  EXPECT_NE(result.outcomes[2].detail.find("frame-00002.png"), std::string::npos)
+      << result.outcomes[2].detail;
+  EXPECT_EQ(result.outcomes[0].kind, FrameOutcome::Kind::Sample);
+
+  nlohmann::json manifest;
+  std::ifstream(dir / "recording.json") >> manifest;
+  manifest["frames"][1].erase("exposure_us");
+  std::ofstream(dir / "recording.json") << manifest.dump();
+  try {
+    processRecording(dir);
+    FAIL() << "a missing field was accepted";
+  } catch (const io::IoError& error) {
+    EXPECT_NE(std::string(error.what()).find("exposure_us"), std::string::npos) << error.what();
+  }
+}
+
+TEST(PlanarPose, RecoversFrontoParallelAndObliquePosesFromCorners) {
+  const vision::CameraModel camera = vision::defaultSimulatedCamera();
+  const vision::TargetGeometry target = vision::defaultTarget();
+  for (const Eigen::Vector3d& centre :
+       {Eigen::Vector3d(0.5, 0.3, 300.0), Eigen::Vector3d(150.0, 80.0, 260.0),
+        Eigen::Vector3d(-60.0, 40.0, 80.0)}) {
+    const vision::Pose truth =
+        vision::lookAtPose(centre, Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 1, 0.3));
+    std::vector<PlaneCorrespondence> points;
+    for (const auto& m : target.markers)
+      for (const auto& c : m.cornersMm)
+        if (const auto px = camera.project(truth.toCamera({c.xMm, c.yMm, 0.0})))
+          points.push_back({{c.xMm, c.yMm}, *px});
+    const auto estimate = estimatePlanarPose(points, camera);
+    ASSERT_TRUE(estimate.has_value());
+    EXPECT_LT(estimate->residualRmsPx, 1e-6);
+    EXPECT_LT((estimate->pose.cameraCentreMm() - centre).norm(), 1e-4);
+  }
+  EXPECT_FALSE(estimatePlanarPose(std::vector<PlaneCorrespondence>(3), camera).has_value());
+}
+
+}  // namespace
+}  // namespace slicecap::capture

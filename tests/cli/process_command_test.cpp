@@ -1,0 +1,57 @@
+// `slicecap process` end to end: a simulated sweep to the slice CSV, the report and the summary.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "../support/test_support.hpp"
+#include "slicecap/cli/cli.hpp"
+#include "slicecap/io/slice_csv.hpp"
+
+namespace slicecap::cli {
+namespace {
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+Result run(std::vector<std::string> args) {
+  std::ostringstream out, err;
+  const int code = runCli(args, out, err);
+  return {code, out.str(), err.str()};
+}
+
+TEST(ProcessCommand, WritesSlicesReportAndSummary) {
+  const auto dir = test::freshTempDir();
+  const auto recording = (dir / "diagonal-30-30").string();
+  ASSERT_EQ(run({"simulate", "--material", "lambert:albedo=0.5,0.4,0.3", "-o", recording, "--slice",
+                 "diagonal", "--frames", "6", "--ideal"})
+                .code,
+            kExitOk);
+  const auto csv = (dir / "s.csv").string(), report = (dir / "r.json").string();
+  const Result r = run({"process", recording, "-o", csv, "--report", report});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_NE(r.err.find("diagonal 30/30"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("3 of 24 bins"), std::string::npos) << r.err;
+  const SliceSet slices = io::readSliceCsv(csv);
+  const Slice* slice = slices.find({SliceKind::Diagonal, {30, 30}});
+  ASSERT_NE(slice, nullptr);
+  ASSERT_EQ(slice->samples.size(), 3u);
+  for (const SliceSample& s : slice->samples)  // Lambertian: albedo / pi in every direction
+    EXPECT_NEAR(s.value[0], 0.5 / M_PI, 0.01 * 0.5 / M_PI);
+  nlohmann::json j;
+  std::ifstream(report) >> j;
+  EXPECT_EQ(j["recordings"][0]["frames"].size(), 6u);
+  EXPECT_EQ(j["recordings"][0]["frames"][1]["outcome"], "ambient");
+
+  // The same slice twice, a directory without a recording: usage error / failure naming it.
+  EXPECT_EQ(run({"process", recording, recording, "-o", csv}).code, kExitUsage);
+  const Result missing = run({"process", (dir / "nothing").string(), "-o", csv});
+  EXPECT_EQ(missing.code, kExitFailure);
+  EXPECT_NE(missing.err.find("nothing"), std::string::npos) << missing.err;
+}
+
+}  // namespace
+}  // namespace slicecap::cli
