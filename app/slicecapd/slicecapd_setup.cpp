@@ -107,6 +107,9 @@ void preview(const Abrdf& table, const fs::path& png) {
 }
 
 int serve(const DaemonConfig& config, std::ostream& err) {
+  if (config.recordFrames)
+    throw std::runtime_error("record_frames = true: keeping raw frames during a session is not "
+                             "implemented yet; set record_frames = false");
   static hal::SteadyClock clock;
   daemon::DaemonParts parts;
   parts.storage = config.storage;

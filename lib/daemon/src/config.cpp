@@ -164,7 +164,8 @@ led_log =
 target = default
 # Where sessions are kept (one folder each; samples are on disk before they are acknowledged).
 storage = /var/lib/slicecap
-# Also keep every raw frame as a recording, to re-process a session on a desktop.
+# Also keep every raw frame as a recording, to re-process a session on a desktop (not implemented
+# yet: slicecapd refuses to start with true).
 record_frames = false
 
 # The control socket, when systemd does not pass one (slicecapd.socket), and the group allowed to use it.
