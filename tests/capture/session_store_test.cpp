@@ -8,6 +8,7 @@
 
 #include <fstream>
 
+#include "../support/kill_dash_nine.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/io/io_error.hpp"
 
@@ -73,28 +74,14 @@ TEST(SessionStore, RedoDiscardsOnlyThatSliceAndPersists) {
 TEST(SessionStore, ResumesAfterKillDashNineWithEveryAcknowledgedSample) {
   const auto root = test::freshTempDir();
   SessionStore::create(root, "s", "m");
-  int pipeFds[2];
-  ASSERT_EQ(pipe(pipeFds), 0);
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    close(pipeFds[0]);
+  const int acknowledged = test::killAfterAcknowledgements(200, [&](const auto& acknowledge) {
     SessionStore store = SessionStore::open(root, "s");
     store.recordSweepStarted(kDiagonal7575);
     for (std::uint64_t i = 0;; ++i) {
       store.recordSample(kDiagonal7575, sampleAt(double(i % 24) * 15.0, 1.0, i));
-      const char ack = 'a';
-      if (write(pipeFds[1], &ack, 1) != 1) _exit(1);
+      acknowledge();
     }
-  }
-  close(pipeFds[1]);
-  int acknowledged = 0;
-  char ack;
-  while (acknowledged < 200 && read(pipeFds[0], &ack, 1) == 1)
-    ++acknowledged;
-  kill(child, SIGKILL);
-  waitpid(child, nullptr, 0);
-  close(pipeFds[0]);
+  });
   const SessionStore store = SessionStore::open(root, "s");
   EXPECT_GE(store.sampleCount(), std::size_t(acknowledged));
   EXPECT_EQ(store.activeSweep(), kDiagonal7575) << "the interrupted sweep is the one to resume";

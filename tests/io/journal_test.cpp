@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "../support/kill_dash_nine.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/io/io_error.hpp"
 
@@ -88,27 +89,13 @@ TEST(Journal, AFailedAppendLeavesEveryEarlierRecordIntact) {
 
 TEST(Journal, AcknowledgedRecordsSurviveKillDashNine) {
   const auto path = test::freshTempDir() / "j";
-  int pipeFds[2];
-  ASSERT_EQ(pipe(pipeFds), 0);
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    close(pipeFds[0]);
+  const int acknowledged = test::killAfterAcknowledgements(300, [&](const auto& acknowledge) {
     Journal journal = Journal::open(path, nullptr);
     for (int i = 0;; ++i) {
       journal.append("record " + std::to_string(i) + std::string(200, '.'));
-      const char ack = 'a';
-      if (write(pipeFds[1], &ack, 1) != 1) _exit(1);
+      acknowledge();
     }
-  }
-  close(pipeFds[1]);
-  int acknowledged = 0;
-  char ack;
-  while (acknowledged < 300 && read(pipeFds[0], &ack, 1) == 1)
-    ++acknowledged;
-  kill(child, SIGKILL);
-  waitpid(child, nullptr, 0);
-  close(pipeFds[0]);
+  });
   const std::vector<std::string> records = reopen(path);
   ASSERT_GE(records.size(), std::size_t(acknowledged));
   for (std::size_t i = 0; i < records.size(); ++i)
