@@ -23,7 +23,8 @@ json direction(const Direction& d) {
 }
 
 // Reading: truth files are written by this code, so a malformed one is reported by the JSON
-// library's own message (which names the key) with the file's path.
+// library's own message (which names the key) with the file's path and, inside the frame list, the
+// frame's index: a truth file has hundreds of frames with the same keys.
 Eigen::Vector3d toVec(const json& j) {
   return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
 }
@@ -102,33 +103,39 @@ SweepTruth readTruth(const std::filesystem::path& directory) {
     t.ledIntensityWPerSr = r.at("led_intensity_w_per_sr").get<double>();
     t.sensorResponse = r.at("sensor_response").get<double>();
     t.ambientIrradiance = r.at("ambient_irradiance_w_per_m2").get<double>();
-    for (const json& f : root.at("frames")) {
-      FrameTruth ft;
-      ft.file = f.at("file").get<std::string>();
-      ft.timestampUs = f.at("timestamp_us").get<std::int64_t>();
-      ft.ledOn = f.at("led_on").get<bool>();
-      ft.exposureUs = f.at("exposure_us").get<double>();
-      ft.gain = f.at("gain").get<double>();
-      ft.sliceParameterDeg = f.at("slice_parameter_deg").get<double>();
-      for (int row = 0; row < 3; ++row) {
-        for (int column = 0; column < 3; ++column)
-          ft.pose.rotation(row, column) =
-              f.at("pose").at("rotation").at(row).at(column).get<double>();
+    const json& frames = root.at("frames");
+    if (!frames.is_array()) throw io::IoError(path.string() + ": frames: not an array");
+    for (std::size_t index = 0; index < frames.size(); ++index)
+      try {
+        const json& f = frames[index];
+        FrameTruth ft;
+        ft.file = f.at("file").get<std::string>();
+        ft.timestampUs = f.at("timestamp_us").get<std::int64_t>();
+        ft.ledOn = f.at("led_on").get<bool>();
+        ft.exposureUs = f.at("exposure_us").get<double>();
+        ft.gain = f.at("gain").get<double>();
+        ft.sliceParameterDeg = f.at("slice_parameter_deg").get<double>();
+        for (int row = 0; row < 3; ++row) {
+          for (int column = 0; column < 3; ++column)
+            ft.pose.rotation(row, column) =
+                f.at("pose").at("rotation").at(row).at(column).get<double>();
+        }
+        ft.pose.translationMm = toVec(f.at("pose").at("translation_mm"));
+        ft.view = toDirection(f.at("view"));
+        ft.cameraDistanceMm = f.at("camera_distance_mm").get<double>();
+        ft.lightMm = toVec(f.at("light_mm"));
+        ft.light = toDirection(f.at("light"));
+        ft.ledIrradiance = f.at("led_irradiance_w_per_m2").get<double>();
+        ft.brdf = toRgb(f.at("brdf"));
+        ft.expectedLinear = toRgb(f.at("expected_linear"));
+        ft.motionBlurPx = f.at("motion_blur_px").get<double>();
+        ft.occluded = f.at("occluded").get<bool>();
+        ft.aimedOff = f.at("aimed_off").get<bool>();
+        ft.markersInView = f.at("markers_in_view").get<std::vector<int>>();
+        t.frames.push_back(std::move(ft));
+      } catch (const json::exception& e) {
+        throw io::IoError(path.string() + ": frames[" + std::to_string(index) + "]: " + e.what());
       }
-      ft.pose.translationMm = toVec(f.at("pose").at("translation_mm"));
-      ft.view = toDirection(f.at("view"));
-      ft.cameraDistanceMm = f.at("camera_distance_mm").get<double>();
-      ft.lightMm = toVec(f.at("light_mm"));
-      ft.light = toDirection(f.at("light"));
-      ft.ledIrradiance = f.at("led_irradiance_w_per_m2").get<double>();
-      ft.brdf = toRgb(f.at("brdf"));
-      ft.expectedLinear = toRgb(f.at("expected_linear"));
-      ft.motionBlurPx = f.at("motion_blur_px").get<double>();
-      ft.occluded = f.at("occluded").get<bool>();
-      ft.aimedOff = f.at("aimed_off").get<bool>();
-      ft.markersInView = f.at("markers_in_view").get<std::vector<int>>();
-      t.frames.push_back(std::move(ft));
-    }
     return t;
   } catch (const json::exception& e) {
     throw io::IoError(path.string() + ": " + e.what());
