@@ -74,6 +74,7 @@ void add(eval::Metrics& sum, const eval::Metrics& m) {
   sum.deltaE += m.deltaE;
   sum.rmse += m.rmse;
   sum.psnrDb += m.psnrDb;
+  sum.relativeRmse += m.relativeRmse;
 }
 
 // Runs one condition over materials; B is run on the same capture (isotropic B for diagonal
@@ -118,12 +119,14 @@ void runCondition(const std::string& label, const std::vector<const Material*>& 
                   m.name.c_str(), mp.deltaE, mb.deltaE, mb8.deltaE, report.fitRmsLog,
                   report.isotropicScore, report.anisotropyTermsUsed ? "  [aniso]" : "");
   }
-  std::printf("  %-34s %-10s %-5s prior dE %5.2f RMSE %5.2f PSNR %5.2f | ", label.c_str(),
-              sweepName(sweeps), noisy ? "noisy" : "ideal", p.deltaE / n, p.rmse / n, p.psnrDb / n);
+  std::printf("  %-34s %-10s %-5s prior dE %5.2f RMSE %5.2f PSNR %5.2f rel %5.3f | ", label.c_str(),
+              sweepName(sweeps), noisy ? "noisy" : "ideal", p.deltaE / n, p.rmse / n, p.psnrDb / n,
+              p.relativeRmse / n);
   if (sweeps == Sweeps::Diagonal2)
     std::printf("B n/a          ");
   else
-    std::printf("B dE %5.2f RMSE %5.2f PSNR %5.2f ", b.deltaE / n, b.rmse / n, b.psnrDb / n);
+    std::printf("B dE %5.2f RMSE %5.2f PSNR %5.2f rel %5.3f ", b.deltaE / n, b.rmse / n,
+                b.psnrDb / n, b.relativeRmse / n);
   std::printf("| B(8) dE %5.2f | >10%% worse: %d vs B, %d vs B(8) | aniso terms %d/%zu\n",
               b8.deltaE / n, worse, worseThanB8, anisotropyUsed, materials.size());
   std::fputs(worst.c_str(), stdout);

@@ -57,7 +57,13 @@ RidgeFit ridgeFit(const NormalEquations& equations, int columns, const Eigen::Ve
       std::max(0.0, equations.targetSquares -
                         2.0 * (fit.coefficients.array() * designTargets.array()).sum() +
                         (fit.coefficients.array() * (normal * fit.coefficients).array()).sum());
-  const double effective = llt.solve(Eigen::MatrixXd(normal)).trace();
+  // Effective parameters trace(S^-1 N) with S = N + P: columns - sum_j p_j (S^-1)_jj, and
+  // (S^-1)_jj = |L^-1 e_j|^2 -- one triangular inverse instead of two solves with N as right side.
+  const Eigen::MatrixXd inverseFactor =
+      llt.matrixL().solve(Eigen::MatrixXd::Identity(columns, columns));
+  double effective = columns;
+  for (int j = 0; j < columns; ++j)
+    effective -= penalty[j] * inverseFactor.col(j).squaredNorm();
   const double n = equations.rows;
   if (n > effective + 1e-9) fit.score = n * rss / 3.0 / ((n - effective) * (n - effective));
   return fit;
@@ -138,7 +144,10 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
   // The isotropic fit: the basis alone, or with the isotropic hats when they lower the GCV score.
   const int isotropicColumns = k + kIsotropicTermCount;
   NormalEquations equations;
-  equations.normal.noalias() = design.transpose() * design;
+  // D^T D is symmetric: one triangle by a rank update (half the work of the full product).
+  equations.normal = Eigen::MatrixXd::Zero(design.cols(), design.cols());
+  equations.normal.selfadjointView<Eigen::Lower>().rankUpdate(design.transpose());
+  equations.normal.triangularView<Eigen::StrictlyUpper>() = equations.normal.transpose();
   equations.designTargets.noalias() = design.transpose() * targets;
   equations.targetSquares = targets.squaredNorm();
   equations.rows = double(n);
@@ -202,9 +211,12 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
     for (int v = 0; v < 81; ++v) {
       const double cc = cosTheta[l] * cosTheta[v];
       const int e = l * 81 + v;
+      // In float: the table is float, and expf is several times cheaper than exp over 19683 values.
       for (int c = 0; c < 3; ++c) {
-        const double value = (std::exp(double(logTable(e, c)) + field[e][c]) - floor[c]) / cc;
-        table.channel(l, v, c) = static_cast<float>(std::max(value, 0.0));
+        const float value = (std::exp(logTable(e, c) + static_cast<float>(field[e][c])) -
+                             static_cast<float>(floor[c])) /
+                            static_cast<float>(cc);
+        table.channel(l, v, c) = std::max(value, 0.0f);
       }
     }
   }
