@@ -409,6 +409,11 @@ std::optional<SliceId> SessionManager::sweepSlice() const {
   return state_->sweep->slice;
 }
 
+std::optional<fs::path> SessionManager::sessionDirectory() const {
+  if (!state_->session) return std::nullopt;
+  return state_->session->directory();
+}
+
 bool SessionManager::acceptSample(const capture::FrameSample& sample) {
   if (!capturing()) return false;
   try {

@@ -47,6 +47,8 @@ class SessionManager {
   bool capturing() const;
   /// \brief The slice being swept (running or paused).
   std::optional<SliceId> sweepSlice() const;
+  /// \brief The current session's folder (where record_frames keeps its recordings).
+  std::optional<std::filesystem::path> sessionDirectory() const;
 
   /// \brief Stores a frame's sample durably. If the store cannot write (disk full), the sweep
   /// stops with a storage error in its status and this returns false; nothing stored is lost.
