@@ -201,12 +201,13 @@ struct Daemon::State {
   }
 
   nlohmann::json handle(const Request& request) {
-    auto reply = manager.handle(request.command);
-    if (auto* error = std::get_if<ProtocolError>(&reply)) {
+    nlohmann::json json;
+    try {
+      json = replyOrThrow(manager.handle(request.command));
+    } catch (const RequestError&) {
       reconcile();
-      throw RequestError(error->code, error->message);
+      throw;
     }
-    nlohmann::json& json = std::get<nlohmann::json>(reply);
     if (const auto* redo = std::get_if<SweepRedo>(&request.command)) discardRecording(redo->slice);
     // The recording of a sweep being stopped is reported in the stop's reply.
     if (recorder && (std::holds_alternative<Status>(request.command) ||

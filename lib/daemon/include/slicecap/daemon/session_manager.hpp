@@ -69,6 +69,10 @@ class SessionManager {
   std::unique_ptr<State> state_;
 };
 
+/// \brief A SessionManager reply as a ControlServer handler returns it: the JSON, or a thrown
+/// RequestError carrying the refusal's code and message.
+nlohmann::json replyOrThrow(std::variant<nlohmann::json, ProtocolError> reply);
+
 /// \brief The eight slices in the order a person sweeps them (axial then diagonal, elevation
 /// pairs 30/30, 30/75, 75/30, 75/75).
 const std::vector<SliceId>& sweepOrder();
