@@ -4,6 +4,9 @@
 # The caller's `trap session_cleanup EXIT` stops the daemon on any exit.
 
 daemon_pid=
+# An interrupted run exits through the caller's EXIT trap, which stops the daemon.
+trap 'exit 130' INT
+trap 'exit 143' TERM
 session_slices=("axial 30 30" "axial 30 75" "axial 75 30" "axial 75 75"
                 "diagonal 30 30" "diagonal 30 75" "diagonal 75 30" "diagonal 75 75")
 
