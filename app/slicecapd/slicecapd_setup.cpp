@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <ostream>
 
 #include "slicecap/capture/frame_pipeline.hpp"
@@ -82,17 +83,37 @@ std::unique_ptr<hal::Led> openLed(const DaemonConfig& config, hal::Clock& clock)
       hal::GpioLineSpec{config.ledChip, config.ledLine, config.ledActiveLow});
 }
 
-/// The recording a file camera plays for a slice: the configured recording itself, or the one of
-/// that slice in a session folder (as `slicecap simulate --session` writes).
-fs::path recordingFor(const fs::path& configured, const SliceId& slice) {
-  if (fs::exists(configured / io::kRecordingManifest)) return configured;
-  std::error_code error;
-  for (const fs::directory_entry& entry : fs::directory_iterator(configured, error)) {
-    if (!fs::exists(entry.path() / io::kRecordingManifest)) continue;
-    const io::Recording recording = io::readRecording(entry.path());
-    if (recording.slice && recording.slice->id == slice) return entry.path();
+/// The recordings a file camera plays, by slice: the configured recording itself, or those of a
+/// session folder (as `slicecap simulate --session` writes). Read once at start: a sweep start
+/// then reads only the recording it plays.
+using RecordingsBySlice = std::map<SliceId, std::pair<fs::path, io::Recording>>;
+
+RecordingsBySlice findRecordings(const fs::path& configured) {
+  RecordingsBySlice found;
+  const auto add = [&found](const fs::path& directory) {
+    io::Recording recording = io::readRecording(directory);
+    if (recording.slice) found.try_emplace(recording.slice->id, directory, std::move(recording));
+  };
+  if (fs::exists(configured / io::kRecordingManifest)) {
+    add(configured);
+  } else {
+    std::error_code error;
+    for (const fs::directory_entry& entry : fs::directory_iterator(configured, error))
+      if (fs::exists(entry.path() / io::kRecordingManifest)) add(entry.path());
+    if (error) throw std::runtime_error(configured.string() + ": " + error.message());
   }
-  throw std::runtime_error(configured.string() + ": no recording of slice " + toString(slice));
+  if (found.empty())
+    throw std::runtime_error(configured.string() + ": no recording of a slice to play");
+  return found;
+}
+
+const std::pair<fs::path, io::Recording>& recordingFor(const RecordingsBySlice& recordings,
+                                                       const fs::path& configured,
+                                                       const SliceId& slice) {
+  const auto found = recordings.find(slice);
+  if (found == recordings.end())
+    throw std::runtime_error(configured.string() + ": no recording of slice " + toString(slice));
+  return found->second;
 }
 
 Abrdf reconstruct(const SliceSet& slices, const std::string& method) {
@@ -107,9 +128,6 @@ void preview(const Abrdf& table, const fs::path& png) {
 }
 
 int serve(const DaemonConfig& config, std::ostream& err) {
-  if (config.recordFrames)
-    throw std::runtime_error("record_frames = true: keeping raw frames during a session is not "
-                             "implemented yet; set record_frames = false");
   static hal::SteadyClock clock;
   daemon::DaemonParts parts;
   parts.storage = config.storage;
@@ -124,7 +142,8 @@ int serve(const DaemonConfig& config, std::ostream& err) {
       config.target == "default" ? vision::defaultTarget() : io::readTargetJson(config.target);
   vision::CameraModel cameraModel = vision::defaultSimulatedCamera();
   if (!config.calibration.empty())
-    cameraModel = io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
+    cameraModel =
+        io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
 
   switch (config.camera) {
     case DaemonConfig::CameraKind::Libcamera: {
@@ -139,23 +158,46 @@ int serve(const DaemonConfig& config, std::ostream& err) {
       break;
     }
     case DaemonConfig::CameraKind::File: {
-      const fs::path recordings = config.recording;
-      parts.cameraFor = [recordings](const SliceId& slice) {
+      auto recordings = std::make_shared<const RecordingsBySlice>(findRecordings(config.recording));
+      const fs::path configured = config.recording;
+      parts.cameraFor = [recordings, configured](const SliceId& slice) {
         hal::FileCameraOptions options;
         options.paced = true;  // frames at their recorded rate, as a live camera delivers them
-        return std::make_shared<hal::FileCamera>(recordingFor(recordings, slice), clock, options);
+        return std::make_shared<hal::FileCamera>(recordingFor(*recordings, configured, slice).first,
+                                                 clock, options);
       };
+      // A recording carries the camera and target it was taken with.
+      parts.newFrameProcessor = [recordings, configured](const SliceId& slice) {
+        const io::Recording& recording = recordingFor(*recordings, configured, slice).second;
+        return capture::makeFramePipeline(recording.target, recording.camera, {});
+      };
+      if (config.recordFrames) {
+        parts.recordingHeaderFor = [recordings, configured](const SliceId& slice) {
+          const io::Recording& played = recordingFor(*recordings, configured, slice).second;
+          io::Recording header;
+          header.createdBy = std::string("slicecapd ") + kVersion + " (file camera)";
+          header.camera = played.camera;
+          header.target = played.target;
+          return header;
+        };
+      }
       break;
     }
   }
-  const bool fromRecordings = config.camera == DaemonConfig::CameraKind::File;
-  const fs::path recordings = config.recording;
-  parts.newFrameProcessor = [=](const SliceId& slice) {
-    if (!fromRecordings) return capture::makeFramePipeline(target, cameraModel, {});
-    // A recording carries the camera and target it was taken with.
-    const io::Recording recording = io::readRecording(recordingFor(recordings, slice));
-    return capture::makeFramePipeline(recording.target, recording.camera, {});
-  };
+  if (config.camera != DaemonConfig::CameraKind::File) {
+    parts.newFrameProcessor = [=](const SliceId&) {
+      return capture::makeFramePipeline(target, cameraModel, {});
+    };
+    if (config.recordFrames) {
+      parts.recordingHeaderFor = [=](const SliceId&) {
+        io::Recording header;
+        header.createdBy = std::string("slicecapd ") + kVersion;
+        header.camera = cameraModel;
+        header.target = target;
+        return header;
+      };
+    }
+  }
   parts.reconstruct = reconstruct;
   parts.preview = preview;
 

@@ -45,10 +45,11 @@ class LiveDaemon {
     const int listenFd = daemon::openListenSocket({socket_, 0600, std::nullopt});
     server_ =
         std::make_unique<daemon::ControlServer>(loop_, listenFd, [this](const daemon::Request& r) {
-          auto reply = manager_.handle(r.command);
-          if (auto* error = std::get_if<daemon::ProtocolError>(&reply))
-            throw daemon::RequestError(error->code, error->message);
-          return std::get<json>(reply);
+          json reply = daemon::replyOrThrow(manager_.handle(r.command));
+          // What the daemon's frame loop adds to a status (record_frames), when a test sets it.
+          if (std::holds_alternative<daemon::Status>(r.command) && !statusExtra_.is_null())
+            reply.update(statusExtra_);
+          return reply;
         });
     thread_ = std::thread([this] { loop_.run(); });
   }
@@ -68,14 +69,32 @@ class LiveDaemon {
   }
 
   daemon::SessionManager& manager() { return manager_; }
+  /// Set before the first request only (the server thread reads it).
+  void setStatusExtra(json extra) { statusExtra_ = std::move(extra); }
 
  private:
   daemon::SessionManager manager_;
+  json statusExtra_;
   daemon::EventLoop loop_;
   std::unique_ptr<daemon::ControlServer> server_;
   std::filesystem::path socketDir_, socket_;
   std::thread thread_;
 };
+
+TEST(DaemonCommands, StatusShowsTheRawFrameRecordingAndWhyItStopped) {
+  const auto dir = test::freshTempDir();
+  LiveDaemon daemon(dir / "storage");
+  daemon.setStatusExtra({{"recording",
+                          {{"directory", "/s/recordings/axial-30-30"},
+                           {"frames_written", 40},
+                           {"frames_queued", 0},
+                           {"frames_dropped", 3},
+                           {"error", "recording stopped: /s/x.png: No space left on device"}}}});
+  const Result r = daemon.run({"status"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("raw frames recorded: 40 in /s/recordings/axial-30-30, 3 dropped"));
+  EXPECT_THAT(r.out, HasSubstr("recording stopped: /s/x.png: No space left on device"));
+}
 
 TEST(DaemonCommands, ASessionFromNewToExport) {
   const auto dir = test::freshTempDir();

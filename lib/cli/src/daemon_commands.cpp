@@ -96,6 +96,13 @@ void printStatus(std::ostream& out, const json& status) {
       out << "\n";
     }
   }
+  if (status.contains("recording")) {
+    const json& recording = status["recording"];
+    out << "  raw frames recorded: " << recording["frames_written"] << " in "
+        << recording["directory"].get<std::string>() << ", " << recording["frames_dropped"]
+        << " dropped from the recording (writer behind)\n";
+    if (recording.contains("error")) out << "  " << recording["error"].get<std::string>() << "\n";
+  }
   if (status.contains("error")) out << "error: " << status["error"].get<std::string>() << "\n";
   out << "next: " << status["next"].get<std::string>() << "\n";
 }

@@ -164,8 +164,11 @@ led_log =
 target = default
 # Where sessions are kept (one folder each; samples are on disk before they are acknowledged).
 storage = /var/lib/slicecap
-# Also keep every raw frame as a recording, to re-process a session on a desktop (not implemented
-# yet: slicecapd refuses to start with true).
+# Also keep every raw frame of a sweep (LED on and off) as a recording in the session's folder,
+# <storage>/<session>/recordings/<kind>-<theta_i>-<theta_v>, to re-process the session on a desktop
+# (`slicecap capture-offline <session>/recordings`). A writer thread saves the PNGs; frames that
+# arrive while 4 wait are left out of the recording (counted in `slicecap status`), never out of
+# the sweep; a full disk stops the recording, not the sweep. About 1-3 MB a 720p frame.
 record_frames = false
 
 # The control socket, when systemd does not pass one (slicecapd.socket), and the group allowed to use it.

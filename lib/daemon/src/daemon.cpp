@@ -9,6 +9,7 @@
 
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/event_loop.hpp"
+#include "slicecap/daemon/frame_recorder.hpp"
 
 namespace slicecap::daemon {
 
@@ -24,6 +25,12 @@ struct Daemon::State {
   capture::FrameProcessor processor;
   std::optional<int> watchedFd;
   std::optional<EventLoop::TimerId> pollTimer;
+
+  // record_frames: the sweep's recorder, and recorders of ended sweeps still writing their queue
+  // (destroying one waits for its writer, which the loop must not do).
+  std::unique_ptr<FrameRecorder> recorder;
+  std::optional<SliceId> recorderSlice;
+  std::vector<std::unique_ptr<FrameRecorder>> retiredRecorders;
 
   explicit State(DaemonParts p)
       : parts(std::move(p)), manager(parts.storage, parts.reconstruct, parts.preview) {}
@@ -85,6 +92,57 @@ struct Daemon::State {
     if (cameraSlice && cameraSlice != wanted) stopCamera();
     if (wanted && !cameraSlice) startCamera(*wanted);
     if (!manager.capturing()) ledOff();
+    reconcileRecorder();
+  }
+
+  /// One recorder per sweep of a slice: it lives while the sweep runs or is paused (a continued
+  /// sweep appends to its recording) and retires when the sweep stops.
+  void reconcileRecorder() {
+    const std::optional<SliceId> swept = manager.sweepSlice();
+    if (recorder && recorderSlice != swept) {
+      retiredRecorders.push_back(std::move(recorder));
+      recorderSlice.reset();
+    }
+    std::erase_if(retiredRecorders, [](const auto& retired) { return retired->idle(); });
+    if (!recorder && cameraSlice && parts.recordingHeaderFor) {
+      if (const std::optional<std::filesystem::path> session = manager.sessionDirectory()) {
+        io::Recording header = parts.recordingHeaderFor(*cameraSlice);
+        header.slice = io::RecordedSlice{*cameraSlice, kAxialOffsetDeg};
+        recorder = std::make_unique<FrameRecorder>(recordingDirectory(*session, *cameraSlice),
+                                                   std::move(header), parts.recordQueueFrames);
+        recorderSlice = cameraSlice;
+      }
+    }
+  }
+
+  static std::filesystem::path recordingDirectory(const std::filesystem::path& session,
+                                                  const SliceId& slice) {
+    return session / "recordings" /
+           (std::string(toString(slice.kind)) + "-" + std::to_string(slice.elevations.thetaIDeg) +
+            "-" + std::to_string(slice.elevations.thetaVDeg));
+  }
+
+  /// A redone sweep starts its recording afresh, as its samples.
+  void discardRecording(const SliceId& slice) {
+    if (recorderSlice == slice) {
+      recorder.reset();  // waits for its writer: a person's command, not the frame loop
+      recorderSlice.reset();
+    }
+    retiredRecorders.clear();
+    if (const std::optional<std::filesystem::path> session = manager.sessionDirectory()) {
+      std::error_code ignored;
+      std::filesystem::remove_all(recordingDirectory(*session, slice), ignored);
+    }
+  }
+
+  nlohmann::json recorderJson() const {
+    const RecorderStatus s = recorder->status();
+    nlohmann::json json = {{"directory", s.directory.string()},
+                           {"frames_written", s.framesWritten},
+                           {"frames_queued", s.framesQueued},
+                           {"frames_dropped", s.framesDropped}};
+    if (!s.error.empty()) json["error"] = "recording stopped: " + s.error;
+    return json;
   }
 
   void pumpFrame() {
@@ -126,6 +184,7 @@ struct Daemon::State {
       case capture::FrameOutcome::Kind::Ambient:
         break;
     }
+    if (recorder) recorder->offer(std::move(frame));
     reconcile();  // a storage error pauses the sweep, and the LED must go off at once
   }
 
@@ -142,11 +201,20 @@ struct Daemon::State {
   }
 
   nlohmann::json handle(const Request& request) {
-    auto reply = manager.handle(request.command);
+    nlohmann::json json;
+    try {
+      json = replyOrThrow(manager.handle(request.command));
+    } catch (const RequestError&) {
+      reconcile();
+      throw;
+    }
+    if (const auto* redo = std::get_if<SweepRedo>(&request.command)) discardRecording(redo->slice);
+    // The recording of a sweep being stopped is reported in the stop's reply.
+    if (recorder && (std::holds_alternative<Status>(request.command) ||
+                     std::holds_alternative<SweepStop>(request.command)))
+      json["recording"] = recorderJson();
     reconcile();
-    if (auto* error = std::get_if<ProtocolError>(&reply))
-      throw RequestError(error->code, error->message);
-    return std::get<nlohmann::json>(reply);
+    return json;
   }
 };
 

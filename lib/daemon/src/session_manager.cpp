@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "slicecap/core/version.hpp"
+#include "slicecap/daemon/control_server.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/journal.hpp"
@@ -409,6 +410,11 @@ std::optional<SliceId> SessionManager::sweepSlice() const {
   return state_->sweep->slice;
 }
 
+std::optional<fs::path> SessionManager::sessionDirectory() const {
+  if (!state_->session) return std::nullopt;
+  return state_->session->directory();
+}
+
 bool SessionManager::acceptSample(const capture::FrameSample& sample) {
   if (!capturing()) return false;
   try {
@@ -440,6 +446,12 @@ void SessionManager::pauseSweep(const std::string& reason) {
   state_->sweep->paused = true;
   state_->sweep->pauseReason = reason + "; `" + startCommand(state_->sweep->slice) + "` continues";
   state_->lastError = reason;
+}
+
+json replyOrThrow(std::variant<json, ProtocolError> reply) {
+  if (auto* error = std::get_if<ProtocolError>(&reply))
+    throw RequestError(error->code, error->message);
+  return std::move(std::get<json>(reply));
 }
 
 json SessionManager::status() const {

@@ -167,6 +167,13 @@ RecordingWriter::RecordingWriter(std::filesystem::path directory, Recording head
   writeRecordingManifest(directory_, recording_);
 }
 
+RecordingWriter RecordingWriter::resume(const std::filesystem::path& directory) {
+  RecordingWriter writer;
+  writer.directory_ = directory;
+  writer.recording_ = readRecording(directory);
+  return writer;
+}
+
 const RecordedFrame& RecordingWriter::append(const Image& image, RecordedFrame frame) {
   const vision::CameraIntrinsics& k = recording_.camera.intrinsics;
   if (!image.isValid() || image.width != k.widthPx || image.height != k.heightPx ||

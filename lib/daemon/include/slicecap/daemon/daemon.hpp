@@ -9,6 +9,7 @@
 #include "slicecap/daemon/session_manager.hpp"
 #include "slicecap/hal/camera.hpp"
 #include "slicecap/hal/led.hpp"
+#include "slicecap/io/recording.hpp"
 
 namespace slicecap::daemon {
 
@@ -29,6 +30,12 @@ struct DaemonParts {
   std::function<capture::FrameProcessor(const SliceId&)> newFrameProcessor;
   ReconstructFunction reconstruct;
   PreviewFunction preview;
+  /// record_frames: the recording header (camera model, target, slice) of a slice's sweep; every
+  /// frame of the sweep is then kept in <session>/recordings/<slice> (FrameRecorder). Empty: no
+  /// frames are kept.
+  std::function<io::Recording(const SliceId&)> recordingHeaderFor;
+  /// Frames waiting for the recorder's writer at most; more are dropped from the recording.
+  std::size_t recordQueueFrames = 4;
   /// How often a camera without a ready descriptor (the file camera) is asked for a frame.
   std::chrono::microseconds filePollInterval = std::chrono::milliseconds(2);
 };

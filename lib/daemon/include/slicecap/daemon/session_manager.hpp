@@ -47,6 +47,8 @@ class SessionManager {
   bool capturing() const;
   /// \brief The slice being swept (running or paused).
   std::optional<SliceId> sweepSlice() const;
+  /// \brief The current session's folder (where record_frames keeps its recordings).
+  std::optional<std::filesystem::path> sessionDirectory() const;
 
   /// \brief Stores a frame's sample durably. If the store cannot write (disk full), the sweep
   /// stops with a storage error in its status and this returns false; nothing stored is lost.
@@ -66,6 +68,10 @@ class SessionManager {
   struct State;
   std::unique_ptr<State> state_;
 };
+
+/// \brief A SessionManager reply as a ControlServer handler returns it: the JSON, or a thrown
+/// RequestError carrying the refusal's code and message.
+nlohmann::json replyOrThrow(std::variant<nlohmann::json, ProtocolError> reply);
 
 /// \brief The eight slices in the order a person sweeps them (axial then diagonal, elevation
 /// pairs 30/30, 30/75, 75/30, 75/75).

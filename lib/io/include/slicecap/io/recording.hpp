@@ -75,6 +75,11 @@ class RecordingWriter {
   /// `header` (its frames must be empty). Throws IoError naming the directory.
   RecordingWriter(std::filesystem::path directory, Recording header);
 
+  /// \brief Continues the recording in `directory` (e.g. after the writer's process was killed):
+  /// readRecording validates it; a frame written after the manifest's last one is overwritten by
+  /// the next append. Throws IoError naming the field, as readRecording.
+  static RecordingWriter resume(const std::filesystem::path& directory);
+
   /// \brief Appends a frame: `image` must match the camera's size, have 1 or 3 channels and the
   /// encoding's bit depth; `frame.file` is set to frame-NNNNN.png. Throws IoError naming the file,
   /// or std::invalid_argument for an image of the wrong shape or a timestamp that does not
@@ -85,6 +90,7 @@ class RecordingWriter {
   const std::filesystem::path& directory() const { return directory_; }
 
  private:
+  RecordingWriter() = default;
   std::filesystem::path directory_;
   Recording recording_;
 };

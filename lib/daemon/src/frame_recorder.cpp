@@ -1,0 +1,129 @@
+// The record_frames writer thread: frames from the loop's queue into a recording on disk.
+#include "slicecap/daemon/frame_recorder.hpp"
+
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+namespace slicecap::daemon {
+
+struct FrameRecorder::State {
+  std::filesystem::path directory;
+  io::Recording header;
+  std::size_t capacity;
+
+  mutable std::mutex mutex;
+  std::condition_variable wake;
+  std::deque<hal::Frame> queue;
+  bool writing = false;
+  bool closing = false;
+  std::size_t written = 0, dropped = 0;
+  std::string error;
+
+  // Writer thread only.
+  std::optional<io::RecordingWriter> writer;
+  std::int64_t timestampShiftUs = 0;
+  std::thread thread;
+
+  void open(const hal::Frame& first) {
+    if (std::filesystem::exists(directory / io::kRecordingManifest)) {
+      writer.emplace(io::RecordingWriter::resume(directory));
+      if (writer->recording().encoding != first.encoding)
+        throw std::invalid_argument(
+            directory.string() + " holds " + std::string(toString(writer->recording().encoding)) +
+            " frames; the camera now delivers " + std::string(toString(first.encoding)));
+    } else {
+      header.encoding = first.encoding;
+      writer.emplace(directory, header);
+    }
+    std::lock_guard lock(mutex);
+    written = writer->recording().frames.size();
+  }
+
+  void write(const hal::Frame& frame) {
+    if (!writer) open(frame);
+    const std::vector<io::RecordedFrame>& frames = writer->recording().frames;
+    std::int64_t timestampUs = frame.metadata.timestampUs + timestampShiftUs;
+    if (!frames.empty() && timestampUs <= frames.back().timestampUs) {
+      // A camera started again counts from its own zero: continue one frame period on.
+      constexpr std::int64_t kFramePeriodUs = 33333;
+      timestampShiftUs += frames.back().timestampUs + kFramePeriodUs - timestampUs;
+      timestampUs = frame.metadata.timestampUs + timestampShiftUs;
+    }
+    writer->append(frame.image, {"", timestampUs, frame.metadata.ledOn, frame.metadata.exposureUs,
+                                 frame.metadata.gain});
+  }
+
+  void run() {
+    std::unique_lock lock(mutex);
+    for (;;) {
+      wake.wait(lock, [this] { return closing || !queue.empty(); });
+      if (queue.empty()) return;  // closing, and everything is written
+      hal::Frame frame = std::move(queue.front());
+      queue.pop_front();
+      writing = true;
+      lock.unlock();
+      std::string failure;
+      try {
+        write(frame);
+      } catch (const std::exception& e) {
+        failure = e.what();
+      }
+      lock.lock();
+      writing = false;
+      if (failure.empty()) {
+        ++written;
+      } else {
+        error = failure;
+        queue.clear();
+      }
+    }
+  }
+};
+
+FrameRecorder::FrameRecorder(std::filesystem::path directory, io::Recording header,
+                             std::size_t queueFrames)
+    : state_(std::make_unique<State>()) {
+  state_->directory = std::move(directory);
+  state_->header = std::move(header);
+  state_->capacity = queueFrames;
+  state_->thread = std::thread([s = state_.get()] { s->run(); });
+}
+
+FrameRecorder::~FrameRecorder() {
+  {
+    std::lock_guard lock(state_->mutex);
+    state_->closing = true;
+  }
+  state_->wake.notify_one();
+  state_->thread.join();
+}
+
+bool FrameRecorder::offer(hal::Frame&& frame) {
+  {
+    std::lock_guard lock(state_->mutex);
+    if (!state_->error.empty()) return false;
+    if (state_->queue.size() >= state_->capacity) {
+      ++state_->dropped;
+      return false;
+    }
+    state_->queue.push_back(std::move(frame));
+  }
+  state_->wake.notify_one();
+  return true;
+}
+
+RecorderStatus FrameRecorder::status() const {
+  std::lock_guard lock(state_->mutex);
+  return {state_->directory, state_->written, state_->queue.size() + (state_->writing ? 1 : 0),
+          state_->dropped, state_->error};
+}
+
+bool FrameRecorder::idle() const {
+  std::lock_guard lock(state_->mutex);
+  return state_->queue.empty() && !state_->writing;
+}
+
+}  // namespace slicecap::daemon

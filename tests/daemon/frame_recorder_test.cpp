@@ -1,0 +1,216 @@
+// record_frames: the recorder's queue never blocks and counts what it leaves out, a failed write
+// stops only the recording, a continued sweep appends; and a sweep recorded by the daemon
+// re-processes offline (slicecap process) into the samples the live sweep stored.
+#include "slicecap/daemon/frame_recorder.hpp"
+
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+#include "../support/test_support.hpp"
+#include "slicecap/capture/frame_pipeline.hpp"
+#include "slicecap/capture/recording_processor.hpp"
+#include "slicecap/capture/session_store.hpp"
+#include "slicecap/daemon/control_client.hpp"
+#include "slicecap/daemon/control_server.hpp"
+#include "slicecap/daemon/daemon.hpp"
+#include "slicecap/hal/clock.hpp"
+#include "slicecap/hal/file_camera.hpp"
+#include "slicecap/hal/file_led.hpp"
+#include "slicecap/io/png_image.hpp"
+#include "slicecap/sim/material.hpp"
+#include "slicecap/sim/simulate.hpp"
+
+namespace slicecap::daemon {
+namespace {
+
+using nlohmann::json;
+
+const SliceId kAxial3030{SliceKind::Axial, {30, 30}};
+
+io::Recording smallHeader() {
+  io::Recording header;
+  header.camera.intrinsics = {32, 24, 30.0, 30.0, 15.5, 11.5};
+  header.target = vision::defaultTarget();
+  header.slice = io::RecordedSlice{kAxial3030, kAxialOffsetDeg};
+  return header;
+}
+
+hal::Frame smallFrame(std::int64_t timestampUs, bool ledOn) {
+  hal::Frame frame;
+  frame.image = {32, 24, 3, 8, std::vector<std::uint16_t>(32 * 24 * 3, ledOn ? 200 : 20)};
+  frame.metadata.timestampUs = timestampUs;
+  frame.metadata.exposureUs = 1000.0;
+  frame.metadata.ledOn = ledOn;
+  return frame;
+}
+
+TEST(FrameRecorder, AFullQueueDropsFramesFromTheRecordingAndCountsThemWithoutBlocking) {
+  const auto dir = test::freshTempDir() / "rec";
+  constexpr int kOffered = 200;
+  std::size_t accepted = 0;
+  RecorderStatus status;
+  {
+    FrameRecorder recorder(dir, smallHeader(), 1);
+    for (int i = 0; i < kOffered; ++i)
+      accepted += recorder.offer(smallFrame(1000 * i, i % 2 == 0));
+    status = recorder.status();
+  }  // the destructor writes what is queued
+  EXPECT_GT(status.framesDropped, 0u) << "200 frames offered at once into a queue of one";
+  EXPECT_EQ(accepted + status.framesDropped, std::size_t(kOffered));
+  const io::Recording written = io::readRecording(dir);
+  EXPECT_EQ(written.frames.size(), accepted);
+  EXPECT_EQ(written.slice, smallHeader().slice);
+  EXPECT_EQ(written.encoding, PixelEncoding::Srgb8);
+}
+
+TEST(FrameRecorder, AFailedWriteStopsTheRecordingWithItsReason) {
+  const auto dir = test::freshTempDir();
+  std::ofstream(dir / "file") << "not a folder";
+  FrameRecorder recorder(dir / "file" / "rec", smallHeader());
+  EXPECT_TRUE(recorder.offer(smallFrame(0, true)));
+  while (!recorder.idle())
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  const RecorderStatus status = recorder.status();
+  EXPECT_NE(status.error.find((dir / "file" / "rec").string()), std::string::npos) << status.error;
+  EXPECT_EQ(status.framesWritten, 0u);
+  EXPECT_FALSE(recorder.offer(smallFrame(1, false))) << "a stopped recording takes no frames";
+}
+
+TEST(FrameRecorder, AContinuedSweepAppendsWithIncreasingTimestamps) {
+  const auto dir = test::freshTempDir() / "rec";
+  for (int run = 0; run < 2; ++run) {
+    FrameRecorder recorder(dir, smallHeader(), 16);
+    for (int i = 0; i < 3; ++i)
+      ASSERT_TRUE(recorder.offer(smallFrame(1000 * i, i % 2 == 0)));  // the camera restarts at 0
+  }
+  const io::Recording written = io::readRecording(dir);  // checks the timestamps increase
+  ASSERT_EQ(written.frames.size(), 6u);
+  EXPECT_EQ(written.frames[2].timestampUs, 2000);
+  EXPECT_EQ(written.frames[3].timestampUs, 2000 + 33333);
+  EXPECT_EQ(written.frames[5].timestampUs, 2000 + 33333 + 2000);
+}
+
+// The daemon records a simulated sweep played by the file camera through the real pipeline.
+class DaemonRecordingFrames : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = test::freshTempDir();
+    original_ = dir_ / "played";
+    sim::SweepSetup setup;
+    setup.rig = sim::RigParams::ideal();
+    setup.rig.framesPerSlice = 12;
+    setup.materialSpec = "ward:diffuse=0.3,0.2,0.1,specular=0.2,ax=0.2,ay=0.3,tangent=30";
+    const sim::FrameRenderer renderer(setup.camera, setup.target,
+                                      sim::loadMaterial(setup.materialSpec), setup.rig);
+    sim::simulateSweep(original_, {kAxial3030, kAxialOffsetDeg}, renderer, setup);
+    const io::Recording played = io::readRecording(original_);
+
+    char pattern[] = "/tmp/slicecapd-rec-test-XXXXXX";
+    socketDir_ = ::mkdtemp(pattern);
+    socket_ = socketDir_ / "s.sock";
+    DaemonParts parts;
+    parts.storage = dir_ / "storage";
+    parts.cameraFor = [this](const SliceId&) {
+      return std::make_shared<hal::FileCamera>(original_, clock_);
+    };
+    parts.cameraConfig = {1280, 720, PixelEncoding::Srgb8, std::nullopt, std::nullopt, 4};
+    parts.led = std::make_unique<hal::FileLed>(dir_ / "led.log", clock_);
+    parts.newFrameProcessor = [played](const SliceId&) {
+      return capture::makeFramePipeline(played.target, played.camera);
+    };
+    parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };
+    parts.recordingHeaderFor = [played](const SliceId&) {
+      io::Recording header;
+      header.camera = played.camera;
+      header.target = played.target;
+      return header;
+    };
+    parts.recordQueueFrames = 64;  // this test wants every frame; the bound has its own test
+    daemon_ =
+        std::make_unique<Daemon>(std::move(parts), openListenSocket({socket_, 0600, std::nullopt}));
+    thread_ = std::thread([this] { daemon_->run(); });
+  }
+
+  void TearDown() override {
+    daemon_->stop();
+    thread_.join();
+    daemon_.reset();
+    std::filesystem::remove_all(socketDir_);
+  }
+
+  json call(const Command& command) { return ControlClient(socket_).call(command); }
+
+  // Until the recording has been played and every queued frame written.
+  json waitForRecording() {
+    for (int attempt = 0; attempt < 3000; ++attempt) {
+      json status = call(Status{});
+      if (status["sweep"]["state"] == "paused" && status["recording"]["frames_queued"] == 0)
+        return status;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    ADD_FAILURE() << "the sweep never finished recording";
+    return call(Status{});
+  }
+
+  hal::SteadyClock clock_;
+  std::filesystem::path dir_, original_, socketDir_, socket_;
+  std::unique_ptr<Daemon> daemon_;
+  std::thread thread_;
+};
+
+TEST_F(DaemonRecordingFrames, ProcessingTheRecordingGivesTheLiveSweepsSamples) {
+  call(SessionNew{"ward", std::string("rec")});
+  call(SweepStart{kAxial3030});
+  const json status = waitForRecording();
+  EXPECT_EQ(status["recording"]["frames_dropped"], 0);
+  EXPECT_EQ(status["recording"]["frames_written"], 12);
+  EXPECT_FALSE(status["recording"].contains("error"));
+  const json stopped = call(SweepStop{});
+  const auto recorded = std::filesystem::path(stopped["recording"]["directory"].get<std::string>());
+  EXPECT_EQ(recorded, dir_ / "storage" / "rec" / "recordings" / "axial-30-30");
+
+  // Every frame, LED on and off, pixel for pixel and with its metadata.
+  const io::Recording original = io::readRecording(original_), copy = io::readRecording(recorded);
+  ASSERT_EQ(copy.frames.size(), original.frames.size());
+  EXPECT_EQ(copy.slice, original.slice);
+  EXPECT_EQ(copy.camera, original.camera);
+  for (std::size_t i = 0; i < copy.frames.size(); ++i) {
+    EXPECT_EQ(copy.frames[i].ledOn, original.frames[i].ledOn);
+    EXPECT_EQ(copy.frames[i].timestampUs, original.frames[i].timestampUs);
+    EXPECT_EQ(io::readPng(io::framePath(recorded, copy.frames[i])).samples,
+              io::readPng(io::framePath(original_, original.frames[i])).samples);
+  }
+
+  // slicecap process's pipeline on the recording: the live sweep's samples, and at most the first
+  // LED-on frame more (offline it may take the next LED-off frame as its ambient; live it waits).
+  const capture::RecordingResult offline = capture::processRecording(recorded);
+  std::map<std::int64_t, capture::FrameSample> offlineSamples;
+  for (const capture::FrameOutcome& outcome : offline.outcomes)
+    if (outcome.sample) offlineSamples[outcome.sample->timestampUs] = *outcome.sample;
+  const capture::SessionStore store = capture::SessionStore::open(dir_ / "storage", "rec");
+  std::size_t live = 0;
+  for (int bin = 0; bin < store.bins(kAxial3030).binCount(); ++bin) {
+    for (const capture::FrameSample& sample : store.bins(kAxial3030).samplesIn(bin)) {
+      ++live;
+      const auto match = offlineSamples.find(sample.timestampUs);
+      ASSERT_NE(match, offlineSamples.end()) << "frame at " << sample.timestampUs << " us";
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(match->second.value[c], sample.value[c], 1e-6 * std::abs(sample.value[c]));
+      EXPECT_NEAR(match->second.view.thetaDeg, sample.view.thetaDeg, 1e-6);
+      EXPECT_NEAR(match->second.view.phiDeg, sample.view.phiDeg, 1e-6);
+      EXPECT_NEAR(match->second.light.phiDeg, sample.light.phiDeg, 1e-6);
+    }
+  }
+  EXPECT_GE(live, 4u);
+  EXPECT_LE(offlineSamples.size() - live, 1u);
+  if (offlineSamples.size() > live) {
+    EXPECT_EQ(offlineSamples.begin()->first, original.frames.front().timestampUs);
+  }
+}
+
+}  // namespace
+}  // namespace slicecap::daemon
