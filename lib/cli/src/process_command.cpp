@@ -134,7 +134,8 @@ Command processCommand() {
            "from the slice; the point-light fit to the white references when it is certain),\n"
            "the gate (rejections: too_few_markers, elevation_off, blurred, window_clipped,\n"
            "window_occluded, pose_residual, no_ambient_frame, bad_frame), the window's BRDF\n"
-           "(LED-off frame subtracted, divided by the fitted irradiance), 15 deg azimuth bins\n"
+           "(the room light subtracted: the LED-off frames before and after, each at its own\n"
+           "pose, interpolated in time; divided by the fitted irradiance), 15 deg azimuth bins\n"
            "combined by median. One recording per slice; its slice comes from recording.json.\n"
            "Prints per slice the bins filled and the rejections by reason on stderr.",
            options, 1, 64},
