@@ -38,6 +38,9 @@ struct PipelineSettings {
   /// camera moves between the two. Off in the live loop (the CPU budget), on offline
   /// (processRecording).
   bool poseAmbientFrames = false;
+  /// \brief processRecording's ambient term: false reproduces the live loop exactly (the LED-off
+  /// frame before, at the LED-on frame's pixels), e.g. to compare a daemon's session with it.
+  bool offlineTwoSidedAmbient = true;
 };
 
 /// \brief Turns the frames of one sweep into outcomes; keeps the latest LED-off frame. Construct
