@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -129,6 +130,44 @@ TEST(FramePipeline, NoAmbientFrameYetIsRejectedLive) {
   EXPECT_EQ(process(frameOf(dir, 0), slice).rejectReason, "no_ambient_frame");
   EXPECT_EQ(process(frameOf(dir, 1), slice).kind, FrameOutcome::Kind::Ambient);
   EXPECT_EQ(process(frameOf(dir, 0), slice).kind, FrameOutcome::Kind::Sample);
+}
+
+// Median over LED-on frames of the worst channel's relative error against the truth.
+double medianSampleError(const std::vector<FrameOutcome>& outcomes, const sim::SweepTruth& truth) {
+  std::vector<double> errors;
+  for (std::size_t i = 0; i < outcomes.size(); ++i) {
+    if (outcomes[i].kind != FrameOutcome::Kind::Sample) continue;
+    double worst = 0.0;
+    for (int c = 0; c < 3; ++c)
+      worst = std::max(worst, std::abs(outcomes[i].sample->value[c] - truth.frames[i].brdf[c]) /
+                                  truth.frames[i].brdf[c]);
+    errors.push_back(worst);
+  }
+  if (errors.empty()) return 1e9;
+  std::sort(errors.begin(), errors.end());
+  return errors[errors.size() / 2];
+}
+
+TEST(FramePipeline, AmbientFromBothSidesBeatsThePreviousLedOffFrameOnASpecularMaterial) {
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  sim::RigParams rig = sim::RigParams::ideal();
+  rig.encoding = PixelEncoding::Linear16;
+  rig.ambientIrradiance = 2.0;  // strong room light, reflected differently along the sweep
+  const auto dir = simulate(slice, rig, 24);
+  const sim::SweepTruth truth = sim::readTruth(dir);
+  const double offline = medianSampleError(processRecording(dir).outcomes, truth);
+  // The live loop: each LED-on frame minus the LED-off frame before it, at the same pixels.
+  const io::Recording recording = io::readRecording(dir);
+  FramePipeline live(recording.target, recording.camera);
+  live.setAmbientFrame(frameOf(dir, 1));
+  std::vector<FrameOutcome> liveOutcomes;
+  for (std::size_t i = 0; i < recording.frames.size(); ++i)
+    liveOutcomes.push_back(live.process(frameOf(dir, i), slice));
+  const double oneSided = medianSampleError(liveOutcomes, truth);
+  EXPECT_LT(offline, 0.5 * oneSided) << "two-sided " << offline << ", one-sided " << oneSided;
+  // Seven times the realistic room light and 15 deg steps: the 2 % goal holds on the realistic
+  // 48-frame session (README, "Processing recordings"); here the residual curvature shows.
+  EXPECT_LT(offline, 0.04);
 }
 
 TEST(FramePipeline, RealisticSweepRejectsBlurredAndOccludedFramesWithReasons) {

@@ -48,6 +48,11 @@ TEST(ProcessCommand, WritesSlicesReportAndSummary) {
 
   // The same slice twice, a directory without a recording: usage error / failure naming it.
   EXPECT_EQ(run({"process", recording, recording, "-o", csv}).code, kExitUsage);
+  EXPECT_EQ(run({"process", recording, "-o", csv, "--ambient", "sideways"}).code, kExitUsage);
+  // The live loop's one-sided room-light term, offline: the same samples without room light.
+  const Result previous = run({"process", recording, "-o", csv, "--ambient", "previous"});
+  ASSERT_EQ(previous.code, kExitOk) << previous.err;
+  EXPECT_NE(previous.err.find("3 of 24 bins"), std::string::npos) << previous.err;
   const Result missing = run({"process", (dir / "nothing").string(), "-o", csv});
   EXPECT_EQ(missing.code, kExitFailure);
   EXPECT_NE(missing.err.find("nothing"), std::string::npos) << missing.err;

@@ -173,12 +173,65 @@ struct FramePipeline::State {
     Rgb albedo;
   };
   std::vector<Reference> references;
-  std::optional<hal::Frame> ambient;
+  // An LED-off frame and, when located, its own pose: the camera moved between it and the LED-on
+  // frame, so the same target points sit at other pixels.
+  struct Ambient {
+    hal::Frame frame;
+    std::optional<vision::Pose> pose;
+  };
+  std::optional<Ambient> ambient;      // the latest LED-off frame
+  std::optional<Ambient> nextAmbient;  // offline: the LED-off frame after the coming LED-on ones
   std::uint64_t frameIndex = 0;
   std::optional<vision::Pose> lastPose;  // the previous frame's, for the detector's region
 
   State(vision::TargetGeometry t, vision::CameraModel c, PipelineSettings s)
       : target(std::move(t)), camera(std::move(c)), settings(s), detector(s.detector) {}
+
+  // Markers, tracked from the previous pose; the whole frame when that finds too few.
+  std::vector<DetectedMarker> detectMarkers(const hal::Frame& frame) {
+    std::optional<PixelRect> region;
+    if (lastPose) region = sheetRegion(*lastPose, camera, target.sheet);
+    std::vector<DetectedMarker> markers = detector.detect(frame, region);
+    if (region && countKnown(markers, target) < settings.minMarkers)
+      markers = detector.detect(frame);
+    return markers;
+  }
+
+  Ambient makeAmbient(const hal::Frame& frame) {
+    Ambient a{frame, std::nullopt};
+    if (!settings.poseAmbientFrames) return a;
+    std::vector<PlaneCorrespondence> corners;
+    for (const auto& marker : detectMarkers(frame))
+      if (const vision::Marker* geometry = target.findMarker(marker.id))
+        for (int c = 0; c < 4; ++c)
+          corners.push_back(
+              {{geometry->cornersMm[c].xMm, geometry->cornersMm[c].yMm}, marker.cornersPx[c]});
+    if (static_cast<int>(corners.size()) < 4 * settings.minMarkers) return a;
+    const auto estimate = estimatePlanarPose(corners, camera);
+    if (estimate && estimate->residualRmsPx <= settings.maxPoseResidualPx) a.pose = estimate->pose;
+    return a;
+  }
+
+  // The room light's radiance at target points for an LED-on frame at `pose` and `timeUs`: from
+  // the LED-off frames on both sides, interpolated in time, when the following one is known
+  // (offline), else from the one there is. Each is sampled at its own pose when located.
+  Rgb ambientAt(const std::vector<Eigen::Vector2d>& points, const vision::Pose& pose,
+                std::int64_t timeUs) const {
+    const auto sampleOf = [&](const Ambient& a) {
+      if (a.pose) {
+        const RegionMean own = regionMean(a.frame, *a.pose, camera, points, 2.0);
+        if (own.inside) return own.value;
+      }
+      return regionMean(a.frame, pose, camera, points, 2.0).value;
+    };
+    const bool after = nextAmbient && nextAmbient->frame.metadata.timestampUs > timeUs;
+    if (!ambient) return sampleOf(*nextAmbient);
+    if (!after) return sampleOf(*ambient);
+    const double t0 = static_cast<double>(ambient->frame.metadata.timestampUs);
+    const double t1 = static_cast<double>(nextAmbient->frame.metadata.timestampUs);
+    const double w = std::clamp((static_cast<double>(timeUs) - t0) / (t1 - t0), 0.0, 1.0);
+    return (1.0 - w) * sampleOf(*ambient) + w * sampleOf(*nextAmbient);
+  }
 };
 
 FramePipeline::FramePipeline(vision::TargetGeometry target, vision::CameraModel camera,
@@ -219,7 +272,14 @@ FramePipeline::FramePipeline(FramePipeline&&) noexcept = default;
 FramePipeline& FramePipeline::operator=(FramePipeline&&) noexcept = default;
 
 void FramePipeline::setAmbientFrame(const hal::Frame& frame) {
-  state_->ambient = frame;
+  state_->ambient = state_->makeAmbient(frame);
+}
+
+void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
+  State& s = *state_;
+  if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs)
+    return;
+  s.nextAmbient = s.makeAmbient(frame);
 }
 
 FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slice) {
@@ -236,7 +296,12 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
             std::to_string(frame.image.bitDepth) + " bits, expected " + std::to_string(k.widthPx) +
             " x " + std::to_string(k.heightPx) + " of " + std::string(toString(frame.encoding)));
   if (!frame.metadata.ledOn) {
-    s.ambient = frame;
+    if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs) {
+      s.ambient = std::move(s.nextAmbient);  // already located by setFollowingAmbientFrame
+      s.nextAmbient.reset();
+    } else {
+      s.ambient = s.makeAmbient(frame);
+    }
     FrameOutcome outcome;
     outcome.kind = FrameOutcome::Kind::Ambient;
     return outcome;
@@ -247,11 +312,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   // hand's motion between frames); the detector's cost goes with the pixels it is given, so this
   // is what brings a frame near the budget (bench/capture_bench.cpp). A miss there searches the
   // whole frame before giving up.
-  std::optional<PixelRect> region;
-  if (s.lastPose) region = sheetRegion(*s.lastPose, s.camera, s.target.sheet);
-  std::vector<DetectedMarker> markers = s.detector.detect(frame, region);
-  if (region && countKnown(markers, s.target) < s.settings.minMarkers)
-    markers = s.detector.detect(frame);
+  const std::vector<DetectedMarker> markers = s.detectMarkers(frame);
   s.lastPose.reset();
   std::vector<PlaneCorrespondence> corners;
   std::vector<const DetectedMarker*> known;
@@ -305,18 +366,18 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
       regionMean(frame, pose, s.camera, s.windowPoints, s.settings.clipFraction);
   if (!window.inside) return rejected("window_occluded", "window out of the image", outcome);
   if (window.clipped) return rejected("window_clipped", "window saturated", outcome);
-  if (s.settings.requireAmbient && !s.ambient)
+  const bool haveAmbient = s.ambient || s.nextAmbient;
+  if (s.settings.requireAmbient && !haveAmbient)
     return rejected("no_ambient_frame", "no LED-off frame yet", outcome);
   Rgb windowRadiance = window.value;
-  if (s.ambient)
-    windowRadiance -= regionMean(*s.ambient, pose, s.camera, s.windowPoints, 2.0).value;
+  const std::int64_t timeUs = frame.metadata.timestampUs;
+  if (haveAmbient) windowRadiance -= s.ambientAt(s.windowPoints, pose, timeUs);
   std::vector<ReferenceObservation> observations;
   for (const auto& reference : s.references) {
     RegionMean area = regionMean(frame, pose, s.camera, reference.points, s.settings.clipFraction);
     if (!area.inside) continue;
     if (area.clipped) return rejected("window_clipped", "white reference saturated", outcome);
-    if (s.ambient)
-      area.value -= regionMean(*s.ambient, pose, s.camera, reference.points, 2.0).value;
+    if (haveAmbient) area.value -= s.ambientAt(reference.points, pose, timeUs);
     if (!(area.value.minChannel() > 0)) continue;
     observations.push_back(
         {{reference.centre.x(), reference.centre.y(), 0.0}, area.value, reference.albedo});

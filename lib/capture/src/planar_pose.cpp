@@ -39,33 +39,33 @@ struct ReprojectionCost {
   }
 };
 
-std::optional<vision::Pose> poseFromHomography(std::span<const PlaneCorrespondence> points,
-                                               const std::vector<Eigen::Vector2d>& normalised) {
-  // Hartley normalisation of the target points keeps the DLT well conditioned in mm.
+// Hartley normalisation: centred, mean distance sqrt(2); keeps the DLT well conditioned in mm
+// and in pixels alike. nullopt when all points coincide.
+std::optional<Eigen::Matrix3d> hartleyNormalisation(std::span<const Eigen::Vector2d> points) {
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
   for (const auto& p : points)
-    mean += p.targetMm;
+    mean += p;
   mean /= static_cast<double>(points.size());
   double spread = 0.0;
   for (const auto& p : points)
-    spread += (p.targetMm - mean).norm();
+    spread += (p - mean).norm();
   spread /= static_cast<double>(points.size());
   if (!(spread > 0.0)) return std::nullopt;
   const double s = std::sqrt(2.0) / spread;
-  Eigen::MatrixXd a(2 * points.size(), 9);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector2d q = (points[i].targetMm - mean) * s;
-    const double u = normalised[i].x(), v = normalised[i].y();
-    a.row(2 * i) << q.x(), q.y(), 1, 0, 0, 0, -u * q.x(), -u * q.y(), -u;
-    a.row(2 * i + 1) << 0, 0, 0, q.x(), q.y(), 1, -v * q.x(), -v * q.y(), -v;
-  }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeFullV);
-  const Eigen::VectorXd h = svd.matrixV().col(8);
-  Eigen::Matrix3d hn;
-  hn << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8);
-  Eigen::Matrix3d denormalise;
-  denormalise << s, 0, -s * mean.x(), 0, s, -s * mean.y(), 0, 0, 1;
-  Eigen::Matrix3d hm = hn * denormalise;
+  Eigen::Matrix3d t;
+  t << s, 0, -s * mean.x(), 0, s, -s * mean.y(), 0, 0, 1;
+  return t;
+}
+
+std::optional<vision::Pose> poseFromHomography(std::span<const PlaneCorrespondence> points,
+                                               const std::vector<Eigen::Vector2d>& normalised) {
+  std::vector<Eigen::Vector2d> target;
+  target.reserve(points.size());
+  for (const auto& p : points)
+    target.push_back(p.targetMm);
+  const auto fitted = fitHomography(target, normalised);
+  if (!fitted) return std::nullopt;
+  Eigen::Matrix3d hm = *fitted;
   const double scale = (hm.col(0).norm() + hm.col(1).norm()) / 2.0;
   if (!(scale > 0.0)) return std::nullopt;
   hm /= scale;
@@ -122,6 +122,29 @@ PoseEstimate refine(const vision::Pose& start, std::span<const PlaneCorresponden
 }
 
 }  // namespace
+
+std::optional<Eigen::Matrix3d> fitHomography(std::span<const Eigen::Vector2d> from,
+                                             std::span<const Eigen::Vector2d> to) {
+  if (from.size() < 4 || from.size() != to.size()) return std::nullopt;
+  const auto normaliseFrom = hartleyNormalisation(from);
+  const auto normaliseTo = hartleyNormalisation(to);
+  if (!normaliseFrom || !normaliseTo) return std::nullopt;
+  Eigen::MatrixXd a(2 * from.size(), 9);
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    const Eigen::Vector3d q = *normaliseFrom * from[i].homogeneous();
+    const Eigen::Vector3d t = *normaliseTo * to[i].homogeneous();
+    const double u = t.x(), v = t.y();
+    a.row(2 * i) << q.x(), q.y(), 1, 0, 0, 0, -u * q.x(), -u * q.y(), -u;
+    a.row(2 * i + 1) << 0, 0, 0, q.x(), q.y(), 1, -v * q.x(), -v * q.y(), -v;
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeFullV);
+  const Eigen::VectorXd h = svd.matrixV().col(8);
+  Eigen::Matrix3d hn;
+  hn << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8);
+  const Eigen::Matrix3d hm = normaliseTo->inverse() * hn * *normaliseFrom;
+  if (!hm.allFinite() || std::abs(hm.determinant()) < 1e-300) return std::nullopt;
+  return hm;
+}
 
 std::optional<PoseEstimate> estimatePlanarPose(std::span<const PlaneCorrespondence> points,
                                                const vision::CameraModel& camera) {

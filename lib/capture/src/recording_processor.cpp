@@ -49,24 +49,48 @@ RecordingResult processRecording(const std::filesystem::path& directory,
   result.directory = directory;
   result.slice = recording.slice->id;
   result.bins = AzimuthBins(result.slice.kind);
-  FramePipeline pipeline(recording.target, recording.camera, settings);
-  for (std::size_t i = 0; i < recording.frames.size(); ++i) {
-    if (recording.frames[i].ledOn) continue;
-    try {
-      pipeline.setAmbientFrame(frameOf(io::readPng(io::framePath(directory, recording.frames[i])),
-                                       recording, recording.frames[i], i));
-    } catch (const io::IoError&) {
-      continue;  // counted as bad_frame when its turn comes
+  // Offline the LED-off frames on both sides of each LED-on frame are known: each is located
+  // and interpolated (FramePipeline::setFollowingAmbientFrame).
+  PipelineSettings offline = settings;
+  offline.poseAmbientFrames = settings.offlineTwoSidedAmbient;
+  FramePipeline pipeline(recording.target, recording.camera, offline);
+  const auto readFrame = [&](std::size_t i) {
+    return frameOf(io::readPng(io::framePath(directory, recording.frames[i])), recording,
+                   recording.frames[i], i);
+  };
+  if (!settings.offlineTwoSidedAmbient) {
+    // As live, except that LED-on frames before the first LED-off one use that one.
+    for (std::size_t i = 0; i < recording.frames.size(); ++i) {
+      if (recording.frames[i].ledOn) continue;
+      try {
+        pipeline.setAmbientFrame(readFrame(i));
+      } catch (const io::IoError&) {
+        continue;  // counted as bad_frame when its turn comes
+      }
+      break;
     }
-    break;
   }
+  std::optional<std::pair<std::size_t, hal::Frame>> following;  // read ahead, used in its turn
   for (std::size_t i = 0; i < recording.frames.size(); ++i) {
     const io::RecordedFrame& entry = recording.frames[i];
     result.frameFiles.push_back(entry.file);
     FrameOutcome outcome;
     try {
-      outcome = pipeline.process(
-          frameOf(io::readPng(io::framePath(directory, entry)), recording, entry, i), result.slice);
+      if (settings.offlineTwoSidedAmbient && entry.ledOn && (!following || following->first < i)) {
+        following.reset();
+        for (std::size_t j = i + 1; j < recording.frames.size() && !following; ++j) {
+          if (recording.frames[j].ledOn) continue;
+          try {
+            following.emplace(j, readFrame(j));
+            pipeline.setFollowingAmbientFrame(following->second);
+          } catch (const io::IoError&) {
+            break;  // counted as bad_frame when its turn comes; one-sided until then
+          }
+        }
+      }
+      outcome = following && following->first == i
+                    ? pipeline.process(following->second, result.slice)
+                    : pipeline.process(readFrame(i), result.slice);
     } catch (const io::IoError& error) {
       outcome.kind = FrameOutcome::Kind::Rejected;
       outcome.rejectReason = "bad_frame";

@@ -24,6 +24,10 @@ capture::PipelineSettings settingsOf(const ParsedArgs& args) {
   settings.minMarkers = static_cast<int>(args.number("min-markers", settings.minMarkers));
   settings.detector.decimation =
       static_cast<float>(args.number("decimation", settings.detector.decimation));
+  const std::string ambient = args.value("ambient").value_or("both");
+  if (ambient != "both" && ambient != "previous")
+    throw UsageError("--ambient must be both or previous");
+  settings.offlineTwoSidedAmbient = ambient == "both";
   if (!(settings.elevationToleranceDeg > 0) || !(settings.maxPoseResidualPx > 0) ||
       settings.minMarkers < 2 || !(settings.detector.decimation >= 1))
     throw UsageError(
@@ -119,7 +123,10 @@ std::vector<OptionSpec> pipelineOptions() {
           {"elevation-tolerance", 0, "DEG", "reject frames this far off the view elevation (5)"},
           {"max-residual", 0, "PX", "reject poses with a larger RMS reprojection error (1.5)"},
           {"min-markers", 0, "N", "reject frames with fewer markers (4)"},
-          {"decimation", 0, "D", "the AprilTag detector's quad decimation (2)"}};
+          {"decimation", 0, "D", "the AprilTag detector's quad decimation (2)"},
+          {"ambient", 0, "MODE",
+           "room light from the LED-off frames on both sides (both, default) or the one before "
+           "at the same pixels, as slicecapd live (previous)"}};
 }
 
 }  // namespace
@@ -134,7 +141,8 @@ Command processCommand() {
            "from the slice; the point-light fit to the white references when it is certain),\n"
            "the gate (rejections: too_few_markers, elevation_off, blurred, window_clipped,\n"
            "window_occluded, pose_residual, no_ambient_frame, bad_frame), the window's BRDF\n"
-           "(LED-off frame subtracted, divided by the fitted irradiance), 15 deg azimuth bins\n"
+           "(the room light subtracted: the LED-off frames before and after, each at its own\n"
+           "pose, interpolated in time; divided by the fitted irradiance), 15 deg azimuth bins\n"
            "combined by median. One recording per slice; its slice comes from recording.json.\n"
            "Prints per slice the bins filled and the rejections by reason on stderr.",
            options, 1, 64},

@@ -107,8 +107,9 @@ Recording readRecording(const std::filesystem::path& input) {
   const json& camera = f::object(f::member(root, "camera", at), at / "camera");
   if (camera.contains("calibration_file")) {
     const std::string file = f::string(camera, "calibration_file", at / "camera");
-    if (!isPlainRelative(file))
-      (at / "camera" / "calibration_file").fail("must be a relative path inside the recording");
+    // Unlike frames, a calibration is shared by the recordings of a session (or a camera): it
+    // may sit outside the directory ("../camera.json") or anywhere (an absolute path).
+    if (file.empty()) (at / "camera" / "calibration_file").fail("must not be empty");
     const std::filesystem::path calibration = directory / file;
     if (!std::filesystem::exists(calibration))
       (at / "camera" / "calibration_file").fail("'" + calibration.string() + "' does not exist");

@@ -33,6 +33,14 @@ struct PipelineSettings {
   double nominalLightDistanceMm = 300.0;  ///< start of the point-light fit
   /// \brief LED-on frames need an LED-off frame to subtract (false: no ambient subtraction).
   bool requireAmbient = true;
+  /// \brief Locate each LED-off frame's own pose (one more detection per LED pair) and sample its
+  /// room light at the same target points as the LED-on frame's, not at the same pixels: the
+  /// camera moves between the two. Off in the live loop (the CPU budget), on offline
+  /// (processRecording).
+  bool poseAmbientFrames = false;
+  /// \brief processRecording's ambient term: false reproduces the live loop exactly (the LED-off
+  /// frame before, at the LED-on frame's pixels), e.g. to compare a daemon's session with it.
+  bool offlineTwoSidedAmbient = true;
 };
 
 /// \brief Turns the frames of one sweep into outcomes; keeps the latest LED-off frame. Construct
@@ -53,6 +61,12 @@ class FramePipeline {
   /// \brief Offline use: the ambient frame for LED-on frames before the first LED-off one (the
   /// live loop just rejects those as "no_ambient_frame").
   void setAmbientFrame(const hal::Frame& frame);
+  /// \brief Offline use: the LED-off frame that follows the coming LED-on frame(s). Their ambient
+  /// term is then interpolated in time between the LED-off frames on both sides (on a specular
+  /// material the room light's reflection changes along the sweep: one side alone is biased by
+  /// half a step). When that frame's turn comes, process() reuses it. The live loop does not call
+  /// this and keeps the one-sided estimate, so every frame's outcome is known when it arrives.
+  void setFollowingAmbientFrame(const hal::Frame& frame);
 
  private:
   struct State;

@@ -22,6 +22,11 @@ struct PoseEstimate {
   double residualRmsPx = 0.0;  ///< RMS reprojection error over all corners, pixels
 };
 
+/// \brief The homography H with to ~ H * from (homogeneous), by the normalised DLT over all
+/// pairs (least squares). nullopt with fewer than 4 pairs, different counts or a degenerate fit.
+std::optional<Eigen::Matrix3d> fitHomography(std::span<const Eigen::Vector2d> from,
+                                             std::span<const Eigen::Vector2d> to);
+
 /// \brief The pose minimising the reprojection error (with the camera's distortion) of all
 /// correspondences at once. Starts from the homography of the undistorted points and from its
 /// mirror (the plane's normal reflected about the line of sight: the two poses a near

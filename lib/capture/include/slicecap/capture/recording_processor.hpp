@@ -27,8 +27,10 @@ struct RecordingResult {
   nlohmann::json toJson() const;
 };
 
-/// \brief Runs `directory` (a recording with a slice) through a FramePipeline. The first LED-off
-/// frame is also the ambient of the LED-on frames before it. A frame whose PNG is missing,
+/// \brief Runs `directory` (a recording with a slice) through a FramePipeline. Each LED-on
+/// frame's ambient term comes from the LED-off frames before and after it, each sampled at its own
+/// pose, interpolated in time (the first LED-off frame alone for the LED-on frames before it, the
+/// last alone after it). A frame whose PNG is missing,
 /// corrupt or of the wrong size is a "bad_frame" rejection naming the file. Throws io::IoError
 /// for a bad recording.json (naming the field) and std::invalid_argument for a recording without
 /// a slice (e.g. a calibration recording), naming the directory.

@@ -44,8 +44,9 @@ struct Recording {
   int formatVersion = kRecordingFormatVersion;
   std::string createdBy;  ///< e.g. "slicecap simulate 0.1.0"
   vision::CameraModel camera;
-  /// When set, recording.json refers to this calibration file (relative to the directory) instead
-  /// of embedding the camera; `camera` then holds what the file says.
+  /// When set, recording.json refers to this calibration file (e.g. from `slicecap calibrate`;
+  /// relative to the directory, "../camera.json" for one shared by a session, or absolute)
+  /// instead of embedding the camera; `camera` then holds what the file says.
   std::optional<std::string> calibrationFile;
   PixelEncoding encoding = PixelEncoding::Srgb8;
   std::optional<RecordedSlice> slice;  ///< absent for e.g. a calibration recording
