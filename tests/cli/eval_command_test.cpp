@@ -16,7 +16,9 @@ namespace {
 
 using Result = test::CliResult;
 
-Result run(const std::vector<std::string>& args) { return test::runSlicecap(args); }
+Result run(const std::vector<std::string>& args) {
+  return test::runSlicecap(args);
+}
 
 std::vector<std::string> linesOf(const std::filesystem::path& path) {
   std::ifstream in(path);
@@ -24,6 +26,31 @@ std::vector<std::string> linesOf(const std::filesystem::path& path) {
   for (std::string line; std::getline(in, line);)
     lines.push_back(line);
   return lines;
+}
+
+TEST(EvalCommand, RbfSpecReachesMethodAAndTheUniformBaseline) {
+  const Result r = run({"eval", "blue-plastic", "--methods", "a,uniform", "--json", "--quiet",
+                        "--rbf", "kernel=r3,poly=linear,frame=absolute,gamma=4,r0=2"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(r.out);
+  const Result plain = run({"eval", "blue-plastic", "--methods", "a,uniform", "--json", "--quiet"});
+  ASSERT_EQ(plain.code, kExitOk) << plain.err;
+  const nlohmann::json plainReport = nlohmann::json::parse(plain.out);
+  ASSERT_EQ(report["means"].size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_NE(report["means"][k]["rmse"].get<double>(),
+              plainReport["means"][k]["rmse"].get<double>())
+        << "the spec changed nothing for " << report["means"][k]["method"];
+  }
+}
+
+TEST(EvalCommand, RejectsABadRbfSpecNamingTheKey) {
+  for (const std::string spec :
+       {"kernel=gauss", "poly=cubic", "r0=-1", "frame=up", "gamma=x", "shape=2", "kernel"}) {
+    const Result r = run({"eval", "blue-plastic", "--methods", "a", "--rbf", spec});
+    EXPECT_EQ(r.code, kExitUsage) << spec;
+    EXPECT_NE(r.err.find("--rbf"), std::string::npos) << spec << ": " << r.err;
+  }
 }
 
 TEST(EvalCommand, WritesReportsAndASheetPerMaterial) {

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -66,6 +67,77 @@ TEST(RbfInterpolant, ShapeDefaultsToTheMedianNearestNeighbourDistance) {
   EXPECT_NEAR(medianNearestNeighbourDistance(points), 0.1, 1e-12);
   EXPECT_NEAR(RbfInterpolant(points).shapeRad(), 0.1, 1e-12);
   EXPECT_DOUBLE_EQ(RbfInterpolant(points, {0.3}).shapeRad(), 0.3);
+}
+
+const std::array<RbfKernel, 4> kAllKernels{RbfKernel::Multiquadric, RbfKernel::InverseMultiquadric,
+                                           RbfKernel::Linear, RbfKernel::Cubic};
+
+TEST(RbfInterpolant, EveryKernelAndPolynomialReproducesItsCentres) {
+  const std::vector<FeaturePoint> centres = randomPoints(60, 8);
+  Eigen::MatrixXd values(60, 1);
+  for (int i = 0; i < 60; ++i)
+    values(i, 0) = std::sin(2 * centres[i][0]) * std::cos(centres[i][2]) + centres[i][1];
+  for (RbfKernel kernel : kAllKernels) {
+    for (RbfPolynomial polynomial : {RbfPolynomial::Constant, RbfPolynomial::Linear}) {
+      RbfParams params;
+      params.kernel = kernel;
+      params.polynomial = polynomial;
+      const RbfInterpolant rbf(centres, params);
+      const Eigen::MatrixXd coefficients = rbf.coefficients(values);
+      ASSERT_EQ(coefficients.rows(), 60 + polynomialTerms(polynomial));
+      const Eigen::MatrixXf rows = rbf.evaluationMatrix(centres);
+      const Eigen::MatrixXd atCentres = rows.cast<double>() * coefficients;
+      for (int i = 0; i < 60; ++i) {
+        EXPECT_NEAR(rbf.evaluate(coefficients.col(0), centres[i]), values(i, 0), 1e-8)
+            << "kernel " << int(kernel) << ", polynomial " << int(polynomial);
+        EXPECT_NEAR(atCentres(i, 0), values(i, 0), 1e-3) << "float evaluation rows";
+      }
+    }
+  }
+}
+
+TEST(RbfInterpolant, TheLinearTermReproducesALinearFunctionEverywhere) {
+  // Linear precision: extrapolation beyond the centres (Method A's 0/15 deg elevations) follows
+  // a linear trend instead of falling back to the constant.
+  const std::vector<FeaturePoint> centres = randomPoints(50, 9);
+  auto linear = [](const FeaturePoint& x) {
+    return 0.4 + 1.5 * x[0] - 0.7 * x[1] + 0.2 * x[2] + 2.0 * x[3];
+  };
+  Eigen::MatrixXd values(50, 1);
+  for (int i = 0; i < 50; ++i)
+    values(i, 0) = linear(centres[i]);
+  std::vector<FeaturePoint> far = randomPoints(20, 10);
+  for (FeaturePoint& p : far) {
+    for (double& x : p)
+      x *= 2.0;  // up to twice the centres' extent
+  }
+  for (RbfKernel kernel : kAllKernels) {
+    RbfParams params;
+    params.kernel = kernel;
+    params.polynomial = RbfPolynomial::Linear;
+    const RbfInterpolant rbf(centres, params);
+    const Eigen::MatrixXd coefficients = rbf.coefficients(values);
+    for (const FeaturePoint& p : far)
+      EXPECT_NEAR(rbf.evaluate(coefficients.col(0), p), linear(p), 1e-7) << int(kernel);
+  }
+  // Without it, the multiquadric misses the linear function away from the centres.
+  const RbfInterpolant constantOnly(centres);
+  const Eigen::MatrixXd c = constantOnly.coefficients(values);
+  double worst = 0.0;
+  for (const FeaturePoint& p : far)
+    worst = std::max(worst, std::abs(constantOnly.evaluate(c.col(0), p) - linear(p)));
+  EXPECT_GT(worst, 0.01);
+}
+
+TEST(RbfInterpolant, ShapeScaleMultipliesTheMedianDistance) {
+  std::vector<FeaturePoint> points;
+  for (double x : {0.0, 0.1, 0.2, 0.3, 0.8})
+    points.push_back({x, 0, 0, 0});
+  RbfParams params;
+  params.shapeScale = 2.5;
+  EXPECT_NEAR(RbfInterpolant(points, params).shapeRad(), 0.25, 1e-12);
+  params.shapeScale = 0.0;
+  EXPECT_THROW(RbfInterpolant(points, params), std::invalid_argument);
 }
 
 TEST(RbfInterpolant, RejectsInputsThatGiveNoInterpolant) {

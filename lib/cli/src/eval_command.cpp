@@ -10,6 +10,7 @@
 #include "eval_materials.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/cli/methods.hpp"
+#include "slicecap/cli/rbf_options.hpp"
 #include "slicecap/eval/report.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/png_image.hpp"
@@ -62,7 +63,8 @@ struct MaterialResult {
 };
 
 MaterialResult evaluateMaterial(const std::string& name, const Abrdf& truth,
-                                const std::vector<const Method*>& methods) {
+                                const std::vector<const Method*>& methods,
+                                const MethodOptions& options) {
   MaterialResult result;
   for (const Method* method : methods) {
     eval::EvaluationRow row{name, method->name, 0, {}, 0.0, {}};
@@ -71,7 +73,7 @@ MaterialResult evaluateMaterial(const std::string& name, const Abrdf& truth,
       const SliceSet samples = simulateCapture(truth, method->acquisition);
       row.samples = samples.sampleCount();
       const auto start = std::chrono::steady_clock::now();
-      run = method->run(samples, {});
+      run = method->run(samples, options);
       row.milliseconds =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
               .count();
@@ -146,6 +148,8 @@ void printSummary(std::ostream& out, const std::vector<eval::MethodSummary>& sum
 int run(const ParsedArgs& args, Streams& io) {
   const std::vector<const Method*> methods =
       parseMethods(args.value("methods").value_or("b,a,uniform"));
+  MethodOptions options;
+  if (const std::optional<std::string> spec = args.value("rbf")) applyRbfSpec(*spec, options);
   const std::vector<MaterialSource> materials = resolveMaterials(args.positional);
   const bool json = args.flag("json"), quiet = args.flag("quiet");
   const std::optional<std::filesystem::path> out = args.value("out");
@@ -170,7 +174,7 @@ int run(const ParsedArgs& args, Streams& io) {
                            std::to_string(materials.size()) + " " + material.name + ":";
     try {
       const Abrdf truth = material.load();
-      const MaterialResult result = evaluateMaterial(material.name, truth, methods);
+      const MaterialResult result = evaluateMaterial(material.name, truth, methods, options);
       if (!json)
         io.out << material.name << "  (" << material.origin << ")\n" << kTableHeader << "\n";
       for (const eval::EvaluationRow& row : result.rows) {
@@ -244,17 +248,23 @@ Command evalCommand() {
       "A material or method that fails is reported on stderr and the run goes on; exit code 1 "
       "then.\n\nmethods:\n";
   description += methodHelpLines();
-  return {{"eval",
-           "MATERIALS... [--methods b,a,uniform|all] [--out DIR] [--no-sheets] [--json] [--quiet]",
-           description,
-           {{"methods", 0, "LIST", "comma-separated method names, or all (default b,a,uniform)"},
-            {"out", 'o', "DIR", "write report.csv, report.json and a PNG sheet per material"},
-            {"no-sheets", 0, "", "with --out: skip the PNG sheets"},
-            {"json", 0, "", "print the JSON report instead of the tables"},
-            {"quiet", 'q', "", "no progress on stderr"}},
-           1,
-           1 << 20},
-          run};
+  return {
+      {"eval",
+       "MATERIALS... [--methods b,a,uniform|all] [--rbf SPEC] [--out DIR] [--no-sheets] [--json] "
+       "[--quiet]",
+       description,
+       {{"methods", 0, "LIST", "comma-separated method names, or all (default b,a,uniform)"},
+        {"rbf", 0, "SPEC",
+         "a and uniform (same machinery): key=value,... of kernel=mq|imq|r|r3, "
+         "poly=const|linear, r0=SCALE (x median NN distance), frame=relative|absolute, "
+         "gamma=G (interpolate v^(1/G))"},
+        {"out", 'o', "DIR", "write report.csv, report.json and a PNG sheet per material"},
+        {"no-sheets", 0, "", "with --out: skip the PNG sheets"},
+        {"json", 0, "", "print the JSON report instead of the tables"},
+        {"quiet", 'q', "", "no progress on stderr"}},
+       1,
+       1 << 20},
+      run};
 }
 
 }  // namespace slicecap::cli

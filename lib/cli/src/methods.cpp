@@ -4,10 +4,11 @@
 #include <algorithm>
 
 #include "slicecap/cli/args.hpp"
-#include "slicecap/recon/halfway_method.hpp"
-#include "slicecap/recon/method_a.hpp"
+#include "slicecap/cli/rbf_options.hpp"
 #include "slicecap/prior/prior_location.hpp"
 #include "slicecap/prior/prior_reconstruction.hpp"
+#include "slicecap/recon/halfway_method.hpp"
+#include "slicecap/recon/method_a.hpp"
 #include "slicecap/recon/method_b.hpp"
 #include "slicecap/recon/scattered_rbf.hpp"
 
@@ -48,6 +49,8 @@ MethodRun runMethodAWithGamma(const SliceSet& slices, const MethodOptions& optio
   recon::MethodAParams params;
   params.isotropic = options.isotropic;
   params.torusRule = options.torusRule;
+  params.frame = options.onionFrame;
+  params.rbf = options.rbf;
   params.rbf.valueGamma = valueGamma;
   const std::string name = valueGamma == 1.0 ? "A" : "A-gamma";
   MethodRun run{recon::reconstructMethodA(slices, params),
@@ -55,38 +58,48 @@ MethodRun runMethodAWithGamma(const SliceSet& slices, const MethodOptions& optio
                 {},
                 {},
                 {}};
+  MethodOptions used = options;
+  used.rbf.valueGamma = valueGamma;
   run.details["value_gamma"] = valueGamma;
-  const recon::MethodASystem& system = recon::sharedMethodASystem();
+  run.details["rbf"] = rbfSpec(used);
+  const recon::MethodASystem& system = recon::sharedMethodASystem(params.frame, params.rbf);
   run.details["rbf_centres"] = system.centreEntries().size();
   run.details["rbf_shape_rad"] = system.interpolant().shapeRad();
-  run.lines.push_back("multiquadric RBF over " + std::to_string(system.centreEntries().size()) +
+  run.lines.push_back("RBF " + rbfSpec(used) + " over " +
+                      std::to_string(system.centreEntries().size()) +
                       " centres, r0 = " + std::to_string(system.interpolant().shapeRad()) + " rad");
   return run;
 }
 
 MethodRun runMethodA(const SliceSet& slices, const MethodOptions& options) {
-  return runMethodAWithGamma(slices, options, 1.0);
+  return runMethodAWithGamma(slices, options, options.rbf.valueGamma);
 }
 
 MethodRun runMethodAGamma(const SliceSet& slices, const MethodOptions& options) {
   return runMethodAWithGamma(slices, options, kPaperValueGamma);
 }
 
-MethodRun runUniformWithGamma(const SliceSet& samples, double valueGamma) {
+MethodRun runUniformWithGamma(const SliceSet& samples, const MethodOptions& options,
+                              double valueGamma) {
   recon::ScatteredRbfParams params;
+  params.frame = options.onionFrame;
+  params.rbf = options.rbf;
   params.rbf.valueGamma = valueGamma;
   MethodRun run{recon::reconstructScattered(samples, params),
                 valueGamma == 1.0 ? "uniform-RBF" : "uniform-RBF-gamma",
                 {},
                 {},
                 {}};
+  MethodOptions used = options;
+  used.rbf.valueGamma = valueGamma;
   run.details["value_gamma"] = valueGamma;
+  run.details["rbf"] = rbfSpec(used);
   std::size_t onSlices = 0;
   for (const Slice& s : samples.slices()) {
     if (s.id.kind != SliceKind::Point) onSlices += s.samples.size();
   }
   run.details["rbf_centres"] = samples.sampleCount();
-  run.lines.push_back("multiquadric RBF over " + std::to_string(samples.sampleCount()) +
+  run.lines.push_back("RBF " + rbfSpec(used) + " over " + std::to_string(samples.sampleCount()) +
                       " samples at their own directions");
   if (onSlices > 0) {
     run.warnings.push_back(std::to_string(onSlices) +
@@ -96,12 +109,12 @@ MethodRun runUniformWithGamma(const SliceSet& samples, double valueGamma) {
   return run;
 }
 
-MethodRun runUniform(const SliceSet& samples, const MethodOptions&) {
-  return runUniformWithGamma(samples, 1.0);
+MethodRun runUniform(const SliceSet& samples, const MethodOptions& options) {
+  return runUniformWithGamma(samples, options, options.rbf.valueGamma);
 }
 
-MethodRun runUniformGamma(const SliceSet& samples, const MethodOptions&) {
-  return runUniformWithGamma(samples, kPaperValueGamma);
+MethodRun runUniformGamma(const SliceSet& samples, const MethodOptions& options) {
+  return runUniformWithGamma(samples, options, kPaperValueGamma);
 }
 
 MethodRun runHalfway(const SliceSet& slices, const MethodOptions& options) {
@@ -142,15 +155,13 @@ MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
   nlohmann::json pairs = nlohmann::json::array();
   for (ElevationPair p : report.measuredPairs)
     pairs.push_back(std::to_string(p.thetaIDeg) + "/" + std::to_string(p.thetaVDeg));
-  run.details["prior"] = {{"file", prior::locatePriorModel().string()},
-                          {"measured_pairs", pairs},
-                          {"anisotropy_terms", report.anisotropyTermsUsed},
-                          {"isotropic_gcv", report.isotropicScore},
-                          {"anisotropic_gcv", report.anisotropicScore},
-                          {"fit_rms_log", report.fitRmsLog}};
-  run.lines.push_back("prior fit: RMS log residual " + std::to_string(report.fitRmsLog) +
-                      (report.anisotropyTermsUsed ? "; half-vector anisotropy terms used"
-                                                  : "; isotropic fit"));
+  run.details["prior"] = {
+      {"file", prior::locatePriorModel().string()},     {"measured_pairs", pairs},
+      {"anisotropy_terms", report.anisotropyTermsUsed}, {"isotropic_gcv", report.isotropicScore},
+      {"anisotropic_gcv", report.anisotropicScore},     {"fit_rms_log", report.fitRmsLog}};
+  run.lines.push_back(
+      "prior fit: RMS log residual " + std::to_string(report.fitRmsLog) +
+      (report.anisotropyTermsUsed ? "; half-vector anisotropy terms used" : "; isotropic fit"));
   if (report.measuredPairs.size() < kMeasuredPairs.size())
     run.warnings.push_back("only " + std::to_string(report.measuredPairs.size()) +
                            " elevation pairs measured; the others come from the prior alone");

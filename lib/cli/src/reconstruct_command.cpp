@@ -6,6 +6,7 @@
 
 #include "slicecap/cli/command.hpp"
 #include "slicecap/cli/methods.hpp"
+#include "slicecap/cli/rbf_options.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/slice_csv.hpp"
 
@@ -23,6 +24,7 @@ int run(const ParsedArgs& args, Streams& io) {
   MethodOptions options;
   options.isotropic = args.flag("isotropic");
   options.torusRule = parseTorusRule(args.value("torus").value_or("square"));
+  if (const std::optional<std::string> spec = args.value("rbf")) applyRbfSpec(*spec, options);
   const std::filesystem::path input = args.positional[0];
   const std::filesystem::path output = args.required("output");
 
@@ -75,18 +77,21 @@ Command reconstructCommand() {
       "--isotropic only the four diagonal ones; uniform takes point samples (sample --uniform).\n"
       "\nmethods:\n";
   description += methodHelpLines();
-  return {
-      {"reconstruct",
-       "SLICES.csv -o OUT.exr [--method NAME] [--isotropic] [--torus square|pi-symmetric] [--json]",
-       description,
-       {{"output", 'o', "OUT.exr", "where to write the ABRDF (required)"},
-        {"method", 0, "NAME", "reconstruction method (default b)"},
-        {"isotropic", 0, "", "use the diagonal slices only (eq. 5)"},
-        {"torus", 0, "RULE", "square (default) or pi-symmetric (METHOD.md 3.2)"},
-        {"json", 0, "", "print a JSON summary instead of text"}},
-       1,
-       1},
-      run};
+  return {{"reconstruct",
+           "SLICES.csv -o OUT.exr [--method NAME] [--isotropic] [--torus square|pi-symmetric] "
+           "[--rbf SPEC] [--json]",
+           description,
+           {{"output", 'o', "OUT.exr", "where to write the ABRDF (required)"},
+            {"method", 0, "NAME", "reconstruction method (default b)"},
+            {"isotropic", 0, "", "use the diagonal slices only (eq. 5)"},
+            {"torus", 0, "RULE", "square (default) or pi-symmetric (METHOD.md 3.2)"},
+            {"rbf", 0, "SPEC",
+             "a, uniform: the RBF's open choices, key=value,... (kernel=mq|imq|r|r3, "
+             "poly=const|linear, r0=SCALE, frame=relative|absolute, gamma=G); see README"},
+            {"json", 0, "", "print a JSON summary instead of text"}},
+           1,
+           1},
+          run};
 }
 
 }  // namespace slicecap::cli

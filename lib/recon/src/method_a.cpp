@@ -6,6 +6,7 @@
 #include <memory>
 #include <mutex>
 #include <stdexcept>
+#include <tuple>
 
 #include "slicecap/recon/measured_subspaces.hpp"
 
@@ -107,9 +108,12 @@ const MethodASystem& sharedMethodASystem(OnionFrame frame, const RbfParams& rbf)
   std::string error;
   if (!rbf.isValid(&error)) throw std::invalid_argument(error);
   static std::mutex mutex;
-  static std::map<std::pair<OnionFrame, double>, std::unique_ptr<MethodASystem>> systems;
+  // valueGamma is applied around the system, so systems differing only in it are one.
+  using Key = std::tuple<OnionFrame, double, double, RbfKernel, RbfPolynomial>;
+  static std::map<Key, std::unique_ptr<MethodASystem>> systems;
   const std::lock_guard lock(mutex);
-  auto& slot = systems[{frame, rbf.shapeRad.value_or(0.0)}];
+  auto& slot =
+      systems[{frame, rbf.shapeRad.value_or(0.0), rbf.shapeScale, rbf.kernel, rbf.polynomial}];
   if (!slot) slot = std::make_unique<MethodASystem>(frame, rbf);
   return *slot;
 }

@@ -1,4 +1,4 @@
-// The factored multiquadric system and its evaluation rows.
+// The factored RBF system and its evaluation rows.
 #include "slicecap/recon/rbf_interpolant.hpp"
 
 #include <algorithm>
@@ -27,7 +27,15 @@ bool RbfParams::isValid(std::string* error) const {
     if (error) *error = "the RBF value gamma must be positive";
     return false;
   }
+  if (!(std::isfinite(shapeScale) && shapeScale > 0.0)) {
+    if (error) *error = "the RBF r0 scale must be positive";
+    return false;
+  }
   return true;
+}
+
+int polynomialTerms(RbfPolynomial polynomial) {
+  return polynomial == RbfPolynomial::Linear ? 5 : 1;
 }
 
 double toInterpolatedValue(double value, double valueGamma) {
@@ -56,7 +64,7 @@ double medianNearestNeighbourDistance(std::span<const FeaturePoint> points) {
 }
 
 RbfInterpolant::RbfInterpolant(std::vector<FeaturePoint> centres, const RbfParams& params)
-    : centres_(std::move(centres)) {
+    : centres_(std::move(centres)), kernel_(params.kernel), polynomial_(params.polynomial) {
   std::string error;
   if (!params.isValid(&error)) throw std::invalid_argument(error);
   if (centres_.empty()) throw std::invalid_argument("RBF interpolation needs at least one centre");
@@ -73,22 +81,36 @@ RbfInterpolant::RbfInterpolant(std::vector<FeaturePoint> centres, const RbfParam
       }
     }
   }
-  shapeRad_ = params.shapeRad.value_or(medianNearestNeighbourDistance(centres_));
+  shapeRad_ =
+      params.shapeRad.value_or(params.shapeScale * medianNearestNeighbourDistance(centres_));
   // A single centre has no neighbour; any positive r0 gives the same (constant) interpolant.
   if (!(shapeRad_ > 0.0)) shapeRad_ = 1.0;
 
-  Eigen::MatrixXd system(n + 1, n + 1);
+  const std::size_t m = std::size_t(polynomialTerms());
+  Eigen::MatrixXd system = Eigen::MatrixXd::Zero(n + m, n + m);
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t j = i; j < n; ++j)
       system(i, j) = system(j, i) = kernel(centres_[i], centres_[j]);
     system(i, n) = system(n, i) = 1.0;
+    for (std::size_t k = 1; k < m; ++k)
+      system(i, n + k) = system(n + k, i) = centres_[i][k - 1];
   }
-  system(n, n) = 0.0;
   lu_.compute(system);
 }
 
 double RbfInterpolant::kernel(const FeaturePoint& a, const FeaturePoint& b) const {
-  return std::sqrt(squaredDistance(a, b) + shapeRad_ * shapeRad_);
+  const double r2 = squaredDistance(a, b);
+  switch (kernel_) {
+    case RbfKernel::InverseMultiquadric:
+      return 1.0 / std::sqrt(r2 + shapeRad_ * shapeRad_);
+    case RbfKernel::Linear:
+      return std::sqrt(r2);
+    case RbfKernel::Cubic:
+      return r2 * std::sqrt(r2);
+    case RbfKernel::Multiquadric:
+      break;
+  }
+  return std::sqrt(r2 + shapeRad_ * shapeRad_);
 }
 
 Eigen::MatrixXd RbfInterpolant::coefficients(const Eigen::MatrixXd& values) const {
@@ -97,19 +119,22 @@ Eigen::MatrixXd RbfInterpolant::coefficients(const Eigen::MatrixXd& values) cons
     throw std::invalid_argument("RBF values have " + std::to_string(values.rows()) + " rows for " +
                                 std::to_string(n) + " centres");
   }
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n + 1, values.cols());
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n + polynomialTerms(), values.cols());
   rhs.topRows(n) = values;
   return lu_.solve(rhs);
 }
 
 Eigen::MatrixXf RbfInterpolant::evaluationMatrix(std::span<const FeaturePoint> points) const {
   const auto n = static_cast<Eigen::Index>(centres_.size());
-  Eigen::MatrixXf rows(static_cast<Eigen::Index>(points.size()), n + 1);
+  const int m = polynomialTerms();
+  Eigen::MatrixXf rows(static_cast<Eigen::Index>(points.size()), n + m);
   for (std::size_t j = 0; j < points.size(); ++j) {
     const auto row = static_cast<Eigen::Index>(j);
     for (Eigen::Index i = 0; i < n; ++i)
       rows(row, i) = static_cast<float>(kernel(points[j], centres_[i]));
     rows(row, n) = 1.0f;
+    for (int k = 1; k < m; ++k)
+      rows(row, n + k) = static_cast<float>(points[j][std::size_t(k - 1)]);
   }
   return rows;
 }
@@ -118,13 +143,15 @@ double RbfInterpolant::evaluate(const Eigen::VectorXd& coefficients,
                                 const FeaturePoint& point) const {
   const std::size_t n = centres_.size();
   double value = coefficients(static_cast<Eigen::Index>(n));
+  for (int k = 1; k < polynomialTerms(); ++k)
+    value += coefficients(static_cast<Eigen::Index>(n) + k) * point[std::size_t(k - 1)];
   for (std::size_t i = 0; i < n; ++i)
     value += coefficients(static_cast<Eigen::Index>(i)) * kernel(point, centres_[i]);
   return value;
 }
 
 std::size_t RbfInterpolant::memoryBytes() const {
-  const std::size_t n = centres_.size() + 1;
+  const std::size_t n = centres_.size() + std::size_t(polynomialTerms());
   return n * n * sizeof(double) + n * sizeof(int);
 }
 

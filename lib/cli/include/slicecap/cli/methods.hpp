@@ -8,6 +8,7 @@
 
 #include "slicecap/core/abrdf.hpp"
 #include "slicecap/core/slice.hpp"
+#include "slicecap/recon/method_a.hpp"
 #include "slicecap/recon/slice_sum.hpp"
 
 namespace slicecap::cli {
@@ -16,6 +17,10 @@ namespace slicecap::cli {
 struct MethodOptions {
   bool isotropic = false;  ///< only the diagonal slices are measured (eq. 5)
   recon::TorusRule torusRule = recon::TorusRule::FundamentalSquare;
+  /// \brief The shared RBF machinery of a and uniform (and their -gamma variants, which force
+  /// valueGamma 2.2): Method A's defaults unless `--rbf` says otherwise (rbf_options.hpp).
+  recon::RbfParams rbf = recon::MethodAParams{}.rbf;
+  recon::OnionFrame onionFrame = recon::MethodAParams{}.frame;
 };
 
 /// \brief What a method produced: the table and what a person or a script should know about it.

@@ -33,6 +33,10 @@ struct MethodAParams {
   bool isotropic = false;
   TorusRule torusRule = TorusRule::FundamentalSquare;
   OnionFrame frame = OnionFrame::ViewRelative;
+  /// \brief [METHOD.md 5.2 defaults kept: multiquadric, r0 = median NN distance, constant term,
+  /// linear values. Issue 3 measured every open choice (README, `--rbf`): none helps in the
+  /// linear domain; absolute frame + r3 + linear term help only with compressed values, which
+  /// 5.2 does not list as open, and even then A does not beat uniform in all three metrics.]
   RbfParams rbf;
   /// \brief Returns false, with a reason, for invalid RBF options.
   bool isValid(std::string* error) const { return rbf.isValid(error); }

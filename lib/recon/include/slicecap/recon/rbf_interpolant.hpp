@@ -1,4 +1,5 @@
-// Multiquadric RBF interpolation with a constant term, factored once for a fixed set of centres.
+// RBF interpolation (multiquadric by default) with a polynomial term, factored once for a fixed set
+// of centres.
 #pragma once
 
 #include <Eigen/Core>
@@ -12,6 +13,21 @@
 
 namespace slicecap::recon {
 
+/// \brief The radial function phi(r) (METHOD.md 5.2 leaves it open; SRC-8 found the first three
+/// about equal on synthetic data).
+enum class RbfKernel {
+  Multiquadric,         ///< sqrt(r^2 + r0^2), Numerical Recipes' default
+  InverseMultiquadric,  ///< 1 / sqrt(r^2 + r0^2)
+  Linear,               ///< r (polyharmonic, no r0)
+  Cubic,                ///< r^3 (polyharmonic, no r0; needs the linear polynomial term)
+};
+
+/// \brief The polynomial added to the radial sum, with its orthogonality conditions.
+enum class RbfPolynomial {
+  Constant,  ///< c: reproduces constants
+  Linear,    ///< c + g . x: reproduces linear functions of the features (linear precision)
+};
+
 /// \brief Options of the interpolant (METHOD.md 5.2).
 struct RbfParams {
   /// \brief r0 of the kernel sqrt(r^2 + r0^2), in feature-space radians; unset = the median
@@ -22,8 +38,12 @@ struct RbfParams {
   /// sRGB data the paper interpolated (METHOD.md 6.2), which compresses the highlights the
   /// multiquadric otherwise overshoots between elevations.
   double valueGamma = 1.0;
+  RbfKernel kernel = RbfKernel::Multiquadric;
+  RbfPolynomial polynomial = RbfPolynomial::Constant;
+  /// \brief With shapeRad unset, r0 = shapeScale x the median nearest-neighbour distance.
+  double shapeScale = 1.0;
   /// \brief Returns false, with a reason, when shapeRad is set but not positive and finite, or
-  /// valueGamma is not positive and finite.
+  /// valueGamma or shapeScale is not positive and finite.
   bool isValid(std::string* error) const;
 };
 
@@ -35,9 +55,13 @@ double fromInterpolatedValue(double interpolated, double valueGamma);
 /// two points.
 double medianNearestNeighbourDistance(std::span<const FeaturePoint> points);
 
-/// \brief The interpolant through values at fixed centres: solve [K 1; 1^T 0] [w; c] = [y; 0]
-/// once (LU with partial pivoting), then every channel, material or texture pixel costs two
-/// triangular solves, and every evaluation point one row of kernel values.
+/// \brief Columns of the polynomial term: 1 (constant) or 5 (1 and the four features).
+int polynomialTerms(RbfPolynomial polynomial);
+
+/// \brief The interpolant through values at fixed centres: solve [K P; P^T 0] [w; c] = [y; 0]
+/// (P: the polynomial's columns at the centres) once (LU with partial pivoting), then every
+/// channel, material or texture pixel costs two triangular solves, and every evaluation point one
+/// row of kernel values.
 class RbfInterpolant {
  public:
   /// \brief Factors the system. Throws std::invalid_argument for no centres, a non-finite
@@ -49,17 +73,20 @@ class RbfInterpolant {
   /// \brief The r0 in use (given or derived).
   double shapeRad() const { return shapeRad_; }
 
-  /// \brief sqrt(|a - b|^2 + r0^2).
+  /// \brief phi(|a - b|) of the params' kernel.
   double kernel(const FeaturePoint& a, const FeaturePoint& b) const;
+  /// \brief Columns of the polynomial term (1 or 5).
+  int polynomialTerms() const { return recon::polynomialTerms(polynomial_); }
 
-  /// \brief Coefficients, (n + 1) x k: the n centre weights, then the constant, for values n x k
+  /// \brief Coefficients, (n + m) x k: the n centre weights, then the m polynomial coefficients
+  /// (constant first, then the four linear ones), for values n x k
   /// (one column per channel, material or pixel). Throws std::invalid_argument when values does
   /// not have n rows.
   Eigen::MatrixXd coefficients(const Eigen::MatrixXd& values) const;
 
-  /// \brief Row j = (kernel(points[j], centre 1..n), 1): its product with coefficients() is the
-  /// interpolant at the points. float, to halve the memory of large evaluation sets (the caller
-  /// keeps the matrix when the points are fixed).
+  /// \brief Row j = (kernel(points[j], centre 1..n), 1[, points[j]]): its product with
+  /// coefficients() is the interpolant at the points. float, to halve the memory of large
+  /// evaluation sets (the caller keeps the matrix when the points are fixed).
   Eigen::MatrixXf evaluationMatrix(std::span<const FeaturePoint> points) const;
 
   /// \brief The interpolant of one column of coefficients at one point, in double precision.
@@ -71,6 +98,8 @@ class RbfInterpolant {
  private:
   std::vector<FeaturePoint> centres_;
   double shapeRad_ = 0.0;
+  RbfKernel kernel_ = RbfKernel::Multiquadric;
+  RbfPolynomial polynomial_ = RbfPolynomial::Constant;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };
 

@@ -1,0 +1,19 @@
+// `--rbf SPEC`: the open choices of Method A's interpolant (METHOD.md 5), for a and uniform alike.
+#pragma once
+
+#include <string>
+
+#include "slicecap/cli/methods.hpp"
+
+namespace slicecap::cli {
+
+/// \brief Applies "key=value,..." to options.rbf and options.onionFrame. Keys: kernel (mq, imq,
+/// r, r3), poly (const, linear), r0 (a multiple of the median nearest-neighbour distance), frame
+/// (relative, absolute), gamma (the value domain v^(1/gamma); 1 = linear). Throws UsageError
+/// naming the key or value that is unknown or out of range.
+void applyRbfSpec(const std::string& spec, MethodOptions& options);
+
+/// \brief The options as a spec applyRbfSpec reads back, e.g. "kernel=r3,poly=linear,...".
+std::string rbfSpec(const MethodOptions& options);
+
+}  // namespace slicecap::cli
