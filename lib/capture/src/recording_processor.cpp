@@ -40,7 +40,7 @@ hal::Frame frameOf(Image image, const io::Recording& recording, const io::Record
 }  // namespace
 
 RecordingResult processRecording(const std::filesystem::path& directory,
-                                 const PipelineSettings& settings) {
+                                 const PipelineSettings& settings, const FrameObserver& observer) {
   const io::Recording recording = io::readRecording(directory);
   if (!recording.slice)
     throw std::invalid_argument(directory.string() +
@@ -65,8 +65,12 @@ RecordingResult processRecording(const std::filesystem::path& directory,
     result.frameFiles.push_back(entry.file);
     FrameOutcome outcome;
     try {
-      outcome = pipeline.process(
-          frameOf(io::readPng(io::framePath(directory, entry)), recording, entry, i), result.slice);
+      const hal::Frame frame =
+          frameOf(io::readPng(io::framePath(directory, entry)), recording, entry, i);
+      outcome = pipeline.process(frame, result.slice);
+      // An LED-on frame leaves the pipeline's LED-off frame as it was: the one it was corrected
+      // with.
+      if (observer) observer(frame, outcome, entry.ledOn ? pipeline.ambientFrame() : nullptr);
     } catch (const io::IoError& error) {
       outcome.kind = FrameOutcome::Kind::Rejected;
       outcome.rejectReason = "bad_frame";

@@ -53,6 +53,9 @@ class FramePipeline {
   /// \brief Offline use: the ambient frame for LED-on frames before the first LED-off one (the
   /// live loop just rejects those as "no_ambient_frame").
   void setAmbientFrame(const hal::Frame& frame);
+  /// \brief The LED-off frame the next LED-on frame is corrected with, or nullptr (texture
+  /// capture subtracts it texel by texel).
+  const hal::Frame* ambientFrame() const;
 
  private:
   struct State;
