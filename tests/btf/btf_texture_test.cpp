@@ -86,6 +86,15 @@ TEST(BtfTexture, StoresTexelTablesInHalfFloatsImageByImage) {
     EXPECT_NEAR(back.values()[i], table.values()[i], 1e-3 * table.values()[i] + 1e-7);
   EXPECT_EQ(texture.value(10, 20, 4, 1), back.channel(10, 20, 1));
   EXPECT_EQ(texture.value(10, 20, 3, 1), 0.0f);
+  // A row written at once is the same as texel by texel.
+  BtfTexture byRow(3);
+  const std::vector<Abrdf> row{Abrdf(), table, Abrdf()};
+  byRow.setRow(1, row);
+  for (int light : {0, 33, 80})
+    for (int view : {0, 47, 80})
+      for (std::size_t i = 0; i < 27; ++i)
+        EXPECT_EQ(byRow.image(light, view)[i], texture.image(light, view)[i]);
+  EXPECT_THROW(byRow.setRow(0, std::vector<Abrdf>(2)), std::invalid_argument);
   // The mean over 9 texels, one of them the table.
   EXPECT_NEAR(averageTable(texture).channel(10, 20, 1), back.channel(10, 20, 1) / 9.0, 1e-6);
 }

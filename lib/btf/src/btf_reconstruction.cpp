@@ -31,18 +31,19 @@ struct Tally {
 void methodBRow(const TextureGrid& grid, const std::vector<SliceTexture>& slices,
                 const recon::MethodBParams& params, int row, BtfTexture& out, Tally& tally) {
   std::size_t closedForm = 0;
+  std::vector<Abrdf> tables(static_cast<std::size_t>(grid.resolution()));
   for (int column = 0; column < grid.resolution(); ++column) {
     try {
       recon::MethodBReport report;
-      out.setTexel(
-          grid.index(column, row),
-          recon::reconstructMethodB(texelSlices(grid, slices, column, row), params, &report));
+      tables[std::size_t(column)] =
+          recon::reconstructMethodB(texelSlices(grid, slices, column, row), params, &report);
       for (const recon::LineFit& fit : report.fits)
         closedForm += fit.usedClosedForm ? 1 : 0;
     } catch (const recon::ReconstructionError& error) {
       tally.fail(column, row, error.what());
     }
   }
+  out.setRow(row, tables);
   const std::lock_guard lock(tally.mutex);
   tally.closedForm += closedForm;
 }
@@ -84,8 +85,8 @@ void methodARow(const TextureGrid& grid, const std::vector<SliceTexture>& slices
             others(static_cast<Eigen::Index>(j), 3 * column + c);
     for (float& v : table.values())
       v = std::max(v, 0.0f);
-    out.setTexel(grid.index(column, row), table);
   }
+  out.setRow(row, tables);
 }
 
 }  // namespace

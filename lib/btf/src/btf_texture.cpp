@@ -25,6 +25,21 @@ void BtfTexture::setTexel(std::size_t texel, const Abrdf& table) {
       out[c] = Imath::half(values[3 * pair + c]).bits();
 }
 
+void BtfTexture::setRow(int row, std::span<const Abrdf> tables) {
+  if (tables.size() != std::size_t(resolution_))
+    throw std::invalid_argument("BtfTexture::setRow: " + std::to_string(tables.size()) +
+                                " tables for a row of " + std::to_string(resolution_));
+  const std::size_t pairs = std::size_t(Abrdf::kDirections) * Abrdf::kDirections;
+  for (std::size_t pair = 0; pair < pairs; ++pair) {
+    std::uint16_t* out = &halves_[(pair * texelCount() + std::size_t(row) * resolution_) * 3];
+    for (const Abrdf& table : tables) {
+      const float* in = &table.values()[3 * pair];
+      for (std::size_t c = 0; c < 3; ++c)
+        *out++ = Imath::half(in[c]).bits();
+    }
+  }
+}
+
 Abrdf BtfTexture::texel(std::size_t texel) const {
   Abrdf table;
   std::span<float> values = table.values();

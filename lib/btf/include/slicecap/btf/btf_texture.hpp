@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "slicecap/core/abrdf.hpp"
@@ -23,6 +24,11 @@ class BtfTexture {
 
   /// \brief Stores one texel's table (values rounded to half). Thread-safe for distinct texels.
   void setTexel(std::size_t texel, const Abrdf& table);
+  /// \brief Stores a row of texels' tables (one per column) at once: each image's row is written
+  /// contiguously, where texel by texel every value would be a cache miss 6561 images apart.
+  /// Thread-safe for distinct rows. Throws std::invalid_argument unless there is a table per
+  /// column.
+  void setRow(int row, std::span<const Abrdf> tables);
   /// \brief One texel's table, back in float.
   Abrdf texel(std::size_t texel) const;
   /// \brief One value as float.

@@ -37,6 +37,7 @@ Command isotropyCommand();
 Command priorTrainCommand();
 Command processCommand();
 Command captureOfflineCommand();
+Command btfCommand();
 
 /// \brief Every subcommand, in the order `slicecap --help` lists them.
 std::vector<Command> allCommands();
