@@ -8,68 +8,12 @@
 #include <vector>
 
 #include "slicecap/capture/light_model.hpp"
+#include "slicecap/capture/linear_view.hpp"
 #include "slicecap/capture/planar_pose.hpp"
 #include "slicecap/core/angles.hpp"
 
 namespace slicecap::capture {
 namespace {
-
-// Linear value (1 = full scale) of every 8-bit sRGB code.
-const std::vector<double>& srgbToLinear() {
-  static const std::vector<double> table = [] {
-    std::vector<double> t(256);
-    for (int i = 0; i < 256; ++i) {
-      const double v = i / 255.0;
-      t[i] = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
-    }
-    return t;
-  }();
-  return table;
-}
-
-// Reads a frame's pixels as linear light, bilinearly, at sub-pixel positions.
-class LinearView {
- public:
-  explicit LinearView(const hal::Frame& frame) : frame_(frame) {}
-
-  bool inside(const Eigen::Vector2d& px) const {
-    return px.x() >= 0 && px.y() >= 0 && px.x() <= frame_.image.width - 1.0 &&
-           px.y() <= frame_.image.height - 1.0;
-  }
-  // Linear value of one sample, and whether it is clipped.
-  double linear(int x, int y, int c, double clipFraction, bool* clipped) const {
-    const Image& im = frame_.image;
-    const int channel = im.channels >= 3 ? c : 0;
-    const std::uint16_t raw = im.at(x, y, channel);
-    if (frame_.encoding == PixelEncoding::Srgb8) {
-      if (raw >= clipFraction * 255.0) *clipped = true;
-      return srgbToLinear()[std::min<int>(raw, 255)];
-    }
-    if (raw >= clipFraction * 65535.0) *clipped = true;
-    return raw / 65535.0;
-  }
-  Rgb at(const Eigen::Vector2d& px, double clipFraction, bool* clipped) const {
-    const int x0 = std::min(static_cast<int>(px.x()), frame_.image.width - 2);
-    const int y0 = std::min(static_cast<int>(px.y()), frame_.image.height - 2);
-    const double fx = px.x() - x0, fy = px.y() - y0;
-    Rgb value;
-    for (int c = 0; c < 3; ++c) {
-      const double top = (1 - fx) * linear(x0, y0, c, clipFraction, clipped) +
-                         fx * linear(x0 + 1, y0, c, clipFraction, clipped);
-      const double bottom = (1 - fx) * linear(x0, y0 + 1, c, clipFraction, clipped) +
-                            fx * linear(x0 + 1, y0 + 1, c, clipFraction, clipped);
-      value[c] = (1 - fy) * top + fy * bottom;
-    }
-    return value;
-  }
-  double gray(const Eigen::Vector2d& px) const {
-    bool ignored = false;
-    return at(px, 2.0, &ignored).mean();
-  }
-
- private:
-  const hal::Frame& frame_;
-};
 
 // Grid points covering a rectangle of the target, about `stepMm` apart, inset by half a step.
 std::vector<Eigen::Vector2d> gridPoints(const vision::RectMm& rect, int perSide) {
@@ -282,6 +226,10 @@ void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
   s.nextAmbient = s.makeAmbient(frame);
 }
 
+const hal::Frame* FramePipeline::ambientFrame() const {
+  return state_->ambient ? &state_->ambient->frame : nullptr;
+}
+
 FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slice) {
   State& s = *state_;
   const std::uint64_t index = s.frameIndex++;
@@ -332,6 +280,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   const auto estimate = estimatePlanarPose(corners, s.camera);
   if (!estimate) return rejected("too_few_markers", markerText + ", no pose", outcome);
   const vision::Pose& pose = estimate->pose;
+  m.pose = pose;
   if (estimate->residualRmsPx <= s.settings.maxPoseResidualPx) s.lastPose = pose;
   const Eigen::Vector3d cameraCentre = pose.cameraCentreMm();
   m.poseResidualPx = estimate->residualRmsPx;
@@ -399,6 +348,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
     return rejected("window_occluded",
                     "white references disagree by " + std::to_string(fit.relativeResidualRms),
                     outcome);
+  m.fittedLight = fit.light;
   m.measuredLight = fit.light.directionFrom({0.0, 0.0, 0.0});
   m.measuredLightSigmaDeg = fit.directionSigmaDeg;
   const Rgb irradiance = fit.light.irradianceAt({0.0, 0.0, 0.0});

@@ -40,7 +40,7 @@ hal::Frame frameOf(Image image, const io::Recording& recording, const io::Record
 }  // namespace
 
 RecordingResult processRecording(const std::filesystem::path& directory,
-                                 const PipelineSettings& settings) {
+                                 const PipelineSettings& settings, const FrameObserver& observer) {
   const io::Recording recording = io::readRecording(directory);
   if (!recording.slice)
     throw std::invalid_argument(directory.string() +
@@ -88,9 +88,11 @@ RecordingResult processRecording(const std::filesystem::path& directory,
           }
         }
       }
-      outcome = following && following->first == i
-                    ? pipeline.process(following->second, result.slice)
-                    : pipeline.process(readFrame(i), result.slice);
+      const hal::Frame frame =
+          following && following->first == i ? following->second : readFrame(i);
+      outcome = pipeline.process(frame, result.slice);
+      // An LED-on frame leaves the pipeline's latest LED-off frame as it was: the one before it.
+      if (observer) observer(frame, outcome, entry.ledOn ? pipeline.ambientFrame() : nullptr);
     } catch (const io::IoError& error) {
       outcome.kind = FrameOutcome::Kind::Rejected;
       outcome.rejectReason = "bad_frame";

@@ -9,11 +9,11 @@
 namespace slicecap::cli {
 
 std::vector<Command> allCommands() {
-  return {reconstructCommand(), sampleCommand(), compareCommand(), generateCommand(),
-          evalCommand(),        previewCommand(), isotropyCommand(), priorTrainCommand(),
-          targetCommand(),      simulateCommand(), sessionCommand(), sweepCommand(),
-          statusCommand(),      exportCommand(),
-          processCommand(),     captureOfflineCommand(), calibrateCommand()};
+  return {reconstructCommand(), sampleCommand(),   compareCommand(),  generateCommand(),
+          evalCommand(),        previewCommand(),  isotropyCommand(), priorTrainCommand(),
+          targetCommand(),      simulateCommand(), sessionCommand(),  sweepCommand(),
+          statusCommand(),      exportCommand(),   processCommand(),  captureOfflineCommand(),
+          calibrateCommand(),   btfCommand()};
 }
 
 namespace {

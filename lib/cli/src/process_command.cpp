@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
+#include "pipeline_options.hpp"
 #include "slicecap/capture/recording_processor.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/cli/methods.hpp"
@@ -15,26 +16,6 @@
 
 namespace slicecap::cli {
 namespace {
-
-capture::PipelineSettings settingsOf(const ParsedArgs& args) {
-  capture::PipelineSettings settings;
-  settings.elevationToleranceDeg =
-      args.number("elevation-tolerance", settings.elevationToleranceDeg);
-  settings.maxPoseResidualPx = args.number("max-residual", settings.maxPoseResidualPx);
-  settings.minMarkers = static_cast<int>(args.number("min-markers", settings.minMarkers));
-  settings.detector.decimation =
-      static_cast<float>(args.number("decimation", settings.detector.decimation));
-  const std::string ambient = args.value("ambient").value_or("both");
-  if (ambient != "both" && ambient != "previous")
-    throw UsageError("--ambient must be both or previous");
-  settings.offlineTwoSidedAmbient = ambient == "both";
-  if (!(settings.elevationToleranceDeg > 0) || !(settings.maxPoseResidualPx > 0) ||
-      settings.minMarkers < 2 || !(settings.detector.decimation >= 1))
-    throw UsageError(
-        "--elevation-tolerance and --max-residual must be > 0, --min-markers >= 2, "
-        "--decimation >= 1");
-  return settings;
-}
 
 // Runs every recording, prints the summary, returns the slices (each recording one slice).
 SliceSet processAll(const std::vector<std::filesystem::path>& recordings,
@@ -76,7 +57,7 @@ int runProcess(const ParsedArgs& args, Streams& io) {
   nlohmann::json report = {{"recordings", nlohmann::json::array()}};
   const auto reportPath = args.value("report");
   const SliceSet slices =
-      processAll(recordings, settingsOf(args), io, reportPath ? &report : nullptr);
+      processAll(recordings, pipelineSettingsOf(args), io, reportPath ? &report : nullptr);
   io::writeSliceCsv(output, slices);
   if (reportPath) writeReport(*reportPath, report);
   io.out << "wrote " << slices.sampleCount() << " samples in " << slices.slices().size()
@@ -87,20 +68,11 @@ int runProcess(const ParsedArgs& args, Streams& io) {
 int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   const std::filesystem::path session = args.positional[0];
   const std::filesystem::path output = args.required("output");
-  std::vector<std::filesystem::path> recordings;
-  std::error_code error;
-  for (const auto& entry : std::filesystem::directory_iterator(session, error))
-    if (std::filesystem::exists(entry.path() / io::kRecordingManifest))
-      recordings.push_back(entry.path());
-  if (error) throw io::IoError(session.string() + ": " + error.message());
-  if (recordings.empty())
-    throw io::IoError(session.string() + ": no recording (a directory with " +
-                      io::kRecordingManifest + ") inside");
-  std::sort(recordings.begin(), recordings.end());
+  const std::vector<std::filesystem::path> recordings = sessionRecordings(session);
   nlohmann::json report = {{"recordings", nlohmann::json::array()}};
   const auto reportPath = args.value("report");
   const SliceSet slices =
-      processAll(recordings, settingsOf(args), io, reportPath ? &report : nullptr);
+      processAll(recordings, pipelineSettingsOf(args), io, reportPath ? &report : nullptr);
   if (const auto csv = args.value("slices")) io::writeSliceCsv(*csv, slices);
   if (reportPath) writeReport(*reportPath, report);
   const Method& method = findMethod(args.value("method").value_or("b"));
@@ -116,17 +88,6 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   io.out << "reconstructed " << slices.sampleCount() << " samples in " << slices.slices().size()
          << " slices with method " << result.exrMethodName << "; wrote " << output.string() << "\n";
   return 0;
-}
-
-std::vector<OptionSpec> pipelineOptions() {
-  return {{"report", 0, "FILE", "per frame pose, light, gate outcome; per bin its frames (JSON)"},
-          {"elevation-tolerance", 0, "DEG", "reject frames this far off the view elevation (5)"},
-          {"max-residual", 0, "PX", "reject poses with a larger RMS reprojection error (1.5)"},
-          {"min-markers", 0, "N", "reject frames with fewer markers (4)"},
-          {"decimation", 0, "D", "the AprilTag detector's quad decimation (2)"},
-          {"ambient", 0, "MODE",
-           "room light from the LED-off frames on both sides (both, default) or the one before "
-           "at the same pixels, as slicecapd live (previous)"}};
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include "slicecap/core/grid_interpolation.hpp"
 #include "slicecap/io/table_file.hpp"
+#include "slicecap/sim/patterned_material.hpp"
 
 namespace slicecap::sim {
 namespace {
@@ -117,10 +118,12 @@ std::shared_ptr<const models::ReflectanceModel> loadMaterial(const std::string& 
     const double ax = p.scalar("ax", 0.1, 0.01, 1.0), ay = p.scalar("ay", 0.3, 0.01, 1.0);
     model =
         models::makeAnisotropicGgx(diffuse, f0, ax, ay, p.scalar("tangent", 0.0, -360.0, 360.0));
+  } else if (kind == "woven") {
+    model = makeWovenMaterial(p.scalar("cell", 10.0, 0.5, 100.0));
   } else {
     throw MaterialError("unknown material '" + spec +
                         "': not a built-in name (slicecap generate --list), a .exr/.f32 table, or "
-                        "lambert:/ward:/ggx: with parameters");
+                        "lambert:/ward:/ggx:/woven with parameters");
   }
   p.finish();
   return model;

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "slicecap/eval/metrics.hpp"
+#include "slicecap/sim/patterned_material.hpp"
 #include "slicecap/vision/target_surface.hpp"
 
 namespace slicecap::sim {
@@ -134,6 +135,7 @@ FrameRenderer::FrameRenderer(vision::CameraModel camera, vision::TargetGeometry 
   std::string error;
   if (!camera_.isValid(&error)) throw std::invalid_argument("camera: " + error);
   if (!material_) throw std::invalid_argument("FrameRenderer: no material");
+  pattern_ = dynamic_cast<const PatternedMaterial*>(material_.get());
   if (settings_.brdfGridNodes < 3 || settings_.brdfGridNodes % 2 == 0)
     throw std::invalid_argument("FrameRenderer: the BRDF grid needs an odd node count >= 3");
   const int width = camera_.intrinsics.widthPx, height = camera_.intrinsics.heightPx;
@@ -183,7 +185,9 @@ PointRadiometry FrameRenderer::windowPoint(const FrameScene& scene,
   const UnitVector toView = unit(cameraMm - pointMm);
   PointRadiometry r;
   r.ledIrradiance = ledIrradiance(scene, pointMm);
-  r.brdf = material_->evaluate(unit(scene.lightMm - pointMm), toView);
+  r.brdf = pattern_ ? pattern_->evaluateAt(pointMm.x(), pointMm.y(), unit(scene.lightMm - pointMm),
+                                           toView)
+                    : material_->evaluate(unit(scene.lightMm - pointMm), toView);
   const Rgb ambient = material_->evaluate({0.0, 0.0, 1.0}, toView);
   r.expectedLinear =
       (r.brdf * r.ledIrradiance + ambient * rig_.ambientIrradiance) * pixelScale(scene);
@@ -193,7 +197,9 @@ PointRadiometry FrameRenderer::windowPoint(const FrameScene& scene,
 // Everything about one exposure pose that is the same for all its pixels.
 struct FrameRenderer::PoseState {
   Eigen::Matrix3f imageToPlane;  // normalised image coordinates -> target plane (mm)
-  std::vector<float> grid;       // window radiance x pixel scale at the BRDF grid's nodes
+  // Window radiance x pixel scale at the BRDF grid's nodes; a patterned material's two
+  // components one after the other.
+  std::vector<float> grid;
   float nodeStepX = 0, nodeStepY = 0;
 };
 
@@ -208,19 +214,24 @@ FrameRenderer::PoseState FrameRenderer::prepare(const vision::Pose& pose, const 
   const vision::RectMm& window = target_.window;
   state.nodeStepX = static_cast<float>(window.widthMm() / (nodes - 1));
   state.nodeStepY = static_cast<float>(window.heightMm() / (nodes - 1));
-  state.grid.resize(std::size_t(nodes) * nodes * 3);
+  const int components = pattern_ ? 2 : 1;
+  state.grid.resize(std::size_t(nodes) * nodes * 3 * components);
   const Eigen::Vector3d cameraMm = pose.cameraCentreMm();
-  for (int j = 0; j < nodes; ++j) {
-    for (int i = 0; i < nodes; ++i) {
-      const Eigen::Vector3d point(window.xMinMm + i * window.widthMm() / (nodes - 1),
-                                  window.yMinMm + j * window.heightMm() / (nodes - 1), 0.0);
-      const UnitVector toView = unit(cameraMm - point);
-      Rgb radiance = material_->evaluate({0.0, 0.0, 1.0}, toView) * rig_.ambientIrradiance;
-      if (scene.ledOn && scene.lightMm.z() > 0.0)
-        radiance +=
-            material_->evaluate(unit(scene.lightMm - point), toView) * ledIrradiance(scene, point);
-      for (int c = 0; c < 3; ++c)
-        state.grid[3 * (std::size_t(j) * nodes + i) + c] = static_cast<float>(radiance[c] * scale);
+  for (int k = 0; k < components; ++k) {
+    const models::ReflectanceModel& material = pattern_ ? pattern_->component(k) : *material_;
+    float* grid = &state.grid[std::size_t(k) * nodes * nodes * 3];
+    for (int j = 0; j < nodes; ++j) {
+      for (int i = 0; i < nodes; ++i) {
+        const Eigen::Vector3d point(window.xMinMm + i * window.widthMm() / (nodes - 1),
+                                    window.yMinMm + j * window.heightMm() / (nodes - 1), 0.0);
+        const UnitVector toView = unit(cameraMm - point);
+        Rgb radiance = material.evaluate({0.0, 0.0, 1.0}, toView) * rig_.ambientIrradiance;
+        if (scene.ledOn && scene.lightMm.z() > 0.0)
+          radiance +=
+              material.evaluate(unit(scene.lightMm - point), toView) * ledIrradiance(scene, point);
+        for (int c = 0; c < 3; ++c)
+          grid[3 * (std::size_t(j) * nodes + i) + c] = static_cast<float>(radiance[c] * scale);
+      }
     }
   }
   return state;
@@ -283,9 +294,21 @@ void FrameRenderer::accumulateRow(const PoseState& state, const FrameScene& scen
       const float ex = gx - gi, ey = gy - gj;
       const float* g00 = &state.grid[3 * (std::size_t(gj) * nodes + gi)];
       const float* g01 = g00 + 3 * nodes;
-      for (int c = 0; c < 3; ++c)
-        out[c] += texel[3] * ((1 - ey) * ((1 - ex) * g00[c] + ex * g00[c + 3]) +
-                              ey * ((1 - ex) * g01[c] + ex * g01[c + 3]));
+      // A patterned material: the pixel's mix of the two components' radiance.
+      const std::size_t second = std::size_t(nodes) * nodes * 3;
+      const float first = pattern_ ? static_cast<float>(pattern_->firstWeightAt(x, y)) : 1.0f;
+      for (int c = 0; c < 3; ++c) {
+        float radiance = (1 - ey) * ((1 - ex) * g00[c] + ex * g00[c + 3]) +
+                         ey * ((1 - ex) * g01[c] + ex * g01[c + 3]);
+        if (pattern_) {
+          const float* k00 = g00 + second;
+          const float* k01 = g01 + second;
+          radiance =
+              first * radiance + (1 - first) * ((1 - ey) * ((1 - ex) * k00[c] + ex * k00[c + 3]) +
+                                                ey * ((1 - ex) * k01[c] + ex * k01[c + 3]));
+        }
+        out[c] += texel[3] * radiance;
+      }
     }
   }
 }

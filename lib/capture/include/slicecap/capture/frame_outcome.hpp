@@ -8,8 +8,10 @@
 #include <string>
 
 #include "slicecap/capture/frame_sample.hpp"
+#include "slicecap/capture/light_model.hpp"
 #include "slicecap/core/slice.hpp"
 #include "slicecap/hal/frame.hpp"
+#include "slicecap/vision/pose.hpp"
 
 namespace slicecap::capture {
 
@@ -37,6 +39,12 @@ struct FrameOutcome {
     std::optional<Direction> measuredLight;  ///< from the point-light fit
     double measuredLightSigmaDeg = 0.0;
     double sharpness = 0.0;
+    /// \brief The refined camera pose (camera-from-target), whenever one was found: texture
+    /// capture (lib/btf) rectifies the window with it.
+    std::optional<vision::Pose> pose;
+    /// \brief The point-light fit to the white references, whenever it converged: its
+    /// irradiance model normalises every texel of a texture capture.
+    std::optional<PointLight> fittedLight;
   };
   Measurement measurement;
 };

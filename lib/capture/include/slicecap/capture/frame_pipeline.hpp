@@ -67,6 +67,9 @@ class FramePipeline {
   /// half a step). When that frame's turn comes, process() reuses it. The live loop does not call
   /// this and keeps the one-sided estimate, so every frame's outcome is known when it arrives.
   void setFollowingAmbientFrame(const hal::Frame& frame);
+  /// \brief The latest LED-off frame (the one before the coming LED-on frame), or nullptr:
+  /// texture capture subtracts it texel by texel (one-sided, even offline).
+  const hal::Frame* ambientFrame() const;
 
  private:
   struct State;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
@@ -27,6 +28,11 @@ struct RecordingResult {
   nlohmann::json toJson() const;
 };
 
+/// \brief Sees every decoded frame of a recording with its outcome and the LED-off frame the
+/// pipeline had for it (nullptr if none): texture capture (lib/btf) rectifies accepted frames.
+using FrameObserver = std::function<void(const hal::Frame& frame, const FrameOutcome& outcome,
+                                         const hal::Frame* ambient)>;
+
 /// \brief Runs `directory` (a recording with a slice) through a FramePipeline. Each LED-on
 /// frame's ambient term comes from the LED-off frames before and after it, each sampled at its own
 /// pose, interpolated in time (the first LED-off frame alone for the LED-on frames before it, the
@@ -34,7 +40,9 @@ struct RecordingResult {
 /// corrupt or of the wrong size is a "bad_frame" rejection naming the file. Throws io::IoError
 /// for a bad recording.json (naming the field) and std::invalid_argument for a recording without
 /// a slice (e.g. a calibration recording), naming the directory.
+/// `observer` (if set) is called for every frame whose PNG could be read.
 RecordingResult processRecording(const std::filesystem::path& directory,
-                                 const PipelineSettings& settings = {});
+                                 const PipelineSettings& settings = {},
+                                 const FrameObserver& observer = {});
 
 }  // namespace slicecap::capture

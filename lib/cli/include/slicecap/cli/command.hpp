@@ -38,6 +38,7 @@ Command priorTrainCommand();
 Command processCommand();
 Command captureOfflineCommand();
 Command calibrateCommand();
+Command btfCommand();
 
 /// \brief Every subcommand, in the order `slicecap --help` lists them.
 std::vector<Command> allCommands();

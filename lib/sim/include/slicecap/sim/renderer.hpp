@@ -19,6 +19,8 @@
 
 namespace slicecap::sim {
 
+class PatternedMaterial;
+
 /// \brief Accuracy and speed trade-offs of the renderer.
 struct RenderSettings {
   double texelsPerMm = 5.0;  ///< the target's albedo raster (box-filtered, 4 x 4 samples a texel)
@@ -83,6 +85,7 @@ class FrameRenderer {
   vision::CameraModel camera_;
   vision::TargetGeometry target_;
   std::shared_ptr<const models::ReflectanceModel> material_;
+  const PatternedMaterial* pattern_ = nullptr;  // material_ as a pattern, if it is one
   RigParams rig_;
   RenderSettings settings_;
   std::vector<float> rays_;    // undistorted normalised (x, y) of every pixel

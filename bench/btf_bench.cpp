@@ -1,0 +1,124 @@
+// BTF reconstruction speed: a 128 x 128 texture of the woven material, every texel through Method
+// B (goal: < 10 s on the two cores of the development machine; paper: 4.5 h on three), with 1 and
+// 2 threads, and Method A with its one shared factorisation. Reports the process's peak RSS.
+// Run it directly (build/bench/btf_bench) for the two-thread figure: scripts/bench pins one core.
+#include <benchmark/benchmark.h>
+#include <sys/resource.h>
+
+#include "slicecap/btf/btf_reconstruction.hpp"
+#include "slicecap/models/reflectance_model.hpp"
+#include "slicecap/recon/method_b.hpp"
+#include "slicecap/recon/slice_extraction.hpp"
+#include "slicecap/sim/patterned_material.hpp"
+#include "slicecap/vision/target.hpp"
+
+namespace {
+
+using namespace slicecap;
+
+Eigen::Vector3d pointAt(double distanceMm, double thetaDeg, double phiDeg) {
+  const UnitVector u = toUnitVector({thetaDeg, phiDeg});
+  return distanceMm * Eigen::Vector3d(u.x, u.y, u.z);
+}
+
+// What an ideal capture of the woven material at 300 mm leaves in the texture bins: per slice
+// and 15 deg bin the camera and LED positions, and per texel its material's table value there.
+std::vector<btf::SliceTexture> wovenCapture(const btf::TextureGrid& grid) {
+  const auto woven = sim::makeWovenMaterial(10.0);
+  const Abrdf tables[2] = {models::tabulate(woven->component(0)),
+                           models::tabulate(woven->component(1))};
+  std::vector<btf::SliceTexture> slices;
+  for (SliceKind kind : {SliceKind::Axial, SliceKind::Diagonal}) {
+    for (const ElevationPair& pair : kMeasuredPairs) {
+      btf::SliceTexture slice{{kind, pair}, std::vector<btf::TextureBin>(24)};
+      for (int k = 0; k < 24; ++k) {
+        const AzimuthPair phi = slicePoint(kind, k * 15.0);
+        btf::TextureBin& bin = slice.bins[std::size_t(k)];
+        bin.frames = 1;
+        bin.cameraMm = pointAt(300.0, pair.thetaVDeg, phi.phiVDeg);
+        bin.lightMm = pointAt(300.0, pair.thetaIDeg, phi.phiIDeg);
+        const Rgb values[2] = {recon::sampleTable(tables[0], pair, phi),
+                               recon::sampleTable(tables[1], pair, phi)};
+        bin.texels.resize(grid.texelCount() * 3);
+        for (int row = 0; row < grid.resolution(); ++row)
+          for (int column = 0; column < grid.resolution(); ++column) {
+            const Eigen::Vector3d p = grid.texelCentreMm(column, row);
+            const Rgb& v = values[woven->firstWeightAt(p.x(), p.y()) > 0.5 ? 0 : 1];
+            for (int c = 0; c < 3; ++c)
+              bin.texels[3 * grid.index(column, row) + std::size_t(c)] = static_cast<float>(v[c]);
+          }
+      }
+      slices.push_back(std::move(slice));
+    }
+  }
+  return slices;
+}
+
+// CPU seconds of the whole process (every thread), user + system.
+double processCpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+// Peak RSS, and the CPU seconds the timed loop took over all threads: on a shared machine the
+// wall time depends on the load, while CPU seconds / threads is the wall time on idle cores.
+void reportPeakRssAndCpu(benchmark::State& state, double cpuBefore) {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  state.counters["peak_rss_MB"] = static_cast<double>(usage.ru_maxrss) / 1024.0;
+  state.counters["cpu_s_all_threads"] = processCpuSeconds() - cpuBefore;
+}
+
+void BM_Btf128_MethodB(benchmark::State& state) {
+  const btf::TextureGrid grid(128, vision::defaultTarget().window);
+  const std::vector<btf::SliceTexture> slices = wovenCapture(grid);
+  btf::BtfReconstructionParams params;
+  params.threads = static_cast<int>(state.range(0));
+  const double cpuBefore = processCpuSeconds();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(btf::reconstructBtf(grid, slices, params));
+  state.counters["texels"] = static_cast<double>(grid.texelCount());
+  reportPeakRssAndCpu(state, cpuBefore);
+}
+BENCHMARK(BM_Btf128_MethodB)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->UseRealTime();
+
+// One texel: its slice samples at its own directions, then Method B (where the time goes).
+void BM_OneTexel_MethodB(benchmark::State& state) {
+  const btf::TextureGrid grid(8, vision::defaultTarget().window);
+  const std::vector<btf::SliceTexture> slices = wovenCapture(grid);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(recon::reconstructMethodB(btf::texelSlices(grid, slices, 3, 4)));
+}
+BENCHMARK(BM_OneTexel_MethodB)->Unit(benchmark::kMicrosecond);
+
+void BM_OneTexel_SliceSamples(benchmark::State& state) {
+  const btf::TextureGrid grid(8, vision::defaultTarget().window);
+  const std::vector<btf::SliceTexture> slices = wovenCapture(grid);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(btf::texelSlices(grid, slices, 3, 4));
+}
+BENCHMARK(BM_OneTexel_SliceSamples)->Unit(benchmark::kMicrosecond);
+
+void BM_Btf128_MethodA(benchmark::State& state) {
+  const btf::TextureGrid grid(128, vision::defaultTarget().window);
+  const std::vector<btf::SliceTexture> slices = wovenCapture(grid);
+  btf::BtfReconstructionParams params;
+  params.method = btf::TexelMethod::A;
+  params.threads = static_cast<int>(state.range(0));
+  const double cpuBefore = processCpuSeconds();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(btf::reconstructBtf(grid, slices, params));
+  reportPeakRssAndCpu(state, cpuBefore);
+}
+BENCHMARK(BM_Btf128_MethodA)->Arg(2)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

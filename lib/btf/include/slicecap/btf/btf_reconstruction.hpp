@@ -1,0 +1,54 @@
+// Per-texel reconstruction of a captured texture: every texel's slice samples through Method B
+// (or Method A with one shared factorisation), on a pool of threads.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "slicecap/btf/btf_texture.hpp"
+#include "slicecap/btf/slice_texture.hpp"
+#include "slicecap/btf/texture_grid.hpp"
+#include "slicecap/core/slice.hpp"
+#include "slicecap/recon/method_b.hpp"
+
+namespace slicecap::btf {
+
+/// \brief Which method reconstructs every texel.
+enum class TexelMethod {
+  B,  ///< Method B (METHOD.md 4), texel by texel
+  A,  ///< Method A (METHOD.md 5): one factorised RBF system, a row of texels per matrix product
+};
+
+/// \brief Options of the per-texel reconstruction.
+struct BtfReconstructionParams {
+  TexelMethod method = TexelMethod::B;
+  recon::MethodBParams methodB;  ///< isotropic and torus rule also apply to Method A
+  int threads = 0;               ///< 0: std::thread::hardware_concurrency()
+};
+
+/// \brief What the reconstruction did.
+struct BtfReconstructionReport {
+  std::size_t texels = 0;
+  int threads = 0;
+  /// \brief Texels whose samples could not give a table (e.g. a slice no frame saw them in):
+  /// their tables are zero.
+  std::size_t failedTexels = 0;
+  std::string firstFailure;  ///< the first failed texel's reason, naming the texel
+  /// \brief Method B line fits that fell back to the closed form, over all texels.
+  std::size_t closedFormFits = 0;
+  double seconds = 0.0;
+};
+
+/// \brief One texel's slice samples: per slice every bin whose median is finite for the texel, at
+/// the texel's own light and view directions (from its point to the bin's LED and camera).
+SliceSet texelSlices(const TextureGrid& grid, const std::vector<SliceTexture>& slices, int column,
+                     int row);
+
+/// \brief Every texel reconstructed. Rows of texels are shared out among the threads.
+/// Throws std::invalid_argument for invalid Method B options.
+BtfTexture reconstructBtf(const TextureGrid& grid, const std::vector<SliceTexture>& slices,
+                          const BtfReconstructionParams& params = {},
+                          BtfReconstructionReport* report = nullptr);
+
+}  // namespace slicecap::btf

@@ -1,0 +1,80 @@
+// Texture capture of a whole session: every accepted frame rectified and binned per slice, the
+// finished sweeps combined, beside the window-average slices of today's pipeline.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "slicecap/btf/rectifier.hpp"
+#include "slicecap/btf/slice_texture.hpp"
+#include "slicecap/btf/texture_grid.hpp"
+#include "slicecap/capture/frame_outcome.hpp"
+#include "slicecap/capture/frame_pipeline.hpp"
+#include "slicecap/core/slice.hpp"
+
+namespace slicecap::btf {
+
+/// \brief Options of a texture capture.
+struct TextureCaptureParams {
+  int resolution = 128;  ///< texels across the window
+  int framesPerBin = 5;  ///< frames a bin keeps (median); bounds the active sweep's memory
+  RectifyParams rectify;
+};
+
+/// \brief Collects a session's texture sweep by sweep. Memory: the active sweep's bins (24 x
+/// framesPerBin x N^2 x 12 bytes at most) plus every finished sweep's combined bins (24 x N^2 x 12
+/// bytes each; 8 sweeps at N = 128: 9.4 million floats, 37.7 MB).
+class TextureCapture {
+ public:
+  /// \brief Throws std::invalid_argument for a bad resolution or camera.
+  TextureCapture(const vision::CameraModel& camera, const vision::RectMm& window,
+                 const TextureCaptureParams& params = {});
+
+  /// \brief Starts a sweep (finishing the previous one). Throws std::invalid_argument when the
+  /// slice was already captured.
+  void startSlice(const SliceId& slice);
+  /// \brief One frame of the active sweep: an accepted sample (with its pose and light fit) is
+  /// rectified and binned; anything else is ignored. `ambient` is the LED-off frame the pipeline
+  /// corrected it with (null: none). Throws std::logic_error outside a sweep.
+  void add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
+           const hal::Frame* ambient);
+  /// \brief Combines the active sweep's bins into its SliceTexture (nothing if none is active).
+  void finishSlice();
+
+  const TextureGrid& grid() const { return grid_; }
+  const vision::CameraModel& camera() const { return camera_; }
+  /// \brief The finished sweeps, in the order they were captured.
+  const std::vector<SliceTexture>& slices() const { return slices_; }
+  /// \brief Texel bytes held now, and the most held at any time.
+  std::size_t memoryBytes() const;
+  std::size_t peakMemoryBytes() const { return peakBytes_; }
+
+ private:
+  TextureGrid grid_;
+  vision::CameraModel camera_;
+  TextureCaptureParams params_;
+  std::optional<SliceTextureBins> active_;
+  std::vector<SliceTexture> slices_;
+  std::size_t peakBytes_ = 0;
+};
+
+/// \brief What `captureRecordings` produced: the texture and the window-average slices (the
+/// average ABRDF's input, exactly what `slicecap process` gives).
+struct SessionTexture {
+  TextureCapture texture;
+  SliceSet averageSlices;
+};
+
+/// \brief Runs every recording (one slice each) through the capture pipeline and the texture
+/// capture. The camera and window come from the first recording; a recording with another
+/// camera size or window, or a slice given twice, throws std::invalid_argument naming it. I/O
+/// errors throw io::IoError naming the file. `log` (if set) gets one line per recording.
+SessionTexture captureRecordings(const std::vector<std::filesystem::path>& recordings,
+                                 const capture::PipelineSettings& settings,
+                                 const TextureCaptureParams& params,
+                                 const std::function<void(const std::string&)>& log = {});
+
+}  // namespace slicecap::btf

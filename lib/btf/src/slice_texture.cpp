@@ -1,0 +1,105 @@
+// Texture bins: bounded per-bin buffers, per-texel medians.
+#include "slicecap/btf/slice_texture.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "slicecap/core/angles.hpp"
+
+namespace slicecap::btf {
+namespace {
+
+// Median of the finite values among the first `count` of `values` (reordered); NaN if none.
+float finiteMedian(float* values, int count) {
+  float* end = std::remove_if(values, values + count, [](float v) { return !std::isfinite(v); });
+  const auto n = static_cast<int>(end - values);
+  if (n == 0) return std::numeric_limits<float>::quiet_NaN();
+  std::sort(values, end);
+  return n % 2 == 1 ? values[n / 2] : 0.5f * (values[n / 2 - 1] + values[n / 2]);
+}
+
+}  // namespace
+
+std::size_t SliceTexture::memoryBytes() const {
+  std::size_t bytes = 0;
+  for (const TextureBin& bin : bins)
+    bytes += bin.texels.size() * sizeof(float);
+  return bytes;
+}
+
+SliceTextureBins::SliceTextureBins(SliceId slice, std::size_t texelCount, int framesPerBin,
+                                   double binWidthDeg)
+    : slice_(slice),
+      texelCount_(texelCount),
+      framesPerBin_(framesPerBin),
+      binWidthDeg_(binWidthDeg),
+      bins_(slice.kind, binWidthDeg) {
+  if (framesPerBin < 1)
+    throw std::invalid_argument("texture bins: frames per bin must be at least 1, not " +
+                                std::to_string(framesPerBin));
+  if (texelCount == 0) throw std::invalid_argument("texture bins: no texels");
+  frames_.resize(static_cast<std::size_t>(bins_.binCount()));
+}
+
+double SliceTextureBins::distanceToCentreDeg(double parameterDeg) const {
+  const double centre = bins_.binOf(parameterDeg) * binWidthDeg_;
+  const double d = wrapDeg360(parameterDeg - centre);
+  return std::min(d, 360.0 - d);
+}
+
+void SliceTextureBins::add(TextureFrame frame) {
+  if (frame.texels.size() != texelCount_ * 3)
+    throw std::invalid_argument("texture bins: a frame of " + std::to_string(frame.texels.size()) +
+                                " values, expected " + std::to_string(texelCount_ * 3));
+  std::vector<TextureFrame>& bin =
+      frames_[static_cast<std::size_t>(bins_.binOf(frame.sliceParameterDeg))];
+  if (static_cast<int>(bin.size()) < framesPerBin_) {
+    bin.push_back(std::move(frame));
+    return;
+  }
+  auto farthest = std::max_element(bin.begin(), bin.end(), [&](const auto& a, const auto& b) {
+    return distanceToCentreDeg(a.sliceParameterDeg) < distanceToCentreDeg(b.sliceParameterDeg);
+  });
+  if (distanceToCentreDeg(frame.sliceParameterDeg) <
+      distanceToCentreDeg(farthest->sliceParameterDeg))
+    *farthest = std::move(frame);
+}
+
+int SliceTextureBins::filledCount() const {
+  return static_cast<int>(
+      std::count_if(frames_.begin(), frames_.end(), [](const auto& b) { return !b.empty(); }));
+}
+
+std::size_t SliceTextureBins::memoryBytes() const {
+  std::size_t bytes = 0;
+  for (const auto& bin : frames_)
+    bytes += bin.size() * texelCount_ * 3 * sizeof(float);
+  return bytes;
+}
+
+SliceTexture SliceTextureBins::combine() const {
+  SliceTexture out{slice_, std::vector<TextureBin>(frames_.size())};
+  std::vector<float> values(static_cast<std::size_t>(framesPerBin_));
+  for (std::size_t b = 0; b < frames_.size(); ++b) {
+    const std::vector<TextureFrame>& frames = frames_[b];
+    if (frames.empty()) continue;
+    TextureBin& bin = out.bins[b];
+    bin.frames = static_cast<int>(frames.size());
+    for (const TextureFrame& f : frames) {
+      bin.cameraMm += f.cameraMm / frames.size();
+      bin.lightMm += f.lightMm / frames.size();
+    }
+    bin.texels.resize(texelCount_ * 3);
+    for (std::size_t i = 0; i < bin.texels.size(); ++i) {
+      for (std::size_t k = 0; k < frames.size(); ++k)
+        values[k] = frames[k].texels[i];
+      bin.texels[i] = finiteMedian(values.data(), bin.frames);
+    }
+  }
+  return out;
+}
+
+}  // namespace slicecap::btf

@@ -1,0 +1,106 @@
+// The session's texture: the pipeline's accepted frames rectified, binned and combined per sweep.
+#include "slicecap/btf/texture_capture.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "slicecap/capture/recording_processor.hpp"
+#include "slicecap/core/angles.hpp"
+#include "slicecap/io/recording.hpp"
+
+namespace slicecap::btf {
+
+TextureCapture::TextureCapture(const vision::CameraModel& camera, const vision::RectMm& window,
+                               const TextureCaptureParams& params)
+    : grid_(params.resolution, window), camera_(camera), params_(params) {
+  std::string error;
+  if (!camera_.isValid(&error)) throw std::invalid_argument("texture capture: camera: " + error);
+  if (params.framesPerBin < 1)
+    throw std::invalid_argument("texture capture: frames per bin must be at least 1");
+}
+
+void TextureCapture::startSlice(const SliceId& slice) {
+  finishSlice();
+  for (const SliceTexture& done : slices_)
+    if (done.slice == slice)
+      throw std::invalid_argument("texture capture: slice " + toString(slice) +
+                                  " was already captured");
+  active_.emplace(slice, grid_.texelCount(), params_.framesPerBin);
+}
+
+void TextureCapture::add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
+                         const hal::Frame* ambient) {
+  if (!active_) throw std::logic_error("texture capture: a frame outside a sweep");
+  const auto& m = outcome.measurement;
+  if (outcome.kind != capture::FrameOutcome::Kind::Sample || !outcome.sample || !m.pose ||
+      !m.fittedLight)
+    return;
+  // The LED where the sample's light direction points (the fit's direction when it was certain,
+  // else the nominal one) at the fitted distance: each texel then has its own light direction.
+  const UnitVector toLight = toUnitVector(outcome.sample->light);
+  const auto& p = m.fittedLight->positionMm;
+  const double distanceMm = Eigen::Vector3d(p.x, p.y, p.z).norm();
+  TextureFrame texture;
+  texture.sliceParameterDeg = sliceParameterDeg(
+      active_->slice().kind, {outcome.sample->light, outcome.sample->view, outcome.sample->value});
+  texture.cameraMm = m.pose->cameraCentreMm();
+  texture.lightMm = Eigen::Vector3d(toLight.x, toLight.y, toLight.z) * distanceMm;
+  texture.texels =
+      rectifyFrame(grid_, camera_, frame, ambient, {*m.pose, *m.fittedLight}, params_.rectify);
+  active_->add(std::move(texture));
+  peakBytes_ = std::max(peakBytes_, memoryBytes());
+}
+
+void TextureCapture::finishSlice() {
+  if (!active_) return;
+  slices_.push_back(active_->combine());
+  active_.reset();
+  peakBytes_ = std::max(peakBytes_, memoryBytes());
+}
+
+std::size_t TextureCapture::memoryBytes() const {
+  std::size_t bytes = active_ ? active_->memoryBytes() : 0;
+  for (const SliceTexture& s : slices_)
+    bytes += s.memoryBytes();
+  return bytes;
+}
+
+SessionTexture captureRecordings(const std::vector<std::filesystem::path>& recordings,
+                                 const capture::PipelineSettings& settings,
+                                 const TextureCaptureParams& params,
+                                 const std::function<void(const std::string&)>& log) {
+  if (recordings.empty()) throw std::invalid_argument("texture capture: no recordings");
+  const io::Recording first = io::readRecording(recordings.front());
+  SessionTexture session{TextureCapture(first.camera, first.target.window, params), {}};
+  for (const std::filesystem::path& directory : recordings) {
+    const io::Recording header = io::readRecording(directory);
+    if (header.camera.intrinsics.widthPx != first.camera.intrinsics.widthPx ||
+        header.camera.intrinsics.heightPx != first.camera.intrinsics.heightPx ||
+        !(header.target.window == first.target.window))
+      throw std::invalid_argument(directory.string() + ": another camera size or window than " +
+                                  recordings.front().string() +
+                                  " (one texture needs one target and camera)");
+    if (!header.slice)
+      throw std::invalid_argument(directory.string() +
+                                  ": recording.json has no slice (a calibration recording?)");
+    try {
+      session.texture.startSlice(header.slice->id);
+    } catch (const std::invalid_argument& error) {
+      throw std::invalid_argument(directory.string() + ": " + error.what());
+    }
+    const capture::RecordingResult result = capture::processRecording(
+        directory, settings,
+        [&](const hal::Frame& frame, const capture::FrameOutcome& outcome,
+            const hal::Frame* ambient) { session.texture.add(frame, outcome, ambient); });
+    session.texture.finishSlice();
+    for (const SliceSample& sample : result.bins.combine())
+      session.averageSlices.add(result.slice, sample);
+    if (log)
+      log(toString(result.slice) + " (" + directory.string() +
+          "): " + std::to_string(result.bins.filledCount()) + " of " +
+          std::to_string(result.bins.binCount()) + " bins");
+  }
+  return session;
+}
+
+}  // namespace slicecap::btf

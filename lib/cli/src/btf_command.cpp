@@ -1,0 +1,121 @@
+// `slicecap btf`: a session's recordings to a BTF directory (per-texel reconstruction), beside the
+// average ABRDF.
+#include <chrono>
+#include <filesystem>
+#include <ostream>
+#include <thread>
+
+#include "pipeline_options.hpp"
+#include "slicecap/btf/btf_files.hpp"
+#include "slicecap/btf/btf_reconstruction.hpp"
+#include "slicecap/btf/texture_capture.hpp"
+#include "slicecap/cli/command.hpp"
+#include "slicecap/cli/methods.hpp"
+
+namespace slicecap::cli {
+namespace {
+
+int wholeNumber(const ParsedArgs& args, const std::string& name, int fallback, int lo, int hi) {
+  const double v = args.number(name, fallback);
+  if (v != static_cast<int>(v) || v < lo || v > hi)
+    throw UsageError("--" + name + " must be a whole number in " + std::to_string(lo) + ".." +
+                     std::to_string(hi));
+  return static_cast<int>(v);
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+int run(const ParsedArgs& args, Streams& io) {
+  const std::filesystem::path session = args.positional[0];
+  const std::filesystem::path output = args.required("output");
+  btf::TextureCaptureParams captureParams;
+  captureParams.resolution = wholeNumber(args, "resolution", 128, 1, 1024);
+  captureParams.framesPerBin = wholeNumber(args, "frames-per-bin", 5, 1, 64);
+  btf::BtfReconstructionParams reconParams;
+  reconParams.threads = wholeNumber(args, "threads", 0, 0, 256);
+  reconParams.methodB.isotropic = args.flag("isotropic");
+  const std::string method = args.value("method").value_or("b");
+  if (method != "a" && method != "b") throw UsageError("--method must be b or a");
+  reconParams.method = method == "a" ? btf::TexelMethod::A : btf::TexelMethod::B;
+
+  auto started = std::chrono::steady_clock::now();
+  btf::SessionTexture captured =
+      btf::captureRecordings(sessionRecordings(session), pipelineSettingsOf(args), captureParams,
+                             [&](const std::string& line) { io.err << line << "\n"; });
+  const btf::TextureGrid& grid = captured.texture.grid();
+  io.err << "btf: " << grid.resolution() << " x " << grid.resolution() << " texels of "
+         << grid.texelWidthMm() << " mm, " << captured.texture.slices().size()
+         << " slices captured in " << secondsSince(started) << " s; texel bins "
+         << captured.texture.memoryBytes() / 1e6 << " MB (peak "
+         << captured.texture.peakMemoryBytes() / 1e6 << " MB)\n";
+
+  // The average ABRDF, exactly as capture-offline makes it.
+  MethodOptions averageOptions;
+  averageOptions.isotropic = reconParams.methodB.isotropic;
+  const MethodRun average = findMethod("b").run(captured.averageSlices, averageOptions);
+  for (const std::string& warning : average.warnings)
+    io.err << "warning: average: " << warning << "\n";
+
+  btf::BtfReconstructionReport report;
+  const btf::BtfTexture texture =
+      btf::reconstructBtf(grid, captured.texture.slices(), reconParams, &report);
+  io.err << "btf: Method " << (reconParams.method == btf::TexelMethod::A ? "A" : "B") << ", "
+         << report.texels << " texels on " << report.threads << " threads in " << report.seconds
+         << " s; texture " << texture.memoryBytes() / 1e6 << " MB\n";
+  if (report.failedTexels > 0)
+    io.err << "warning: " << report.failedTexels
+           << " texels could not be reconstructed (left at zero); first: " << report.firstFailure
+           << "\n";
+  if (report.closedFormFits > 0)
+    io.err << "note: " << report.closedFormFits
+           << " lobe fits fell back to the closed form (Ceres did not converge)\n";
+
+  started = std::chrono::steady_clock::now();
+  btf::BtfDescription description;
+  description.windowMm = grid.window();
+  description.method = reconParams.method == btf::TexelMethod::A ? "A" : "B";
+  description.averageMethod = average.exrMethodName;
+  description.source = session.filename().string();
+  description.failedTexels = report.failedTexels;
+  btf::writeBtfDirectory(output, texture, average.table, description,
+                         {{"method", average.exrMethodName},
+                          {"source", session.filename().string()},
+                          {"samples", std::to_string(captured.averageSlices.sampleCount())}},
+                         reconParams.threads);
+  io.err << "btf: wrote the images in " << secondsSince(started) << " s\n";
+  io.out << "wrote a " << grid.resolution() << " x " << grid.resolution() << " BTF ("
+         << Abrdf::kDirections * Abrdf::kDirections << " images), average.exr and previews to "
+         << output.string() << "\n";
+  return report.failedTexels == report.texels ? 1 : 0;
+}
+
+}  // namespace
+
+Command btfCommand() {
+  std::vector<OptionSpec> options = {
+      {"output", 'o', "DIR", "the BTF directory (required; created, files in it replaced)"},
+      {"resolution", 0, "N", "texels across the window (default 128)"},
+      {"threads", 0, "N", "reconstruction and writing threads (default: all cores)"},
+      {"method", 0, "b|a", "per-texel method: b (default) or a (one shared RBF factorisation)"},
+      {"frames-per-bin", 0, "K", "frames a bin keeps for its per-texel median (default 5)"},
+      {"isotropic", 0, "", "use the diagonal slices only"}};
+  for (auto& o : pipelineOptions())
+    if (o.name != "report") options.push_back(o);
+  return {{"btf", "SESSION_DIR -o DIR [--resolution N] [--threads N] [--method b|a] [options]",
+           "Spatially varying capture: every recording under SESSION_DIR through the capture\n"
+           "pipeline, and each accepted frame's window rectified to an N x N texture in the\n"
+           "target plane (through the pose and the camera's distortion; per texel its own light\n"
+           "and view direction, the LED-off frame subtracted and the fitted irradiance divided\n"
+           "out), binned like the average sample (15 deg, per-texel median of up to K frames).\n"
+           "Every texel is reconstructed (Method B, or Method A) on all cores. Writes DIR as\n"
+           "docs/btf-format.md describes: 6561 half-float EXRs tvTTT_pvPPP/tlTTT_plPPP_tvTTT_\n"
+           "pvPPP.exr (N x N, BRDF 1/sr), average.exr (the 81 x 81 average ABRDF, as\n"
+           "capture-offline makes it), preview/*.png (the texture from above under 8 lights)\n"
+           "and btf.json. Memory: the texture takes 6561 x N^2 x 6 bytes (N = 128: 645 MB).",
+           options, 1, 1},
+          run};
+}
+
+}  // namespace slicecap::cli

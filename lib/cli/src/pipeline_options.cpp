@@ -1,0 +1,56 @@
+// The capture pipeline's command-line options, shared by process, capture-offline and btf.
+#include "pipeline_options.hpp"
+
+#include <algorithm>
+
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/io/recording.hpp"
+
+namespace slicecap::cli {
+
+capture::PipelineSettings pipelineSettingsOf(const ParsedArgs& args) {
+  capture::PipelineSettings settings;
+  settings.elevationToleranceDeg =
+      args.number("elevation-tolerance", settings.elevationToleranceDeg);
+  settings.maxPoseResidualPx = args.number("max-residual", settings.maxPoseResidualPx);
+  settings.minMarkers = static_cast<int>(args.number("min-markers", settings.minMarkers));
+  settings.detector.decimation =
+      static_cast<float>(args.number("decimation", settings.detector.decimation));
+  const std::string ambient = args.value("ambient").value_or("both");
+  if (ambient != "both" && ambient != "previous")
+    throw UsageError("--ambient must be both or previous");
+  settings.offlineTwoSidedAmbient = ambient == "both";
+  if (!(settings.elevationToleranceDeg > 0) || !(settings.maxPoseResidualPx > 0) ||
+      settings.minMarkers < 2 || !(settings.detector.decimation >= 1))
+    throw UsageError(
+        "--elevation-tolerance and --max-residual must be > 0, --min-markers >= 2, "
+        "--decimation >= 1");
+  return settings;
+}
+
+std::vector<OptionSpec> pipelineOptions() {
+  return {{"report", 0, "FILE", "per frame pose, light, gate outcome; per bin its frames (JSON)"},
+          {"elevation-tolerance", 0, "DEG", "reject frames this far off the view elevation (5)"},
+          {"max-residual", 0, "PX", "reject poses with a larger RMS reprojection error (1.5)"},
+          {"min-markers", 0, "N", "reject frames with fewer markers (4)"},
+          {"decimation", 0, "D", "the AprilTag detector's quad decimation (2)"},
+          {"ambient", 0, "MODE",
+           "room light from the LED-off frames on both sides (both, default) or the one before "
+           "at the same pixels, as slicecapd live (previous)"}};
+}
+
+std::vector<std::filesystem::path> sessionRecordings(const std::filesystem::path& session) {
+  std::vector<std::filesystem::path> recordings;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(session, error))
+    if (std::filesystem::exists(entry.path() / io::kRecordingManifest))
+      recordings.push_back(entry.path());
+  if (error) throw io::IoError(session.string() + ": " + error.message());
+  if (recordings.empty())
+    throw io::IoError(session.string() + ": no recording (a directory with " +
+                      io::kRecordingManifest + ") inside");
+  std::sort(recordings.begin(), recordings.end());
+  return recordings;
+}
+
+}  // namespace slicecap::cli

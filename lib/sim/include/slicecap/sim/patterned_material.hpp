@@ -1,0 +1,31 @@
+// A material that varies over the window: two analytic materials in a pattern (the virtual rig's
+// texture, for BTF capture).
+#pragma once
+
+#include <memory>
+
+#include "slicecap/models/reflectance_model.hpp"
+
+namespace slicecap::sim {
+
+/// \brief Two materials laid out over the window: at a target point (mm, target frame) a fraction
+/// of the first and the rest of the second. As a ReflectanceModel it is the window's area mean
+/// (what the average sample and the truth of the window centre see); the renderer shades it pixel
+/// by pixel.
+class PatternedMaterial : public models::ReflectanceModel {
+ public:
+  /// \brief Component 0 or 1.
+  virtual const models::ReflectanceModel& component(int index) const = 0;
+  /// \brief The fraction of component 0 at a target point, in [0, 1].
+  virtual double firstWeightAt(double xMm, double yMm) const = 0;
+  /// \brief The BRDF at a target point.
+  Rgb evaluateAt(double xMm, double yMm, const UnitVector& toLight, const UnitVector& toView) const;
+};
+
+/// \brief A plain weave of square cells of `cellMm` (a cell corner at the window centre): warp
+/// cells, (i + j) even, are a blue anisotropic Ward satin with its tangent along x; weft cells a
+/// red one along y. The window mean is their average. Throws std::invalid_argument unless
+/// 0.5 <= cellMm <= 100.
+std::shared_ptr<const PatternedMaterial> makeWovenMaterial(double cellMm = 10.0);
+
+}  // namespace slicecap::sim

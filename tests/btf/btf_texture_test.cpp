@@ -1,0 +1,147 @@
+// The BTF building blocks: texel geometry, bounded texture bins with per-texel medians, half-float
+// storage, and the directory's round trip and naming.
+#include "slicecap/btf/btf_texture.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "../support/test_support.hpp"
+#include "slicecap/btf/btf_files.hpp"
+#include "slicecap/btf/slice_texture.hpp"
+#include "slicecap/btf/texture_grid.hpp"
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/models/reflectance_model.hpp"
+
+namespace slicecap::btf {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+TEST(TextureGrid, TexelsTileTheWindowRowZeroAtTheTop) {
+  const TextureGrid grid(4, {-20.0, -10.0, 20.0, 10.0});
+  EXPECT_DOUBLE_EQ(grid.texelWidthMm(), 10.0);
+  EXPECT_DOUBLE_EQ(grid.texelHeightMm(), 5.0);
+  EXPECT_EQ(grid.texelCentreMm(0, 0), Eigen::Vector3d(-15.0, 7.5, 0.0));
+  EXPECT_EQ(grid.texelCentreMm(3, 3), Eigen::Vector3d(15.0, -7.5, 0.0));
+  EXPECT_EQ(grid.pointMm(4, 4), Eigen::Vector3d(20.0, -10.0, 0.0));
+  EXPECT_EQ(grid.index(1, 2), 9u);
+  EXPECT_THROW(TextureGrid(0, {-1, -1, 1, 1}), std::invalid_argument);
+  EXPECT_THROW(TextureGrid(8, {1, -1, 1, 1}), std::invalid_argument);
+}
+
+TextureFrame frameAt(double parameterDeg, float value, std::size_t texels = 2) {
+  return {
+      parameterDeg, {0.0, 0.0, 300.0}, {0.0, 100.0, 280.0}, std::vector<float>(texels * 3, value)};
+}
+
+TEST(SliceTextureBins, KeepsTheFramesNearestTheBinCentreAndTheirPerTexelMedian) {
+  SliceTextureBins bins({SliceKind::Axial, {30, 30}}, 2, 3);
+  // Bin 2 spans 22.5 .. 37.5 deg around 30: five frames, the three nearest 30 are kept.
+  for (const auto& [parameter, value] : std::vector<std::pair<double, float>>{
+           {23.0, 100.f}, {29.0, 1.f}, {36.0, 50.f}, {31.0, 3.f}, {30.5, 2.f}})
+    bins.add(frameAt(parameter, value));
+  bins.add(frameAt(359.0, 7.f));  // bin 0 wraps around 0
+  EXPECT_EQ(bins.filledCount(), 2);
+  EXPECT_EQ(bins.memoryBytes(), 4u * 2 * 3 * sizeof(float));
+  const SliceTexture texture = bins.combine();
+  ASSERT_EQ(texture.bins.size(), 24u);
+  EXPECT_EQ(texture.bins[2].frames, 3);
+  EXPECT_FLOAT_EQ(texture.bins[2].texels[0], 2.f);  // median of 1, 3, 2
+  EXPECT_EQ(texture.bins[0].frames, 1);
+  EXPECT_FLOAT_EQ(texture.bins[0].texels[5], 7.f);
+  EXPECT_EQ(texture.bins[1].frames, 0);
+  EXPECT_TRUE(texture.bins[1].texels.empty());
+  EXPECT_EQ(texture.memoryBytes(), 2u * 2 * 3 * sizeof(float));
+}
+
+TEST(SliceTextureBins, TexelsNoFrameSawStayNaNAndOthersIgnoreTheGaps) {
+  SliceTextureBins bins({SliceKind::Diagonal, {75, 30}}, 2, 5);
+  TextureFrame a = frameAt(90.0, 4.f), b = frameAt(91.0, 6.f);
+  for (int c = 0; c < 3; ++c)
+    a.texels[3 + c] = b.texels[3 + c] = kNaN;  // texel 1 out of the image in both
+  b.texels[0] = kNaN;                          // texel 0 clipped in one
+  bins.add(std::move(a));
+  bins.add(std::move(b));
+  const SliceTexture combined = bins.combine();
+  const TextureBin& bin = combined.bins[6];
+  EXPECT_FLOAT_EQ(bin.texels[0], 4.f);
+  EXPECT_FLOAT_EQ(bin.texels[1], 5.f);
+  EXPECT_TRUE(std::isnan(bin.texels[3]));
+  EXPECT_THROW(bins.add(frameAt(0.0, 1.f, 3)), std::invalid_argument);
+  EXPECT_THROW(SliceTextureBins({SliceKind::Axial, {30, 30}}, 2, 0), std::invalid_argument);
+}
+
+TEST(BtfTexture, StoresTexelTablesInHalfFloatsImageByImage) {
+  BtfTexture texture(3);
+  EXPECT_EQ(texture.memoryBytes(), 6561u * 9 * 3 * 2);
+  const Abrdf table =
+      models::tabulate(*models::makeWard({0.2, 0.3, 0.4}, {0.3, 0.3, 0.3}, 0.2, 0.4, 30.0));
+  texture.setTexel(4, table);
+  const Abrdf back = texture.texel(4);
+  for (std::size_t i = 0; i < table.values().size(); ++i)
+    EXPECT_NEAR(back.values()[i], table.values()[i], 1e-3 * table.values()[i] + 1e-7);
+  EXPECT_EQ(texture.value(10, 20, 4, 1), back.channel(10, 20, 1));
+  EXPECT_EQ(texture.value(10, 20, 3, 1), 0.0f);
+  // A row written at once is the same as texel by texel.
+  BtfTexture byRow(3);
+  const std::vector<Abrdf> row{Abrdf(), table, Abrdf()};
+  byRow.setRow(1, row);
+  for (int light : {0, 33, 80})
+    for (int view : {0, 47, 80})
+      for (std::size_t i = 0; i < 27; ++i)
+        EXPECT_EQ(byRow.image(light, view)[i], texture.image(light, view)[i]);
+  EXPECT_THROW(byRow.setRow(0, std::vector<Abrdf>(2)), std::invalid_argument);
+  // The mean over 9 texels, one of them the table.
+  EXPECT_NEAR(averageTable(texture).channel(10, 20, 1), back.channel(10, 20, 1) / 9.0, 1e-6);
+}
+
+TEST(BtfFiles, UtiaNamesOfGridDirections) {
+  EXPECT_EQ(utiaName({15.0, 60.0}, {30.0, 30.0}), "tl015_pl060_tv030_pv030");
+  EXPECT_EQ(imagePath(bonn::indexOf({75.0, 345.0}), 0),
+            std::filesystem::path("tv000_pv000/tl075_pl345_tv000_pv000.exr"));
+  EXPECT_EQ(imagePath(2, 40).parent_path(), "tv060_pv054");
+}
+
+TEST(BtfFiles, DirectoryRoundTripsBitForBitWithAverageManifestAndPreviews) {
+  const auto dir = test::freshTempDir() / "btf";
+  BtfTexture texture(2);
+  for (std::size_t t = 0; t < 4; ++t)
+    texture.setTexel(t, models::tabulate(*models::makeWard(Rgb::gray(0.1 * double(t + 1)),
+                                                           {0.2, 0.1, 0.3}, 0.2, 0.3, 0.0)));
+  const Abrdf average = averageTable(texture);
+  writeBtfDirectory(dir, texture, average, {{-20, -20, 20, 20}, "B", "session-1"},
+                    {{"method", "B"}}, 2);
+  const BtfTexture back = readBtfDirectory(dir);
+  ASSERT_EQ(back.resolution(), 2);
+  for (int light : {0, 40, 80})
+    for (int view : {0, 7, 80})
+      for (std::size_t i = 0; i < 12; ++i)
+        EXPECT_EQ(back.image(light, view)[i], texture.image(light, view)[i]);
+  EXPECT_LT(test::maxAbsDifference(io::readAbrdfExr(dir / "average.exr"), average), 1e-6);
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir / "preview"),
+                          std::filesystem::directory_iterator{}),
+            8);
+  std::ifstream manifest(dir / kBtfManifest);
+  const nlohmann::json json = nlohmann::json::parse(manifest);
+  EXPECT_EQ(json.at("resolution"), 2);
+  EXPECT_EQ(json.at("source"), "session-1");
+  EXPECT_DOUBLE_EQ(json.at("texel_mm").get<double>(), 20.0);
+
+  // A missing image is an error naming it.
+  std::filesystem::remove(dir / imagePath(5, 6));
+  try {
+    readBtfDirectory(dir);
+    FAIL() << "expected IoError";
+  } catch (const io::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find(imagePath(5, 6).filename().string()), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(readBtfDirectory(dir / "preview"), io::IoError);
+}
+
+}  // namespace
+}  // namespace slicecap::btf
