@@ -185,9 +185,13 @@ TEST_F(DaemonRecordingFrames, ProcessingTheRecordingGivesTheLiveSweepsSamples) {
               io::readPng(io::framePath(original_, original.frames[i])).samples);
   }
 
-  // slicecap process's pipeline on the recording: the live sweep's samples, and at most the first
-  // LED-on frame more (offline it may take the next LED-off frame as its ambient; live it waits).
-  const capture::RecordingResult offline = capture::processRecording(recorded);
+  // slicecap process's pipeline on the recording, in the live loop's one-sided ambient mode
+  // (`--ambient previous`; the offline default interpolates both sides and differs by design):
+  // the live sweep's samples, and at most the first LED-on frame more (offline it may take the
+  // next LED-off frame as its ambient; live it waits).
+  capture::PipelineSettings asLive;
+  asLive.offlineTwoSidedAmbient = false;
+  const capture::RecordingResult offline = capture::processRecording(recorded, asLive);
   std::map<std::int64_t, capture::FrameSample> offlineSamples;
   for (const capture::FrameOutcome& outcome : offline.outcomes)
     if (outcome.sample) offlineSamples[outcome.sample->timestampUs] = *outcome.sample;
