@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "../support/cli_runner.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/cli/cli.hpp"
 #include "slicecap/io/recording.hpp"
@@ -14,16 +15,8 @@
 namespace slicecap::cli {
 namespace {
 
-struct Result {
-  int code;
-  std::string out, err;
-};
-
-Result run(std::vector<std::string> args) {
-  std::ostringstream out, err;
-  const int code = runCli(args, out, err);
-  return {code, out.str(), err.str()};
-}
+using Result = test::CliResult;
+const auto run = test::runSlicecap;
 
 TEST(CalibrateCommand, RecoversTheVirtualRigsCameraAndARecordingUsesIt) {
   const auto dir = test::freshTempDir();
