@@ -58,10 +58,13 @@ TEST(CameraCalibration, RecoversAKnownCameraFromSeveralElevations) {
   // The uncertainty is honest: the errors are within a few sigma, and sigma is not zero.
   EXPECT_GT(c.sigma[0], 0.0);
   EXPECT_LT(std::abs(k.fxPx - truth.intrinsics.fxPx), 5 * c.sigma[0] + 0.5);
-  // Within the region the target covers, the lens maps pixels as the true one does.
+  // Within the region the target covers, the lens maps pixels as the true one does, to within the
+  // principal point's own uncertainty: its sigma is ~0.9-1.0 px a coordinate from these views, so
+  // 1 px was under 1.2 sigma (x86-64 0.54 / 0.78 px, aarch64 under qemu 1.07 / 1.26 px from the
+  // same corners); 2.5 px still fails a focal length off by a few percent or a wrong distortion.
   for (const Eigen::Vector2d& pixel : {Eigen::Vector2d(640, 360), Eigen::Vector2d(400, 250)}) {
     const Eigen::Vector2d ray = truth.normalisedOf(pixel);
-    EXPECT_LT((c.camera.pixelOf(ray) - pixel).norm(), 1.0) << pixel.transpose();
+    EXPECT_LT((c.camera.pixelOf(ray) - pixel).norm(), 2.5) << pixel.transpose();
   }
 }
 
