@@ -4,11 +4,20 @@
 #include <apriltag/common/image_u8.h>
 #include <apriltag/tag36h11.h>
 #include <benchmark/benchmark.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
 
 #include "slicecap/capture/frame_pipeline.hpp"
+#include "slicecap/io/png_image.hpp"
+#include "slicecap/io/recording.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
 #include "slicecap/sim/rig.hpp"
+#include "slicecap/sim/simulate.hpp"
 
 namespace {
 
@@ -80,6 +89,123 @@ BENCHMARK(BM_PlainApriltag)
     ->Args({75, 2})
     ->Args({75, 1})
     ->Unit(benchmark::kMillisecond);
+
+// A whole realistic sweep (48 frames, hand-held jitter, blur, occlusion, markers out of view), in
+// capture order so the tracking works as it does live: per LED-on frame the median and 95th
+// percentile time, the view-angle error against the truth (median, 95th percentile), and the plain
+// library (decimation 2, whole frame) on the same frames. The figures the goals name.
+struct Sweep {
+  SliceId slice;
+  io::Recording recording;
+  std::vector<hal::Frame> frames;
+  sim::SweepTruth truth;
+  explicit Sweep(const SliceId& id) : slice(id) {
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("slicecap-capture-bench-" + std::to_string(::getpid())) /
+                     sim::sliceDirectoryName(id);
+    std::filesystem::remove_all(dir);
+    sim::SweepSetup setup;
+    setup.rig = sim::RigParams::realistic();
+    setup.materialSpec = "satin-red-90";
+    const sim::FrameRenderer renderer(setup.camera, setup.target,
+                                      sim::loadMaterial(setup.materialSpec), setup.rig);
+    truth = sim::simulateSweep(dir, {id, kAxialOffsetDeg}, renderer, setup);
+    recording = io::readRecording(dir);
+    for (std::size_t i = 0; i < recording.frames.size(); ++i) {
+      const io::RecordedFrame& entry = recording.frames[i];
+      frames.push_back({io::readPng(io::framePath(dir, entry)), recording.encoding,
+                        {i, entry.timestampUs, entry.exposureUs, entry.gain, entry.ledOn}});
+    }
+    std::filesystem::remove_all(dir.parent_path());
+  }
+};
+
+const Sweep& sweepAt(int thetaDeg) {
+  static const Sweep at30({SliceKind::Axial, {30, 30}}), at75({SliceKind::Axial, {75, 75}});
+  return thetaDeg == 30 ? at30 : at75;
+}
+
+double percentile(std::vector<double> values, double q) {
+  if (values.empty()) return std::nan("");
+  std::sort(values.begin(), values.end());
+  return values[static_cast<std::size_t>(std::lround(q * static_cast<double>(values.size() - 1)))];
+}
+
+double angleBetweenDeg(const Direction& a, const Direction& b) {
+  const UnitVector u = toUnitVector(a), v = toUnitVector(b);
+  return std::acos(std::clamp(u.x * v.x + u.y * v.y + u.z * v.z, -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+void BM_PipelineSweep(benchmark::State& state) {
+  const Sweep& sweep = sweepAt(static_cast<int>(state.range(0)));
+  std::vector<double> frameMs, viewErrorDeg;
+  int samples = 0, ledOnFrames = 0;
+  for (auto _ : state) {
+    capture::FramePipeline pipeline(sweep.recording.target, sweep.recording.camera);
+    frameMs.clear();
+    viewErrorDeg.clear();
+    samples = ledOnFrames = 0;
+    for (std::size_t i = 0; i < sweep.frames.size(); ++i) {
+      const auto start = std::chrono::steady_clock::now();
+      const capture::FrameOutcome outcome = pipeline.process(sweep.frames[i], sweep.slice);
+      const std::chrono::duration<double, std::milli> took =
+          std::chrono::steady_clock::now() - start;
+      if (!sweep.frames[i].metadata.ledOn) continue;
+      ++ledOnFrames;
+      frameMs.push_back(took.count());
+      if (outcome.kind != capture::FrameOutcome::Kind::Sample) continue;
+      ++samples;
+      viewErrorDeg.push_back(angleBetweenDeg(outcome.sample->view, sweep.truth.frames[i].view));
+    }
+  }
+  state.counters["frame_ms_median"] = percentile(frameMs, 0.5);
+  state.counters["frame_ms_p95"] = percentile(frameMs, 0.95);
+  state.counters["view_err_deg_median"] = percentile(viewErrorDeg, 0.5);
+  state.counters["view_err_deg_p95"] = percentile(viewErrorDeg, 0.95);
+  state.counters["samples"] = samples;
+  state.counters["led_on_frames"] = ledOnFrames;
+}
+BENCHMARK(BM_PipelineSweep)->Arg(30)->Arg(75)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+void BM_PlainApriltagSweep(benchmark::State& state) {
+  const Sweep& sweep = sweepAt(static_cast<int>(state.range(0)));
+  std::vector<image_u8_t*> grays;
+  for (const hal::Frame& frame : sweep.frames) {
+    if (!frame.metadata.ledOn) continue;
+    const Image& image = frame.image;
+    image_u8_t* gray = image_u8_create(image.width, image.height);
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x)
+        gray->buf[y * gray->stride + x] = static_cast<std::uint8_t>(
+            (image.at(x, y, 0) + image.at(x, y, 1) + image.at(x, y, 2)) / 3);
+    grays.push_back(gray);
+  }
+  apriltag_family_t* family = tag36h11_create();
+  apriltag_detector_t* detector = apriltag_detector_create();
+  apriltag_detector_add_family_bits(detector, family, 1);
+  detector->nthreads = 1;
+  detector->quad_decimate = 2.0f;
+  std::vector<double> frameMs;
+  for (auto _ : state) {
+    frameMs.clear();
+    for (image_u8_t* gray : grays) {
+      const auto start = std::chrono::steady_clock::now();
+      zarray_t* detections = apriltag_detector_detect(detector, gray);
+      benchmark::DoNotOptimize(zarray_size(detections));
+      apriltag_detections_destroy(detections);
+      frameMs.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count());
+    }
+  }
+  state.counters["frame_ms_median"] = percentile(frameMs, 0.5);
+  state.counters["frame_ms_p95"] = percentile(frameMs, 0.95);
+  apriltag_detector_destroy(detector);
+  tag36h11_destroy(family);
+  for (image_u8_t* gray : grays)
+    image_u8_destroy(gray);
+}
+BENCHMARK(BM_PlainApriltagSweep)->Arg(30)->Arg(75)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace
 BENCHMARK_MAIN();

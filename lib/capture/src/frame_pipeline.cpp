@@ -1,7 +1,9 @@
 // The per-frame pipeline: detect, pose, gate, measure the window against the white references.
 #include "slicecap/capture/frame_pipeline.hpp"
 
+#include <Eigen/SVD>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -11,6 +13,7 @@
 #include "slicecap/capture/linear_view.hpp"
 #include "slicecap/capture/planar_pose.hpp"
 #include "slicecap/core/angles.hpp"
+#include "slicecap/vision/tag_family.hpp"
 
 namespace slicecap::capture {
 namespace {
@@ -89,11 +92,50 @@ std::optional<PixelRect> sheetRegion(const vision::Pose& pose, const vision::Cam
       x0 = std::min(x0, px->x()), x1 = std::max(x1, px->x());
       y0 = std::min(y0, px->y()), y1 = std::max(y1, px->y());
     }
-  const double mx = 0.25 * (x1 - x0) + 16.0, my = 0.25 * (y1 - y0) + 16.0;
+  // 10 % and 16 px each side: between two LED-on frames of a simulated 48-frame sweep (15 deg
+  // of azimuth apart, far more than at 30 frames/s) the sheet stayed inside (bench/capture_bench's
+  // sweep cases: same samples as with 25 %, which cost 1.5-2x the time); a miss falls back.
+  const double mx = 0.1 * (x1 - x0) + 16.0, my = 0.1 * (y1 - y0) + 16.0;
   return PixelRect{static_cast<int>(std::floor(x0 - mx)), static_cast<int>(std::floor(y0 - my)),
                    static_cast<int>(std::ceil(x1 - x0 + 2 * mx)),
                    static_cast<int>(std::ceil(y1 - y0 + 2 * my))};
 }
+
+// The markers in view at `pose` (all four corners project into the image): how many, and the
+// finest detail among them, the smallest image size of one tag cell in any direction, pixels
+// (per marker, the smaller singular value of its mm -> px map times the cell).
+struct MarkersInView {
+  int count = 0;
+  double smallestCellPx = 0.0;
+};
+
+MarkersInView markersInView(const vision::Pose& pose, const vision::CameraModel& camera,
+                            const vision::TargetGeometry& target) {
+  MarkersInView view;
+  for (const vision::Marker& marker : target.markers) {
+    std::array<Eigen::Vector2d, 4> px;
+    bool inView = true;
+    for (int c = 0; c < 4 && inView; ++c) {
+      const auto p =
+          camera.project(pose.toCamera({marker.cornersMm[c].xMm, marker.cornersMm[c].yMm, 0.0}));
+      inView = p && p->x() >= 0 && p->y() >= 0 && p->x() < camera.intrinsics.widthPx &&
+               p->y() < camera.intrinsics.heightPx;
+      if (inView) px[c] = *p;
+    }
+    if (!inView) continue;
+    Eigen::Matrix2d pxPerMm;
+    pxPerMm << px[1] - px[0], px[3] - px[0];
+    pxPerMm /= marker.sizeMm;
+    const double cellPx = Eigen::JacobiSVD<Eigen::Matrix2d>(pxPerMm).singularValues()(1) *
+                          marker.sizeMm / vision::kTagBorderCells;
+    if (view.count == 0 || cellPx < view.smallestCellPx) view.smallestCellPx = cellPx;
+    ++view.count;
+  }
+  return view;
+}
+
+// LED-on frames without a pose after which tracking gives up on the last one.
+constexpr int kTrackingPatienceFrames = 3;
 
 FrameOutcome rejected(std::string reason, std::string detail, FrameOutcome outcome = {}) {
   outcome.kind = FrameOutcome::Kind::Rejected;
@@ -126,19 +168,38 @@ struct FramePipeline::State {
   std::optional<Ambient> ambient;      // the latest LED-off frame
   std::optional<Ambient> nextAmbient;  // offline: the LED-off frame after the coming LED-on ones
   std::uint64_t frameIndex = 0;
-  std::optional<vision::Pose> lastPose;  // the previous frame's, for the detector's region
+  // The latest LED-on frame's pose, for tracking, kept over a few frames that were not located
+  // (a blurred frame, the arm's shadow) so one bad frame does not cost a whole-frame search.
+  std::optional<vision::Pose> lastPose;
+  int framesSinceLastPose = 0;
 
   State(vision::TargetGeometry t, vision::CameraModel c, PipelineSettings s)
       : target(std::move(t)), camera(std::move(c)), settings(s), detector(s.detector) {}
 
-  // Markers, tracked from the previous pose; the whole frame when that finds too few.
+  // Markers. Tracking from the latest pose: only the sheet's area, at the coarsest decimation
+  // its smallest tag cells allow, accepted when it finds 3/4 of the markers that pose had in
+  // view, else at full resolution there; a miss (the target moved far, blur) searches the whole
+  // frame with the detector's own settings before giving up.
   std::vector<DetectedMarker> detectMarkers(const hal::Frame& frame) {
-    std::optional<PixelRect> region;
-    if (lastPose) region = sheetRegion(*lastPose, camera, target.sheet);
-    std::vector<DetectedMarker> markers = detector.detect(frame, region);
-    if (region && countKnown(markers, target) < settings.minMarkers)
-      markers = detector.detect(frame);
-    return markers;
+    if (lastPose) {
+      const std::optional<PixelRect> region = sheetRegion(*lastPose, camera, target.sheet);
+      const MarkersInView expected = markersInView(*lastPose, camera, target);
+      const int enough = std::max(settings.minMarkers, (expected.count + 1) / 2);
+      float decimation = 1.0f;
+      for (const float d : {4.0f, 3.0f, 2.0f, 1.5f})
+        if (expected.smallestCellPx / d >= settings.detector.minDecimatedCellPx) {
+          decimation = d;
+          break;
+        }
+      std::vector<DetectedMarker> markers = detector.detect(frame, region, decimation);
+      if (countKnown(markers, target) >= enough) return markers;
+      if (decimation > 1.0f) {
+        std::vector<DetectedMarker> finer = detector.detect(frame, region, 1.0f);
+        if (finer.size() > markers.size()) markers = std::move(finer);
+      }
+      if (countKnown(markers, target) >= settings.minMarkers) return markers;
+    }
+    return detector.detect(frame);
   }
 
   Ambient makeAmbient(const hal::Frame& frame) {
@@ -257,11 +318,12 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   FrameOutcome outcome;
   auto& m = outcome.measurement;
   // Tracking: search only where the sheet was in the previous frame (plus a margin for the
-  // hand's motion between frames); the detector's cost goes with the pixels it is given, so this
-  // is what brings a frame near the budget (bench/capture_bench.cpp). A miss there searches the
+  // hand's motion between frames), as coarsely as its tags allow; the detector's cost goes with
+  // the pixels it is given, so this is what keeps a frame in budget (bench/capture_bench.cpp).
+  // A miss there searches the
   // whole frame before giving up.
+  if (++s.framesSinceLastPose > kTrackingPatienceFrames) s.lastPose.reset();
   const std::vector<DetectedMarker> markers = s.detectMarkers(frame);
-  s.lastPose.reset();
   std::vector<PlaneCorrespondence> corners;
   std::vector<const DetectedMarker*> known;
   for (const auto& marker : markers) {
@@ -281,7 +343,10 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   if (!estimate) return rejected("too_few_markers", markerText + ", no pose", outcome);
   const vision::Pose& pose = estimate->pose;
   m.pose = pose;
-  if (estimate->residualRmsPx <= s.settings.maxPoseResidualPx) s.lastPose = pose;
+  if (estimate->residualRmsPx <= s.settings.maxPoseResidualPx) {
+    s.lastPose = pose;
+    s.framesSinceLastPose = 0;
+  }
   const Eigen::Vector3d cameraCentre = pose.cameraCentreMm();
   m.poseResidualPx = estimate->residualRmsPx;
   m.cameraDistanceMm = cameraCentre.norm();

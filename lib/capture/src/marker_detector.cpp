@@ -66,7 +66,8 @@ MarkerDetector::~MarkerDetector() {
 }
 
 std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame,
-                                                   const std::optional<PixelRect>& region) {
+                                                   const std::optional<PixelRect>& region,
+                                                   std::optional<float> decimation) {
   const Image& image = frame.image;
   PixelRect area{0, 0, image.width, image.height};
   if (region) {
@@ -96,10 +97,10 @@ std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame,
       row[x] = linear ? state_->linearToGray[mean] : static_cast<std::uint8_t>(mean);
     }
   }
-  state_->detector->quad_decimate = state_->settings.decimation;
+  state_->detector->quad_decimate = decimation.value_or(state_->settings.decimation);
   std::vector<DetectedMarker> found = runDetector(state_->detector, gray, area);
   state_->retried = false;
-  if (static_cast<int>(found.size()) < state_->settings.fullResolutionBelow &&
+  if (!decimation && static_cast<int>(found.size()) < state_->settings.fullResolutionBelow &&
       state_->settings.decimation > 1.0f) {
     state_->detector->quad_decimate = 1.0f;
     std::vector<DetectedMarker> full = runDetector(state_->detector, gray, area);

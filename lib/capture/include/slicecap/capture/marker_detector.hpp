@@ -35,6 +35,11 @@ struct MarkerDetectorSettings {
   /// height and the half-size image loses most of them (measured on a simulated session: 9 of 24
   /// LED-on frames of axial 75/75 kept at decimation 2 alone, 23 of 24 with this).
   int fullResolutionBelow = 8;
+  /// \brief When the pipeline tracks the target (it knows the previous frame's pose), it
+  /// predicts the smallest image size of a tag cell and asks for the coarsest decimation (4, 3,
+  /// 2, 1.5 or 1) that leaves each cell at least this many pixels of the decimated image, with no
+  /// retry: the corners are still refined on the full-resolution image.
+  double minDecimatedCellPx = 1.0;
 };
 
 /// \brief Wraps an apriltag_detector_t for tag36h11 (single-threaded, no blur: quad_sigma would
@@ -51,8 +56,12 @@ class MarkerDetector {
   /// their contrast in the shadows).
   /// With `region`, only that part of the image (clamped to it) is searched: the target's area
   /// from the previous pose, the detector's cost being proportional to the pixels it sees.
+  /// With `decimation`, the library's quad_decimate for this call and no full-resolution retry
+  /// (the caller predicted the resolution the markers need); without, settings' decimation and
+  /// retry.
   std::vector<DetectedMarker> detect(const hal::Frame& frame,
-                                     const std::optional<PixelRect>& region = std::nullopt);
+                                     const std::optional<PixelRect>& region = std::nullopt,
+                                     std::optional<float> decimation = std::nullopt);
   /// \brief Detections of the last detect() that needed the full-resolution retry.
   bool lastNeededFullResolution() const;
 
