@@ -113,7 +113,8 @@ struct Sweep {
     recording = io::readRecording(dir);
     for (std::size_t i = 0; i < recording.frames.size(); ++i) {
       const io::RecordedFrame& entry = recording.frames[i];
-      frames.push_back({io::readPng(io::framePath(dir, entry)), recording.encoding,
+      frames.push_back({io::readPng(io::framePath(dir, entry)),
+                        recording.encoding,
                         {i, entry.timestampUs, entry.exposureUs, entry.gain, entry.ledOn}});
     }
     std::filesystem::remove_all(dir.parent_path());

@@ -24,7 +24,7 @@ struct MarkerDetector::State {
 namespace {
 
 std::vector<DetectedMarker> runDetector(apriltag_detector_t* detector, image_u8_t* gray,
-                                        const PixelRect& area) {
+                                        const PixelRect& area, int binX, int binY) {
   zarray_t* detections = apriltag_detector_detect(detector, gray);
   std::vector<DetectedMarker> found;
   for (int i = 0; i < zarray_size(detections); ++i) {
@@ -32,9 +32,11 @@ std::vector<DetectedMarker> runDetector(apriltag_detector_t* detector, image_u8_
     zarray_get(detections, i, &d);
     if (d->hamming > 0) continue;
     DetectedMarker marker{d->id, {}};
+    // A binned pixel i covers full pixels i*b .. i*b + b - 1: its centre is at i*b + (b - 1)/2.
     for (int c = 0; c < 4; ++c)
-      marker.cornersPx[c] = {d->p[c][0] - kApriltagPixelOffset + area.x0,
-                             d->p[c][1] - kApriltagPixelOffset + area.y0};
+      marker.cornersPx[c] = {
+          (d->p[c][0] - kApriltagPixelOffset) * binX + (binX - 1) / 2.0 + area.x0,
+          (d->p[c][1] - kApriltagPixelOffset) * binY + (binY - 1) / 2.0 + area.y0};
     found.push_back(marker);
   }
   apriltag_detections_destroy(detections);
@@ -67,7 +69,7 @@ MarkerDetector::~MarkerDetector() {
 
 std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame,
                                                    const std::optional<PixelRect>& region,
-                                                   std::optional<float> decimation) {
+                                                   const std::optional<DetectionScale>& scale) {
   const Image& image = frame.image;
   PixelRect area{0, 0, image.width, image.height};
   if (region) {
@@ -77,33 +79,42 @@ std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame,
     const int y1 = std::clamp(region->y0 + region->height, 0, image.height);
     if (x1 - x0 >= 16 && y1 - y0 >= 16) area = {x0, y0, x1 - x0, y1 - y0};
   }
-  if (!state_->gray || state_->gray->width != area.width || state_->gray->height != area.height) {
+  int binX = scale ? std::max(1, scale->binX) : 1, binY = scale ? std::max(1, scale->binY) : 1;
+  if (area.width / binX < 16 || area.height / binY < 16) binX = binY = 1;
+  const int grayWidth = area.width / binX, grayHeight = area.height / binY;
+  if (!state_->gray || state_->gray->width != grayWidth || state_->gray->height != grayHeight) {
     if (state_->gray) image_u8_destroy(state_->gray);
-    state_->gray = image_u8_create(area.width, area.height);
+    state_->gray = image_u8_create(grayWidth, grayHeight);
   }
   image_u8_t* gray = state_->gray;
   const int used = image.channels >= 3 ? 3 : 1;
   const bool linear = image.bitDepth == 16;
   const std::uint16_t* in = image.samples.data();
-  for (int y = 0; y < area.height; ++y) {
+  const int perGrayPixel = used * binX * binY;
+  for (int y = 0; y < grayHeight; ++y) {
     std::uint8_t* row = gray->buf + static_cast<std::size_t>(y) * gray->stride;
-    const std::uint16_t* px =
-        in + (static_cast<std::size_t>(y + area.y0) * image.width + area.x0) * image.channels;
-    for (int x = 0; x < area.width; ++x, px += image.channels) {
+    for (int x = 0; x < grayWidth; ++x) {
       int sum = 0;
-      for (int c = 0; c < used; ++c)
-        sum += px[c];
-      const int mean = sum / used;
+      for (int by = 0; by < binY; ++by) {
+        const std::uint16_t* px =
+            in + (static_cast<std::size_t>(area.y0 + y * binY + by) * image.width + area.x0 +
+                  static_cast<std::size_t>(x) * binX) *
+                     image.channels;
+        for (int bx = 0; bx < binX; ++bx, px += image.channels)
+          for (int c = 0; c < used; ++c)
+            sum += px[c];
+      }
+      const int mean = sum / perGrayPixel;
       row[x] = linear ? state_->linearToGray[mean] : static_cast<std::uint8_t>(mean);
     }
   }
-  state_->detector->quad_decimate = decimation.value_or(state_->settings.decimation);
-  std::vector<DetectedMarker> found = runDetector(state_->detector, gray, area);
+  state_->detector->quad_decimate = scale ? scale->quadDecimate : state_->settings.decimation;
+  std::vector<DetectedMarker> found = runDetector(state_->detector, gray, area, binX, binY);
   state_->retried = false;
-  if (!decimation && static_cast<int>(found.size()) < state_->settings.fullResolutionBelow &&
+  if (!scale && static_cast<int>(found.size()) < state_->settings.fullResolutionBelow &&
       state_->settings.decimation > 1.0f) {
     state_->detector->quad_decimate = 1.0f;
-    std::vector<DetectedMarker> full = runDetector(state_->detector, gray, area);
+    std::vector<DetectedMarker> full = runDetector(state_->detector, gray, area, 1, 1);
     state_->retried = true;
     if (full.size() > found.size()) found = std::move(full);
   }

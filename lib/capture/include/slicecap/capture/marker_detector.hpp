@@ -23,6 +23,17 @@ struct PixelRect {
   int x0 = 0, y0 = 0, width = 0, height = 0;
 };
 
+/// \brief How finely one detect() call looks.
+struct DetectionScale {
+  /// \brief The library's quad_decimate: quads found on a 1/d image, the corners refined and the
+  /// tags decoded on the image it is given.
+  float quadDecimate = 1.0f;
+  /// \brief The image given to the library averages binX x binY pixels: cheaper in proportion,
+  /// and unlike quadDecimate it can be coarser along one axis than the other (a target seen at a
+  /// grazing angle is foreshortened along one); the corners are refined at that resolution.
+  int binX = 1, binY = 1;
+};
+
 /// \brief Detector options.
 struct MarkerDetectorSettings {
   /// \brief The library's quad_decimate. 2 finds the quads on a half-size image and refines the
@@ -36,10 +47,16 @@ struct MarkerDetectorSettings {
   /// LED-on frames of axial 75/75 kept at decimation 2 alone, 23 of 24 with this).
   int fullResolutionBelow = 8;
   /// \brief When the pipeline tracks the target (it knows the previous frame's pose), it
-  /// predicts the smallest image size of a tag cell and asks for the coarsest decimation (4, 3,
-  /// 2, 1.5 or 1) that leaves each cell at least this many pixels of the decimated image, with no
-  /// retry: the corners are still refined on the full-resolution image.
-  double minDecimatedCellPx = 1.0;
+  /// predicts how large each tag cell will appear and asks for the cheapest DetectionScale that
+  /// leaves every cell at least this many pixels across, in any direction, where the quads are
+  /// found (no retry at full resolution). Measured on bench/capture_bench's sweeps and
+  /// tests/capture/marker_detector_test.cpp: at 1.0 px the library's decimation 4 (cells of
+  /// ~4.5 px at 30 deg) missed tags and put corners 3.8 px off; 1.4 keeps it at 3 or 2 there.
+  double minDecimatedCellPx = 1.4;
+  /// \brief The same for binning along one axis (the foreshortened views, where the cells are
+  /// ~1.1-1.4 px across one way and ~4.5 px the other): 1.0 keeps every tag of a 75 deg sweep,
+  /// 1.2 already rules binning out for most of its frames.
+  double minBinnedCellPx = 1.0;
 };
 
 /// \brief Wraps an apriltag_detector_t for tag36h11 (single-threaded, no blur: quad_sigma would
@@ -56,12 +73,11 @@ class MarkerDetector {
   /// their contrast in the shadows).
   /// With `region`, only that part of the image (clamped to it) is searched: the target's area
   /// from the previous pose, the detector's cost being proportional to the pixels it sees.
-  /// With `decimation`, the library's quad_decimate for this call and no full-resolution retry
-  /// (the caller predicted the resolution the markers need); without, settings' decimation and
-  /// retry.
+  /// With `scale`, that scale and no full-resolution retry (the caller predicted the resolution
+  /// the markers need); without, settings' decimation and retry.
   std::vector<DetectedMarker> detect(const hal::Frame& frame,
                                      const std::optional<PixelRect>& region = std::nullopt,
-                                     std::optional<float> decimation = std::nullopt);
+                                     const std::optional<DetectionScale>& scale = std::nullopt);
   /// \brief Detections of the last detect() that needed the full-resolution retry.
   bool lastNeededFullResolution() const;
 
