@@ -168,6 +168,7 @@ void BM_PipelineSweep(benchmark::State& state) {
 }
 BENCHMARK(BM_PipelineSweep)->Arg(30)->Arg(75)->Unit(benchmark::kMillisecond)->Iterations(3);
 
+// The sweeps are 8-bit sRGB RGB (the realistic rig's default): the gray image is their mean.
 void BM_PlainApriltagSweep(benchmark::State& state) {
   const Sweep& sweep = sweepAt(static_cast<int>(state.range(0)));
   std::vector<image_u8_t*> grays;

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/sim/material.hpp"
@@ -22,70 +21,86 @@ struct RenderedView {
   SliceId slice;
 };
 
-// An ideal-rig LED-on frame (and its LED-off twin) of an axial slice at `thetaDeg`, third frame.
-RenderedView renderView(int thetaDeg) {
+// An ideal-rig LED-on frame (and an LED-off twin) of an axial slice at `thetaDeg`: frame `index`
+// of a 48-frame sweep (7.5 deg apart).
+RenderedView renderView(int thetaDeg, int index = 2,
+                        PixelEncoding encoding = PixelEncoding::Srgb8) {
   RenderedView view;
   view.slice = {SliceKind::Axial, {thetaDeg, thetaDeg}};
   sim::RigParams rig = sim::RigParams::ideal();
   rig.readNoise = 0.002;
   rig.fullWellElectrons = 8000.0;
+  rig.encoding = encoding;
   const vision::CameraModel camera = vision::defaultSimulatedCamera();
   const vision::TargetGeometry target = vision::defaultTarget();
   const sim::FrameRenderer renderer(camera, target, sim::loadMaterial("satin-red-90"), rig);
   const auto plans = sim::planSweep(view.slice, 15.0, rig, camera, target);
-  view.pose = plans[2].pose;
-  const sim::FrameScene lit{{view.pose}, plans[2].lightMm, true, 8000.0, 1.0, std::nullopt, 7};
+  const sim::FramePlan& plan = plans[static_cast<std::size_t>(index)];
+  view.pose = plan.pose;
+  const sim::FrameScene lit{{view.pose}, plan.lightMm, true, 8000.0, 1.0, std::nullopt, 7};
   sim::FrameScene dark = lit;
   dark.ledOn = false;
-  view.on = {renderer.render(lit), PixelEncoding::Srgb8, {2, 0, 8000.0, 1.0, true}};
-  view.off = {renderer.render(dark), PixelEncoding::Srgb8, {1, 0, 8000.0, 1.0, false}};
+  const auto i = static_cast<std::uint64_t>(index);
+  view.on = {renderer.render(lit), encoding, {i, plan.timestampUs + 1000, 8000.0, 1.0, true}};
+  view.off = {renderer.render(dark), encoding, {i, plan.timestampUs, 8000.0, 1.0, false}};
   return view;
 }
 
-// Largest distance of detected corners from the true projections, px; the ids found.
-double worstCornerErrorPx(const std::vector<DetectedMarker>& markers, const vision::Pose& pose,
-                          int* found) {
+struct CornerErrors {
+  int found = 0;
+  double worstPx = 0.0;
+  Eigen::Vector2d meanPx = Eigen::Vector2d::Zero();  ///< mean signed error (a shift)
+};
+
+// Detected corners against the true projections of the target's markers.
+CornerErrors cornerErrors(const std::vector<DetectedMarker>& markers, const vision::Pose& pose) {
   const vision::CameraModel camera = vision::defaultSimulatedCamera();
   const vision::TargetGeometry target = vision::defaultTarget();
-  double worst = 0.0;
-  *found = 0;
+  CornerErrors errors;
   for (const DetectedMarker& marker : markers) {
     const vision::Marker* geometry = target.findMarker(marker.id);
     if (!geometry) continue;
-    ++*found;
+    ++errors.found;
     for (int c = 0; c < 4; ++c) {
       const auto truth = camera.project(
           pose.toCamera({geometry->cornersMm[c].xMm, geometry->cornersMm[c].yMm, 0.0}));
-      worst = std::max(worst, (marker.cornersPx[c] - *truth).norm());
+      const Eigen::Vector2d error = marker.cornersPx[c] - *truth;
+      errors.worstPx = std::max(errors.worstPx, error.norm());
+      errors.meanPx += error;
     }
   }
-  return worst;
+  if (errors.found > 0) errors.meanPx /= 4.0 * errors.found;
+  return errors;
 }
 
 TEST(MarkerDetector, DecimatedAndBinnedCornersStayNearTheTruth) {
-  const RenderedView view = renderView(30);
-  MarkerDetector detector;
-  int fullFound = 0;
-  const double fullError = worstCornerErrorPx(
-      detector.detect(view.on, std::nullopt, DetectionScale{}), view.pose, &fullFound);
-  EXPECT_EQ(fullFound, 16);
-  EXPECT_LT(fullError, 0.5);
-  // Decimation finds the quads coarsely but refines the corners at full resolution; binning
-  // refines them at its own resolution: a wider tolerance, growing with the bin.
-  // The scales the tracker chooses from (4 is not among them: on this frame, cells of ~4.5 px, it
-  // missed a tag and put a corner 3.8 px off).
-  for (const DetectionScale scale :
-       {DetectionScale{3.0f, 1, 1}, DetectionScale{2.0f, 1, 1}, DetectionScale{1.5f, 1, 1},
-        DetectionScale{1.0f, 2, 1}, DetectionScale{1.0f, 3, 1}, DetectionScale{1.0f, 4, 1},
-        DetectionScale{1.0f, 1, 2}}) {
-    SCOPED_TRACE("decimate " + std::to_string(scale.quadDecimate) + " bin " +
-                 std::to_string(scale.binX) + "x" + std::to_string(scale.binY));
-    int found = 0;
-    const double error =
-        worstCornerErrorPx(detector.detect(view.on, std::nullopt, scale), view.pose, &found);
-    EXPECT_EQ(found, fullFound);
-    // Measured 0.29-0.30 decimated, 0.36 / 0.63 / 0.78 binned by 2 / 3 / 4 (0.35 full).
-    EXPECT_LT(error, 0.5 + 0.15 * (scale.binX * scale.binY - 1));
+  for (const PixelEncoding encoding : {PixelEncoding::Srgb8, PixelEncoding::Linear16}) {
+    SCOPED_TRACE(toString(encoding));
+    const RenderedView view = renderView(30, 2, encoding);
+    MarkerDetector detector;
+    const CornerErrors full =
+        cornerErrors(detector.detect(view.on, std::nullopt, DetectionScale{}), view.pose);
+    EXPECT_EQ(full.found, 16);
+    EXPECT_LT(full.worstPx, 0.5);
+    // The scales the tracker chooses from (decimation 4 is not among them: on this frame, cells
+    // of ~4.5 px, it missed a tag and put a corner 3.8 px off), where they keep cells >= 1 px
+    // (not 1 x 4: the tilt leaves ~3.9 px cells along y, under one binned pixel; 1.4 px worst).
+    // Decimation finds the quads coarsely but refines the corners at full resolution; binning
+    // refines them at its own resolution: a wider tolerance, growing with the bin. A half-pixel
+    // slip in mapping binned corners back would show as a mean shift.
+    for (const DetectionScale scale :
+         {DetectionScale{3.0f, 1, 1}, DetectionScale{2.0f, 1, 1}, DetectionScale{1.5f, 1, 1},
+          DetectionScale{1.0f, 2, 1}, DetectionScale{1.0f, 3, 1}, DetectionScale{1.0f, 4, 1},
+          DetectionScale{1.0f, 1, 2}, DetectionScale{1.0f, 1, 3}}) {
+      SCOPED_TRACE("decimate " + std::to_string(scale.quadDecimate) + " bin " +
+                   std::to_string(scale.binX) + "x" + std::to_string(scale.binY));
+      const CornerErrors errors =
+          cornerErrors(detector.detect(view.on, std::nullopt, scale), view.pose);
+      EXPECT_EQ(errors.found, full.found);
+      // Measured 0.29-0.30 decimated, 0.36 / 0.63 / 0.78 binned by 2 / 3 / 4 (0.35 full).
+      EXPECT_LT(errors.worstPx, 0.5 + 0.15 * (scale.binX * scale.binY - 1));
+      EXPECT_LT(errors.meanPx.norm(), 0.15) << errors.meanPx.transpose();
+    }
   }
 }
 
@@ -94,34 +109,53 @@ TEST(MarkerDetector, TooCoarseABinningOfAGrazingViewLosesTheMarkers) {
   // (what the tracked scale never chooses there) loses them, binning x does not.
   const RenderedView view = renderView(75);
   MarkerDetector detector;
-  int alongX = 0, alongY = 0;
-  worstCornerErrorPx(detector.detect(view.on, std::nullopt, DetectionScale{1.0f, 2, 1}), view.pose,
-                     &alongX);
-  worstCornerErrorPx(detector.detect(view.on, std::nullopt, DetectionScale{1.0f, 1, 2}), view.pose,
-                     &alongY);
+  const int alongX =
+      cornerErrors(detector.detect(view.on, std::nullopt, DetectionScale{1.0f, 2, 1}), view.pose)
+          .found;
+  const int alongY =
+      cornerErrors(detector.detect(view.on, std::nullopt, DetectionScale{1.0f, 1, 2}), view.pose)
+          .found;
   EXPECT_GE(alongX, 12);
   EXPECT_LT(alongY, alongX / 2);
 }
 
-TEST(FramePipeline, TrackedFramesAgreeWithTheWholeFrameSearch) {
+TEST(FramePipeline, TrackedFramesUseTheCoarseScaleAndAgreeWithTheWholeFrameSearch) {
   for (const int thetaDeg : {30, 75}) {
     SCOPED_TRACE(thetaDeg);
-    const RenderedView view = renderView(thetaDeg);
-    FramePipeline pipeline(vision::defaultTarget(), vision::defaultSimulatedCamera());
-    pipeline.setAmbientFrame(view.off);
-    // The first frame has no previous pose: the whole frame, the detector's own settings. The
-    // second is tracked: the predicted region and scale.
-    const FrameOutcome first = pipeline.process(view.on, view.slice);
-    const FrameOutcome tracked = pipeline.process(view.on, view.slice);
+    // Two LED-on frames 15 deg apart along the sweep: the second is found from the first's pose.
+    const RenderedView before = renderView(thetaDeg, 2), after = renderView(thetaDeg, 4);
+    FramePipeline tracking(vision::defaultTarget(), vision::defaultSimulatedCamera());
+    tracking.setAmbientFrame(before.off);
+    const FrameOutcome first = tracking.process(before.on, before.slice);
     ASSERT_EQ(first.kind, FrameOutcome::Kind::Sample) << first.rejectReason << first.detail;
+    EXPECT_FALSE(first.measurement.trackedScale.has_value()) << "no pose yet: the whole frame";
+    tracking.setAmbientFrame(after.off);
+    const FrameOutcome tracked = tracking.process(after.on, after.slice);
     ASSERT_EQ(tracked.kind, FrameOutcome::Kind::Sample) << tracked.rejectReason << tracked.detail;
-    EXPECT_GE(tracked.measurement.markerCount, first.measurement.markerCount / 2);
-    const UnitVector a = toUnitVector(first.sample->view), b = toUnitVector(tracked.sample->view);
+    ASSERT_TRUE(tracked.measurement.trackedScale.has_value()) << "tracking fell back";
+    const DetectionScale& scale = *tracked.measurement.trackedScale;
+    if (thetaDeg == 30) {
+      // Cells of ~4.5 px: decimation 3 or 2, no binning.
+      EXPECT_GE(scale.quadDecimate, 2.0f);
+      EXPECT_EQ(scale.binX * scale.binY, 1);
+    } else {
+      // Cells of ~1.2 px across the tilt, ~4.5 px along it: binned along the image's x only.
+      EXPECT_EQ(scale.quadDecimate, 1.0f);
+      EXPECT_GE(scale.binX, 2);
+      EXPECT_EQ(scale.binY, 1);
+    }
+    // The same frame searched whole by a pipeline with no previous pose.
+    FramePipeline fresh(vision::defaultTarget(), vision::defaultSimulatedCamera());
+    fresh.setAmbientFrame(after.off);
+    const FrameOutcome whole = fresh.process(after.on, after.slice);
+    ASSERT_EQ(whole.kind, FrameOutcome::Kind::Sample) << whole.rejectReason << whole.detail;
+    EXPECT_GE(tracked.measurement.markerCount, whole.measurement.markerCount - 2);
+    const UnitVector a = toUnitVector(whole.sample->view), b = toUnitVector(tracked.sample->view);
     const double apartDeg =
         std::acos(std::clamp(a.x * b.x + a.y * b.y + a.z * b.z, -1.0, 1.0)) * 180.0 / M_PI;
     EXPECT_LT(apartDeg, 0.1);
     for (int c = 0; c < 3; ++c)
-      EXPECT_NEAR(tracked.sample->value[c], first.sample->value[c], 0.01 * first.sample->value[c]);
+      EXPECT_NEAR(tracked.sample->value[c], whole.sample->value[c], 0.01 * whole.sample->value[c]);
   }
 }
 

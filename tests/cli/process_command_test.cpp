@@ -38,6 +38,12 @@ TEST(ProcessCommand, WritesSlicesReportAndSummary) {
   std::ifstream(report) >> j;
   EXPECT_EQ(j["recordings"][0]["frames"].size(), 6u);
   EXPECT_EQ(j["recordings"][0]["frames"][1]["outcome"], "ambient");
+  // The first frame has no earlier pose: the whole frame was searched.
+  EXPECT_EQ(j["recordings"][0]["frames"][0]["detection"]["tracked"], false);
+  for (const auto& frame : j["recordings"][0]["frames"])
+    if (frame["outcome"] == "sample") {
+      EXPECT_TRUE(frame["detection"].is_object()) << frame.dump();
+    }
 
   // The same slice twice, a directory without a recording: usage error / failure naming it.
   EXPECT_EQ(run({"process", recording, recording, "-o", csv}).code, kExitUsage);

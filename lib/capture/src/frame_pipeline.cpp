@@ -82,7 +82,7 @@ int countKnown(const std::vector<DetectedMarker>& markers, const vision::TargetG
   }));
 }
 
-// The image box of the sheet seen from `pose`, grown by a quarter of its size on every side.
+// The image box of the sheet seen from `pose`, grown by 10 % of its size and 16 px on every side.
 std::optional<PixelRect> sheetRegion(const vision::Pose& pose, const vision::CameraModel& camera,
                                      const vision::RectMm& sheet) {
   double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
@@ -102,12 +102,17 @@ std::optional<PixelRect> sheetRegion(const vision::Pose& pose, const vision::Cam
                    static_cast<int>(std::ceil(y1 - y0 + 2 * my))};
 }
 
-// How each marker in view at `pose` (all four corners project into the image) maps one tag cell
-// to pixels near it: the columns are the image vectors of a cell's two edges.
-std::vector<Eigen::Matrix2d> cellMapsInView(const vision::Pose& pose,
-                                            const vision::CameraModel& camera,
-                                            const vision::TargetGeometry& target) {
-  std::vector<Eigen::Matrix2d> maps;
+// The markers in view at `pose` (all four corners project into the image): how many, and how
+// each maps one tag cell to pixels near its corners 0 and 2 (the columns are the image vectors of
+// a cell's two edges; at a grazing view the far edges are shorter than the near ones).
+struct MarkersInView {
+  int count = 0;
+  std::vector<Eigen::Matrix2d> cellMaps;
+};
+
+MarkersInView markersInView(const vision::Pose& pose, const vision::CameraModel& camera,
+                            const vision::TargetGeometry& target) {
+  MarkersInView view;
   for (const vision::Marker& marker : target.markers) {
     std::array<Eigen::Vector2d, 4> px;
     bool inView = true;
@@ -119,18 +124,25 @@ std::vector<Eigen::Matrix2d> cellMapsInView(const vision::Pose& pose,
       if (inView) px[c] = *p;
     }
     if (!inView) continue;
-    Eigen::Matrix2d cellMap;
-    cellMap << px[1] - px[0], px[3] - px[0];
-    maps.push_back(cellMap / vision::kTagBorderCells);
+    ++view.count;
+    Eigen::Matrix2d atFirst, atThird;
+    atFirst << px[1] - px[0], px[3] - px[0];
+    atThird << px[2] - px[3], px[2] - px[1];
+    view.cellMaps.push_back(atFirst / vision::kTagBorderCells);
+    view.cellMaps.push_back(atThird / vision::kTagBorderCells);
   }
-  return maps;
+  return view;
 }
 
-// The cheapest way to look at markers seen through `cellMaps`: among the library's decimations
-// and binnings (which may differ between the axes), the one handing it the fewest pixels that
-// still leaves every cell at least the settings' size across in any direction (the smaller
-// singular value of the scaled map); a decimation on a tie, as it refines corners at full
-// resolution. Full resolution when nothing coarser is safe.
+// The cheapest way to look at markers seen through `cellMaps`. First the library's decimations
+// (3, 2, 1.5: quads found coarsely, corners refined at full resolution), the coarsest that leaves
+// every cell at least minDecimatedCellPx across in any direction (the smaller singular value of
+// the scaled map). Only when none does, binning along one axis (2-4 pixels averaged; the corners
+// are refined at that resolution, measured worst corner 0.36 / 0.63 / 0.78 px at 2 / 3 / 4 x 1
+// against 0.35 px at full resolution, and binned 4 x 4 the view error grew from 0.017 to 0.11 deg):
+// the coarsest that leaves every cell minBinnedCellPx. Else full resolution. Decimation 4 is not
+// offered: on a 30 deg frame it missed a tag and put a corner 3.8 px off
+// (tests/capture/marker_detector_test.cpp).
 DetectionScale trackedScale(const std::vector<Eigen::Matrix2d>& cellMaps,
                             const MarkerDetectorSettings& settings) {
   const auto smallestAcross = [&](double sx, double sy) {
@@ -141,25 +153,13 @@ DetectionScale trackedScale(const std::vector<Eigen::Matrix2d>& cellMaps,
     }
     return smallest;
   };
-  DetectionScale best;
-  double bestPixels = 1.0;
-  if (cellMaps.empty()) return best;
-  for (const float d : {4.0f, 3.0f, 2.0f, 1.5f})
-    if (1.0 / (d * d) < bestPixels && smallestAcross(d, d) >= settings.minDecimatedCellPx) {
-      best = {d, 1, 1};
-      bestPixels = 1.0 / (d * d);
-    }
-  // Binning along one axis only: it refines the corners at its own resolution (measured worst
-  // corner 0.36 / 0.63 / 0.78 px at 2 / 3 / 4 x 1 against 0.35 px at full resolution; binned 4 x 4
-  // the view error grew from 0.017 to 0.11 deg), so it is kept for the foreshortened views that no
-  // decimation suits.
-  for (int b = 2; b <= 4; ++b)
+  if (cellMaps.empty()) return {};
+  for (const float d : {3.0f, 2.0f, 1.5f})
+    if (smallestAcross(d, d) >= settings.minDecimatedCellPx) return {d, 1, 1};
+  for (int b = 4; b >= 2; --b)
     for (const auto& [bx, by] : {std::pair{b, 1}, std::pair{1, b}})
-      if (1.0 / b < bestPixels && smallestAcross(bx, by) >= settings.minBinnedCellPx) {
-        best = {1.0f, bx, by};
-        bestPixels = 1.0 / b;
-      }
-  return best;
+      if (smallestAcross(bx, by) >= settings.minBinnedCellPx) return {1.0f, bx, by};
+  return {};
 }
 
 // LED-on frames without a pose after which tracking gives up on the last one.
@@ -206,21 +206,31 @@ struct FramePipeline::State {
 
   // Markers. Tracking from the latest pose: only the sheet's area, at the coarsest scale its tag
   // cells allow, accepted when it finds half the markers that pose had in view, else at full
-  // resolution there; a miss (the target moved far, blur) searches the whole
-  // frame with the detector's own settings before giving up.
-  std::vector<DetectedMarker> detectMarkers(const hal::Frame& frame) {
-    if (lastPose) {
-      const std::optional<PixelRect> region = sheetRegion(*lastPose, camera, target.sheet);
-      const std::vector<Eigen::Matrix2d> cellMaps = cellMapsInView(*lastPose, camera, target);
-      const int enough = std::max(settings.minMarkers, static_cast<int>(cellMaps.size() + 1) / 2);
-      const DetectionScale scale = trackedScale(cellMaps, settings.detector);
+  // resolution there; a miss (the target moved far, blur) searches the whole frame with the
+  // detector's own settings before giving up. `trackedScale` tells which tracked pass was used.
+  std::vector<DetectedMarker> detectMarkers(const hal::Frame& frame,
+                                            std::optional<DetectionScale>* trackedScaleUsed) {
+    if (trackedScaleUsed) trackedScaleUsed->reset();
+    const std::optional<PixelRect> region =
+        lastPose ? sheetRegion(*lastPose, camera, target.sheet) : std::nullopt;
+    if (region) {
+      const MarkersInView expected = markersInView(*lastPose, camera, target);
+      const int enough = std::max(settings.minMarkers, (expected.count + 1) / 2);
+      const DetectionScale scale = trackedScale(expected.cellMaps, settings.detector);
       std::vector<DetectedMarker> markers = detector.detect(frame, region, scale);
-      if (countKnown(markers, target) >= enough) return markers;
-      if (scale.quadDecimate > 1.0f || scale.binX > 1 || scale.binY > 1) {
+      DetectionScale used = scale;
+      if (countKnown(markers, target) < enough &&
+          (scale.quadDecimate > 1.0f || scale.binX > 1 || scale.binY > 1)) {
         std::vector<DetectedMarker> finer = detector.detect(frame, region, DetectionScale{});
-        if (finer.size() > markers.size()) markers = std::move(finer);
+        if (countKnown(finer, target) >= countKnown(markers, target)) {
+          markers = std::move(finer);
+          used = DetectionScale{};
+        }
       }
-      if (countKnown(markers, target) >= settings.minMarkers) return markers;
+      if (countKnown(markers, target) >= settings.minMarkers) {
+        if (trackedScaleUsed) *trackedScaleUsed = used;
+        return markers;
+      }
     }
     return detector.detect(frame);
   }
@@ -229,7 +239,7 @@ struct FramePipeline::State {
     Ambient a{frame, std::nullopt};
     if (!settings.poseAmbientFrames) return a;
     std::vector<PlaneCorrespondence> corners;
-    for (const auto& marker : detectMarkers(frame))
+    for (const auto& marker : detectMarkers(frame, nullptr))
       if (const vision::Marker* geometry = target.findMarker(marker.id))
         for (int c = 0; c < 4; ++c)
           corners.push_back(
@@ -340,13 +350,13 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   }
   FrameOutcome outcome;
   auto& m = outcome.measurement;
-  // Tracking: search only where the sheet was in the previous frame (plus a margin for the
-  // hand's motion between frames), as coarsely as its tags allow; the detector's cost goes with
-  // the pixels it is given, so this is what keeps a frame in budget (bench/capture_bench.cpp).
+  // Tracking: search only where the sheet was in the latest located LED-on frame (plus a margin
+  // for the hand's motion between frames), as coarsely as its tags allow; the detector's cost goes
+  // with the pixels it is given, so this is what keeps a frame in budget (bench/capture_bench.cpp).
   // A miss there searches the
   // whole frame before giving up.
   if (++s.framesSinceLastPose > kTrackingPatienceFrames) s.lastPose.reset();
-  const std::vector<DetectedMarker> markers = s.detectMarkers(frame);
+  const std::vector<DetectedMarker> markers = s.detectMarkers(frame, &m.trackedScale);
   std::vector<PlaneCorrespondence> corners;
   std::vector<const DetectedMarker*> known;
   for (const auto& marker : markers) {

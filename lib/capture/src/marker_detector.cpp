@@ -90,7 +90,16 @@ std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame,
   const int used = image.channels >= 3 ? 3 : 1;
   const bool linear = image.bitDepth == 16;
   const std::uint16_t* in = image.samples.data();
-  const int perGrayPixel = used * binX * binY;
+  // Each pixel is put on the 8-bit curve before a bin is averaged, so a binned edge lies where
+  // the full-resolution one does (averaging linear light first would move it toward the dark side).
+  const auto grayOf = [&](const std::uint16_t* px) {
+    int sum = 0;
+    for (int c = 0; c < used; ++c)
+      sum += px[c];
+    const int mean = sum / used;
+    return linear ? int{state_->linearToGray[mean]} : mean;
+  };
+  const int binPixels = binX * binY;
   for (int y = 0; y < grayHeight; ++y) {
     std::uint8_t* row = gray->buf + static_cast<std::size_t>(y) * gray->stride;
     for (int x = 0; x < grayWidth; ++x) {
@@ -101,11 +110,9 @@ std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame,
                   static_cast<std::size_t>(x) * binX) *
                      image.channels;
         for (int bx = 0; bx < binX; ++bx, px += image.channels)
-          for (int c = 0; c < used; ++c)
-            sum += px[c];
+          sum += grayOf(px);
       }
-      const int mean = sum / perGrayPixel;
-      row[x] = linear ? state_->linearToGray[mean] : static_cast<std::uint8_t>(mean);
+      row[x] = static_cast<std::uint8_t>((sum + binPixels / 2) / binPixels);
     }
   }
   state_->detector->quad_decimate = scale ? scale->quadDecimate : state_->settings.decimation;

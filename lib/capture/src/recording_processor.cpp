@@ -126,6 +126,13 @@ nlohmann::json RecordingResult::toJson() const {
                         {"nominal_light", directionJson(m.nominalLight)},
                         {"measured_light", directionJson(m.measuredLight)},
                         {"measured_light_sigma_deg", m.measuredLightSigmaDeg}};
+    // How the markers were found: the tracked search's scale, or the whole frame.
+    if (const auto& scale = m.trackedScale)
+      f["detection"] = {{"tracked", true},
+                        {"decimation", scale->quadDecimate},
+                        {"bin", {scale->binX, scale->binY}}};
+    else if (m.markerCount > 0)
+      f["detection"] = {{"tracked", false}};
     if (o.kind == FrameOutcome::Kind::Rejected) f["reason"] = o.rejectReason;
     if (!o.detail.empty()) f["detail"] = o.detail;
     if (o.sample) {

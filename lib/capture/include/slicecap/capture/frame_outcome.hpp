@@ -9,6 +9,7 @@
 
 #include "slicecap/capture/frame_sample.hpp"
 #include "slicecap/capture/light_model.hpp"
+#include "slicecap/capture/marker_detector.hpp"
 #include "slicecap/core/slice.hpp"
 #include "slicecap/hal/frame.hpp"
 #include "slicecap/vision/pose.hpp"
@@ -32,6 +33,9 @@ struct FrameOutcome {
   /// \brief What the pipeline measured, as far as it got (reports and tests).
   struct Measurement {
     int markerCount = 0;
+    /// \brief The scale of the tracked search whose markers were used (from the latest pose, in
+    /// the sheet's area); none when the whole frame was searched (no pose yet, or tracking missed).
+    std::optional<DetectionScale> trackedScale;
     std::optional<Direction> view;  ///< toward the camera from the window centre
     double cameraDistanceMm = 0.0;
     double poseResidualPx = 0.0;

@@ -46,16 +46,17 @@ struct MarkerDetectorSettings {
   /// height and the half-size image loses most of them (measured on a simulated session: 9 of 24
   /// LED-on frames of axial 75/75 kept at decimation 2 alone, 23 of 24 with this).
   int fullResolutionBelow = 8;
-  /// \brief When the pipeline tracks the target (it knows the previous frame's pose), it
-  /// predicts how large each tag cell will appear and asks for the cheapest DetectionScale that
-  /// leaves every cell at least this many pixels across, in any direction, where the quads are
-  /// found (no retry at full resolution). Measured on bench/capture_bench's sweeps and
-  /// tests/capture/marker_detector_test.cpp: at 1.0 px the library's decimation 4 (cells of
-  /// ~4.5 px at 30 deg) missed tags and put corners 3.8 px off; 1.4 keeps it at 3 or 2 there.
+  /// \brief When the pipeline tracks the target (it knows the latest pose), it predicts how each
+  /// tag cell will appear and takes the coarsest of the library's decimations 3, 2, 1.5 that leaves
+  /// every cell at least this many pixels across, in any direction, where the quads are found
+  /// (the corners are still refined at full resolution). Measured on bench/capture_bench's sweeps
+  /// and tests/capture/marker_detector_test.cpp: decimation 4 on cells of ~4.5 px (30 deg) missed
+  /// a tag and put a corner 3.8 px off, so it is never offered; 1.4 gives 3 or 2 at 30 deg.
   double minDecimatedCellPx = 1.4;
-  /// \brief The same for binning along one axis (the foreshortened views, where the cells are
-  /// ~1.1-1.4 px across one way and ~4.5 px the other): 1.0 keeps every tag of a 75 deg sweep,
-  /// 1.2 already rules binning out for most of its frames.
+  /// \brief Only when no decimation suits (the foreshortened views, where the cells are ~1.1-1.4
+  /// px across one way and ~4.5 px the other): the coarsest binning along one axis (4, 3, 2) that
+  /// leaves every cell this many binned pixels. 1.0 keeps every tag of a 75 deg sweep; 1.2 already
+  /// rules binning out for most of its frames. Else full resolution.
   double minBinnedCellPx = 1.0;
 };
 
