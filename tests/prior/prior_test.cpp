@@ -146,6 +146,31 @@ TEST(PriorReconstruction, AcceptsDiagonalOnlyAndSomePairsWhereMethodBRefuses) {
   EXPECT_LT(eval::compare(truth, reconstructWithPrior(somePairs, defaultPriorModel())).deltaE, 6.0);
 }
 
+TEST(PriorReconstruction, TwoMeasuredPairsUseTheirOwnRidge) {
+  const Abrdf truth =
+      models::tabulate(*models::makeBlinnPhong({0.12, 0.08, 0.05}, {0.3, 0.3, 0.3}, 45.0));
+  recon::ExtractionParams diagonal;
+  diagonal.diagonalOnly = true;
+  const SliceSet fourSweeps = recon::extractSlices(truth, diagonal);
+  const SliceSet twoSweeps = keepPairs(fourSweeps, {{30, 30}, {75, 75}});
+  PriorParams otherRidge, otherFewPairsRidge;
+  otherRidge.ridge = 3.0;
+  otherFewPairsRidge.fewPairsRidge = 90.0;
+  const auto apart = [&](const SliceSet& slices, const PriorParams& params) {
+    return eval::compare(reconstructWithPrior(slices, defaultPriorModel()),
+                         reconstructWithPrior(slices, defaultPriorModel(), params))
+        .relativeRmse;
+  };
+  // Two pairs: only fewPairsRidge matters; four: only ridge.
+  EXPECT_EQ(apart(twoSweeps, otherRidge), 0.0);
+  EXPECT_GT(apart(twoSweeps, otherFewPairsRidge), 1e-3);
+  EXPECT_GT(apart(fourSweeps, otherRidge), 1e-3);
+  EXPECT_EQ(apart(fourSweeps, otherFewPairsRidge), 0.0);
+  PriorParams bad;
+  bad.fewPairsRidge = 0.0;
+  EXPECT_THROW(reconstructWithPrior(twoSweeps, defaultPriorModel(), bad), std::invalid_argument);
+}
+
 TEST(PriorReconstruction, TwoDiagonalSweepsOfAMeasuredTableSuffice) {
   SLICECAP_REQUIRE_SHARED_DATA(dir);
   // The shipped prior has seen this table: the check is that 36 samples pin it down.

@@ -77,6 +77,8 @@ bool PriorParams::isValid(std::string* error) const {
     return false;
   };
   if (!(ridge > 0.0) || !std::isfinite(ridge)) return bad("ridge must be positive");
+  if (!(fewPairsRidge > 0.0) || !std::isfinite(fewPairsRidge))
+    return bad("few-pairs ridge must be positive");
   if (!(anisotropyRidge > 0.0) || !std::isfinite(anisotropyRidge))
     return bad("anisotropy ridge must be positive");
   if (!(anisotropyScoreRatio >= 0.0 && anisotropyScoreRatio <= 1.0))
@@ -136,9 +138,16 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
     for (int c = 0; c < 3; ++c)
       targets(i, c) = std::log(rows[i].weighted[c] + floor[c]) - meanAtSample;
   }
+  // Two or fewer measured elevation pairs (e.g. the two diagonal sweeps 30/30 and 75/75): the
+  // lighter ridge of PriorParams::fewPairsRidge.
+  std::vector<ElevationPair> pairs;
+  for (const SampleRow& r : rows)
+    if (std::find(pairs.begin(), pairs.end(), r.slice->elevations) == pairs.end())
+      pairs.push_back(r.slice->elevations);
+  const double ridge = pairs.size() <= 2 ? params.fewPairsRidge : params.ridge;
   Eigen::VectorXd penalty(k + kHalfVectorTermCount);
   for (int j = 0; j < k; ++j)
-    penalty[j] = params.ridge * model.residualVariance / model.variance[j];
+    penalty[j] = ridge * model.residualVariance / model.variance[j];
   penalty.tail(kHalfVectorTermCount).setConstant(params.anisotropyRidge);
 
   // The isotropic fit: the basis alone, or with the isotropic hats when they lower the GCV score.
