@@ -1,11 +1,15 @@
 // Per-texel accuracy of the BTF mode (issue 7) on the virtual rig's woven material, from a clean
 // rig and from a realistic hand-held one (8-bit sRGB, room light with LED alternation, jitter,
-// blur, occlusion, markers out of view), through the same steps as `slicecap btf` with the live
-// loop's one-sided LED-off frame. A program, not a test: scripts/btf-accuracy.
+// blur, occlusion, markers out of view) written as recordings and read by the same code as
+// `slicecap btf` (captureRecordings), with the room light from the LED-off frame before (as live)
+// and from both sides. A program, not a test: scripts/btf-accuracy.
 // Usage: btf_accuracy [RESOLUTION=32] [FRAMES_PER_SWEEP=48]
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 #include "slicecap/btf/btf_reconstruction.hpp"
@@ -26,54 +30,15 @@ using namespace slicecap;
 
 struct RunResult {
   double meanDeltaE = 0, meanRmse = 0, meanRelativeRmse = 0;
-  int texels = 0, failedTexels = 0, closerToOwnMaterial = 0, samples = 0, ledOnFrames = 0;
+  int texels = 0, failedTexels = 0, closerToOwnMaterial = 0, filledBins = 0;
   eval::Metrics average;
 };
 
-RunResult run(const sim::RigParams& rig, int resolution) {
+// Per-texel and window-average errors of a captured texture against the woven material.
+RunResult evaluate(const btf::TextureCapture& texture, const SliceSet& averageSlices,
+                   RunResult result) {
   const auto woven = sim::makeWovenMaterial(10.0);
-  const sim::FrameRenderer renderer(vision::defaultSimulatedCamera(), vision::defaultTarget(),
-                                    woven, rig);
-  capture::PipelineSettings settings;
-  settings.requireAmbient = rig.alternateLed;
-  btf::TextureCapture texture(renderer.camera(), renderer.target().window, {resolution, 5, {}});
-  SliceSet averageSlices;
-  RunResult result;
-  for (SliceKind kind : {SliceKind::Axial, SliceKind::Diagonal}) {
-    for (const ElevationPair& pair : kMeasuredPairs) {
-      const SliceId slice{kind, pair};
-      std::vector<sim::FramePlan> plans =
-          sim::planSweep(slice, kAxialOffsetDeg, rig, renderer.camera(), renderer.target());
-      const double exposureUs = sim::chooseExposureUs(renderer, rig, plans);
-      capture::FramePipeline pipeline(renderer.target(), renderer.camera(), settings);
-      capture::AzimuthBins bins(kind);
-      texture.startSlice(slice);
-      for (sim::FramePlan& plan : plans) {
-        plan.exposureUs = std::round(exposureUs * plan.exposureScale);
-        const sim::FrameScene scene{plan.exposurePoses,
-                                    plan.lightMm,
-                                    plan.ledOn,
-                                    plan.exposureUs,
-                                    plan.gain,
-                                    plan.occluder,
-                                    rig.seed * 7919u + static_cast<std::uint64_t>(plan.index)};
-        const hal::Frame frame{
-            renderer.render(scene),
-            rig.encoding,
-            {std::uint64_t(plan.index), plan.timestampUs, plan.exposureUs, plan.gain, plan.ledOn}};
-        const capture::FrameOutcome outcome = pipeline.process(frame, slice);
-        if (!plan.ledOn) continue;
-        ++result.ledOnFrames;
-        if (outcome.kind != capture::FrameOutcome::Kind::Sample) continue;
-        ++result.samples;
-        texture.add(frame, outcome, pipeline.ambientFrame());
-        bins.add(*outcome.sample);
-      }
-      texture.finishSlice();
-      for (const SliceSample& s : bins.combine())
-        averageSlices.add(slice, s);
-    }
-  }
+  const int resolution = texture.grid().resolution();
   btf::BtfReconstructionReport report;
   const btf::BtfTexture btf = btf::reconstructBtf(texture.grid(), texture.slices(), {}, &report);
   result.failedTexels = static_cast<int>(report.failedTexels);
@@ -100,17 +65,74 @@ RunResult run(const sim::RigParams& rig, int resolution) {
   for (std::size_t i = 0; i < meanTruth.values().size(); ++i)
     meanTruth.values()[i] = 0.5f * (warp.values()[i] + weft.values()[i]);
   result.average = eval::compare(meanTruth, recon::reconstructMethodB(averageSlices));
+  result.filledBins = static_cast<int>(averageSlices.sampleCount());
   return result;
+}
+
+// The clean rig, in memory: every frame LED-on, no room light.
+RunResult runClean(const sim::RigParams& rig, int resolution) {
+  const auto woven = sim::makeWovenMaterial(10.0);
+  const sim::FrameRenderer renderer(vision::defaultSimulatedCamera(), vision::defaultTarget(),
+                                    woven, rig);
+  capture::PipelineSettings settings;
+  settings.requireAmbient = false;
+  btf::TextureCapture texture(renderer.camera(), renderer.target().window, {resolution, 5, {}});
+  SliceSet averageSlices;
+  RunResult result;
+  for (SliceKind kind : {SliceKind::Axial, SliceKind::Diagonal}) {
+    for (const ElevationPair& pair : kMeasuredPairs) {
+      const SliceId slice{kind, pair};
+      std::vector<sim::FramePlan> plans =
+          sim::planSweep(slice, kAxialOffsetDeg, rig, renderer.camera(), renderer.target());
+      const double exposureUs = sim::chooseExposureUs(renderer, rig, plans);
+      capture::FramePipeline pipeline(renderer.target(), renderer.camera(), settings);
+      capture::AzimuthBins bins(kind);
+      texture.startSlice(slice);
+      for (sim::FramePlan& plan : plans) {
+        plan.exposureUs = std::round(exposureUs * plan.exposureScale);
+        const sim::FrameScene scene{plan.exposurePoses,
+                                    plan.lightMm,
+                                    plan.ledOn,
+                                    plan.exposureUs,
+                                    plan.gain,
+                                    plan.occluder,
+                                    rig.seed * 7919u + static_cast<std::uint64_t>(plan.index)};
+        const hal::Frame frame{
+            renderer.render(scene),
+            rig.encoding,
+            {std::uint64_t(plan.index), plan.timestampUs, plan.exposureUs, plan.gain, plan.ledOn}};
+        const capture::FrameOutcome outcome = pipeline.process(frame, slice);
+        if (outcome.kind != capture::FrameOutcome::Kind::Sample) continue;
+        texture.add(frame, outcome, nullptr);
+        bins.add(*outcome.sample);
+      }
+      texture.finishSlice();
+      for (const SliceSample& s : bins.combine())
+        averageSlices.add(slice, s);
+    }
+  }
+  return evaluate(texture, averageSlices, result);
+}
+
+// A simulated session on disk through the same code as `slicecap btf` (captureRecordings), with
+// the room light subtracted from the LED-off frames on both sides or (as live) the one before.
+RunResult runSession(const std::vector<std::filesystem::path>& recordings, int resolution,
+                     bool twoSidedAmbient) {
+  capture::PipelineSettings settings;
+  settings.poseAmbientFrames = true;
+  settings.offlineTwoSidedAmbient = twoSidedAmbient;
+  const btf::SessionTexture session =
+      btf::captureRecordings(recordings, settings, {resolution, 5, {}});
+  return evaluate(session.texture, session.averageSlices, {});
 }
 
 void print(const char* name, const RunResult& r) {
   std::printf(
-      "%-10s LED-on frames %d, samples %d; per texel (%d texels, %d failed): mean dE %.2f, RMSE "
-      "%.1f, relative RMSE %.3f, closer to own material %d; window average vs mean material: dE "
-      "%.2f, RMSE %.1f, relative RMSE %.3f\n",
-      name, r.ledOnFrames, r.samples, r.texels, r.failedTexels, r.meanDeltaE, r.meanRmse,
-      r.meanRelativeRmse, r.closerToOwnMaterial, r.average.deltaE, r.average.rmse,
-      r.average.relativeRmse);
+      "%s: %d of 192 bins filled; per texel (%d texels, %d failed): mean dE %.2f, RMSE %.1f, "
+      "relative RMSE %.3f, closer to own material %d; window average vs mean material: dE %.2f, "
+      "RMSE %.1f, relative RMSE %.3f\n",
+      name, r.filledBins, r.texels, r.failedTexels, r.meanDeltaE, r.meanRmse, r.meanRelativeRmse,
+      r.closerToOwnMaterial, r.average.deltaE, r.average.rmse, r.average.relativeRmse);
 }
 
 }  // namespace
@@ -142,11 +164,23 @@ int main(int argc, char** argv) {
   clean.ambientIrradiance = 0.0;
   clean.alternateLed = false;
   clean.framesPerSlice = frames;
-  sim::RigParams realistic = sim::RigParams::realistic();
-  realistic.framesPerSlice = frames;
   const auto start = std::chrono::steady_clock::now();
-  print("clean", run(clean, resolution));
-  print("realistic", run(realistic, resolution));
+  print("clean", runClean(clean, resolution));
+  // The realistic session as recordings, as the box records them.
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("slicecap-btf-accuracy-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  sim::SweepSetup setup;
+  setup.rig = sim::RigParams::realistic();
+  setup.rig.framesPerSlice = frames;
+  setup.materialSpec = "woven";
+  const sim::FrameRenderer renderer(setup.camera, setup.target, woven, setup.rig);
+  const std::vector<std::filesystem::path> recordings = sim::simulateSession(dir, renderer, setup);
+  print("realistic, room light from the LED-off frame before (as live)",
+        runSession(recordings, resolution, false));
+  print("realistic, room light from both sides (slicecap btf's default)",
+        runSession(recordings, resolution, true));
+  std::filesystem::remove_all(dir);
   std::printf("(%.0f s)\n",
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return 0;

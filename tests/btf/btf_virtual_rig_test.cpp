@@ -108,6 +108,65 @@ TEST(BtfRectifier, TexelsMatchTheRenderedMaterialAtTheirOwnPointAndDirections) {
   }
 }
 
+TEST(BtfRectifier, RoomLightIsReadAtTheLedOffFramesOwnPose) {
+  // Room light on, the LED-off frame taken from where the camera was a frame later (7.5 deg on):
+  // the same target point lies at another pixel there, and at the woven cells' edges the LED-on
+  // frame's pixel shows the other material. Reading it through its own pose must subtract the
+  // room light better (measured 3.3 % mean relative error against 6.4 %; 15.9 % with none).
+  const auto woven = sim::makeWovenMaterial(10.0);
+  sim::RigParams rig = cleanRig(48);
+  rig.ambientIrradiance = 0.6;
+  const sim::FrameRenderer renderer(vision::defaultSimulatedCamera(), vision::defaultTarget(),
+                                    woven, rig);
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  const auto plans = plannedSweep(slice, rig, renderer);
+  const sim::FramePlan& lit = plans[2];
+  const hal::Frame frame = renderedFrame(renderer, lit);
+  sim::FramePlan darkPlan = plans[3];
+  darkPlan.exposureUs = lit.exposureUs;
+  sim::FrameScene darkScene;
+  darkScene.exposurePoses = darkPlan.exposurePoses;
+  darkScene.lightMm = darkPlan.lightMm;
+  darkScene.ledOn = false;
+  darkScene.exposureUs = darkPlan.exposureUs;
+  darkScene.gain = darkPlan.gain;
+  const hal::Frame dark{renderer.render(darkScene),
+                        PixelEncoding::Linear16,
+                        {3, darkPlan.timestampUs, darkPlan.exposureUs, darkPlan.gain, false}};
+  const capture::PointLight light{{lit.lightMm.x(), lit.lightMm.y(), lit.lightMm.z()},
+                                  Rgb::gray(rig.sensorResponse * rig.ledIntensityWPerSr)};
+  const TextureGrid grid(16, renderer.target().window);
+  const auto meanError = [&](const std::vector<capture::AmbientTerm>& ambient) {
+    const std::vector<float> texels =
+        rectifyFrame(grid, renderer.camera(), frame, ambient, {lit.pose, light});
+    double sum = 0.0;
+    int counted = 0;
+    for (int row = 0; row < 16; ++row) {
+      for (int column = 0; column < 16; ++column) {
+        const Eigen::Vector3d p = grid.texelCentreMm(column, row);
+        const bool isWarp = woven->firstWeightAt(p.x(), p.y()) > 0.5;
+        const Rgb truth =
+            woven->component(isWarp ? 0 : 1)
+                .evaluate(unitToward(p, lit.lightMm), unitToward(p, lit.pose.cameraCentreMm()));
+        const float* v = &texels[3 * grid.index(column, row)];
+        for (int c = 0; c < 3; ++c, ++counted)
+          sum += std::abs(v[c] - truth[c]) / truth[c];
+      }
+    }
+    return sum / counted;
+  };
+  const double ownPose = meanError({{&dark, darkPlan.pose, 1.0}});
+  const double samePixel = meanError({{&dark, std::nullopt, 1.0}});
+  const double none = meanError({});
+  std::cout << "room light: none " << none << ", at the LED-on pixel " << samePixel
+            << ", at its own pose " << ownPose << " (mean relative error)\n";
+  EXPECT_LT(ownPose, 0.7 * samePixel);
+  EXPECT_LT(ownPose, 0.3 * none);
+  EXPECT_LT(ownPose, 0.05);
+  // Split into two halves of the same frame, the term is the same.
+  EXPECT_NEAR(meanError({{&dark, darkPlan.pose, 0.5}, {&dark, darkPlan.pose, 0.5}}), ownPose, 1e-6);
+}
+
 struct TexelErrors {
   double meanRelativeRmse = 0, meanDeltaE = 0, meanRmse = 0;
   int closerToOwnMaterial = 0;

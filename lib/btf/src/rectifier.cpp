@@ -29,15 +29,33 @@ int subsamplesOf(const TextureGrid& grid, const vision::CameraModel& camera,
 std::vector<float> rectifyFrame(const TextureGrid& grid, const vision::CameraModel& camera,
                                 const hal::Frame& frame, const hal::Frame* ambient,
                                 const FrameGeometry& geometry, const RectifyParams& params) {
+  std::vector<capture::AmbientTerm> terms;
+  if (ambient) terms.push_back({ambient, std::nullopt, 1.0});
+  return rectifyFrame(grid, camera, frame, terms, geometry, params);
+}
+
+std::vector<float> rectifyFrame(const TextureGrid& grid, const vision::CameraModel& camera,
+                                const hal::Frame& frame,
+                                std::span<const capture::AmbientTerm> ambient,
+                                const FrameGeometry& geometry, const RectifyParams& params) {
   const int n = grid.resolution();
   std::vector<float> out(grid.texelCount() * 3, std::numeric_limits<float>::quiet_NaN());
   const capture::LinearView on(frame);
-  const std::optional<capture::LinearView> off =
-      ambient ? std::optional<capture::LinearView>(*ambient) : std::nullopt;
-  const double scale = frame.metadata.exposureUs * frame.metadata.gain;
-  const double ambientScale = ambient ? ambient->metadata.exposureUs * ambient->metadata.gain : 1.0;
-  const double perUs = 1.0 / (scale > 0 ? scale : 1.0);
-  const double ambientPerUs = 1.0 / (ambientScale > 0 ? ambientScale : 1.0);
+  const auto perUsOf = [](const hal::Frame& f) {
+    const double scale = f.metadata.exposureUs * f.metadata.gain;
+    return 1.0 / (scale > 0 ? scale : 1.0);
+  };
+  struct Off {
+    capture::LinearView view;
+    const std::optional<vision::Pose>* pose;
+    double weightPerUs;
+  };
+  std::vector<Off> offs;
+  for (const capture::AmbientTerm& term : ambient)
+    if (term.frame)
+      offs.push_back(
+          {capture::LinearView(*term.frame), &term.pose, term.weight * perUsOf(*term.frame)});
+  const double perUs = perUsOf(frame);
   const int s = subsamplesOf(grid, camera, geometry.pose, std::max(1, params.maxSubsamples));
   for (int row = 0; row < n; ++row) {
     for (int column = 0; column < n; ++column) {
@@ -52,9 +70,15 @@ std::vector<float> rectifyFrame(const TextureGrid& grid, const vision::CameraMod
             break;
           }
           radiance += on.at(*px, params.clipFraction, &clipped) * perUs;
-          if (off) {
+          for (const Off& off : offs) {
+            // The same target point in the LED-off frame: through its own pose when located.
+            Eigen::Vector2d at = *px;
+            if (*off.pose) {
+              const auto own = camera.project((*off.pose)->toCamera(point));
+              if (own && off.view.inside(*own)) at = *own;
+            }
             bool ignored = false;
-            radiance -= off->at(*px, 2.0, &ignored) * ambientPerUs;
+            radiance -= off.view.at(at, 2.0, &ignored) * off.weightPerUs;
           }
         }
       }

@@ -30,6 +30,13 @@ void TextureCapture::startSlice(const SliceId& slice) {
 
 void TextureCapture::add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
                          const hal::Frame* ambient) {
+  std::vector<capture::AmbientTerm> terms;
+  if (ambient) terms.push_back({ambient, std::nullopt, 1.0});
+  add(frame, outcome, terms);
+}
+
+void TextureCapture::add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
+                         std::span<const capture::AmbientTerm> ambient) {
   if (!active_) throw std::logic_error("texture capture: a frame outside a sweep");
   const auto& m = outcome.measurement;
   if (outcome.kind != capture::FrameOutcome::Kind::Sample || !outcome.sample || !m.pose ||
@@ -88,10 +95,12 @@ SessionTexture captureRecordings(const std::vector<std::filesystem::path>& recor
     } catch (const std::invalid_argument& error) {
       throw std::invalid_argument(directory.string() + ": " + error.what());
     }
-    const capture::RecordingResult result = capture::processRecording(
-        directory, settings,
-        [&](const hal::Frame& frame, const capture::FrameOutcome& outcome,
-            const hal::Frame* ambient) { session.texture.add(frame, outcome, ambient); });
+    const capture::RecordingResult result =
+        capture::processRecording(directory, settings,
+                                  [&](const hal::Frame& frame, const capture::FrameOutcome& outcome,
+                                      const std::vector<capture::AmbientTerm>& ambient) {
+                                    session.texture.add(frame, outcome, ambient);
+                                  });
     session.texture.finishSlice();
     for (const SliceSample& sample : result.bins.combine())
       session.averageSlices.add(result.slice, sample);

@@ -255,20 +255,33 @@ struct FramePipeline::State {
   // (offline), else from the one there is. Each is sampled at its own pose when located.
   Rgb ambientAt(const std::vector<Eigen::Vector2d>& points, const vision::Pose& pose,
                 std::int64_t timeUs) const {
-    const auto sampleOf = [&](const Ambient& a) {
-      if (a.pose) {
-        const RegionMean own = regionMean(a.frame, *a.pose, camera, points, 2.0);
-        if (own.inside) return own.value;
+    Rgb sum;
+    for (const AmbientTerm& term : ambientTerms(timeUs)) {
+      std::optional<Rgb> value;
+      if (term.pose) {
+        const RegionMean own = regionMean(*term.frame, *term.pose, camera, points, 2.0);
+        if (own.inside) value = own.value;
       }
-      return regionMean(a.frame, pose, camera, points, 2.0).value;
+      if (!value) value = regionMean(*term.frame, pose, camera, points, 2.0).value;
+      sum += term.weight * *value;
+    }
+    return sum;
+  }
+
+  // The LED-off frames on both sides of `timeUs`, weighted linearly in time, when the following
+  // one is known (offline), else the one there is.
+  std::vector<AmbientTerm> ambientTerms(std::int64_t timeUs) const {
+    const auto term = [](const Ambient& a, double weight) {
+      return AmbientTerm{&a.frame, a.pose, weight};
     };
+    if (!ambient && !nextAmbient) return {};
+    if (!ambient) return {term(*nextAmbient, 1.0)};
     const bool after = nextAmbient && nextAmbient->frame.metadata.timestampUs > timeUs;
-    if (!ambient) return sampleOf(*nextAmbient);
-    if (!after) return sampleOf(*ambient);
+    if (!after) return {term(*ambient, 1.0)};
     const double t0 = static_cast<double>(ambient->frame.metadata.timestampUs);
     const double t1 = static_cast<double>(nextAmbient->frame.metadata.timestampUs);
     const double w = std::clamp((static_cast<double>(timeUs) - t0) / (t1 - t0), 0.0, 1.0);
-    return (1.0 - w) * sampleOf(*ambient) + w * sampleOf(*nextAmbient);
+    return {term(*ambient, 1.0 - w), term(*nextAmbient, w)};
   }
 };
 
@@ -318,6 +331,10 @@ void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
   if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs)
     return;
   s.nextAmbient = s.makeAmbient(frame);
+}
+
+std::vector<AmbientTerm> FramePipeline::ambientTermsFor(std::int64_t timeUs) const {
+  return state_->ambientTerms(timeUs);
 }
 
 const hal::Frame* FramePipeline::ambientFrame() const {

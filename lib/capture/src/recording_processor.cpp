@@ -91,8 +91,11 @@ RecordingResult processRecording(const std::filesystem::path& directory,
       const hal::Frame frame =
           following && following->first == i ? following->second : readFrame(i);
       outcome = pipeline.process(frame, result.slice);
-      // An LED-on frame leaves the pipeline's latest LED-off frame as it was: the one before it.
-      if (observer) observer(frame, outcome, entry.ledOn ? pipeline.ambientFrame() : nullptr);
+      // An LED-on frame leaves the pipeline's LED-off frames as they were: its own term.
+      if (observer)
+        observer(frame, outcome,
+                 entry.ledOn ? pipeline.ambientTermsFor(frame.metadata.timestampUs)
+                             : std::vector<AmbientTerm>{});
     } catch (const io::IoError& error) {
       outcome.kind = FrameOutcome::Kind::Rejected;
       outcome.rejectReason = "bad_frame";

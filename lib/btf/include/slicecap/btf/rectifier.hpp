@@ -2,9 +2,11 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <span>
 #include <vector>
 
 #include "slicecap/btf/texture_grid.hpp"
+#include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/capture/light_model.hpp"
 #include "slicecap/hal/frame.hpp"
 #include "slicecap/vision/camera_model.hpp"
@@ -35,6 +37,13 @@ struct RectifyParams {
 /// image or is clipped. `ambient` may be null (no room-light subtraction).
 std::vector<float> rectifyFrame(const TextureGrid& grid, const vision::CameraModel& camera,
                                 const hal::Frame& frame, const hal::Frame* ambient,
+                                const FrameGeometry& geometry, const RectifyParams& params = {});
+/// \brief The same with the pipeline's room-light term (FramePipeline::ambientTermsFor): each
+/// LED-off frame read at the texel's point through its own pose when it has one (the hand moved
+/// between the frames), else at the LED-on frame's pixel, weighted as given. Empty: none.
+std::vector<float> rectifyFrame(const TextureGrid& grid, const vision::CameraModel& camera,
+                                const hal::Frame& frame,
+                                std::span<const capture::AmbientTerm> ambient,
                                 const FrameGeometry& geometry, const RectifyParams& params = {});
 
 }  // namespace slicecap::btf

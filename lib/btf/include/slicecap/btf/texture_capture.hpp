@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,9 @@ class TextureCapture {
   /// corrected it with (null: none). Throws std::logic_error outside a sweep.
   void add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
            const hal::Frame* ambient);
+  /// \brief The same with the pipeline's room-light term (offline: both sides, own poses).
+  void add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
+           std::span<const capture::AmbientTerm> ambient);
   /// \brief Combines the active sweep's bins into its SliceTexture (nothing if none is active).
   void finishSlice();
 

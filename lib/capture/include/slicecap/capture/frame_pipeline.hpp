@@ -3,6 +3,7 @@
 
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "slicecap/capture/frame_outcome.hpp"
 #include "slicecap/capture/marker_detector.hpp"
@@ -43,6 +44,15 @@ struct PipelineSettings {
   bool offlineTwoSidedAmbient = true;
 };
 
+/// \brief One LED-off frame's share of an LED-on frame's room-light term.
+struct AmbientTerm {
+  const hal::Frame* frame = nullptr;
+  /// \brief The LED-off frame's own pose when it was located: the same target point is read
+  /// there (else at the LED-on frame's pixel).
+  std::optional<vision::Pose> pose;
+  double weight = 1.0;  ///< the terms of one LED-on frame sum to 1
+};
+
 /// \brief Turns the frames of one sweep into outcomes; keeps the latest LED-off frame. Construct
 /// a new one per sweep.
 class FramePipeline {
@@ -70,6 +80,11 @@ class FramePipeline {
   /// \brief The latest LED-off frame (the one before the coming LED-on frame), or nullptr:
   /// texture capture subtracts it texel by texel (one-sided, even offline).
   const hal::Frame* ambientFrame() const;
+  /// \brief The room-light term the pipeline uses for an LED-on frame taken at `timeUs`: the
+  /// LED-off frame before it and, once setFollowingAmbientFrame gave one (offline), the one after,
+  /// weighted linearly in time. Empty when there is no LED-off frame. The pointers stay valid until
+  /// the next process() or set*AmbientFrame() call.
+  std::vector<AmbientTerm> ambientTermsFor(std::int64_t timeUs) const;
 
  private:
   struct State;
