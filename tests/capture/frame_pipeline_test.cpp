@@ -36,11 +36,6 @@ std::filesystem::path simulate(const SliceId& slice, sim::RigParams rig, int fra
   return dir;
 }
 
-double angleBetweenDeg(const Direction& a, const Direction& b) {
-  const UnitVector u = toUnitVector(a), v = toUnitVector(b);
-  return std::acos(std::clamp(u.x * v.x + u.y * v.y + u.z * v.z, -1.0, 1.0)) * 180.0 / M_PI;
-}
-
 hal::Frame frameOf(const std::filesystem::path& dir, std::size_t index) {
   const io::Recording recording = io::readRecording(dir);
   const io::RecordedFrame& entry = recording.frames[index];

@@ -150,10 +150,7 @@ TEST(FramePipeline, TrackedFramesUseTheCoarseScaleAndAgreeWithTheWholeFrameSearc
     const FrameOutcome whole = fresh.process(after.on, after.slice);
     ASSERT_EQ(whole.kind, FrameOutcome::Kind::Sample) << whole.rejectReason << whole.detail;
     EXPECT_GE(tracked.measurement.markerCount, whole.measurement.markerCount - 2);
-    const UnitVector a = toUnitVector(whole.sample->view), b = toUnitVector(tracked.sample->view);
-    const double apartDeg =
-        std::acos(std::clamp(a.x * b.x + a.y * b.y + a.z * b.z, -1.0, 1.0)) * 180.0 / M_PI;
-    EXPECT_LT(apartDeg, 0.1);
+    EXPECT_LT(angleBetweenDeg(whole.sample->view, tracked.sample->view), 0.1);
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR(tracked.sample->value[c], whole.sample->value[c], 0.01 * whole.sample->value[c]);
   }

@@ -66,6 +66,13 @@ TEST(Directions, VectorRoundTrip) {
   EXPECT_THROW(toDirection({0, 0, 0}), std::invalid_argument);
 }
 
+TEST(Directions, AngleBetweenThem) {
+  EXPECT_NEAR(angleBetweenDeg({30, 0}, {30, 0}), 0.0, 1e-6);
+  EXPECT_NEAR(angleBetweenDeg({0, 0}, {75, 123}), 75.0, 1e-9);
+  EXPECT_NEAR(angleBetweenDeg({90, 0}, {90, 180}), 180.0, 1e-9);
+  EXPECT_NEAR(angleBetweenDeg({45, 10}, {45, 100}), 60.0, 1e-9);  // cos = 1/2
+}
+
 TEST(Angles, WrapAndDifference) {
   EXPECT_DOUBLE_EQ(wrapDeg360(-15.0), 345.0);
   EXPECT_DOUBLE_EQ(wrapDeg360(720.0), 0.0);

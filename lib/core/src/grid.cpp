@@ -25,6 +25,11 @@ Direction toDirection(const UnitVector& v) {
   return {thetaDeg, phiDeg};
 }
 
+double angleBetweenDeg(const Direction& a, const Direction& b) {
+  const UnitVector u = toUnitVector(a), v = toUnitVector(b);
+  return radToDeg(std::acos(std::clamp(u.x * v.x + u.y * v.y + u.z * v.z, -1.0, 1.0)));
+}
+
 namespace bonn {
 
 std::optional<int> ringOfElevation(double thetaDeg) {

@@ -25,6 +25,9 @@ UnitVector toUnitVector(const Direction& direction);
 /// std::invalid_argument). Azimuth in [0, 360).
 Direction toDirection(const UnitVector& vector);
 
+/// \brief The angle between two directions, degrees in [0, 180].
+double angleBetweenDeg(const Direction& a, const Direction& b);
+
 /// \brief One elevation ring of the grid: every ring starts at azimuth 0 and steps 360 / count.
 struct Ring {
   int thetaDeg;    ///< elevation of the ring
