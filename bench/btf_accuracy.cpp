@@ -103,7 +103,7 @@ RunResult runClean(const sim::RigParams& rig, int resolution) {
             {std::uint64_t(plan.index), plan.timestampUs, plan.exposureUs, plan.gain, plan.ledOn}};
         const capture::FrameOutcome outcome = pipeline.process(frame, slice);
         if (outcome.kind != capture::FrameOutcome::Kind::Sample) continue;
-        texture.add(frame, outcome, nullptr);
+        texture.add(frame, outcome, {});
         bins.add(*outcome.sample);
       }
       texture.finishSlice();

@@ -77,7 +77,7 @@ TEST(BtfRectifier, TexelsMatchTheRenderedMaterialAtTheirOwnPointAndDirections) {
                                     Rgb::gray(rig.sensorResponse * rig.ledIntensityWPerSr)};
     const TextureGrid grid(16, renderer.target().window);
     const std::vector<float> texels =
-        rectifyFrame(grid, renderer.camera(), frame, nullptr, {plan.pose, light});
+        rectifyFrame(grid, renderer.camera(), frame, {}, {plan.pose, light});
     int checked = 0;
     for (int row = 0; row < 16; ++row) {
       for (int column = 0; column < 16; ++column) {
@@ -194,7 +194,7 @@ TEST(BtfVirtualRig, WovenSessionReconstructsEveryTexelNearItsTruth) {
         const capture::FrameOutcome outcome = pipeline.process(frame, slice);
         ASSERT_EQ(outcome.kind, capture::FrameOutcome::Kind::Sample)
             << toString(slice) << ": " << outcome.rejectReason;
-        texture.add(frame, outcome, nullptr);
+        texture.add(frame, outcome, {});
         bins.add(*outcome.sample);
       }
       texture.finishSlice();

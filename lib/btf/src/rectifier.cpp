@@ -27,14 +27,6 @@ int subsamplesOf(const TextureGrid& grid, const vision::CameraModel& camera,
 }  // namespace
 
 std::vector<float> rectifyFrame(const TextureGrid& grid, const vision::CameraModel& camera,
-                                const hal::Frame& frame, const hal::Frame* ambient,
-                                const FrameGeometry& geometry, const RectifyParams& params) {
-  std::vector<capture::AmbientTerm> terms;
-  if (ambient) terms.push_back({ambient, std::nullopt, 1.0});
-  return rectifyFrame(grid, camera, frame, terms, geometry, params);
-}
-
-std::vector<float> rectifyFrame(const TextureGrid& grid, const vision::CameraModel& camera,
                                 const hal::Frame& frame,
                                 std::span<const capture::AmbientTerm> ambient,
                                 const FrameGeometry& geometry, const RectifyParams& params) {

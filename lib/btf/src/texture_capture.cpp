@@ -29,13 +29,6 @@ void TextureCapture::startSlice(const SliceId& slice) {
 }
 
 void TextureCapture::add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
-                         const hal::Frame* ambient) {
-  std::vector<capture::AmbientTerm> terms;
-  if (ambient) terms.push_back({ambient, std::nullopt, 1.0});
-  add(frame, outcome, terms);
-}
-
-void TextureCapture::add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
                          std::span<const capture::AmbientTerm> ambient) {
   if (!active_) throw std::logic_error("texture capture: a frame outside a sweep");
   const auto& m = outcome.measurement;

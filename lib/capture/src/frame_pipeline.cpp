@@ -250,13 +250,12 @@ struct FramePipeline::State {
     return a;
   }
 
-  // The room light's radiance at target points for an LED-on frame at `pose` and `timeUs`: from
-  // the LED-off frames on both sides, interpolated in time, when the following one is known
-  // (offline), else from the one there is. Each is sampled at its own pose when located.
-  Rgb ambientAt(const std::vector<Eigen::Vector2d>& points, const vision::Pose& pose,
-                std::int64_t timeUs) const {
+  // The room light's radiance at target points for an LED-on frame at `pose`, from its ambient
+  // terms (zero for none): each LED-off frame sampled at its own pose when located.
+  Rgb ambientAt(const std::vector<AmbientTerm>& terms, const std::vector<Eigen::Vector2d>& points,
+                const vision::Pose& pose) const {
     Rgb sum;
-    for (const AmbientTerm& term : ambientTerms(timeUs)) {
+    for (const AmbientTerm& term : terms) {
       std::optional<Rgb> value;
       if (term.pose) {
         const RegionMean own = regionMean(*term.frame, *term.pose, camera, points, 2.0);
@@ -337,10 +336,6 @@ std::vector<AmbientTerm> FramePipeline::ambientTermsFor(std::int64_t timeUs) con
   return state_->ambientTerms(timeUs);
 }
 
-const hal::Frame* FramePipeline::ambientFrame() const {
-  return state_->ambient ? &state_->ambient->frame : nullptr;
-}
-
 FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slice) {
   State& s = *state_;
   const std::uint64_t index = s.frameIndex++;
@@ -370,8 +365,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   // Tracking: search only where the sheet was in the latest located LED-on frame (plus a margin
   // for the hand's motion between frames), as coarsely as its tags allow; the detector's cost goes
   // with the pixels it is given, so this is what keeps a frame in budget (bench/capture_bench.cpp).
-  // A miss there searches the
-  // whole frame before giving up.
+  // A miss there searches the whole frame before giving up.
   if (++s.framesSinceLastPose > kTrackingPatienceFrames) s.lastPose.reset();
   const std::vector<DetectedMarker> markers = s.detectMarkers(frame, &m.trackedScale);
   std::vector<PlaneCorrespondence> corners;
@@ -430,18 +424,17 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
       regionMean(frame, pose, s.camera, s.windowPoints, s.settings.clipFraction);
   if (!window.inside) return rejected("window_occluded", "window out of the image", outcome);
   if (window.clipped) return rejected("window_clipped", "window saturated", outcome);
-  const bool haveAmbient = s.ambient || s.nextAmbient;
-  if (s.settings.requireAmbient && !haveAmbient)
+  // The same room-light term for the window and every reference, found once.
+  const std::vector<AmbientTerm> ambient = s.ambientTerms(frame.metadata.timestampUs);
+  if (s.settings.requireAmbient && ambient.empty())
     return rejected("no_ambient_frame", "no LED-off frame yet", outcome);
-  Rgb windowRadiance = window.value;
-  const std::int64_t timeUs = frame.metadata.timestampUs;
-  if (haveAmbient) windowRadiance -= s.ambientAt(s.windowPoints, pose, timeUs);
+  const Rgb windowRadiance = window.value - s.ambientAt(ambient, s.windowPoints, pose);
   std::vector<ReferenceObservation> observations;
   for (const auto& reference : s.references) {
     RegionMean area = regionMean(frame, pose, s.camera, reference.points, s.settings.clipFraction);
     if (!area.inside) continue;
     if (area.clipped) return rejected("window_clipped", "white reference saturated", outcome);
-    if (haveAmbient) area.value -= s.ambientAt(reference.points, pose, timeUs);
+    area.value -= s.ambientAt(ambient, reference.points, pose);
     if (!(area.value.minChannel() > 0)) continue;
     observations.push_back(
         {{reference.centre.x(), reference.centre.y(), 0.0}, area.value, reference.albedo});

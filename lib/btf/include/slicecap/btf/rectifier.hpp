@@ -34,13 +34,10 @@ struct RectifyParams {
 /// = (LED-on radiance - LED-off radiance) / (exposure x gain) / the fitted irradiance at the
 /// texel's own point. Each texel is the mean of sub-samples spread over its area, each projected
 /// through the camera model with its distortion and read bilinearly. NaN where a texel leaves the
-/// image or is clipped. `ambient` may be null (no room-light subtraction).
-std::vector<float> rectifyFrame(const TextureGrid& grid, const vision::CameraModel& camera,
-                                const hal::Frame& frame, const hal::Frame* ambient,
-                                const FrameGeometry& geometry, const RectifyParams& params = {});
-/// \brief The same with the pipeline's room-light term (FramePipeline::ambientTermsFor): each
-/// LED-off frame read at the texel's point through its own pose when it has one (the hand moved
-/// between the frames), else at the LED-on frame's pixel, weighted as given. Empty: none.
+/// image or is clipped. `ambient` is the pipeline's room-light term for the frame
+/// (FramePipeline::ambientTermsFor; empty: no subtraction): each LED-off frame read at the texel's
+/// points through its own pose when it has one (the hand moved between the frames), else at the
+/// LED-on frame's pixels, weighted as given.
 std::vector<float> rectifyFrame(const TextureGrid& grid, const vision::CameraModel& camera,
                                 const hal::Frame& frame,
                                 std::span<const capture::AmbientTerm> ambient,

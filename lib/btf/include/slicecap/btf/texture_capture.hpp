@@ -38,11 +38,9 @@ class TextureCapture {
   /// slice was already captured.
   void startSlice(const SliceId& slice);
   /// \brief One frame of the active sweep: an accepted sample (with its pose and light fit) is
-  /// rectified and binned; anything else is ignored. `ambient` is the LED-off frame the pipeline
-  /// corrected it with (null: none). Throws std::logic_error outside a sweep.
-  void add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
-           const hal::Frame* ambient);
-  /// \brief The same with the pipeline's room-light term (offline: both sides, own poses).
+  /// rectified and binned; anything else is ignored. `ambient` is the room-light term the
+  /// pipeline corrected it with (FramePipeline::ambientTermsFor; empty: none). Throws
+  /// std::logic_error outside a sweep.
   void add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
            std::span<const capture::AmbientTerm> ambient);
   /// \brief Combines the active sweep's bins into its SliceTexture (nothing if none is active).

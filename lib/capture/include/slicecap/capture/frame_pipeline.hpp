@@ -77,9 +77,6 @@ class FramePipeline {
   /// half a step). When that frame's turn comes, process() reuses it. The live loop does not call
   /// this and keeps the one-sided estimate, so every frame's outcome is known when it arrives.
   void setFollowingAmbientFrame(const hal::Frame& frame);
-  /// \brief The latest LED-off frame (the one before the coming LED-on frame), or nullptr:
-  /// texture capture subtracts it texel by texel (one-sided, even offline).
-  const hal::Frame* ambientFrame() const;
   /// \brief The room-light term the pipeline uses for an LED-on frame taken at `timeUs`: the
   /// LED-off frame before it and, once setFollowingAmbientFrame gave one (offline), the one after,
   /// weighted linearly in time. Empty when there is no LED-off frame. The pointers stay valid until
