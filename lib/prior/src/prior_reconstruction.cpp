@@ -141,9 +141,9 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
   // Two or fewer measured elevation pairs (e.g. the two diagonal sweeps 30/30 and 75/75): the
   // lighter ridge of PriorParams::fewPairsRidge.
   std::vector<ElevationPair> pairs;
-  for (const SampleRow& r : rows)
-    if (std::find(pairs.begin(), pairs.end(), r.slice->elevations) == pairs.end())
-      pairs.push_back(r.slice->elevations);
+  for (const Slice& s : slices.slices())
+    if (std::find(pairs.begin(), pairs.end(), s.id.elevations) == pairs.end())
+      pairs.push_back(s.id.elevations);
   const double ridge = pairs.size() <= 2 ? params.fewPairsRidge : params.ridge;
   Eigen::VectorXd penalty(k + kHalfVectorTermCount);
   for (int j = 0; j < k; ++j)
@@ -231,12 +231,7 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
   }
   if (report) {
     report->samples = rows.size();
-    report->measuredPairs.clear();
-    for (const Slice& s : slices.slices()) {
-      if (std::find(report->measuredPairs.begin(), report->measuredPairs.end(), s.id.elevations) ==
-          report->measuredPairs.end())
-        report->measuredPairs.push_back(s.id.elevations);
-    }
+    report->measuredPairs = pairs;
     report->anisotropyTermsUsed = useAnisotropy;
     report->isotropicScore = isotropic.score;
     report->anisotropicScore = params.isotropicOnly ? 0.0 : anisotropic.score;
