@@ -119,7 +119,7 @@ struct Sweep {
   explicit Sweep(const SliceId& id) : slice(id) {
     const auto dir = std::filesystem::temp_directory_path() /
                      ("slicecap-capture-bench-" + std::to_string(::getpid())) /
-                     sim::sliceDirectoryName(id);
+                     folderName(id);
     std::filesystem::remove_all(dir);
     sim::SweepSetup setup;
     setup.rig = sim::RigParams::realistic();

@@ -25,7 +25,7 @@ constexpr const char* kMaterial = "ward:diffuse=0.3,0.2,0.1,specular=0.2,ax=0.2,
 
 // A short sweep (8 frames: 4 with the LED on) written to a fresh directory.
 std::filesystem::path simulate(const SliceId& slice, sim::RigParams rig, int frames = 8) {
-  const auto dir = test::freshTempDir() / sim::sliceDirectoryName(slice);
+  const auto dir = test::freshTempDir() / folderName(slice);
   sim::SweepSetup setup;
   rig.framesPerSlice = frames;
   setup.rig = rig;

@@ -55,7 +55,7 @@ TEST(VirtualRig, WindowPixelIsTruthBrdfTimesLedIrradianceTimesExposureWithinOneP
   double worst = 0.0;
   for (const RadiometryCase& c : cases) {
     SCOPED_TRACE(c.material);
-    const auto dir = test::freshTempDir() / sliceDirectoryName(c.slice);
+    const auto dir = test::freshTempDir() / folderName(c.slice);
     SweepSetup setup = idealSetup(PixelEncoding::Linear16, c.ambient, 6);
     setup.materialSpec = c.material;
     const FrameRenderer renderer(setup.camera, setup.target, loadMaterial(c.material), setup.rig);
@@ -142,7 +142,7 @@ TEST(VirtualRig, TruthPosesReprojectMarkerCornersOntoDetectedCornersWithinHalfAP
     // corners' mean offset stays under 0.05 px: there, the mean tests the renderer and each
     // corner only loosely.
     const bool grazing = slice.elevations.thetaVDeg == 75;
-    const auto recording = dir / sliceDirectoryName(slice);
+    const auto recording = dir / folderName(slice);
     const SweepTruth truth = simulateSweep(recording, {slice, kAxialOffsetDeg}, renderer, setup);
     for (const FrameTruth& f : truth.frames) {
       SCOPED_TRACE(recording.filename().string() + "/" + f.file);

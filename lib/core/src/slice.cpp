@@ -32,6 +32,11 @@ std::string toString(const SliceId& id) {
          std::to_string(id.elevations.thetaVDeg);
 }
 
+std::string folderName(const SliceId& id) {
+  return std::string(toString(id.kind)) + "-" + std::to_string(id.elevations.thetaIDeg) + "-" +
+         std::to_string(id.elevations.thetaVDeg);
+}
+
 double sliceParameterDeg(SliceKind kind, const SliceSample& sample) {
   if (kind == SliceKind::Point) throw std::invalid_argument("a point sample lies on no slice");
   return wrapDeg360(kind == SliceKind::Axial ? sample.light.phiDeg : sample.view.phiDeg);

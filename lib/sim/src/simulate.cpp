@@ -139,11 +139,6 @@ SweepTruth simulateSweep(const std::filesystem::path& directory, const io::Recor
   return truth;
 }
 
-std::string sliceDirectoryName(const SliceId& slice) {
-  return std::string(toString(slice.kind)) + "-" + std::to_string(slice.elevations.thetaIDeg) +
-         "-" + std::to_string(slice.elevations.thetaVDeg);
-}
-
 std::vector<std::filesystem::path> simulateSession(
     const std::filesystem::path& directory, const FrameRenderer& renderer, const SweepSetup& setup,
     const std::function<void(const std::string&)>& log) {
@@ -151,7 +146,7 @@ std::vector<std::filesystem::path> simulateSession(
   for (SliceKind kind : {SliceKind::Axial, SliceKind::Diagonal}) {
     for (const ElevationPair& pair : kMeasuredPairs) {
       const io::RecordedSlice slice{{kind, pair}, kAxialOffsetDeg};
-      const std::filesystem::path sweep = directory / sliceDirectoryName(slice.id);
+      const std::filesystem::path sweep = directory / folderName(slice.id);
       simulateSweep(sweep, slice, renderer, setup);
       if (log) log("wrote " + sweep.string());
       recordings.push_back(sweep);

@@ -49,6 +49,8 @@ struct SliceId {
 
 /// \brief e.g. "axial 30/75".
 std::string toString(const SliceId& id);
+/// \brief e.g. "axial-30-75": how a slice's recording and texture folders are named.
+std::string folderName(const SliceId& id);
 
 /// \brief One measured (or simulated) BRDF sample at its actual light and view directions.
 struct SliceSample {

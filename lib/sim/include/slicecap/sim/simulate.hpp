@@ -37,9 +37,6 @@ SweepTruth simulateSweep(const std::filesystem::path& directory, const io::Recor
                          const FrameRenderer& renderer, const SweepSetup& setup,
                          const std::function<void(int, int)>& progress = {});
 
-/// \brief The recording directory name of a slice, e.g. "axial-30-75".
-std::string sliceDirectoryName(const SliceId& slice);
-
 /// \brief The eight slices (axial and diagonal at 30/30, 30/75, 75/30, 75/75) as eight
 /// recordings under `directory`, each with its truth. Returns their directories.
 std::vector<std::filesystem::path> simulateSession(
