@@ -476,10 +476,17 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
 
 FrameProcessor makeFramePipeline(const vision::TargetGeometry& target,
                                  const vision::CameraModel& camera,
-                                 const PipelineSettings& settings) {
+                                 const PipelineSettings& settings,
+                                 FrameObserver observer) {
   auto pipeline = std::make_shared<FramePipeline>(target, camera, settings);
-  return [pipeline](const hal::Frame& frame, const SliceId& slice) {
-    return pipeline->process(frame, slice);
+  return [pipeline, observer = std::move(observer)](const hal::Frame& frame,
+                                                    const SliceId& slice) {
+    FrameOutcome outcome = pipeline->process(frame, slice);
+    if (observer)
+      observer(frame, outcome,
+               frame.metadata.ledOn ? pipeline->ambientTermsFor(frame.metadata.timestampUs)
+                                    : std::vector<AmbientTerm>{});
+    return outcome;
   };
 }
 

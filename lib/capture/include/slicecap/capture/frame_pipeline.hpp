@@ -1,6 +1,7 @@
 // The per-frame capture pipeline: markers, pose, light direction, gate, BRDF sample.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -88,9 +89,19 @@ class FramePipeline {
   std::unique_ptr<State> state_;
 };
 
-/// \brief A FramePipeline as the FrameProcessor the daemon's frame loop calls.
+/// \brief Sees a frame with its outcome and, for an LED-on frame, the room-light term the
+/// pipeline used for it (FramePipeline::ambientTermsFor; empty for none or an LED-off frame):
+/// texture capture (lib/btf) rectifies accepted frames with it. The term's frames stay valid only
+/// during the call.
+using FrameObserver = std::function<void(const hal::Frame& frame, const FrameOutcome& outcome,
+                                         const std::vector<AmbientTerm>& ambient)>;
+
+/// \brief A FramePipeline as the FrameProcessor the daemon's frame loop calls; `observer` (if
+/// set) sees every frame after the pipeline, before the processor returns (the daemon's texture
+/// capture). Whatever the observer throws passes through the processor.
 FrameProcessor makeFramePipeline(const vision::TargetGeometry& target,
                                  const vision::CameraModel& camera,
-                                 const PipelineSettings& settings = {});
+                                 const PipelineSettings& settings = {},
+                                 FrameObserver observer = {});
 
 }  // namespace slicecap::capture

@@ -28,12 +28,6 @@ struct RecordingResult {
   nlohmann::json toJson() const;
 };
 
-/// \brief Sees every decoded frame of a recording with its outcome and, for an LED-on frame, the
-/// room-light term the pipeline used for it (FramePipeline::ambientTermsFor; empty for none or an
-/// LED-off frame): texture capture (lib/btf) rectifies accepted frames with it.
-using FrameObserver = std::function<void(const hal::Frame& frame, const FrameOutcome& outcome,
-                                         const std::vector<AmbientTerm>& ambient)>;
-
 /// \brief Runs `directory` (a recording with a slice) through a FramePipeline. Each LED-on
 /// frame's ambient term comes from the LED-off frames before and after it, each sampled at its own
 /// pose, interpolated in time (the first LED-off frame alone for the LED-on frames before it, the
