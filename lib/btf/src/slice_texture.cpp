@@ -23,6 +23,44 @@ float finiteMedian(float* values, int count) {
 
 }  // namespace
 
+std::optional<std::size_t> keepSlot(std::span<const double> keptParametersDeg, double parameterDeg,
+                                    double binCentreDeg, int framesPerBin) {
+  const auto distance = [binCentreDeg](double p) {
+    const double d = wrapDeg360(p - binCentreDeg);
+    return std::min(d, 360.0 - d);
+  };
+  if (static_cast<int>(keptParametersDeg.size()) < framesPerBin) return keptParametersDeg.size();
+  if (keptParametersDeg.empty()) return std::nullopt;
+  const auto farthest =
+      std::max_element(keptParametersDeg.begin(), keptParametersDeg.end(),
+                       [&](double a, double b) { return distance(a) < distance(b); });
+  if (distance(parameterDeg) < distance(*farthest))
+    return static_cast<std::size_t>(farthest - keptParametersDeg.begin());
+  return std::nullopt;
+}
+
+TextureBin combineBinFrames(std::span<const TextureFrame> frames, std::size_t texelCount) {
+  TextureBin bin;
+  if (frames.empty()) return bin;
+  for (const TextureFrame& f : frames)
+    if (f.texels.size() != texelCount * 3)
+      throw std::invalid_argument("texture bin: a frame of " + std::to_string(f.texels.size()) +
+                                  " values, expected " + std::to_string(texelCount * 3));
+  bin.frames = static_cast<int>(frames.size());
+  for (const TextureFrame& f : frames) {
+    bin.cameraMm += f.cameraMm / static_cast<double>(frames.size());
+    bin.lightMm += f.lightMm / static_cast<double>(frames.size());
+  }
+  bin.texels.resize(texelCount * 3);
+  std::vector<float> values(frames.size());
+  for (std::size_t i = 0; i < bin.texels.size(); ++i) {
+    for (std::size_t k = 0; k < frames.size(); ++k)
+      values[k] = frames[k].texels[i];
+    bin.texels[i] = finiteMedian(values.data(), bin.frames);
+  }
+  return bin;
+}
+
 std::size_t SliceTexture::memoryBytes() const {
   std::size_t bytes = 0;
   for (const TextureBin& bin : bins)
@@ -44,28 +82,22 @@ SliceTextureBins::SliceTextureBins(SliceId slice, std::size_t texelCount, int fr
   frames_.resize(static_cast<std::size_t>(bins_.binCount()));
 }
 
-double SliceTextureBins::distanceToCentreDeg(double parameterDeg) const {
-  const double centre = bins_.binOf(parameterDeg) * binWidthDeg_;
-  const double d = wrapDeg360(parameterDeg - centre);
-  return std::min(d, 360.0 - d);
-}
-
 void SliceTextureBins::add(TextureFrame frame) {
   if (frame.texels.size() != texelCount_ * 3)
     throw std::invalid_argument("texture bins: a frame of " + std::to_string(frame.texels.size()) +
                                 " values, expected " + std::to_string(texelCount_ * 3));
-  std::vector<TextureFrame>& bin =
-      frames_[static_cast<std::size_t>(bins_.binOf(frame.sliceParameterDeg))];
-  if (static_cast<int>(bin.size()) < framesPerBin_) {
+  const int binIndex = bins_.binOf(frame.sliceParameterDeg);
+  std::vector<TextureFrame>& bin = frames_[static_cast<std::size_t>(binIndex)];
+  std::vector<double> kept;
+  for (const TextureFrame& f : bin)
+    kept.push_back(f.sliceParameterDeg);
+  const std::optional<std::size_t> slot =
+      keepSlot(kept, frame.sliceParameterDeg, binIndex * binWidthDeg_, framesPerBin_);
+  if (!slot) return;
+  if (*slot == bin.size())
     bin.push_back(std::move(frame));
-    return;
-  }
-  auto farthest = std::max_element(bin.begin(), bin.end(), [&](const auto& a, const auto& b) {
-    return distanceToCentreDeg(a.sliceParameterDeg) < distanceToCentreDeg(b.sliceParameterDeg);
-  });
-  if (distanceToCentreDeg(frame.sliceParameterDeg) <
-      distanceToCentreDeg(farthest->sliceParameterDeg))
-    *farthest = std::move(frame);
+  else
+    bin[*slot] = std::move(frame);
 }
 
 int SliceTextureBins::filledCount() const {
@@ -82,23 +114,8 @@ std::size_t SliceTextureBins::memoryBytes() const {
 
 SliceTexture SliceTextureBins::combine() const {
   SliceTexture out{slice_, std::vector<TextureBin>(frames_.size())};
-  std::vector<float> values(static_cast<std::size_t>(framesPerBin_));
-  for (std::size_t b = 0; b < frames_.size(); ++b) {
-    const std::vector<TextureFrame>& frames = frames_[b];
-    if (frames.empty()) continue;
-    TextureBin& bin = out.bins[b];
-    bin.frames = static_cast<int>(frames.size());
-    for (const TextureFrame& f : frames) {
-      bin.cameraMm += f.cameraMm / frames.size();
-      bin.lightMm += f.lightMm / frames.size();
-    }
-    bin.texels.resize(texelCount_ * 3);
-    for (std::size_t i = 0; i < bin.texels.size(); ++i) {
-      for (std::size_t k = 0; k < frames.size(); ++k)
-        values[k] = frames[k].texels[i];
-      bin.texels[i] = finiteMedian(values.data(), bin.frames);
-    }
-  }
+  for (std::size_t b = 0; b < frames_.size(); ++b)
+    out.bins[b] = combineBinFrames(frames_[b], texelCount_);
   return out;
 }
 

@@ -10,6 +10,35 @@
 
 namespace slicecap::btf {
 
+std::optional<double> textureSliceParameterDeg(const capture::FrameOutcome& outcome,
+                                               SliceKind kind) {
+  const auto& m = outcome.measurement;
+  if (outcome.kind != capture::FrameOutcome::Kind::Sample || !outcome.sample || !m.pose ||
+      !m.fittedLight)
+    return std::nullopt;
+  return sliceParameterDeg(kind,
+                           {outcome.sample->light, outcome.sample->view, outcome.sample->value});
+}
+
+TextureFrame textureFrameOf(const TextureGrid& grid, const vision::CameraModel& camera,
+                            const hal::Frame& frame, const capture::FrameOutcome& outcome,
+                            std::span<const capture::AmbientTerm> ambient, SliceKind kind,
+                            const RectifyParams& params) {
+  const std::optional<double> parameterDeg = textureSliceParameterDeg(outcome, kind);
+  if (!parameterDeg)
+    throw std::invalid_argument("texture: only an accepted sample with its pose and light fit");
+  const auto& m = outcome.measurement;
+  const UnitVector toLight = toUnitVector(outcome.sample->light);
+  const auto& p = m.fittedLight->positionMm;
+  const double distanceMm = Eigen::Vector3d(p.x, p.y, p.z).norm();
+  TextureFrame texture;
+  texture.sliceParameterDeg = *parameterDeg;
+  texture.cameraMm = m.pose->cameraCentreMm();
+  texture.lightMm = Eigen::Vector3d(toLight.x, toLight.y, toLight.z) * distanceMm;
+  texture.texels = rectifyFrame(grid, camera, frame, ambient, {*m.pose, *m.fittedLight}, params);
+  return texture;
+}
+
 TextureCapture::TextureCapture(const vision::CameraModel& camera, const vision::RectMm& window,
                                const TextureCaptureParams& params)
     : grid_(params.resolution, window), camera_(camera), params_(params) {
@@ -31,23 +60,9 @@ void TextureCapture::startSlice(const SliceId& slice) {
 void TextureCapture::add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
                          std::span<const capture::AmbientTerm> ambient) {
   if (!active_) throw std::logic_error("texture capture: a frame outside a sweep");
-  const auto& m = outcome.measurement;
-  if (outcome.kind != capture::FrameOutcome::Kind::Sample || !outcome.sample || !m.pose ||
-      !m.fittedLight)
-    return;
-  // The LED where the sample's light direction points (the fit's direction when it was certain,
-  // else the nominal one) at the fitted distance: each texel then has its own light direction.
-  const UnitVector toLight = toUnitVector(outcome.sample->light);
-  const auto& p = m.fittedLight->positionMm;
-  const double distanceMm = Eigen::Vector3d(p.x, p.y, p.z).norm();
-  TextureFrame texture;
-  texture.sliceParameterDeg = sliceParameterDeg(
-      active_->slice().kind, {outcome.sample->light, outcome.sample->view, outcome.sample->value});
-  texture.cameraMm = m.pose->cameraCentreMm();
-  texture.lightMm = Eigen::Vector3d(toLight.x, toLight.y, toLight.z) * distanceMm;
-  texture.texels =
-      rectifyFrame(grid_, camera_, frame, ambient, {*m.pose, *m.fittedLight}, params_.rectify);
-  active_->add(std::move(texture));
+  if (!textureSliceParameterDeg(outcome, active_->slice().kind)) return;
+  active_->add(
+      textureFrameOf(grid_, camera_, frame, outcome, ambient, active_->slice().kind, params_.rectify));
   peakBytes_ = std::max(peakBytes_, memoryBytes());
 }
 
@@ -63,6 +78,26 @@ std::size_t TextureCapture::memoryBytes() const {
   for (const SliceTexture& s : slices_)
     bytes += s.memoryBytes();
   return bytes;
+}
+
+TextureSweep::TextureSweep(const std::filesystem::path& directory, const SliceId& slice,
+                           const vision::CameraModel& camera, const TextureStoreLayout& layout,
+                           const RectifyParams& rectify)
+    : store_(TextureStore::openOrCreate(directory, layout)),
+      slice_(slice),
+      camera_(camera),
+      grid_(store_.grid()),
+      rectify_(rectify) {
+  std::string error;
+  if (!camera_.isValid(&error)) throw std::invalid_argument("texture capture: camera: " + error);
+}
+
+bool TextureSweep::add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
+                       std::span<const capture::AmbientTerm> ambient) {
+  const std::optional<double> parameterDeg = textureSliceParameterDeg(outcome, slice_.kind);
+  if (!parameterDeg || !store_.wouldKeep(slice_, *parameterDeg)) return false;
+  return store_.add(slice_,
+                    textureFrameOf(grid_, camera_, frame, outcome, ambient, slice_.kind, rectify_));
 }
 
 SessionTexture captureRecordings(const std::vector<std::filesystem::path>& recordings,

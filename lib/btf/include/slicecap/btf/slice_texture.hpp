@@ -4,6 +4,8 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <optional>
+#include <span>
 #include <vector>
 
 #include "slicecap/capture/azimuth_bins.hpp"
@@ -38,6 +40,18 @@ struct SliceTexture {
   std::size_t memoryBytes() const;
 };
 
+/// \brief Where a bin that keeps at most `framesPerBin` frames, those whose slice parameter is
+/// nearest its centre `binCentreDeg`, puts a frame at `parameterDeg`, given its kept frames'
+/// parameters: kept.size() (appended), the index of the kept frame it replaces (the farthest from
+/// the centre), or nothing (not kept). Shared by the in-memory bins and the on-disk TextureStore.
+std::optional<std::size_t> keepSlot(std::span<const double> keptParametersDeg, double parameterDeg,
+                                    double binCentreDeg, int framesPerBin);
+
+/// \brief A bin's frames combined: per texel and channel the median of the finite values (NaN
+/// where no frame saw the texel), at the frames' mean camera and LED positions. Every frame must
+/// hold texelCount x 3 values (std::invalid_argument otherwise); no frames give an empty bin.
+TextureBin combineBinFrames(std::span<const TextureFrame> frames, std::size_t texelCount);
+
 /// \brief The active sweep's bins. Each bin keeps at most `framesPerBin` frames, those whose
 /// slice parameter is nearest the bin's centre (where the ideal slice sample sits): memory is
 /// bounded by bins x framesPerBin x texels x 3 floats however long the sweep.
@@ -62,8 +76,6 @@ class SliceTextureBins {
   std::size_t memoryBytes() const;
 
  private:
-  double distanceToCentreDeg(double parameterDeg) const;
-
   SliceId slice_;
   std::size_t texelCount_;
   int framesPerBin_;

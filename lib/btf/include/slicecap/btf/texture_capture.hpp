@@ -12,6 +12,7 @@
 #include "slicecap/btf/rectifier.hpp"
 #include "slicecap/btf/slice_texture.hpp"
 #include "slicecap/btf/texture_grid.hpp"
+#include "slicecap/btf/texture_store.hpp"
 #include "slicecap/capture/frame_outcome.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/core/slice.hpp"
@@ -24,6 +25,21 @@ struct TextureCaptureParams {
   int framesPerBin = 5;  ///< frames a bin keeps (median); bounds the active sweep's memory
   RectifyParams rectify;
 };
+
+/// \brief The slice parameter a frame's texture would be binned at: that of its window-centre
+/// sample, for an accepted sample whose pose and light fit are known; nothing otherwise (no
+/// texture). Decides, before the costly rectification, whether a bin would keep the frame.
+std::optional<double> textureSliceParameterDeg(const capture::FrameOutcome& outcome,
+                                               SliceKind kind);
+
+/// \brief An accepted frame's texture (textureSliceParameterDeg must have given a parameter;
+/// std::invalid_argument otherwise): its window rectified on `grid` with the room-light term
+/// `ambient`, and the camera and LED positions that give every texel its own directions (the LED
+/// where the sample's light direction points, at the light fit's distance).
+TextureFrame textureFrameOf(const TextureGrid& grid, const vision::CameraModel& camera,
+                            const hal::Frame& frame, const capture::FrameOutcome& outcome,
+                            std::span<const capture::AmbientTerm> ambient, SliceKind kind,
+                            const RectifyParams& params = {});
 
 /// \brief Collects a session's texture sweep by sweep. Memory: the active sweep's bins (24 x
 /// framesPerBin x N^2 x 12 bytes at most) plus every finished sweep's combined bins (24 x N^2 x 12
@@ -61,6 +77,35 @@ class TextureCapture {
   std::optional<SliceTextureBins> active_;
   std::vector<SliceTexture> slices_;
   std::size_t peakBytes_ = 0;
+};
+
+/// \brief One slice's sweep into a TextureStore, as the daemon captures it: a frame the store
+/// would keep is rectified and stored at once (durable); the others are not even rectified, so a
+/// long sweep costs neither memory nor time once its bins hold frames near their centres.
+class TextureSweep {
+ public:
+  /// \brief Opens (or creates) the store in `directory`; throws as TextureStore::openOrCreate, and
+  /// std::invalid_argument for a bad camera.
+  TextureSweep(const std::filesystem::path& directory, const SliceId& slice,
+               const vision::CameraModel& camera, const TextureStoreLayout& layout,
+               const RectifyParams& rectify = {});
+
+  /// \brief One frame with its outcome and room-light term; returns whether it was stored.
+  /// Throws io::IoError when it cannot be written.
+  bool add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
+           std::span<const capture::AmbientTerm> ambient);
+  /// \brief Deletes the slice's frames (a redone sweep).
+  void discard() { store_.discard(slice_); }
+
+  const TextureStore& store() const { return store_; }
+  const SliceId& slice() const { return slice_; }
+
+ private:
+  TextureStore store_;
+  SliceId slice_;
+  vision::CameraModel camera_;
+  TextureGrid grid_;
+  RectifyParams rectify_;
 };
 
 /// \brief What `captureRecordings` produced: the texture and the window-average slices (the

@@ -1,0 +1,102 @@
+// A session's texture on disk, as the daemon captures it (docs/btf-format.md, "Texture store"):
+// per slice and azimuth bin the kept frames' rectified texels, each frame in its own file written
+// atomically. Bounded however long the sweeps: at most bins x framesPerBin frames a slice.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "slicecap/btf/slice_texture.hpp"
+#include "slicecap/btf/texture_grid.hpp"
+#include "slicecap/core/slice.hpp"
+#include "slicecap/vision/target.hpp"
+
+namespace slicecap::btf {
+
+/// \brief What a store holds, fixed when it is created (texture.json).
+struct TextureStoreLayout {
+  int resolution = 128;     ///< texels across the window
+  vision::RectMm windowMm;  ///< the target's window the texture covers
+  int framesPerBin = 5;     ///< frames a bin keeps, those nearest its centre
+};
+
+/// \brief What opening a store found and mended: files a cut-off write or a crash between a
+/// write and an eviction left behind.
+struct TextureStoreRecovery {
+  std::vector<std::string> droppedFiles;  ///< unreadable or torn frame files, removed
+  std::size_t leftoversRemoved = 0;       ///< temporaries, half-discarded slices, evicted frames
+};
+
+/// \brief The texture of one session. Every kept frame is a file written atomically (temporary,
+/// fsync, rename), so a killed daemon keeps every frame add() stored; a frame replaced by one
+/// nearer its bin's centre is deleted after its replacement is on disk. Memory holds only the
+/// index: texels are read back when the slices are combined. Texels are stored as half floats
+/// (the BTF's own precision). Errors throw io::IoError naming the file.
+class TextureStore {
+ public:
+  /// \brief Opens the store in `directory`, creating it with `layout` if there is none; an
+  /// existing store with another resolution, window or frames per bin is an IoError (one session
+  /// has one texture). std::invalid_argument for an invalid layout.
+  static TextureStore openOrCreate(const std::filesystem::path& directory,
+                                   const TextureStoreLayout& layout);
+  /// \brief Opens an existing store (e.g. an export read by `slicecap btf`). Opening mends what a
+  /// crash left (see TextureStoreRecovery), so the folder must be writable.
+  static TextureStore open(const std::filesystem::path& directory);
+
+  const std::filesystem::path& directory() const { return directory_; }
+  const TextureStoreLayout& layout() const { return layout_; }
+  TextureGrid grid() const { return TextureGrid(layout_.resolution, layout_.windowMm); }
+  const TextureStoreRecovery& recovery() const { return recovery_; }
+
+  /// \brief Whether a frame of `slice` at this slice parameter would be kept: ask before
+  /// rectifying a frame, as most frames of a long sweep are not kept.
+  bool wouldKeep(const SliceId& slice, double parameterDeg) const;
+  /// \brief Stores the frame if its bin keeps it (durable when this returns) and deletes the
+  /// frame it replaces; returns whether it was kept. std::invalid_argument for a frame of another
+  /// texel count.
+  bool add(const SliceId& slice, const TextureFrame& frame);
+  /// \brief Deletes every frame of the slice (a redone sweep).
+  void discard(const SliceId& slice);
+
+  /// \brief The slices with at least one stored frame.
+  std::vector<SliceId> slices() const;
+  int filledBins(const SliceId& slice) const;
+  std::size_t frameCount(const SliceId& slice) const;
+  std::size_t frameCount() const;
+  /// \brief Bytes of texel data on disk (index only in memory).
+  std::size_t storedBytes() const;
+
+  /// \brief Every stored slice's bins combined (combineBinFrames), in SliceId order: the input of
+  /// reconstructBtf. Reads every frame file; one that became unreadable is an IoError naming it.
+  std::vector<SliceTexture> combine() const;
+
+ private:
+  struct Entry {
+    double parameterDeg = 0.0;
+    std::uint64_t sequence = 0;
+    std::filesystem::path file;
+  };
+  using SliceIndex = std::vector<std::vector<Entry>>;  // per bin
+
+  TextureStore(std::filesystem::path directory, TextureStoreLayout layout);
+  void load();
+  SliceIndex& indexFor(const SliceId& slice);
+  /// The bin and slot a frame would take (slot == bin size: appended), or none.
+  std::optional<std::pair<int, std::size_t>> placeOf(const SliceId& slice,
+                                                     double parameterDeg) const;
+  void place(const SliceId& slice, Entry entry, int bin, std::size_t slot);
+
+  std::filesystem::path directory_;
+  TextureStoreLayout layout_;
+  TextureStoreRecovery recovery_;
+  std::map<SliceId, SliceIndex> index_;
+  std::uint64_t nextSequence_ = 1;
+};
+
+/// \brief The store's manifest file name.
+inline constexpr const char* kTextureStoreManifest = "texture.json";
+
+}  // namespace slicecap::btf

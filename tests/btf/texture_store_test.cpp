@@ -1,0 +1,265 @@
+// The on-disk texture store the daemon captures into: the same bins as the in-memory ones, every
+// kept frame durable, bounded files, and what a crash or a damaged file leaves mended on opening.
+#include "slicecap/btf/texture_store.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+#include "../support/test_support.hpp"
+#include "slicecap/btf/texture_capture.hpp"
+#include "slicecap/hal/clock.hpp"
+#include "slicecap/hal/file_camera.hpp"
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/sim/patterned_material.hpp"
+#include "slicecap/sim/simulate.hpp"
+
+namespace slicecap::btf {
+namespace {
+
+namespace fs = std::filesystem;
+
+const SliceId kAxial{SliceKind::Axial, {30, 75}};
+const SliceId kDiagonal{SliceKind::Diagonal, {75, 75}};
+const TextureStoreLayout kLayout{2, {-10.0, -10.0, 10.0, 10.0}, 3};  // 4 texels, 3 frames a bin
+
+TextureFrame frameAt(double parameterDeg, float value) {
+  TextureFrame frame{parameterDeg, {1.0, 2.0, 300.0}, {0.0, 100.0, 280.0 + value}, {}};
+  for (int i = 0; i < 12; ++i)
+    frame.texels.push_back(value + 0.125f * static_cast<float>(i));
+  frame.texels[5] = std::numeric_limits<float>::quiet_NaN();  // a texel the frame did not see
+  return frame;
+}
+
+std::vector<fs::path> frameFiles(const fs::path& directory) {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::recursive_directory_iterator(directory))
+    if (entry.path().extension() == ".tex") files.push_back(entry.path());
+  return files;
+}
+
+TEST(TextureStore, KeepsTheSameFramesAsTheInMemoryBinsAndCombinesThemAlike) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+  SliceTextureBins memory(kAxial, 4, kLayout.framesPerBin);
+  // Bin 1 (15 deg) gets five frames; the three nearest its centre are kept.
+  const double parameters[] = {21.0, 9.0, 16.0, 14.0, 7.6, 200.0};
+  float value = 1.0f;
+  for (double p : parameters) {
+    const TextureFrame frame = frameAt(p, value);
+    value *= 2.0f;
+    EXPECT_EQ(store.wouldKeep(kAxial, p), store.add(kAxial, frame));
+    memory.add(frame);
+  }
+  EXPECT_EQ(store.frameCount(kAxial), 4u);  // 3 in bin 1, 1 in bin 13
+  EXPECT_EQ(store.filledBins(kAxial), 2);
+  EXPECT_EQ(frameFiles(dir).size(), 4u);  // the replaced frames' files are gone
+  EXPECT_FALSE(store.wouldKeep(kAxial, 22.0));
+
+  const std::vector<SliceTexture> stored = store.combine();
+  const SliceTexture expected = memory.combine();
+  ASSERT_EQ(stored.size(), 1u);
+  ASSERT_EQ(stored[0].bins.size(), expected.bins.size());
+  for (std::size_t b = 0; b < expected.bins.size(); ++b) {
+    EXPECT_EQ(stored[0].bins[b].frames, expected.bins[b].frames) << "bin " << b;
+    if (expected.bins[b].frames == 0) continue;
+    EXPECT_TRUE(stored[0].bins[b].cameraMm.isApprox(expected.bins[b].cameraMm));
+    EXPECT_TRUE(stored[0].bins[b].lightMm.isApprox(expected.bins[b].lightMm));
+    for (std::size_t i = 0; i < 12; ++i) {
+      const float want = expected.bins[b].texels[i];
+      if (std::isnan(want)) {
+        EXPECT_TRUE(std::isnan(stored[0].bins[b].texels[i]));
+      } else {
+        EXPECT_NEAR(stored[0].bins[b].texels[i], want, 1e-3 * want);  // half floats on disk
+      }
+    }
+  }
+  EXPECT_THROW(store.add(kAxial, TextureFrame{0.0, {}, {}, std::vector<float>(3, 1.0f)}),
+               std::invalid_argument);
+}
+
+TEST(TextureStore, ReopeningGivesEveryStoredFrameBackAndNumbersOnFromThere) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  {
+    TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+    store.add(kAxial, frameAt(0.0, 1.0f));
+    store.add(kDiagonal, frameAt(90.0, 2.0f));
+  }  // the daemon killed here: nothing more than what add() returned from
+  TextureStore store = TextureStore::open(dir);
+  EXPECT_EQ(store.frameCount(), 2u);
+  EXPECT_EQ(store.slices(), (std::vector<SliceId>{kAxial, kDiagonal}));
+  store.add(kAxial, frameAt(1.0, 3.0f));
+  EXPECT_EQ(frameFiles(dir).size(), 3u);  // a new number, not an overwritten frame
+  EXPECT_EQ(TextureStore::open(dir).frameCount(), 3u);
+  EXPECT_EQ(store.layout().resolution, 2);
+  EXPECT_EQ(store.layout().framesPerBin, 3);
+  EXPECT_TRUE(store.layout().windowMm == kLayout.windowMm);
+}
+
+TEST(TextureStore, AnotherResolutionForTheSameSessionIsRefusedNamingTheManifest) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  TextureStore::openOrCreate(dir, kLayout).add(kAxial, frameAt(0.0, 1.0f));
+  TextureStoreLayout other = kLayout;
+  other.resolution = 4;
+  try {
+    TextureStore::openOrCreate(dir, other);
+    FAIL() << "another resolution was accepted";
+  } catch (const io::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("texture.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("2 texels across"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(TextureStore::open(dir).frameCount(), 1u);  // nothing lost by the refusal
+  EXPECT_THROW(TextureStore::open(test::freshTempDir()), io::IoError);
+  TextureStoreLayout bad = kLayout;
+  bad.framesPerBin = 0;
+  EXPECT_THROW(TextureStore::openOrCreate(test::freshTempDir() / "t", bad), std::invalid_argument);
+}
+
+TEST(TextureStore, OpeningMendsWhatACrashLeftAndDropsDamagedFrames) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  fs::path evicted;
+  {
+    TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+    store.add(kAxial, frameAt(15.0, 1.0f));
+    store.add(kAxial, frameAt(16.0, 2.0f));
+    store.add(kAxial, frameAt(20.0, 4.0f));
+    store.add(kAxial, frameAt(60.0, 8.0f));
+    ASSERT_EQ(frameFiles(dir).size(), 4u);
+    store.add(kAxial, frameAt(14.0, 16.0f));  // replaces the frame at 20 deg
+  }
+  const std::vector<fs::path> before = frameFiles(dir);
+  ASSERT_EQ(before.size(), 4u);
+  // Resurrect an older frame at 21 deg with an early sequence number, as if its deletion had
+  // been lost: the keep rule must drop it again.
+  {
+    TextureStore scratch = TextureStore::openOrCreate(dir.parent_path() / "scratch", kLayout);
+    scratch.add(kAxial, frameAt(21.0, 32.0f));
+    evicted = dir / "axial-30-75" / "b01-00000000.tex";
+    fs::copy_file(frameFiles(scratch.directory()).front(), evicted);
+  }
+  // A temporary of a write cut off, a half-discarded slice, a torn and a damaged frame.
+  std::ofstream(dir / "axial-30-75" / "b02-00000099.tex.tmp") << "partial";
+  fs::create_directories(dir / "diagonal-75-75.discarded");
+  std::ofstream(dir / "diagonal-75-75.discarded" / "b00-00000007.tex") << "old";
+  fs::path torn;
+  for (const fs::path& f : before)
+    if (f.filename().string().rfind("b04-", 0) == 0) torn = f;  // the frame at 60 deg
+  ASSERT_FALSE(torn.empty());
+  fs::resize_file(torn, fs::file_size(torn) - 10);
+
+  const TextureStore store = TextureStore::open(dir);
+  EXPECT_EQ(store.recovery().droppedFiles.size(), 1u);
+  EXPECT_EQ(store.recovery().leftoversRemoved, 3u);  // tmp, discarded slice, the evicted frame
+  EXPECT_FALSE(fs::exists(evicted));
+  EXPECT_FALSE(fs::exists(torn));
+  EXPECT_FALSE(fs::exists(dir / "diagonal-75-75.discarded"));
+  EXPECT_EQ(store.frameCount(kAxial), 3u);
+  EXPECT_EQ(store.filledBins(kAxial), 1);
+
+  // A frame damaged after opening is named when the texels are read.
+  const fs::path damaged = frameFiles(dir).front();
+  {
+    std::fstream f(damaged, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekg(100);
+    const char byte = static_cast<char>(f.get());
+    f.seekp(100);
+    f.put(static_cast<char>(~byte));
+  }
+  try {
+    store.combine();
+    FAIL() << "a damaged frame was read";
+  } catch (const io::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find(damaged.filename().string()), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("checksum"), std::string::npos) << e.what();
+  }
+}
+
+TEST(TextureStore, ARedoneSweepLosesItsFramesAndOnlyThose) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+  store.add(kAxial, frameAt(0.0, 1.0f));
+  store.add(kDiagonal, frameAt(0.0, 1.0f));
+  store.discard(kAxial);
+  EXPECT_EQ(store.frameCount(kAxial), 0u);
+  EXPECT_EQ(store.frameCount(kDiagonal), 1u);
+  EXPECT_FALSE(fs::exists(dir / "axial-30-75"));
+  EXPECT_EQ(TextureStore::open(dir).slices(), std::vector<SliceId>{kDiagonal});
+  store.discard(kAxial);  // nothing left: no error
+}
+
+// The daemon's path (frames from a camera through makeFramePipeline's observer into a
+// TextureSweep, stored per bin on disk) gives the texture `slicecap btf --ambient previous` gives
+// from the same frames: the live room-light term, the same rectification and bins.
+TEST(TextureSweep, TheLiveTextureIsTheOfflineOneWithTheLiveRoomLight) {
+  const SliceId slice{SliceKind::Diagonal, {30, 30}};
+  const fs::path recording = test::freshTempDir() / folderName(slice);
+  sim::SweepSetup setup;
+  setup.rig = sim::RigParams::realistic();  // 8-bit sRGB, room light, LED alternating, jitter
+  setup.rig.framesPerSlice = 24;
+  setup.materialSpec = "woven";
+  const sim::FrameRenderer renderer(setup.camera, setup.target, sim::makeWovenMaterial(10.0),
+                                    setup.rig);
+  sim::simulateSweep(recording, {slice, kAxialOffsetDeg}, renderer, setup);
+  constexpr int kResolution = 8, kFramesPerBin = 64;  // every frame kept: the bins must match
+
+  capture::PipelineSettings live;
+  live.offlineTwoSidedAmbient = false;
+  const SessionTexture offline =
+      captureRecordings({recording}, live, {kResolution, kFramesPerBin, {}});
+
+  const fs::path storeDir = recording.parent_path() / "texture";
+  TextureSweep sweep(storeDir, slice, setup.camera,
+                     {kResolution, setup.target.window, kFramesPerBin});
+  int stored = 0;
+  const capture::FrameProcessor processor = capture::makeFramePipeline(
+      setup.target, setup.camera, {},
+      [&](const hal::Frame& frame, const capture::FrameOutcome& outcome,
+          const std::vector<capture::AmbientTerm>& ambient) {
+        stored += sweep.add(frame, outcome, ambient) ? 1 : 0;
+      });
+  hal::SteadyClock clock;
+  hal::FileCamera camera(recording, clock);
+  hal::CameraConfig config;
+  config.widthPx = setup.camera.intrinsics.widthPx;
+  config.heightPx = setup.camera.intrinsics.heightPx;
+  camera.configure(config);
+  camera.start();
+  for (;;) {
+    hal::CaptureResult result = camera.nextFrame(std::chrono::milliseconds(100));
+    if (result.status != hal::CaptureResult::Status::Frame) break;
+    processor(*result.frame, slice);
+  }
+  camera.stop();
+  ASSERT_GE(stored, 6);
+  EXPECT_EQ(TextureStore::open(storeDir).frameCount(), std::size_t(stored));
+
+  const std::vector<SliceTexture> liveSlices = TextureStore::open(storeDir).combine();
+  ASSERT_EQ(liveSlices.size(), 1u);
+  ASSERT_EQ(offline.texture.slices().size(), 1u);
+  const SliceTexture& want = offline.texture.slices()[0];
+  int comparedBins = 0;
+  for (std::size_t b = 0; b < want.bins.size(); ++b) {
+    const TextureBin& a = liveSlices[0].bins[b];
+    const TextureBin& w = want.bins[b];
+    // Live rejects LED-on frames before the first LED-off one; offline borrows that one.
+    if (a.frames != w.frames || a.frames == 0) continue;
+    ++comparedBins;
+    EXPECT_TRUE(a.cameraMm.isApprox(w.cameraMm, 1e-9)) << "bin " << b;
+    EXPECT_TRUE(a.lightMm.isApprox(w.lightMm, 1e-9)) << "bin " << b;
+    for (std::size_t i = 0; i < w.texels.size(); ++i) {
+      if (std::isnan(w.texels[i])) {
+        EXPECT_TRUE(std::isnan(a.texels[i])) << "bin " << b << " value " << i;
+      } else {
+        EXPECT_NEAR(a.texels[i], w.texels[i], 1e-3 * std::abs(w.texels[i]) + 1e-6)
+            << "bin " << b << " value " << i;  // half floats on disk
+      }
+    }
+  }
+  EXPECT_GE(comparedBins, 5);
+}
+
+}  // namespace
+}  // namespace slicecap::btf
