@@ -7,12 +7,14 @@
 #include <map>
 #include <ostream>
 
+#include "slicecap/btf/texture_capture.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/cli/methods.hpp"
 #include "slicecap/core/version.hpp"
 #include "slicecap/daemon/config.hpp"
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/daemon.hpp"
+#include "slicecap/daemon/texture_sink.hpp"
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/file_camera.hpp"
@@ -116,6 +118,37 @@ const std::pair<fs::path, io::Recording>& recordingFor(const RecordingsBySlice& 
   return found->second;
 }
 
+struct Rig {
+  vision::TargetGeometry target;
+  vision::CameraModel camera;
+};
+
+/// The daemon's texture seam on a TextureStore in the session's folder (lib/btf).
+class StoreTextureSink final : public daemon::TextureSink {
+ public:
+  StoreTextureSink(const fs::path& directory, const SliceId& slice,
+                   const vision::CameraModel& camera, const btf::TextureStoreLayout& layout)
+      : sweep_(directory, slice, camera, layout) {}
+
+  void add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
+           const std::vector<capture::AmbientTerm>& ambient) override {
+    sweep_.add(frame, outcome, ambient);
+  }
+  void discard() override { sweep_.discard(); }
+  nlohmann::json status() const override {
+    const btf::TextureStore& store = sweep_.store();
+    return {{"directory", store.directory().string()},
+            {"resolution", store.layout().resolution},
+            {"bins_filled", store.filledBins(sweep_.slice())},
+            {"frames_stored", store.frameCount(sweep_.slice())},
+            {"session_frames_stored", store.frameCount()},
+            {"stored_mb", static_cast<double>(store.storedBytes()) / 1e6}};
+  }
+
+ private:
+  btf::TextureSweep sweep_;
+};
+
 Abrdf reconstruct(const SliceSet& slices, const std::string& method) {
   return cli::findMethod(method).run(slices, cli::MethodOptions{}).table;
 }
@@ -145,6 +178,9 @@ int serve(const DaemonConfig& config, std::ostream& err) {
     cameraModel =
         io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
 
+  // The target and camera model of a slice's sweep.
+  std::function<Rig(const SliceId&)> rigFor;
+  std::string createdBy = std::string("slicecapd ") + kVersion;
   switch (config.camera) {
     case DaemonConfig::CameraKind::Libcamera: {
       auto camera = std::make_shared<hal::LibcameraCamera>(config.cameraDevice);
@@ -167,36 +203,38 @@ int serve(const DaemonConfig& config, std::ostream& err) {
                                                  clock, options);
       };
       // A recording carries the camera and target it was taken with.
-      parts.newFrameProcessor = [recordings, configured](const SliceId& slice) {
+      rigFor = [recordings, configured](const SliceId& slice) {
         const io::Recording& recording = recordingFor(*recordings, configured, slice).second;
-        return capture::makeFramePipeline(recording.target, recording.camera, {});
+        return Rig{recording.target, recording.camera};
       };
-      if (config.recordFrames) {
-        parts.recordingHeaderFor = [recordings, configured](const SliceId& slice) {
-          const io::Recording& played = recordingFor(*recordings, configured, slice).second;
-          io::Recording header;
-          header.createdBy = std::string("slicecapd ") + kVersion + " (file camera)";
-          header.camera = played.camera;
-          header.target = played.target;
-          return header;
-        };
-      }
+      createdBy += " (file camera)";
       break;
     }
   }
-  if (config.camera != DaemonConfig::CameraKind::File) {
-    parts.newFrameProcessor = [=](const SliceId&) {
-      return capture::makeFramePipeline(target, cameraModel, {});
+  if (!rigFor) rigFor = [=](const SliceId&) { return Rig{target, cameraModel}; };
+  parts.newFrameProcessor = [rigFor](const SliceId& slice, capture::FrameObserver observer) {
+    const Rig rig = rigFor(slice);
+    return capture::makeFramePipeline(rig.target, rig.camera, {}, std::move(observer));
+  };
+  if (config.recordFrames) {
+    parts.recordingHeaderFor = [rigFor, createdBy](const SliceId& slice) {
+      const Rig rig = rigFor(slice);
+      io::Recording header;
+      header.createdBy = createdBy;
+      header.camera = rig.camera;
+      header.target = rig.target;
+      return header;
     };
-    if (config.recordFrames) {
-      parts.recordingHeaderFor = [=](const SliceId&) {
-        io::Recording header;
-        header.createdBy = std::string("slicecapd ") + kVersion;
-        header.camera = cameraModel;
-        header.target = target;
-        return header;
-      };
-    }
+  }
+  if (config.textureResolution > 0) {
+    const int resolution = config.textureResolution, framesPerBin = config.textureFramesPerBin;
+    parts.newTextureSink = [rigFor, resolution, framesPerBin](const SliceId& slice,
+                                                             const fs::path& session) {
+      const Rig rig = rigFor(slice);
+      return std::make_unique<StoreTextureSink>(
+          session / daemon::kTextureFolder, slice, rig.camera,
+          btf::TextureStoreLayout{resolution, rig.target.window, framesPerBin});
+    };
   }
   parts.reconstruct = reconstruct;
   parts.preview = preview;

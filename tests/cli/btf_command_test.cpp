@@ -1,5 +1,5 @@
-// `slicecap btf` end to end: a simulated woven session to the BTF directory, read back; bad
-// options are usage errors.
+// `slicecap btf` end to end: a simulated woven session to the BTF directory, read back; the same
+// from a texture store as slicecapd captures and exports it; bad options are usage errors.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,7 +9,11 @@
 #include "../support/cli_runner.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/btf/btf_files.hpp"
+#include "slicecap/btf/texture_capture.hpp"
+#include "slicecap/capture/recording_processor.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
+#include "slicecap/io/recording.hpp"
+#include "slicecap/io/slice_csv.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -49,6 +53,70 @@ TEST(BtfCommand, WovenSessionToADirectoryWhoseTexelsShowTheWeave) {
   const test::CliResult empty = test::runSlicecap({"btf", (dir / "btf").string(), "-o", out});
   EXPECT_EQ(empty.code, kExitFailure);
   EXPECT_NE(empty.err.find("no recording"), std::string::npos) << empty.err;
+}
+
+TEST(BtfCommand, ATextureStoreAsSlicecapdExportsItGivesTheBtfOfItsRecordings) {
+  namespace fs = std::filesystem;
+  const auto dir = test::freshTempDir();
+  const fs::path session = dir / "session", store = dir / "export" / "s1-texture";
+  ASSERT_EQ(test::runSlicecap({"simulate", "--material", "woven", "--session", session.string(),
+                               "--frames", "8", "--ideal"})
+                .code,
+            kExitOk);
+  // What the daemon does with every frame of every sweep, and what `slicecap export` adds.
+  SliceSet averageSlices;
+  for (const fs::directory_entry& entry : fs::directory_iterator(session)) {
+    const io::Recording header = io::readRecording(entry.path());
+    btf::TextureSweep sweep(store, header.slice->id, header.camera,
+                            {4, header.target.window, 5});
+    const capture::RecordingResult result = capture::processRecording(
+        entry.path(), {},
+        [&](const hal::Frame& frame, const capture::FrameOutcome& outcome,
+            const std::vector<capture::AmbientTerm>& ambient) { sweep.add(frame, outcome, ambient); });
+    for (const SliceSample& sample : result.bins.combine())
+      averageSlices.add(result.slice, sample);
+  }
+  const fs::path fromRecordings = dir / "btf-recordings", fromStore = dir / "btf-store";
+  ASSERT_EQ(test::runSlicecap({"btf", session.string(), "-o", fromRecordings.string(),
+                               "--resolution", "4", "--threads", "2"})
+                .code,
+            kExitOk);
+
+  test::CliResult r = test::runSlicecap({"btf", store.string(), "-o", fromStore.string()});
+  EXPECT_EQ(r.code, kExitFailure);  // no slices.csv yet
+  EXPECT_NE(r.err.find("slices.csv: missing"), std::string::npos) << r.err;
+  io::writeSliceCsv(store / "slices.csv", averageSlices);
+  EXPECT_EQ(test::runSlicecap({"btf", store.string(), "-o", fromStore.string(), "--resolution", "8"})
+                .code,
+            kExitUsage);  // the capture fixed it
+  r = test::runSlicecap({"btf", store.string(), "-o", fromStore.string(), "--threads", "2"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_NE(r.err.find("4 x 4 texels of 10 mm, 8 slices from the captured texture"),
+            std::string::npos)
+      << r.err;
+
+  const btf::BtfTexture want = btf::readBtfDirectory(fromRecordings);
+  const btf::BtfTexture got = btf::readBtfDirectory(fromStore);
+  ASSERT_EQ(got.resolution(), 4);
+  // The store keeps texels as half floats, as the BTF itself: every texel's table the same to
+  // within that rounding carried through the reconstruction.
+  for (std::size_t texel = 0; texel < 16; ++texel)
+    for (int c = 0; c < 3; ++c) {
+      double sumWant = 0.0, sumGot = 0.0;
+      for (int light = 0; light < 81; ++light)
+        for (int view = 0; view < 81; ++view) {
+          sumWant += want.value(light, view, texel, c);
+          sumGot += got.value(light, view, texel, c);
+        }
+      EXPECT_NEAR(sumGot, sumWant, 0.005 * sumWant) << "texel " << texel << " channel " << c;
+    }
+
+  // A daemon's session folder itself is not read (the export adds the slices).
+  fs::create_directories(dir / "storage" / "s1");
+  fs::rename(store, dir / "storage" / "s1" / "texture");
+  r = test::runSlicecap({"btf", (dir / "storage" / "s1").string(), "-o", fromStore.string()});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_NE(r.err.find("slicecap export"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -35,6 +35,8 @@ TEST(DaemonConfig, TheDocumentedDefaultsAreTheDefaults) {
   EXPECT_EQ(fromFile.socket, defaults.socket);
   EXPECT_EQ(fromFile.socketGroup, defaults.socketGroup);
   EXPECT_FALSE(fromFile.exposureUs.has_value());
+  EXPECT_EQ(fromFile.textureResolution, 0) << "no texture unless asked";
+  EXPECT_EQ(fromFile.textureFramesPerBin, defaults.textureFramesPerBin);
   EXPECT_EQ(parse("").storage, defaults.storage) << "an empty file is the defaults";
 }
 
@@ -46,13 +48,17 @@ TEST(DaemonConfig, ReadsEveryKind) {
       "exposure_us = 8000\n"
       "led_active_low = yes\n"
       "led_line = 23\n"
-      "storage = /tmp/slicecap\n");
+      "storage = /tmp/slicecap\n"
+      "texture_resolution = 128\n"
+      "texture_frames_per_bin = 3\n");
   EXPECT_EQ(c.camera, DaemonConfig::CameraKind::File);
   EXPECT_EQ(c.recording, "/srv/sim/felt");
   EXPECT_EQ(c.widthPx, 1920);
   EXPECT_EQ(c.exposureUs, 8000.0);
   EXPECT_TRUE(c.ledActiveLow);
   EXPECT_EQ(c.ledLine, "23");
+  EXPECT_EQ(c.textureResolution, 128);
+  EXPECT_EQ(c.textureFramesPerBin, 3);
 }
 
 TEST(DaemonConfig, NamesTheLineAndKeyOfEveryMistake) {
@@ -68,6 +74,10 @@ TEST(DaemonConfig, NamesTheLineAndKeyOfEveryMistake) {
   EXPECT_EQ(error("just words\n"), "slicecapd.conf:1: expected 'key = value', got 'just words'");
   EXPECT_NE(error("camera = file\n").find("needs camera_recording"), std::string::npos);
   EXPECT_NE(error("storage = relative/dir\n").find("absolute"), std::string::npos);
+  EXPECT_EQ(error("texture_resolution = 128.5\n"),
+            "slicecapd.conf:1: texture_resolution: '128.5' is not a whole number in 0..512 "
+            "(texels across the window (0: off))");
+  EXPECT_NE(error("texture_frames_per_bin = 0\n").find("1..64"), std::string::npos);
   EXPECT_THROW(readDaemonConfig("/nonexistent/slicecapd.conf"), ConfigError);
 }
 

@@ -1,6 +1,7 @@
 // The daemon's frame loop on the file camera with a stand-in pipeline: frames become samples in
 // the session, the LED follows the sweep and is off whenever nothing captures, and camera
-// failures and the end of a recording pause the sweep without losing samples.
+// failures and the end of a recording pause the sweep without losing samples; texture capture
+// (through a fake sink) sees every frame, and its failures pause the sweep.
 #include "slicecap/daemon/daemon.hpp"
 
 #include <gmock/gmock.h>
@@ -15,6 +16,7 @@
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/file_camera.hpp"
 #include "slicecap/hal/file_led.hpp"
+#include "slicecap/io/io_error.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/vision/camera_model.hpp"
 #include "slicecap/vision/target.hpp"
@@ -63,9 +65,44 @@ capture::FrameProcessor standInPipeline() {
   };
 }
 
+// What a fake texture sink saw, shared with the test.
+struct TextureLog {
+  int framesSeen = 0;
+  int samplesStored = 0;
+  int discards = 0;
+  int opened = 0;
+  std::optional<int> failAtSample;  // add() throws io::IoError from this sample on (disk full)
+  std::optional<std::string> failToOpen;
+};
+
+class FakeTextureSink : public TextureSink {
+ public:
+  explicit FakeTextureSink(std::shared_ptr<TextureLog> log) : log_(std::move(log)) {}
+  void add(const hal::Frame&, const capture::FrameOutcome& outcome,
+           const std::vector<capture::AmbientTerm>&) override {
+    ++log_->framesSeen;
+    if (outcome.kind != capture::FrameOutcome::Kind::Sample) return;
+    if (log_->failAtSample && log_->samplesStored + 1 >= *log_->failAtSample)
+      throw io::IoError("texture/axial-30-30/b00.tex: No space left on device");
+    ++log_->samplesStored;
+  }
+  void discard() override {
+    ++log_->discards;
+    log_->samplesStored = 0;
+  }
+  json status() const override {
+    return {{"directory", "texture"}, {"resolution", 8}, {"bins_filled", 0},
+            {"frames_stored", log_->samplesStored}};
+  }
+
+ private:
+  std::shared_ptr<TextureLog> log_;
+};
+
 class DaemonOnFileCamera : public ::testing::Test {
  protected:
-  void start(std::optional<std::uint64_t> failAtSequence = std::nullopt) {
+  void start(std::optional<std::uint64_t> failAtSequence = std::nullopt,
+             std::shared_ptr<TextureLog> texture = nullptr) {
     dir_ = test::freshTempDir();
     const auto recording = writeRecording(dir_ / "recording");
     char pattern[] = "/tmp/slicecapd-test-XXXXXX";
@@ -81,7 +118,19 @@ class DaemonOnFileCamera : public ::testing::Test {
     };
     parts.cameraConfig = {32, 24, PixelEncoding::Srgb8, std::nullopt, std::nullopt, 4};
     parts.led = std::make_unique<hal::FileLed>(ledLog_, clock_);
-    parts.newFrameProcessor = [](const SliceId&) { return standInPipeline(); };
+    parts.newFrameProcessor = [](const SliceId&, capture::FrameObserver observer) {
+      return [inner = standInPipeline(), observer](const hal::Frame& frame, const SliceId& slice) {
+        capture::FrameOutcome outcome = inner(frame, slice);
+        if (observer) observer(frame, outcome, {});
+        return outcome;
+      };
+    };
+    if (texture)
+      parts.newTextureSink = [texture](const SliceId&, const std::filesystem::path&) {
+        ++texture->opened;
+        if (texture->failToOpen) throw io::IoError(*texture->failToOpen);
+        return std::make_unique<FakeTextureSink>(texture);
+      };
     parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };
     daemon_ =
         std::make_unique<Daemon>(std::move(parts), openListenSocket({socket_, 0600, std::nullopt}));
@@ -147,6 +196,53 @@ TEST_F(DaemonOnFileCamera, ACameraFailurePausesTheSweepAndKeepsEverySampleBefore
   // The daemon is still there: the status answers, and the sweep can go on.
   call(SweepStart{kAxial3030});
   EXPECT_GE(waitForPause()["sweep"]["samples"].get<int>(), 4);
+}
+
+TEST_F(DaemonOnFileCamera, TheTextureSeesEveryFrameOfTheSweepAndItsStatusIsShown) {
+  auto texture = std::make_shared<TextureLog>();
+  start(std::nullopt, texture);
+  call(SessionNew{"grey card", std::string("grey")});
+  call(SweepStart{kAxial3030});
+  const json status = waitForPause();
+  EXPECT_EQ(texture->framesSeen, kFrames);
+  EXPECT_EQ(texture->samplesStored, kFrames / 2);
+  EXPECT_EQ(status["texture"]["frames_stored"], kFrames / 2);
+  EXPECT_EQ(call(SweepStop{})["texture"]["frames_stored"], kFrames / 2);
+  EXPECT_EQ(texture->opened, 1);
+  // A redone sweep starts its texture afresh, as its samples.
+  call(SweepRedo{kAxial3030});
+  EXPECT_EQ(texture->discards, 1);
+  waitForPause();
+  EXPECT_EQ(texture->samplesStored, kFrames / 2);
+}
+
+TEST_F(DaemonOnFileCamera, ATextureStorageErrorPausesTheSweepAndKeepsTheSamples) {
+  auto texture = std::make_shared<TextureLog>();
+  texture->failAtSample = 3;
+  start(std::nullopt, texture);
+  call(SessionNew{"grey card", std::string("grey")});
+  call(SweepStart{kAxial3030});
+  const json status = waitForPause();
+  EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(),
+              HasSubstr("texture storage error"));
+  EXPECT_THAT(status["error"].get<std::string>(), HasSubstr("No space left on device"));
+  EXPECT_EQ(texture->samplesStored, 2);
+  EXPECT_EQ(status["sweep"]["samples"], 3);  // the window sample of the failed frame is kept
+  EXPECT_FALSE(ledLog().back().on);
+}
+
+TEST_F(DaemonOnFileCamera, ATextureThatCannotBeOpenedPausesTheSweepWithTheReason) {
+  auto texture = std::make_shared<TextureLog>();
+  texture->failToOpen = "texture/texture.json: this session's texture has 64 texels across";
+  start(std::nullopt, texture);
+  call(SessionNew{"grey card", std::string("grey")});
+  const json reply = call(SweepStart{kAxial3030});
+  EXPECT_EQ(reply["state"], "paused");
+  EXPECT_THAT(reply["pause_reason"].get<std::string>(), HasSubstr("64 texels across"));
+  const json status = waitForPause();
+  EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(), HasSubstr("64 texels across"));
+  EXPECT_EQ(status["sweep"]["samples"], 0);
+  EXPECT_FALSE(ledLog().back().on);
 }
 
 TEST_F(DaemonOnFileCamera, StoppingTheDaemonMidSweepLeavesTheLedOff) {

@@ -119,8 +119,8 @@ class DaemonRecordingFrames : public ::testing::Test {
     };
     parts.cameraConfig = {1280, 720, PixelEncoding::Srgb8, std::nullopt, std::nullopt, 4};
     parts.led = std::make_unique<hal::FileLed>(dir_ / "led.log", clock_);
-    parts.newFrameProcessor = [played](const SliceId&) {
-      return capture::makeFramePipeline(played.target, played.camera);
+    parts.newFrameProcessor = [played](const SliceId&, capture::FrameObserver observer) {
+      return capture::makeFramePipeline(played.target, played.camera, {}, std::move(observer));
     };
     parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };
     parts.recordingHeaderFor = [played](const SliceId&) {

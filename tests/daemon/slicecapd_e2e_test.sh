@@ -4,7 +4,9 @@
 # mid-sweep and restarted (no acknowledged sample may be lost; ExecStopPost's `--led-off` switches
 # the LED off), and the exported EXR's error against the material must be within 10 % of the
 # offline pipeline's (`slicecap capture-offline --ambient previous`: the live loop's one-sided
-# room-light term; the default two-sided one is better than live) on the same recordings.
+# room-light term; the default two-sided one is better than live) on the same recordings. Texture
+# capture is on: its store survives the kill, the export carries it, and `slicecap btf` turns the
+# exported texture into a BTF with every texel reconstructed.
 # Usage: slicecapd_e2e_test.sh SLICECAP SLICECAPD [MATERIAL]
 set -euo pipefail
 slicecap=$1
@@ -16,7 +18,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/../../scripts/slicecapd-session.sh"
 trap 'session_cleanup; rm -rf "$work"' EXIT
 
 "$slicecap" simulate --material "$material" --session "$work/session" --frames 32 --seed 7 >/dev/null
-write_config "$work/session"
+write_config "$work/session" "texture_resolution = 16"
 
 start_daemon
 led_is_off || fail "the LED is not off after the start"
@@ -50,6 +52,16 @@ done
 daemon_exr=$work/desk/e2e-abrdf-b.exr
 [[ -f $daemon_exr ]] || fail "no EXR exported"
 [[ -f $work/desk/e2e-slices.csv && -f $work/desk/e2e-summary.json ]] || fail "export incomplete"
+texture=$work/desk/e2e-texture
+[[ -f $texture/texture.json && -f $texture/slices.csv ]] || fail "the export has no texture"
+frames=$(find "$texture" -name '*.tex' | wc -l)
+[[ $frames -ge 40 ]] || fail "the texture kept only $frames frames"
+"$slicecap" btf "$texture" -o "$work/btf" --threads 2 >/dev/null 2>"$work/btf.log" ||
+  fail "slicecap btf on the exported texture failed: $(tail -3 "$work/btf.log")"
+grep -q '"failed_texels": 0' "$work/btf/btf.json" || fail "texels failed: $(grep failed "$work/btf/btf.json")"
+[[ -f $work/btf/average.exr && -f $work/btf/tv000_pv000/tl000_pl000_tv000_pv000.exr ]] ||
+  fail "the BTF directory is incomplete"
+echo "texture: $frames frames kept by the daemon, a 16 x 16 BTF reconstructed from the export"
 
 "$slicecap" capture-offline "$work/session" -o "$work/offline.exr" --ambient previous >/dev/null 2>&1
 "$slicecap" generate "$material" -o "$work/truth.exr" >/dev/null

@@ -1,5 +1,5 @@
-// `slicecap btf`: a session's recordings to a BTF directory (per-texel reconstruction), beside the
-// average ABRDF.
+// `slicecap btf`: a session's recordings, or the texture slicecapd captured, to a BTF directory
+// (per-texel reconstruction), beside the average ABRDF.
 #include <chrono>
 #include <filesystem>
 #include <ostream>
@@ -9,8 +9,11 @@
 #include "slicecap/btf/btf_files.hpp"
 #include "slicecap/btf/btf_reconstruction.hpp"
 #include "slicecap/btf/texture_capture.hpp"
+#include "slicecap/btf/texture_store.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/cli/methods.hpp"
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/io/slice_csv.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -27,20 +30,20 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-int run(const ParsedArgs& args, Streams& io) {
-  const std::filesystem::path session = args.positional[0];
-  const std::filesystem::path output = args.required("output");
+// The texture and the window-average slices, from wherever they were captured.
+struct CapturedTexture {
+  btf::TextureGrid grid;
+  std::vector<btf::SliceTexture> slices;
+  SliceSet averageSlices;
+};
+
+// Recordings: every frame through the pipeline here.
+CapturedTexture fromRecordings(const std::filesystem::path& session, const ParsedArgs& args,
+                               Streams& io) {
   btf::TextureCaptureParams captureParams;
   captureParams.resolution = wholeNumber(args, "resolution", 128, 1, 1024);
   captureParams.framesPerBin = wholeNumber(args, "frames-per-bin", 5, 1, 64);
-  btf::BtfReconstructionParams reconParams;
-  reconParams.threads = wholeNumber(args, "threads", 0, 0, 256);
-  reconParams.methodB.isotropic = args.flag("isotropic");
-  const std::string method = args.value("method").value_or("b");
-  if (method != "a" && method != "b") throw UsageError("--method must be b or a");
-  reconParams.method = method == "a" ? btf::TexelMethod::A : btf::TexelMethod::B;
-
-  auto started = std::chrono::steady_clock::now();
+  const auto started = std::chrono::steady_clock::now();
   btf::SessionTexture captured =
       btf::captureRecordings(sessionRecordings(session), pipelineSettingsOf(args), captureParams,
                              [&](const std::string& line) { io.err << line << "\n"; });
@@ -50,6 +53,55 @@ int run(const ParsedArgs& args, Streams& io) {
          << " slices captured in " << secondsSince(started) << " s; texel bins "
          << captured.texture.memoryBytes() / 1e6 << " MB (peak "
          << captured.texture.peakMemoryBytes() / 1e6 << " MB)\n";
+  return {grid, captured.texture.slices(), std::move(captured.averageSlices)};
+}
+
+// A texture store slicecapd captured (as `slicecap export` writes it, with slices.csv).
+CapturedTexture fromStore(const std::filesystem::path& directory, const ParsedArgs& args,
+                          Streams& io) {
+  for (const char* fixed : {"resolution", "frames-per-bin"})
+    if (args.value(fixed))
+      throw UsageError(std::string("--") + fixed + " is fixed by the captured texture (" +
+                       directory.string() + "/" + btf::kTextureStoreManifest + ")");
+  const btf::TextureStore store = btf::TextureStore::open(directory);
+  for (const std::string& dropped : store.recovery().droppedFiles)
+    io.err << "warning: dropped a damaged texture frame: " << dropped << "\n";
+  const std::filesystem::path csv = directory / "slices.csv";
+  if (!std::filesystem::exists(csv))
+    throw io::IoError(csv.string() +
+                      ": missing (`slicecap export` writes it beside the texture: the average "
+                      "ABRDF is made from the session's window samples)");
+  const auto started = std::chrono::steady_clock::now();
+  CapturedTexture captured{store.grid(), store.combine(), io::readSliceCsv(csv)};
+  io.err << "btf: " << captured.grid.resolution() << " x " << captured.grid.resolution()
+         << " texels of " << captured.grid.texelWidthMm() << " mm, " << captured.slices.size()
+         << " slices from the captured texture (" << store.frameCount() << " frames, "
+         << store.storedBytes() / 1e6 << " MB) combined in " << secondsSince(started) << " s\n";
+  for (const btf::SliceTexture& slice : captured.slices)
+    io.err << toString(slice.slice) << ": " << store.filledBins(slice.slice) << " of "
+           << slice.bins.size() << " bins\n";
+  return captured;
+}
+
+int run(const ParsedArgs& args, Streams& io) {
+  const std::filesystem::path session = args.positional[0];
+  const std::filesystem::path output = args.required("output");
+  btf::BtfReconstructionParams reconParams;
+  reconParams.threads = wholeNumber(args, "threads", 0, 0, 256);
+  reconParams.methodB.isotropic = args.flag("isotropic");
+  const std::string method = args.value("method").value_or("b");
+  if (method != "a" && method != "b") throw UsageError("--method must be b or a");
+  reconParams.method = method == "a" ? btf::TexelMethod::A : btf::TexelMethod::B;
+
+  if (std::filesystem::exists(session / "texture" / btf::kTextureStoreManifest))
+    throw io::IoError(session.string() +
+                      ": a slicecapd session folder: `slicecap export ID -o DIR` writes its "
+                      "texture with the window samples to DIR/ID-texture; run slicecap btf on that");
+  const CapturedTexture captured =
+      std::filesystem::exists(session / btf::kTextureStoreManifest)
+          ? fromStore(session, args, io)
+          : fromRecordings(session, args, io);
+  const btf::TextureGrid& grid = captured.grid;
 
   // The average ABRDF, exactly as capture-offline makes it.
   MethodOptions averageOptions;
@@ -60,7 +112,7 @@ int run(const ParsedArgs& args, Streams& io) {
 
   btf::BtfReconstructionReport report;
   const btf::BtfTexture texture =
-      btf::reconstructBtf(grid, captured.texture.slices(), reconParams, &report);
+      btf::reconstructBtf(grid, captured.slices, reconParams, &report);
   io.err << "btf: Method " << (reconParams.method == btf::TexelMethod::A ? "A" : "B") << ", "
          << report.texels << " texels on " << report.threads << " threads in " << report.seconds
          << " s; texture " << texture.memoryBytes() / 1e6 << " MB\n";
@@ -72,7 +124,7 @@ int run(const ParsedArgs& args, Streams& io) {
     io.err << "note: " << report.closedFormFits
            << " lobe fits fell back to the closed form (Ceres did not converge)\n";
 
-  started = std::chrono::steady_clock::now();
+  const auto started = std::chrono::steady_clock::now();
   btf::BtfDescription description;
   description.windowMm = grid.window();
   description.method = reconParams.method == btf::TexelMethod::A ? "A" : "B";
@@ -103,7 +155,7 @@ Command btfCommand() {
       {"isotropic", 0, "", "use the diagonal slices only"}};
   for (auto& o : pipelineOptions())
     if (o.name != "report") options.push_back(o);
-  return {{"btf", "SESSION_DIR -o DIR [--resolution N] [--threads N] [--method b|a] [options]",
+  return {{"btf", "SESSION_DIR|TEXTURE_DIR -o DIR [--resolution N] [--threads N] [--method b|a]",
            "Spatially varying capture: every recording under SESSION_DIR through the capture\n"
            "pipeline, and each accepted frame's window rectified to an N x N texture in the\n"
            "target plane (through the pose and the camera's distortion; per texel its own light\n"
@@ -113,7 +165,10 @@ Command btfCommand() {
            "docs/btf-format.md describes: 6561 half-float EXRs tvTTT_pvPPP/tlTTT_plPPP_tvTTT_\n"
            "pvPPP.exr (N x N, BRDF 1/sr), average.exr (the 81 x 81 average ABRDF, as\n"
            "capture-offline makes it), preview/*.png (the texture from above under 8 lights)\n"
-           "and btf.json. Memory: the texture takes 6561 x N^2 x 6 bytes (N = 128: 645 MB).",
+           "and btf.json. Memory: the texture takes 6561 x N^2 x 6 bytes (N = 128: 645 MB).\n"
+           "TEXTURE_DIR instead: the texture slicecapd captured on the box (texture_resolution),\n"
+           "as `slicecap export` writes it (EXPORT/ID-texture, with the session's slices.csv);\n"
+           "its resolution and frames per bin are those of the capture.",
            options, 1, 1},
           run};
 }

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <system_error>
 #include <thread>
 
 #include "slicecap/cli/cli.hpp"
@@ -102,6 +103,12 @@ void printStatus(std::ostream& out, const json& status) {
         << recording["directory"].get<std::string>() << ", " << recording["frames_dropped"]
         << " dropped from the recording (writer behind)\n";
     if (recording.contains("error")) out << "  " << recording["error"].get<std::string>() << "\n";
+  }
+  if (status.contains("texture")) {
+    const json& texture = status["texture"];
+    out << "  texture " << texture["resolution"] << " x " << texture["resolution"] << ": "
+        << texture["bins_filled"] << "/24 bins, " << texture["frames_stored"]
+        << " frames kept in " << texture["directory"].get<std::string>() << "\n";
   }
   if (status.contains("error")) out << "error: " << status["error"].get<std::string>() << "\n";
   out << "next: " << status["next"].get<std::string>() << "\n";
@@ -209,6 +216,30 @@ int runStatus(const ParsedArgs& args, Streams& io) {
   return kExitOk;
 }
 
+// A session's texture store, file by file (it can be hundreds of MB). A frame replaced by a nearer
+// one while this runs may be gone: it is not wanted; one copied beside its replacement is dropped
+// again by the keep rule when the copy is opened. Temporaries of unfinished writes are left out.
+void copyTexture(const fs::path& source, const fs::path& target) {
+  std::error_code error;
+  fs::remove_all(target, error);
+  if (error) throw std::runtime_error(target.string() + ": cannot replace: " + error.message());
+  fs::recursive_directory_iterator it(source, error);
+  for (const fs::recursive_directory_iterator end; !error && it != end; it.increment(error)) {
+    const fs::path copy = target / fs::relative(it->path(), source);
+    if (it->is_directory(error)) {
+      fs::create_directories(copy, error);
+    } else if (!error && it->path().extension() != ".tmp") {
+      fs::create_directories(copy.parent_path(), error);
+      if (!error) fs::copy_file(it->path(), copy, fs::copy_options::overwrite_existing, error);
+      if (error == std::errc::no_such_file_or_directory) error.clear();
+    }
+    if (error)
+      throw std::runtime_error("cannot copy " + it->path().string() + " to " + copy.string() +
+                               ": " + error.message());
+  }
+  if (error) throw std::runtime_error(source.string() + ": cannot read: " + error.message());
+}
+
 int runExport(const ParsedArgs& args, Streams& io) {
   const fs::path destination = args.required("output");
   const json result = call(args, daemon::Export{args.positional[0], ""});
@@ -223,6 +254,11 @@ int runExport(const ParsedArgs& args, Streams& io) {
     if (error)
       throw std::runtime_error("cannot copy " + source.string() + " to " + target.string() + ": " +
                                error.message());
+    copied.push_back(target.string());
+  }
+  if (result.contains("texture")) {
+    const fs::path target = destination / (result["session"].get<std::string>() + "-texture");
+    copyTexture(result["texture"].get<std::string>(), target);
     copied.push_back(target.string());
   }
   json answer = {{"session", result["session"]}, {"files", copied}};
@@ -282,7 +318,8 @@ Command exportCommand() {
            "SESSION -o DIR [--socket PATH] [--json]",
            "Export a session from slicecapd into DIR: its ABRDF EXR files (reconstructing with "
            "Method B\nif there is none yet), a PNG preview of each, the slices CSV and a JSON "
-           "summary.",
+           "summary;\nwith texture capture on (texture_resolution), also DIR/SESSION-texture: "
+           "the texture's\nframes and the slices, for `slicecap btf DIR/SESSION-texture -o BTF`.",
            {{"output", 'o', "DIR", "the folder to copy the files into (required)"},
             kSocketOption,
             kJsonOption},

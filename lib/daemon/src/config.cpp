@@ -28,6 +28,15 @@ double positiveNumber(const std::string& value, const std::string& what) {
   return number;
 }
 
+int wholeNumber(const std::string& value, int lo, int hi, const std::string& what) {
+  int number = 0;
+  const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), number);
+  if (ec != std::errc() || end != value.data() + value.size() || number < lo || number > hi)
+    throw std::invalid_argument("'" + value + "' is not a whole number in " + std::to_string(lo) +
+                                ".." + std::to_string(hi) + " (" + what + ")");
+  return number;
+}
+
 bool boolean(const std::string& value) {
   if (value == "true" || value == "yes" || value == "1") return true;
   if (value == "false" || value == "no" || value == "0") return false;
@@ -82,6 +91,14 @@ const std::map<std::string, Setter>& setters() {
       {"target", [](DaemonConfig& c, const std::string& v) { c.target = v; }},
       {"storage", [](DaemonConfig& c, const std::string& v) { c.storage = v; }},
       {"record_frames", [](DaemonConfig& c, const std::string& v) { c.recordFrames = boolean(v); }},
+      {"texture_resolution",
+       [](DaemonConfig& c, const std::string& v) {
+         c.textureResolution = wholeNumber(v, 0, 512, "texels across the window (0: off)");
+       }},
+      {"texture_frames_per_bin",
+       [](DaemonConfig& c, const std::string& v) {
+         c.textureFramesPerBin = wholeNumber(v, 1, 64, "frames a bin keeps");
+       }},
       {"socket", [](DaemonConfig& c, const std::string& v) { c.socket = v; }},
       {"socket_group", [](DaemonConfig& c, const std::string& v) { c.socketGroup = v; }},
   };
@@ -170,6 +187,15 @@ storage = /var/lib/slicecap
 # arrive while 4 wait are left out of the recording (counted in `slicecap status`), never out of
 # the sweep; a full disk stops the recording, not the sweep. About 1-3 MB a 720p frame.
 record_frames = false
+
+# Texture (BTF) capture: with N > 0 every accepted frame's window is also rectified to N x N texels
+# (64, 128 or 256 are typical; 0 switches it off) and kept per azimuth bin, at most
+# texture_frames_per_bin frames a bin (those nearest its centre), in <storage>/<session>/texture.
+# Disk: 8 slices x 24 bins x that many frames x N^2 x 6 bytes at most (N = 128, 5 frames: 94 MB);
+# memory only the index. `slicecap export` copies it; `slicecap btf EXPORT/<id>-texture -o DIR`
+# reconstructs the BTF (on the box or a desktop). A session keeps the resolution it started with.
+texture_resolution = 0
+texture_frames_per_bin = 5
 
 # The control socket, when systemd does not pass one (slicecapd.socket), and the group allowed to use it.
 socket = /run/slicecap/slicecapd.sock

@@ -32,6 +32,12 @@ struct Daemon::State {
   std::optional<SliceId> recorderSlice;
   std::vector<std::unique_ptr<FrameRecorder>> retiredRecorders;
 
+  // Texture capture: the texture of the swept slice (while it runs or is paused), and the error
+  // its last frame met (the frame loop pauses the sweep on it).
+  std::unique_ptr<TextureSink> texture;
+  std::optional<SliceId> textureSlice;
+  std::string textureError;
+
   explicit State(DaemonParts p)
       : parts(std::move(p)), manager(parts.storage, parts.reconstruct, parts.preview) {}
 
@@ -61,7 +67,51 @@ struct Daemon::State {
     ledOff();
   }
 
+  void closeTexture() {
+    texture.reset();
+    textureSlice.reset();
+  }
+
+  /// The texture of the slice's sweep, opened when its capture starts. False when it cannot be
+  /// opened: the sweep is then paused with the reason.
+  bool openTexture(const SliceId& slice) {
+    textureError.clear();
+    if (!parts.newTextureSink || (texture && textureSlice == slice)) return true;
+    closeTexture();
+    const std::optional<std::filesystem::path> session = manager.sessionDirectory();
+    if (!session) return true;
+    try {
+      texture = parts.newTextureSink(slice, *session);
+      textureSlice = slice;
+    } catch (const std::exception& error) {
+      manager.pauseSweep(std::string("texture capture: ") + error.what());
+      ledOff();
+      return false;
+    }
+    return true;
+  }
+
+  /// A redone sweep's texture starts afresh, as its samples; if it cannot, the sweep pauses.
+  void discardTexture(const SliceId& slice) {
+    if (!parts.newTextureSink) return;
+    try {
+      if (!(texture && textureSlice == slice)) {
+        closeTexture();
+        const std::optional<std::filesystem::path> session = manager.sessionDirectory();
+        if (!session) return;
+        texture = parts.newTextureSink(slice, *session);
+        textureSlice = slice;
+      }
+      texture->discard();
+    } catch (const std::exception& error) {
+      // Capturing on would mix the old sweep's frames into the new one.
+      manager.pauseSweep(std::string("texture capture: cannot discard the old sweep: ") +
+                         error.what());
+    }
+  }
+
   void startCamera(const SliceId& slice) {
+    if (!openTexture(slice)) return;
     try {
       std::shared_ptr<hal::Camera> opened = parts.cameraFor(slice);
       hal::CameraConfig config = parts.cameraConfig;
@@ -76,7 +126,18 @@ struct Daemon::State {
       return;
     }
     cameraSlice = slice;
-    processor = parts.newFrameProcessor(slice);
+    capture::FrameObserver observer;
+    if (texture)
+      observer = [this](const hal::Frame& frame, const capture::FrameOutcome& outcome,
+                        const std::vector<capture::AmbientTerm>& ambient) {
+        if (!texture || !textureError.empty()) return;
+        try {
+          texture->add(frame, outcome, ambient);
+        } catch (const std::exception& error) {
+          textureError = error.what();
+        }
+      };
+    processor = parts.newFrameProcessor(slice, std::move(observer));
     if (const std::optional<int> fd = camera->readyDescriptor()) {
       watchedFd = *fd;
       loop.watch(*fd, EPOLLIN, [this](std::uint32_t) { pumpFrame(); });
@@ -90,6 +151,7 @@ struct Daemon::State {
     const std::optional<SliceId> wanted =
         manager.capturing() ? manager.sweepSlice() : std::optional<SliceId>();
     if (cameraSlice && cameraSlice != wanted) stopCamera();
+    if (texture && textureSlice != manager.sweepSlice()) closeTexture();
     if (wanted && !cameraSlice) startCamera(*wanted);
     if (!manager.capturing()) ledOff();
     reconcileRecorder();
@@ -117,9 +179,7 @@ struct Daemon::State {
 
   static std::filesystem::path recordingDirectory(const std::filesystem::path& session,
                                                   const SliceId& slice) {
-    return session / "recordings" /
-           (std::string(toString(slice.kind)) + "-" + std::to_string(slice.elevations.thetaIDeg) +
-            "-" + std::to_string(slice.elevations.thetaVDeg));
+    return session / "recordings" / folderName(slice);
   }
 
   /// A redone sweep starts its recording afresh, as its samples.
@@ -184,6 +244,11 @@ struct Daemon::State {
       case capture::FrameOutcome::Kind::Ambient:
         break;
     }
+    if (!textureError.empty()) {
+      // The sample is kept; the texture stops with the sweep until the person frees space.
+      manager.pauseSweep("texture storage error: " + textureError);
+      textureError.clear();
+    }
     if (recorder) recorder->offer(std::move(frame));
     reconcile();  // a storage error pauses the sweep, and the LED must go off at once
   }
@@ -208,12 +273,23 @@ struct Daemon::State {
       reconcile();
       throw;
     }
-    if (const auto* redo = std::get_if<SweepRedo>(&request.command)) discardRecording(redo->slice);
+    if (const auto* redo = std::get_if<SweepRedo>(&request.command)) {
+      discardRecording(redo->slice);
+      discardTexture(redo->slice);
+    }
     // The recording of a sweep being stopped is reported in the stop's reply.
     if (recorder && (std::holds_alternative<Status>(request.command) ||
                      std::holds_alternative<SweepStop>(request.command)))
       json["recording"] = recorderJson();
+    if (texture && (std::holds_alternative<Status>(request.command) ||
+                    std::holds_alternative<SweepStop>(request.command)))
+      json["texture"] = texture->status();
     reconcile();
+    // A start the devices refused at once (camera, texture) comes back paused, with the reason.
+    if ((std::holds_alternative<SweepStart>(request.command) ||
+         std::holds_alternative<SweepRedo>(request.command)) &&
+        manager.sweepSlice() && !manager.capturing())
+      json = manager.status()["sweep"];
     return json;
   }
 };

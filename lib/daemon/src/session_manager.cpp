@@ -4,10 +4,12 @@
 #include <chrono>
 #include <ctime>
 #include <fstream>
+#include <sstream>
 #include <system_error>
 
 #include "slicecap/core/version.hpp"
 #include "slicecap/daemon/control_server.hpp"
+#include "slicecap/daemon/texture_sink.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/journal.hpp"
@@ -294,13 +296,29 @@ struct SessionManager::State {
     const fs::path csv = directory / (store.info().id + "-slices.csv");
     io::writeSliceCsv(csv, store.slices());
     files.push_back(csv.string());
+
     json summary = sessionJson(store);
     summary["exported"] = utcNow("%Y-%m-%dT%H:%M:%SZ");
     summary["slicecap_version"] = kVersion;
     const fs::path summaryPath = directory / (store.info().id + "-summary.json");
     io::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
     files.push_back(summaryPath.string());
-    return {{"session", store.info().id}, {"directory", directory.string()}, {"files", files}};
+    json reply = {{"session", store.info().id}, {"directory", directory.string()}, {"files", files}};
+    if (const std::optional<fs::path> texture = exportTexture(store))
+      reply["texture"] = texture->string();
+    return reply;
+  }
+
+  /// The session's texture folder, if it has one, with the session's window-average slices
+  /// written into it (slices.csv: the BTF's average ABRDF is made from them). Not copied here: the
+  /// client copies it (`slicecap export` to DIR/<id>-texture), as it can be hundreds of MB.
+  std::optional<fs::path> exportTexture(const capture::SessionStore& store) {
+    const fs::path texture = store.directory() / kTextureFolder;
+    if (!fs::is_directory(texture)) return std::nullopt;
+    std::ostringstream csv;
+    io::writeSliceCsv(csv, store.slices());
+    io::writeFileAtomically(texture / "slices.csv", csv.str());
+    return texture;
   }
 
   fs::path reconstructInto(capture::SessionStore& store, const std::string& method) {

@@ -47,6 +47,8 @@ struct DaemonConfig {
   std::string target = "default";  ///< target: "default" (built in) or a target JSON path
   std::filesystem::path storage = "/var/lib/slicecap";  ///< storage: where sessions live
   bool recordFrames = false;  ///< record_frames: also keep raw frames as recordings
+  int textureResolution = 0;    ///< texture_resolution: texels across the window; 0 = no texture
+  int textureFramesPerBin = 5;  ///< texture_frames_per_bin: frames a texture bin keeps
 
   // Control socket.
   std::filesystem::path socket =

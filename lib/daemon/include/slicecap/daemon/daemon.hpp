@@ -7,6 +7,7 @@
 
 #include "slicecap/capture/frame_outcome.hpp"
 #include "slicecap/daemon/session_manager.hpp"
+#include "slicecap/daemon/texture_sink.hpp"
 #include "slicecap/hal/camera.hpp"
 #include "slicecap/hal/led.hpp"
 #include "slicecap/io/recording.hpp"
@@ -26,8 +27,15 @@ struct DaemonParts {
   /// Switch the LED off every other frame, so the pipeline can subtract room light.
   bool ledAlternate = true;
   /// A fresh per-frame pipeline for each sweep run of a slice (it keeps tracking state across
-  /// frames; the file camera's recordings may each have their own camera and target).
-  std::function<capture::FrameProcessor(const SliceId&)> newFrameProcessor;
+  /// frames; the file camera's recordings may each have their own camera and target). The
+  /// processor calls the observer (when set: texture capture) for every frame it processes.
+  std::function<capture::FrameProcessor(const SliceId&, capture::FrameObserver)> newFrameProcessor;
+  /// Texture capture (texture_resolution): the texture of a slice's sweep, stored in
+  /// <session>/texture (kTextureFolder). Throws (std::exception with a message) when it cannot
+  /// be opened, e.g. the session's texture has another resolution; the sweep then pauses. Empty:
+  /// no texture is captured.
+  std::function<std::unique_ptr<TextureSink>(const SliceId&, const std::filesystem::path& session)>
+      newTextureSink;
   ReconstructFunction reconstruct;
   PreviewFunction preview;
   /// record_frames: the recording header (camera model, target, slice) of a slice's sweep; every

@@ -1,0 +1,33 @@
+// The daemon's texture capture behind an interface: lib/daemon decides when a sweep's frames go to
+// a texture; how frames become stored texels (lib/btf) is wired in by slicecapd.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "slicecap/capture/frame_outcome.hpp"
+#include "slicecap/capture/frame_pipeline.hpp"
+#include "slicecap/hal/frame.hpp"
+
+namespace slicecap::daemon {
+
+/// \brief The folder of a session where its texture is kept, and which `export` copies.
+inline constexpr const char* kTextureFolder = "texture";
+
+/// \brief One slice's texture capture in a session (texture_resolution set).
+class TextureSink {
+ public:
+  virtual ~TextureSink() = default;
+  /// \brief One frame of the running sweep, after the pipeline, with the room-light term it used
+  /// (capture::FrameObserver). Durable when this returns. Throws io::IoError when the texture
+  /// cannot be stored (the daemon then pauses the sweep; the window samples are not affected).
+  virtual void add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
+                   const std::vector<capture::AmbientTerm>& ambient) = 0;
+  /// \brief Deletes the slice's texture (a redone sweep). Throws io::IoError.
+  virtual void discard() = 0;
+  /// \brief What `slicecap status` shows: at least "directory", "resolution", "bins_filled" and
+  /// "frames_stored" of the slice.
+  virtual nlohmann::json status() const = 0;
+};
+
+}  // namespace slicecap::daemon
