@@ -296,7 +296,6 @@ struct SessionManager::State {
     const fs::path csv = directory / (store.info().id + "-slices.csv");
     io::writeSliceCsv(csv, store.slices());
     files.push_back(csv.string());
-
     json summary = sessionJson(store);
     summary["exported"] = utcNow("%Y-%m-%dT%H:%M:%SZ");
     summary["slicecap_version"] = kVersion;

@@ -64,7 +64,8 @@ struct Export {
   std::optional<std::string> id;  ///< default: the current session
   /// Absolute path on the box; empty: the session's own `export/` folder, which the daemon can
   /// always write (its unit allows writes to its state folder only) and `slicecap export` copies
-  /// from.
+  /// from. The reply lists the files written; with a texture it also names the session's texture
+  /// folder ("texture"), which is not copied (it can be hundreds of MB): the client copies it.
   std::string directory;
 };
 
