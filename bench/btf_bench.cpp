@@ -1,15 +1,23 @@
 // BTF reconstruction speed: a 128 x 128 texture of the woven material, every texel through Method
 // B (goal: < 10 s on the two cores of the development machine; paper: 4.5 h on three), with 1 and
 // 2 threads, and Method A with its one shared factorisation. Reports the process's peak RSS.
+// Also what texture capture costs the daemon per kept frame: rectifying a 1280 x 720 sRGB frame's
+// window to N x N texels (with its LED-off frame subtracted), and storing it (synced write).
 // Run it directly (build/bench/btf_bench) for the two-thread figure: scripts/bench pins one core.
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
+#include <filesystem>
+
 #include "slicecap/btf/btf_reconstruction.hpp"
+#include "slicecap/btf/rectifier.hpp"
+#include "slicecap/btf/texture_store.hpp"
 #include "slicecap/models/reflectance_model.hpp"
 #include "slicecap/recon/method_b.hpp"
 #include "slicecap/recon/slice_extraction.hpp"
 #include "slicecap/sim/patterned_material.hpp"
+#include "slicecap/sim/renderer.hpp"
+#include "slicecap/sim/simulate.hpp"
 #include "slicecap/vision/target.hpp"
 
 namespace {
@@ -118,6 +126,72 @@ void BM_Btf128_MethodA(benchmark::State& state) {
   reportPeakRssAndCpu(state, cpuBefore);
 }
 BENCHMARK(BM_Btf128_MethodA)->Arg(2)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+// One 1280 x 720 8-bit sRGB frame of the woven material (axial 30/30) with its true pose and LED.
+struct RenderedFrame {
+  hal::Frame frame;
+  vision::CameraModel camera;
+  vision::RectMm window;
+  btf::FrameGeometry geometry;
+};
+
+const RenderedFrame& renderedFrame() {
+  static const RenderedFrame rendered = [] {
+    sim::RigParams rig = sim::RigParams::ideal();
+    rig.framesPerSlice = 8;
+    const sim::FrameRenderer renderer(vision::defaultSimulatedCamera(), vision::defaultTarget(),
+                                      sim::makeWovenMaterial(10.0), rig);
+    std::vector<sim::FramePlan> plans =
+        sim::planSweep({SliceKind::Axial, {30, 30}}, kAxialOffsetDeg, rig, renderer.camera(),
+                       renderer.target());
+    const sim::FramePlan& plan = plans[1];
+    sim::FrameScene scene;
+    scene.exposurePoses = plan.exposurePoses;
+    scene.lightMm = plan.lightMm;
+    scene.exposureUs = std::round(sim::chooseExposureUs(renderer, rig, plans));
+    scene.gain = plan.gain;
+    hal::Frame frame{renderer.render(scene), rig.encoding, {}};
+    frame.metadata = {1, plan.timestampUs, scene.exposureUs, plan.gain, true};
+    const capture::PointLight light{{plan.lightMm.x(), plan.lightMm.y(), plan.lightMm.z()},
+                                    Rgb::gray(rig.sensorResponse * rig.ledIntensityWPerSr)};
+    return RenderedFrame{std::move(frame), renderer.camera(), renderer.target().window,
+                         {plan.pose, light}};
+  }();
+  return rendered;
+}
+
+// Rectification of a kept frame at N x N texels, the LED-off frame (here the same image) read at
+// the same pixels as live: the CPU a kept frame costs the daemon's frame loop.
+void BM_RectifyFrame(benchmark::State& state) {
+  const RenderedFrame& r = renderedFrame();
+  const btf::TextureGrid grid(static_cast<int>(state.range(0)), r.window);
+  const capture::AmbientTerm ambient{&r.frame, std::nullopt, 1.0};
+  for (auto _ : state)
+    benchmark::DoNotOptimize(btf::rectifyFrame(grid, r.camera, r.frame, {&ambient, 1}, r.geometry));
+}
+BENCHMARK(BM_RectifyFrame)->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond);
+
+// Storing a kept N x N frame: half floats, CRC, temporary, fsync, rename, folder fsync. Depends on
+// the disk (an SD card is slower than this machine's): a budget, not a constant.
+void BM_StoreKeptFrame(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const std::filesystem::path directory =
+      std::filesystem::temp_directory_path() / "slicecap-btf-bench-store";
+  std::filesystem::remove_all(directory);
+  btf::TextureStore store = btf::TextureStore::openOrCreate(directory, {n, {-20, -20, 20, 20}, 1});
+  btf::TextureFrame frame{0.0, {0, 0, 300}, {0, 100, 280},
+                          std::vector<float>(std::size_t(n) * n * 3, 0.25f)};
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  double parameterDeg = 7.0;
+  for (auto _ : state) {
+    // Each frame nearer its bin's centre than the last: always kept, replacing the one before.
+    frame.sliceParameterDeg = parameterDeg;
+    parameterDeg *= 0.999;
+    benchmark::DoNotOptimize(store.add(slice, frame));
+  }
+  std::filesystem::remove_all(directory);
+}
+BENCHMARK(BM_StoreKeptFrame)->Arg(128)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
