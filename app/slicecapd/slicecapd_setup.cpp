@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <ostream>
 
@@ -128,13 +129,20 @@ class StoreTextureSink final : public daemon::TextureSink {
  public:
   StoreTextureSink(const fs::path& directory, const SliceId& slice,
                    const vision::CameraModel& camera, const btf::TextureStoreLayout& layout)
-      : sweep_(directory, slice, camera, layout) {}
+      : sweep_(directory, slice, camera, layout) {
+    // What opening mended after a crash goes to the journal (stderr under systemd).
+    const btf::TextureStoreRecovery& recovery = sweep_.store().recovery();
+    for (const std::string& dropped : recovery.droppedFiles)
+      std::cerr << "slicecapd: texture: removed a damaged frame: " << dropped << "\n";
+    if (recovery.leftovers > 0)
+      std::cerr << "slicecapd: texture: removed " << recovery.leftovers << " leftovers of an "
+                << "interrupted write or redo in " << directory.string() << "\n";
+  }
 
   void add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
            const std::vector<capture::AmbientTerm>& ambient) override {
     sweep_.add(frame, outcome, ambient);
   }
-  void discard() override { sweep_.discard(); }
   nlohmann::json status() const override {
     const btf::TextureStore& store = sweep_.store();
     return {{"directory", store.directory().string()},
@@ -142,7 +150,8 @@ class StoreTextureSink final : public daemon::TextureSink {
             {"bins_filled", store.filledBins(sweep_.slice())},
             {"frames_stored", store.frameCount(sweep_.slice())},
             {"session_frames_stored", store.frameCount()},
-            {"stored_mb", static_cast<double>(store.storedBytes()) / 1e6}};
+            {"stored_mb", static_cast<double>(store.storedBytes()) / 1e6},
+            {"damaged_frames_removed", store.recovery().droppedFiles.size()}};
   }
 
  private:

@@ -50,13 +50,16 @@ TEST(TextureStore, KeepsTheSameFramesAsTheInMemoryBinsAndCombinesThemAlike) {
   for (double p : parameters) {
     const TextureFrame frame = frameAt(p, value);
     value *= 2.0f;
-    EXPECT_EQ(store.wouldKeep(kAxial, p), store.add(kAxial, frame));
+    const bool keep = store.wouldKeep(kAxial, p);  // asked before, as the daemon does
+    EXPECT_EQ(store.add(kAxial, frame), keep) << p;
     memory.add(frame);
   }
   EXPECT_EQ(store.frameCount(kAxial), 4u);  // 3 in bin 1, 1 in bin 13
   EXPECT_EQ(store.filledBins(kAxial), 2);
   EXPECT_EQ(frameFiles(dir).size(), 4u);  // the replaced frames' files are gone
-  EXPECT_FALSE(store.wouldKeep(kAxial, 22.0));
+  EXPECT_FALSE(store.wouldKeep(kAxial, 22.0));  // farther than every kept frame of its full bin
+  EXPECT_TRUE(store.wouldKeep(kAxial, 15.5));   // nearer: it would replace the farthest
+  EXPECT_TRUE(store.wouldKeep(kAxial, 100.0));  // an empty bin
 
   const std::vector<SliceTexture> stored = store.combine();
   const SliceTexture expected = memory.combine();
@@ -151,7 +154,7 @@ TEST(TextureStore, OpeningMendsWhatACrashLeftAndDropsDamagedFrames) {
 
   const TextureStore store = TextureStore::open(dir);
   EXPECT_EQ(store.recovery().droppedFiles.size(), 1u);
-  EXPECT_EQ(store.recovery().leftoversRemoved, 3u);  // tmp, discarded slice, the evicted frame
+  EXPECT_EQ(store.recovery().leftovers, 3u);  // tmp, discarded slice, the evicted frame
   EXPECT_FALSE(fs::exists(evicted));
   EXPECT_FALSE(fs::exists(torn));
   EXPECT_FALSE(fs::exists(dir / "diagonal-75-75.discarded"));
@@ -175,6 +178,32 @@ TEST(TextureStore, OpeningMendsWhatACrashLeftAndDropsDamagedFrames) {
         << e.what();
     EXPECT_NE(std::string(e.what()).find("checksum"), std::string::npos) << e.what();
   }
+}
+
+TEST(TextureStore, AReaderChangesNothingAndReadsWhatTheKeepRuleKeeps) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  {
+    TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+    store.add(kAxial, frameAt(15.0, 1.0f));
+    store.add(kAxial, frameAt(16.0, 2.0f));
+    store.add(kAxial, frameAt(17.0, 4.0f));
+  }
+  // A frame the daemon is writing (its temporary) and a replaced frame not yet deleted.
+  std::ofstream(dir / "axial-30-75" / "b01-00000009.tex.tmp") << "partial";
+  {
+    TextureStore scratch = TextureStore::openOrCreate(dir.parent_path() / "scratch", kLayout);
+    scratch.add(kAxial, frameAt(21.0, 32.0f));
+    fs::copy_file(frameFiles(scratch.directory()).front(), dir / "axial-30-75" / "b01-00000000.tex");
+  }
+  const TextureStore reader = TextureStore::open(dir, StoreAccess::ReadOnly);
+  EXPECT_EQ(reader.frameCount(kAxial), 3u);
+  EXPECT_EQ(reader.recovery().leftovers, 2u);
+  EXPECT_TRUE(fs::exists(dir / "axial-30-75" / "b01-00000009.tex.tmp"));
+  EXPECT_TRUE(fs::exists(dir / "axial-30-75" / "b01-00000000.tex"));
+  EXPECT_EQ(reader.combine()[0].bins[1].frames, 3);
+  TextureStore copy = reader;
+  EXPECT_THROW(copy.add(kAxial, frameAt(15.0, 1.0f)), std::logic_error);
+  EXPECT_THROW(copy.discard(kAxial), std::logic_error);
 }
 
 TEST(TextureStore, ARedoneSweepLosesItsFramesAndOnlyThose) {

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
+#include <fstream>
 #include <thread>
 
 #include "../support/test_support.hpp"
@@ -69,7 +70,6 @@ capture::FrameProcessor standInPipeline() {
 struct TextureLog {
   int framesSeen = 0;
   int samplesStored = 0;
-  int discards = 0;
   int opened = 0;
   std::optional<int> failAtSample;  // add() throws io::IoError from this sample on (disk full)
   std::optional<std::string> failToOpen;
@@ -85,10 +85,6 @@ class FakeTextureSink : public TextureSink {
     if (log_->failAtSample && log_->samplesStored + 1 >= *log_->failAtSample)
       throw io::IoError("texture/axial-30-30/b00.tex: No space left on device");
     ++log_->samplesStored;
-  }
-  void discard() override {
-    ++log_->discards;
-    log_->samplesStored = 0;
   }
   json status() const override {
     return {{"directory", "texture"}, {"resolution", 8}, {"bins_filled", 0},
@@ -209,10 +205,18 @@ TEST_F(DaemonOnFileCamera, TheTextureSeesEveryFrameOfTheSweepAndItsStatusIsShown
   EXPECT_EQ(status["texture"]["frames_stored"], kFrames / 2);
   EXPECT_EQ(call(SweepStop{})["texture"]["frames_stored"], kFrames / 2);
   EXPECT_EQ(texture->opened, 1);
-  // A redone sweep starts its texture afresh, as its samples.
+  // A redone sweep starts its texture afresh, as its samples: the slice's folder goes (whatever
+  // the sink kept there), the other slices' stay, and a new sink indexes what is left.
+  const auto folder = dir_ / "storage" / "grey" / kTextureFolder;
+  std::filesystem::create_directories(folder / "axial-30-30");
+  std::filesystem::create_directories(folder / "axial-30-75");
+  std::ofstream(folder / "axial-30-30" / "b00-00000001.tex") << "old sweep";
+  texture->samplesStored = 0;
   call(SweepRedo{kAxial3030});
-  EXPECT_EQ(texture->discards, 1);
+  EXPECT_FALSE(std::filesystem::exists(folder / "axial-30-30"));
+  EXPECT_TRUE(std::filesystem::exists(folder / "axial-30-75"));
   waitForPause();
+  EXPECT_EQ(texture->opened, 2);
   EXPECT_EQ(texture->samplesStored, kFrames / 2);
 }
 

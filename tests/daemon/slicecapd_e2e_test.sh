@@ -38,6 +38,8 @@ for slice in "${session_slices[@]}"; do
     sleep 0.02
   done
   kill -9 "$daemon_pid"; wait "$daemon_pid" 2>/dev/null || true; daemon_pid=
+  texture_frames() { find "$work/storage/e2e/texture/axial-75-30" -name '*.tex' 2>/dev/null | wc -l; }
+  stored_before=$(texture_frames)
   "$slicecapd" --config "$work/slicecapd.conf" --led-off || fail "--led-off failed"
   led_is_off || fail "the LED is not off after --led-off"
   start_daemon
@@ -46,6 +48,9 @@ for slice in "${session_slices[@]}"; do
   after=$(sweep_samples)
   [[ $after -ge $acknowledged ]] || fail "samples lost in the kill: $acknowledged acknowledged, $after kept"
   echo "kill -9 in mid-sweep: $acknowledged samples acknowledged before, $after kept after the restart"
+  [[ $(texture_frames) -ge $stored_before ]] ||
+    fail "texture frames lost in the kill: $stored_before stored, $(texture_frames) after the restart"
+  echo "  and $stored_before texture frames stored before the kill, $(texture_frames) after"
   sweep "$slice"   # `sweep start` continues the paused sweep
 done
 "$slicecap" export e2e -o "$work/desk" >/dev/null

@@ -123,6 +123,23 @@ TEST(AtomicFile, ReplacesWholeFilesOnly) {
   EXPECT_THROW(writeFileAtomically(dir / "missing" / "x", "y"), IoError);
 }
 
+TEST(DurableFolders, CreateNestedAndDiscardWholeTreesLeavingNoHalf) {
+  namespace fs = std::filesystem;
+  const fs::path root = test::freshTempDir();
+  createFoldersDurably(root / "a" / "b" / "c");
+  EXPECT_TRUE(fs::is_directory(root / "a" / "b" / "c"));
+  createFoldersDurably(root / "a" / "b" / "c");  // already there: nothing to do
+  std::ofstream(root / "a" / "b" / "c" / "frame") << "x";
+  // A discard cut off earlier left its renamed folder: the next one replaces it.
+  fs::create_directories(root / (std::string("a") + kDiscardedSuffix) / "old");
+  discardFolderDurably(root / "a");
+  EXPECT_FALSE(fs::exists(root / "a"));
+  EXPECT_FALSE(fs::exists(root / (std::string("a") + kDiscardedSuffix)));
+  EXPECT_NO_THROW(discardFolderDurably(root / "a"));  // gone already
+  std::ofstream(root / "file") << "x";
+  EXPECT_THROW(createFoldersDurably(root / "file" / "sub"), IoError);
+}
+
 TEST(Crc32, MatchesTheStandardCheckValue) {
   EXPECT_EQ(crc32("123456789"), 0xCBF43926u);
 }

@@ -8,6 +8,8 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <cerrno>
+#include <cstddef>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -30,7 +32,6 @@ using nlohmann::json;
 constexpr double kBinWidthDeg = 15.0;  // as the window-average bins (capture::AzimuthBins)
 constexpr char kFrameMagic[8] = {'S', 'C', 'T', 'E', 'X', 'F', '0', '1'};
 constexpr const char* kFrameExtension = ".tex";
-constexpr const char* kDiscardedSuffix = ".discarded";
 
 // A frame file: magic, the header below (little-endian, as every platform slicecap runs on),
 // N^2 x RGB half floats, CRC-32 of everything before it.
@@ -45,6 +46,17 @@ struct FrameHeader {
   double lightMm[3] = {0, 0, 0};
 };
 static_assert(std::endian::native == std::endian::little, "the frame files are little-endian");
+// The header is written as it lies in memory: docs/btf-format.md's table is this layout.
+static_assert(sizeof(FrameHeader) == 80 && offsetof(FrameHeader, sequence) == 16 &&
+                  offsetof(FrameHeader, sliceParameterDeg) == 24 &&
+                  offsetof(FrameHeader, cameraMm) == 32 && offsetof(FrameHeader, lightMm) == 56,
+              "the frame header's layout is the documented one");
+
+// A frame file whose content is wrong (torn by a power cut, damaged, not a frame): unlike a file
+// that cannot be opened, it can never become readable, so mending the store removes it.
+struct BadFrame : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 std::size_t frameFileBytes(int resolution) {
   return sizeof kFrameMagic + sizeof(FrameHeader) +
@@ -90,29 +102,32 @@ std::string readWhole(const fs::path& path) {
 }
 
 // The header of a frame file, checked against the layout without reading its texels (opening a
-// store must stay quick); the CRC is checked when the texels are read.
+// store must stay quick); the CRC is checked when the texels are read. io::IoError when the file
+// cannot be opened or read, BadFrame when what it holds is wrong.
 FrameHeader readFrameHeader(const fs::path& path, int resolution) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw io::IoError(path.string() + ": cannot open");
+  if (!in) throw io::IoError(path.string() + ": cannot open: " + std::strerror(errno));
+  std::error_code error;
+  const auto size = fs::file_size(path, error);
+  if (error) throw io::IoError(path.string() + ": cannot read its size: " + error.message());
+  if (size != frameFileBytes(resolution))
+    throw BadFrame(path.string() + ": torn or not a frame of this store (" + std::to_string(size) +
+                   " bytes, " + std::to_string(frameFileBytes(resolution)) + " expected)");
   char magic[sizeof kFrameMagic];
   FrameHeader header;
   in.read(magic, sizeof magic);
   in.read(reinterpret_cast<char*>(&header), sizeof header);
-  if (!in || std::memcmp(magic, kFrameMagic, sizeof magic) != 0)
-    throw io::IoError(path.string() + ": not a slicecap texture frame");
+  if (!in) throw io::IoError(path.string() + ": cannot read");
+  if (std::memcmp(magic, kFrameMagic, sizeof magic) != 0)
+    throw BadFrame(path.string() + ": not a slicecap texture frame");
   if (header.resolution != resolution)
-    throw io::IoError(path.string() + ": " + std::to_string(header.resolution) +
-                      " texels across, the store has " + std::to_string(resolution));
-  std::error_code error;
-  const auto size = fs::file_size(path, error);
-  if (error || size != frameFileBytes(resolution))
-    throw io::IoError(path.string() + ": torn (" + std::to_string(error ? 0 : size) + " bytes, " +
-                      std::to_string(frameFileBytes(resolution)) + " expected)");
+    throw BadFrame(path.string() + ": " + std::to_string(header.resolution) +
+                   " texels across, the store has " + std::to_string(resolution));
   if (header.kind != static_cast<int>(SliceKind::Axial) &&
       header.kind != static_cast<int>(SliceKind::Diagonal))
-    throw io::IoError(path.string() + ": no axial or diagonal slice in its header");
+    throw BadFrame(path.string() + ": no axial or diagonal slice in its header");
   if (!std::isfinite(header.sliceParameterDeg))
-    throw io::IoError(path.string() + ": its slice parameter is not a number");
+    throw BadFrame(path.string() + ": its slice parameter is not a number");
   return header;
 }
 
@@ -202,36 +217,37 @@ void removeQuietly(const fs::path& path) {
 
 }  // namespace
 
-TextureStore::TextureStore(fs::path directory, TextureStoreLayout layout)
-    : directory_(std::move(directory)), layout_(layout) {}
+TextureStore::TextureStore(fs::path directory, TextureStoreLayout layout, StoreAccess access)
+    : directory_(std::move(directory)), layout_(layout), access_(access) {}
 
 TextureStore TextureStore::openOrCreate(const fs::path& directory,
                                         const TextureStoreLayout& layout) {
   checkLayout(layout);
   const fs::path manifest = directory / kTextureStoreManifest;
   if (!fs::exists(manifest)) {
-    std::error_code error;
-    fs::create_directories(directory, error);
-    if (error)
-      throw io::IoError(directory.string() + ": cannot create the texture store: " +
-                        error.message());
+    io::createFoldersDurably(directory);
     io::writeFileAtomically(manifest, layoutJson(layout).dump(2) + "\n");
   }
   TextureStore store = open(directory);
   const TextureStoreLayout& found = store.layout();
+  const auto describe = [](const TextureStoreLayout& l) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "%d texels across, %d frames a bin, window x %g..%g y %g..%g mm", l.resolution,
+                  l.framesPerBin, l.windowMm.xMinMm, l.windowMm.xMaxMm, l.windowMm.yMinMm,
+                  l.windowMm.yMaxMm);
+    return std::string(text);
+  };
   if (found.resolution != layout.resolution || !(found.windowMm == layout.windowMm) ||
       found.framesPerBin != layout.framesPerBin)
-    throw io::IoError(manifest.string() + ": this session's texture has " +
-                      std::to_string(found.resolution) + " texels across and " +
-                      std::to_string(found.framesPerBin) + " frames a bin over its window; now " +
-                      std::to_string(layout.resolution) + " and " +
-                      std::to_string(layout.framesPerBin) +
-                      " are asked (one session has one texture: change the configuration back or "
-                      "start a new session)");
+    throw io::IoError(manifest.string() + ": this session's texture has " + describe(found) +
+                      "; asked now: " + describe(layout) +
+                      " (one session has one texture: change the configuration or target back, "
+                      "or start a new session)");
   return store;
 }
 
-TextureStore TextureStore::open(const fs::path& directory) {
+TextureStore TextureStore::open(const fs::path& directory, StoreAccess access) {
   const fs::path manifest = directory / kTextureStoreManifest;
   if (!fs::exists(manifest))
     throw io::IoError(directory.string() + ": not a texture store (no " + kTextureStoreManifest +
@@ -242,7 +258,7 @@ TextureStore TextureStore::open(const fs::path& directory) {
   } catch (const std::invalid_argument& e) {
     throw io::IoError(manifest.string() + ": " + e.what());
   }
-  TextureStore store(directory, layout);
+  TextureStore store(directory, layout, access);
   store.load();
   return store;
 }
@@ -253,25 +269,26 @@ void TextureStore::load() {
     Entry entry;
   };
   std::vector<Found> found;
+  const bool mend = access_ == StoreAccess::Mend;
+  // A leftover is removed when mending, else just not read.
+  const auto leftover = [&](const fs::path& path) {
+    if (mend) removeQuietly(path);
+    ++recovery_.leftovers;
+  };
   std::error_code error;
   for (const fs::directory_entry& folder : fs::directory_iterator(directory_, error)) {
     if (!folder.is_directory()) {
-      if (folder.path().extension() == ".tmp") {
-        removeQuietly(folder.path());
-        ++recovery_.leftoversRemoved;
-      }
+      if (folder.path().extension() == ".tmp") leftover(folder.path());
       continue;
     }
     const std::string name = folder.path().filename().string();
-    if (name.find(kDiscardedSuffix) != std::string::npos) {  // a redo cut off half-way
-      removeQuietly(folder.path());
-      ++recovery_.leftoversRemoved;
+    if (name.find(io::kDiscardedSuffix) != std::string::npos) {  // a redo cut off half-way
+      leftover(folder.path());
       continue;
     }
     for (const fs::directory_entry& file : fs::directory_iterator(folder.path(), error)) {
-      if (file.path().extension() == ".tmp") {  // a write cut off before its rename
-        removeQuietly(file.path());
-        ++recovery_.leftoversRemoved;
+      if (file.path().extension() == ".tmp") {  // a write cut off (or, read-only, under way)
+        leftover(file.path());
         continue;
       }
       if (file.path().extension() != kFrameExtension) continue;
@@ -283,9 +300,9 @@ void TextureStore::load() {
           throw io::IoError(file.path().string() + ": a frame of " + folderName(slice) +
                             " in the folder of another slice");
         found.push_back({slice, {header.sliceParameterDeg, header.sequence, file.path()}});
-      } catch (const io::IoError& e) {
+      } catch (const BadFrame& e) {
         recovery_.droppedFiles.push_back(e.what());
-        removeQuietly(file.path());
+        if (mend) removeQuietly(file.path());
       }
     }
     if (error) break;
@@ -299,13 +316,16 @@ void TextureStore::load() {
     nextSequence_ = std::max(nextSequence_, f.entry.sequence + 1);
     const auto where = placeOf(f.slice, f.entry.parameterDeg);
     if (!where) {
-      removeQuietly(f.entry.file);
-      ++recovery_.leftoversRemoved;
+      leftover(f.entry.file);
       continue;
     }
-    if (where->second < indexFor(f.slice)[static_cast<std::size_t>(where->first)].size())
-      ++recovery_.leftoversRemoved;  // it replaces a frame whose deletion a crash cut off
-    place(f.slice, std::move(f.entry), where->first, where->second);
+    std::vector<Entry>& bin = indexFor(f.slice)[static_cast<std::size_t>(where->first)];
+    if (where->second < bin.size()) {  // it replaces a frame whose deletion a crash cut off
+      leftover(bin[where->second].file);
+      bin[where->second] = std::move(f.entry);
+      continue;
+    }
+    bin.push_back(std::move(f.entry));
   }
 }
 
@@ -347,6 +367,8 @@ bool TextureStore::wouldKeep(const SliceId& slice, double parameterDeg) const {
 }
 
 bool TextureStore::add(const SliceId& slice, const TextureFrame& frame) {
+  if (access_ != StoreAccess::Mend)
+    throw std::logic_error("texture store: " + directory_.string() + " was opened read-only");
   if (slice.kind != SliceKind::Axial && slice.kind != SliceKind::Diagonal)
     throw std::invalid_argument("texture store: only axial and diagonal slices have a texture");
   const std::size_t values = grid().texelCount() * 3;
@@ -356,9 +378,7 @@ bool TextureStore::add(const SliceId& slice, const TextureFrame& frame) {
   const auto where = placeOf(slice, frame.sliceParameterDeg);
   if (!where) return false;
   const fs::path folder = directory_ / folderName(slice);
-  std::error_code error;
-  fs::create_directories(folder, error);
-  if (error) throw io::IoError(folder.string() + ": cannot create: " + error.message());
+  io::createFoldersDurably(folder);
   const std::uint64_t sequence = nextSequence_++;
   char name[40];
   std::snprintf(name, sizeof name, "b%02d-%08llu%s", where->first,
@@ -370,17 +390,11 @@ bool TextureStore::add(const SliceId& slice, const TextureFrame& frame) {
 }
 
 void TextureStore::discard(const SliceId& slice) {
+  if (access_ != StoreAccess::Mend)
+    throw std::logic_error("texture store: " + directory_.string() + " was opened read-only");
+  // The index follows the disk: if the folder cannot be discarded, its frames stay known.
+  io::discardFolderDurably(directory_ / folderName(slice));
   index_.erase(slice);
-  const fs::path folder = directory_ / folderName(slice);
-  if (!fs::exists(folder)) return;
-  // Renamed first (atomic), so a crash half-way through the deletion cannot bring back part of
-  // the discarded sweep: opening removes what is left of it.
-  const fs::path doomed = folder.string() + kDiscardedSuffix;
-  removeQuietly(doomed);
-  std::error_code error;
-  fs::rename(folder, doomed, error);
-  if (error) throw io::IoError(folder.string() + ": cannot discard: " + error.message());
-  removeQuietly(doomed);
 }
 
 std::vector<SliceId> TextureStore::slices() const {

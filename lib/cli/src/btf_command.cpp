@@ -63,9 +63,16 @@ CapturedTexture fromStore(const std::filesystem::path& directory, const ParsedAr
     if (args.value(fixed))
       throw UsageError(std::string("--") + fixed + " is fixed by the captured texture (" +
                        directory.string() + "/" + btf::kTextureStoreManifest + ")");
-  const btf::TextureStore store = btf::TextureStore::open(directory);
+  // A daemon's live store is still written to: read an export of it.
+  if (std::filesystem::exists(directory.parent_path() / "session.json") &&
+      std::filesystem::exists(directory.parent_path() / "journal"))
+    throw io::IoError(directory.string() +
+                      ": the texture of a slicecapd session, still written by the daemon: "
+                      "`slicecap export ID -o DIR` copies it to DIR/ID-texture; run slicecap btf "
+                      "on that");
+  const btf::TextureStore store = btf::TextureStore::open(directory, btf::StoreAccess::ReadOnly);
   for (const std::string& dropped : store.recovery().droppedFiles)
-    io.err << "warning: dropped a damaged texture frame: " << dropped << "\n";
+    io.err << "warning: a damaged texture frame is left out: " << dropped << "\n";
   const std::filesystem::path csv = directory / "slices.csv";
   if (!std::filesystem::exists(csv))
     throw io::IoError(csv.string() +

@@ -12,6 +12,7 @@
 #include "slicecap/cli/cli.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/daemon/control_client.hpp"
+#include "slicecap/io/journal.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -216,16 +217,21 @@ int runStatus(const ParsedArgs& args, Streams& io) {
   return kExitOk;
 }
 
-// A session's texture store, file by file (it can be hundreds of MB). A frame replaced by a nearer
-// one while this runs may be gone: it is not wanted; one copied beside its replacement is dropped
-// again by the keep rule when the copy is opened. Temporaries of unfinished writes are left out.
+// A session's texture store, file by file (it can be hundreds of MB; the daemon exports it only
+// while no sweep writes to it), into a temporary folder that replaces `target` only when whole: a
+// failed copy leaves the previous export as it was. Temporaries and discarded slices are left out.
 void copyTexture(const fs::path& source, const fs::path& target) {
+  const fs::path partial = target.string() + ".partial";
   std::error_code error;
-  fs::remove_all(target, error);
-  if (error) throw std::runtime_error(target.string() + ": cannot replace: " + error.message());
+  fs::remove_all(partial, error);
+  if (error) throw std::runtime_error(partial.string() + ": cannot replace: " + error.message());
   fs::recursive_directory_iterator it(source, error);
   for (const fs::recursive_directory_iterator end; !error && it != end; it.increment(error)) {
-    const fs::path copy = target / fs::relative(it->path(), source);
+    if (it->path().extension() == io::kDiscardedSuffix) {
+      it.disable_recursion_pending();
+      continue;
+    }
+    const fs::path copy = partial / fs::relative(it->path(), source);
     if (it->is_directory(error)) {
       fs::create_directories(copy, error);
     } else if (!error && it->path().extension() != ".tmp") {
@@ -238,6 +244,11 @@ void copyTexture(const fs::path& source, const fs::path& target) {
                                ": " + error.message());
   }
   if (error) throw std::runtime_error(source.string() + ": cannot read: " + error.message());
+  fs::remove_all(target, error);
+  if (!error) fs::rename(partial, target, error);
+  if (error)
+    throw std::runtime_error(target.string() + ": cannot replace with the new copy " +
+                             partial.string() + ": " + error.message());
 }
 
 int runExport(const ParsedArgs& args, Streams& io) {
@@ -261,6 +272,9 @@ int runExport(const ParsedArgs& args, Streams& io) {
     copyTexture(result["texture"].get<std::string>(), target);
     copied.push_back(target.string());
   }
+  if (result.contains("texture_skipped"))
+    io.err << "warning: texture not exported: " << result["texture_skipped"].get<std::string>()
+           << "\n";
   json answer = {{"session", result["session"]}, {"files", copied}};
   return finish(args, io, answer, [](std::ostream& out, const json& r) {
     out << "exported session " << r["session"].get<std::string>() << ":\n";

@@ -10,6 +10,8 @@
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/event_loop.hpp"
 #include "slicecap/daemon/frame_recorder.hpp"
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/io/journal.hpp"
 
 namespace slicecap::daemon {
 
@@ -91,23 +93,16 @@ struct Daemon::State {
     return true;
   }
 
-  /// A redone sweep's texture starts afresh, as its samples; if it cannot, the sweep pauses.
-  void discardTexture(const SliceId& slice) {
-    if (!parts.newTextureSink) return;
-    try {
-      if (!(texture && textureSlice == slice)) {
-        closeTexture();
-        const std::optional<std::filesystem::path> session = manager.sessionDirectory();
-        if (!session) return;
-        texture = parts.newTextureSink(slice, *session);
-        textureSlice = slice;
-      }
-      texture->discard();
-    } catch (const std::exception& error) {
-      // Capturing on would mix the old sweep's frames into the new one.
-      manager.pauseSweep(std::string("texture capture: cannot discard the old sweep: ") +
-                         error.what());
-    }
+  /// A redone sweep's texture starts afresh, as its samples: its folder is discarded durably
+  /// before the redo is journaled, so no crash or failure can mix the old sweep's frames into the
+  /// new one (texture capture on or off). Throws io::IoError (the redo is then refused).
+  void discardTexture(const SweepRedo& redo) {
+    const std::optional<std::filesystem::path> session = manager.sessionDirectory();
+    // Only a redo the session manager will accept: none while another slice's sweep runs.
+    const std::optional<SliceId> swept = manager.sweepSlice();
+    if (!session || (swept && *swept != redo.slice)) return;
+    if (textureSlice == redo.slice) closeTexture();  // its index would still hold the frames
+    io::discardFolderDurably(*session / kTextureFolder / folderName(redo.slice));
   }
 
   void startCamera(const SliceId& slice) {
@@ -127,14 +122,16 @@ struct Daemon::State {
     }
     cameraSlice = slice;
     capture::FrameObserver observer;
-    if (texture)
+    if (parts.newTextureSink)
       observer = [this](const hal::Frame& frame, const capture::FrameOutcome& outcome,
                         const std::vector<capture::AmbientTerm>& ambient) {
         if (!texture || !textureError.empty()) return;
         try {
           texture->add(frame, outcome, ambient);
+        } catch (const io::IoError& error) {
+          textureError = std::string("texture storage error: ") + error.what();
         } catch (const std::exception& error) {
-          textureError = error.what();
+          textureError = std::string("texture capture error: ") + error.what();
         }
       };
     processor = parts.newFrameProcessor(slice, std::move(observer));
@@ -148,10 +145,15 @@ struct Daemon::State {
 
   /// Brings the devices in line with the session state after anything that may change it.
   void reconcile() {
+    if (texture && textureSlice != manager.sweepSlice()) closeTexture();
+    // A texture closed while its sweep runs on (a redo of the running sweep) opens again here;
+    // if it cannot, the sweep pauses.
+    if (manager.capturing() && cameraSlice && cameraSlice == manager.sweepSlice() && !texture &&
+        parts.newTextureSink)
+      openTexture(*cameraSlice);
     const std::optional<SliceId> wanted =
         manager.capturing() ? manager.sweepSlice() : std::optional<SliceId>();
     if (cameraSlice && cameraSlice != wanted) stopCamera();
-    if (texture && textureSlice != manager.sweepSlice()) closeTexture();
     if (wanted && !cameraSlice) startCamera(*wanted);
     if (!manager.capturing()) ledOff();
     reconcileRecorder();
@@ -246,7 +248,7 @@ struct Daemon::State {
     }
     if (!textureError.empty()) {
       // The sample is kept; the texture stops with the sweep until the person frees space.
-      manager.pauseSweep("texture storage error: " + textureError);
+      manager.pauseSweep(textureError);
       textureError.clear();
     }
     if (recorder) recorder->offer(std::move(frame));
@@ -268,15 +270,21 @@ struct Daemon::State {
   nlohmann::json handle(const Request& request) {
     nlohmann::json json;
     try {
+      if (const auto* redo = std::get_if<SweepRedo>(&request.command)) {
+        try {
+          discardTexture(*redo);
+        } catch (const io::IoError& error) {
+          throw RequestError(ErrorCode::StorageError,
+                             std::string("cannot discard the old sweep's texture: ") +
+                                 error.what() + " (nothing was redone)");
+        }
+      }
       json = replyOrThrow(manager.handle(request.command));
     } catch (const RequestError&) {
       reconcile();
       throw;
     }
-    if (const auto* redo = std::get_if<SweepRedo>(&request.command)) {
-      discardRecording(redo->slice);
-      discardTexture(redo->slice);
-    }
+    if (const auto* redo = std::get_if<SweepRedo>(&request.command)) discardRecording(redo->slice);
     // The recording of a sweep being stopped is reported in the stop's reply.
     if (recorder && (std::holds_alternative<Status>(request.command) ||
                      std::holds_alternative<SweepStop>(request.command)))

@@ -303,7 +303,14 @@ struct SessionManager::State {
     io::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
     files.push_back(summaryPath.string());
     json reply = {{"session", store.info().id}, {"directory", directory.string()}, {"files", files}};
-    if (const std::optional<fs::path> texture = exportTexture(store))
+    // A running sweep adds and replaces texture frames while the client copies: refused, not
+    // half copied. A paused or stopped sweep leaves the folder still.
+    const bool capturingIntoIt = sweep && !sweep->paused && session && &store == &*session;
+    if (capturingIntoIt && fs::is_directory(store.directory() / kTextureFolder))
+      reply["texture_skipped"] = "sweep " + toString(sweep->slice) +
+                                 " is capturing into the texture: `slicecap sweep stop` (or let "
+                                 "it pause), then export again for the texture";
+    else if (const std::optional<fs::path> texture = exportTexture(store))
       reply["texture"] = texture->string();
     return reply;
   }

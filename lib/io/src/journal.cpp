@@ -2,6 +2,7 @@
 #include "slicecap/io/journal.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <array>
@@ -165,6 +166,25 @@ void writeFileAtomically(const std::filesystem::path& path, std::string_view con
     throw error;
   }
   syncDirectory(path.parent_path());
+}
+
+void createFoldersDurably(const std::filesystem::path& folder) {
+  if (folder.empty() || std::filesystem::is_directory(folder)) return;
+  createFoldersDurably(folder.parent_path());
+  if (::mkdir(folder.c_str(), 0755) != 0 && errno != EEXIST)
+    throw systemError(folder, "cannot create folder");
+  syncDirectory(folder.parent_path());
+}
+
+void discardFolderDurably(const std::filesystem::path& folder) {
+  if (!std::filesystem::exists(folder)) return;
+  const std::filesystem::path doomed = folder.string() + kDiscardedSuffix;
+  std::error_code error;
+  std::filesystem::remove_all(doomed, error);  // an earlier discard cut off
+  if (::rename(folder.c_str(), doomed.c_str()) != 0)
+    throw systemError(folder, "cannot discard (rename to " + doomed.filename().string() + ")");
+  syncDirectory(folder.parent_path());
+  std::filesystem::remove_all(doomed, error);
 }
 
 }  // namespace slicecap::io

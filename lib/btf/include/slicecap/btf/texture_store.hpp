@@ -23,11 +23,17 @@ struct TextureStoreLayout {
   int framesPerBin = 5;     ///< frames a bin keeps, those nearest its centre
 };
 
-/// \brief What opening a store found and mended: files a cut-off write or a crash between a
-/// write and an eviction left behind.
+/// \brief How a store is opened: the daemon's store mends what a crash left; a reader (`slicecap
+/// btf` on an export) changes nothing, as the folder may still be written by a daemon.
+enum class StoreAccess { Mend, ReadOnly };
+
+/// \brief What opening a store found (and, mending, removed): what a cut-off write, a crash
+/// between a write and an eviction, or a damaged disk left behind.
 struct TextureStoreRecovery {
-  std::vector<std::string> droppedFiles;  ///< unreadable or torn frame files, removed
-  std::size_t leftoversRemoved = 0;       ///< temporaries, half-discarded slices, evicted frames
+  /// \brief Frame files whose content is wrong (torn, damaged header, another store's): not read.
+  std::vector<std::string> droppedFiles;
+  /// \brief Temporaries, half-discarded slices, frames the keep rule had replaced: not read.
+  std::size_t leftovers = 0;
 };
 
 /// \brief The texture of one session. Every kept frame is a file written atomically (temporary,
@@ -42,9 +48,12 @@ class TextureStore {
   /// has one texture). std::invalid_argument for an invalid layout.
   static TextureStore openOrCreate(const std::filesystem::path& directory,
                                    const TextureStoreLayout& layout);
-  /// \brief Opens an existing store (e.g. an export read by `slicecap btf`). Opening mends what a
-  /// crash left (see TextureStoreRecovery), so the folder must be writable.
-  static TextureStore open(const std::filesystem::path& directory);
+  /// \brief Opens an existing store. Mend (the daemon's) removes what a crash left (see
+  /// TextureStoreRecovery); ReadOnly (`slicecap btf`) leaves every file alone and refuses add and
+  /// discard (std::logic_error). A frame file that cannot be opened is an IoError naming it (it
+  /// is not removed: the cause may pass).
+  static TextureStore open(const std::filesystem::path& directory,
+                           StoreAccess access = StoreAccess::Mend);
 
   const std::filesystem::path& directory() const { return directory_; }
   const TextureStoreLayout& layout() const { return layout_; }
@@ -58,7 +67,8 @@ class TextureStore {
   /// frame it replaces; returns whether it was kept. std::invalid_argument for a frame of another
   /// texel count.
   bool add(const SliceId& slice, const TextureFrame& frame);
-  /// \brief Deletes every frame of the slice (a redone sweep).
+  /// \brief Deletes every frame of the slice (a redone sweep), durably (io::discardFolderDurably);
+  /// if it cannot, the frames stay and are still indexed (IoError).
   void discard(const SliceId& slice);
 
   /// \brief The slices with at least one stored frame.
@@ -81,7 +91,7 @@ class TextureStore {
   };
   using SliceIndex = std::vector<std::vector<Entry>>;  // per bin
 
-  TextureStore(std::filesystem::path directory, TextureStoreLayout layout);
+  TextureStore(std::filesystem::path directory, TextureStoreLayout layout, StoreAccess access);
   void load();
   SliceIndex& indexFor(const SliceId& slice);
   /// The bin and slot a frame would take (slot == bin size: appended), or none.
@@ -91,6 +101,7 @@ class TextureStore {
 
   std::filesystem::path directory_;
   TextureStoreLayout layout_;
+  StoreAccess access_;
   TextureStoreRecovery recovery_;
   std::map<SliceId, SliceIndex> index_;
   std::uint64_t nextSequence_ = 1;

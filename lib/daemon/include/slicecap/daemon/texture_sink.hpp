@@ -11,7 +11,8 @@
 
 namespace slicecap::daemon {
 
-/// \brief The folder of a session where its texture is kept, and which `export` copies.
+/// \brief The folder of a session where its texture is kept, one sub-folder per slice named by
+/// folderName(SliceId) (what a redone sweep discards, whether or not texture capture is on).
 inline constexpr const char* kTextureFolder = "texture";
 
 /// \brief One slice's texture capture in a session (texture_resolution set).
@@ -23,8 +24,6 @@ class TextureSink {
   /// cannot be stored (the daemon then pauses the sweep; the window samples are not affected).
   virtual void add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
                    const std::vector<capture::AmbientTerm>& ambient) = 0;
-  /// \brief Deletes the slice's texture (a redone sweep). Throws io::IoError.
-  virtual void discard() = 0;
   /// \brief What `slicecap status` shows: at least "directory", "resolution", "bins_filled" and
   /// "frames_stored" of the slice.
   virtual nlohmann::json status() const = 0;

@@ -53,6 +53,20 @@ class Journal {
 /// IoError.
 void writeFileAtomically(const std::filesystem::path& path, std::string_view contents);
 
+/// \brief Creates `folder` and its missing parents, each new one synced in its parent, so that a
+/// file then written atomically inside survives a power cut with the folder. Throws IoError.
+void createFoldersDurably(const std::filesystem::path& folder);
+
+/// \brief The suffix a folder being deleted carries (discardFolderDurably): readers skip such a
+/// folder and its owner removes what is left of it.
+inline constexpr const char* kDiscardedSuffix = ".discarded";
+
+/// \brief Deletes a folder tree so that a crash cannot leave part of it looking valid: renamed to
+/// `<folder>.discarded` first (atomic, synced in the parent), then removed. Nothing happens if it
+/// does not exist. Throws IoError if it cannot be renamed; a failed removal after the rename is
+/// left to the owner's next clean-up.
+void discardFolderDurably(const std::filesystem::path& folder);
+
 /// \brief CRC-32 (IEEE 802.3, as zlib) of bytes.
 std::uint32_t crc32(std::string_view bytes);
 
