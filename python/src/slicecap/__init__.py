@@ -8,17 +8,20 @@ MERL binary format, and (with mitsuba installed) renders it through the Mitsuba 
 
 from slicecap.abrdf import Abrdf
 from slicecap.abrdf_exr import SlicecapFileError, read_abrdf_exr, write_abrdf_exr
+from slicecap.btf import Btf, read_btf
 from slicecap.grid import direction_of_index, tabulate
 from slicecap.interpolation import evaluate
 from slicecap.materials import load_material
 
 __all__ = [
     "Abrdf",
+    "Btf",
     "SlicecapFileError",
     "direction_of_index",
     "evaluate",
     "load_material",
     "read_abrdf_exr",
+    "read_btf",
     "tabulate",
     "write_abrdf_exr",
 ]

@@ -1,0 +1,110 @@
+"""Reading the BTF directory `slicecap btf` writes (docs/btf-format.md): every texel of the window
+with its own 81 x 81 apparent BRDF, as 6561 half-float EXR images in the UTIA naming, the average
+ABRDF and a JSON manifest. The checks and messages follow the C++ reader (btf::readBtfDirectory).
+"""
+
+import json
+import math
+import os
+import pathlib
+from dataclasses import dataclass, field
+
+import numpy as np
+import OpenEXR
+
+from slicecap.abrdf import Abrdf
+from slicecap.abrdf_exr import SlicecapFileError, read_abrdf_exr
+from slicecap.grid import direction_of_index
+
+MANIFEST = "btf.json"
+DIRECTIONS = 81
+CHANNELS = ("R", "G", "B")
+
+
+def _three_digits(degrees: float) -> str:
+    # As the C++ writer: std::lround (halves away from zero; every Bonn angle is >= 0).
+    return f"{int(math.floor(degrees + 0.5)) % 1000:03d}"
+
+
+def image_path(light: int, view: int) -> str:
+    """The image of (light index, view index) relative to the BTF directory:
+    "tvTTT_pvPPP/tlTTT_plPPP_tvTTT_pvPPP.exr" (whole degrees of the Bonn directions)."""
+    theta_l, phi_l = direction_of_index(light)
+    theta_v, phi_v = direction_of_index(view)
+    view_name = f"tv{_three_digits(theta_v)}_pv{_three_digits(phi_v)}"
+    return f"{view_name}/tl{_three_digits(theta_l)}_pl{_three_digits(phi_l)}_{view_name}.exr"
+
+
+@dataclass
+class Btf:
+    """A BTF: `images[light, view, row, column, channel]` (float16, as stored: N = 128 takes 645
+    MB), row 0 at the window's top (largest y) and column 0 at its left edge (smallest x); the
+    manifest; the average ABRDF."""
+
+    images: np.ndarray
+    manifest: dict = field(default_factory=dict)
+    average: Abrdf | None = None
+
+    @property
+    def resolution(self) -> int:
+        return int(self.images.shape[2])
+
+    @property
+    def window_mm(self) -> tuple[float, float, float, float]:
+        """(x_min, y_min, x_max, y_max) of the window in the target frame, mm."""
+        return tuple(float(v) for v in self.manifest["window_mm"])
+
+    def texel(self, column: int, row: int) -> Abrdf:
+        """The 81 x 81 apparent BRDF of one texel (float32)."""
+        return Abrdf(self.images[:, :, row, column, :].astype(np.float32))
+
+
+def _error(path, what: str) -> SlicecapFileError:
+    return SlicecapFileError(f"{os.fspath(path)}: {what}")
+
+
+def _read_image(path: pathlib.Path, resolution: int) -> np.ndarray:
+    try:
+        with OpenEXR.File(str(path), separate_channels=True) as file:
+            low, high = file.header()["dataWindow"]
+            width, height = int(high[0] - low[0] + 1), int(high[1] - low[1] + 1)
+            if (width, height) != (resolution, resolution):
+                raise _error(
+                    path, f"{width} x {height} texels, the manifest says {resolution} x {resolution}"
+                )
+            channels = file.channels()
+            for name in CHANNELS:
+                if name not in channels:
+                    raise _error(path, f"no channel {name} (a BTF image has R, G, B)")
+            return np.stack(
+                [np.asarray(channels[name].pixels, dtype=np.float16) for name in CHANNELS], axis=-1
+            )
+    except SlicecapFileError:
+        raise
+    except Exception as e:  # missing, truncated or not an EXR at all
+        raise _error(path, f"cannot read EXR: {e}") from e
+
+
+def read_btf(directory) -> Btf:
+    """Reads a BTF directory: btf.json (format "slicecap-btf", its resolution), all 6561 images
+    (each N x N, R G B) and average.exr. Raises SlicecapFileError naming the file that is missing
+    or wrong."""
+    directory = pathlib.Path(directory)
+    manifest_path = directory / MANIFEST
+    try:
+        manifest = json.loads(manifest_path.read_text())
+    except OSError as e:
+        raise _error(manifest_path, f"cannot open (not a BTF directory?): {e.strerror}") from e
+    except json.JSONDecodeError as e:
+        raise _error(manifest_path, f"not JSON: {e}") from e
+    if manifest.get("format") != "slicecap-btf":
+        raise _error(manifest_path, "field 'format' is not \"slicecap-btf\"")
+    resolution = manifest.get("resolution")
+    if not isinstance(resolution, int) or not 1 <= resolution <= 1024:
+        raise _error(manifest_path, "field 'resolution' is not a whole number in 1..1024")
+    images = np.empty((DIRECTIONS, DIRECTIONS, resolution, resolution, 3), dtype=np.float16)
+    for light in range(DIRECTIONS):
+        for view in range(DIRECTIONS):
+            images[light, view] = _read_image(directory / image_path(light, view), resolution)
+    average = read_abrdf_exr(directory / manifest.get("average", "average.exr"))
+    return Btf(images, manifest, average)

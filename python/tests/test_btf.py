@@ -1,0 +1,65 @@
+"""The BTF directory on the desktop: what `slicecap btf` writes is read with its layout (UTIA
+names, rows at the window's top), the woven texels show their own materials, and damaged
+directories are refused naming the file."""
+
+import json
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from slicecap import SlicecapFileError, read_abrdf_exr
+from slicecap.btf import image_path, read_btf
+
+
+def test_image_names_follow_the_utia_convention():
+    assert image_path(0, 0) == "tv000_pv000/tl000_pl000_tv000_pv000.exr"
+    assert image_path(1, 0) == "tv000_pv000/tl015_pl000_tv000_pv000.exr"
+    assert image_path(80, 80) == "tv075_pv345/tl075_pl345_tv075_pv345.exr"
+
+
+@pytest.fixture(scope="module")
+def woven_btf(tmp_path_factory, slicecap_cli_for_module):
+    directory = tmp_path_factory.mktemp("btf")
+    session, out = directory / "session", directory / "btf"
+    run = [str(slicecap_cli_for_module)]
+    subprocess.run(
+        run + ["simulate", "--material", "woven", "--session", str(session), "--frames", "8",
+               "--ideal"],
+        check=True, capture_output=True,
+    )
+    subprocess.run(
+        run + ["btf", str(session), "-o", str(out), "--resolution", "4", "--threads", "2"],
+        check=True, capture_output=True,
+    )
+    return out
+
+
+def test_reads_the_texture_the_cpp_side_wrote(woven_btf):
+    btf = read_btf(woven_btf)
+    assert btf.resolution == 4
+    assert btf.images.shape == (81, 81, 4, 4, 3)
+    assert btf.window_mm == (-20.0, -20.0, 20.0, 20.0)
+    np.testing.assert_array_equal(
+        btf.average.values, read_abrdf_exr(woven_btf / "average.exr").values
+    )
+    # Texel (0, 0) lies on a weft cell (red satin), texel (1, 0) on a warp cell (blue satin).
+    red_cell, blue_cell = btf.texel(0, 0).values, btf.texel(1, 0).values
+    assert red_cell[..., 0].sum() > red_cell[..., 2].sum()
+    assert blue_cell[..., 2].sum() > blue_cell[..., 0].sum()
+    assert json.loads((woven_btf / "btf.json").read_text())["failed_texels"] == 0
+
+
+def test_a_damaged_directory_is_refused_naming_the_file(woven_btf, tmp_path):
+    broken = tmp_path / "broken"
+    shutil.copytree(woven_btf, broken)
+    victim = broken / image_path(40, 7)
+    victim.write_bytes(victim.read_bytes()[:100])
+    with pytest.raises(SlicecapFileError, match=image_path(40, 7).split("/")[1]):
+        read_btf(broken)
+    (broken / "btf.json").write_text('{"format": "something else", "resolution": 4}')
+    with pytest.raises(SlicecapFileError, match="btf.json: field 'format'"):
+        read_btf(broken)
+    with pytest.raises(SlicecapFileError, match="not a BTF directory"):
+        read_btf(tmp_path / "nowhere")
