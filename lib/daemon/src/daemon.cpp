@@ -74,23 +74,17 @@ struct Daemon::State {
     textureSlice.reset();
   }
 
-  /// The texture of the slice's sweep, opened when its capture starts. False when it cannot be
-  /// opened: the sweep is then paused with the reason.
-  bool openTexture(const SliceId& slice) {
-    textureError.clear();
-    if (!parts.newTextureSink || (texture && textureSlice == slice)) return true;
-    closeTexture();
+  /// The texture of the slice's sweep (texture capture on); if it cannot be opened, the sweep
+  /// pauses with the reason.
+  void openTexture(const SliceId& slice) {
     const std::optional<std::filesystem::path> session = manager.sessionDirectory();
-    if (!session) return true;
+    if (!parts.newTextureSink || !session) return;
     try {
       texture = parts.newTextureSink(slice, *session);
       textureSlice = slice;
     } catch (const std::exception& error) {
       manager.pauseSweep(std::string("texture capture: ") + error.what());
-      ledOff();
-      return false;
     }
-    return true;
   }
 
   /// A redone sweep's texture starts afresh, as its samples: its folder is discarded durably
@@ -106,7 +100,6 @@ struct Daemon::State {
   }
 
   void startCamera(const SliceId& slice) {
-    if (!openTexture(slice)) return;
     try {
       std::shared_ptr<hal::Camera> opened = parts.cameraFor(slice);
       hal::CameraConfig config = parts.cameraConfig;
@@ -146,11 +139,9 @@ struct Daemon::State {
   /// Brings the devices in line with the session state after anything that may change it.
   void reconcile() {
     if (texture && textureSlice != manager.sweepSlice()) closeTexture();
-    // A texture closed while its sweep runs on (a redo of the running sweep) opens again here;
-    // if it cannot, the sweep pauses.
-    if (manager.capturing() && cameraSlice && cameraSlice == manager.sweepSlice() && !texture &&
-        parts.newTextureSink)
-      openTexture(*cameraSlice);
+    // The swept slice's texture is open before its frames flow (also after a redo of the running
+    // sweep closed it); if it cannot be, the sweep pauses here and no camera starts.
+    if (manager.capturing() && !texture) openTexture(*manager.sweepSlice());
     const std::optional<SliceId> wanted =
         manager.capturing() ? manager.sweepSlice() : std::optional<SliceId>();
     if (cameraSlice && cameraSlice != wanted) stopCamera();

@@ -94,9 +94,6 @@ class TextureSweep {
   /// Throws io::IoError when it cannot be written.
   bool add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
            std::span<const capture::AmbientTerm> ambient);
-  /// \brief Deletes the slice's frames (a redone sweep).
-  void discard() { store_.discard(slice_); }
-
   const TextureStore& store() const { return store_; }
   const SliceId& slice() const { return slice_; }
 
