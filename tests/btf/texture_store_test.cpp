@@ -151,9 +151,14 @@ TEST(TextureStore, OpeningMendsWhatACrashLeftAndDropsDamagedFrames) {
     if (f.filename().string().rfind("b04-", 0) == 0) torn = f;  // the frame at 60 deg
   ASSERT_FALSE(torn.empty());
   fs::resize_file(torn, fs::file_size(torn) - 10);
+  // A frame in another slice's folder is wrong content too: dropped, not a failed opening.
+  fs::create_directories(dir / "axial-75-75");
+  const fs::path misplaced = dir / "axial-75-75" / "b01-00000042.tex";
+  fs::copy_file(before.front() == torn ? before.back() : before.front(), misplaced);
 
   const TextureStore store = TextureStore::open(dir);
-  EXPECT_EQ(store.recovery().droppedFiles.size(), 1u);
+  EXPECT_EQ(store.recovery().droppedFiles.size(), 2u);  // the torn and the misplaced frame
+  EXPECT_FALSE(fs::exists(misplaced));
   EXPECT_EQ(store.recovery().leftovers, 3u);  // tmp, discarded slice, the evicted frame
   EXPECT_FALSE(fs::exists(evicted));
   EXPECT_FALSE(fs::exists(torn));

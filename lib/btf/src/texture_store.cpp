@@ -297,8 +297,8 @@ void TextureStore::load() {
         const SliceId slice{static_cast<SliceKind>(header.kind),
                             {header.thetaIDeg, header.thetaVDeg}};
         if (folderName(slice) != name)
-          throw io::IoError(file.path().string() + ": a frame of " + folderName(slice) +
-                            " in the folder of another slice");
+          throw BadFrame(file.path().string() + ": a frame of " + folderName(slice) +
+                         " in the folder of another slice");
         found.push_back({slice, {header.sliceParameterDeg, header.sequence, file.path()}});
       } catch (const BadFrame& e) {
         recovery_.droppedFiles.push_back(e.what());
