@@ -34,6 +34,16 @@ void BM_Prior_168Samples_Isotropic(benchmark::State& state) {
 }
 BENCHMARK(BM_Prior_168Samples_Isotropic)->Unit(benchmark::kMicrosecond);
 
+// A near-diffuse material: the prior is blended with Method B (PriorParams::blendWithMethodB),
+// so this is the prior and Method B together.
+void BM_Prior_168Samples_NearDiffuseBlended(benchmark::State& state) {
+  const SliceSet slices = slicesOf("matte-paint");
+  const prior::PriorModel& model = prior::defaultPriorModel();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(prior::reconstructWithPrior(slices, model));
+}
+BENCHMARK(BM_Prior_168Samples_NearDiffuseBlended)->Unit(benchmark::kMicrosecond);
+
 void BM_Prior_Diagonal84Samples(benchmark::State& state) {
   const SliceSet slices = slicesOf("blue-plastic", true);
   const prior::PriorModel& model = prior::defaultPriorModel();

@@ -84,7 +84,7 @@ void runCondition(const std::string& label, const std::vector<const Material*>& 
                   const std::function<const prior::PriorModel&(const Material&)>& priorFor,
                   Sweeps sweeps, bool noisy, bool perMaterial) {
   eval::Metrics p{}, b{}, b8{};
-  int worse = 0, worseThanB8 = 0, anisotropyUsed = 0;
+  int worse = 0, worseThanB8 = 0, anisotropyUsed = 0, blended = 0;
   const double n = double(materials.size());
   std::string worst;
   for (std::size_t i = 0; i < materials.size(); ++i) {
@@ -95,6 +95,7 @@ void runCondition(const std::string& label, const std::vector<const Material*>& 
     const eval::Metrics mp =
         eval::compare(m.table, prior::reconstructWithPrior(slices, priorFor(m), {}, &report));
     anisotropyUsed += report.anisotropyTermsUsed;
+    blended += report.methodBBlended;
     const eval::Metrics mb8 = eval::compare(
         m.table, recon::reconstructMethodB(capture(m.table, Sweeps::All8, noisy, seed)));
     eval::Metrics mb = mb8;
@@ -115,9 +116,10 @@ void runCondition(const std::string& label, const std::vector<const Material*>& 
     }
     if (mp.deltaE > 1.1 * mb8.deltaE) ++worseThanB8;
     if (perMaterial)
-      std::printf("    %-46s prior %6.2f  B %6.2f  B(8) %6.2f  fit %.3f gcv %.4f%s\n",
+      std::printf("    %-46s prior %6.2f  B %6.2f  B(8) %6.2f  fit %.3f gcv %.4f range %.2f w %.2f%s\n",
                   m.name.c_str(), mp.deltaE, mb.deltaE, mb8.deltaE, report.fitRmsLog,
-                  report.isotropicScore, report.anisotropyTermsUsed ? "  [aniso]" : "");
+                  report.isotropicScore, report.dynamicRangeLog, report.priorWeight,
+                  report.anisotropyTermsUsed ? "  [aniso]" : "");
   }
   std::printf("  %-34s %-10s %-5s prior dE %5.2f RMSE %5.2f PSNR %5.2f rel %5.3f | ", label.c_str(),
               sweepName(sweeps), noisy ? "noisy" : "ideal", p.deltaE / n, p.rmse / n, p.psnrDb / n,
@@ -127,8 +129,9 @@ void runCondition(const std::string& label, const std::vector<const Material*>& 
   else
     std::printf("B dE %5.2f RMSE %5.2f PSNR %5.2f rel %5.3f ", b.deltaE / n, b.rmse / n,
                 b.psnrDb / n, b.relativeRmse / n);
-  std::printf("| B(8) dE %5.2f | >10%% worse: %d vs B, %d vs B(8) | aniso terms %d/%zu\n",
-              b8.deltaE / n, worse, worseThanB8, anisotropyUsed, materials.size());
+  std::printf(
+      "| B(8) dE %5.2f | >10%% worse: %d vs B, %d vs B(8) | aniso terms %d/%zu | B blended %d\n",
+      b8.deltaE / n, worse, worseThanB8, anisotropyUsed, materials.size(), blended);
   std::fputs(worst.c_str(), stdout);
   std::fflush(stdout);
 }

@@ -2,6 +2,7 @@
 #include "slicecap/cli/methods.hpp"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "slicecap/cli/args.hpp"
 #include "slicecap/cli/rbf_options.hpp"
@@ -158,10 +159,19 @@ MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
   run.details["prior"] = {
       {"file", prior::locatePriorModel().string()},     {"measured_pairs", pairs},
       {"anisotropy_terms", report.anisotropyTermsUsed}, {"isotropic_gcv", report.isotropicScore},
-      {"anisotropic_gcv", report.anisotropicScore},     {"fit_rms_log", report.fitRmsLog}};
+      {"anisotropic_gcv", report.anisotropicScore},     {"fit_rms_log", report.fitRmsLog},
+      {"dynamic_range_log", report.dynamicRangeLog},    {"prior_weight", report.priorWeight},
+      {"method_b_blended", report.methodBBlended}};
   run.lines.push_back(
       "prior fit: RMS log residual " + std::to_string(report.fitRmsLog) +
       (report.anisotropyTermsUsed ? "; half-vector anisotropy terms used" : "; isotropic fit"));
+  char blend[160];
+  std::snprintf(blend, sizeof blend,
+                report.methodBBlended
+                    ? "samples' dynamic range %.2f (log): blended with Method B, prior weight %.2f"
+                    : "samples' dynamic range %.2f (log): prior alone",
+                report.dynamicRangeLog, report.priorWeight);
+  run.lines.push_back(blend);
   if (report.measuredPairs.size() < kMeasuredPairs.size())
     run.warnings.push_back("only " + std::to_string(report.measuredPairs.size()) +
                            " elevation pairs measured; the others come from the prior alone");

@@ -7,12 +7,14 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "half_vector_terms.hpp"
 #include "residual_field.hpp"
 #include "slicecap/core/angles.hpp"
 #include "slicecap/core/grid_interpolation.hpp"
 #include "slicecap/recon/errors.hpp"
+#include "slicecap/recon/method_b.hpp"
 
 namespace slicecap::prior {
 namespace {
@@ -125,6 +127,48 @@ Eigen::MatrixXd refineOnLinearTaps(const std::vector<SampleRow>& rows, const Pri
   return system.selfadjointView<Eigen::Lower>().llt().solve(jacobian.transpose() * linearTargets);
 }
 
+// The natural log of the largest cos-weighted sample over the median one (luminance, the mean of
+// the channels): how much directional structure the samples show. Infinite when the median is 0.
+double sampleDynamicRangeLog(const std::vector<SampleRow>& rows) {
+  std::vector<double> luminance;
+  luminance.reserve(rows.size());
+  for (const SampleRow& r : rows)
+    luminance.push_back((r.weighted[0] + r.weighted[1] + r.weighted[2]) / 3.0);
+  const auto middle = luminance.begin() + static_cast<std::ptrdiff_t>(luminance.size() / 2);
+  std::nth_element(luminance.begin(), middle, luminance.end());
+  const double median = *middle;
+  const double largest = *std::max_element(luminance.begin(), luminance.end());
+  if (!(median > 0.0)) return std::numeric_limits<double>::infinity();
+  return std::log(largest / median);
+}
+
+double priorWeightFor(double dynamicRangeLog, const PriorParams& params) {
+  const double t = (dynamicRangeLog - params.blendFromLog) / (params.blendToLog - params.blendFromLog);
+  return std::clamp(t, 0.0, 1.0);
+}
+
+// Method B on these slices: all eight, or the four diagonal ones (its isotropic form); nothing
+// when neither set is complete (e.g. two diagonal sweeps), and the prior then stands alone.
+std::optional<Abrdf> methodBWhereItRuns(const SliceSet& slices) {
+  auto complete = [&](bool diagonalOnly) {
+    for (const ElevationPair& pair : kMeasuredPairs) {
+      if (!slices.find({SliceKind::Diagonal, pair})) return false;
+      if (!diagonalOnly && !slices.find({SliceKind::Axial, pair})) return false;
+    }
+    return true;
+  };
+  recon::MethodBParams params;
+  if (!complete(false)) {
+    if (!complete(true)) return std::nullopt;
+    params.isotropic = true;
+  }
+  try {
+    return recon::reconstructMethodB(slices, params);
+  } catch (const recon::ReconstructionError&) {
+    return std::nullopt;  // e.g. a slice too sparse for B; the prior reads any samples
+  }
+}
+
 }  // namespace
 
 bool PriorParams::isValid(std::string* error) const {
@@ -139,6 +183,9 @@ bool PriorParams::isValid(std::string* error) const {
     return bad("anisotropy ridge must be positive");
   if (!(anisotropyScoreRatio >= 0.0 && anisotropyScoreRatio <= 1.0))
     return bad("anisotropy score ratio must lie in [0, 1]");
+  if (!std::isfinite(blendFromLog) || !std::isfinite(blendToLog) || !(blendFromLog >= 0.0) ||
+      !(blendToLog > blendFromLog))
+    return bad("the blend range must satisfy 0 <= from < to");
   return true;
 }
 
@@ -276,18 +323,30 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
   }
   const std::vector<Rgb> field = residualField(residuals);
 
+  // Where the samples show little directional structure, blend with Method B (see PriorParams).
+  const double dynamicRange = sampleDynamicRangeLog(rows);
+  const double wanted = params.blendWithMethodB ? priorWeightFor(dynamicRange, params) : 1.0;
+  const std::optional<Abrdf> methodB =
+      wanted < 1.0 ? methodBWhereItRuns(slices) : std::optional<Abrdf>{};
+  const float priorWeight = methodB ? static_cast<float>(wanted) : 1.0f;
+
   const std::array<double, 81>& cosTheta = gridCosines();
   Abrdf table;
   for (int l = 0; l < 81; ++l) {
     for (int v = 0; v < 81; ++v) {
-      const double cc = cosTheta[l] * cosTheta[v];
+      const float cc = static_cast<float>(cosTheta[l] * cosTheta[v]);
       const int e = l * 81 + v;
       // In float: the table is float, and expf is several times cheaper than exp over 19683 values.
       for (int c = 0; c < 3; ++c) {
-        const float value = (std::exp(logTable(e, c) + static_cast<float>(field[e][c])) -
-                             static_cast<float>(floor[c])) /
-                            static_cast<float>(cc);
-        table.channel(l, v, c) = std::max(value, 0.0f);
+        const float channelFloor = static_cast<float>(floor[c]);
+        float logValue = logTable(e, c) + static_cast<float>(field[e][c]);
+        if (priorWeight < 1.0f) {
+          // In the prior's own log domain, log(f cos cos + floor): both tables keep the samples,
+          // so the blend keeps them too.
+          const float logB = std::log(std::max(methodB->channel(l, v, c), 0.0f) * cc + channelFloor);
+          logValue = priorWeight * logValue + (1.0f - priorWeight) * logB;
+        }
+        table.channel(l, v, c) = std::max((std::exp(logValue) - channelFloor) / cc, 0.0f);
       }
     }
   }
@@ -298,6 +357,9 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
     report->isotropicScore = isotropic.score;
     report->anisotropicScore = params.isotropicOnly ? 0.0 : anisotropic.score;
     report->fitRmsLog = std::sqrt(squares / (3.0 * n));
+    report->dynamicRangeLog = dynamicRange;
+    report->priorWeight = priorWeight;
+    report->methodBBlended = priorWeight < 1.0f;
   }
   return table;
 }

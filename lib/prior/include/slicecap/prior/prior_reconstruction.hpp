@@ -29,6 +29,17 @@ struct PriorParams {
   double anisotropyScoreRatio = 0.3;
   /// \brief Never use the anisotropy terms (e.g. an operator who knows the material is isotropic).
   bool isotropicOnly = false;
+  /// \brief Blend with Method B where the samples show little directional structure: near-diffuse
+  /// materials (felts, papers, matte paints, spectralon), where B's one-lobe model is nearly exact
+  /// and a basis learned mostly from glossy tables adds structure that is not there. The weight
+  /// of the prior, in the log domain, rises linearly with the samples' dynamic range (natural log
+  /// of the largest cos-weighted sample over the median) from 0 at blendFromLog to 1 at
+  /// blendToLog. Needs the slices Method B needs (all eight, or the four diagonal ones);
+  /// otherwise the prior stands alone. The range was chosen by 5-fold cross-validation within the
+  /// 100 MERL tables, ideal and noisy captures together (README "Prior reconstruction").
+  bool blendWithMethodB = true;
+  double blendFromLog = 0.45;
+  double blendToLog = 2.45;
   /// \brief Returns false, with a reason, when a field is out of range.
   bool isValid(std::string* error) const;
 };
@@ -41,6 +52,9 @@ struct PriorReport {
   double isotropicScore = 0.0;    ///< GCV score of the isotropic fit (log domain)
   double anisotropicScore = 0.0;  ///< the same with the half-vector terms (0 when not tried)
   double fitRmsLog = 0.0;         ///< RMS of the samples' log residuals before they are kept
+  double dynamicRangeLog = 0.0;   ///< log(largest / median cos-weighted sample), see PriorParams
+  double priorWeight = 1.0;       ///< the prior's weight in the blend with Method B (1: alone)
+  bool methodBBlended = false;    ///< Method B ran and was blended in (priorWeight < 1)
 };
 
 /// \brief The 81 x 81 table from any slices: every sample counts at its actual light and view
