@@ -116,10 +116,11 @@ void runCondition(const std::string& label, const std::vector<const Material*>& 
     }
     if (mp.deltaE > 1.1 * mb8.deltaE) ++worseThanB8;
     if (perMaterial)
-      std::printf("    %-46s prior %6.2f  B %6.2f  B(8) %6.2f  fit %.3f gcv %.4f range %.2f w %.2f%s\n",
-                  m.name.c_str(), mp.deltaE, mb.deltaE, mb8.deltaE, report.fitRmsLog,
-                  report.isotropicScore, report.dynamicRangeLog, report.priorWeight,
-                  report.anisotropyTermsUsed ? "  [aniso]" : "");
+      std::printf(
+          "    %-46s prior %6.2f  B %6.2f  B(8) %6.2f  fit %.3f gcv %.4f range %.2f w %.2f%s\n",
+          m.name.c_str(), mp.deltaE, mb.deltaE, mb8.deltaE, report.fitRmsLog, report.isotropicScore,
+          report.dynamicRangeLog, report.priorWeight,
+          report.anisotropyTermsUsed ? "  [aniso]" : "");
   }
   std::printf("  %-34s %-10s %-5s prior dE %5.2f RMSE %5.2f PSNR %5.2f rel %5.3f | ", label.c_str(),
               sweepName(sweeps), noisy ? "noisy" : "ideal", p.deltaE / n, p.rmse / n, p.psnrDb / n,

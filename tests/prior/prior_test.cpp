@@ -2,9 +2,9 @@
 // test, and the commands that expose them.
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
-
 #include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 
@@ -43,6 +43,26 @@ SliceSet keepPairs(const SliceSet& all, const std::vector<ElevationPair>& pairs)
     if (std::find(pairs.begin(), pairs.end(), s.id.elevations) == pairs.end()) continue;
     for (const SliceSample& sample : s.samples)
       out.add(s.id, sample);
+  }
+  return out;
+}
+
+// Every sample moved by up to +-3 deg in all four angles (uniform, seeded), with the value
+// valueAt gives at its new angles.
+SliceSet jitteredSlices(const SliceSet& ideal, unsigned seed,
+                        const std::function<Rgb(const Direction&, const Direction&)>& valueAt) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(-3.0, 3.0);
+  SliceSet out;
+  for (const Slice& s : ideal.slices()) {
+    for (SliceSample sample : s.samples) {
+      sample.light = {std::max(0.0, sample.light.thetaDeg + jitter(rng)),
+                      sample.light.phiDeg + jitter(rng)};
+      sample.view = {std::max(0.0, sample.view.thetaDeg + jitter(rng)),
+                     sample.view.phiDeg + jitter(rng)};
+      sample.value = valueAt(sample.light, sample.view);
+      out.add(s.id, sample);
+    }
   }
   return out;
 }
@@ -195,20 +215,11 @@ TEST(PriorReconstruction, JitteredSamplesAreFittedWhereTheyWereTaken) {
   const Abrdf truth =
       models::tabulate(*models::makeBlinnPhong({0.12, 0.08, 0.05}, {0.3, 0.3, 0.3}, 45.0));
   const auto model = models::makeBlinnPhong({0.12, 0.08, 0.05}, {0.3, 0.3, 0.3}, 45.0);
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> jitter(-3.0, 3.0);
-  SliceSet jittered;
   const SliceSet ideal = recon::extractSlices(truth);
-  for (const Slice& s : ideal.slices()) {
-    for (SliceSample sample : s.samples) {
-      sample.light = {std::max(0.0, sample.light.thetaDeg + jitter(rng)),
-                      sample.light.phiDeg + jitter(rng)};
-      sample.view = {std::max(0.0, sample.view.thetaDeg + jitter(rng)),
-                     sample.view.phiDeg + jitter(rng)};
-      sample.value = model->evaluate(toUnitVector(sample.light), toUnitVector(sample.view));
-      jittered.add(s.id, sample);
-    }
-  }
+  const SliceSet jittered =
+      jitteredSlices(ideal, 7, [&](const Direction& light, const Direction& view) {
+        return model->evaluate(toUnitVector(light), toUnitVector(view));
+      });
   const double atGrid =
       eval::compare(truth, reconstructWithPrior(ideal, defaultPriorModel())).deltaE;
   const double moved =
@@ -226,22 +237,15 @@ TEST(PriorReconstruction, OffGridSamplesAreReadThroughTheTablesOwnInterpolation)
   const PriorModel model = trainPriorModel(tables);
   const Abrdf& truth = tables[5];
   const SliceSet ideal = recon::extractSlices(truth);
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> jitter(-3.0, 3.0);
-  SliceSet moved;
-  for (const Slice& s : ideal.slices()) {
-    for (SliceSample sample : s.samples) {
-      sample.light = {std::max(0.0, sample.light.thetaDeg + jitter(rng)),
-                      sample.light.phiDeg + jitter(rng)};
-      sample.view = {std::max(0.0, sample.view.thetaDeg + jitter(rng)),
-                     sample.view.phiDeg + jitter(rng)};
-      sample.value = slicecap::evaluate(truth, sample.light, sample.view);
-      moved.add(s.id, sample);
-    }
-  }
+  const SliceSet moved =
+      jitteredSlices(ideal, 11, [&](const Direction& light, const Direction& view) {
+        return slicecap::evaluate(truth, light, view);
+      });
   PriorReport atGrid, offGrid;
-  const double idealDe = eval::compare(truth, reconstructWithPrior(ideal, model, {}, &atGrid)).deltaE;
-  const double movedDe = eval::compare(truth, reconstructWithPrior(moved, model, {}, &offGrid)).deltaE;
+  const double idealDe =
+      eval::compare(truth, reconstructWithPrior(ideal, model, {}, &atGrid)).deltaE;
+  const double movedDe =
+      eval::compare(truth, reconstructWithPrior(moved, model, {}, &offGrid)).deltaE;
   EXPECT_LT(offGrid.fitRmsLog, 2.0 * atGrid.fitRmsLog + 0.005)
       << "on the grid " << atGrid.fitRmsLog << ", off it " << offGrid.fitRmsLog;
   EXPECT_LT(movedDe, idealDe + 0.2);

@@ -143,7 +143,8 @@ double sampleDynamicRangeLog(const std::vector<SampleRow>& rows) {
 }
 
 double priorWeightFor(double dynamicRangeLog, const PriorParams& params) {
-  const double t = (dynamicRangeLog - params.blendFromLog) / (params.blendToLog - params.blendFromLog);
+  const double t =
+      (dynamicRangeLog - params.blendFromLog) / (params.blendToLog - params.blendFromLog);
   return std::clamp(t, 0.0, 1.0);
 }
 
@@ -343,7 +344,8 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
         if (priorWeight < 1.0f) {
           // In the prior's own log domain, log(f cos cos + floor): both tables keep the samples,
           // so the blend keeps them too.
-          const float logB = std::log(std::max(methodB->channel(l, v, c), 0.0f) * cc + channelFloor);
+          const float logB =
+              std::log(std::max(methodB->channel(l, v, c), 0.0f) * cc + channelFloor);
           logValue = priorWeight * logValue + (1.0f - priorWeight) * logB;
         }
         table.channel(l, v, c) = std::max((std::exp(logValue) - channelFloor) / cc, 0.0f);
