@@ -33,6 +33,15 @@ TEST(BonnGrid, IndexAndDirectionRoundTrip) {
   }
 }
 
+TEST(BonnGrid, CosinesFollowEachDirectionsRing) {
+  EXPECT_DOUBLE_EQ(bonn::cosines()[0], 1.0);
+  for (const Ring& ring : bonn::kRings) {
+    for (int k = 0; k < ring.count; ++k)
+      EXPECT_DOUBLE_EQ(bonn::cosines()[std::size_t(ring.index(k))],
+                       std::cos(degToRad(double(ring.thetaDeg))));
+  }
+}
+
 TEST(BonnGrid, MatchesTheUbo2003FileNameAnchors) {
   // "00008 tl000 pl000 tv030 pv030": view (30, 30) is index 8.
   EXPECT_EQ(bonn::indexOf({30, 30}), 8);

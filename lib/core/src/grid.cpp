@@ -63,6 +63,16 @@ Direction direction(int directionIndex) {
   return {static_cast<double>(ring.thetaDeg), ring.azimuthDeg(directionIndex - ring.firstIndex)};
 }
 
+const std::array<double, kDirectionCount>& cosines() {
+  static const std::array<double, kDirectionCount> table = [] {
+    std::array<double, kDirectionCount> c{};
+    for (int d = 0; d < kDirectionCount; ++d)
+      c[static_cast<std::size_t>(d)] = std::cos(degToRad(direction(d).thetaDeg));
+    return c;
+  }();
+  return table;
+}
+
 int indexOf(const Direction& d) {
   const auto ringNumber = ringOfElevation(d.thetaDeg);
   auto fail = [&] {

@@ -5,17 +5,10 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "slicecap/core/angles.hpp"
+#include "slicecap/core/grid.hpp"
 
 namespace slicecap::eval {
 namespace {
-
-std::array<double, Abrdf::kDirections> cosThetaI() {
-  std::array<double, Abrdf::kDirections> cosines{};
-  for (int l = 0; l < Abrdf::kDirections; ++l)
-    cosines[l] = std::cos(degToRad(bonn::direction(l).thetaDeg));
-  return cosines;
-}
 
 struct Lab {
   double l, a, b;
@@ -60,7 +53,7 @@ double deltaE76(const std::array<unsigned char, 3>& a, const std::array<unsigned
 }
 
 double cosWeightedMaximum(const Abrdf& table) {
-  static const auto cosines = cosThetaI();
+  const auto& cosines = bonn::cosines();
   double maximum = 0.0;
   for (int l = 0; l < Abrdf::kDirections; ++l) {
     for (int v = 0; v < Abrdf::kDirections; ++v) {
@@ -72,7 +65,7 @@ double cosWeightedMaximum(const Abrdf& table) {
 
 std::array<unsigned char, Abrdf::kValueCount> encodePaper8Bit(const Abrdf& table,
                                                               double referenceMax) {
-  static const auto cosines = cosThetaI();
+  const auto& cosines = bonn::cosines();
   std::array<unsigned char, Abrdf::kValueCount> out{};
   const auto values = table.values();
   for (std::size_t i = 0; i < values.size(); ++i) {

@@ -11,7 +11,7 @@
 
 #include "half_vector_terms.hpp"
 #include "residual_field.hpp"
-#include "slicecap/core/angles.hpp"
+#include "slicecap/core/grid.hpp"
 #include "slicecap/core/grid_interpolation.hpp"
 #include "slicecap/recon/errors.hpp"
 #include "slicecap/recon/method_b.hpp"
@@ -27,21 +27,6 @@ struct SampleRow {
   const SliceId* slice;
   double parameterDeg;
 };
-
-// cos(theta) of each grid direction.
-const std::array<double, 81>& gridCosines() {
-  static const std::array<double, 81> cosines = [] {
-    std::array<double, 81> c{};
-    for (int d = 0; d < 81; ++d)
-      c[d] = std::cos(degToRad(bonn::direction(d).thetaDeg));
-    return c;
-  }();
-  return cosines;
-}
-
-double gridCos(int direction) {
-  return gridCosines()[static_cast<std::size_t>(direction)];
-}
 
 // One ridge fit of the design to the three channels' targets.
 struct RidgeFit {
@@ -210,7 +195,7 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
       // residuals.
       double cc = 0.0;
       for (const TableTap& tap : row.taps)
-        cc += tap.weight * gridCos(tap.light) * gridCos(tap.view);
+        cc += tap.weight * bonn::cosines()[tap.light] * bonn::cosines()[tap.view];
       for (std::size_t c = 0; c < 3; ++c) {
         if (!std::isfinite(s.value[c]))
           throw recon::ReconstructionError("slice " + toString(slice.id) + ": non-finite sample");
@@ -331,7 +316,7 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
       wanted < 1.0 ? methodBWhereItRuns(slices) : std::optional<Abrdf>{};
   const float priorWeight = methodB ? static_cast<float>(wanted) : 1.0f;
 
-  const std::array<double, 81>& cosTheta = gridCosines();
+  const auto& cosTheta = bonn::cosines();
   Abrdf table;
   for (int l = 0; l < 81; ++l) {
     for (int v = 0; v < 81; ++v) {

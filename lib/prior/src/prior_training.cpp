@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 
-#include "slicecap/core/angles.hpp"
 #include "slicecap/core/grid.hpp"
 #include "slicecap/prior/prior_model.hpp"
 
@@ -23,9 +22,7 @@ bool TrainingParams::isValid(std::string* error) const {
 }
 
 std::vector<double> channelFeatures(const Abrdf& table, int channel, double floorFraction) {
-  std::array<double, Abrdf::kDirections> cosTheta{};
-  for (int d = 0; d < Abrdf::kDirections; ++d)
-    cosTheta[d] = std::cos(degToRad(bonn::direction(d).thetaDeg));
+  const auto& cosTheta = bonn::cosines();
   std::vector<double> weighted(kFeatureCount);
   double largest = 0.0;
   for (int l = 0; l < Abrdf::kDirections; ++l) {

@@ -63,6 +63,10 @@ int ringOfIndex(int directionIndex);
 /// \brief The direction of an index; throws std::out_of_range outside 0..80.
 Direction direction(int directionIndex);
 
+/// \brief cos(theta) of every direction, by index (the cosine weights of the paper's encoding
+/// and of the prior's log map).
+const std::array<double, kDirectionCount>& cosines();
+
 /// \brief The index of a grid direction; throws std::invalid_argument when (theta, phi) is not on
 /// the grid (to within 1e-6 deg; the azimuth is wrapped first, and ignored at the pole).
 int indexOf(const Direction& direction);
