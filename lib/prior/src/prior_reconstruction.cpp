@@ -67,6 +67,17 @@ RidgeFit ridgeFit(const NormalEquations& equations, int columns, const Eigen::Ve
   return fit;
 }
 
+// The design's columns at one table entry: the basis components, then the half-vector terms (as
+// many as `row` has room for).
+void entryFeatures(const PriorModel& model, int entry, Eigen::RowVectorXd& row) {
+  const int k = model.components();
+  const auto& gridTerms = gridHalfVectorTerms();
+  for (int j = 0; j < k; ++j)
+    row[j] = model.component(j)[entry];
+  for (int j = k; j < row.size(); ++j)
+    row[j] = gridTerms[entry][j - k];
+}
+
 // One Gauss-Newton step from the fit above to the fit of the true measurement operator. The fit
 // above models a sample as the taps' blend of the LOG table, but a sample is the taps' blend of
 // the table's VALUES: log(sum_t w_t exp(L_t)). Off the grid (every jittered sample, every slice
@@ -80,8 +91,6 @@ Eigen::MatrixXd refineOnLinearTaps(const std::vector<SampleRow>& rows, const Pri
                                    const Eigen::MatrixXd& coefficients) {
   const int n = static_cast<int>(rows.size());
   const int columns = static_cast<int>(coefficients.rows());
-  const int k = model.components();
-  const auto& gridTerms = gridHalfVectorTerms();
   Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(n, columns);
   Eigen::MatrixXd linearTargets(n, 3);
   Eigen::RowVectorXd entryRow(columns);
@@ -90,10 +99,7 @@ Eigen::MatrixXd refineOnLinearTaps(const std::vector<SampleRow>& rows, const Pri
     Eigen::Array3d predicted = Eigen::Array3d::Zero();
     for (const TableTap& tap : rows[i].taps) {
       const int entry = tap.light * 81 + tap.view;
-      for (int j = 0; j < k; ++j)
-        entryRow[j] = model.component(j)[entry];
-      for (int j = k; j < columns; ++j)
-        entryRow[j] = gridTerms[entry][j - k];
+      entryFeatures(model, entry, entryRow);
       Eigen::Array3d logValue = (entryRow * coefficients).transpose().array();
       logValue += model.mean[entry];
       const double share = tap.weight * std::exp(logValue.mean());
@@ -220,15 +226,14 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
   const auto& gridTerms = gridHalfVectorTerms();
   Eigen::MatrixXd design = Eigen::MatrixXd::Zero(n, k + kHalfVectorTermCount);
   Eigen::MatrixXd targets(n, 3);
+  Eigen::RowVectorXd features(k + kHalfVectorTermCount);
   for (int i = 0; i < n; ++i) {
     double meanAtSample = 0.0;
     for (const TableTap& tap : rows[i].taps) {
       const int entry = tap.light * 81 + tap.view;
       meanAtSample += tap.weight * model.mean[entry];
-      for (int j = 0; j < k; ++j)
-        design(i, j) += tap.weight * model.component(j)[entry];
-      for (int j = 0; j < kHalfVectorTermCount; ++j)
-        design(i, k + j) += tap.weight * gridTerms[entry][j];
+      entryFeatures(model, entry, features);
+      design.row(i) += tap.weight * features;
     }
     for (int c = 0; c < 3; ++c)
       targets(i, c) = std::log(rows[i].weighted[c] + floor[c]) - meanAtSample;
@@ -274,20 +279,18 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
           const Eigen::Matrix<double, Eigen::Dynamic, kHalfVectorTermCount, Eigen::RowMajor>>(
           gridTerms[0].data(), kEntries, kHalfVectorTermCount)
           .cast<float>();
-  auto tableOf = [&](const Eigen::MatrixXd& all) {
-    const Eigen::MatrixXf coefficients = all.topRows(k).cast<float>();
-    const Eigen::MatrixXf termCoefficients = all.bottomRows(termsUsed).cast<float>();
-    Eigen::MatrixXf t = basis * coefficients;
-    t.colwise() += Eigen::Map<const Eigen::VectorXf>(model.mean.data(), kEntries);
-    if (termsUsed > 0) {
-      for (int c = 0; c < 3; ++c)
-        t.col(c).noalias() += terms.leftCols(termsUsed) * termCoefficients.col(c);
-    }
-    return t;
-  };
-  const Eigen::MatrixXd coefficients =
+  const Eigen::MatrixXd refined =
       refineOnLinearTaps(rows, model, floor, penalty.head(columnsUsed), chosen.coefficients);
-  const Eigen::MatrixXf logTable = tableOf(coefficients);
+  const Eigen::MatrixXf coefficients = refined.topRows(k).cast<float>();
+  const Eigen::MatrixXf termCoefficients = refined.bottomRows(termsUsed).cast<float>();
+  Eigen::MatrixXf logTable = basis * coefficients;
+  logTable.colwise() += Eigen::Map<const Eigen::VectorXf>(model.mean.data(), kEntries);
+  // One matrix-vector product per channel over a float copy of the grid's terms (a general
+  // matrix product would repack the 6561 x 30 terms on every call).
+  if (termsUsed > 0) {
+    for (int c = 0; c < 3; ++c)
+      logTable.col(c).noalias() += terms.leftCols(termsUsed) * termCoefficients.col(c);
+  }
 
   // The samples' residuals against the fitted table, read as the sample was (linear taps).
   SliceResiduals residuals;
