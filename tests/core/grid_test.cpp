@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <set>
 
 #include "slicecap/core/angles.hpp"
@@ -89,6 +91,22 @@ TEST(Angles, WrapAndDifference) {
   EXPECT_DOUBLE_EQ(azimuthDifferenceDeg(10.0, 350.0), 20.0);
   EXPECT_DOUBLE_EQ(azimuthDifferenceDeg(350.0, 10.0), -20.0);
   EXPECT_NEAR(radToDeg(degToRad(75.0)), 75.0, 1e-12);
+}
+
+TEST(Angles, WrapTakesTheShortcutsOnlyWhereFmodGivesTheSameBits) {
+  auto byFmod = [](double deg) {
+    double wrapped = std::fmod(deg, 360.0);
+    if (wrapped < 0.0) wrapped += 360.0;
+    return wrapped >= 360.0 ? 0.0 : wrapped;
+  };
+  for (double deg :
+       {0.0, -0.0, 1e-300, 172.5, std::nextafter(360.0, 0.0), 360.0, std::nextafter(360.0, 720.0),
+        547.5, std::nextafter(720.0, 0.0), 720.0, 1e6 + 0.1, -1e-14, -15.0, -360.0, -1e6 - 0.1}) {
+    const double got = wrapDeg360(deg);
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(got), std::bit_cast<std::uint64_t>(byFmod(deg))) << deg;
+    EXPECT_GE(got, 0.0) << deg;
+    EXPECT_LT(got, 360.0) << deg;
+  }
 }
 
 }  // namespace

@@ -19,6 +19,10 @@ constexpr double radToDeg(double angleRad) {
 
 /// \brief An azimuth taken mod 360 into [0, 360); non-finite input is returned unchanged.
 inline double wrapDeg360(double azimuthDeg) {
+  // Most azimuths are already in range or one turn above it (slice coordinates, ring positions):
+  // there fmod is exact and equals these, and it costs more than the rest of a slice lookup.
+  if (azimuthDeg >= 0.0 && azimuthDeg < 360.0) return azimuthDeg;
+  if (azimuthDeg >= 360.0 && azimuthDeg < 720.0) return azimuthDeg - 360.0;
   double wrapped = std::fmod(azimuthDeg, 360.0);
   if (wrapped < 0.0) wrapped += 360.0;
   // fmod of a tiny negative number plus 360 can round up to exactly 360.

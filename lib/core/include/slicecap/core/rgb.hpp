@@ -26,31 +26,36 @@ struct Rgb {
   constexpr double maxChannel() const { return std::max({channel[0], channel[1], channel[2]}); }
   constexpr double minChannel() const { return std::min({channel[0], channel[1], channel[2]}); }
 
+  // Per channel, written out: GCC -O2 keeps a loop's or a copy's temporaries on the stack, and the
+  // reconstruction does a few of these per table entry (lerp below).
   constexpr Rgb& operator+=(const Rgb& o) {
-    for (std::size_t c = 0; c < 3; ++c)
-      channel[c] += o.channel[c];
+    channel = {channel[0] + o.channel[0], channel[1] + o.channel[1], channel[2] + o.channel[2]};
     return *this;
   }
   constexpr Rgb& operator-=(const Rgb& o) {
-    for (std::size_t c = 0; c < 3; ++c)
-      channel[c] -= o.channel[c];
+    channel = {channel[0] - o.channel[0], channel[1] - o.channel[1], channel[2] - o.channel[2]};
     return *this;
   }
   constexpr Rgb& operator*=(double s) {
-    for (double& v : channel)
-      v *= s;
+    channel = {channel[0] * s, channel[1] * s, channel[2] * s};
     return *this;
   }
-  friend constexpr Rgb operator+(Rgb a, const Rgb& b) { return a += b; }
-  friend constexpr Rgb operator-(Rgb a, const Rgb& b) { return a -= b; }
-  friend constexpr Rgb operator*(Rgb a, double s) { return a *= s; }
-  friend constexpr Rgb operator*(double s, Rgb a) { return a *= s; }
+  friend constexpr Rgb operator+(const Rgb& a, const Rgb& b) {
+    return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+  }
+  friend constexpr Rgb operator-(const Rgb& a, const Rgb& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+  }
+  friend constexpr Rgb operator*(const Rgb& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+  friend constexpr Rgb operator*(double s, const Rgb& a) { return {a[0] * s, a[1] * s, a[2] * s}; }
   friend constexpr bool operator==(const Rgb&, const Rgb&) = default;
 };
 
 /// \brief (1 - t) a + t b, per channel.
 constexpr Rgb lerp(const Rgb& a, const Rgb& b, double t) {
-  return a * (1.0 - t) + b * t;
+  // Written out per channel (see above): resampling spends most of its time here.
+  const double s = 1.0 - t;
+  return {a[0] * s + b[0] * t, a[1] * s + b[1] * t, a[2] * s + b[2] * t};
 }
 
 }  // namespace slicecap
