@@ -49,9 +49,9 @@ ElevationLobe fitLine(const std::string& line, const PairData& low, const PairDa
 
 // The block at `targetDeg` along a line, from the known low and high blocks (METHOD.md 4.2).
 // `resample` moves a known block to the target elevation along the varying direction.
-template <typename Resample>
+template <typename Resample, typename ResampledBlend>
 Subspace interpolateAlongLine(const ElevationLobe& lobe, const Subspace& low, const Subspace& high,
-                              int targetDeg, Resample resample) {
+                              int targetDeg, Resample resample, ResampledBlend resampledBlend) {
   const double fLow = lobe.shape(kLowDeg);
   const double fHigh = lobe.shape(kHighDeg);
   const double fTarget = lobe.shape(targetDeg);
@@ -59,7 +59,7 @@ Subspace interpolateAlongLine(const ElevationLobe& lobe, const Subspace& low, co
   double t = std::abs(fHigh - fLow) < 1e-12 ? double(targetDeg - kLowDeg) / (kHighDeg - kLowDeg)
                                             : (fTarget - fLow) / (fHigh - fLow);
   t = std::clamp(t, 0.0, 1.0);
-  return Subspace::blend(resample(low, targetDeg), resample(high, targetDeg), t);
+  return resampledBlend(low, high, t, targetDeg);
 }
 
 Subspace resampleViews(const Subspace& s, int thetaDeg) {
@@ -125,10 +125,10 @@ Abrdf reconstructMethodB(const SliceSet& slices, const MethodBParams& params,
         fitLine("views at theta_i " + std::to_string(thetaIDeg), low, high, params.fit, report);
     for (int thetaVDeg : kAllElevationsDeg) {
       if (isMeasured(thetaVDeg)) continue;
-      PairData predicted{
-          interpolateAlongLine(lobe, low.block, high.block, thetaVDeg, resampleViews),
-          low.mean * lobe.shape(thetaVDeg) / lobe.shape(kLowDeg),
-          {}};
+      PairData predicted{interpolateAlongLine(lobe, low.block, high.block, thetaVDeg, resampleViews,
+                                              Subspace::blendAtViewElevation),
+                         low.mean * lobe.shape(thetaVDeg) / lobe.shape(kLowDeg),
+                         {}};
       known.emplace(ElevationPair{thetaIDeg, thetaVDeg}, std::move(predicted));
     }
   }
@@ -143,7 +143,9 @@ Abrdf reconstructMethodB(const SliceSet& slices, const MethodBParams& params,
     high.block.writeTo(table);
     for (int thetaIDeg : kAllElevationsDeg) {
       if (isMeasured(thetaIDeg)) continue;
-      interpolateAlongLine(lobe, low.block, high.block, thetaIDeg, resampleLights).writeTo(table);
+      interpolateAlongLine(lobe, low.block, high.block, thetaIDeg, resampleLights,
+                           Subspace::blendAtLightElevation)
+          .writeTo(table);
     }
   }
   for (float& v : table.values())

@@ -50,19 +50,53 @@ std::vector<RingTap> ringTaps(int fromCount, const Ring& to) {
   return taps;
 }
 
+// The value at target azimuth k of a ring of `targetCount` resampled from a ring of `fromCount`
+// values value(0..fromCount-1): the two neighbours' lerp, or the mean to the pole.
+template <typename Get>
+Rgb resampledValue(int fromCount, int targetCount, const std::vector<RingTap>& taps, int k,
+                   Get value) {
+  if (targetCount == 1) {
+    Rgb sum;
+    for (int j = 0; j < fromCount; ++j)
+      sum += value(j);
+    return sum * (1.0 / fromCount);
+  }
+  return lerp(value(taps[k].lower), value(taps[k].upper), taps[k].weight);
+}
+
 // Resamples the values value(0..fromCount-1) of one ring onto `to`, writing out(k).
 template <typename Get, typename Put>
 void resampleInto(int fromCount, const Ring& to, const std::vector<RingTap>& taps, Get value,
                   Put out) {
-  if (to.count == 1) {
-    Rgb sum;
-    for (int j = 0; j < fromCount; ++j)
-      sum += value(j);
-    out(0, sum * (1.0 / fromCount));
-    return;
-  }
   for (int k = 0; k < to.count; ++k)
-    out(k, lerp(value(taps[k].lower), value(taps[k].upper), taps[k].weight));
+    out(k, resampledValue(fromCount, to.count, taps, k, value));
+}
+
+// blend(low resampled to `target`, high resampled to `target`, t) in one pass, without the two
+// resampled blocks; along phi_v (`AlongView`) or phi_i. The same operations in the same order as
+// the two steps, so the result is the same bit for bit.
+template <bool AlongView>
+Subspace resampledBlend(const Subspace& low, const Subspace& high, double t, ElevationPair target) {
+  Subspace out(target);
+  auto ringOf = [](const Subspace& s) -> const Ring& {
+    return AlongView ? s.viewRing() : s.lightRing();
+  };
+  const Ring& to = ringOf(out);
+  const int lowCount = ringOf(low).count;
+  const int highCount = ringOf(high).count;
+  const std::vector<RingTap> lowTaps = ringTaps(lowCount, to);
+  const std::vector<RingTap> highTaps = ringTaps(highCount, to);
+  for (int p = 0; p < out.lightRing().count; ++p) {
+    for (int q = 0; q < out.viewRing().count; ++q) {
+      auto reader = [&](const Subspace& s) {
+        return [&s, p, q](int j) { return AlongView ? s.at(p, j) : s.at(j, q); };
+      };
+      const int k = AlongView ? q : p;
+      out.at(p, q) = lerp(resampledValue(lowCount, to.count, lowTaps, k, reader(low)),
+                          resampledValue(highCount, to.count, highTaps, k, reader(high)), t);
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -97,6 +131,22 @@ Subspace Subspace::resampledToLightElevation(int thetaIDeg) const {
         [&](int p, const Rgb& v) { out.at(p, q) = v; });
   }
   return out;
+}
+
+Subspace Subspace::blendAtViewElevation(const Subspace& low, const Subspace& high, double t,
+                                        int thetaVDeg) {
+  if (low.elevations_.thetaIDeg != high.elevations_.thetaIDeg) {
+    throw std::invalid_argument("Subspace::blendAtViewElevation: blocks of different lights");
+  }
+  return resampledBlend<true>(low, high, t, {low.elevations_.thetaIDeg, thetaVDeg});
+}
+
+Subspace Subspace::blendAtLightElevation(const Subspace& low, const Subspace& high, double t,
+                                         int thetaIDeg) {
+  if (low.elevations_.thetaVDeg != high.elevations_.thetaVDeg) {
+    throw std::invalid_argument("Subspace::blendAtLightElevation: blocks of different views");
+  }
+  return resampledBlend<false>(low, high, t, {thetaIDeg, low.elevations_.thetaVDeg});
 }
 
 Subspace& Subspace::scale(double factor) {

@@ -39,6 +39,16 @@ class Subspace {
   /// \brief Likewise along phi_i, to another light elevation.
   Subspace resampledToLightElevation(int thetaIDeg) const;
 
+  /// \brief (1 - t) low + t high of two blocks of one light elevation, each first resampled to
+  /// `thetaVDeg` as resampledToViewElevation does: blend(low', high', t) in one pass, without the
+  /// two resampled blocks (this is most of the work of an elevation interpolation). Throws
+  /// std::invalid_argument when the two light elevations differ.
+  static Subspace blendAtViewElevation(const Subspace& low, const Subspace& high, double t,
+                                       int thetaVDeg);
+  /// \brief Likewise of two blocks of one view elevation, resampled to `thetaIDeg` along phi_i.
+  static Subspace blendAtLightElevation(const Subspace& low, const Subspace& high, double t,
+                                        int thetaIDeg);
+
   /// \brief Every value multiplied by `factor`.
   Subspace& scale(double factor);
   /// \brief (1 - t) a + t b of two blocks of the same shape; throws std::invalid_argument
