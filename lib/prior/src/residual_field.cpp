@@ -3,6 +3,7 @@
 
 #include <array>
 #include <optional>
+#include <stdexcept>
 
 #include "slicecap/recon/slice_sum.hpp"
 #include "slicecap/recon/subspace.hpp"
@@ -44,9 +45,9 @@ Subspace measuredBlock(ElevationPair pair, const PeriodicSignal* axial,
 
 // The block at `targetDeg` along a line from the known blocks of that line (by elevation):
 // linear between the nearest known elevations around it, the nearest one held outside them.
-template <typename Resample>
+template <typename Resample, typename ResampledBlend>
 std::optional<Subspace> alongLine(const std::map<int, Subspace>& known, int targetDeg,
-                                  Resample resample) {
+                                  Resample resample, ResampledBlend resampledBlend) {
   if (known.empty()) return std::nullopt;
   auto above = known.lower_bound(targetDeg);
   if (above == known.end()) return resample(std::prev(above)->second, targetDeg);
@@ -54,12 +55,14 @@ std::optional<Subspace> alongLine(const std::map<int, Subspace>& known, int targ
   if (above == known.begin()) return resample(above->second, targetDeg);
   auto below = std::prev(above);
   const double t = double(targetDeg - below->first) / double(above->first - below->first);
-  return Subspace::blend(resample(below->second, targetDeg), resample(above->second, targetDeg), t);
+  return resampledBlend(below->second, above->second, t, targetDeg);
 }
 
 }  // namespace
 
-std::vector<Rgb> residualField(const SliceResiduals& residuals) {
+void addResidualField(const SliceResiduals& residuals, Eigen::Ref<Eigen::MatrixXf> logTable) {
+  if (logTable.rows() != 81 * 81 || logTable.cols() != 3)
+    throw std::invalid_argument("residual field: the log table must be 6561 x 3");
   std::map<ElevationPair, std::optional<PeriodicSignal>[2]> signals;
   for (const auto& [id, points] : residuals) {
     if (points.empty()) continue;
@@ -74,27 +77,29 @@ std::vector<Rgb> residualField(const SliceResiduals& residuals) {
   std::map<int, std::map<int, Subspace>> byView;  // theta_v -> theta_i -> block
   for (const auto& [thetaIDeg, line] : byLight) {
     for (int thetaVDeg : kElevationsDeg) {
-      auto block = alongLine(line, thetaVDeg, [](const Subspace& s, int to) {
-        return s.resampledToViewElevation(to);
-      });
+      auto block = alongLine(
+          line, thetaVDeg, [](const Subspace& s, int to) { return s.resampledToViewElevation(to); },
+          Subspace::blendAtViewElevation);
       if (block) byView[thetaVDeg].emplace(thetaIDeg, std::move(*block));
     }
   }
   // Step 2: at every view elevation, every light elevation.
-  std::vector<Rgb> field(81 * 81);
   for (const auto& [thetaVDeg, line] : byView) {
     for (int thetaIDeg : kElevationsDeg) {
-      auto block = alongLine(line, thetaIDeg, [](const Subspace& s, int to) {
-        return s.resampledToLightElevation(to);
-      });
+      auto block = alongLine(
+          line, thetaIDeg,
+          [](const Subspace& s, int to) { return s.resampledToLightElevation(to); },
+          Subspace::blendAtLightElevation);
       if (!block) continue;
       for (int p = 0; p < block->lightRing().count; ++p) {
-        for (int q = 0; q < block->viewRing().count; ++q)
-          field[block->lightRing().index(p) * 81 + block->viewRing().index(q)] = block->at(p, q);
+        for (int q = 0; q < block->viewRing().count; ++q) {
+          const int entry = block->lightRing().index(p) * 81 + block->viewRing().index(q);
+          for (int c = 0; c < 3; ++c)
+            logTable(entry, c) += static_cast<float>(block->at(p, q)[c]);
+        }
       }
     }
   }
-  return field;
 }
 
 }  // namespace slicecap::prior
