@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 namespace slicecap::recon {
 namespace {
@@ -20,6 +21,33 @@ TEST(PeriodicSignal, InterpolatesLinearlyAndWraps) {
   EXPECT_DOUBLE_EQ(s.at(405).r(), 0.5);
   EXPECT_DOUBLE_EQ(s.minimum().r(), 0.0);
   EXPECT_DOUBLE_EQ(s.maximum().r(), 3.0);
+}
+
+// The slice sums read a signal along a ring with a cursor; whatever the cursor holds, the value
+// must be the binary search's, at sample positions, between them, across 360 and on a gap.
+TEST(PeriodicSignal, CursorReadsTheSameValuesAsTheSearch) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> position(0.0, 360.0), value(0.0, 5.0);
+  for (std::size_t count : {1u, 2u, 7u, 24u}) {
+    std::vector<SignalPoint> points;
+    for (std::size_t i = 0; i < count; ++i)
+      points.push_back({position(rng), {value(rng), value(rng), value(rng)}});
+    points.push_back(points.front());  // a duplicate position, averaged
+    const PeriodicSignal s(points);
+    std::vector<double> queries{-400.0, -0.5, 0.0, 359.999, 360.0, 725.0};
+    for (const SignalPoint& p : s.points())
+      queries.push_back(p.positionDeg);
+    for (int i = 0; i < 200; ++i)
+      queries.push_back(position(rng) * 2.0 - 180.0);
+    std::size_t cursor = 0;
+    for (std::size_t start : {std::size_t{0}, count / 2, count + 5}) {
+      cursor = start;
+      for (double x : queries)
+        ASSERT_EQ(s.at(x, cursor), s.at(x)) << count << " points, at " << x;
+    }
+    for (std::size_t i = 0; i < 360; ++i)  // in order, as along a ring
+      ASSERT_EQ(s.at(double(i), cursor), s.at(double(i))) << count << " points, at " << i;
+  }
 }
 
 TEST(PeriodicSignal, HandlesIrregularAndMissingSamples) {

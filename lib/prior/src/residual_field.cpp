@@ -30,13 +30,14 @@ Subspace measuredBlock(ElevationPair pair, const PeriodicSignal* axial,
         lerp(axial->at(kCrossingAxialDeg), axial->at(kCrossingAxialDeg + 180.0), 0.5);
     crossing = lerp(onAxial, diagonal->at(kCrossingDiagonalDeg), 0.5);
   }
+  std::size_t axialCursor = 0, diagonalCursor = 0;  // along a ring the positions come in order
   for (int p = 0; p < block.lightRing().count; ++p) {
     for (int q = 0; q < block.viewRing().count; ++q) {
       const recon::SliceCoordinates x =
           recon::sliceCoordinates(block.lightRing().azimuthDeg(p), block.viewRing().azimuthDeg(q));
       Rgb value = Rgb{} - crossing;
-      if (axial) value += axial->at(x.axialDeg);
-      if (diagonal) value += diagonal->at(x.diagonalDeg);
+      if (axial) value += axial->at(x.axialDeg, axialCursor);
+      if (diagonal) value += diagonal->at(x.diagonalDeg, diagonalCursor);
       block.at(p, q) = value;
     }
   }

@@ -48,13 +48,31 @@ PeriodicSignal::PeriodicSignal(std::span<const SignalPoint> points) {
 Rgb PeriodicSignal::at(double positionDeg) const {
   if (points_.size() == 1) return points_.front().value;
   const double x = wrapDeg360(positionDeg);
-  // First point strictly after x; the interval is [before, after) cyclically.
-  auto after = std::upper_bound(points_.begin(), points_.end(), x,
-                                [](double v, const SignalPoint& p) { return v < p.positionDeg; });
-  const SignalPoint& hi = after == points_.end() ? points_.front() : *after;
-  const SignalPoint& lo = after == points_.begin() ? points_.back() : *(after - 1);
+  const auto after =
+      std::upper_bound(points_.begin(), points_.end(), x,
+                       [](double v, const SignalPoint& p) { return v < p.positionDeg; });
+  return interpolate(x, static_cast<std::size_t>(after - points_.begin()));
+}
+
+Rgb PeriodicSignal::at(double positionDeg, std::size_t& cursor) const {
+  if (points_.size() == 1) return points_.front().value;
+  const double x = wrapDeg360(positionDeg);
+  // The same index as the binary search above: the first point strictly after x.
+  std::size_t after = std::min(cursor, points_.size());
+  while (after > 0 && points_[after - 1].positionDeg > x)
+    --after;
+  while (after < points_.size() && points_[after].positionDeg <= x)
+    ++after;
+  cursor = after;
+  return interpolate(x, after);
+}
+
+// The value at a wrapped position in the interval before points_[after], cyclically.
+Rgb PeriodicSignal::interpolate(double wrappedDeg, std::size_t after) const {
+  const SignalPoint& hi = after == points_.size() ? points_.front() : points_[after];
+  const SignalPoint& lo = after == 0 ? points_.back() : points_[after - 1];
   double span = hi.positionDeg - lo.positionDeg;
-  double offset = x - lo.positionDeg;
+  double offset = wrappedDeg - lo.positionDeg;
   if (span <= 0.0) span += 360.0;
   if (offset < 0.0) offset += 360.0;
   return lerp(lo.value, hi.value, offset / span);

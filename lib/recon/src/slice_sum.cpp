@@ -9,8 +9,10 @@
 namespace slicecap::recon {
 namespace {
 
-Rgb lookup(const PeriodicSignal& signal, double positionDeg, TorusRule rule) {
-  if (rule == TorusRule::FundamentalSquare) return signal.at(positionDeg);
+// `cursor` carries the search from one grid point to the next: along a ring the positions come
+// in order.
+Rgb lookup(const PeriodicSignal& signal, double positionDeg, TorusRule rule, std::size_t& cursor) {
+  if (rule == TorusRule::FundamentalSquare) return signal.at(positionDeg, cursor);
   return lerp(signal.at(positionDeg), signal.at(positionDeg + 180.0), 0.5);
 }
 
@@ -57,10 +59,12 @@ Subspace reconstructSubspace(const Slice& axial, const Slice& diagonal, TorusRul
     low[c] = std::min(a.minimum()[c], d.minimum()[c]);
     high[c] = std::max(a.maximum()[c], d.maximum()[c]);
   }
+  std::size_t axialCursor = 0, diagonalCursor = 0;
   for (int p = 0; p < lightRing.count; ++p) {
     for (int q = 0; q < viewRing.count; ++q) {
       const SliceCoordinates x = sliceCoordinates(lightRing.azimuthDeg(p), viewRing.azimuthDeg(q));
-      const Rgb sum = lookup(a, x.axialDeg, rule) + lookup(d, x.diagonalDeg, rule);
+      const Rgb sum =
+          lookup(a, x.axialDeg, rule, axialCursor) + lookup(d, x.diagonalDeg, rule, diagonalCursor);
       Rgb& value = out.at(p, q);
       for (std::size_t c = 0; c < 3; ++c) {
         const double range = sumHigh[c] - sumLow[c];
@@ -79,11 +83,12 @@ Subspace reconstructIsotropicSubspace(const Slice& diagonal, TorusRule rule) {
   }
   const PeriodicSignal d = toSignal(diagonal);
   Subspace out(diagonal.id.elevations);
+  std::size_t cursor = 0;
   for (int p = 0; p < out.lightRing().count; ++p) {
     for (int q = 0; q < out.viewRing().count; ++q) {
       const SliceCoordinates x =
           sliceCoordinates(out.lightRing().azimuthDeg(p), out.viewRing().azimuthDeg(q));
-      out.at(p, q) = lookup(d, x.diagonalDeg, rule);
+      out.at(p, q) = lookup(d, x.diagonalDeg, rule, cursor);
     }
   }
   return out;

@@ -24,6 +24,10 @@ class PeriodicSignal {
 
   /// \brief The interpolated value at any position (wrapped first).
   Rgb at(double positionDeg) const;
+  /// \brief The same value as at(positionDeg), searched from `cursor` (any value; the call leaves
+  /// the found interval there): a few steps instead of a binary search when the positions come in
+  /// order, as along a ring of a subspace.
+  Rgb at(double positionDeg, std::size_t& cursor) const;
 
   /// \brief Per-channel minimum and maximum over the known points.
   const Rgb& minimum() const { return minimum_; }
@@ -32,6 +36,8 @@ class PeriodicSignal {
   const std::vector<SignalPoint>& points() const { return points_; }
 
  private:
+  Rgb interpolate(double wrappedDeg, std::size_t after) const;
+
   std::vector<SignalPoint> points_;
   Rgb minimum_, maximum_;
 };
