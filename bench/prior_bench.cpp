@@ -18,37 +18,34 @@ SliceSet slicesOf(const char* material, bool diagonalOnly = false) {
   return recon::extractSlices(models::tabulate(*models::findMaterial(material)), params);
 }
 
-void BM_Prior_168Samples(benchmark::State& state) {
-  const SliceSet slices = slicesOf("brushed-steel-30");
+// One prior reconstruction per iteration, from the ideal slices of a built-in material.
+void reconstructEachIteration(benchmark::State& state, const char* material,
+                              bool diagonalOnly = false) {
+  const SliceSet slices = slicesOf(material, diagonalOnly);
   const prior::PriorModel& model = prior::defaultPriorModel();
   for (auto _ : state)
     benchmark::DoNotOptimize(prior::reconstructWithPrior(slices, model));
 }
+
+void BM_Prior_168Samples(benchmark::State& state) {
+  reconstructEachIteration(state, "brushed-steel-30");
+}
 BENCHMARK(BM_Prior_168Samples)->Unit(benchmark::kMicrosecond);
 
 void BM_Prior_168Samples_Isotropic(benchmark::State& state) {
-  const SliceSet slices = slicesOf("blue-plastic");
-  const prior::PriorModel& model = prior::defaultPriorModel();
-  for (auto _ : state)
-    benchmark::DoNotOptimize(prior::reconstructWithPrior(slices, model));
+  reconstructEachIteration(state, "blue-plastic");
 }
 BENCHMARK(BM_Prior_168Samples_Isotropic)->Unit(benchmark::kMicrosecond);
 
 // A near-diffuse material: the prior is blended with Method B (PriorParams::blendWithMethodB),
 // so this is the prior and Method B together.
 void BM_Prior_168Samples_NearDiffuseBlended(benchmark::State& state) {
-  const SliceSet slices = slicesOf("matte-paint");
-  const prior::PriorModel& model = prior::defaultPriorModel();
-  for (auto _ : state)
-    benchmark::DoNotOptimize(prior::reconstructWithPrior(slices, model));
+  reconstructEachIteration(state, "matte-paint");
 }
 BENCHMARK(BM_Prior_168Samples_NearDiffuseBlended)->Unit(benchmark::kMicrosecond);
 
 void BM_Prior_Diagonal84Samples(benchmark::State& state) {
-  const SliceSet slices = slicesOf("blue-plastic", true);
-  const prior::PriorModel& model = prior::defaultPriorModel();
-  for (auto _ : state)
-    benchmark::DoNotOptimize(prior::reconstructWithPrior(slices, model));
+  reconstructEachIteration(state, "blue-plastic", true);
 }
 BENCHMARK(BM_Prior_Diagonal84Samples)->Unit(benchmark::kMicrosecond);
 
