@@ -212,9 +212,8 @@ TEST(PriorReconstruction, TwoDiagonalSweepsOfAMeasuredTableSuffice) {
 TEST(PriorReconstruction, JitteredSamplesAreFittedWhereTheyWereTaken) {
   // Samples moved by up to 3 deg but carrying their true values must reconstruct as well as the
   // ideal ones: the operator reads each sample at its actual angles.
-  const Abrdf truth =
-      models::tabulate(*models::makeBlinnPhong({0.12, 0.08, 0.05}, {0.3, 0.3, 0.3}, 45.0));
   const auto model = models::makeBlinnPhong({0.12, 0.08, 0.05}, {0.3, 0.3, 0.3}, 45.0);
+  const Abrdf truth = models::tabulate(*model);
   const SliceSet ideal = recon::extractSlices(truth);
   const SliceSet jittered =
       jitteredSlices(ideal, 7, [&](const Direction& light, const Direction& view) {

@@ -320,9 +320,9 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
       wanted < 1.0 ? methodBWhereItRuns(slices) : std::optional<Abrdf>{};
   const float priorWeight = methodB ? static_cast<float>(wanted) : 1.0f;
 
-  // Back from the log domain in three passes over the table (log values, exp, then the floor and
-  // the cosines): the exp calls then run back to back instead of waiting on a division each, which
-  // made one fused loop the slowest part of the fit.
+  // Back from the log domain in passes over the table (log values and the blend, exp, then the
+  // floor and the cosines): the exp calls then run back to back instead of waiting on a division
+  // each, which made one fused loop the slowest part of the fit.
   static const std::vector<float> entryCosines = [] {
     std::vector<float> cc(kEntries);
     for (int l = 0; l < 81; ++l)
