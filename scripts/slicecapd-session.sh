@@ -7,8 +7,10 @@ daemon_pid=
 # An interrupted run exits through the caller's EXIT trap, which stops the daemon.
 trap 'exit 130' INT
 trap 'exit 143' TERM
-session_slices=("axial 30 30" "axial 30 75" "axial 75 30" "axial 75 75"
-                "diagonal 30 30" "diagonal 30 75" "diagonal 75 30" "diagonal 75 75")
+# The daemon's recommended order (`slicecap status`, next): the diagonal sweeps first, after which
+# the isotropy test says whether the axial ones are needed.
+session_slices=("diagonal 30 30" "diagonal 75 75" "diagonal 30 75" "diagonal 75 30"
+                "axial 30 30" "axial 30 75" "axial 75 30" "axial 75 75")
 
 session_cleanup() {
   if [[ -n $daemon_pid ]]; then

@@ -2,6 +2,7 @@
 // mistake stops the start with a message before systemd hears READY.
 #include "slicecapd_setup.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -26,6 +27,8 @@
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/io/target_json.hpp"
+#include "slicecap/prior/isotropy_test.hpp"
+#include "slicecap/prior/prior_location.hpp"
 #include "slicecap/render/sheets.hpp"
 #include "slicecap/vision/target.hpp"
 
@@ -159,7 +162,19 @@ class StoreTextureSink final : public daemon::TextureSink {
 };
 
 Abrdf reconstruct(const SliceSet& slices, const std::string& method) {
-  return cli::findMethod(method).run(slices, cli::MethodOptions{}).table;
+  cli::MethodOptions options;
+  // A session without axial sweeps (an isotropic material, its operator stopped after the
+  // diagonal ones): the paper's methods take their isotropic form (eq. 5); the prior reads any
+  // subset as it is and still looks for anisotropy in the mixed-elevation diagonal slices.
+  const bool anyAxial = std::any_of(slices.slices().begin(), slices.slices().end(),
+                                    [](const Slice& s) { return s.id.kind == SliceKind::Axial; });
+  options.isotropic = !anyAxial && method != "prior";
+  return cli::findMethod(method).run(slices, options).table;
+}
+
+daemon::IsotropyAssessment assessIsotropy(const SliceSet& slices) {
+  const prior::IsotropyVerdict verdict = prior::testIsotropy(slices, prior::defaultPriorModel());
+  return {verdict.isotropic, verdict.informative, verdict.reason};
 }
 
 void preview(const Abrdf& table, const fs::path& png) {
@@ -247,6 +262,7 @@ int serve(const DaemonConfig& config, std::ostream& err) {
   }
   parts.reconstruct = reconstruct;
   parts.preview = preview;
+  parts.isotropy = assessIsotropy;
 
   bool fromSystemd = false;
   const int listenFd = daemon::openListenSocket(

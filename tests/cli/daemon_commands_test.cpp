@@ -131,9 +131,32 @@ TEST(DaemonCommands, ASessionFromNewToExport) {
   r = daemon.run({"export", "felt", "-o", (dir / "desk").string(), "--json"});
   ASSERT_EQ(r.code, kExitOk) << r.err;
   const json exported = json::parse(r.out);
+  EXPECT_EQ(exported["method"], "prior");   // one slice swept: the method that reads any subset
   EXPECT_EQ(exported["files"].size(), 3u);  // EXR, slices CSV, summary (no preview injected)
   for (const json& file : exported["files"])
     EXPECT_TRUE(std::filesystem::exists(file.get<std::string>())) << file;
+
+  r = daemon.run({"export", "felt", "-o", (dir / "desk").string(), "--method", "b"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("exported session felt (reconstructed with b)"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "desk" / "felt-abrdf-b.exr"));
+  r = daemon.run({"export", "felt", "-o", (dir / "desk").string(), "--method", "nosuch"});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_THAT(r.err, HasSubstr("unknown method 'nosuch' (known: b, a,"));
+}
+
+TEST(DaemonCommands, StatusSaysWhetherTheAxialSweepsAreNeeded) {
+  const auto dir = test::freshTempDir();
+  LiveDaemon daemon(dir / "storage");
+  daemon.setStatusExtra({{"isotropy",
+                          {{"isotropic", true},
+                           {"informative", true},
+                           {"axial_sweeps_needed", false},
+                           {"reason", "anisotropy terms explain nothing more"}}}});
+  const Result r = daemon.run({"status"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("isotropy: isotropic, the axial sweeps are not needed (anisotropy "
+                               "terms explain nothing more)"));
 }
 
 TEST(DaemonCommands, RefusalsAndBadUsageHaveTheirExitCodes) {

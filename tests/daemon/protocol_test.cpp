@@ -39,7 +39,8 @@ TEST(Protocol, EveryCommandRoundTrips) {
                                       SweepRedo{{SliceKind::Diagonal, {75, 75}}},
                                       Status{},
                                       Reconstruct{std::string("felt-1"), "b"},
-                                      Export{std::nullopt, "/var/lib/slicecap/out"}};
+                                      Export{std::nullopt, "/var/lib/slicecap/out", std::nullopt},
+                                      Export{std::string("felt-1"), "", std::string("prior")}};
   std::int64_t id = 1;
   for (const Command& command : commands) {
     const std::string line = encodeRequest({id, command});
@@ -90,6 +91,17 @@ TEST(Protocol, ValidatesArgumentsAndNamesTheField) {
         std::string("{\"v\":1,\"id\":1,\"cmd\":\"session.show\",\"args\":{\"id\":\"") + id + "\"}}";
     EXPECT_EQ(refusal(line).code, ErrorCode::BadRequest) << id;
   }
+  // A method name becomes part of a file name in the session's folder.
+  for (const char* method : {"../../etc/x", "b/c", "", "B", "prior.exr"}) {
+    for (const char* command : {"export", "reconstruct"}) {
+      const std::string line = std::string("{\"v\":1,\"id\":1,\"cmd\":\"") + command +
+                               "\",\"args\":{\"method\":\"" + method + "\"}}";
+      EXPECT_EQ(refusal(line).code, ErrorCode::BadRequest) << line;
+    }
+  }
+  const Request exportPrior =
+      accepted("{\"v\":1,\"id\":1,\"cmd\":\"export\",\"args\":{\"method\":\"a-gamma\"}}");
+  EXPECT_EQ(std::get<Export>(exportPrior.command).method, "a-gamma");
   EXPECT_NE(refusal("{\"v\":1,\"id\":1,\"cmd\":\"export\",\"args\":{\"directory\":\"out\"}}")
                 .message.find("absolute"),
             std::string::npos);

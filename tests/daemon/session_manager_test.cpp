@@ -18,9 +18,11 @@ namespace {
 
 using nlohmann::json;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 const SliceId kAxial3030{SliceKind::Axial, {30, 30}};
 const SliceId kAxial3075{SliceKind::Axial, {30, 75}};
+const SliceId kDiagonal3030{SliceKind::Diagonal, {30, 30}};
 
 capture::FrameSample sampleAt(double parameterDeg, double value, std::uint64_t frame) {
   return {std::int64_t(frame) * 33000,
@@ -33,6 +35,8 @@ capture::FrameSample sampleAt(double parameterDeg, double value, std::uint64_t f
 // Stands in for the method registry: the mean sample value everywhere, or a failure.
 Abrdf meanOfSlices(const SliceSet& slices, const std::string& method) {
   if (method == "needs-more") throw std::runtime_error("missing slices: diagonal 75/75");
+  if (method == "one-slice" && slices.slices().size() > 1)
+    throw std::runtime_error("reads one slice only");
   double sum = 0;
   for (const Slice& slice : slices.slices())
     for (const SliceSample& sample : slice.samples)
@@ -66,10 +70,10 @@ TEST(SessionManager, WalksAPersonThroughASweep) {
   EXPECT_EQ(manager.status()["next"], "slicecap session new MATERIAL");
   const json session = ok(manager, SessionNew{"red felt", std::string("felt")});
   EXPECT_EQ(session["id"], "felt");
-  EXPECT_EQ(manager.status()["next"], "slicecap sweep start axial 30 30");
+  EXPECT_EQ(manager.status()["next"], "slicecap sweep start diagonal 30 30");
   EXPECT_FALSE(manager.capturing());
 
-  ok(manager, SweepStart{kAxial3030});
+  ok(manager, SweepStart{kDiagonal3030});
   EXPECT_TRUE(manager.capturing());
   for (int k = 0; k < 10; ++k)
     EXPECT_TRUE(manager.acceptSample(sampleAt(k * 15.0, 0.5, k)));
@@ -91,7 +95,7 @@ TEST(SessionManager, WalksAPersonThroughASweep) {
   EXPECT_FALSE(manager.capturing());
   EXPECT_FALSE(manager.acceptSample(sampleAt(0, 0.5, 99)));  // no sweep: nothing stored
   EXPECT_EQ(manager.status()["session"]["samples"], 10);
-  EXPECT_EQ(manager.status()["next"], "slicecap sweep start axial 30 30");  // not all 24 bins
+  EXPECT_EQ(manager.status()["next"], "slicecap sweep start diagonal 30 30");  // not all 24 bins
 }
 
 TEST(SessionManager, RefusesWhatTheStateDoesNotAllow) {
@@ -217,7 +221,7 @@ TEST(SessionManager, ReconstructsAndExportsTheFilesADesktopNeeds) {
   const Abrdf table = io::readAbrdfExr(reconstructed["exr"].get<std::string>());
   EXPECT_FLOAT_EQ(table.at(3, 40).g(), 0.25);
 
-  const json exported = ok(manager, Export{std::nullopt, ""});
+  const json exported = ok(manager, Export{std::nullopt, "", std::string("b")});
   const std::filesystem::path directory = exported["directory"].get<std::string>();
   EXPECT_EQ(directory, root / "felt" / "export");
   EXPECT_EQ(exported["files"].size(), 4u);  // EXR, its preview, slices CSV, summary
@@ -227,6 +231,142 @@ TEST(SessionManager, ReconstructsAndExportsTheFilesADesktopNeeds) {
   const json summary = json::parse(summaryFile);
   EXPECT_EQ(summary["material"], "felt");
   EXPECT_EQ(summary["samples"], 24);
+}
+
+// Sweeps all 24 bins of a slice with one value.
+void sweepFully(SessionManager& manager, const SliceId& slice, double value) {
+  ok(manager, SweepStart{slice});
+  for (int k = 0; k < 24; ++k)
+    ASSERT_TRUE(manager.acceptSample(sampleAt(k * 15.0, value, k)));
+  ok(manager, SweepStop{});
+}
+
+TEST(SessionManager, AsksForTheDiagonalSweepsFirstAndSaysWhenTheAxialOnesAreNotNeeded) {
+  IsotropyAssessment verdict{true, true, "the prior's anisotropy terms explain nothing more"};
+  bool testFails = false;
+  int testsRun = 0;
+  std::size_t samplesSeen = 0;
+  SessionManager manager(test::freshTempDir(), meanOfSlices, {}, [&](const SliceSet& slices) {
+    ++testsRun;
+    samplesSeen = slices.sampleCount();
+    if (testFails) throw std::runtime_error("no prior file");
+    return verdict;
+  });
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  const std::vector<SliceId> diagonal{kDiagonal3030,
+                                      {SliceKind::Diagonal, {75, 75}},
+                                      {SliceKind::Diagonal, {30, 75}},
+                                      {SliceKind::Diagonal, {75, 30}}};
+  for (const SliceId& slice : diagonal) {
+    EXPECT_EQ(manager.status()["next"], "slicecap sweep start diagonal " +
+                                            std::to_string(slice.elevations.thetaIDeg) + " " +
+                                            std::to_string(slice.elevations.thetaVDeg));
+    EXPECT_FALSE(manager.status().contains("isotropy")) << "asked before the diagonal sweeps";
+    if (slice != diagonal.back()) sweepFully(manager, slice, 0.5);
+  }
+  EXPECT_EQ(testsRun, 0);
+  // The last diagonal sweep half done: the test runs, but "isotropic" needs 16 bins a slice.
+  ok(manager, SweepStart{diagonal.back()});
+  for (int k = 0; k < 12; ++k)
+    ASSERT_TRUE(manager.acceptSample(sampleAt(k * 30.0, 0.5, k)));
+  ok(manager, SweepStop{});
+  json status = manager.status();
+  EXPECT_EQ(testsRun, 1);
+  EXPECT_EQ(samplesSeen, 84u);
+  EXPECT_EQ(status["isotropy"]["axial_sweeps_needed"], true);
+  EXPECT_EQ(status["isotropy"]["informative"], false);
+  EXPECT_THAT(status["isotropy"]["reason"].get<std::string>(),
+              HasSubstr("diagonal 75/30 has 12 of 24 (16 needed)"));
+  EXPECT_EQ(status["next"], "slicecap sweep start diagonal 75 30");
+  // An anisotropic verdict stands on any coverage.
+  verdict.isotropic = false;
+  ok(manager, SweepStart{diagonal.back()});
+  ASSERT_TRUE(manager.acceptSample(sampleAt(15.0, 0.5, 50)));
+  ok(manager, SweepStop{});
+  EXPECT_EQ(manager.status()["isotropy"]["isotropic"], false);
+  EXPECT_EQ(manager.status()["isotropy"]["informative"], true);
+  verdict.isotropic = true;
+  sweepFully(manager, diagonal.back(), 0.5);
+
+  status = manager.status();
+  EXPECT_EQ(samplesSeen, 96u);  // one sample per filled bin
+  EXPECT_EQ(status["isotropy"]["axial_sweeps_needed"], false);
+  EXPECT_THAT(status["isotropy"]["reason"].get<std::string>(), HasSubstr("explain nothing"));
+  EXPECT_EQ(status["next"],
+            "the diagonal sweeps look isotropic, the axial sweeps are not needed: slicecap export "
+            "felt -o DIR (to measure them anyway: slicecap sweep start axial 30 30)");
+  manager.status();
+  EXPECT_EQ(testsRun, 3) << "the same samples are not tested twice";
+
+  // New samples are tested anew; while a sweep captures, the answer from before it stands.
+  verdict = {false, true, "anisotropy terms cut the GCV score to 0.1"};
+  ok(manager, SweepStart{kAxial3030});
+  ASSERT_TRUE(manager.acceptSample(sampleAt(0, 0.5, 100)));
+  EXPECT_EQ(manager.status()["isotropy"]["axial_sweeps_needed"], false);
+  EXPECT_EQ(testsRun, 3);
+  ok(manager, SweepStop{});
+  status = manager.status();
+  EXPECT_EQ(testsRun, 4);
+  EXPECT_EQ(status["isotropy"]["isotropic"], false);
+  EXPECT_EQ(status["next"],
+            "the diagonal sweeps show anisotropy: slicecap sweep start axial 30 30");
+
+  // A test that cannot run says why and asks for the axial sweeps.
+  testFails = true;
+  ok(manager, SweepRedo{kAxial3030});
+  ok(manager, SweepStop{});
+  status = manager.status();
+  EXPECT_THAT(status["isotropy"]["error"].get<std::string>(), HasSubstr("no prior file"));
+  EXPECT_EQ(status["next"], "slicecap sweep start axial 30 30");
+
+  for (const SliceId& slice : sweepOrder())
+    if (slice.kind == SliceKind::Axial) sweepFully(manager, slice, 0.5);
+  EXPECT_EQ(manager.status()["next"], "every slice is swept: slicecap export felt -o DIR");
+}
+
+TEST(SessionManager, ExportsTablesMadeFromTheSamplesAsTheyAreNow) {
+  const auto root = test::freshTempDir();
+  SessionManager manager(root, meanOfSlices);
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  sweepFully(manager, kDiagonal3030, 0.25);
+  ok(manager, Reconstruct{std::nullopt, "one-slice"});
+
+  // Not all eight slices: the prior, which reads any subset, is the default.
+  json exported = ok(manager, Export{std::nullopt, "", std::nullopt});
+  EXPECT_EQ(exported["method"], "prior");
+  EXPECT_FALSE(exported.contains("warnings"));
+  const std::filesystem::path directory = exported["directory"].get<std::string>();
+  EXPECT_FLOAT_EQ(io::readAbrdfExr(directory / "felt-abrdf-prior.exr").at(3, 40).g(), 0.25);
+  EXPECT_FLOAT_EQ(io::readAbrdfExr(directory / "felt-abrdf-one-slice.exr").at(3, 40).g(), 0.25);
+
+  // A later sweep: the next export does not carry the tables made before it.
+  sweepFully(manager, {SliceKind::Diagonal, {75, 75}}, 0.75);
+  exported = ok(manager, Export{std::nullopt, "", std::nullopt});
+  EXPECT_FLOAT_EQ(io::readAbrdfExr(directory / "felt-abrdf-prior.exr").at(3, 40).g(), 0.5);
+  ASSERT_EQ(exported["warnings"].size(), 1u);
+  EXPECT_THAT(exported["warnings"][0].get<std::string>(),
+              HasSubstr("abrdf-one-slice.exr (made from earlier samples) removed"));
+  for (const json& file : exported["files"])
+    EXPECT_THAT(file.get<std::string>(), Not(HasSubstr("one-slice")));
+  EXPECT_FALSE(std::filesystem::exists(root / "felt" / "abrdf-one-slice.exr"));
+  EXPECT_FALSE(std::filesystem::exists(directory / "felt-abrdf-one-slice.exr"));
+  EXPECT_FALSE(ok(manager, Export{std::nullopt, "", std::nullopt}).contains("warnings"));
+
+  // The asked method; one that fails refuses the export and says what would work.
+  exported = ok(manager, Export{std::nullopt, "", std::string("a")});
+  EXPECT_EQ(exported["method"], "a");
+  EXPECT_FLOAT_EQ(io::readAbrdfExr(directory / "felt-abrdf-a.exr").at(3, 40).g(), 0.5);
+  const ProtocolError failed =
+      refused(manager, Export{std::nullopt, "", std::string("needs-more")});
+  EXPECT_THAT(failed.message, HasSubstr("missing slices"));
+  EXPECT_THAT(failed.message, HasSubstr("--method prior"));
+
+  // All eight slices: Method B, as the paper.
+  for (const SliceId& slice : sweepOrder())
+    if (slice.kind == SliceKind::Axial) sweepFully(manager, slice, 0.5);
+  sweepFully(manager, {SliceKind::Diagonal, {30, 75}}, 0.5);
+  sweepFully(manager, {SliceKind::Diagonal, {75, 30}}, 0.5);
+  EXPECT_EQ(ok(manager, Export{std::nullopt, "", std::nullopt})["method"], "b");
 }
 
 }  // namespace

@@ -25,6 +25,20 @@ led_is_off || fail "the LED is not off after the start"
 "$slicecap" session new "$material" --id e2e >/dev/null
 acknowledged=0
 for slice in "${session_slices[@]}"; do
+  if [[ $slice == "axial 30 30" ]]; then
+    # The four diagonal sweeps are in: the daemon's isotropy test (the shipped prior) has spoken.
+    status=$("$slicecap" status --json | tr -d '\n ')
+    grep -q '"isotropy":{' <<<"$status" || fail "no isotropy verdict after the diagonal sweeps"
+    grep -q '"isotropy":{[^}]*"error"' <<<"$status" && fail "the isotropy test failed: $status"
+    # The default satin's grain: the axial sweeps are needed.
+    if [[ $material == satin-blue-45 ]] && ! grep -q '"axial_sweeps_needed":true' <<<"$status"; then
+      fail "$material called isotropic after the diagonal sweeps: $status"
+    fi
+    echo "after the diagonal sweeps: $("$slicecap" status | grep '^isotropy:')"
+    # An operator who stops here still gets a table: the prior reads the diagonal slices alone.
+    "$slicecap" export e2e -o "$work/diagonal-only" >/dev/null || fail "export after the diagonal sweeps failed"
+    [[ -f $work/diagonal-only/e2e-abrdf-prior.exr ]] || fail "the diagonal sweeps' export has no prior EXR"
+  fi
   if [[ $slice != "axial 75 30" ]]; then
     sweep "$slice"
     continue
@@ -73,6 +87,12 @@ echo "texture: $frames frames kept by the daemon, a 16 x 16 BTF reconstructed fr
 daemon_de=$(delta_e "$work/truth.exr" "$daemon_exr")
 offline_de=$(delta_e "$work/truth.exr" "$work/offline.exr")
 echo "dE against $material: daemon session $daemon_de, offline pipeline $offline_de"
+# The prior's table of the first export is made afresh from all eight sweeps, not carried stale.
+[[ -f $work/desk/e2e-abrdf-prior.exr ]] || fail "the final export did not remake the prior table"
+cmp -s "$work/desk/e2e-abrdf-prior.exr" "$work/diagonal-only/e2e-abrdf-prior.exr" &&
+  fail "the prior table was exported stale (the same as after the diagonal sweeps)"
+echo "prior (slicecap export --method prior): dE $(delta_e "$work/truth.exr" "$work/diagonal-only/e2e-abrdf-prior.exr")" \
+  "from the diagonal sweeps, $(delta_e "$work/truth.exr" "$work/desk/e2e-abrdf-prior.exr") from all eight"
 awk -v d="$daemon_de" -v o="$offline_de" 'BEGIN { exit !(d <= 1.10 * o + 1e-9 && d >= 0.90 * o - 1e-9) }' ||
   fail "the daemon's EXR (dE $daemon_de) is not within 10 % of the offline pipeline's (dE $offline_de)"
 

@@ -11,6 +11,7 @@
 
 #include "slicecap/cli/cli.hpp"
 #include "slicecap/cli/command.hpp"
+#include "slicecap/cli/methods.hpp"
 #include "slicecap/daemon/control_client.hpp"
 #include "slicecap/io/journal.hpp"
 
@@ -110,6 +111,18 @@ void printStatus(std::ostream& out, const json& status) {
     out << "  texture " << texture["resolution"] << " x " << texture["resolution"] << ": "
         << texture["bins_filled"] << "/24 bins, " << texture["frames_stored"]
         << " frames kept in " << texture["directory"].get<std::string>() << "\n";
+  }
+  if (status.contains("isotropy")) {
+    const json& isotropy = status["isotropy"];
+    if (isotropy.contains("error"))
+      out << "isotropy: " << isotropy["error"].get<std::string>() << "\n";
+    else
+      out << "isotropy: "
+          << (!isotropy["isotropic"].get<bool>() ? "anisotropic, the axial sweeps are needed"
+              : isotropy["axial_sweeps_needed"].get<bool>()
+                  ? "cannot tell yet, the axial sweeps are needed"
+                  : "isotropic, the axial sweeps are not needed")
+          << " (" << isotropy["reason"].get<std::string>() << ")\n";
   }
   if (status.contains("error")) out << "error: " << status["error"].get<std::string>() << "\n";
   out << "next: " << status["next"].get<std::string>() << "\n";
@@ -253,7 +266,9 @@ void copyTexture(const fs::path& source, const fs::path& target) {
 
 int runExport(const ParsedArgs& args, Streams& io) {
   const fs::path destination = args.required("output");
-  const json result = call(args, daemon::Export{args.positional[0], ""});
+  std::optional<std::string> method = args.value("method");
+  if (method) method = findMethod(*method).name;  // an unknown name: UsageError, exit 2
+  const json result = call(args, daemon::Export{args.positional[0], "", method});
   std::error_code error;
   fs::create_directories(destination, error);
   if (error) throw std::runtime_error(destination.string() + ": cannot create: " + error.message());
@@ -272,12 +287,16 @@ int runExport(const ParsedArgs& args, Streams& io) {
     copyTexture(result["texture"].get<std::string>(), target);
     copied.push_back(target.string());
   }
+  if (result.contains("warnings"))
+    for (const json& warning : result["warnings"])
+      io.err << "warning: " << warning.get<std::string>() << "\n";
   if (result.contains("texture_skipped"))
     io.err << "warning: texture not exported: " << result["texture_skipped"].get<std::string>()
            << "\n";
-  json answer = {{"session", result["session"]}, {"files", copied}};
+  json answer = {{"session", result["session"]}, {"method", result["method"]}, {"files", copied}};
   return finish(args, io, answer, [](std::ostream& out, const json& r) {
-    out << "exported session " << r["session"].get<std::string>() << ":\n";
+    out << "exported session " << r["session"].get<std::string>() << " (reconstructed with "
+        << r["method"].get<std::string>() << "):\n";
     for (const json& f : r["files"])
       out << "  " << f.get<std::string>() << "\n";
   });
@@ -329,12 +348,16 @@ Command statusCommand() {
 
 Command exportCommand() {
   return {{"export",
-           "SESSION -o DIR [--socket PATH] [--json]",
-           "Export a session from slicecapd into DIR: its ABRDF EXR files (reconstructing with "
-           "Method B\nif there is none yet), a PNG preview of each, the slices CSV and a JSON "
-           "summary;\nwith texture capture on (texture_resolution), also DIR/SESSION-texture: "
-           "the texture's\nframes and the slices, for `slicecap btf DIR/SESSION-texture -o BTF`.",
+           "SESSION -o DIR [--method NAME] [--socket PATH] [--json]",
+           "Export a session from slicecapd into DIR: its ABRDF as EXR, reconstructed now from "
+           "the samples\nas they are (Method B when all eight slices have samples, else the "
+           "learned prior, which reads\nany subset: e.g. the diagonal sweeps of an isotropic "
+           "material; --method picks another), and\nany table made earlier, made afresh; a PNG "
+           "preview of each, the slices CSV and a JSON summary;\nwith texture capture on "
+           "(texture_resolution), also DIR/SESSION-texture: the texture's\nframes and the "
+           "slices, for `slicecap btf DIR/SESSION-texture -o BTF`.",
            {{"output", 'o', "DIR", "the folder to copy the files into (required)"},
+            {"method", 0, "NAME", "the reconstruction method (b, prior, a, halfway, ...)"},
             kSocketOption,
             kJsonOption},
            1,

@@ -41,7 +41,8 @@ struct Daemon::State {
   std::string textureError;
 
   explicit State(DaemonParts p)
-      : parts(std::move(p)), manager(parts.storage, parts.reconstruct, parts.preview) {}
+      : parts(std::move(p)),
+        manager(parts.storage, parts.reconstruct, parts.preview, parts.isotropy) {}
 
   void ledOff() noexcept {
     try {

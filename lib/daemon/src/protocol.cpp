@@ -57,6 +57,18 @@ std::string sessionId(const json& args, const char* name) {
   return id;
 }
 
+// A reconstruction method's name: it becomes part of a file name (abrdf-<method>.exr) in the
+// session's folder, so only a-z, 0-9 and '-'.
+std::optional<std::string> optionalMethod(const json& args) {
+  std::optional<std::string> method = optionalText(args, "method");
+  if (method &&
+      (method->size() > 32 ||
+       method->find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789-") != std::string::npos))
+    throw Refusal{ErrorCode::BadRequest,
+                  "argument \"method\" must be 1-32 characters of a-z, 0-9 and -"};
+  return method;
+}
+
 std::optional<std::string> optionalSessionId(const json& args, const char* name) {
   if (!args.contains(name) || args[name].is_null()) return std::nullopt;
   return sessionId(args, name);
@@ -96,13 +108,13 @@ Command parseCommand(std::string_view name, const json& args) {
   if (name == "sweep.redo") return SweepRedo{slice(args)};
   if (name == "status") return Status{};
   if (name == "reconstruct") {
-    return Reconstruct{optionalSessionId(args, "id"), optionalText(args, "method").value_or("b")};
+    return Reconstruct{optionalSessionId(args, "id"), optionalMethod(args).value_or("b")};
   }
   if (name == "export") {
     std::string directory = optionalText(args, "directory").value_or("");
     if (!directory.empty() && directory.front() != '/')
       throw Refusal{ErrorCode::BadRequest, "argument \"directory\" must be an absolute path"};
-    return Export{optionalSessionId(args, "id"), std::move(directory)};
+    return Export{optionalSessionId(args, "id"), std::move(directory), optionalMethod(args)};
   }
   throw Refusal{ErrorCode::BadRequest, "unknown command \"" + std::string(name) + "\""};
 }
@@ -196,6 +208,7 @@ std::string encodeRequest(const Request& request) {
         } else if constexpr (std::is_same_v<T, Export>) {
           if (c.id) args["id"] = *c.id;
           if (!c.directory.empty()) args["directory"] = c.directory;
+          if (c.method) args["method"] = *c.method;
         }
       },
       request.command);

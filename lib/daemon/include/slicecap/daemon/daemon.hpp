@@ -38,6 +38,9 @@ struct DaemonParts {
       newTextureSink;
   ReconstructFunction reconstruct;
   PreviewFunction preview;
+  /// The isotropy test status runs once the four diagonal sweeps are complete. Empty: status
+  /// never says the axial sweeps can be skipped.
+  IsotropyFunction isotropy;
   /// record_frames: the recording header (camera model, target, slice) of a slice's sweep; every
   /// frame of the sweep is then kept in <session>/recordings/<slice> (FrameRecorder). Empty: no
   /// frames are kept.

@@ -67,6 +67,10 @@ struct Export {
   /// from. The reply lists the files written; with a texture it also names the session's texture
   /// folder ("texture"), which is not copied (it can be hundreds of MB): the client copies it.
   std::string directory;
+  /// The method of the session's table; default: defaultExportMethod(). Every table is made
+  /// afresh from the samples as they are now, so no export carries a table from before a later
+  /// sweep or redo.
+  std::optional<std::string> method;
 };
 
 using Command =

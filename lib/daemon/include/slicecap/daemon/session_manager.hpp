@@ -25,6 +25,18 @@ using ReconstructFunction = std::function<Abrdf(const SliceSet& slices, const st
 using PreviewFunction =
     std::function<void(const Abrdf& table, const std::filesystem::path& pngPath)>;
 
+/// \brief The isotropy test's answer on a session's slices: are the axial sweeps needed?
+struct IsotropyAssessment {
+  bool isotropic = true;
+  /// \brief false when the slices cannot show anisotropy (e.g. only the equal-elevation diagonal
+  /// ones); "isotropic" is then a default, not a finding.
+  bool informative = true;
+  std::string reason;  ///< one sentence for the operator
+};
+/// \brief Runs the isotropy test (prior::testIsotropy; injected, like the reconstruction, by the
+/// daemon's main). Throws std::exception with a message (e.g. no prior file).
+using IsotropyFunction = std::function<IsotropyAssessment(const SliceSet& slices)>;
+
 /// \brief The state machine behind the control protocol. One session is current at a time; at
 /// most one sweep runs. Every change is durable (SessionStore) before the command's reply. The
 /// current session's id is kept in <storage>/current, so a restarted daemon comes back to it; a
@@ -33,9 +45,10 @@ using PreviewFunction =
 class SessionManager {
  public:
   /// \brief Opens the storage root (creating it) and the session that was current. Throws
-  /// io::IoError naming the folder if it cannot be used.
+  /// io::IoError naming the folder if it cannot be used. Without `isotropy`, status never says
+  /// whether the axial sweeps can be skipped.
   SessionManager(std::filesystem::path storageRoot, ReconstructFunction reconstruct,
-                 PreviewFunction preview = {});
+                 PreviewFunction preview = {}, IsotropyFunction isotropy = {});
   ~SessionManager();
 
   /// \brief Carries out one command. Never throws: refusals and failures come back as a
@@ -73,8 +86,14 @@ class SessionManager {
 /// RequestError carrying the refusal's code and message.
 nlohmann::json replyOrThrow(std::variant<nlohmann::json, ProtocolError> reply);
 
-/// \brief The eight slices in the order a person sweeps them (axial then diagonal, elevation
-/// pairs 30/30, 30/75, 75/30, 75/75).
+/// \brief The eight slices in the order a person sweeps them: the diagonal ones first, equal
+/// elevations first (30/30, 75/75, 30/75, 75/30), then the axial ones (30/30, 30/75, 75/30,
+/// 75/75). Someone who knows the material is isotropic may stop after two; after all four
+/// diagonal ones the isotropy test says whether the axial ones are needed.
 const std::vector<SliceId>& sweepOrder();
+
+/// \brief The method `export` reconstructs with when none is asked for: Method B when each of
+/// the eight slices has samples, otherwise the learned prior ("prior"), which reads any subset.
+std::string defaultExportMethod(const SliceSet& slices);
 
 }  // namespace slicecap::daemon
