@@ -279,7 +279,7 @@ struct SessionManager::State {
       throw Refusal{ErrorCode::Conflict, "a sweep is running: `slicecap sweep stop` first"};
     std::optional<capture::SessionStore> other;
     capture::SessionStore& store = target(command.id, other);
-    const fs::path path = reconstructInto(store, command.method);
+    const fs::path path = reconstructInto(store, store.slices(), command.method).path;
     return {{"session", store.info().id},
             {"method", command.method},
             {"samples", store.sampleCount()},
@@ -297,12 +297,14 @@ struct SessionManager::State {
       throw io::IoError(directory.string() +
                         ": cannot create the export folder: " + error.message());
 
+    // One reading of the samples serves every table, the CSV and the texture's slices.
+    const SliceSet slices = store.slices();
     // Every table afresh from the samples as they are now: a table an earlier export or
     // reconstruct left in the session's folder may predate later sweeps or a redo. The asked (or
     // default) method first; a failure there refuses the export. An earlier table that the
     // samples can no longer give (a redo emptied a slice it needs) is removed with its exported
     // copies, with a warning, rather than exported stale.
-    std::vector<std::string> methods{command.method.value_or(defaultExportMethod(store.slices()))};
+    std::vector<std::string> methods{command.method.value_or(defaultExportMethod(slices))};
     for (const fs::directory_entry& entry : fs::directory_iterator(store.directory())) {
       const std::string name = entry.path().filename().string();
       if (entry.path().extension() != ".exr" || name.rfind(kTablePrefix, 0) != 0) continue;
@@ -310,11 +312,11 @@ struct SessionManager::State {
       if (std::find(methods.begin(), methods.end(), method) == methods.end())
         methods.push_back(method);
     }
-    std::vector<fs::path> tables;
+    std::vector<SessionTable> tables;
     json warnings = json::array();
     for (std::size_t m = 0; m < methods.size(); ++m) {
       try {
-        tables.push_back(reconstructInto(store, methods[m]));
+        tables.push_back(reconstructInto(store, slices, methods[m]));
       } catch (const Refusal& refusal) {
         if (m == 0) throw;
         const std::string name = std::string(kTablePrefix) + methods[m] + ".exr";
@@ -328,20 +330,20 @@ struct SessionManager::State {
     }
 
     json files = json::array();
-    for (const fs::path& table : tables) {
-      const fs::path copy = directory / (store.info().id + "-" + table.filename().string());
-      fs::copy_file(table, copy, fs::copy_options::overwrite_existing, error);
+    for (const SessionTable& table : tables) {
+      const fs::path copy = directory / (store.info().id + "-" + table.path.filename().string());
+      fs::copy_file(table.path, copy, fs::copy_options::overwrite_existing, error);
       if (error) throw io::IoError(copy.string() + ": cannot write: " + error.message());
       files.push_back(copy.string());
       if (preview) {
         fs::path png = copy;
         png.replace_extension(".png");
-        preview(io::readAbrdfExr(table), png);
+        preview(table.values, png);
         files.push_back(png.string());
       }
     }
     const fs::path csv = directory / (store.info().id + "-slices.csv");
-    io::writeSliceCsv(csv, store.slices());
+    io::writeSliceCsv(csv, slices);
     files.push_back(csv.string());
     json summary = sessionJson(store);
     summary["exported"] = utcNow("%Y-%m-%dT%H:%M:%SZ");
@@ -361,7 +363,7 @@ struct SessionManager::State {
       reply["texture_skipped"] = "sweep " + toString(sweep->slice) +
                                  " is capturing into the texture: `slicecap sweep stop` (or let "
                                  "it pause), then export again for the texture";
-    else if (const std::optional<fs::path> texture = exportTexture(store))
+    else if (const std::optional<fs::path> texture = exportTexture(store, slices))
       reply["texture"] = texture->string();
     return reply;
   }
@@ -369,17 +371,24 @@ struct SessionManager::State {
   /// The session's texture folder, if it has one, with the session's window-average slices
   /// written into it (slices.csv: the BTF's average ABRDF is made from them). Not copied here: the
   /// client copies it (`slicecap export` to DIR/<id>-texture), as it can be hundreds of MB.
-  std::optional<fs::path> exportTexture(const capture::SessionStore& store) {
+  std::optional<fs::path> exportTexture(const capture::SessionStore& store,
+                                        const SliceSet& slices) {
     const fs::path texture = store.directory() / kTextureFolder;
     if (!fs::is_directory(texture)) return std::nullopt;
     std::ostringstream csv;
-    io::writeSliceCsv(csv, store.slices());
+    io::writeSliceCsv(csv, slices);
     io::writeFileAtomically(texture / "slices.csv", csv.str());
     return texture;
   }
 
-  fs::path reconstructInto(capture::SessionStore& store, const std::string& method) {
-    const SliceSet slices = store.slices();
+  // A table made from a session's samples, written to <session>/abrdf-<method>.exr.
+  struct SessionTable {
+    fs::path path;
+    Abrdf values;
+  };
+
+  SessionTable reconstructInto(const capture::SessionStore& store, const SliceSet& slices,
+                               const std::string& method) {
     if (slices.empty())
       throw Refusal{ErrorCode::Conflict,
                     "session '" + store.info().id + "' has no samples to reconstruct from"};
@@ -396,7 +405,7 @@ struct SessionManager::State {
     io::writeAbrdfExr(
         path, table,
         {{"method", method}, {"material", store.info().material}, {"session", store.info().id}});
-    return path;
+    return {path, std::move(table)};
   }
 
   json sweepJson() const {
@@ -455,8 +464,13 @@ struct SessionManager::State {
   // at their actual angles, wherever they are.
   json isotropyJson() const {
     if (!session || !isotropy) return nullptr;
-    for (const SliceId& slice : sweepOrder())
-      if (slice.kind == SliceKind::Diagonal && session->sampleCount(slice) < 2) return nullptr;
+    std::optional<SliceId> sparsest;  // the diagonal slice with the fewest filled bins
+    for (const SliceId& slice : sweepOrder()) {
+      if (slice.kind != SliceKind::Diagonal) continue;
+      if (session->sampleCount(slice) < 2) return nullptr;
+      if (!sparsest || session->bins(slice).filledCount() < session->bins(*sparsest).filledCount())
+        sparsest = slice;
+    }
     // While a sweep captures, the answer from before it stands: the test (two prior fits, a few
     // ms on a Pi) is not rerun on the frame loop for every status a --watch asks for.
     const bool capturing = sweep && !sweep->paused;
@@ -472,12 +486,6 @@ struct SessionManager::State {
       // 12, 16, 20, 24 (the 5: ward-gold-60, missed at full coverage too); isotropic held-out
       // tables called anisotropic 9, 7, 6, 5, 5 of 295. A false "isotropic" costs a wrong table, a
       // false "anisotropic" four more sweeps.
-      std::optional<SliceId> sparsest;
-      for (const SliceId& slice : sweepOrder())
-        if (slice.kind == SliceKind::Diagonal &&
-            (!sparsest ||
-             session->bins(slice).filledCount() < session->bins(*sparsest).filledCount()))
-          sparsest = slice;
       const int fewestBins = session->bins(*sparsest).filledCount();
       if (verdict.isotropic && fewestBins < kIsotropyMinBins) {
         verdict.informative = false;
