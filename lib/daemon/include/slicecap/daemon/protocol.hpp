@@ -58,6 +58,8 @@ struct SweepRedo {
 struct Status {};
 struct Reconstruct {
   std::optional<std::string> id;  ///< default: the current session
+  /// A method of the registry (`slicecap reconstruct --help`); on the wire 1-32 characters of
+  /// a-z, 0-9 and '-' (it names <session>/abrdf-<method>.exr), else a bad_request reply.
   std::string method = "b";
 };
 struct Export {
@@ -67,9 +69,9 @@ struct Export {
   /// from. The reply lists the files written; with a texture it also names the session's texture
   /// folder ("texture"), which is not copied (it can be hundreds of MB): the client copies it.
   std::string directory;
-  /// The method of the session's table; default: defaultExportMethod(). Every table is made
-  /// afresh from the samples as they are now, so no export carries a table from before a later
-  /// sweep or redo.
+  /// The method of the session's table (named as Reconstruct's); default: defaultExportMethod().
+  /// Every table is made afresh from the samples as they are now, so no export carries a table
+  /// from before a later sweep or redo.
   std::optional<std::string> method;
 };
 
