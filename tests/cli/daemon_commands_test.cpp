@@ -145,6 +145,20 @@ TEST(DaemonCommands, ASessionFromNewToExport) {
   EXPECT_THAT(r.err, HasSubstr("unknown method 'nosuch' (known: b, a,"));
 }
 
+TEST(DaemonCommands, RefusesAWatchCountThatIsNoWholeNumberAndSaysWhyARequestIsTooLong) {
+  const auto dir = test::freshTempDir();
+  LiveDaemon daemon(dir / "storage");
+  for (const char* count : {"0", "-1", "1.5", "9223372036854775808", "1e300"}) {
+    const Result r = daemon.run({"status", "--watch", "--count", count, "--interval", "0.05"});
+    EXPECT_EQ(r.code, kExitUsage) << count;
+    EXPECT_THAT(r.err, HasSubstr("--count must be a whole number")) << count;
+  }
+  // The daemon answers a request it cannot read without its id; its reason reaches the person.
+  const Result r = daemon.run({"session", "new", std::string(70000, 'x'), "--id", "big"});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_THAT(r.err, HasSubstr("request longer than 65536 bytes"));
+}
+
 TEST(DaemonCommands, StatusSaysWhetherTheAxialSweepsAreNeeded) {
   const auto dir = test::freshTempDir();
   LiveDaemon daemon(dir / "storage");

@@ -86,7 +86,8 @@ TEST(Protocol, ValidatesArgumentsAndNamesTheField) {
                 .find("\"theta_v\" must be a number"),
             std::string::npos);
   // Session ids name directories: no path tricks.
-  for (const char* id : {"../etc", "a/b", "", "UPPER", "with space", ".hidden"}) {
+  // Nor a leading '-' or '_': the CLI would read "-x" as an option, also in a pasted hint.
+  for (const char* id : {"../etc", "a/b", "", "UPPER", "with space", ".hidden", "-x", "--", "_a"}) {
     const std::string line =
         std::string("{\"v\":1,\"id\":1,\"cmd\":\"session.show\",\"args\":{\"id\":\"") + id + "\"}}";
     EXPECT_EQ(refusal(line).code, ErrorCode::BadRequest) << id;
@@ -109,6 +110,20 @@ TEST(Protocol, ValidatesArgumentsAndNamesTheField) {
                     std::string(300, 'x') + "\"}}")
                 .message.find("1 to 256 bytes"),
             std::string::npos);
+  // A material name is printed on an operator's terminal: no forged lines, no escape sequences.
+  for (const char* material : {"red\\nfoo", "red\\u001b[2J", "tab\\there", "del\\u007f"}) {
+    EXPECT_NE(refusal("{\"v\":1,\"id\":1,\"cmd\":\"session.new\",\"args\":{\"material\":\"" +
+                      std::string(material) + "\"}}")
+                  .message.find("must not contain control characters"),
+              std::string::npos)
+        << material;
+  }
+  EXPECT_EQ(std::get<SessionNew>(
+                accepted("{\"v\":1,\"id\":1,\"cmd\":\"session.new\",\"args\":{\"material\":"
+                         "\"rotes Leder \u00e4\"}}")
+                    .command)
+                .material,
+            "rotes Leder \u00e4");
 }
 
 TEST(Protocol, SurvivesHostileInput) {

@@ -11,6 +11,7 @@
 
 #include "../support/test_support.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
+#include "slicecap/io/io_error.hpp"
 #include "slicecap/io/slice_csv.hpp"
 
 namespace slicecap::daemon {
@@ -95,7 +96,8 @@ TEST(SessionManager, WalksAPersonThroughASweep) {
   EXPECT_FALSE(manager.capturing());
   EXPECT_FALSE(manager.acceptSample(sampleAt(0, 0.5, 99)));  // no sweep: nothing stored
   EXPECT_EQ(manager.status()["session"]["samples"], 10);
-  EXPECT_EQ(manager.status()["next"], "slicecap sweep start diagonal 30 30");  // not all 24 bins
+  // A hand-held sweep seldom fills all 24 bins: a slice with samples counts as swept.
+  EXPECT_EQ(manager.status()["next"], "slicecap sweep start diagonal 75 75");
 }
 
 TEST(SessionManager, RefusesWhatTheStateDoesNotAllow) {
@@ -277,7 +279,11 @@ TEST(SessionManager, AsksForTheDiagonalSweepsFirstAndSaysWhenTheAxialOnesAreNotN
   EXPECT_EQ(status["isotropy"]["informative"], false);
   EXPECT_THAT(status["isotropy"]["reason"].get<std::string>(),
               HasSubstr("diagonal 75/30 has 12 of 24 (16 needed)"));
-  EXPECT_EQ(status["next"], "slicecap sweep start diagonal 75 30");
+  EXPECT_EQ(status["isotropy"]["isotropic"], nullptr) << "unknown, not a finding";
+  EXPECT_EQ(status["next"],
+            "cannot tell yet whether the axial sweeps are needed (no anisotropy seen, but too few "
+            "bins to rule it out: diagonal 75/30 has 12 of 24 (16 needed); sweep it again or "
+            "measure the axial sweeps): slicecap sweep start axial 30 30 measures them");
   // An anisotropic verdict stands on any coverage.
   verdict.isotropic = false;
   ok(manager, SweepStart{diagonal.back()});
@@ -309,7 +315,7 @@ TEST(SessionManager, AsksForTheDiagonalSweepsFirstAndSaysWhenTheAxialOnesAreNotN
   EXPECT_EQ(testsRun, 4);
   EXPECT_EQ(status["isotropy"]["isotropic"], false);
   EXPECT_EQ(status["next"],
-            "the diagonal sweeps show anisotropy: slicecap sweep start axial 30 30");
+            "the diagonal sweeps show anisotropy: slicecap sweep start axial 30 75");
 
   // A test that cannot run says why and asks for the axial sweeps.
   testFails = true;
@@ -367,6 +373,68 @@ TEST(SessionManager, ExportsTablesMadeFromTheSamplesAsTheyAreNow) {
   sweepFully(manager, {SliceKind::Diagonal, {30, 75}}, 0.5);
   sweepFully(manager, {SliceKind::Diagonal, {75, 30}}, 0.5);
   EXPECT_EQ(ok(manager, Export{std::nullopt, "", std::nullopt})["method"], "b");
+}
+
+TEST(SessionManager, AnExportFolderKeepsNoTableTheSamplesNoLongerGive) {
+  const auto root = test::freshTempDir();
+  const auto first = test::freshTempDir(), second = test::freshTempDir();
+  SessionManager manager(root, meanOfSlices);
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  sweepFully(manager, kDiagonal3030, 0.25);
+  ok(manager, Export{std::nullopt, first.string(), std::string("one-slice")});
+  ASSERT_TRUE(std::filesystem::exists(first / "felt-abrdf-one-slice.exr"));
+  // A second slice: one-slice can no longer be made; an export elsewhere removes the session's
+  // table, and the next export into the first folder must not leave that folder's copy there.
+  sweepFully(manager, {SliceKind::Diagonal, {75, 75}}, 0.75);
+  EXPECT_TRUE(
+      ok(manager, Export{std::nullopt, second.string(), std::nullopt}).contains("warnings"));
+  ASSERT_FALSE(std::filesystem::exists(root / "felt" / "abrdf-one-slice.exr"));
+  ok(manager, Export{std::nullopt, first.string(), std::nullopt});
+  EXPECT_FALSE(std::filesystem::exists(first / "felt-abrdf-one-slice.exr"));
+  EXPECT_TRUE(std::filesystem::exists(first / "felt-abrdf-prior.exr"));
+  EXPECT_TRUE(std::filesystem::exists(first / "felt-slices.csv"));
+}
+
+TEST(SessionManager, RefusesASecondManagerOnTheSameStorage) {
+  const auto root = test::freshTempDir();
+  {
+    SessionManager manager(root, meanOfSlices);
+    ok(manager, SessionNew{"felt", std::string("felt")});
+    try {
+      SessionManager second(root, meanOfSlices);
+      ADD_FAILURE() << "two managers on one storage folder";
+    } catch (const io::IoError& error) {
+      EXPECT_THAT(error.what(), HasSubstr("in use by another slicecapd (pid "));
+    }
+  }
+  SessionManager restarted(root, meanOfSlices);  // the lock went with the first
+  EXPECT_EQ(restarted.status()["session"]["id"], "felt");
+  EXPECT_TRUE(ok(restarted, SessionList{})["sessions"].size() == 1u) << "the lock is no session";
+}
+
+TEST(SessionManager, NamesTheSparsestSliceOnceEverySliceIsSwept) {
+  SessionManager manager(test::freshTempDir(), meanOfSlices);
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  for (const SliceId& slice : sweepOrder()) {
+    const int bins = slice == kAxial3075 ? 5 : 20;
+    ok(manager, SweepStart{slice});
+    for (int k = 0; k < bins; ++k)
+      ASSERT_TRUE(manager.acceptSample(sampleAt(k * 15.0, 0.5, k)));
+    ok(manager, SweepStop{});
+  }
+  EXPECT_EQ(manager.status()["next"],
+            "every slice is swept: slicecap export felt -o DIR (the sparsest, axial 30/75, has 5 "
+            "of 24 bins: `slicecap sweep start axial 30 75` adds to it)");
+}
+
+TEST(SessionManager, AnErrorIsShownWithItsSweepOnly) {
+  SessionManager manager(test::freshTempDir(), meanOfSlices);
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  ok(manager, SweepStart{kAxial3030});
+  manager.pauseSweep("the camera's recording has ended");
+  EXPECT_EQ(manager.status()["error"], "the camera's recording has ended");
+  ok(manager, SweepStop{});
+  EXPECT_FALSE(manager.status().contains("error"));
 }
 
 }  // namespace

@@ -57,9 +57,11 @@ SessionInfo readInfo(const std::filesystem::path& file) {
 }  // namespace
 
 bool isValidSessionId(const std::string& id) {
-  return !id.empty() && id.size() <= 64 && std::all_of(id.begin(), id.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
-  });
+  auto letterOrDigit = [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'); };
+  // Not starting with '-' or '_': an id is an argument of the CLI, where "-x" reads as an option.
+  return !id.empty() && id.size() <= 64 && letterOrDigit(id.front()) &&
+         std::all_of(id.begin(), id.end(),
+                     [&](char c) { return letterOrDigit(c) || c == '_' || c == '-'; });
 }
 
 SessionStore::SessionStore(std::filesystem::path directory, SessionInfo info, io::Journal journal)

@@ -1,6 +1,7 @@
 // The commands a person on SSH uses to drive slicecapd: session, sweep, status, export. Each sends
 // protocol commands over the control socket and prints the answer for a person, or as JSON.
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -118,7 +119,7 @@ void printStatus(std::ostream& out, const json& status) {
       out << "isotropy: " << isotropy["error"].get<std::string>() << "\n";
     else
       out << "isotropy: "
-          << (!isotropy["isotropic"].get<bool>() ? "anisotropic, the axial sweeps are needed"
+          << (isotropy["isotropic"] == false ? "anisotropic, the axial sweeps are needed"
               : isotropy["axial_sweeps_needed"].get<bool>()
                   ? "cannot tell yet, the axial sweeps are needed"
                   : "isotropic, the axial sweeps are not needed")
@@ -211,6 +212,8 @@ int runStatus(const ParsedArgs& args, Streams& io) {
   const double intervalSeconds = args.number("interval", 0.5);
   if (intervalSeconds < 0.05) throw UsageError("--interval must be at least 0.05 s");
   const double count = args.number("count", 0);
+  if (args.value("count") && !(count >= 1 && count <= 1e9 && count == std::floor(count)))
+    throw UsageError("--count must be a whole number from 1 to 1000000000");
   interrupted = 0;
   auto previous = std::signal(SIGINT, [](int) { interrupted = 1; });
   daemon::ControlClient client(socketPath(args));

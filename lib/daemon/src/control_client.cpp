@@ -79,6 +79,11 @@ nlohmann::json ControlClient::call(const Command& command) {
   if (response.is_discarded() || !response.is_object() || !response.contains("ok")) {
     throw ConnectionError("slicecapd at " + socketPath_.string() + " sent a malformed answer");
   }
+  // A request the daemon could not read (e.g. over kMaxRequestBytes) is answered without its id.
+  if (response["ok"] == false && response.value("id", nlohmann::json()).is_null()) {
+    const nlohmann::json& error = response.value("error", nlohmann::json::object());
+    throw DaemonError(error.value("code", "internal"), error.value("message", "no message"));
+  }
   if (response.value("id", nlohmann::json()) != id)
     throw ConnectionError("slicecapd answered another request");
   if (response["ok"] == true) return response.value("result", nlohmann::json::object());

@@ -40,6 +40,11 @@ std::string text(const json& args, const char* name) {
     throw Refusal{ErrorCode::BadRequest,
                   std::string("argument \"") + name + "\" must be 1 to 256 bytes"};
   }
+  // A material name is printed back on an operator's terminal (`session list`): a newline would
+  // forge a line there, an escape sequence would drive the terminal.
+  if (std::any_of(s.begin(), s.end(), [](char c) { return (unsigned char)c < 0x20 || c == 0x7f; }))
+    throw Refusal{ErrorCode::BadRequest,
+                  std::string("argument \"") + name + "\" must not contain control characters"};
   return s;
 }
 
@@ -49,12 +54,14 @@ std::optional<std::string> optionalText(const json& args, const char* name) {
 }
 
 std::string sessionId(const json& args, const char* name) {
-  std::string id = text(args, name);
-  if (!capture::isValidSessionId(id)) {
-    throw Refusal{ErrorCode::BadRequest, std::string("argument \"") + name +
-                                             "\" must be 1-64 characters of a-z, 0-9, _ and -"};
+  const json& value = argument(args, name);
+  if (!value.is_string() || !capture::isValidSessionId(value.get<std::string>())) {
+    throw Refusal{ErrorCode::BadRequest,
+                  std::string("argument \"") + name +
+                      "\" must be 1-64 characters of a-z, 0-9, _ and -, starting with a letter "
+                      "or digit"};
   }
-  return id;
+  return value.get<std::string>();
 }
 
 // A reconstruction method's name: it becomes part of a file name (abrdf-<method>.exr) in the

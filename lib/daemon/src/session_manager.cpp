@@ -1,8 +1,14 @@
 // Sessions and sweeps behind the control protocol: every change durable before its reply.
 #include "slicecap/daemon/session_manager.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <sstream>
@@ -121,6 +127,7 @@ struct SessionManager::State {
   };
 
   fs::path root;
+  int storageLock = -1;  // an flock on <root>/.lock held while this manager lives
   ReconstructFunction reconstruct;
   PreviewFunction preview;
   IsotropyFunction isotropy;
@@ -130,13 +137,47 @@ struct SessionManager::State {
   std::uint64_t samplesVersion = 0;  // bumped whenever a session's samples may have changed
   mutable std::optional<IsotropyAnswer> isotropyAnswer;
 
+  ~State() {
+    if (storageLock >= 0) ::close(storageLock);
+  }
+
   fs::path currentFile() const { return root / "current"; }
+
+  // Two daemons on one storage folder would each append to the same session journal from their
+  // own idea of it and lose each other's acknowledged samples; the second one is refused. The
+  // lock goes with the process (also on SIGKILL), so a restart never finds a stale one.
+  void lockStorage() {
+    const fs::path lockFile = root / ".lock";
+    storageLock = ::open(lockFile.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (storageLock < 0)
+      throw io::IoError(lockFile.string() + ": cannot open: " + std::strerror(errno));
+    if (::flock(storageLock, LOCK_EX | LOCK_NB) != 0) {
+      const int lockError = errno;
+      std::string holder;
+      char pid[32] = {};
+      if (::pread(storageLock, pid, sizeof pid - 1, 0) > 0) holder = std::string(pid);
+      holder.erase(holder.find_last_not_of(" \n") + 1);
+      ::close(storageLock);
+      storageLock = -1;
+      if (lockError == EWOULDBLOCK)
+        throw io::IoError(root.string() + ": in use by another slicecapd" +
+                          (holder.empty() ? std::string() : " (pid " + holder + ")") +
+                          "; one daemon per storage folder");
+      throw io::IoError(lockFile.string() + ": cannot lock: " + std::strerror(lockError));
+    }
+    // Only a refused second daemon's message reads the pid; the lock holds without it.
+    const std::string pid = std::to_string(::getpid()) + "\n";
+    if (::ftruncate(storageLock, 0) == 0) {
+      [[maybe_unused]] const ssize_t written = ::pwrite(storageLock, pid.data(), pid.size(), 0);
+    }
+  }
 
   void makeCurrent(capture::SessionStore store) {
     ++samplesVersion;
     session.emplace(std::move(store));
     io::writeFileAtomically(currentFile(), session->info().id + "\n");
     sweep.reset();
+    lastError.clear();  // it told of the sweep that went with the session before
     if (const std::optional<SliceId> active = session->activeSweep()) {
       sweep.emplace(*active);
       sweep->paused = true;
@@ -256,6 +297,7 @@ struct SessionManager::State {
     json stopped = sweepJson();
     stopped["state"] = "stopped";
     sweep.reset();
+    lastError.clear();  // it told why this sweep paused
     return stopped;
   }
 
@@ -329,6 +371,7 @@ struct SessionManager::State {
       }
     }
 
+    removeStaleExportedTables(directory, store.info().id, tables);
     json files = json::array();
     for (const SessionTable& table : tables) {
       const fs::path copy = directory / (store.info().id + "-" + table.path.filename().string());
@@ -387,6 +430,30 @@ struct SessionManager::State {
     Abrdf values;
   };
 
+  // Tables an earlier export put into `directory` that this one does not make (e.g. a method
+  // asked for then, before a redo): left there, they would sit beside slices.csv as if made from
+  // it. Only this session's exported tables and their previews are touched.
+  static void removeStaleExportedTables(const fs::path& directory, const std::string& id,
+                                        const std::vector<SessionTable>& tables) {
+    const std::string prefix = id + "-" + std::string(kTablePrefix);
+    std::vector<fs::path> stale;
+    for (const fs::directory_entry& entry : fs::directory_iterator(directory)) {
+      const std::string name = entry.path().filename().string();
+      const fs::path extension = entry.path().extension();
+      if (name.rfind(prefix, 0) != 0 || (extension != ".exr" && extension != ".png")) continue;
+      const std::string table = entry.path().stem().string().substr(id.size() + 1) + ".exr";
+      if (std::none_of(tables.begin(), tables.end(),
+                       [&](const SessionTable& t) { return t.path.filename() == table; }))
+        stale.push_back(entry.path());
+    }
+    for (const fs::path& path : stale) {
+      std::error_code error;
+      fs::remove(path, error);
+      if (error)
+        throw io::IoError(path.string() + ": cannot remove (stale export): " + error.message());
+    }
+  }
+
   SessionTable reconstructInto(const capture::SessionStore& store, const SliceSet& slices,
                                const std::string& method) {
     if (slices.empty())
@@ -437,26 +504,41 @@ struct SessionManager::State {
              " of 24 bins filled";
     }
     const std::string exportCommand = "slicecap export " + session->info().id + " -o DIR";
+    // A slice with samples counts as swept: a hand-held sweep seldom fills all 24 bins, and a
+    // hint that waits for them never moves on. The sparsest slice is named at the end.
     std::optional<SliceId> axial;
     for (const SliceId& slice : sweepOrder()) {
-      if (complete(slice)) continue;
+      if (swept(slice)) continue;
       if (slice.kind == SliceKind::Diagonal) return startCommand(slice);
       axial = slice;
       break;
     }
-    if (!axial) return "every slice is swept: " + exportCommand;
+    if (!axial) {
+      std::optional<SliceId> sparsest;
+      for (const SliceId& slice : sweepOrder())
+        if (!sparsest || filledBins(slice) < filledBins(*sparsest)) sparsest = slice;
+      std::string hint = "every slice is swept: " + exportCommand;
+      if (filledBins(*sparsest) < kBinsPerSlice)
+        hint += " (the sparsest, " + toString(*sparsest) + ", has " +
+                std::to_string(filledBins(*sparsest)) + " of 24 bins: `" + startCommand(*sparsest) +
+                "` adds to it)";
+      return hint;
+    }
     const json verdict = isotropyJson();
     if (verdict.is_object() && !verdict["axial_sweeps_needed"].get<bool>())
       return "the diagonal sweeps look isotropic, the axial sweeps are not needed: " +
              exportCommand + " (to measure them anyway: " + startCommand(*axial) + ")";
-    if (verdict.is_object() && verdict.contains("isotropic"))
+    if (verdict.is_object() && verdict.contains("isotropic") && verdict["isotropic"] == false)
       return "the diagonal sweeps show anisotropy: " + startCommand(*axial);
+    if (verdict.is_object() && verdict.value("informative", true) == false)
+      return "cannot tell yet whether the axial sweeps are needed (" +
+             verdict["reason"].get<std::string>() + "): " + startCommand(*axial) + " measures them";
     return startCommand(*axial);
   }
 
-  bool complete(const SliceId& slice) const {
-    return session->bins(slice).filledCount() >= kBinsPerSlice;
-  }
+  int filledBins(const SliceId& slice) const { return session->bins(slice).filledCount(); }
+
+  bool swept(const SliceId& slice) const { return session->sampleCount(slice) > 0; }
 
   // The isotropy test on the session's slices once each of the four diagonal ones has samples
   // (null before, or without a test): whether the axial sweeps are needed. Not only once they
@@ -494,7 +576,8 @@ struct SessionManager::State {
             " has " + std::to_string(fewestBins) + " of 24 (" + std::to_string(kIsotropyMinBins) +
             " needed); sweep it again or measure the axial sweeps";
       }
-      answer = {{"isotropic", verdict.isotropic},
+      // Not informative: "isotropic" is the test's default, not a finding, so null (unknown).
+      answer = {{"isotropic", verdict.informative ? json(verdict.isotropic) : json(nullptr)},
                 {"informative", verdict.informative},
                 {"axial_sweeps_needed", !(verdict.isotropic && verdict.informative)},
                 {"reason", verdict.reason}};
@@ -533,6 +616,7 @@ SessionManager::SessionManager(fs::path storageRoot, ReconstructFunction reconst
   if (error || !fs::is_directory(state_->root))
     throw io::IoError(state_->root.string() + ": cannot use as session storage: " +
                       (error ? error.message() : "not a folder"));
+  state_->lockStorage();
   std::ifstream current(state_->currentFile());
   std::string id;
   if (current >> id && capture::isValidSessionId(id) && state_->exists(id)) {

@@ -16,8 +16,9 @@ std::vector<Subspace> reconstructMeasuredSubspaces(const SliceSet& slices, bool 
     }
   }
   if (!missing.empty()) {
-    throw ReconstructionError(methodName + " needs every measured slice; missing: " + missing +
-                              (isotropic ? "" : " (use --isotropic with diagonal slices only)"));
+    throw ReconstructionError(
+        methodName + " needs every measured slice; missing: " + missing +
+        (isotropic ? "" : " (its isotropic form needs the diagonal ones only)"));
   }
   std::vector<Subspace> subspaces;
   for (ElevationPair pair : kMeasuredPairs) {

@@ -91,7 +91,7 @@ Abrdf reconstructMethodB(const SliceSet& slices, const MethodBParams& params,
   if (!missing.empty()) {
     throw ReconstructionError(
         "Method B needs every measured slice; missing: " + missing +
-        (params.isotropic ? "" : " (use --isotropic with diagonal slices only)"));
+        (params.isotropic ? "" : " (its isotropic form needs the diagonal ones only)"));
   }
 
   // Known blocks keyed by (theta_i, theta_v); step 1 adds the predicted ones.

@@ -72,7 +72,7 @@ class SessionStore {
   std::optional<SliceId> activeSweep_;
 };
 
-/// \brief True for 1-64 characters of [a-z0-9_-].
+/// \brief True for 1-64 characters of [a-z0-9_-], the first a letter or digit.
 bool isValidSessionId(const std::string& id);
 
 }  // namespace slicecap::capture
