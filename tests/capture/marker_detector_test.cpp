@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/sim/material.hpp"
@@ -117,6 +118,33 @@ TEST(MarkerDetector, TooCoarseABinningOfAGrazingViewLosesTheMarkers) {
           .found;
   EXPECT_GE(alongX, 12);
   EXPECT_LT(alongY, alongX / 2);
+}
+
+TEST(MarkerDetector, RefusesADecimationOutsideItsRange) {
+  // `--decimation 360` reached the library and crashed it on 720-row frames.
+  for (const float decimation : {0.5f, 16.5f, 360.0f, std::nanf("")}) {
+    SCOPED_TRACE(decimation);
+    EXPECT_THROW(MarkerDetector(MarkerDetectorSettings{.decimation = decimation}),
+                 std::invalid_argument);
+  }
+  for (const float decimation : {kMinDecimation, 2.0f, kMaxDecimation})
+    EXPECT_NO_THROW(MarkerDetector(MarkerDetectorSettings{.decimation = decimation}));
+  EXPECT_THROW(FramePipeline(vision::defaultTarget(), vision::defaultSimulatedCamera(),
+                             PipelineSettings{.detector = {.decimation = 360.0f}}),
+               std::invalid_argument);
+}
+
+TEST(MarkerDetector, FindsNothingInAnImageTooSmallForTheLibrary) {
+  // The library reads out of bounds on an image under 3 pixels across after decimation: a
+  // 32 x 32 frame at decimation 16 is 2 x 2, a 2 x 2 frame is too small even at full resolution.
+  for (const int side : {2, 32}) {
+    SCOPED_TRACE(side);
+    hal::Frame frame;
+    frame.image = {side, side, 1, 8, std::vector<std::uint16_t>(side * side, 128)};
+    MarkerDetector detector(MarkerDetectorSettings{.decimation = kMaxDecimation});
+    EXPECT_TRUE(detector.detect(frame).empty());
+    EXPECT_TRUE(detector.detect(frame, std::nullopt, DetectionScale{}).empty());
+  }
 }
 
 TEST(FramePipeline, TrackedFramesUseTheCoarseScaleAndAgreeWithTheWholeFrameSearch) {

@@ -57,5 +57,25 @@ TEST(ProcessCommand, WritesSlicesReportAndSummary) {
   EXPECT_NE(missing.err.find("nothing"), std::string::npos) << missing.err;
 }
 
+TEST(ProcessCommand, DecimationOutsideItsRangeIsAUsageError) {
+  // `--decimation 360` crashed the AprilTag library; the options are checked before any input is
+  // read, so no recording is needed to see the usage error.
+  const auto dir = test::freshTempDir();
+  const std::string missing = (dir / "nothing").string(), out = (dir / "out").string();
+  for (const std::vector<std::string>& command :
+       {std::vector<std::string>{"process", missing, "-o", out + ".csv"},
+        std::vector<std::string>{"capture-offline", missing, "-o", out + ".exr"},
+        std::vector<std::string>{"btf", missing, "-o", out}}) {
+    for (const char* decimation : {"360", "0.5", "17"}) {
+      std::vector<std::string> args = command;
+      args.insert(args.end(), {"--decimation", decimation});
+      SCOPED_TRACE(command[0] + " --decimation " + decimation);
+      const Result r = run(args);
+      EXPECT_EQ(r.code, kExitUsage) << r.err;
+      EXPECT_NE(r.err.find("--decimation must be in 1..16"), std::string::npos) << r.err;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace slicecap::cli

@@ -9,6 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <sstream>
+#include <stdexcept>
+#include <string>
 
 namespace slicecap::capture {
 
@@ -43,10 +46,30 @@ std::vector<DetectedMarker> runDetector(apriltag_detector_t* detector, image_u8_
   return found;
 }
 
+// The library finds quads on the image decimated as apriltag 3.3 does it (1.5: two thirds of each
+// side; else every d-th pixel) and reads out of bounds when that image is under 3 pixels across.
+// No tag fits in so few pixels, so such a pass is skipped (one pixel of margin).
+bool librarySearchable(int width, int height, float quadDecimate) {
+  const auto decimatedSide = [quadDecimate](int side) {
+    if (quadDecimate <= 1.0f) return side;
+    if (quadDecimate == 1.5f) return side / 3 * 2;
+    return 1 + (side - 1) / static_cast<int>(quadDecimate);
+  };
+  constexpr int kSmallestSearchablePx = 4;
+  return decimatedSide(width) >= kSmallestSearchablePx &&
+         decimatedSide(height) >= kSmallestSearchablePx;
+}
+
 }  // namespace
 
 MarkerDetector::MarkerDetector(MarkerDetectorSettings settings)
     : state_(std::make_unique<State>()) {
+  if (!(settings.decimation >= kMinDecimation && settings.decimation <= kMaxDecimation)) {
+    std::ostringstream message;
+    message << "marker detector: decimation " << settings.decimation << " is outside "
+            << kMinDecimation << ".." << kMaxDecimation;
+    throw std::invalid_argument(message.str());
+  }
   state_->settings = settings;
   state_->family = tag36h11_create();
   state_->detector = apriltag_detector_create();
@@ -116,10 +139,12 @@ std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame,
     }
   }
   state_->detector->quad_decimate = scale ? scale->quadDecimate : state_->settings.decimation;
-  std::vector<DetectedMarker> found = runDetector(state_->detector, gray, area, binX, binY);
+  std::vector<DetectedMarker> found;
+  if (librarySearchable(grayWidth, grayHeight, state_->detector->quad_decimate))
+    found = runDetector(state_->detector, gray, area, binX, binY);
   state_->retried = false;
   if (!scale && static_cast<int>(found.size()) < state_->settings.fullResolutionBelow &&
-      state_->settings.decimation > 1.0f) {
+      state_->settings.decimation > 1.0f && librarySearchable(grayWidth, grayHeight, 1.0f)) {
     state_->detector->quad_decimate = 1.0f;
     std::vector<DetectedMarker> full = runDetector(state_->detector, gray, area, 1, 1);
     state_->retried = true;

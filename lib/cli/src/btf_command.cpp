@@ -43,9 +43,11 @@ CapturedTexture fromRecordings(const std::filesystem::path& session, const Parse
   btf::TextureCaptureParams captureParams;
   captureParams.resolution = wholeNumber(args, "resolution", 128, 1, 1024);
   captureParams.framesPerBin = wholeNumber(args, "frames-per-bin", 5, 1, 64);
+  // Bad options are usage errors before the session is even looked at.
+  const capture::PipelineSettings settings = pipelineSettingsOf(args);
   const auto started = std::chrono::steady_clock::now();
   btf::SessionTexture captured =
-      btf::captureRecordings(sessionRecordings(session), pipelineSettingsOf(args), captureParams,
+      btf::captureRecordings(sessionRecordings(session), settings, captureParams,
                              [&](const std::string& line) { io.err << line << "\n"; });
   const btf::TextureGrid& grid = captured.texture.grid();
   io.err << "btf: " << grid.resolution() << " x " << grid.resolution() << " texels of "

@@ -2,6 +2,7 @@
 #include "pipeline_options.hpp"
 
 #include <algorithm>
+#include <string>
 
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/recording.hpp"
@@ -21,10 +22,15 @@ capture::PipelineSettings pipelineSettingsOf(const ParsedArgs& args) {
     throw UsageError("--ambient must be both or previous");
   settings.offlineTwoSidedAmbient = ambient == "both";
   if (!(settings.elevationToleranceDeg > 0) || !(settings.maxPoseResidualPx > 0) ||
-      settings.minMarkers < 2 || !(settings.detector.decimation >= 1))
-    throw UsageError(
-        "--elevation-tolerance and --max-residual must be > 0, --min-markers >= 2, "
-        "--decimation >= 1");
+      settings.minMarkers < 2)
+    throw UsageError("--elevation-tolerance and --max-residual must be > 0, --min-markers >= 2");
+  // The detector refuses (std::invalid_argument) what the library would crash on; as an option
+  // that is bad usage, said here with the range.
+  const float decimation = settings.detector.decimation;
+  if (!(decimation >= capture::kMinDecimation && decimation <= capture::kMaxDecimation))
+    throw UsageError("--decimation must be in " +
+                     std::to_string(static_cast<int>(capture::kMinDecimation)) + ".." +
+                     std::to_string(static_cast<int>(capture::kMaxDecimation)));
   return settings;
 }
 
@@ -33,7 +39,7 @@ std::vector<OptionSpec> pipelineOptions() {
           {"elevation-tolerance", 0, "DEG", "reject frames this far off the view elevation (5)"},
           {"max-residual", 0, "PX", "reject poses with a larger RMS reprojection error (1.5)"},
           {"min-markers", 0, "N", "reject frames with fewer markers (4)"},
-          {"decimation", 0, "D", "the AprilTag detector's quad decimation (2)"},
+          {"decimation", 0, "D", "the AprilTag detector's quad decimation, 1..16 (2)"},
           {"ambient", 0, "MODE",
            "room light from the LED-off frames on both sides (both, default) or the one before "
            "at the same pixels, as slicecapd live (previous)"}};

@@ -68,11 +68,12 @@ int runProcess(const ParsedArgs& args, Streams& io) {
 int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   const std::filesystem::path session = args.positional[0];
   const std::filesystem::path output = args.required("output");
+  // Bad options are usage errors before the session is even looked at.
+  const capture::PipelineSettings settings = pipelineSettingsOf(args);
   const std::vector<std::filesystem::path> recordings = sessionRecordings(session);
   nlohmann::json report = {{"recordings", nlohmann::json::array()}};
   const auto reportPath = args.value("report");
-  const SliceSet slices =
-      processAll(recordings, pipelineSettingsOf(args), io, reportPath ? &report : nullptr);
+  const SliceSet slices = processAll(recordings, settings, io, reportPath ? &report : nullptr);
   if (const auto csv = args.value("slices")) io::writeSliceCsv(*csv, slices);
   if (reportPath) writeReport(*reportPath, report);
   const Method& method = findMethod(args.value("method").value_or("b"));

@@ -34,12 +34,19 @@ struct DetectionScale {
   int binX = 1, binY = 1;
 };
 
+/// \brief The range MarkerDetectorSettings::decimation must lie in. The library reads out of bounds
+/// when the decimated image is under 3 pixels across (`--decimation 360` crashed `slicecap process`
+/// on 720-row frames), and far below 16 every tag of a real frame is already lost.
+inline constexpr float kMinDecimation = 1.0f;
+inline constexpr float kMaxDecimation = 16.0f;
+
 /// \brief Detector options.
 struct MarkerDetectorSettings {
   /// \brief The library's quad_decimate. 2 finds the quads on a half-size image and refines the
   /// corners on the full one (refine_edges): measured by bench/capture_bench.cpp (see the README
   /// section "Processing recordings") to be several times faster than 1 at 1280 x 720 with the
-  /// same markers found at the rig's ~30 cm; 1 is for small or far targets.
+  /// same markers found at the rig's ~30 cm; 1 is for small or far targets. Must lie in
+  /// kMinDecimation..kMaxDecimation.
   float decimation = 2.0f;
   /// \brief With fewer markers than this found after decimation, detect again at full
   /// resolution: at the 75 deg view elevation the tags are foreshortened to a quarter of their
@@ -64,6 +71,8 @@ struct MarkerDetectorSettings {
 /// blur the buffer it is given). Not thread-safe; one per frame loop.
 class MarkerDetector {
  public:
+  /// \brief Throws std::invalid_argument naming the value when settings.decimation is outside
+  /// kMinDecimation..kMaxDecimation (or not a number).
   explicit MarkerDetector(MarkerDetectorSettings settings = {});
   ~MarkerDetector();
   MarkerDetector(const MarkerDetector&) = delete;
@@ -75,7 +84,8 @@ class MarkerDetector {
   /// With `region`, only that part of the image (clamped to it) is searched: the target's area
   /// from the previous pose, the detector's cost being proportional to the pixels it sees.
   /// With `scale`, that scale and no full-resolution retry (the caller predicted the resolution
-  /// the markers need); without, settings' decimation and retry.
+  /// the markers need); without, settings' decimation and retry. A pass whose image would be
+  /// too small for the library (a few pixels across after decimation) finds nothing.
   std::vector<DetectedMarker> detect(const hal::Frame& frame,
                                      const std::optional<PixelRect>& region = std::nullopt,
                                      const std::optional<DetectionScale>& scale = std::nullopt);
