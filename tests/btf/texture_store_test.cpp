@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -183,6 +184,39 @@ TEST(TextureStore, OpeningMendsWhatACrashLeftAndDropsDamagedFrames) {
         << e.what();
     EXPECT_NE(std::string(e.what()).find("checksum"), std::string::npos) << e.what();
   }
+}
+
+TEST(TextureStore, AFrameWithANonFiniteCameraOrLedPositionIsDroppedNamingIt) {
+  // The frames' checksums are right (the writer does not look at the positions), but every texel
+  // direction comes from them: reading one stopped `slicecap btf` with "zero-length vector".
+  const fs::path dir = test::freshTempDir() / "texture";
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  {
+    TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+    store.add(kAxial, frameAt(15.0, 1.0f));
+    TextureFrame camera = frameAt(16.0, 2.0f);
+    camera.cameraMm.y() = nan;
+    store.add(kAxial, camera);
+    TextureFrame led = frameAt(17.0, 4.0f);
+    led.lightMm.z() = inf;
+    store.add(kAxial, led);
+  }
+  const TextureStore reader = TextureStore::open(dir, StoreAccess::ReadOnly);
+  const std::vector<std::string>& dropped = reader.recovery().droppedFiles;
+  ASSERT_EQ(dropped.size(), 2u);
+  const auto mentions = [&](const std::string& what) {
+    return std::count_if(dropped.begin(), dropped.end(), [&](const std::string& message) {
+      return message.find(what) != std::string::npos && message.find(".tex") != std::string::npos;
+    });
+  };
+  EXPECT_EQ(mentions("camera position is not a finite number"), 1) << dropped[0] << dropped[1];
+  EXPECT_EQ(mentions("LED position is not a finite number"), 1) << dropped[0] << dropped[1];
+  const std::vector<SliceTexture> combined = reader.combine();
+  ASSERT_EQ(combined.size(), 1u);
+  EXPECT_EQ(combined[0].bins[1].frames, 1);
+  EXPECT_TRUE(combined[0].bins[1].cameraMm.allFinite());
+  EXPECT_TRUE(combined[0].bins[1].lightMm.allFinite());
 }
 
 TEST(TextureStore, AReaderChangesNothingAndReadsWhatTheKeepRuleKeeps) {

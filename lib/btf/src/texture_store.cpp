@@ -128,6 +128,15 @@ FrameHeader readFrameHeader(const fs::path& path, int resolution) {
     throw BadFrame(path.string() + ": no axial or diagonal slice in its header");
   if (!std::isfinite(header.sliceParameterDeg))
     throw BadFrame(path.string() + ": its slice parameter is not a number");
+  // Every texel's light and view directions are taken from these positions: one non-finite
+  // coordinate would poison its bin's mean and stop the reconstruction.
+  const auto finite = [](const double(&position)[3]) {
+    return std::isfinite(position[0]) && std::isfinite(position[1]) && std::isfinite(position[2]);
+  };
+  if (!finite(header.cameraMm))
+    throw BadFrame(path.string() + ": its camera position is not a finite number");
+  if (!finite(header.lightMm))
+    throw BadFrame(path.string() + ": its LED position is not a finite number");
   return header;
 }
 
