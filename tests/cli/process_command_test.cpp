@@ -6,8 +6,10 @@
 #include <sstream>
 
 #include "../support/cli_runner.hpp"
+#include "../support/png_claiming_size.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/cli/cli.hpp"
+#include "slicecap/io/recording.hpp"
 #include "slicecap/io/slice_csv.hpp"
 
 namespace slicecap::cli {
@@ -55,6 +57,28 @@ TEST(ProcessCommand, WritesSlicesReportAndSummary) {
   const Result missing = run({"process", (dir / "nothing").string(), "-o", csv});
   EXPECT_EQ(missing.code, kExitFailure);
   EXPECT_NE(missing.err.find("nothing"), std::string::npos) << missing.err;
+}
+
+TEST(ProcessCommand, AFrameWhoseHeaderClaimsTooManyPixelsIsABadFrame) {
+  // A 100-byte PNG claiming 100000 x 100000 ended the whole run with a bare std::bad_alloc.
+  const auto dir = test::freshTempDir();
+  const auto recording = dir / "diagonal-30-30";
+  ASSERT_EQ(run({"simulate", "--material", "lambert:albedo=0.5", "-o", recording.string(),
+                 "--slice", "diagonal", "--frames", "4", "--ideal"})
+                .code,
+            kExitOk);
+  const io::RecordedFrame bomb = io::readRecording(recording).frames[2];
+  test::writePngClaimingSize(io::framePath(recording, bomb), 100000, 100000);
+  const auto report = (dir / "r.json").string();
+  const Result r =
+      run({"process", recording.string(), "-o", (dir / "s.csv").string(), "--report", report});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_NE(r.err.find("1 bad_frame"), std::string::npos) << r.err;
+  nlohmann::json j;
+  std::ifstream(report) >> j;
+  const auto& frame = j["recordings"][0]["frames"][2];
+  EXPECT_EQ(frame["reason"], "bad_frame") << frame.dump();
+  EXPECT_NE(frame["detail"].get<std::string>().find(bomb.file), std::string::npos) << frame.dump();
 }
 
 TEST(ProcessCommand, DecimationOutsideItsRangeIsAUsageError) {

@@ -1,6 +1,8 @@
 // slicecap target and slicecap simulate: what they write reads back, bad input is named.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "../support/cli_runner.hpp"
@@ -9,6 +11,7 @@
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/io/target_json.hpp"
+#include "slicecap/vision/camera_model.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -82,6 +85,23 @@ TEST(RigCommands, SimulateNamesBadInput) {
             kExitUsage);
   EXPECT_EQ(run({"simulate", "--material", "lambert", "-o", "x", "--slice", "sideways"}).code,
             kExitUsage);
+}
+
+TEST(RigCommands, SimulateRefusesACameraTooLargeToRenderNamingItsFile) {
+  // A 100000 x 100000 camera was accepted and its first frame failed with a bare bad_alloc.
+  const auto dir = test::freshTempDir();
+  nlohmann::json camera = io::cameraToJson(vision::defaultSimulatedCamera());
+  camera["width_px"] = 100000;
+  camera["height_px"] = 100000;
+  const auto cameraFile = dir / "huge-camera.json";
+  std::ofstream(cameraFile) << camera.dump();
+  const Result r = run({"simulate", "--material", "lambert:albedo=0.5", "-o",
+                        (dir / "rec").string(), "--frames", "2", "--camera", cameraFile.string()});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_NE(r.err.find("huge-camera.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("width_px"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("16384"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "rec"));
 }
 
 }  // namespace

@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <fstream>
 
+#include "../support/png_claiming_size.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/io/io_error.hpp"
 
@@ -68,6 +70,29 @@ TEST(PngImage, RejectsMissingForeignTruncatedAndCorruptFiles) {
     f.write(garbage, sizeof garbage);
   }
   EXPECT_NE(readError(dir / "flipped.png").find("flipped.png"), std::string::npos);
+}
+
+TEST(PngImage, RefusesAHeaderClaimingMorePixelsThanTheFileCanHold) {
+  // 100000 x 100000 ended in std::bad_alloc; 20000 x 20000 allocated 1.2 GB before libpng found
+  // the data missing. Both are refused from the header, naming the file.
+  const auto dir = test::freshTempDir();
+  for (const auto& [width, height] :
+       {std::pair<std::uint32_t, std::uint32_t>{100000, 100000}, {20000, 20000}, {70000, 1}}) {
+    SCOPED_TRACE(std::to_string(width) + " x " + std::to_string(height));
+    const auto path = test::writePngClaimingSize(dir / "bomb.png", width, height);
+    const std::string message = readError(path);
+    EXPECT_NE(message.find("bomb.png: corrupt PNG header"), std::string::npos) << message;
+    EXPECT_NE(message.find(std::to_string(width) + " x " + std::to_string(height)),
+              std::string::npos)
+        << message;
+  }
+  // A real image that compresses very well is not mistaken for one.
+  PngImage black{2000, 1000, 1, 8, std::vector<std::uint16_t>(2000 * 1000, 0)};
+  writePng(dir / "black.png", black);
+  EXPECT_LT(std::filesystem::file_size(dir / "black.png"), 20000u);
+  const PngImage back = readPng(dir / "black.png");
+  EXPECT_EQ(back.width, 2000);
+  EXPECT_EQ(back.samples, black.samples);
 }
 
 TEST(PngImage, RefusesToWriteInconsistentImages) {

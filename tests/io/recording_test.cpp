@@ -92,6 +92,8 @@ TEST(Recording, ReaderNamesTheFieldThatIsWrong) {
       {"pixel_encoding", [](auto& j) { j["pixel_encoding"] = "raw10"; }},
       {"slice.kind", [](auto& j) { j["slice"]["kind"] = "sideways"; }},
       {"camera.fx_px", [](auto& j) { j["camera"]["fx_px"] = 0; }},
+      // A size no frame could be allocated for (simulate --camera failed with bad_alloc).
+      {"camera.width_px", [](auto& j) { j["camera"]["width_px"] = kMaxCameraSidePx + 1; }},
       {"format_version", [](auto& j) { j["format_version"] = 99; }},
       {"target", [](auto& j) { j.erase("target"); }},
   };

@@ -4,6 +4,7 @@
 #include <png.h>
 
 #include <csetjmp>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -56,10 +57,40 @@ PngImage readPng(const std::filesystem::path& path) {
     png_destroy_read_struct(&png, &info, nullptr);
     return IoError(path.string() + ": " + what + " (" + message + ")");
   };
+  // What the header claims, as stored (before palettes and low bit depths are expanded).
+  png_uint_32 claimedWidth = 0, claimedHeight = 0;
+  int storedBitsPerPixel = 0;
   const bool headerRead = trapLibpngErrors(png, [&] {
     png_init_io(png, file.get());
     png_set_sig_bytes(png, 8);
     png_read_info(png, info);
+    claimedWidth = png_get_image_width(png, info);
+    claimedHeight = png_get_image_height(png, info);
+    storedBitsPerPixel = png_get_channels(png, info) * png_get_bit_depth(png, info);
+  });
+  if (!headerRead) throw fail("corrupt PNG header");
+  // A header may claim any size; the pixels are allocated from it before a byte of them is read.
+  // Deflate cannot expand its input more than 1032:1, so a claim the file's size cannot hold is
+  // a corrupt (or hostile) file: refused before a 100-byte file makes us allocate gigabytes.
+  if (claimedWidth > kMaxPngSidePx || claimedHeight > kMaxPngSidePx) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw IoError(path.string() + ": corrupt PNG header (claims " + std::to_string(claimedWidth) +
+                  " x " + std::to_string(claimedHeight) + " pixels; at most " +
+                  std::to_string(kMaxPngSidePx) + " a side are read)");
+  }
+  std::error_code sizeError;
+  const std::uintmax_t fileBytes = std::filesystem::file_size(path, sizeError);
+  const std::uint64_t storedRowBytes = (std::uint64_t(claimedWidth) * storedBitsPerPixel + 7) / 8;
+  const std::uint64_t inflatedBytes = (storedRowBytes + 1) * claimedHeight;  // + filter bytes
+  constexpr std::uint64_t kDeflateMaxRatio = 1032, kHeadroomBytes = 4096;
+  if (sizeError || inflatedBytes > kDeflateMaxRatio * fileBytes + kHeadroomBytes) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw IoError(path.string() + ": corrupt PNG header (claims " + std::to_string(claimedWidth) +
+                  " x " + std::to_string(claimedHeight) + " pixels, " +
+                  std::to_string(inflatedBytes) + " bytes, more than a file of " +
+                  std::to_string(fileBytes) + " bytes can hold)");
+  }
+  const bool transformsSet = trapLibpngErrors(png, [&] {
     const int colourType = png_get_color_type(png, info);
     const int depth = png_get_bit_depth(png, info);
     if (colourType == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
@@ -67,7 +98,7 @@ PngImage readPng(const std::filesystem::path& path) {
     if (png_get_valid(png, info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(png);
     png_read_update_info(png, info);
   });
-  if (!headerRead) throw fail("corrupt PNG header");
+  if (!transformsSet) throw fail("corrupt PNG header");
   PngImage image;
   image.width = static_cast<int>(png_get_image_width(png, info));
   image.height = static_cast<int>(png_get_image_height(png, info));

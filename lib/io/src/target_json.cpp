@@ -126,7 +126,11 @@ vision::CameraModel cameraFromJson(const json& value, const std::string& file,
   vision::CameraModel c;
   const auto size = [&](const char* key) {
     const std::int64_t v = f::integer(value, key, at);
-    if (v <= 0 || v > 100000) (at / key).fail("expected a positive pixel count");
+    // Frames of this size are allocated from it (the virtual rig renders them): a typo must be
+    // an error naming the file, not an allocation failure.
+    if (v <= 0 || v > kMaxCameraSidePx)
+      (at / key).fail("expected a positive pixel count up to " + std::to_string(kMaxCameraSidePx) +
+                      ", got " + std::to_string(v));
     return static_cast<int>(v);
   };
   c.intrinsics = {size("width_px"),

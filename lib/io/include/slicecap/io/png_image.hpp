@@ -10,8 +10,14 @@ namespace slicecap::io {
 /// \brief The image a PNG holds (slicecap::Image: raw 8- or 16-bit samples, no colour conversion).
 using PngImage = Image;
 
+/// \brief The largest width or height readPng accepts: well beyond any camera, and it bounds what
+/// a header can make the reader allocate.
+inline constexpr unsigned kMaxPngSidePx = 65535;
+
 /// \brief Reads a PNG; palette and low-bit-depth images are expanded to 8 bits. Throws IoError
-/// naming the path (missing, not a PNG, truncated, corrupt: libpng's own message is included).
+/// naming the path (missing, not a PNG, truncated, corrupt: libpng's own message is included;
+/// a header claiming a side above kMaxPngSidePx, or more pixel data than the file's size can
+/// inflate to, is corrupt and refused before anything is allocated for it).
 PngImage readPng(const std::filesystem::path& path);
 
 /// \brief Writes a PNG of the image's depth and channels. Throws IoError naming the path, also for

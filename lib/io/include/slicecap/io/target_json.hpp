@@ -27,7 +27,11 @@ vision::TargetGeometry readTargetJson(const std::filesystem::path& path);
 /// \brief {"width_px", "height_px", "fx_px", "fy_px", "cx_px", "cy_px", "distortion": {"model":
 /// "opencv-radtan5", "k1", "k2", "p1", "p2", "k3"}}.
 nlohmann::json cameraToJson(const vision::CameraModel& camera);
-/// \brief Parses and checks (CameraModel::isValid) a camera; errors as targetFromJson.
+/// \brief The largest width_px or height_px cameraFromJson accepts (a 16k sensor; a camera module
+/// is 4608 x 2592 at most).
+inline constexpr int kMaxCameraSidePx = 16384;
+/// \brief Parses and checks (CameraModel::isValid, sides up to kMaxCameraSidePx) a camera; errors
+/// as targetFromJson.
 vision::CameraModel cameraFromJson(const nlohmann::json& value, const std::string& file,
                                    const std::string& path = "");
 
