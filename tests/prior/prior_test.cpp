@@ -8,6 +8,7 @@
 #include <random>
 #include <sstream>
 
+#include "../support/file_size_limit.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/cli/cli.hpp"
 #include "slicecap/core/grid_interpolation.hpp"
@@ -101,6 +102,26 @@ TEST(PriorModelFile, TruncatedOrForeignFilesNameThePath) {
       EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
     }
   }
+}
+
+TEST(PriorModelFile, AFailedWriteLeavesTheOldFile) {
+  // prior-train over an existing prior on a full disk used to leave it truncated.
+  const auto dir = test::freshTempDir();
+  TrainingParams params;
+  params.components = 2;
+  const PriorModel model = trainPriorModel(analyticTables(), params);
+  writePriorModel(dir / "p.bin", model);
+  const auto size = std::filesystem::file_size(dir / "p.bin");
+  try {
+    const test::FileSizeLimit limit(4096);  // writes past 4 kB fail as on a full disk
+    writePriorModel(dir / "p.bin", model);
+    ADD_FAILURE() << "the failed write was not noticed";
+  } catch (const PriorError& e) {
+    EXPECT_NE(std::string(e.what()).find((dir / "p.bin").string()), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(std::filesystem::file_size(dir / "p.bin"), size);
+  EXPECT_EQ(readPriorModel(dir / "p.bin").mean, model.mean);
+  EXPECT_FALSE(std::filesystem::exists(dir / "p.bin.tmp"));
 }
 
 TEST(PriorModelFile, TrainingNeedsMoreChannelsThanComponents) {

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <ostream>
 #include <sstream>
 
@@ -12,6 +13,7 @@
 #include "slicecap/cli/methods.hpp"
 #include "slicecap/cli/rbf_options.hpp"
 #include "slicecap/eval/report.hpp"
+#include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/recon/slice_extraction.hpp"
@@ -154,10 +156,14 @@ int run(const ParsedArgs& args, Streams& io) {
   const bool json = args.flag("json"), quiet = args.flag("quiet");
   const std::optional<std::filesystem::path> out = args.value("out");
   const bool sheets = out && !args.flag("no-sheets");
+  // report.csv is written row by row into a temporary beside it that replaces it only when the
+  // run ends: an eval stopped half-way leaves the previous report as it was.
+  std::optional<io::ReplacementFile> csvFile;
   std::ofstream csv;
   if (out) {
     std::filesystem::create_directories(*out);
-    csv.open(*out / "report.csv");
+    csvFile.emplace(*out / "report.csv");
+    csv.open(csvFile->writePath(), std::ios::binary | std::ios::trunc);
     if (!csv) throw io::IoError((*out / "report.csv").string() + ": cannot create report");
     eval::writeReportCsvHeader(csv);
   }
@@ -209,10 +215,11 @@ int run(const ParsedArgs& args, Streams& io) {
   const std::vector<eval::MethodSummary> summaries = eval::summarise(rows, methodNames);
   const nlohmann::json report = eval::reportJson(rows, summaries);
   if (out) {
-    std::ofstream file(*out / "report.json");
-    file << report.dump(2) << "\n";
-    if (!file) throw io::IoError((*out / "report.json").string() + ": cannot write report");
+    io::writeStreamReplacing(*out / "report.json",
+                             [&](std::ostream& file) { file << report.dump(2) << "\n"; });
+    csv.close();  // flushes: a full disk shows here at the latest
     if (!csv) throw io::IoError((*out / "report.csv").string() + ": write failed");
+    csvFile->commit();
   }
   if (json) {
     io.out << report.dump(2) << "\n";

@@ -1,7 +1,6 @@
 // `slicecap process` (recordings -> slice CSV) and `slicecap capture-offline` (session -> EXR).
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <ostream>
 
@@ -10,6 +9,7 @@
 #include "slicecap/cli/command.hpp"
 #include "slicecap/cli/methods.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
+#include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/io/slice_csv.hpp"
@@ -46,9 +46,7 @@ SliceSet processAll(const std::vector<std::filesystem::path>& recordings,
 }
 
 void writeReport(const std::filesystem::path& path, const nlohmann::json& report) {
-  std::ofstream out(path);
-  out << report.dump(1) << "\n";
-  if (!out) throw io::IoError(path.string() + ": cannot write the report");
+  io::writeStreamReplacing(path, [&](std::ostream& out) { out << report.dump(1) << "\n"; });
 }
 
 int runProcess(const ParsedArgs& args, Streams& io) {

@@ -4,14 +4,19 @@
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIO.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStringAttribute.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
 #include <vector>
 
 #include "slicecap/core/version.hpp"
+#include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
 
 namespace slicecap::io {
@@ -24,6 +29,27 @@ constexpr int kSize = Abrdf::kDirections;
 IoError error(const std::filesystem::path& path, const std::string& what) {
   return IoError(path.string() + ": " + what);
 }
+
+// The EXR encoded in memory (OpenEXR seeks back to fill in the line offsets), then written out
+// through writeStreamReplacing: OpenEXR's own file stream flushes its last bytes in its
+// destructor, where a failed write (disk full) goes unreported.
+class MemoryExrStream : public Imf::OStream {
+ public:
+  explicit MemoryExrStream(const char* name) : Imf::OStream(name) {}
+  void write(const char c[], int n) override {
+    const std::size_t count = static_cast<std::size_t>(n);
+    if (position_ + count > bytes_.size()) bytes_.resize(position_ + count);
+    std::memcpy(bytes_.data() + position_, c, count);
+    position_ += count;
+  }
+  std::uint64_t tellp() override { return position_; }
+  void seekp(std::uint64_t position) override { position_ = static_cast<std::size_t>(position); }
+  const std::string& bytes() const { return bytes_; }
+
+ private:
+  std::string bytes_;
+  std::size_t position_ = 0;
+};
 
 }  // namespace
 
@@ -50,13 +76,19 @@ void writeAbrdfExr(const std::filesystem::path& path, const Abrdf& table,
                  Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(base + c)),
                             xStride, yStride));
   }
+  MemoryExrStream encoded(path.c_str());
   try {
-    Imf::OutputFile file(path.c_str(), header);
+    // The line offset table is written when the file object is destroyed: before the bytes are
+    // taken.
+    Imf::OutputFile file(encoded, header);
     file.setFrameBuffer(frame);
     file.writePixels(kSize);
   } catch (const std::exception& e) {
     throw error(path, std::string("cannot write EXR: ") + e.what());
   }
+  writeStreamReplacing(path, [&](std::ostream& out) {
+    out.write(encoded.bytes().data(), static_cast<std::streamsize>(encoded.bytes().size()));
+  });
 }
 
 Abrdf readAbrdfExr(const std::filesystem::path& path, ExrAttributes* attributes) {

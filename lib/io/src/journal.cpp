@@ -11,6 +11,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
 
 namespace slicecap::io {
@@ -47,6 +48,19 @@ void syncDirectory(const std::filesystem::path& directory) {
   const int result = ::fsync(fd);
   ::close(fd);
   if (result != 0) throw systemError(directory, "cannot sync folder");
+}
+
+// Writes a whole file and syncs it to disk before it replaces anything: after a power cut the
+// renamed file is complete. IoError naming the file.
+void writeSynced(const std::filesystem::path& path, std::string_view contents) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0640);
+  if (fd < 0) throw systemError(path, "cannot create");
+  if (!writeAll(fd, contents.data(), contents.size()) || ::fsync(fd) != 0) {
+    const IoError error = systemError(path, "cannot write");
+    ::close(fd);
+    throw error;
+  }
+  if (::close(fd) != 0) throw systemError(path, "cannot write");
 }
 
 }  // namespace
@@ -150,21 +164,9 @@ void Journal::append(std::string_view record) {
 }
 
 void writeFileAtomically(const std::filesystem::path& path, std::string_view contents) {
-  const std::filesystem::path temporary = path.string() + ".tmp";
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0640);
-  if (fd < 0) throw systemError(temporary, "cannot create");
-  if (!writeAll(fd, contents.data(), contents.size()) || ::fsync(fd) != 0) {
-    const IoError error = systemError(temporary, "cannot write");
-    ::close(fd);
-    ::unlink(temporary.c_str());
-    throw error;
-  }
-  ::close(fd);
-  if (::rename(temporary.c_str(), path.c_str()) != 0) {
-    const IoError error = systemError(path, "cannot replace");
-    ::unlink(temporary.c_str());
-    throw error;
-  }
+  ReplacementFile file(path);
+  writeSynced(file.writePath(), contents);
+  file.commit();
   syncDirectory(path.parent_path());
 }
 

@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
 
 namespace slicecap::io {
@@ -26,6 +27,21 @@ void onError(png_structp png, png_const_charp message) {
   png_longjmp(png, 1);
 }
 void onWarning(png_structp, png_const_charp) {}
+
+// libpng's write callback: appends the encoded bytes to the std::string it was given. An
+// allocation failure becomes a libpng error, raised outside the catch (png_error longjmps).
+void appendToString(png_structp png, png_bytep data, png_size_t length) {
+  bool appended = true;
+  try {
+    static_cast<std::string*>(png_get_io_ptr(png))
+        ->append(reinterpret_cast<const char*>(data), length);
+  } catch (const std::exception&) {
+    appended = false;
+  }
+  if (!appended) png_error(png, "out of memory");
+}
+// Without a flush callback libpng would fflush its io pointer as a FILE*.
+void flushNothing(png_structp) {}
 
 // Runs `libpngCalls` under libpng's error trap and returns false if libpng reported an error.
 // Only libpng calls may run inside: a longjmp out of them must not skip any C++ destructor, so
@@ -154,8 +170,9 @@ void writePng(const std::filesystem::path& path, const PngImage& image, double p
   for (int y = 0; y < image.height; ++y)
     rows[y] = pixels.data() + rowSamples * bytesPerSample * y;
 
-  File file(std::fopen(path.c_str(), "wb"));
-  if (!file) throw IoError(path.string() + ": cannot create PNG");
+  // Encoded in memory, then written through a temporary: a failed write leaves any old file.
+  std::string encoded;
+  encoded.reserve(pixels.size() / 2 + 1024);
   std::string message;
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &message, onError, onWarning);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
@@ -164,7 +181,7 @@ void writePng(const std::filesystem::path& path, const PngImage& image, double p
     throw IoError(path.string() + ": out of memory writing PNG");
   }
   const bool written = trapLibpngErrors(png, [&] {
-    png_init_io(png, file.get());
+    png_set_write_fn(png, &encoded, appendToString, flushNothing);
     png_set_IHDR(png, info, image.width, image.height, image.bitDepth, colourTypes[image.channels],
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     if (pixelsPerMetre > 0.0) {
@@ -182,8 +199,9 @@ void writePng(const std::filesystem::path& path, const PngImage& image, double p
   });
   png_destroy_write_struct(&png, &info);
   if (!written) throw IoError(path.string() + ": cannot write PNG (" + message + ")");
-  if (std::fflush(file.get()) != 0 || std::ferror(file.get()))
-    throw IoError(path.string() + ": write failed");
+  writeStreamReplacing(path, [&](std::ostream& out) {
+    out.write(encoded.data(), static_cast<std::streamsize>(encoded.size()));
+  });
 }
 
 }  // namespace slicecap::io

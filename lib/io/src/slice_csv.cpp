@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "slicecap/core/version.hpp"
+#include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
 
 namespace slicecap::io {
@@ -141,11 +142,7 @@ void writeSliceCsv(std::ostream& out, const SliceSet& slices) {
 }
 
 void writeSliceCsv(const std::filesystem::path& path, const SliceSet& slices) {
-  std::ofstream out(path);
-  if (!out) throw IoError(path.string() + ": cannot create slice CSV");
-  writeSliceCsv(out, slices);
-  out.flush();
-  if (!out) throw IoError(path.string() + ": write failed");
+  writeStreamReplacing(path, [&](std::ostream& out) { writeSliceCsv(out, slices); });
 }
 
 }  // namespace slicecap::io

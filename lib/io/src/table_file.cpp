@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "slicecap/io/abrdf_exr.hpp"
+#include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
 
 namespace slicecap::io {
@@ -46,14 +47,12 @@ Abrdf readF32Table(const std::filesystem::path& path) {
 }
 
 void writeF32Table(const std::filesystem::path& path, const Abrdf& table) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw IoError(path.string() + ": cannot create table");
-  for (float v : table.values()) {
-    const std::uint32_t word = toLittleEndian(std::bit_cast<std::uint32_t>(v));
-    out.write(reinterpret_cast<const char*>(&word), sizeof word);
-  }
-  out.flush();
-  if (!out) throw IoError(path.string() + ": write failed");
+  writeStreamReplacing(path, [&](std::ostream& out) {
+    for (float v : table.values()) {
+      const std::uint32_t word = toLittleEndian(std::bit_cast<std::uint32_t>(v));
+      out.write(reinterpret_cast<const char*>(&word), sizeof word);
+    }
+  });
 }
 
 Abrdf readTable(const std::filesystem::path& path) {

@@ -1,12 +1,10 @@
 // Target and camera JSON, and the JSON file helpers the recording shares.
 #include "slicecap/io/target_json.hpp"
 
-#include <unistd.h>
-
-#include <cstdio>
 #include <fstream>
 
 #include "json_fields.hpp"
+#include "slicecap/io/journal.hpp"
 
 namespace slicecap::io {
 
@@ -161,21 +159,7 @@ json readJsonFile(const std::filesystem::path& path) {
 }
 
 void writeJsonFileAtomically(const std::filesystem::path& path, const json& value) {
-  std::filesystem::path temporary = path;
-  temporary += ".tmp";
-  const std::string text = value.dump(1) + "\n";
-  // fsync before the rename: after a power loss the file is either the old or the new one.
-  std::FILE* file = std::fopen(temporary.c_str(), "wb");
-  if (!file) throw IoError(path.string() + ": cannot create " + temporary.string());
-  const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size() &&
-                       std::fflush(file) == 0 && ::fsync(::fileno(file)) == 0;
-  if (std::fclose(file) != 0 || !written) {
-    std::filesystem::remove(temporary);
-    throw IoError(path.string() + ": write failed (disk full?)");
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) throw IoError(path.string() + ": cannot replace (" + error.message() + ")");
+  writeFileAtomically(path, value.dump(1) + "\n");
 }
 
 }  // namespace slicecap::io

@@ -4,12 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/vision/tag_family.hpp"
@@ -220,11 +220,7 @@ std::string pdfOf(const Page& page) {
 }
 
 void writeText(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw IoError(path.string() + ": cannot create file");
-  out << text;
-  out.flush();
-  if (!out) throw IoError(path.string() + ": write failed");
+  writeStreamReplacing(path, [&](std::ostream& out) { out << text; });
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 #include <cstring>
 #include <fstream>
 
+#include "slicecap/io/file_replacement.hpp"
+#include "slicecap/io/io_error.hpp"
 #include "slicecap/prior/prior_model.hpp"
 
 namespace slicecap::prior {
@@ -29,20 +31,23 @@ void writePriorModel(const std::filesystem::path& path, const PriorModel& model)
       model.provenance.size() > kMaxProvenance) {
     throw PriorError(path.string() + ": inconsistent prior model, not written");
   }
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw PriorError(path.string() + ": cannot open for writing");
-  out.write(kMagic, sizeof kMagic);
-  put(out, kVersion);
-  put(out, std::uint32_t(kFeatureCount));
-  put(out, components);
-  put(out, model.floorFraction);
-  put(out, model.residualVariance);
-  put(out, std::uint32_t(model.provenance.size()));
-  out.write(model.provenance.data(), std::streamsize(model.provenance.size()));
-  for (const auto* array : {&model.mean, &model.variance, &model.basis})
-    out.write(reinterpret_cast<const char*>(array->data()),
-              std::streamsize(array->size() * sizeof(float)));
-  if (!out) throw PriorError(path.string() + ": write failed");
+  try {
+    io::writeStreamReplacing(path, [&](std::ostream& out) {
+      out.write(kMagic, sizeof kMagic);
+      put(out, kVersion);
+      put(out, std::uint32_t(kFeatureCount));
+      put(out, components);
+      put(out, model.floorFraction);
+      put(out, model.residualVariance);
+      put(out, std::uint32_t(model.provenance.size()));
+      out.write(model.provenance.data(), std::streamsize(model.provenance.size()));
+      for (const auto* array : {&model.mean, &model.variance, &model.basis})
+        out.write(reinterpret_cast<const char*>(array->data()),
+                  std::streamsize(array->size() * sizeof(float)));
+    });
+  } catch (const io::IoError& e) {
+    throw PriorError(e.what());  // the prior's one documented error type; it names the path
+  }
 }
 
 PriorModel readPriorModel(const std::filesystem::path& path) {

@@ -13,7 +13,8 @@ namespace slicecap::io {
 /// sets layout = "bonn81", quantity = "brdf" and version; callers add e.g. "method", "material".
 using ExrAttributes = std::map<std::string, std::string>;
 
-/// \brief Writes `table` (ZIP compressed). Throws IoError naming the path on failure.
+/// \brief Writes `table` (ZIP compressed). Throws IoError naming the path on failure, which leaves
+/// an old file at `path` as it was (written through a temporary).
 void writeAbrdfExr(const std::filesystem::path& path, const Abrdf& table,
                    const ExrAttributes& attributes = {});
 

@@ -22,7 +22,8 @@ PngImage readPng(const std::filesystem::path& path);
 
 /// \brief Writes a PNG of the image's depth and channels. Throws IoError naming the path, also for
 /// an invalid image or a sample above 255 in an 8-bit image. A positive `pixelsPerMetre` is stored
-/// in the pHYs chunk, so viewers print the image at true scale (the printable target).
+/// in the pHYs chunk, so viewers print the image at true scale (the printable target). A failure
+/// leaves an old file at `path` as it was (written through a temporary).
 void writePng(const std::filesystem::path& path, const PngImage& image, double pixelsPerMetre = 0.0);
 
 }  // namespace slicecap::io

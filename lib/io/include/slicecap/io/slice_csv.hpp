@@ -23,7 +23,8 @@ SliceSet parseSliceCsv(std::istream& in, const std::string& sourceName);
 SliceSet readSliceCsv(const std::filesystem::path& path);
 
 /// \brief Writes every sample of every slice (with a `#` comment line naming the writer); angles in
-/// degrees, values with 9 significant digits. Throws IoError naming the path on failure.
+/// degrees, values with 9 significant digits. Throws IoError naming the path on failure, which
+/// leaves an old file at `path` as it was (written through a temporary: file_replacement.hpp).
 void writeSliceCsv(const std::filesystem::path& path, const SliceSet& slices);
 void writeSliceCsv(std::ostream& out, const SliceSet& slices);
 

@@ -12,7 +12,8 @@ namespace slicecap::io {
 /// IoError naming the path when it cannot be opened, has another size, or holds a non-finite value.
 Abrdf readF32Table(const std::filesystem::path& path);
 
-/// \brief Writes the raw little-endian float32 layout. Throws IoError naming the path on failure.
+/// \brief Writes the raw little-endian float32 layout. Throws IoError naming the path on failure,
+/// which leaves an old file at `path` as it was (written through a temporary).
 void writeF32Table(const std::filesystem::path& path, const Abrdf& table);
 
 /// \brief A table from `.exr` (readAbrdfExr) or `.f32` (readF32Table); any other extension throws

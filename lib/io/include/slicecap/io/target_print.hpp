@@ -13,7 +13,8 @@ enum class PaperSize { A4, Letter };
 
 /// \brief Writes an SVG page (width and height in mm, viewBox in mm) with the target centred near
 /// the top, its window's cut line dashed, a 100 mm scale bar and the printing instructions.
-/// Throws IoError naming the path when it cannot be written or the sheet does not fit the page.
+/// Throws IoError naming the path when it cannot be written or the sheet does not fit the page;
+/// an old file at `path` is then left as it was (these writers go through a temporary).
 void writeTargetSvg(const std::filesystem::path& path, const vision::TargetGeometry& target,
                     PaperSize paper = PaperSize::A4);
 

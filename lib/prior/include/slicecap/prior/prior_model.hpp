@@ -57,7 +57,8 @@ PriorModel trainPriorModel(std::span<const Abrdf> tables, const TrainingParams& 
 std::vector<double> channelFeatures(const Abrdf& table, int channel, double floorFraction);
 
 /// \brief Writes the model (little-endian binary, format in README "Prior file"). Throws PriorError
-/// naming the path on failure.
+/// naming the path on failure, which leaves an old file at `path` as it was (written through a
+/// temporary).
 void writePriorModel(const std::filesystem::path& path, const PriorModel& model);
 
 /// \brief Reads a model; checks magic, version, sizes, finiteness and positive variances. Throws
