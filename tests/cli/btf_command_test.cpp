@@ -50,7 +50,10 @@ TEST(BtfCommand, WovenSessionToADirectoryWhoseTexelsShowTheWeave) {
 
   EXPECT_EQ(test::runSlicecap({"btf", session, "-o", out, "--resolution", "0"}).code, kExitUsage);
   EXPECT_EQ(test::runSlicecap({"btf", session, "-o", out, "--method", "c"}).code, kExitUsage);
-  const test::CliResult empty = test::runSlicecap({"btf", (dir / "btf").string(), "-o", out});
+  // A folder without recordings (the BTF just written; into another folder: the same one as
+  // input and output is bad usage).
+  const test::CliResult empty =
+      test::runSlicecap({"btf", (dir / "btf").string(), "-o", (dir / "btf2").string()});
   EXPECT_EQ(empty.code, kExitFailure);
   EXPECT_NE(empty.err.find("no recording"), std::string::npos) << empty.err;
 }

@@ -5,6 +5,7 @@
 #include <ostream>
 #include <thread>
 
+#include "path_clash.hpp"
 #include "pipeline_options.hpp"
 #include "slicecap/btf/btf_files.hpp"
 #include "slicecap/btf/btf_reconstruction.hpp"
@@ -95,6 +96,8 @@ CapturedTexture fromStore(const std::filesystem::path& directory, const ParsedAr
 int run(const ParsedArgs& args, Streams& io) {
   const std::filesystem::path session = args.positional[0];
   const std::filesystem::path output = args.required("output");
+  // The BTF's thousands of images in the session's (or the captured texture's) own folder.
+  refuseClashingPaths({{"the input", session}}, {{"-o", output}});
   btf::BtfReconstructionParams reconParams;
   reconParams.threads = wholeNumber(args, "threads", 0, 0, 256);
   reconParams.methodB.isotropic = args.flag("isotropic");

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "eval_materials.hpp"
+#include "path_clash.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/cli/methods.hpp"
 #include "slicecap/cli/rbf_options.hpp"
@@ -156,6 +157,14 @@ int run(const ParsedArgs& args, Streams& io) {
   const bool json = args.flag("json"), quiet = args.flag("quiet");
   const std::optional<std::filesystem::path> out = args.value("out");
   const bool sheets = out && !args.flag("no-sheets");
+  if (out) {
+    std::vector<NamedPath> tables;
+    for (const MaterialSource& material : materials)
+      if (std::filesystem::exists(material.origin))  // a file, not a built-in material
+        tables.push_back({"the input", material.origin});
+    refuseClashingPaths(
+        tables, {{"--out", *out}, {"--out", *out / "report.csv"}, {"--out", *out / "report.json"}});
+  }
   // report.csv is written row by row into a temporary beside it that replaces it only when the
   // run ends: an eval stopped half-way leaves the previous report as it was.
   std::optional<io::ReplacementFile> csvFile;

@@ -4,6 +4,7 @@
 #include <ostream>
 
 #include "eval_materials.hpp"
+#include "path_clash.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
@@ -21,6 +22,7 @@ int run(const ParsedArgs& args, Streams& io) {
     throw UsageError("preview: " + args.positional[0] + " names " + std::to_string(sources.size()) +
                      " tables; give one");
   const MaterialSource& source = sources.front();
+  refuseClashingPaths({{"the input", args.positional[0]}}, {{"-o", output}});
   const Abrdf table = source.load();
   std::vector<std::string> lines{source.origin};
   if (std::filesystem::path(source.origin).extension() == ".exr") {

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <ostream>
 
+#include "path_clash.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/io/table_file.hpp"
 #include "slicecap/prior/prior_model.hpp"
@@ -30,6 +31,11 @@ int run(const ParsedArgs& args, Streams& io) {
   if (files.empty())
     throw std::runtime_error(folder.string() + ": no .f32 tables" +
                              (prefix.empty() ? "" : " starting with '" + prefix + "'"));
+  const std::filesystem::path output = args.required("output");
+  std::vector<NamedPath> inputs;
+  for (const auto& f : files)
+    inputs.push_back({"the input table", f});
+  refuseClashingPaths(inputs, {{"-o", output}});
   std::vector<Abrdf> tables;
   std::string names;
   for (const auto& f : files) {
@@ -44,7 +50,6 @@ int run(const ParsedArgs& args, Streams& io) {
       "licence, see data/prior/LICENSE.Neural-BRDF); command: slicecap prior-train; tables:" +
       names;
   const prior::PriorModel model = prior::trainPriorModel(tables, params, provenance);
-  const std::filesystem::path output = args.required("output");
   prior::writePriorModel(output, model);
   io.out << "wrote a prior of " << model.components() << " components from " << tables.size()
          << " tables to " << output.string() << "\n";

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
+#include "path_clash.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/cli/methods.hpp"
 #include "slicecap/cli/rbf_options.hpp"
@@ -27,6 +28,7 @@ int run(const ParsedArgs& args, Streams& io) {
   if (const std::optional<std::string> spec = args.value("rbf")) applyRbfSpec(*spec, options);
   const std::filesystem::path input = args.positional[0];
   const std::filesystem::path output = args.required("output");
+  refuseClashingPaths({{"the input", input}}, {{"-o", output}});
 
   const SliceSet slices = io::readSliceCsv(input);
   const auto start = std::chrono::steady_clock::now();

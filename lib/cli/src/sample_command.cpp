@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <ostream>
 
+#include "path_clash.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/io/slice_csv.hpp"
 #include "slicecap/io/table_file.hpp"
@@ -22,6 +23,7 @@ int runUniform(const ParsedArgs& args, Streams& io) {
   if (count != std::floor(count) || count < 1 || count > bonn::kDirectionCount)
     throw UsageError("--uniform: the number of directions must be a whole number from 1 to 81");
   const std::filesystem::path output = args.required("output");
+  refuseClashingPaths({{"the input", args.positional[0]}}, {{"-o", output}});
   const SliceSet samples =
       recon::extractUniformSamples(io::readTable(args.positional[0]), static_cast<int>(count));
   io::writeSliceCsv(output, samples);
@@ -44,6 +46,7 @@ int run(const ParsedArgs& args, Streams& io) {
   std::string error;
   if (!params.isValid(&error)) throw UsageError("--step: " + error);
   const std::filesystem::path output = args.required("output");
+  refuseClashingPaths({{"the input", args.positional[0]}}, {{"-o", output}});
 
   const Abrdf table = io::readTable(args.positional[0]);
   const SliceSet slices = recon::extractSlices(table, params);

@@ -3,10 +3,13 @@
 #include <filesystem>
 #include <ostream>
 
+#include "path_clash.hpp"
 #include "slicecap/cli/command.hpp"
+#include "slicecap/io/recording.hpp"
 #include "slicecap/io/target_json.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/simulate.hpp"
+#include "slicecap/sim/truth.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -56,6 +59,19 @@ int run(const ParsedArgs& args, Streams& io) {
   sim::SweepSetup setup;
   setup.rig = rigOf(args);
   setup.materialSpec = args.required("material");
+  std::vector<NamedPath> inputs;
+  if (std::filesystem::exists(setup.materialSpec))  // a table file, not a name or model spec
+    inputs.push_back({"--material", setup.materialSpec});
+  for (const char* option : {"target", "camera"})
+    if (const auto file = args.value(option)) inputs.push_back({std::string("--") + option, *file});
+  if (output) {
+    const std::filesystem::path directory = *output;
+    refuseClashingPaths(inputs, {{"-o", directory},
+                                 {"-o", directory / io::kRecordingManifest},
+                                 {"-o", directory / sim::kTruthFile}});
+  } else {
+    refuseClashingPaths(inputs, {{"--session", *session}});
+  }
   if (const auto target = args.value("target")) setup.target = io::readTargetJson(*target);
   if (const auto camera = args.value("camera"))
     setup.camera = io::cameraFromJson(io::readJsonFile(*camera), *camera);

@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <ostream>
 
+#include "path_clash.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/io/target_json.hpp"
 #include "slicecap/io/target_print.hpp"
@@ -32,6 +33,7 @@ int run(const ParsedArgs& args, Streams& io) {
   const auto json = args.value("json");
   if (!output && !json)
     throw UsageError("target: give -o TARGET.svg|.pdf|.png and/or --json TARGET.json");
+  if (output && json) refuseClashingPaths({}, {{"-o", *output}, {"--json", *json}});
   const vision::TargetGeometry target = vision::buildTarget(paramsOf(args));
   const std::string paperName = args.value("paper").value_or("a4");
   if (paperName != "a4" && paperName != "letter") throw UsageError("--paper must be a4 or letter");
