@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -51,6 +52,33 @@ TEST(Cli, FailuresExitWithOneAndNameTheInput) {
   EXPECT_EQ(r.code, kExitFailure);
   EXPECT_NE(r.err.find("missing.csv"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "x.exr"));
+}
+
+TEST(Cli, ReconstructRefusesToWriteATableItsReaderWouldRefuse) {
+  // One sample of 1e35 made Method B's table overflow to inf: the EXR was written, and every
+  // reader then refused it.
+  const auto dir = test::freshTempDir();
+  const std::string truth = (dir / "truth.exr").string(), csv = (dir / "s.csv").string();
+  ASSERT_EQ(run({"generate", "satin-blue-45", "-o", truth}).code, kExitOk);
+  ASSERT_EQ(run({"sample", truth, "-o", csv}).code, kExitOk);
+  std::string text;
+  {
+    std::ifstream in(csv);
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  // The third sample's b (the first lines are a comment and the header).
+  std::size_t line = 0;
+  for (int i = 0; i < 4; ++i)
+    line = text.find('\n', line) + 1;
+  const std::size_t b = text.rfind(',', text.find('\n', line)) + 1;
+  text.replace(b, text.find('\n', line) - b, "1e35");
+  std::ofstream(csv, std::ios::trunc) << text;
+  const std::string out = (dir / "r.exr").string();
+  const Result r = run({"reconstruct", csv, "-o", out});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_NE(r.err.find(out + ": not written: a non-finite value at light"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 TEST(Cli, TheWholeOfflinePipelineRuns) {

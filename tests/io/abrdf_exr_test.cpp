@@ -118,11 +118,47 @@ TEST(AbrdfExr, RejectsAnotherLayoutOrNoLayout) {
 
 TEST(AbrdfExr, RejectsNonFiniteValues) {
   const auto dir = test::freshTempDir();
+  // Written past writeAbrdfExr, which refuses such a table.
+  Imf::Header header(Abrdf::kDirections, Abrdf::kDirections);
+  for (const char* c : {"R", "G", "B"})
+    header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+  for (const auto& [k, v] : kGoodAttributes)
+    header.insert(k, Imf::StringAttribute(v));
   Abrdf table;
   table.channel(5, 6, 2) = std::numeric_limits<float>::quiet_NaN();
-  writeAbrdfExr(dir / "nan.exr", table);
+  Imf::FrameBuffer frame;
+  for (int c = 0; c < 3; ++c)
+    frame.insert(std::string(1, "RGB"[c]),
+                 Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(table.values().data() + c),
+                            3 * sizeof(float), 3 * sizeof(float) * Abrdf::kDirections));
+  {
+    Imf::OutputFile file((dir / "nan.exr").c_str(), header);
+    file.setFrameBuffer(frame);
+    file.writePixels(Abrdf::kDirections);
+  }
   const std::string error = readError(dir / "nan.exr");
   EXPECT_NE(error.find("light 5, view 6, channel B"), std::string::npos) << error;
+}
+
+TEST(AbrdfExr, RefusesToWriteNonFiniteValuesNamingTheFirst) {
+  // `reconstruct` wrote an EXR holding inf (from one sample of 1e35) that its own reader refused.
+  const auto dir = test::freshTempDir();
+  writeAbrdfExr(dir / "t.exr", rampTable());
+  for (const float bad :
+       {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+    Abrdf table = rampTable();
+    table.channel(7, 3, 1) = bad;
+    table.channel(9, 0, 0) = bad;
+    try {
+      writeAbrdfExr(dir / "t.exr", table);
+      ADD_FAILURE() << "a non-finite value was written";
+    } catch (const IoError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find((dir / "t.exr").string()), std::string::npos) << message;
+      EXPECT_NE(message.find("light 7, view 3, channel G"), std::string::npos) << message;
+    }
+    EXPECT_EQ(readAbrdfExr(dir / "t.exr"), rampTable()) << "the old file is kept";
+  }
 }
 
 TEST(AbrdfExr, RejectsMissingAndCorruptFiles) {

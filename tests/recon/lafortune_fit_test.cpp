@@ -88,6 +88,14 @@ TEST(LobeFit, RejectsUnusableInput) {
                std::invalid_argument);
   EXPECT_THROW(fitElevationLobe(std::vector<ElevationSample>{{30, NAN}, {75, 2}}),
                std::invalid_argument);
+  // A non-finite value is named as such, not as an angle out of range.
+  try {
+    fitElevationLobe(std::vector<ElevationSample>{{30, 1}, {75, INFINITY}});
+    ADD_FAILURE() << "an infinite sample was fitted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("sample value is not finite (inf)"), std::string::npos)
+        << e.what();
+  }
   LobeFitParams bad;
   bad.maxIterations = 0;
   std::string why;

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,10 +52,25 @@ class MemoryExrStream : public Imf::OStream {
   std::size_t position_ = 0;
 };
 
+// Where the first non-finite value of a table is ("light 3, view 40, channel G"), if any.
+std::optional<std::string> firstNonFinite(const Abrdf& table) {
+  for (std::size_t i = 0; i < table.values().size(); ++i) {
+    if (!std::isfinite(table.values()[i])) {
+      const std::size_t pixel = i / 3;
+      return "light " + std::to_string(pixel / kSize) + ", view " + std::to_string(pixel % kSize) +
+             ", channel " + kChannels[i % 3];
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 void writeAbrdfExr(const std::filesystem::path& path, const Abrdf& table,
                    const ExrAttributes& attributes) {
+  // The reader refuses such a file: no command may write one.
+  if (const auto where = firstNonFinite(table))
+    throw error(path, "not written: a non-finite value at " + *where);
   Imf::Header header(kSize, kSize);
   header.compression() = Imf::ZIP_COMPRESSION;
   for (const char* name : kChannels)
@@ -151,13 +167,7 @@ Abrdf readAbrdfExr(const std::filesystem::path& path, ExrAttributes* attributes)
   } catch (const std::exception& e) {
     throw error(path, std::string("cannot read EXR: ") + e.what());
   }
-  for (std::size_t i = 0; i < table.values().size(); ++i) {
-    if (!std::isfinite(table.values()[i])) {
-      const std::size_t pixel = i / 3;
-      throw error(path, "non-finite value at light " + std::to_string(pixel / kSize) + ", view " +
-                            std::to_string(pixel % kSize) + ", channel " + kChannels[i % 3]);
-    }
-  }
+  if (const auto where = firstNonFinite(table)) throw error(path, "non-finite value at " + *where);
   return table;
 }
 

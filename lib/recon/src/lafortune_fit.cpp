@@ -9,6 +9,7 @@
 #include <cmath>
 #include <map>
 #include <stdexcept>
+#include <string>
 
 #include "slicecap/core/angles.hpp"
 #include "slicecap/recon/lobe_cost.hpp"
@@ -114,8 +115,12 @@ LobeFitResult fitElevationLobe(std::span<const ElevationSample> samples,
   if (!params.isValid(&error)) throw std::invalid_argument("lobe fit: " + error);
   double meanValue = 0.0;
   for (const ElevationSample& s : samples) {
-    if (!std::isfinite(s.thetaDeg) || !std::isfinite(s.value) || s.thetaDeg < 0.0 ||
-        s.thetaDeg >= 90.0) {
+    // Said apart: a slice value too large for the sums (e.g. 1e300) overflows to inf here.
+    if (!std::isfinite(s.value))
+      throw std::invalid_argument("lobe fit: a sample value is not finite (" +
+                                  std::to_string(s.value) +
+                                  "): a slice value is too large or not a number");
+    if (!std::isfinite(s.thetaDeg) || s.thetaDeg < 0.0 || s.thetaDeg >= 90.0) {
       throw std::invalid_argument("lobe fit: sample outside 0 <= theta < 90 deg or not finite");
     }
     meanValue += std::max(s.value, params.minimumValue) / double(samples.size());

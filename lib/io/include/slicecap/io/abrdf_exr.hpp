@@ -14,7 +14,8 @@ namespace slicecap::io {
 using ExrAttributes = std::map<std::string, std::string>;
 
 /// \brief Writes `table` (ZIP compressed). Throws IoError naming the path on failure, which leaves
-/// an old file at `path` as it was (written through a temporary).
+/// an old file at `path` as it was (written through a temporary), and for a table holding a
+/// non-finite value (naming the first one's light, view and channel): readAbrdfExr refuses those.
 void writeAbrdfExr(const std::filesystem::path& path, const Abrdf& table,
                    const ExrAttributes& attributes = {});
 
