@@ -2,6 +2,8 @@
 #include "slicecap/prior/prior_location.hpp"
 
 #include <cstdlib>
+#include <string>
+#include <system_error>
 
 namespace slicecap::prior {
 
@@ -14,6 +16,18 @@ std::vector<std::filesystem::path> priorSearchPath() {
 }
 
 std::filesystem::path locatePriorModel() {
+  // A prior asked for by name is that prior: falling back to another one would give results the
+  // user did not ask for without a word.
+  if (const char* file = std::getenv("SLICECAP_PRIOR"); file && *file) {
+    const std::filesystem::path path(file);
+    std::error_code error;
+    if (std::filesystem::is_regular_file(path, error)) return path;
+    throw PriorError("SLICECAP_PRIOR=" + path.string() + ": " +
+                     (std::filesystem::is_directory(path, error)
+                          ? "is a directory, not a prior file"
+                          : "no such file") +
+                     " (unset SLICECAP_PRIOR to use the installed or the source tree's prior)");
+  }
   std::string tried;
   for (const std::filesystem::path& path : priorSearchPath()) {
     if (std::filesystem::is_regular_file(path)) return path;

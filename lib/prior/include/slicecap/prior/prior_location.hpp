@@ -13,8 +13,9 @@ namespace slicecap::prior {
 /// data/prior/prior.bin (a build used in place).
 std::vector<std::filesystem::path> priorSearchPath();
 
-/// \brief The first existing file of priorSearchPath(); PriorError listing every path tried if
-/// none exists.
+/// \brief $SLICECAP_PRIOR when it is set (PriorError naming it when it is not a file: a missing
+/// file or a directory); else the first existing file of priorSearchPath(), PriorError listing
+/// every path tried if none exists.
 std::filesystem::path locatePriorModel();
 
 /// \brief The model of locatePriorModel(), read once per process (readPriorModel's errors).
