@@ -54,6 +54,28 @@ TEST(Cli, FailuresExitWithOneAndNameTheInput) {
   EXPECT_FALSE(std::filesystem::exists(dir / "x.exr"));
 }
 
+TEST(Cli, ADirectoryGivenForAFileIsNamed) {
+  const auto dir = test::freshTempDir();
+  const std::string truth = (dir / "truth.exr").string();
+  ASSERT_EQ(run({"generate", "satin-blue-45", "-o", truth}).code, kExitOk);
+  for (const char* name : {"d.f32", "d.exr", "d.csv", "d"})
+    std::filesystem::create_directories(dir / name);
+  const auto at = [&](const char* name) { return (dir / name).string(); };
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"sample", at("d.f32"), "-o", at("s.csv")}, at("d.f32")},
+      {{"compare", truth, at("d.exr")}, at("d.exr")},
+      {{"compare", truth, at("d")}, at("d")},
+      {{"reconstruct", at("d.csv"), "-o", at("r.exr")}, at("d.csv")},
+      {{"simulate", "--material", "lambert", "-o", at("rec"), "--target", at("d")}, at("d")},
+      {{"simulate", "--material", "lambert", "-o", at("rec"), "--camera", at("d")}, at("d")}};
+  for (const auto& [args, directory] : cases) {
+    SCOPED_TRACE(args[0] + " " + directory);
+    const Result r = run(args);
+    EXPECT_EQ(r.code, kExitFailure);
+    EXPECT_NE(r.err.find(directory + ": is a directory"), std::string::npos) << r.err;
+  }
+}
+
 TEST(Cli, ReconstructRefusesToWriteATableItsReaderWouldRefuse) {
   // One sample of 1e35 made Method B's table overflow to inf: the EXR was written, and every
   // reader then refused it.

@@ -4,10 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <functional>
 
 #include "../support/test_support.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/io_error.hpp"
+#include "slicecap/io/png_image.hpp"
+#include "slicecap/io/recording.hpp"
+#include "slicecap/io/slice_csv.hpp"
+#include "slicecap/io/target_json.hpp"
 
 namespace slicecap::io {
 namespace {
@@ -43,6 +48,32 @@ TEST(TableFile, RejectsWrongSizesAndUnknownFormats) {
   EXPECT_THROW(readTable(dir / "absent.f32"), IoError);
   writeAbrdfExr(dir / "t.exr", Abrdf());
   EXPECT_EQ(readTable(dir / "t.exr"), Abrdf());
+}
+
+TEST(TableFile, EveryReaderNamesADirectoryGivenForAFile) {
+  // They said "basic_filebuf::underflow error reading the file: Is a directory" or "read error",
+  // naming no path.
+  const auto dir = test::freshTempDir();
+  const std::vector<std::pair<std::string, std::function<void(const std::filesystem::path&)>>>
+      readers = {{"t.f32", [](const auto& p) { readF32Table(p); }},
+                 {"t.exr", [](const auto& p) { readAbrdfExr(p); }},
+                 {"any", [](const auto& p) { readTable(p); }},
+                 {"s.csv", [](const auto& p) { readSliceCsv(p); }},
+                 {"f.png", [](const auto& p) { readPng(p); }},
+                 {"c.json", [](const auto& p) { readJsonFile(p); }},
+                 {"target.json", [](const auto& p) { readTargetJson(p); }}};
+  for (const auto& [name, read] : readers) {
+    SCOPED_TRACE(name);
+    const auto path = dir / name;
+    std::filesystem::create_directories(path);
+    try {
+      read(path);
+      ADD_FAILURE() << "a directory was read";
+    } catch (const IoError& e) {
+      EXPECT_NE(std::string(e.what()).find(path.string() + ": is a directory"), std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "input_file.hpp"
 #include "slicecap/core/version.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -108,6 +109,7 @@ void writeAbrdfExr(const std::filesystem::path& path, const Abrdf& table,
 }
 
 Abrdf readAbrdfExr(const std::filesystem::path& path, ExrAttributes* attributes) {
+  refuseDirectory(path, "an ABRDF EXR");
   Abrdf table;
   try {
     Imf::InputFile file(path.c_str());

@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "input_file.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
 
@@ -56,6 +57,7 @@ bool trapLibpngErrors(png_structp png, Calls&& libpngCalls) {
 }  // namespace
 
 PngImage readPng(const std::filesystem::path& path) {
+  refuseDirectory(path, "a PNG");
   File file(std::fopen(path.c_str(), "rb"));
   if (!file) throw IoError(path.string() + ": cannot open PNG");
   png_byte signature[8];

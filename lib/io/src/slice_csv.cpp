@@ -10,6 +10,7 @@
 #include <sstream>
 #include <vector>
 
+#include "input_file.hpp"
 #include "slicecap/core/version.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -121,6 +122,7 @@ SliceSet parseSliceCsv(std::istream& in, const std::string& sourceName) {
 }
 
 SliceSet readSliceCsv(const std::filesystem::path& path) {
+  refuseDirectory(path, "a slice CSV");
   std::ifstream in(path);
   if (!in) throw IoError(path.string() + ": cannot open slice CSV");
   return parseSliceCsv(in, path.string());

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <vector>
 
+#include "input_file.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -26,6 +27,7 @@ std::uint32_t toLittleEndian(std::uint32_t v) {
 }  // namespace
 
 Abrdf readF32Table(const std::filesystem::path& path) {
+  refuseDirectory(path, "a .f32 table");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path.string() + ": cannot open table");
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -56,6 +58,7 @@ void writeF32Table(const std::filesystem::path& path, const Abrdf& table) {
 }
 
 Abrdf readTable(const std::filesystem::path& path) {
+  refuseDirectory(path, "a table (.exr or .f32)");
   const std::string extension = path.extension().string();
   if (extension == ".exr") return readAbrdfExr(path);
   if (extension == ".f32") return readF32Table(path);

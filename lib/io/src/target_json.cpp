@@ -3,6 +3,7 @@
 
 #include <fstream>
 
+#include "input_file.hpp"
 #include "json_fields.hpp"
 #include "slicecap/io/journal.hpp"
 
@@ -149,6 +150,7 @@ vision::CameraModel cameraFromJson(const json& value, const std::string& file,
 }
 
 json readJsonFile(const std::filesystem::path& path) {
+  refuseDirectory(path, "a JSON file");
   std::ifstream in(path);
   if (!in) throw IoError(path.string() + ": cannot open");
   try {

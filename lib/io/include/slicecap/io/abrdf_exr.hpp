@@ -21,7 +21,8 @@ void writeAbrdfExr(const std::filesystem::path& path, const Abrdf& table,
 
 /// \brief Reads an ABRDF EXR; checks the 81 x 81 size, the R, G, B channels, `slicecap:layout` =
 /// "bonn81", `slicecap:quantity` = "brdf" and finite values. Throws IoError naming the path and
-/// what is wrong. Fills `attributes` (if given) with every `slicecap:*` string attribute.
+/// what is wrong (also that it is a directory). Fills `attributes` (if given) with every
+/// `slicecap:*` string attribute.
 Abrdf readAbrdfExr(const std::filesystem::path& path, ExrAttributes* attributes = nullptr);
 
 }  // namespace slicecap::io

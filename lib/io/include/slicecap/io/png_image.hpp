@@ -15,9 +15,9 @@ using PngImage = Image;
 inline constexpr unsigned kMaxPngSidePx = 65535;
 
 /// \brief Reads a PNG; palette and low-bit-depth images are expanded to 8 bits. Throws IoError
-/// naming the path (missing, not a PNG, truncated, corrupt: libpng's own message is included;
-/// a header claiming a side above kMaxPngSidePx, or more pixel data than the file's size can
-/// inflate to, is corrupt and refused before anything is allocated for it).
+/// naming the path (missing, a directory, not a PNG, truncated, corrupt: libpng's own message is
+/// included; a header claiming a side above kMaxPngSidePx, or more pixel data than the file's size
+/// can inflate to, is corrupt and refused before anything is allocated for it).
 PngImage readPng(const std::filesystem::path& path);
 
 /// \brief Writes a PNG of the image's depth and channels. Throws IoError naming the path, also for

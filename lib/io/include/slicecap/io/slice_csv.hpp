@@ -19,7 +19,8 @@ ElevationPair nominalElevations(double thetaIDeg, double thetaVDeg);
 /// an elevation outside [0, 90), no samples at all).
 SliceSet parseSliceCsv(std::istream& in, const std::string& sourceName);
 
-/// \brief Reads a slice CSV file; errors as parseSliceCsv, or IoError when it cannot be opened.
+/// \brief Reads a slice CSV file; errors as parseSliceCsv, or IoError naming the path when it
+/// cannot be opened or is a directory.
 SliceSet readSliceCsv(const std::filesystem::path& path);
 
 /// \brief Writes every sample of every slice (with a `#` comment line naming the writer); angles in

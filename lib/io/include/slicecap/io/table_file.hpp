@@ -9,15 +9,16 @@
 namespace slicecap::io {
 
 /// \brief Reads 81 * 81 * 3 little-endian float32 values [light][view][rgb], no header. Throws
-/// IoError naming the path when it cannot be opened, has another size, or holds a non-finite value.
+/// IoError naming the path when it cannot be opened, is a directory, has another size, or holds a
+/// non-finite value.
 Abrdf readF32Table(const std::filesystem::path& path);
 
 /// \brief Writes the raw little-endian float32 layout. Throws IoError naming the path on failure,
 /// which leaves an old file at `path` as it was (written through a temporary).
 void writeF32Table(const std::filesystem::path& path, const Abrdf& table);
 
-/// \brief A table from `.exr` (readAbrdfExr) or `.f32` (readF32Table); any other extension throws
-/// IoError.
+/// \brief A table from `.exr` (readAbrdfExr) or `.f32` (readF32Table); a directory or any other
+/// extension throws IoError naming the path.
 Abrdf readTable(const std::filesystem::path& path);
 
 }  // namespace slicecap::io
