@@ -4,11 +4,10 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <sys/resource.h>
 
 #include <fstream>
 
+#include "../support/file_size_limit.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -184,15 +183,11 @@ TEST(SessionManager, AFullDiskPausesTheSweepAndKeepsWhatWasStored) {
     ok(manager, SweepStart{kAxial3030});
     // A file size limit makes the journal's appends fail as a full disk would (EFBIG).
     const std::uintmax_t journalBytes = std::filesystem::file_size(root / "felt" / "journal");
-    ::signal(SIGXFSZ, SIG_IGN);
-    rlimit previous{};
-    ::getrlimit(RLIMIT_FSIZE, &previous);
-    rlimit limited = previous;
-    limited.rlim_cur = journalBytes + 1000;
-    ::setrlimit(RLIMIT_FSIZE, &limited);
-    for (int k = 0; k < 200 && manager.acceptSample(sampleAt((k % 24) * 15.0, 0.5, k)); ++k)
-      ++stored;
-    ::setrlimit(RLIMIT_FSIZE, &previous);
+    {
+      const test::FileSizeLimit limit(journalBytes + 1000);
+      for (int k = 0; k < 200 && manager.acceptSample(sampleAt((k % 24) * 15.0, 0.5, k)); ++k)
+        ++stored;
+    }
     ASSERT_GT(stored, 0u);
     ASSERT_LT(stored, 200u);
     const json status = manager.status();

@@ -2,14 +2,13 @@
 #include "slicecap/io/journal.hpp"
 
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <fstream>
 #include <sstream>
 
+#include "../support/file_size_limit.hpp"
 #include "../support/kill_dash_nine.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -74,14 +73,10 @@ TEST(Journal, AFailedAppendLeavesEveryEarlierRecordIntact) {
   journal.append("kept");
   const auto size = std::filesystem::file_size(path);
   // A file-size limit makes the next write fail as a full disk would (EFBIG instead of ENOSPC).
-  signal(SIGXFSZ, SIG_IGN);
-  rlimit old{};
-  getrlimit(RLIMIT_FSIZE, &old);
-  rlimit small = old;
-  small.rlim_cur = size + 10;
-  setrlimit(RLIMIT_FSIZE, &small);
-  EXPECT_THROW(journal.append(std::string(100, 'x')), IoError);
-  setrlimit(RLIMIT_FSIZE, &old);
+  {
+    const test::FileSizeLimit limit(size + 10);
+    EXPECT_THROW(journal.append(std::string(100, 'x')), IoError);
+  }
   EXPECT_EQ(std::filesystem::file_size(path), size) << "the partial record was cut back";
   journal.append("after");
   EXPECT_EQ(reopen(path), (std::vector<std::string>{"kept", "after"}));

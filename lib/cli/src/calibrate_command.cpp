@@ -56,11 +56,7 @@ int run(const ParsedArgs& args, Streams& io) {
   settings.maxViews = wholeNumber(args, "max-views", settings.maxViews, 4);
   settings.minPointsPerView = wholeNumber(args, "min-corners", settings.minPointsPerView, 8);
   std::vector<std::filesystem::path> recordings(args.positional.begin(), args.positional.end());
-  std::vector<NamedPath> inputs;
-  for (const auto& recording : recordings)
-    for (NamedPath& file : recordingInputs(recording))
-      inputs.push_back(std::move(file));
-  refuseClashingPaths(inputs, {{"-o", output}});
+  refuseClashingPaths(recordingInputs(recordings), {{"-o", output}});
   int width = 0, height = 0, unreadable = 0;
   const auto views = capture::calibrationViewsOf(recordings, &width, &height, &unreadable);
   if (unreadable > 0)

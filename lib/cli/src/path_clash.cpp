@@ -58,16 +58,20 @@ void refuseClashingPaths(const std::vector<NamedPath>& inputs,
   }
 }
 
-std::vector<NamedPath> recordingInputs(const fs::path& directory) {
+std::vector<NamedPath> recordingInputs(const std::vector<fs::path>& directories) {
   const std::string role = "the recording file";
-  std::vector<NamedPath> files = {{role, directory / io::kRecordingManifest}};
-  try {
-    const io::Recording recording = io::readRecording(directory);
-    if (recording.calibrationFile) files.push_back({role, directory / *recording.calibrationFile});
-    for (const io::RecordedFrame& frame : recording.frames)
-      files.push_back({role, io::framePath(directory, frame)});
-  } catch (const std::exception&) {
-    // Reported, naming the field, when the command reads the recording.
+  std::vector<NamedPath> files;
+  for (const fs::path& directory : directories) {
+    files.push_back({role, directory / io::kRecordingManifest});
+    try {
+      const io::Recording recording = io::readRecording(directory);
+      if (recording.calibrationFile)
+        files.push_back({role, directory / *recording.calibrationFile});
+      for (const io::RecordedFrame& frame : recording.frames)
+        files.push_back({role, io::framePath(directory, frame)});
+    } catch (const std::exception&) {
+      // Reported, naming the field, when the command reads the recording.
+    }
   }
   return files;
 }

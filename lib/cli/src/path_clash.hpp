@@ -23,10 +23,10 @@ struct NamedPath {
 void refuseClashingPaths(const std::vector<NamedPath>& inputs,
                          const std::vector<NamedPath>& outputs);
 
-/// \brief The files a command reading the recording in `directory` depends on: its
-/// recording.json, its calibration file if it names one, and every frame. Only what the
-/// recording lists: when it cannot be read, just recording.json (the command then reports the
-/// problem when it reads the recording).
-std::vector<NamedPath> recordingInputs(const std::filesystem::path& directory);
+/// \brief The files a command reading the recordings in `directories` depends on: each one's
+/// recording.json, its calibration file if it names one, and every frame. Only what a recording
+/// lists: when it cannot be read, just its recording.json (the command then reports the problem
+/// when it reads the recording).
+std::vector<NamedPath> recordingInputs(const std::vector<std::filesystem::path>& directories);
 
 }  // namespace slicecap::cli

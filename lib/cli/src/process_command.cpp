@@ -50,16 +50,6 @@ void writeReport(const std::filesystem::path& path, const nlohmann::json& report
   io::writeStreamReplacing(path, [&](std::ostream& out) { out << report.dump(1) << "\n"; });
 }
 
-// Refuses outputs that are a file of a recording (its manifest, a frame) or one another.
-void refuseClashes(const std::vector<std::filesystem::path>& recordings,
-                   const std::vector<NamedPath>& outputs) {
-  std::vector<NamedPath> inputs;
-  for (const auto& recording : recordings)
-    for (NamedPath& file : recordingInputs(recording))
-      inputs.push_back(std::move(file));
-  refuseClashingPaths(inputs, outputs);
-}
-
 int runProcess(const ParsedArgs& args, Streams& io) {
   const std::filesystem::path output = args.required("output");
   std::vector<std::filesystem::path> recordings(args.positional.begin(), args.positional.end());
@@ -67,7 +57,7 @@ int runProcess(const ParsedArgs& args, Streams& io) {
   const auto reportPath = args.value("report");
   std::vector<NamedPath> outputs = {{"-o", output}};
   if (reportPath) outputs.push_back({"--report", *reportPath});
-  refuseClashes(recordings, outputs);
+  refuseClashingPaths(recordingInputs(recordings), outputs);
   const SliceSet slices =
       processAll(recordings, pipelineSettingsOf(args), io, reportPath ? &report : nullptr);
   io::writeSliceCsv(output, slices);
@@ -88,7 +78,7 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   std::vector<NamedPath> outputs = {{"-o", output}};
   if (const auto csv = args.value("slices")) outputs.push_back({"--slices", *csv});
   if (reportPath) outputs.push_back({"--report", *reportPath});
-  refuseClashes(recordings, outputs);
+  refuseClashingPaths(recordingInputs(recordings), outputs);
   const SliceSet slices = processAll(recordings, settings, io, reportPath ? &report : nullptr);
   if (const auto csv = args.value("slices")) io::writeSliceCsv(*csv, slices);
   if (reportPath) writeReport(*reportPath, report);

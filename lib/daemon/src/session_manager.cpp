@@ -361,12 +361,10 @@ struct SessionManager::State {
         tables.push_back(reconstructInto(store, slices, methods[m]));
       } catch (const Refusal& refusal) {
         if (m == 0) throw;
+        // Its copies in the export folder go with the other stale ones below.
         const std::string name = std::string(kTablePrefix) + methods[m] + ".exr";
-        fs::path copy = directory / (store.info().id + "-" + name);
-        std::error_code ignored;  // a copy that is not there is what we want
+        std::error_code ignored;  // a table that is not there is what we want
         fs::remove(store.directory() / name, ignored);
-        fs::remove(copy, ignored);
-        fs::remove(copy.replace_extension(".png"), ignored);
         warnings.push_back(name + " (made from earlier samples) removed: " + refusal.message);
       }
     }
@@ -550,8 +548,7 @@ struct SessionManager::State {
     for (const SliceId& slice : sweepOrder()) {
       if (slice.kind != SliceKind::Diagonal) continue;
       if (session->sampleCount(slice) < 2) return nullptr;
-      if (!sparsest || session->bins(slice).filledCount() < session->bins(*sparsest).filledCount())
-        sparsest = slice;
+      if (!sparsest || filledBins(slice) < filledBins(*sparsest)) sparsest = slice;
     }
     // While a sweep captures, the answer from before it stands: the test (two prior fits, a few
     // ms on a Pi) is not rerun on the frame loop for every status a --watch asks for.
@@ -568,7 +565,7 @@ struct SessionManager::State {
       // 12, 16, 20, 24 (the 5: ward-gold-60, missed at full coverage too); isotropic held-out
       // tables called anisotropic 9, 7, 6, 5, 5 of 295. A false "isotropic" costs a wrong table, a
       // false "anisotropic" four more sweeps.
-      const int fewestBins = session->bins(*sparsest).filledCount();
+      const int fewestBins = filledBins(*sparsest);
       if (verdict.isotropic && fewestBins < kIsotropyMinBins) {
         verdict.informative = false;
         verdict.reason =

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "slicecap/recon/errors.hpp"
+#include "slicecap/recon/measured_subspaces.hpp"
 
 namespace slicecap::recon {
 namespace {
@@ -80,29 +81,16 @@ Abrdf reconstructMethodB(const SliceSet& slices, const MethodBParams& params,
   std::string error;
   if (!params.fit.isValid(&error)) throw std::invalid_argument("Method B: " + error);
 
-  std::string missing;
-  for (ElevationPair pair : kMeasuredPairs) {
-    for (SliceKind kind : {SliceKind::Axial, SliceKind::Diagonal}) {
-      if (params.isotropic && kind == SliceKind::Axial) continue;
-      if (!slices.find({kind, pair}))
-        missing += (missing.empty() ? "" : ", ") + toString(SliceId{kind, pair});
-    }
-  }
-  if (!missing.empty()) {
-    throw ReconstructionError(
-        "Method B needs every measured slice; missing: " + missing +
-        (params.isotropic ? "" : " (its isotropic form needs the diagonal ones only)"));
-  }
+  std::vector<Subspace> measured =
+      reconstructMeasuredSubspaces(slices, params.isotropic, params.torusRule, "Method B");
 
   // Known blocks keyed by (theta_i, theta_v); step 1 adds the predicted ones.
   std::map<ElevationPair, PairData> known;
-  for (ElevationPair pair : kMeasuredPairs) {
+  for (std::size_t p = 0; p < kMeasuredPairs.size(); ++p) {
+    const ElevationPair pair = kMeasuredPairs[p];
     const Slice* diagonal = slices.find({SliceKind::Diagonal, pair});
     const Slice* axial = params.isotropic ? nullptr : slices.find({SliceKind::Axial, pair});
-    PairData data{axial ? reconstructSubspace(*axial, *diagonal, params.torusRule)
-                        : reconstructIsotropicSubspace(*diagonal, params.torusRule),
-                  0.0,
-                  {}};
+    PairData data{std::move(measured[p]), 0.0, {}};
     // Every sample counts at its pair's nominal elevations: the lobe is a curve over the line's
     // varying elevation, and a capture's jittered angles belong to the pair they were taken for.
     for (const Slice* slice : {diagonal, axial}) {

@@ -1,5 +1,5 @@
-// The four measured subspaces of a capture (METHOD.md 3), the common first step of Method A and
-// of the methods built on it.
+// The four measured subspaces of a capture (METHOD.md 3), the common first step of Methods A and B
+// and of the methods built on them.
 #pragma once
 
 #include <string>
