@@ -3,7 +3,6 @@
 #pragma once
 
 #include <libcamera/camera.h>
-#include <libcamera/version.h>
 
 #include <memory>
 #include <vector>
@@ -18,14 +17,17 @@ inline std::unique_ptr<libcamera::CameraConfiguration> generateConfiguration(
   return camera.generateConfiguration(roles);
 }
 
-/// The rig needs frames as the sensor sees them: no flips. 0.0.x spells that
-/// `transform = Identity`; 0.2+ replaced `transform` by `orientation`.
-inline void keepSensorOrientation(libcamera::CameraConfiguration& configuration) {
-#if LIBCAMERA_VERSION_MAJOR == 0 && LIBCAMERA_VERSION_MINOR < 2
-  configuration.transform = libcamera::Transform::Identity;
-#else
-  configuration.orientation = libcamera::Orientation::Rotate0;
-#endif
+/// The rig needs frames as the sensor sees them: no flips. Debian's 0.0.x spells that
+/// `transform = Identity`; upstream 0.2 replaced `transform` by `orientation`, and the Raspberry Pi
+/// fork already has `orientation` in its 0.1.0 (Raspberry Pi OS bookworm's first libcamera), so the
+/// version number cannot tell: the member is looked up. The enum types are named through the
+/// member (dependent names), so the branch not taken is never looked up.
+template <typename Configuration>
+void keepSensorOrientation(Configuration& configuration) {
+  if constexpr (requires { configuration.orientation; })
+    configuration.orientation = decltype(configuration.orientation)::Rotate0;
+  else
+    configuration.transform = decltype(configuration.transform)::Identity;
 }
 
 }  // namespace slicecap::hal::libcamera_compat
