@@ -160,8 +160,10 @@ camera_device =
 camera_recording =
 # Frame size in pixels.
 resolution = 1280x720
-# Locked exposure (microseconds) and analogue gain; empty lets the daemon choose them at sweep start
-# and keep them fixed for the sweep.
+# Locked exposure (microseconds) and analogue gain: set both for a real capture. Empty leaves the
+# camera's automatic exposure running through the sweep (nothing locks it yet): libcamera reports
+# each frame's exposure and gain, which are divided out, but a V4L2 camera does not, so LED-on and
+# LED-off frames are then compared at exposures that may differ.
 exposure_us =
 gain =
 # Camera intrinsics and distortion (from `slicecap calibrate`); empty uses the sensor's nominal model.
