@@ -94,10 +94,25 @@ def test_rejects_another_layout_no_layout_and_another_quantity(tmp_path):
 def test_rejects_non_finite_values(tmp_path):
     table = np.zeros((81, 81, 3), dtype=np.float32)
     table[5, 6, 2] = np.nan
-    write_abrdf_exr(tmp_path / "nan.exr", table)
+    # The package's writer refuses such a table: the file is written through OpenEXR itself.
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    header.update(GOOD_ATTRIBUTES)
+    with OpenEXR.File(header, {c: table[..., i].copy() for i, c in enumerate("RGB")}) as file:
+        file.write(str(tmp_path / "nan.exr"))
     assert read_error(tmp_path / "nan.exr").endswith(
         "non-finite value at light 5, view 6, channel B"
     )
+
+
+def test_refuses_to_write_a_table_the_reader_would_refuse(tmp_path):
+    table = ramp_table()
+    table[7, 3, 1] = np.inf
+    with pytest.raises(SlicecapFileError) as raised:
+        write_abrdf_exr(tmp_path / "inf.exr", table)
+    assert str(raised.value) == (
+        f"{tmp_path / 'inf.exr'}: not written: a non-finite value at light 7, view 3, channel G"
+    )
+    assert not (tmp_path / "inf.exr").exists()
 
 
 def test_rejects_missing_and_corrupt_files(tmp_path):

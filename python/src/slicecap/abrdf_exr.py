@@ -36,6 +36,16 @@ def slicecap_attributes(header: dict) -> dict[str, str]:
     }
 
 
+def _first_non_finite(values: np.ndarray) -> str | None:
+    """Where the first non-finite value of an (81, 81, 3) table is ("light 3, view 40, channel
+    G"), if any (the C++ firstNonFinite)."""
+    bad = np.argwhere(~np.isfinite(values))
+    if not len(bad):
+        return None
+    light, view, channel = bad[0]
+    return f"light {light}, view {view}, channel {CHANNELS[channel]}"
+
+
 def read_exr_header(path) -> dict:
     """The header of any EXR file (no pixels); raises SlicecapFileError naming the file."""
     try:
@@ -89,21 +99,21 @@ def read_abrdf_exr(path) -> Abrdf:
         raise
     except Exception as e:  # missing, truncated or not an EXR at all
         raise _error(path, f"cannot read EXR: {e}") from e
-    bad = np.argwhere(~np.isfinite(values))
-    if len(bad):
-        light, view, channel = bad[0]
-        raise _error(
-            path,
-            f"non-finite value at light {light}, view {view}, channel {CHANNELS[channel]}",
-        )
+    where = _first_non_finite(values)
+    if where:
+        raise _error(path, f"non-finite value at {where}")
     return Abrdf(values, found)
 
 
 def write_abrdf_exr(path, table, attributes: dict[str, str] | None = None) -> None:
     """Writes an (81, 81, 3) table or an Abrdf (ZIP compressed, float32). The writer always sets
     layout = "bonn81", quantity = "brdf" and (unless given) version. Raises SlicecapFileError
-    naming the file on failure, ValueError for a table of another shape."""
+    naming the file on failure or for a table with a non-finite value (the reader refuses such a
+    file, as the C++ writer does), ValueError for a table of another shape."""
     abrdf = table if isinstance(table, Abrdf) else Abrdf(np.asarray(table))
+    where = _first_non_finite(abrdf.values)
+    if where:
+        raise _error(path, f"not written: a non-finite value at {where}")
     merged = dict(abrdf.attributes)
     merged.update(attributes or {})
     merged["layout"] = ABRDF_LAYOUT
