@@ -116,15 +116,34 @@ def test_refuses_to_write_a_table_the_reader_would_refuse(tmp_path):
 
 
 def test_rejects_missing_and_corrupt_files(tmp_path):
-    assert str(tmp_path / "none.exr") in read_error(tmp_path / "none.exr")
-    (tmp_path / "junk.exr").write_text("this is not an EXR file")
-    assert read_error(tmp_path / "junk.exr").startswith(
-        str(tmp_path / "junk.exr") + ": cannot read"
+    assert read_error(tmp_path / "none.exr") == (
+        f"{tmp_path / 'none.exr'}: cannot read EXR: No such file or directory"
     )
+    (tmp_path / "folder.exr").mkdir()
+    assert read_error(tmp_path / "folder.exr") == (
+        f"{tmp_path / 'folder.exr'}: is a directory, not an ABRDF EXR"
+    )
+    (tmp_path / "junk.exr").write_text("this is not an EXR file")
+    assert read_error(tmp_path / "junk.exr") == (
+        f"{tmp_path / 'junk.exr'}: cannot read EXR: not an OpenEXR file (no EXR magic number)"
+    )
+    (tmp_path / "empty.exr").write_bytes(b"")
+    assert read_error(tmp_path / "empty.exr").endswith("not an OpenEXR file (an empty file)")
     write_abrdf_exr(tmp_path / "whole.exr", ramp_table())
     whole = (tmp_path / "whole.exr").read_bytes()
-    (tmp_path / "cut.exr").write_bytes(whole[: len(whole) // 2])
-    assert str(tmp_path / "cut.exr") in read_error(tmp_path / "cut.exr")
+    (tmp_path / "head.exr").write_bytes(whole[:200])
+    assert read_error(tmp_path / "head.exr") == (
+        f"{tmp_path / 'head.exr'}: cannot read EXR: its header is truncated or corrupt"
+    )
+    for cut in (len(whole) // 2, len(whole) - 1):
+        (tmp_path / "cut.exr").write_bytes(whole[:cut])
+        assert read_error(tmp_path / "cut.exr") == (
+            f"{tmp_path / 'cut.exr'}: cannot read EXR: its pixel data is truncated or corrupt"
+        )
+    damaged = bytearray(whole)
+    damaged[-40:-32] = bytes(b ^ 0xFF for b in damaged[-40:-32])
+    (tmp_path / "damaged.exr").write_bytes(damaged)
+    assert read_error(tmp_path / "damaged.exr").endswith("pixel data is truncated or corrupt")
     with pytest.raises(SlicecapFileError, match="no/such/dir.exr: cannot write EXR"):
         write_abrdf_exr(tmp_path / "no" / "such" / "dir.exr", ramp_table())
 

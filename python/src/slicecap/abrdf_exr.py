@@ -16,6 +16,7 @@ CHANNELS = ("R", "G", "B")
 SIZE = 81
 ABRDF_LAYOUT = "bonn81"
 VERSION = "0.1.0 (python)"
+EXR_MAGIC = b"\x76\x2f\x31\x01"
 
 
 class SlicecapFileError(RuntimeError):
@@ -46,13 +47,53 @@ def _first_non_finite(values: np.ndarray) -> str | None:
     return f"light {light}, view {view}, channel {CHANNELS[channel]}"
 
 
+def _refuse_unopenable(path, expected: str) -> str:
+    """The path as a string, once it names a readable file that starts as an EXR does. OpenEXR's
+    bindings say only "Unable to open 'PATH' for read" for a missing file, a directory, an empty
+    or a text file alike (the reason goes to stderr); this says which."""
+    name = os.fspath(path)
+    if os.path.isdir(name):
+        raise _error(path, f"is a directory, not {expected}")
+    try:
+        with open(name, "rb") as file:
+            magic = file.read(len(EXR_MAGIC))
+    except OSError as e:
+        raise _error(path, f"cannot read EXR: {e.strerror}") from e
+    if magic != EXR_MAGIC:
+        what = "an empty file" if not magic else "no EXR magic number"
+        raise _error(path, f"cannot read EXR: not an OpenEXR file ({what})")
+    return name
+
+
+def read_exr(path, expected: str) -> tuple[dict, dict]:
+    """(header, channels) of an EXR's first part, pixels read, channels separate. Raises
+    SlicecapFileError naming the file and what is wrong: missing, a directory, not an EXR, a
+    damaged header, truncated or corrupt pixel data (where the bindings print a warning and
+    leave a file of no parts, which then says only "Invalid part index '0': file has 0 parts")."""
+    name = _refuse_unopenable(path, expected)
+    failure = None
+    try:
+        with OpenEXR.File(name, separate_channels=True) as file:
+            if file.parts:
+                return dict(file.header()), dict(file.channels())
+    except Exception as e:  # the bindings raise several types
+        failure = e
+    try:
+        with OpenEXR.File(name, header_only=True) as file:
+            file.header()
+    except Exception as e:
+        raise _error(path, "cannot read EXR: its header is truncated or corrupt") from e
+    raise _error(path, "cannot read EXR: its pixel data is truncated or corrupt") from failure
+
+
 def read_exr_header(path) -> dict:
     """The header of any EXR file (no pixels); raises SlicecapFileError naming the file."""
+    name = _refuse_unopenable(path, "an EXR file")
     try:
-        with OpenEXR.File(os.fspath(path), header_only=True) as file:
+        with OpenEXR.File(name, header_only=True) as file:
             return dict(file.header())
     except Exception as e:  # the bindings raise several types for missing and corrupt files
-        raise _error(path, f"cannot read EXR: {e}") from e
+        raise _error(path, "cannot read EXR: its header is truncated or corrupt") from e
 
 
 def _require(path, found: dict[str, str], key: str, expected: str) -> None:
@@ -72,32 +113,30 @@ def read_abrdf_exr(path) -> Abrdf:
     """Reads an ABRDF EXR; checks the 81 x 81 size, the R, G, B channels, `slicecap:layout` =
     "bonn81", `slicecap:quantity` = "brdf" and finite values. Raises SlicecapFileError whose
     message names the file and what is wrong (the same messages as the C++ reader)."""
+    header, channels = read_exr(path, "an ABRDF EXR")
     try:
-        with OpenEXR.File(os.fspath(path), separate_channels=True) as file:
-            header = dict(file.header())
-            low, high = header["dataWindow"]
-            width = int(high[0] - low[0] + 1)
-            height = int(high[1] - low[1] + 1)
-            if width != SIZE or height != SIZE:
-                raise _error(
-                    path,
-                    "ABRDF EXR must be 81 x 81 (light rows x view columns), "
-                    f"got {height} x {width}",
-                )
-            channels = file.channels()
-            for name in CHANNELS:
-                if name not in channels:
-                    raise _error(path, f"ABRDF EXR has no channel {name} (needs R, G, B)")
-            found = slicecap_attributes(header)
-            _require(path, found, "layout", ABRDF_LAYOUT)
-            _require(path, found, "quantity", "brdf")
-            values = np.stack(
-                [np.asarray(channels[name].pixels, dtype=np.float32) for name in CHANNELS],
-                axis=-1,
+        low, high = header["dataWindow"]
+        width = int(high[0] - low[0] + 1)
+        height = int(high[1] - low[1] + 1)
+        if width != SIZE or height != SIZE:
+            raise _error(
+                path,
+                "ABRDF EXR must be 81 x 81 (light rows x view columns), "
+                f"got {height} x {width}",
             )
+        for name in CHANNELS:
+            if name not in channels:
+                raise _error(path, f"ABRDF EXR has no channel {name} (needs R, G, B)")
+        found = slicecap_attributes(header)
+        _require(path, found, "layout", ABRDF_LAYOUT)
+        _require(path, found, "quantity", "brdf")
+        values = np.stack(
+            [np.asarray(channels[name].pixels, dtype=np.float32) for name in CHANNELS],
+            axis=-1,
+        )
     except SlicecapFileError:
         raise
-    except Exception as e:  # missing, truncated or not an EXR at all
+    except Exception as e:  # e.g. pixels of a type numpy does not convert
         raise _error(path, f"cannot read EXR: {e}") from e
     where = _first_non_finite(values)
     if where:

@@ -10,10 +10,9 @@ import pathlib
 from dataclasses import dataclass, field
 
 import numpy as np
-import OpenEXR
 
 from slicecap.abrdf import Abrdf
-from slicecap.abrdf_exr import SlicecapFileError, read_abrdf_exr
+from slicecap.abrdf_exr import SlicecapFileError, read_abrdf_exr, read_exr
 from slicecap.grid import direction_of_index
 
 MANIFEST = "btf.json"
@@ -64,24 +63,21 @@ def _error(path, what: str) -> SlicecapFileError:
 
 
 def _read_image(path: pathlib.Path, resolution: int) -> np.ndarray:
+    header, channels = read_exr(path, "a BTF image")
+    low, high = header["dataWindow"]
+    width, height = int(high[0] - low[0] + 1), int(high[1] - low[1] + 1)
+    if (width, height) != (resolution, resolution):
+        raise _error(
+            path, f"{width} x {height} texels, the manifest says {resolution} x {resolution}"
+        )
+    for name in CHANNELS:
+        if name not in channels:
+            raise _error(path, f"no channel {name} (a BTF image has R, G, B)")
     try:
-        with OpenEXR.File(str(path), separate_channels=True) as file:
-            low, high = file.header()["dataWindow"]
-            width, height = int(high[0] - low[0] + 1), int(high[1] - low[1] + 1)
-            if (width, height) != (resolution, resolution):
-                raise _error(
-                    path, f"{width} x {height} texels, the manifest says {resolution} x {resolution}"
-                )
-            channels = file.channels()
-            for name in CHANNELS:
-                if name not in channels:
-                    raise _error(path, f"no channel {name} (a BTF image has R, G, B)")
-            return np.stack(
-                [np.asarray(channels[name].pixels, dtype=np.float16) for name in CHANNELS], axis=-1
-            )
-    except SlicecapFileError:
-        raise
-    except Exception as e:  # missing, truncated or not an EXR at all
+        return np.stack(
+            [np.asarray(channels[name].pixels, dtype=np.float16) for name in CHANNELS], axis=-1
+        )
+    except Exception as e:  # e.g. pixels of a type numpy does not convert
         raise _error(path, f"cannot read EXR: {e}") from e
 
 
