@@ -71,3 +71,33 @@ def test_a_damaged_directory_is_refused_naming_the_file(woven_btf, tmp_path):
         read_btf(broken)
     with pytest.raises(SlicecapFileError, match="not a BTF directory"):
         read_btf(tmp_path / "nowhere")
+
+
+@pytest.mark.parametrize(
+    "content, problem",
+    [
+        (b"[4]", "not a JSON object but list"),
+        (b"null", "not a JSON object but NoneType"),
+        (b"\x80\x81 binary", "not JSON"),
+        (b'{"format": "slicecap-btf", "resolution": true}', "field 'resolution'"),
+        (b'{"format": "slicecap-btf", "resolution": 4}', "field 'window_mm'"),
+        (
+            b'{"format": "slicecap-btf", "resolution": 4, "window_mm": [20, -20, -20, 20]}',
+            "field 'window_mm'",
+        ),
+        (
+            b'{"format": "slicecap-btf", "resolution": 4, "window_mm": [-20, -20, 20, "20"]}',
+            "field 'window_mm'",
+        ),
+        (
+            b'{"format": "slicecap-btf", "resolution": 4, "window_mm": [-20, -20, 20, 20], '
+            b'"average": 3}',
+            "field 'average' is not a file name",
+        ),
+    ],
+)
+def test_a_corrupt_manifest_is_refused_naming_it(tmp_path, content, problem):
+    (tmp_path / "btf.json").write_bytes(content)
+    with pytest.raises(SlicecapFileError) as raised:
+        read_btf(tmp_path)
+    assert str(raised.value).startswith(f"{tmp_path / 'btf.json'}: {problem}")

@@ -16,6 +16,7 @@ from slicecap.abrdf_exr import SlicecapFileError, read_abrdf_exr, read_exr
 from slicecap.grid import direction_of_index
 
 MANIFEST = "btf.json"
+DEFAULT_AVERAGE = "average.exr"
 DIRECTIONS = 81
 CHANNELS = ("R", "G", "B")
 
@@ -81,26 +82,51 @@ def _read_image(path: pathlib.Path, resolution: int) -> np.ndarray:
         raise _error(path, f"cannot read EXR: {e}") from e
 
 
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _check_manifest(path: pathlib.Path, manifest) -> None:
+    """The manifest's fields this package relies on, each refused naming btf.json."""
+    if not isinstance(manifest, dict):
+        raise _error(path, f"not a JSON object but {type(manifest).__name__}")
+    if manifest.get("format") != "slicecap-btf":
+        raise _error(path, "field 'format' is not \"slicecap-btf\"")
+    resolution = manifest.get("resolution")
+    if type(resolution) is not int or not 1 <= resolution <= 1024:
+        raise _error(path, "field 'resolution' is not a whole number in 1..1024")
+    window = manifest.get("window_mm")
+    if (
+        not isinstance(window, list)
+        or len(window) != 4
+        or not all(_is_number(v) for v in window)
+        or not (window[0] < window[2] and window[1] < window[3])
+    ):
+        raise _error(
+            path, "field 'window_mm' is not [x_min, y_min, x_max, y_max] (mm, min < max)"
+        )
+    average = manifest.get("average", DEFAULT_AVERAGE)
+    if not isinstance(average, str) or not average:
+        raise _error(path, "field 'average' is not a file name")
+
+
 def read_btf(directory) -> Btf:
-    """Reads a BTF directory: btf.json (format "slicecap-btf", its resolution), all 6561 images
-    (each N x N, R G B) and average.exr. Raises SlicecapFileError naming the file that is missing
-    or wrong."""
+    """Reads a BTF directory: btf.json (format "slicecap-btf", its resolution and window), all
+    6561 images (each N x N, R G B) and average.exr. Raises SlicecapFileError naming the file
+    that is missing or wrong."""
     directory = pathlib.Path(directory)
     manifest_path = directory / MANIFEST
     try:
-        manifest = json.loads(manifest_path.read_text())
+        manifest = json.loads(manifest_path.read_bytes())
     except OSError as e:
         raise _error(manifest_path, f"cannot open (not a BTF directory?): {e.strerror}") from e
-    except json.JSONDecodeError as e:
+    except ValueError as e:  # not JSON, or not text at all (UnicodeDecodeError)
         raise _error(manifest_path, f"not JSON: {e}") from e
-    if manifest.get("format") != "slicecap-btf":
-        raise _error(manifest_path, "field 'format' is not \"slicecap-btf\"")
-    resolution = manifest.get("resolution")
-    if not isinstance(resolution, int) or not 1 <= resolution <= 1024:
-        raise _error(manifest_path, "field 'resolution' is not a whole number in 1..1024")
+    _check_manifest(manifest_path, manifest)
+    resolution = manifest["resolution"]
     images = np.empty((DIRECTIONS, DIRECTIONS, resolution, resolution, 3), dtype=np.float16)
     for light in range(DIRECTIONS):
         for view in range(DIRECTIONS):
             images[light, view] = _read_image(directory / image_path(light, view), resolution)
-    average = read_abrdf_exr(directory / manifest.get("average", "average.exr"))
+    average = read_abrdf_exr(directory / manifest.get("average", DEFAULT_AVERAGE))
     return Btf(images, manifest, average)
