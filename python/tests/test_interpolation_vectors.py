@@ -62,3 +62,14 @@ def test_weights_sum_to_one_and_grid_directions_take_one_tap():
     chosen = np.take_along_axis(indices, np.argmax(weights, axis=-1)[:, None], axis=-1)[:, 0]
     np.testing.assert_array_equal(chosen, np.arange(81))
     np.testing.assert_array_equal(np.max(weights, axis=-1), 1.0)
+
+
+def test_directions_that_are_not_theta_phi_pairs_are_refused_naming_the_argument(vectors):
+    table = hash_table(vectors["table"])
+    # A unit vector was read as theta = 0.5 deg, phi = 0.5 deg, its z ignored.
+    with pytest.raises(ValueError, match=r"light_deg must hold \(theta_deg, phi_deg\) .*\(3,\)"):
+        evaluate(table, [0.5, 0.5, 0.707], [45.0, 180.0])
+    with pytest.raises(ValueError, match=r"view_deg must hold .* got shape \(\)"):
+        evaluate(table, [45.0, 0.0], 45.0)
+    with pytest.raises(ValueError, match=r"view_deg must hold .* got shape \(2, 1\)"):
+        evaluate(table, [[45.0, 0.0]], [[45.0], [180.0]])

@@ -54,16 +54,29 @@ def direction_taps(theta_deg, phi_deg) -> tuple[np.ndarray, np.ndarray]:
     return indices, weights
 
 
+def _pairs(directions_deg, name: str) -> np.ndarray:
+    """(..., 2) directions as float64; a ValueError naming the argument for any other shape (a
+    unit vector's three numbers would otherwise read as theta and phi in degrees)."""
+    directions_deg = np.asarray(directions_deg, dtype=np.float64)
+    if directions_deg.ndim == 0 or directions_deg.shape[-1] != 2:
+        raise ValueError(
+            f"{name} must hold (theta_deg, phi_deg) pairs, shape (..., 2); "
+            f"got shape {directions_deg.shape}"
+        )
+    return directions_deg
+
+
 def evaluate(table: np.ndarray, light_deg, view_deg) -> np.ndarray:
     """The interpolated RGB value of an (81, 81, 3) table (row = light, column = view) at light
     and view directions given as (..., 2) arrays of (theta_deg, phi_deg); returns (..., 3)
-    float64. Raises ValueError for a direction below the horizon plane (theta < 0) or non-finite.
+    float64. Raises ValueError for directions of another shape, or one below the horizon plane
+    (theta < 0) or non-finite.
     """
     table = np.asarray(table)
     if table.shape != (81, 81, 3):
         raise ValueError(f"table must have shape (81, 81, 3), got {table.shape}")
-    light_deg = np.asarray(light_deg, dtype=np.float64)
-    view_deg = np.asarray(view_deg, dtype=np.float64)
+    light_deg = _pairs(light_deg, "light_deg")
+    view_deg = _pairs(view_deg, "view_deg")
     light_index, light_weight = direction_taps(light_deg[..., 0], light_deg[..., 1])
     view_index, view_weight = direction_taps(view_deg[..., 0], view_deg[..., 1])
     light_index, view_index = np.broadcast_arrays(light_index, view_index)
