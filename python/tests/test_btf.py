@@ -7,6 +7,7 @@ import shutil
 import subprocess
 
 import numpy as np
+import OpenEXR
 import pytest
 
 from slicecap import SlicecapFileError, read_abrdf_exr
@@ -71,6 +72,41 @@ def test_a_damaged_directory_is_refused_naming_the_file(woven_btf, tmp_path):
         read_btf(broken)
     with pytest.raises(SlicecapFileError, match="not a BTF directory"):
         read_btf(tmp_path / "nowhere")
+
+
+def rewrite_image(path, change):
+    """Rewrites one BTF image with `change` applied to its (N, N, 3) float32 pixels."""
+    with OpenEXR.File(str(path), separate_channels=True) as file:
+        channels = file.channels()
+        pixels = np.stack([channels[c].pixels.astype(np.float32) for c in "RGB"], axis=-1)
+    change(pixels)
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    with OpenEXR.File(header, {c: pixels[..., i].copy() for i, c in enumerate("RGB")}) as file:
+        file.write(str(path))
+
+
+def test_a_non_finite_texel_is_refused_naming_the_image_and_texel(woven_btf, tmp_path):
+    broken = tmp_path / "broken"
+    shutil.copytree(woven_btf, broken)
+    victim = broken / image_path(3, 5)
+
+    def put_nan(pixels):
+        pixels[1, 2, 1] = np.nan
+
+    rewrite_image(victim, put_nan)
+    with pytest.raises(SlicecapFileError) as raised:
+        read_btf(broken)
+    assert str(raised.value) == (
+        f"{victim}: non-finite value (as a half float) at column 2, row 1, channel G"
+    )
+
+    def put_beyond_half(pixels):
+        pixels[0, 3, 2] = 1e6  # a float image: infinity once read as half
+
+    shutil.copy(woven_btf / image_path(3, 5), victim)
+    rewrite_image(victim, put_beyond_half)
+    with pytest.raises(SlicecapFileError, match="at column 3, row 0, channel B"):
+        read_btf(broken)
 
 
 @pytest.mark.parametrize(

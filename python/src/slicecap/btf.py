@@ -75,11 +75,22 @@ def _read_image(path: pathlib.Path, resolution: int) -> np.ndarray:
         if name not in channels:
             raise _error(path, f"no channel {name} (a BTF image has R, G, B)")
     try:
-        return np.stack(
-            [np.asarray(channels[name].pixels, dtype=np.float16) for name in CHANNELS], axis=-1
-        )
+        with np.errstate(over="ignore", invalid="ignore"):  # reported below, naming the texel
+            image = np.stack(
+                [np.asarray(channels[name].pixels, dtype=np.float16) for name in CHANNELS],
+                axis=-1,
+            )
     except Exception as e:  # e.g. pixels of a type numpy does not convert
         raise _error(path, f"cannot read EXR: {e}") from e
+    bad = np.argwhere(~np.isfinite(image))
+    if len(bad):
+        row, column, channel = bad[0]
+        raise _error(
+            path,
+            f"non-finite value (as a half float) at column {column}, row {row}, "
+            f"channel {CHANNELS[channel]}",
+        )
+    return image
 
 
 def _is_number(value) -> bool:
@@ -112,8 +123,8 @@ def _check_manifest(path: pathlib.Path, manifest) -> None:
 
 def read_btf(directory) -> Btf:
     """Reads a BTF directory: btf.json (format "slicecap-btf", its resolution and window), all
-    6561 images (each N x N, R G B) and average.exr. Raises SlicecapFileError naming the file
-    that is missing or wrong."""
+    6561 images (each N x N, R G B, finite half floats) and average.exr. Raises
+    SlicecapFileError naming the file that is missing or wrong."""
     directory = pathlib.Path(directory)
     manifest_path = directory / MANIFEST
     try:
