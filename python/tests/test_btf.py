@@ -52,6 +52,21 @@ def test_reads_the_texture_the_cpp_side_wrote(woven_btf):
     assert json.loads((woven_btf / "btf.json").read_text())["failed_texels"] == 0
 
 
+def test_texels_outside_the_window_are_refused(woven_btf):
+    btf = read_btf(woven_btf)
+    np.testing.assert_array_equal(btf.texel(3, 2).values, btf.images[:, :, 2, 3].astype(np.float32))
+    np.testing.assert_array_equal(btf.texel(np.int64(1), 0).values, btf.texel(1, 0).values)
+    # -1 used to be numpy's last column: another texel's table without a word.
+    with pytest.raises(IndexError, match=r"texel column -1 is outside 0..3 \(the BTF is 4 x 4\)"):
+        btf.texel(-1, 0)
+    with pytest.raises(IndexError, match="texel row 4 is outside 0..3"):
+        btf.texel(0, 4)
+    with pytest.raises(TypeError, match="texel column must be a whole number, got 1.5"):
+        btf.texel(1.5, 0)
+    with pytest.raises(TypeError, match="texel row must be a whole number, got True"):
+        btf.texel(0, True)
+
+
 def test_a_damaged_directory_is_refused_naming_the_file(woven_btf, tmp_path):
     broken = tmp_path / "broken"
     shutil.copytree(woven_btf, broken)

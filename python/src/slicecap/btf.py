@@ -5,6 +5,7 @@ ABRDF and a JSON manifest. The checks and messages follow the C++ reader (btf::r
 
 import json
 import math
+import numbers
 import os
 import pathlib
 from dataclasses import dataclass, field
@@ -55,7 +56,17 @@ class Btf:
         return tuple(float(v) for v in self.manifest["window_mm"])
 
     def texel(self, column: int, row: int) -> Abrdf:
-        """The 81 x 81 apparent BRDF of one texel (float32)."""
+        """The 81 x 81 apparent BRDF of one texel (float32): column 0..N-1 from the left, row
+        0..N-1 from the top. Raises IndexError outside (numpy would take -1 as the last one),
+        TypeError for what is not a whole number."""
+        for name, value in (("column", column), ("row", row)):
+            if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+                raise TypeError(f"texel {name} must be a whole number, got {value!r}")
+            if not 0 <= value < self.resolution:
+                raise IndexError(
+                    f"texel {name} {value} is outside 0..{self.resolution - 1} "
+                    f"(the BTF is {self.resolution} x {self.resolution})"
+                )
         return Abrdf(self.images[:, :, row, column, :].astype(np.float32))
 
 
