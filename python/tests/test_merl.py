@@ -99,3 +99,15 @@ def test_the_command_refuses_an_anisotropic_capture_and_names_it(tmp_path, capsy
     assert not (tmp_path / "x.binary").exists()
     assert command.run([str(tmp_path / "none.exr"), "-o", str(tmp_path / "x.binary")]) == 1
     assert "none.exr: cannot read EXR" in capsys.readouterr().err
+
+
+def test_the_command_refuses_to_overwrite_its_input(tmp_path, capsys):
+    from slicecap import export_merl as command
+    from slicecap import read_abrdf_exr, write_abrdf_exr
+
+    table = tabulate(GLOSSY)
+    write_abrdf_exr(tmp_path / "glossy.exr", table)
+    path = str(tmp_path / "glossy.exr")
+    assert command.run([path, "-o", path]) == 2
+    assert f"-o {path} is the material: it would be overwritten" in capsys.readouterr().err
+    np.testing.assert_array_equal(read_abrdf_exr(path).values, table)

@@ -1,8 +1,9 @@
 """python -m slicecap.render: the picture, the metrics it prints, and its failures."""
 
+import numpy as np
 import pytest
 
-from slicecap import render, tabulate, write_abrdf_exr
+from slicecap import read_abrdf_exr, render, tabulate, write_abrdf_exr
 from slicecap.png import read_png_size
 
 from mitsuba_support import phong
@@ -62,3 +63,19 @@ def test_a_bad_input_fails_with_the_readers_message(tmp_path, capsys):
     with pytest.raises(SystemExit) as usage:
         render.run([str(tmp_path / "junk.exr")])
     assert usage.value.code == 2
+
+
+def test_an_output_that_is_an_input_is_bad_usage_and_leaves_it_alone(tmp_path, capsys):
+    table = tabulate(phong([0.3, 0.2, 0.1], [0.3] * 3, 10))
+    write_abrdf_exr(tmp_path / "glossy.exr", table)
+    write_abrdf_exr(tmp_path / "truth.exr", table)
+    (tmp_path / "link.exr").symlink_to(tmp_path / "truth.exr")
+    material, truth, link = (str(tmp_path / n) for n in ("glossy.exr", "truth.exr", "link.exr"))
+    for args, role in (
+        ([material, "-o", material], "material"),
+        ([material, "--reference", truth, "-o", link], "reference"),
+    ):
+        assert render.run(args) == 2
+        assert f"is the {role}: it would be overwritten" in capsys.readouterr().err
+    np.testing.assert_array_equal(read_abrdf_exr(tmp_path / "glossy.exr").values, table)
+    np.testing.assert_array_equal(read_abrdf_exr(tmp_path / "truth.exr").values, table)

@@ -1,7 +1,8 @@
 """python -m slicecap.export_merl MATERIAL.exr -o OUT.binary [--allow-anisotropic]
 
 Writes an isotropic capture in the MERL binary format (slicecap.merl). Exit codes: 0 success,
-1 failure (a message naming the input: unreadable, or anisotropic without the flag), 2 bad usage.
+1 failure (a message naming the input: unreadable, or anisotropic without the flag), 2 bad usage
+(e.g. an output that is the input).
 """
 
 import argparse
@@ -10,6 +11,7 @@ import sys
 from slicecap.abrdf_exr import SlicecapFileError
 from slicecap.materials import load_material
 from slicecap.merl import MAX_ANISOTROPY, export_merl
+from slicecap.paths import same_file
 
 
 def run(argv) -> int:
@@ -26,6 +28,12 @@ def run(argv) -> int:
         f"{100 * MAX_ANISOTROPY:.0f} %% under rotation",
     )
     args = parser.parse_args(argv)
+    if same_file(args.output, args.material):
+        print(
+            f"slicecap.export_merl: -o {args.output} is the material: it would be overwritten",
+            file=sys.stderr,
+        )
+        return 2
     try:
         material = load_material(args.material)
         anisotropy = export_merl(args.output, material, allow_anisotropic=args.allow_anisotropic)

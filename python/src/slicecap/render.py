@@ -5,7 +5,7 @@ a few point lights and under one environment map, through the Mitsuba 3 BSDF `sl
 writes one picture: a row per material, a row of differences (x2) when there is a reference, and
 under each column the dE and PSNR of the material's rendering against the reference's (the
 paper's 8-bit metrics, slicecap.image_metrics). Exit codes: 0 success, 1 failure (a message
-naming the input), 2 bad usage.
+naming the input), 2 bad usage (e.g. an output that is an input).
 """
 
 import argparse
@@ -19,6 +19,7 @@ from slicecap.abrdf_exr import SlicecapFileError
 from slicecap.bitmap_font import GLYPH_HEIGHT, GLYPH_WIDTH, draw_text
 from slicecap.image_metrics import compare_images, exposure_of, srgb_encode
 from slicecap.materials import load_material
+from slicecap.paths import same_file
 from slicecap.png import write_png
 from slicecap.scenes import LIGHTINGS, SHAPES, object_mask, scene_dict
 
@@ -123,6 +124,13 @@ def run(argv) -> int:
     if args.size < 8 or args.spp < 1:
         print("slicecap.render: --size must be >= 8 and --spp >= 1", file=sys.stderr)
         return 2
+    for role, path in (("material", args.material), ("reference", args.reference)):
+        if path and same_file(args.output, path):
+            print(
+                f"slicecap.render: -o {args.output} is the {role}: it would be overwritten",
+                file=sys.stderr,
+            )
+            return 2
     try:
         material = load_material(args.material)
         reference = load_material(args.reference) if args.reference else None
