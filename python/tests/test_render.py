@@ -79,3 +79,18 @@ def test_an_output_that_is_an_input_is_bad_usage_and_leaves_it_alone(tmp_path, c
         assert f"is the {role}: it would be overwritten" in capsys.readouterr().err
     np.testing.assert_array_equal(read_abrdf_exr(tmp_path / "glossy.exr").values, table)
     np.testing.assert_array_equal(read_abrdf_exr(tmp_path / "truth.exr").values, table)
+
+
+def test_a_seed_mitsuba_cannot_take_is_bad_usage(tmp_path, capsys):
+    write_abrdf_exr(tmp_path / "glossy.exr", tabulate(phong([0.3, 0.2, 0.1], [0.3] * 3, 10)))
+    for seed in ("-1", str(2**32)):
+        code, out = tiny_run(
+            [str(tmp_path / "glossy.exr"), "-o", str(tmp_path / "x.png"), "--seed", seed], capsys
+        )
+        assert code == 2
+        assert "--seed must be in 0..4294967295" in out.err
+    code, out = tiny_run(
+        [str(tmp_path / "glossy.exr"), "-o", str(tmp_path / "x.png"), "--seed", str(2**32 - 1)],
+        capsys,
+    )
+    assert code == 0, out.err

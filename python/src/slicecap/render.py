@@ -28,6 +28,7 @@ _TEXT_SCALE = 2
 DIFFERENCE_GAIN = 2.0
 _LINE = (GLYPH_HEIGHT + 3) * _TEXT_SCALE
 _MARGIN = 8
+MAX_SEED = 2**32 - 1
 
 
 def _parse(argv):
@@ -41,7 +42,9 @@ def _parse(argv):
     parser.add_argument("-o", "--output", required=True, help="the picture to write (.png)")
     parser.add_argument("--size", type=int, default=256, help="pixels per rendering (default 256)")
     parser.add_argument("--spp", type=int, default=64, help="samples per pixel (default 64)")
-    parser.add_argument("--seed", type=int, default=0, help="sampler seed (default 0)")
+    parser.add_argument(
+        "--seed", type=int, default=0, help=f"sampler seed, 0..{MAX_SEED} (default 0)"
+    )
     parser.add_argument(
         "--variant",
         default="llvm_ad_rgb",
@@ -123,6 +126,10 @@ def run(argv) -> int:
     args = _parse(argv)
     if args.size < 8 or args.spp < 1:
         print("slicecap.render: --size must be >= 8 and --spp >= 1", file=sys.stderr)
+        return 2
+    if not 0 <= args.seed <= MAX_SEED:
+        # Mitsuba takes an unsigned 32-bit seed; anything else failed deep inside mi.render.
+        print(f"slicecap.render: --seed must be in 0..{MAX_SEED}", file=sys.stderr)
         return 2
     for role, path in (("material", args.material), ("reference", args.reference)):
         if path and same_file(args.output, path):
