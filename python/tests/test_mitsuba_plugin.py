@@ -213,6 +213,26 @@ def test_malformed_exr_gives_the_readers_error(llvm, tmp_path):
         llvm.load_dict({"type": "slicecap"})
 
 
+def test_a_relative_filename_in_a_scene_file_is_the_scene_folders(llvm, tmp_path, monkeypatch):
+    # As Mitsuba's own plugins: a scene file's "satin.exr" is the one beside it, not whatever
+    # the working folder holds under that name.
+    table = random_table(np.random.default_rng(6))
+    (tmp_path / "scene").mkdir()
+    write_abrdf_exr(tmp_path / "scene" / "satin.exr", table, {"material": "beside-the-scene"})
+    write_abrdf_exr(tmp_path / "satin.exr", table, {"material": "in-the-working-folder"})
+    (tmp_path / "scene" / "scene.xml").write_text(
+        '<scene version="3.0.0"><shape type="sphere">'
+        '<bsdf type="slicecap"><string name="filename" value="satin.exr"/></bsdf>'
+        "</shape></scene>"
+    )
+    monkeypatch.chdir(tmp_path)
+    scene = llvm.load_file(str(tmp_path / "scene" / "scene.xml"))
+    assert "beside-the-scene" in str(scene.shapes()[0].bsdf())
+    monkeypatch.chdir(tmp_path / "scene")
+    (tmp_path / "satin.exr").unlink()
+    assert "beside-the-scene" in str(llvm.load_file("scene.xml").shapes()[0].bsdf())
+
+
 def test_scalar_variant_evaluates_and_samples_like_llvm(tmp_path):
     rng = np.random.default_rng(5)
     table = random_table(rng)

@@ -111,6 +111,13 @@ def _bin_of(v):
     return mi.UInt32(a * sampling.PHI_BINS + b)
 
 
+def _file_resolver():
+    """Mitsuba's file resolver (mi.file_resolver() in recent versions, the thread's before)."""
+    if hasattr(mi, "file_resolver"):
+        return mi.file_resolver()
+    return mi.Thread.thread().file_resolver()
+
+
 def _make_class():
     class SlicecapBsdf(mi.BSDF):
         """A slicecap ABRDF EXR (property `filename`) as a one-sided glossy BSDF."""
@@ -121,7 +128,9 @@ def _make_class():
                 raise ValueError(
                     "slicecap BSDF: the property 'filename' (an ABRDF EXR) is required"
                 )
-            self.filename = str(props["filename"])
+            # As Mitsuba's own plugins: relative to the scene file's folder (which load_file puts
+            # on the file resolver), then the resolver's other folders, then as given.
+            self.filename = str(_file_resolver().resolve(str(props["filename"])))
             self.material = load_material(self.filename)
             self.tables = _Tables(self.material.values)
             flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
