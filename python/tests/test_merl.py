@@ -111,3 +111,16 @@ def test_the_command_refuses_to_overwrite_its_input(tmp_path, capsys):
     assert command.run([path, "-o", path]) == 2
     assert f"-o {path} is the material: it would be overwritten" in capsys.readouterr().err
     np.testing.assert_array_equal(read_abrdf_exr(path).values, table)
+
+
+def test_a_table_of_another_shape_or_not_finite_is_refused(tmp_path):
+    table = tabulate(GLOSSY)
+    with pytest.raises(ValueError, match=r"shape \(81, 81, 3\), got \(81, 81\)"):
+        export_merl(tmp_path / "gray.binary", table[..., 0])
+    with pytest.raises(ValueError, match=r"shape \(81, 81, 3\), got \(80, 81, 3\)"):
+        export_merl(tmp_path / "short.binary", table[:80])
+    # A NaN that the MERL bins happen to miss was dropped without a word.
+    table[3, 4, 1] = np.nan
+    with pytest.raises(ValueError, match="non-finite value at light 3, view 4, channel G"):
+        export_merl(tmp_path / "nan.binary", table)
+    assert not any(tmp_path.iterdir())

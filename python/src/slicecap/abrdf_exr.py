@@ -37,7 +37,7 @@ def slicecap_attributes(header: dict) -> dict[str, str]:
     }
 
 
-def _first_non_finite(values: np.ndarray) -> str | None:
+def first_non_finite(values: np.ndarray) -> str | None:
     """Where the first non-finite value of an (81, 81, 3) table is ("light 3, view 40, channel
     G"), if any (the C++ firstNonFinite)."""
     bad = np.argwhere(~np.isfinite(values))
@@ -138,7 +138,7 @@ def read_abrdf_exr(path) -> Abrdf:
         raise
     except Exception as e:  # e.g. pixels of a type numpy does not convert
         raise _error(path, f"cannot read EXR: {e}") from e
-    where = _first_non_finite(values)
+    where = first_non_finite(values)
     if where:
         raise _error(path, f"non-finite value at {where}")
     return Abrdf(values, found)
@@ -150,7 +150,7 @@ def write_abrdf_exr(path, table, attributes: dict[str, str] | None = None) -> No
     naming the file on failure or for a table with a non-finite value (the reader refuses such a
     file, as the C++ writer does), ValueError for a table of another shape."""
     abrdf = table if isinstance(table, Abrdf) else Abrdf(np.asarray(table))
-    where = _first_non_finite(abrdf.values)
+    where = first_non_finite(abrdf.values)
     if where:
         raise _error(path, f"not written: a non-finite value at {where}")
     merged = dict(abrdf.attributes)
