@@ -15,6 +15,14 @@ def test_index_order_matches_the_readme():
     assert direction_of_index(80) == (75.0, 345.0)
     with pytest.raises(IndexError, match="81 is outside 0..80"):
         direction_of_index(81)
+    assert direction_of_index(np.int64(8)) == (30.0, 30.0)
+
+
+def test_an_index_that_is_not_a_whole_number_is_refused():
+    # 1.5 ended in numpy's "only integers, slices ... are valid indices"; True was index 1.
+    for index in (1.5, True, "8"):
+        with pytest.raises(TypeError, match=f"whole number in 0..80, got {index!r}"):
+            direction_of_index(index)
 
 
 def test_vectors_and_directions_round_trip():

@@ -1,5 +1,6 @@
 """The Bonn 81-direction hemisphere grid (METHOD.md 1.1): rings, index order, unit vectors."""
 
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,7 +45,10 @@ GRID_DIRECTIONS_DEG = _direction_table()
 
 
 def direction_of_index(index: int) -> tuple[float, float]:
-    """(theta_deg, phi_deg) of a grid index; raises IndexError outside 0..80."""
+    """(theta_deg, phi_deg) of a grid index; raises IndexError outside 0..80, TypeError for what
+    is not a whole number."""
+    if isinstance(index, bool) or not isinstance(index, numbers.Integral):
+        raise TypeError(f"a Bonn direction index is a whole number in 0..80, got {index!r}")
     if not 0 <= index < DIRECTION_COUNT:
         raise IndexError(f"Bonn direction index {index} is outside 0..80")
     theta_deg, phi_deg = GRID_DIRECTIONS_DEG[index]
