@@ -67,6 +67,20 @@ def test_texels_outside_the_window_are_refused(woven_btf):
         btf.texel(0, True)
 
 
+def test_a_resolution_the_images_do_not_have_is_named(woven_btf, tmp_path):
+    inconsistent = tmp_path / "inconsistent"
+    shutil.copytree(woven_btf, inconsistent)
+    manifest = json.loads((inconsistent / "btf.json").read_text())
+    # 6561 images of 1024 x 1024: 38 GiB, which numpy failed to allocate before any was read.
+    manifest["resolution"] = 1024
+    (inconsistent / "btf.json").write_text(json.dumps(manifest))
+    with pytest.raises(SlicecapFileError) as raised:
+        read_btf(inconsistent)
+    assert str(raised.value) == (
+        f"{inconsistent / image_path(0, 0)}: 4 x 4 texels, the manifest says 1024 x 1024"
+    )
+
+
 def test_a_damaged_directory_is_refused_naming_the_file(woven_btf, tmp_path):
     broken = tmp_path / "broken"
     shutil.copytree(woven_btf, broken)

@@ -146,9 +146,13 @@ def read_btf(directory) -> Btf:
         raise _error(manifest_path, f"not JSON: {e}") from e
     _check_manifest(manifest_path, manifest)
     resolution = manifest["resolution"]
+    # The first image before the 6561 x N x N array: a resolution the images do not have is
+    # named as such, not as numpy's failure to allocate tens of GiB.
+    first = _read_image(directory / image_path(0, 0), resolution)
     images = np.empty((DIRECTIONS, DIRECTIONS, resolution, resolution, 3), dtype=np.float16)
+    images[0, 0] = first
     for light in range(DIRECTIONS):
-        for view in range(DIRECTIONS):
+        for view in range(1 if light == 0 else 0, DIRECTIONS):
             images[light, view] = _read_image(directory / image_path(light, view), resolution)
     average = read_abrdf_exr(directory / manifest.get("average", DEFAULT_AVERAGE))
     return Btf(images, manifest, average)
