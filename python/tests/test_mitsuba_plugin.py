@@ -261,3 +261,15 @@ def test_scalar_variant_evaluates_and_samples_like_llvm(tmp_path):
         ),
     )
     assert np.all(np.isfinite(image)) and image.mean() > 0
+
+
+def test_a_variant_that_is_not_rgb_is_refused_when_registering():
+    import slicecap.mitsuba_bsdf
+
+    mi = pytest.importorskip("mitsuba", reason="mitsuba is not installed")
+    if "scalar_spectral" not in mi.variants():
+        pytest.skip("this Mitsuba build has no scalar_spectral variant")
+    mi.set_variant("scalar_spectral")
+    # Registered there, the plugin loaded and then failed in mi.render with std::bad_cast.
+    with pytest.raises(RuntimeError, match="variant scalar_spectral is not an RGB variant"):
+        slicecap.mitsuba_bsdf.register()

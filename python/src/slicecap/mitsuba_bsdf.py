@@ -254,10 +254,17 @@ _registered_variants: set[str] = set()
 
 
 def register() -> None:
-    """Registers the BSDF `slicecap` for the current Mitsuba variant (call after set_variant)."""
+    """Registers the BSDF `slicecap` for the current Mitsuba variant (call after set_variant).
+    Raises RuntimeError for a variant that is not RGB (spectral, monochrome, polarized): the
+    table is RGB, and there its lookups failed only when rendering, with std::bad_cast."""
     variant = mi.variant()
     if variant is None:
         raise RuntimeError("slicecap.mitsuba_bsdf.register: call mitsuba.set_variant() first")
+    if not mi.is_rgb or mi.is_polarized:
+        raise RuntimeError(
+            f"slicecap.mitsuba_bsdf.register: Mitsuba variant {variant} is not an RGB variant; "
+            "the slicecap BSDF holds an RGB table (use e.g. scalar_rgb or llvm_ad_rgb)"
+        )
     if variant in _registered_variants:
         return
     cls = _make_class()
