@@ -27,6 +27,25 @@ def test_half_brightness_gives_the_hand_computed_figures():
     assert metrics.delta_e == pytest.approx(100 - 76.24, abs=0.02)
 
 
+def test_non_finite_pixels_and_mismatched_masks_are_refused():
+    image = np.random.default_rng(1).uniform(0, 2, (8, 8, 3))
+    broken = image.copy()
+    broken[2, 5, 1] = np.nan
+    # A NaN in the test image was encoded as 0 and scored; in the reference it was reported as
+    # "the reference rendering has no positive value".
+    with pytest.raises(ValueError, match="test image has a non-finite value at row 2, column 5"):
+        compare_images(image, broken)
+    with pytest.raises(ValueError, match="reference image has a non-finite value at row 2"):
+        compare_images(broken, image)
+    outside = np.ones((8, 8), dtype=bool)
+    outside[2, 5] = False
+    assert compare_images(image, broken, outside).rmse == 0  # not a compared pixel
+    with pytest.raises(ValueError, match=r"the mask is \(4, 4\), the images \(8, 8\)"):
+        compare_images(image, image, np.ones((4, 4), dtype=bool))
+    with pytest.raises(ValueError, match=r"images must be \(H, W, 3\), got \(8, 8\)"):
+        compare_images(image[..., 0], image[..., 0])
+
+
 def test_the_mask_selects_the_compared_pixels():
     reference = np.ones((4, 4, 3))
     test = reference.copy()

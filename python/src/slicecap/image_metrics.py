@@ -73,11 +73,28 @@ def exposure_of(reference: np.ndarray, mask: np.ndarray | None = None) -> float:
 def compare_images(
     reference: np.ndarray, test: np.ndarray, mask: np.ndarray | None = None
 ) -> ImageMetrics:
-    """dE, RMSE and PSNR of `test` against `reference` (H, W, 3 linear), over `mask` pixels."""
+    """dE, RMSE and PSNR of `test` against `reference` (H, W, 3 linear), over `mask` pixels.
+    Raises ValueError for images of other shapes, a mask of another size, or a non-finite masked
+    pixel (which the 8-bit encoding would turn into 0 without a word)."""
+    reference = np.asarray(reference, dtype=np.float64)
+    test = np.asarray(test, dtype=np.float64)
+    if reference.ndim != 3 or reference.shape[2] != 3:
+        raise ValueError(f"images must be (H, W, 3), got {reference.shape}")
     if reference.shape != test.shape:
         raise ValueError(f"images differ in shape: {reference.shape} vs {test.shape}")
     if mask is None:
         mask = np.ones(reference.shape[:2], dtype=bool)
+    mask = np.asarray(mask, dtype=bool)
+    if mask.shape != reference.shape[:2]:
+        raise ValueError(f"the mask is {mask.shape}, the images {reference.shape[:2]}")
+    for name, image in (("reference", reference), ("test", test)):
+        bad = np.argwhere(~np.isfinite(image) & mask[..., None])
+        if len(bad):
+            row, column, channel = bad[0]
+            raise ValueError(
+                f"the {name} image has a non-finite value at row {row}, column {column}, "
+                f"channel {channel}"
+            )
     exposure = exposure_of(reference, mask)
     ref8 = to_8bit(reference[mask], exposure)
     test8 = to_8bit(test[mask], exposure)
