@@ -101,5 +101,65 @@ TEST(ProcessCommand, DecimationOutsideItsRangeIsAUsageError) {
   }
 }
 
+// Two ideal 6-frame recordings (3 LED-on frames each) under dir/session.
+std::vector<std::filesystem::path> twoRecordings(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> recordings;
+  for (const char* theta : {"30", "75"}) {
+    recordings.push_back(dir / "session" / (std::string("diagonal-") + theta));
+    EXPECT_EQ(run({"simulate", "--material", "lambert:albedo=0.5", "-o", recordings.back().string(),
+                   "--slice", "diagonal", "--theta-i", theta, "--theta-v", theta, "--frames", "6",
+                   "--ideal"})
+                  .code,
+              kExitOk);
+  }
+  return recordings;
+}
+
+TEST(ProcessCommand, NoSampleFromAnyRecordingFailsNamingThemAndKeepsTheReport) {
+  // It exited 0 and wrote a slice CSV with a header and no sample, which every reader refuses.
+  const auto dir = test::freshTempDir();
+  const auto recordings = twoRecordings(dir);
+  const auto csv = dir / "s.csv", report = dir / "r.json";
+  Result r = run({"process", recordings[0].string(), recordings[1].string(), "-o", csv.string(),
+                  "--report", report.string(), "--min-markers", "1000"});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_NE(r.err.find("no recording gave a sample"), std::string::npos) << r.err;
+  for (const auto& recording : recordings)
+    EXPECT_NE(r.err.find(recording.string() + " (diagonal "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("rejected 3 too_few_markers"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(csv));
+  nlohmann::json j;
+  std::ifstream(report) >> j;
+  EXPECT_EQ(j["recordings"].size(), 2u) << "the diagnosis is kept";
+
+  // capture-offline alike: neither the EXR nor --slices, the report written.
+  const auto exr = dir / "o.exr", report2 = dir / "r2.json";
+  r = run({"capture-offline", (dir / "session").string(), "-o", exr.string(), "--slices",
+           csv.string(), "--report", report2.string(), "--min-markers", "1000"});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_NE(r.err.find("no recording gave a sample"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("rejected 3 too_few_markers"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(csv));
+  EXPECT_FALSE(std::filesystem::exists(exr));
+  EXPECT_TRUE(std::filesystem::exists(report2));
+}
+
+TEST(ProcessCommand, ARecordingWithoutSamplesAmongOthersIsNamedInAWarning) {
+  const auto dir = test::freshTempDir();
+  const auto recordings = twoRecordings(dir);
+  for (const io::RecordedFrame& frame : io::readRecording(recordings[1]).frames)
+    if (frame.ledOn) std::ofstream(io::framePath(recordings[1], frame)) << "not a PNG";
+  const auto csv = dir / "s.csv";
+  const Result r =
+      run({"process", recordings[0].string(), recordings[1].string(), "-o", csv.string()});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_NE(r.err.find("warning: no sample from " + recordings[1].string() +
+                       " (diagonal 75/75): rejected 3 bad_frame"),
+            std::string::npos)
+      << r.err;
+  const SliceSet slices = io::readSliceCsv(csv);
+  EXPECT_EQ(slices.sampleCount(), 3u) << "the other recording's samples are kept";
+}
+
 }  // namespace
 }  // namespace slicecap::cli

@@ -1,8 +1,13 @@
 // `slicecap process` (recordings -> slice CSV) and `slicecap capture-offline` (session -> EXR).
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <ostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "path_clash.hpp"
 #include "pipeline_options.hpp"
@@ -18,11 +23,33 @@
 namespace slicecap::cli {
 namespace {
 
-// Runs every recording, prints the summary, returns the slices (each recording one slice).
-SliceSet processAll(const std::vector<std::filesystem::path>& recordings,
-                    const capture::PipelineSettings& settings, Streams& io,
-                    nlohmann::json* report) {
+// "DIR (slice): rejected 20 blurred, 4 too_few_markers": why a recording gave no sample, the
+// three most frequent reasons first.
+std::string noSampleReason(const capture::RecordingResult& result) {
+  std::vector<std::pair<std::string, int>> reasons(result.rejections.begin(),
+                                                   result.rejections.end());
+  std::stable_sort(reasons.begin(), reasons.end(),
+                   [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::string text = result.directory.string() + " (" + toString(result.slice) + "): ";
+  if (reasons.empty()) return text + "no LED-on frame";
+  text += "rejected";
+  for (std::size_t k = 0; k < std::min<std::size_t>(reasons.size(), 3); ++k)
+    text += (k ? ", " : " ") + std::to_string(reasons[k].second) + " " + reasons[k].first;
+  return text;
+}
+
+// What the recordings gave: the slices (each recording one slice) and, per recording that gave
+// no sample, why (noSampleReason).
+struct Processed {
   SliceSet slices;
+  std::vector<std::string> withoutSamples;
+};
+
+// Runs every recording, printing its summary.
+Processed processAll(const std::vector<std::filesystem::path>& recordings,
+                     const capture::PipelineSettings& settings, Streams& io,
+                     nlohmann::json* report) {
+  Processed processed;
   std::map<SliceId, std::filesystem::path> seen;
   for (const auto& directory : recordings) {
     capture::RecordingResult result = capture::processRecording(directory, settings);
@@ -31,7 +58,7 @@ SliceSet processAll(const std::vector<std::filesystem::path>& recordings,
                        " was already given by " + previous->second.string());
     seen[result.slice] = directory;
     for (const SliceSample& sample : result.bins.combine())
-      slices.add(result.slice, sample);
+      processed.slices.add(result.slice, sample);
     const int samples = static_cast<int>(
         std::count_if(result.outcomes.begin(), result.outcomes.end(),
                       [](const auto& o) { return o.kind == capture::FrameOutcome::Kind::Sample; }));
@@ -41,9 +68,26 @@ SliceSet processAll(const std::vector<std::filesystem::path>& recordings,
     for (const auto& [reason, count] : result.rejections)
       io.err << ", " << count << " " << reason;
     io.err << "\n";
+    if (result.bins.filledCount() == 0) processed.withoutSamples.push_back(noSampleReason(result));
     if (report) (*report)["recordings"].push_back(result.toJson());
   }
-  return slices;
+  return processed;
+}
+
+// No sample at all is a failure naming every recording and its main rejections (the report, if
+// asked for, is written before: it holds every frame's reason); some recordings without samples
+// are a warning naming them, and the others' samples are kept.
+void refuseNoSamples(const Processed& processed, const std::optional<std::string>& reportPath,
+                     const std::filesystem::path& output, Streams& io) {
+  if (processed.slices.sampleCount() == 0) {
+    std::string message = "no recording gave a sample, " + output.string() + " not written:";
+    for (const std::string& reason : processed.withoutSamples)
+      message += "\n  " + reason;
+    if (reportPath) message += "\n  (every frame's reason is in " + *reportPath + ")";
+    throw std::runtime_error(message);
+  }
+  for (const std::string& reason : processed.withoutSamples)
+    io.err << "warning: no sample from " << reason << "\n";
 }
 
 void writeReport(const std::filesystem::path& path, const nlohmann::json& report) {
@@ -58,10 +102,12 @@ int runProcess(const ParsedArgs& args, Streams& io) {
   std::vector<NamedPath> outputs = {{"-o", output}};
   if (reportPath) outputs.push_back({"--report", *reportPath});
   refuseClashingPaths(recordingInputs(recordings), outputs);
-  const SliceSet slices =
+  const Processed processed =
       processAll(recordings, pipelineSettingsOf(args), io, reportPath ? &report : nullptr);
-  io::writeSliceCsv(output, slices);
   if (reportPath) writeReport(*reportPath, report);
+  refuseNoSamples(processed, reportPath, output, io);
+  const SliceSet& slices = processed.slices;
+  io::writeSliceCsv(output, slices);
   io.out << "wrote " << slices.sampleCount() << " samples in " << slices.slices().size()
          << " slices to " << output.string() << "\n";
   return 0;
@@ -79,9 +125,11 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   if (const auto csv = args.value("slices")) outputs.push_back({"--slices", *csv});
   if (reportPath) outputs.push_back({"--report", *reportPath});
   refuseClashingPaths(recordingInputs(recordings), outputs);
-  const SliceSet slices = processAll(recordings, settings, io, reportPath ? &report : nullptr);
-  if (const auto csv = args.value("slices")) io::writeSliceCsv(*csv, slices);
+  const Processed processed = processAll(recordings, settings, io, reportPath ? &report : nullptr);
   if (reportPath) writeReport(*reportPath, report);
+  refuseNoSamples(processed, reportPath, output, io);
+  const SliceSet& slices = processed.slices;
+  if (const auto csv = args.value("slices")) io::writeSliceCsv(*csv, slices);
   const Method& method = findMethod(args.value("method").value_or("b"));
   MethodOptions options;
   options.isotropic = args.flag("isotropic");
@@ -112,7 +160,8 @@ Command processCommand() {
            "(the room light subtracted: the LED-off frames before and after, each at its own\n"
            "pose, interpolated in time; divided by the fitted irradiance), 15 deg azimuth bins\n"
            "combined by median. One recording per slice; its slice comes from recording.json.\n"
-           "Prints per slice the bins filled and the rejections by reason on stderr.",
+           "Prints per slice the bins filled and the rejections by reason on stderr; no sample\n"
+           "from any recording is a failure naming them (the report is still written).",
            options, 1, 64},
           runProcess};
 }
