@@ -161,5 +161,46 @@ TEST(ProcessCommand, ARecordingWithoutSamplesAmongOthersIsNamedInAWarning) {
   EXPECT_EQ(slices.sampleCount(), 3u) << "the other recording's samples are kept";
 }
 
+TEST(ProcessCommand, BadMethodsAndRecordingsAreRefusedBeforeAnyFrameIsProcessed) {
+  // --method and a broken recording.json were found only after every frame before them had
+  // been processed (minutes on a real session).
+  const auto dir = test::freshTempDir();
+  const auto recordings = twoRecordings(dir);
+  const auto session = (dir / "session").string(), exr = (dir / "o.exr").string();
+  const std::string processed = "of 24 bins";  // each recording's summary line
+  Result r = run({"capture-offline", session, "-o", exr, "--method", "nosuch"});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_NE(r.err.find("unknown method 'nosuch'"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find(processed), std::string::npos) << r.err;
+
+  // The last recording (in sorted order) without a slice, then with a bad field.
+  const auto manifest = recordings[1] / io::kRecordingManifest;
+  nlohmann::json j;
+  std::ifstream(manifest) >> j;
+  const nlohmann::json good = j;
+  j.erase("slice");
+  std::ofstream(manifest) << j.dump();
+  r = run({"capture-offline", session, "-o", exr});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_NE(r.err.find(recordings[1].string() + ": recording.json has no slice"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find(processed), std::string::npos) << r.err;
+  j = good;
+  j["frames"][0]["exposure_us"] = -5;
+  std::ofstream(manifest) << j.dump();
+  r = run({"capture-offline", session, "-o", exr});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_NE(r.err.find("exposure_us"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find(processed), std::string::npos) << r.err;
+
+  // The same slice twice.
+  std::ofstream(manifest) << good.dump();
+  r = run(
+      {"process", recordings[0].string(), recordings[0].string(), "-o", (dir / "s.csv").string()});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_EQ(r.err.find(processed), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(exr));
+}
+
 }  // namespace
 }  // namespace slicecap::cli

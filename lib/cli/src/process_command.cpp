@@ -23,6 +23,24 @@
 namespace slicecap::cli {
 namespace {
 
+// Every recording's recording.json, read and checked before any frame is processed (a session's
+// frames take minutes): a bad manifest (IoError naming the file and field), a recording without a
+// slice, the same slice twice (bad usage).
+void checkRecordings(const std::vector<std::filesystem::path>& recordings) {
+  std::map<SliceId, std::filesystem::path> seen;
+  for (const auto& directory : recordings) {
+    const io::Recording recording = io::readRecording(directory);
+    if (!recording.slice)
+      throw std::invalid_argument(directory.string() +
+                                  ": recording.json has no slice (a calibration recording?)");
+    const SliceId slice = recording.slice->id;
+    if (const auto previous = seen.find(slice); previous != seen.end())
+      throw UsageError(directory.string() + ": slice " + toString(slice) +
+                       " was already given by " + previous->second.string());
+    seen[slice] = directory;
+  }
+}
+
 // "DIR (slice): rejected 20 blurred, 4 too_few_markers": why a recording gave no sample, the
 // three most frequent reasons first.
 std::string noSampleReason(const capture::RecordingResult& result) {
@@ -45,18 +63,14 @@ struct Processed {
   std::vector<std::string> withoutSamples;
 };
 
-// Runs every recording, printing its summary.
+// Checks every recording (checkRecordings), then runs each, printing its summary.
 Processed processAll(const std::vector<std::filesystem::path>& recordings,
                      const capture::PipelineSettings& settings, Streams& io,
                      nlohmann::json* report) {
+  checkRecordings(recordings);
   Processed processed;
-  std::map<SliceId, std::filesystem::path> seen;
   for (const auto& directory : recordings) {
     capture::RecordingResult result = capture::processRecording(directory, settings);
-    if (const auto previous = seen.find(result.slice); previous != seen.end())
-      throw UsageError(directory.string() + ": slice " + toString(result.slice) +
-                       " was already given by " + previous->second.string());
-    seen[result.slice] = directory;
     for (const SliceSample& sample : result.bins.combine())
       processed.slices.add(result.slice, sample);
     const int samples = static_cast<int>(
@@ -118,6 +132,7 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   const std::filesystem::path output = args.required("output");
   // Bad options are usage errors before the session is even looked at.
   const capture::PipelineSettings settings = pipelineSettingsOf(args);
+  const Method& method = findMethod(args.value("method").value_or("b"));
   const std::vector<std::filesystem::path> recordings = sessionRecordings(session);
   nlohmann::json report = {{"recordings", nlohmann::json::array()}};
   const auto reportPath = args.value("report");
@@ -130,7 +145,6 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   refuseNoSamples(processed, reportPath, output, io);
   const SliceSet& slices = processed.slices;
   if (const auto csv = args.value("slices")) io::writeSliceCsv(*csv, slices);
-  const Method& method = findMethod(args.value("method").value_or("b"));
   MethodOptions options;
   options.isotropic = args.flag("isotropic");
   const MethodRun result = method.run(slices, options);
