@@ -77,7 +77,7 @@ TEST(RigCommands, SimulateNamesBadInput) {
   const auto dir = test::freshTempDir();
   const Result material =
       run({"simulate", "--material", "ggx:ax=7", "-o", (dir / "a").string(), "--frames", "2"});
-  EXPECT_EQ(material.code, kExitFailure);
+  EXPECT_EQ(material.code, kExitUsage);
   EXPECT_NE(material.err.find("ax"), std::string::npos) << material.err;
   EXPECT_EQ(run({"simulate", "--material", "lambert"}).code, kExitUsage)
       << "neither -o nor --session";
@@ -85,6 +85,23 @@ TEST(RigCommands, SimulateNamesBadInput) {
             kExitUsage);
   EXPECT_EQ(run({"simulate", "--material", "lambert", "-o", "x", "--slice", "sideways"}).code,
             kExitUsage);
+}
+
+TEST(RigCommands, AnUnknownMaterialIsBadUsageInSimulateAsInGenerate) {
+  const auto dir = test::freshTempDir();
+  const Result generate = run({"generate", "no-such-material", "-o", (dir / "t.exr").string()});
+  const Result simulate = run({"simulate", "--material", "no-such-material", "-o",
+                               (dir / "rec").string(), "--frames", "2"});
+  EXPECT_EQ(generate.code, kExitUsage) << generate.err;
+  EXPECT_EQ(simulate.code, kExitUsage) << simulate.err;
+  EXPECT_NE(simulate.err.find("--material: unknown material 'no-such-material'"), std::string::npos)
+      << simulate.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "rec"));
+  // A table that cannot be read is a failure naming the file, as every reader's.
+  const Result table = run({"simulate", "--material", (dir / "missing.exr").string(), "-o",
+                            (dir / "rec").string(), "--frames", "2"});
+  EXPECT_EQ(table.code, kExitFailure) << table.err;
+  EXPECT_NE(table.err.find("missing.exr"), std::string::npos) << table.err;
 }
 
 TEST(RigCommands, SimulateRefusesACameraTooLargeToRenderNamingItsFile) {

@@ -50,6 +50,16 @@ io::RecordedSlice sliceOf(const ParsedArgs& args) {
   return {{*kind, {elevation("theta-i"), elevation("theta-v")}}, kAxialOffsetDeg};
 }
 
+// An unknown name or a bad model parameter is bad usage, as in `generate`; a table file that
+// cannot be read is a failure naming the file (io::IoError passes through).
+std::shared_ptr<const models::ReflectanceModel> materialOf(const std::string& spec) {
+  try {
+    return sim::loadMaterial(spec);
+  } catch (const sim::MaterialError& e) {
+    throw UsageError(std::string("simulate: --material: ") + e.what());
+  }
+}
+
 int run(const ParsedArgs& args, Streams& io) {
   const auto output = args.value("output");
   const auto session = args.value("session");
@@ -77,8 +87,8 @@ int run(const ParsedArgs& args, Streams& io) {
     setup.camera = io::cameraFromJson(io::readJsonFile(*camera), *camera);
   const io::RecordedSlice slice = sliceOf(args);
   const auto started = std::chrono::steady_clock::now();
-  const sim::FrameRenderer renderer(setup.camera, setup.target,
-                                    sim::loadMaterial(setup.materialSpec), setup.rig);
+  const sim::FrameRenderer renderer(setup.camera, setup.target, materialOf(setup.materialSpec),
+                                    setup.rig);
   int frames = 0;
   if (output) {
     sim::simulateSweep(*output, slice, renderer, setup);
