@@ -54,6 +54,21 @@ TEST(SliceCsv, AcceptsCommentsBlankLinesExtraAndReorderedColumns) {
   EXPECT_NE(set.find({SliceKind::Diagonal, {30, 30}}), nullptr);
 }
 
+TEST(SliceCsv, SkipsTheByteOrderMarkASpreadsheetWritesFirst) {
+  // "CSV UTF-8" from a spreadsheet program: EF BB BF, then the header.
+  const auto path = test::freshTempDir() / "from-a-spreadsheet.csv";
+  std::ofstream(path, std::ios::binary) << "\xEF\xBB\xBFslice,theta_i,phi_i,theta_v,phi_v,r,g,b\r\n"
+                                           "axial,30,0,30,15,0.1,0.2,0.3\r\n";
+  const SliceSet set = readSliceCsv(path);
+  ASSERT_EQ(set.sampleCount(), 1u);
+  EXPECT_DOUBLE_EQ(set.find({SliceKind::Axial, {30, 30}})->samples[0].value.b(), 0.3);
+  // Only at the start of the file: elsewhere it is a field's text, named in the error.
+  const std::string error = parseError(
+      "slice,theta_i,phi_i,theta_v,phi_v,r,g,b\n\xEF\xBB\xBF"
+      "axial,30,0,30,15,0.1,0.2,0.3\n");
+  EXPECT_NE(error.find("slices.csv:2: unknown slice kind"), std::string::npos) << error;
+}
+
 TEST(SliceCsv, NamesTheFileAndLineOfATruncatedRow) {
   const std::string error = parseError(
       "slice,theta_i,phi_i,theta_v,phi_v,r,g,b\n"

@@ -64,6 +64,9 @@ SliceSet parseSliceCsv(std::istream& in, const std::string& sourceName) {
   SliceSet slices;
   while (std::getline(in, line)) {
     ++lineNumber;
+    // Spreadsheet programs save "CSV UTF-8" with a byte order mark before the header.
+    constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
+    if (lineNumber == 1 && line.starts_with(kUtf8Bom)) line.erase(0, kUtf8Bom.size());
     const std::string_view text = trim(line);
     if (text.empty() || text.front() == '#') continue;
     const std::vector<std::string_view> fields = splitFields(text);

@@ -14,7 +14,8 @@ namespace slicecap::io {
 ElevationPair nominalElevations(double thetaIDeg, double thetaVDeg);
 
 /// \brief Parses slice CSV text. The header names the columns (any order; extra columns are
-/// ignored); lines starting with '#' and blank lines are skipped. Every error throws IoError as
+/// ignored); lines starting with '#' and blank lines are skipped, and so is a UTF-8 byte order
+/// mark at the start (as spreadsheet programs write it). Every error throws IoError as
 /// "SOURCE:LINE: what" (a truncated row, a non-numeric or non-finite field, an unknown slice kind,
 /// an elevation outside [0, 90), no samples at all).
 SliceSet parseSliceCsv(std::istream& in, const std::string& sourceName);
