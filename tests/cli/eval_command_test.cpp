@@ -2,13 +2,16 @@
 // their own rows.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <sstream>
 
 #include "../support/cli_runner.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/cli/cli.hpp"
+#include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/png_image.hpp"
 
 namespace slicecap::cli {
@@ -50,6 +53,41 @@ TEST(EvalCommand, RejectsABadRbfSpecNamingTheKey) {
     const Result r = run({"eval", "blue-plastic", "--methods", "a", "--rbf", spec});
     EXPECT_EQ(r.code, kExitUsage) << spec;
     EXPECT_NE(r.err.find("--rbf"), std::string::npos) << spec << ": " << r.err;
+  }
+}
+
+TEST(EvalCommand, RbfValuesOutsideTheirRangeAreUsageErrorsNamingTheRange) {
+  // r0=1e10 or gamma=1e10 gave all-zero interpolations, silently.
+  for (const std::string spec : {"r0=1e10", "r0=5", "r0=0.001", "kernel=imq,r0=1e-300"}) {
+    const Result r = run({"eval", "blue-plastic", "--methods", "uniform", "--rbf", spec});
+    EXPECT_EQ(r.code, kExitUsage) << spec;
+    EXPECT_NE(r.err.find("--rbf: r0 '"), std::string::npos) << spec << ": " << r.err;
+    EXPECT_NE(r.err.find("is not a number in 0.01..4"), std::string::npos) << spec << ": " << r.err;
+  }
+  for (const std::string spec : {"gamma=1e10", "gamma=1e300", "gamma=0.5", "gamma=1e-300"}) {
+    const Result r = run({"eval", "blue-plastic", "--methods", "uniform", "--rbf", spec});
+    EXPECT_EQ(r.code, kExitUsage) << spec;
+    EXPECT_NE(r.err.find("is not a number in 1..1000"), std::string::npos) << spec << ": " << r.err;
+  }
+  // At the ends of the ranges both still interpolate: most entries of a material whose BRDF is
+  // positive everywhere stay positive (an all-zero interpolation has none; negatives overshot
+  // between the centres are clipped to zero).
+  const auto dir = test::freshTempDir();
+  const std::string truth = (dir / "t.exr").string(), slices = (dir / "s.csv").string(),
+                    points = (dir / "u.csv").string(), table = (dir / "out.exr").string();
+  ASSERT_EQ(run({"generate", "blue-plastic", "-o", truth}).code, kExitOk);
+  ASSERT_EQ(run({"sample", truth, "-o", slices}).code, kExitOk);
+  ASSERT_EQ(run({"sample", truth, "-o", points, "--uniform", "13"}).code, kExitOk);
+  for (const std::string spec : {"kernel=imq,r0=0.01", "r0=4", "r0=4,gamma=1000"}) {
+    for (const auto& [method, input] : {std::pair{"a", slices}, std::pair{"uniform", points}}) {
+      const Result r = run({"reconstruct", input, "-o", table, "--method", method, "--rbf", spec});
+      ASSERT_EQ(r.code, kExitOk) << spec << ": " << r.err;
+      const Abrdf result = io::readAbrdfExr(table);
+      const std::span<const float> values = result.values();
+      const auto positive =
+          std::count_if(values.begin(), values.end(), [](float v) { return v > 0; });
+      EXPECT_GT(positive, static_cast<std::ptrdiff_t>(values.size() / 2)) << method << " " << spec;
+    }
   }
 }
 

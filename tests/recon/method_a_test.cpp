@@ -61,6 +61,16 @@ TEST(MethodA, SharedSystemKeepsTheMeasuredSubspacesAndIsExactForConstantsAtAnyGa
   EXPECT_EQ(toInterpolatedValue(-1.0, 2.2), 0.0) << "negatives clipped";
 }
 
+TEST(MethodA, AnInterpolantSingularInFloatingPointIsAnErrorNotAZeroTable) {
+  // The inverse multiquadric with r0 -> 0 puts 1/0 on the diagonal: NaN everywhere, which the
+  // clipping of negatives turned into an all-zero interpolation, silently.
+  MethodAParams params;
+  params.rbf.kernel = RbfKernel::InverseMultiquadric;
+  params.rbf.shapeScale = 1e-300;
+  EXPECT_THROW(reconstructMethodA(extractSlices(tableOf("matte-paint")), params),
+               ReconstructionError);
+}
+
 TEST(MethodA, FloatEvaluationStaysWithinItsStatedBound) {
   // The float evaluation matrix against the double interpolant at every 7th other entry, on a
   // sharp brushed metal (values up to ~100 1/sr).

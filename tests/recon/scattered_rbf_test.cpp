@@ -36,6 +36,14 @@ TEST(ScatteredRbf, ReproducesAConstantTable) {
       << "the gamma round trip keeps a constant";
 }
 
+TEST(ScatteredRbf, AnInterpolantSingularInFloatingPointIsAnErrorNotAZeroTable) {
+  const Abrdf truth = models::tabulate(*models::makeLambert({0.3, 0.5, 0.7}));
+  ScatteredRbfParams params;
+  params.rbf.kernel = RbfKernel::InverseMultiquadric;
+  params.rbf.shapeScale = 1e-300;  // 1/0 on the diagonal: NaN, which was clipped to zeros
+  EXPECT_THROW(reconstructScattered(extractUniformSamples(truth, 13), params), ReconstructionError);
+}
+
 TEST(ScatteredRbf, AveragesSamplesAtTheSameDirections) {
   SliceSet samples;
   samples.add({SliceKind::Point, {30, 30}}, {{30, 0}, {30, 180}, Rgb::gray(1.0)});

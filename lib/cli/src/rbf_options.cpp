@@ -1,7 +1,6 @@
 // Parsing and printing of `--rbf SPEC`.
 #include "slicecap/cli/rbf_options.hpp"
 
-#include <cmath>
 #include <sstream>
 
 #include "slicecap/cli/args.hpp"
@@ -31,7 +30,17 @@ std::string kernelName(recon::RbfKernel kernel) {
   return "mq";
 }
 
-double parsePositive(const std::string& key, const std::string& text) {
+// The ranges where Method A and the uniform baseline still interpolate (measured with `slicecap
+// eval`, README "Method A's open choices"). r0: below 0.01 the inverse multiquadric's diagonal
+// tends to 1/0 (NaN, clipped to an all-zero table); above 4 the multiquadric is nearly flat over
+// the centres and the system's rounding swamps the interpolant (dE 22 at 5, 79 at 10; from 1e10
+// all zeros). gamma: below 1 it expands the values the interpolant already overshoots (at 0.5 a
+// third of a glossy table's entries clip to zero, at 0.1 more than half; further down float's
+// range ends), and above 1000 the result loses float's precision (1e10: all zeros).
+constexpr double kMinShapeScale = 0.01, kMaxShapeScale = 4.0;
+constexpr double kMinValueGamma = 1.0, kMaxValueGamma = 1000.0;
+
+double parseInRange(const std::string& key, const std::string& text, double lo, double hi) {
   std::size_t used = 0;
   double value = 0.0;
   try {
@@ -39,8 +48,11 @@ double parsePositive(const std::string& key, const std::string& text) {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != text.size() || !std::isfinite(value) || value <= 0.0)
-    throw UsageError("--rbf: " + key + " '" + text + "' is not a positive number");
+  if (used != text.size() || !(value >= lo && value <= hi)) {
+    std::ostringstream range;
+    range << lo << ".." << hi;
+    throw UsageError("--rbf: " + key + " '" + text + "' is not a number in " + range.str());
+  }
   return value;
 }
 
@@ -64,14 +76,14 @@ void applyRbfSpec(const std::string& spec, MethodOptions& options) {
       options.rbf.polynomial =
           value == "linear" ? recon::RbfPolynomial::Linear : recon::RbfPolynomial::Constant;
     } else if (key == "r0") {
-      options.rbf.shapeScale = parsePositive(key, value);
+      options.rbf.shapeScale = parseInRange(key, value, kMinShapeScale, kMaxShapeScale);
     } else if (key == "frame") {
       if (value != "relative" && value != "absolute")
         throw UsageError("--rbf: frame '" + value + "' is not one of relative, absolute");
       options.onionFrame =
           value == "absolute" ? recon::OnionFrame::Absolute : recon::OnionFrame::ViewRelative;
     } else if (key == "gamma") {
-      options.rbf.valueGamma = parsePositive(key, value);
+      options.rbf.valueGamma = parseInRange(key, value, kMinValueGamma, kMaxValueGamma);
     } else {
       throw UsageError("--rbf: unknown key '" + key + "' (keys: kernel, poly, r0, frame, gamma)");
     }

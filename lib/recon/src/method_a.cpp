@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "slicecap/recon/errors.hpp"
 #include "slicecap/recon/measured_subspaces.hpp"
 
 namespace slicecap::recon {
@@ -89,6 +90,12 @@ Abrdf MethodASystem::interpolate(const std::vector<Subspace>& measured, double v
     s.writeTo(table);
   }
   const Eigen::MatrixXf others = interpolateOthers(values);
+  // A system singular in floating point (the inverse multiquadric with r0 near 0, a multiquadric
+  // flat over the centres) gives NaN, which the clipping below would make silent zeros.
+  if (!others.allFinite())
+    throw ReconstructionError(
+        "Method A: the RBF interpolant is not finite: the system is "
+        "singular in floating point for these RBF options");
   for (std::size_t j = 0; j < others_.size(); ++j) {
     for (int c = 0; c < 3; ++c) {
       table.channel(others_[j].light, others_[j].view, c) = static_cast<float>(

@@ -49,8 +49,14 @@ Abrdf reconstructScattered(const SliceSet& samples, const ScatteredRbfParams& pa
     for (int v = 0; v < bonn::kDirectionCount; ++v) {
       const FeaturePoint x = onionFeatures(bonn::direction(l), bonn::direction(v), params.frame);
       for (int c = 0; c < 3; ++c) {
-        table.channel(l, v, c) = static_cast<float>(
-            fromInterpolatedValue(rbf.evaluate(coefficients.col(c), x), params.rbf.valueGamma));
+        const double interpolated = rbf.evaluate(coefficients.col(c), x);
+        // NaN from a system singular in floating point would be clipped to a silent zero.
+        if (!std::isfinite(interpolated))
+          throw ReconstructionError(
+              "scattered RBF: the interpolant is not finite: the system is "
+              "singular in floating point for these RBF options");
+        table.channel(l, v, c) =
+            static_cast<float>(fromInterpolatedValue(interpolated, params.rbf.valueGamma));
       }
     }
   }

@@ -60,7 +60,8 @@ class MethodASystem {
   /// \brief The full table from the four measured subspaces (kMeasuredPairs order): their values
   /// are kept, every other entry is interpolated (as v^(1/valueGamma), RbfParams), negatives are
   /// clipped to 0. Throws std::invalid_argument when the subspaces are not the measured pairs in
-  /// that order.
+  /// that order, ReconstructionError when the interpolant is not finite (RBF options for which
+  /// the system is singular in floating point).
   Abrdf interpolate(const std::vector<Subspace>& measured, double valueGamma = 1.0) const;
 
   /// \brief Many tables at once (e.g. texture pixels): centre values, 1296 x k in

@@ -18,8 +18,9 @@ struct ScatteredRbfParams {
 /// \brief The 81 x 81 table interpolated, per channel, from every sample of the set (any kind:
 /// point samples of `sample --uniform`, or slice samples) at its own light and view directions.
 /// Samples at the same directions are averaged first. Negatives are clipped to 0. Throws
-/// ReconstructionError for an empty set or a non-finite sample, std::invalid_argument for
-/// invalid params.
+/// ReconstructionError for an empty set, a non-finite sample or an interpolant that is not
+/// finite (params for which the system is singular in floating point), std::invalid_argument
+/// for invalid params.
 Abrdf reconstructScattered(const SliceSet& samples, const ScatteredRbfParams& params = {});
 
 }  // namespace slicecap::recon
