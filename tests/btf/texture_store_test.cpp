@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 
 #include "../support/test_support.hpp"
 #include "slicecap/btf/texture_capture.hpp"
@@ -119,6 +120,35 @@ TEST(TextureStore, AnotherResolutionForTheSameSessionIsRefusedNamingTheManifest)
   TextureStoreLayout bad = kLayout;
   bad.framesPerBin = 0;
   EXPECT_THROW(TextureStore::openOrCreate(test::freshTempDir() / "t", bad), std::invalid_argument);
+}
+
+TEST(TextureStore, AnUnknownTexelEncodingOrQuantityIsRefusedNamingTheFileAndField) {
+  // They were not read at all: a store of float32 texels or of radiance was silently misread.
+  const fs::path dir = test::freshTempDir() / "texture";
+  TextureStore::openOrCreate(dir, kLayout).add(kAxial, frameAt(0.0, 1.0f));
+  const fs::path manifest = dir / kTextureStoreManifest;
+  const nlohmann::json written = nlohmann::json::parse(std::ifstream(manifest));
+  for (const auto& [field, value] : std::vector<std::pair<std::string, nlohmann::json>>{
+           {"texel_encoding", "float32le"}, {"quantity", "radiance"}, {"quantity", nullptr}}) {
+    nlohmann::json changed = written;
+    if (value.is_null())
+      changed.erase(field);
+    else
+      changed[field] = value;
+    std::ofstream(manifest) << changed.dump(2);
+    for (const StoreAccess access : {StoreAccess::ReadOnly, StoreAccess::Mend}) {
+      try {
+        TextureStore::open(dir, access);
+        ADD_FAILURE() << field << " " << value.dump() << " was accepted";
+      } catch (const io::IoError& e) {
+        EXPECT_NE(std::string(e.what()).find(manifest.string()), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+      }
+    }
+  }
+  EXPECT_EQ(frameFiles(dir).size(), 1u) << "a refused store is left as it was";
+  std::ofstream(manifest) << written.dump(2);
+  EXPECT_EQ(TextureStore::open(dir).frameCount(), 1u);
 }
 
 TEST(TextureStore, OpeningMendsWhatACrashLeftAndDropsDamagedFrames) {

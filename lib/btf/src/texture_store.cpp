@@ -200,6 +200,13 @@ TextureStoreLayout readLayout(const fs::path& manifest) {
                         " (this slicecap reads 1)");
     if (j.at("bin_width_deg").get<double>() != kBinWidthDeg)
       throw io::IoError(manifest.string() + ": bin_width_deg: only 15 is supported");
+    // The frames' texels are read as these say: another encoding or quantity would be misread.
+    if (j.at("texel_encoding") != "float16le")
+      throw io::IoError(manifest.string() + ": texel_encoding: " + j.at("texel_encoding").dump() +
+                        " (this slicecap reads \"float16le\")");
+    if (j.at("quantity") != "brdf")
+      throw io::IoError(manifest.string() + ": quantity: " + j.at("quantity").dump() +
+                        " (this slicecap reads \"brdf\")");
     TextureStoreLayout layout;
     layout.resolution = j.at("resolution").get<int>();
     layout.framesPerBin = j.at("frames_per_bin").get<int>();
