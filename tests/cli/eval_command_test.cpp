@@ -150,6 +150,29 @@ TEST(EvalCommand, BadArgumentsAreUsageErrorsOrNamed) {
   EXPECT_NE(help.out.find("halfway"), std::string::npos) << "every registered method is listed";
 }
 
+TEST(EvalCommand, AMaterialGivenTwiceIsAUsageErrorNamingIt) {
+  // It wrote its rows twice and counted twice in the means; two tables of one name would also
+  // share one sheet.
+  const auto dir = test::freshTempDir();
+  Result r = run(
+      {"eval", "blue-plastic", "blue-plastic", "--methods", "b", "--out", (dir / "out").string()});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_NE(r.err.find("material 'blue-plastic' is given twice"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << "refused before anything runs: " << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+  // The same name from a group and by itself, or from two files with one stem.
+  EXPECT_EQ(run({"eval", "builtin:isotropic", "blue-plastic", "--methods", "b"}).code, kExitUsage);
+  for (const char* folder : {"a", "b"}) {
+    std::filesystem::create_directories(dir / folder);
+    ASSERT_EQ(run({"generate", "matte-paint", "-o", (dir / folder / "paint.f32").string()}).code,
+              kExitOk);
+  }
+  r = run({"eval", (dir / "a" / "paint.f32").string(), (dir / "b" / "paint.f32").string(),
+           "--methods", "b"});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_NE(r.err.find((dir / "b" / "paint.f32").string()), std::string::npos) << r.err;
+}
+
 TEST(PreviewCommand, WritesALayoutAndSpheres) {
   const auto dir = test::freshTempDir();
   const auto png = dir / "satin.png";

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <stdexcept>
 
+#include "slicecap/cli/args.hpp"
 #include "slicecap/io/table_file.hpp"
 #include "slicecap/models/reflectance_model.hpp"
 
@@ -64,6 +66,16 @@ std::vector<MaterialSource> resolveMaterials(const std::vector<std::string>& arg
                                ": no such file, folder or built-in material (see slicecap "
                                "generate --list)");
     }
+  }
+  // Rows, means and sheets (NAME.png) are by name: one material twice would count twice in the
+  // means, and two tables of one name would share a sheet.
+  std::map<std::string, const MaterialSource*> byName;
+  for (const MaterialSource& source : sources) {
+    const auto [first, added] = byName.emplace(source.name, &source);
+    if (!added)
+      throw UsageError("material '" + source.name + "' is given twice (" + first->second->origin +
+                       (first->second->origin == source.origin ? "" : ", " + source.origin) +
+                       "); give each material once");
   }
   return sources;
 }
