@@ -186,6 +186,37 @@ TEST(DaemonCommands, RefusalsAndBadUsageHaveTheirExitCodes) {
   EXPECT_THAT(r.err, HasSubstr("no session 'nobody'"));
 }
 
+TEST(DaemonCommands, WithJsonAnErrorIsAlsoAJsonObjectOnStdout) {
+  // A script parsing stdout got nothing: the error went only to stderr.
+  LiveDaemon daemon(test::freshTempDir());
+  Result r = daemon.run({"sweep", "start", "axial", "30", "30", "--json"});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_THAT(r.err, HasSubstr("no current session"));
+  json error = json::parse(r.out);
+  EXPECT_THAT(error.at("error").get<std::string>(), HasSubstr("no current session"));
+  EXPECT_EQ(error.at("code"), "conflict") << "the daemon's error code";
+  r = daemon.run({"session", "show", "nobody", "--json"});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_THAT(json::parse(r.out).at("error").get<std::string>(), HasSubstr("no session 'nobody'"));
+  r = daemon.run({"sweep", "start", "axial", "30", "45", "--json"});  // bad usage keeps its code
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_THAT(r.err, HasSubstr("THETA_V '45'"));
+  EXPECT_THAT(json::parse(r.out).at("error").get<std::string>(), HasSubstr("THETA_V '45'"));
+  // No daemon: the error names the socket on both streams.
+  std::ostringstream out, err;
+  const std::vector<std::string> args = {"status", "--json", "--socket",
+                                         "/tmp/slicecap-no-daemon.sock"};
+  EXPECT_EQ(runCli(args, out, err), kExitFailure);
+  EXPECT_THAT(err.str(), HasSubstr("/tmp/slicecap-no-daemon.sock"));
+  error = json::parse(out.str());
+  EXPECT_THAT(error.at("error").get<std::string>(), HasSubstr("/tmp/slicecap-no-daemon.sock"));
+  EXPECT_FALSE(error.contains("code")) << "not a refusal by the daemon";
+  // Without --json, stdout stays empty as before.
+  r = daemon.run({"sweep", "start", "axial", "30", "30"});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
 TEST(DaemonCommands, AMissingDaemonIsNamedWithItsSocket) {
   std::ostringstream out, err;
   const std::vector<std::string> args = {"status", "--socket", "/tmp/slicecap-no-daemon.sock"};

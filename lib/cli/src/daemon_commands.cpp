@@ -27,7 +27,8 @@ constexpr const char* kDefaultSocket = "/run/slicecap/slicecapd.sock";
 const OptionSpec kSocketOption{
     "socket", 0, "PATH",
     "slicecapd's control socket (default $SLICECAP_SOCKET or " + std::string(kDefaultSocket) + ")"};
-const OptionSpec kJsonOption{"json", 0, "", "print the daemon's answer as JSON"};
+const OptionSpec kJsonOption{"json", 0, "",
+                             "print the daemon's answer as JSON (an error too: {\"error\": ...})"};
 
 fs::path socketPath(const ParsedArgs& args) {
   if (auto given = args.value("socket")) return *given;
@@ -305,6 +306,27 @@ int runExport(const ParsedArgs& args, Streams& io) {
   });
 }
 
+// With --json a script reads stdout: an error is there too, as one line {"error": MESSAGE} (and
+// "code", the protocol's error code, when the daemon refused), besides the text on stderr and the
+// exit code, which the caller's boundary (runCli) still gives.
+std::function<int(const ParsedArgs&, Streams&)> withJsonErrors(int (*run)(const ParsedArgs&,
+                                                                          Streams&)) {
+  return [run](const ParsedArgs& args, Streams& io) {
+    try {
+      return run(args, io);
+    } catch (const std::exception& e) {
+      if (args.flag("json")) {
+        json error = {{"error", e.what()}};
+        if (const auto* refusal = dynamic_cast<const daemon::DaemonError*>(&e))
+          error["code"] = refusal->code();
+        // Replacing bytes that are not UTF-8 (a path may hold any): dump must not throw here.
+        io.out << error.dump(-1, ' ', false, json::error_handler_t::replace) << "\n";
+      }
+      throw;
+    }
+  };
+}
+
 }  // namespace
 
 Command sessionCommand() {
@@ -318,7 +340,7 @@ Command sessionCommand() {
         kJsonOption},
        1,
        2},
-      runSession};
+      withJsonErrors(runSession)};
 }
 
 Command sweepCommand() {
@@ -330,7 +352,7 @@ Command sweepCommand() {
            {kSocketOption, kJsonOption},
            1,
            4},
-          runSweep};
+          withJsonErrors(runSweep)};
 }
 
 Command statusCommand() {
@@ -346,7 +368,7 @@ Command statusCommand() {
             kJsonOption},
            0,
            0},
-          runStatus};
+          withJsonErrors(runStatus)};
 }
 
 Command exportCommand() {
@@ -365,7 +387,7 @@ Command exportCommand() {
             kJsonOption},
            1,
            1},
-          runExport};
+          withJsonErrors(runExport)};
 }
 
 }  // namespace slicecap::cli
