@@ -9,6 +9,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "../support/file_size_limit.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/btf/btf_files.hpp"
 #include "slicecap/btf/slice_texture.hpp"
@@ -141,6 +142,32 @@ TEST(BtfFiles, DirectoryRoundTripsBitForBitWithAverageManifestAndPreviews) {
         << e.what();
   }
   EXPECT_THROW(readBtfDirectory(dir / "preview"), io::IoError);
+}
+
+TEST(BtfFiles, AFailedWriteLeavesEveryImageItWouldReplaceWhole) {
+  // The images were written in place: a write cut off (here by a file size limit, as a full disk
+  // or a killed run would) left a truncated image where a whole one had been.
+  const auto dir = test::freshTempDir() / "btf";
+  BtfTexture first(2), second(2);
+  for (std::size_t t = 0; t < 4; ++t) {
+    first.setTexel(t, models::tabulate(*models::makeLambert(Rgb::gray(0.1 * double(t + 1)))));
+    second.setTexel(t, models::tabulate(*models::makeLambert(Rgb::gray(0.05 * double(t + 1)))));
+  }
+  const BtfDescription description{{-20, -20, 20, 20}, "B", "session-1"};
+  writeBtfDirectory(dir, first, averageTable(first), description, {}, 1);
+  {
+    const test::FileSizeLimit limit(64);  // no image fits
+    EXPECT_THROW(writeBtfDirectory(dir, second, averageTable(second), description, {}, 1),
+                 io::IoError);
+  }
+  const BtfTexture back = readBtfDirectory(dir);
+  for (int light = 0; light < Abrdf::kDirections; ++light)
+    for (int view = 0; view < Abrdf::kDirections; ++view)
+      for (std::size_t i = 0; i < 12; ++i)
+        ASSERT_EQ(back.image(light, view)[i], first.image(light, view)[i])
+            << imagePath(light, view);
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(dir))
+    EXPECT_NE(entry.path().extension(), ".tmp") << entry.path();
 }
 
 }  // namespace

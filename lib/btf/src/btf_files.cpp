@@ -6,6 +6,7 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStdIO.h>
 #include <OpenEXR/ImfStringAttribute.h>
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 
 #include "slicecap/core/version.hpp"
 #include "slicecap/eval/metrics.hpp"
+#include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/png_image.hpp"
 
@@ -52,13 +54,21 @@ void writeImage(const std::filesystem::path& path, const BtfTexture& texture, in
     header.channels().insert(name, Imf::Channel(Imf::HALF));
   header.insert("slicecap:quantity", Imf::StringAttribute("brdf"));
   header.insert("slicecap:layout", Imf::StringAttribute("btf-utia"));
+  // Encoded in memory (OpenEXR's own file stream flushes its last bytes in its destructor, where
+  // a failed write goes unreported), then written through a temporary renamed onto the image: an
+  // interrupted or failed run never leaves a truncated image in place of a whole one.
+  Imf::StdOSStream encoded;
   try {
-    Imf::OutputFile file(path.c_str(), header);
+    Imf::OutputFile file(encoded, header);  // destroyed (the offsets written) before str()
     file.setFrameBuffer(halfBuffer(texture.image(light, view), n));
     file.writePixels(n);
   } catch (const std::exception& e) {
     throw io::IoError(path.string() + ": cannot write EXR: " + e.what());
   }
+  const std::string bytes = encoded.str();
+  io::writeStreamReplacing(path, [&](std::ostream& out) {
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  });
 }
 
 // Runs body(k) for k in [0, count) on `threads` threads; the first exception is rethrown.
@@ -177,10 +187,8 @@ void writeBtfDirectory(const std::filesystem::path& directory, const BtfTexture&
       {"source", description.source},
       {"failed_texels", description.failedTexels},
       {"previews", "preview/"}};
-  const std::filesystem::path path = directory / kBtfManifest;
-  std::ofstream out(path);
-  out << manifest.dump(1) << "\n";
-  if (!out) throw io::IoError(path.string() + ": cannot write the manifest");
+  io::writeStreamReplacing(directory / kBtfManifest,
+                           [&](std::ostream& out) { out << manifest.dump(1) << "\n"; });
 }
 
 BtfTexture readBtfDirectory(const std::filesystem::path& directory) {

@@ -37,8 +37,9 @@ std::vector<Direction> previewLights();
 /// 6561 images tvTTT_pvPPP/tlTTT_plPPP_tvTTT_pvPPP.exr (N x N, R G B half, ZIP, BRDF 1/sr),
 /// average.exr (the 81 x 81 average ABRDF as writeAbrdfExr writes it, `averageAttributes`
 /// added), preview/tlTTT_plPPP_tv000_pv000.png (8-bit sRGB of BRDF x cos(theta_i), one exposure
-/// for all) and btf.json. `threads` (0: all cores) write the images. Throws io::IoError naming
-/// the path that failed.
+/// for all) and btf.json. `threads` (0: all cores) write the images. Every file is written to a
+/// temporary beside it and renamed into place when whole, so a failed or interrupted write leaves
+/// the file it would replace as it was. Throws io::IoError naming the path that failed.
 void writeBtfDirectory(const std::filesystem::path& directory, const BtfTexture& texture,
                        const Abrdf& average, const BtfDescription& description,
                        const io::ExrAttributes& averageAttributes = {}, int threads = 0);
