@@ -10,6 +10,7 @@ import numpy as np
 import OpenEXR
 
 from slicecap.abrdf import Abrdf
+from slicecap.paths import write_replacing
 
 PREFIX = "slicecap:"
 CHANNELS = ("R", "G", "B")
@@ -166,6 +167,6 @@ def write_abrdf_exr(path, table, attributes: dict[str, str] | None = None) -> No
     channels = {name: np.ascontiguousarray(abrdf.values[..., c]) for c, name in enumerate(CHANNELS)}
     try:
         with OpenEXR.File(header, channels) as file:
-            file.write(os.fspath(path))
+            write_replacing(path, lambda temporary: file.write(temporary))
     except Exception as e:
         raise _error(path, f"cannot write EXR: {e}") from e

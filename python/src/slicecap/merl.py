@@ -16,6 +16,7 @@ from slicecap.abrdf import TABLE_SHAPE
 from slicecap.abrdf_exr import SlicecapFileError, first_non_finite
 from slicecap.grid import RINGS, to_directions_deg
 from slicecap.isotropic import IsotropicTable
+from slicecap.paths import write_replacing
 
 THETA_HALF_BINS = 90
 THETA_DIFF_BINS = 90
@@ -150,9 +151,13 @@ def export_merl(path, table, *, allow_anisotropic: bool = False) -> float:
         )
     merl = merl_values_of_table(values) / SCALE[:, None, None, None]
     try:
-        with open(path, "wb") as file:
-            np.array([THETA_HALF_BINS, THETA_DIFF_BINS, PHI_DIFF_BINS], "<i4").tofile(file)
-            merl.astype("<f8").tofile(file)
+
+        def write(target):
+            with open(target, "wb") as file:
+                np.array([THETA_HALF_BINS, THETA_DIFF_BINS, PHI_DIFF_BINS], "<i4").tofile(file)
+                merl.astype("<f8").tofile(file)
+
+        write_replacing(path, write)
     except OSError as e:
         raise SlicecapFileError(f"{os.fspath(path)}: cannot write MERL file: {e.strerror}") from e
     return anisotropy

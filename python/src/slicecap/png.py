@@ -6,13 +6,16 @@ import zlib
 
 import numpy as np
 
+from slicecap.paths import write_replacing
+
 
 def _chunk(kind: bytes, data: bytes) -> bytes:
     return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
 
 
 def write_png(path, image: np.ndarray) -> None:
-    """Writes an (H, W, 3) uint8 image; raises OSError (naming the file) when it cannot."""
+    """Writes an (H, W, 3) uint8 image through a temporary renamed onto PATH (paths.write_replacing);
+    raises OSError (naming the file) when it cannot."""
     image = np.ascontiguousarray(image, dtype=np.uint8)
     if image.ndim != 3 or image.shape[2] != 3:
         raise ValueError(f"write_png: expected an (H, W, 3) image, got {image.shape}")
@@ -26,8 +29,15 @@ def write_png(path, image: np.ndarray) -> None:
         + _chunk(b"IDAT", zlib.compress(rows.tobytes(), 6))
         + _chunk(b"IEND", b"")
     )
-    with open(os.fspath(path), "wb") as file:
-        file.write(data)
+    def write(target):
+        with open(target, "wb") as file:
+            file.write(data)
+
+    try:
+        write_replacing(path, write)
+    except OSError as e:
+        # The error of a write names no file, that of the temporary's open the temporary.
+        raise OSError(e.errno, e.strerror, os.fspath(path)) from e
 
 
 def read_png_size(path) -> tuple[int, int]:
