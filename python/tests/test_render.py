@@ -94,3 +94,13 @@ def test_a_seed_mitsuba_cannot_take_is_bad_usage(tmp_path, capsys):
         capsys,
     )
     assert code == 0, out.err
+
+
+def test_a_folder_the_picture_cannot_go_to_is_said_before_anything_is_read(tmp_path, capsys):
+    # The material is junk: a check made after reading or rendering would report it instead.
+    (tmp_path / "junk.exr").write_text("not an EXR")
+    missing = tmp_path / "no-such-folder" / "x.png"
+    code, out = tiny_run([str(tmp_path / "junk.exr"), "-o", str(missing)], capsys)
+    assert code == 1
+    assert f"{missing}: the folder {missing.parent} does not exist or is not writable" in out.err
+    assert "cannot read EXR" not in out.err

@@ -138,6 +138,14 @@ def run(argv) -> int:
                 file=sys.stderr,
             )
             return 2
+    # Rendering takes seconds to minutes: a folder the picture cannot go to is said first.
+    folder = os.path.dirname(os.path.abspath(args.output))
+    if not os.path.isdir(folder) or not os.access(folder, os.W_OK | os.X_OK):
+        print(
+            f"slicecap.render: {args.output}: the folder {folder} does not exist or is not writable",
+            file=sys.stderr,
+        )
+        return 1
     try:
         material = load_material(args.material)
         reference = load_material(args.reference) if args.reference else None
