@@ -96,6 +96,25 @@ TEST(SliceCsv, RejectsBadFields) {
             std::string::npos);
 }
 
+TEST(SliceCsv, RejectsARowWhoseAzimuthsSayAnotherSliceKind) {
+  const std::string header = "slice,theta_i,phi_i,theta_v,phi_v,r,g,b\n";
+  // A diagonal row labelled axial: Method B would file it under phi_i = 30 of the axial slice.
+  EXPECT_NE(parseError(header + "axial,30,0,30,15,0.1,0.2,0.3\naxial,30,30,30,330,0.1,0.2,0.3\n")
+                .find("slices.csv:3: axial sample with phi_v - phi_i = -60.0 deg, not 15 deg: is "
+                      "its slice kind right?"),
+            std::string::npos);
+  EXPECT_NE(parseError(header + "diagonal,75,20,75,35,0.1,0.2,0.3\n")
+                .find("slices.csv:2: diagonal sample with phi_i + phi_v = 55.0 deg, not 0 or 360"),
+            std::string::npos);
+  // Jitter of a hand-held capture, wrap-around, the pole and point samples are all accepted.
+  for (const char* row : {"axial,30,350,30,8,0.1,0.2,0.3\n", "axial,30,0,30,27,0.1,0.2,0.3\n",
+                          "diagonal,30,355,30,8,0.1,0.2,0.3\n",
+                          "diagonal,75,-10,75,370,0.1,0.2,0.3\n", "axial,3,0,30,200,0.1,0.2,0.3\n",
+                          "diagonal,30,40,5,90,0.1,0.2,0.3\n", "point,30,40,75,90,0.1,0.2,0.3\n"}) {
+    EXPECT_EQ(parseError(header + row), "") << row;
+  }
+}
+
 TEST(SliceCsv, RejectsMissingColumnsAndEmptyFiles) {
   EXPECT_NE(parseError("slice,theta_i,phi_i,theta_v,r,g,b\n").find("no column 'phi_v'"),
             std::string::npos);

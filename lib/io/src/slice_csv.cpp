@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "input_file.hpp"
+#include "slicecap/core/angles.hpp"
 #include "slicecap/core/version.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -39,6 +40,10 @@ std::vector<std::string_view> splitFields(std::string_view line) {
     start = comma + 1;
   }
 }
+
+// How far a sample's azimuths may stray from its slice's relation before the row is taken for a
+// wrong slice kind: one 15 deg bin, several times the +-3 deg a hand-held capture jitters by.
+constexpr double kSliceRelationToleranceDeg = 15.0;
 
 int nearestRingDeg(double thetaDeg) {
   const int rounded = static_cast<int>(std::lround(thetaDeg / 15.0)) * 15;
@@ -115,7 +120,26 @@ SliceSet parseSliceCsv(std::istream& in, const std::string& sourceName) {
                    " is outside [0, 90) deg");
       }
     }
-    slices.add({*kind, nominalElevations(thetaIDeg, thetaVDeg)},
+    const ElevationPair elevations = nominalElevations(thetaIDeg, thetaVDeg);
+    // Method B places a sample by one azimuth of it (axial: phi_i, diagonal: phi_v); a row whose
+    // other azimuth says another kind would land silently in the wrong place. Near the pole the
+    // azimuth means nothing, so only off-pole rows are held to their relation.
+    if (*kind != SliceKind::Point && elevations.thetaIDeg > 0 && elevations.thetaVDeg > 0) {
+      const bool axial = *kind == SliceKind::Axial;
+      const double offDeg = axial ? azimuthDifferenceDeg(phiVDeg, phiIDeg + kAxialOffsetDeg)
+                                  : azimuthDifferenceDeg(phiVDeg, -phiIDeg);
+      if (std::abs(offDeg) > kSliceRelationToleranceDeg) {
+        char measured[32];
+        std::snprintf(
+            measured, sizeof measured, "%.1f",
+            axial ? azimuthDifferenceDeg(phiVDeg, phiIDeg) : wrapDeg360(phiIDeg + phiVDeg));
+        throw fail(std::string(toString(*kind)) + " sample with " +
+                   (axial ? "phi_v - phi_i = " : "phi_i + phi_v = ") + measured + " deg, " +
+                   (axial ? "not 15" : "not 0 or 360") +
+                   " deg: is its slice kind right? (a sample on no slice is 'point')");
+      }
+    }
+    slices.add({*kind, elevations},
                {{thetaIDeg, phiIDeg}, {thetaVDeg, phiVDeg}, {numbers[4], numbers[5], numbers[6]}});
   }
   if (in.bad()) throw IoError(sourceName + ": read error");
