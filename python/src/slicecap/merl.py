@@ -25,13 +25,13 @@ SCALE = np.array([1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0])
 MAX_ANISOTROPY = 0.05
 
 
-def _rotate_z(v, angle):
-    c, s = np.cos(angle), np.sin(angle)
+def _rotate_z(v, angle_rad):
+    c, s = np.cos(angle_rad), np.sin(angle_rad)
     return np.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1], v[..., 2]], -1)
 
 
-def _rotate_y(v, angle):
-    c, s = np.cos(angle), np.sin(angle)
+def _rotate_y(v, angle_rad):
+    c, s = np.cos(angle_rad), np.sin(angle_rad)
     return np.stack([c * v[..., 0] + s * v[..., 2], v[..., 1], -s * v[..., 0] + c * v[..., 2]], -1)
 
 
@@ -48,22 +48,23 @@ def half_diff_angles(to_light: np.ndarray, to_view: np.ndarray) -> tuple[np.ndar
     return theta_half, theta_diff, phi_diff
 
 
-def directions_of_half_diff(theta_half, phi_half, theta_diff, phi_diff):
-    """(to_light, to_view) unit vectors of half/difference angles (the inverse of the above)."""
+def directions_of_half_diff(theta_half_rad, phi_half_rad, theta_diff_rad, phi_diff_rad):
+    """(to_light, to_view) unit vectors of half/difference angles in radians (the inverse of the
+    above)."""
     diff = np.stack(
         [
-            np.sin(theta_diff) * np.cos(phi_diff),
-            np.sin(theta_diff) * np.sin(phi_diff),
-            np.cos(theta_diff),
+            np.sin(theta_diff_rad) * np.cos(phi_diff_rad),
+            np.sin(theta_diff_rad) * np.sin(phi_diff_rad),
+            np.cos(theta_diff_rad),
         ],
         -1,
     )
-    to_light = _rotate_z(_rotate_y(diff, theta_half), phi_half)
+    to_light = _rotate_z(_rotate_y(diff, theta_half_rad), phi_half_rad)
     half = np.stack(
         [
-            np.sin(theta_half) * np.cos(phi_half),
-            np.sin(theta_half) * np.sin(phi_half),
-            np.cos(theta_half),
+            np.sin(theta_half_rad) * np.cos(phi_half_rad),
+            np.sin(theta_half_rad) * np.sin(phi_half_rad),
+            np.cos(theta_half_rad),
         ],
         -1,
     )
@@ -71,17 +72,18 @@ def directions_of_half_diff(theta_half, phi_half, theta_diff, phi_diff):
     return to_light, to_view
 
 
-def bin_indices(theta_half, theta_diff, phi_diff) -> np.ndarray:
-    """The flat MERL index of half/difference angles (BRDFRead.cpp's nearest-bin rule)."""
+def bin_indices(theta_half_rad, theta_diff_rad, phi_diff_rad) -> np.ndarray:
+    """The flat MERL index of half/difference angles in radians (BRDFRead.cpp's nearest-bin
+    rule)."""
     half_position = np.sqrt(
-        np.maximum(theta_half, 0.0) / (np.pi / 2) * THETA_HALF_BINS * THETA_HALF_BINS
+        np.maximum(theta_half_rad, 0.0) / (np.pi / 2) * THETA_HALF_BINS * THETA_HALF_BINS
     )
     i = np.clip(half_position.astype(np.int64), 0, THETA_HALF_BINS - 1)
     j = np.clip(
-        (theta_diff / (np.pi / 2) * THETA_DIFF_BINS).astype(np.int64), 0, THETA_DIFF_BINS - 1
+        (theta_diff_rad / (np.pi / 2) * THETA_DIFF_BINS).astype(np.int64), 0, THETA_DIFF_BINS - 1
     )
-    phi_diff = np.where(phi_diff < 0.0, phi_diff + np.pi, phi_diff)
-    k = np.clip((phi_diff / np.pi * PHI_DIFF_BINS).astype(np.int64), 0, PHI_DIFF_BINS - 1)
+    phi_diff_rad = np.where(phi_diff_rad < 0.0, phi_diff_rad + np.pi, phi_diff_rad)
+    k = np.clip((phi_diff_rad / np.pi * PHI_DIFF_BINS).astype(np.int64), 0, PHI_DIFF_BINS - 1)
     return (i * THETA_DIFF_BINS + j) * PHI_DIFF_BINS + k
 
 
