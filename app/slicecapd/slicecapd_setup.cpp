@@ -301,6 +301,8 @@ int run(std::span<const std::string> args, std::ostream& out, std::ostream& err)
   }
   try {
     const DaemonConfig config = daemon::readDaemonConfig(options.config);
+    for (const std::string& warning : daemon::configWarnings(config))
+      err << "slicecapd: " << options.config.string() << ": warning: " << warning << "\n";
     if (options.checkConfig) {
       out << options.config.string() << ": ok\n";
       return 0;

@@ -61,6 +61,18 @@ TEST(DaemonConfig, ReadsEveryKind) {
   EXPECT_EQ(c.textureFramesPerBin, 3);
 }
 
+TEST(DaemonConfig, WarnsOfAV4l2CameraLeftOnAutoExposure) {
+  const auto warnings = [](const std::string& text) { return configWarnings(parse(text)); };
+  const std::vector<std::string> autoExposure = warnings("camera = v4l2\n");
+  ASSERT_EQ(autoExposure.size(), 1u);
+  EXPECT_NE(autoExposure[0].find("set both exposure_us and gain"), std::string::npos);
+  EXPECT_EQ(warnings("camera = v4l2\nexposure_us = 8000\n").size(), 1u) << "gain still auto";
+  EXPECT_TRUE(warnings("camera = v4l2\nexposure_us = 8000\ngain = 2\n").empty());
+  // libcamera reports every frame's exposure and gain, which the pipeline divides out.
+  EXPECT_TRUE(warnings("camera = libcamera\n").empty());
+  EXPECT_TRUE(warnings("camera = file\ncamera_recording = /srv/sim\n").empty());
+}
+
 TEST(DaemonConfig, NamesTheLineAndKeyOfEveryMistake) {
   EXPECT_EQ(error("camera = webcam\n"),
             "slicecapd.conf:1: camera: 'webcam' is not libcamera, v4l2 or file");

@@ -112,7 +112,7 @@ class DaemonOnFileCamera : public ::testing::Test {
       options.failAtSequence = failAtSequence;
       return std::make_shared<hal::FileCamera>(recording, clock_, options);
     };
-    parts.cameraConfig = {32, 24, PixelEncoding::Srgb8, std::nullopt, std::nullopt, 4};
+    parts.cameraConfig = {32, 24, PixelEncoding::Srgb8, configuredExposureUs_, std::nullopt, 4};
     parts.led = std::make_unique<hal::FileLed>(ledLog_, clock_);
     parts.newFrameProcessor = [](const SliceId&, capture::FrameObserver observer) {
       return [inner = standInPipeline(), observer](const hal::Frame& frame, const SliceId& slice) {
@@ -157,6 +157,7 @@ class DaemonOnFileCamera : public ::testing::Test {
   std::vector<hal::LedEvent> ledLog() const { return hal::readLedLog(ledLog_); }
 
   hal::SteadyClock clock_;
+  std::optional<double> configuredExposureUs_;
   std::filesystem::path dir_, socketDir_, socket_, ledLog_;
   std::unique_ptr<Daemon> daemon_;
   std::thread thread_;
@@ -178,6 +179,20 @@ TEST_F(DaemonOnFileCamera, FramesBecomeSamplesAndTheLedGoesOffWhenTheRecordingEn
             kFrames / 2);  // strobed with the frames
   call(SweepStop{});
   EXPECT_EQ(call(Status{})["session"]["samples"], kFrames / 2);
+}
+
+TEST_F(DaemonOnFileCamera, WhatTheCameraCouldNotDoAsConfiguredIsLogged) {
+  // A recording's exposure is what it was: the file camera adjusts a locked exposure away, as a
+  // V4L2 camera without manual exposure does.
+  configuredExposureUs_ = 1234.0;
+  testing::internal::CaptureStderr();
+  start();
+  call(SessionNew{"grey card", std::string("grey")});
+  call(SweepStart{kAxial3030});
+  waitForPause();
+  const std::string log = testing::internal::GetCapturedStderr();
+  EXPECT_THAT(log, HasSubstr("adjusted the configuration: "));
+  EXPECT_THAT(log, HasSubstr("exposure"));
 }
 
 TEST_F(DaemonOnFileCamera, ACameraFailurePausesTheSweepAndKeepsEverySampleBeforeIt) {

@@ -205,4 +205,18 @@ socket_group = slicecap
 )";
 }
 
+std::vector<std::string> configWarnings(const DaemonConfig& config) {
+  std::vector<std::string> warnings;
+  if (config.camera == DaemonConfig::CameraKind::V4l2 && (!config.exposureUs || !config.gain)) {
+    // libcamera reports each frame's exposure and gain and the pipeline divides them out; a V4L2
+    // frame under auto exposure says nothing, so the room light of an LED-off frame is subtracted
+    // from an LED-on frame that may have been exposed differently.
+    warnings.push_back(
+        "camera = v4l2 with exposure_us or gain empty: the camera's auto exposure runs and its "
+        "frames do not say their exposure, so room light is subtracted at an exposure that may "
+        "not be the LED-on frame's; set both exposure_us and gain for a real capture");
+  }
+  return warnings;
+}
+
 }  // namespace slicecap::daemon

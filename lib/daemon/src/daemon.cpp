@@ -107,6 +107,11 @@ struct Daemon::State {
       const hal::ConfigResult result = opened->configure(config);
       if (result.status == hal::ConfigResult::Status::Invalid)
         throw std::runtime_error(opened->id() + ": " + result.reason);
+      // What the camera could not do as configured (e.g. no manual exposure) decides whether
+      // the sweep's frames are comparable: the operator finds it in the journal.
+      if (result.status == hal::ConfigResult::Status::Adjusted)
+        std::cerr << "slicecapd: camera " << opened->id()
+                  << " adjusted the configuration: " << result.reason << "\n";
       opened->start();
       camera = std::move(opened);
     } catch (const std::exception& error) {

@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace slicecap::daemon {
 
@@ -31,8 +32,8 @@ struct DaemonConfig {
   int widthPx = 1280;  ///< resolution = WIDTHxHEIGHT
   int heightPx = 720;
   std::optional<double>
-      exposureUs;              ///< exposure_us: locked exposure; empty = chosen at sweep start
-  std::optional<double> gain;  ///< gain: locked analogue gain; empty = chosen at sweep start
+      exposureUs;  ///< exposure_us: locked exposure; empty = the camera's auto exposure runs
+  std::optional<double> gain;  ///< gain: locked analogue gain; empty = the camera's auto gain runs
   std::filesystem::path
       calibration;  ///< calibration: camera intrinsics (slicecap calibrate output)
 
@@ -62,6 +63,10 @@ struct DaemonConfig {
 
 /// \brief Parses configuration text; `sourceName` names it in errors. Throws ConfigError.
 DaemonConfig parseDaemonConfig(std::istream& in, const std::string& sourceName);
+
+/// \brief What a valid configuration still does wrong for a real capture, one sentence each
+/// (empty when nothing): slicecapd logs them at start and `--check-config` prints them.
+std::vector<std::string> configWarnings(const DaemonConfig& config);
 
 /// \brief Reads and parses a configuration file; ConfigError naming the file if it cannot be read.
 DaemonConfig readDaemonConfig(const std::filesystem::path& path);
