@@ -194,6 +194,7 @@ int serve(const DaemonConfig& config, std::ostream& err) {
   parts.cameraConfig.heightPx = config.heightPx;
   parts.cameraConfig.exposureUs = config.exposureUs;
   parts.cameraConfig.gain = config.gain;
+  parts.warnings = daemon::configWarnings(config);
 
   const vision::TargetGeometry target =
       config.target == "default" ? vision::defaultTarget() : io::readTargetJson(config.target);

@@ -173,6 +173,15 @@ TEST(DaemonCommands, StatusSaysWhetherTheAxialSweepsAreNeeded) {
                                "terms explain nothing more)"));
 }
 
+TEST(DaemonCommands, StatusShowsTheDaemonsWarnings) {
+  const auto dir = test::freshTempDir();
+  LiveDaemon daemon(dir / "storage");
+  daemon.setStatusExtra({{"warnings", {"camera = v4l2 with exposure_us or gain empty"}}});
+  const Result r = daemon.run({"status"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("warning: camera = v4l2 with exposure_us or gain empty\n"));
+}
+
 TEST(DaemonCommands, RefusalsAndBadUsageHaveTheirExitCodes) {
   LiveDaemon daemon(test::freshTempDir());
   Result r = daemon.run({"sweep", "start", "axial", "30", "30"});

@@ -189,10 +189,14 @@ TEST_F(DaemonOnFileCamera, WhatTheCameraCouldNotDoAsConfiguredIsLogged) {
   start();
   call(SessionNew{"grey card", std::string("grey")});
   call(SweepStart{kAxial3030});
-  waitForPause();
+  const json status = waitForPause();
   const std::string log = testing::internal::GetCapturedStderr();
   EXPECT_THAT(log, HasSubstr("adjusted the configuration: "));
   EXPECT_THAT(log, HasSubstr("exposure"));
+  // The operator over SSH sees it in the status too.
+  ASSERT_TRUE(status.contains("warnings")) << status.dump();
+  EXPECT_THAT(status["warnings"].back().get<std::string>(),
+              HasSubstr("adjusted the configuration: "));
 }
 
 TEST_F(DaemonOnFileCamera, ACameraFailurePausesTheSweepAndKeepsEverySampleBeforeIt) {

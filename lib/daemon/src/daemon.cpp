@@ -40,6 +40,9 @@ struct Daemon::State {
   std::optional<SliceId> textureSlice;
   std::string textureError;
 
+  // What the camera could not do as configured, as it said at the last start.
+  std::string cameraAdjustment;
+
   explicit State(DaemonParts p)
       : parts(std::move(p)),
         manager(parts.storage, parts.reconstruct, parts.preview, parts.isotropy) {}
@@ -108,10 +111,13 @@ struct Daemon::State {
       if (result.status == hal::ConfigResult::Status::Invalid)
         throw std::runtime_error(opened->id() + ": " + result.reason);
       // What the camera could not do as configured (e.g. no manual exposure) decides whether
-      // the sweep's frames are comparable: the operator finds it in the journal.
-      if (result.status == hal::ConfigResult::Status::Adjusted)
-        std::cerr << "slicecapd: camera " << opened->id()
-                  << " adjusted the configuration: " << result.reason << "\n";
+      // the sweep's frames are comparable: the journal and the status say it.
+      cameraAdjustment.clear();
+      if (result.status == hal::ConfigResult::Status::Adjusted) {
+        cameraAdjustment =
+            "camera " + opened->id() + " adjusted the configuration: " + result.reason;
+        std::cerr << "slicecapd: " << cameraAdjustment << "\n";
+      }
       opened->start();
       camera = std::move(opened);
     } catch (const std::exception& error) {
@@ -289,6 +295,11 @@ struct Daemon::State {
     if (texture && (std::holds_alternative<Status>(request.command) ||
                     std::holds_alternative<SweepStop>(request.command)))
       json["texture"] = texture->status();
+    if (std::holds_alternative<Status>(request.command)) {
+      std::vector<std::string> warnings = parts.warnings;
+      if (!cameraAdjustment.empty()) warnings.push_back(cameraAdjustment);
+      if (!warnings.empty()) json["warnings"] = warnings;
+    }
     reconcile();
     // A start the devices refused at once (camera, texture) comes back paused, with the reason.
     if ((std::holds_alternative<SweepStart>(request.command) ||

@@ -4,6 +4,8 @@
 
 #include <functional>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "slicecap/capture/frame_outcome.hpp"
 #include "slicecap/daemon/session_manager.hpp"
@@ -47,6 +49,9 @@ struct DaemonParts {
   std::function<io::Recording(const SliceId&)> recordingHeaderFor;
   /// Frames waiting for the recorder's writer at most; more are dropped from the recording.
   std::size_t recordQueueFrames = 4;
+  /// What the configuration still does wrong for a real capture (configWarnings): every status
+  /// shows them, as does what the camera last adjusted of its configuration.
+  std::vector<std::string> warnings;
   /// How often a camera without a ready descriptor (the file camera) is asked for a frame.
   std::chrono::microseconds filePollInterval = std::chrono::milliseconds(2);
 };
