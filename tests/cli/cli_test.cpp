@@ -11,6 +11,7 @@
 
 #include "../support/cli_runner.hpp"
 #include "../support/test_support.hpp"
+#include "slicecap/cli/command.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 
 namespace slicecap::cli {
@@ -133,6 +134,25 @@ TEST(Cli, IsotropicReconstructionFromDiagonalSlicesOnly) {
       << "the full method needs the axial slices";
   EXPECT_EQ(run({"reconstruct", slices, "-o", (dir / "i.exr").string(), "--isotropic"}).code,
             kExitOk);
+}
+
+TEST(Cli, EveryOptionOfACommandIsInItsUsageLine) {
+  // The usage line is what a person reads first (and the README's headings copy it): an option
+  // it leaves out must at least be announced by "[options]" or "...".
+  for (const Command& command : allCommands()) {
+    const std::string& synopsis = command.spec.synopsis;
+    if (synopsis.find("[options]") != std::string::npos ||
+        synopsis.find("...]") != std::string::npos || synopsis.ends_with("..."))
+      continue;
+    for (const OptionSpec& option : command.spec.options) {
+      if (option.name == "help") continue;
+      const bool named = synopsis.find("--" + option.name) != std::string::npos ||
+                         (option.shortName && synopsis.find(std::string("-") + option.shortName +
+                                                            " ") != std::string::npos);
+      EXPECT_TRUE(named) << "slicecap " << command.spec.name << ": --" << option.name
+                         << " is missing from the usage line '" << command.spec.synopsis << "'";
+    }
+  }
 }
 
 }  // namespace

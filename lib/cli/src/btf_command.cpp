@@ -167,7 +167,8 @@ Command btfCommand() {
       {"isotropic", 0, "", "use the diagonal slices only"}};
   for (auto& o : pipelineOptions())
     if (o.name != "report") options.push_back(o);
-  return {{"btf", "SESSION_DIR|TEXTURE_DIR -o DIR [--resolution N] [--threads N] [--method b|a]",
+  return {{"btf",
+           "SESSION_DIR|TEXTURE_DIR -o DIR [--resolution N] [--threads N] [--method b|a] [options]",
            "Spatially varying capture: every recording under SESSION_DIR through the capture\n"
            "pipeline, and each accepted frame's window rectified to an N x N texture in the\n"
            "target plane (through the pose and the camera's distortion; per texel its own light\n"

@@ -51,7 +51,7 @@ int run(const ParsedArgs& args, Streams& io) {
 Command isotropyCommand() {
   return {
       {"isotropy",
-       "SLICES.csv [--json] [--diagonal-threshold X] [--axial-threshold X]",
+       "SLICES.csv [--json] [--prior-ratio X] [--diagonal-threshold X] [--axial-threshold X]",
        "Say whether a material looks isotropic from its slices, i.e. whether the axial sweeps "
        "are needed\n"
        "after the diagonal ones. The slices are fitted with the learned prior at their actual "
