@@ -42,8 +42,10 @@ std::vector<std::string_view> splitFields(std::string_view line) {
 }
 
 // How far a sample's azimuths may stray from its slice's relation before the row is taken for a
-// wrong slice kind: one 15 deg bin, several times the +-3 deg a hand-held capture jitters by.
-constexpr double kSliceRelationToleranceDeg = 15.0;
+// wrong slice kind: three 15 deg bins. A capture's light direction is measured (fitted to the
+// reference patches), and a light held off its nominal place is a poor sweep, not a wrong file:
+// its samples stay usable by the methods that take actual angles (the prior).
+constexpr double kSliceRelationToleranceDeg = 45.0;
 
 int nearestRingDeg(double thetaDeg) {
   const int rounded = static_cast<int>(std::lround(thetaDeg / 15.0)) * 15;

@@ -18,7 +18,7 @@ ElevationPair nominalElevations(double thetaIDeg, double thetaVDeg);
 /// mark at the start (as spreadsheet programs write it). Every error throws IoError as
 /// "SOURCE:LINE: what" (a truncated row, a non-numeric or non-finite field, an unknown slice kind,
 /// an elevation outside [0, 90), no samples at all, a row whose azimuths contradict its kind by
-/// more than 15 deg: axial needs phi_v - phi_i = 15 deg, diagonal phi_i + phi_v = 0 mod 360;
+/// more than 45 deg: axial needs phi_v - phi_i = 15 deg, diagonal phi_i + phi_v = 0 mod 360;
 /// rows with an elevation on the 0 deg ring are exempt, their azimuths mean nothing).
 SliceSet parseSliceCsv(std::istream& in, const std::string& sourceName);
 
