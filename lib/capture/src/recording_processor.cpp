@@ -39,15 +39,24 @@ hal::Frame frameOf(Image image, const io::Recording& recording, const io::Record
 
 }  // namespace
 
-RecordingResult processRecording(const std::filesystem::path& directory,
-                                 const PipelineSettings& settings, const FrameObserver& observer) {
-  const io::Recording recording = io::readRecording(directory);
+SliceId sliceOfRecording(const std::filesystem::path& directory, const io::Recording& recording) {
   if (!recording.slice)
     throw std::invalid_argument(directory.string() +
                                 ": recording.json has no slice (a calibration recording?)");
+  return recording.slice->id;
+}
+
+RecordingResult processRecording(const std::filesystem::path& directory,
+                                 const PipelineSettings& settings, const FrameObserver& observer) {
+  return processRecording(directory, io::readRecording(directory), settings, observer);
+}
+
+RecordingResult processRecording(const std::filesystem::path& directory,
+                                 const io::Recording& recording, const PipelineSettings& settings,
+                                 const FrameObserver& observer) {
   RecordingResult result;
   result.directory = directory;
-  result.slice = recording.slice->id;
+  result.slice = sliceOfRecording(directory, recording);
   result.bins = AzimuthBins(result.slice.kind);
   // Offline the LED-off frames on both sides of each LED-on frame are known: each is located
   // and interpolated (FramePipeline::setFollowingAmbientFrame).

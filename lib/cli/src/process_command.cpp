@@ -25,20 +25,19 @@ namespace {
 
 // Every recording's recording.json, read and checked before any frame is processed (a session's
 // frames take minutes): a bad manifest (IoError naming the file and field), a recording without a
-// slice, the same slice twice (bad usage).
-void checkRecordings(const std::vector<std::filesystem::path>& recordings) {
+// slice, the same slice twice (bad usage). Returns them, in order, for processing.
+std::vector<io::Recording> readRecordings(const std::vector<std::filesystem::path>& recordings) {
+  std::vector<io::Recording> read;
   std::map<SliceId, std::filesystem::path> seen;
   for (const auto& directory : recordings) {
-    const io::Recording recording = io::readRecording(directory);
-    if (!recording.slice)
-      throw std::invalid_argument(directory.string() +
-                                  ": recording.json has no slice (a calibration recording?)");
-    const SliceId slice = recording.slice->id;
+    read.push_back(io::readRecording(directory));
+    const SliceId slice = capture::sliceOfRecording(directory, read.back());
     if (const auto previous = seen.find(slice); previous != seen.end())
       throw UsageError(directory.string() + ": slice " + toString(slice) +
                        " was already given by " + previous->second.string());
     seen[slice] = directory;
   }
+  return read;
 }
 
 // "DIR (slice): rejected 20 blurred, 4 too_few_markers": why a recording gave no sample, the
@@ -63,20 +62,20 @@ struct Processed {
   std::vector<std::string> withoutSamples;
 };
 
-// Checks every recording (checkRecordings), then runs each, printing its summary.
+// Reads and checks every recording (readRecordings), then runs each, printing its summary.
 Processed processAll(const std::vector<std::filesystem::path>& recordings,
                      const capture::PipelineSettings& settings, Streams& io,
                      nlohmann::json* report) {
-  checkRecordings(recordings);
+  const std::vector<io::Recording> read = readRecordings(recordings);
   Processed processed;
-  for (const auto& directory : recordings) {
-    capture::RecordingResult result = capture::processRecording(directory, settings);
+  for (std::size_t k = 0; k < recordings.size(); ++k) {
+    capture::RecordingResult result = capture::processRecording(recordings[k], read[k], settings);
     for (const SliceSample& sample : result.bins.combine())
       processed.slices.add(result.slice, sample);
     const int samples = static_cast<int>(
         std::count_if(result.outcomes.begin(), result.outcomes.end(),
                       [](const auto& o) { return o.kind == capture::FrameOutcome::Kind::Sample; }));
-    io.err << toString(result.slice) << " (" << directory.string()
+    io.err << toString(result.slice) << " (" << recordings[k].string()
            << "): " << result.bins.filledCount() << " of " << result.bins.binCount() << " bins, "
            << samples << " samples, " << result.ambientFrames << " ambient";
     for (const auto& [reason, count] : result.rejections)

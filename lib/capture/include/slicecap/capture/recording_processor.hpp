@@ -12,6 +12,7 @@
 #include "slicecap/capture/frame_outcome.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/core/slice.hpp"
+#include "slicecap/io/recording.hpp"
 
 namespace slicecap::capture {
 
@@ -39,5 +40,16 @@ struct RecordingResult {
 RecordingResult processRecording(const std::filesystem::path& directory,
                                  const PipelineSettings& settings = {},
                                  const FrameObserver& observer = {});
+
+/// \brief As above, for `recording` already read from `directory` (a caller that checks every
+/// recording.json before processing any). Throws as above.
+RecordingResult processRecording(const std::filesystem::path& directory,
+                                 const io::Recording& recording,
+                                 const PipelineSettings& settings = {},
+                                 const FrameObserver& observer = {});
+
+/// \brief The slice `recording` (read from `directory`) holds; std::invalid_argument naming the
+/// directory when it holds none (e.g. a calibration recording).
+SliceId sliceOfRecording(const std::filesystem::path& directory, const io::Recording& recording);
 
 }  // namespace slicecap::capture
