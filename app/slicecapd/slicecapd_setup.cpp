@@ -184,7 +184,8 @@ void preview(const Abrdf& table, const fs::path& png) {
   io::writePng(png, render::previewSheet(png.stem().string(), {line}, table).toPng());
 }
 
-int serve(const DaemonConfig& config, std::ostream& err) {
+// `warnings`: configWarnings(config), already logged; every status shows them.
+int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::ostream& err) {
   static hal::SteadyClock clock;
   daemon::DaemonParts parts;
   parts.storage = config.storage;
@@ -194,7 +195,7 @@ int serve(const DaemonConfig& config, std::ostream& err) {
   parts.cameraConfig.heightPx = config.heightPx;
   parts.cameraConfig.exposureUs = config.exposureUs;
   parts.cameraConfig.gain = config.gain;
-  parts.warnings = daemon::configWarnings(config);
+  parts.warnings = std::move(warnings);
 
   const vision::TargetGeometry target =
       config.target == "default" ? vision::defaultTarget() : io::readTargetJson(config.target);
@@ -302,7 +303,8 @@ int run(std::span<const std::string> args, std::ostream& out, std::ostream& err)
   }
   try {
     const DaemonConfig config = daemon::readDaemonConfig(options.config);
-    for (const std::string& warning : daemon::configWarnings(config))
+    std::vector<std::string> warnings = daemon::configWarnings(config);
+    for (const std::string& warning : warnings)
       err << "slicecapd: " << options.config.string() << ": warning: " << warning << "\n";
     if (options.checkConfig) {
       out << options.config.string() << ": ok\n";
@@ -313,7 +315,7 @@ int run(std::span<const std::string> args, std::ostream& out, std::ostream& err)
       openLed(config, clock)->set(false);
       return 0;
     }
-    return serve(config, err);
+    return serve(config, std::move(warnings), err);
   } catch (const std::exception& error) {
     err << "slicecapd: " << error.what() << "\n";
     return 1;
