@@ -5,7 +5,6 @@ ABRDF and a JSON manifest. The checks and messages follow the C++ reader (btf::r
 
 import json
 import math
-import numbers
 import os
 import pathlib
 from dataclasses import dataclass, field
@@ -14,7 +13,7 @@ import numpy as np
 
 from slicecap.abrdf import Abrdf
 from slicecap.abrdf_exr import SlicecapFileError, read_abrdf_exr, read_exr
-from slicecap.grid import direction_of_index
+from slicecap.grid import direction_of_index, is_whole_number
 
 MANIFEST = "btf.json"
 DEFAULT_AVERAGE = "average.exr"
@@ -60,7 +59,7 @@ class Btf:
         0..N-1 from the top. Raises IndexError outside (numpy would take -1 as the last one),
         TypeError for what is not a whole number."""
         for name, value in (("column", column), ("row", row)):
-            if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+            if not is_whole_number(value):
                 raise TypeError(f"texel {name} must be a whole number, got {value!r}")
             if not 0 <= value < self.resolution:
                 raise IndexError(

@@ -44,10 +44,15 @@ GRID_DIRECTIONS_DEG = _direction_table()
 """(81, 2) array of (theta_deg, phi_deg) in the Bonn index order."""
 
 
+def is_whole_number(value) -> bool:
+    """An integer of any integral type, but not a bool (True would index as 1)."""
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
+
+
 def direction_of_index(index: int) -> tuple[float, float]:
     """(theta_deg, phi_deg) of a grid index; raises IndexError outside 0..80, TypeError for what
     is not a whole number."""
-    if isinstance(index, bool) or not isinstance(index, numbers.Integral):
+    if not is_whole_number(index):
         raise TypeError(f"a Bonn direction index is a whole number in 0..80, got {index!r}")
     if not 0 <= index < DIRECTION_COUNT:
         raise IndexError(f"Bonn direction index {index} is outside 0..80")
