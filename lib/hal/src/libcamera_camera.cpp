@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <deque>
 #include <map>
@@ -103,6 +104,7 @@ struct LibcameraCamera::State {
   bool configured = false;
   bool streaming = false;
   std::optional<std::uint32_t> firstSequence;
+  std::optional<ExposureSetting> lockedExposure;  // set on every request queued from then on
   int readyFd = -1;
   std::mutex completedMutex;
   std::deque<libcamera::Request*> completed;
@@ -311,8 +313,24 @@ void LibcameraCamera::start() {
     }
 }
 
+ExposureLock LibcameraCamera::lockExposure(const ExposureSetting& wanted) {
+  if (!state_->streaming) throw std::logic_error("LibcameraCamera::lockExposure before start");
+  // Clamped to the ranges the camera reports, so the frames' metadata and the lock agree.
+  const libcamera::ControlInfoMap& info = state_->camera->controls();
+  double exposureUs = wanted.exposureUs;
+  if (const auto it = info.find(&libcamera::controls::ExposureTime); it != info.end())
+    exposureUs = std::clamp<double>(exposureUs, it->second.min().get<std::int32_t>(),
+                                    it->second.max().get<std::int32_t>());
+  double gain = wanted.gain.value_or(1.0);
+  if (const auto it = info.find(&libcamera::controls::AnalogueGain); it != info.end())
+    gain = std::clamp<double>(gain, it->second.min().get<float>(), it->second.max().get<float>());
+  state_->lockedExposure = ExposureSetting{std::round(exposureUs), gain};
+  return {state_->lockedExposure, ""};
+}
+
 void LibcameraCamera::stop() {
   if (!state_->streaming) return;
+  state_->lockedExposure.reset();
   state_->camera->stop();  // completes every pending request as cancelled, synchronously
   state_->camera->requestCompleted.disconnect(state_.get());
   state_->streaming = false;
@@ -350,7 +368,15 @@ CaptureResult LibcameraCamera::nextFrame(std::chrono::milliseconds timeout) {
     State& state;
     libcamera::Request* request;
     ~Requeue() {
-      request->reuse(libcamera::Request::ReuseBuffers);
+      request->reuse(libcamera::Request::ReuseBuffers);  // also clears the request's controls
+      if (state.lockedExposure) {
+        libcamera::ControlList& controls = request->controls();
+        controls.set(libcamera::controls::AeEnable, false);
+        controls.set(libcamera::controls::ExposureTime,
+                     static_cast<std::int32_t>(state.lockedExposure->exposureUs));
+        controls.set(libcamera::controls::AnalogueGain,
+                     static_cast<float>(state.lockedExposure->gain.value_or(1.0)));
+      }
       if (state.streaming) state.camera->queueRequest(request);
     }
   } requeue{*state_, request};

@@ -362,4 +362,25 @@ CaptureResult V4l2Camera::nextFrame(std::chrono::milliseconds timeout) {
   return {CaptureResult::Status::Frame, std::move(frame), ""};
 }
 
+ExposureLock V4l2Camera::lockExposure(const ExposureSetting& wanted) {
+  if (!state_->streaming) throw std::logic_error("V4l2Camera::lockExposure before start");
+  // V4L2_CID_EXPOSURE_ABSOLUTE counts 100 us.
+  state_->setControl(V4L2_CID_EXPOSURE_AUTO, V4L2_EXPOSURE_MANUAL);
+  const std::optional<std::int32_t> exposure =
+      state_->setRangedControl(V4L2_CID_EXPOSURE_ABSOLUTE, wanted.exposureUs / 100.0);
+  if (!exposure) return {std::nullopt, state_->device + " has no manual exposure"};
+  // Auto gain off too, or it would undo the metering; a camera without a gain control is unity.
+  state_->setControl(V4L2_CID_AUTOGAIN, 0);
+  double gain = 1.0;
+  if (const std::optional<v4l2_queryctrl> query = state_->queryControl(V4L2_CID_GAIN)) {
+    const std::optional<std::int32_t> set =
+        state_->setRangedControl(V4L2_CID_GAIN, wanted.gain.value_or(query->default_value));
+    if (!set) return {std::nullopt, state_->device + " refused a manual gain"};
+    gain = *set;
+  }
+  state_->config.exposureUs = *exposure * 100.0;
+  state_->config.gain = gain;
+  return {ExposureSetting{*exposure * 100.0, gain}, ""};
+}
+
 }  // namespace slicecap::hal

@@ -50,6 +50,19 @@ struct CaptureResult {
   std::string error;
 };
 
+/// \brief An exposure to fix while a camera runs (Camera::lockExposure).
+struct ExposureSetting {
+  double exposureUs = 0.0;
+  std::optional<double> gain;  ///< in the source's own units; nullopt asks for its default gain
+};
+
+/// \brief What Camera::lockExposure did: `locked` is what is now fixed (clamped to the source's
+/// range, the gain filled in), or empty with `reason` saying why the source keeps its own.
+struct ExposureLock {
+  std::optional<ExposureSetting> locked;
+  std::string reason;
+};
+
 /// \brief A frame source. Call order: configure, start, nextFrame..., stop (start again is
 /// allowed). Calls out of order throw std::logic_error. One instance per device; implementations
 /// share one libcamera CameraManager per process among themselves (issue 6).
@@ -67,6 +80,14 @@ class Camera {
   /// \brief A descriptor that becomes readable when a frame is ready, for the daemon's poll loop;
   /// nullopt when frames are always ready at once (the file camera).
   virtual std::optional<int> readyDescriptor() const { return std::nullopt; }
+  /// \brief Between start and stop: fixes exposure and gain for the frames that follow (a few
+  /// frames late: controls take that long to reach the sensor), for the daemon's metering at
+  /// sweep start. Frames then report the locked values in their metadata. Throws CameraError when
+  /// the device fails, std::logic_error outside start..stop. This default: the source cannot (a
+  /// recording's exposure is what it was).
+  virtual ExposureLock lockExposure(const ExposureSetting& /*wanted*/) {
+    return {std::nullopt, "this source cannot change its exposure"};
+  }
 };
 
 }  // namespace slicecap::hal

@@ -42,6 +42,7 @@ class LibcameraCamera final : public Camera {
   CaptureResult nextFrame(std::chrono::milliseconds timeout) override;
   /// \brief An eventfd that is readable while completed frames wait.
   std::optional<int> readyDescriptor() const override;
+  ExposureLock lockExposure(const ExposureSetting& wanted) override;
 
   struct State;
 

@@ -32,6 +32,7 @@ class V4l2Camera final : public Camera {
   void stop() override;
   CaptureResult nextFrame(std::chrono::milliseconds timeout) override;
   std::optional<int> readyDescriptor() const override;
+  ExposureLock lockExposure(const ExposureSetting& wanted) override;
 
  private:
   struct State;
