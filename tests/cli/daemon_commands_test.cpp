@@ -173,13 +173,15 @@ TEST(DaemonCommands, StatusSaysWhetherTheAxialSweepsAreNeeded) {
                                "terms explain nothing more)"));
 }
 
-TEST(DaemonCommands, StatusShowsTheDaemonsWarnings) {
+TEST(DaemonCommands, StatusShowsTheDaemonsWarningsAndTheExposure) {
   const auto dir = test::freshTempDir();
   LiveDaemon daemon(dir / "storage");
-  daemon.setStatusExtra({{"warnings", {"camera = v4l2 with exposure_us or gain empty"}}});
+  daemon.setStatusExtra({{"warnings", {"camera = v4l2 with gain empty"}},
+                         {"exposure", "camera video0: exposure locked at 8000 us, gain 4"}});
   const Result r = daemon.run({"status"});
   ASSERT_EQ(r.code, kExitOk) << r.err;
-  EXPECT_THAT(r.out, HasSubstr("warning: camera = v4l2 with exposure_us or gain empty\n"));
+  EXPECT_THAT(r.out, HasSubstr("warning: camera = v4l2 with gain empty\n"));
+  EXPECT_THAT(r.out, HasSubstr("exposure: camera video0: exposure locked at 8000 us, gain 4\n"));
 }
 
 TEST(DaemonCommands, RefusalsAndBadUsageHaveTheirExitCodes) {

@@ -61,13 +61,15 @@ TEST(DaemonConfig, ReadsEveryKind) {
   EXPECT_EQ(c.textureFramesPerBin, 3);
 }
 
-TEST(DaemonConfig, WarnsOfAV4l2CameraLeftOnAutoExposure) {
+TEST(DaemonConfig, WarnsOfAV4l2CameraLeftOnAutoGain) {
   const auto warnings = [](const std::string& text) { return configWarnings(parse(text)); };
-  const std::vector<std::string> autoExposure = warnings("camera = v4l2\n");
-  ASSERT_EQ(autoExposure.size(), 1u);
-  EXPECT_NE(autoExposure[0].find("set both exposure_us and gain"), std::string::npos);
-  EXPECT_EQ(warnings("camera = v4l2\nexposure_us = 8000\n").size(), 1u) << "gain still auto";
+  const std::vector<std::string> autoGain = warnings("camera = v4l2\nexposure_us = 8000\n");
+  ASSERT_EQ(autoGain.size(), 1u);
+  EXPECT_NE(autoGain[0].find("auto gain runs"), std::string::npos);
   EXPECT_TRUE(warnings("camera = v4l2\nexposure_us = 8000\ngain = 2\n").empty());
+  // Both empty, or only gain set: metered and locked at each sweep start.
+  EXPECT_TRUE(warnings("camera = v4l2\n").empty());
+  EXPECT_TRUE(warnings("camera = v4l2\ngain = 2\n").empty());
   // libcamera reports every frame's exposure and gain, which the pipeline divides out.
   EXPECT_TRUE(warnings("camera = libcamera\n").empty());
   EXPECT_TRUE(warnings("camera = file\ncamera_recording = /srv/sim\n").empty());

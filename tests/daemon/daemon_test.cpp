@@ -7,6 +7,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <stdlib.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <thread>
@@ -95,6 +97,60 @@ class FakeTextureSink : public TextureSink {
   std::shared_ptr<TextureLog> log_;
 };
 
+// A live camera (it has a ready descriptor, so the daemon strobes the LED and meters the
+// exposure) over a grey scene whose brightest pixels sit at `sceneLevel` of full scale at 10 ms:
+// linear in exposure, clipped at full scale, a lock taking effect two frames late, an exposure
+// range of 100 us..`maxExposureUs`; `frames` frames, then the end of the stream.
+struct LiveCameraLog {
+  std::vector<hal::ExposureSetting> locks;
+  double sceneLevel = 0.05;
+  double maxExposureUs = 100'000.0;
+  bool canLock = true;
+  int frames = 40;
+};
+
+class FakeLiveCamera : public hal::Camera {
+ public:
+  explicit FakeLiveCamera(std::shared_ptr<LiveCameraLog> log)
+      : log_(std::move(log)), ready_(::eventfd(1, EFD_NONBLOCK)) {}
+  ~FakeLiveCamera() override { ::close(ready_); }
+  std::string id() const override { return "fake-live"; }
+  hal::ConfigResult configure(hal::CameraConfig&) override { return {}; }
+  void start() override {}
+  void stop() override {}
+  std::optional<int> readyDescriptor() const override { return ready_; }
+  hal::ExposureLock lockExposure(const hal::ExposureSetting& wanted) override {
+    if (!log_->canLock) return {std::nullopt, "no manual exposure"};
+    const hal::ExposureSetting set{std::clamp(wanted.exposureUs, 100.0, log_->maxExposureUs),
+                                   wanted.gain.value_or(1.0)};
+    log_->locks.push_back(set);
+    pending_.push_back({sequence_ + 2, set.exposureUs});
+    return {set, ""};
+  }
+  hal::CaptureResult nextFrame(std::chrono::milliseconds) override {
+    if (int(sequence_) >= log_->frames) return {hal::CaptureResult::Status::EndOfStream, {}, ""};
+    while (!pending_.empty() && pending_.front().first <= sequence_) {
+      exposureUs_ = pending_.front().second;
+      pending_.erase(pending_.begin());
+    }
+    const double level = std::min(1.0, log_->sceneLevel * exposureUs_ / 10'000.0);
+    hal::Frame frame;
+    frame.encoding = PixelEncoding::Linear16;
+    frame.image = {32, 24, 3, 16,
+                   std::vector<std::uint16_t>(32 * 24 * 3, std::uint16_t(level * 65535.0))};
+    frame.metadata = {sequence_, std::int64_t(sequence_) * 33'000, exposureUs_, 1.0, true};
+    ++sequence_;
+    return {hal::CaptureResult::Status::Frame, std::move(frame), ""};
+  }
+
+ private:
+  std::shared_ptr<LiveCameraLog> log_;
+  int ready_;
+  std::uint64_t sequence_ = 0;
+  double exposureUs_ = 30'000.0;  // the camera's own auto exposure before any lock
+  std::vector<std::pair<std::uint64_t, double>> pending_;
+};
+
 class DaemonOnFileCamera : public ::testing::Test {
  protected:
   void start(std::optional<std::uint64_t> failAtSequence = std::nullopt,
@@ -107,7 +163,9 @@ class DaemonOnFileCamera : public ::testing::Test {
     ledLog_ = dir_ / "led.log";
     DaemonParts parts;
     parts.storage = dir_ / "storage";
-    parts.cameraFor = [this, recording, failAtSequence](const SliceId&) {
+    parts.cameraFor = [this, recording,
+                       failAtSequence](const SliceId&) -> std::shared_ptr<hal::Camera> {
+      if (liveCamera_) return std::make_shared<FakeLiveCamera>(liveCamera_);
       hal::FileCameraOptions options;
       options.failAtSequence = failAtSequence;
       return std::make_shared<hal::FileCamera>(recording, clock_, options);
@@ -158,6 +216,7 @@ class DaemonOnFileCamera : public ::testing::Test {
 
   hal::SteadyClock clock_;
   std::optional<double> configuredExposureUs_;
+  std::shared_ptr<LiveCameraLog> liveCamera_;  // set: a live camera instead of the recording
   std::filesystem::path dir_, socketDir_, socket_, ledLog_;
   std::unique_ptr<Daemon> daemon_;
   std::thread thread_;
@@ -266,6 +325,75 @@ TEST_F(DaemonOnFileCamera, ATextureThatCannotBeOpenedPausesTheSweepWithTheReason
   EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(), HasSubstr("64 texels across"));
   EXPECT_EQ(status["sweep"]["samples"], 0);
   EXPECT_FALSE(ledLog().back().on);
+}
+
+TEST_F(DaemonOnFileCamera, ALiveCameraIsMeteredWithTheLedOnThenLockedForTheSweep) {
+  liveCamera_ = std::make_shared<LiveCameraLog>();  // 0.05 at 10 ms: 70 ms reaches 0.35
+  testing::internal::CaptureStderr();
+  start();
+  call(SessionNew{"grey card", std::string("grey")});
+  call(SweepStart{kAxial3030});
+  const json status = waitForPause();
+  const std::string log = testing::internal::GetCapturedStderr();
+  const std::vector<hal::ExposureSetting>& locks = liveCamera_->locks;
+  ASSERT_GE(locks.size(), 2u);
+  EXPECT_DOUBLE_EQ(locks.front().exposureUs, ExposureMeterParams{}.startExposureUs);
+  const double finalLevel = 0.05 * locks.back().exposureUs / 10'000.0;
+  EXPECT_NEAR(finalLevel, 0.35, 0.35 * 0.25) << locks.back().exposureUs;
+  ASSERT_TRUE(status.contains("exposure")) << status.dump();
+  EXPECT_THAT(status["exposure"].get<std::string>(), HasSubstr("exposure locked at"));
+  EXPECT_THAT(log, HasSubstr("exposure locked at"));
+  EXPECT_FALSE(status.contains("warnings")) << status.dump();
+  // The metering's frames are never samples: fewer than half of all frames became samples.
+  const int samples = status["sweep"]["samples"].get<int>();
+  EXPECT_GT(samples, 0);
+  EXPECT_LT(samples, liveCamera_->frames / 2);
+  // The LED stayed on through the metering and was strobed after it: it went off once per
+  // sample frame after the metering (and at the end), not also during the metering.
+  const std::vector<hal::LedEvent> leds = ledLog();
+  EXPECT_FALSE(leds.back().on);
+  const auto offs = std::count_if(leds.begin(), leds.end(), [](const auto& e) { return !e.on; });
+  EXPECT_LE(offs, samples + 2);
+}
+
+TEST_F(DaemonOnFileCamera, AMeteringAtTheCamerasExposureLimitSaysItIsOffTheTarget) {
+  liveCamera_ = std::make_shared<LiveCameraLog>();
+  liveCamera_->sceneLevel = 0.01;  // 350 ms needed
+  liveCamera_->maxExposureUs = 33'000.0;
+  start();
+  call(SessionNew{"grey card", std::string("grey")});
+  call(SweepStart{kAxial3030});
+  const json status = waitForPause();
+  ASSERT_FALSE(liveCamera_->locks.empty());
+  EXPECT_DOUBLE_EQ(liveCamera_->locks.back().exposureUs, 33'000.0);
+  EXPECT_THAT(status["exposure"].get<std::string>(), HasSubstr("off the target"));
+  EXPECT_GT(status["sweep"]["samples"].get<int>(), 0);
+}
+
+TEST_F(DaemonOnFileCamera, ALiveCameraThatCannotLockItsExposureIsAWarning) {
+  liveCamera_ = std::make_shared<LiveCameraLog>();
+  liveCamera_->canLock = false;
+  start();
+  call(SessionNew{"grey card", std::string("grey")});
+  call(SweepStart{kAxial3030});
+  const json status = waitForPause();
+  ASSERT_TRUE(status.contains("warnings")) << status.dump();
+  EXPECT_THAT(status["warnings"].back().get<std::string>(),
+              HasSubstr("exposure not locked (no manual exposure)"));
+  // Nothing was metered: every LED-on frame is a sample.
+  EXPECT_EQ(status["sweep"]["samples"], liveCamera_->frames / 2);
+}
+
+TEST_F(DaemonOnFileCamera, AConfiguredExposureIsNotMetered) {
+  liveCamera_ = std::make_shared<LiveCameraLog>();
+  configuredExposureUs_ = 8000.0;
+  start();
+  call(SessionNew{"grey card", std::string("grey")});
+  call(SweepStart{kAxial3030});
+  const json status = waitForPause();
+  EXPECT_TRUE(liveCamera_->locks.empty());
+  EXPECT_FALSE(status.contains("exposure")) << status.dump();
+  EXPECT_EQ(status["sweep"]["samples"], liveCamera_->frames / 2);
 }
 
 TEST_F(DaemonOnFileCamera, StoppingTheDaemonMidSweepLeavesTheLedOff) {

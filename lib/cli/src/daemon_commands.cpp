@@ -127,6 +127,8 @@ void printStatus(std::ostream& out, const json& status) {
           << " (" << isotropy["reason"].get<std::string>() << ")\n";
   }
   if (status.contains("error")) out << "error: " << status["error"].get<std::string>() << "\n";
+  if (status.contains("exposure"))
+    out << "exposure: " << status["exposure"].get<std::string>() << "\n";
   if (status.contains("warnings"))
     for (const json& warning : status["warnings"])
       out << "warning: " << warning.get<std::string>() << "\n";

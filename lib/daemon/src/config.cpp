@@ -160,10 +160,11 @@ camera_device =
 camera_recording =
 # Frame size in pixels.
 resolution = 1280x720
-# Locked exposure (microseconds) and analogue gain: set both for a real capture. Empty leaves the
-# camera's automatic exposure running through the sweep (nothing locks it yet): libcamera reports
-# each frame's exposure and gain, which are divided out, but a V4L2 camera does not, so LED-on and
-# LED-off frames are then compared at exposures that may differ.
+# Locked exposure (microseconds) and gain (the camera's own units: V4L2's gain control, libcamera's
+# analogue gain). Empty exposure_us: each sweep start meters it with the LED on (the brightest
+# 0.5 % of the image brought to 0.35 of full scale, about a second) and locks it, with gain at
+# its value here or the camera's default, for the sweep; `slicecap status` shows what was locked.
+# Set exposure_us when a glossy material's highlight clips (frames rejected as window_clipped).
 exposure_us =
 gain =
 # Camera intrinsics and distortion (from `slicecap calibrate`); empty uses the sensor's nominal model.
@@ -207,14 +208,14 @@ socket_group = slicecap
 
 std::vector<std::string> configWarnings(const DaemonConfig& config) {
   std::vector<std::string> warnings;
-  if (config.camera == DaemonConfig::CameraKind::V4l2 && (!config.exposureUs || !config.gain)) {
-    // libcamera reports each frame's exposure and gain and the pipeline divides them out; a V4L2
-    // frame under auto exposure says nothing, so the room light of an LED-off frame is subtracted
-    // from an LED-on frame that may have been exposed differently.
+  if (config.camera == DaemonConfig::CameraKind::V4l2 && config.exposureUs && !config.gain) {
+    // An empty exposure_us is metered and locked, gain with it, at each sweep start; a set
+    // exposure is taken as it is, so an empty gain leaves the camera's auto gain running, and a
+    // V4L2 frame does not say its gain: LED-on and LED-off frames may differ in it.
     warnings.push_back(
-        "camera = v4l2 with exposure_us or gain empty: the camera's auto exposure runs and its "
-        "frames do not say their exposure, so room light is subtracted at an exposure that may "
-        "not be the LED-on frame's; set both exposure_us and gain for a real capture");
+        "camera = v4l2 with exposure_us set and gain empty: the camera's auto gain runs and its "
+        "frames do not say their gain, so room light is subtracted at a gain that may not be the "
+        "LED-on frame's; set gain too, or leave both empty to have them metered at sweep start");
   }
   return warnings;
 }

@@ -43,6 +43,13 @@ struct Daemon::State {
   // What the camera could not do as configured, as it said at the last start.
   std::string cameraAdjustment;
 
+  // Sweep-start metering (no exposure configured, a live camera): while it runs the LED stays on
+  // and no frame reaches the pipeline; then the exposure stays locked for the sweep. The note
+  // says what it did, or why the camera's auto exposure runs instead (then also a warning).
+  std::optional<ExposureMeter> meter;
+  std::string exposureNote;
+  bool exposureUnlocked = false;
+
   explicit State(DaemonParts p)
       : parts(std::move(p)),
         manager(parts.storage, parts.reconstruct, parts.preview, parts.isotropy) {}
@@ -68,6 +75,7 @@ struct Daemon::State {
       }
     }
     camera.reset();
+    meter.reset();
     cameraSlice.reset();
     processor = nullptr;
     ledOff();
@@ -119,6 +127,7 @@ struct Daemon::State {
         std::cerr << "slicecapd: " << cameraAdjustment << "\n";
       }
       opened->start();
+      beginMetering(*opened);
       camera = std::move(opened);
     } catch (const std::exception& error) {
       manager.pauseSweep(std::string("camera error: ") + error.what());
@@ -145,6 +154,49 @@ struct Daemon::State {
       loop.watch(*fd, EPOLLIN, [this](std::uint32_t) { pumpFrame(); });
     } else {
       pollTimer = loop.addTimer(parts.filePollInterval, true, [this] { pumpFrame(); });
+    }
+  }
+
+  void beginMetering(hal::Camera& opened) {
+    meter.reset();
+    exposureNote.clear();
+    exposureUnlocked = false;
+    if (parts.cameraConfig.exposureUs || !opened.readyDescriptor()) return;
+    ExposureMeter metering(parts.exposureMeter);
+    const hal::ExposureLock lock =
+        opened.lockExposure(metering.firstSetting(parts.cameraConfig.gain));
+    if (!lock.locked) {
+      leaveExposureToCamera(opened.id(), lock.reason);
+      return;
+    }
+    metering.accepted(*lock.locked);
+    meter = metering;
+    exposureNote = "metering the exposure with the LED on";
+    parts.led->set(true);
+  }
+
+  void leaveExposureToCamera(const std::string& cameraId, const std::string& reason) {
+    meter.reset();
+    exposureUnlocked = true;
+    exposureNote = "camera " + cameraId + ": exposure not locked (" + reason +
+                   "): its auto exposure runs through the sweep";
+    std::cerr << "slicecapd: " << exposureNote << "\n";
+  }
+
+  /// One frame of the metering: measured, never processed; the LED stays on.
+  void meterFrame(const hal::Frame& frame) {
+    parts.led->set(true);
+    const ExposureMeter::Step step = meter->onFrame(frame);
+    if (step.kind == ExposureMeter::Step::Kind::Lock) {
+      const hal::ExposureLock lock = camera->lockExposure(step.setting);
+      if (lock.locked)
+        meter->accepted(*lock.locked);
+      else
+        leaveExposureToCamera(camera->id(), lock.reason);
+    } else if (step.kind == ExposureMeter::Step::Kind::Done) {
+      exposureNote = "camera " + camera->id() + ": " + meter->summary();
+      std::cerr << "slicecapd: " << exposureNote << "\n";
+      meter.reset();
     }
   }
 
@@ -228,6 +280,15 @@ struct Daemon::State {
         break;
     }
     hal::Frame& frame = *result.frame;
+    if (meter) {
+      try {
+        meterFrame(frame);
+      } catch (const std::exception& error) {
+        manager.pauseSweep(std::string("camera error: ") + error.what());
+        reconcile();
+      }
+      return;
+    }
     strobe(frame);
     capture::FrameOutcome outcome;
     try {
@@ -298,6 +359,8 @@ struct Daemon::State {
     if (std::holds_alternative<Status>(request.command)) {
       std::vector<std::string> warnings = parts.warnings;
       if (!cameraAdjustment.empty()) warnings.push_back(cameraAdjustment);
+      if (exposureUnlocked) warnings.push_back(exposureNote);
+      if (!exposureNote.empty()) json["exposure"] = exposureNote;  // the last sweep start's
       if (!warnings.empty()) json["warnings"] = warnings;
     }
     reconcile();

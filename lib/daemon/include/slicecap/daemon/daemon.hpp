@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "slicecap/capture/frame_outcome.hpp"
+#include "slicecap/daemon/exposure_meter.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 #include "slicecap/daemon/texture_sink.hpp"
 #include "slicecap/hal/camera.hpp"
@@ -28,6 +29,9 @@ struct DaemonParts {
   std::unique_ptr<hal::Led> led;
   /// Switch the LED off every other frame, so the pipeline can subtract room light.
   bool ledAlternate = true;
+  /// When cameraConfig leaves the exposure to a live camera: each sweep start meters it with the
+  /// LED on (no frame is processed meanwhile) and locks it for the sweep (ExposureMeter).
+  ExposureMeterParams exposureMeter;
   /// A fresh per-frame pipeline for each sweep run of a slice (it keeps tracking state across
   /// frames; the file camera's recordings may each have their own camera and target). The
   /// processor calls the observer (when set: texture capture) for every frame it processes.

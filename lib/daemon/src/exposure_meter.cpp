@@ -1,0 +1,81 @@
+// The sweep-start metering: measure the brightest pixels, scale the exposure towards the target.
+#include "slicecap/daemon/exposure_meter.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "slicecap/capture/linear_view.hpp"
+
+namespace slicecap::daemon {
+
+double brightLevel(const hal::Frame& frame, double brightFraction) {
+  const Image& image = frame.image;
+  if (image.width <= 0 || image.height <= 0 || image.channels <= 0) return 0.0;
+  const capture::LinearView view(frame);
+  // Every second pixel each way: a highlight of a few pixels still counts, at a quarter the work.
+  std::vector<double> levels;
+  levels.reserve(std::size_t((image.width + 1) / 2) * std::size_t((image.height + 1) / 2));
+  bool ignored = false;
+  const int colourChannels = image.channels >= 3 ? 3 : 1;
+  for (int y = 0; y < image.height; y += 2) {
+    for (int x = 0; x < image.width; x += 2) {
+      double largest = 0.0;
+      for (int c = 0; c < colourChannels; ++c)
+        largest = std::max(largest, view.linear(x, y, c, 2.0, &ignored));
+      levels.push_back(largest);
+    }
+  }
+  const auto rank = static_cast<std::ptrdiff_t>(
+      std::ceil((1.0 - std::clamp(brightFraction, 0.0, 1.0)) * double(levels.size() - 1)));
+  std::nth_element(levels.begin(), levels.begin() + rank, levels.end());
+  return levels[std::size_t(rank)];
+}
+
+ExposureMeter::ExposureMeter(ExposureMeterParams params) : params_(params) {}
+
+hal::ExposureSetting ExposureMeter::firstSetting(std::optional<double> gain) const {
+  return {params_.startExposureUs, gain};
+}
+
+void ExposureMeter::accepted(const hal::ExposureSetting& setting) {
+  // A step the camera clamped to where it already was: its range ends there.
+  if (steps_ > 0 && std::abs(setting.exposureUs - current_.exposureUs) < 1e-9 &&
+      setting.gain == current_.gain)
+    done_ = true;
+  current_ = setting;
+  framesSinceChange_ = 0;
+}
+
+ExposureMeter::Step ExposureMeter::onFrame(const hal::Frame& frame) {
+  if (done_) return {Step::Kind::Done, current_};
+  if (++framesSinceChange_ <= params_.settleFrames) return {Step::Kind::Wait, current_};
+  lastLevel_ = brightLevel(frame, params_.brightFraction);
+  const double ratio = params_.targetLevel / std::max(lastLevel_, 1e-6);
+  onTarget_ = ratio <= params_.tolerance && ratio >= 1.0 / params_.tolerance;
+  if (onTarget_ || steps_ >= params_.maxSteps) {
+    done_ = true;
+    return {Step::Kind::Done, current_};
+  }
+  // A clipped frame says only "too bright": a big step down. Otherwise linear in exposure, at most
+  // 3 stops a step.
+  const double factor = lastLevel_ >= 0.98 ? 0.25 : std::clamp(ratio, 0.125, 8.0);
+  ++steps_;
+  return {Step::Kind::Lock, {current_.exposureUs * factor, current_.gain}};
+}
+
+std::string ExposureMeter::summary() const {
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "exposure locked at %.0f us, gain %g: the brightest pixels at %.2f of full scale "
+                "(target %.2f) after %d step%s%s",
+                current_.exposureUs, current_.gain.value_or(1.0), lastLevel_, params_.targetLevel,
+                steps_, steps_ == 1 ? "" : "s",
+                onTarget_ ? ""
+                          : "; off the target: the camera's exposure range or the step limit "
+                            "ended the metering");
+  return line;
+}
+
+}  // namespace slicecap::daemon
