@@ -31,9 +31,11 @@ struct DaemonConfig {
       recording;       ///< camera_recording: for camera = file, a recording or session folder
   int widthPx = 1280;  ///< resolution = WIDTHxHEIGHT
   int heightPx = 720;
-  std::optional<double>
-      exposureUs;  ///< exposure_us: locked exposure; empty = the camera's auto exposure runs
-  std::optional<double> gain;  ///< gain: locked analogue gain; empty = the camera's auto gain runs
+  /// exposure_us: locked exposure; empty = metered at each sweep start, then locked
+  /// (daemon::ExposureMeter)
+  std::optional<double> exposureUs;
+  /// gain: locked gain; empty = the camera's default while metered, else its auto gain runs
+  std::optional<double> gain;
   std::filesystem::path
       calibration;  ///< calibration: camera intrinsics (slicecap calibrate output)
 
