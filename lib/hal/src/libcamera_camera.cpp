@@ -78,6 +78,16 @@ struct Mapping {
   std::size_t length = 0;
 };
 
+// Auto exposure off, and the exposure time and analogue gain that are given: at start from the
+// configuration, and on every request after Camera::lockExposure.
+void setManualExposure(libcamera::ControlList& controls, std::optional<double> exposureUs,
+                       std::optional<double> gain) {
+  controls.set(libcamera::controls::AeEnable, false);
+  if (exposureUs)
+    controls.set(libcamera::controls::ExposureTime, static_cast<std::int32_t>(*exposureUs));
+  if (gain) controls.set(libcamera::controls::AnalogueGain, static_cast<float>(*gain));
+}
+
 }  // namespace
 
 std::vector<std::string> listLibcameraCameras() {
@@ -291,14 +301,8 @@ void LibcameraCamera::start() {
   // reference, which a drifting auto exposure or white balance would break.
   libcamera::ControlList controls;
   controls.set(libcamera::controls::AwbEnable, false);
-  if (state_->config.exposureUs || state_->config.gain) {
-    controls.set(libcamera::controls::AeEnable, false);
-    if (state_->config.exposureUs)
-      controls.set(libcamera::controls::ExposureTime,
-                   static_cast<std::int32_t>(*state_->config.exposureUs));
-    if (state_->config.gain)
-      controls.set(libcamera::controls::AnalogueGain, static_cast<float>(*state_->config.gain));
-  }
+  if (state_->config.exposureUs || state_->config.gain)
+    setManualExposure(controls, state_->config.exposureUs, state_->config.gain);
   state_->camera->requestCompleted.connect(state_.get(), &State::onRequestCompleted);
   if (const int result = state_->camera->start(&controls); result != 0) {
     state_->camera->requestCompleted.disconnect(state_.get());
@@ -369,14 +373,9 @@ CaptureResult LibcameraCamera::nextFrame(std::chrono::milliseconds timeout) {
     libcamera::Request* request;
     ~Requeue() {
       request->reuse(libcamera::Request::ReuseBuffers);  // also clears the request's controls
-      if (state.lockedExposure) {
-        libcamera::ControlList& controls = request->controls();
-        controls.set(libcamera::controls::AeEnable, false);
-        controls.set(libcamera::controls::ExposureTime,
-                     static_cast<std::int32_t>(state.lockedExposure->exposureUs));
-        controls.set(libcamera::controls::AnalogueGain,
-                     static_cast<float>(state.lockedExposure->gain.value_or(1.0)));
-      }
+      if (state.lockedExposure)
+        setManualExposure(request->controls(), state.lockedExposure->exposureUs,
+                          state.lockedExposure->gain);
       if (state.streaming) state.camera->queueRequest(request);
     }
   } requeue{*state_, request};

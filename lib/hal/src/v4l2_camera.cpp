@@ -107,6 +107,24 @@ struct V4l2Camera::State {
     return set;
   }
 
+  /// Auto exposure off and the exposure set, clamped to the control's range; returns the
+  /// exposure set in microseconds (V4L2_CID_EXPOSURE_ABSOLUTE counts 100 us), or nullopt when the
+  /// device has no manual exposure.
+  std::optional<double> setManualExposureUs(double wantedUs) const {
+    setControl(V4L2_CID_EXPOSURE_AUTO, V4L2_EXPOSURE_MANUAL);
+    const std::optional<std::int32_t> set =
+        setRangedControl(V4L2_CID_EXPOSURE_ABSOLUTE, wantedUs / 100.0);
+    if (!set) return std::nullopt;
+    return *set * 100.0;
+  }
+
+  /// Auto gain off and the gain set (the device's own units), clamped to its range; returns the
+  /// gain set, or nullopt when the device lacks the control or refuses it.
+  std::optional<std::int32_t> setManualGain(double wanted) const {
+    setControl(V4L2_CID_AUTOGAIN, 0);
+    return setRangedControl(V4L2_CID_GAIN, wanted);
+  }
+
   void releaseBuffers() {
     for (MappedBuffer& buffer : buffers)
       if (buffer.start != MAP_FAILED) ::munmap(buffer.start, buffer.length);
@@ -209,21 +227,18 @@ ConfigResult V4l2Camera::configure(CameraConfig& config) {
   // Locked white balance and gain control, then exposure: a sweep's frames must be comparable.
   state_->setControl(V4L2_CID_AUTO_WHITE_BALANCE, 0);
   if (config.exposureUs) {
-    state_->setControl(V4L2_CID_EXPOSURE_AUTO, V4L2_EXPOSURE_MANUAL);
-    const std::optional<std::int32_t> set =
-        state_->setRangedControl(V4L2_CID_EXPOSURE_ABSOLUTE, *config.exposureUs / 100.0);
-    if (!set) {
+    const std::optional<double> setUs = state_->setManualExposureUs(*config.exposureUs);
+    if (!setUs) {
       adjustments.push_back("no manual exposure: left to the camera");
       config.exposureUs.reset();
-    } else if (std::abs(*set * 100.0 - *config.exposureUs) > 1e-6) {
+    } else if (std::abs(*setUs - *config.exposureUs) > 1e-6) {
       adjustments.push_back("exposure " + std::to_string(*config.exposureUs) + " us -> " +
-                            std::to_string(*set * 100) + " us");
-      config.exposureUs = *set * 100.0;
+                            std::to_string(*setUs) + " us");
+      config.exposureUs = *setUs;
     }
   }
   if (config.gain) {
-    state_->setControl(V4L2_CID_AUTOGAIN, 0);
-    const std::optional<std::int32_t> set = state_->setRangedControl(V4L2_CID_GAIN, *config.gain);
+    const std::optional<std::int32_t> set = state_->setManualGain(*config.gain);
     if (!set) {
       adjustments.push_back("no manual gain: left to the camera");
       config.gain.reset();
@@ -364,23 +379,21 @@ CaptureResult V4l2Camera::nextFrame(std::chrono::milliseconds timeout) {
 
 ExposureLock V4l2Camera::lockExposure(const ExposureSetting& wanted) {
   if (!state_->streaming) throw std::logic_error("V4l2Camera::lockExposure before start");
-  // V4L2_CID_EXPOSURE_ABSOLUTE counts 100 us.
-  state_->setControl(V4L2_CID_EXPOSURE_AUTO, V4L2_EXPOSURE_MANUAL);
-  const std::optional<std::int32_t> exposure =
-      state_->setRangedControl(V4L2_CID_EXPOSURE_ABSOLUTE, wanted.exposureUs / 100.0);
-  if (!exposure) return {std::nullopt, state_->device + " has no manual exposure"};
+  const std::optional<double> exposureUs = state_->setManualExposureUs(wanted.exposureUs);
+  if (!exposureUs) return {std::nullopt, state_->device + " has no manual exposure"};
   // Auto gain off too, or it would undo the metering; a camera without a gain control is unity.
-  state_->setControl(V4L2_CID_AUTOGAIN, 0);
   double gain = 1.0;
   if (const std::optional<v4l2_queryctrl> query = state_->queryControl(V4L2_CID_GAIN)) {
     const std::optional<std::int32_t> set =
-        state_->setRangedControl(V4L2_CID_GAIN, wanted.gain.value_or(query->default_value));
+        state_->setManualGain(wanted.gain.value_or(query->default_value));
     if (!set) return {std::nullopt, state_->device + " refused a manual gain"};
     gain = *set;
+  } else {
+    state_->setControl(V4L2_CID_AUTOGAIN, 0);
   }
-  state_->config.exposureUs = *exposure * 100.0;
+  state_->config.exposureUs = *exposureUs;
   state_->config.gain = gain;
-  return {ExposureSetting{*exposure * 100.0, gain}, ""};
+  return {ExposureSetting{*exposureUs, gain}, ""};
 }
 
 }  // namespace slicecap::hal
