@@ -380,6 +380,7 @@ TEST_F(DaemonOnFileCamera, ALiveCameraThatCannotLockItsExposureIsAWarning) {
   ASSERT_TRUE(status.contains("warnings")) << status.dump();
   EXPECT_THAT(status["warnings"].back().get<std::string>(),
               HasSubstr("exposure not locked (no manual exposure)"));
+  EXPECT_FALSE(status.contains("exposure")) << "the same text once, as the warning";
   // Nothing was metered: every LED-on frame is a sample.
   EXPECT_EQ(status["sweep"]["samples"], liveCamera_->frames / 2);
 }

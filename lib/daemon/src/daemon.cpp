@@ -359,8 +359,11 @@ struct Daemon::State {
     if (std::holds_alternative<Status>(request.command)) {
       std::vector<std::string> warnings = parts.warnings;
       if (!cameraAdjustment.empty()) warnings.push_back(cameraAdjustment);
-      if (exposureUnlocked) warnings.push_back(exposureNote);
-      if (!exposureNote.empty()) json["exposure"] = exposureNote;  // the last sweep start's
+      // The last sweep start's: a camera that could not lock is a warning, shown once.
+      if (exposureUnlocked)
+        warnings.push_back(exposureNote);
+      else if (!exposureNote.empty())
+        json["exposure"] = exposureNote;
       if (!warnings.empty()) json["warnings"] = warnings;
     }
     reconcile();
