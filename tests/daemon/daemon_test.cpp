@@ -16,6 +16,7 @@
 #include "../support/test_support.hpp"
 #include "slicecap/daemon/control_client.hpp"
 #include "slicecap/daemon/control_server.hpp"
+#include "slicecap/hal/camera_error.hpp"
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/file_camera.hpp"
 #include "slicecap/hal/file_led.hpp"
@@ -106,6 +107,7 @@ struct LiveCameraLog {
   double sceneLevel = 0.05;
   double maxExposureUs = 100'000.0;
   bool canLock = true;
+  std::optional<int> failAtLock;  // this lock (1-based) throws, as a device that went away
   int frames = 40;
 };
 
@@ -121,6 +123,8 @@ class FakeLiveCamera : public hal::Camera {
   std::optional<int> readyDescriptor() const override { return ready_; }
   hal::ExposureLock lockExposure(const hal::ExposureSetting& wanted) override {
     if (!log_->canLock) return {std::nullopt, "no manual exposure"};
+    if (log_->failAtLock && int(log_->locks.size()) + 1 == *log_->failAtLock)
+      throw hal::CameraError("fake-live: cannot set the exposure: No such device");
     const hal::ExposureSetting set{std::clamp(wanted.exposureUs, 100.0, log_->maxExposureUs),
                                    wanted.gain.value_or(1.0)};
     log_->locks.push_back(set);
@@ -383,6 +387,19 @@ TEST_F(DaemonOnFileCamera, ALiveCameraThatCannotLockItsExposureIsAWarning) {
   EXPECT_FALSE(status.contains("exposure")) << "the same text once, as the warning";
   // Nothing was metered: every LED-on frame is a sample.
   EXPECT_EQ(status["sweep"]["samples"], liveCamera_->frames / 2);
+}
+
+TEST_F(DaemonOnFileCamera, ACameraFailingDuringTheMeteringPausesTheSweep) {
+  liveCamera_ = std::make_shared<LiveCameraLog>();
+  liveCamera_->failAtLock = 2;  // the first metering step
+  start();
+  call(SessionNew{"grey card", std::string("grey")});
+  call(SweepStart{kAxial3030});
+  const json status = waitForPause();
+  EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(),
+              HasSubstr("exposure metering: fake-live: cannot set the exposure"));
+  EXPECT_EQ(status["sweep"]["samples"], 0);
+  EXPECT_FALSE(ledLog().back().on);
 }
 
 TEST_F(DaemonOnFileCamera, AConfiguredExposureIsNotMetered) {

@@ -284,7 +284,8 @@ struct Daemon::State {
       try {
         meterFrame(frame);
       } catch (const std::exception& error) {
-        manager.pauseSweep(std::string("camera error: ") + error.what());
+        // The camera's lock or the LED failed: each message names its device.
+        manager.pauseSweep(std::string("exposure metering: ") + error.what());
         reconcile();
       }
       return;
