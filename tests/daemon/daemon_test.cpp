@@ -216,6 +216,13 @@ class DaemonOnFileCamera : public ::testing::Test {
     return call(Status{});
   }
 
+  // A new session and a sweep of kAxial3030 until it pauses (the camera's frames run out).
+  json sweepUntilPaused() {
+    call(SessionNew{"grey card", std::string("grey")});
+    call(SweepStart{kAxial3030});
+    return waitForPause();
+  }
+
   std::vector<hal::LedEvent> ledLog() const { return hal::readLedLog(ledLog_); }
 
   hal::SteadyClock clock_;
@@ -229,9 +236,7 @@ class DaemonOnFileCamera : public ::testing::Test {
 TEST_F(DaemonOnFileCamera, FramesBecomeSamplesAndTheLedGoesOffWhenTheRecordingEnds) {
   start();
   EXPECT_FALSE(ledLog().back().on);
-  call(SessionNew{"grey card", std::string("grey")});
-  call(SweepStart{kAxial3030});
-  const json status = waitForPause();
+  const json status = sweepUntilPaused();
   EXPECT_EQ(status["sweep"]["samples"], kFrames / 2);
   EXPECT_EQ(status["sweep"]["bins_filled"], kFrames / 2);
   EXPECT_DOUBLE_EQ(status["sweep"]["view_elevation_error_deg"].get<double>(), 1.5);
@@ -250,9 +255,7 @@ TEST_F(DaemonOnFileCamera, WhatTheCameraCouldNotDoAsConfiguredIsLogged) {
   configuredExposureUs_ = 1234.0;
   testing::internal::CaptureStderr();
   start();
-  call(SessionNew{"grey card", std::string("grey")});
-  call(SweepStart{kAxial3030});
-  const json status = waitForPause();
+  const json status = sweepUntilPaused();
   const std::string log = testing::internal::GetCapturedStderr();
   EXPECT_THAT(log, HasSubstr("adjusted the configuration: "));
   EXPECT_THAT(log, HasSubstr("exposure"));
@@ -264,9 +267,7 @@ TEST_F(DaemonOnFileCamera, WhatTheCameraCouldNotDoAsConfiguredIsLogged) {
 
 TEST_F(DaemonOnFileCamera, ACameraFailurePausesTheSweepAndKeepsEverySampleBeforeIt) {
   start(std::uint64_t{7});
-  call(SessionNew{"grey card", std::string("grey")});
-  call(SweepStart{kAxial3030});
-  const json status = waitForPause();
+  const json status = sweepUntilPaused();
   EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(), HasSubstr("camera error"));
   EXPECT_THAT(status["error"].get<std::string>(), HasSubstr("injected camera failure"));
   EXPECT_EQ(status["sweep"]["samples"], 4);  // frames 0, 2, 4, 6 had the LED on
@@ -279,9 +280,7 @@ TEST_F(DaemonOnFileCamera, ACameraFailurePausesTheSweepAndKeepsEverySampleBefore
 TEST_F(DaemonOnFileCamera, TheTextureSeesEveryFrameOfTheSweepAndItsStatusIsShown) {
   auto texture = std::make_shared<TextureLog>();
   start(std::nullopt, texture);
-  call(SessionNew{"grey card", std::string("grey")});
-  call(SweepStart{kAxial3030});
-  const json status = waitForPause();
+  const json status = sweepUntilPaused();
   EXPECT_EQ(texture->framesSeen, kFrames);
   EXPECT_EQ(texture->samplesStored, kFrames / 2);
   EXPECT_EQ(status["texture"]["frames_stored"], kFrames / 2);
@@ -306,9 +305,7 @@ TEST_F(DaemonOnFileCamera, ATextureStorageErrorPausesTheSweepAndKeepsTheSamples)
   auto texture = std::make_shared<TextureLog>();
   texture->failAtSample = 3;
   start(std::nullopt, texture);
-  call(SessionNew{"grey card", std::string("grey")});
-  call(SweepStart{kAxial3030});
-  const json status = waitForPause();
+  const json status = sweepUntilPaused();
   EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(),
               HasSubstr("texture storage error"));
   EXPECT_THAT(status["error"].get<std::string>(), HasSubstr("No space left on device"));
@@ -335,9 +332,7 @@ TEST_F(DaemonOnFileCamera, ALiveCameraIsMeteredWithTheLedOnThenLockedForTheSweep
   liveCamera_ = std::make_shared<LiveCameraLog>();  // 0.05 at 10 ms: 70 ms reaches 0.35
   testing::internal::CaptureStderr();
   start();
-  call(SessionNew{"grey card", std::string("grey")});
-  call(SweepStart{kAxial3030});
-  const json status = waitForPause();
+  const json status = sweepUntilPaused();
   const std::string log = testing::internal::GetCapturedStderr();
   const std::vector<hal::ExposureSetting>& locks = liveCamera_->locks;
   ASSERT_GE(locks.size(), 2u);
@@ -365,9 +360,7 @@ TEST_F(DaemonOnFileCamera, AMeteringAtTheCamerasExposureLimitSaysItIsOffTheTarge
   liveCamera_->sceneLevel = 0.01;  // 350 ms needed
   liveCamera_->maxExposureUs = 33'000.0;
   start();
-  call(SessionNew{"grey card", std::string("grey")});
-  call(SweepStart{kAxial3030});
-  const json status = waitForPause();
+  const json status = sweepUntilPaused();
   ASSERT_FALSE(liveCamera_->locks.empty());
   EXPECT_DOUBLE_EQ(liveCamera_->locks.back().exposureUs, 33'000.0);
   EXPECT_THAT(status["exposure"].get<std::string>(), HasSubstr("off the target"));
@@ -378,9 +371,7 @@ TEST_F(DaemonOnFileCamera, ALiveCameraThatCannotLockItsExposureIsAWarning) {
   liveCamera_ = std::make_shared<LiveCameraLog>();
   liveCamera_->canLock = false;
   start();
-  call(SessionNew{"grey card", std::string("grey")});
-  call(SweepStart{kAxial3030});
-  const json status = waitForPause();
+  const json status = sweepUntilPaused();
   ASSERT_TRUE(status.contains("warnings")) << status.dump();
   EXPECT_THAT(status["warnings"].back().get<std::string>(),
               HasSubstr("exposure not locked (no manual exposure)"));
@@ -393,9 +384,7 @@ TEST_F(DaemonOnFileCamera, ACameraFailingDuringTheMeteringPausesTheSweep) {
   liveCamera_ = std::make_shared<LiveCameraLog>();
   liveCamera_->failAtLock = 2;  // the first metering step
   start();
-  call(SessionNew{"grey card", std::string("grey")});
-  call(SweepStart{kAxial3030});
-  const json status = waitForPause();
+  const json status = sweepUntilPaused();
   EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(),
               HasSubstr("exposure metering: fake-live: cannot set the exposure"));
   EXPECT_EQ(status["sweep"]["samples"], 0);
@@ -406,9 +395,7 @@ TEST_F(DaemonOnFileCamera, AConfiguredExposureIsNotMetered) {
   liveCamera_ = std::make_shared<LiveCameraLog>();
   configuredExposureUs_ = 8000.0;
   start();
-  call(SessionNew{"grey card", std::string("grey")});
-  call(SweepStart{kAxial3030});
-  const json status = waitForPause();
+  const json status = sweepUntilPaused();
   EXPECT_TRUE(liveCamera_->locks.empty());
   EXPECT_FALSE(status.contains("exposure")) << status.dump();
   EXPECT_EQ(status["sweep"]["samples"], liveCamera_->frames / 2);
