@@ -91,28 +91,54 @@ def test_rejects_another_layout_no_layout_and_another_quantity(tmp_path):
     assert 'slicecap:quantity is "abrdf"' in read_error(tmp_path / "abrdf.exr")
 
 
+def write_past_the_package(path, table):
+    """The package's writer refuses the tables these tests need: written through OpenEXR itself."""
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    header.update(GOOD_ATTRIBUTES)
+    channels = {c: table[..., i].astype(np.float32) for i, c in enumerate("RGB")}
+    with OpenEXR.File(header, channels) as file:
+        file.write(str(path))
+
+
 def test_rejects_non_finite_values(tmp_path):
     table = np.zeros((81, 81, 3), dtype=np.float32)
     table[5, 6, 2] = np.nan
-    # The package's writer refuses such a table: the file is written through OpenEXR itself.
-    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-    header.update(GOOD_ATTRIBUTES)
-    with OpenEXR.File(header, {c: table[..., i].copy() for i, c in enumerate("RGB")}) as file:
-        file.write(str(tmp_path / "nan.exr"))
+    write_past_the_package(tmp_path / "nan.exr", table)
     assert read_error(tmp_path / "nan.exr").endswith(
         "non-finite value at light 5, view 6, channel B"
     )
 
 
-def test_refuses_to_write_a_table_the_reader_would_refuse(tmp_path):
+def test_rejects_negative_values_but_reads_negative_zero(tmp_path):
+    # A BRDF is never negative; a table from another tool holding one would render as negative
+    # light. The message is the C++ reader's (tests/io/abrdf_exr_test.cpp).
     table = ramp_table()
-    table[7, 3, 1] = np.inf
-    with pytest.raises(SlicecapFileError) as raised:
-        write_abrdf_exr(tmp_path / "inf.exr", table)
-    assert str(raised.value) == (
-        f"{tmp_path / 'inf.exr'}: not written: a non-finite value at light 7, view 3, channel G"
+    table[2, 9, 0] = -0.0
+    write_past_the_package(tmp_path / "zero.exr", table)
+    np.testing.assert_array_equal(read_abrdf_exr(tmp_path / "zero.exr").values, table)
+    table[4, 11, 1] = -0.25
+    write_past_the_package(tmp_path / "negative.exr", table)
+    assert read_error(tmp_path / "negative.exr") == (
+        f"{tmp_path / 'negative.exr'}: negative value -0.25 at light 4, view 11, channel G "
+        "(a BRDF is never negative)"
     )
-    assert not (tmp_path / "inf.exr").exists()
+
+
+@pytest.mark.parametrize(
+    "bad, said",
+    [
+        (np.inf, "non-finite value at light 7, view 3, channel G"),
+        (-1e-6, "negative value -1e-06 at light 7, view 3, channel G (a BRDF is never negative)"),
+    ],
+)
+def test_refuses_to_write_a_table_the_reader_would_refuse(tmp_path, bad, said):
+    table = ramp_table()
+    table[7, 3, 1] = bad
+    table[9, 0, 0] = bad
+    with pytest.raises(SlicecapFileError) as raised:
+        write_abrdf_exr(tmp_path / "bad.exr", table)
+    assert str(raised.value) == f"{tmp_path / 'bad.exr'}: not written: a {said}"
+    assert not (tmp_path / "bad.exr").exists()
 
 
 def test_rejects_missing_and_corrupt_files(tmp_path):

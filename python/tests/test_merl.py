@@ -123,4 +123,8 @@ def test_a_table_of_another_shape_or_not_finite_is_refused(tmp_path):
     table[3, 4, 1] = np.nan
     with pytest.raises(ValueError, match="non-finite value at light 3, view 4, channel G"):
         export_merl(tmp_path / "nan.binary", table)
+    # A negative value would be read back as MERL's "no measurement".
+    table[3, 4, 1] = -0.5
+    with pytest.raises(ValueError, match="negative value -0.5 at light 3, view 4, channel G"):
+        export_merl(tmp_path / "negative.binary", table)
     assert not any(tmp_path.iterdir())

@@ -116,45 +116,66 @@ TEST(AbrdfExr, RejectsAnotherLayoutOrNoLayout) {
   EXPECT_NE(readError(dir / "abrdf.exr").find("quantity"), std::string::npos);
 }
 
-TEST(AbrdfExr, RejectsNonFiniteValues) {
-  const auto dir = test::freshTempDir();
-  // Written past writeAbrdfExr, which refuses such a table.
+// A table written past writeAbrdfExr, which refuses the values these tests put in.
+void writeTableRaw(const std::filesystem::path& path, Abrdf table) {
   Imf::Header header(Abrdf::kDirections, Abrdf::kDirections);
   for (const char* c : {"R", "G", "B"})
     header.channels().insert(c, Imf::Channel(Imf::FLOAT));
   for (const auto& [k, v] : kGoodAttributes)
     header.insert(k, Imf::StringAttribute(v));
-  Abrdf table;
-  table.channel(5, 6, 2) = std::numeric_limits<float>::quiet_NaN();
   Imf::FrameBuffer frame;
   for (int c = 0; c < 3; ++c)
     frame.insert(std::string(1, "RGB"[c]),
                  Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(table.values().data() + c),
                             3 * sizeof(float), 3 * sizeof(float) * Abrdf::kDirections));
-  {
-    Imf::OutputFile file((dir / "nan.exr").c_str(), header);
-    file.setFrameBuffer(frame);
-    file.writePixels(Abrdf::kDirections);
-  }
-  const std::string error = readError(dir / "nan.exr");
-  EXPECT_NE(error.find("light 5, view 6, channel B"), std::string::npos) << error;
+  Imf::OutputFile file(path.c_str(), header);
+  file.setFrameBuffer(frame);
+  file.writePixels(Abrdf::kDirections);
 }
 
-TEST(AbrdfExr, RefusesToWriteNonFiniteValuesNamingTheFirst) {
+TEST(AbrdfExr, RejectsNonFiniteValues) {
+  const auto dir = test::freshTempDir();
+  Abrdf table;
+  table.channel(5, 6, 2) = std::numeric_limits<float>::quiet_NaN();
+  writeTableRaw(dir / "nan.exr", table);
+  const std::string error = readError(dir / "nan.exr");
+  EXPECT_NE(error.find("non-finite value at light 5, view 6, channel B"), std::string::npos)
+      << error;
+}
+
+TEST(AbrdfExr, RejectsNegativeValuesButReadsNegativeZero) {
+  // A BRDF is never negative and no reconstruction writes one; a table from another tool that
+  // holds one would render as negative light on the desktop.
+  const auto dir = test::freshTempDir();
+  Abrdf table = rampTable();
+  table.channel(2, 9, 0) = -0.0f;
+  writeTableRaw(dir / "zero.exr", table);
+  EXPECT_EQ(readAbrdfExr(dir / "zero.exr"), table);
+  table.channel(4, 11, 1) = -0.25f;
+  writeTableRaw(dir / "negative.exr", table);
+  const std::string error = readError(dir / "negative.exr");
+  EXPECT_NE(error.find((dir / "negative.exr").string() +
+                       ": negative value -0.25 at light 4, view 11, channel G"),
+            std::string::npos)
+      << error;
+}
+
+TEST(AbrdfExr, RefusesToWriteNonFiniteOrNegativeValuesNamingTheFirst) {
   // `reconstruct` wrote an EXR holding inf (from one sample of 1e35) that its own reader refused.
   const auto dir = test::freshTempDir();
   writeAbrdfExr(dir / "t.exr", rampTable());
   for (const float bad :
-       {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+       {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(), -1e-6f}) {
     Abrdf table = rampTable();
     table.channel(7, 3, 1) = bad;
     table.channel(9, 0, 0) = bad;
     try {
       writeAbrdfExr(dir / "t.exr", table);
-      ADD_FAILURE() << "a non-finite value was written";
+      ADD_FAILURE() << bad << " was written";
     } catch (const IoError& e) {
       const std::string message = e.what();
-      EXPECT_NE(message.find((dir / "t.exr").string()), std::string::npos) << message;
+      EXPECT_NE(message.find((dir / "t.exr").string() + ": not written: a "), std::string::npos)
+          << message;
       EXPECT_NE(message.find("light 7, view 3, channel G"), std::string::npos) << message;
     }
     EXPECT_EQ(readAbrdfExr(dir / "t.exr"), rampTable()) << "the old file is kept";

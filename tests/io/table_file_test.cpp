@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <fstream>
 #include <functional>
+#include <limits>
 
 #include "../support/test_support.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
@@ -48,6 +50,46 @@ TEST(TableFile, RejectsWrongSizesAndUnknownFormats) {
   EXPECT_THROW(readTable(dir / "absent.f32"), IoError);
   writeAbrdfExr(dir / "t.exr", Abrdf());
   EXPECT_EQ(readTable(dir / "t.exr"), Abrdf());
+}
+
+TEST(TableFile, F32RejectsNonFiniteAndNegativeValuesInBothDirections) {
+  if constexpr (std::endian::native != std::endian::little)
+    GTEST_SKIP() << "writes the little-endian file with the host's floats";
+  const auto dir = test::freshTempDir();
+  Abrdf good;
+  good.set(3, 4, {0.5f, 0.25f, 0.125f});
+  writeF32Table(dir / "t.f32", good);
+  for (const auto& [bad, said] :
+       {std::pair{-0.5f, std::string("negative value -0.5 at light 3, view 4, channel G")},
+        std::pair{std::numeric_limits<float>::infinity(),
+                  std::string("non-finite value at light 3, view 4, channel G")}}) {
+    SCOPED_TRACE(said);
+    Abrdf table = good;
+    table.channel(3, 4, 1) = bad;
+    try {
+      writeF32Table(dir / "t.f32", table);
+      ADD_FAILURE() << "written";
+    } catch (const IoError& e) {
+      EXPECT_NE(std::string(e.what()).find((dir / "t.f32").string() + ": not written: a " + said),
+                std::string::npos)
+          << e.what();
+    }
+    EXPECT_EQ(readF32Table(dir / "t.f32"), good) << "the old file is kept";
+    // The same value written past the writer, as another tool might.
+    {
+      std::ofstream file(dir / "other.f32", std::ios::binary);
+      for (float v : table.values())
+        file.write(reinterpret_cast<const char*>(&v), sizeof v);
+    }
+    try {
+      readF32Table(dir / "other.f32");
+      ADD_FAILURE() << "read";
+    } catch (const IoError& e) {
+      EXPECT_NE(std::string(e.what()).find((dir / "other.f32").string() + ": " + said),
+                std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 TEST(TableFile, EveryReaderNamesADirectoryGivenForAFile) {

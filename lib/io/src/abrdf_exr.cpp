@@ -9,7 +9,6 @@
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStringAttribute.h>
 
-#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <optional>
@@ -20,6 +19,7 @@
 #include "slicecap/core/version.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
+#include "table_values.hpp"
 
 namespace slicecap::io {
 namespace {
@@ -53,25 +53,13 @@ class MemoryExrStream : public Imf::OStream {
   std::size_t position_ = 0;
 };
 
-// Where the first non-finite value of a table is ("light 3, view 40, channel G"), if any.
-std::optional<std::string> firstNonFinite(const Abrdf& table) {
-  for (std::size_t i = 0; i < table.values().size(); ++i) {
-    if (!std::isfinite(table.values()[i])) {
-      const std::size_t pixel = i / 3;
-      return "light " + std::to_string(pixel / kSize) + ", view " + std::to_string(pixel % kSize) +
-             ", channel " + kChannels[i % 3];
-    }
-  }
-  return std::nullopt;
-}
-
 }  // namespace
 
 void writeAbrdfExr(const std::filesystem::path& path, const Abrdf& table,
                    const ExrAttributes& attributes) {
   // The reader refuses such a file: no command may write one.
-  if (const auto where = firstNonFinite(table))
-    throw error(path, "not written: a non-finite value at " + *where);
+  if (const auto problem = firstInvalidValue(table))
+    throw error(path, "not written: a " + *problem);
   Imf::Header header(kSize, kSize);
   header.compression() = Imf::ZIP_COMPRESSION;
   for (const char* name : kChannels)
@@ -169,7 +157,7 @@ Abrdf readAbrdfExr(const std::filesystem::path& path, ExrAttributes* attributes)
   } catch (const std::exception& e) {
     throw error(path, std::string("cannot read EXR: ") + e.what());
   }
-  if (const auto where = firstNonFinite(table)) throw error(path, "non-finite value at " + *where);
+  if (const auto problem = firstInvalidValue(table)) throw error(path, *problem);
   return table;
 }
 

@@ -2,7 +2,6 @@
 #include "slicecap/io/table_file.hpp"
 
 #include <bit>
-#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -12,6 +11,7 @@
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
+#include "table_values.hpp"
 
 namespace slicecap::io {
 namespace {
@@ -41,14 +41,15 @@ Abrdf readF32Table(const std::filesystem::path& path) {
     std::uint32_t word;
     std::memcpy(&word, bytes.data() + i * sizeof(float), sizeof word);
     values[i] = std::bit_cast<float>(toLittleEndian(word));
-    if (!std::isfinite(values[i])) {
-      throw IoError(path.string() + ": non-finite value at float index " + std::to_string(i));
-    }
   }
+  if (const auto problem = firstInvalidValue(table)) throw IoError(path.string() + ": " + *problem);
   return table;
 }
 
 void writeF32Table(const std::filesystem::path& path, const Abrdf& table) {
+  // The reader refuses such a file: no command may write one.
+  if (const auto problem = firstInvalidValue(table))
+    throw IoError(path.string() + ": not written: a " + *problem);
   writeStreamReplacing(path, [&](std::ostream& out) {
     for (float v : table.values()) {
       const std::uint32_t word = toLittleEndian(std::bit_cast<std::uint32_t>(v));

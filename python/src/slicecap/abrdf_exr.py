@@ -38,14 +38,21 @@ def slicecap_attributes(header: dict) -> dict[str, str]:
     }
 
 
-def first_non_finite(values: np.ndarray) -> str | None:
-    """Where the first non-finite value of an (81, 81, 3) table is ("light 3, view 40, channel
-    G"), if any (the C++ firstNonFinite)."""
-    bad = np.argwhere(~np.isfinite(values))
+def first_invalid_value(values: np.ndarray) -> str | None:
+    """The first value an (81, 81, 3) BRDF table may not hold, with its place: "non-finite value
+    at light 3, view 40, channel G" or "negative value -0.25 at light 3, view 40, channel G (a BRDF
+    is never negative)"; None when every value is finite and not negative (-0 is zero). The C++
+    io::firstInvalidValue, word for word."""
+    values = np.asarray(values)
+    bad = np.argwhere(~np.isfinite(values) | (values < 0))
     if not len(bad):
         return None
     light, view, channel = bad[0]
-    return f"light {light}, view {view}, channel {CHANNELS[channel]}"
+    where = f"at light {light}, view {view}, channel {CHANNELS[channel]}"
+    value = values[light, view, channel]
+    if not np.isfinite(value):
+        return f"non-finite value {where}"
+    return f"negative value {float(value):g} {where} (a BRDF is never negative)"
 
 
 def _refuse_unopenable(path, expected: str) -> str:
@@ -112,8 +119,9 @@ def _require(path, found: dict[str, str], key: str, expected: str) -> None:
 
 def read_abrdf_exr(path) -> Abrdf:
     """Reads an ABRDF EXR; checks the 81 x 81 size, the R, G, B channels, `slicecap:layout` =
-    "bonn81", `slicecap:quantity` = "brdf" and finite values. Raises SlicecapFileError whose
-    message names the file and what is wrong (the same messages as the C++ reader)."""
+    "bonn81", `slicecap:quantity` = "brdf" and finite, non-negative values. Raises
+    SlicecapFileError whose message names the file and what is wrong (the same messages as the
+    C++ reader)."""
     header, channels = read_exr(path, "an ABRDF EXR")
     try:
         low, high = header["dataWindow"]
@@ -139,21 +147,21 @@ def read_abrdf_exr(path) -> Abrdf:
         raise
     except Exception as e:  # e.g. pixels of a type numpy does not convert
         raise _error(path, f"cannot read EXR: {e}") from e
-    where = first_non_finite(values)
-    if where:
-        raise _error(path, f"non-finite value at {where}")
+    problem = first_invalid_value(values)
+    if problem:
+        raise _error(path, problem)
     return Abrdf(values, found)
 
 
 def write_abrdf_exr(path, table, attributes: dict[str, str] | None = None) -> None:
     """Writes an (81, 81, 3) table or an Abrdf (ZIP compressed, float32). The writer always sets
     layout = "bonn81", quantity = "brdf" and (unless given) version. Raises SlicecapFileError
-    naming the file on failure or for a table with a non-finite value (the reader refuses such a
-    file, as the C++ writer does), ValueError for a table of another shape."""
+    naming the file on failure or for a table with a non-finite or negative value (the reader
+    refuses such a file, as the C++ writer does), ValueError for a table of another shape."""
     abrdf = table if isinstance(table, Abrdf) else Abrdf(np.asarray(table))
-    where = first_non_finite(abrdf.values)
-    if where:
-        raise _error(path, f"not written: a non-finite value at {where}")
+    problem = first_invalid_value(abrdf.values)
+    if problem:
+        raise _error(path, f"not written: a {problem}")
     merged = dict(abrdf.attributes)
     merged.update(attributes or {})
     merged["layout"] = ABRDF_LAYOUT

@@ -13,7 +13,7 @@ import os
 import numpy as np
 
 from slicecap.abrdf import TABLE_SHAPE
-from slicecap.abrdf_exr import SlicecapFileError, first_non_finite
+from slicecap.abrdf_exr import SlicecapFileError, first_invalid_value
 from slicecap.grid import RINGS, to_directions_deg
 from slicecap.isotropic import IsotropicTable
 from slicecap.paths import write_replacing
@@ -133,17 +133,18 @@ def merl_values_of_table(table: np.ndarray) -> np.ndarray:
 
 def export_merl(path, table, *, allow_anisotropic: bool = False) -> float:
     """Writes an (81, 81, 3) table (or an Abrdf) as a MERL .binary file and returns its grid
-    anisotropy. Raises ValueError for a table of another shape or with a non-finite value, or
-    anisotropic beyond MAX_ANISOTROPY (MERL holds isotropic materials only; allow_anisotropic=True
-    exports the azimuthal average instead), and SlicecapFileError naming the file when it cannot
-    be written."""
+    anisotropy. Raises ValueError for a table of another shape, with a non-finite or negative
+    value, or anisotropic beyond MAX_ANISOTROPY (MERL holds isotropic materials only;
+    allow_anisotropic=True exports the azimuthal average instead), and SlicecapFileError naming
+    the file when it cannot be written."""
     values = np.asarray(getattr(table, "values", table), dtype=np.float64)
     if values.shape != TABLE_SHAPE:
         raise ValueError(f"an ABRDF table has shape (81, 81, 3), got {values.shape}")
-    where = first_non_finite(values)
-    if where:
-        # It would spread through the interpolation or vanish between bins, without a word.
-        raise ValueError(f"the table has a non-finite value at {where}")
+    problem = first_invalid_value(values)
+    if problem:
+        # It would spread through the interpolation or vanish between bins, without a word; a
+        # negative one MERL readers take for "no measurement".
+        raise ValueError(f"the table has a {problem}")
     anisotropy = grid_anisotropy(values)
     if anisotropy > MAX_ANISOTROPY and not allow_anisotropic:
         raise ValueError(
