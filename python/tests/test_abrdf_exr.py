@@ -3,6 +3,7 @@ that cross between the C++ and the Python side."""
 
 import json
 import subprocess
+import sys
 
 import numpy as np
 import OpenEXR
@@ -172,6 +173,22 @@ def test_rejects_missing_and_corrupt_files(tmp_path):
     assert read_error(tmp_path / "damaged.exr").endswith("pixel data is truncated or corrupt")
     with pytest.raises(SlicecapFileError, match="no/such/dir.exr: cannot write EXR"):
         write_abrdf_exr(tmp_path / "no" / "such" / "dir.exr", ramp_table())
+
+
+def test_a_damaged_file_is_said_once_and_prints_nothing_else(tmp_path, capfd):
+    # OpenEXR printed a line per chunk to stderr and a warning to stdout (into a script's own
+    # output) before the error said the same.
+    write_abrdf_exr(tmp_path / "whole.exr", ramp_table())
+    whole = (tmp_path / "whole.exr").read_bytes()
+    (tmp_path / "cut.exr").write_bytes(whole[: len(whole) // 2])
+    capfd.readouterr()
+    assert read_error(tmp_path / "cut.exr").endswith("pixel data is truncated or corrupt")
+    assert read_abrdf_exr(tmp_path / "whole.exr").values.shape == (81, 81, 3)
+    printed = capfd.readouterr()
+    assert (printed.out, printed.err) == ("", "")
+    print("after", file=sys.stderr)
+    print("after")
+    assert capfd.readouterr() == ("after\n", "after\n"), "stdout and stderr are back"
 
 
 def test_half_float_channels_are_read_as_float32(tmp_path):

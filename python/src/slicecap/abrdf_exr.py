@@ -4,7 +4,11 @@ One 81 x 81 image, channels R, G, B as float32 (ZIP), row = light index, column 
 BRDF in 1/sr; string attributes `slicecap:layout` = "bonn81" and `slicecap:quantity` = "brdf".
 """
 
+import contextlib
+import io
 import os
+import sys
+import tempfile
 
 import numpy as np
 import OpenEXR
@@ -73,22 +77,66 @@ def _refuse_unopenable(path, expected: str) -> str:
     return name
 
 
+@contextlib.contextmanager
+def _library_output_held():
+    """Holds what OpenEXR prints meanwhile and yields the list its lines are put in at exit. For
+    a damaged file its C core prints a line per chunk it cannot place straight to file
+    descriptor 2, and the bindings print "Warning: Exception raised reading pixel data..." to
+    sys.stdout (where it would land in a script's own output), before they fail; the error
+    raised here says it once, naming the file. Without a descriptor 2 (e.g. pythonw) only what
+    goes through sys.stdout and sys.stderr is held."""
+    lines: list[str] = []
+    python_side = io.StringIO()
+    redirected = contextlib.ExitStack()
+    redirected.enter_context(contextlib.redirect_stdout(python_side))
+    redirected.enter_context(contextlib.redirect_stderr(python_side))
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError, AttributeError):
+        saved = None
+    try:
+        with tempfile.TemporaryFile() as sink, redirected:
+            if saved is not None:
+                os.dup2(sink.fileno(), 2)
+            try:
+                yield lines
+            finally:
+                if saved is not None:
+                    os.dup2(saved, 2)
+                sink.seek(0)
+                lines.extend(sink.read().decode(errors="replace").splitlines())
+                lines.extend(python_side.getvalue().splitlines())
+    finally:
+        if saved is not None:
+            os.close(saved)
+
+
 def read_exr(path, expected: str) -> tuple[dict, dict]:
     """(header, channels) of an EXR's first part, pixels read, channels separate. Raises
     SlicecapFileError naming the file and what is wrong: missing, a directory, not an EXR, a
     damaged header, truncated or corrupt pixel data (where the bindings print a warning and
-    leave a file of no parts, which then says only "Invalid part index '0': file has 0 parts")."""
+    leave a file of no parts, which then says only "Invalid part index '0': file has 0 parts").
+    OpenEXR's own lines about a damaged file are not printed (the error says it); for a file
+    that reads, anything it printed is passed on to stderr."""
     name = _refuse_unopenable(path, expected)
     failure = None
+    result = None
+    with _library_output_held() as printed:
+        try:
+            with OpenEXR.File(name, separate_channels=True) as file:
+                if file.parts:
+                    result = dict(file.header()), dict(file.channels())
+        except Exception as e:  # the bindings raise several types
+            failure = e
+    if result is not None:
+        for line in printed:
+            print(line, file=sys.stderr)
+        return result
     try:
-        with OpenEXR.File(name, separate_channels=True) as file:
-            if file.parts:
-                return dict(file.header()), dict(file.channels())
-    except Exception as e:  # the bindings raise several types
-        failure = e
-    try:
-        with OpenEXR.File(name, header_only=True) as file:
-            file.header()
+        with _library_output_held():
+            with OpenEXR.File(name, header_only=True) as file:
+                file.header()
     except Exception as e:
         raise _error(path, "cannot read EXR: its header is truncated or corrupt") from e
     raise _error(path, "cannot read EXR: its pixel data is truncated or corrupt") from failure
@@ -98,7 +146,7 @@ def read_exr_header(path) -> dict:
     """The header of any EXR file (no pixels); raises SlicecapFileError naming the file."""
     name = _refuse_unopenable(path, "an EXR file")
     try:
-        with OpenEXR.File(name, header_only=True) as file:
+        with _library_output_held(), OpenEXR.File(name, header_only=True) as file:
             return dict(file.header())
     except Exception as e:  # the bindings raise several types for missing and corrupt files
         raise _error(path, "cannot read EXR: its header is truncated or corrupt") from e
