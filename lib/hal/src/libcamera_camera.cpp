@@ -84,7 +84,8 @@ void setManualExposure(libcamera::ControlList& controls, std::optional<double> e
                        std::optional<double> gain) {
   controls.set(libcamera::controls::AeEnable, false);
   if (exposureUs)
-    controls.set(libcamera::controls::ExposureTime, static_cast<std::int32_t>(*exposureUs));
+    controls.set(libcamera::controls::ExposureTime,
+                 static_cast<std::int32_t>(std::clamp(*exposureUs, 1.0, 2147483647.0)));
   if (gain) controls.set(libcamera::controls::AnalogueGain, static_cast<float>(*gain));
 }
 
@@ -321,13 +322,19 @@ ExposureLock LibcameraCamera::lockExposure(const ExposureSetting& wanted) {
   if (!state_->streaming) throw std::logic_error("LibcameraCamera::lockExposure before start");
   // Clamped to the ranges the camera reports, so the frames' metadata and the lock agree.
   const libcamera::ControlInfoMap& info = state_->camera->controls();
-  double exposureUs = wanted.exposureUs;
-  if (const auto it = info.find(&libcamera::controls::ExposureTime); it != info.end())
-    exposureUs = std::clamp<double>(exposureUs, it->second.min().get<std::int32_t>(),
-                                    it->second.max().get<std::int32_t>());
+  // Without the control the request would drop it silently and the "lock" would lie.
+  const auto exposureInfo = info.find(&libcamera::controls::ExposureTime);
+  if (exposureInfo == info.end())
+    return {std::nullopt, state_->name() + " has no ExposureTime control"};
+  const double exposureUs =
+      std::clamp<double>(wanted.exposureUs, exposureInfo->second.min().get<std::int32_t>(),
+                         exposureInfo->second.max().get<std::int32_t>());
+  // Nothing asked: the camera's default analogue gain where it says one, else unity.
   double gain = wanted.gain.value_or(1.0);
-  if (const auto it = info.find(&libcamera::controls::AnalogueGain); it != info.end())
+  if (const auto it = info.find(&libcamera::controls::AnalogueGain); it != info.end()) {
+    if (!wanted.gain && !it->second.def().isNone()) gain = it->second.def().get<float>();
     gain = std::clamp<double>(gain, it->second.min().get<float>(), it->second.max().get<float>());
+  }
   state_->lockedExposure = ExposureSetting{std::round(exposureUs), gain};
   return {state_->lockedExposure, ""};
 }
