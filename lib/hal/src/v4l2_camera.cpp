@@ -74,6 +74,13 @@ struct V4l2Camera::State {
   std::size_t imageBytes = 0;
   std::vector<MappedBuffer> buffers;
   std::optional<std::uint32_t> firstSequence;
+  // After lockExposure the driver still holds up to bufferCount frames exposed before it, and
+  // the sensor takes the change at the next frame's start: frames dequeued before
+  // `lockReachesFrame` carry the exposure and gain from before the lock (0 us: auto exposure).
+  std::uint64_t dequeued = 0;
+  std::uint64_t lockReachesFrame = 0;
+  double exposureBeforeLockUs = 0.0;
+  double gainBeforeLock = 1.0;
 
   [[noreturn]] void fail(const std::string& what, int error) const {
     throw CameraError(device + ": " + what + ": " + std::strerror(error));
@@ -85,6 +92,13 @@ struct V4l2Camera::State {
     if (retryIoctl(fd, VIDIOC_QUERYCTRL, &query) != 0) return std::nullopt;
     if ((query.flags & V4L2_CTRL_FLAG_DISABLED) != 0) return std::nullopt;
     return query;
+  }
+
+  std::optional<std::int32_t> getControl(std::uint32_t id) const {
+    v4l2_control control{};
+    control.id = id;
+    if (retryIoctl(fd, VIDIOC_G_CTRL, &control) != 0) return std::nullopt;
+    return control.value;
   }
 
   bool setControl(std::uint32_t id, std::int32_t value) const {
@@ -299,6 +313,8 @@ void V4l2Camera::start() {
   }
   state_->streaming = true;
   state_->firstSequence.reset();
+  state_->dequeued = 0;
+  state_->lockReachesFrame = 0;
 }
 
 void V4l2Camera::stop() {
@@ -333,6 +349,7 @@ CaptureResult V4l2Camera::nextFrame(std::chrono::milliseconds timeout) {
     v4l2_buffer& buffer;
     ~Requeue() { retryIoctl(fd, VIDIOC_QBUF, &buffer); }
   } requeue{state_->fd, buffer};
+  const bool exposedBeforeLock = state_->dequeued++ < state_->lockReachesFrame;
   if ((buffer.flags & V4L2_BUF_FLAG_ERROR) != 0)
     return {CaptureResult::Status::Error, std::nullopt,
             state_->device + ": the driver marked frame " + std::to_string(buffer.sequence) +
@@ -372,25 +389,50 @@ CaptureResult V4l2Camera::nextFrame(std::chrono::milliseconds timeout) {
   frame.metadata.sequence = buffer.sequence - *state_->firstSequence;
   frame.metadata.timestampUs =
       std::int64_t(buffer.timestamp.tv_sec) * 1'000'000 + buffer.timestamp.tv_usec;
-  frame.metadata.exposureUs = state_->config.exposureUs.value_or(0.0);
-  frame.metadata.gain = state_->config.gain.value_or(1.0);
+  frame.metadata.exposureUs = exposedBeforeLock ? state_->exposureBeforeLockUs
+                                                : state_->config.exposureUs.value_or(0.0);
+  frame.metadata.gain =
+      exposedBeforeLock ? state_->gainBeforeLock : state_->config.gain.value_or(1.0);
   return {CaptureResult::Status::Frame, std::move(frame), ""};
 }
 
 ExposureLock V4l2Camera::lockExposure(const ExposureSetting& wanted) {
   if (!state_->streaming) throw std::logic_error("V4l2Camera::lockExposure before start");
+  // A lock the device refuses halfway (e.g. the gain after the exposure) is undone: a fixed
+  // exposure that neither the frames nor the status report would be worse than none.
+  // The modes first; a value only where its mode was manual (an auto mode owns its value).
+  const std::optional<std::int32_t> autoExposure = state_->getControl(V4L2_CID_EXPOSURE_AUTO);
+  const std::optional<std::int32_t> autoGain = state_->getControl(V4L2_CID_AUTOGAIN);
+  std::vector<std::pair<std::uint32_t, std::int32_t>> before;
+  if (autoExposure) before.emplace_back(V4L2_CID_EXPOSURE_AUTO, *autoExposure);
+  if (autoGain) before.emplace_back(V4L2_CID_AUTOGAIN, *autoGain);
+  if (autoExposure.value_or(V4L2_EXPOSURE_MANUAL) == V4L2_EXPOSURE_MANUAL)
+    if (const std::optional<std::int32_t> v = state_->getControl(V4L2_CID_EXPOSURE_ABSOLUTE))
+      before.emplace_back(V4L2_CID_EXPOSURE_ABSOLUTE, *v);
+  if (autoGain.value_or(0) == 0)
+    if (const std::optional<std::int32_t> v = state_->getControl(V4L2_CID_GAIN))
+      before.emplace_back(V4L2_CID_GAIN, *v);
+  auto refuse = [&](const std::string& reason) -> ExposureLock {
+    for (const auto& [id, value] : before)
+      state_->setControl(id, value);
+    return {std::nullopt, reason};
+  };
   const std::optional<double> exposureUs = state_->setManualExposureUs(wanted.exposureUs);
-  if (!exposureUs) return {std::nullopt, state_->device + " has no manual exposure"};
+  if (!exposureUs) return refuse(state_->device + " has no manual exposure");
   // Auto gain off too, or it would undo the metering; a camera without a gain control is unity.
   double gain = 1.0;
   if (const std::optional<v4l2_queryctrl> query = state_->queryControl(V4L2_CID_GAIN)) {
     const std::optional<std::int32_t> set =
         state_->setManualGain(wanted.gain.value_or(query->default_value));
-    if (!set) return {std::nullopt, state_->device + " refused a manual gain"};
+    if (!set) return refuse(state_->device + " refused a manual gain");
     gain = *set;
   } else {
     state_->setControl(V4L2_CID_AUTOGAIN, 0);
   }
+  state_->exposureBeforeLockUs = state_->config.exposureUs.value_or(0.0);
+  state_->gainBeforeLock = state_->config.gain.value_or(1.0);
+  state_->lockReachesFrame =
+      state_->dequeued + static_cast<std::uint64_t>(state_->config.bufferCount) + 1;
   state_->config.exposureUs = *exposureUs;
   state_->config.gain = gain;
   return {ExposureSetting{*exposureUs, gain}, ""};

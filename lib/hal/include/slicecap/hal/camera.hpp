@@ -82,9 +82,12 @@ class Camera {
   virtual std::optional<int> readyDescriptor() const { return std::nullopt; }
   /// \brief Between start and stop: fixes exposure and gain for the frames that follow (a few
   /// frames late: controls take that long to reach the sensor), for the daemon's metering at
-  /// sweep start. Frames then report the locked values in their metadata. Throws CameraError when
-  /// the device fails, std::logic_error outside start..stop. This default: the source cannot (a
-  /// recording's exposure is what it was).
+  /// sweep start. Frames then report the locked values in their metadata once they were exposed
+  /// with them, and the exposure before the lock until then (0: auto exposure), so that a frame
+  /// says which exposure it had. A lock the source cannot make is refused as a whole (`locked`
+  /// empty): the source is left as it was. Throws CameraError when the device fails,
+  /// std::logic_error outside start..stop. This default: the source cannot (a recording's
+  /// exposure is what it was).
   virtual ExposureLock lockExposure(const ExposureSetting& /*wanted*/) {
     return {std::nullopt, "this source cannot change its exposure"};
   }
