@@ -30,6 +30,7 @@ namespace {
 
 using nlohmann::json;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 const SliceId kAxial3030{SliceKind::Axial, {30, 30}};
 constexpr int kFrames = 20;  // alternating LED on/off: 10 samples
@@ -104,11 +105,14 @@ class FakeTextureSink : public TextureSink {
 // range of 100 us..`maxExposureUs`; `frames` frames, then the end of the stream.
 struct LiveCameraLog {
   std::vector<hal::ExposureSetting> locks;
-  double sceneLevel = 0.05;
+  double sceneLevel = 0.15;  // at 10 ms
   double maxExposureUs = 100'000.0;
   bool canLock = true;
-  std::optional<int> failAtLock;  // this lock (1-based) throws, as a device that went away
-  int frames = 40;
+  std::optional<int> failAtLock;    // this lock (1-based) throws, as a device that went away
+  std::optional<int> refuseAtLock;  // this lock (1-based) is refused, the camera left as it was
+  int lockDelayFrames = 2;          // frames taken before a lock reaches the sensor
+  int frames = 40;                  // per start
+  bool streaming = false;
 };
 
 class FakeLiveCamera : public hal::Camera {
@@ -117,22 +121,33 @@ class FakeLiveCamera : public hal::Camera {
       : log_(std::move(log)), ready_(::eventfd(1, EFD_NONBLOCK)) {}
   ~FakeLiveCamera() override { ::close(ready_); }
   std::string id() const override { return "fake-live"; }
-  hal::ConfigResult configure(hal::CameraConfig&) override { return {}; }
-  void start() override {}
-  void stop() override {}
+  // As V4L2 and libcamera: one device, which cannot be configured while it streams.
+  hal::ConfigResult configure(hal::CameraConfig&) override {
+    if (log_->streaming) throw std::logic_error("fake-live: configure while streaming");
+    return {};
+  }
+  void start() override {
+    log_->streaming = true;
+    framesSinceStart_ = 0;
+  }
+  void stop() override { log_->streaming = false; }
   std::optional<int> readyDescriptor() const override { return ready_; }
   hal::ExposureLock lockExposure(const hal::ExposureSetting& wanted) override {
     if (!log_->canLock) return {std::nullopt, "no manual exposure"};
-    if (log_->failAtLock && int(log_->locks.size()) + 1 == *log_->failAtLock)
+    ++lockCalls_;
+    if (log_->failAtLock && lockCalls_ == *log_->failAtLock)
       throw hal::CameraError("fake-live: cannot set the exposure: No such device");
+    if (log_->refuseAtLock && lockCalls_ == *log_->refuseAtLock)
+      return {std::nullopt, "fake-live refused a manual gain"};
     const hal::ExposureSetting set{std::clamp(wanted.exposureUs, 100.0, log_->maxExposureUs),
                                    wanted.gain.value_or(1.0)};
     log_->locks.push_back(set);
-    pending_.push_back({sequence_ + 2, set.exposureUs});
+    pending_.push_back({sequence_ + std::uint64_t(log_->lockDelayFrames), set.exposureUs});
     return {set, ""};
   }
   hal::CaptureResult nextFrame(std::chrono::milliseconds) override {
-    if (int(sequence_) >= log_->frames) return {hal::CaptureResult::Status::EndOfStream, {}, ""};
+    if (framesSinceStart_++ >= log_->frames)
+      return {hal::CaptureResult::Status::EndOfStream, {}, ""};
     while (!pending_.empty() && pending_.front().first <= sequence_) {
       exposureUs_ = pending_.front().second;
       pending_.erase(pending_.begin());
@@ -151,6 +166,8 @@ class FakeLiveCamera : public hal::Camera {
   std::shared_ptr<LiveCameraLog> log_;
   int ready_;
   std::uint64_t sequence_ = 0;
+  int framesSinceStart_ = 0;
+  int lockCalls_ = 0;
   double exposureUs_ = 30'000.0;  // the camera's own auto exposure before any lock
   std::vector<std::pair<std::uint64_t, double>> pending_;
 };
@@ -169,7 +186,11 @@ class DaemonOnFileCamera : public ::testing::Test {
     parts.storage = dir_ / "storage";
     parts.cameraFor = [this, recording,
                        failAtSequence](const SliceId&) -> std::shared_ptr<hal::Camera> {
-      if (liveCamera_) return std::make_shared<FakeLiveCamera>(liveCamera_);
+      // One camera serves every slice, as in slicecapd.
+      if (liveCamera_) {
+        if (!liveCameraDevice_) liveCameraDevice_ = std::make_shared<FakeLiveCamera>(liveCamera_);
+        return liveCameraDevice_;
+      }
       hal::FileCameraOptions options;
       options.failAtSequence = failAtSequence;
       return std::make_shared<hal::FileCamera>(recording, clock_, options);
@@ -228,6 +249,7 @@ class DaemonOnFileCamera : public ::testing::Test {
   hal::SteadyClock clock_;
   std::optional<double> configuredExposureUs_;
   std::shared_ptr<LiveCameraLog> liveCamera_;  // set: a live camera instead of the recording
+  std::shared_ptr<hal::Camera> liveCameraDevice_;
   std::filesystem::path dir_, socketDir_, socket_, ledLog_;
   std::unique_ptr<Daemon> daemon_;
   std::thread thread_;
@@ -329,7 +351,7 @@ TEST_F(DaemonOnFileCamera, ATextureThatCannotBeOpenedPausesTheSweepWithTheReason
 }
 
 TEST_F(DaemonOnFileCamera, ALiveCameraIsMeteredWithTheLedOnThenLockedForTheSweep) {
-  liveCamera_ = std::make_shared<LiveCameraLog>();  // 0.05 at 10 ms: 70 ms reaches 0.35
+  liveCamera_ = std::make_shared<LiveCameraLog>();  // 0.15 at 10 ms: 23 ms reaches 0.35
   testing::internal::CaptureStderr();
   start();
   const json status = sweepUntilPaused();
@@ -337,7 +359,7 @@ TEST_F(DaemonOnFileCamera, ALiveCameraIsMeteredWithTheLedOnThenLockedForTheSweep
   const std::vector<hal::ExposureSetting>& locks = liveCamera_->locks;
   ASSERT_GE(locks.size(), 2u);
   EXPECT_DOUBLE_EQ(locks.front().exposureUs, ExposureMeterParams{}.startExposureUs);
-  const double finalLevel = 0.05 * locks.back().exposureUs / 10'000.0;
+  const double finalLevel = liveCamera_->sceneLevel * locks.back().exposureUs / 10'000.0;
   EXPECT_NEAR(finalLevel, 0.35, 0.35 * 0.25) << locks.back().exposureUs;
   ASSERT_TRUE(status.contains("exposure")) << status.dump();
   EXPECT_THAT(status["exposure"].get<std::string>(), HasSubstr("exposure locked at"));
@@ -358,11 +380,11 @@ TEST_F(DaemonOnFileCamera, ALiveCameraIsMeteredWithTheLedOnThenLockedForTheSweep
 TEST_F(DaemonOnFileCamera, AMeteringAtTheCamerasExposureLimitSaysItIsOffTheTarget) {
   liveCamera_ = std::make_shared<LiveCameraLog>();
   liveCamera_->sceneLevel = 0.01;  // 350 ms needed
-  liveCamera_->maxExposureUs = 33'000.0;
+  liveCamera_->maxExposureUs = 30'000.0;
   start();
   const json status = sweepUntilPaused();
   ASSERT_FALSE(liveCamera_->locks.empty());
-  EXPECT_DOUBLE_EQ(liveCamera_->locks.back().exposureUs, 33'000.0);
+  EXPECT_DOUBLE_EQ(liveCamera_->locks.back().exposureUs, 30'000.0);
   EXPECT_THAT(status["exposure"].get<std::string>(), HasSubstr("off the target"));
   EXPECT_GT(status["sweep"]["samples"].get<int>(), 0);
 }
@@ -389,6 +411,58 @@ TEST_F(DaemonOnFileCamera, ACameraFailingDuringTheMeteringPausesTheSweep) {
               HasSubstr("exposure metering: fake-live: cannot set the exposure"));
   EXPECT_EQ(status["sweep"]["samples"], 0);
   EXPECT_FALSE(ledLog().back().on);
+  // It said "metering the exposure with the LED on" after the sweep had paused.
+  EXPECT_FALSE(status.contains("exposure")) << status.dump();
+}
+
+TEST_F(DaemonOnFileCamera, AFailureAtTheFirstLockStopsTheCameraAndTheSweepCanContinue) {
+  // The camera was left streaming: every later sweep start failed with "configure while
+  // streaming" until the daemon restarted, and the pause was called a camera error.
+  liveCamera_ = std::make_shared<LiveCameraLog>();
+  liveCamera_->failAtLock = 1;
+  start();
+  json status = sweepUntilPaused();
+  EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(),
+              HasSubstr("exposure metering: fake-live: cannot set the exposure"));
+  EXPECT_FALSE(liveCamera_->streaming);
+  EXPECT_FALSE(status.contains("exposure")) << status.dump();
+  EXPECT_FALSE(ledLog().back().on);
+  call(SweepStart{kAxial3030});  // continues the paused sweep: metered, then samples
+  status = waitForPause();
+  EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(), HasSubstr("recording has ended"));
+  EXPECT_THAT(status["exposure"].get<std::string>(), HasSubstr("exposure locked at"));
+  EXPECT_GT(status["sweep"]["samples"].get<int>(), 0);
+}
+
+TEST_F(DaemonOnFileCamera, TheMeteringMeasuresOnlyFramesExposedWithItsSetting) {
+  // libcamera on a Pi: a lock reaches the sensor behind the requests already queued, about 7
+  // frames later. Metering the 5th frame after each change locked 2 stops off the target and
+  // called it on target.
+  liveCamera_ = std::make_shared<LiveCameraLog>();
+  liveCamera_->lockDelayFrames = 8;
+  liveCamera_->frames = 60;
+  start();
+  const json status = sweepUntilPaused();
+  const std::vector<hal::ExposureSetting>& locks = liveCamera_->locks;
+  ASSERT_GE(locks.size(), 2u);
+  const double finalLevel = liveCamera_->sceneLevel * locks.back().exposureUs / 10'000.0;
+  EXPECT_NEAR(finalLevel, 0.35, 0.35 * 0.25) << locks.back().exposureUs;
+  EXPECT_THAT(status["exposure"].get<std::string>(), Not(HasSubstr("off the target")));
+  EXPECT_GT(status["sweep"]["samples"].get<int>(), 0);
+}
+
+TEST_F(DaemonOnFileCamera, ARefusedMeteringStepKeepsTheLastLockAndSaysSo) {
+  // The lock before the refused one stays: the sweep runs at it, and its auto exposure does not.
+  liveCamera_ = std::make_shared<LiveCameraLog>();
+  liveCamera_->refuseAtLock = 2;
+  start();
+  const json status = sweepUntilPaused();
+  ASSERT_EQ(liveCamera_->locks.size(), 1u);
+  EXPECT_THAT(status["exposure"].get<std::string>(), HasSubstr("exposure locked at 10000 us"));
+  EXPECT_THAT(status["exposure"].get<std::string>(),
+              HasSubstr("the camera refused the next step (fake-live refused a manual gain)"));
+  EXPECT_FALSE(status.contains("warnings")) << status.dump();
+  EXPECT_GT(status["sweep"]["samples"].get<int>(), 0);
 }
 
 TEST_F(DaemonOnFileCamera, AConfiguredExposureIsNotMetered) {

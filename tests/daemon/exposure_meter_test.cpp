@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <utility>
+#include <vector>
 
 namespace slicecap::daemon {
 namespace {
@@ -35,14 +37,20 @@ TEST(ExposureMeter, TheBrightLevelIsAHighPercentileOfTheLargestChannel) {
 }
 
 // A camera whose bright level is `levelAt10ms` x exposure / 10 ms, clipped at 1, with a range.
+// A lock reaches the sensor `delayFrames` frames late; each frame reports its own exposure
+// (`reportsExposure`) or, as a camera that does not apply locks at all, the auto exposure forever.
 struct SimulatedCamera {
   double levelAt10ms;
   double minUs = 100.0, maxUs = 100'000.0;
+  int delayFrames = 0;
+  bool appliesLocks = true;
   hal::ExposureSetting lock(const hal::ExposureSetting& s) const {
     return {std::clamp(s.exposureUs, minUs, maxUs), s.gain.value_or(1.0)};
   }
-  hal::Frame frameAt(const hal::ExposureSetting& s) const {
-    return frameWith(0.0, levelAt10ms * s.exposureUs / 10'000.0);
+  hal::Frame frameAt(double exposureUs) const {
+    hal::Frame frame = frameWith(0.0, levelAt10ms * exposureUs / 10'000.0);
+    frame.metadata.exposureUs = exposureUs;
+    return frame;
   }
 };
 
@@ -50,8 +58,14 @@ struct SimulatedCamera {
 int meter(ExposureMeter& m, const SimulatedCamera& camera, hal::ExposureSetting& final) {
   hal::ExposureSetting current = camera.lock(m.firstSetting(std::nullopt));
   m.accepted(current);
+  double onSensorUs = 30'000.0;  // the auto exposure before the first lock
+  std::vector<std::pair<int, double>> pending{{camera.delayFrames, current.exposureUs}};
   for (int frame = 1; frame <= 200; ++frame) {
-    const ExposureMeter::Step step = m.onFrame(camera.frameAt(current));
+    while (camera.appliesLocks && !pending.empty() && pending.front().first < frame) {
+      onSensorUs = pending.front().second;
+      pending.erase(pending.begin());
+    }
+    const ExposureMeter::Step step = m.onFrame(camera.frameAt(onSensorUs));
     if (step.kind == ExposureMeter::Step::Kind::Done) {
       final = step.setting;
       return frame;
@@ -59,6 +73,7 @@ int meter(ExposureMeter& m, const SimulatedCamera& camera, hal::ExposureSetting&
     if (step.kind == ExposureMeter::Step::Kind::Lock) {
       current = camera.lock(step.setting);
       m.accepted(current);
+      pending.push_back({frame + camera.delayFrames, current.exposureUs});
     }
   }
   ADD_FAILURE() << "the metering never ended";
@@ -69,10 +84,10 @@ TEST(ExposureMeter, ADarkSceneIsBroughtUpToTheTarget) {
   const ExposureMeterParams params;
   ExposureMeter m(params);
   hal::ExposureSetting final;
-  const SimulatedCamera camera{0.05};
+  const SimulatedCamera camera{0.12};  // 29 ms needed
   const int frames = meter(m, camera, final);
   EXPECT_TRUE(m.onTarget()) << m.summary();
-  const double level = 0.05 * final.exposureUs / 10'000.0;
+  const double level = 0.12 * final.exposureUs / 10'000.0;
   EXPECT_LE(level, params.targetLevel * params.tolerance);
   EXPECT_GE(level, params.targetLevel / params.tolerance);
   EXPECT_EQ(final.gain, 1.0);
@@ -99,6 +114,59 @@ TEST(ExposureMeter, TheCamerasRangeEndsTheMeteringOffTheTarget) {
   EXPECT_FALSE(m.onTarget());
   EXPECT_EQ(final.exposureUs, 30'000.0);
   EXPECT_NE(m.summary().find("off the target"), std::string::npos);
+}
+
+TEST(ExposureMeter, FramesExposedBeforeAChangeReachedTheSensorAreNotMeasured) {
+  // Measured by frame count alone, a lock 6 or more frames late was metered on the frames of the
+  // setting before and locked far off the target, called on target.
+  for (const int delay : {0, 3, 6, 9, 14}) {
+    SCOPED_TRACE(delay);
+    ExposureMeter m;
+    hal::ExposureSetting final;
+    SimulatedCamera camera{0.12};
+    camera.delayFrames = delay;
+    meter(m, camera, final);
+    EXPECT_TRUE(m.onTarget()) << m.summary();
+    EXPECT_NEAR(0.12 * final.exposureUs / 10'000.0, 0.35, 0.35 * 0.25) << m.summary();
+  }
+}
+
+TEST(ExposureMeter, ACameraThatNeverAppliesTheLockEndsOffTheTargetSayingSo) {
+  ExposureMeter m;
+  hal::ExposureSetting final;
+  SimulatedCamera camera{0.05};
+  camera.appliesLocks = false;
+  const int frames = meter(m, camera, final);
+  EXPECT_EQ(frames, ExposureMeterParams{}.maxFramesPerChange);
+  EXPECT_FALSE(m.onTarget());
+  EXPECT_NE(m.summary().find("not measured"), std::string::npos) << m.summary();
+  EXPECT_NE(m.summary().find("the camera's frames still reported 30000 us 30 frames after the "
+                             "change"),
+            std::string::npos)
+      << m.summary();
+}
+
+TEST(ExposureMeter, TheExposureStopsAtOneFrameAt30FpsSayingSo) {
+  // Longer would lower the frame rate and blur the moving rig; the camera would allow it.
+  ExposureMeter m;
+  hal::ExposureSetting final;
+  meter(m, SimulatedCamera{0.02}, final);  // 175 ms needed
+  EXPECT_FALSE(m.onTarget());
+  EXPECT_DOUBLE_EQ(final.exposureUs, ExposureMeterParams{}.maxExposureUs);
+  EXPECT_NE(m.summary().find("the exposure limit (33333 us"), std::string::npos) << m.summary();
+}
+
+TEST(ExposureMeter, ARefusedStepEndsTheMeteringAtTheSettingBefore) {
+  ExposureMeter m;
+  m.accepted({10'000.0, 1.0});
+  m.refused("fake refused a manual gain");
+  const ExposureMeter::Step step = m.onFrame(SimulatedCamera{0.05}.frameAt(10'000.0));
+  EXPECT_EQ(step.kind, ExposureMeter::Step::Kind::Done);
+  EXPECT_EQ(step.setting.exposureUs, 10'000.0);
+  EXPECT_FALSE(m.onTarget());
+  EXPECT_NE(m.summary().find("the camera refused the next step (fake refused a manual gain)"),
+            std::string::npos)
+      << m.summary();
 }
 
 TEST(ExposureMeter, TheConfiguredGainIsKept) {

@@ -162,8 +162,9 @@ camera_recording =
 resolution = 1280x720
 # Locked exposure (microseconds) and gain (the camera's own units: V4L2's gain control, libcamera's
 # analogue gain). Empty exposure_us: each sweep start meters it with the LED on (the brightest
-# 0.5 % of the image brought to 0.35 of full scale, about a second) and locks it, with gain at
-# its value here or the camera's default, for the sweep; `slicecap status` shows what was locked.
+# 0.5 % of the image brought to 0.35 of full scale, about a second, at most 33.3 ms: a darker
+# scene needs more gain) and locks it, with gain at its value here or the camera's default, for
+# the sweep; `slicecap status` shows what was locked.
 # Set exposure_us when a glossy material's highlight clips (frames rejected as window_clipped).
 exposure_us =
 gain =

@@ -75,6 +75,8 @@ struct Daemon::State {
       }
     }
     camera.reset();
+    // A metering cut short locked nothing final: its "metering ..." line would outlive it.
+    if (meter) exposureNote.clear();
     meter.reset();
     cameraSlice.reset();
     processor = nullptr;
@@ -112,8 +114,13 @@ struct Daemon::State {
   }
 
   void startCamera(const SliceId& slice) {
+    // The last sweep's exposure line is not this one's, whatever happens below.
+    meter.reset();
+    exposureNote.clear();
+    exposureUnlocked = false;
+    std::shared_ptr<hal::Camera> opened;
     try {
-      std::shared_ptr<hal::Camera> opened = parts.cameraFor(slice);
+      opened = parts.cameraFor(slice);
       hal::CameraConfig config = parts.cameraConfig;
       const hal::ConfigResult result = opened->configure(config);
       if (result.status == hal::ConfigResult::Status::Invalid)
@@ -127,13 +134,28 @@ struct Daemon::State {
         std::cerr << "slicecapd: " << cameraAdjustment << "\n";
       }
       opened->start();
-      beginMetering(*opened);
-      camera = std::move(opened);
     } catch (const std::exception& error) {
       manager.pauseSweep(std::string("camera error: ") + error.what());
       ledOff();
       return;
     }
+    try {
+      beginMetering(*opened);
+    } catch (const std::exception& error) {
+      // The camera runs: stopped here, or (one camera serves every slice) the next sweep's
+      // configure would find it streaming. The lock or the LED failed; each names its device.
+      try {
+        opened->stop();
+      } catch (const std::exception& stopError) {
+        std::cerr << "slicecapd: stopping the camera: " << stopError.what() << "\n";
+      }
+      meter.reset();
+      exposureNote.clear();
+      manager.pauseSweep(std::string("exposure metering: ") + error.what());
+      ledOff();
+      return;
+    }
+    camera = std::move(opened);
     cameraSlice = slice;
     capture::FrameObserver observer;
     if (parts.newTextureSink)
@@ -158,9 +180,6 @@ struct Daemon::State {
   }
 
   void beginMetering(hal::Camera& opened) {
-    meter.reset();
-    exposureNote.clear();
-    exposureUnlocked = false;
     if (parts.cameraConfig.exposureUs || !opened.readyDescriptor()) return;
     ExposureMeter metering(parts.exposureMeter);
     const hal::ExposureLock lock =
@@ -189,10 +208,13 @@ struct Daemon::State {
     const ExposureMeter::Step step = meter->onFrame(frame);
     if (step.kind == ExposureMeter::Step::Kind::Lock) {
       const hal::ExposureLock lock = camera->lockExposure(step.setting);
-      if (lock.locked)
+      if (lock.locked) {
         meter->accepted(*lock.locked);
-      else
-        leaveExposureToCamera(camera->id(), lock.reason);
+      } else {
+        // The setting accepted before stays fixed (a source that refuses part of a lock puts
+        // back what it had): the metering ends there, on the next frame.
+        meter->refused(lock.reason);
+      }
     } else if (step.kind == ExposureMeter::Step::Kind::Done) {
       exposureNote = "camera " + camera->id() + ": " + meter->summary();
       std::cerr << "slicecapd: " << exposureNote << "\n";

@@ -24,8 +24,16 @@ struct ExposureMeterParams {
   double tolerance = 1.25;
   /// Frames skipped after each change: a camera applies new controls a few frames late.
   int settleFrames = 4;
+  /// A frame whose reported exposure is not the accepted one was exposed before the change
+  /// reached the sensor (libcamera reports each frame's own; the V4L2 source labels the frames
+  /// its driver still held) and is skipped too; after this many frames since the change the
+  /// metering ends where it is, off the target.
+  int maxFramesPerChange = 30;
   /// Changes of exposure at most; then the last one stays.
   int maxSteps = 8;
+  /// The longest exposure the metering sets: one frame at 30 fps. Longer would lower the frame
+  /// rate and blur a moving rig; a scene too dark for it needs more gain (`gain`).
+  double maxExposureUs = 33'333.0;
 };
 
 /// \brief The linear level (1 = full scale) at or above which `brightFraction` of the frame's
@@ -44,6 +52,9 @@ class ExposureMeter {
   hal::ExposureSetting firstSetting(std::optional<double> gain) const;
   /// \brief What the camera set for the last request (clamped to its range).
   void accepted(const hal::ExposureSetting& setting);
+  /// \brief The camera refused the last request (Camera::lockExposure gave no lock, keeping the
+  /// setting accepted before): the metering ends at that setting, off the target, saying why.
+  void refused(const std::string& reason);
 
   struct Step {
     enum class Kind { Wait, Lock, Done };
@@ -54,7 +65,9 @@ class ExposureMeter {
   Step onFrame(const hal::Frame& frame);
 
   /// \brief The last measured level, and whether it ended within the tolerance of the target
-  /// (false: the camera's exposure range, or the step limit, stopped the metering first).
+  /// (false: the camera's exposure range or resolution, the exposure limit, the step limit, a
+  /// camera that did not apply or refused a change stopped the metering first; summary() says
+  /// which).
   double lastLevel() const { return lastLevel_; }
   bool onTarget() const { return onTarget_; }
   int steps() const { return steps_; }
@@ -69,6 +82,8 @@ class ExposureMeter {
   double lastLevel_ = 0.0;
   bool onTarget_ = false;
   bool done_ = false;
+  bool measured_ = false;
+  std::string offTargetReason_;
 };
 
 }  // namespace slicecap::daemon
