@@ -98,6 +98,8 @@ endfunction()
 # each command listed under "commands:" (run under the emulator when cross-compiling).
 function(slicecap_man_page program)
   set(page "${CMAKE_BINARY_DIR}/man/${program}.1.gz")
+  # Ninja makes an output's folder; the Makefile generator does not.
+  file(MAKE_DIRECTORY "${CMAKE_BINARY_DIR}/man")
   add_custom_command(
     OUTPUT "${page}"
     COMMAND "${PROJECT_SOURCE_DIR}/cmake/packaging/help-to-man" "${page}" "${PROJECT_VERSION}"
@@ -131,6 +133,7 @@ function(_slicecap_overlays)
     return()
   endif()
   find_program(SLICECAP_DTC dtc REQUIRED)
+  file(MAKE_DIRECTORY "${CMAKE_BINARY_DIR}/firmware")  # as for the man pages
   set(blobs)
   foreach(dts IN LISTS sources)
     get_filename_component(stem "${dts}" NAME_WE)
