@@ -114,6 +114,22 @@ TEST(BtfCommand, ATextureStoreAsSlicecapdExportsItGivesTheBtfOfItsRecordings) {
       EXPECT_NEAR(sumGot, sumWant, 0.005 * sumWant) << "texel " << texel << " channel " << c;
     }
 
+  // The learned prior per texel, and for the average, named in btf.json and average.exr.
+  const fs::path withPrior = dir / "btf-prior";
+  r = test::runSlicecap(
+      {"btf", store.string(), "-o", withPrior.string(), "--threads", "2", "--method", "prior"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_NE(r.err.find("btf: the prior, 16 texels on 2 threads"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("with the anisotropy terms"), std::string::npos) << r.err;
+  std::ifstream priorManifest(withPrior / btf::kBtfManifest);
+  const nlohmann::json manifest = nlohmann::json::parse(priorManifest);
+  EXPECT_EQ(manifest.at("method"), "prior");
+  EXPECT_EQ(manifest.at("failed_texels"), 0);
+  io::ExrAttributes attributes;
+  io::readAbrdfExr(withPrior / "average.exr", &attributes);
+  EXPECT_EQ(attributes["method"], "prior");
+  EXPECT_EQ(btf::readBtfDirectory(withPrior).resolution(), 4);
+
   // A daemon's session folder, or its live texture inside, is not read (the export adds the
   // slices, and the daemon may still be writing).
   fs::create_directories(dir / "storage" / "s1");

@@ -1,4 +1,5 @@
-// Texel by texel Method B (or row-batched Method A) on a pool of threads sharing out the rows.
+// Texel by texel Method B or the prior (or row-batched Method A) on a pool of threads sharing out
+// the rows.
 #include "slicecap/btf/btf_reconstruction.hpp"
 
 #include <algorithm>
@@ -16,36 +17,63 @@
 namespace slicecap::btf {
 namespace {
 
+// What a row's texels counted, merged into the tally once per row.
+struct RowCounts {
+  std::size_t closedForm = 0, priorBlended = 0, priorAnisotropic = 0;
+};
+
 // Counts and the first failure, merged from the threads.
 struct Tally {
   std::mutex mutex;
-  std::size_t failed = 0, closedForm = 0;
+  std::size_t failed = 0;
+  RowCounts counts;
   std::string firstFailure;
   void fail(int column, int row, const std::string& why) {
     const std::lock_guard lock(mutex);
     if (failed++ == 0)
       firstFailure = "texel (" + std::to_string(column) + ", " + std::to_string(row) + "): " + why;
   }
+  void add(const RowCounts& row) {
+    const std::lock_guard lock(mutex);
+    counts.closedForm += row.closedForm;
+    counts.priorBlended += row.priorBlended;
+    counts.priorAnisotropic += row.priorAnisotropic;
+  }
 };
 
-void methodBRow(const TextureGrid& grid, const std::vector<SliceTexture>& slices,
-                const recon::MethodBParams& params, int row, BtfTexture& out, Tally& tally) {
-  std::size_t closedForm = 0;
+// A row of texels one by one: `reconstruct(samples, counts)` gives a texel's table or throws
+// recon::ReconstructionError (the texel then stays zero and is counted as failed).
+template <typename ReconstructTexel>
+void texelByTexelRow(const TextureGrid& grid, const std::vector<SliceTexture>& slices, int row,
+                     BtfTexture& out, Tally& tally, ReconstructTexel reconstruct) {
+  RowCounts counts;
   std::vector<Abrdf> tables(static_cast<std::size_t>(grid.resolution()));
   for (int column = 0; column < grid.resolution(); ++column) {
     try {
-      recon::MethodBReport report;
-      tables[std::size_t(column)] =
-          recon::reconstructMethodB(texelSlices(grid, slices, column, row), params, &report);
-      for (const recon::LineFit& fit : report.fits)
-        closedForm += fit.usedClosedForm ? 1 : 0;
+      tables[std::size_t(column)] = reconstruct(texelSlices(grid, slices, column, row), counts);
     } catch (const recon::ReconstructionError& error) {
       tally.fail(column, row, error.what());
     }
   }
   out.setRow(row, tables);
-  const std::lock_guard lock(tally.mutex);
-  tally.closedForm += closedForm;
+  tally.add(counts);
+}
+
+Abrdf methodBTexel(const SliceSet& samples, const recon::MethodBParams& params, RowCounts& counts) {
+  recon::MethodBReport report;
+  Abrdf table = recon::reconstructMethodB(samples, params, &report);
+  for (const recon::LineFit& fit : report.fits)
+    counts.closedForm += fit.usedClosedForm ? 1 : 0;
+  return table;
+}
+
+Abrdf priorTexel(const SliceSet& samples, const prior::PriorModel& model,
+                 const prior::PriorParams& params, RowCounts& counts) {
+  prior::PriorReport report;
+  Abrdf table = prior::reconstructWithPrior(samples, model, params, &report);
+  counts.priorBlended += report.methodBBlended ? 1 : 0;
+  counts.priorAnisotropic += report.anisotropyTermsUsed ? 1 : 0;
+  return table;
 }
 
 // A row of texels through the shared Method A system as one matrix product.
@@ -113,6 +141,10 @@ BtfTexture reconstructBtf(const TextureGrid& grid, const std::vector<SliceTextur
                           const BtfReconstructionParams& params, BtfReconstructionReport* report) {
   std::string error;
   if (!params.methodB.fit.isValid(&error)) throw std::invalid_argument("Method B: " + error);
+  if (params.method == TexelMethod::Prior) {
+    if (!params.priorModel) throw std::invalid_argument("the prior method needs a prior model");
+    if (!params.prior.isValid(&error)) throw std::invalid_argument("prior: " + error);
+  }
   const auto started = std::chrono::steady_clock::now();
   BtfTexture out(grid.resolution());
   const int threads =
@@ -130,8 +162,16 @@ BtfTexture reconstructBtf(const TextureGrid& grid, const std::vector<SliceTextur
         for (int row = nextRow++; row < grid.resolution(); row = nextRow++) {
           if (system)
             methodARow(grid, slices, params.methodB, *system, row, out, tally);
+          else if (params.method == TexelMethod::Prior)
+            texelByTexelRow(grid, slices, row, out, tally,
+                            [&](const SliceSet& samples, RowCounts& counts) {
+                              return priorTexel(samples, *params.priorModel, params.prior, counts);
+                            });
           else
-            methodBRow(grid, slices, params.methodB, row, out, tally);
+            texelByTexelRow(grid, slices, row, out, tally,
+                            [&](const SliceSet& samples, RowCounts& counts) {
+                              return methodBTexel(samples, params.methodB, counts);
+                            });
         }
       });
     }
@@ -141,7 +181,9 @@ BtfTexture reconstructBtf(const TextureGrid& grid, const std::vector<SliceTextur
     report->threads = threads;
     report->failedTexels = tally.failed;
     report->firstFailure = tally.firstFailure;
-    report->closedFormFits = tally.closedForm;
+    report->closedFormFits = tally.counts.closedForm;
+    report->priorBlendedTexels = tally.counts.priorBlended;
+    report->priorAnisotropicTexels = tally.counts.priorAnisotropic;
     report->seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   }

@@ -15,6 +15,7 @@
 #include "slicecap/cli/methods.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/slice_csv.hpp"
+#include "slicecap/prior/prior_location.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -101,9 +102,16 @@ int run(const ParsedArgs& args, Streams& io) {
   btf::BtfReconstructionParams reconParams;
   reconParams.threads = wholeNumber(args, "threads", 0, 0, 256);
   reconParams.methodB.isotropic = args.flag("isotropic");
+  reconParams.prior.isotropicOnly = reconParams.methodB.isotropic;
   const std::string method = args.value("method").value_or("b");
-  if (method != "a" && method != "b") throw UsageError("--method must be b or a");
-  reconParams.method = method == "a" ? btf::TexelMethod::A : btf::TexelMethod::B;
+  if (method != "a" && method != "b" && method != "prior")
+    throw UsageError("--method must be b, a or prior");
+  reconParams.method = method == "a"       ? btf::TexelMethod::A
+                       : method == "prior" ? btf::TexelMethod::Prior
+                                           : btf::TexelMethod::B;
+  // Found (or its absence named) before minutes of frames are processed.
+  if (reconParams.method == btf::TexelMethod::Prior)
+    reconParams.priorModel = &prior::defaultPriorModel();
 
   if (std::filesystem::exists(session / "texture" / btf::kTextureStoreManifest))
     throw io::IoError(session.string() +
@@ -115,19 +123,27 @@ int run(const ParsedArgs& args, Streams& io) {
           : fromRecordings(session, args, io);
   const btf::TextureGrid& grid = captured.grid;
 
-  // The average ABRDF, exactly as capture-offline makes it.
+  // The average ABRDF, exactly as capture-offline makes it (with the prior when the texels are).
   MethodOptions averageOptions;
   averageOptions.isotropic = reconParams.methodB.isotropic;
-  const MethodRun average = findMethod("b").run(captured.averageSlices, averageOptions);
+  const MethodRun average =
+      findMethod(method == "prior" ? "prior" : "b").run(captured.averageSlices, averageOptions);
   for (const std::string& warning : average.warnings)
     io.err << "warning: average: " << warning << "\n";
 
   btf::BtfReconstructionReport report;
   const btf::BtfTexture texture =
       btf::reconstructBtf(grid, captured.slices, reconParams, &report);
-  io.err << "btf: Method " << (reconParams.method == btf::TexelMethod::A ? "A" : "B") << ", "
+  const std::string methodName = reconParams.method == btf::TexelMethod::A       ? "A"
+                                 : reconParams.method == btf::TexelMethod::Prior ? "prior"
+                                                                                 : "B";
+  io.err << "btf: " << (methodName == "prior" ? "the prior" : "Method " + methodName) << ", "
          << report.texels << " texels on " << report.threads << " threads in " << report.seconds
          << " s; texture " << texture.memoryBytes() / 1e6 << " MB\n";
+  if (reconParams.method == btf::TexelMethod::Prior)
+    io.err << "btf: prior " << prior::locatePriorModel().string() << "; "
+           << report.priorBlendedTexels << " texels blended with Method B (little directional "
+           << "structure), " << report.priorAnisotropicTexels << " with the anisotropy terms\n";
   if (report.failedTexels > 0)
     io.err << "warning: " << report.failedTexels
            << " texels could not be reconstructed (left at zero); first: " << report.firstFailure
@@ -139,7 +155,7 @@ int run(const ParsedArgs& args, Streams& io) {
   const auto started = std::chrono::steady_clock::now();
   btf::BtfDescription description;
   description.windowMm = grid.window();
-  description.method = reconParams.method == btf::TexelMethod::A ? "A" : "B";
+  description.method = methodName;
   description.averageMethod = average.exrMethodName;
   description.source = session.filename().string();
   description.failedTexels = report.failedTexels;
@@ -162,21 +178,24 @@ Command btfCommand() {
       {"output", 'o', "DIR", "the BTF directory (required; created, files in it replaced)"},
       {"resolution", 0, "N", "texels across the window (default 128)"},
       {"threads", 0, "N", "reconstruction and writing threads (default: all cores)"},
-      {"method", 0, "b|a", "per-texel method: b (default) or a (one shared RBF factorisation)"},
+      {"method", 0, "b|a|prior",
+       "per-texel method: b (default), a (one shared RBF factorisation) or prior (the learned "
+       "prior; also for average.exr)"},
       {"frames-per-bin", 0, "K", "frames a bin keeps for its per-texel median (default 5)"},
       {"isotropic", 0, "", "use the diagonal slices only"}};
   for (auto& o : pipelineOptions())
     if (o.name != "report") options.push_back(o);
   return {{"btf",
-           "SESSION_DIR|TEXTURE_DIR -o DIR [--resolution N] [--threads N] [--method b|a] [options]",
+           "SESSION_DIR|TEXTURE_DIR -o DIR [--resolution N] [--threads N] [--method b|a|prior] "
+           "[options]",
            "Spatially varying capture: every recording under SESSION_DIR through the capture\n"
            "pipeline, and each accepted frame's window rectified to an N x N texture in the\n"
            "target plane (through the pose and the camera's distortion; per texel its own light\n"
            "and view direction, the LED-off frame subtracted and the fitted irradiance divided\n"
            "out), binned like the average sample (15 deg, per-texel median of up to K frames).\n"
-           "Every texel is reconstructed (Method B, or Method A) on all cores. Writes DIR as\n"
-           "docs/btf-format.md describes: 6561 half-float EXRs tvTTT_pvPPP/tlTTT_plPPP_tvTTT_\n"
-           "pvPPP.exr (N x N, BRDF 1/sr), average.exr (the 81 x 81 average ABRDF, as\n"
+           "Every texel is reconstructed (Method B, Method A or the prior) on all cores. Writes\n"
+           "DIR as docs/btf-format.md describes: 6561 half-float EXRs tvTTT_pvPPP/tlTTT_plPPP_\n"
+           "tvTTT_pvPPP.exr (N x N, BRDF 1/sr), average.exr (the 81 x 81 average ABRDF, as\n"
            "capture-offline makes it), preview/*.png (the texture from above under 8 lights)\n"
            "and btf.json. Memory: the texture takes 6561 x N^2 x 6 bytes (N = 128: 645 MB).\n"
            "TEXTURE_DIR instead: the texture slicecapd captured on the box (texture_resolution),\n"

@@ -1,5 +1,5 @@
 // Per-texel reconstruction of a captured texture: every texel's slice samples through Method B
-// (or Method A with one shared factorisation), on a pool of threads.
+// (or Method A with one shared factorisation, or the learned prior), on a pool of threads.
 #pragma once
 
 #include <cstddef>
@@ -10,6 +10,8 @@
 #include "slicecap/btf/slice_texture.hpp"
 #include "slicecap/btf/texture_grid.hpp"
 #include "slicecap/core/slice.hpp"
+#include "slicecap/prior/prior_model.hpp"
+#include "slicecap/prior/prior_reconstruction.hpp"
 #include "slicecap/recon/method_b.hpp"
 
 namespace slicecap::btf {
@@ -18,13 +20,20 @@ namespace slicecap::btf {
 enum class TexelMethod {
   B,  ///< Method B (METHOD.md 4), texel by texel
   A,  ///< Method A (METHOD.md 5): one factorised RBF system, a row of texels per matrix product
+  /// The learned prior (README "Prior reconstruction"), texel by texel, at each texel's own
+  /// directions; a texel some slice's frames missed is still reconstructed from the rest.
+  Prior,
 };
 
 /// \brief Options of the per-texel reconstruction.
 struct BtfReconstructionParams {
   TexelMethod method = TexelMethod::B;
   recon::MethodBParams methodB;  ///< isotropic and torus rule also apply to Method A
-  int threads = 0;               ///< 0: std::thread::hardware_concurrency()
+  /// \brief TexelMethod::Prior: the model (e.g. prior::defaultPriorModel()), which must outlive
+  /// the call, and its options (an operator's "isotropic" is `prior.isotropicOnly`).
+  const prior::PriorModel* priorModel = nullptr;
+  prior::PriorParams prior;
+  int threads = 0;  ///< 0: std::thread::hardware_concurrency()
 };
 
 /// \brief What the reconstruction did.
@@ -37,6 +46,10 @@ struct BtfReconstructionReport {
   std::string firstFailure;  ///< the first failed texel's reason, naming the texel
   /// \brief Method B line fits that fell back to the closed form, over all texels.
   std::size_t closedFormFits = 0;
+  /// \brief TexelMethod::Prior: texels blended with Method B (little directional structure) and
+  /// texels fitted with the anisotropy terms.
+  std::size_t priorBlendedTexels = 0;
+  std::size_t priorAnisotropicTexels = 0;
   double seconds = 0.0;
 };
 
@@ -46,7 +59,8 @@ SliceSet texelSlices(const TextureGrid& grid, const std::vector<SliceTexture>& s
                      int row);
 
 /// \brief Every texel reconstructed. Rows of texels are shared out among the threads.
-/// Throws std::invalid_argument for invalid Method B options.
+/// Throws std::invalid_argument for invalid Method B or prior options, or TexelMethod::Prior
+/// without a model.
 BtfTexture reconstructBtf(const TextureGrid& grid, const std::vector<SliceTexture>& slices,
                           const BtfReconstructionParams& params = {},
                           BtfReconstructionReport* report = nullptr);
