@@ -2,7 +2,8 @@
 // rig and from a realistic hand-held one (8-bit sRGB, room light with LED alternation, jitter,
 // blur, occlusion, markers out of view) written as recordings and read by the same code as
 // `slicecap btf` (captureRecordings), with the room light from the LED-off frame before (as live)
-// and from both sides. A program, not a test: scripts/btf-accuracy.
+// and from both sides; each texel through Method B and through the learned prior. A program, not a
+// test: scripts/btf-accuracy.
 // Usage: btf_accuracy [RESOLUTION=32] [FRAMES_PER_SWEEP=48]
 #include <unistd.h>
 
@@ -11,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <tuple>
 
 #include "slicecap/btf/btf_reconstruction.hpp"
 #include "slicecap/btf/texture_capture.hpp"
@@ -18,6 +20,8 @@
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/models/reflectance_model.hpp"
+#include "slicecap/prior/prior_location.hpp"
+#include "slicecap/prior/prior_reconstruction.hpp"
 #include "slicecap/recon/method_b.hpp"
 #include "slicecap/recon/slice_extraction.hpp"
 #include "slicecap/sim/patterned_material.hpp"
@@ -28,19 +32,26 @@ namespace {
 
 using namespace slicecap;
 
-struct RunResult {
+// Per-texel errors of one reconstruction of the texture against the texels' own materials.
+struct TexelErrors {
   double meanDeltaE = 0, meanRmse = 0, meanRelativeRmse = 0;
-  int texels = 0, failedTexels = 0, closerToOwnMaterial = 0, filledBins = 0;
-  eval::Metrics average;
+  int texels = 0, failedTexels = 0, closerToOwnMaterial = 0;
 };
 
-// Per-texel and window-average errors of a captured texture against the woven material.
-RunResult evaluate(const btf::TextureCapture& texture, const SliceSet& averageSlices,
-                   RunResult result) {
+struct RunResult {
+  TexelErrors methodB, prior;
+  int filledBins = 0;
+  eval::Metrics average, averagePrior;  ///< window average vs the mean material
+};
+
+TexelErrors texelErrors(const btf::TextureCapture& texture,
+                        const btf::BtfReconstructionParams& params) {
   const auto woven = sim::makeWovenMaterial(10.0);
   const int resolution = texture.grid().resolution();
   btf::BtfReconstructionReport report;
-  const btf::BtfTexture btf = btf::reconstructBtf(texture.grid(), texture.slices(), {}, &report);
+  const btf::BtfTexture btf =
+      btf::reconstructBtf(texture.grid(), texture.slices(), params, &report);
+  TexelErrors result;
   result.failedTexels = static_cast<int>(report.failedTexels);
   const Abrdf warp = models::tabulate(woven->component(0));
   const Abrdf weft = models::tabulate(woven->component(1));
@@ -61,10 +72,27 @@ RunResult evaluate(const btf::TextureCapture& texture, const SliceSet& averageSl
   result.meanRelativeRmse /= result.texels;
   result.meanDeltaE /= result.texels;
   result.meanRmse /= result.texels;
+  return result;
+}
+
+// Per-texel errors (Method B, `slicecap btf`'s default, and the prior, `--method prior`) and the
+// window average's (each method), against the woven material.
+RunResult evaluate(const btf::TextureCapture& texture, const SliceSet& averageSlices) {
+  RunResult result;
+  result.methodB = texelErrors(texture, {});
+  btf::BtfReconstructionParams priorParams;
+  priorParams.method = btf::TexelMethod::Prior;
+  priorParams.priorModel = &prior::defaultPriorModel();
+  result.prior = texelErrors(texture, priorParams);
+  const auto woven = sim::makeWovenMaterial(10.0);
+  const Abrdf warp = models::tabulate(woven->component(0));
+  const Abrdf weft = models::tabulate(woven->component(1));
   Abrdf meanTruth;
   for (std::size_t i = 0; i < meanTruth.values().size(); ++i)
     meanTruth.values()[i] = 0.5f * (warp.values()[i] + weft.values()[i]);
   result.average = eval::compare(meanTruth, recon::reconstructMethodB(averageSlices));
+  result.averagePrior = eval::compare(
+      meanTruth, prior::reconstructWithPrior(averageSlices, prior::defaultPriorModel()));
   result.filledBins = static_cast<int>(averageSlices.sampleCount());
   return result;
 }
@@ -78,7 +106,6 @@ RunResult runClean(const sim::RigParams& rig, int resolution) {
   settings.requireAmbient = false;
   btf::TextureCapture texture(renderer.camera(), renderer.target().window, {resolution, 5, {}});
   SliceSet averageSlices;
-  RunResult result;
   for (SliceKind kind : {SliceKind::Axial, SliceKind::Diagonal}) {
     for (const ElevationPair& pair : kMeasuredPairs) {
       const SliceId slice{kind, pair};
@@ -111,7 +138,7 @@ RunResult runClean(const sim::RigParams& rig, int resolution) {
         averageSlices.add(slice, s);
     }
   }
-  return evaluate(texture, averageSlices, result);
+  return evaluate(texture, averageSlices);
 }
 
 // A simulated session on disk through the same code as `slicecap btf` (captureRecordings), with
@@ -123,16 +150,19 @@ RunResult runSession(const std::vector<std::filesystem::path>& recordings, int r
   settings.offlineTwoSidedAmbient = twoSidedAmbient;
   const btf::SessionTexture session =
       btf::captureRecordings(recordings, settings, {resolution, 5, {}});
-  return evaluate(session.texture, session.averageSlices, {});
+  return evaluate(session.texture, session.averageSlices);
 }
 
 void print(const char* name, const RunResult& r) {
-  std::printf(
-      "%s: %d of 192 bins filled; per texel (%d texels, %d failed): mean dE %.2f, RMSE %.1f, "
-      "relative RMSE %.3f, closer to own material %d; window average vs mean material: dE %.2f, "
-      "RMSE %.1f, relative RMSE %.3f\n",
-      name, r.filledBins, r.texels, r.failedTexels, r.meanDeltaE, r.meanRmse, r.meanRelativeRmse,
-      r.closerToOwnMaterial, r.average.deltaE, r.average.rmse, r.average.relativeRmse);
+  std::printf("%s: %d of 192 bins filled\n", name, r.filledBins);
+  for (const auto& [method, e, average] :
+       {std::tuple{"Method B", r.methodB, r.average}, std::tuple{"prior", r.prior, r.averagePrior}})
+    std::printf(
+        "  %-8s per texel (%d texels, %d failed): mean dE %.2f, RMSE %.1f, relative RMSE %.3f, "
+        "closer to own material %d; window average vs mean material: dE %.2f, RMSE %.1f, "
+        "relative RMSE %.3f\n",
+        method, e.texels, e.failedTexels, e.meanDeltaE, e.meanRmse, e.meanRelativeRmse,
+        e.closerToOwnMaterial, average.deltaE, average.rmse, average.relativeRmse);
 }
 
 }  // namespace

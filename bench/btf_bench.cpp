@@ -1,6 +1,7 @@
 // BTF reconstruction speed: a 128 x 128 texture of the woven material, every texel through Method
 // B (goal: < 10 s on the two cores of the development machine; paper: 4.5 h on three), with 1 and
-// 2 threads, and Method A with its one shared factorisation. Reports the process's peak RSS.
+// 2 threads, Method A with its one shared factorisation, and the learned prior. Reports the
+// process's peak RSS.
 // Also what texture capture costs the daemon per kept frame: rectifying a 1280 x 720 sRGB frame's
 // window to N x N texels (with its LED-off frame subtracted), and storing it (synced write).
 // Run it directly (build/bench/btf_bench) for the two-thread figure: scripts/bench pins one core.
@@ -13,6 +14,7 @@
 #include "slicecap/btf/rectifier.hpp"
 #include "slicecap/btf/texture_store.hpp"
 #include "slicecap/models/reflectance_model.hpp"
+#include "slicecap/prior/prior_location.hpp"
 #include "slicecap/recon/method_b.hpp"
 #include "slicecap/recon/slice_extraction.hpp"
 #include "slicecap/sim/patterned_material.hpp"
@@ -126,6 +128,31 @@ void BM_Btf128_MethodA(benchmark::State& state) {
   reportPeakRssAndCpu(state, cpuBefore);
 }
 BENCHMARK(BM_Btf128_MethodA)->Arg(2)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+// The learned prior per texel (`slicecap btf --method prior`): the shipped model.
+void BM_Btf128_Prior(benchmark::State& state) {
+  const btf::TextureGrid grid(128, vision::defaultTarget().window);
+  const std::vector<btf::SliceTexture> slices = wovenCapture(grid);
+  btf::BtfReconstructionParams params;
+  params.method = btf::TexelMethod::Prior;
+  params.priorModel = &prior::defaultPriorModel();
+  params.threads = static_cast<int>(state.range(0));
+  const double cpuBefore = processCpuSeconds();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(btf::reconstructBtf(grid, slices, params));
+  reportPeakRssAndCpu(state, cpuBefore);
+}
+BENCHMARK(BM_Btf128_Prior)->Arg(2)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+void BM_OneTexel_Prior(benchmark::State& state) {
+  const btf::TextureGrid grid(8, vision::defaultTarget().window);
+  const std::vector<btf::SliceTexture> slices = wovenCapture(grid);
+  const prior::PriorModel& model = prior::defaultPriorModel();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(
+        prior::reconstructWithPrior(btf::texelSlices(grid, slices, 3, 4), model));
+}
+BENCHMARK(BM_OneTexel_Prior)->Unit(benchmark::kMicrosecond);
 
 // One 1280 x 720 8-bit sRGB frame of the woven material (axial 30/30) with its true pose and LED.
 struct RenderedFrame {
