@@ -2,8 +2,11 @@
 that cross between the C++ and the Python side."""
 
 import json
+import os
 import subprocess
 import sys
+import tempfile
+import threading
 
 import numpy as np
 import OpenEXR
@@ -189,6 +192,52 @@ def test_a_damaged_file_is_said_once_and_prints_nothing_else(tmp_path, capfd):
     print("after", file=sys.stderr)
     print("after")
     assert capfd.readouterr() == ("after\n", "after\n"), "stdout and stderr are back"
+
+
+def test_only_openexr_damage_lines_are_held_back(capfd):
+    from slicecap.abrdf_exr import _openexr_damage_lines_held
+
+    with _openexr_damage_lines_held():
+        os.write(2, b"x.exr: (EXR_ERR_BAD_CHUNK_LEADER) Invalid chunk size\n")
+        os.write(2, b"something else on stderr\n")
+        print("Warning: Exception raised reading pixel data for part 0 - ...")
+        print("a script's own line")
+    assert capfd.readouterr() == ("a script's own line\n", "something else on stderr\n")
+
+
+def test_without_a_temporary_file_a_table_still_reads(tmp_path, monkeypatch):
+    # The hold's temporary file failed every read, with an error naming the temporary path, and
+    # left sys.stdout redirected.
+    write_abrdf_exr(tmp_path / "whole.exr", ramp_table())
+    stdout = sys.stdout
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path / "no-such-folder"))
+    np.testing.assert_array_equal(read_abrdf_exr(tmp_path / "whole.exr").values, ramp_table())
+    assert sys.stdout is stdout
+
+
+def test_reading_from_many_threads_leaves_stdout_and_stderr_as_they_were(tmp_path, capfd):
+    # The holds redirect process-wide state; overlapping ones left stdout a StringIO and
+    # descriptor 2 on a deleted temporary file for good.
+    write_abrdf_exr(tmp_path / "whole.exr", ramp_table())
+    whole = (tmp_path / "whole.exr").read_bytes()
+    (tmp_path / "cut.exr").write_bytes(whole[: len(whole) // 2])
+    stdout, descriptor_2 = sys.stdout, os.fstat(2)
+
+    def read_many(k):
+        for i in range(25):
+            try:
+                read_abrdf_exr(tmp_path / ("cut.exr" if (i + k) % 2 else "whole.exr"))
+            except SlicecapFileError:
+                pass
+
+    threads = [threading.Thread(target=read_many, args=(k,)) for k in range(8)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert sys.stdout is stdout
+    assert (os.fstat(2).st_ino, os.fstat(2).st_dev) == (descriptor_2.st_ino, descriptor_2.st_dev)
+    assert capfd.readouterr() == ("", "")
 
 
 def test_half_float_channels_are_read_as_float32(tmp_path):

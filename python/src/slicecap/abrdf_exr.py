@@ -7,8 +7,10 @@ BRDF in 1/sr; string attributes `slicecap:layout` = "bonn81" and `slicecap:quant
 import contextlib
 import io
 import os
+import re
 import sys
 import tempfile
+import threading
 
 import numpy as np
 import OpenEXR
@@ -77,39 +79,58 @@ def _refuse_unopenable(path, expected: str) -> str:
     return name
 
 
+# OpenEXR's own lines about a damaged file: its C core's "PATH: (EXR_ERR_...) ..." on descriptor 2
+# and the bindings' "Warning: Exception raised reading pixel data ..." on sys.stdout.
+_OPENEXR_DAMAGE_LINE = re.compile(r"\(EXR_ERR_[A-Z_]+\)|^Warning: Exception raised reading ")
+# The holds redirect process-wide state: two at once would each take the other's for the original
+# and leave stdout and descriptor 2 redirected for good (8 threads reading at once did).
+_HOLD_LOCK = threading.RLock()
+
+
+def _pass_on(text: str, stream) -> None:
+    if stream is None:  # pythonw
+        return
+    for line in text.splitlines():
+        if not _OPENEXR_DAMAGE_LINE.search(line):
+            stream.write(line + "\n")
+
+
 @contextlib.contextmanager
-def _library_output_held():
-    """Holds what OpenEXR prints meanwhile and yields the list its lines are put in at exit. For
-    a damaged file its C core prints a line per chunk it cannot place straight to file
-    descriptor 2, and the bindings print "Warning: Exception raised reading pixel data..." to
-    sys.stdout (where it would land in a script's own output), before they fail; the error
-    raised here says it once, naming the file. Without a descriptor 2 (e.g. pythonw) only what
-    goes through sys.stdout and sys.stderr is held."""
-    lines: list[str] = []
-    python_side = io.StringIO()
-    redirected = contextlib.ExitStack()
-    redirected.enter_context(contextlib.redirect_stdout(python_side))
-    redirected.enter_context(contextlib.redirect_stderr(python_side))
-    try:
-        sys.stderr.flush()
-        saved = os.dup(2)
-    except (OSError, ValueError, AttributeError):
-        saved = None
-    try:
-        with tempfile.TemporaryFile() as sink, redirected:
+def _openexr_damage_lines_held():
+    """While OpenEXR reads a file: what it prints is held and, at exit, passed on where it was
+    going (descriptor 2 to sys.stderr, sys.stdout to sys.stdout), except OpenEXR's own lines about
+    a damaged file (a line per chunk it cannot place, then a warning on sys.stdout, where it would
+    land in a script's own output): the error raised says it once, naming the file. One hold at a
+    time; what other threads print meanwhile is held and passed on with it. Without a descriptor
+    2 (pythonw) or a temporary file, descriptor 2 is not held."""
+    with _HOLD_LOCK:
+        python_side = io.StringIO()
+        sink = saved = None
+        try:
+            sink = tempfile.TemporaryFile()
+            if sys.stderr is not None:
+                sys.stderr.flush()
+            saved = os.dup(2)
+        except (OSError, ValueError):
+            if sink is not None:
+                sink.close()
+            sink = None
+        try:
             if saved is not None:
                 os.dup2(sink.fileno(), 2)
-            try:
-                yield lines
-            finally:
-                if saved is not None:
-                    os.dup2(saved, 2)
+            with contextlib.redirect_stdout(python_side):
+                yield
+        finally:
+            held = ""
+            if saved is not None:
+                os.dup2(saved, 2)
+                os.close(saved)
                 sink.seek(0)
-                lines.extend(sink.read().decode(errors="replace").splitlines())
-                lines.extend(python_side.getvalue().splitlines())
-    finally:
-        if saved is not None:
-            os.close(saved)
+                held = sink.read().decode(errors="replace")
+            if sink is not None:
+                sink.close()
+            _pass_on(held, sys.stderr)
+            _pass_on(python_side.getvalue(), sys.stdout)
 
 
 def read_exr(path, expected: str) -> tuple[dict, dict]:
@@ -117,24 +138,18 @@ def read_exr(path, expected: str) -> tuple[dict, dict]:
     SlicecapFileError naming the file and what is wrong: missing, a directory, not an EXR, a
     damaged header, truncated or corrupt pixel data (where the bindings print a warning and
     leave a file of no parts, which then says only "Invalid part index '0': file has 0 parts").
-    OpenEXR's own lines about a damaged file are not printed (the error says it); for a file
-    that reads, anything it printed is passed on to stderr."""
+    OpenEXR's own lines about a damaged file are not printed (the error says it)."""
     name = _refuse_unopenable(path, expected)
     failure = None
-    result = None
-    with _library_output_held() as printed:
+    with _openexr_damage_lines_held():
         try:
             with OpenEXR.File(name, separate_channels=True) as file:
                 if file.parts:
-                    result = dict(file.header()), dict(file.channels())
+                    return dict(file.header()), dict(file.channels())
         except Exception as e:  # the bindings raise several types
             failure = e
-    if result is not None:
-        for line in printed:
-            print(line, file=sys.stderr)
-        return result
     try:
-        with _library_output_held():
+        with _openexr_damage_lines_held():
             with OpenEXR.File(name, header_only=True) as file:
                 file.header()
     except Exception as e:
@@ -146,7 +161,7 @@ def read_exr_header(path) -> dict:
     """The header of any EXR file (no pixels); raises SlicecapFileError naming the file."""
     name = _refuse_unopenable(path, "an EXR file")
     try:
-        with _library_output_held(), OpenEXR.File(name, header_only=True) as file:
+        with _openexr_damage_lines_held(), OpenEXR.File(name, header_only=True) as file:
             return dict(file.header())
     except Exception as e:  # the bindings raise several types for missing and corrupt files
         raise _error(path, "cannot read EXR: its header is truncated or corrupt") from e
