@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <unordered_map>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -116,6 +117,10 @@ struct LibcameraCamera::State {
   bool streaming = false;
   std::optional<std::uint32_t> firstSequence;
   std::optional<ExposureSetting> lockedExposure;  // set on every request queued from then on
+  // Locks since start(), and how many of them each request carried when it was last queued: the
+  // requests queued before a lock return frames taken under the setting before it.
+  std::uint32_t locks = 0;
+  std::unordered_map<const libcamera::Request*, std::uint32_t> locksCarried;
   int readyFd = -1;
   std::mutex completedMutex;
   std::deque<libcamera::Request*> completed;
@@ -336,12 +341,15 @@ ExposureLock LibcameraCamera::lockExposure(const ExposureSetting& wanted) {
     gain = std::clamp<double>(gain, it->second.min().get<float>(), it->second.max().get<float>());
   }
   state_->lockedExposure = ExposureSetting{std::round(exposureUs), gain};
+  ++state_->locks;
   return {state_->lockedExposure, ""};
 }
 
 void LibcameraCamera::stop() {
   if (!state_->streaming) return;
   state_->lockedExposure.reset();
+  state_->locks = 0;
+  state_->locksCarried.clear();
   state_->camera->stop();  // completes every pending request as cancelled, synchronously
   state_->camera->requestCompleted.disconnect(state_.get());
   state_->streaming = false;
@@ -383,6 +391,7 @@ CaptureResult LibcameraCamera::nextFrame(std::chrono::milliseconds timeout) {
       if (state.lockedExposure)
         setManualExposure(request->controls(), state.lockedExposure->exposureUs,
                           state.lockedExposure->gain);
+      state.locksCarried[request] = state.locks;
       if (state.streaming) state.camera->queueRequest(request);
     }
   } requeue{*state_, request};
@@ -404,10 +413,22 @@ CaptureResult LibcameraCamera::nextFrame(std::chrono::milliseconds timeout) {
   frame.metadata.sequence = metadata.sequence - *state_->firstSequence;
   frame.metadata.timestampUs = static_cast<std::int64_t>(metadata.timestamp / 1000);
   const libcamera::ControlList& reported = request->metadata();
+  const auto carried = state_->locksCarried.find(request);
+  frame.metadata.exposureLocks = carried == state_->locksCarried.end() ? 0 : carried->second;
+  // A pipeline that reports no exposure (libcamera's uvcvideo reports only the timestamp): the
+  // lock this frame's request carried when it is the one in force, the configuration when no
+  // lock was made, else unknown (0).
+  std::optional<ExposureSetting> known;
+  if (frame.metadata.exposureLocks == 0)
+    known = ExposureSetting{state_->config.exposureUs.value_or(0.0), state_->config.gain};
+  else if (frame.metadata.exposureLocks == state_->locks)
+    known = state_->lockedExposure;
   frame.metadata.exposureUs = reported.get(libcamera::controls::ExposureTime)
-                                  .value_or(state_->config.exposureUs.value_or(0.0));
-  frame.metadata.gain = double(reported.get(libcamera::controls::AnalogueGain).value_or(1.0f)) *
-                        double(reported.get(libcamera::controls::DigitalGain).value_or(1.0f));
+                                  .value_or(known ? known->exposureUs : 0.0);
+  frame.metadata.gain =
+      double(reported.get(libcamera::controls::AnalogueGain)
+                 .value_or(static_cast<float>(known ? known->gain.value_or(1.0) : 1.0))) *
+      double(reported.get(libcamera::controls::DigitalGain).value_or(1.0f));
   return {CaptureResult::Status::Frame, std::move(frame), ""};
 }
 

@@ -79,8 +79,14 @@ struct V4l2Camera::State {
   // `lockReachesFrame` carry the exposure and gain from before the lock (0 us: auto exposure).
   std::uint64_t dequeued = 0;
   std::uint64_t lockReachesFrame = 0;
+  std::uint32_t locks = 0;  // since start()
   double exposureBeforeLockUs = 0.0;
   double gainBeforeLock = 1.0;
+  std::uint32_t grantedBuffers = 0;  // what REQBUFS gave, which may exceed what was asked
+  // The exposure and gain controls as they were before the first lock since start(), put back at
+  // stop(): a lock lasts for the sweep, and the next one may be meant to run on auto.
+  std::vector<std::pair<std::uint32_t, std::int32_t>> controlsBeforeLocks;
+  std::optional<double> exposureUsBeforeLocks, gainBeforeLocks;
 
   [[noreturn]] void fail(const std::string& what, int error) const {
     throw CameraError(device + ": " + what + ": " + std::strerror(error));
@@ -99,6 +105,25 @@ struct V4l2Camera::State {
     control.id = id;
     if (retryIoctl(fd, VIDIOC_G_CTRL, &control) != 0) return std::nullopt;
     return control.value;
+  }
+
+  /// The exposure and gain controls as they are, to put back: the modes first, then a value only
+  /// where its mode leaves it to the user (an auto mode owns its value; shutter priority keeps
+  /// the exposure time manual).
+  std::vector<std::pair<std::uint32_t, std::int32_t>> exposureControls() const {
+    const std::optional<std::int32_t> autoExposure = getControl(V4L2_CID_EXPOSURE_AUTO);
+    const std::optional<std::int32_t> autoGain = getControl(V4L2_CID_AUTOGAIN);
+    std::vector<std::pair<std::uint32_t, std::int32_t>> controls;
+    if (autoExposure) controls.emplace_back(V4L2_CID_EXPOSURE_AUTO, *autoExposure);
+    if (autoGain) controls.emplace_back(V4L2_CID_AUTOGAIN, *autoGain);
+    const std::int32_t exposureMode = autoExposure.value_or(V4L2_EXPOSURE_MANUAL);
+    if (exposureMode == V4L2_EXPOSURE_MANUAL || exposureMode == V4L2_EXPOSURE_SHUTTER_PRIORITY)
+      if (const std::optional<std::int32_t> v = getControl(V4L2_CID_EXPOSURE_ABSOLUTE))
+        controls.emplace_back(V4L2_CID_EXPOSURE_ABSOLUTE, *v);
+    if (autoGain.value_or(0) == 0)
+      if (const std::optional<std::int32_t> v = getControl(V4L2_CID_GAIN))
+        controls.emplace_back(V4L2_CID_GAIN, *v);
+    return controls;
   }
 
   bool setControl(std::uint32_t id, std::int32_t value) const {
@@ -279,6 +304,7 @@ void V4l2Camera::start() {
   if (request.count < 2)
     throw CameraError(state_->device + ": the driver gave " + std::to_string(request.count) +
                       " buffer(s); streaming needs at least 2");
+  state_->grantedBuffers = request.count;
   for (std::uint32_t index = 0; index < request.count; ++index) {
     v4l2_buffer buffer{};
     buffer.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
@@ -315,6 +341,8 @@ void V4l2Camera::start() {
   state_->firstSequence.reset();
   state_->dequeued = 0;
   state_->lockReachesFrame = 0;
+  state_->locks = 0;
+  state_->controlsBeforeLocks.clear();
 }
 
 void V4l2Camera::stop() {
@@ -323,6 +351,13 @@ void V4l2Camera::stop() {
   retryIoctl(state_->fd, VIDIOC_STREAMOFF, &type);
   state_->streaming = false;
   state_->releaseBuffers();
+  if (state_->locks > 0) {
+    for (const auto& [id, value] : state_->controlsBeforeLocks)
+      state_->setControl(id, value);
+    state_->config.exposureUs = state_->exposureUsBeforeLocks;
+    state_->config.gain = state_->gainBeforeLocks;
+    state_->locks = 0;
+  }
 }
 
 std::optional<int> V4l2Camera::readyDescriptor() const { return state_->fd; }
@@ -393,6 +428,7 @@ CaptureResult V4l2Camera::nextFrame(std::chrono::milliseconds timeout) {
                                                 : state_->config.exposureUs.value_or(0.0);
   frame.metadata.gain =
       exposedBeforeLock ? state_->gainBeforeLock : state_->config.gain.value_or(1.0);
+  frame.metadata.exposureLocks = exposedBeforeLock ? state_->locks - 1 : state_->locks;
   return {CaptureResult::Status::Frame, std::move(frame), ""};
 }
 
@@ -400,18 +436,7 @@ ExposureLock V4l2Camera::lockExposure(const ExposureSetting& wanted) {
   if (!state_->streaming) throw std::logic_error("V4l2Camera::lockExposure before start");
   // A lock the device refuses halfway (e.g. the gain after the exposure) is undone: a fixed
   // exposure that neither the frames nor the status report would be worse than none.
-  // The modes first; a value only where its mode was manual (an auto mode owns its value).
-  const std::optional<std::int32_t> autoExposure = state_->getControl(V4L2_CID_EXPOSURE_AUTO);
-  const std::optional<std::int32_t> autoGain = state_->getControl(V4L2_CID_AUTOGAIN);
-  std::vector<std::pair<std::uint32_t, std::int32_t>> before;
-  if (autoExposure) before.emplace_back(V4L2_CID_EXPOSURE_AUTO, *autoExposure);
-  if (autoGain) before.emplace_back(V4L2_CID_AUTOGAIN, *autoGain);
-  if (autoExposure.value_or(V4L2_EXPOSURE_MANUAL) == V4L2_EXPOSURE_MANUAL)
-    if (const std::optional<std::int32_t> v = state_->getControl(V4L2_CID_EXPOSURE_ABSOLUTE))
-      before.emplace_back(V4L2_CID_EXPOSURE_ABSOLUTE, *v);
-  if (autoGain.value_or(0) == 0)
-    if (const std::optional<std::int32_t> v = state_->getControl(V4L2_CID_GAIN))
-      before.emplace_back(V4L2_CID_GAIN, *v);
+  const std::vector<std::pair<std::uint32_t, std::int32_t>> before = state_->exposureControls();
   auto refuse = [&](const std::string& reason) -> ExposureLock {
     for (const auto& [id, value] : before)
       state_->setControl(id, value);
@@ -429,10 +454,15 @@ ExposureLock V4l2Camera::lockExposure(const ExposureSetting& wanted) {
   } else {
     state_->setControl(V4L2_CID_AUTOGAIN, 0);
   }
+  if (state_->locks == 0) {
+    state_->controlsBeforeLocks = before;
+    state_->exposureUsBeforeLocks = state_->config.exposureUs;
+    state_->gainBeforeLocks = state_->config.gain;
+  }
+  ++state_->locks;
   state_->exposureBeforeLockUs = state_->config.exposureUs.value_or(0.0);
   state_->gainBeforeLock = state_->config.gain.value_or(1.0);
-  state_->lockReachesFrame =
-      state_->dequeued + static_cast<std::uint64_t>(state_->config.bufferCount) + 1;
+  state_->lockReachesFrame = state_->dequeued + state_->grantedBuffers + 1;
   state_->config.exposureUs = *exposureUs;
   state_->config.gain = gain;
   return {ExposureSetting{*exposureUs, gain}, ""};

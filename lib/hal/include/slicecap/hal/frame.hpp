@@ -17,6 +17,11 @@ struct FrameMetadata {
   double exposureUs = 0.0;       ///< exposure time, microseconds
   double gain = 1.0;             ///< total gain (analogue x digital)
   bool ledOn = true;
+  /// Camera::lockExposure calls since start() that this frame was taken under: its request
+  /// carried the last of them (libcamera), or the driver no longer held frames from before it
+  /// (V4L2). A frame taken before a lock reached the camera counts one less, whatever exposure
+  /// it happens to report (an auto exposure can sit at the locked value by chance).
+  std::uint32_t exposureLocks = 0;
 };
 
 /// \brief One frame: gray or RGB samples in `encoding` (8-bit sRGB or 16-bit linear).
