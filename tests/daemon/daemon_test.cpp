@@ -129,6 +129,8 @@ class FakeLiveCamera : public hal::Camera {
   void start() override {
     log_->streaming = true;
     framesSinceStart_ = 0;
+    appliedLocks_ = 0;
+    pending_.clear();
   }
   void stop() override { log_->streaming = false; }
   std::optional<int> readyDescriptor() const override { return ready_; }
@@ -150,6 +152,7 @@ class FakeLiveCamera : public hal::Camera {
       return {hal::CaptureResult::Status::EndOfStream, {}, ""};
     while (!pending_.empty() && pending_.front().first <= sequence_) {
       exposureUs_ = pending_.front().second;
+      ++appliedLocks_;
       pending_.erase(pending_.begin());
     }
     const double level = std::min(1.0, log_->sceneLevel * exposureUs_ / 10'000.0);
@@ -157,7 +160,8 @@ class FakeLiveCamera : public hal::Camera {
     frame.encoding = PixelEncoding::Linear16;
     frame.image = {32, 24, 3, 16,
                    std::vector<std::uint16_t>(32 * 24 * 3, std::uint16_t(level * 65535.0))};
-    frame.metadata = {sequence_, std::int64_t(sequence_) * 33'000, exposureUs_, 1.0, true};
+    frame.metadata = {sequence_, std::int64_t(sequence_) * 33'000, exposureUs_, 1.0, true,
+                      appliedLocks_};
     ++sequence_;
     return {hal::CaptureResult::Status::Frame, std::move(frame), ""};
   }
@@ -168,6 +172,7 @@ class FakeLiveCamera : public hal::Camera {
   std::uint64_t sequence_ = 0;
   int framesSinceStart_ = 0;
   int lockCalls_ = 0;
+  std::uint32_t appliedLocks_ = 0;
   double exposureUs_ = 30'000.0;  // the camera's own auto exposure before any lock
   std::vector<std::pair<std::uint64_t, double>> pending_;
 };

@@ -44,12 +44,18 @@ struct SimulatedCamera {
   double minUs = 100.0, maxUs = 100'000.0;
   int delayFrames = 0;
   bool appliesLocks = true;
+  // Before the first lock: its auto exposure, and the level it gives then (LED off, another
+  // gain); a negative level: as at any exposure.
+  double autoExposureUs = 30'000.0;
+  double autoLevel = -1.0;
   hal::ExposureSetting lock(const hal::ExposureSetting& s) const {
     return {std::clamp(s.exposureUs, minUs, maxUs), s.gain.value_or(1.0)};
   }
-  hal::Frame frameAt(double exposureUs) const {
-    hal::Frame frame = frameWith(0.0, levelAt10ms * exposureUs / 10'000.0);
+  hal::Frame frameAt(double exposureUs, std::uint32_t locks = 1) const {
+    const bool auto_ = locks == 0 && autoLevel >= 0.0;
+    hal::Frame frame = frameWith(0.0, auto_ ? autoLevel : levelAt10ms * exposureUs / 10'000.0);
     frame.metadata.exposureUs = exposureUs;
+    frame.metadata.exposureLocks = locks;
     return frame;
   }
 };
@@ -58,14 +64,16 @@ struct SimulatedCamera {
 int meter(ExposureMeter& m, const SimulatedCamera& camera, hal::ExposureSetting& final) {
   hal::ExposureSetting current = camera.lock(m.firstSetting(std::nullopt));
   m.accepted(current);
-  double onSensorUs = 30'000.0;  // the auto exposure before the first lock
+  double onSensorUs = camera.autoExposureUs;
+  std::uint32_t applied = 0;
   std::vector<std::pair<int, double>> pending{{camera.delayFrames, current.exposureUs}};
   for (int frame = 1; frame <= 200; ++frame) {
     while (camera.appliesLocks && !pending.empty() && pending.front().first < frame) {
       onSensorUs = pending.front().second;
+      ++applied;
       pending.erase(pending.begin());
     }
-    const ExposureMeter::Step step = m.onFrame(camera.frameAt(onSensorUs));
+    const ExposureMeter::Step step = m.onFrame(camera.frameAt(onSensorUs, applied));
     if (step.kind == ExposureMeter::Step::Kind::Done) {
       final = step.setting;
       return frame;
@@ -129,6 +137,22 @@ TEST(ExposureMeter, FramesExposedBeforeAChangeReachedTheSensorAreNotMeasured) {
     EXPECT_TRUE(m.onTarget()) << m.summary();
     EXPECT_NEAR(0.12 * final.exposureUs / 10'000.0, 0.35, 0.35 * 0.25) << m.summary();
   }
+}
+
+TEST(ExposureMeter, AFrameFromBeforeTheLockIsNotMeasuredEvenAtTheLockedExposure) {
+  // A Pi's auto exposure sits at 10 ms, the start value, with its gain raised and the LED still
+  // off: matched by exposure alone such a frame was metered at 0.33, "on target" after 0 steps,
+  // and the sweep ran near clipping.
+  ExposureMeter m;
+  hal::ExposureSetting final;
+  SimulatedCamera camera{0.95};
+  camera.delayFrames = 7;
+  camera.autoExposureUs = 10'000.0;
+  camera.autoLevel = 0.33;
+  meter(m, camera, final);
+  EXPECT_TRUE(m.onTarget()) << m.summary();
+  EXPECT_GE(m.steps(), 1) << m.summary();
+  EXPECT_NEAR(0.95 * final.exposureUs / 10'000.0, 0.35, 0.35 * 0.25) << m.summary();
 }
 
 TEST(ExposureMeter, ACameraThatNeverAppliesTheLockEndsOffTheTargetSayingSo) {

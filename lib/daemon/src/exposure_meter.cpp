@@ -49,6 +49,7 @@ void ExposureMeter::accepted(const hal::ExposureSetting& setting) {
   }
   current_ = setting;
   framesSinceChange_ = 0;
+  ++locksAccepted_;
 }
 
 void ExposureMeter::refused(const std::string& reason) {
@@ -59,11 +60,14 @@ void ExposureMeter::refused(const std::string& reason) {
 
 namespace {
 
-// Whether a frame reports the exposure it was asked for. libcamera's reported exposure is
-// quantised to the sensor's line time (tens of microseconds); a frame still at the setting
-// before (or at 0, the V4L2 source's label for frames exposed under auto exposure) differs by at
-// least the smallest step the metering makes (x1.25).
-bool reportsExposure(const hal::Frame& frame, double exposureUs) {
+// Whether a frame was taken at the accepted setting: after the last lock reached the camera (its
+// request carried it, or the V4L2 driver no longer held frames from before it: an auto exposure
+// may report the locked value by chance, with another gain and the LED still off), and reporting
+// its exposure. libcamera reports each frame's own, quantised to the sensor's line time (tens of
+// microseconds); a frame at the setting before differs by at least the smallest step the metering
+// makes (x1.25).
+bool takenAt(const hal::Frame& frame, double exposureUs, std::uint32_t locks) {
+  if (frame.metadata.exposureLocks < locks) return false;
   const double tolerance = std::max(0.05 * exposureUs, std::min(60.0, 0.5 * exposureUs));
   return std::abs(frame.metadata.exposureUs - exposureUs) <= tolerance;
 }
@@ -73,7 +77,7 @@ bool reportsExposure(const hal::Frame& frame, double exposureUs) {
 ExposureMeter::Step ExposureMeter::onFrame(const hal::Frame& frame) {
   if (done_) return {Step::Kind::Done, current_};
   ++framesSinceChange_;
-  if (!reportsExposure(frame, current_.exposureUs)) {
+  if (!takenAt(frame, current_.exposureUs, locksAccepted_)) {
     if (framesSinceChange_ < params_.maxFramesPerChange) return {Step::Kind::Wait, current_};
     done_ = true;
     onTarget_ = false;

@@ -3,6 +3,7 @@
 // fixed for the sweep, so LED-on and LED-off frames are exposed alike.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -24,10 +25,10 @@ struct ExposureMeterParams {
   double tolerance = 1.25;
   /// Frames skipped after each change: a camera applies new controls a few frames late.
   int settleFrames = 4;
-  /// A frame whose reported exposure is not the accepted one was exposed before the change
-  /// reached the sensor (libcamera reports each frame's own; the V4L2 source labels the frames
-  /// its driver still held) and is skipped too; after this many frames since the change the
-  /// metering ends where it is, off the target.
+  /// A frame taken before the change reached the camera (FrameMetadata::exposureLocks) or whose
+  /// reported exposure is not the accepted one (libcamera reports each frame's own, which reaches
+  /// the new value a few frames after the request that carried it) is skipped too; after this
+  /// many frames since the change the metering ends where it is, off the target.
   int maxFramesPerChange = 30;
   /// Changes of exposure at most; then the last one stays.
   int maxSteps = 8;
@@ -50,7 +51,9 @@ class ExposureMeter {
   /// \brief The first setting to lock: the start exposure at the configured gain (nullopt: the
   /// camera's default).
   hal::ExposureSetting firstSetting(std::optional<double> gain) const;
-  /// \brief What the camera set for the last request (clamped to its range).
+  /// \brief What the camera set for the last request (clamped to its range). Call it for every
+  /// lock the camera made since it started, and for nothing else: frames are matched to the
+  /// setting by FrameMetadata::exposureLocks.
   void accepted(const hal::ExposureSetting& setting);
   /// \brief The camera refused the last request (Camera::lockExposure gave no lock, keeping the
   /// setting accepted before): the metering ends at that setting, off the target, saying why.
@@ -78,6 +81,7 @@ class ExposureMeter {
   ExposureMeterParams params_;
   hal::ExposureSetting current_;
   int framesSinceChange_ = 0;
+  std::uint32_t locksAccepted_ = 0;  ///< accepted() calls: the camera's locks since it started
   int steps_ = 0;
   double lastLevel_ = 0.0;
   bool onTarget_ = false;
