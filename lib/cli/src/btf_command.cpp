@@ -109,9 +109,13 @@ int run(const ParsedArgs& args, Streams& io) {
   reconParams.method = method == "a"       ? btf::TexelMethod::A
                        : method == "prior" ? btf::TexelMethod::Prior
                                            : btf::TexelMethod::B;
-  // Found (or its absence named) before minutes of frames are processed.
-  if (reconParams.method == btf::TexelMethod::Prior)
+  // Found (or its absence named) before minutes of frames are processed; its path is said from
+  // here, as the file may go while they are.
+  std::filesystem::path priorFile;
+  if (reconParams.method == btf::TexelMethod::Prior) {
+    priorFile = prior::locatePriorModel();
     reconParams.priorModel = &prior::defaultPriorModel();
+  }
 
   if (std::filesystem::exists(session / "texture" / btf::kTextureStoreManifest))
     throw io::IoError(session.string() +
@@ -141,8 +145,8 @@ int run(const ParsedArgs& args, Streams& io) {
          << report.texels << " texels on " << report.threads << " threads in " << report.seconds
          << " s; texture " << texture.memoryBytes() / 1e6 << " MB\n";
   if (reconParams.method == btf::TexelMethod::Prior)
-    io.err << "btf: prior " << prior::locatePriorModel().string() << "; "
-           << report.priorBlendedTexels << " texels blended with Method B (little directional "
+    io.err << "btf: prior " << priorFile.string() << "; " << report.priorBlendedTexels
+           << " texels blended with Method B (little directional "
            << "structure), " << report.priorAnisotropicTexels << " with the anisotropy terms\n";
   if (report.failedTexels > 0)
     io.err << "warning: " << report.failedTexels
@@ -182,7 +186,8 @@ Command btfCommand() {
        "per-texel method: b (default), a (one shared RBF factorisation) or prior (the learned "
        "prior; also for average.exr)"},
       {"frames-per-bin", 0, "K", "frames a bin keeps for its per-texel median (default 5)"},
-      {"isotropic", 0, "", "use the diagonal slices only"}};
+      {"isotropic", 0, "",
+       "b and a: use the diagonal slices only; prior: fit without the anisotropy terms"}};
   for (auto& o : pipelineOptions())
     if (o.name != "report") options.push_back(o);
   return {{"btf",
@@ -195,9 +200,10 @@ Command btfCommand() {
            "out), binned like the average sample (15 deg, per-texel median of up to K frames).\n"
            "Every texel is reconstructed (Method B, Method A or the prior) on all cores. Writes\n"
            "DIR as docs/btf-format.md describes: 6561 half-float EXRs tvTTT_pvPPP/tlTTT_plPPP_\n"
-           "tvTTT_pvPPP.exr (N x N, BRDF 1/sr), average.exr (the 81 x 81 average ABRDF, as\n"
-           "capture-offline makes it), preview/*.png (the texture from above under 8 lights)\n"
-           "and btf.json. Memory: the texture takes 6561 x N^2 x 6 bytes (N = 128: 645 MB).\n"
+           "tvTTT_pvPPP.exr (N x N, BRDF 1/sr), average.exr (the 81 x 81 average ABRDF from the\n"
+           "window samples, as capture-offline makes it, by the same method), preview/*.png (the\n"
+           "texture from above under 8 lights) and btf.json. Memory: the texture takes\n"
+           "6561 x N^2 x 6 bytes (N = 128: 645 MB).\n"
            "TEXTURE_DIR instead: the texture slicecapd captured on the box (texture_resolution),\n"
            "as `slicecap export` writes it (EXPORT/ID-texture, with the session's slices.csv);\n"
            "its resolution and frames per bin are those of the capture.",
