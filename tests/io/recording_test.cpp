@@ -123,6 +123,28 @@ TEST(Recording, CameraMayComeFromACalibrationFileInsideTheRecording) {
   EXPECT_NE(message.find("fy_px"), std::string::npos) << message;
 }
 
+// nlohmann reports a number beyond a double as out_of_range, not as a parse error: found by
+// tests/fuzz/target_json_fuzz, it escaped the readers as a bare nlohmann exception.
+TEST(Recording, ANumberBeyondADoubleIsInvalidJsonNamingTheFile) {
+  const auto dir = test::freshTempDir();
+  std::ofstream(dir / "target.json") << R"({"name": "t", "units": "mm", "family": 8e888})";
+  try {
+    readTargetJson(dir / "target.json");
+    ADD_FAILURE() << "no error";
+  } catch (const IoError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("target.json: not valid JSON"), std::string::npos) << message;
+    EXPECT_NE(message.find("8e888"), std::string::npos) << message;
+  }
+  const auto rec = editedRecording([](auto&) {});
+  std::string manifest = readJsonFile(rec / kRecordingManifest).dump(1);
+  manifest.replace(manifest.find("5000.0"), 6, "1e400");
+  std::ofstream(rec / kRecordingManifest) << manifest;
+  const std::string message = readError(rec);
+  EXPECT_NE(message.find(kRecordingManifest + std::string(": not valid JSON")), std::string::npos)
+      << message;
+}
+
 TEST(Recording, ReaderNamesADirectoryWithoutARecording) {
   const auto dir = test::freshTempDir();
   const std::string message = readError(dir);

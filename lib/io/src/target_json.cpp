@@ -155,7 +155,8 @@ json readJsonFile(const std::filesystem::path& path) {
   if (!in) throw IoError(path.string() + ": cannot open");
   try {
     return json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
+    // Also out_of_range: nlohmann's error for a number beyond a double (1e400).
     throw IoError(path.string() + ": not valid JSON (" + e.what() + ")");
   }
 }

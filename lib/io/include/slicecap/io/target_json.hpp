@@ -35,8 +35,8 @@ inline constexpr int kMaxCameraSidePx = 16384;
 vision::CameraModel cameraFromJson(const nlohmann::json& value, const std::string& file,
                                    const std::string& path = "");
 
-/// \brief Parses a JSON file; IoError naming the path when it cannot be read or parsed, or is a
-/// directory.
+/// \brief Parses a JSON file; IoError naming the path when it cannot be read or parsed (also a
+/// number beyond a double), or is a directory.
 nlohmann::json readJsonFile(const std::filesystem::path& path);
 /// \brief Writes JSON (indent 1) through a temporary file and a rename, so a reader never sees a
 /// half-written file. IoError naming the path.
