@@ -151,6 +151,23 @@ TEST(TextureStore, AnUnknownTexelEncodingOrQuantityIsRefusedNamingTheFileAndFiel
   EXPECT_EQ(TextureStore::open(dir).frameCount(), 1u);
 }
 
+// The message naming a wrong version printed it, with nlohmann's recursive dump: a value nested
+// 200000 deep overflowed the stack.
+TEST(TextureStore, AManifestNestedTooDeepIsRefusedNamingIt) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  TextureStore::openOrCreate(dir, kLayout);
+  const fs::path manifest = dir / kTextureStoreManifest;
+  std::ofstream(manifest) << R"({"format": "slicecap-texture-store", "version": )"
+                          << std::string(200000, '[') << std::string(200000, ']') << "}";
+  try {
+    TextureStore::open(dir, StoreAccess::ReadOnly);
+    ADD_FAILURE() << "no error";
+  } catch (const io::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find(manifest.string() + ": not valid JSON"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(TextureStore, OpeningMendsWhatACrashLeftAndDropsDamagedFrames) {
   const fs::path dir = test::freshTempDir() / "texture";
   fs::path evicted;

@@ -145,6 +145,27 @@ TEST(Recording, ANumberBeyondADoubleIsInvalidJsonNamingTheFile) {
       << message;
 }
 
+// nlohmann's parser does not recurse, but its dump does: the message naming a field of the wrong
+// type printed a value nested 200000 deep and overflowed the stack (tests/fuzz/target_json_fuzz).
+TEST(Recording, JsonNestedTooDeepIsRefusedNamingTheFile) {
+  const auto dir = test::freshTempDir();
+  const std::string deep = std::string(200000, '[') + std::string(200000, ']');
+  std::ofstream(dir / "target.json") << R"({"name": "t", "units": "mm", "family": )" << deep << "}";
+  try {
+    readTargetJson(dir / "target.json");
+    ADD_FAILURE() << "no error";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("target.json: not valid JSON (arrays and objects nested "
+                                         "deeper than 64 levels)"),
+              std::string::npos)
+        << e.what();
+  }
+  // As deep as the limit is still JSON.
+  const std::string limit = std::string(63, '[') + std::string(63, ']');
+  EXPECT_EQ(parseJson(R"({"a": )" + limit + "}", "text").size(), 1u);
+  EXPECT_THROW(parseJson(R"({"a": [)" + limit + "]}", "text"), IoError);
+}
+
 TEST(Recording, ReaderNamesADirectoryWithoutARecording) {
   const auto dir = test::freshTempDir();
   const std::string message = readError(dir);

@@ -6,15 +6,15 @@
 
 #include <algorithm>
 #include <bit>
-#include <cmath>
-#include <cstdio>
 #include <cerrno>
+#include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <system_error>
 
@@ -22,6 +22,7 @@
 #include "slicecap/core/version.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/journal.hpp"
+#include "slicecap/io/target_json.hpp"
 
 namespace slicecap::btf {
 namespace {
@@ -186,12 +187,7 @@ json layoutJson(const TextureStoreLayout& layout) {
 }
 
 TextureStoreLayout readLayout(const fs::path& manifest) {
-  json j;
-  try {
-    j = json::parse(readWhole(manifest));
-  } catch (const json::exception& e) {
-    throw io::IoError(manifest.string() + ": not JSON: " + e.what());
-  }
+  const json j = io::parseJson(readWhole(manifest), manifest.string());
   try {
     if (j.at("format") != "slicecap-texture-store")
       throw io::IoError(manifest.string() + ": format: not a slicecap texture store");
