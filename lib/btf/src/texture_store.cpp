@@ -17,6 +17,7 @@
 #include <optional>
 #include <stdexcept>
 #include <system_error>
+#include <utility>
 
 #include "slicecap/capture/azimuth_bins.hpp"
 #include "slicecap/core/version.hpp"
@@ -186,6 +187,19 @@ json layoutJson(const TextureStoreLayout& layout) {
           {"created_by", std::string("slicecap ") + kVersion}};
 }
 
+// A whole number of the manifest that fits an int (checkLayout then checks its range): nlohmann's
+// get<int>() of 1e300 is undefined behaviour, and of 128.7 quietly 128.
+int wholeNumber(const json& j, const char* key, const fs::path& manifest) {
+  const json& value = j.at(key);
+  if (value.is_number_unsigned() && std::in_range<int>(value.get<std::uint64_t>()))
+    return static_cast<int>(value.get<std::uint64_t>());
+  if (value.is_number_integer() && !value.is_number_unsigned() &&
+      std::in_range<int>(value.get<std::int64_t>()))
+    return static_cast<int>(value.get<std::int64_t>());
+  throw io::IoError(manifest.string() + ": " + key + ": expected a whole number, got " +
+                    value.dump());
+}
+
 TextureStoreLayout readLayout(const fs::path& manifest) {
   const json j = io::parseJson(readWhole(manifest), manifest.string());
   try {
@@ -204,8 +218,8 @@ TextureStoreLayout readLayout(const fs::path& manifest) {
       throw io::IoError(manifest.string() + ": quantity: " + j.at("quantity").dump() +
                         " (this slicecap reads \"brdf\")");
     TextureStoreLayout layout;
-    layout.resolution = j.at("resolution").get<int>();
-    layout.framesPerBin = j.at("frames_per_bin").get<int>();
+    layout.resolution = wholeNumber(j, "resolution", manifest);
+    layout.framesPerBin = wholeNumber(j, "frames_per_bin", manifest);
     const json& w = j.at("window_mm");
     layout.windowMm = {w.at("x_min").get<double>(), w.at("y_min").get<double>(),
                        w.at("x_max").get<double>(), w.at("y_max").get<double>()};
