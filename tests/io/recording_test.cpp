@@ -96,6 +96,8 @@ TEST(Recording, ReaderNamesTheFieldThatIsWrong) {
       {"camera.width_px", [](auto& j) { j["camera"]["width_px"] = kMaxCameraSidePx + 1; }},
       {"format_version", [](auto& j) { j["format_version"] = 99; }},
       {"target", [](auto& j) { j.erase("target"); }},
+      // Not tag 3 (the id was cast to int, which wrapped round).
+      {"target.markers[0].id", [](auto& j) { j["target"]["markers"][0]["id"] = 4294967299; }},
   };
   for (const Case& c : cases) {
     const std::string message = readError(editedRecording(c.edit));

@@ -63,7 +63,11 @@ vision::TargetGeometry targetFromJson(const json& value, const std::string& file
     const Location here = (at / "markers")[i];
     f::object(markers[i], here);
     vision::Marker m;
-    m.id = static_cast<int>(f::integer(markers[i], "id", here));
+    const std::int64_t id = f::integer(markers[i], "id", here);
+    // Checked before the cast, which would take 4294967299 for tag 3.
+    if (!std::in_range<int>(id))
+      (here / "id").fail("expected a tag36h11 id, got " + std::to_string(id));
+    m.id = static_cast<int>(id);
     m.sizeMm = f::positiveNumber(markers[i], "size_mm", here);
     const json& corners = f::array(markers[i], "corners_mm", here);
     if (corners.size() != 4) (here / "corners_mm").fail("expected 4 corners");
