@@ -144,6 +144,24 @@ TEST(BtfFiles, DirectoryRoundTripsBitForBitWithAverageManifestAndPreviews) {
   EXPECT_THROW(readBtfDirectory(dir / "preview"), io::IoError);
 }
 
+// btf.json's resolution was read with nlohmann's get<int>(): undefined behaviour for 1e300, 2 for
+// 2.5 (and then an error about an image instead of the field).
+TEST(BtfFiles, AResolutionThatIsNoWholeNumberInRangeIsNamed) {
+  const auto dir = test::freshTempDir() / "btf";
+  std::filesystem::create_directories(dir);
+  for (const char* resolution : {"1e300", "2.5", "4294967298", "0", "1025", "\"2\""}) {
+    std::ofstream(dir / kBtfManifest)
+        << R"({"format": "slicecap-btf", "resolution": )" << resolution << "}";
+    try {
+      readBtfDirectory(dir);
+      ADD_FAILURE() << resolution << " was accepted";
+    } catch (const io::IoError& e) {
+      EXPECT_NE(std::string(e.what()).find("btf.json: field 'resolution'"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 TEST(BtfFiles, AFailedWriteLeavesEveryImageItWouldReplaceWhole) {
   // The images were written in place: a write cut off (here by a file size limit, as a full disk
   // or a killed run would) left a truncated image where a whole one had been.

@@ -151,6 +151,51 @@ TEST(TextureStore, AnUnknownTexelEncodingOrQuantityIsRefusedNamingTheFileAndFiel
   EXPECT_EQ(TextureStore::open(dir).frameCount(), 1u);
 }
 
+// The message naming a wrong version printed it, with nlohmann's recursive dump: a value nested
+// 200000 deep overflowed the stack.
+TEST(TextureStore, AManifestNestedTooDeepIsRefusedNamingIt) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  TextureStore::openOrCreate(dir, kLayout);
+  const fs::path manifest = dir / kTextureStoreManifest;
+  std::ofstream(manifest) << R"({"format": "slicecap-texture-store", "version": )"
+                          << std::string(200000, '[') << std::string(200000, ']') << "}";
+  try {
+    TextureStore::open(dir, StoreAccess::ReadOnly);
+    ADD_FAILURE() << "no error";
+  } catch (const io::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find(manifest.string() + ": not valid JSON"), std::string::npos)
+        << e.what();
+  }
+}
+
+// Seen with tests/fuzz/texture_store_fuzz: they were read with nlohmann's get<int>(), undefined
+// behaviour for 1e300 and 128 for 128.7.
+TEST(TextureStore, AResolutionOrFramesPerBinThatIsNoWholeNumberIsRefusedNamingTheField) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  TextureStore::openOrCreate(dir, kLayout).add(kAxial, frameAt(0.0, 1.0f));
+  const fs::path manifest = dir / kTextureStoreManifest;
+  const nlohmann::json written = nlohmann::json::parse(std::ifstream(manifest));
+  for (const auto& [field, value] :
+       std::vector<std::pair<std::string, nlohmann::json>>{{"resolution", 1e300},
+                                                           {"resolution", 2.5},
+                                                           {"resolution", 4294967298u},
+                                                           {"frames_per_bin", -1e300},
+                                                           {"frames_per_bin", 3.5}}) {
+    nlohmann::json changed = written;
+    changed[field] = value;
+    std::ofstream(manifest) << changed.dump(2);
+    try {
+      TextureStore::open(dir, StoreAccess::ReadOnly);
+      ADD_FAILURE() << field << " " << value.dump() << " was accepted";
+    } catch (const io::IoError& e) {
+      EXPECT_NE(std::string(e.what()).find(manifest.string() + ": " + field), std::string::npos)
+          << e.what();
+    }
+  }
+  std::ofstream(manifest) << written.dump(2);
+  EXPECT_EQ(TextureStore::open(dir).frameCount(), 1u);
+}
+
 TEST(TextureStore, OpeningMendsWhatACrashLeftAndDropsDamagedFrames) {
   const fs::path dir = test::freshTempDir() / "texture";
   fs::path evicted;

@@ -107,5 +107,54 @@ TEST(SessionStore, CorruptRecordsNameTheJournalAndTheRecord) {
   EXPECT_TRUE(SessionStore::list(root).empty()) << "an unreadable session is not listed";
 }
 
+// Found by tests/fuzz/journal_fuzz: nlohmann's get<int>() of 1e300 is undefined behaviour and its
+// get<std::uint64_t>() of -1 wraps round, so such records were taken as some other number.
+TEST(SessionStore, ANumberOutOfItsRangeNamesTheRecordAndTheField) {
+  const std::string slice = R"("slice":{"kind":"axial","theta_i":30,"theta_v":30})";
+  const std::string sample = R"("light":[30,0],"view":[30,15],"rgb":[1,1,1])";
+  struct Case {
+    std::string record, field;
+  };
+  const std::vector<Case> cases = {
+      {R"({"t":"start","slice":{"kind":"axial","theta_i":1e300,"theta_v":30}})", "theta_i"},
+      {R"({"t":"start","slice":{"kind":"axial","theta_i":30,"theta_v":-1}})", "theta_v"},
+      {R"({"t":"start","slice":{"kind":"axial","theta_i":30.5,"theta_v":30}})", "theta_i"},
+      {R"({"t":"sample",)" + slice + R"(,"ts":1e300,"frame":1,)" + sample + "}", "ts"},
+      {R"({"t":"sample",)" + slice + R"(,"ts":1,"frame":-1,)" + sample + "}", "frame"},
+  };
+  for (const Case& c : cases) {
+    const auto root = test::freshTempDir();
+    SessionStore::create(root, "s", "m");
+    io::Journal::open(root / "s" / "journal", nullptr).append(c.record);
+    try {
+      SessionStore::open(root, "s");
+      ADD_FAILURE() << "no error for " << c.record;
+    } catch (const io::IoError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("journal: record 1: " + c.field + ": expected a whole number"),
+                std::string::npos)
+          << message;
+    }
+  }
+  // The messages print the value: one nested too deep for nlohmann's recursive dump is refused
+  // when the record is parsed.
+  const auto root = test::freshTempDir();
+  SessionStore::create(root, "s", "m");
+  io::Journal::open(root / "s" / "journal", nullptr)
+      .append(R"({"t":"start","slice":{"kind":"axial","theta_i":)" + std::string(200000, '[') +
+              std::string(200000, ']') + R"(,"theta_v":30}})");
+  try {
+    SessionStore::open(root, "s");
+    ADD_FAILURE() << "no error";
+  } catch (const io::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("journal: record 1: not valid JSON"), std::string::npos)
+        << e.what();
+  }
+  // The session's description: a format of 1.5 is not format 1.
+  std::ofstream(root / "s" / "session.json")
+      << R"({"format":1.5,"id":"s","material":"m","created":"2026-11-23T14:05:00Z"})";
+  EXPECT_THROW(SessionStore::open(root, "s"), io::IoError);
+}
+
 }  // namespace
 }  // namespace slicecap::capture

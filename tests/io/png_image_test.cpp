@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <fstream>
 
+#include "../support/memory_limit.hpp"
 #include "../support/png_claiming_size.hpp"
+#include "../support/png_palette.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/io/io_error.hpp"
 
@@ -93,6 +95,57 @@ TEST(PngImage, RefusesAHeaderClaimingMorePixelsThanTheFileCanHold) {
   const PngImage back = readPng(dir / "black.png");
   EXPECT_EQ(back.width, 2000);
   EXPECT_EQ(back.samples, black.samples);
+}
+
+// The check above bounds the stored bits; libpng expands a 1-bit palette image 24 (RGB) or 32
+// (RGBA) times, so a 50 kB file of 20000 x 20000 palette indices allocated 1.6 GB of rows (and
+// would have allocated 3.2 GB of samples) before libpng found its data damaged, and a valid
+// one ended in std::bad_alloc where memory is short. Seen while reviewing the reader for
+// tests/fuzz/png_fuzz, which reproduces it (a 49 kB image: out-of-memory, malloc of 2.4 GB).
+TEST(PngImage, ExpandedPixelsAreAllocatedOnlyForDataThatIsThere) {
+  const auto dir = test::freshTempDir();
+  const auto damaged = test::writeBlackPalettePng(dir / "damaged.png", 20000, 20000, true);
+  {
+    // A byte in the middle of the compressed pixels changed, so that their chunk's CRC fails.
+    std::fstream f(damaged, std::ios::in | std::ios::out | std::ios::binary);
+    const auto middle = std::streamoff(std::filesystem::file_size(damaged) / 2);
+    f.seekg(middle);
+    const char byte = static_cast<char>(f.get() ^ 0xff);
+    f.seekp(middle);
+    f.put(byte);
+  }
+  const auto valid = test::writeBlackPalettePng(dir / "valid.png", 20000, 20000, false);
+  ASSERT_LT(std::filesystem::file_size(valid), 60000u);
+  // In a child that cannot allocate 1 GB: the damaged file is refused as such, the valid one as
+  // too large; neither may end in std::bad_alloc.
+  const auto outcome = [](const std::filesystem::path& path, const std::string& expected) {
+    return test::exitCodeWithMemoryLimit(std::size_t(1) << 30, [&] {
+      try {
+        readPng(path);
+      } catch (const IoError& e) {
+        return std::string(e.what()).find(path.filename().string() + ": " + expected) !=
+                       std::string::npos
+                   ? 0
+                   : 1;
+      } catch (const std::bad_alloc&) {
+        return 2;
+      }
+      return 3;
+    });
+  };
+  EXPECT_EQ(outcome(damaged, "corrupt or truncated PNG"), 0)
+      << "1: another error, 2: std::bad_alloc, 3: no error";
+  EXPECT_EQ(outcome(valid, "20000 x 20000 pixels take"), 0)
+      << "1: another error, 2: std::bad_alloc, 3: no error";
+
+  // A valid palette image that compresses very well reads as before.
+  const auto small = test::writeBlackPalettePng(dir / "small.png", 2000, 1000, true);
+  ASSERT_LT(std::filesystem::file_size(small), 2000u);
+  const PngImage back = readPng(small);
+  EXPECT_EQ(back.width, 2000);
+  EXPECT_EQ(back.height, 1000);
+  EXPECT_EQ(back.channels, 4);
+  EXPECT_EQ(back.samples, std::vector<std::uint16_t>(2000 * 1000 * 4, 0));
 }
 
 TEST(PngImage, RefusesToWriteInconsistentImages) {

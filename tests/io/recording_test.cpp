@@ -96,6 +96,8 @@ TEST(Recording, ReaderNamesTheFieldThatIsWrong) {
       {"camera.width_px", [](auto& j) { j["camera"]["width_px"] = kMaxCameraSidePx + 1; }},
       {"format_version", [](auto& j) { j["format_version"] = 99; }},
       {"target", [](auto& j) { j.erase("target"); }},
+      // Not tag 3 (the id was cast to int, which wrapped round).
+      {"target.markers[0].id", [](auto& j) { j["target"]["markers"][0]["id"] = 4294967299; }},
   };
   for (const Case& c : cases) {
     const std::string message = readError(editedRecording(c.edit));
@@ -121,6 +123,49 @@ TEST(Recording, CameraMayComeFromACalibrationFileInsideTheRecording) {
   const std::string message = readError(dir);
   EXPECT_NE(message.find("camera.json"), std::string::npos) << message;
   EXPECT_NE(message.find("fy_px"), std::string::npos) << message;
+}
+
+// nlohmann reports a number beyond a double as out_of_range, not as a parse error: found by
+// tests/fuzz/target_json_fuzz, it escaped the readers as a bare nlohmann exception.
+TEST(Recording, ANumberBeyondADoubleIsInvalidJsonNamingTheFile) {
+  const auto dir = test::freshTempDir();
+  std::ofstream(dir / "target.json") << R"({"name": "t", "units": "mm", "family": 8e888})";
+  try {
+    readTargetJson(dir / "target.json");
+    ADD_FAILURE() << "no error";
+  } catch (const IoError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("target.json: not valid JSON"), std::string::npos) << message;
+    EXPECT_NE(message.find("8e888"), std::string::npos) << message;
+  }
+  const auto rec = editedRecording([](auto&) {});
+  std::string manifest = readJsonFile(rec / kRecordingManifest).dump(1);
+  manifest.replace(manifest.find("5000.0"), 6, "1e400");
+  std::ofstream(rec / kRecordingManifest) << manifest;
+  const std::string message = readError(rec);
+  EXPECT_NE(message.find(kRecordingManifest + std::string(": not valid JSON")), std::string::npos)
+      << message;
+}
+
+// nlohmann's parser does not recurse, but its dump does: the message naming a field of the wrong
+// type printed a value nested 200000 deep and overflowed the stack (tests/fuzz/target_json_fuzz).
+TEST(Recording, JsonNestedTooDeepIsRefusedNamingTheFile) {
+  const auto dir = test::freshTempDir();
+  const std::string deep = std::string(200000, '[') + std::string(200000, ']');
+  std::ofstream(dir / "target.json") << R"({"name": "t", "units": "mm", "family": )" << deep << "}";
+  try {
+    readTargetJson(dir / "target.json");
+    ADD_FAILURE() << "no error";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("target.json: not valid JSON (arrays and objects nested "
+                                         "deeper than 64 levels)"),
+              std::string::npos)
+        << e.what();
+  }
+  // As deep as the limit is still JSON.
+  const std::string limit = std::string(63, '[') + std::string(63, ']');
+  EXPECT_EQ(parseJson(R"({"a": )" + limit + "}", "text").size(), 1u);
+  EXPECT_THROW(parseJson(R"({"a": [)" + limit + "]}", "text"), IoError);
 }
 
 TEST(Recording, ReaderNamesADirectoryWithoutARecording) {

@@ -200,12 +200,15 @@ BtfTexture readBtfDirectory(const std::filesystem::path& directory) {
     const nlohmann::json manifest = nlohmann::json::parse(in);
     if (manifest.value("format", "") != "slicecap-btf")
       throw io::IoError(manifestPath.string() + ": field 'format' is not \"slicecap-btf\"");
-    resolution = manifest.at("resolution").get<int>();
+    // Checked before get<int>(): of 1e300 it is undefined behaviour, of 2.5 quietly 2.
+    const nlohmann::json& value = manifest.at("resolution");
+    if (!value.is_number_integer() || value < 1 || value > 1024)
+      throw io::IoError(manifestPath.string() + ": field 'resolution' is not a whole number of " +
+                        "texels in 1..1024");
+    resolution = value.get<int>();
   } catch (const nlohmann::json::exception& e) {
     throw io::IoError(manifestPath.string() + ": " + e.what());
   }
-  if (resolution < 1 || resolution > 1024)
-    throw io::IoError(manifestPath.string() + ": field 'resolution' out of range");
   BtfTexture texture(resolution);
   for (int light = 0; light < Abrdf::kDirections; ++light) {
     for (int view = 0; view < Abrdf::kDirections; ++view) {

@@ -6,22 +6,24 @@
 
 #include <algorithm>
 #include <bit>
-#include <cmath>
-#include <cstdio>
 #include <cerrno>
+#include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <system_error>
+#include <utility>
 
 #include "slicecap/capture/azimuth_bins.hpp"
 #include "slicecap/core/version.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/journal.hpp"
+#include "slicecap/io/target_json.hpp"
 
 namespace slicecap::btf {
 namespace {
@@ -185,13 +187,21 @@ json layoutJson(const TextureStoreLayout& layout) {
           {"created_by", std::string("slicecap ") + kVersion}};
 }
 
+// A whole number of the manifest that fits an int (checkLayout then checks its range): nlohmann's
+// get<int>() of 1e300 is undefined behaviour, and of 128.7 quietly 128.
+int wholeNumber(const json& j, const char* key, const fs::path& manifest) {
+  const json& value = j.at(key);
+  if (value.is_number_unsigned() && std::in_range<int>(value.get<std::uint64_t>()))
+    return static_cast<int>(value.get<std::uint64_t>());
+  if (value.is_number_integer() && !value.is_number_unsigned() &&
+      std::in_range<int>(value.get<std::int64_t>()))
+    return static_cast<int>(value.get<std::int64_t>());
+  throw io::IoError(manifest.string() + ": " + key + ": expected a whole number, got " +
+                    value.dump());
+}
+
 TextureStoreLayout readLayout(const fs::path& manifest) {
-  json j;
-  try {
-    j = json::parse(readWhole(manifest));
-  } catch (const json::exception& e) {
-    throw io::IoError(manifest.string() + ": not JSON: " + e.what());
-  }
+  const json j = io::parseJson(readWhole(manifest), manifest.string());
   try {
     if (j.at("format") != "slicecap-texture-store")
       throw io::IoError(manifest.string() + ": format: not a slicecap texture store");
@@ -208,8 +218,8 @@ TextureStoreLayout readLayout(const fs::path& manifest) {
       throw io::IoError(manifest.string() + ": quantity: " + j.at("quantity").dump() +
                         " (this slicecap reads \"brdf\")");
     TextureStoreLayout layout;
-    layout.resolution = j.at("resolution").get<int>();
-    layout.framesPerBin = j.at("frames_per_bin").get<int>();
+    layout.resolution = wholeNumber(j, "resolution", manifest);
+    layout.framesPerBin = wholeNumber(j, "frames_per_bin", manifest);
     const json& w = j.at("window_mm");
     layout.windowMm = {w.at("x_min").get<double>(), w.at("y_min").get<double>(),
                        w.at("x_max").get<double>(), w.at("y_max").get<double>()};

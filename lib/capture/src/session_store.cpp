@@ -5,10 +5,14 @@
 #include <chrono>
 #include <ctime>
 #include <fstream>
+#include <iterator>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
 
 #include "slicecap/io/io_error.hpp"
+#include "slicecap/io/target_json.hpp"
 
 namespace slicecap::capture {
 namespace {
@@ -22,10 +26,31 @@ json sliceJson(const SliceId& s) {
           {"theta_v", s.elevations.thetaVDeg}};
 }
 
+// A whole number in lo..hi. nlohmann's get<int>() of 1e300 is undefined behaviour and its
+// get<std::uint64_t>() of -1 wraps round, so a damaged record would not be named.
+template <typename T>
+T wholeNumber(const json& parent, const std::string& key, T lo, T hi) {
+  const json& value = parent.at(key);
+  const auto within = [&](auto v) {
+    return std::cmp_greater_equal(v, lo) && std::cmp_less_equal(v, hi);
+  };
+  if (value.is_number_unsigned() && within(value.get<std::uint64_t>()))
+    return static_cast<T>(value.get<std::uint64_t>());
+  if (value.is_number_integer() && !value.is_number_unsigned() && within(value.get<std::int64_t>()))
+    return static_cast<T>(value.get<std::int64_t>());
+  throw std::invalid_argument(key + ": expected a whole number in " + std::to_string(lo) + ".." +
+                              std::to_string(hi) + ", got " + value.dump());
+}
+
+template <typename T>
+T wholeNumber(const json& parent, const std::string& key) {
+  return wholeNumber(parent, key, std::numeric_limits<T>::min(), std::numeric_limits<T>::max());
+}
+
 SliceId sliceFrom(const json& j) {
   const auto kind = parseSliceKind(j.at("kind").get<std::string>());
   if (!kind) throw std::invalid_argument("unknown slice kind");
-  return {*kind, {j.at("theta_i").get<int>(), j.at("theta_v").get<int>()}};
+  return {*kind, {wholeNumber(j, "theta_i", 0, 89), wholeNumber(j, "theta_v", 0, 89)}};
 }
 
 std::string utcNow() {
@@ -40,10 +65,10 @@ std::string utcNow() {
 SessionInfo readInfo(const std::filesystem::path& file) {
   std::ifstream in(file);
   if (!in) throw io::IoError(file.string() + ": cannot open session description");
-  const json j = json::parse(in, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) throw io::IoError(file.string() + ": not a JSON object");
+  const json j = io::parseJson(std::string(std::istreambuf_iterator<char>(in), {}), file.string());
+  if (!j.is_object()) throw io::IoError(file.string() + ": not a JSON object");
   try {
-    if (j.at("format").get<int>() != kFormatVersion) {
+    if (!j.at("format").is_number_integer() || j.at("format") != kFormatVersion) {
       throw io::IoError(file.string() + ": field \"format\" is " + j.at("format").dump() +
                         ", expected 1");
     }
@@ -140,8 +165,10 @@ const AzimuthBins& SessionStore::bins(const SliceId& slice) const {
 }
 
 void SessionStore::apply(const std::string& record, std::size_t recordNumber) {
+  const std::string where =
+      (directory_ / "journal").string() + ": record " + std::to_string(recordNumber);
+  const json j = io::parseJson(record, where);
   try {
-    const json j = json::parse(record);
     const std::string type = j.at("t").get<std::string>();
     const SliceId slice = sliceFrom(j.at("slice"));
     if (type == "sample") {
@@ -149,8 +176,8 @@ void SessionStore::apply(const std::string& record, std::size_t recordNumber) {
       const json& view = j.at("view");
       const json& rgb = j.at("rgb");
       binsFor(slice).add(
-          {j.at("ts").get<std::int64_t>(),
-           j.at("frame").get<std::uint64_t>(),
+          {wholeNumber<std::int64_t>(j, "ts"),
+           wholeNumber<std::uint64_t>(j, "frame"),
            {light.at(0).get<double>(), light.at(1).get<double>()},
            {view.at(0).get<double>(), view.at(1).get<double>()},
            {rgb.at(0).get<double>(), rgb.at(1).get<double>(), rgb.at(2).get<double>()}});
@@ -164,8 +191,7 @@ void SessionStore::apply(const std::string& record, std::size_t recordNumber) {
       throw std::invalid_argument("unknown record type \"" + type + "\"");
     }
   } catch (const std::exception& e) {
-    throw io::IoError((directory_ / "journal").string() + ": record " +
-                      std::to_string(recordNumber) + ": " + e.what());
+    throw io::IoError(where + ": " + e.what());
   }
 }
 

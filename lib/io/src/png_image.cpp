@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <memory>
+#include <new>
 #include <string>
 
 #include "input_file.hpp"
@@ -52,6 +53,44 @@ bool trapLibpngErrors(png_structp png, Calls&& libpngCalls) {
   if (setjmp(png_jmpbuf(png))) return false;
   libpngCalls();
   return true;
+}
+
+// Decodes every row of the PNG at `path` into one scratch row and throws them away: whether
+// the pixel data the header claims is really there, found without allocating for it. False, with
+// libpng's message, when it is not.
+bool pixelDataIsWhole(const std::filesystem::path& path, std::string* message) {
+  File file(std::fopen(path.c_str(), "rb"));
+  if (!file) {
+    *message = "cannot open it again";
+    return false;
+  }
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, message, onError, onWarning);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!info) {
+    png_destroy_read_struct(&png, nullptr, nullptr);
+    *message = "out of memory";
+    return false;
+  }
+  int passes = 1;
+  png_uint_32 height = 0;
+  const bool headerRead = trapLibpngErrors(png, [&] {
+    png_init_io(png, file.get());
+    png_read_info(png, info);
+    passes = png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    height = png_get_image_height(png, info);
+  });
+  // One stored row: at most 65535 pixels of 64 bits, as the caller has checked.
+  std::vector<png_byte> row(headerRead ? png_get_rowbytes(png, info) : 0);
+  const bool whole = headerRead && trapLibpngErrors(png, [&] {
+                       for (int pass = 0; pass < passes; ++pass) {
+                         for (png_uint_32 y = 0; y < height; ++y)
+                           png_read_row(png, row.data(), nullptr);
+                       }
+                       png_read_end(png, nullptr);
+                     });
+  png_destroy_read_struct(&png, &info, nullptr);
+  return whole;
 }
 
 }  // namespace
@@ -123,8 +162,40 @@ PngImage readPng(const std::filesystem::path& path) {
   image.channels = png_get_channels(png, info);
   image.bitDepth = png_get_bit_depth(png, info);
   const std::size_t rowBytes = png_get_rowbytes(png, info);
-  std::vector<png_byte> pixels(rowBytes * image.height);
-  std::vector<png_bytep> rows(image.height);
+  const std::size_t sampleCount = std::size_t(image.width) * image.height * image.channels;
+  // What reading takes: libpng's rows, expanded (a palette or 1-bit image to 8-bit RGB(A): up to
+  // 32 times the stored bits), and the 16-bit samples. The check above bounds the stored bits
+  // only, so a 70 kB file of 1-bit palette indices could make this 7 GB. Unless the file could
+  // hold it even unexpanded, the pixel data must be there, decoded once without keeping it,
+  // before anything is allocated for it; a valid image is read as before, only slower.
+  const std::uint64_t decodedBytes = std::uint64_t(rowBytes) * image.height + 2 * sampleCount;
+  if (decodedBytes > 3 * (kDeflateMaxRatio * fileBytes + kHeadroomBytes)) {
+    std::string whyNot;
+    if (!pixelDataIsWhole(path, &whyNot)) {
+      png_destroy_read_struct(&png, &info, nullptr);
+      throw IoError(path.string() + ": corrupt or truncated PNG (" + whyNot +
+                    "; its header claims " + std::to_string(image.width) + " x " +
+                    std::to_string(image.height) + " pixels)");
+    }
+  }
+  // A valid image may still need more memory than there is: an error naming the file, not
+  // std::bad_alloc.
+  const auto tooLarge = [&] {
+    return IoError(path.string() + ": " + std::to_string(image.width) + " x " +
+                   std::to_string(image.height) + " pixels take " +
+                   std::to_string(decodedBytes / 1000000) +
+                   " MB to read, more memory than can be allocated");
+  };
+  std::vector<png_byte> pixels;
+  std::vector<png_bytep> rows;
+  try {
+    pixels.resize(rowBytes * image.height);
+    rows.resize(image.height);
+    image.samples.resize(sampleCount);
+  } catch (const std::bad_alloc&) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw tooLarge();
+  }
   for (int y = 0; y < image.height; ++y)
     rows[y] = pixels.data() + rowBytes * y;
   const bool pixelsRead = trapLibpngErrors(png, [&] {
@@ -134,7 +205,6 @@ PngImage readPng(const std::filesystem::path& path) {
   if (!pixelsRead) throw fail("corrupt or truncated PNG");
   png_destroy_read_struct(&png, &info, nullptr);
 
-  image.samples.resize(std::size_t(image.width) * image.height * image.channels);
   for (int y = 0; y < image.height; ++y) {
     const png_byte* row = rows[y];
     std::uint16_t* out = image.samples.data() + std::size_t(y) * image.width * image.channels;

@@ -2,6 +2,7 @@
 #include "slicecap/io/target_json.hpp"
 
 #include <fstream>
+#include <utility>
 
 #include "input_file.hpp"
 #include "json_fields.hpp"
@@ -62,7 +63,11 @@ vision::TargetGeometry targetFromJson(const json& value, const std::string& file
     const Location here = (at / "markers")[i];
     f::object(markers[i], here);
     vision::Marker m;
-    m.id = static_cast<int>(f::integer(markers[i], "id", here));
+    const std::int64_t id = f::integer(markers[i], "id", here);
+    // Checked before the cast, which would take 4294967299 for tag 3.
+    if (!std::in_range<int>(id))
+      (here / "id").fail("expected a tag36h11 id, got " + std::to_string(id));
+    m.id = static_cast<int>(id);
     m.sizeMm = f::positiveNumber(markers[i], "size_mm", here);
     const json& corners = f::array(markers[i], "corners_mm", here);
     if (corners.size() != 4) (here / "corners_mm").fail("expected 4 corners");
@@ -149,15 +154,38 @@ vision::CameraModel cameraFromJson(const json& value, const std::string& file,
   return c;
 }
 
+namespace {
+
+// json::parse with errors naming `source`: also out_of_range, nlohmann's error for a number
+// beyond a double (1e400), and nesting deeper than kMaxJsonDepth (the parser itself does not
+// recurse, but dump does, in the readers' error messages).
+template <typename Input>
+json parseNamed(Input&& input, const std::string& source) {
+  const json::parser_callback_t limitDepth = [&](int depth, json::parse_event_t event, json&) {
+    if ((event == json::parse_event_t::object_start || event == json::parse_event_t::array_start) &&
+        depth >= kMaxJsonDepth)
+      throw IoError(source + ": not valid JSON (arrays and objects nested deeper than " +
+                    std::to_string(kMaxJsonDepth) + " levels)");
+    return true;
+  };
+  try {
+    return json::parse(std::forward<Input>(input), limitDepth);
+  } catch (const json::exception& e) {
+    throw IoError(source + ": not valid JSON (" + e.what() + ")");
+  }
+}
+
+}  // namespace
+
 json readJsonFile(const std::filesystem::path& path) {
   refuseDirectory(path, "a JSON file");
   std::ifstream in(path);
   if (!in) throw IoError(path.string() + ": cannot open");
-  try {
-    return json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw IoError(path.string() + ": not valid JSON (" + e.what() + ")");
-  }
+  return parseNamed(in, path.string());
+}
+
+json parseJson(std::string_view text, const std::string& source) {
+  return parseNamed(text, source);
 }
 
 void writeJsonFileAtomically(const std::filesystem::path& path, const json& value) {

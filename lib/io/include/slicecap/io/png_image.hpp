@@ -17,7 +17,10 @@ inline constexpr unsigned kMaxPngSidePx = 65535;
 /// \brief Reads a PNG; palette and low-bit-depth images are expanded to 8 bits. Throws IoError
 /// naming the path (missing, a directory, not a PNG, truncated, corrupt: libpng's own message is
 /// included; a header claiming a side above kMaxPngSidePx, or more pixel data than the file's size
-/// can inflate to, is corrupt and refused before anything is allocated for it).
+/// can inflate to, is corrupt and refused before anything is allocated for it; pixels that expand,
+/// e.g. 1-bit palette indices to RGBA, beyond what the file could hold unexpanded are decoded once
+/// without being kept before memory is allocated for them; an image larger than the memory that
+/// can be allocated is named too).
 PngImage readPng(const std::filesystem::path& path);
 
 /// \brief Writes a PNG of the image's depth and channels. Throws IoError naming the path, also for

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 
 #include "slicecap/vision/camera_model.hpp"
 #include "slicecap/vision/target.hpp"
@@ -35,9 +36,17 @@ inline constexpr int kMaxCameraSidePx = 16384;
 vision::CameraModel cameraFromJson(const nlohmann::json& value, const std::string& file,
                                    const std::string& path = "");
 
-/// \brief Parses a JSON file; IoError naming the path when it cannot be read or parsed, or is a
-/// directory.
+/// \brief The deepest nesting of arrays and objects the JSON readers accept. slicecap's files nest
+/// 6 deep at most; a deeper one is damaged, and printing one nested 30000 deep in an error message
+/// (nlohmann's dump recurses) would overflow the stack.
+inline constexpr int kMaxJsonDepth = 64;
+
+/// \brief Parses a JSON file; IoError naming the path when it cannot be read or parsed (also a
+/// number beyond a double, or nesting deeper than kMaxJsonDepth), or is a directory.
 nlohmann::json readJsonFile(const std::filesystem::path& path);
+/// \brief Parses JSON text as readJsonFile does; its IoError starts with `source` (what the text
+/// is, e.g. a file's path).
+nlohmann::json parseJson(std::string_view text, const std::string& source);
 /// \brief Writes JSON (indent 1) through a temporary file and a rename, so a reader never sees a
 /// half-written file. IoError naming the path.
 void writeJsonFileAtomically(const std::filesystem::path& path, const nlohmann::json& value);
