@@ -1,6 +1,8 @@
 // Writes the seed corpora of the reader targets (tests/fuzz/corpus/<target>/) with the project's
-// own writers: small valid files, each under 20 kB. Built with the fuzz targets; run by hand when a
-// format changes:  build-fuzz/tests/fuzz/make_seeds tests/fuzz/corpus
+// own writers: small valid files, each under 20 kB. Run by hand when a format changes, after
+// scripts/fuzz has configured build-fuzz:
+//   cmake --build build-fuzz --target make_seeds
+//   build-fuzz/tests/fuzz/make_seeds tests/fuzz/corpus
 // The prior file of even one component is 52 kB, so its seeds are that file cut short after the
 // header, the provenance and part of the mean.
 #include <png.h>
