@@ -62,18 +62,21 @@ struct Daemon::State {
     }
   }
 
+  /// A camera stopped on the way out of a failure or a sweep: its own error is logged, not thrown.
+  static void stopQuietly(hal::Camera& camera) noexcept {
+    try {
+      camera.stop();
+    } catch (const std::exception& error) {
+      std::cerr << "slicecapd: stopping the camera: " << error.what() << "\n";
+    }
+  }
+
   void stopCamera() {
     if (watchedFd) loop.unwatch(*watchedFd);
     if (pollTimer) loop.cancelTimer(*pollTimer);
     watchedFd.reset();
     pollTimer.reset();
-    if (camera) {
-      try {
-        camera->stop();
-      } catch (const std::exception& error) {
-        std::cerr << "slicecapd: stopping the camera: " << error.what() << "\n";
-      }
-    }
+    if (camera) stopQuietly(*camera);
     camera.reset();
     // A metering cut short locked nothing final: its "metering ..." line would outlive it.
     if (meter) exposureNote.clear();
@@ -144,11 +147,7 @@ struct Daemon::State {
     } catch (const std::exception& error) {
       // The camera runs: stopped here, or (one camera serves every slice) the next sweep's
       // configure would find it streaming. The lock or the LED failed; each names its device.
-      try {
-        opened->stop();
-      } catch (const std::exception& stopError) {
-        std::cerr << "slicecapd: stopping the camera: " << stopError.what() << "\n";
-      }
+      stopQuietly(*opened);
       meter.reset();
       exposureNote.clear();
       manager.pauseSweep(std::string("exposure metering: ") + error.what());
