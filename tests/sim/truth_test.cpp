@@ -131,4 +131,41 @@ TEST(Truth, AnUnknownSliceKindIsNamed) {
   EXPECT_NE(message.find("slice.kind"), std::string::npos) << message;
 }
 
+// Whole-number fields: nlohmann's get<int>() of 1e300 is undefined behaviour and of 30.5 quietly
+// 30, so each is checked and named.
+std::string errorWithReplaced(const std::string& needle, const std::string& replacement) {
+  const auto dir = test::freshTempDir();
+  writeTruth(dir, twoFrameTruth());
+  std::string text = readText(dir / kTruthFile);
+  const auto at = text.find(needle);
+  EXPECT_NE(at, std::string::npos) << needle;
+  if (at == std::string::npos) return {};
+  text.replace(at, needle.size(), replacement);
+  writeText(dir / kTruthFile, text);
+  return readError(dir);
+}
+
+TEST(Truth, AnElevationThatIsNotAWholeNumberOfDegreesIsNamed) {
+  for (const std::string bad : {"1e300", "30.5", "-30", "90"}) {
+    const std::string message = errorWithReplaced("\"theta_i_deg\": 30", "\"theta_i_deg\": " + bad);
+    EXPECT_NE(message.find("slice.theta_i_deg"), std::string::npos) << bad << ": " << message;
+    EXPECT_NE(message.find("expected a whole number"), std::string::npos) << message;
+  }
+}
+
+TEST(Truth, ATimestampThatIsNotAWholeNumberIsNamed) {
+  const std::string message =
+      errorWithReplaced("\"timestamp_us\": ", "\"timestamp_us\": 1e300,\"x\":");
+  EXPECT_NE(message.find("frames[0]: timestamp_us"), std::string::npos) << message;
+}
+
+TEST(Truth, AMarkerIdThatIsNotAWholeNumberIsNamed) {
+  for (const std::string bad : {"1e300", "2.5", "-1"}) {
+    const std::string message =
+        errorWithReplaced("\"markers_in_view\": [", "\"markers_in_view\": [" + bad + ",");
+    EXPECT_NE(message.find("frames[0]: markers_in_view"), std::string::npos)
+        << bad << ": " << message;
+  }
+}
+
 }  // namespace

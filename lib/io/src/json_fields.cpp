@@ -2,6 +2,9 @@
 #include "json_fields.hpp"
 
 #include <cmath>
+#include <limits>
+
+#include "slicecap/io/json_numbers.hpp"
 
 namespace slicecap::io::json_fields {
 
@@ -40,8 +43,10 @@ double positiveNumber(const json& parent, const std::string& key, const Location
 
 std::int64_t integer(const json& parent, const std::string& key, const Location& at) {
   const json& value = member(parent, key, at);
-  if (!value.is_number_integer()) (at / key).fail("expected an integer, got " + value.dump());
-  return value.get<std::int64_t>();
+  const auto v = wholeNumberIn(value, std::numeric_limits<std::int64_t>::min(),
+                               std::numeric_limits<std::int64_t>::max());
+  if (!v) (at / key).fail("expected an integer, got " + value.dump());
+  return *v;
 }
 
 std::string string(const json& parent, const std::string& key, const Location& at) {

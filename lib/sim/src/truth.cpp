@@ -1,9 +1,11 @@
 // truth.json writing and reading.
 #include "slicecap/sim/truth.hpp"
 
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "slicecap/io/io_error.hpp"
+#include "slicecap/io/json_numbers.hpp"
 #include "slicecap/io/target_json.hpp"
 
 namespace slicecap::sim {
@@ -97,7 +99,14 @@ SweepTruth readTruth(const std::filesystem::path& directory) {
     const json& s = root.at("slice");
     const auto kind = parseSliceKind(s.at("kind").get<std::string>());
     if (!kind) throw io::IoError(path.string() + ": slice.kind: unknown kind");
-    t.slice = {{*kind, {s.at("theta_i_deg").get<int>(), s.at("theta_v_deg").get<int>()}},
+    const auto elevationDeg = [&](const char* key) {
+      const auto v = io::wholeNumberIn(s.at(key), 0, 89);
+      if (!v)
+        throw io::IoError(path.string() + ": slice." + key + ": expected a whole number of " +
+                          "degrees in 0..89, got " + s.at(key).dump());
+      return static_cast<int>(*v);
+    };
+    t.slice = {{*kind, {elevationDeg("theta_i_deg"), elevationDeg("theta_v_deg")}},
                s.at("alpha_deg").get<double>()};
     const json& r = root.at("radiometry");
     t.ledIntensityWPerSr = r.at("led_intensity_w_per_sr").get<double>();
@@ -110,7 +119,14 @@ SweepTruth readTruth(const std::filesystem::path& directory) {
         const json& f = frames[index];
         FrameTruth ft;
         ft.file = f.at("file").get<std::string>();
-        ft.timestampUs = f.at("timestamp_us").get<std::int64_t>();
+        const auto timestampUs =
+            io::wholeNumberIn(f.at("timestamp_us"), std::numeric_limits<std::int64_t>::min(),
+                              std::numeric_limits<std::int64_t>::max());
+        if (!timestampUs)
+          throw io::IoError(path.string() + ": frames[" + std::to_string(index) +
+                            "]: timestamp_us: expected a whole number, got " +
+                            f.at("timestamp_us").dump());
+        ft.timestampUs = *timestampUs;
         ft.ledOn = f.at("led_on").get<bool>();
         ft.exposureUs = f.at("exposure_us").get<double>();
         ft.gain = f.at("gain").get<double>();
@@ -131,7 +147,18 @@ SweepTruth readTruth(const std::filesystem::path& directory) {
         ft.motionBlurPx = f.at("motion_blur_px").get<double>();
         ft.occluded = f.at("occluded").get<bool>();
         ft.aimedOff = f.at("aimed_off").get<bool>();
-        ft.markersInView = f.at("markers_in_view").get<std::vector<int>>();
+        const json& markers = f.at("markers_in_view");
+        if (!markers.is_array())
+          throw io::IoError(path.string() + ": frames[" + std::to_string(index) +
+                            "]: markers_in_view: not an array");
+        for (const json& id : markers) {
+          const auto v = io::wholeNumberIn(id, 0, std::numeric_limits<int>::max());
+          if (!v)
+            throw io::IoError(path.string() + ": frames[" + std::to_string(index) +
+                              "]: markers_in_view: expected marker ids (whole numbers from 0), " +
+                              "got " + id.dump());
+          ft.markersInView.push_back(static_cast<int>(*v));
+        }
         t.frames.push_back(std::move(ft));
       } catch (const json::exception& e) {
         throw io::IoError(path.string() + ": frames[" + std::to_string(index) + "]: " + e.what());
