@@ -144,6 +144,7 @@ def test_a_non_finite_texel_is_refused_naming_the_image_and_texel(woven_btf, tmp
         (b"[4]", "not a JSON object but list"),
         (b"null", "not a JSON object but NoneType"),
         (b"\x80\x81 binary", "not JSON"),
+        (b"[" * 200_000, "not JSON: nested too deep"),
         (b'{"format": "slicecap-btf", "resolution": true}', "field 'resolution'"),
         (b'{"format": "slicecap-btf", "resolution": 4}', "field 'window_mm'"),
         (

@@ -143,6 +143,8 @@ def read_btf(directory) -> Btf:
         raise _error(manifest_path, f"cannot open (not a BTF directory?): {e.strerror}") from e
     except ValueError as e:  # not JSON, or not text at all (UnicodeDecodeError)
         raise _error(manifest_path, f"not JSON: {e}") from e
+    except RecursionError as e:  # the C++ readers refuse nesting past 64 levels; btf.json nests 2
+        raise _error(manifest_path, "not JSON: nested too deep") from e
     _check_manifest(manifest_path, manifest)
     resolution = manifest["resolution"]
     # The first image before the 6561 x N x N array: a resolution the images do not have is
