@@ -127,6 +127,59 @@ TEST(FramePipeline, NoAmbientFrameYetIsRejectedLive) {
   EXPECT_EQ(process(frameOf(dir, 0), slice).kind, FrameOutcome::Kind::Sample);
 }
 
+// A frame the pipeline rejects as "bad_frame" (here half the size the camera gives) is no
+// room-light term either: not as the LED-off frame before (live or offline) nor as the one after
+// (offline).
+TEST(FramePipeline, AnLedOffFrameOfTheWrongSizeIsNoRoomLightTerm) {
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  const auto dir = simulate(slice, sim::RigParams::ideal(), 8);
+  const io::Recording recording = io::readRecording(dir);
+  // Frame 3 (LED off) at half resolution: every second pixel of every second row.
+  const hal::Frame full = frameOf(dir, 3);
+  ASSERT_FALSE(full.metadata.ledOn);
+  hal::Frame half = full;
+  half.image.width = full.image.width / 2;
+  half.image.height = full.image.height / 2;
+  half.image.samples.clear();
+  for (int y = 0; y < half.image.height; ++y)
+    for (int x = 0; x < half.image.width; ++x)
+      for (int c = 0; c < full.image.channels; ++c)
+        half.image.samples.push_back(full.image.at(2 * x, 2 * y, c));
+
+  FramePipeline live(recording.target, recording.camera);
+  live.setAmbientFrame(half);
+  EXPECT_TRUE(live.ambientTermsFor(frameOf(dir, 2).metadata.timestampUs).empty());
+  EXPECT_EQ(live.process(frameOf(dir, 2), slice).rejectReason, "no_ambient_frame");
+  EXPECT_EQ(live.process(half, slice).rejectReason, "bad_frame");
+  EXPECT_EQ(live.process(frameOf(dir, 4), slice).rejectReason, "no_ambient_frame");
+
+  FramePipeline offline(recording.target, recording.camera);
+  offline.setAmbientFrame(frameOf(dir, 1));
+  offline.setFollowingAmbientFrame(half);
+  const auto terms = offline.ambientTermsFor(frameOf(dir, 2).metadata.timestampUs);
+  EXPECT_EQ(terms.size(), 1u);
+  EXPECT_EQ(terms.at(0).frame->metadata.timestampUs, frameOf(dir, 1).metadata.timestampUs);
+
+  // processRecording: the frame's PNG at half size gives every other frame the outcome it has
+  // when that PNG is corrupt (both are "bad_frame").
+  const auto victim = io::framePath(dir, recording.frames[3]);
+  io::writePng(victim, half.image);
+  const RecordingResult wrongSize = processRecording(dir);
+  std::filesystem::resize_file(victim, std::filesystem::file_size(victim) / 2);
+  const RecordingResult corrupt = processRecording(dir);
+  EXPECT_EQ(wrongSize.outcomes[3].rejectReason, "bad_frame");
+  EXPECT_EQ(corrupt.outcomes[3].rejectReason, "bad_frame");
+  for (std::size_t i = 0; i < recording.frames.size(); ++i) {
+    if (i == 3) continue;
+    SCOPED_TRACE("frame " + std::to_string(i));
+    ASSERT_EQ(wrongSize.outcomes[i].kind, corrupt.outcomes[i].kind);
+    if (!corrupt.outcomes[i].sample) continue;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_DOUBLE_EQ(wrongSize.outcomes[i].sample->value[c],
+                       corrupt.outcomes[i].sample->value[c]);
+  }
+}
+
 // Median over LED-on frames of the worst channel's relative error against the truth.
 double medianSampleError(const std::vector<FrameOutcome>& outcomes, const sim::SweepTruth& truth) {
   std::vector<double> errors;

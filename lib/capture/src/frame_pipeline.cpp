@@ -165,6 +165,19 @@ DetectionScale trackedScale(const std::vector<Eigen::Matrix2d>& cellMaps,
 // LED-on frames without a pose after which tracking gives up on the last one.
 constexpr int kTrackingPatienceFrames = 3;
 
+// Why `frame` cannot be read as this camera's frame ("bad_frame"), or nullopt when it can.
+std::optional<std::string> badFrameDetail(const hal::Frame& frame,
+                                          const vision::CameraIntrinsics& k) {
+  if (frame.image.isValid() && frame.image.width == k.widthPx && frame.image.height == k.heightPx &&
+      frame.image.bitDepth == bitDepthOf(frame.encoding) &&
+      (frame.image.channels == 1 || frame.image.channels == 3))
+    return std::nullopt;
+  return "frame " + std::to_string(frame.image.width) + " x " + std::to_string(frame.image.height) +
+         " x " + std::to_string(frame.image.channels) + " at " +
+         std::to_string(frame.image.bitDepth) + " bits, expected " + std::to_string(k.widthPx) +
+         " x " + std::to_string(k.heightPx) + " of " + std::string(toString(frame.encoding));
+}
+
 FrameOutcome rejected(std::string reason, std::string detail, FrameOutcome outcome = {}) {
   outcome.kind = FrameOutcome::Kind::Rejected;
   outcome.sample.reset();
@@ -321,12 +334,16 @@ FramePipeline::~FramePipeline() = default;
 FramePipeline::FramePipeline(FramePipeline&&) noexcept = default;
 FramePipeline& FramePipeline::operator=(FramePipeline&&) noexcept = default;
 
+// A frame process() rejects as "bad_frame" is not read as room light either: its pixels are not
+// where the LED-on frame's are, or not in its encoding.
 void FramePipeline::setAmbientFrame(const hal::Frame& frame) {
+  if (badFrameDetail(frame, state_->camera.intrinsics)) return;
   state_->ambient = state_->makeAmbient(frame);
 }
 
 void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
   State& s = *state_;
+  if (badFrameDetail(frame, s.camera.intrinsics)) return;
   if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs)
     return;
   s.nextAmbient = s.makeAmbient(frame);
@@ -339,16 +356,8 @@ std::vector<AmbientTerm> FramePipeline::ambientTermsFor(std::int64_t timeUs) con
 FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slice) {
   State& s = *state_;
   const std::uint64_t index = s.frameIndex++;
-  const auto& k = s.camera.intrinsics;
-  if (!frame.image.isValid() || frame.image.width != k.widthPx ||
-      frame.image.height != k.heightPx || frame.image.bitDepth != bitDepthOf(frame.encoding) ||
-      (frame.image.channels != 1 && frame.image.channels != 3))
-    return rejected(
-        "bad_frame",
-        "frame " + std::to_string(frame.image.width) + " x " + std::to_string(frame.image.height) +
-            " x " + std::to_string(frame.image.channels) + " at " +
-            std::to_string(frame.image.bitDepth) + " bits, expected " + std::to_string(k.widthPx) +
-            " x " + std::to_string(k.heightPx) + " of " + std::string(toString(frame.encoding)));
+  if (auto detail = badFrameDetail(frame, s.camera.intrinsics))
+    return rejected("bad_frame", std::move(*detail));
   if (!frame.metadata.ledOn) {
     if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs) {
       s.ambient = std::move(s.nextAmbient);  // already located by setFollowingAmbientFrame

@@ -70,7 +70,8 @@ class FramePipeline {
   /// of the wrong size or encoding is rejected as "bad_frame".
   FrameOutcome process(const hal::Frame& frame, const SliceId& slice);
   /// \brief Offline use: the ambient frame for LED-on frames before the first LED-off one (the
-  /// live loop just rejects those as "no_ambient_frame").
+  /// live loop just rejects those as "no_ambient_frame"). A frame process() would reject as
+  /// "bad_frame" is ignored, here and by setFollowingAmbientFrame.
   void setAmbientFrame(const hal::Frame& frame);
   /// \brief Offline use: the LED-off frame that follows the coming LED-on frame(s). Their ambient
   /// term is then interpolated in time between the LED-off frames on both sides (on a specular
