@@ -56,6 +56,28 @@ TEST(SessionStore, CreatesListsReopensAndRemoves) {
   EXPECT_THROW(SessionStore::create(root, "../escape", "x"), std::invalid_argument);
 }
 
+// A session is its folder: a copy (a backup) or a renamed folder is listed and opened under its
+// own name, never under the id its session.json was written with (the daemon keeps that id as
+// the current session and deletes by it: the copy's `delete` would remove the original).
+TEST(SessionStore, ACopiedSessionFolderIsItsOwnSession) {
+  const auto root = test::freshTempDir();
+  {
+    SessionStore store = SessionStore::create(root, "felt-1", "red felt");
+    store.recordSample(kAxial3030, sampleAt(30.0, 0.5));
+  }
+  std::filesystem::copy(root / "felt-1", root / "felt-1-backup");
+  std::filesystem::rename(root / "felt-1", root / "felt-2");
+  const std::vector<SessionInfo> sessions = SessionStore::list(root);
+  ASSERT_EQ(sessions.size(), 2u);
+  EXPECT_EQ(sessions[0].id, "felt-1-backup");
+  EXPECT_EQ(sessions[1].id, "felt-2");
+  EXPECT_EQ(sessions[1].material, "red felt");
+  const SessionStore backup = SessionStore::open(root, "felt-1-backup");
+  EXPECT_EQ(backup.info().id, "felt-1-backup");
+  EXPECT_EQ(backup.sampleCount(), 1u);
+  EXPECT_EQ(SessionStore::open(root, "felt-2").info().id, "felt-2");
+}
+
 TEST(SessionStore, RedoDiscardsOnlyThatSliceAndPersists) {
   const auto root = test::freshTempDir();
   {

@@ -17,7 +17,7 @@ namespace slicecap::capture {
 
 /// \brief What a session is, as stored in <root>/<id>/session.json.
 struct SessionInfo {
-  std::string id;
+  std::string id;  ///< the folder's name (a copied or renamed session folder is its own session)
   std::string material;
   std::string createdUtc;  ///< ISO 8601, e.g. 2026-11-23T14:05:00Z
 };
