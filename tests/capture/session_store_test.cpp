@@ -78,6 +78,28 @@ TEST(SessionStore, ACopiedSessionFolderIsItsOwnSession) {
   EXPECT_EQ(SessionStore::open(root, "felt-2").info().id, "felt-2");
 }
 
+// A "point" slice (the kind of scattered samples: no azimuth bins) is no sweep. The store refuses
+// it before the journal is written: a sample record of it could not be replayed, and the session,
+// with every sample taken before, would no longer open (nor would the daemon whose current
+// session it is).
+TEST(SessionStore, APointSliceIsRefusedAndTheSessionStillOpens) {
+  const auto root = test::freshTempDir();
+  const SliceId point{SliceKind::Point, {30, 30}};
+  {
+    SessionStore store = SessionStore::create(root, "s", "m");
+    store.recordSample(kAxial3030, sampleAt(30.0, 0.5));
+    EXPECT_THROW(store.recordSweepStarted(point), std::invalid_argument);
+    EXPECT_THROW(store.recordSample(point, sampleAt(45.0, 0.7)), std::invalid_argument);
+    EXPECT_THROW(store.redo(point), std::invalid_argument);
+    EXPECT_EQ(store.sampleCount(), 1u);
+    EXPECT_FALSE(store.activeSweep().has_value());
+  }
+  const SessionStore store = SessionStore::open(root, "s");
+  EXPECT_EQ(store.sampleCount(), 1u);
+  EXPECT_EQ(store.sampleCount(kAxial3030), 1u);
+  EXPECT_FALSE(store.activeSweep().has_value());
+}
+
 TEST(SessionStore, RedoDiscardsOnlyThatSliceAndPersists) {
   const auto root = test::freshTempDir();
   {

@@ -53,6 +53,15 @@ SliceId sliceFrom(const json& j) {
   return {*kind, {wholeNumber(j, "theta_i", 0, 89), wholeNumber(j, "theta_v", 0, 89)}};
 }
 
+// A sweep is of an axial or a diagonal slice: a point "slice" has no azimuth bins, and a journal
+// record of it would not replay (the session would no longer open). Refused before anything is
+// written.
+void requireSweepSlice(const SliceId& slice) {
+  if (slice.kind == SliceKind::Point)
+    throw std::invalid_argument("slice " + toString(slice) +
+                                ": a sweep is of an axial or a diagonal slice");
+}
+
 std::string utcNow() {
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   std::tm utc{};
@@ -201,6 +210,7 @@ void SessionStore::apply(const std::string& record, std::size_t recordNumber) {
 }
 
 void SessionStore::recordSample(const SliceId& slice, const FrameSample& s) {
+  requireSweepSlice(slice);
   const std::string record = json{{"t", "sample"},
                                   {"slice", sliceJson(slice)},
                                   {"ts", s.timestampUs},
@@ -214,6 +224,7 @@ void SessionStore::recordSample(const SliceId& slice, const FrameSample& s) {
 }
 
 void SessionStore::recordSweepStarted(const SliceId& slice) {
+  requireSweepSlice(slice);
   journal_.append(json{{"t", "start"}, {"slice", sliceJson(slice)}}.dump());
   activeSweep_ = slice;
 }
@@ -224,6 +235,7 @@ void SessionStore::recordSweepStopped(const SliceId& slice) {
 }
 
 void SessionStore::redo(const SliceId& slice) {
+  requireSweepSlice(slice);
   journal_.append(json{{"t", "redo"}, {"slice", sliceJson(slice)}}.dump());
   binsFor(slice).clear();
 }

@@ -43,7 +43,9 @@ class SessionStore {
   const std::filesystem::path& directory() const { return directory_; }
   const io::JournalRecovery& recovery() const { return recovery_; }
 
-  /// \brief Stores one accepted sample of a slice (durable when this returns).
+  /// \brief Stores one accepted sample of a slice (durable when this returns). Here and in
+  /// recordSweepStarted and redo, a point slice (no sweep) is std::invalid_argument, nothing
+  /// written.
   void recordSample(const SliceId& slice, const FrameSample& sample);
   void recordSweepStarted(const SliceId& slice);
   void recordSweepStopped(const SliceId& slice);
