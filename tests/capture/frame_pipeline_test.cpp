@@ -276,6 +276,23 @@ TEST(FramePipeline, CorruptPngIsACountedRejectionAndMissingFieldAnError) {
   }
 }
 
+TEST(FramePipeline, ARecordingOfAPointSliceIsAnErrorNamingTheDirectory) {
+  // recording.json may say "point" (the slice kind of scattered samples): no sweep has that kind,
+  // and its samples fall in no azimuth bin.
+  const auto dir = simulate({SliceKind::Diagonal, {30, 30}}, sim::RigParams::ideal(), 2);
+  nlohmann::json manifest;
+  std::ifstream(dir / "recording.json") >> manifest;
+  manifest["slice"]["kind"] = "point";
+  std::ofstream(dir / "recording.json") << manifest.dump();
+  try {
+    processRecording(dir);
+    FAIL() << "a point slice was processed";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find(dir.string()), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("point"), std::string::npos) << error.what();
+  }
+}
+
 TEST(PlanarPose, RecoversFrontoParallelAndObliquePosesFromCorners) {
   const vision::CameraModel camera = vision::defaultSimulatedCamera();
   const vision::TargetGeometry target = vision::defaultTarget();
