@@ -180,6 +180,40 @@ TEST(FramePipeline, AnLedOffFrameOfTheWrongSizeIsNoRoomLightTerm) {
   }
 }
 
+// A camera may report no exposure for a frame (0: libcamera's uvcvideo, V4L2 under auto
+// exposure, a frame from before a lock). Two frames both unknown are taken as equally exposed;
+// but with only one of them known, the LED-off frame's room light cannot be put in the LED-on
+// frame's units: subtracted as it was, it wiped out the white references ("white references out
+// of the image") or was not subtracted at all (a sample that kept the room light).
+TEST(FramePipeline, RoomLightOfAFrameOfUnknownExposureIsNotSubtractedFromAKnownOne) {
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  const auto dir = simulate(slice, sim::RigParams::ideal(), 4);
+  const io::Recording recording = io::readRecording(dir);
+  const auto outcomeWith = [&](double offExposureUs, double onExposureUs) {
+    FramePipeline pipeline(recording.target, recording.camera);
+    hal::Frame off = frameOf(dir, 1), on = frameOf(dir, 2);
+    off.metadata.exposureUs = offExposureUs;
+    on.metadata.exposureUs = onExposureUs;
+    EXPECT_EQ(pipeline.process(off, slice).kind, FrameOutcome::Kind::Ambient);
+    return pipeline.process(on, slice);
+  };
+  const double exposureUs = frameOf(dir, 2).metadata.exposureUs;
+  ASSERT_GT(exposureUs, 0.0);
+  const FrameOutcome known = outcomeWith(exposureUs, exposureUs);
+  ASSERT_EQ(known.kind, FrameOutcome::Kind::Sample) << known.rejectReason << ": " << known.detail;
+  const FrameOutcome bothUnknown = outcomeWith(0.0, 0.0);
+  ASSERT_EQ(bothUnknown.kind, FrameOutcome::Kind::Sample) << bothUnknown.rejectReason;
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(bothUnknown.sample->value[c], known.sample->value[c],
+                1e-9 * known.sample->value[c]);
+  for (const auto& [off, on] : {std::pair{0.0, exposureUs}, std::pair{exposureUs, 0.0}}) {
+    SCOPED_TRACE("LED-off exposure " + std::to_string(off) + " us, LED-on " + std::to_string(on));
+    const FrameOutcome mixed = outcomeWith(off, on);
+    EXPECT_EQ(mixed.rejectReason, "no_ambient_frame") << mixed.detail;
+    EXPECT_NE(mixed.detail.find("exposure"), std::string::npos) << mixed.detail;
+  }
+}
+
 // Median over LED-on frames of the worst channel's relative error against the truth.
 double medianSampleError(const std::vector<FrameOutcome>& outcomes, const sim::SweepTruth& truth) {
   std::vector<double> errors;

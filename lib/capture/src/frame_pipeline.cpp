@@ -35,6 +35,11 @@ struct RegionMean {
   bool clipped = false;
 };
 
+// True when the camera reported the frame's exposure and gain (else regionMean reads it unscaled).
+bool exposureKnown(const hal::Frame& frame) {
+  return frame.metadata.exposureUs * frame.metadata.gain > 0;
+}
+
 // Mean linear colour over target points, divided by exposure x gain (camera units per us).
 RegionMean regionMean(const hal::Frame& frame, const vision::Pose& pose,
                       const vision::CameraModel& camera, const std::vector<Eigen::Vector2d>& points,
@@ -50,7 +55,7 @@ RegionMean regionMean(const hal::Frame& frame, const vision::Pose& pose,
     mean.value += view.at(*px, clipFraction, &mean.clipped);
   }
   const double scale = frame.metadata.exposureUs * frame.metadata.gain;
-  mean.value *= 1.0 / (static_cast<double>(points.size()) * (scale > 0 ? scale : 1.0));
+  mean.value *= 1.0 / (static_cast<double>(points.size()) * (exposureKnown(frame) ? scale : 1.0));
   return mean;
 }
 
@@ -437,6 +442,15 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   const std::vector<AmbientTerm> ambient = s.ambientTerms(frame.metadata.timestampUs);
   if (s.settings.requireAmbient && ambient.empty())
     return rejected("no_ambient_frame", "no LED-off frame yet", outcome);
+  // Each frame is read per unit of exposure x gain; a frame whose camera reported none is read as
+  // it is, which matches another such frame only (the same locked exposure assumed).
+  for (const AmbientTerm& term : ambient)
+    if (exposureKnown(*term.frame) != exposureKnown(frame))
+      return rejected("no_ambient_frame",
+                      exposureKnown(frame)
+                          ? "the LED-off frame's exposure is unknown"
+                          : "this frame's exposure is unknown, the LED-off frame's is not",
+                      outcome);
   const Rgb windowRadiance = window.value - s.ambientAt(ambient, s.windowPoints, pose);
   std::vector<ReferenceObservation> observations;
   for (const auto& reference : s.references) {

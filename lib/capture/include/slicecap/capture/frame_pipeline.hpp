@@ -33,7 +33,9 @@ struct PipelineSettings {
   /// \brief The measured light direction replaces the nominal one when its sigma is below this.
   double measuredLightMaxSigmaDeg = 0.5;
   double nominalLightDistanceMm = 300.0;  ///< start of the point-light fit
-  /// \brief LED-on frames need an LED-off frame to subtract (false: no ambient subtraction).
+  /// \brief LED-on frames need an LED-off frame to subtract (false: no ambient subtraction). An
+  /// LED-off frame whose exposure the camera did not report (0) is subtracted only from LED-on
+  /// frames without one either, and the other way round: else "no_ambient_frame".
   bool requireAmbient = true;
   /// \brief Locate each LED-off frame's own pose (one more detection per LED pair) and sample its
   /// room light at the same target points as the LED-on frame's, not at the same pixels: the
