@@ -127,6 +127,93 @@ TEST(FramePipeline, NoAmbientFrameYetIsRejectedLive) {
   EXPECT_EQ(process(frameOf(dir, 0), slice).kind, FrameOutcome::Kind::Sample);
 }
 
+// A frame the pipeline rejects as "bad_frame" (here half the size the camera gives) is no
+// room-light term either: not as the LED-off frame before (live or offline) nor as the one after
+// (offline).
+TEST(FramePipeline, AnLedOffFrameOfTheWrongSizeIsNoRoomLightTerm) {
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  const auto dir = simulate(slice, sim::RigParams::ideal(), 8);
+  const io::Recording recording = io::readRecording(dir);
+  // Frame 3 (LED off) at half resolution: every second pixel of every second row.
+  const hal::Frame full = frameOf(dir, 3);
+  ASSERT_FALSE(full.metadata.ledOn);
+  hal::Frame half = full;
+  half.image.width = full.image.width / 2;
+  half.image.height = full.image.height / 2;
+  half.image.samples.clear();
+  for (int y = 0; y < half.image.height; ++y)
+    for (int x = 0; x < half.image.width; ++x)
+      for (int c = 0; c < full.image.channels; ++c)
+        half.image.samples.push_back(full.image.at(2 * x, 2 * y, c));
+
+  FramePipeline live(recording.target, recording.camera);
+  live.setAmbientFrame(half);
+  EXPECT_TRUE(live.ambientTermsFor(frameOf(dir, 2).metadata.timestampUs).empty());
+  EXPECT_EQ(live.process(frameOf(dir, 2), slice).rejectReason, "no_ambient_frame");
+  EXPECT_EQ(live.process(half, slice).rejectReason, "bad_frame");
+  EXPECT_EQ(live.process(frameOf(dir, 4), slice).rejectReason, "no_ambient_frame");
+
+  FramePipeline offline(recording.target, recording.camera);
+  offline.setAmbientFrame(frameOf(dir, 1));
+  offline.setFollowingAmbientFrame(half);
+  const auto terms = offline.ambientTermsFor(frameOf(dir, 2).metadata.timestampUs);
+  EXPECT_EQ(terms.size(), 1u);
+  EXPECT_EQ(terms.at(0).frame->metadata.timestampUs, frameOf(dir, 1).metadata.timestampUs);
+
+  // processRecording: the frame's PNG at half size gives every other frame the outcome it has
+  // when that PNG is corrupt (both are "bad_frame").
+  const auto victim = io::framePath(dir, recording.frames[3]);
+  io::writePng(victim, half.image);
+  const RecordingResult wrongSize = processRecording(dir);
+  std::filesystem::resize_file(victim, std::filesystem::file_size(victim) / 2);
+  const RecordingResult corrupt = processRecording(dir);
+  EXPECT_EQ(wrongSize.outcomes[3].rejectReason, "bad_frame");
+  EXPECT_EQ(corrupt.outcomes[3].rejectReason, "bad_frame");
+  for (std::size_t i = 0; i < recording.frames.size(); ++i) {
+    if (i == 3) continue;
+    SCOPED_TRACE("frame " + std::to_string(i));
+    ASSERT_EQ(wrongSize.outcomes[i].kind, corrupt.outcomes[i].kind);
+    if (!corrupt.outcomes[i].sample) continue;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_DOUBLE_EQ(wrongSize.outcomes[i].sample->value[c],
+                       corrupt.outcomes[i].sample->value[c]);
+  }
+}
+
+// A camera may report no exposure for a frame (0: libcamera's uvcvideo, V4L2 under auto
+// exposure, a frame from before a lock). Two frames both unknown are taken as equally exposed;
+// but with only one of them known, the LED-off frame's room light cannot be put in the LED-on
+// frame's units: subtracted as it was, it wiped out the white references ("white references out
+// of the image") or was not subtracted at all (a sample that kept the room light).
+TEST(FramePipeline, RoomLightOfAFrameOfUnknownExposureIsNotSubtractedFromAKnownOne) {
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  const auto dir = simulate(slice, sim::RigParams::ideal(), 4);
+  const io::Recording recording = io::readRecording(dir);
+  const auto outcomeWith = [&](double offExposureUs, double onExposureUs) {
+    FramePipeline pipeline(recording.target, recording.camera);
+    hal::Frame off = frameOf(dir, 1), on = frameOf(dir, 2);
+    off.metadata.exposureUs = offExposureUs;
+    on.metadata.exposureUs = onExposureUs;
+    EXPECT_EQ(pipeline.process(off, slice).kind, FrameOutcome::Kind::Ambient);
+    return pipeline.process(on, slice);
+  };
+  const double exposureUs = frameOf(dir, 2).metadata.exposureUs;
+  ASSERT_GT(exposureUs, 0.0);
+  const FrameOutcome known = outcomeWith(exposureUs, exposureUs);
+  ASSERT_EQ(known.kind, FrameOutcome::Kind::Sample) << known.rejectReason << ": " << known.detail;
+  const FrameOutcome bothUnknown = outcomeWith(0.0, 0.0);
+  ASSERT_EQ(bothUnknown.kind, FrameOutcome::Kind::Sample) << bothUnknown.rejectReason;
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(bothUnknown.sample->value[c], known.sample->value[c],
+                1e-9 * known.sample->value[c]);
+  for (const auto& [off, on] : {std::pair{0.0, exposureUs}, std::pair{exposureUs, 0.0}}) {
+    SCOPED_TRACE("LED-off exposure " + std::to_string(off) + " us, LED-on " + std::to_string(on));
+    const FrameOutcome mixed = outcomeWith(off, on);
+    EXPECT_EQ(mixed.rejectReason, "no_ambient_frame") << mixed.detail;
+    EXPECT_NE(mixed.detail.find("exposure"), std::string::npos) << mixed.detail;
+  }
+}
+
 // Median over LED-on frames of the worst channel's relative error against the truth.
 double medianSampleError(const std::vector<FrameOutcome>& outcomes, const sim::SweepTruth& truth) {
   std::vector<double> errors;
@@ -220,6 +307,23 @@ TEST(FramePipeline, CorruptPngIsACountedRejectionAndMissingFieldAnError) {
     FAIL() << "a missing field was accepted";
   } catch (const io::IoError& error) {
     EXPECT_NE(std::string(error.what()).find("exposure_us"), std::string::npos) << error.what();
+  }
+}
+
+TEST(FramePipeline, ARecordingOfAPointSliceIsAnErrorNamingTheDirectory) {
+  // recording.json may say "point" (the slice kind of scattered samples): no sweep has that kind,
+  // and its samples fall in no azimuth bin.
+  const auto dir = simulate({SliceKind::Diagonal, {30, 30}}, sim::RigParams::ideal(), 2);
+  nlohmann::json manifest;
+  std::ifstream(dir / "recording.json") >> manifest;
+  manifest["slice"]["kind"] = "point";
+  std::ofstream(dir / "recording.json") << manifest.dump();
+  try {
+    processRecording(dir);
+    FAIL() << "a point slice was processed";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find(dir.string()), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("point"), std::string::npos) << error.what();
   }
 }
 

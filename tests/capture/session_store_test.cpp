@@ -56,6 +56,50 @@ TEST(SessionStore, CreatesListsReopensAndRemoves) {
   EXPECT_THROW(SessionStore::create(root, "../escape", "x"), std::invalid_argument);
 }
 
+// A session is its folder: a copy (a backup) or a renamed folder is listed and opened under its
+// own name, never under the id its session.json was written with (the daemon keeps that id as
+// the current session and deletes by it: the copy's `delete` would remove the original).
+TEST(SessionStore, ACopiedSessionFolderIsItsOwnSession) {
+  const auto root = test::freshTempDir();
+  {
+    SessionStore store = SessionStore::create(root, "felt-1", "red felt");
+    store.recordSample(kAxial3030, sampleAt(30.0, 0.5));
+  }
+  std::filesystem::copy(root / "felt-1", root / "felt-1-backup");
+  std::filesystem::rename(root / "felt-1", root / "felt-2");
+  const std::vector<SessionInfo> sessions = SessionStore::list(root);
+  ASSERT_EQ(sessions.size(), 2u);
+  EXPECT_EQ(sessions[0].id, "felt-1-backup");
+  EXPECT_EQ(sessions[1].id, "felt-2");
+  EXPECT_EQ(sessions[1].material, "red felt");
+  const SessionStore backup = SessionStore::open(root, "felt-1-backup");
+  EXPECT_EQ(backup.info().id, "felt-1-backup");
+  EXPECT_EQ(backup.sampleCount(), 1u);
+  EXPECT_EQ(SessionStore::open(root, "felt-2").info().id, "felt-2");
+}
+
+// A "point" slice (the kind of scattered samples: no azimuth bins) is no sweep. The store refuses
+// it before the journal is written: a sample record of it could not be replayed, and the session,
+// with every sample taken before, would no longer open (nor would the daemon whose current
+// session it is).
+TEST(SessionStore, APointSliceIsRefusedAndTheSessionStillOpens) {
+  const auto root = test::freshTempDir();
+  const SliceId point{SliceKind::Point, {30, 30}};
+  {
+    SessionStore store = SessionStore::create(root, "s", "m");
+    store.recordSample(kAxial3030, sampleAt(30.0, 0.5));
+    EXPECT_THROW(store.recordSweepStarted(point), std::invalid_argument);
+    EXPECT_THROW(store.recordSample(point, sampleAt(45.0, 0.7)), std::invalid_argument);
+    EXPECT_THROW(store.redo(point), std::invalid_argument);
+    EXPECT_EQ(store.sampleCount(), 1u);
+    EXPECT_FALSE(store.activeSweep().has_value());
+  }
+  const SessionStore store = SessionStore::open(root, "s");
+  EXPECT_EQ(store.sampleCount(), 1u);
+  EXPECT_EQ(store.sampleCount(kAxial3030), 1u);
+  EXPECT_FALSE(store.activeSweep().has_value());
+}
+
 TEST(SessionStore, RedoDiscardsOnlyThatSliceAndPersists) {
   const auto root = test::freshTempDir();
   {

@@ -35,6 +35,11 @@ struct RegionMean {
   bool clipped = false;
 };
 
+// True when the camera reported the frame's exposure and gain (else regionMean reads it unscaled).
+bool exposureKnown(const hal::Frame& frame) {
+  return frame.metadata.exposureUs * frame.metadata.gain > 0;
+}
+
 // Mean linear colour over target points, divided by exposure x gain (camera units per us).
 RegionMean regionMean(const hal::Frame& frame, const vision::Pose& pose,
                       const vision::CameraModel& camera, const std::vector<Eigen::Vector2d>& points,
@@ -50,7 +55,7 @@ RegionMean regionMean(const hal::Frame& frame, const vision::Pose& pose,
     mean.value += view.at(*px, clipFraction, &mean.clipped);
   }
   const double scale = frame.metadata.exposureUs * frame.metadata.gain;
-  mean.value *= 1.0 / (static_cast<double>(points.size()) * (scale > 0 ? scale : 1.0));
+  mean.value *= 1.0 / (static_cast<double>(points.size()) * (exposureKnown(frame) ? scale : 1.0));
   return mean;
 }
 
@@ -164,6 +169,19 @@ DetectionScale trackedScale(const std::vector<Eigen::Matrix2d>& cellMaps,
 
 // LED-on frames without a pose after which tracking gives up on the last one.
 constexpr int kTrackingPatienceFrames = 3;
+
+// Why `frame` cannot be read as this camera's frame ("bad_frame"), or nullopt when it can.
+std::optional<std::string> badFrameDetail(const hal::Frame& frame,
+                                          const vision::CameraIntrinsics& k) {
+  if (frame.image.isValid() && frame.image.width == k.widthPx && frame.image.height == k.heightPx &&
+      frame.image.bitDepth == bitDepthOf(frame.encoding) &&
+      (frame.image.channels == 1 || frame.image.channels == 3))
+    return std::nullopt;
+  return "frame " + std::to_string(frame.image.width) + " x " + std::to_string(frame.image.height) +
+         " x " + std::to_string(frame.image.channels) + " at " +
+         std::to_string(frame.image.bitDepth) + " bits, expected " + std::to_string(k.widthPx) +
+         " x " + std::to_string(k.heightPx) + " of " + std::string(toString(frame.encoding));
+}
 
 FrameOutcome rejected(std::string reason, std::string detail, FrameOutcome outcome = {}) {
   outcome.kind = FrameOutcome::Kind::Rejected;
@@ -321,12 +339,16 @@ FramePipeline::~FramePipeline() = default;
 FramePipeline::FramePipeline(FramePipeline&&) noexcept = default;
 FramePipeline& FramePipeline::operator=(FramePipeline&&) noexcept = default;
 
+// A frame process() rejects as "bad_frame" is not read as room light either: its pixels are not
+// where the LED-on frame's are, or not in its encoding.
 void FramePipeline::setAmbientFrame(const hal::Frame& frame) {
+  if (badFrameDetail(frame, state_->camera.intrinsics)) return;
   state_->ambient = state_->makeAmbient(frame);
 }
 
 void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
   State& s = *state_;
+  if (badFrameDetail(frame, s.camera.intrinsics)) return;
   if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs)
     return;
   s.nextAmbient = s.makeAmbient(frame);
@@ -339,16 +361,8 @@ std::vector<AmbientTerm> FramePipeline::ambientTermsFor(std::int64_t timeUs) con
 FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slice) {
   State& s = *state_;
   const std::uint64_t index = s.frameIndex++;
-  const auto& k = s.camera.intrinsics;
-  if (!frame.image.isValid() || frame.image.width != k.widthPx ||
-      frame.image.height != k.heightPx || frame.image.bitDepth != bitDepthOf(frame.encoding) ||
-      (frame.image.channels != 1 && frame.image.channels != 3))
-    return rejected(
-        "bad_frame",
-        "frame " + std::to_string(frame.image.width) + " x " + std::to_string(frame.image.height) +
-            " x " + std::to_string(frame.image.channels) + " at " +
-            std::to_string(frame.image.bitDepth) + " bits, expected " + std::to_string(k.widthPx) +
-            " x " + std::to_string(k.heightPx) + " of " + std::string(toString(frame.encoding)));
+  if (auto detail = badFrameDetail(frame, s.camera.intrinsics))
+    return rejected("bad_frame", std::move(*detail));
   if (!frame.metadata.ledOn) {
     if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs) {
       s.ambient = std::move(s.nextAmbient);  // already located by setFollowingAmbientFrame
@@ -428,6 +442,15 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   const std::vector<AmbientTerm> ambient = s.ambientTerms(frame.metadata.timestampUs);
   if (s.settings.requireAmbient && ambient.empty())
     return rejected("no_ambient_frame", "no LED-off frame yet", outcome);
+  // Each frame is read per unit of exposure x gain; a frame whose camera reported none is read as
+  // it is, which matches another such frame only (the same locked exposure assumed).
+  for (const AmbientTerm& term : ambient)
+    if (exposureKnown(*term.frame) != exposureKnown(frame))
+      return rejected("no_ambient_frame",
+                      exposureKnown(frame)
+                          ? "the LED-off frame's exposure is unknown"
+                          : "this frame's exposure is unknown, the LED-off frame's is not",
+                      outcome);
   const Rgb windowRadiance = window.value - s.ambientAt(ambient, s.windowPoints, pose);
   std::vector<ReferenceObservation> observations;
   for (const auto& reference : s.references) {

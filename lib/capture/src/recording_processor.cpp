@@ -43,6 +43,11 @@ SliceId sliceOfRecording(const std::filesystem::path& directory, const io::Recor
   if (!recording.slice)
     throw std::invalid_argument(directory.string() +
                                 ": recording.json has no slice (a calibration recording?)");
+  // A sweep is of an axial or a diagonal slice; a point sample falls in no azimuth bin.
+  if (recording.slice->id.kind == SliceKind::Point)
+    throw std::invalid_argument(directory.string() +
+                                ": recording.json: slice kind \"point\" is no sweep (expected "
+                                "\"axial\" or \"diagonal\")");
   return recording.slice->id;
 }
 

@@ -53,6 +53,15 @@ SliceId sliceFrom(const json& j) {
   return {*kind, {wholeNumber(j, "theta_i", 0, 89), wholeNumber(j, "theta_v", 0, 89)}};
 }
 
+// A sweep is of an axial or a diagonal slice: a point "slice" has no azimuth bins, and a journal
+// record of it would not replay (the session would no longer open). Refused before anything is
+// written.
+void requireSweepSlice(const SliceId& slice) {
+  if (slice.kind == SliceKind::Point)
+    throw std::invalid_argument("slice " + toString(slice) +
+                                ": a sweep is of an axial or a diagonal slice");
+}
+
 std::string utcNow() {
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   std::tm utc{};
@@ -62,7 +71,11 @@ std::string utcNow() {
   return text;
 }
 
-SessionInfo readInfo(const std::filesystem::path& file) {
+// The description of the session in `directory`. Its id is the folder's name, whatever id the
+// file was written with: a copied or renamed folder is a session of its own, and everything
+// that finds a session by id (open, remove, the daemon's current session) finds it there.
+SessionInfo readInfo(const std::filesystem::path& directory) {
+  const std::filesystem::path file = directory / "session.json";
   std::ifstream in(file);
   if (!in) throw io::IoError(file.string() + ": cannot open session description");
   const json j = io::parseJson(std::string(std::istreambuf_iterator<char>(in), {}), file.string());
@@ -72,7 +85,8 @@ SessionInfo readInfo(const std::filesystem::path& file) {
       throw io::IoError(file.string() + ": field \"format\" is " + j.at("format").dump() +
                         ", expected 1");
     }
-    return {j.at("id").get<std::string>(), j.at("material").get<std::string>(),
+    static_cast<void>(j.at("id").get<std::string>());  // required: else not a session
+    return {directory.filename().string(), j.at("material").get<std::string>(),
             j.at("created").get<std::string>()};
   } catch (const json::exception& e) {
     throw io::IoError(file.string() + ": " + e.what());
@@ -118,7 +132,7 @@ SessionStore SessionStore::open(const std::filesystem::path& root, const std::st
   const std::filesystem::path directory = root / id;
   if (!std::filesystem::is_directory(directory))
     throw io::IoError(directory.string() + ": no such session");
-  SessionInfo info = readInfo(directory / "session.json");
+  SessionInfo info = readInfo(directory);
   std::vector<std::string> records;
   io::JournalRecovery recovery;
   io::Journal journal = io::Journal::open(directory / "journal", &records, &recovery);
@@ -135,7 +149,7 @@ std::vector<SessionInfo> SessionStore::list(const std::filesystem::path& root) {
   for (const auto& entry : std::filesystem::directory_iterator(root, error)) {
     if (!entry.is_directory() || !isValidSessionId(entry.path().filename().string())) continue;
     try {
-      sessions.push_back(readInfo(entry.path() / "session.json"));
+      sessions.push_back(readInfo(entry.path()));
     } catch (const io::IoError&) {
       // A half-created or foreign folder is not a session.
     }
@@ -196,6 +210,7 @@ void SessionStore::apply(const std::string& record, std::size_t recordNumber) {
 }
 
 void SessionStore::recordSample(const SliceId& slice, const FrameSample& s) {
+  requireSweepSlice(slice);
   const std::string record = json{{"t", "sample"},
                                   {"slice", sliceJson(slice)},
                                   {"ts", s.timestampUs},
@@ -209,6 +224,7 @@ void SessionStore::recordSample(const SliceId& slice, const FrameSample& s) {
 }
 
 void SessionStore::recordSweepStarted(const SliceId& slice) {
+  requireSweepSlice(slice);
   journal_.append(json{{"t", "start"}, {"slice", sliceJson(slice)}}.dump());
   activeSweep_ = slice;
 }
@@ -219,6 +235,7 @@ void SessionStore::recordSweepStopped(const SliceId& slice) {
 }
 
 void SessionStore::redo(const SliceId& slice) {
+  requireSweepSlice(slice);
   journal_.append(json{{"t", "redo"}, {"slice", sliceJson(slice)}}.dump());
   binsFor(slice).clear();
 }

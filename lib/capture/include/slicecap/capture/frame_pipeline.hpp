@@ -33,7 +33,9 @@ struct PipelineSettings {
   /// \brief The measured light direction replaces the nominal one when its sigma is below this.
   double measuredLightMaxSigmaDeg = 0.5;
   double nominalLightDistanceMm = 300.0;  ///< start of the point-light fit
-  /// \brief LED-on frames need an LED-off frame to subtract (false: no ambient subtraction).
+  /// \brief LED-on frames need an LED-off frame to subtract (false: no ambient subtraction). An
+  /// LED-off frame whose exposure the camera did not report (0) is subtracted only from LED-on
+  /// frames without one either, and the other way round: else "no_ambient_frame".
   bool requireAmbient = true;
   /// \brief Locate each LED-off frame's own pose (one more detection per LED pair) and sample its
   /// room light at the same target points as the LED-on frame's, not at the same pixels: the
@@ -70,7 +72,8 @@ class FramePipeline {
   /// of the wrong size or encoding is rejected as "bad_frame".
   FrameOutcome process(const hal::Frame& frame, const SliceId& slice);
   /// \brief Offline use: the ambient frame for LED-on frames before the first LED-off one (the
-  /// live loop just rejects those as "no_ambient_frame").
+  /// live loop just rejects those as "no_ambient_frame"). A frame process() would reject as
+  /// "bad_frame" is ignored, here and by setFollowingAmbientFrame.
   void setAmbientFrame(const hal::Frame& frame);
   /// \brief Offline use: the LED-off frame that follows the coming LED-on frame(s). Their ambient
   /// term is then interpolated in time between the LED-off frames on both sides (on a specular

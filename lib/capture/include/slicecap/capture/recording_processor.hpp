@@ -35,7 +35,7 @@ struct RecordingResult {
 /// last alone after it). A frame whose PNG is missing,
 /// corrupt or of the wrong size is a "bad_frame" rejection naming the file. Throws io::IoError
 /// for a bad recording.json (naming the field) and std::invalid_argument for a recording without
-/// a slice (e.g. a calibration recording), naming the directory.
+/// a slice (e.g. a calibration recording) or with a point one, naming the directory.
 /// `observer` (if set) is called for every frame whose PNG could be read.
 RecordingResult processRecording(const std::filesystem::path& directory,
                                  const PipelineSettings& settings = {},
@@ -49,7 +49,7 @@ RecordingResult processRecording(const std::filesystem::path& directory,
                                  const FrameObserver& observer = {});
 
 /// \brief The slice `recording` (read from `directory`) holds; std::invalid_argument naming the
-/// directory when it holds none (e.g. a calibration recording).
+/// directory when it holds none (e.g. a calibration recording) or a point "slice".
 SliceId sliceOfRecording(const std::filesystem::path& directory, const io::Recording& recording);
 
 }  // namespace slicecap::capture

@@ -17,7 +17,7 @@ namespace slicecap::capture {
 
 /// \brief What a session is, as stored in <root>/<id>/session.json.
 struct SessionInfo {
-  std::string id;
+  std::string id;  ///< the folder's name (a copied or renamed session folder is its own session)
   std::string material;
   std::string createdUtc;  ///< ISO 8601, e.g. 2026-11-23T14:05:00Z
 };
@@ -43,7 +43,9 @@ class SessionStore {
   const std::filesystem::path& directory() const { return directory_; }
   const io::JournalRecovery& recovery() const { return recovery_; }
 
-  /// \brief Stores one accepted sample of a slice (durable when this returns).
+  /// \brief Stores one accepted sample of a slice (durable when this returns). Here and in
+  /// recordSweepStarted and redo, a point slice (no sweep) is std::invalid_argument, nothing
+  /// written.
   void recordSample(const SliceId& slice, const FrameSample& sample);
   void recordSweepStarted(const SliceId& slice);
   void recordSweepStopped(const SliceId& slice);
