@@ -208,6 +208,10 @@ void ControlServer::flush(int fd) {
 }
 
 void ControlServer::drop(int fd) {
+  // Once only: a client that hangs up with answers unsent is dropped by flush(), and then again by
+  // its hang-up; the second close() could shut a descriptor another thread (the frame recorder's
+  // writer, libcamera's) had been given the same number in between.
+  if (!clients_.count(fd)) return;
   loop_.unwatch(fd);
   ::close(fd);
   clients_.erase(fd);
