@@ -209,6 +209,45 @@ TEST(ControlServer, AClientThatHangsUpBeforeItsAnswerIsClosedOnce) {
   });
 }
 
+TEST(ControlServer, AClientWritingWithoutPauseDoesNotHoldUpTheOthers) {
+  // A script piping requests in without reading the answers: the server read it until it paused,
+  // so nobody else was answered (nor a frame taken, nor the watchdog fed) while its unread answers
+  // piled up in memory.
+  const auto socket = test::freshTempDir() / "ctl.sock";
+  const auto padded = [](const Request& request) {
+    return nlohmann::json{{"command", commandName(request.command)},
+                          {"pad", std::string(1000, 'x')}};
+  };
+  serve(socket, padded, [&] {
+    const int flooder = rawConnect(socket);
+    std::atomic<bool> stop = false, cutOff = false;
+    std::thread writer([&] {
+      std::string burst;
+      while (burst.size() < 65536)
+        burst += encodeRequest({1, Status{}}) + "\n";
+      while (!stop) {
+        if (::send(flooder, burst.data(), burst.size(), MSG_NOSIGNAL) < 0) {
+          cutOff = true;
+          return;
+        }
+      }
+    });
+    std::this_thread::sleep_for(100ms);
+    try {
+      ControlClient other(socket, 2s);
+      EXPECT_EQ(other.call(Hello{})["command"], "hello");
+    } catch (const ConnectionError& e) {
+      ADD_FAILURE() << e.what();
+    }
+    for (int k = 0; k < 200 && !cutOff; ++k)
+      std::this_thread::sleep_for(10ms);
+    EXPECT_TRUE(cutOff) << "the client that never read its answers was not dropped";
+    stop = true;
+    writer.join();
+    ::close(flooder);
+  });
+}
+
 TEST(ListenSocket, ReplacesAStaleSocketButNotALiveOneOrAFile) {
   const auto dir = test::freshTempDir();
   const int first = openListenSocket({dir / "a.sock", 0660, std::nullopt});
