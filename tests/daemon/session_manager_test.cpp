@@ -407,6 +407,27 @@ TEST(SessionManager, RefusesASecondManagerOnTheSameStorage) {
   EXPECT_TRUE(ok(restarted, SessionList{})["sessions"].size() == 1u) << "the lock is no session";
 }
 
+TEST(SessionManager, RefusesTheSessionIdOfItsCurrentFile) {
+  // A session named "current" became a folder where <storage>/current must be a file: its reply
+  // was a storage error, and from then on no session could be made current (after a restart the
+  // interrupted sweep was not found again).
+  const auto root = test::freshTempDir();
+  {
+    SessionManager manager(root, meanOfSlices);
+    const ProtocolError error = refused(manager, SessionNew{"felt", std::string("current")});
+    EXPECT_EQ(error.code, ErrorCode::BadRequest);
+    EXPECT_THAT(error.message, HasSubstr("session id 'current' is reserved"));
+    ok(manager, SessionNew{"felt", std::string("felt")});
+    EXPECT_EQ(refused(manager, SessionNew{"felt", std::string("current")}).code,
+              ErrorCode::BadRequest);
+    ok(manager, SweepStart{kAxial3030});
+    ASSERT_TRUE(manager.acceptSample(sampleAt(0, 0.5, 0)));
+  }
+  SessionManager restarted(root, meanOfSlices);
+  EXPECT_EQ(restarted.status()["session"]["id"], "felt");
+  EXPECT_EQ(restarted.status()["sweep"]["samples"], 1);
+}
+
 TEST(SessionManager, NamesTheSparsestSliceOnceEverySliceIsSwept) {
   SessionManager manager(test::freshTempDir(), meanOfSlices);
   ok(manager, SessionNew{"felt", std::string("felt")});

@@ -228,6 +228,12 @@ struct SessionManager::State {
   json run(const SessionNew& command) {
     requireNoSweep("start a new session");
     const std::string id = command.id.value_or(newSessionId());
+    // <root>/current names the current session: a session folder of that name could never be
+    // made current (nor could any other after it, the file's place being taken).
+    if (id == currentFile().filename())
+      throw Refusal{ErrorCode::BadRequest, "session id '" + id +
+                                               "' is reserved (the storage folder's file naming "
+                                               "the current session): choose another"};
     if (exists(id)) throw Refusal{ErrorCode::Conflict, "session '" + id + "' exists already"};
     makeCurrent(capture::SessionStore::create(root, id, command.material));
     return sessionJson(*session);
