@@ -428,6 +428,31 @@ TEST(SessionManager, RefusesTheSessionIdOfItsCurrentFile) {
   EXPECT_EQ(restarted.status()["sweep"]["samples"], 1);
 }
 
+TEST(SessionManager, ACurrentSessionThatCannotBeReadDoesNotKeepTheDaemonFromStarting) {
+  // The constructor threw, so slicecapd exited at every start (systemd restarting it until it gave
+  // up) and no session at all could be captured.
+  const auto root = test::freshTempDir();
+  {
+    SessionManager manager(root, meanOfSlices);
+    ok(manager, SessionNew{"felt", std::string("felt")});
+    ok(manager, SweepStart{kAxial3030});
+    ASSERT_TRUE(manager.acceptSample(sampleAt(0, 0.5, 0)));
+  }
+  std::ofstream(root / "felt" / "session.json") << "{\"format\": 1, \"id\": ";
+  {
+    SessionManager restarted(root, meanOfSlices);
+    const json status = restarted.status();
+    EXPECT_TRUE(status["session"].is_null());
+    EXPECT_THAT(status["error"].get<std::string>(),
+                HasSubstr("the current session 'felt' cannot be opened: "));
+    EXPECT_THAT(status["error"].get<std::string>(), HasSubstr("felt/session.json"));
+    EXPECT_EQ(refused(restarted, SessionResume{"felt"}).code, ErrorCode::StorageError);
+    ok(restarted, SessionNew{"grey card", std::string("grey")});
+    EXPECT_FALSE(restarted.status().contains("error"));
+  }
+  EXPECT_TRUE(std::filesystem::exists(root / "felt" / "journal")) << "nothing is removed";
+}
+
 TEST(SessionManager, NamesTheSparsestSliceOnceEverySliceIsSwept) {
   SessionManager manager(test::freshTempDir(), meanOfSlices);
   ok(manager, SessionNew{"felt", std::string("felt")});

@@ -623,7 +623,19 @@ SessionManager::SessionManager(fs::path storageRoot, ReconstructFunction reconst
   std::ifstream current(state_->currentFile());
   std::string id;
   if (current >> id && capture::isValidSessionId(id) && state_->exists(id)) {
-    state_->makeCurrent(capture::SessionStore::open(state_->root, id));
+    // A current session that cannot be read (a damaged session.json or journal record) must not
+    // keep the daemon from starting, or no session at all could be captured: it stays on disk as
+    // it is, and the status names it until another session is made current.
+    std::optional<capture::SessionStore> store;
+    try {
+      store.emplace(capture::SessionStore::open(state_->root, id));
+    } catch (const std::exception& unreadable) {
+      state_->lastError = "the current session '" + id +
+                          "' cannot be opened: " + unreadable.what() +
+                          " (nothing was changed on disk; `slicecap session new MATERIAL` or "
+                          "`slicecap session resume ID` goes on with another)";
+    }
+    if (store) state_->makeCurrent(std::move(*store));
   }
 }
 
