@@ -46,6 +46,12 @@ class LiveDaemon {
     server_ =
         std::make_unique<daemon::ControlServer>(loop_, listenFd, [this](const daemon::Request& r) {
           json reply = daemon::replyOrThrow(manager_.handle(r.command));
+          // As slicecapd's devices do when the camera cannot start: the sweep comes back paused.
+          if (!failingDevice_.empty() && (std::holds_alternative<daemon::SweepStart>(r.command) ||
+                                          std::holds_alternative<daemon::SweepRedo>(r.command))) {
+            manager_.pauseSweep(failingDevice_);
+            reply = manager_.status()["sweep"];
+          }
           // What the daemon's frame loop adds to a status (record_frames), when a test sets it.
           if (std::holds_alternative<daemon::Status>(r.command) && !statusExtra_.is_null())
             reply.update(statusExtra_);
@@ -71,10 +77,13 @@ class LiveDaemon {
   daemon::SessionManager& manager() { return manager_; }
   /// Set before the first request only (the server thread reads it).
   void setStatusExtra(json extra) { statusExtra_ = std::move(extra); }
+  /// Set before the first request only: every sweep start and redo fails with this reason.
+  void setFailingDevice(std::string reason) { failingDevice_ = std::move(reason); }
 
  private:
   daemon::SessionManager manager_;
   json statusExtra_;
+  std::string failingDevice_;
   daemon::EventLoop loop_;
   std::unique_ptr<daemon::ControlServer> server_;
   std::filesystem::path socketDir_, socket_;
@@ -195,6 +204,24 @@ TEST(DaemonCommands, RefusalsAndBadUsageHaveTheirExitCodes) {
   r = daemon.run({"session", "show", "nobody"});
   EXPECT_EQ(r.code, kExitFailure);
   EXPECT_THAT(r.err, HasSubstr("no session 'nobody'"));
+}
+
+TEST(DaemonCommands, ASweepTheCameraLeavesPausedIsAFailure) {
+  // `sweep start` printed "paused" with the camera's error and exited 0: a script went on as if
+  // the sweep were capturing.
+  LiveDaemon daemon(test::freshTempDir());
+  daemon.setFailingDevice("camera error: /dev/video0: No such device");
+  ASSERT_EQ(daemon.run({"session", "new", "felt", "--id", "felt"}).code, kExitOk);
+  Result r = daemon.run({"sweep", "start", "axial", "30", "30"});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_THAT(r.err, HasSubstr("sweep axial 30/30 is paused, not capturing: camera error: "
+                               "/dev/video0: No such device"));
+  EXPECT_THAT(r.err, HasSubstr("`slicecap sweep start axial 30 30` continues"));
+  r = daemon.run({"sweep", "start", "axial", "30", "30", "--json"});  // continuing it fails alike
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_EQ(json::parse(r.out).at("code"), "unavailable");
+  EXPECT_EQ(daemon.run({"sweep", "redo", "axial", "30", "30"}).code, kExitFailure);
+  EXPECT_EQ(daemon.run({"sweep", "stop"}).code, kExitOk);
 }
 
 TEST(DaemonCommands, WithJsonAnErrorIsAlsoAJsonObjectOnStdout) {

@@ -206,7 +206,16 @@ int runSweep(const ParsedArgs& args, Streams& io) {
     const SliceId slice = sliceFrom(args, 1);
     const daemon::Command command =
         action == "start" ? daemon::Command{daemon::SweepStart{slice}} : daemon::SweepRedo{slice};
-    return finish(args, io, call(args, command), printSweep);
+    const json sweep = call(args, command);
+    // The daemon takes the command, but a camera, exposure lock or texture store that fails at
+    // once leaves the sweep paused with the reason: it is not capturing, so this is no success
+    // (a script's `sweep start ... && ...` went on as if it were).
+    if (sweep.value("state", "") == "paused")
+      throw daemon::DaemonError(
+          std::string(daemon::errorCodeName(daemon::ErrorCode::Unavailable)),
+          "sweep " + sweep["slice"]["name"].get<std::string>() +
+              " is paused, not capturing: " + sweep.value("pause_reason", "no reason given"));
+    return finish(args, io, sweep, printSweep);
   }
   throw UsageError("sweep: unknown action '" + action + "' (start, stop, redo)");
 }
@@ -353,7 +362,9 @@ Command sweepCommand() {
            "start|redo axial|diagonal THETA_I THETA_V | stop [--socket PATH] [--json]",
            "Start, stop or redo the sweep of one slice of the current session. THETA_I and "
            "THETA_V are\nthe light and view elevations, 30 or 75 deg. `sweep start` of a paused "
-           "sweep continues it;\n`redo` discards the slice's samples and sweeps it again.",
+           "sweep continues it;\n`redo` discards the slice's samples and sweeps it again. A start "
+           "or redo that the camera\n(or texture store) leaves paused at once exits with 1 and "
+           "the reason.",
            {kSocketOption, kJsonOption},
            1,
            4},
