@@ -199,6 +199,21 @@ TEST(SessionManager, AFullDiskPausesTheSweepAndKeepsWhatWasStored) {
   EXPECT_EQ(reopened.status()["session"]["samples"], stored);
 }
 
+TEST(SessionManager, ASessionAFullDiskKeptFromBeingMadeCanBeMadeOnceThereIsSpace) {
+  // The half-made folder stayed: `session list` did not show it, yet `session new` of the same id
+  // said it existed already.
+  const auto root = test::freshTempDir();
+  SessionManager manager(root, meanOfSlices);
+  {
+    const test::FileSizeLimit limit(10);  // session.json cannot be written
+    const ProtocolError error = refused(manager, SessionNew{"felt", std::string("felt")});
+    EXPECT_EQ(error.code, ErrorCode::StorageError);
+    EXPECT_THAT(error.message, HasSubstr("session.json"));
+  }
+  EXPECT_FALSE(std::filesystem::exists(root / "felt"));
+  EXPECT_EQ(ok(manager, SessionNew{"felt", std::string("felt")})["id"], "felt");
+}
+
 TEST(SessionManager, ReconstructsAndExportsTheFilesADesktopNeeds) {
   const auto root = test::freshTempDir();
   int previews = 0;

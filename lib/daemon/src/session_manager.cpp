@@ -235,7 +235,20 @@ struct SessionManager::State {
                                                "' is reserved (the storage folder's file naming "
                                                "the current session): choose another"};
     if (exists(id)) throw Refusal{ErrorCode::Conflict, "session '" + id + "' exists already"};
-    makeCurrent(capture::SessionStore::create(root, id, command.material));
+    std::optional<capture::SessionStore> created;
+    try {
+      created.emplace(capture::SessionStore::create(root, id, command.material));
+    } catch (const io::IoError&) {
+      // A folder left without its session.json (a full disk) is no session, `session list` leaves
+      // it out, yet it kept the id taken ("exists already") once there was space again. It was
+      // made just now and holds nothing.
+      if (!fs::exists(root / id / "session.json")) {
+        std::error_code ignored;
+        fs::remove_all(root / id, ignored);
+      }
+      throw;
+    }
+    makeCurrent(std::move(*created));
     return sessionJson(*session);
   }
 
