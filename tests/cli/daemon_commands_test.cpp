@@ -38,7 +38,9 @@ Abrdf flatTable(const SliceSet&, const std::string&) {
 /// its own thread.
 class LiveDaemon {
  public:
-  explicit LiveDaemon(const std::filesystem::path& storage) : manager_(storage, flatTable) {
+  explicit LiveDaemon(const std::filesystem::path& storage,
+                      daemon::ReconstructFunction reconstruct = flatTable)
+      : manager_(storage, std::move(reconstruct)) {
     char pattern[] = "/tmp/slicecap-cli-XXXXXX";
     socketDir_ = ::mkdtemp(pattern);
     socket_ = socketDir_ / "s.sock";
@@ -152,6 +154,43 @@ TEST(DaemonCommands, ASessionFromNewToExport) {
   r = daemon.run({"export", "felt", "-o", (dir / "desk").string(), "--method", "nosuch"});
   EXPECT_EQ(r.code, kExitUsage);
   EXPECT_THAT(r.err, HasSubstr("unknown method 'nosuch' (known: b, a,"));
+}
+
+TEST(DaemonCommands, AnExportFolderKeepsNoTableTheSamplesNoLongerGive) {
+  // The daemon removed the table (with a warning) from the session and its own export folder, but
+  // the copy an earlier `slicecap export` had put into DIR stayed there beside the new slices CSV.
+  const auto dir = test::freshTempDir();
+  LiveDaemon daemon(dir / "storage", [](const SliceSet& slices, const std::string& method) {
+    if (method == "halfway" && slices.slices().size() > 1)
+      throw std::runtime_error("stands in for a method that cannot read these slices");
+    return flatTable(slices, method);
+  });
+  const auto sweep = [&](const std::vector<std::string>& slice) {
+    std::vector<std::string> start = {"sweep", "start"};
+    start.insert(start.end(), slice.begin(), slice.end());
+    ASSERT_EQ(daemon.run(start).code, kExitOk);
+    for (int k = 0; k < 3; ++k)
+      daemon.manager().acceptSample(
+          {k, std::uint64_t(k), {30, k * 15.0}, {30, k * 15.0 + 15}, Rgb::gray(0.2)});
+    ASSERT_EQ(daemon.run({"sweep", "stop"}).code, kExitOk);
+  };
+  ASSERT_EQ(daemon.run({"session", "new", "felt", "--id", "felt"}).code, kExitOk);
+  sweep({"axial", "30", "30"});
+  const auto desk = dir / "desk";
+  ASSERT_EQ(daemon.run({"export", "felt", "-o", desk.string(), "--method", "halfway"}).code,
+            kExitOk);
+  ASSERT_TRUE(std::filesystem::exists(desk / "felt-abrdf-halfway.exr"));
+  std::ofstream(desk / "felt-abrdf-halfway.png") << "its preview";
+  std::ofstream(desk / "notes.txt") << "the operator's own file";
+  sweep({"diagonal", "30", "30"});
+  const Result r = daemon.run({"export", "felt", "-o", desk.string()});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("abrdf-halfway.exr (made from earlier samples) removed"));
+  EXPECT_FALSE(std::filesystem::exists(desk / "felt-abrdf-halfway.exr"));
+  EXPECT_FALSE(std::filesystem::exists(desk / "felt-abrdf-halfway.png"));
+  EXPECT_TRUE(std::filesystem::exists(desk / "felt-abrdf-prior.exr"));
+  EXPECT_TRUE(std::filesystem::exists(desk / "felt-slices.csv"));
+  EXPECT_TRUE(std::filesystem::exists(desk / "notes.txt"));
 }
 
 TEST(DaemonCommands, RefusesAWatchCountThatIsNoWholeNumberAndSaysWhyARequestIsTooLong) {

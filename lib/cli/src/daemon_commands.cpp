@@ -1,5 +1,6 @@
 // The commands a person on SSH uses to drive slicecapd: session, sweep, status, export. Each sends
 // protocol commands over the control socket and prints the answer for a person, or as JSON.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -299,6 +300,26 @@ int runExport(const ParsedArgs& args, Streams& io) {
       throw std::runtime_error("cannot copy " + source.string() + " to " + target.string() + ": " +
                                error.message());
     copied.push_back(target.string());
+  }
+  // A table the samples can no longer give (the daemon removed it, warning below) must not stay
+  // in DIR from an earlier export, beside the new slices CSV as if made from it: this session's
+  // tables and previews that this export did not copy go, as from the daemon's export folder.
+  const std::string tablePrefix = result["session"].get<std::string>() + "-abrdf-";
+  std::vector<fs::path> stale;
+  for (const fs::directory_entry& entry : fs::directory_iterator(destination)) {
+    const std::string name = entry.path().filename().string();
+    const fs::path extension = entry.path().extension();
+    if (name.rfind(tablePrefix, 0) != 0 || (extension != ".exr" && extension != ".png")) continue;
+    if (std::none_of(copied.begin(), copied.end(), [&](const json& file) {
+          return fs::path(file.get<std::string>()).filename() == name;
+        }))
+      stale.push_back(entry.path());
+  }
+  for (const fs::path& path : stale) {
+    fs::remove(path, error);
+    if (error)
+      throw std::runtime_error(
+          path.string() + ": cannot remove (a table from earlier samples): " + error.message());
   }
   if (result.contains("texture")) {
     const fs::path target = destination / (result["session"].get<std::string>() + "-texture");
