@@ -38,7 +38,9 @@ Abrdf flatTable(const SliceSet&, const std::string&) {
 /// its own thread.
 class LiveDaemon {
  public:
-  explicit LiveDaemon(const std::filesystem::path& storage) : manager_(storage, flatTable) {
+  explicit LiveDaemon(const std::filesystem::path& storage,
+                      daemon::ReconstructFunction reconstruct = flatTable)
+      : manager_(storage, std::move(reconstruct)) {
     char pattern[] = "/tmp/slicecap-cli-XXXXXX";
     socketDir_ = ::mkdtemp(pattern);
     socket_ = socketDir_ / "s.sock";
@@ -46,6 +48,12 @@ class LiveDaemon {
     server_ =
         std::make_unique<daemon::ControlServer>(loop_, listenFd, [this](const daemon::Request& r) {
           json reply = daemon::replyOrThrow(manager_.handle(r.command));
+          // As slicecapd's devices do when the camera cannot start: the sweep comes back paused.
+          if (!failingDevice_.empty() && (std::holds_alternative<daemon::SweepStart>(r.command) ||
+                                          std::holds_alternative<daemon::SweepRedo>(r.command))) {
+            manager_.pauseSweep(failingDevice_);
+            reply = manager_.status()["sweep"];
+          }
           // What the daemon's frame loop adds to a status (record_frames), when a test sets it.
           if (std::holds_alternative<daemon::Status>(r.command) && !statusExtra_.is_null())
             reply.update(statusExtra_);
@@ -71,10 +79,13 @@ class LiveDaemon {
   daemon::SessionManager& manager() { return manager_; }
   /// Set before the first request only (the server thread reads it).
   void setStatusExtra(json extra) { statusExtra_ = std::move(extra); }
+  /// Set before the first request only: every sweep start and redo fails with this reason.
+  void setFailingDevice(std::string reason) { failingDevice_ = std::move(reason); }
 
  private:
   daemon::SessionManager manager_;
   json statusExtra_;
+  std::string failingDevice_;
   daemon::EventLoop loop_;
   std::unique_ptr<daemon::ControlServer> server_;
   std::filesystem::path socketDir_, socket_;
@@ -145,6 +156,43 @@ TEST(DaemonCommands, ASessionFromNewToExport) {
   EXPECT_THAT(r.err, HasSubstr("unknown method 'nosuch' (known: b, a,"));
 }
 
+TEST(DaemonCommands, AnExportFolderKeepsNoTableTheSamplesNoLongerGive) {
+  // The daemon removed the table (with a warning) from the session and its own export folder, but
+  // the copy an earlier `slicecap export` had put into DIR stayed there beside the new slices CSV.
+  const auto dir = test::freshTempDir();
+  LiveDaemon daemon(dir / "storage", [](const SliceSet& slices, const std::string& method) {
+    if (method == "halfway" && slices.slices().size() > 1)
+      throw std::runtime_error("stands in for a method that cannot read these slices");
+    return flatTable(slices, method);
+  });
+  const auto sweep = [&](const std::vector<std::string>& slice) {
+    std::vector<std::string> start = {"sweep", "start"};
+    start.insert(start.end(), slice.begin(), slice.end());
+    ASSERT_EQ(daemon.run(start).code, kExitOk);
+    for (int k = 0; k < 3; ++k)
+      daemon.manager().acceptSample(
+          {k, std::uint64_t(k), {30, k * 15.0}, {30, k * 15.0 + 15}, Rgb::gray(0.2)});
+    ASSERT_EQ(daemon.run({"sweep", "stop"}).code, kExitOk);
+  };
+  ASSERT_EQ(daemon.run({"session", "new", "felt", "--id", "felt"}).code, kExitOk);
+  sweep({"axial", "30", "30"});
+  const auto desk = dir / "desk";
+  ASSERT_EQ(daemon.run({"export", "felt", "-o", desk.string(), "--method", "halfway"}).code,
+            kExitOk);
+  ASSERT_TRUE(std::filesystem::exists(desk / "felt-abrdf-halfway.exr"));
+  std::ofstream(desk / "felt-abrdf-halfway.png") << "its preview";
+  std::ofstream(desk / "notes.txt") << "the operator's own file";
+  sweep({"diagonal", "30", "30"});
+  const Result r = daemon.run({"export", "felt", "-o", desk.string()});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("abrdf-halfway.exr (made from earlier samples) removed"));
+  EXPECT_FALSE(std::filesystem::exists(desk / "felt-abrdf-halfway.exr"));
+  EXPECT_FALSE(std::filesystem::exists(desk / "felt-abrdf-halfway.png"));
+  EXPECT_TRUE(std::filesystem::exists(desk / "felt-abrdf-prior.exr"));
+  EXPECT_TRUE(std::filesystem::exists(desk / "felt-slices.csv"));
+  EXPECT_TRUE(std::filesystem::exists(desk / "notes.txt"));
+}
+
 TEST(DaemonCommands, RefusesAWatchCountThatIsNoWholeNumberAndSaysWhyARequestIsTooLong) {
   const auto dir = test::freshTempDir();
   LiveDaemon daemon(dir / "storage");
@@ -195,6 +243,24 @@ TEST(DaemonCommands, RefusalsAndBadUsageHaveTheirExitCodes) {
   r = daemon.run({"session", "show", "nobody"});
   EXPECT_EQ(r.code, kExitFailure);
   EXPECT_THAT(r.err, HasSubstr("no session 'nobody'"));
+}
+
+TEST(DaemonCommands, ASweepTheCameraLeavesPausedIsAFailure) {
+  // `sweep start` printed "paused" with the camera's error and exited 0: a script went on as if
+  // the sweep were capturing.
+  LiveDaemon daemon(test::freshTempDir());
+  daemon.setFailingDevice("camera error: /dev/video0: No such device");
+  ASSERT_EQ(daemon.run({"session", "new", "felt", "--id", "felt"}).code, kExitOk);
+  Result r = daemon.run({"sweep", "start", "axial", "30", "30"});
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_THAT(r.err, HasSubstr("sweep axial 30/30 is paused, not capturing: camera error: "
+                               "/dev/video0: No such device"));
+  EXPECT_THAT(r.err, HasSubstr("`slicecap sweep start axial 30 30` continues"));
+  r = daemon.run({"sweep", "start", "axial", "30", "30", "--json"});  // continuing it fails alike
+  EXPECT_EQ(r.code, kExitFailure);
+  EXPECT_EQ(json::parse(r.out).at("code"), "unavailable");
+  EXPECT_EQ(daemon.run({"sweep", "redo", "axial", "30", "30"}).code, kExitFailure);
+  EXPECT_EQ(daemon.run({"sweep", "stop"}).code, kExitOk);
 }
 
 TEST(DaemonCommands, WithJsonAnErrorIsAlsoAJsonObjectOnStdout) {

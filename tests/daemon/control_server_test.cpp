@@ -1,8 +1,10 @@
 // The control socket under load and abuse: every client answered, the server never stops.
 #include "slicecap/daemon/control_server.hpp"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/eventfd.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <unistd.h>
@@ -170,6 +172,79 @@ TEST(ControlServer, ForgetsClientsThatHangUpMidLine) {
     }
     ControlClient client(socket);
     EXPECT_EQ(client.call(Hello{})["command"], "hello");
+  });
+}
+
+TEST(ControlServer, AClientThatHangsUpBeforeItsAnswerIsClosedOnce) {
+  // Its connection was closed twice (flush() met the broken pipe and dropped it, then the hang-up
+  // dropped it again): the second close() shut whatever another thread of the daemon had opened
+  // under that number in between, here a bystander's descriptor.
+  const auto socket = test::freshTempDir() / "ctl.sock";
+  serve(socket, echo, [&] {
+    std::atomic<bool> done = false;
+    std::atomic<int> closedUnderIt = 0;
+    std::thread bystander([&] {
+      while (!done) {
+        const int mine = ::eventfd(0, EFD_CLOEXEC);
+        for (int k = 0; k < 20; ++k) {
+          if (::fcntl(mine, F_GETFD) < 0) {
+            ++closedUnderIt;
+            return;  // its number may be someone else's by now: not closed again
+          }
+        }
+        ::close(mine);
+      }
+    });
+    const std::string request = encodeRequest({1, Hello{}}) + "\n";
+    for (int i = 0; i < 3000 && closedUnderIt == 0; ++i) {
+      const int fd = rawConnect(socket);
+      ::send(fd, request.data(), request.size(), MSG_NOSIGNAL);
+      ::close(fd);  // before the answer
+    }
+    ControlClient after(socket);
+    EXPECT_EQ(after.call(Hello{})["command"], "hello");
+    done = true;
+    bystander.join();
+    EXPECT_EQ(closedUnderIt, 0) << "a descriptor of another thread was closed by the server";
+  });
+}
+
+TEST(ControlServer, AClientWritingWithoutPauseDoesNotHoldUpTheOthers) {
+  // A script piping requests in without reading the answers: the server read it until it paused,
+  // so nobody else was answered (nor a frame taken, nor the watchdog fed) while its unread answers
+  // piled up in memory.
+  const auto socket = test::freshTempDir() / "ctl.sock";
+  const auto padded = [](const Request& request) {
+    return nlohmann::json{{"command", commandName(request.command)},
+                          {"pad", std::string(1000, 'x')}};
+  };
+  serve(socket, padded, [&] {
+    const int flooder = rawConnect(socket);
+    std::atomic<bool> stop = false, cutOff = false;
+    std::thread writer([&] {
+      std::string burst;
+      while (burst.size() < 65536)
+        burst += encodeRequest({1, Status{}}) + "\n";
+      while (!stop) {
+        if (::send(flooder, burst.data(), burst.size(), MSG_NOSIGNAL) < 0) {
+          cutOff = true;
+          return;
+        }
+      }
+    });
+    std::this_thread::sleep_for(100ms);
+    try {
+      ControlClient other(socket, 2s);
+      EXPECT_EQ(other.call(Hello{})["command"], "hello");
+    } catch (const ConnectionError& e) {
+      ADD_FAILURE() << e.what();
+    }
+    for (int k = 0; k < 200 && !cutOff; ++k)
+      std::this_thread::sleep_for(10ms);
+    EXPECT_TRUE(cutOff) << "the client that never read its answers was not dropped";
+    stop = true;
+    writer.join();
+    ::close(flooder);
   });
 }
 

@@ -199,6 +199,21 @@ TEST(SessionManager, AFullDiskPausesTheSweepAndKeepsWhatWasStored) {
   EXPECT_EQ(reopened.status()["session"]["samples"], stored);
 }
 
+TEST(SessionManager, ASessionAFullDiskKeptFromBeingMadeCanBeMadeOnceThereIsSpace) {
+  // The half-made folder stayed: `session list` did not show it, yet `session new` of the same id
+  // said it existed already.
+  const auto root = test::freshTempDir();
+  SessionManager manager(root, meanOfSlices);
+  {
+    const test::FileSizeLimit limit(10);  // session.json cannot be written
+    const ProtocolError error = refused(manager, SessionNew{"felt", std::string("felt")});
+    EXPECT_EQ(error.code, ErrorCode::StorageError);
+    EXPECT_THAT(error.message, HasSubstr("session.json"));
+  }
+  EXPECT_FALSE(std::filesystem::exists(root / "felt"));
+  EXPECT_EQ(ok(manager, SessionNew{"felt", std::string("felt")})["id"], "felt");
+}
+
 TEST(SessionManager, ReconstructsAndExportsTheFilesADesktopNeeds) {
   const auto root = test::freshTempDir();
   int previews = 0;
@@ -405,6 +420,52 @@ TEST(SessionManager, RefusesASecondManagerOnTheSameStorage) {
   SessionManager restarted(root, meanOfSlices);  // the lock went with the first
   EXPECT_EQ(restarted.status()["session"]["id"], "felt");
   EXPECT_TRUE(ok(restarted, SessionList{})["sessions"].size() == 1u) << "the lock is no session";
+}
+
+TEST(SessionManager, RefusesTheSessionIdOfItsCurrentFile) {
+  // A session named "current" became a folder where <storage>/current must be a file: its reply
+  // was a storage error, and from then on no session could be made current (after a restart the
+  // interrupted sweep was not found again).
+  const auto root = test::freshTempDir();
+  {
+    SessionManager manager(root, meanOfSlices);
+    const ProtocolError error = refused(manager, SessionNew{"felt", std::string("current")});
+    EXPECT_EQ(error.code, ErrorCode::BadRequest);
+    EXPECT_THAT(error.message, HasSubstr("session id 'current' is reserved"));
+    ok(manager, SessionNew{"felt", std::string("felt")});
+    EXPECT_EQ(refused(manager, SessionNew{"felt", std::string("current")}).code,
+              ErrorCode::BadRequest);
+    ok(manager, SweepStart{kAxial3030});
+    ASSERT_TRUE(manager.acceptSample(sampleAt(0, 0.5, 0)));
+  }
+  SessionManager restarted(root, meanOfSlices);
+  EXPECT_EQ(restarted.status()["session"]["id"], "felt");
+  EXPECT_EQ(restarted.status()["sweep"]["samples"], 1);
+}
+
+TEST(SessionManager, ACurrentSessionThatCannotBeReadDoesNotKeepTheDaemonFromStarting) {
+  // The constructor threw, so slicecapd exited at every start (systemd restarting it until it gave
+  // up) and no session at all could be captured.
+  const auto root = test::freshTempDir();
+  {
+    SessionManager manager(root, meanOfSlices);
+    ok(manager, SessionNew{"felt", std::string("felt")});
+    ok(manager, SweepStart{kAxial3030});
+    ASSERT_TRUE(manager.acceptSample(sampleAt(0, 0.5, 0)));
+  }
+  std::ofstream(root / "felt" / "session.json") << "{\"format\": 1, \"id\": ";
+  {
+    SessionManager restarted(root, meanOfSlices);
+    const json status = restarted.status();
+    EXPECT_TRUE(status["session"].is_null());
+    EXPECT_THAT(status["error"].get<std::string>(),
+                HasSubstr("the current session 'felt' cannot be opened: "));
+    EXPECT_THAT(status["error"].get<std::string>(), HasSubstr("felt/session.json"));
+    EXPECT_EQ(refused(restarted, SessionResume{"felt"}).code, ErrorCode::StorageError);
+    ok(restarted, SessionNew{"grey card", std::string("grey")});
+    EXPECT_FALSE(restarted.status().contains("error"));
+  }
+  EXPECT_TRUE(std::filesystem::exists(root / "felt" / "journal")) << "nothing is removed";
 }
 
 TEST(SessionManager, NamesTheSparsestSliceOnceEverySliceIsSwept) {

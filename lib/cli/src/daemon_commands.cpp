@@ -1,5 +1,6 @@
 // The commands a person on SSH uses to drive slicecapd: session, sweep, status, export. Each sends
 // protocol commands over the control socket and prints the answer for a person, or as JSON.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -206,7 +207,16 @@ int runSweep(const ParsedArgs& args, Streams& io) {
     const SliceId slice = sliceFrom(args, 1);
     const daemon::Command command =
         action == "start" ? daemon::Command{daemon::SweepStart{slice}} : daemon::SweepRedo{slice};
-    return finish(args, io, call(args, command), printSweep);
+    const json sweep = call(args, command);
+    // The daemon takes the command, but a camera, exposure lock or texture store that fails at
+    // once leaves the sweep paused with the reason: it is not capturing, so this is no success
+    // (a script's `sweep start ... && ...` went on as if it were).
+    if (sweep.value("state", "") == "paused")
+      throw daemon::DaemonError(
+          std::string(daemon::errorCodeName(daemon::ErrorCode::Unavailable)),
+          "sweep " + sweep["slice"]["name"].get<std::string>() +
+              " is paused, not capturing: " + sweep.value("pause_reason", "no reason given"));
+    return finish(args, io, sweep, printSweep);
   }
   throw UsageError("sweep: unknown action '" + action + "' (start, stop, redo)");
 }
@@ -291,6 +301,26 @@ int runExport(const ParsedArgs& args, Streams& io) {
                                error.message());
     copied.push_back(target.string());
   }
+  // A table the samples can no longer give (the daemon removed it, warning below) must not stay
+  // in DIR from an earlier export, beside the new slices CSV as if made from it: this session's
+  // tables and previews that this export did not copy go, as from the daemon's export folder.
+  const std::string tablePrefix = result["session"].get<std::string>() + "-abrdf-";
+  std::vector<fs::path> stale;
+  for (const fs::directory_entry& entry : fs::directory_iterator(destination)) {
+    const std::string name = entry.path().filename().string();
+    const fs::path extension = entry.path().extension();
+    if (name.rfind(tablePrefix, 0) != 0 || (extension != ".exr" && extension != ".png")) continue;
+    if (std::none_of(copied.begin(), copied.end(), [&](const json& file) {
+          return fs::path(file.get<std::string>()).filename() == name;
+        }))
+      stale.push_back(entry.path());
+  }
+  for (const fs::path& path : stale) {
+    fs::remove(path, error);
+    if (error)
+      throw std::runtime_error(
+          path.string() + ": cannot remove (a table from earlier samples): " + error.message());
+  }
   if (result.contains("texture")) {
     const fs::path target = destination / (result["session"].get<std::string>() + "-texture");
     copyTexture(result["texture"].get<std::string>(), target);
@@ -353,7 +383,9 @@ Command sweepCommand() {
            "start|redo axial|diagonal THETA_I THETA_V | stop [--socket PATH] [--json]",
            "Start, stop or redo the sweep of one slice of the current session. THETA_I and "
            "THETA_V are\nthe light and view elevations, 30 or 75 deg. `sweep start` of a paused "
-           "sweep continues it;\n`redo` discards the slice's samples and sweeps it again.",
+           "sweep continues it;\n`redo` discards the slice's samples and sweeps it again. A start "
+           "or redo that the camera\n(or texture store) leaves paused at once exits with 1 and "
+           "the reason.",
            {kSocketOption, kJsonOption},
            1,
            4},

@@ -156,7 +156,12 @@ void ControlServer::onClientEvent(int fd, std::uint32_t events) {
           client.discardingOversizedLine = true;
           client.input.clear();
         }
-        continue;
+        // One read a wake-up: epoll is level-triggered, so the rest comes on the next round,
+        // after the other clients, the camera's frames and the watchdog have had theirs. Reading
+        // until EAGAIN let a client that writes without pause hold the loop (its unread answers
+        // piling up) until the watchdog killed the daemon; now flush() drops it once those pass
+        // maxPendingOutputBytes.
+        break;
       }
       if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) break;
       if (n < 0 && errno == EINTR) continue;
@@ -208,6 +213,10 @@ void ControlServer::flush(int fd) {
 }
 
 void ControlServer::drop(int fd) {
+  // Once only: a client that hangs up with answers unsent is dropped by flush(), and then again by
+  // its hang-up; the second close() could shut a descriptor another thread (the frame recorder's
+  // writer, libcamera's) had been given the same number in between.
+  if (!clients_.count(fd)) return;
   loop_.unwatch(fd);
   ::close(fd);
   clients_.erase(fd);

@@ -228,8 +228,27 @@ struct SessionManager::State {
   json run(const SessionNew& command) {
     requireNoSweep("start a new session");
     const std::string id = command.id.value_or(newSessionId());
+    // <root>/current names the current session: a session folder of that name could never be
+    // made current (nor could any other after it, the file's place being taken).
+    if (id == currentFile().filename())
+      throw Refusal{ErrorCode::BadRequest, "session id '" + id +
+                                               "' is reserved (the storage folder's file naming "
+                                               "the current session): choose another"};
     if (exists(id)) throw Refusal{ErrorCode::Conflict, "session '" + id + "' exists already"};
-    makeCurrent(capture::SessionStore::create(root, id, command.material));
+    std::optional<capture::SessionStore> created;
+    try {
+      created.emplace(capture::SessionStore::create(root, id, command.material));
+    } catch (const io::IoError&) {
+      // A folder left without its session.json (a full disk) is no session, `session list` leaves
+      // it out, yet it kept the id taken ("exists already") once there was space again. It was
+      // made just now and holds nothing.
+      if (!fs::exists(root / id / "session.json")) {
+        std::error_code ignored;
+        fs::remove_all(root / id, ignored);
+      }
+      throw;
+    }
+    makeCurrent(std::move(*created));
     return sessionJson(*session);
   }
 
@@ -617,7 +636,19 @@ SessionManager::SessionManager(fs::path storageRoot, ReconstructFunction reconst
   std::ifstream current(state_->currentFile());
   std::string id;
   if (current >> id && capture::isValidSessionId(id) && state_->exists(id)) {
-    state_->makeCurrent(capture::SessionStore::open(state_->root, id));
+    // A current session that cannot be read (a damaged session.json or journal record) must not
+    // keep the daemon from starting, or no session at all could be captured: it stays on disk as
+    // it is, and the status names it until another session is made current.
+    std::optional<capture::SessionStore> store;
+    try {
+      store.emplace(capture::SessionStore::open(state_->root, id));
+    } catch (const std::exception& unreadable) {
+      state_->lastError = "the current session '" + id +
+                          "' cannot be opened: " + unreadable.what() +
+                          " (nothing was changed on disk; `slicecap session new MATERIAL` or "
+                          "`slicecap session resume ID` goes on with another)";
+    }
+    if (store) state_->makeCurrent(std::move(*store));
   }
 }
 
