@@ -16,6 +16,7 @@
 #include "slicecap/daemon/config.hpp"
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/daemon.hpp"
+#include "slicecap/daemon/event_loop.hpp"
 #include "slicecap/daemon/texture_sink.hpp"
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/hal/clock.hpp"
@@ -186,6 +187,9 @@ void preview(const Abrdf& table, const fs::path& png) {
 
 // `warnings`: configWarnings(config), already logged; every status shows them.
 int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::ostream& err) {
+  // Before the camera: libcamera starts its threads in the camera's constructor, and a SIGTERM
+  // that reached one of them would end the process without stopping the sweep cleanly.
+  daemon::blockSignalsInThisAndLaterThreads(daemon::stopSignals());
   static hal::SteadyClock clock;
   daemon::DaemonParts parts;
   parts.storage = config.storage;

@@ -289,5 +289,34 @@ TEST(EventLoop, RunsTimersPostedWorkAndSignals) {
   EXPECT_EQ(signals, 1);
 }
 
+// A thread started before the loop exists (libcamera's, in slicecapd) must not take the loop's
+// signal: its default action would end the process. Run in a child, where that shows as a death.
+TEST(EventLoop, ASignalBlockedBeforeAThreadStartsReachesTheLoopNotTheThread) {
+  EXPECT_EXIT(
+      {
+        blockSignalsInThisAndLaterThreads({SIGUSR2});
+        std::atomic<bool> done{false};
+        std::thread early([&] {
+          while (!done)
+            std::this_thread::sleep_for(1ms);
+        });
+        int received = 0;
+        {
+          EventLoop loop({SIGUSR2});
+          loop.onSignal([&](int s) {
+            if (s == SIGUSR2) ++received;
+            loop.stop();
+          });
+          loop.addTimer(5ms, false, [] { ::kill(::getpid(), SIGUSR2); });
+          loop.addTimer(2s, false, [&] { loop.stop(); });
+          loop.run();
+        }
+        done = true;
+        early.join();
+        std::_Exit(received == 1 ? 0 : 3);
+      },
+      ::testing::ExitedWithCode(0), "");
+}
+
 }  // namespace
 }  // namespace slicecap::daemon

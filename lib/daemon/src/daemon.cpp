@@ -15,9 +15,13 @@
 
 namespace slicecap::daemon {
 
+std::vector<int> stopSignals() {
+  return {SIGTERM, SIGINT};
+}
+
 struct Daemon::State {
   DaemonParts parts;
-  EventLoop loop{{SIGTERM, SIGINT}};
+  EventLoop loop{stopSignals()};
   SessionManager manager;
   std::unique_ptr<ControlServer> server;
 

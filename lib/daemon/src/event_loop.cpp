@@ -18,7 +18,22 @@ std::system_error lastError(const char* what) {
   return std::system_error(errno, std::generic_category(), what);
 }
 
+sigset_t signalSet(const std::vector<int>& signals) {
+  sigset_t set;
+  sigemptyset(&set);
+  for (int s : signals)
+    sigaddset(&set, s);
+  return set;
+}
+
 }  // namespace
+
+void blockSignalsInThisAndLaterThreads(const std::vector<int>& signals) {
+  const sigset_t set = signalSet(signals);
+  // pthread_sigmask returns the error number instead of setting errno.
+  if (const int error = pthread_sigmask(SIG_BLOCK, &set, nullptr); error != 0)
+    throw std::system_error(error, std::generic_category(), "pthread_sigmask");
+}
 
 EventLoop::EventLoop(std::vector<int> signals) {
   epollFd_ = epoll_create1(EPOLL_CLOEXEC);
@@ -32,11 +47,8 @@ EventLoop::EventLoop(std::vector<int> signals) {
     drainPosted();
   });
   if (!signals.empty()) {
-    sigset_t mask;
-    sigemptyset(&mask);
-    for (int s : signals)
-      sigaddset(&mask, s);
-    if (pthread_sigmask(SIG_BLOCK, &mask, nullptr) != 0) throw lastError("pthread_sigmask");
+    blockSignalsInThisAndLaterThreads(signals);
+    const sigset_t mask = signalSet(signals);
     signalFd_ = signalfd(-1, &mask, SFD_NONBLOCK | SFD_CLOEXEC);
     if (signalFd_ < 0) throw lastError("signalfd");
     watch(signalFd_, EPOLLIN, [this](std::uint32_t) {

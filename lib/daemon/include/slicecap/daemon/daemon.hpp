@@ -60,6 +60,11 @@ struct DaemonParts {
   std::chrono::microseconds filePollInterval = std::chrono::milliseconds(2);
 };
 
+/// \brief The signals that stop the daemon: SIGTERM (systemd) and SIGINT (a terminal). A program
+/// that makes a Daemon blocks them with blockSignalsInThisAndLaterThreads before it opens a camera
+/// or starts any other thread.
+std::vector<int> stopSignals();
+
 /// \brief The daemon. The LED is on only while a sweep is capturing, and off when a sweep pauses
 /// or stops, when the camera fails, when run() returns and in the destructor.
 class Daemon {

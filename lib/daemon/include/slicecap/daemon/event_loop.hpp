@@ -12,6 +12,13 @@
 
 namespace slicecap::daemon {
 
+/// \brief Blocks `signals` in the calling thread; threads it starts afterwards inherit the block.
+/// A process-directed signal goes to any thread that does not block it, where its default action
+/// (for SIGTERM: end the process) runs before an EventLoop's signalfd sees it. So a program whose
+/// libraries start threads before its EventLoop exists (libcamera's CameraManager does, in the
+/// camera's constructor) calls this first. Throws std::system_error.
+void blockSignalsInThisAndLaterThreads(const std::vector<int>& signals);
+
 /// \brief An epoll loop on one thread. Signals given to the constructor are blocked in the calling
 /// thread and delivered through a signalfd, so a handler runs on the loop like any other event.
 /// Every method except post() and stop() must be called on the loop's thread. Constructor failures
