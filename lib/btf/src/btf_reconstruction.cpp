@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "slicecap/recon/errors.hpp"
@@ -67,10 +68,10 @@ Abrdf methodBTexel(const SliceSet& samples, const recon::MethodBParams& params, 
   return table;
 }
 
-Abrdf priorTexel(const SliceSet& samples, const prior::PriorModel& model,
-                 const prior::PriorParams& params, RowCounts& counts) {
+Abrdf priorTexel(const SliceSet& samples, const prior::PriorReconstructor& reconstructor,
+                 RowCounts& counts) {
   prior::PriorReport report;
-  Abrdf table = prior::reconstructWithPrior(samples, model, params, &report);
+  Abrdf table = reconstructor.reconstruct(samples, &report);
   counts.priorBlended += report.methodBBlended ? 1 : 0;
   counts.priorAnisotropic += report.anisotropyTermsUsed ? 1 : 0;
   return table;
@@ -153,6 +154,11 @@ BtfTexture reconstructBtf(const TextureGrid& grid, const std::vector<SliceTextur
   // Built before the threads start: the one factorisation every texel shares.
   const recon::MethodASystem* system =
       params.method == TexelMethod::A ? &recon::sharedMethodASystem() : nullptr;
+  // The prior's basis entry by entry, shared likewise.
+  const std::optional<prior::PriorReconstructor> priorReconstructor =
+      params.method == TexelMethod::Prior ? std::optional<prior::PriorReconstructor>(
+                                                std::in_place, *params.priorModel, params.prior)
+                                          : std::nullopt;
   Tally tally;
   std::atomic<int> nextRow{0};
   {
@@ -165,7 +171,7 @@ BtfTexture reconstructBtf(const TextureGrid& grid, const std::vector<SliceTextur
           else if (params.method == TexelMethod::Prior)
             texelByTexelRow(grid, slices, row, out, tally,
                             [&](const SliceSet& samples, RowCounts& counts) {
-                              return priorTexel(samples, *params.priorModel, params.prior, counts);
+                              return priorTexel(samples, *priorReconstructor, counts);
                             });
           else
             texelByTexelRow(grid, slices, row, out, tally,

@@ -24,6 +24,7 @@ constexpr int kEntries = kFeatureCount;
 
 struct SampleRow {
   std::vector<TableTap> taps;
+  std::vector<int> slots;  ///< per tap, its entry's row in TappedEntries
   Rgb weighted;  ///< value times cos(theta_i) cos(theta_v), clipped at 0
   const SliceId* slice;
   double parameterDeg;
@@ -68,15 +69,59 @@ RidgeFit ridgeFit(const NormalEquations& equations, int columns, const Eigen::Ve
   return fit;
 }
 
-// The design's columns at one table entry: the basis components, then the half-vector terms (as
-// many as `row` has room for).
-void entryFeatures(const PriorModel& model, int entry, Eigen::RowVectorXd& row) {
+using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// The distinct table entries the samples' taps read, and the design's columns at each (the basis
+// components, then the half-vector terms), gathered once. Off the grid (every jittered sample,
+// every texel of a BTF) a sample reads up to 16 entries and its neighbours along the slice read
+// most of the same ones; and the basis is stored component by component, so gathering one entry's
+// features touches 16 cache lines. Everything computed per entry (the features, the fitted log
+// values and their exponentials) is computed once per entry here, then blended per tap exactly as
+// before.
+struct TappedEntries {
+  std::vector<int> entries;  // slot -> table entry (light * 81 + view)
+  RowMajorMatrix features;   // slot x (components + half-vector terms)
+};
+
+// `basisByEntry`: the basis entry by entry (PriorReconstructor), or null to read it from the model.
+TappedEntries gatherTappedEntries(std::vector<SampleRow>& rows, const PriorModel& model,
+                                  const float* basisByEntry) {
+  TappedEntries out;
+  std::vector<int> slotOf(kEntries, -1);
+  for (SampleRow& r : rows) {
+    r.slots.resize(r.taps.size());
+    for (std::size_t t = 0; t < r.taps.size(); ++t) {
+      const int entry = r.taps[t].light * 81 + r.taps[t].view;
+      if (slotOf[entry] < 0) {
+        slotOf[entry] = static_cast<int>(out.entries.size());
+        out.entries.push_back(entry);
+      }
+      r.slots[t] = slotOf[entry];
+    }
+  }
   const int k = model.components();
+  const int slots = static_cast<int>(out.entries.size());
   const auto& gridTerms = gridHalfVectorTerms();
-  for (int j = 0; j < k; ++j)
-    row[j] = model.component(j)[entry];
-  for (int j = k; j < row.size(); ++j)
-    row[j] = gridTerms[entry][j - k];
+  out.features.resize(slots, k + kHalfVectorTermCount);
+  if (basisByEntry) {
+    for (int s = 0; s < slots; ++s) {
+      const float* entryBasis = basisByEntry + std::size_t(out.entries[std::size_t(s)]) * k;
+      for (int j = 0; j < k; ++j)
+        out.features(s, j) = entryBasis[j];
+    }
+  } else {
+    for (int j = 0; j < k; ++j) {
+      const float* component = model.component(j);
+      for (int s = 0; s < slots; ++s)
+        out.features(s, j) = component[out.entries[std::size_t(s)]];
+    }
+  }
+  for (int s = 0; s < slots; ++s) {
+    const HalfVectorTerms& terms = gridTerms[std::size_t(out.entries[std::size_t(s)])];
+    for (int j = 0; j < kHalfVectorTermCount; ++j)
+      out.features(s, k + j) = terms[std::size_t(j)];
+  }
+  return out;
 }
 
 // One Gauss-Newton step from the fit above to the fit of the true measurement operator. The fit
@@ -87,28 +132,40 @@ void entryFeatures(const PriorModel& model, int entry, Eigen::RowVectorXd& row) 
 // w_t exp(L_t) / sum (one set of weights for the three channels, from their mean log, so one
 // system serves all three). Model selection stays with the first fit; one step removes nearly all
 // of the mismatch (a second changed the held-out mean dE by < 0.002).
-Eigen::MatrixXd refineOnLinearTaps(const std::vector<SampleRow>& rows, const PriorModel& model,
-                                   const Rgb& floor, const Eigen::VectorXd& penalty,
+Eigen::MatrixXd refineOnLinearTaps(const std::vector<SampleRow>& rows, const TappedEntries& tapped,
+                                   const PriorModel& model, const Rgb& floor,
+                                   const Eigen::VectorXd& penalty,
                                    const Eigen::MatrixXd& coefficients) {
   const int n = static_cast<int>(rows.size());
   const int columns = static_cast<int>(coefficients.rows());
-  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(n, columns);
+  // Per entry: exp of the fitted log values, and exp of their channel mean.
+  const std::size_t slots = tapped.entries.size();
+  std::vector<Eigen::Array3d> entryValues(slots);
+  std::vector<double> entryShares(slots);
+  for (std::size_t s = 0; s < slots; ++s) {
+    Eigen::Array3d logValue =
+        (tapped.features.row(Eigen::Index(s)).head(columns) * coefficients).transpose().array();
+    logValue += model.mean[std::size_t(tapped.entries[s])];
+    entryShares[s] = std::exp(logValue.mean());
+    entryValues[s] = logValue.exp();
+  }
+  Eigen::MatrixXd jacobian(n, columns);
   Eigen::MatrixXd linearTargets(n, 3);
-  Eigen::RowVectorXd entryRow(columns);
+  Eigen::RowVectorXd jacobianRow(columns);
   for (int i = 0; i < n; ++i) {
     double shareSum = 0.0;
     Eigen::Array3d predicted = Eigen::Array3d::Zero();
-    for (const TableTap& tap : rows[i].taps) {
-      const int entry = tap.light * 81 + tap.view;
-      entryFeatures(model, entry, entryRow);
-      Eigen::Array3d logValue = (entryRow * coefficients).transpose().array();
-      logValue += model.mean[entry];
-      const double share = tap.weight * std::exp(logValue.mean());
-      jacobian.row(i) += share * entryRow;
+    jacobianRow.setZero();
+    const SampleRow& row = rows[std::size_t(i)];
+    for (std::size_t t = 0; t < row.taps.size(); ++t) {
+      const std::size_t s = std::size_t(row.slots[t]);
+      const double share = row.taps[t].weight * entryShares[s];
+      jacobianRow += share * tapped.features.row(Eigen::Index(s)).head(columns);
       shareSum += share;
-      predicted += tap.weight * logValue.exp();
+      predicted += row.taps[t].weight * entryValues[s];
     }
-    jacobian.row(i) /= shareSum;
+    jacobianRow /= shareSum;
+    jacobian.row(i) = jacobianRow;
     for (int c = 0; c < 3; ++c)
       linearTargets(i, c) = std::log(rows[i].weighted[c] + floor[c]) - std::log(predicted[c]) +
                             jacobian.row(i).dot(coefficients.col(c));
@@ -162,6 +219,10 @@ std::optional<Abrdf> methodBWhereItRuns(const SliceSet& slices) {
   }
 }
 
+// The reconstruction; `basisByEntry` as for gatherTappedEntries.
+Abrdf reconstruct(const SliceSet& slices, const PriorModel& model, const PriorParams& params,
+                  PriorReport* report, const float* basisByEntry);
+
 }  // namespace
 
 bool PriorParams::isValid(std::string* error) const {
@@ -186,11 +247,37 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
                            const PriorParams& params, PriorReport* report) {
   std::string error;
   if (!params.isValid(&error)) throw std::invalid_argument("prior reconstruction: " + error);
+  return reconstruct(slices, model, params, report, nullptr);
+}
+
+PriorReconstructor::PriorReconstructor(const PriorModel& model, const PriorParams& params)
+    : model_(&model), params_(params) {
+  std::string error;
+  if (!params.isValid(&error)) throw std::invalid_argument("prior reconstruction: " + error);
+  const int k = model.components();
+  if (model.basis.size() != std::size_t(k) * kEntries)
+    throw std::invalid_argument("prior reconstruction: the basis must hold components x 6561");
+  basisByEntry_.resize(model.basis.size());
+  for (int j = 0; j < k; ++j) {
+    const float* component = model.component(j);
+    for (int e = 0; e < kEntries; ++e)
+      basisByEntry_[std::size_t(e) * k + j] = component[e];
+  }
+}
+
+Abrdf PriorReconstructor::reconstruct(const SliceSet& slices, PriorReport* report) const {
+  return prior::reconstruct(slices, *model_, params_, report, basisByEntry_.data());
+}
+
+namespace {
+
+Abrdf reconstruct(const SliceSet& slices, const PriorModel& model, const PriorParams& params,
+                  PriorReport* report, const float* basisByEntry) {
   std::vector<SampleRow> rows;
   rows.reserve(slices.sampleCount());
   for (const Slice& slice : slices.slices()) {
     for (const SliceSample& s : slice.samples) {
-      SampleRow row{{}, {}, &slice.id, sliceParameterDeg(slice.id.kind, s)};
+      SampleRow row{{}, {}, {}, &slice.id, sliceParameterDeg(slice.id.kind, s)};
       try {
         row.taps = tableTaps(s.light, s.view);
       } catch (const std::invalid_argument& e) {
@@ -225,17 +312,20 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
   const int n = static_cast<int>(rows.size());
   const int k = model.components();
   const auto& gridTerms = gridHalfVectorTerms();
-  Eigen::MatrixXd design = Eigen::MatrixXd::Zero(n, k + kHalfVectorTermCount);
+  const TappedEntries tapped = gatherTappedEntries(rows, model, basisByEntry);
+  Eigen::MatrixXd design(n, k + kHalfVectorTermCount);
   Eigen::MatrixXd targets(n, 3);
-  Eigen::RowVectorXd features(k + kHalfVectorTermCount);
+  Eigen::RowVectorXd designRow(k + kHalfVectorTermCount);
   for (int i = 0; i < n; ++i) {
     double meanAtSample = 0.0;
-    for (const TableTap& tap : rows[i].taps) {
-      const int entry = tap.light * 81 + tap.view;
-      meanAtSample += tap.weight * model.mean[entry];
-      entryFeatures(model, entry, features);
-      design.row(i) += tap.weight * features;
+    designRow.setZero();
+    const SampleRow& row = rows[std::size_t(i)];
+    for (std::size_t t = 0; t < row.taps.size(); ++t) {
+      const TableTap& tap = row.taps[t];
+      meanAtSample += tap.weight * model.mean[std::size_t(tap.light * 81 + tap.view)];
+      designRow += tap.weight * tapped.features.row(row.slots[t]);
     }
+    design.row(i) = designRow;
     for (int c = 0; c < 3; ++c)
       targets(i, c) = std::log(rows[i].weighted[c] + floor[c]) - meanAtSample;
   }
@@ -280,28 +370,41 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
           const Eigen::Matrix<double, Eigen::Dynamic, kHalfVectorTermCount, Eigen::RowMajor>>(
           gridTerms[0].data(), kEntries, kHalfVectorTermCount)
           .cast<float>();
-  const Eigen::MatrixXd refined =
-      refineOnLinearTaps(rows, model, floor, penalty.head(columnsUsed), chosen.coefficients);
+  const Eigen::MatrixXd refined = refineOnLinearTaps(
+      rows, tapped, model, floor, penalty.head(columnsUsed), chosen.coefficients);
   const Eigen::MatrixXf coefficients = refined.topRows(k).cast<float>();
   const Eigen::MatrixXf termCoefficients = refined.bottomRows(termsUsed).cast<float>();
   Eigen::MatrixXf logTable = basis * coefficients;
   logTable.colwise() += Eigen::Map<const Eigen::VectorXf>(model.mean.data(), kEntries);
   // One matrix-vector product per channel over a float copy of the grid's terms (a general
-  // matrix product would repack the 6561 x 30 terms on every call).
+  // matrix product would repack the 6561 x 30 terms on every call), in blocks of rows so that
+  // the three channels read a block while it is in the cache (the terms are 787 kB). Each row is
+  // its own dot product, and blocks of a multiple of 8 rows keep every row on the kernel path it
+  // takes in one product over all rows: the same sums to the bit.
   if (termsUsed > 0) {
-    for (int c = 0; c < 3; ++c)
-      logTable.col(c).noalias() += terms.leftCols(termsUsed) * termCoefficients.col(c);
+    constexpr int kBlockRows = 512;
+    for (int first = 0; first < kEntries; first += kBlockRows) {
+      const int blockRows = std::min(kBlockRows, kEntries - first);
+      for (int c = 0; c < 3; ++c)
+        logTable.col(c).segment(first, blockRows).noalias() +=
+            terms.block(first, 0, blockRows, termsUsed) * termCoefficients.col(c);
+    }
   }
 
   // The samples' residuals against the fitted table, read as the sample was (linear taps).
+  std::vector<std::array<double, 3>> entryValues(tapped.entries.size());
+  for (std::size_t s = 0; s < tapped.entries.size(); ++s) {
+    for (int c = 0; c < 3; ++c)
+      entryValues[s][std::size_t(c)] = std::exp(double(logTable(tapped.entries[s], c)));
+  }
   SliceResiduals residuals;
   double squares = 0.0;
   for (const SampleRow& r : rows) {
     Rgb predicted;
-    for (const TableTap& tap : r.taps) {
+    for (std::size_t t = 0; t < r.taps.size(); ++t) {
+      const std::array<double, 3>& value = entryValues[std::size_t(r.slots[t])];
       for (int c = 0; c < 3; ++c)
-        predicted[c] +=
-            tap.weight * (std::exp(double(logTable(tap.light * 81 + tap.view, c))) - floor[c]);
+        predicted[c] += r.taps[t].weight * (value[std::size_t(c)] - floor[c]);
     }
     Rgb residual;
     for (std::size_t c = 0; c < 3; ++c) {
@@ -371,5 +474,7 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
   }
   return table;
 }
+
+}  // namespace
 
 }  // namespace slicecap::prior

@@ -64,4 +64,23 @@ struct PriorReport {
 Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
                            const PriorParams& params = {}, PriorReport* report = nullptr);
 
+/// \brief reconstructWithPrior for many reconstructions with one model and one set of params (a
+/// BTF's texels), with the same results to the bit. It keeps a copy of the model's basis entry by
+/// entry (PriorModel::basis is stored component by component): a texel's samples lie off the
+/// grid and read 16 table entries each, and gathering an entry's components then reads one cache
+/// line instead of one per component. Built in about a millisecond (420 kB for 16 components);
+/// the model must outlive it. `reconstruct` is const and may run on many threads at once.
+class PriorReconstructor {
+ public:
+  /// \brief Throws std::invalid_argument for invalid params or a basis of the wrong size.
+  explicit PriorReconstructor(const PriorModel& model, const PriorParams& params = {});
+  /// \brief As reconstructWithPrior(slices, model, params, report).
+  Abrdf reconstruct(const SliceSet& slices, PriorReport* report = nullptr) const;
+
+ private:
+  const PriorModel* model_;
+  PriorParams params_;
+  std::vector<float> basisByEntry_;  // kFeatureCount x components
+};
+
 }  // namespace slicecap::prior
