@@ -242,9 +242,14 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
     }
   }
   if (!rigFor) rigFor = [=](const SliceId&) { return Rig{target, cameraModel}; };
-  parts.newFrameProcessor = [rigFor](const SliceId& slice, capture::FrameObserver observer) {
+  capture::PipelineSettings pipelineSettings;
+  // Without alternation there is no LED-off frame to measure the room light with.
+  pipelineSettings.requireAmbient = config.ledAlternate;
+  parts.newFrameProcessor = [rigFor, pipelineSettings](const SliceId& slice,
+                                                       capture::FrameObserver observer) {
     const Rig rig = rigFor(slice);
-    return capture::makeFramePipeline(rig.target, rig.camera, {}, std::move(observer));
+    return capture::makeFramePipeline(rig.target, rig.camera, pipelineSettings,
+                                      std::move(observer));
   };
   if (config.recordFrames) {
     parts.recordingHeaderFor = [rigFor, createdBy](const SliceId& slice) {

@@ -214,6 +214,33 @@ TEST(FramePipeline, RoomLightOfAFrameOfUnknownExposureIsNotSubtractedFromAKnownO
   }
 }
 
+// requireAmbient = false (slicecapd's led_alternate = false): an LED-off frame that still comes
+// (the sweep's first) is not subtracted; it would stand for the room light of the whole sweep.
+TEST(FramePipeline, WithoutAmbientRequiredAnLedOffFrameIsNotSubtracted) {
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  const auto dir = simulate(slice, sim::RigParams::ideal(), 4);
+  const io::Recording recording = io::readRecording(dir);
+  const auto sampleAfterLedOff = [&](bool requireAmbient, bool ledOffFirst) {
+    PipelineSettings settings;
+    settings.requireAmbient = requireAmbient;
+    FramePipeline pipeline(recording.target, recording.camera, settings);
+    if (ledOffFirst) {
+      EXPECT_EQ(pipeline.process(frameOf(dir, 1), slice).kind, FrameOutcome::Kind::Ambient);
+    }
+    const FrameOutcome outcome = pipeline.process(frameOf(dir, 2), slice);
+    EXPECT_EQ(outcome.kind, FrameOutcome::Kind::Sample) << outcome.rejectReason;
+    return outcome.sample ? outcome.sample->value : Rgb{};
+  };
+  const Rgb alone = sampleAfterLedOff(false, false);
+  const Rgb afterLedOff = sampleAfterLedOff(false, true);
+  const Rgb subtracted = sampleAfterLedOff(true, true);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(afterLedOff[c], alone[c]) << "channel " << c;
+    // The room light is there to subtract: else this test could not tell.
+    EXPECT_LT(subtracted[c], 0.999 * alone[c]) << "channel " << c;
+  }
+}
+
 // Median over LED-on frames of the worst channel's relative error against the truth.
 double medianSampleError(const std::vector<FrameOutcome>& outcomes, const sim::SweepTruth& truth) {
   std::vector<double> errors;

@@ -439,7 +439,11 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   if (!window.inside) return rejected("window_occluded", "window out of the image", outcome);
   if (window.clipped) return rejected("window_clipped", "window saturated", outcome);
   // The same room-light term for the window and every reference, found once.
-  const std::vector<AmbientTerm> ambient = s.ambientTerms(frame.metadata.timestampUs);
+  // Without the LED alternating, an LED-off frame is a stray (a sweep's first): it would stand
+  // for the room light of the whole sweep, read at pixels the camera has long moved from.
+  const std::vector<AmbientTerm> ambient = s.settings.requireAmbient
+                                               ? s.ambientTerms(frame.metadata.timestampUs)
+                                               : std::vector<AmbientTerm>{};
   if (s.settings.requireAmbient && ambient.empty())
     return rejected("no_ambient_frame", "no LED-off frame yet", outcome);
   // Each frame is read per unit of exposure x gain; a frame whose camera reported none is read as

@@ -176,7 +176,8 @@ calibration =
 led_chip = gpiochip0
 led_line = GPIO17
 led_active_low = false
-# Switch the LED off every other frame, so ambient light can be measured and removed.
+# Switch the LED off every other frame, so ambient light can be measured and removed. false: the
+# LED stays on and no room light is removed (only for a dark room).
 led_alternate = true
 # With camera = file: the file the LED's changes are written to (empty: <storage>/led.log).
 led_log =

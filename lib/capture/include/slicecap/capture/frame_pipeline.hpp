@@ -33,7 +33,8 @@ struct PipelineSettings {
   /// \brief The measured light direction replaces the nominal one when its sigma is below this.
   double measuredLightMaxSigmaDeg = 0.5;
   double nominalLightDistanceMm = 300.0;  ///< start of the point-light fit
-  /// \brief LED-on frames need an LED-off frame to subtract (false: no ambient subtraction). An
+  /// \brief LED-on frames need an LED-off frame to subtract (false: no room light is subtracted,
+  /// not even an LED-off frame's that came: slicecapd's led_alternate = false, a dark room). An
   /// LED-off frame whose exposure the camera did not report (0) is subtracted only from LED-on
   /// frames without one either, and the other way round: else "no_ambient_frame".
   bool requireAmbient = true;
