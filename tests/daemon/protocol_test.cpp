@@ -79,6 +79,12 @@ TEST(Protocol, ValidatesArgumentsAndNamesTheField) {
   EXPECT_NE(start("{}").find("\"kind\""), std::string::npos);
   EXPECT_NE(start("{\"kind\":\"radial\",\"theta_i\":30,\"theta_v\":30}").find("axial"),
             std::string::npos);
+  // Point slices exist in the offline formats, but no sweep makes one.
+  const ProtocolError point = refusal(
+      "{\"v\":1,\"id\":1,\"cmd\":\"sweep.start\",\"args\":{\"kind\":\"point\",\"theta_i\":30,"
+      "\"theta_v\":30}}");
+  EXPECT_EQ(point.code, ErrorCode::BadRequest);
+  EXPECT_NE(point.message.find("\"axial\" or \"diagonal\""), std::string::npos) << point.message;
   EXPECT_NE(start("{\"kind\":\"axial\",\"theta_i\":45,\"theta_v\":30}")
                 .find("\"theta_i\" must be 30 or 75"),
             std::string::npos);

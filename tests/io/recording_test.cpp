@@ -91,6 +91,7 @@ TEST(Recording, ReaderNamesTheFieldThatIsWrong) {
       {"frames[0].led_on", [](auto& j) { j["frames"][0]["led_on"] = "yes"; }},
       {"pixel_encoding", [](auto& j) { j["pixel_encoding"] = "raw10"; }},
       {"slice.kind", [](auto& j) { j["slice"]["kind"] = "sideways"; }},
+      {"slice.kind", [](auto& j) { j["slice"]["kind"] = "point"; }},
       {"camera.fx_px", [](auto& j) { j["camera"]["fx_px"] = 0; }},
       // A size no frame could be allocated for (simulate --camera failed with bad_alloc).
       {"camera.width_px", [](auto& j) { j["camera"]["width_px"] = kMaxCameraSidePx + 1; }},

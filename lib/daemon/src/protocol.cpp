@@ -97,7 +97,8 @@ int elevation(const json& args, const char* name) {
 
 SliceId slice(const json& args) {
   const auto kind = parseSliceKind(text(args, "kind"));
-  if (!kind)
+  // A point slice is a kind of the offline formats, not a sweep the rig can make.
+  if (!kind || *kind == SliceKind::Point)
     throw Refusal{ErrorCode::BadRequest, "argument \"kind\" must be \"axial\" or \"diagonal\""};
   return {*kind, {elevation(args, "theta_i"), elevation(args, "theta_v")}};
 }

@@ -60,7 +60,9 @@ RecordedSlice sliceFromJson(const json& value, const Location& at) {
   f::object(value, at);
   const std::string kindText = f::string(value, "kind", at);
   const auto kind = parseSliceKind(kindText);
-  if (!kind) (at / "kind").fail("expected \"axial\" or \"diagonal\", got \"" + kindText + "\"");
+  // A recording is one sweep; a point slice is no sweep the rig can make.
+  if (!kind || *kind == SliceKind::Point)
+    (at / "kind").fail("expected \"axial\" or \"diagonal\", got \"" + kindText + "\"");
   RecordedSlice slice;
   slice.id.kind = *kind;
   for (const auto& [key, field] : {std::pair{"theta_i_deg", &slice.id.elevations.thetaIDeg},
