@@ -63,6 +63,26 @@ int rawConnect(const std::filesystem::path& socket) {
   return fd;
 }
 
+// Hello on a new connection once the server has room for it. Right after a burst of clients that
+// hung up, the server may still hold maxClients of them whose hang-up it has not read yet (one
+// read a wake-up), and it then refuses a new client, as it should ("too many clients", or the
+// connection closed before the request is sent). A server that never answers again still fails,
+// after the deadline.
+nlohmann::json helloOnceTheServerHasRoom(const std::filesystem::path& socket) {
+  const auto deadline = std::chrono::steady_clock::now() + 5s;
+  while (true) {
+    try {
+      ControlClient client(socket, 2s);
+      return client.call(Hello{});
+    } catch (const DaemonError& e) {
+      if (e.code() != "unavailable" || std::chrono::steady_clock::now() > deadline) throw;
+    } catch (const ConnectionError&) {
+      if (std::chrono::steady_clock::now() > deadline) throw;
+    }
+    std::this_thread::sleep_for(10ms);
+  }
+}
+
 std::string readLines(int fd, int count) {
   std::string text;
   char chunk[65536];
@@ -178,7 +198,10 @@ TEST(ControlServer, ForgetsClientsThatHangUpMidLine) {
 TEST(ControlServer, AClientThatHangsUpBeforeItsAnswerIsClosedOnce) {
   // Its connection was closed twice (flush() met the broken pipe and dropped it, then the hang-up
   // dropped it again): the second close() shut whatever another thread of the daemon had opened
-  // under that number in between, here a bystander's descriptor.
+  // under that number in between, here a bystander's descriptor. Since the server reads a client
+  // once a wake-up, a hang-up with an answer still unsent is rare, and this no longer fails when
+  // drop()'s once-only check alone is taken out (0 of 20 runs); it stays as a stress test that no
+  // hang-up pattern closes another thread's descriptor or stops the server.
 #ifdef SLICECAP_TESTS_UNDER_EMULATOR
   // Under qemu-user 3000 connections outrun the emulated server, and the race is the emulator's.
   GTEST_SKIP() << "a descriptor race between threads: run natively";
@@ -216,8 +239,7 @@ TEST(ControlServer, AClientThatHangsUpBeforeItsAnswerIsClosedOnce) {
       ::send(fd, request.data(), request.size(), MSG_NOSIGNAL);
       ::close(fd);  // before the answer
     }
-    ControlClient after(socket);
-    EXPECT_EQ(after.call(Hello{})["command"], "hello");
+    EXPECT_EQ(helloOnceTheServerHasRoom(socket)["command"], "hello");
     done = true;
     bystander.join();
     EXPECT_EQ(closedUnderIt, 0) << "a descriptor of another thread was closed by the server";
