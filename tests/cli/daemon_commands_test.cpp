@@ -41,8 +41,6 @@ class LiveDaemon {
   explicit LiveDaemon(const std::filesystem::path& storage,
                       daemon::ReconstructFunction reconstruct = flatTable)
       : manager_(storage, std::move(reconstruct)) {
-    char pattern[] = "/tmp/slicecap-cli-XXXXXX";
-    socketDir_ = ::mkdtemp(pattern);
     socket_ = socketDir_ / "s.sock";
     const int listenFd = daemon::openListenSocket({socket_, 0600, std::nullopt});
     server_ =
@@ -65,7 +63,6 @@ class LiveDaemon {
     loop_.stop();
     thread_.join();
     server_.reset();
-    std::filesystem::remove_all(socketDir_);
   }
 
   Result run(std::vector<std::string> args) {
@@ -88,7 +85,8 @@ class LiveDaemon {
   std::string failingDevice_;
   daemon::EventLoop loop_;
   std::unique_ptr<daemon::ControlServer> server_;
-  std::filesystem::path socketDir_, socket_;
+  test::SocketDir socketDir_;  // the socket path must fit sun_path
+  std::filesystem::path socket_;
   std::thread thread_;
 };
 

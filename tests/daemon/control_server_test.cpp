@@ -2,6 +2,7 @@
 #include "slicecap/daemon/control_server.hpp"
 
 #include <fcntl.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/eventfd.h>
@@ -57,6 +58,8 @@ int rawConnect(const std::filesystem::path& socket) {
   const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
   sockaddr_un address{};
   address.sun_family = AF_UNIX;
+  if (socket.native().size() >= sizeof address.sun_path)
+    throw std::runtime_error(socket.string() + ": too long for a socket");
   std::strcpy(address.sun_path, socket.c_str());
   if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0)
     throw std::runtime_error("connect");
@@ -95,7 +98,8 @@ std::string readLines(int fd, int count) {
 }
 
 TEST(ControlServer, AnswersRequestsAndRefusalsInOrder) {
-  const auto socket = test::freshTempDir() / "ctl.sock";
+  const test::SocketDir sockets;
+  const auto socket = sockets / "ctl.sock";
   serve(socket, echo, [&] {
     ControlClient client(socket);
     EXPECT_EQ(client.call(Hello{})["command"], "hello");
@@ -114,7 +118,8 @@ TEST(ControlServer, AnswersRequestsAndRefusalsInOrder) {
 }
 
 TEST(ControlServer, SurvivesTenThousandMalformedLines) {
-  const auto socket = test::freshTempDir() / "ctl.sock";
+  const test::SocketDir sockets;
+  const auto socket = sockets / "ctl.sock";
   serve(socket, echo, [&] {
     const int fd = rawConnect(socket);
     std::string burst;
@@ -148,7 +153,8 @@ TEST(ControlServer, SurvivesTenThousandMalformedLines) {
 }
 
 TEST(ControlServer, ServesAHundredConcurrentClients) {
-  const auto socket = test::freshTempDir() / "ctl.sock";
+  const test::SocketDir sockets;
+  const auto socket = sockets / "ctl.sock";
   serve(socket, echo, [&] {
     std::atomic<int> answered = 0;
     std::vector<std::thread> clients;
@@ -168,7 +174,8 @@ TEST(ControlServer, ServesAHundredConcurrentClients) {
 }
 
 TEST(ControlServer, RefusesAnOversizedLineAndKeepsTheConnection) {
-  const auto socket = test::freshTempDir() / "ctl.sock";
+  const test::SocketDir sockets;
+  const auto socket = sockets / "ctl.sock";
   serve(socket, echo, [&] {
     const int fd = rawConnect(socket);
     const std::string huge =
@@ -183,7 +190,8 @@ TEST(ControlServer, RefusesAnOversizedLineAndKeepsTheConnection) {
 }
 
 TEST(ControlServer, ForgetsClientsThatHangUpMidLine) {
-  const auto socket = test::freshTempDir() / "ctl.sock";
+  const test::SocketDir sockets;
+  const auto socket = sockets / "ctl.sock";
   serve(socket, echo, [&] {
     for (int i = 0; i < 50; ++i) {
       const int fd = rawConnect(socket);
@@ -206,7 +214,8 @@ TEST(ControlServer, AClientThatHangsUpBeforeItsAnswerIsClosedOnce) {
   // Under qemu-user 3000 connections outrun the emulated server, and the race is the emulator's.
   GTEST_SKIP() << "a descriptor race between threads: run natively";
 #endif
-  const auto socket = test::freshTempDir() / "ctl.sock";
+  const test::SocketDir sockets;
+  const auto socket = sockets / "ctl.sock";
   serve(socket, echo, [&] {
     std::atomic<bool> done = false;
     std::atomic<int> closedUnderIt = 0;
@@ -250,7 +259,8 @@ TEST(ControlServer, AClientWritingWithoutPauseDoesNotHoldUpTheOthers) {
   // A script piping requests in without reading the answers: the server read it until it paused,
   // so nobody else was answered (nor a frame taken, nor the watchdog fed) while its unread answers
   // piled up in memory.
-  const auto socket = test::freshTempDir() / "ctl.sock";
+  const test::SocketDir sockets;
+  const auto socket = sockets / "ctl.sock";
   const auto padded = [](const Request& request) {
     return nlohmann::json{{"command", commandName(request.command)},
                           {"pad", std::string(1000, 'x')}};
@@ -286,7 +296,7 @@ TEST(ControlServer, AClientWritingWithoutPauseDoesNotHoldUpTheOthers) {
 }
 
 TEST(ListenSocket, ReplacesAStaleSocketButNotALiveOneOrAFile) {
-  const auto dir = test::freshTempDir();
+  const test::SocketDir dir;
   const int first = openListenSocket({dir / "a.sock", 0660, std::nullopt});
   EXPECT_THROW(openListenSocket({dir / "a.sock", 0660, std::nullopt}), std::runtime_error)
       << "live";
@@ -299,6 +309,27 @@ TEST(ListenSocket, ReplacesAStaleSocketButNotALiveOneOrAFile) {
   EXPECT_EQ(
       std::filesystem::status(dir / "a.sock").permissions() & std::filesystem::perms::others_all,
       std::filesystem::perms::none);
+}
+
+TEST(ListenSocket, APathTooLongForASocketIsRefusedByNameOnBothSides) {
+  // sun_path holds 107 bytes: a longer --socket must not be cut short (another file) or overrun.
+  const test::SocketDir dir;
+  const std::string name = std::string(120, 's') + ".sock";
+  try {
+    openListenSocket({dir / name, 0660, std::nullopt});
+    ADD_FAILURE() << "a " << (dir / name).native().size() << "-byte socket path was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr(name));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("longer than 107 bytes"));
+  }
+  try {
+    ControlClient client(dir / name, 1s);
+    ADD_FAILURE() << "the client connected to a path too long for a socket";
+  } catch (const ConnectionError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr(name));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("too long"));
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path())) << "nothing made under a shortened name";
 }
 
 TEST(EventLoop, RunsTimersPostedWorkAndSignals) {

@@ -183,8 +183,6 @@ class DaemonOnFileCamera : public ::testing::Test {
              std::shared_ptr<TextureLog> texture = nullptr) {
     dir_ = test::freshTempDir();
     const auto recording = writeRecording(dir_ / "recording");
-    char pattern[] = "/tmp/slicecapd-test-XXXXXX";
-    socketDir_ = ::mkdtemp(pattern);
     socket_ = socketDir_ / "s.sock";
     ledLog_ = dir_ / "led.log";
     DaemonParts parts;
@@ -227,7 +225,6 @@ class DaemonOnFileCamera : public ::testing::Test {
       thread_.join();
       daemon_.reset();
     }
-    std::filesystem::remove_all(socketDir_);
   }
 
   json call(const Command& command) { return ControlClient(socket_).call(command); }
@@ -255,7 +252,8 @@ class DaemonOnFileCamera : public ::testing::Test {
   std::optional<double> configuredExposureUs_;
   std::shared_ptr<LiveCameraLog> liveCamera_;  // set: a live camera instead of the recording
   std::shared_ptr<hal::Camera> liveCameraDevice_;
-  std::filesystem::path dir_, socketDir_, socket_, ledLog_;
+  test::SocketDir socketDir_;  // the socket path must fit sun_path
+  std::filesystem::path dir_, socket_, ledLog_;
   std::unique_ptr<Daemon> daemon_;
   std::thread thread_;
 };

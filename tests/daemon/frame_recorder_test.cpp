@@ -109,8 +109,6 @@ class DaemonRecordingFrames : public ::testing::Test {
     sim::simulateSweep(original_, {kAxial3030, kAxialOffsetDeg}, renderer, setup);
     const io::Recording played = io::readRecording(original_);
 
-    char pattern[] = "/tmp/slicecapd-rec-test-XXXXXX";
-    socketDir_ = ::mkdtemp(pattern);
     socket_ = socketDir_ / "s.sock";
     DaemonParts parts;
     parts.storage = dir_ / "storage";
@@ -139,7 +137,6 @@ class DaemonRecordingFrames : public ::testing::Test {
     daemon_->stop();
     thread_.join();
     daemon_.reset();
-    std::filesystem::remove_all(socketDir_);
   }
 
   json call(const Command& command) { return ControlClient(socket_).call(command); }
@@ -157,7 +154,8 @@ class DaemonRecordingFrames : public ::testing::Test {
   }
 
   hal::SteadyClock clock_;
-  std::filesystem::path dir_, original_, socketDir_, socket_;
+  test::SocketDir socketDir_;  // the socket path must fit sun_path
+  std::filesystem::path dir_, original_, socket_;
   std::unique_ptr<Daemon> daemon_;
   std::thread thread_;
 };

@@ -2,9 +2,13 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <stdlib.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "slicecap/core/abrdf.hpp"
@@ -20,6 +24,35 @@ inline std::filesystem::path freshTempDir() {
   std::filesystem::create_directories(dir);
   return dir;
 }
+
+/// \brief A fresh directory under /tmp for Unix sockets, removed with this object.
+///
+/// A socket's path must fit sun_path (107 bytes). freshTempDir()'s, with the build tree and the
+/// test's name in it, does not in a deep checkout: CI's clone put the arm64 tree's past it, and
+/// the control-socket tests failed there on "socket path longer than 107 bytes".
+/// \throws std::runtime_error when the directory cannot be made.
+class SocketDir {
+ public:
+  SocketDir() {
+    char pattern[] = "/tmp/slicecap-sock-XXXXXX";
+    if (!::mkdtemp(pattern))
+      throw std::runtime_error(std::string("cannot make a socket directory in /tmp: ") +
+                               std::strerror(errno));
+    dir_ = pattern;
+  }
+  ~SocketDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+  }
+  SocketDir(const SocketDir&) = delete;
+  SocketDir& operator=(const SocketDir&) = delete;
+
+  std::filesystem::path operator/(const std::string& name) const { return dir_ / name; }
+  const std::filesystem::path& path() const { return dir_; }
+
+ private:
+  std::filesystem::path dir_;
+};
 
 /// \brief The nbrdf-bonn81 folder of ../shared/data (or $SLICECAP_SHARED_DATA), if present.
 inline std::optional<std::filesystem::path> sharedTablesDir() {
