@@ -187,8 +187,11 @@ TEST(SessionJournalDamage, ASessionWithADamagedDescriptionIsListedAsDamaged) {
   const auto root = sessionWithRedo();
   std::ofstream(root / "s" / "session.json") << "{\"format\":";
   std::filesystem::create_directory(root / "not-a-session");
+  // As a crash between making the journal and the description leaves a new session's folder.
+  std::filesystem::create_directory(root / "half-made");
+  std::ofstream(root / "half-made" / "journal").close();
   const std::vector<SessionInfo> sessions = SessionStore::list(root);
-  ASSERT_EQ(sessions.size(), 1u) << "a folder without a journal is still no session";
+  ASSERT_EQ(sessions.size(), 1u) << "a folder without a journal's records is still no session";
   EXPECT_EQ(sessions[0].id, "s");
   EXPECT_NE(sessions[0].damage.find("session.json"), std::string::npos) << sessions[0].damage;
 }

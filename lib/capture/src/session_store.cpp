@@ -190,9 +190,12 @@ std::vector<SessionInfo> SessionStore::list(const std::filesystem::path& root) {
     try {
       sessions.push_back(readInfo(entry.path()));
     } catch (const io::IoError& unreadable) {
-      // A half-created or foreign folder is not a session; one with a journal is, damaged.
+      // A half-created (an empty journal, no description) or foreign folder is not a session;
+      // one whose description is damaged, or whose journal holds records, is: listed as such.
       std::error_code ignored;
-      if (std::filesystem::exists(entry.path() / kJournal, ignored))
+      const auto journalBytes = std::filesystem::file_size(entry.path() / kJournal, ignored);
+      const bool hasRecords = !ignored && journalBytes > 0;
+      if (hasRecords || std::filesystem::exists(entry.path() / "session.json", ignored))
         sessions.push_back({entry.path().filename().string(), "", "", unreadable.what()});
     }
   }
