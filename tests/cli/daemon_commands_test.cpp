@@ -248,6 +248,11 @@ TEST(DaemonCommands, ExportReplacesALinkPlantedInDirAndSaysWhatTheJournalSetAsid
   std::ifstream victim(dir / "victim");
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(victim), {}), "not slicecap's");
   EXPECT_FALSE(std::filesystem::is_symlink(desk / "felt-summary.json"));
+  // A session whose description is damaged is listed as damaged, not left out.
+  const auto description = dir / "storage" / "felt" / "session.json";
+  std::ofstream(description) << "{";
+  EXPECT_THAT(daemon.run({"session", "list"}).out,
+              HasSubstr("felt  damaged: " + description.string()));
 }
 
 TEST(DaemonCommands, RefusesAWatchCountThatIsNoWholeNumberAndSaysWhyARequestIsTooLong) {

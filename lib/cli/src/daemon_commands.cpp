@@ -16,6 +16,7 @@
 #include "slicecap/cli/methods.hpp"
 #include "slicecap/daemon/control_client.hpp"
 #include "slicecap/io/file_set.hpp"
+#include "slicecap/io/io_error.hpp"
 #include "slicecap/io/journal.hpp"
 
 namespace slicecap::cli {
@@ -267,6 +268,7 @@ int runStatus(const ParsedArgs& args, Streams& io) {
 void copyTexture(const fs::path& source, const fs::path& copy) {
   std::error_code error;
   fs::create_directories(copy, error);
+  if (error) throw io::IoError(copy.string() + ": cannot create: " + error.message());
   fs::recursive_directory_iterator it(source, error);
   for (const fs::recursive_directory_iterator end; !error && it != end; it.increment(error)) {
     if (it->path().extension() == io::kDiscardedSuffix) {
@@ -282,10 +284,10 @@ void copyTexture(const fs::path& source, const fs::path& copy) {
       if (error == std::errc::no_such_file_or_directory) error.clear();
     }
     if (error)
-      throw std::runtime_error("cannot copy " + it->path().string() + " to " + target.string() +
-                               ": " + error.message());
+      throw io::IoError("cannot copy " + it->path().string() + " to " + target.string() + ": " +
+                        error.message());
   }
-  if (error) throw std::runtime_error(source.string() + ": cannot read: " + error.message());
+  if (error) throw io::IoError(source.string() + ": cannot read: " + error.message());
 }
 
 // Fetches what the daemon exported into DIR as one set (io::replaceFileSet, as the daemon's own
@@ -304,8 +306,8 @@ int runExport(const ParsedArgs& args, Streams& io) {
                          std::error_code error;
                          fs::copy_file(source, copy, error);
                          if (error)
-                           throw std::runtime_error("cannot copy " + source.string() + " to " +
-                                                    copy.string() + ": " + error.message());
+                           throw io::IoError("cannot copy " + source.string() + " to " +
+                                             copy.string() + ": " + error.message());
                        }});
   }
   const std::string textureName = id + "-texture";

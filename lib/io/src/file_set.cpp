@@ -201,17 +201,22 @@ std::vector<fs::path> replaceFileSet(const fs::path& folder, const std::string& 
   Swap swap(folder, directoryFd);
   try {
     for (const FileSetEntry& entry : entries) {
-      try {
-        entry.write(base / entry.name);
-      } catch (const IoError& error) {
-        // Messages name the staging folder, not the descriptor's path.
-        std::string message = error.what();
+      // Messages name the staging folder, not the descriptor's path.
+      const auto named = [&](const std::string& what) {
+        std::string message = what;
         for (std::size_t at = 0; (at = message.find(base.string(), at)) != std::string::npos;
              at += staging.string().size())
           message.replace(at, base.string().size(), staging.string());
-        throw IoError(message);
+        return IoError(message);
+      };
+      try {
+        entry.write(base / entry.name);
+        syncTree(base / entry.name, staging / entry.name);
+      } catch (const IoError& error) {
+        throw named(error.what());
+      } catch (const fs::filesystem_error& error) {
+        throw named(error.what());
       }
-      syncTree(base / entry.name, staging / entry.name);
       placed.push_back(folder / entry.name);
     }
     const std::vector<std::string> previousMembers = readMembers(directoryFd, manifest);
