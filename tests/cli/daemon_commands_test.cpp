@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
+#include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -39,8 +41,9 @@ Abrdf flatTable(const SliceSet&, const std::string&) {
 class LiveDaemon {
  public:
   explicit LiveDaemon(const std::filesystem::path& storage,
-                      daemon::ReconstructFunction reconstruct = flatTable)
-      : manager_(storage, std::move(reconstruct)) {
+                      daemon::ReconstructFunction reconstruct = flatTable,
+                      daemon::PreviewFunction preview = {})
+      : manager_(storage, std::move(reconstruct), std::move(preview)) {
     socket_ = socketDir_ / "s.sock";
     const int listenFd = daemon::openListenSocket({socket_, 0600, std::nullopt});
     server_ =
@@ -158,11 +161,14 @@ TEST(DaemonCommands, AnExportFolderKeepsNoTableTheSamplesNoLongerGive) {
   // The daemon removed the table (with a warning) from the session and its own export folder, but
   // the copy an earlier `slicecap export` had put into DIR stayed there beside the new slices CSV.
   const auto dir = test::freshTempDir();
-  LiveDaemon daemon(dir / "storage", [](const SliceSet& slices, const std::string& method) {
-    if (method == "halfway" && slices.slices().size() > 1)
-      throw std::runtime_error("stands in for a method that cannot read these slices");
-    return flatTable(slices, method);
-  });
+  LiveDaemon daemon(
+      dir / "storage",
+      [](const SliceSet& slices, const std::string& method) {
+        if (method == "halfway" && slices.slices().size() > 1)
+          throw std::runtime_error("stands in for a method that cannot read these slices");
+        return flatTable(slices, method);
+      },
+      [](const Abrdf&, const std::filesystem::path& png) { std::ofstream(png) << "its preview"; });
   const auto sweep = [&](const std::vector<std::string>& slice) {
     std::vector<std::string> start = {"sweep", "start"};
     start.insert(start.end(), slice.begin(), slice.end());
@@ -178,8 +184,11 @@ TEST(DaemonCommands, AnExportFolderKeepsNoTableTheSamplesNoLongerGive) {
   ASSERT_EQ(daemon.run({"export", "felt", "-o", desk.string(), "--method", "halfway"}).code,
             kExitOk);
   ASSERT_TRUE(std::filesystem::exists(desk / "felt-abrdf-halfway.exr"));
-  std::ofstream(desk / "felt-abrdf-halfway.png") << "its preview";
+  ASSERT_TRUE(std::filesystem::exists(desk / "felt-abrdf-halfway.png"));
+  // Files the export did not write stay, whatever their names (it removes only what its own
+  // earlier export listed in its manifest).
   std::ofstream(desk / "notes.txt") << "the operator's own file";
+  std::ofstream(desk / "felt-abrdf-mine.exr") << "the operator's own table";
   sweep({"diagonal", "30", "30"});
   const Result r = daemon.run({"export", "felt", "-o", desk.string()});
   ASSERT_EQ(r.code, kExitOk) << r.err;
@@ -189,6 +198,61 @@ TEST(DaemonCommands, AnExportFolderKeepsNoTableTheSamplesNoLongerGive) {
   EXPECT_TRUE(std::filesystem::exists(desk / "felt-abrdf-prior.exr"));
   EXPECT_TRUE(std::filesystem::exists(desk / "felt-slices.csv"));
   EXPECT_TRUE(std::filesystem::exists(desk / "notes.txt"));
+  EXPECT_TRUE(std::filesystem::exists(desk / "felt-abrdf-mine.exr"));
+}
+
+TEST(DaemonCommands, ExportReplacesALinkPlantedInDirAndSaysWhatTheJournalSetAside) {
+  const auto dir = test::freshTempDir();
+  const auto desk = dir / "desk";
+  std::filesystem::create_directories(desk);
+  std::ofstream(dir / "victim") << "not slicecap's";
+  std::filesystem::create_symlink(dir / "victim", desk / "felt-summary.json");
+  {
+    LiveDaemon daemon(dir / "storage");
+    ASSERT_EQ(daemon.run({"session", "new", "felt", "--id", "felt"}).code, kExitOk);
+    ASSERT_EQ(daemon.run({"sweep", "start", "axial", "30", "30"}).code, kExitOk);
+    for (int k = 0; k < 3; ++k)
+      daemon.manager().acceptSample(
+          {k, std::uint64_t(k), {30, k * 15.0}, {30, k * 15.0 + 15}, Rgb::gray(0.2)});
+    ASSERT_EQ(daemon.run({"sweep", "redo", "axial", "30", "30"}).code, kExitOk);
+    ASSERT_EQ(daemon.run({"sweep", "stop"}).code, kExitOk);
+  }
+  // One flipped byte in the redo record: its 3 samples must stay discarded, and every text
+  // command says so, naming the journal and the line.
+  const auto journal = dir / "storage" / "felt" / "journal";
+  std::string bytes;
+  {
+    std::ifstream in(journal, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::size_t redo = bytes.find("\"redo\"");
+  ASSERT_NE(redo, std::string::npos);
+  const std::size_t line =
+      std::size_t(std::count(bytes.begin(), bytes.begin() + std::ptrdiff_t(redo), '\n')) + 1;
+  bytes[redo + 2] = 'x';
+  std::ofstream(journal, std::ios::binary | std::ios::trunc) << bytes;
+  const std::string said = journal.string() + " line " + std::to_string(line);
+
+  LiveDaemon daemon(dir / "storage");
+  const Result status = daemon.run({"status"});
+  EXPECT_THAT(status.out, HasSubstr("3 set aside")) << status.out;
+  EXPECT_THAT(status.out, HasSubstr(said)) << status.out;
+  EXPECT_THAT(daemon.run({"session", "show", "felt"}).out, HasSubstr(said));
+  // With nothing counted left, the export is refused; its refusal is not about the journal.
+  ASSERT_EQ(daemon.run({"sweep", "start", "axial", "30", "30"}).code, kExitOk);
+  daemon.manager().acceptSample({9, 9, {30, 0.0}, {30, 15.0}, Rgb::gray(0.2)});
+  ASSERT_EQ(daemon.run({"sweep", "stop"}).code, kExitOk);
+  const Result exported = daemon.run({"export", "felt", "-o", desk.string()});
+  ASSERT_EQ(exported.code, kExitOk) << exported.err;
+  EXPECT_THAT(exported.err, HasSubstr("warning: " + said)) << exported.err;
+  std::ifstream victim(dir / "victim");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(victim), {}), "not slicecap's");
+  EXPECT_FALSE(std::filesystem::is_symlink(desk / "felt-summary.json"));
+  // A session whose description is damaged is listed as damaged, not left out.
+  const auto description = dir / "storage" / "felt" / "session.json";
+  std::ofstream(description) << "{";
+  EXPECT_THAT(daemon.run({"session", "list"}).out,
+              HasSubstr("felt  damaged: " + description.string()));
 }
 
 TEST(DaemonCommands, RefusesAWatchCountThatIsNoWholeNumberAndSaysWhyARequestIsTooLong) {

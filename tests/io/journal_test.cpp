@@ -67,6 +67,35 @@ TEST(Journal, CutsATornTailAndSkipsCorruptLines) {
   EXPECT_EQ(reopen(path).back(), "four");
 }
 
+TEST(Journal, KeepsTheTornTailAndGivesDamagedLinesWithTheirNumbers) {
+  const auto path = test::freshTempDir() / "j";
+  {
+    Journal journal = Journal::open(path, nullptr);
+    journal.append("one");
+    journal.append("redo");
+  }
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  bytes[bytes.find("redo")] = 'x';
+  std::ofstream(path, std::ios::binary) << bytes << "1234abcd half";
+  std::vector<JournalLine> lines;
+  JournalRecovery recovery;
+  Journal::openLines(path, &lines, &recovery);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0].line, 1u);
+  EXPECT_TRUE(lines[0].intact);
+  EXPECT_EQ(lines[0].text, "one");
+  EXPECT_EQ(lines[1].line, 2u);
+  EXPECT_FALSE(lines[1].intact) << "a damaged line is given, for its reader to judge";
+  EXPECT_EQ(lines[1].text, "xedo");
+  // The cut-off bytes are not deleted: they are kept beside the journal.
+  std::ifstream kept(tornTailFile(path), std::ios::binary);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(kept), {}), "1234abcd half");
+}
+
 TEST(Journal, AFailedAppendLeavesEveryEarlierRecordIntact) {
   const auto path = test::freshTempDir() / "j";
   Journal journal = Journal::open(path, nullptr);

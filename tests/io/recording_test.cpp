@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -173,6 +175,19 @@ TEST(Recording, ReaderNamesADirectoryWithoutARecording) {
   const auto dir = test::freshTempDir();
   const std::string message = readError(dir);
   EXPECT_NE(message.find(dir.string()), std::string::npos) << message;
+}
+
+TEST(Recording, AJsonFileThatCannotBeOpenedSaysWhy) {
+  // The reason is what the person acts on (no such file, permission denied): it is kept.
+  const auto path = test::freshTempDir() / "gone" / "recording.json";
+  try {
+    readJsonFile(path);
+    FAIL();
+  } catch (const IoError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path.string() + ": cannot open"), std::string::npos) << message;
+    EXPECT_NE(message.find(std::strerror(ENOENT)), std::string::npos) << message;
+  }
 }
 
 }  // namespace

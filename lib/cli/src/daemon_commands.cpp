@@ -15,6 +15,8 @@
 #include "slicecap/cli/command.hpp"
 #include "slicecap/cli/methods.hpp"
 #include "slicecap/daemon/control_client.hpp"
+#include "slicecap/io/file_set.hpp"
+#include "slicecap/io/io_error.hpp"
 #include "slicecap/io/journal.hpp"
 
 namespace slicecap::cli {
@@ -74,9 +76,17 @@ void printSession(std::ostream& out, const json& session) {
   if (session.contains("created")) out << ", created " << session["created"].get<std::string>();
   out << "\n";
   if (session.contains("slices"))
-    for (const json& slice : session["slices"])
+    for (const json& slice : session["slices"]) {
       out << "  " << padded(slice["name"].get<std::string>(), 16) << slice["bins_filled"]
-          << "/24 bins, " << slice["samples"] << " samples\n";
+          << "/24 bins, " << slice["samples"] << " samples";
+      if (slice.contains("samples_set_aside"))
+        out << ", " << slice["samples_set_aside"] << " set aside (damaged journal)";
+      out << "\n";
+    }
+  // What the journal could not tell for sure, each naming the file and line: never only in --json.
+  if (session.contains("journal_damage"))
+    for (const json& damage : session["journal_damage"])
+      out << "journal damage: " << damage["message"].get<std::string>() << "\n";
 }
 
 void printStatus(std::ostream& out, const json& status) {
@@ -162,10 +172,14 @@ int runSession(const ParsedArgs& args, Streams& io) {
     return finish(args, io, call(args, daemon::SessionList{}),
                   [](std::ostream& out, const json& r) {
                     if (r["sessions"].empty()) out << "no sessions\n";
-                    for (const json& s : r["sessions"])
-                      out << (s["current"].get<bool>() ? "* " : "  ") << s["id"].get<std::string>()
-                          << "  " << s["created"].get<std::string>() << "  "
-                          << s["material"].get<std::string>() << "\n";
+                    for (const json& s : r["sessions"]) {
+                      out << (s["current"].get<bool>() ? "* " : "  ") << s["id"].get<std::string>();
+                      if (s.contains("damaged"))
+                        out << "  damaged: " << s["damaged"].get<std::string>() << "\n";
+                      else
+                        out << "  " << s["created"].get<std::string>() << "  "
+                            << s["material"].get<std::string>() << "\n";
+                    }
                   });
   }
   if (action == "show") {
@@ -250,82 +264,63 @@ int runStatus(const ParsedArgs& args, Streams& io) {
 }
 
 // A session's texture store, file by file (it can be hundreds of MB; the daemon exports it only
-// while no sweep writes to it), into a temporary folder that replaces `target` only when whole: a
-// failed copy leaves the previous export as it was. Temporaries and discarded slices are left out.
-void copyTexture(const fs::path& source, const fs::path& target) {
-  const fs::path partial = target.string() + ".partial";
+// while no sweep writes to it), into `copy`. Temporaries and discarded slices are left out.
+void copyTexture(const fs::path& source, const fs::path& copy) {
   std::error_code error;
-  fs::remove_all(partial, error);
-  if (error) throw std::runtime_error(partial.string() + ": cannot replace: " + error.message());
+  fs::create_directories(copy, error);
+  if (error) throw io::IoError(copy.string() + ": cannot create: " + error.message());
   fs::recursive_directory_iterator it(source, error);
   for (const fs::recursive_directory_iterator end; !error && it != end; it.increment(error)) {
     if (it->path().extension() == io::kDiscardedSuffix) {
       it.disable_recursion_pending();
       continue;
     }
-    const fs::path copy = partial / fs::relative(it->path(), source);
+    const fs::path target = copy / fs::relative(it->path(), source);
     if (it->is_directory(error)) {
-      fs::create_directories(copy, error);
+      fs::create_directories(target, error);
     } else if (!error && it->path().extension() != ".tmp") {
-      fs::create_directories(copy.parent_path(), error);
-      if (!error) fs::copy_file(it->path(), copy, fs::copy_options::overwrite_existing, error);
+      fs::create_directories(target.parent_path(), error);
+      if (!error) fs::copy_file(it->path(), target, fs::copy_options::overwrite_existing, error);
       if (error == std::errc::no_such_file_or_directory) error.clear();
     }
     if (error)
-      throw std::runtime_error("cannot copy " + it->path().string() + " to " + copy.string() +
-                               ": " + error.message());
+      throw io::IoError("cannot copy " + it->path().string() + " to " + target.string() + ": " +
+                        error.message());
   }
-  if (error) throw std::runtime_error(source.string() + ": cannot read: " + error.message());
-  fs::remove_all(target, error);
-  if (!error) fs::rename(partial, target, error);
-  if (error)
-    throw std::runtime_error(target.string() + ": cannot replace with the new copy " +
-                             partial.string() + ": " + error.message());
+  if (error) throw io::IoError(source.string() + ": cannot read: " + error.message());
 }
 
+// Fetches what the daemon exported into DIR as one set (io::replaceFileSet, as the daemon's own
+// export folder): a failed copy leaves DIR's previous export whole, no link planted in DIR is
+// written through, and only files this session's earlier export listed in its manifest go.
 int runExport(const ParsedArgs& args, Streams& io) {
   const fs::path destination = args.required("output");
   std::optional<std::string> method = args.value("method");
   if (method) method = findMethod(*method).name;  // an unknown name: UsageError, exit 2
   const json result = call(args, daemon::Export{args.positional[0], "", method});
-  std::error_code error;
-  fs::create_directories(destination, error);
-  if (error) throw std::runtime_error(destination.string() + ": cannot create: " + error.message());
-  json copied = json::array();
+  const std::string id = result["session"].get<std::string>();
+  std::vector<io::FileSetEntry> entries;
   for (const json& file : result["files"]) {
     const fs::path source = file.get<std::string>();
-    const fs::path target = destination / source.filename();
-    fs::copy_file(source, target, fs::copy_options::overwrite_existing, error);
-    if (error)
-      throw std::runtime_error("cannot copy " + source.string() + " to " + target.string() + ": " +
-                               error.message());
-    copied.push_back(target.string());
+    entries.push_back({source.filename().string(), [source](const fs::path& copy) {
+                         std::error_code error;
+                         fs::copy_file(source, copy, error);
+                         if (error)
+                           throw io::IoError("cannot copy " + source.string() + " to " +
+                                             copy.string() + ": " + error.message());
+                       }});
   }
-  // A table the samples can no longer give (the daemon removed it, warning below) must not stay
-  // in DIR from an earlier export, beside the new slices CSV as if made from it: this session's
-  // tables and previews that this export did not copy go, as from the daemon's export folder.
-  const std::string tablePrefix = result["session"].get<std::string>() + "-abrdf-";
-  std::vector<fs::path> stale;
-  for (const fs::directory_entry& entry : fs::directory_iterator(destination)) {
-    const std::string name = entry.path().filename().string();
-    const fs::path extension = entry.path().extension();
-    if (name.rfind(tablePrefix, 0) != 0 || (extension != ".exr" && extension != ".png")) continue;
-    if (std::none_of(copied.begin(), copied.end(), [&](const json& file) {
-          return fs::path(file.get<std::string>()).filename() == name;
-        }))
-      stale.push_back(entry.path());
-  }
-  for (const fs::path& path : stale) {
-    fs::remove(path, error);
-    if (error)
-      throw std::runtime_error(
-          path.string() + ": cannot remove (a table from earlier samples): " + error.message());
-  }
-  if (result.contains("texture")) {
-    const fs::path target = destination / (result["session"].get<std::string>() + "-texture");
-    copyTexture(result["texture"].get<std::string>(), target);
-    copied.push_back(target.string());
-  }
+  const std::string textureName = id + "-texture";
+  if (result.contains("texture"))
+    entries.push_back({textureName, [&result](const fs::path& copy) {
+                         copyTexture(result["texture"].get<std::string>(), copy);
+                       }});
+  // A texture not exported this time (a sweep was capturing into it): the earlier copy stays.
+  std::vector<std::string> keep;
+  if (result.contains("texture_skipped")) keep.push_back(textureName);
+  json copied = json::array();
+  for (const fs::path& path : io::replaceFileSet(destination, id, entries, keep))
+    copied.push_back(path.string());
   if (result.contains("warnings"))
     for (const json& warning : result["warnings"])
       io.err << "warning: " << warning.get<std::string>() << "\n";

@@ -18,6 +18,7 @@
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/texture_sink.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
+#include "slicecap/io/file_set.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/journal.hpp"
 #include "slicecap/io/slice_csv.hpp"
@@ -69,9 +70,28 @@ json slicesJson(const capture::SessionStore& store) {
     json entry = sliceJson(slice);
     entry["samples"] = store.sampleCount(slice);
     entry["bins_filled"] = bins.filledCount();
+    if (const std::size_t setAside = store.setAsideCount(slice); setAside > 0)
+      entry["samples_set_aside"] = setAside;
+    if (store.damaged(slice)) entry["damaged"] = true;
     slices.push_back(std::move(entry));
   }
   return slices;
+}
+
+// What replaying the journal could not tell for sure: each with the file and line in its message.
+json journalDamageJson(const capture::SessionStore& store) {
+  json damage = json::array();
+  for (const capture::JournalDamage& d : store.damage()) {
+    json slices = json::array();
+    for (const SliceId& slice : d.slicesSetAside)
+      slices.push_back(toString(slice));
+    damage.push_back({{"line", d.line},
+                      {"message", d.message},
+                      {"slices_set_aside", std::move(slices)},
+                      {"samples_set_aside", d.samplesSetAside},
+                      {"samples_lost", d.samplesLost}});
+  }
+  return damage;
 }
 
 json sessionJson(const capture::SessionStore& store) {
@@ -86,6 +106,8 @@ json sessionJson(const capture::SessionStore& store) {
     session["torn_tail_bytes_dropped"] = store.recovery().tornTailBytes;
   if (!store.recovery().corruptLines.empty())
     session["corrupt_journal_lines"] = store.recovery().corruptLines;
+  if (json damage = journalDamageJson(store); !damage.empty())
+    session["journal_damage"] = std::move(damage);
   return session;
 }
 
@@ -254,11 +276,13 @@ struct SessionManager::State {
 
   json run(const SessionList&) {
     json sessions = json::array();
-    for (const capture::SessionInfo& info : capture::SessionStore::list(root))
+    for (const capture::SessionInfo& info : capture::SessionStore::list(root)) {
       sessions.push_back({{"id", info.id},
                           {"material", info.material},
                           {"created", info.createdUtc},
                           {"current", session && session->info().id == info.id}});
+      if (!info.damage.empty()) sessions.back()["damaged"] = info.damage;
+    }
     return {{"sessions", std::move(sessions)}};
   }
 
@@ -352,12 +376,6 @@ struct SessionManager::State {
     capture::SessionStore& store = target(command.id, other);
     const fs::path directory =
         command.directory.empty() ? store.directory() / "export" : fs::path(command.directory);
-    std::error_code error;
-    fs::create_directories(directory, error);
-    if (error)
-      throw io::IoError(directory.string() +
-                        ": cannot create the export folder: " + error.message());
-
     // One reading of the samples serves every table, the CSV and the texture's slices.
     const SliceSet slices = store.slices();
     // Every table afresh from the samples as they are now: a table an earlier export or
@@ -388,29 +406,38 @@ struct SessionManager::State {
       }
     }
 
-    removeStaleExportedTables(directory, store.info().id, tables);
-    json files = json::array();
+    // One set, replaced as a whole (io::replaceFileSet): a failed export leaves the folder's
+    // previous export as it was, no link in the folder is written through, and only tables an
+    // earlier export of this session listed in its manifest are removed as stale.
+    const std::string& id = store.info().id;
+    std::vector<io::FileSetEntry> entries;
     for (const SessionTable& table : tables) {
-      const fs::path copy = directory / (store.info().id + "-" + table.path.filename().string());
-      fs::copy_file(table.path, copy, fs::copy_options::overwrite_existing, error);
-      if (error) throw io::IoError(copy.string() + ": cannot write: " + error.message());
-      files.push_back(copy.string());
-      if (preview) {
-        fs::path png = copy;
-        png.replace_extension(".png");
-        preview(table.values, png);
-        files.push_back(png.string());
-      }
+      const std::string name = id + "-" + table.path.filename().string();
+      entries.push_back({name, [&table](const fs::path& path) {
+                           std::error_code copyError;
+                           fs::copy_file(table.path, path, copyError);
+                           if (copyError)
+                             throw io::IoError(path.string() +
+                                               ": cannot write: " + copyError.message());
+                         }});
+      if (preview)
+        entries.push_back({fs::path(name).replace_extension(".png").string(),
+                           [this, &table](const fs::path& path) { preview(table.values, path); }});
     }
-    const fs::path csv = directory / (store.info().id + "-slices.csv");
-    io::writeSliceCsv(csv, slices);
-    files.push_back(csv.string());
+    entries.push_back({id + "-slices.csv",
+                       [&slices](const fs::path& path) { io::writeSliceCsv(path, slices); }});
     json summary = sessionJson(store);
     summary["exported"] = utcNow("%Y-%m-%dT%H:%M:%SZ");
     summary["slicecap_version"] = kVersion;
-    const fs::path summaryPath = directory / (store.info().id + "-summary.json");
-    io::writeFileAtomically(summaryPath, summary.dump(2) + "\n");
-    files.push_back(summaryPath.string());
+    entries.push_back({id + "-summary.json", [&summary](const fs::path& path) {
+                         io::writeFileAtomically(path, summary.dump(2) + "\n");
+                       }});
+    json files = json::array();
+    for (const fs::path& file : io::replaceFileSet(directory, id, entries))
+      files.push_back(file.string());
+    // What the journal could not tell for sure goes with every export of the session.
+    for (const capture::JournalDamage& damage : store.damage())
+      warnings.push_back(damage.message);
     json reply = {{"session", store.info().id},
                   {"directory", directory.string()},
                   {"files", files},
@@ -446,30 +473,6 @@ struct SessionManager::State {
     fs::path path;
     Abrdf values;
   };
-
-  // Tables an earlier export put into `directory` that this one does not make (e.g. a method
-  // asked for then, before a redo): left there, they would sit beside slices.csv as if made from
-  // it. Only this session's exported tables and their previews are touched.
-  static void removeStaleExportedTables(const fs::path& directory, const std::string& id,
-                                        const std::vector<SessionTable>& tables) {
-    const std::string prefix = id + "-" + std::string(kTablePrefix);
-    std::vector<fs::path> stale;
-    for (const fs::directory_entry& entry : fs::directory_iterator(directory)) {
-      const std::string name = entry.path().filename().string();
-      const fs::path extension = entry.path().extension();
-      if (name.rfind(prefix, 0) != 0 || (extension != ".exr" && extension != ".png")) continue;
-      const std::string table = entry.path().stem().string().substr(id.size() + 1) + ".exr";
-      if (std::none_of(tables.begin(), tables.end(),
-                       [&](const SessionTable& t) { return t.path.filename() == table; }))
-        stale.push_back(entry.path());
-    }
-    for (const fs::path& path : stale) {
-      std::error_code error;
-      fs::remove(path, error);
-      if (error)
-        throw io::IoError(path.string() + ": cannot remove (stale export): " + error.message());
-    }
-  }
 
   SessionTable reconstructInto(const capture::SessionStore& store, const SliceSet& slices,
                                const std::string& method) {
@@ -612,6 +615,8 @@ struct SessionManager::State {
                            {"material", session->info().material},
                            {"samples", session->sampleCount()},
                            {"slices", slicesJson(*session)}};
+      if (json damage = journalDamageJson(*session); !damage.empty())
+        status["session"]["journal_damage"] = std::move(damage);
     }
     if (sweep) status["sweep"] = sweepJson();
     if (json verdict = isotropyJson(); !verdict.is_null()) status["isotropy"] = std::move(verdict);

@@ -105,8 +105,22 @@ Journal::~Journal() {
   if (fd_ >= 0) ::close(fd_);
 }
 
+std::filesystem::path tornTailFile(const std::filesystem::path& journal) {
+  return journal.string() + ".torn";
+}
+
 Journal Journal::open(const std::filesystem::path& path, std::vector<std::string>* records,
                       JournalRecovery* recovery) {
+  std::vector<JournalLine> lines;
+  Journal journal = openLines(path, &lines, recovery);
+  if (records)
+    for (JournalLine& line : lines)
+      if (line.intact) records->push_back(std::move(line.text));
+  return journal;
+}
+
+Journal Journal::openLines(const std::filesystem::path& path, std::vector<JournalLine>* lines,
+                           JournalRecovery* recovery) {
   const bool existed = std::filesystem::exists(path);
   const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0640);
   if (fd < 0) throw systemError(path, "cannot open journal");
@@ -130,17 +144,28 @@ Journal Journal::open(const std::filesystem::path& path, std::vector<std::string
     ++lineNumber;
     const std::string_view line(contents.data() + lineStart, newline - lineStart);
     const bool wellFormed = line.size() >= 9 && line[8] == ' ';
-    const std::string_view record = wellFormed ? line.substr(9) : std::string_view();
-    if (wellFormed && hex8(crc32(record)) == line.substr(0, 8)) {
-      if (records) records->emplace_back(record);
+    const std::string_view record = wellFormed ? line.substr(9) : line;
+    const bool intact = wellFormed && hex8(crc32(record)) == line.substr(0, 8);
+    if (intact)
       ++found.records;
-    } else {
+    else
       found.corruptLines.push_back(lineNumber);
-    }
+    if (lines) lines->push_back({lineNumber, std::string(record), intact});
     lineStart = newline + 1;
   }
   found.tornTailBytes = contents.size() - lineStart;
   if (found.tornTailBytes > 0) {
+    // Never acknowledged (append returns after the sync), yet kept: what was on disk is not
+    // deleted, and the file tells the reader that a write was cut short.
+    const std::filesystem::path kept = tornTailFile(path);
+    const int keptFd = ::open(kept.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0640);
+    if (keptFd < 0) throw systemError(kept, "cannot keep the torn record");
+    const bool keptOk =
+        writeAll(keptFd, contents.data() + lineStart, found.tornTailBytes) && ::fsync(keptFd) == 0;
+    const IoError keptError = systemError(kept, "cannot keep the torn record");
+    ::close(keptFd);
+    if (!keptOk) throw keptError;
+    syncDirectory(path.parent_path());
     if (::ftruncate(fd, off_t(lineStart)) != 0 || ::fsync(fd) != 0)
       throw systemError(path, "cannot cut torn record");
   }

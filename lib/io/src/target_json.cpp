@@ -1,7 +1,10 @@
 // Target and camera JSON, and the JSON file helpers the recording shares.
 #include "slicecap/io/target_json.hpp"
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
+#include <string>
 #include <utility>
 
 #include "input_file.hpp"
@@ -179,8 +182,12 @@ json parseNamed(Input&& input, const std::string& source) {
 
 json readJsonFile(const std::filesystem::path& path) {
   refuseDirectory(path, "a JSON file");
+  errno = 0;
   std::ifstream in(path);
-  if (!in) throw IoError(path.string() + ": cannot open");
+  // The reason (no such file, permission denied) is what the person needs to act on.
+  if (!in)
+    throw IoError(path.string() + ": cannot open" +
+                  (errno ? std::string(" (") + std::strerror(errno) + ")" : std::string()));
   return parseNamed(in, path.string());
 }
 

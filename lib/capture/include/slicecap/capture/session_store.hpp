@@ -4,7 +4,9 @@
 
 #include <filesystem>
 #include <map>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,19 @@ struct SessionInfo {
   std::string id;  ///< the folder's name (a copied or renamed session folder is its own session)
   std::string material;
   std::string createdUtc;  ///< ISO 8601, e.g. 2026-11-23T14:05:00Z
+  /// Empty for a readable session; else why its session.json cannot be read (the folder still
+  /// holds a journal, so it is listed as a damaged session, not left out).
+  std::string damage;
+};
+
+/// \brief Something the journal could no longer tell for sure, and what opening the session did
+/// about it: samples set aside (not counted, still in the journal) or lost.
+struct JournalDamage {
+  std::size_t line = 0;     ///< 1-based journal line; 0 for the journal as a whole
+  std::string message;      ///< "<journal> line N: what was found; what it did to the samples"
+  std::vector<SliceId> slicesSetAside;  ///< slices whose earlier samples no longer count
+  std::size_t samplesSetAside = 0;      ///< samples set aside by this damage
+  std::size_t samplesLost = 0;          ///< samples in records that could not be read
 };
 
 /// \brief One session directory: `session.json` (written atomically) and `journal` (one record per
@@ -34,7 +49,8 @@ class SessionStore {
                              const std::string& material);
   /// \brief Opens an existing session and replays its journal.
   static SessionStore open(const std::filesystem::path& root, const std::string& id);
-  /// \brief Every session under root (sessions whose session.json cannot be read are skipped).
+  /// \brief Every session under root. A folder whose session.json cannot be read but that holds a
+  /// journal is listed with SessionInfo::damage saying why; one with neither is no session.
   static std::vector<SessionInfo> list(const std::filesystem::path& root);
   /// \brief Deletes a session directory; IoError if it does not exist.
   static void remove(const std::filesystem::path& root, const std::string& id);
@@ -42,6 +58,16 @@ class SessionStore {
   const SessionInfo& info() const { return info_; }
   const std::filesystem::path& directory() const { return directory_; }
   const io::JournalRecovery& recovery() const { return recovery_; }
+  /// \brief What replaying the journal could not tell for sure, in journal order: a damaged or
+  /// unreadable record that may have changed which samples count (a redo) sets aside the earlier
+  /// samples of its slice (of every slice when its slice cannot be read); a damaged sample
+  /// record is skipped; missing records, a torn tail, a missing journal are said too.
+  const std::vector<JournalDamage>& damage() const { return damage_; }
+  /// \brief Samples of a slice that damage set aside: in the journal, but not counted.
+  std::size_t setAsideCount(const SliceId& slice) const;
+  /// \brief True while a slice's counted samples are in doubt (damage set some aside); a redo of
+  /// the slice ends the doubt.
+  bool damaged(const SliceId& slice) const { return damagedSlices_.count(slice) > 0; }
 
   /// \brief Stores one accepted sample of a slice (durable when this returns). Here and in
   /// recordSweepStarted and redo, a point slice (no sweep) is std::invalid_argument, nothing
@@ -63,7 +89,10 @@ class SessionStore {
 
  private:
   SessionStore(std::filesystem::path directory, SessionInfo info, io::Journal journal);
-  void apply(const std::string& record, std::size_t recordNumber);
+  void replay(const std::vector<io::JournalLine>& lines);
+  void apply(const std::string& record, std::size_t line);
+  void setAside(std::size_t line, std::string what, std::optional<SliceId> slice);
+  void append(nlohmann::json record);  // numbers it ("n") and makes it durable
   AzimuthBins& binsFor(const SliceId& slice);
 
   std::filesystem::path directory_;
@@ -72,6 +101,10 @@ class SessionStore {
   io::JournalRecovery recovery_;
   std::map<SliceId, AzimuthBins> bins_;
   std::optional<SliceId> activeSweep_;
+  std::vector<JournalDamage> damage_;
+  std::map<SliceId, std::size_t> setAside_;
+  std::set<SliceId> damagedSlices_;
+  std::uint64_t nextSequence_ = 1;  ///< the "n" of the next record: records count their lines
 };
 
 /// \brief True for 1-64 characters of [a-z0-9_-], the first a letter or digit.

@@ -18,6 +18,18 @@ struct JournalRecovery {
   std::vector<std::size_t> corruptLines;  ///< 1-based lines whose checksum failed; skipped
 };
 
+/// \brief One line of a journal as read back: its record when the checksum holds, else what is
+/// left of it (for its reader to judge what the damaged record may have been).
+struct JournalLine {
+  std::size_t line = 0;  ///< 1-based line number in the file
+  std::string text;      ///< the record (checksum and space removed when well formed)
+  bool intact = false;   ///< the checksum matches
+};
+
+/// \brief Where Journal::open keeps the bytes of a torn tail it cuts off: `<journal>.torn`
+/// (appended to, so nothing that was on disk is deleted).
+std::filesystem::path tornTailFile(const std::filesystem::path& journal);
+
 /// \brief An append-only file of records, one a line as "<crc32 hex8> <record>\n". append() returns
 /// only when the record is on disk (fdatasync), so an acknowledged record survives kill -9 and
 /// power loss; a record torn by a crash is cut off when the journal is next opened.
@@ -27,6 +39,11 @@ class Journal {
   /// IoError naming the path when it cannot be opened, read or repaired.
   static Journal open(const std::filesystem::path& path, std::vector<std::string>* records,
                       JournalRecovery* recovery = nullptr);
+  /// \brief As open, but gives every line, damaged ones too, with its line number: a reader
+  /// that must not skip some records (a state change) judges the damaged ones itself. A torn
+  /// tail is cut off and its bytes appended to tornTailFile(path) first.
+  static Journal openLines(const std::filesystem::path& path, std::vector<JournalLine>* lines,
+                           JournalRecovery* recovery = nullptr);
 
   Journal(Journal&& other) noexcept;
   Journal& operator=(Journal&& other) noexcept;
