@@ -275,14 +275,16 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   parts.preview = preview;
   parts.isotropy = assessIsotropy;
 
-  bool fromSystemd = false;
-  const int listenFd = daemon::openListenSocket(
+  // Outlives the daemon: its socket file is removed when the daemon has stopped (not systemd's).
+  const daemon::ListenSocket listening(
       {config.socket, 0660,
-       config.socketGroup.empty() ? std::nullopt : std::optional<std::string>(config.socketGroup)},
-      &fromSystemd);
-  daemon::Daemon daemon(std::move(parts), listenFd);
+       config.socketGroup.empty() ? std::nullopt : std::optional<std::string>(config.socketGroup)});
+  parts.clientLimits.idleTimeout = std::chrono::seconds(config.clientIdleTimeoutS);
+  parts.clientLimits.socketGroup = listening.group();
+  daemon::Daemon daemon(std::move(parts), listening.fd());
   err << "slicecapd " << kVersion << ": serving "
-      << (fromSystemd ? std::string("the socket systemd passed") : config.socket.string())
+      << (listening.fromSystemd() ? std::string("the socket systemd passed")
+                                  : config.socket.string())
       << ", sessions in " << config.storage.string() << "\n";
   daemon.run();
   return 0;

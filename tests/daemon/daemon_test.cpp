@@ -214,8 +214,9 @@ class DaemonOnFileCamera : public ::testing::Test {
         return std::make_unique<FakeTextureSink>(texture);
       };
     parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };
-    daemon_ =
-        std::make_unique<Daemon>(std::move(parts), openListenSocket({socket_, 0600, std::nullopt}));
+    parts.clientLimits.socketGroup = socketGroup_;
+    listening_.emplace(ListenSpec{socket_, 0600, std::nullopt, {}});
+    daemon_ = std::make_unique<Daemon>(std::move(parts), listening_->fd());
     thread_ = std::thread([this] { daemon_->run(); });
   }
 
@@ -254,6 +255,8 @@ class DaemonOnFileCamera : public ::testing::Test {
   std::shared_ptr<hal::Camera> liveCameraDevice_;
   test::SocketDir socketDir_;  // the socket path must fit sun_path
   std::filesystem::path dir_, socket_, ledLog_;
+  std::optional<std::uint32_t> socketGroup_;  // who may connect besides root and this uid
+  std::optional<ListenSocket> listening_;
   std::unique_ptr<Daemon> daemon_;
   std::thread thread_;
 };

@@ -406,7 +406,8 @@ Daemon::Daemon(DaemonParts parts, int listenFd)
     : state_(std::make_unique<State>(std::move(parts))) {
   state_->ledOff();
   state_->server = std::make_unique<ControlServer>(
-      state_->loop, listenFd, [this](const Request& request) { return state_->handle(request); });
+      state_->loop, listenFd, [this](const Request& request) { return state_->handle(request); },
+      state_->parts.clientLimits);
 }
 
 Daemon::~Daemon() {

@@ -62,7 +62,8 @@ std::string text(const json& args, const char* name) {
                   [](char c) { return (unsigned char)c < 0x20 || c == 0x7f; }) ||
       hasC1ControlOrBidiOverride(s))
     throw Refusal{ErrorCode::BadRequest,
-                  std::string("argument \"") + name + "\" must not contain control characters"};
+                  std::string("argument \"") + name +
+                      "\" must not contain control characters or bidirectional overrides"};
   return s;
 }
 
@@ -165,6 +166,8 @@ std::string_view errorCodeName(ErrorCode code) {
       return "unavailable";
     case ErrorCode::StorageError:
       return "storage_error";
+    case ErrorCode::PermissionDenied:
+      return "permission_denied";
     case ErrorCode::Internal:
       return "internal";
   }

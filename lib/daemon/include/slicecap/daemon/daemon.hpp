@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "slicecap/capture/frame_outcome.hpp"
+#include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/exposure_meter.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 #include "slicecap/daemon/texture_sink.hpp"
@@ -56,6 +57,8 @@ struct DaemonParts {
   /// What the configuration still does wrong for a real capture (configWarnings): every status
   /// shows them, as does what the camera last adjusted of its configuration.
   std::vector<std::string> warnings;
+  /// The control socket's client limits: count, idle timeout, the group allowed to connect.
+  ServerLimits clientLimits;
   /// How often a camera without a ready descriptor (the file camera) is asked for a frame.
   std::chrono::microseconds filePollInterval = std::chrono::milliseconds(2);
 };
