@@ -10,6 +10,8 @@
 #include <sys/eventfd.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <csignal>
 #include <fstream>
 #include <thread>
 
@@ -217,7 +219,34 @@ class DaemonOnFileCamera : public ::testing::Test {
     parts.clientLimits.socketGroup = socketGroup_;
     listening_.emplace(ListenSpec{socket_, 0600, std::nullopt, {}});
     daemon_ = std::make_unique<Daemon>(std::move(parts), listening_->fd());
-    thread_ = std::thread([this] { daemon_->run(); });
+    stopped_ = false;
+    thread_ = std::thread([this] {
+      daemon_->run();
+      stopped_ = true;
+    });
+  }
+
+  // Whether run() returned by itself within `seconds` (else it is stopped here).
+  bool stoppedWithin(int seconds) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
+    while (!stopped_ && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    const bool byItself = stopped_;
+    if (!byItself) daemon_->stop();
+    thread_.join();
+    daemon_.reset();
+    listening_.reset();
+    return byItself;
+  }
+
+  // Until the LED has been switched on (a sweep captures).
+  bool ledWentOn() {
+    for (int attempt = 0; attempt < 1000; ++attempt) {
+      const auto leds = ledLog();
+      if (std::any_of(leds.begin(), leds.end(), [](const auto& e) { return e.on; })) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return false;
   }
 
   void TearDown() override {
@@ -259,6 +288,7 @@ class DaemonOnFileCamera : public ::testing::Test {
   std::optional<ListenSocket> listening_;
   std::unique_ptr<Daemon> daemon_;
   std::thread thread_;
+  std::atomic<bool> stopped_ = false;
 };
 
 TEST_F(DaemonOnFileCamera, FramesBecomeSamplesAndTheLedGoesOffWhenTheRecordingEnds) {
@@ -489,6 +519,51 @@ TEST_F(DaemonOnFileCamera, StoppingTheDaemonMidSweepLeavesTheLedOff) {
   thread_.join();
   daemon_.reset();
   EXPECT_FALSE(ledLog().back().on);
+}
+
+TEST(DaemonSignals, EveryCatchableTerminatingSignalStopsTheDaemonAndSigpipeIsNot) {
+  const std::vector<int> stops = stopSignals();
+  for (const int s : {SIGTERM, SIGINT, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM,
+                      SIGPROF, SIGXCPU, SIGIO, SIGPWR, SIGSTKFLT, SIGRTMIN, SIGRTMAX})
+    EXPECT_NE(std::find(stops.begin(), stops.end(), s), stops.end()) << sigabbrev_np(s);
+  // Faults of the process itself stay fatal; SIGPIPE and SIGXFSZ are ignored instead.
+  for (const int s : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGPIPE, SIGXFSZ, SIGKILL})
+    EXPECT_EQ(std::find(stops.begin(), stops.end(), s), stops.end()) << sigabbrev_np(s);
+}
+
+TEST_F(DaemonOnFileCamera, EachStopSignalSwitchesTheLedOffAndStopsCleanly) {
+  // Only SIGTERM and SIGINT were handled: a dropped SSH session (SIGHUP) ended the daemon with
+  // the LED lit. The signals are sent to this process: the daemon's loop has them blocked here
+  // (its EventLoop blocks them in the thread that makes it, the thread it runs on inherits that).
+  const std::vector<int> stops = stopSignals();
+  for (const int s : {SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGTERM, SIGINT, SIGRTMIN}) {
+    if (std::find(stops.begin(), stops.end(), s) == stops.end()) {
+      ADD_FAILURE() << "signal " << s << " does not stop the daemon: not sent";
+      continue;
+    }
+    liveCamera_ = std::make_shared<LiveCameraLog>();
+    liveCamera_->frames = 100'000'000;  // captures until the signal
+    liveCameraDevice_.reset();
+    start();
+    call(SessionNew{"grey card", std::string("grey")});
+    call(SweepStart{kAxial3030});
+    ASSERT_TRUE(ledWentOn()) << "the sweep never switched the LED on";
+    ASSERT_EQ(::kill(::getpid(), s), 0);
+    EXPECT_TRUE(stoppedWithin(20)) << "signal " << s << " did not stop the daemon";
+    EXPECT_FALSE(ledLog().back().on) << "the LED is on after signal " << s;
+    EXPECT_FALSE(liveCamera_->streaming) << "the camera was left streaming by signal " << s;
+  }
+}
+
+TEST_F(DaemonOnFileCamera, SigpipeIsIgnored) {
+  start();
+  struct sigaction action {};
+  ASSERT_EQ(::sigaction(SIGPIPE, nullptr, &action), 0);
+  ASSERT_EQ(action.sa_handler, SIG_IGN) << "a client hanging up mid-write would end the daemon";
+  ASSERT_EQ(::kill(::getpid(), SIGPIPE), 0);
+  EXPECT_EQ(call(Status{})["state"].is_null(), call(Status{})["state"].is_null())
+      << "still answering";
+  EXPECT_FALSE(stopped_);
 }
 
 }  // namespace

@@ -2,9 +2,14 @@
 #include "slicecap/daemon/daemon.hpp"
 
 #include <signal.h>
+#include <string.h>
 #include <sys/epoll.h>
 #include <systemd/sd-daemon.h>
 
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
 #include <iostream>
 
 #include "slicecap/daemon/control_server.hpp"
@@ -16,7 +21,12 @@
 namespace slicecap::daemon {
 
 std::vector<int> stopSignals() {
-  return {SIGTERM, SIGINT};
+  std::vector<int> signals{SIGTERM,   SIGINT,  SIGHUP,  SIGQUIT, SIGUSR1, SIGUSR2,  SIGALRM,
+                           SIGVTALRM, SIGPROF, SIGXCPU, SIGIO,   SIGPWR,  SIGSTKFLT};
+  // SIGRTMIN, not 32: the C library keeps the first real-time signals for its threads.
+  for (int s = SIGRTMIN; s <= SIGRTMAX; ++s)
+    signals.push_back(s);
+  return signals;
 }
 
 struct Daemon::State {
@@ -404,6 +414,11 @@ struct Daemon::State {
 
 Daemon::Daemon(DaemonParts parts, int listenFd)
     : state_(std::make_unique<State>(std::move(parts))) {
+  // A client that hangs up while a write is on its way must never end the daemon (the control
+  // socket sends with MSG_NOSIGNAL; this covers every other write, and a `kill -PIPE`); a file
+  // size limit fails the write with EFBIG, which the storage reports, instead of killing it.
+  std::signal(SIGPIPE, SIG_IGN);
+  std::signal(SIGXFSZ, SIG_IGN);
   state_->ledOff();
   state_->server = std::make_unique<ControlServer>(
       state_->loop, listenFd, [this](const Request& request) { return state_->handle(request); },
@@ -416,7 +431,13 @@ Daemon::~Daemon() {
 }
 
 void Daemon::run() {
-  state_->loop.onSignal([this](int) { state_->loop.stop(); });
+  state_->loop.onSignal([this](int signalNumber) {
+    const char* name = sigabbrev_np(signalNumber);  // none for the real-time signals
+    std::cerr << "slicecapd: stopping on "
+              << (name ? "SIG" + std::string(name) : "signal " + std::to_string(signalNumber))
+              << "\n";
+    state_->loop.stop();
+  });
   std::uint64_t watchdogUs = 0;
   if (sd_watchdog_enabled(0, &watchdogUs) > 0 && watchdogUs > 0) {
     state_->loop.addTimer(std::chrono::microseconds(watchdogUs / 2), true,
