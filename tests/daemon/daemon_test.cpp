@@ -15,6 +15,7 @@
 #include <fstream>
 #include <thread>
 
+#include "../support/request_as_user.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/daemon/control_client.hpp"
 #include "slicecap/daemon/control_server.hpp"
@@ -564,6 +565,47 @@ TEST_F(DaemonOnFileCamera, SigpipeIsIgnored) {
   EXPECT_EQ(call(Status{})["state"].is_null(), call(Status{})["state"].is_null())
       << "still answering";
   EXPECT_FALSE(stopped_);
+}
+
+TEST_F(DaemonOnFileCamera, ExportsOnlyIntoTheStorageOrAFolderTheAskingUserOwns) {
+  // The daemon writes with its own rights (root, or the slicecap user with its state folder): a
+  // client must not make it write where the client itself could not.
+  if (!test::canChangeUser()) GTEST_SKIP() << "needs root to run a client as another user";
+  socketGroup_ = 0;  // the socket's group in slicecapd (ListenSocket::group)
+  start();
+  call(SessionNew{"grey card", std::string("grey")});
+  ASSERT_EQ(::chmod(socketDir_.path().c_str(), 0711), 0);
+  ASSERT_EQ(::chmod(socket_.c_str(), 0660), 0);  // the group's (root's, here) as in slicecapd
+  const uid_t nobody = 65534;
+  const auto exportAs = [&](const std::filesystem::path& directory) {
+    return test::requestAsUser(socket_, nobody, 0, {},
+                               encodeRequest({5, Export{std::nullopt, directory.string(), {}}}));
+  };
+  const std::filesystem::path roots = dir_ / "roots", theirs = dir_ / "theirs";
+  std::filesystem::create_directories(roots);
+  std::filesystem::create_directories(theirs);
+  ASSERT_EQ(::chown(theirs.c_str(), nobody, nobody), 0);
+
+  const std::string refused = exportAs(roots / "out");
+  EXPECT_THAT(refused, HasSubstr("permission_denied")) << refused;
+  EXPECT_THAT(refused, HasSubstr(roots.string())) << "names the folder";
+  EXPECT_THAT(refused, HasSubstr("uid 65534")) << "names who asked";
+  EXPECT_FALSE(std::filesystem::exists(roots / "out")) << "made before it was refused";
+  // A link the client owns into a folder it does not own decides nothing: where it leads does.
+  std::filesystem::create_directory_symlink(roots, theirs / "link");
+  EXPECT_THAT(exportAs(theirs / "link"), HasSubstr("permission_denied"));
+  EXPECT_THAT(exportAs(theirs / "link" / ".." / ".." / "roots"), HasSubstr("must not contain"));
+
+  for (const auto& allowed : {theirs / "out", dir_ / "storage" / "grey" / "mine"}) {
+    const std::string reply = exportAs(allowed);
+    EXPECT_THAT(reply, Not(HasSubstr("permission_denied"))) << allowed << ": " << reply;
+    EXPECT_THAT(reply, Not(HasSubstr("connect failed"))) << reply;
+  }
+  try {
+    call(Export{std::nullopt, (roots / "out").string(), {}});
+  } catch (const DaemonError& e) {
+    EXPECT_NE(e.code(), "permission_denied") << "root may export anywhere: " << e.what();
+  }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <string.h>
 #include <sys/epoll.h>
+#include <sys/stat.h>
 #include <systemd/sd-daemon.h>
 
 #include <algorithm>
@@ -367,7 +368,49 @@ struct Daemon::State {
     parts.led->set(parts.ledAlternate ? !parts.led->isOn() : true);
   }
 
+  /// An export into a folder the client names is written with the daemon's rights: only into its
+  /// storage, or into a folder the asking uid owns (root may name any). The nearest folder that
+  /// exists, links resolved, decides: the export creates the rest inside it.
+  void authorizeExport(const Export& command, const std::optional<Peer>& peer) const {
+    namespace fs = std::filesystem;
+    if (command.directory.empty()) return;
+    const fs::path wanted(command.directory);
+    for (const fs::path& part : wanted)
+      if (part == "..")
+        throw RequestError(ErrorCode::BadRequest,
+                           "export directory " + command.directory + " must not contain '..'");
+    std::error_code error;
+    fs::path existing = wanted;
+    while (!fs::exists(existing, error) && existing.has_relative_path())
+      existing = existing.parent_path();
+    const fs::path real = fs::canonical(existing, error);
+    if (error)
+      throw RequestError(ErrorCode::BadRequest,
+                         "export directory " + command.directory + ": " + error.message());
+    const fs::path storage = fs::weakly_canonical(parts.storage, error);
+    const auto [storageEnd, realEnd] =
+        std::mismatch(storage.begin(), storage.end(), real.begin(), real.end());
+    if (!error && storageEnd == storage.end()) return;  // the storage or a folder in it
+    struct stat folder {};
+    if (::stat(real.c_str(), &folder) != 0)
+      throw RequestError(ErrorCode::BadRequest,
+                         "export directory " + command.directory + ": " + std::strerror(errno));
+    if (!peer)
+      throw RequestError(
+          ErrorCode::PermissionDenied,
+          "export into " + command.directory + " refused: the daemon cannot tell who asked");
+    if (peer->uid == 0 || folder.st_uid == peer->uid) return;
+    throw RequestError(ErrorCode::PermissionDenied,
+                       "export into " + command.directory + " refused: " + real.string() +
+                           " belongs to uid " + std::to_string(folder.st_uid) + ", not to uid " +
+                           std::to_string(peer->uid) +
+                           " who asked (export into a folder you "
+                           "own, or leave out the directory to export into the session's folder)");
+  }
+
   nlohmann::json handle(const Request& request) {
+    if (const auto* exporting = std::get_if<Export>(&request.command))
+      authorizeExport(*exporting, request.peer);
     nlohmann::json json;
     try {
       if (const auto* redo = std::get_if<SweepRedo>(&request.command)) {
