@@ -363,18 +363,6 @@ TEST(ControlServer, IdleClientsAreClosedSoTheyCannotHoldEverySlot) {
   });
 }
 
-TEST(ControlServer, ABusyClientIsNotIdle) {
-  const test::SocketDir sockets;
-  const auto socket = sockets / "ctl.sock";
-  ServerLimits limits;
-  limits.idleTimeout = 1h;
-  serve(socket, echo, limits, [&](EventLoop&) {
-    ControlClient client(socket);
-    for (int i = 0; i < 20; ++i)
-      EXPECT_EQ(client.call(Hello{})["command"], "hello");
-  });
-}
-
 TEST(PeerPolicy, RootTheDaemonsUidAndTheSocketsGroupMayConnect) {
   const std::uint32_t self = 990, group = 991;
   EXPECT_TRUE(peerMayConnect({1, 0, 0}, {}, group, self)) << "root";
