@@ -2,6 +2,8 @@
 // mistake stops the start with a message before systemd hears READY.
 #include "slicecapd_setup.hpp"
 
+#include <grp.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -185,6 +187,36 @@ void preview(const Abrdf& table, const fs::path& png) {
   io::writePng(png, render::previewSheet(png.stem().string(), {line}, table).toPng());
 }
 
+// What a start would find wrong before it opens a device: the files the configuration names, the
+// socket's path and group (--check-config opens no device, so a camera or GPIO line is not tried).
+std::vector<std::string> startProblems(const DaemonConfig& config) {
+  std::vector<std::string> problems;
+  const auto check = [&problems](const std::function<void()>& what) {
+    try {
+      what();
+    } catch (const std::exception& error) {
+      problems.emplace_back(error.what());
+    }
+  };
+  if (const auto problem = daemon::socketPathProblem(config.socket))
+    problems.push_back("socket: " + *problem);
+  if (!config.socketGroup.empty() && !::getgrnam(config.socketGroup.c_str()))
+    problems.push_back("socket_group: group " + config.socketGroup +
+                       " does not exist (add it, e.g. with systemd-sysusers and the package's "
+                       "slicecap.sysusers, or leave socket_group empty)");
+  if (config.camera == DaemonConfig::CameraKind::File)
+    check([&] { findRecordings(config.recording); });
+  if (config.target != "default") check([&] { io::readTargetJson(config.target); });
+  if (!config.calibration.empty())
+    check([&] {
+      io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
+    });
+  std::error_code error;
+  if (fs::exists(config.storage, error) && !fs::is_directory(config.storage, error))
+    problems.push_back("storage: " + config.storage.string() + " is not a folder");
+  return problems;
+}
+
 // `warnings`: configWarnings(config), already logged; every status shows them.
 int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::ostream& err) {
   // Before the camera: libcamera starts its threads in the camera's constructor, and a SIGTERM
@@ -275,14 +307,16 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   parts.preview = preview;
   parts.isotropy = assessIsotropy;
 
-  bool fromSystemd = false;
-  const int listenFd = daemon::openListenSocket(
+  // Outlives the daemon: its socket file is removed when the daemon has stopped (not systemd's).
+  const daemon::ListenSocket listening(
       {config.socket, 0660,
-       config.socketGroup.empty() ? std::nullopt : std::optional<std::string>(config.socketGroup)},
-      &fromSystemd);
-  daemon::Daemon daemon(std::move(parts), listenFd);
+       config.socketGroup.empty() ? std::nullopt : std::optional<std::string>(config.socketGroup)});
+  parts.clientLimits.idleTimeout = std::chrono::seconds(config.clientIdleTimeoutS);
+  parts.clientLimits.socketGroup = listening.group();
+  daemon::Daemon daemon(std::move(parts), listening.fd());
   err << "slicecapd " << kVersion << ": serving "
-      << (fromSystemd ? std::string("the socket systemd passed") : config.socket.string())
+      << (listening.fromSystemd() ? std::string("the socket systemd passed")
+                                  : config.socket.string())
       << ", sessions in " << config.storage.string() << "\n";
   daemon.run();
   return 0;
@@ -316,6 +350,10 @@ int run(std::span<const std::string> args, std::ostream& out, std::ostream& err)
     for (const std::string& warning : warnings)
       err << "slicecapd: " << options.config.string() << ": warning: " << warning << "\n";
     if (options.checkConfig) {
+      const std::vector<std::string> problems = startProblems(config);
+      for (const std::string& problem : problems)
+        err << "slicecapd: " << options.config.string() << ": " << problem << "\n";
+      if (!problems.empty()) return 1;
       out << options.config.string() << ": ok\n";
       return 0;
     }

@@ -34,6 +34,8 @@ TEST(DaemonConfig, TheDocumentedDefaultsAreTheDefaults) {
   EXPECT_EQ(fromFile.storage, defaults.storage);
   EXPECT_EQ(fromFile.socket, defaults.socket);
   EXPECT_EQ(fromFile.socketGroup, defaults.socketGroup);
+  EXPECT_EQ(fromFile.clientIdleTimeoutS, defaults.clientIdleTimeoutS);
+  EXPECT_EQ(fromFile.clientIdleTimeoutS, 300);
   EXPECT_FALSE(fromFile.exposureUs.has_value());
   EXPECT_EQ(fromFile.textureResolution, 0) << "no texture unless asked";
   EXPECT_EQ(fromFile.textureFramesPerBin, defaults.textureFramesPerBin);
@@ -50,7 +52,8 @@ TEST(DaemonConfig, ReadsEveryKind) {
       "led_line = 23\n"
       "storage = /tmp/slicecap\n"
       "texture_resolution = 128\n"
-      "texture_frames_per_bin = 3\n");
+      "texture_frames_per_bin = 3\n"
+      "client_idle_timeout_s = 0\n");
   EXPECT_EQ(c.camera, DaemonConfig::CameraKind::File);
   EXPECT_EQ(c.recording, "/srv/sim/felt");
   EXPECT_EQ(c.widthPx, 1920);
@@ -59,6 +62,8 @@ TEST(DaemonConfig, ReadsEveryKind) {
   EXPECT_EQ(c.ledLine, "23");
   EXPECT_EQ(c.textureResolution, 128);
   EXPECT_EQ(c.textureFramesPerBin, 3);
+  EXPECT_EQ(c.clientIdleTimeoutS, 0) << "0: idle clients are never closed";
+  EXPECT_NE(error("client_idle_timeout_s = -1\n").find("client_idle_timeout_s"), std::string::npos);
 }
 
 TEST(DaemonConfig, WarnsOfAV4l2CameraLeftOnAutoGain) {

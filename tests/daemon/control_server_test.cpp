@@ -7,13 +7,16 @@
 #include <signal.h>
 #include <sys/eventfd.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <fstream>
+#include <future>
 #include <thread>
 
+#include "../support/request_as_user.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/daemon/control_client.hpp"
 
@@ -22,16 +25,18 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// A daemon-like server on the test's main thread; `clients` runs on another thread, then stops it.
-void serve(const std::filesystem::path& socket, RequestHandler handler,
-           const std::function<void()>& clients) {
+// A daemon-like server on the test's main thread; `clients` runs on another thread (and may post
+// work to the loop), then stops it.
+void serve(const std::filesystem::path& socket, RequestHandler handler, ServerLimits limits,
+           const std::function<void(EventLoop&)>& clients) {
   EventLoop loop;
-  const int listenFd = openListenSocket({socket, 0660, std::nullopt});
-  ControlServer server(loop, listenFd, std::move(handler));
+  const ListenSocket listening({socket, 0660, std::nullopt});
+  limits.socketGroup = listening.group();
+  ControlServer server(loop, listening.fd(), std::move(handler), limits);
   std::exception_ptr failure;
   std::thread worker([&] {
     try {
-      clients();
+      clients(loop);
     } catch (...) {
       failure = std::current_exception();
     }
@@ -39,8 +44,12 @@ void serve(const std::filesystem::path& socket, RequestHandler handler,
   });
   loop.run();
   worker.join();
-  ::close(listenFd);
   if (failure) std::rethrow_exception(failure);
+}
+
+void serve(const std::filesystem::path& socket, RequestHandler handler,
+           const std::function<void()>& clients) {
+  serve(socket, std::move(handler), ServerLimits{}, [&](EventLoop&) { clients(); });
 }
 
 nlohmann::json echo(const Request& request) {
@@ -293,6 +302,171 @@ TEST(ControlServer, AClientWritingWithoutPauseDoesNotHoldUpTheOthers) {
     writer.join();
     ::close(flooder);
   });
+}
+
+TEST(ControlServer, ClientsThatHungUpHoldNoSlotWhenANewOneArrives) {
+  // Hang-ups the loop has not read yet were counted: with the slots full of clients that had
+  // gone, a new client was told "too many clients". Here the new client connects while the loop
+  // is held, then the others hang up, so the loop sees the new connection before their hang-ups.
+  const test::SocketDir sockets;
+  const auto socket = sockets / "ctl.sock";
+  ServerLimits limits;
+  limits.maxClients = 8;
+  serve(socket, echo, limits, [&](EventLoop& loop) {
+    std::vector<int> gone;
+    const std::string hello = encodeRequest({1, Hello{}}) + "\n";
+    for (std::size_t i = 0; i < limits.maxClients; ++i) {
+      gone.push_back(rawConnect(socket));
+      ::send(gone.back(), hello.data(), hello.size(), MSG_NOSIGNAL);
+      ASSERT_THAT(readLines(gone.back(), 1), ::testing::HasSubstr("\"ok\":true"));  // accepted
+    }
+    std::promise<void> release;
+    std::promise<void> held;
+    loop.post([&] {
+      held.set_value();
+      release.get_future().wait();
+    });
+    held.get_future().wait();
+    const int late = rawConnect(socket);  // waits in the backlog: the loop is held
+    for (const int fd : gone)
+      ::close(fd);
+    release.set_value();
+    const std::string request = encodeRequest({2, Hello{}}) + "\n";
+    ::send(late, request.data(), request.size(), MSG_NOSIGNAL);
+    const std::string answer = readLines(late, 1);
+    EXPECT_THAT(answer, ::testing::HasSubstr("\"id\":2,\"ok\":true")) << answer;
+    ::close(late);
+  });
+}
+
+TEST(ControlServer, IdleClientsAreClosedSoTheyCannotHoldEverySlot) {
+  const test::SocketDir sockets;
+  const auto socket = sockets / "ctl.sock";
+  ServerLimits limits;
+  limits.maxClients = 4;
+  limits.idleTimeout = 50ms;
+  serve(socket, echo, limits, [&](EventLoop&) {
+    std::vector<int> idle;
+    for (std::size_t i = 0; i < limits.maxClients; ++i)
+      idle.push_back(rawConnect(socket));
+    // Each idle client is told why and closed: it reads the line, then the end of the stream.
+    for (const int fd : idle) {
+      timeval deadline{10, 0};
+      ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &deadline, sizeof deadline);
+      const std::string said = readLines(fd, 1);
+      EXPECT_THAT(said, ::testing::HasSubstr("without a request")) << said;
+      char byte;
+      EXPECT_EQ(::recv(fd, &byte, 1, 0), 0) << "still open";
+      ::close(fd);
+    }
+    EXPECT_EQ(helloOnceTheServerHasRoom(socket)["command"], "hello");
+  });
+}
+
+TEST(PeerPolicy, RootTheDaemonsUidAndTheSocketsGroupMayConnect) {
+  const std::uint32_t self = 990, group = 991;
+  EXPECT_TRUE(peerMayConnect({1, 0, 0}, {}, group, self)) << "root";
+  EXPECT_TRUE(peerMayConnect({1, self, 100}, {}, group, self)) << "the daemon's own uid";
+  EXPECT_TRUE(peerMayConnect({1, 1000, group}, {}, group, self)) << "primary group";
+  EXPECT_TRUE(peerMayConnect({1, 1000, 1000}, {27, group}, group, self)) << "supplementary group";
+  EXPECT_FALSE(peerMayConnect({1, 1000, 1000}, {27, 100}, group, self)) << "not in the group";
+  EXPECT_FALSE(peerMayConnect({1, 1000, 991}, {991}, std::nullopt, self)) << "no group: nobody";
+}
+
+TEST(ControlServer, RefusesAPeerOutsideTheSocketsGroupEvenIfItCouldConnect) {
+  // Connecting needs write permission on the socket file, which is the group's; a client that got
+  // in while the file's mode was wider (the old chmod after bind, or a mode set by hand) is still
+  // not served. Here the mode is widened by hand; the peer's credentials decide.
+  if (!test::canChangeUser()) GTEST_SKIP() << "needs root to run a client as another user";
+  const test::SocketDir sockets;
+  const auto socket = sockets / "ctl.sock";
+  serve(socket, echo, ServerLimits{}, [&](EventLoop&) {
+    ASSERT_EQ(::chmod(sockets.path().c_str(), 0711), 0);
+    ASSERT_EQ(::chmod(socket.c_str(), 0666), 0);
+    struct stat file {};
+    ASSERT_EQ(::stat(socket.c_str(), &file), 0);
+    const gid_t group = file.st_gid, nobody = 65534;
+    ASSERT_NE(group, nobody);
+    const std::string hello = encodeRequest({3, Hello{}});
+    const std::string outsider = test::requestAsUser(socket, nobody, nobody, {}, hello);
+    EXPECT_THAT(outsider, ::testing::HasSubstr("permission_denied")) << outsider;
+    EXPECT_THAT(outsider, ::testing::HasSubstr("uid 65534")) << outsider;
+    EXPECT_THAT(test::requestAsUser(socket, nobody, group, {}, hello),
+                ::testing::HasSubstr("\"id\":3,\"ok\":true"))
+        << "a member by its primary group";
+    EXPECT_THAT(test::requestAsUser(socket, nobody, nobody, {group}, hello),
+                ::testing::HasSubstr("\"id\":3,\"ok\":true"))
+        << "a member by a supplementary group";
+  });
+}
+
+TEST(ListenSocket, IsNeverReachableWithAWiderModeWhateverTheUmask) {
+  // Bound at its path and then chmod-ed, the socket was 0777 under umask 000 until the chmod:
+  // another uid connected in that window (3 of 20 starts) and stayed connected.
+  const test::SocketDir dir;
+  const auto path = dir / "u.sock";
+  int calls = 0;
+  ListenSpec spec{path, 0660, std::nullopt, [&](const std::filesystem::path& bound) {
+                    ++calls;
+                    struct stat node {
+                    }, folder{};
+                    ASSERT_EQ(::stat(bound.c_str(), &node), 0);
+                    ASSERT_EQ(::stat(bound.parent_path().c_str(), &folder), 0);
+                    // Reachable by others: at its own path (its folder is the test's, 0700 but
+                    // the daemon's is not), or in a folder others may enter.
+                    const bool reachable = bound == path || (folder.st_mode & 0077) != 0;
+                    if (reachable) {
+                      EXPECT_EQ(node.st_mode & 0117, 0u) << bound << " is reachable with mode "
+                                                         << std::oct << (node.st_mode & 07777);
+                    }
+                    EXPECT_FALSE(std::filesystem::exists(path))
+                        << "at the socket's path before its mode is set";
+                  }};
+  const mode_t saved = ::umask(0);
+  std::optional<ListenSocket> listening;
+  try {
+    listening.emplace(spec);
+  } catch (...) {
+    ::umask(saved);
+    throw;
+  }
+  ::umask(saved);
+  EXPECT_EQ(calls, 1);
+  struct stat placed {};
+  ASSERT_EQ(::stat(path.c_str(), &placed), 0);
+  EXPECT_TRUE(S_ISSOCK(placed.st_mode));
+  EXPECT_EQ(placed.st_mode & 07777, 0660u);
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()),
+                          std::filesystem::directory_iterator()),
+            1)
+      << "the private folder it was bound in is gone";
+  ControlClient client(path, 1s);  // connectable where it was put
+}
+
+TEST(ListenSocket, RemovesTheSocketFileItBoundButNotOneThatReplacedIt) {
+  const test::SocketDir dir;
+  const auto path = dir / "r.sock";
+  { const ListenSocket listening({path, 0660, std::nullopt}); }
+  EXPECT_FALSE(std::filesystem::exists(path)) << "left behind on close";
+  {
+    std::optional<ListenSocket> first;
+    first.emplace(ListenSpec{path, 0660, std::nullopt, {}});
+    std::filesystem::remove(path);
+    const ListenSocket second({path, 0660, std::nullopt});
+    first.reset();
+    EXPECT_TRUE(std::filesystem::exists(path)) << "the first one's close took the second's file";
+  }
+  EXPECT_FALSE(std::filesystem::exists(path));
+  {
+    const ListenSocket replaced({path, 0660, std::nullopt});
+    std::filesystem::remove(path);
+    std::ofstream(path) << "someone else's";
+  }
+  EXPECT_TRUE(std::filesystem::is_regular_file(path)) << "a file that replaced it was removed";
+  std::filesystem::remove(path);
+  const int released = openListenSocket({path, 0660, std::nullopt});
+  ::close(released);
+  EXPECT_TRUE(std::filesystem::exists(path)) << "a released descriptor's file is the caller's";
 }
 
 TEST(ListenSocket, ReplacesAStaleSocketButNotALiveOneOrAFile) {

@@ -10,9 +10,12 @@
 #include <sys/eventfd.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <csignal>
 #include <fstream>
 #include <thread>
 
+#include "../support/request_as_user.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/daemon/control_client.hpp"
 #include "slicecap/daemon/control_server.hpp"
@@ -214,9 +217,37 @@ class DaemonOnFileCamera : public ::testing::Test {
         return std::make_unique<FakeTextureSink>(texture);
       };
     parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };
-    daemon_ =
-        std::make_unique<Daemon>(std::move(parts), openListenSocket({socket_, 0600, std::nullopt}));
-    thread_ = std::thread([this] { daemon_->run(); });
+    parts.clientLimits.socketGroup = socketGroup_;
+    listening_.emplace(ListenSpec{socket_, 0600, std::nullopt, {}});
+    daemon_ = std::make_unique<Daemon>(std::move(parts), listening_->fd());
+    stopped_ = false;
+    thread_ = std::thread([this] {
+      daemon_->run();
+      stopped_ = true;
+    });
+  }
+
+  // Whether run() returned by itself within `seconds` (else it is stopped here).
+  bool stoppedWithin(int seconds) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
+    while (!stopped_ && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    const bool byItself = stopped_;
+    if (!byItself) daemon_->stop();
+    thread_.join();
+    daemon_.reset();
+    listening_.reset();
+    return byItself;
+  }
+
+  // Until the LED has been switched on (a sweep captures).
+  bool ledWentOn() {
+    for (int attempt = 0; attempt < 1000; ++attempt) {
+      const auto leds = ledLog();
+      if (std::any_of(leds.begin(), leds.end(), [](const auto& e) { return e.on; })) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return false;
   }
 
   void TearDown() override {
@@ -254,8 +285,11 @@ class DaemonOnFileCamera : public ::testing::Test {
   std::shared_ptr<hal::Camera> liveCameraDevice_;
   test::SocketDir socketDir_;  // the socket path must fit sun_path
   std::filesystem::path dir_, socket_, ledLog_;
+  std::optional<std::uint32_t> socketGroup_;  // who may connect besides root and this uid
+  std::optional<ListenSocket> listening_;
   std::unique_ptr<Daemon> daemon_;
   std::thread thread_;
+  std::atomic<bool> stopped_ = false;
 };
 
 TEST_F(DaemonOnFileCamera, FramesBecomeSamplesAndTheLedGoesOffWhenTheRecordingEnds) {
@@ -486,6 +520,92 @@ TEST_F(DaemonOnFileCamera, StoppingTheDaemonMidSweepLeavesTheLedOff) {
   thread_.join();
   daemon_.reset();
   EXPECT_FALSE(ledLog().back().on);
+}
+
+TEST(DaemonSignals, EveryCatchableTerminatingSignalStopsTheDaemonAndSigpipeIsNot) {
+  const std::vector<int> stops = stopSignals();
+  for (const int s : {SIGTERM, SIGINT, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM,
+                      SIGPROF, SIGXCPU, SIGIO, SIGPWR, SIGSTKFLT, SIGRTMIN, SIGRTMAX})
+    EXPECT_NE(std::find(stops.begin(), stops.end(), s), stops.end()) << sigabbrev_np(s);
+  // Faults of the process itself stay fatal; SIGPIPE and SIGXFSZ are ignored instead.
+  for (const int s : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGPIPE, SIGXFSZ, SIGKILL})
+    EXPECT_EQ(std::find(stops.begin(), stops.end(), s), stops.end()) << sigabbrev_np(s);
+}
+
+TEST_F(DaemonOnFileCamera, EachStopSignalSwitchesTheLedOffAndStopsCleanly) {
+  // Only SIGTERM and SIGINT were handled: a dropped SSH session (SIGHUP) ended the daemon with
+  // the LED lit. The signals are sent to this process: the daemon's loop has them blocked here
+  // (its EventLoop blocks them in the thread that makes it, the thread it runs on inherits that).
+  const std::vector<int> stops = stopSignals();
+  for (const int s : {SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGALRM, SIGTERM, SIGINT, SIGRTMIN}) {
+    if (std::find(stops.begin(), stops.end(), s) == stops.end()) {
+      ADD_FAILURE() << "signal " << s << " does not stop the daemon: not sent";
+      continue;
+    }
+    liveCamera_ = std::make_shared<LiveCameraLog>();
+    liveCamera_->frames = 100'000'000;  // captures until the signal
+    liveCameraDevice_.reset();
+    start();
+    call(SessionNew{"grey card", std::string("grey")});
+    call(SweepStart{kAxial3030});
+    ASSERT_TRUE(ledWentOn()) << "the sweep never switched the LED on";
+    ASSERT_EQ(::kill(::getpid(), s), 0);
+    EXPECT_TRUE(stoppedWithin(20)) << "signal " << s << " did not stop the daemon";
+    EXPECT_FALSE(ledLog().back().on) << "the LED is on after signal " << s;
+    EXPECT_FALSE(liveCamera_->streaming) << "the camera was left streaming by signal " << s;
+  }
+}
+
+TEST_F(DaemonOnFileCamera, SigpipeIsIgnored) {
+  start();
+  struct sigaction action {};
+  ASSERT_EQ(::sigaction(SIGPIPE, nullptr, &action), 0);
+  ASSERT_EQ(action.sa_handler, SIG_IGN) << "a client hanging up mid-write would end the daemon";
+  ASSERT_EQ(::kill(::getpid(), SIGPIPE), 0);
+  EXPECT_EQ(call(Status{})["state"].is_null(), call(Status{})["state"].is_null())
+      << "still answering";
+  EXPECT_FALSE(stopped_);
+}
+
+TEST_F(DaemonOnFileCamera, ExportsOnlyIntoTheStorageOrAFolderTheAskingUserOwns) {
+  // The daemon writes with its own rights (root, or the slicecap user with its state folder): a
+  // client must not make it write where the client itself could not.
+  if (!test::canChangeUser()) GTEST_SKIP() << "needs root to run a client as another user";
+  socketGroup_ = 0;  // the socket's group in slicecapd (ListenSocket::group)
+  start();
+  call(SessionNew{"grey card", std::string("grey")});
+  ASSERT_EQ(::chmod(socketDir_.path().c_str(), 0711), 0);
+  ASSERT_EQ(::chmod(socket_.c_str(), 0660), 0);  // the group's (root's, here) as in slicecapd
+  const uid_t nobody = 65534;
+  const auto exportAs = [&](const std::filesystem::path& directory) {
+    return test::requestAsUser(socket_, nobody, 0, {},
+                               encodeRequest({5, Export{std::nullopt, directory.string(), {}}}));
+  };
+  const std::filesystem::path roots = dir_ / "roots", theirs = dir_ / "theirs";
+  std::filesystem::create_directories(roots);
+  std::filesystem::create_directories(theirs);
+  ASSERT_EQ(::chown(theirs.c_str(), nobody, nobody), 0);
+
+  const std::string refused = exportAs(roots / "out");
+  EXPECT_THAT(refused, HasSubstr("permission_denied")) << refused;
+  EXPECT_THAT(refused, HasSubstr(roots.string())) << "names the folder";
+  EXPECT_THAT(refused, HasSubstr("uid 65534")) << "names who asked";
+  EXPECT_FALSE(std::filesystem::exists(roots / "out")) << "made before it was refused";
+  // A link the client owns into a folder it does not own decides nothing: where it leads does.
+  std::filesystem::create_directory_symlink(roots, theirs / "link");
+  EXPECT_THAT(exportAs(theirs / "link"), HasSubstr("permission_denied"));
+  EXPECT_THAT(exportAs(theirs / "link" / ".." / ".." / "roots"), HasSubstr("must not contain"));
+
+  for (const auto& allowed : {theirs / "out", dir_ / "storage" / "grey" / "mine"}) {
+    const std::string reply = exportAs(allowed);
+    EXPECT_THAT(reply, Not(HasSubstr("permission_denied"))) << allowed << ": " << reply;
+    EXPECT_THAT(reply, Not(HasSubstr("connect failed"))) << reply;
+  }
+  try {
+    call(Export{std::nullopt, (roots / "out").string(), {}});
+  } catch (const DaemonError& e) {
+    EXPECT_NE(e.code(), "permission_denied") << "root may export anywhere: " << e.what();
+  }
 }
 
 }  // namespace

@@ -132,6 +132,28 @@ TEST(Protocol, ValidatesArgumentsAndNamesTheField) {
             "rotes Leder \u00e4");
 }
 
+TEST(Protocol, RefusesC1ControlsAndBidiOverridesInNames) {
+  // `session list` prints the name raw: U+009B is a CSI on many terminals, and U+202E (and the
+  // other embeddings, overrides and isolates) reverses what the operator reads after it.
+  for (const char* character :
+       {"\\u0080", "\\u009b", "\\u009f", "\\u202a", "\\u202e", "\\u2066", "\\u2069"}) {
+    for (const char* argument : {"material", "directory"}) {
+      const std::string command = std::string(argument) == "material" ? "session.new" : "export";
+      const std::string line = "{\"v\":1,\"id\":1,\"cmd\":\"" + command + "\",\"args\":{\"" +
+                               argument + "\":\"/red " + character + "felt\"}}";
+      const ProtocolError error = refusal(line);
+      EXPECT_EQ(error.code, ErrorCode::BadRequest) << line;
+      EXPECT_NE(error.message.find(std::string("\"") + argument + "\" must not contain"),
+                std::string::npos)
+          << error.message;
+    }
+  }
+  // Their neighbours are ordinary text.
+  for (const char* character : {"\\u00a0", "\\u00e4", "\\u2030", "\\u202f", "\\u2065", "\\u206a"})
+    accepted("{\"v\":1,\"id\":1,\"cmd\":\"session.new\",\"args\":{\"material\":\"red " +
+             std::string(character) + "\"}}");
+}
+
 TEST(Protocol, SurvivesHostileInput) {
   EXPECT_EQ(refusal(std::string(kMaxRequestBytes + 1, '{')).code, ErrorCode::TooLarge);
   // Deep nesting within the size limit must not overflow the stack.

@@ -101,6 +101,10 @@ const std::map<std::string, Setter>& setters() {
        }},
       {"socket", [](DaemonConfig& c, const std::string& v) { c.socket = v; }},
       {"socket_group", [](DaemonConfig& c, const std::string& v) { c.socketGroup = v; }},
+      {"client_idle_timeout_s",
+       [](DaemonConfig& c, const std::string& v) {
+         c.clientIdleTimeoutS = wholeNumber(v, 0, 86400, "seconds; 0: never");
+       }},
   };
   return table;
 }
@@ -205,6 +209,9 @@ texture_frames_per_bin = 5
 # The control socket, when systemd does not pass one (slicecapd.socket), and the group allowed to use it.
 socket = /run/slicecap/slicecapd.sock
 socket_group = slicecap
+# A client that sends no request for this many seconds is closed (0: never), so connections left
+# open cannot hold all 128 client slots. `slicecap status --watch` asks every --interval seconds.
+client_idle_timeout_s = 300
 )";
 }
 

@@ -2,9 +2,15 @@
 #include "slicecap/daemon/daemon.hpp"
 
 #include <signal.h>
+#include <string.h>
 #include <sys/epoll.h>
+#include <sys/stat.h>
 #include <systemd/sd-daemon.h>
 
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
 #include <iostream>
 
 #include "slicecap/daemon/control_server.hpp"
@@ -16,7 +22,12 @@
 namespace slicecap::daemon {
 
 std::vector<int> stopSignals() {
-  return {SIGTERM, SIGINT};
+  std::vector<int> signals{SIGTERM,   SIGINT,  SIGHUP,  SIGQUIT, SIGUSR1, SIGUSR2,  SIGALRM,
+                           SIGVTALRM, SIGPROF, SIGXCPU, SIGIO,   SIGPWR,  SIGSTKFLT};
+  // SIGRTMIN, not 32: the C library keeps the first real-time signals for its threads.
+  for (int s = SIGRTMIN; s <= SIGRTMAX; ++s)
+    signals.push_back(s);
+  return signals;
 }
 
 struct Daemon::State {
@@ -357,7 +368,49 @@ struct Daemon::State {
     parts.led->set(parts.ledAlternate ? !parts.led->isOn() : true);
   }
 
+  /// An export into a folder the client names is written with the daemon's rights: only into its
+  /// storage, or into a folder the asking uid owns (root may name any). The nearest folder that
+  /// exists, links resolved, decides: the export creates the rest inside it.
+  void authorizeExport(const Export& command, const std::optional<Peer>& peer) const {
+    namespace fs = std::filesystem;
+    if (command.directory.empty()) return;
+    const fs::path wanted(command.directory);
+    for (const fs::path& part : wanted)
+      if (part == "..")
+        throw RequestError(ErrorCode::BadRequest,
+                           "export directory " + command.directory + " must not contain '..'");
+    std::error_code error;
+    fs::path existing = wanted;
+    while (!fs::exists(existing, error) && existing.has_relative_path())
+      existing = existing.parent_path();
+    const fs::path real = fs::canonical(existing, error);
+    if (error)
+      throw RequestError(ErrorCode::BadRequest,
+                         "export directory " + command.directory + ": " + error.message());
+    const fs::path storage = fs::weakly_canonical(parts.storage, error);
+    const auto [storageEnd, realEnd] =
+        std::mismatch(storage.begin(), storage.end(), real.begin(), real.end());
+    if (!error && storageEnd == storage.end()) return;  // the storage or a folder in it
+    struct stat folder {};
+    if (::stat(real.c_str(), &folder) != 0)
+      throw RequestError(ErrorCode::BadRequest,
+                         "export directory " + command.directory + ": " + std::strerror(errno));
+    if (!peer)
+      throw RequestError(
+          ErrorCode::PermissionDenied,
+          "export into " + command.directory + " refused: the daemon cannot tell who asked");
+    if (peer->uid == 0 || folder.st_uid == peer->uid) return;
+    throw RequestError(ErrorCode::PermissionDenied,
+                       "export into " + command.directory + " refused: " + real.string() +
+                           " belongs to uid " + std::to_string(folder.st_uid) + ", not to uid " +
+                           std::to_string(peer->uid) +
+                           " who asked (export into a folder you "
+                           "own, or leave out the directory to export into the session's folder)");
+  }
+
   nlohmann::json handle(const Request& request) {
+    if (const auto* exporting = std::get_if<Export>(&request.command))
+      authorizeExport(*exporting, request.peer);
     nlohmann::json json;
     try {
       if (const auto* redo = std::get_if<SweepRedo>(&request.command)) {
@@ -404,9 +457,15 @@ struct Daemon::State {
 
 Daemon::Daemon(DaemonParts parts, int listenFd)
     : state_(std::make_unique<State>(std::move(parts))) {
+  // A client that hangs up while a write is on its way must never end the daemon (the control
+  // socket sends with MSG_NOSIGNAL; this covers every other write, and a `kill -PIPE`); a file
+  // size limit fails the write with EFBIG, which the storage reports, instead of killing it.
+  std::signal(SIGPIPE, SIG_IGN);
+  std::signal(SIGXFSZ, SIG_IGN);
   state_->ledOff();
   state_->server = std::make_unique<ControlServer>(
-      state_->loop, listenFd, [this](const Request& request) { return state_->handle(request); });
+      state_->loop, listenFd, [this](const Request& request) { return state_->handle(request); },
+      state_->parts.clientLimits);
 }
 
 Daemon::~Daemon() {
@@ -415,7 +474,13 @@ Daemon::~Daemon() {
 }
 
 void Daemon::run() {
-  state_->loop.onSignal([this](int) { state_->loop.stop(); });
+  state_->loop.onSignal([this](int signalNumber) {
+    const char* name = sigabbrev_np(signalNumber);  // none for the real-time signals
+    std::cerr << "slicecapd: stopping on "
+              << (name ? "SIG" + std::string(name) : "signal " + std::to_string(signalNumber))
+              << "\n";
+    state_->loop.stop();
+  });
   std::uint64_t watchdogUs = 0;
   if (sd_watchdog_enabled(0, &watchdogUs) > 0 && watchdogUs > 0) {
     state_->loop.addTimer(std::chrono::microseconds(watchdogUs / 2), true,

@@ -24,6 +24,22 @@ struct Refusal {
   std::string message;
 };
 
+// The C1 controls (U+0080-U+009F: a terminal takes U+009B as CSI) and the bidirectional
+// embeddings, overrides and isolates (U+202A-U+202E, U+2066-U+2069: they reorder what a terminal
+// shows after them), in UTF-8.
+bool hasC1ControlOrBidiOverride(std::string_view s) {
+  for (std::size_t i = 0; i + 1 < s.size(); ++i) {
+    const auto b0 = (unsigned char)s[i], b1 = (unsigned char)s[i + 1];
+    if (b0 == 0xc2 && b1 >= 0x80 && b1 <= 0x9f) return true;
+    if (b0 == 0xe2 && i + 2 < s.size()) {
+      const auto b2 = (unsigned char)s[i + 2];
+      if (b1 == 0x80 && b2 >= 0xaa && b2 <= 0xae) return true;
+      if (b1 == 0x81 && b2 >= 0xa6 && b2 <= 0xa9) return true;
+    }
+  }
+  return false;
+}
+
 const json& argument(const json& args, const char* name) {
   auto it = args.find(name);
   if (it == args.end())
@@ -42,9 +58,12 @@ std::string text(const json& args, const char* name) {
   }
   // A material name is printed back on an operator's terminal (`session list`): a newline would
   // forge a line there, an escape sequence would drive the terminal.
-  if (std::any_of(s.begin(), s.end(), [](char c) { return (unsigned char)c < 0x20 || c == 0x7f; }))
+  if (std::any_of(s.begin(), s.end(),
+                  [](char c) { return (unsigned char)c < 0x20 || c == 0x7f; }) ||
+      hasC1ControlOrBidiOverride(s))
     throw Refusal{ErrorCode::BadRequest,
-                  std::string("argument \"") + name + "\" must not contain control characters"};
+                  std::string("argument \"") + name +
+                      "\" must not contain control characters or bidirectional overrides"};
   return s;
 }
 
@@ -147,6 +166,8 @@ std::string_view errorCodeName(ErrorCode code) {
       return "unavailable";
     case ErrorCode::StorageError:
       return "storage_error";
+    case ErrorCode::PermissionDenied:
+      return "permission_denied";
     case ErrorCode::Internal:
       return "internal";
   }

@@ -57,6 +57,8 @@ struct DaemonConfig {
   std::filesystem::path socket =
       "/run/slicecap/slicecapd.sock";    ///< socket (when not socket-activated)
   std::string socketGroup = "slicecap";  ///< socket_group: who may talk to the daemon; empty = keep
+  /// client_idle_timeout_s: a client that sends nothing for this long is closed; 0 = never
+  int clientIdleTimeoutS = 300;
 
   /// \brief The file's text with the defaults, every key documented: what `slicecapd
   /// --print-config` writes and the package installs.

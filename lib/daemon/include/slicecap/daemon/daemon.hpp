@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "slicecap/capture/frame_outcome.hpp"
+#include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/exposure_meter.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 #include "slicecap/daemon/texture_sink.hpp"
@@ -56,28 +57,35 @@ struct DaemonParts {
   /// What the configuration still does wrong for a real capture (configWarnings): every status
   /// shows them, as does what the camera last adjusted of its configuration.
   std::vector<std::string> warnings;
+  /// The control socket's client limits: count, idle timeout, the group allowed to connect.
+  ServerLimits clientLimits;
   /// How often a camera without a ready descriptor (the file camera) is asked for a frame.
   std::chrono::microseconds filePollInterval = std::chrono::milliseconds(2);
 };
 
-/// \brief The signals that stop the daemon: SIGTERM (systemd) and SIGINT (a terminal). A program
-/// that makes a Daemon blocks them with blockSignalsInThisAndLaterThreads before it opens a camera
-/// or starts any other thread.
+/// \brief The signals that stop the daemon cleanly (LED off, camera stopped): every signal whose
+/// default action ends the process and that is not a fault of the process itself: SIGTERM
+/// (systemd), SIGINT (a terminal), SIGHUP (a dropped SSH session), SIGQUIT, SIGUSR1, SIGUSR2,
+/// SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGIO, SIGPWR, SIGSTKFLT and the real-time signals.
+/// SIGPIPE and SIGXFSZ are not among them: the Daemon ignores them (a client that hangs up, a file
+/// size limit: the write fails and says so). A program that makes a Daemon blocks them with
+/// blockSignalsInThisAndLaterThreads before it opens a camera or starts any other thread.
 std::vector<int> stopSignals();
 
 /// \brief The daemon. The LED is on only while a sweep is capturing, and off when a sweep pauses
 /// or stops, when the camera fails, when run() returns and in the destructor.
 class Daemon {
  public:
-  /// \brief Takes the listening socket (socket-activated or bound by the caller) and switches the
-  /// LED off. Throws io::IoError if the storage cannot be used.
+  /// \brief Takes the listening socket (socket-activated or bound by the caller), switches the
+  /// LED off and ignores SIGPIPE and SIGXFSZ in the whole process. Throws io::IoError if the
+  /// storage cannot be used.
   Daemon(DaemonParts parts, int listenFd);
   ~Daemon();
   Daemon(const Daemon&) = delete;
   Daemon& operator=(const Daemon&) = delete;
 
-  /// \brief Serves until SIGTERM or SIGINT (or stop()); tells systemd READY=1 first and pings its
-  /// watchdog at half the interval when it asks for one.
+  /// \brief Serves until one of stopSignals() (or stop()); tells systemd READY=1 first and pings
+  /// its watchdog at half the interval when it asks for one.
   void run();
   /// \brief Thread-safe: makes run() return.
   void stop();

@@ -28,6 +28,7 @@ enum class ErrorCode {
   Conflict,            ///< not possible in the current state (e.g. a sweep already running)
   Unavailable,         ///< the camera or LED failed; the sweep is paused
   StorageError,        ///< the store could not write (e.g. disk full); nothing was acknowledged
+  PermissionDenied,    ///< the client may not do this (e.g. export into another user's folder)
   Internal,            ///< a bug: reported, the daemon stays up
 };
 std::string_view errorCodeName(ErrorCode code);
@@ -82,10 +83,20 @@ using Command =
 /// \brief The wire name of a command ("session.new", ...).
 std::string_view commandName(const Command& command);
 
+/// \brief Who sent a request: the socket's peer credentials (SO_PEERCRED) at connect time.
+struct Peer {
+  std::int64_t pid = 0;
+  std::uint32_t uid = 0;
+  std::uint32_t gid = 0;
+};
+
 /// \brief A parsed, validated request.
 struct Request {
   std::int64_t id = 0;  ///< chosen by the client, echoed in the response
   Command command;
+  /// Set by the server from the connection, never read from the wire; empty: unknown (then
+  /// nothing that depends on who asks is allowed).
+  std::optional<Peer> peer{};
 };
 
 /// \brief A refusal: the code, a message naming the field, and the request id if one was readable.
