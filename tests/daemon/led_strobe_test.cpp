@@ -113,7 +113,7 @@ struct Harness {
       strobe.label(frame);
       judge(frame, tally);
       process(index++);
-      pending = strobe.plan(clock.nowUs() + 1000);
+      if (!pending) pending = strobe.plan(clock.nowUs() + 1000);  // as the daemon: kept once planned
     }
     EXPECT_EQ(strobe.stats().framesDelivered, std::uint64_t(frames));
     tally.warning = strobe.stats().warning;
@@ -189,6 +189,23 @@ TEST(LedStrobe, CountsDroppedFramesFromSequenceGaps) {
   }
   EXPECT_EQ(strobe.stats().framesDropped, harness.camera->framesDropped());
   EXPECT_GT(strobe.stats().framesDropped, 0u);
+}
+
+TEST(LedStrobe, PlansASwitchEvenWhenTheLatestFrameIsLongPast) {
+  // A loop seconds behind the camera (frames queued behind slow ones): the next switch is still
+  // one in the future, not none.
+  Harness harness({}, 8000.0);
+  LedStrobe strobe({}, *harness.led, harness.commanded, "cam");
+  for (int i = 0; i < 3; ++i) {
+    hal::CaptureResult result = harness.camera->nextFrame(std::chrono::milliseconds(1000));
+    ASSERT_EQ(result.status, hal::CaptureResult::Status::Frame);
+    strobe.label(*result.frame);
+  }
+  const std::int64_t laterUs = harness.clock.nowUs() + 5'000'000;
+  const std::optional<PlannedSwitch> planned = strobe.plan(laterUs);
+  ASSERT_TRUE(planned);
+  EXPECT_GE(planned->atUs, laterUs);
+  EXPECT_LT(planned->atUs, laterUs + 5 * 33334);
 }
 
 TEST(StrobeSettings, RefusesValuesOutOfRangeNamingTheKey) {

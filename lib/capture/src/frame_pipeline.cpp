@@ -353,16 +353,27 @@ FramePipeline& FramePipeline::operator=(FramePipeline&&) noexcept = default;
 // A frame process() rejects as "bad_frame" is not read as room light either: its pixels are not
 // where the LED-on frame's are, or not in its encoding.
 void FramePipeline::setAmbientFrame(const hal::Frame& frame) {
-  if (badFrameDetail(frame, state_->camera.intrinsics)) return;
+  if (badFrameDetail(frame, state_->camera.intrinsics) || !offOverSampleRows(frame)) return;
   state_->ambient = state_->makeAmbient(frame);
 }
 
 void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
   State& s = *state_;
-  if (badFrameDetail(frame, s.camera.intrinsics)) return;
+  if (badFrameDetail(frame, s.camera.intrinsics) || !offOverSampleRows(frame)) return;
   if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs)
     return;
   s.nextAmbient = s.makeAmbient(frame);
+}
+
+// An LED-off frame offered as room light (offline) is one only if the LED was off over the rows
+// a sample reads, as process() judges it.
+bool FramePipeline::offOverSampleRows(const hal::Frame& frame) const {
+  const State& s = *state_;
+  const int height = frame.image.height;
+  const RowSpan rows = s.lastPose ? rowsOfInterest(s.target, s.camera, *s.lastPose, height,
+                                                   kRowMarginFraction * height)
+                                  : RowSpan{0, height - 1};
+  return ledStateOver(frame, rows) == hal::LedExposure::State::Off;
 }
 
 std::vector<AmbientTerm> FramePipeline::ambientTermsFor(std::int64_t timeUs) const {

@@ -184,6 +184,18 @@ struct Daemon::State {
       ledOff();
       return;
     }
+    // A live camera's strobe starts lit, before its first frame is exposed: a switch while the
+    // first frames expose would cost them.
+    if (opened->readyDescriptor() && !meter) {
+      try {
+        parts.led->set(true);
+      } catch (const std::exception& error) {
+        stopQuietly(*opened);
+        manager.pauseSweep(std::string("LED error: ") + error.what());
+        ledOff();
+        return;
+      }
+    }
     camera = std::move(opened);
     cameraSlice = slice;
     capture::FrameObserver observer;
@@ -320,7 +332,9 @@ struct Daemon::State {
       case hal::CaptureResult::Status::Timeout:
         return;
       case hal::CaptureResult::Status::EndOfStream:
-        manager.pauseSweep("the camera's recording has ended");
+        // A recording played to its end, or the virtual rig's operator went round.
+        manager.pauseSweep(camera->readyDescriptor() ? "the camera's stream has ended (" + camera->id() + ")"
+                                                     : std::string("the camera's recording has ended"));
         reconcile();
         return;
       case hal::CaptureResult::Status::Error:
@@ -394,15 +408,14 @@ struct Daemon::State {
   void scheduleSwitch(const capture::FrameOutcome& outcome) {
     if (!strobeRun) return;
     strobeRun->noteRows(outcome.measurement.rowsOfInterest);
+    // A planned switch stays planned: frames queued behind a slow one arrive before its time,
+    // and planning again at each would put it off for ever (the LED would never switch).
+    if (scheduledSwitch) return;
     const std::int64_t nowUs = clock.nowUs();
     // The loop wakes a little late; a switch planned sooner than this is left for the next.
     constexpr std::int64_t kWakeLatencyUs = 1000;
     const std::optional<PlannedSwitch> next = strobeRun->plan(nowUs + kWakeLatencyUs);
     if (!next) return;
-    if (scheduledSwitch && scheduledSwitch->forSequence == next->forSequence &&
-        std::abs(scheduledSwitch->atUs - next->atUs) < 100)
-      return;
-    if (switchTimer) loop.cancelTimer(*switchTimer);
     scheduledSwitch = next;
     switchTimer = loop.addTimer(std::chrono::microseconds(std::max<std::int64_t>(1, next->atUs - nowUs)),
                                 false, [this, planned = *next] {

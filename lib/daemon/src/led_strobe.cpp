@@ -112,8 +112,14 @@ std::optional<PlannedSwitch> LedStrobe::plan(std::int64_t earliestUs) const {
   if (!settings_.alternate || !last_ || !periodUs_) return std::nullopt;
   const Timing& t = *last_;
   const capture::RowSpan rows = rows_.value_or(capture::RowSpan{0, std::max(0, t.heightPx - 1)});
-  const auto limit = t.sequence + 4 * static_cast<std::uint64_t>(settings_.framesPerState) + 8;
-  for (std::uint64_t j = t.sequence + 1; j < limit; ++j) {
+  // The latest frame can be long past (frames queue behind a slow one): start from the first
+  // frame whose switch time is not, then look one whole pattern on.
+  const double sinceLastUs = double(earliestUs) -
+                             (double(t.row0StartUs) + rows.last * t.lineTimeUs + t.exposureUs + settings_.guardUs);
+  const std::uint64_t first =
+      t.sequence + 1 + (sinceLastUs > 0 ? static_cast<std::uint64_t>(sinceLastUs / *periodUs_) : 0);
+  const auto limit = first + 2 * static_cast<std::uint64_t>(settings_.framesPerState) + 2;
+  for (std::uint64_t j = first; j < limit; ++j) {
     if (desiredOn(j) == desiredOn(j - 1)) continue;
     // Just after the last row of interest of frame j - 1 has been exposed: frame j's rows of
     // interest start (period - exposure - their readout span) later, clean when that is

@@ -43,13 +43,14 @@ bool SensorModel::isValid(std::string* error) const {
 
 namespace {
 
-// 2^16 standard normal draws, indexed by a fast generator: per-pixel noise for a 1280 x 720
-// frame costs a table look-up, not a Box-Muller, so the model keeps up with 30 fps.
+// 2^22 standard normal draws, read from a random offset each frame: per-sample noise for a
+// 1280 x 720 frame costs a load, not a Box-Muller, so the model keeps up with 30 fps.
+constexpr std::size_t kNoiseTableSize = std::size_t(1) << 22;
 const std::vector<float>& normalTable() {
   static const std::vector<float> table = [] {
     std::mt19937_64 random(20261202);
     std::normal_distribution<float> normal;
-    std::vector<float> values(1 << 16);
+    std::vector<float> values(kNoiseTableSize);
     for (float& v : values) v = normal(random);
     return values;
   }();
@@ -86,7 +87,6 @@ struct ModelCamera::State {
   std::vector<Lock> locks;
   std::uint64_t dropped = 0;
   std::mt19937_64 random;
-  std::uint32_t noiseCursor = 0;
   std::vector<std::uint8_t> encodeTable;  // linear (1/65535 steps) -> 8-bit code
   std::map<std::uint64_t, FrameTruth> truths;
   int timerFd = -1;
@@ -153,12 +153,6 @@ struct ModelCamera::State {
     timerfd_settime(timerFd, TFD_TIMER_ABSTIME, &spec, nullptr);
   }
 
-  float noise() {
-    const std::vector<float>& table = normalTable();
-    noiseCursor = noiseCursor * 1664525u + 1013904223u;
-    return table[noiseCursor >> 16];
-  }
-
   CaptureResult render(const Captured& captured) {
     const int width = config.widthPx, height = config.heightPx;
     const double lineUs = model.lineTimeUs, exposureUs = captured.exposureUs;
@@ -191,20 +185,31 @@ struct ModelCamera::State {
     frame.image.bitDepth = 8;
     frame.image.samples.resize(values);
     const double exposureS = exposureUs * 1e-6;
-    const double fullWell = model.fullWellElectrons;
+    // Per value: one shot-plus-read noise draw (the two are independent Gaussians, so one draw
+    // of their summed variance), the ISP's colour gain, then the tone curve by table.
+    const float inverseFullWell = model.fullWellElectrons > 0 ? float(1.0 / model.fullWellElectrons) : 0.0f;
+    const float readVariance = float(model.readNoise * model.readNoise);
+    const float gains[3] = {float(model.colourGains[0]), float(model.colourGains[1]),
+                            float(model.colourGains[2])};
+    const float* ambient = light->ambientRate.data();
+    const float* lit = light->ledRate.data();
+    std::uint16_t* out = frame.image.samples.data();
+    const float* normals = normalTable().data();
+    std::size_t noiseAt = std::uniform_int_distribution<std::size_t>(0, kNoiseTableSize - 1)(random);
     for (int row = 0; row < height; ++row) {
       const double rowStartUs = double(truth.row0StartUs) + row * lineUs;
       const double onS = led->onTimeUs(rowStartUs, rowStartUs + exposureUs) * 1e-6;
       truth.rowOnFraction[row] = static_cast<float>(exposureS > 0 ? onS / exposureS : 0.0);
+      const float ambientScale = float(captured.gain * exposureS), ledScale = float(captured.gain * onS);
       const std::size_t base = std::size_t(row) * width * 3;
       for (int i = 0; i < width * 3; ++i) {
         const std::size_t at = base + i;
-        double signal = captured.gain * (exposureS * light->ambientRate[at] + onS * light->ledRate[at]);
-        if (fullWell > 0 && signal > 0) signal += std::sqrt(signal / fullWell) * noise();
-        signal += model.readNoise * noise();
-        signal *= model.colourGains[i % 3];
-        const double clamped = std::clamp(signal, 0.0, 1.0);
-        frame.image.samples[at] = encodeTable[static_cast<std::size_t>(clamped * 65535.0 + 0.5)];
+        const float signal = ambientScale * ambient[at] + ledScale * lit[at];
+        const float sigma = std::sqrt(std::max(signal, 0.0f) * inverseFullWell + readVariance);
+        const float value = (signal + sigma * normals[noiseAt]) * gains[i % 3];
+        noiseAt = (noiseAt + 1) & (kNoiseTableSize - 1);
+        const float clamped = std::min(std::max(value, 0.0f), 1.0f);
+        out[at] = encodeTable[static_cast<std::size_t>(clamped * 65535.0f + 0.5f)];
       }
     }
     frame.metadata.sequence = captured.sequence;
