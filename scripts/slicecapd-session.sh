@@ -37,6 +37,20 @@ write_config() {
   export SLICECAP_SOCKET=$work/s.sock
 }
 
+# write_model_config [EXTRA_LINE...]: a camera-model configuration (the virtual rig in front of a
+# model of a Pi camera) with everything in $work; storage in $work/storage-model.
+write_model_config() {
+  {
+    echo "camera = model"
+    echo "storage = $work/storage-model"
+    echo "socket = $work/s.sock"
+    echo "socket_group ="
+    echo "led_log = $work/led.log"
+    printf '%s\n' "$@"
+  } >"$work/slicecapd.conf"
+  export SLICECAP_SOCKET=$work/s.sock
+}
+
 start_daemon() {
   "$slicecapd" --config "$work/slicecapd.conf" >>"$work/daemon.log" 2>&1 &
   daemon_pid=$!

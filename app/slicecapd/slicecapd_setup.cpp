@@ -25,7 +25,9 @@
 #include "slicecap/hal/file_camera.hpp"
 #include "slicecap/hal/file_led.hpp"
 #include "slicecap/hal/gpiod_led.hpp"
+#include "slicecap/hal/led_timeline.hpp"
 #include "slicecap/hal/libcamera_camera.hpp"
+#include "slicecap/hal/model_camera.hpp"
 #include "slicecap/hal/v4l2_camera.hpp"
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/io/recording.hpp"
@@ -33,6 +35,9 @@
 #include "slicecap/prior/isotropy_test.hpp"
 #include "slicecap/prior/prior_location.hpp"
 #include "slicecap/render/sheets.hpp"
+#include "slicecap/sim/material.hpp"
+#include "slicecap/sim/renderer.hpp"
+#include "slicecap/sim/rig_scene.hpp"
 #include "slicecap/vision/target.hpp"
 
 namespace slicecap::slicecapd {
@@ -83,7 +88,8 @@ Options parseOptions(std::span<const std::string> args) {
 }
 
 std::unique_ptr<hal::Led> openLed(const DaemonConfig& config, hal::Clock& clock) {
-  if (config.camera == DaemonConfig::CameraKind::File) {
+  if (config.camera == DaemonConfig::CameraKind::File ||
+      config.camera == DaemonConfig::CameraKind::Model) {
     const fs::path log = config.ledLog.empty() ? config.storage / "led.log" : config.ledLog;
     fs::create_directories(log.parent_path());
     return std::make_unique<hal::FileLed>(log, clock);
@@ -124,6 +130,13 @@ const std::pair<fs::path, io::Recording>& recordingFor(const RecordingsBySlice& 
     throw std::runtime_error(configured.string() + ": no recording of slice " + toString(slice));
   return found->second;
 }
+
+// camera = model: the LED's light follows a switch this much later (a GPIO call and an LED
+// driver take tens of microseconds).
+constexpr std::int64_t kModelLedDelayUs = 40;
+// camera = model: the virtual operator holds the rig still this long at each sweep's start, as a
+// person does while the exposure is metered, then goes round.
+constexpr double kModelHoldSeconds = 2.0;
 
 struct Rig {
   vision::TargetGeometry target;
@@ -225,8 +238,18 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   static hal::SteadyClock clock;
   daemon::DaemonParts parts;
   parts.storage = config.storage;
+  parts.clock = &clock;
   parts.led = openLed(config, clock);
+  // camera = model: the model camera sees the light itself, a little after each switch (the GPIO
+  // call and the LED driver), on its own timeline.
+  auto modelLight = std::make_shared<hal::LedTimeline>();
+  if (config.camera == DaemonConfig::CameraKind::Model)
+    parts.led = std::make_unique<hal::TimelineLed>(std::move(parts.led), clock, modelLight,
+                                                   kModelLedDelayUs);
   parts.ledAlternate = config.ledAlternate;
+  parts.strobe.framesPerState = config.ledFramesPerState;
+  parts.strobe.guardUs = config.ledGuardUs;
+  parts.strobe.readoutUs = config.readoutUs;
   parts.cameraConfig.widthPx = config.widthPx;
   parts.cameraConfig.heightPx = config.heightPx;
   parts.cameraConfig.exposureUs = config.exposureUs;
@@ -253,6 +276,27 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
       auto camera = std::make_shared<hal::V4l2Camera>(
           config.cameraDevice.empty() ? std::string("/dev/video0") : config.cameraDevice);
       parts.cameraFor = [camera](const SliceId&) { return camera; };
+      break;
+    }
+    case DaemonConfig::CameraKind::Model: {
+      // One renderer for every sweep (building it takes about half a second).
+      sim::RigParams rig = config.modelRealistic ? sim::RigParams::realistic() : sim::RigParams::ideal();
+      rig.framesPerSlice = config.modelPositions;
+      rig.sweepSeconds = config.modelSweepSeconds;
+      rig.seed = static_cast<std::uint64_t>(config.modelSeed);
+      auto renderer = std::make_shared<const sim::FrameRenderer>(
+          cameraModel, target, sim::loadMaterial(config.modelMaterial), rig);
+      hal::SensorModel sensor;
+      sensor.seed = static_cast<std::uint64_t>(config.modelSeed);
+      sensor.tone = config.modelToneCurve == "srgb"     ? ToneCurve::srgb()
+                    : config.modelToneCurve == "linear" ? ToneCurve::linear()
+                                                        : ToneCurve::imx708Tuning();
+      parts.cameraFor = [renderer, rig, sensor, modelLight](const SliceId& slice) {
+        return std::make_shared<hal::ModelCamera>(
+            std::make_shared<sim::RigScene>(renderer, slice, rig, kModelHoldSeconds), modelLight,
+            clock, sensor);
+      };
+      createdBy += " (model camera)";
       break;
     }
     case DaemonConfig::CameraKind::File: {

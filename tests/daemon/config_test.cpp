@@ -82,7 +82,7 @@ TEST(DaemonConfig, WarnsOfAV4l2CameraLeftOnAutoGain) {
 
 TEST(DaemonConfig, NamesTheLineAndKeyOfEveryMistake) {
   EXPECT_EQ(error("camera = webcam\n"),
-            "slicecapd.conf:1: camera: 'webcam' is not libcamera, v4l2 or file");
+            "slicecapd.conf:1: camera: 'webcam' is not libcamera, v4l2, file or model");
   EXPECT_EQ(error("\n\nresoluton = 640x480\n"), "slicecapd.conf:3: unknown key 'resoluton'");
   EXPECT_EQ(error("resolution = 640\n"), "slicecapd.conf:1: resolution: '640' is not WIDTHxHEIGHT");
   EXPECT_NE(error("resolution = 99999x10\n").find("between 64 and 8192"), std::string::npos);

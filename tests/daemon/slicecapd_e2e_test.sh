@@ -98,4 +98,30 @@ awk -v d="$daemon_de" -v o="$offline_de" 'BEGIN { exit !(d <= 1.10 * o + 1e-9 &&
 
 stop_daemon
 led_is_off || fail "the LED is not off after SIGTERM"
+
+# One sweep on the camera model (camera = model): a camera that queues frames, exposes its rows one
+# after another and delivers late, the LED strobed in step with the rows, the frames kept.
+write_model_config "model_material = $material" "model_sweep_seconds = 5" "record_frames = true"
+start_daemon
+"$slicecap" session new "$material" --id model >/dev/null
+"$slicecap" sweep start diagonal 30 30 >/dev/null
+wait_paused "diagonal 30 30 (camera model)"
+led_is_off || fail "the LED is not off after the camera model's sweep ended"
+status=$("$slicecap" status --json | tr -d '\n ')
+grep -q '"camera_frames":{' <<<"$status" || fail "the status has no camera_frames: $status"
+delivered=$(grep -o '"delivered":[0-9]*' <<<"$status" | grep -o '[0-9]*$')
+samples=$(sweep_samples)
+[[ $delivered -ge 20 && $samples -ge 1 ]] ||
+  fail "the camera model's sweep delivered $delivered frames and $samples samples"
+switches=$(grep -c . "$work/led.log")
+[[ $switches -ge 10 ]] || fail "the LED switched only $switches times in the camera model's sweep"
+"$slicecap" sweep stop >/dev/null
+recording=$work/storage-model/model/recordings/diagonal-30-30
+grep -q '"led_exposure"' "$recording/recording.json" ||
+  fail "the camera model's recording keeps no LED exposure"
+"$slicecap" process "$recording" -o "$work/model-slices.csv" >"$work/model-process.log" 2>&1 ||
+  fail "slicecap process on the camera model's recording failed: $(tail -3 "$work/model-process.log")"
+stop_daemon
+led_is_off || fail "the LED is not off after SIGTERM"
+echo "camera model: $delivered frames, $samples samples, $switches LED switches, the recording re-processed"
 echo "slicecapd end to end: ok"

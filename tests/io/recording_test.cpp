@@ -69,6 +69,20 @@ TEST(Recording, WriterAppendsFramesThatReadBackExactly) {
   }
 }
 
+TEST(Recording, ALiveFramesLedExposureReadsBackExactly) {
+  const auto dir = test::freshTempDir() / "rec";
+  RecordingWriter writer(dir, smallHeader(PixelEncoding::Srgb8));
+  RecordedFrame frame{"", 1000, true, 5000.0, 1.0};
+  frame.ledExposure = RecordedLedExposure{-4000, 40.0, 5000.0, 200.0, false, {{-3000, true}, {2500, false}}};
+  writer.append(gradient(3, 8, 0), frame);
+  writer.append(gradient(3, 8, 1), {"", 34333, false, 5000.0, 1.0});
+  const Recording read = readRecording(dir);
+  ASSERT_EQ(read.frames.size(), 2u);
+  ASSERT_TRUE(read.frames[0].ledExposure);
+  EXPECT_EQ(*read.frames[0].ledExposure, *frame.ledExposure);
+  EXPECT_FALSE(read.frames[1].ledExposure);
+}
+
 TEST(Recording, WriterRefusesToOverwriteARecordingAndRejectsBadFrames) {
   const auto dir = test::freshTempDir() / "rec";
   RecordingWriter writer(dir, smallHeader(PixelEncoding::Srgb8));
@@ -101,6 +115,19 @@ TEST(Recording, ReaderNamesTheFieldThatIsWrong) {
       {"target", [](auto& j) { j.erase("target"); }},
       // Not tag 3 (the id was cast to int, which wrapped round).
       {"target.markers[0].id", [](auto& j) { j["target"]["markers"][0]["id"] = 4294967299; }},
+      {"frames[1].led_exposure.exposure_us",
+       [](auto& j) {
+         j["frames"][1]["led_exposure"] = {{"row0_start_us", 0},    {"line_time_us", 40.0},
+                                           {"exposure_us", 0.0},    {"guard_us", 200.0},
+                                           {"on_at_start", false},  {"changes", nlohmann::json::array()}};
+       }},
+      {"frames[0].led_exposure.changes[1].time_us",
+       [](auto& j) {
+         j["frames"][0]["led_exposure"] = {
+             {"row0_start_us", 0},   {"line_time_us", 40.0}, {"exposure_us", 100.0},
+             {"guard_us", 200.0},    {"on_at_start", false},
+             {"changes", {{{"time_us", 50}, {"on", true}}, {{"time_us", 20}, {"on", false}}}}};
+       }},
   };
   for (const Case& c : cases) {
     const std::string message = readError(editedRecording(c.edit));

@@ -81,6 +81,17 @@ double edgeSharpness(const LinearView& view, const Eigen::Vector2d& a, const Eig
   return largest / step;
 }
 
+// Rows around the window and the references that still count: the hand moves between the latest
+// pose and this frame (a tenth of the frame's height covers a 48-frame simulated sweep's step),
+// and blur spreads a row's light to its neighbours.
+constexpr double kRowMarginFraction = 0.1;
+constexpr double kBlurRowMarginPx = 8.0;
+
+std::string ledTransitionDetail(const RowSpan& rows) {
+  return "the LED switched while rows " + std::to_string(rows.first) + ".." +
+         std::to_string(rows.last) + " were exposed";
+}
+
 int countKnown(const std::vector<DetectedMarker>& markers, const vision::TargetGeometry& target) {
   return static_cast<int>(std::count_if(markers.begin(), markers.end(), [&](const auto& m) {
     return target.findMarker(m.id) != nullptr;
@@ -342,16 +353,27 @@ FramePipeline& FramePipeline::operator=(FramePipeline&&) noexcept = default;
 // A frame process() rejects as "bad_frame" is not read as room light either: its pixels are not
 // where the LED-on frame's are, or not in its encoding.
 void FramePipeline::setAmbientFrame(const hal::Frame& frame) {
-  if (badFrameDetail(frame, state_->camera.intrinsics)) return;
+  if (badFrameDetail(frame, state_->camera.intrinsics) || !offOverSampleRows(frame)) return;
   state_->ambient = state_->makeAmbient(frame);
 }
 
 void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
   State& s = *state_;
-  if (badFrameDetail(frame, s.camera.intrinsics)) return;
+  if (badFrameDetail(frame, s.camera.intrinsics) || !offOverSampleRows(frame)) return;
   if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs)
     return;
   s.nextAmbient = s.makeAmbient(frame);
+}
+
+// An LED-off frame offered as room light (offline) is one only if the LED was off over the rows
+// a sample reads, as process() judges it.
+bool FramePipeline::offOverSampleRows(const hal::Frame& frame) const {
+  const State& s = *state_;
+  const int height = frame.image.height;
+  const RowSpan rows = s.lastPose ? rowsOfInterest(s.target, s.camera, *s.lastPose, height,
+                                                   kRowMarginFraction * height)
+                                  : RowSpan{0, height - 1};
+  return ledStateOver(frame, rows) == hal::LedExposure::State::Off;
 }
 
 std::vector<AmbientTerm> FramePipeline::ambientTermsFor(std::int64_t timeUs) const {
@@ -363,7 +385,19 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   const std::uint64_t index = s.frameIndex++;
   if (auto detail = badFrameDetail(frame, s.camera.intrinsics))
     return rejected("bad_frame", std::move(*detail));
-  if (!frame.metadata.ledOn) {
+  // The LED's state over the rows a sample reads, predicted from the latest pose: a frame the LED
+  // switched during is neither a sample nor room light. Without a pose yet, a frame mixed over
+  // all its rows may still be clean where the target is: it is located, and its own rows decide.
+  const int height = frame.image.height;
+  const std::optional<RowSpan> predictedRows =
+      s.lastPose ? std::optional<RowSpan>(rowsOfInterest(s.target, s.camera, *s.lastPose, height,
+                                                         kRowMarginFraction * height))
+                 : std::nullopt;
+  const hal::LedExposure::State ledState =
+      ledStateOver(frame, predictedRows.value_or(RowSpan{0, height - 1}));
+  if (ledState == hal::LedExposure::State::Mixed && predictedRows)
+    return rejected("led_transition", ledTransitionDetail(*predictedRows));
+  if (ledState == hal::LedExposure::State::Off) {
     if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs) {
       s.ambient = std::move(s.nextAmbient);  // already located by setFollowingAmbientFrame
       s.nextAmbient.reset();
@@ -401,6 +435,9 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   if (!estimate) return rejected("too_few_markers", markerText + ", no pose", outcome);
   const vision::Pose& pose = estimate->pose;
   m.pose = pose;
+  m.rowsOfInterest = rowsOfInterest(s.target, s.camera, pose, height, kBlurRowMarginPx);
+  if (ledStateOver(frame, *m.rowsOfInterest) != hal::LedExposure::State::On)
+    return rejected("led_transition", ledTransitionDetail(*m.rowsOfInterest), outcome);
   if (estimate->residualRmsPx <= s.settings.maxPoseResidualPx) {
     s.lastPose = pose;
     s.framesSinceLastPose = 0;

@@ -1,6 +1,8 @@
 // Offline processing of a recording: read each PNG, run the pipeline, bin the samples.
 #include "slicecap/capture/recording_processor.hpp"
 
+#include "slicecap/hal/recorded_frame.hpp"
+
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -33,7 +35,7 @@ hal::Frame frameOf(Image image, const io::Recording& recording, const io::Record
   hal::Frame frame;
   frame.image = std::move(image);
   frame.encoding = recording.encoding;
-  frame.metadata = {sequence, entry.timestampUs, entry.exposureUs, entry.gain, entry.ledOn};
+  frame.metadata = hal::metadataOf(entry, sequence);
   return frame;
 }
 

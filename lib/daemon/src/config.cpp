@@ -3,6 +3,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -55,8 +56,10 @@ const std::map<std::string, Setter>& setters() {
            c.camera = DaemonConfig::CameraKind::V4l2;
          else if (v == "file")
            c.camera = DaemonConfig::CameraKind::File;
+         else if (v == "model")
+           c.camera = DaemonConfig::CameraKind::Model;
          else
-           throw std::invalid_argument("'" + v + "' is not libcamera, v4l2 or file");
+           throw std::invalid_argument("'" + v + "' is not libcamera, v4l2, file or model");
        }},
       {"camera_device", [](DaemonConfig& c, const std::string& v) { c.cameraDevice = v; }},
       {"camera_recording", [](DaemonConfig& c, const std::string& v) { c.recording = v; }},
@@ -82,11 +85,53 @@ const std::map<std::string, Setter>& setters() {
          c.gain = v.empty() ? std::nullopt : std::optional(positiveNumber(v, "a positive gain"));
        }},
       {"calibration", [](DaemonConfig& c, const std::string& v) { c.calibration = v; }},
+      {"readout_us",
+       [](DaemonConfig& c, const std::string& v) {
+         c.readoutUs = v.empty() ? std::nullopt
+                                 : std::optional(positiveNumber(v, "a positive readout time in us"));
+       }},
+      {"model_material", [](DaemonConfig& c, const std::string& v) { c.modelMaterial = v; }},
+      {"model_rig",
+       [](DaemonConfig& c, const std::string& v) {
+         if (v != "realistic" && v != "ideal")
+           throw std::invalid_argument("'" + v + "' is not realistic or ideal");
+         c.modelRealistic = v == "realistic";
+       }},
+      {"model_sweep_seconds",
+       [](DaemonConfig& c, const std::string& v) {
+         c.modelSweepSeconds = positiveNumber(v, "a positive number of seconds");
+       }},
+      {"model_positions",
+       [](DaemonConfig& c, const std::string& v) {
+         c.modelPositions = wholeNumber(v, 8, 1000, "positions round a sweep");
+       }},
+      {"model_tone_curve",
+       [](DaemonConfig& c, const std::string& v) {
+         if (v != "imx708" && v != "srgb" && v != "linear")
+           throw std::invalid_argument("'" + v + "' is not imx708, srgb or linear");
+         c.modelToneCurve = v;
+       }},
+      {"model_seed",
+       [](DaemonConfig& c, const std::string& v) {
+         c.modelSeed = wholeNumber(v, 0, 1'000'000'000, "a seed");
+       }},
       {"led_chip", [](DaemonConfig& c, const std::string& v) { c.ledChip = v; }},
       {"led_line", [](DaemonConfig& c, const std::string& v) { c.ledLine = v; }},
       {"led_active_low",
        [](DaemonConfig& c, const std::string& v) { c.ledActiveLow = boolean(v); }},
       {"led_alternate", [](DaemonConfig& c, const std::string& v) { c.ledAlternate = boolean(v); }},
+      {"led_frames_per_state",
+       [](DaemonConfig& c, const std::string& v) {
+         c.ledFramesPerState = wholeNumber(v, 1, 30, "frames the LED holds each state");
+       }},
+      {"led_guard_us",
+       [](DaemonConfig& c, const std::string& v) {
+         char* end = nullptr;
+         const double guard = std::strtod(v.c_str(), &end);
+         if (v.empty() || *end != '\0' || !(guard >= 0 && guard <= 10000))
+           throw std::invalid_argument("'" + v + "' is not a number of microseconds in 0..10000");
+         c.ledGuardUs = guard;
+       }},
       {"led_log", [](DaemonConfig& c, const std::string& v) { c.ledLog = v; }},
       {"target", [](DaemonConfig& c, const std::string& v) { c.target = v; }},
       {"storage", [](DaemonConfig& c, const std::string& v) { c.storage = v; }},
@@ -155,8 +200,9 @@ std::string DaemonConfig::documentedDefaults() {
   return R"(# slicecapd configuration. `key = value`; `#` starts a comment. Unknown keys are errors.
 # The daemon checks every field when it starts and names the line of any mistake.
 
-# Camera: libcamera (Raspberry Pi camera modules), v4l2 (USB cameras) or file (plays a recording
-# or a simulated session; for tests and demonstrations without hardware).
+# Camera: libcamera (Raspberry Pi camera modules), v4l2 (USB cameras), file (plays a recording
+# or a simulated session) or model (the virtual rig in front of a model of a Pi camera: queued
+# buffers, rolling shutter, late controls, the ISP's curve; for tests and demonstrations).
 camera = libcamera
 # libcamera camera id or /dev/videoN; empty takes the first camera found.
 camera_device =
@@ -174,15 +220,37 @@ exposure_us =
 gain =
 # Camera intrinsics and distortion (from `slicecap calibrate`); empty uses the sensor's nominal model.
 calibration =
+# The sensor's readout time, top row to bottom row, in microseconds (`slicecapd --check-hardware`
+# measures it). Empty: the camera's line time where it reports one, else a whole frame period
+# (safe, but it rejects more frames as led_transition).
+readout_us =
+
+# With camera = model: the material (any `slicecap simulate --material`), the rig (realistic:
+# hand-held jitter, blur, occlusion, room light; ideal: none), seconds per sweep, the positions the
+# hand rests at on the way round, the ISP's tone curve (imx708: the Pi camera module 3's tuning),
+# and the seed of the rig's and the sensor's randomness.
+model_material = satin-blue-45
+model_rig = realistic
+model_sweep_seconds = 8
+model_positions = 32
+model_tone_curve = imx708
+model_seed = 7
 
 # LED: the GPIO chip and line that drive the LED driver (never an LED straight on a pin; see
 # firmware/README.md). The line by name (as `gpioinfo` lists it) or by offset.
 led_chip = gpiochip0
 led_line = GPIO17
 led_active_low = false
-# Switch the LED off every other frame, so ambient light can be measured and removed. false: the
+# Switch the LED off in blocks of frames, so ambient light can be measured and removed. false: the
 # LED stays on and no room light is removed (only for a dark room).
 led_alternate = true
+# Frames the LED holds each state (on, then off). Each switch is timed from the camera's
+# timestamps to fall where no row of the window or the white references is being exposed; a frame
+# it falls in anyway is rejected as led_transition. A camera that cannot say when it exposed
+# needs 4 or more.
+led_frames_per_state = 2
+# How long either side of a switch a row's exposure is not trusted (GPIO call, driver, LED rise).
+led_guard_us = 200
 # With camera = file: the file the LED's changes are written to (empty: <storage>/led.log).
 led_log =
 

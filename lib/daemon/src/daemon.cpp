@@ -16,6 +16,7 @@
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/event_loop.hpp"
 #include "slicecap/daemon/frame_recorder.hpp"
+#include "slicecap/hal/led_timeline.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/journal.hpp"
 
@@ -32,6 +33,10 @@ std::vector<int> stopSignals() {
 
 struct Daemon::State {
   DaemonParts parts;
+  hal::SteadyClock steadyClock;
+  hal::Clock& clock;
+  // Every switch the daemon makes, on the camera's clock: the strobe labels frames from it.
+  std::shared_ptr<hal::LedTimeline> commanded = std::make_shared<hal::LedTimeline>();
   EventLoop loop{stopSignals()};
   SessionManager manager;
   std::unique_ptr<ControlServer> server;
@@ -65,9 +70,21 @@ struct Daemon::State {
   std::string exposureNote;
   bool exposureUnlocked = false;
 
+  // A live camera's strobe (from the end of the metering to the sweep's stop), its planned
+  // switch, and the last run's figures for the status.
+  std::optional<LedStrobe> strobeRun;
+  std::optional<EventLoop::TimerId> switchTimer;
+  std::optional<PlannedSwitch> scheduledSwitch;
+  std::optional<StrobeStats> strobeStats;
+  std::string strobePattern;
+
   explicit State(DaemonParts p)
       : parts(std::move(p)),
-        manager(parts.storage, parts.reconstruct, parts.preview, parts.isotropy) {}
+        clock(parts.clock ? *parts.clock : steadyClock),
+        manager(parts.storage, parts.reconstruct, parts.preview, parts.isotropy) {
+    parts.strobe.alternate = parts.ledAlternate;
+    parts.led = std::make_unique<hal::TimelineLed>(std::move(parts.led), clock, commanded);
+  }
 
   void ledOff() noexcept {
     try {
@@ -86,7 +103,16 @@ struct Daemon::State {
     }
   }
 
+  void stopStrobe() {
+    if (switchTimer) loop.cancelTimer(*switchTimer);
+    switchTimer.reset();
+    scheduledSwitch.reset();
+    if (strobeRun) strobeStats = strobeRun->stats();
+    strobeRun.reset();
+  }
+
   void stopCamera() {
+    stopStrobe();
     if (watchedFd) loop.unwatch(*watchedFd);
     if (pollTimer) loop.cancelTimer(*pollTimer);
     watchedFd.reset();
@@ -168,6 +194,18 @@ struct Daemon::State {
       manager.pauseSweep(std::string("exposure metering: ") + error.what());
       ledOff();
       return;
+    }
+    // A live camera's strobe starts lit, before its first frame is exposed: a switch while the
+    // first frames expose would cost them.
+    if (opened->readyDescriptor() && !meter) {
+      try {
+        parts.led->set(true);
+      } catch (const std::exception& error) {
+        stopQuietly(*opened);
+        manager.pauseSweep(std::string("LED error: ") + error.what());
+        ledOff();
+        return;
+      }
     }
     camera = std::move(opened);
     cameraSlice = slice;
@@ -305,7 +343,9 @@ struct Daemon::State {
       case hal::CaptureResult::Status::Timeout:
         return;
       case hal::CaptureResult::Status::EndOfStream:
-        manager.pauseSweep("the camera's recording has ended");
+        // A recording played to its end, or the virtual rig's operator went round.
+        manager.pauseSweep(camera->readyDescriptor() ? "the camera's stream has ended (" + camera->id() + ")"
+                                                     : std::string("the camera's recording has ended"));
         reconcile();
         return;
       case hal::CaptureResult::Status::Error:
@@ -352,20 +392,54 @@ struct Daemon::State {
       manager.pauseSweep(textureError);
       textureError.clear();
     }
+    scheduleSwitch(outcome);
     if (recorder) recorder->offer(std::move(frame));
     reconcile();  // a storage error pauses the sweep, and the LED must go off at once
   }
 
   /// A recorded frame says whether the LED was on, and the LED follows it (its log then shows
-  /// what a live run would have done). A live frame is tagged with the LED state it was exposed
-  /// under, and with alternation the LED flips for the next one.
+  /// what a live run would have done). A live frame is labelled by the strobe from the LED's
+  /// timeline over its rows (a frame queued ahead was exposed frames before it arrives).
   void strobe(hal::Frame& frame) {
     if (!camera->readyDescriptor()) {
       parts.led->set(frame.metadata.ledOn);
       return;
     }
-    frame.metadata.ledOn = parts.led->isOn();
-    parts.led->set(parts.ledAlternate ? !parts.led->isOn() : true);
+    if (!strobeRun) {
+      strobeRun.emplace(parts.strobe, *parts.led, commanded, camera->id());
+      strobePattern = strobeRun->pattern();
+      parts.led->set(true);  // each block starts lit; the metering may have left it so already
+    }
+    strobeRun->label(frame);
+    // What no frame can still need: a few seconds are plenty for any queue of frames.
+    commanded->forgetBefore(clock.nowUs() - 5'000'000);
+  }
+
+  /// After a live frame: the next switch, timed from what the frames showed.
+  void scheduleSwitch(const capture::FrameOutcome& outcome) {
+    if (!strobeRun) return;
+    strobeRun->noteRows(outcome.measurement.rowsOfInterest);
+    // A planned switch stays planned: frames queued behind a slow one arrive before its time,
+    // and planning again at each would put it off for ever (the LED would never switch).
+    if (scheduledSwitch) return;
+    const std::int64_t nowUs = clock.nowUs();
+    // The loop wakes a little late; a switch planned sooner than this is left for the next.
+    constexpr std::int64_t kWakeLatencyUs = 1000;
+    const std::optional<PlannedSwitch> next = strobeRun->plan(nowUs + kWakeLatencyUs);
+    if (!next) return;
+    scheduledSwitch = next;
+    switchTimer = loop.addTimer(std::chrono::microseconds(std::max<std::int64_t>(1, next->atUs - nowUs)),
+                                false, [this, planned = *next] {
+                                  switchTimer.reset();
+                                  scheduledSwitch.reset();
+                                  if (!strobeRun) return;
+                                  try {
+                                    strobeRun->fire(planned);
+                                  } catch (const std::exception& error) {
+                                    manager.pauseSweep(std::string("LED error: ") + error.what());
+                                    reconcile();
+                                  }
+                                });
   }
 
   /// An export into a folder the client names is written with the daemon's rights: only into its
@@ -443,6 +517,17 @@ struct Daemon::State {
         warnings.push_back(exposureNote);
       else if (!exposureNote.empty())
         json["exposure"] = exposureNote;
+      const std::optional<StrobeStats> shown = strobeRun ? strobeRun->stats() : strobeStats;
+      if (shown) {
+        const double judged = double(shown->framesClean + shown->framesMixed);
+        json["camera_frames"] = {
+            {"delivered", shown->framesDelivered},
+            {"dropped", shown->framesDropped},
+            {"led_pattern", strobePattern},
+            {"led_clean_fraction", judged > 0 ? double(shown->framesClean) / judged : 0.0},
+            {"timing", shown->timing}};
+        if (!shown->warning.empty()) warnings.push_back(shown->warning);
+      }
       if (!warnings.empty()) json["warnings"] = warnings;
     }
     reconcile();

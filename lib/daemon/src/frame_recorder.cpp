@@ -1,6 +1,8 @@
 // The record_frames writer thread: frames from the loop's queue into a recording on disk.
 #include "slicecap/daemon/frame_recorder.hpp"
 
+#include "slicecap/hal/recorded_frame.hpp"
+
 #include <condition_variable>
 #include <deque>
 #include <mutex>
@@ -53,7 +55,8 @@ struct FrameRecorder::State {
       timestampUs = frame.metadata.timestampUs + timestampShiftUs;
     }
     writer->append(frame.image, {"", timestampUs, frame.metadata.ledOn, frame.metadata.exposureUs,
-                                 frame.metadata.gain});
+                                 frame.metadata.gain,
+                                 hal::recordedLedExposure(frame.metadata, timestampShiftUs)});
   }
 
   void run() {

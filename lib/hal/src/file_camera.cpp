@@ -5,6 +5,7 @@
 
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/png_image.hpp"
+#include "slicecap/hal/recorded_frame.hpp"
 #include "slicecap/io/recording.hpp"
 
 namespace slicecap::hal {
@@ -120,7 +121,7 @@ CaptureResult FileCamera::nextFrame(std::chrono::milliseconds timeout) {
                 std::to_string(k.widthPx) + " x " + std::to_string(k.heightPx) + " " +
                 std::string(toString(s.recording.encoding)) + " gray or RGB"};
   frame.encoding = s.recording.encoding;
-  frame.metadata = {sequence, timestampUs, entry.exposureUs, entry.gain, entry.ledOn};
+  frame.metadata = metadataOf(entry, sequence, timestampUs - entry.timestampUs);
   return {CaptureResult::Status::Frame, std::move(frame), ""};
 }
 

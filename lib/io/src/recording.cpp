@@ -17,11 +17,43 @@ namespace {
 constexpr const char* kFormatName = "slicecap-recording";
 
 json frameToJson(const RecordedFrame& f) {
-  return {{"file", f.file},
-          {"timestamp_us", f.timestampUs},
-          {"led_on", f.ledOn},
-          {"exposure_us", f.exposureUs},
-          {"gain", f.gain}};
+  json out = {{"file", f.file},
+              {"timestamp_us", f.timestampUs},
+              {"led_on", f.ledOn},
+              {"exposure_us", f.exposureUs},
+              {"gain", f.gain}};
+  if (f.ledExposure) {
+    const RecordedLedExposure& e = *f.ledExposure;
+    json changes = json::array();
+    for (const auto& [timeUs, on] : e.changes) changes.push_back({{"time_us", timeUs}, {"on", on}});
+    out["led_exposure"] = {{"row0_start_us", e.row0StartUs}, {"line_time_us", e.lineTimeUs},
+                           {"exposure_us", e.exposureUs},    {"guard_us", e.guardUs},
+                           {"on_at_start", e.onAtStart},     {"changes", changes}};
+  }
+  return out;
+}
+
+RecordedLedExposure ledExposureFromJson(const json& value, const Location& at) {
+  namespace f = json_fields;
+  f::object(value, at);
+  RecordedLedExposure e;
+  e.row0StartUs = f::integer(value, "row0_start_us", at);
+  e.lineTimeUs = f::number(value, "line_time_us", at);
+  if (!(e.lineTimeUs >= 0 && e.lineTimeUs < 1e6)) (at / "line_time_us").fail("must be in 0..1e6");
+  e.exposureUs = f::positiveNumber(value, "exposure_us", at);
+  e.guardUs = f::number(value, "guard_us", at);
+  if (!(e.guardUs >= 0 && e.guardUs < 1e6)) (at / "guard_us").fail("must be in 0..1e6");
+  e.onAtStart = f::boolean(value, "on_at_start", at);
+  const json& changes = f::array(value, "changes", at);
+  for (std::size_t i = 0; i < changes.size(); ++i) {
+    const Location here = (at / "changes")[i];
+    f::object(changes[i], here);
+    const std::int64_t timeUs = f::integer(changes[i], "time_us", here);
+    if (!e.changes.empty() && timeUs < e.changes.back().first)
+      (here / "time_us").fail("switches must be in time order");
+    e.changes.emplace_back(timeUs, f::boolean(changes[i], "on", here));
+  }
+  return e;
 }
 
 json toJson(const Recording& r) {
@@ -148,6 +180,8 @@ Recording readRecording(const std::filesystem::path& input) {
     frame.ledOn = f::boolean(frames[i], "led_on", here);
     frame.exposureUs = f::positiveNumber(frames[i], "exposure_us", here);
     frame.gain = f::positiveNumber(frames[i], "gain", here);
+    if (frames[i].contains("led_exposure"))
+      frame.ledExposure = ledExposureFromJson(frames[i]["led_exposure"], here / "led_exposure");
     r.frames.push_back(frame);
   }
   return r;

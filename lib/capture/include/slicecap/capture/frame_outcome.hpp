@@ -8,6 +8,7 @@
 #include <string>
 
 #include "slicecap/capture/frame_sample.hpp"
+#include "slicecap/capture/led_gate.hpp"
 #include "slicecap/capture/light_model.hpp"
 #include "slicecap/capture/marker_detector.hpp"
 #include "slicecap/core/slice.hpp"
@@ -20,7 +21,8 @@ namespace slicecap::capture {
 /// frame (an LED-off frame kept to subtract room light from its neighbours; not a sample), or a
 /// rejection with its reason, one of the stable snake_case names the status and the report
 /// count: "too_few_markers", "elevation_off", "blurred", "window_clipped", "window_occluded",
-/// "pose_residual", "no_ambient_frame", "bad_frame".
+/// "pose_residual", "no_ambient_frame", "bad_frame", "led_transition" (the LED switched while
+/// the rows of the window or the white references were exposed: neither a sample nor room light).
 struct FrameOutcome {
   enum class Kind { Sample, Ambient, Rejected };
   Kind kind = Kind::Rejected;
@@ -49,6 +51,9 @@ struct FrameOutcome {
     /// \brief The point-light fit to the white references, whenever it converged: its
     /// irradiance model normalises every texel of a texture capture.
     std::optional<PointLight> fittedLight;
+    /// \brief The rows of the window and the white references, whenever a pose was found: the
+    /// daemon's strobe switches the LED while no frame exposes them.
+    std::optional<RowSpan> rowsOfInterest;
   };
   Measurement measurement;
 };

@@ -89,6 +89,7 @@ class FramePipeline {
   std::vector<AmbientTerm> ambientTermsFor(std::int64_t timeUs) const;
 
  private:
+  bool offOverSampleRows(const hal::Frame& frame) const;
   struct State;
   std::unique_ptr<State> state_;
 };

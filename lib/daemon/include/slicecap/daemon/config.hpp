@@ -22,10 +22,10 @@ class ConfigError : public std::runtime_error {
 /// are ignored; unknown keys and repeated keys are errors (a typo must not silently fall back to a
 /// default).
 struct DaemonConfig {
-  enum class CameraKind { Libcamera, V4l2, File };
+  enum class CameraKind { Libcamera, V4l2, File, Model };
 
   // Camera.
-  CameraKind camera = CameraKind::Libcamera;  ///< camera = libcamera | v4l2 | file
+  CameraKind camera = CameraKind::Libcamera;  ///< camera = libcamera | v4l2 | file | model
   std::string cameraDevice;  ///< camera_device: libcamera id or /dev/videoN; empty = first found
   std::filesystem::path
       recording;       ///< camera_recording: for camera = file, a recording or session folder
@@ -38,12 +38,26 @@ struct DaemonConfig {
   std::optional<double> gain;
   std::filesystem::path
       calibration;  ///< calibration: camera intrinsics (slicecap calibrate output)
+  /// readout_us: the sensor's top-to-bottom readout time (slicecapd --check-hardware measures
+  /// it); empty: the camera's line time where it says it, else a whole frame period.
+  std::optional<double> readoutUs;
+
+  // camera = model: the virtual rig in front of a camera model that behaves like a Pi camera
+  // (hal::ModelCamera): a material, the rig's imperfections, the sweep's pace, the ISP's curve.
+  std::string modelMaterial = "satin-blue-45";  ///< model_material: a `slicecap simulate` material
+  bool modelRealistic = true;       ///< model_rig = realistic | ideal
+  double modelSweepSeconds = 8.0;   ///< model_sweep_seconds: one sweep's time round the slice
+  int modelPositions = 32;          ///< model_positions: where the hand rests on the way round
+  std::string modelToneCurve = "imx708";  ///< model_tone_curve = imx708 | srgb | linear
+  int modelSeed = 7;                      ///< model_seed: the rig's and the sensor's randomness
 
   // LED.
   std::string ledChip = "gpiochip0";  ///< led_chip: the GPIO chip (name or /dev path)
   std::string ledLine = "GPIO17";     ///< led_line: the line's name (e.g. GPIO17) or its offset
   bool ledActiveLow = false;          ///< led_active_low: the driver switches on at a low level
-  bool ledAlternate = true;      ///< led_alternate: LED off every other frame for ambient removal
+  bool ledAlternate = true;      ///< led_alternate: LED off in blocks of frames for ambient removal
+  int ledFramesPerState = 2;     ///< led_frames_per_state: frames on, then as many off
+  double ledGuardUs = 200.0;     ///< led_guard_us: a switch's uncertainty either side
   std::filesystem::path ledLog;  ///< led_log: with camera = file, where the file LED logs changes
 
   // Target and storage.

@@ -10,9 +10,11 @@
 #include "slicecap/capture/frame_outcome.hpp"
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/exposure_meter.hpp"
+#include "slicecap/daemon/led_strobe.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 #include "slicecap/daemon/texture_sink.hpp"
 #include "slicecap/hal/camera.hpp"
+#include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/led.hpp"
 #include "slicecap/io/recording.hpp"
 
@@ -28,8 +30,15 @@ struct DaemonParts {
   std::function<std::shared_ptr<hal::Camera>(const SliceId&)> cameraFor;
   hal::CameraConfig cameraConfig;
   std::unique_ptr<hal::Led> led;
-  /// Switch the LED off every other frame, so the pipeline can subtract room light.
+  /// The clock the camera's timestamps use (CLOCK_MONOTONIC on Linux, SteadyClock): the LED's
+  /// switches are recorded on it, so that each live frame's rows can be matched to the LED's
+  /// state while they were exposed. nullptr: a SteadyClock.
+  hal::Clock* clock = nullptr;
+  /// Switch the LED off in blocks of frames, so the pipeline can subtract room light; the strobe
+  /// places each switch where no sample row is being exposed (LedStrobe).
   bool ledAlternate = true;
+  /// The strobe's pattern, guard and readout time (its `alternate` follows ledAlternate).
+  StrobeSettings strobe;
   /// When cameraConfig leaves the exposure to a live camera: each sweep start meters it with the
   /// LED on (no frame is processed meanwhile) and locks it for the sweep (ExposureMeter).
   ExposureMeterParams exposureMeter;

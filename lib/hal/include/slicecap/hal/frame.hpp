@@ -2,9 +2,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "slicecap/core/image.hpp"
 #include "slicecap/core/pixel_encoding.hpp"
+#include "slicecap/hal/led_exposure.hpp"
 
 namespace slicecap::hal {
 
@@ -22,6 +24,16 @@ struct FrameMetadata {
   /// (V4L2). A frame taken before a lock reached the camera counts one less, whatever exposure
   /// it happens to report (an auto exposure can sit at the locked value by chance).
   std::uint32_t exposureLocks = 0;
+  /// Start of row 0's exposure on the camera's clock, when the camera says when its frames were
+  /// exposed: libcamera's SensorTimestamp is the start of the first row's readout, one exposure
+  /// time after that row began (picamera2 issue 821), in CLOCK_MONOTONIC (libcamera bug 254);
+  /// V4L2 says start of exposure or end of frame in its buffer flags. nullopt: unknown.
+  std::optional<std::int64_t> exposureStartUs{};
+  /// The sensor's rolling-shutter line time (row-to-row start delay), when the camera says it.
+  std::optional<double> lineTimeUs{};
+  /// What the LED did over this frame's rows, from the LED's timeline (the daemon's frame loop).
+  /// nullopt: only `ledOn` is known (a recording without it, an offline run).
+  std::optional<LedExposure> ledExposure{};
 };
 
 /// \brief One frame: gray or RGB samples in `encoding` (8-bit sRGB or 16-bit linear).

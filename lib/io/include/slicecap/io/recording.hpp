@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "slicecap/core/image.hpp"
@@ -23,12 +24,27 @@ inline constexpr const char* kRecordingManifest = "recording.json";
 
 /// \brief One frame's entry: its PNG (relative to the recording directory) and what the camera and
 /// the LED were doing.
+/// \brief What the LED did while a live frame's rows were exposed (hal::LedExposure, on the
+/// recording's time line): enough to judge the frame again on a desktop, for any rows.
+struct RecordedLedExposure {
+  std::int64_t row0StartUs = 0;  ///< start of row 0's exposure
+  double lineTimeUs = 0.0;       ///< row-to-row start delay (0: global shutter)
+  double exposureUs = 0.0;       ///< how long each row was exposed
+  double guardUs = 0.0;          ///< a switch's uncertainty either side
+  bool onAtStart = false;        ///< the LED's state at row 0's start
+  std::vector<std::pair<std::int64_t, bool>> changes;  ///< (time, on) after row0StartUs
+  friend bool operator==(const RecordedLedExposure&, const RecordedLedExposure&) = default;
+};
+
 struct RecordedFrame {
   std::string file;
   std::int64_t timestampUs = 0;  ///< capture time, microseconds, strictly increasing
   bool ledOn = true;
   double exposureUs = 0.0;  ///< exposure time, microseconds (> 0)
   double gain = 1.0;        ///< total (analogue x digital) gain, >= 1 on a real sensor, > 0 here
+  /// A live frame's LED exposure (slicecapd's record_frames): the LED switched while some rows
+  /// were exposed; `ledOn` is then only the majority. Absent in simulated recordings.
+  std::optional<RecordedLedExposure> ledExposure{};
   friend bool operator==(const RecordedFrame&, const RecordedFrame&) = default;
 };
 

@@ -1,0 +1,97 @@
+// The LED strobe in step with the camera's exposures: each live frame labelled from the LED's
+// timeline over its rolling-shutter rows, and switches placed where no sample row is exposed.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "slicecap/capture/led_gate.hpp"
+#include "slicecap/hal/frame.hpp"
+#include "slicecap/hal/led.hpp"
+#include "slicecap/hal/led_timeline.hpp"
+
+namespace slicecap::daemon {
+
+/// \brief How the strobe runs (slicecapd.conf: led_alternate, led_frames_per_state, led_guard_us,
+/// readout_us).
+struct StrobeSettings {
+  bool alternate = true;    ///< false: the LED stays on (no room-light frames)
+  int framesPerState = 2;   ///< frames planned with the LED on, then as many with it off
+  double guardUs = 200.0;   ///< a switch's uncertainty either side (GPIO call, driver, LED rise)
+  /// The sensor's readout time of a whole frame (top row to bottom row), from --check-hardware;
+  /// used when the camera does not report its line time. nullopt: the frame period, the longest
+  /// a rolling shutter can take, so classification errs towards "mixed".
+  std::optional<double> readoutUs;
+
+  /// \brief False with a reason naming the key for a value out of range.
+  bool isValid(std::string* error = nullptr) const;
+};
+
+/// \brief One planned switch: at `atUs` on the camera's clock, to `on`, so that frame
+/// `forSequence` is the first exposed under the new state.
+struct PlannedSwitch {
+  std::int64_t atUs = 0;
+  bool on = false;
+  std::uint64_t forSequence = 0;
+};
+
+/// \brief What the strobe saw of a sweep's live frames, for the status.
+struct StrobeStats {
+  std::uint64_t framesDelivered = 0;
+  std::uint64_t framesDropped = 0;  ///< sequence gaps: frames the camera lost
+  std::uint64_t framesClean = 0;    ///< one LED state over the rows of interest
+  std::uint64_t framesMixed = 0;
+  std::string timing;   ///< how exposure times are known, in words
+  std::string warning;  ///< a weaker mode the camera forces, and what to configure; else empty
+};
+
+/// \brief The strobe of one sweep run. Single-threaded (the daemon's loop). The LED given must
+/// record every switch on `commanded` (a hal::TimelineLed) on the camera's clock.
+class LedStrobe {
+ public:
+  LedStrobe(StrobeSettings settings, hal::Led& led,
+            std::shared_ptr<const hal::LedTimeline> commanded, std::string cameraId);
+
+  /// \brief A live frame arrived: sets its LED exposure from the timeline (when the camera says
+  /// when it was exposed, else conservatively from its timestamp) and its `ledOn` label (the
+  /// state over the latest rows of interest), and counts dropped frames.
+  void label(hal::Frame& frame);
+  /// \brief The rows the pipeline read in the latest located frame (nullopt: keep the last).
+  void noteRows(const std::optional<capture::RowSpan>& rows);
+  /// \brief The next switch to make at or after `earliestUs` (now plus the loop's latency), from
+  /// the frames seen so far; nullopt while the frame timing is unknown or nothing alternates.
+  std::optional<PlannedSwitch> plan(std::int64_t earliestUs) const;
+  /// \brief Makes a planned switch. Throws what the LED throws.
+  void fire(const PlannedSwitch& planned);
+
+  const StrobeStats& stats() const { return stats_; }
+  /// \brief "2 on, 2 off", or "on" without alternation.
+  std::string pattern() const;
+
+ private:
+  bool desiredOn(std::uint64_t sequence) const;
+  double lineTimeUs(const hal::Frame& frame) const;
+
+  StrobeSettings settings_;
+  hal::Led& led_;
+  std::shared_ptr<const hal::LedTimeline> commanded_;
+  std::string cameraId_;
+  StrobeStats stats_;
+  // The latest frame's timing: the plan extrapolates from it.
+  struct Timing {
+    std::uint64_t sequence = 0;
+    std::int64_t row0StartUs = 0;
+    double exposureUs = 0.0;
+    double lineTimeUs = 0.0;
+    int heightPx = 0;
+  };
+  std::optional<Timing> last_;
+  std::vector<std::pair<std::uint64_t, std::int64_t>> recentStarts_;  // for the frame period
+  std::optional<double> periodUs_;
+  std::optional<capture::RowSpan> rows_;
+};
+
+}  // namespace slicecap::daemon

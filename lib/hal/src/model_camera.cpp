@@ -1,0 +1,347 @@
+// The model camera: frame timing, buffer starvation, late controls, rolling shutter against the
+// LED's light, noise, colour gains and the tone curve.
+#include "slicecap/hal/model_camera.hpp"
+
+#include <sys/timerfd.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <deque>
+#include <map>
+#include <random>
+#include <stdexcept>
+
+namespace slicecap::hal {
+
+bool SensorModel::isValid(std::string* error) const {
+  const auto fail = [error](const std::string& why) {
+    if (error) *error = why;
+    return false;
+  };
+  if (!(framePeriodUs >= 1000.0 && framePeriodUs <= 1e6))
+    return fail("frame period " + std::to_string(framePeriodUs) + " us is outside 1000..1e6");
+  if (!(lineTimeUs >= 0.0 && lineTimeUs <= framePeriodUs))
+    return fail("line time " + std::to_string(lineTimeUs) + " us is outside 0..the frame period");
+  if (!(deliveryLatencyUs >= 0.0 && deliveryLatencyUs <= 1e6))
+    return fail("delivery latency " + std::to_string(deliveryLatencyUs) + " us is outside 0..1e6");
+  if (controlDelayFrames < 0 || controlDelayFrames > 64)
+    return fail("control delay of " + std::to_string(controlDelayFrames) + " frames is outside 0..64");
+  if (!(dropProbability >= 0.0 && dropProbability < 1.0))
+    return fail("drop probability " + std::to_string(dropProbability) + " is outside [0, 1)");
+  for (double g : colourGains)
+    if (!(g > 0.0 && g < 16.0)) return fail("a colour gain is outside (0, 16)");
+  if (!(readNoise >= 0.0 && readNoise < 0.5)) return fail("read noise is outside [0, 0.5)");
+  if (!(fullWellElectrons >= 0.0)) return fail("full well is negative");
+  if (!(autoExposureUs > 0.0 && autoExposureUs <= framePeriodUs))
+    return fail("auto exposure " + std::to_string(autoExposureUs) + " us is outside (0, period]");
+  if (!(autoGain >= 1.0 && autoGain <= maxGain)) return fail("auto gain is outside 1..max gain");
+  return true;
+}
+
+namespace {
+
+// 2^22 standard normal draws, read from a random offset each frame: per-sample noise for a
+// 1280 x 720 frame costs a load, not a Box-Muller, so the model keeps up with 30 fps.
+constexpr std::size_t kNoiseTableSize = std::size_t(1) << 22;
+const std::vector<float>& normalTable() {
+  static const std::vector<float> table = [] {
+    std::mt19937_64 random(20261202);
+    std::normal_distribution<float> normal;
+    std::vector<float> values(kNoiseTableSize);
+    for (float& v : values) v = normal(random);
+    return values;
+  }();
+  return table;
+}
+
+struct Lock {
+  std::uint64_t fromSequence = 0;
+  ExposureSetting setting;
+  std::uint32_t index = 0;
+};
+
+struct Captured {
+  std::uint64_t sequence = 0;
+  std::int64_t readoutStartUs = 0;  // row 0's readout start: libcamera's SensorTimestamp
+  double exposureUs = 0.0;
+  double gain = 1.0;
+  std::uint32_t locks = 0;
+  std::int64_t deliveryUs = 0;
+};
+
+}  // namespace
+
+struct ModelCamera::State {
+  std::shared_ptr<SceneSource> scene;
+  std::shared_ptr<const LedTimeline> led;
+  Clock& clock;
+  SensorModel model;
+  CameraConfig config;
+  bool configured = false, running = false, ended = false;
+  std::int64_t startUs = 0;
+  std::uint64_t nextToStart = 0;  // the next frame whose readout has not been decided
+  std::deque<Captured> pending;   // captured, not yet taken by the application
+  std::vector<Lock> locks;
+  std::uint64_t dropped = 0;
+  std::mt19937_64 random;
+  std::vector<std::uint8_t> encodeTable;  // linear (1/65535 steps) -> 8-bit code
+  std::map<std::uint64_t, FrameTruth> truths;
+  int timerFd = -1;
+
+  State(std::shared_ptr<SceneSource> s, std::shared_ptr<const LedTimeline> l, Clock& c,
+        SensorModel m)
+      : scene(std::move(s)), led(std::move(l)), clock(c), model(std::move(m)), random(model.seed) {
+    encodeTable.resize(65536);
+    for (std::size_t i = 0; i < encodeTable.size(); ++i)
+      encodeTable[i] = static_cast<std::uint8_t>(
+          std::lround(255.0 * model.tone.encode(double(i) / 65535.0)));
+  }
+
+  std::int64_t readoutStartOf(std::uint64_t sequence) const {
+    return startUs + static_cast<std::int64_t>(std::llround(double(sequence) * model.framePeriodUs));
+  }
+
+  Captured planned(std::uint64_t sequence) const {
+    Captured frame;
+    frame.sequence = sequence;
+    frame.readoutStartUs = readoutStartOf(sequence);
+    frame.exposureUs = config.exposureUs.value_or(model.autoExposureUs);
+    frame.gain = config.gain.value_or(model.autoGain);
+    for (const Lock& lock : locks)
+      if (lock.fromSequence <= sequence) {
+        frame.exposureUs = lock.setting.exposureUs;
+        frame.gain = lock.setting.gain.value_or(model.autoGain);
+        frame.locks = lock.index;
+      }
+    frame.deliveryUs = frame.readoutStartUs +
+                       static_cast<std::int64_t>(config.heightPx * model.lineTimeUs +
+                                                 model.deliveryLatencyUs);
+    return frame;
+  }
+
+  // Decides every frame whose readout started by `nowUs`: captured if a buffer was free then.
+  // Frames the application took before now were taken before that start too (it is asked
+  // lazily), so `pending` holds exactly the buffers in use at each start.
+  void catchUp(std::int64_t nowUs) {
+    std::uniform_real_distribution<double> uniform(0.0, 1.0);
+    while (readoutStartOf(nextToStart) <= nowUs) {
+      const Captured frame = planned(nextToStart++);
+      const bool bufferFree = pending.size() < static_cast<std::size_t>(config.bufferCount);
+      if (!bufferFree || uniform(random) < model.dropProbability) {
+        ++dropped;
+        continue;
+      }
+      pending.push_back(frame);
+    }
+  }
+
+  // The time the next frame becomes ready, if the application does nothing meanwhile.
+  std::int64_t nextReadyUs() const {
+    if (!pending.empty()) return pending.front().deliveryUs;
+    return planned(nextToStart).deliveryUs;
+  }
+
+  void armTimer() {
+    if (timerFd < 0) return;
+    const std::int64_t dueUs = std::max<std::int64_t>(nextReadyUs(), 1);
+    itimerspec spec{};
+    spec.it_value.tv_sec = dueUs / 1'000'000;
+    spec.it_value.tv_nsec = (dueUs % 1'000'000) * 1000;
+    timerfd_settime(timerFd, TFD_TIMER_ABSTIME, &spec, nullptr);
+  }
+
+  CaptureResult render(const Captured& captured) {
+    const int width = config.widthPx, height = config.heightPx;
+    const double lineUs = model.lineTimeUs, exposureUs = captured.exposureUs;
+    // The scene at the middle row's mid-exposure: the rig moves little within one frame.
+    const std::int64_t middleUs = captured.readoutStartUs +
+                                  static_cast<std::int64_t>(height / 2 * lineUs - exposureUs / 2);
+    const std::shared_ptr<const SceneLight> light = scene->lightAt(middleUs - startUs);
+    if (!light) {
+      ended = true;
+      return {CaptureResult::Status::EndOfStream, std::nullopt, ""};
+    }
+    const std::size_t values = std::size_t(width) * height * 3;
+    if (light->widthPx != width || light->heightPx != height || light->ledRate.size() != values ||
+        light->ambientRate.size() != values)
+      return {CaptureResult::Status::Error, std::nullopt,
+              id() + ": the scene is " + std::to_string(light->widthPx) + " x " +
+                  std::to_string(light->heightPx) + ", the camera " + std::to_string(width) +
+                  " x " + std::to_string(height)};
+    FrameTruth truth;
+    truth.sequence = captured.sequence;
+    truth.row0StartUs = captured.readoutStartUs - static_cast<std::int64_t>(std::llround(exposureUs));
+    truth.exposureUs = exposureUs;
+    truth.gain = captured.gain;
+    truth.rowOnFraction.resize(height);
+    Frame frame;
+    frame.encoding = PixelEncoding::Srgb8;
+    frame.image.width = width;
+    frame.image.height = height;
+    frame.image.channels = 3;
+    frame.image.bitDepth = 8;
+    frame.image.samples.resize(values);
+    const double exposureS = exposureUs * 1e-6;
+    // Per value: one shot-plus-read noise draw (the two are independent Gaussians, so one draw
+    // of their summed variance), the ISP's colour gain, then the tone curve by table.
+    const float inverseFullWell = model.fullWellElectrons > 0 ? float(1.0 / model.fullWellElectrons) : 0.0f;
+    const float readVariance = float(model.readNoise * model.readNoise);
+    const float gains[3] = {float(model.colourGains[0]), float(model.colourGains[1]),
+                            float(model.colourGains[2])};
+    const float* ambient = light->ambientRate.data();
+    const float* lit = light->ledRate.data();
+    std::uint16_t* out = frame.image.samples.data();
+    const float* normals = normalTable().data();
+    std::size_t noiseAt = std::uniform_int_distribution<std::size_t>(0, kNoiseTableSize - 1)(random);
+    for (int row = 0; row < height; ++row) {
+      const double rowStartUs = double(truth.row0StartUs) + row * lineUs;
+      const double onS = led->onTimeUs(rowStartUs, rowStartUs + exposureUs) * 1e-6;
+      truth.rowOnFraction[row] = static_cast<float>(exposureS > 0 ? onS / exposureS : 0.0);
+      const float ambientScale = float(captured.gain * exposureS), ledScale = float(captured.gain * onS);
+      const std::size_t base = std::size_t(row) * width * 3;
+      for (int i = 0; i < width * 3; ++i) {
+        const std::size_t at = base + i;
+        const float signal = ambientScale * ambient[at] + ledScale * lit[at];
+        const float sigma = std::sqrt(std::max(signal, 0.0f) * inverseFullWell + readVariance);
+        const float value = (signal + sigma * normals[noiseAt]) * gains[i % 3];
+        noiseAt = (noiseAt + 1) & (kNoiseTableSize - 1);
+        const float clamped = std::min(std::max(value, 0.0f), 1.0f);
+        out[at] = encodeTable[static_cast<std::size_t>(clamped * 65535.0f + 0.5f)];
+      }
+    }
+    frame.metadata.sequence = captured.sequence;
+    frame.metadata.timestampUs = captured.readoutStartUs;
+    frame.metadata.exposureUs = model.reportsExposure ? exposureUs : 0.0;
+    frame.metadata.gain = model.reportsExposure ? captured.gain : 1.0;
+    frame.metadata.exposureLocks = captured.locks;
+    frame.metadata.ledOn = false;  // the camera cannot know: whoever drives the LED says
+    if (model.reportsExposure) frame.metadata.exposureStartUs = truth.row0StartUs;
+    if (model.reportsLineTime) frame.metadata.lineTimeUs = lineUs;
+    truths[captured.sequence] = std::move(truth);
+    while (truths.size() > 256) truths.erase(truths.begin());
+    return {CaptureResult::Status::Frame, std::move(frame), ""};
+  }
+
+  std::string id() const { return "model:" + scene->id(); }
+};
+
+ModelCamera::ModelCamera(std::shared_ptr<SceneSource> scene,
+                         std::shared_ptr<const LedTimeline> ledLight, Clock& clock,
+                         SensorModel model) {
+  std::string why;
+  if (!scene || !ledLight) throw std::invalid_argument("model camera: needs a scene and an LED");
+  if (!model.isValid(&why)) throw std::invalid_argument("model camera: " + why);
+  state_ = std::make_unique<State>(std::move(scene), std::move(ledLight), clock, std::move(model));
+  if (state_->model.realTime) {
+    state_->timerFd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
+    if (state_->timerFd < 0)
+      throw std::runtime_error("model camera: timerfd_create: " + std::string(std::strerror(errno)));
+  }
+}
+
+ModelCamera::~ModelCamera() {
+  if (state_ && state_->timerFd >= 0) ::close(state_->timerFd);
+}
+
+std::string ModelCamera::id() const {
+  return state_->id();
+}
+
+ConfigResult ModelCamera::configure(CameraConfig& config) {
+  if (state_->running) throw std::logic_error("ModelCamera::configure while running");
+  std::vector<std::string> adjusted;
+  if (config.encoding != PixelEncoding::Srgb8) {
+    adjusted.push_back("encoding set to srgb8 (the ISP's 8-bit output)");
+    config.encoding = PixelEncoding::Srgb8;
+  }
+  if (config.bufferCount < 2) {
+    adjusted.push_back("buffer count set to 2");
+    config.bufferCount = 2;
+  }
+  if (config.exposureUs && *config.exposureUs > state_->model.framePeriodUs) {
+    adjusted.push_back("exposure set to the frame period");
+    config.exposureUs = state_->model.framePeriodUs;
+  }
+  state_->config = config;
+  state_->configured = true;
+  return ConfigResult::fromAdjustments(adjusted);
+}
+
+void ModelCamera::start() {
+  State& s = *state_;
+  if (!s.configured) throw std::logic_error("ModelCamera::start before configure");
+  s.running = true;
+  s.ended = false;
+  s.startUs = s.clock.nowUs();
+  s.nextToStart = 0;
+  s.pending.clear();
+  s.locks.clear();
+  s.armTimer();
+}
+
+void ModelCamera::stop() {
+  State& s = *state_;
+  s.running = false;
+  s.pending.clear();
+  if (s.timerFd >= 0) {
+    itimerspec off{};
+    timerfd_settime(s.timerFd, 0, &off, nullptr);
+  }
+}
+
+CaptureResult ModelCamera::nextFrame(std::chrono::milliseconds timeout) {
+  State& s = *state_;
+  if (!s.running) throw std::logic_error("ModelCamera::nextFrame before start");
+  if (s.ended) return {CaptureResult::Status::EndOfStream, std::nullopt, ""};
+  const std::int64_t deadlineUs = s.clock.nowUs() + timeout.count() * 1000;
+  for (;;) {
+    s.catchUp(s.clock.nowUs());
+    if (!s.pending.empty() && s.pending.front().deliveryUs <= s.clock.nowUs()) {
+      const Captured captured = s.pending.front();
+      s.pending.pop_front();
+      CaptureResult result = s.render(captured);
+      s.armTimer();
+      return result;
+    }
+    const std::int64_t readyUs = s.nextReadyUs();
+    if (readyUs > deadlineUs) {
+      s.clock.sleepUntilUs(deadlineUs);
+      s.armTimer();
+      return {CaptureResult::Status::Timeout, std::nullopt, ""};
+    }
+    s.clock.sleepUntilUs(readyUs);
+  }
+}
+
+std::optional<int> ModelCamera::readyDescriptor() const {
+  if (state_->timerFd < 0) return std::nullopt;
+  return state_->timerFd;
+}
+
+ExposureLock ModelCamera::lockExposure(const ExposureSetting& wanted) {
+  State& s = *state_;
+  if (!s.running) throw std::logic_error("ModelCamera::lockExposure outside start..stop");
+  s.catchUp(s.clock.nowUs());
+  ExposureSetting setting;
+  setting.exposureUs = std::clamp(wanted.exposureUs, 1.0, s.model.framePeriodUs);
+  setting.gain = std::clamp(wanted.gain.value_or(s.model.autoGain), 1.0, s.model.maxGain);
+  const std::uint32_t index = s.locks.empty() ? 1 : s.locks.back().index + 1;
+  s.locks.push_back({s.nextToStart + static_cast<std::uint64_t>(s.model.controlDelayFrames),
+                     setting, index});
+  return {setting, ""};
+}
+
+std::optional<FrameTruth> ModelCamera::truth(std::uint64_t sequence) const {
+  const auto found = state_->truths.find(sequence);
+  if (found == state_->truths.end()) return std::nullopt;
+  return found->second;
+}
+
+std::uint64_t ModelCamera::framesDropped() const {
+  return state_->dropped;
+}
+
+}  // namespace slicecap::hal

@@ -1,0 +1,212 @@
+// ModelCamera: timing as a Pi's libcamera reports it, buffer starvation, late controls, rolling
+// shutter against the LED's light, and an ISP tone curve that is not sRGB.
+#include "slicecap/hal/model_camera.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "slicecap/hal/clock.hpp"
+
+namespace slicecap::hal {
+namespace {
+
+// A flat scene: every pixel sees the same LED and room light.
+class FlatScene final : public SceneSource {
+ public:
+  FlatScene(int width, int height, float led, float ambient, std::int64_t endUs = 1LL << 62)
+      : light_(std::make_shared<SceneLight>()), endUs_(endUs) {
+    light_->widthPx = width;
+    light_->heightPx = height;
+    light_->ledRate.assign(std::size_t(width) * height * 3, led);
+    light_->ambientRate.assign(std::size_t(width) * height * 3, ambient);
+  }
+  std::string id() const override { return "flat"; }
+  std::shared_ptr<const SceneLight> lightAt(std::int64_t sinceStartUs) override {
+    return sinceStartUs < endUs_ ? light_ : nullptr;
+  }
+
+ private:
+  std::shared_ptr<SceneLight> light_;
+  std::int64_t endUs_;
+};
+
+SensorModel quietModel() {
+  SensorModel model;
+  model.realTime = false;
+  model.readNoise = 0.0;
+  model.fullWellElectrons = 0.0;
+  model.colourGains = {1.0, 1.0, 1.0};
+  return model;
+}
+
+struct Rig {
+  FakeClock clock{1'000'000};
+  std::shared_ptr<LedTimeline> light = std::make_shared<LedTimeline>();
+  std::unique_ptr<ModelCamera> camera;
+
+  explicit Rig(SensorModel model, int bufferCount = 4, float led = 20.0f, float ambient = 2.0f,
+               std::optional<double> exposureUs = 10000.0) {
+    camera = std::make_unique<ModelCamera>(std::make_shared<FlatScene>(64, 48, led, ambient), light,
+                                           clock, model);
+    CameraConfig config;
+    config.widthPx = 64;
+    config.heightPx = 48;
+    config.bufferCount = bufferCount;
+    config.exposureUs = exposureUs;
+    camera->configure(config);
+    camera->start();
+  }
+  Frame next() {
+    CaptureResult result = camera->nextFrame(std::chrono::milliseconds(1000));
+    EXPECT_EQ(result.status, CaptureResult::Status::Frame) << result.error;
+    return std::move(*result.frame);
+  }
+};
+
+TEST(ModelCamera, DeliversFramesAfterTheirReadoutWithPiTimestamps) {
+  const SensorModel model = quietModel();
+  Rig rig(model);
+  const Frame first = rig.next();
+  EXPECT_EQ(first.metadata.sequence, 0u);
+  EXPECT_EQ(first.metadata.timestampUs, 1'000'000);  // row 0's readout starts at start()
+  EXPECT_EQ(*first.metadata.exposureStartUs, 1'000'000 - 10'000);
+  EXPECT_FALSE(first.metadata.lineTimeUs);  // the Pi's libcamera does not say it
+  // Delivered after the 48 rows are read out, plus the ISP's latency.
+  EXPECT_EQ(rig.clock.nowUs(), 1'000'000 + std::int64_t(48 * model.lineTimeUs + model.deliveryLatencyUs));
+  const Frame second = rig.next();
+  EXPECT_EQ(second.metadata.sequence, 1u);
+  EXPECT_NEAR(double(second.metadata.timestampUs - first.metadata.timestampUs),
+              model.framePeriodUs, 1.0);
+}
+
+TEST(ModelCamera, DropsFramesWhenTheApplicationHoldsEveryBuffer) {
+  Rig rig(quietModel(), 4);
+  rig.next();
+  // The application stalls for 10 frame periods: 4 buffers fill, the rest of the frames drop.
+  rig.clock.advanceUs(10 * 33333);
+  std::vector<std::uint64_t> sequences;
+  for (int i = 0; i < 6; ++i) sequences.push_back(rig.next().metadata.sequence);
+  EXPECT_EQ(sequences[0], 1u);
+  EXPECT_EQ(sequences[3], 4u);
+  EXPECT_GT(sequences[4], 5u) << "a sequence gap marks the dropped frames";
+  EXPECT_GE(rig.camera->framesDropped(), 5u);
+}
+
+TEST(ModelCamera, AnExposureLockTakesEffectFramesLate) {
+  SensorModel model = quietModel();
+  model.controlDelayFrames = 3;
+  Rig rig(model, 4, 20.0f, 2.0f, std::nullopt);
+  const Frame first = rig.next();  // frame 0 arrives before frame 1's readout starts
+  EXPECT_EQ(first.metadata.exposureUs, model.autoExposureUs);
+  const ExposureLock lock = rig.camera->lockExposure({4000.0, 2.0});
+  ASSERT_TRUE(lock.locked);
+  std::uint64_t firstLocked = 0;
+  for (int i = 0; i < 10 && !firstLocked; ++i) {
+    const Frame frame = rig.next();
+    if (frame.metadata.exposureLocks == 1) {
+      firstLocked = frame.metadata.sequence;
+      EXPECT_EQ(frame.metadata.exposureUs, 4000.0);
+      EXPECT_EQ(frame.metadata.gain, 2.0);
+    } else {
+      EXPECT_EQ(frame.metadata.exposureUs, model.autoExposureUs) << frame.metadata.sequence;
+    }
+  }
+  // Frame 1 was the next to start when the lock was made: three frames late is frame 4.
+  EXPECT_EQ(firstLocked, 4u);
+}
+
+TEST(ModelCamera, ARollingShutterLightsOnlyTheRowsExposedAfterTheSwitch) {
+  SensorModel model = quietModel();
+  model.tone = ToneCurve::linear();
+  Rig rig(model);
+  // Frame 1's row 0 is exposed over [start + period - 10 ms, start + period); switch the LED on
+  // in the middle of its rows' exposures.
+  const std::int64_t frame1Row0Us = 1'000'000 + 33333 - 10000;
+  rig.light->record(frame1Row0Us + std::int64_t(24 * model.lineTimeUs), true);
+  rig.next();
+  const Frame frame = rig.next();
+  ASSERT_EQ(frame.metadata.sequence, 1u);
+  const std::optional<FrameTruth> truth = rig.camera->truth(1);
+  ASSERT_TRUE(truth);
+  EXPECT_LT(truth->rowOnFraction[0], 1.0f);
+  EXPECT_GT(truth->rowOnFraction[0], 0.9f);
+  EXPECT_NEAR(truth->rowOnFraction[47], 1.0f, 1e-6);
+  for (int row : {0, 20, 47}) {
+    // Linear tone, unit gains: value = 0.01 s * (2 + 20 * on-fraction).
+    const double expected = 0.01 * (2.0 + 20.0 * truth->rowOnFraction[row]);
+    EXPECT_NEAR(frame.image.at(10, row, 1) / 255.0, expected, 0.51 / 255) << row;
+  }
+  EXPECT_LT(frame.image.at(10, 0, 1), frame.image.at(10, 47, 1));
+}
+
+TEST(ModelCamera, TheIspCurveAndColourGainsAreNotSrgb) {
+  SensorModel model = quietModel();
+  model.colourGains = {1.9, 1.0, 1.6};
+  Rig rig(model);
+  rig.light->record(0, true);
+  const Frame frame = rig.next();
+  const double linear = 0.01 * (2.0 + 20.0);  // 0.22 of full scale before the gains
+  EXPECT_NEAR(frame.image.at(5, 5, 1), 255 * ToneCurve::imx708Tuning().encode(linear), 0.51);
+  EXPECT_NEAR(frame.image.at(5, 5, 0), 255 * ToneCurve::imx708Tuning().encode(1.9 * linear), 0.51);
+  // Read as sRGB, the green value is off by more than 10 %.
+  const double asSrgb = ToneCurve::srgb().decode(frame.image.at(5, 5, 1) / 255.0);
+  EXPECT_GT(std::abs(asSrgb / linear - 1.0), 0.1);
+}
+
+TEST(ModelCamera, TheSceneEndingEndsTheStream) {
+  FakeClock clock(0);
+  auto light = std::make_shared<LedTimeline>();
+  ModelCamera camera(std::make_shared<FlatScene>(64, 48, 1.0f, 1.0f, 100'000), light, clock,
+                     quietModel());
+  CameraConfig config;
+  config.widthPx = 64;
+  config.heightPx = 48;
+  camera.configure(config);
+  camera.start();
+  int frames = 0;
+  for (;;) {
+    const CaptureResult result = camera.nextFrame(std::chrono::milliseconds(1000));
+    if (result.status != CaptureResult::Status::Frame) {
+      EXPECT_EQ(result.status, CaptureResult::Status::EndOfStream);
+      break;
+    }
+    ++frames;
+  }
+  EXPECT_GE(frames, 3);
+  EXPECT_LE(frames, 4);
+}
+
+TEST(ModelCamera, RefusesAnInvalidModelNamingTheField) {
+  SensorModel model = quietModel();
+  model.lineTimeUs = -1.0;
+  FakeClock clock;
+  try {
+    ModelCamera camera(std::make_shared<FlatScene>(4, 4, 1, 1), std::make_shared<LedTimeline>(),
+                       clock, model);
+    FAIL();
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("line time"), std::string::npos);
+  }
+}
+
+TEST(ModelCamera, InRealTimeItsDescriptorBecomesReadableWhenAFrameIsReady) {
+  SensorModel model = quietModel();
+  model.realTime = true;
+  SteadyClock clock;
+  ModelCamera camera(std::make_shared<FlatScene>(64, 48, 1, 1), std::make_shared<LedTimeline>(),
+                     clock, model);
+  ASSERT_TRUE(camera.readyDescriptor());
+  CameraConfig config;
+  config.widthPx = 64;
+  config.heightPx = 48;
+  camera.configure(config);
+  camera.start();
+  EXPECT_EQ(camera.nextFrame(std::chrono::milliseconds(0)).status, CaptureResult::Status::Timeout);
+  const CaptureResult result = camera.nextFrame(std::chrono::milliseconds(2000));
+  EXPECT_EQ(result.status, CaptureResult::Status::Frame);
+  camera.stop();
+}
+
+}  // namespace
+}  // namespace slicecap::hal
