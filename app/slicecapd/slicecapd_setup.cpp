@@ -219,6 +219,8 @@ std::vector<std::string> startProblems(const DaemonConfig& config) {
                        "slicecap.sysusers, or leave socket_group empty)");
   if (config.camera == DaemonConfig::CameraKind::File)
     check([&] { findRecordings(config.recording); });
+  if (config.camera == DaemonConfig::CameraKind::Model)
+    check([&] { sim::loadMaterial(config.modelMaterial); });
   if (config.target != "default") check([&] { io::readTargetJson(config.target); });
   if (!config.calibration.empty())
     check([&] {
