@@ -150,6 +150,9 @@ nlohmann::json RecordingResult::toJson() const {
                         {"bin", {scale->binX, scale->binY}}};
     else if (m.markerCount > 0)
       f["detection"] = {{"tracked", false}};
+    if (m.referenceDisagreement)
+      f["white_references"] = {{"disagreement", *m.referenceDisagreement},
+                               {"allowed", m.referenceDisagreementLimit.value_or(0.0)}};
     if (o.kind == FrameOutcome::Kind::Rejected) f["reason"] = o.rejectReason;
     if (!o.detail.empty()) f["detail"] = o.detail;
     if (o.sample) {

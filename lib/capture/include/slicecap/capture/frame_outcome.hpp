@@ -49,6 +49,11 @@ struct FrameOutcome {
     /// \brief The point-light fit to the white references, whenever it converged: its
     /// irradiance model normalises every texel of a texture capture.
     std::optional<PointLight> fittedLight;
+    /// \brief The white references' disagreement (the point-light fit's noise-weighted relative
+    /// RMS residual) and the most the gate allows for this frame (noise plus the margin),
+    /// whenever the fit converged.
+    std::optional<double> referenceDisagreement;
+    std::optional<double> referenceDisagreementLimit;
   };
   Measurement measurement;
 };
