@@ -59,6 +59,34 @@ TEST(ProcessCommand, WritesSlicesReportAndSummary) {
   EXPECT_NE(missing.err.find("nothing"), std::string::npos) << missing.err;
 }
 
+// The LED on in every frame (simulate --no-led-alternation, slicecapd's led_alternate = false):
+// every frame was "no_ambient_frame". Offline follows the recording: no room-light term, said.
+TEST(ProcessCommand, ARecordingWithTheLedAlwaysOnIsProcessedWithoutARoomLightTerm) {
+  const auto dir = test::freshTempDir();
+  const auto recording = (dir / "axial-30-30").string();
+  ASSERT_EQ(run({"simulate", "--material", "lambert:albedo=0.5,0.4,0.3", "-o", recording,
+                 "--frames", "4", "--ideal", "--no-led-alternation"})
+                .code,
+            kExitOk);
+  for (const io::RecordedFrame& frame : io::readRecording(recording).frames)
+    ASSERT_TRUE(frame.ledOn);
+  const auto csv = (dir / "s.csv").string(), report = (dir / "r.json").string();
+  const Result r = run({"process", recording, "-o", csv, "--report", report});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_EQ(r.err.find("no_ambient_frame"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("4 of 24 bins, 4 samples"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("room light not subtracted"), std::string::npos) << r.err;
+  nlohmann::json j;
+  std::ifstream(report) >> j;
+  EXPECT_NE(j["recordings"][0]["room_light"].get<std::string>().find("no LED-off frame"),
+            std::string::npos)
+      << j["recordings"][0]["room_light"];
+  // The room light stays in the samples, but it lights a Lambertian window and the paper alike:
+  // about albedo / pi still (the room light is ~3 % of the LED's).
+  for (const SliceSample& s : io::readSliceCsv(csv).slices().at(0).samples)
+    EXPECT_NEAR(s.value[0], 0.5 / M_PI, 0.05 * 0.5 / M_PI);
+}
+
 TEST(ProcessCommand, AFrameWhoseHeaderClaimsTooManyPixelsIsABadFrame) {
   // A 100-byte PNG claiming 100000 x 100000 ended the whole run with a bare std::bad_alloc.
   const auto dir = test::freshTempDir();

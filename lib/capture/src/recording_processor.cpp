@@ -1,6 +1,7 @@
 // Offline processing of a recording: read each PNG, run the pipeline, bin the samples.
 #include "slicecap/capture/recording_processor.hpp"
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -67,6 +68,13 @@ RecordingResult processRecording(const std::filesystem::path& directory,
   // and interpolated (FramePipeline::setFollowingAmbientFrame).
   PipelineSettings offline = settings;
   offline.poseAmbientFrames = settings.offlineTwoSidedAmbient;
+  // The recording decides: with the LED on in every frame there is no room light to subtract
+  // (as slicecapd with led_alternate = false), not a missing LED-off frame for every sample.
+  if (std::none_of(recording.frames.begin(), recording.frames.end(),
+                   [](const io::RecordedFrame& f) { return !f.ledOn; })) {
+    offline.requireAmbient = false;
+    result.roomLightSubtracted = false;
+  }
   FramePipeline pipeline(recording.target, recording.camera, offline);
   const auto readFrame = [&](std::size_t i) {
     return frameOf(io::readPng(io::framePath(directory, recording.frames[i])), recording,
@@ -172,6 +180,9 @@ nlohmann::json RecordingResult::toJson() const {
   return {{"recording", directory.string()},
           {"slice", toString(slice)},
           {"bins_filled", bins.filledCount()},
+          {"room_light", roomLightSubtracted
+                             ? "subtracted (the LED-off frames)"
+                             : "not subtracted: the recording has no LED-off frame"},
           {"rejections", rejections},
           {"frames", frames},
           {"bins", binList}};

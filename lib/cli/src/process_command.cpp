@@ -80,6 +80,8 @@ Processed processAll(const std::vector<std::filesystem::path>& recordings,
            << samples << " samples, " << result.ambientFrames << " ambient";
     for (const auto& [reason, count] : result.rejections)
       io.err << ", " << count << " " << reason;
+    if (!result.roomLightSubtracted)
+      io.err << "; room light not subtracted: the LED is on in every frame";
     io.err << "\n";
     if (result.bins.filledCount() == 0) processed.withoutSamples.push_back(noSampleReason(result));
     if (report) (*report)["recordings"].push_back(result.toJson());
