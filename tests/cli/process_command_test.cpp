@@ -9,6 +9,7 @@
 #include "../support/png_claiming_size.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/cli/cli.hpp"
+#include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/io/slice_csv.hpp"
 
@@ -83,7 +84,9 @@ TEST(ProcessCommand, ARecordingWithTheLedAlwaysOnIsProcessedWithoutARoomLightTer
       << j["recordings"][0]["room_light"];
   // The room light stays in the samples, but it lights a Lambertian window and the paper alike:
   // about albedo / pi still (the room light is ~3 % of the LED's).
-  for (const SliceSample& s : io::readSliceCsv(csv).slices().at(0).samples)
+  const SliceSet slices = io::readSliceCsv(csv);
+  ASSERT_EQ(slices.slices().size(), 1u);
+  for (const SliceSample& s : slices.slices()[0].samples)
     EXPECT_NEAR(s.value[0], 0.5 / M_PI, 0.05 * 0.5 / M_PI);
 }
 
@@ -187,6 +190,22 @@ TEST(ProcessCommand, ARecordingWithoutSamplesAmongOthersIsNamedInAWarning) {
       << r.err;
   const SliceSet slices = io::readSliceCsv(csv);
   EXPECT_EQ(slices.sampleCount(), 3u) << "the other recording's samples are kept";
+}
+
+TEST(ProcessCommand, ASessionLackingSlicesNamesThemWithTheirSweepsAndExportsWithThePrior) {
+  const auto dir = test::freshTempDir();
+  twoRecordings(dir);  // diagonal 30/30 and 75/75 of the eight
+  const auto exr = dir / "o.exr";
+  const Result r = run({"capture-offline", (dir / "session").string(), "-o", exr.string()});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  for (const char* slice : {"axial 30/30: slicecap sweep start axial 30 30",
+                            "diagonal 30/75: slicecap sweep start diagonal 30 75",
+                            "axial 75/75: slicecap sweep start axial 75 75"})
+    EXPECT_NE(r.err.find(slice), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("diagonal 75/75:"), std::string::npos) << r.err;
+  io::ExrAttributes attributes;
+  io::readAbrdfExr(exr, &attributes);
+  EXPECT_EQ(attributes.at("method"), "prior");
 }
 
 TEST(ProcessCommand, BadMethodsAndRecordingsAreRefusedBeforeAnyFrameIsProcessed) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "method_fallback.hpp"
 #include "path_clash.hpp"
 #include "pipeline_options.hpp"
 #include "slicecap/capture/recording_processor.hpp"
@@ -148,7 +149,7 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   if (const auto csv = args.value("slices")) io::writeSliceCsv(*csv, slices);
   MethodOptions options;
   options.isotropic = args.flag("isotropic");
-  const MethodRun result = method.run(slices, options);
+  const MethodRun result = runMethodOrPrior(method, slices, options);
   io::writeAbrdfExr(output, result.table,
                     {{"method", result.exrMethodName},
                      {"source", session.filename().string()},
