@@ -13,6 +13,7 @@
 #include "../support/test_support.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
+#include "slicecap/io/slice_csv.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -134,6 +135,36 @@ TEST(Cli, IsotropicReconstructionFromDiagonalSlicesOnly) {
       << "the full method needs the axial slices";
   EXPECT_EQ(run({"reconstruct", slices, "-o", (dir / "i.exr").string(), "--isotropic"}).code,
             kExitOk);
+}
+
+TEST(Cli, ReconstructWithALostSliceNamesItWithItsSweepAndExportsWithThePrior) {
+  // One lost slice stopped Method B with no table at all.
+  const auto dir = test::freshTempDir();
+  const std::string truth = (dir / "t.exr").string(), all = (dir / "s.csv").string(),
+                    lost = (dir / "lost.csv").string(), out = (dir / "r.exr").string();
+  ASSERT_EQ(run({"generate", "brushed-steel-30", "-o", truth}).code, kExitOk);
+  ASSERT_EQ(run({"sample", truth, "-o", all}).code, kExitOk);
+  const SliceSet sampled = io::readSliceCsv(all);
+  SliceSet kept;
+  for (const Slice& slice : sampled.slices())
+    if (slice.id != SliceId{SliceKind::Diagonal, {75, 75}})
+      for (const SliceSample& sample : slice.samples)
+        kept.add(slice.id, sample);
+  io::writeSliceCsv(lost, kept);
+  const Result r = run({"reconstruct", lost, "-o", out});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_NE(r.err.find("missing:\n  diagonal 75/75: slicecap sweep start diagonal 75 75"),
+            std::string::npos)
+      << r.err;
+  io::ExrAttributes attributes;
+  io::readAbrdfExr(out, &attributes);
+  EXPECT_EQ(attributes.at("method"), "prior");
+  // Asked for by name, the prior gives the same table without the warning.
+  const Result prior = run({"reconstruct", lost, "-o", (dir / "p.exr").string(), "--method",
+                            "prior"});
+  ASSERT_EQ(prior.code, kExitOk) << prior.err;
+  EXPECT_EQ(prior.err.find("sweep start"), std::string::npos) << prior.err;
+  EXPECT_EQ(test::maxAbsDifference(io::readAbrdfExr(out), io::readAbrdfExr(dir / "p.exr")), 0.0);
 }
 
 TEST(Cli, EveryOptionOfACommandIsInItsUsageLine) {

@@ -9,6 +9,7 @@
 #include "../support/png_claiming_size.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/cli/cli.hpp"
+#include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/io/slice_csv.hpp"
 
@@ -57,6 +58,36 @@ TEST(ProcessCommand, WritesSlicesReportAndSummary) {
   const Result missing = run({"process", (dir / "nothing").string(), "-o", csv});
   EXPECT_EQ(missing.code, kExitFailure);
   EXPECT_NE(missing.err.find("nothing"), std::string::npos) << missing.err;
+}
+
+// The LED on in every frame (simulate --no-led-alternation, slicecapd's led_alternate = false):
+// every frame was "no_ambient_frame". Offline follows the recording: no room-light term, said.
+TEST(ProcessCommand, ARecordingWithTheLedAlwaysOnIsProcessedWithoutARoomLightTerm) {
+  const auto dir = test::freshTempDir();
+  const auto recording = (dir / "axial-30-30").string();
+  ASSERT_EQ(run({"simulate", "--material", "lambert:albedo=0.5,0.4,0.3", "-o", recording,
+                 "--frames", "4", "--ideal", "--no-led-alternation"})
+                .code,
+            kExitOk);
+  for (const io::RecordedFrame& frame : io::readRecording(recording).frames)
+    ASSERT_TRUE(frame.ledOn);
+  const auto csv = (dir / "s.csv").string(), report = (dir / "r.json").string();
+  const Result r = run({"process", recording, "-o", csv, "--report", report});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_EQ(r.err.find("no_ambient_frame"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("4 of 24 bins, 4 samples"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("room light not subtracted"), std::string::npos) << r.err;
+  nlohmann::json j;
+  std::ifstream(report) >> j;
+  EXPECT_NE(j["recordings"][0]["room_light"].get<std::string>().find("no LED-off frame"),
+            std::string::npos)
+      << j["recordings"][0]["room_light"];
+  // The room light stays in the samples, but it lights a Lambertian window and the paper alike:
+  // about albedo / pi still (the room light is ~3 % of the LED's).
+  const SliceSet slices = io::readSliceCsv(csv);
+  ASSERT_EQ(slices.slices().size(), 1u);
+  for (const SliceSample& s : slices.slices()[0].samples)
+    EXPECT_NEAR(s.value[0], 0.5 / M_PI, 0.05 * 0.5 / M_PI);
 }
 
 TEST(ProcessCommand, AFrameWhoseHeaderClaimsTooManyPixelsIsABadFrame) {
@@ -159,6 +190,22 @@ TEST(ProcessCommand, ARecordingWithoutSamplesAmongOthersIsNamedInAWarning) {
       << r.err;
   const SliceSet slices = io::readSliceCsv(csv);
   EXPECT_EQ(slices.sampleCount(), 3u) << "the other recording's samples are kept";
+}
+
+TEST(ProcessCommand, ASessionLackingSlicesNamesThemWithTheirSweepsAndExportsWithThePrior) {
+  const auto dir = test::freshTempDir();
+  twoRecordings(dir);  // diagonal 30/30 and 75/75 of the eight
+  const auto exr = dir / "o.exr";
+  const Result r = run({"capture-offline", (dir / "session").string(), "-o", exr.string()});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  for (const char* slice : {"axial 30/30: slicecap sweep start axial 30 30",
+                            "diagonal 30/75: slicecap sweep start diagonal 30 75",
+                            "axial 75/75: slicecap sweep start axial 75 75"})
+    EXPECT_NE(r.err.find(slice), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("diagonal 75/75:"), std::string::npos) << r.err;
+  io::ExrAttributes attributes;
+  io::readAbrdfExr(exr, &attributes);
+  EXPECT_EQ(attributes.at("method"), "prior");
 }
 
 TEST(ProcessCommand, BadMethodsAndRecordingsAreRefusedBeforeAnyFrameIsProcessed) {

@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "slicecap/capture/area_reading.hpp"
 #include "slicecap/capture/light_model.hpp"
 #include "slicecap/capture/linear_view.hpp"
 #include "slicecap/capture/planar_pose.hpp"
@@ -19,44 +21,24 @@
 namespace slicecap::capture {
 namespace {
 
-// Grid points covering a rectangle of the target, about `stepMm` apart, inset by half a step.
-std::vector<Eigen::Vector2d> gridPoints(const vision::RectMm& rect, int perSide) {
-  std::vector<Eigen::Vector2d> points;
-  for (int j = 0; j < perSide; ++j)
-    for (int i = 0; i < perSide; ++i)
-      points.push_back({rect.xMinMm + (i + 0.5) * rect.widthMm() / perSide,
-                        rect.yMinMm + (j + 0.5) * rect.heightMm() / perSide});
-  return points;
-}
-
-struct RegionMean {
-  Rgb value;
-  bool inside = true;
-  bool clipped = false;
-};
-
-// True when the camera reported the frame's exposure and gain (else regionMean reads it unscaled).
+// True when the camera reported the frame's exposure and gain (else areas are read unscaled).
 bool exposureKnown(const hal::Frame& frame) {
   return frame.metadata.exposureUs * frame.metadata.gain > 0;
 }
 
-// Mean linear colour over target points, divided by exposure x gain (camera units per us).
-RegionMean regionMean(const hal::Frame& frame, const vision::Pose& pose,
-                      const vision::CameraModel& camera, const std::vector<Eigen::Vector2d>& points,
-                      double clipFraction) {
-  const LinearView view(frame);
-  RegionMean mean;
-  for (const auto& p : points) {
-    const auto px = camera.project(pose.toCamera({p.x(), p.y(), 0.0}));
-    if (!px || !view.inside(*px)) {
-      mean.inside = false;
-      return mean;
-    }
-    mean.value += view.at(*px, clipFraction, &mean.clipped);
-  }
-  const double scale = frame.metadata.exposureUs * frame.metadata.gain;
-  mean.value *= 1.0 / (static_cast<double>(points.size()) * (exposureKnown(frame) ? scale : 1.0));
-  return mean;
+// A reason and detail for a rejection by the window and white-reference gate.
+struct GateFailure {
+  std::string reason, detail;
+};
+
+// The relative disagreement of the white references that noise alone exceeds with the
+// probability of a one-sided standard normal beyond `sigmas`: the fit's noise RMS times the
+// chi-square quantile over its degrees of freedom (Wilson-Hilferty), square-rooted.
+double noiseAllowance(const LightFit& fit, double sigmas) {
+  if (fit.degreesOfFreedom <= 0 || fit.noiseResidualRms <= 0) return 0.0;
+  const double h = 2.0 / (9.0 * fit.degreesOfFreedom);
+  const double cubeRoot = std::max(0.0, 1.0 - h + sigmas * std::sqrt(h));
+  return fit.noiseResidualRms * std::pow(cubeRoot, 1.5);
 }
 
 // Sharpness of one marker edge: the largest 1-px step of the profile across its midpoint over
@@ -209,9 +191,9 @@ struct FramePipeline::State {
   vision::CameraModel camera;
   PipelineSettings settings;
   MarkerDetector detector;
-  std::vector<Eigen::Vector2d> windowPoints;
+  AreaSpec windowArea;  // the centre of the window, every pixel
   struct Reference {
-    std::vector<Eigen::Vector2d> points;
+    AreaSpec area;  // a part of a white patch, every pixel but near its outline
     Eigen::Vector2d centre;
     Rgb albedo;
   };
@@ -279,21 +261,101 @@ struct FramePipeline::State {
     return a;
   }
 
-  // The room light's radiance at target points for an LED-on frame at `pose`, from its ambient
-  // terms (zero for none): each LED-off frame sampled at its own pose when located.
-  Rgb ambientAt(const std::vector<AmbientTerm>& terms, const std::vector<Eigen::Vector2d>& points,
-                const vision::Pose& pose) const {
-    Rgb sum;
+  // The room light's radiance over a target area for an LED-on frame at `pose`, from its
+  // ambient terms (zero for none), and its variance: each LED-off frame read at its own pose
+  // when located, else at the LED-on frame's pixels.
+  AreaReading ambientAt(const std::vector<AmbientTerm>& terms, AreaSpec area,
+                        const vision::Pose& pose) const {
+    area.clipFraction = 2.0;
+    AreaReading sum;
     for (const AmbientTerm& term : terms) {
-      std::optional<Rgb> value;
-      if (term.pose) {
-        const RegionMean own = regionMean(*term.frame, *term.pose, camera, points, 2.0);
-        if (own.inside) value = own.value;
-      }
-      if (!value) value = regionMean(*term.frame, pose, camera, points, 2.0).value;
-      sum += term.weight * *value;
+      AreaReading value;
+      if (term.pose) value = readArea(*term.frame, *term.pose, camera, area, settings.noise);
+      if (!value.inside) value = readArea(*term.frame, pose, camera, area, settings.noise);
+      sum.mean += term.weight * value.mean;
+      sum.variance += term.weight * term.weight * value.variance;
     }
     return sum;
+  }
+
+  // The window's pixels in an LED-on frame at `pose`, or why they give no sample.
+  std::optional<GateFailure> readWindow(const hal::Frame& frame, const vision::Pose& pose,
+                                        AreaReading* window) const {
+    AreaSpec spec = windowArea;
+    spec.clipFraction = settings.clipFraction;
+    *window = readArea(frame, pose, camera, spec, settings.noise);
+    if (!window->inside) return GateFailure{"window_occluded", "window out of the image"};
+    if (window->clipped) return GateFailure{"window_clipped", "window saturated"};
+    return std::nullopt;
+  }
+
+  // The window's radiance (its reading minus the room light) and the white references' (room
+  // light subtracted, with their noise) of an LED-on frame at `pose`, or why it gives none.
+  std::optional<GateFailure> readReferences(const hal::Frame& frame, const vision::Pose& pose,
+                                            const std::vector<AmbientTerm>& roomLight,
+                                            const AreaReading& window, Rgb* windowRadiance,
+                                            std::vector<ReferenceObservation>* observations,
+                                            std::vector<ReferenceObservation>* unlit) const {
+    *windowRadiance = window.mean - ambientAt(roomLight, windowArea, pose).mean;
+    for (const auto& reference : references) {
+      AreaSpec spec = reference.area;
+      spec.clipFraction = settings.clipFraction;
+      const AreaReading area = readArea(frame, pose, camera, spec, settings.noise);
+      if (!area.inside) continue;
+      if (area.clipped) return GateFailure{"window_clipped", "white reference saturated"};
+      const AreaReading room = ambientAt(roomLight, reference.area, pose);
+      const Rgb value = area.mean - room.mean;
+      Rgb sigma;
+      for (int c = 0; c < 3; ++c)
+        sigma[c] = std::sqrt(area.variance[c] + room.variance[c]);
+      const ReferenceObservation observation{
+          {reference.centre.x(), reference.centre.y(), 0.0}, value, reference.albedo, sigma};
+      // No LED light (the arm covers it, or noise in a dark frame): not for the fit, but checked
+      // against the fitted light (fitLight).
+      (value.minChannel() > 0 ? observations : unlit)->push_back(observation);
+    }
+    if (observations->size() < 5)
+      return GateFailure{"window_occluded", "white references out of the image"};
+    return std::nullopt;
+  }
+
+  // The point light fitted to the references, or a rejection when they disagree by more than
+  // noise explains plus the margin for an occluder (maxReferenceResidual), or one that reads no
+  // LED light (`unlit`) falls short of the fitted light by as much.
+  std::optional<GateFailure> fitLight(const std::vector<ReferenceObservation>& observations,
+                                      const std::vector<ReferenceObservation>& unlit,
+                                      const Direction& nominalLight, LightFit* fit,
+                                      double* limit) const {
+    LightFitParams fitParams;
+    const UnitVector toLight = toUnitVector(nominalLight);
+    fitParams.initialPositionMm = {toLight.x * settings.nominalLightDistanceMm,
+                                   toLight.y * settings.nominalLightDistanceMm,
+                                   toLight.z * settings.nominalLightDistanceMm};
+    try {
+      *fit = fitPointLight(observations, fitParams);
+    } catch (const std::invalid_argument& error) {
+      return GateFailure{"window_occluded", error.what()};
+    }
+    if (!fit->converged) return GateFailure{"window_occluded", "light fit: " + fit->message};
+    *limit = settings.maxReferenceResidual + noiseAllowance(*fit, settings.referenceNoiseSigmas);
+    if (fit->weightedResidualRms > *limit)
+      return GateFailure{"window_occluded", "white references disagree by " +
+                                                std::to_string(fit->weightedResidualRms) +
+                                                ", noise and margin allow " +
+                                                std::to_string(*limit)};
+    for (const ReferenceObservation& o : unlit) {
+      const Rgb irradiance = fit->light.irradianceAt(o.point);
+      for (int c = 0; c < 3; ++c) {
+        const double expected = o.albedo[c] / std::numbers::pi * irradiance[c];
+        if (expected - o.radiance[c] >
+            settings.referenceNoiseSigmas * o.sigma[c] + settings.maxReferenceResidual * expected)
+          return GateFailure{"window_occluded",
+                             "a white reference (at " + std::to_string(o.point.x) + ", " +
+                                 std::to_string(o.point.y) + " mm) gets no LED light, " +
+                                 std::to_string(expected / o.sigma[c]) + " sigma expected"};
+      }
+    }
+    return std::nullopt;
   }
 
   // The LED-off frames on both sides of `timeUs`, weighted linearly in time, when the following
@@ -321,12 +383,14 @@ FramePipeline::FramePipeline(vision::TargetGeometry target, vision::CameraModel 
     throw std::invalid_argument("capture pipeline: camera: " + error);
   if (const auto problem = vision::findTargetProblem(state_->target))
     throw std::invalid_argument("capture pipeline: target: " + *problem);
+  if (!settings.noise.isValid(&error)) throw std::invalid_argument("capture pipeline: " + error);
   const vision::RectMm& w = state_->target.window;
   const double half = settings.windowSampleFraction * std::min(w.widthMm(), w.heightMm()) / 2.0;
   const vision::PointMm c = w.centre();
-  state_->windowPoints = gridPoints({c.xMm - half, c.yMm - half, c.xMm + half, c.yMm + half}, 9);
-  // Each white patch gives up to 4 observations (its quarters), inset from the edges so a
-  // slightly wrong pose or blur does not mix in the window or a marker.
+  state_->windowArea.rectMm = {c.xMm - half, c.yMm - half, c.xMm + half, c.yMm + half};
+  // Each white patch gives up to 4 observations (its quarters); the pixels near a quarter's
+  // outline are left out (referenceInsetPx) so blur or a slightly wrong pose does not mix in the
+  // window or a marker.
   for (const auto& patch : state_->target.patches) {
     if (patch.kind != vision::PatchKind::White) continue;
     const vision::RectMm& r = patch.rect;
@@ -336,10 +400,10 @@ FramePipeline::FramePipeline(vision::TargetGeometry target, vision::CameraModel 
       for (int i = 0; i < nx; ++i) {
         const double x0 = r.xMinMm + i * r.widthMm() / nx, x1 = x0 + r.widthMm() / nx;
         const double y0 = r.yMinMm + j * r.heightMm() / ny, y1 = y0 + r.heightMm() / ny;
-        const double inset = 0.2 * std::min(x1 - x0, y1 - y0);
-        const vision::RectMm part{x0 + inset, y0 + inset, x1 - inset, y1 - inset};
-        state_->references.push_back(
-            {gridPoints(part, 3), {part.centre().xMm, part.centre().yMm}, patch.albedo});
+        const vision::RectMm part{x0, y0, x1, y1};
+        state_->references.push_back({AreaSpec{part, settings.referenceInsetPx},
+                                      {part.centre().xMm, part.centre().yMm},
+                                      patch.albedo});
       }
   }
   if (state_->references.size() < 5)
@@ -471,10 +535,9 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   if (m.sharpness < s.settings.minSharpness)
     return rejected("blurred", "edge sharpness " + std::to_string(m.sharpness), outcome);
 
-  const RegionMean window =
-      regionMean(frame, pose, s.camera, s.windowPoints, s.settings.clipFraction);
-  if (!window.inside) return rejected("window_occluded", "window out of the image", outcome);
-  if (window.clipped) return rejected("window_clipped", "window saturated", outcome);
+  AreaReading window;
+  if (auto failure = s.readWindow(frame, pose, &window))
+    return rejected(std::move(failure->reason), std::move(failure->detail), outcome);
   // The same room-light term for the window and every reference, found once.
   // Without the LED alternating, an LED-off frame is a stray (a sweep's first): it would stand
   // for the room light of the whole sweep, read at pixels the camera has long moved from.
@@ -492,34 +555,16 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
                           ? "the LED-off frame's exposure is unknown"
                           : "this frame's exposure is unknown, the LED-off frame's is not",
                       outcome);
-  const Rgb windowRadiance = window.value - s.ambientAt(ambient, s.windowPoints, pose);
-  std::vector<ReferenceObservation> observations;
-  for (const auto& reference : s.references) {
-    RegionMean area = regionMean(frame, pose, s.camera, reference.points, s.settings.clipFraction);
-    if (!area.inside) continue;
-    if (area.clipped) return rejected("window_clipped", "white reference saturated", outcome);
-    area.value -= s.ambientAt(ambient, reference.points, pose);
-    if (!(area.value.minChannel() > 0)) continue;
-    observations.push_back(
-        {{reference.centre.x(), reference.centre.y(), 0.0}, area.value, reference.albedo});
-  }
-  if (observations.size() < 5)
-    return rejected("window_occluded", "white references out of the image", outcome);
-  LightFitParams fitParams;
-  const UnitVector toLight = toUnitVector(*m.nominalLight);
-  fitParams.initialPositionMm = {toLight.x * s.settings.nominalLightDistanceMm,
-                                 toLight.y * s.settings.nominalLightDistanceMm,
-                                 toLight.z * s.settings.nominalLightDistanceMm};
+  Rgb windowRadiance;
+  std::vector<ReferenceObservation> observations, unlit;
   LightFit fit;
-  try {
-    fit = fitPointLight(observations, fitParams);
-  } catch (const std::invalid_argument& error) {
-    return rejected("window_occluded", error.what(), outcome);
-  }
-  if (!fit.converged || fit.relativeResidualRms > s.settings.maxReferenceResidual)
-    return rejected("window_occluded",
-                    "white references disagree by " + std::to_string(fit.relativeResidualRms),
-                    outcome);
+  auto failure =
+      s.readReferences(frame, pose, ambient, window, &windowRadiance, &observations, &unlit);
+  double limit = 0.0;
+  if (!failure) failure = s.fitLight(observations, unlit, *m.nominalLight, &fit, &limit);
+  if (fit.converged) m.referenceDisagreement = fit.weightedResidualRms;
+  if (fit.converged) m.referenceDisagreementLimit = limit;
+  if (failure) return rejected(std::move(failure->reason), std::move(failure->detail), outcome);
   m.fittedLight = fit.light;
   m.measuredLight = fit.light.directionFrom({0.0, 0.0, 0.0});
   m.measuredLightSigmaDeg = fit.directionSigmaDeg;

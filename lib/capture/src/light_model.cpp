@@ -3,6 +3,7 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -14,23 +15,24 @@
 namespace slicecap::capture {
 namespace {
 
-// r = (albedo/pi) * I * z / |P - x|^3 / measured - 1: relative, so bright and dim areas count
-// alike.
+// r = weight * ((albedo/pi) * I * z / |P - x|^3 / measured - 1): relative, so bright and dim
+// areas count alike but for their noise (the weight).
 struct ReferenceResidual {
-  double x, y, z, albedo, measured;
+  double x, y, z, albedo, measured, weight;
 
   template <typename T>
   bool operator()(const T* position, const T* logIntensity, T* residual) const {
     const T dx = position[0] - x, dy = position[1] - y, dz = position[2] - z;
     const T distanceSquared = dx * dx + dy * dy + dz * dz;
     const T irradiance = exp(logIntensity[0]) * dz / (distanceSquared * sqrt(distanceSquared));
-    residual[0] = T(albedo / std::numbers::pi) * irradiance / T(measured) - T(1.0);
+    residual[0] =
+        T(weight) * (T(albedo / std::numbers::pi) * irradiance / T(measured) - T(1.0));
     return true;
   }
 
-  static ceres::CostFunction* Create(const ReferenceObservation& o) {
-    return new ceres::AutoDiffCostFunction<ReferenceResidual, 1, 3, 1>(
-        new ReferenceResidual{o.point.x, o.point.y, o.point.z, o.albedo.mean(), o.radiance.mean()});
+  static ceres::CostFunction* Create(const ReferenceObservation& o, double weight) {
+    return new ceres::AutoDiffCostFunction<ReferenceResidual, 1, 3, 1>(new ReferenceResidual{
+        o.point.x, o.point.y, o.point.z, o.albedo.mean(), o.radiance.mean(), weight});
   }
 };
 
@@ -137,6 +139,25 @@ LightFit fitPointLight(std::span<const ReferenceObservation> observations,
     throw std::invalid_argument("light fit: the reference observations lie on one line");
   }
 
+  // With every observation's noise known, each counts by its inverse relative sigma (of the
+  // channels' mean for the geometry), scaled to a mean square of 1 so that the prior keeps its
+  // meaning; else all alike.
+  const bool weighted = std::all_of(observations.begin(), observations.end(), [](const auto& o) {
+    return o.sigma.minChannel() > 0.0 && std::isfinite(o.sigma.maxChannel());
+  });
+  std::vector<double> weights(observations.size(), 1.0);
+  if (weighted) {
+    double sumSquares = 0.0;
+    for (std::size_t i = 0; i < observations.size(); ++i) {
+      const Rgb& s = observations[i].sigma;
+      const double meanSigma = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) / 3.0;
+      weights[i] = observations[i].radiance.mean() / meanSigma;
+      sumSquares += weights[i] * weights[i];
+    }
+    for (double& w : weights)
+      w *= std::sqrt(double(observations.size()) / sumSquares);
+  }
+
   double position[3] = {params.initialPositionMm.x, params.initialPositionMm.y,
                         params.initialPositionMm.z};
   // Start the power where the first observation is explained exactly.
@@ -144,8 +165,9 @@ LightFit fitPointLight(std::span<const ReferenceObservation> observations,
   double logIntensity = std::log(first.radiance.mean() * std::numbers::pi / first.albedo.mean() /
                                  geometry(params.initialPositionMm, first.point));
   ceres::Problem problem;
-  for (const ReferenceObservation& o : observations) {
-    problem.AddResidualBlock(ReferenceResidual::Create(o), nullptr, position, &logIntensity);
+  for (std::size_t i = 0; i < observations.size(); ++i) {
+    problem.AddResidualBlock(ReferenceResidual::Create(observations[i], weights[i]), nullptr,
+                             position, &logIntensity);
   }
   if (params.priorWeight > 0.0) {
     problem.AddResidualBlock(PositionPrior::Create(params.initialPositionMm, params.priorWeight),
@@ -164,24 +186,36 @@ LightFit fitPointLight(std::span<const ReferenceObservation> observations,
   fit.directionSigmaDeg = directionSigmaDeg(problem, position, summary, observations.size());
   fit.converged = summary.termination_type == ceres::CONVERGENCE && summary.IsSolutionUsable();
   fit.message = summary.message;
-  // Per channel: radiance = albedo_c / pi * I_c * g(x), linear in I_c at the fitted position.
-  double squaredRelative = 0.0;
+  // Per channel: radiance = albedo_c / pi * I_c * g(x), linear in I_c at the fitted position
+  // (least squares weighted by 1 / sigma^2 when the noise is known).
+  const auto inverseVariance = [&](const ReferenceObservation& o, std::size_t c) {
+    return weighted ? 1.0 / (o.sigma[c] * o.sigma[c]) : 1.0;
+  };
   for (std::size_t c = 0; c < 3; ++c) {
     double numerator = 0.0, denominator = 0.0;
     for (const ReferenceObservation& o : observations) {
       const double a = o.albedo[c] / std::numbers::pi * geometry(fit.light.positionMm, o.point);
-      numerator += a * o.radiance[c];
-      denominator += a * a;
+      numerator += inverseVariance(o, c) * a * o.radiance[c];
+      denominator += inverseVariance(o, c) * a * a;
     }
     fit.light.intensity[c] = numerator / denominator;
   }
+  // Relative residuals r, their relative sigmas s = sigma / measured: plain and weighted RMS.
+  double squaredRelative = 0.0, weightedSquares = 0.0, weightSum = 0.0;
   for (const ReferenceObservation& o : observations) {
     for (std::size_t c = 0; c < 3; ++c) {
       const double model = o.albedo[c] / std::numbers::pi * fit.light.irradianceAt(o.point)[c];
-      squaredRelative += std::pow(model / o.radiance[c] - 1.0, 2);
+      const double r = model / o.radiance[c] - 1.0;
+      const double w = weighted ? std::pow(o.radiance[c] / o.sigma[c], 2) : 1.0;
+      squaredRelative += r * r;
+      weightedSquares += w * r * r;
+      weightSum += w;
     }
   }
   fit.relativeResidualRms = std::sqrt(squaredRelative / (3.0 * double(observations.size())));
+  fit.weightedResidualRms = std::sqrt(weightedSquares / weightSum);
+  fit.degreesOfFreedom = 3 * static_cast<int>(observations.size()) - 6;
+  fit.noiseResidualRms = weighted ? std::sqrt(fit.degreesOfFreedom / weightSum) : 0.0;
   return fit;
 }
 

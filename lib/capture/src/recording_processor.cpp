@@ -1,8 +1,9 @@
 // Offline processing of a recording: read each PNG, run the pipeline, bin the samples.
 #include "slicecap/capture/recording_processor.hpp"
 
-#include "slicecap/hal/recorded_frame.hpp"
+#include <algorithm>
 
+#include "slicecap/hal/recorded_frame.hpp"
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -69,6 +70,13 @@ RecordingResult processRecording(const std::filesystem::path& directory,
   // and interpolated (FramePipeline::setFollowingAmbientFrame).
   PipelineSettings offline = settings;
   offline.poseAmbientFrames = settings.offlineTwoSidedAmbient;
+  // The recording decides: with the LED on in every frame there is no room light to subtract
+  // (as slicecapd with led_alternate = false), not a missing LED-off frame for every sample.
+  if (std::none_of(recording.frames.begin(), recording.frames.end(),
+                   [](const io::RecordedFrame& f) { return !f.ledOn; })) {
+    offline.requireAmbient = false;
+    result.roomLightSubtracted = false;
+  }
   FramePipeline pipeline(recording.target, recording.camera, offline);
   const auto readFrame = [&](std::size_t i) {
     return frameOf(io::readPng(io::framePath(directory, recording.frames[i])), recording,
@@ -152,6 +160,9 @@ nlohmann::json RecordingResult::toJson() const {
                         {"bin", {scale->binX, scale->binY}}};
     else if (m.markerCount > 0)
       f["detection"] = {{"tracked", false}};
+    if (m.referenceDisagreement)
+      f["white_references"] = {{"disagreement", *m.referenceDisagreement},
+                               {"allowed", m.referenceDisagreementLimit.value_or(0.0)}};
     if (o.kind == FrameOutcome::Kind::Rejected) f["reason"] = o.rejectReason;
     if (!o.detail.empty()) f["detail"] = o.detail;
     if (o.sample) {
@@ -171,6 +182,9 @@ nlohmann::json RecordingResult::toJson() const {
   return {{"recording", directory.string()},
           {"slice", toString(slice)},
           {"bins_filled", bins.filledCount()},
+          {"room_light", roomLightSubtracted
+                             ? "subtracted (the LED-off frames)"
+                             : "not subtracted: the recording has no LED-off frame"},
           {"rejections", rejections},
           {"frames", frames},
           {"bins", binList}};

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "method_fallback.hpp"
 #include "path_clash.hpp"
 #include "pipeline_options.hpp"
 #include "slicecap/capture/recording_processor.hpp"
@@ -80,6 +81,8 @@ Processed processAll(const std::vector<std::filesystem::path>& recordings,
            << samples << " samples, " << result.ambientFrames << " ambient";
     for (const auto& [reason, count] : result.rejections)
       io.err << ", " << count << " " << reason;
+    if (!result.roomLightSubtracted)
+      io.err << "; room light not subtracted: the LED is on in every frame";
     io.err << "\n";
     if (result.bins.filledCount() == 0) processed.withoutSamples.push_back(noSampleReason(result));
     if (report) (*report)["recordings"].push_back(result.toJson());
@@ -146,7 +149,7 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   if (const auto csv = args.value("slices")) io::writeSliceCsv(*csv, slices);
   MethodOptions options;
   options.isotropic = args.flag("isotropic");
-  const MethodRun result = method.run(slices, options);
+  const MethodRun result = runMethodOrPrior(method, slices, options);
   io::writeAbrdfExr(output, result.table,
                     {{"method", result.exrMethodName},
                      {"source", session.filename().string()},

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
+#include "method_fallback.hpp"
 #include "path_clash.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/cli/methods.hpp"
@@ -32,7 +33,7 @@ int run(const ParsedArgs& args, Streams& io) {
 
   const SliceSet slices = io::readSliceCsv(input);
   const auto start = std::chrono::steady_clock::now();
-  const MethodRun result = method.run(slices, options);
+  const MethodRun result = runMethodOrPrior(method, slices, options);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   io::writeAbrdfExr(output, result.table,

@@ -54,6 +54,11 @@ struct FrameOutcome {
     /// \brief The rows of the window and the white references, whenever a pose was found: the
     /// daemon's strobe switches the LED while no frame exposes them.
     std::optional<RowSpan> rowsOfInterest;
+    /// \brief The white references' disagreement (the point-light fit's noise-weighted relative
+    /// RMS residual) and the most the gate allows for this frame (noise plus the margin),
+    /// whenever the fit converged.
+    std::optional<double> referenceDisagreement;
+    std::optional<double> referenceDisagreementLimit;
   };
   Measurement measurement;
 };

@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "slicecap/capture/area_reading.hpp"
 #include "slicecap/capture/frame_outcome.hpp"
 #include "slicecap/capture/marker_detector.hpp"
 #include "slicecap/vision/camera_model.hpp"
@@ -25,10 +26,22 @@ struct PipelineSettings {
   /// \brief Any window or white-reference pixel channel at or above this fraction of full scale:
   /// "window_clipped".
   double clipFraction = 0.98;
-  /// \brief The point-light fit's relative RMS residual over the white references above this
-  /// means something (the light arm, a finger) covers part of them: "window_occluded".
+  /// \brief The margin for real occlusion: the point-light fit's relative RMS residual over the
+  /// white references (each weighted by its expected noise) above this plus what noise explains
+  /// means something (the light arm, a finger) covers part of them: "window_occluded". It also
+  /// holds what the point-light model misses (paper not quite Lambertian, vignetting).
   double maxReferenceResidual = 0.05;
-  /// \brief Side of the square of the window that is averaged, as a fraction of the window.
+  /// \brief What noise explains: the residual that noise alone exceeds with the one-sided
+  /// normal probability beyond this many sigmas (3.09: one unoccluded frame in 1000 rejected),
+  /// from the chi-square distribution of the weighted residuals (docs/capture-gates.md).
+  double referenceNoiseSigmas = 3.09;
+  /// \brief The sensor's noise, from which each reading's expected noise follows.
+  SensorNoise noise{};
+  /// \brief Pixels of a white reference closer than this to its outline are not read: the
+  /// blur the gate lets through (1 / minSharpness = 2.5 px) plus half a pixel of pose error.
+  double referenceInsetPx = 3.0;
+  /// \brief Side of the square of the window whose pixels are averaged, as a fraction of the
+  /// window.
   double windowSampleFraction = 0.2;
   /// \brief The measured light direction replaces the nominal one when its sigma is below this.
   double measuredLightMaxSigmaDeg = 0.5;

@@ -22,6 +22,9 @@ struct ReferenceObservation {
   TargetPointMm point;
   Rgb radiance;
   Rgb albedo;  ///< the area's printed reflectance (target description)
+  /// \brief The radiance's expected noise, one standard deviation per channel (same units). All
+  /// observations with it positive: the fit weights each by it; else every one counts alike.
+  Rgb sigma{};
 };
 
 /// \brief A point light: E(x) = intensity * cos(theta) / d^2 = intensity * z_led / |led - x|^3 on
@@ -40,6 +43,14 @@ struct LightFit {
   PointLight light;
   bool converged = false;
   double relativeResidualRms = 0.0;  ///< RMS of (model - measured) / measured over the observations
+  /// \brief The same RMS with each relative residual weighted by its inverse relative variance
+  /// (ReferenceObservation::sigma); equals relativeResidualRms without sigmas.
+  double weightedResidualRms = 0.0;
+  /// \brief What noise alone gives weightedResidualRms on average: sqrt(dof / sum of the weights),
+  /// dof = 3 x observations - 6 (position, three intensities); 0 without sigmas. Noise alone
+  /// makes dof x (weightedResidualRms / noiseResidualRms)^2 chi-square with dof degrees of freedom.
+  double noiseResidualRms = 0.0;
+  int degreesOfFreedom = 0;
   /// \brief One standard deviation of the light's direction as seen from the window centre
   /// (degrees), from the fit's covariance scaled by its residuals; infinite if it could not be
   /// computed. The reference areas span only a few centimetres at ~30 cm, so the direction is much

@@ -25,6 +25,10 @@ struct RecordingResult {
   AzimuthBins bins{SliceKind::Axial};
   std::map<std::string, int> rejections;  ///< count by reason
   int ambientFrames = 0;
+  /// \brief False when the recording has no LED-off frame (the LED on in every frame, as
+  /// simulate --no-led-alternation and slicecapd's led_alternate = false record): its samples
+  /// keep the room light.
+  bool roomLightSubtracted = true;
   /// \brief The report's entry: per frame the pose, light, gate outcome; per bin its frames.
   nlohmann::json toJson() const;
 };
@@ -32,7 +36,8 @@ struct RecordingResult {
 /// \brief Runs `directory` (a recording with a slice) through a FramePipeline. Each LED-on
 /// frame's ambient term comes from the LED-off frames before and after it, each sampled at its own
 /// pose, interpolated in time (the first LED-off frame alone for the LED-on frames before it, the
-/// last alone after it). A frame whose PNG is missing,
+/// last alone after it). A recording without any LED-off frame is processed without a room-light
+/// term (settings.requireAmbient is not applied) and says so (roomLightSubtracted). A frame whose PNG is missing,
 /// corrupt or of the wrong size is a "bad_frame" rejection naming the file. Throws io::IoError
 /// for a bad recording.json (naming the field) and std::invalid_argument for a recording without
 /// a slice (e.g. a calibration recording) or with a point one, naming the directory.

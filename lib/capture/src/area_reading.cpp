@@ -1,0 +1,178 @@
+// The mean of a target area's pixels and the variance the sensor's noise model gives it.
+#include "slicecap/capture/area_reading.hpp"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace slicecap::capture {
+namespace {
+
+double srgbDecode(double s) {
+  s = std::clamp(s, 0.0, 1.0);
+  return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+}
+
+double srgbEncode(double v) {
+  v = std::clamp(v, 0.0, 1.0);
+  return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+}
+
+// Per 8-bit sRGB code: its linear value and the linear width of the values it stands for.
+struct SrgbCodes {
+  std::array<double, 256> linear{}, step{};
+};
+
+const SrgbCodes& srgbCodes() {
+  static const SrgbCodes codes = [] {
+    SrgbCodes c;
+    for (int k = 0; k < 256; ++k) {
+      c.linear[k] = srgbDecode(k / 255.0);
+      c.step[k] = srgbDecode((k + 0.5) / 255.0) - srgbDecode((k - 0.5) / 255.0);
+    }
+    return c;
+  }();
+  return codes;
+}
+
+// The area's outline in pixels: each edge sampled so that lens distortion bends it. Empty when
+// a point is behind the camera.
+std::vector<Eigen::Vector2d> outlinePx(const vision::Pose& pose, const vision::CameraModel& camera,
+                                       const vision::RectMm& r) {
+  constexpr int kPerEdge = 8;
+  const std::array<Eigen::Vector2d, 4> corners = {Eigen::Vector2d{r.xMinMm, r.yMinMm},
+                                                  Eigen::Vector2d{r.xMaxMm, r.yMinMm},
+                                                  Eigen::Vector2d{r.xMaxMm, r.yMaxMm},
+                                                  Eigen::Vector2d{r.xMinMm, r.yMaxMm}};
+  std::vector<Eigen::Vector2d> outline;
+  for (int e = 0; e < 4; ++e)
+    for (int k = 0; k < kPerEdge; ++k) {
+      const Eigen::Vector2d p =
+          corners[e] + (corners[(e + 1) % 4] - corners[e]) * (double(k) / kPerEdge);
+      const auto px = camera.project(pose.toCamera({p.x(), p.y(), 0.0}));
+      if (!px) return {};
+      outline.push_back(*px);
+    }
+  return outline;
+}
+
+}  // namespace
+
+bool SensorNoise::isValid(std::string* error) const {
+  const auto fail = [&](const char* text) {
+    if (error) *error = text;
+    return false;
+  };
+  if (!(std::isfinite(readNoise) && readNoise >= 0.0))
+    return fail("sensor noise: readNoise must be finite and not negative");
+  if (!(std::isfinite(fullWellElectrons) && fullWellElectrons >= 0.0))
+    return fail("sensor noise: fullWellElectrons must be finite and not negative");
+  return true;
+}
+
+double SensorNoise::pixelVariance(double v, double gain) const {
+  const double shot = fullWellElectrons > 0.0 ? std::max(v, 0.0) * gain / fullWellElectrons : 0.0;
+  return readNoise * readNoise + shot;
+}
+
+double quantisationStep(PixelEncoding encoding, double v) {
+  if (encoding != PixelEncoding::Srgb8) return 1.0 / 65535.0;
+  const double code = srgbEncode(v) * 255.0;
+  return srgbDecode((code + 0.5) / 255.0) - srgbDecode((code - 0.5) / 255.0);
+}
+
+AreaReading readArea(const hal::Frame& frame, const vision::Pose& pose,
+                     const vision::CameraModel& camera, const AreaSpec& area,
+                     const SensorNoise& noise) {
+  AreaReading reading;
+  const Image& im = frame.image;
+  const std::vector<Eigen::Vector2d> outline = outlinePx(pose, camera, area.rectMm);
+  if (outline.empty()) return reading;
+  double minY = 1e30, maxY = -1e30, signedArea = 0.0;
+  for (std::size_t i = 0; i < outline.size(); ++i) {
+    const Eigen::Vector2d& a = outline[i];
+    const Eigen::Vector2d& b = outline[(i + 1) % outline.size()];
+    if (a.x() < -0.5 || a.y() < -0.5 || a.x() > im.width - 0.5 || a.y() > im.height - 0.5)
+      return reading;  // part of the area is out of the image
+    minY = std::min(minY, a.y()), maxY = std::max(maxY, a.y());
+    signedArea += a.x() * b.y() - b.x() * a.y();
+  }
+  // Each edge as a half-plane n . p >= offset (n its unit inward normal, moved in by the inset).
+  struct HalfPlane {
+    Eigen::Vector2d normal;
+    double offset;
+  };
+  std::vector<HalfPlane> edges;
+  for (std::size_t i = 0; i < outline.size(); ++i) {
+    const Eigen::Vector2d d = outline[(i + 1) % outline.size()] - outline[i];
+    if (d.norm() < 1e-12) continue;
+    Eigen::Vector2d n = signedArea > 0 ? Eigen::Vector2d(-d.y(), d.x()) : Eigen::Vector2d(d.y(), -d.x());
+    n.normalize();
+    edges.push_back({n, n.dot(outline[i]) + area.insetPx});
+  }
+  const bool srgb = frame.encoding == PixelEncoding::Srgb8;
+  const SrgbCodes& codes = srgbCodes();
+  const double fullScale = srgb ? 255.0 : 65535.0;
+  const double clipRaw = area.clipFraction * fullScale;
+  const double gain = frame.metadata.gain > 0 ? frame.metadata.gain : 1.0;
+  const double step16 = 1.0 / 65535.0;
+  std::array<double, 3> sum{}, variance{};
+  int count = 0;
+  const int y0 = std::max(0, static_cast<int>(std::ceil(minY)));
+  const int y1 = std::min(im.height - 1, static_cast<int>(std::floor(maxY)));
+  for (int y = y0; y <= y1; ++y) {
+    // The row's run inside every half-plane: n.x x >= offset - n.y y.
+    double xLo = -0.5, xHi = im.width - 0.5;
+    for (const HalfPlane& h : edges) {
+      const double rhs = h.offset - h.normal.y() * y;
+      if (std::abs(h.normal.x()) < 1e-12) {
+        if (rhs > 0) xLo = xHi + 1;  // the row lies outside this edge
+      } else if (h.normal.x() > 0) {
+        xLo = std::max(xLo, rhs / h.normal.x());
+      } else {
+        xHi = std::min(xHi, rhs / h.normal.x());
+      }
+    }
+    const int x0 = std::max(0, static_cast<int>(std::ceil(xLo)));
+    const int x1 = std::min(im.width - 1, static_cast<int>(std::floor(xHi)));
+    for (int x = x0; x <= x1; ++x) {
+      ++count;
+      for (int c = 0; c < 3; ++c) {
+        const std::uint16_t raw = im.at(x, y, im.channels >= 3 ? c : 0);
+        if (raw >= clipRaw) reading.clipped = true;
+        double v, step;
+        if (srgb) {
+          const int code = std::min<int>(raw, 255);
+          v = codes.linear[code], step = codes.step[code];
+        } else {
+          v = raw / 65535.0, step = step16;
+        }
+        sum[c] += v;
+        variance[c] += noise.pixelVariance(v, gain) + step * step / 12.0;
+      }
+    }
+  }
+  if (count == 0) return reading;
+  const double scale = frame.metadata.exposureUs * frame.metadata.gain;
+  const double perUnit = scale > 0 ? 1.0 / scale : 1.0;
+  for (int c = 0; c < 3; ++c) {
+    const double mean = sum[c] / count;
+    // What noise too small to dither leaves of the quantisation in a mean: a bias that does not
+    // shrink with the pixel count.
+    const double step = quantisationStep(frame.encoding, mean);
+    const double sigma2 = noise.pixelVariance(mean, gain);
+    const double bias =
+        step / std::numbers::pi * std::exp(-2.0 * std::numbers::pi * std::numbers::pi * sigma2 /
+                                           (step * step));
+    reading.mean[c] = mean * perUnit;
+    reading.variance[c] = (variance[c] / (double(count) * count) + bias * bias) * perUnit * perUnit;
+  }
+  reading.pixels = count;
+  reading.inside = true;
+  return reading;
+}
+
+}  // namespace slicecap::capture

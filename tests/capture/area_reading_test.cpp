@@ -1,0 +1,101 @@
+// Area readings: every pixel inside the projected area (less the inset) is averaged, and the
+// variance the noise model gives the mean is the variance the mean shows over noisy frames.
+#include "slicecap/capture/area_reading.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace slicecap::capture {
+namespace {
+
+// A small camera looking straight down on the target from 300 mm: 2 px per mm at the plane.
+vision::CameraModel smallCamera() {
+  vision::CameraModel camera;
+  camera.intrinsics = {120, 90, 600.0, 600.0, 59.5, 44.5};
+  return camera;
+}
+
+vision::Pose fromAbove() {
+  return vision::lookAtPose({0.0, 0.0, 300.0}, Eigen::Vector3d::Zero(), {0.0, 1.0, 0.0});
+}
+
+// A gray frame at linear `level` plus Gaussian noise of `sigma` (full scale), in `encoding`.
+hal::Frame flatFrame(double level, double sigma, PixelEncoding encoding, std::mt19937& rng) {
+  hal::Frame frame;
+  frame.encoding = encoding;
+  const bool srgb = encoding == PixelEncoding::Srgb8;
+  frame.image = {120, 90, 1, srgb ? 8 : 16, {}};
+  std::normal_distribution<double> noise(0.0, sigma);
+  for (int i = 0; i < 120 * 90; ++i) {
+    const double v = std::clamp(level + (sigma > 0 ? noise(rng) : 0.0), 0.0, 1.0);
+    const double s = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
+    frame.image.samples.push_back(
+        static_cast<std::uint16_t>(std::lround(srgb ? s * 255.0 : v * 65535.0)));
+  }
+  frame.metadata.exposureUs = 1.0;
+  return frame;
+}
+
+TEST(AreaReading, AveragesThePixelsInsideTheProjectedAreaLessTheInset) {
+  std::mt19937 rng(1);
+  const hal::Frame frame = flatFrame(0.5, 0.0, PixelEncoding::Linear16, rng);
+  const vision::RectMm rect{-10.0, -5.0, 10.0, 5.0};  // 40 x 20 px
+  for (const double inset : {0.0, 3.0}) {
+    SCOPED_TRACE(inset);
+    const AreaReading r = readArea(frame, fromAbove(), smallCamera(), {rect, inset}, {});
+    ASSERT_TRUE(r.inside);
+    const double w = 40.0 - 2 * inset, h = 20.0 - 2 * inset;
+    EXPECT_GE(r.pixels, (w - 1) * (h - 1));
+    EXPECT_LE(r.pixels, (w + 1) * (h + 1));
+    EXPECT_NEAR(r.mean[0], 0.5, 1e-4);
+  }
+  // Partly out of the image: not read.
+  EXPECT_FALSE(
+      readArea(frame, fromAbove(), smallCamera(), {{50.0, 0.0, 70.0, 10.0}, 0.0}, {}).inside);
+}
+
+TEST(AreaReading, TheVarianceOfTheMeanIsTheOneNoisyFramesShow) {
+  // Dark (read noise and quantisation) and bright (shot noise), in 8-bit sRGB.
+  const SensorNoise model{0.002, 8000.0};
+  const vision::RectMm rect{-5.0, -5.0, 5.0, 5.0};
+  for (const double level : {0.005, 0.4}) {
+    SCOPED_TRACE(level);
+    std::mt19937 rng(7);
+    const double sigma = std::sqrt(model.pixelVariance(level, 1.0));
+    std::vector<double> means;
+    double predicted = 0.0;
+    constexpr int kFrames = 200;
+    for (int k = 0; k < kFrames; ++k) {
+      const hal::Frame frame = flatFrame(level, sigma, PixelEncoding::Srgb8, rng);
+      const AreaReading r = readArea(frame, fromAbove(), smallCamera(), {rect, 0.0}, model);
+      means.push_back(r.mean[0]);
+      predicted += r.variance[0] / kFrames;
+    }
+    double mean = 0.0, spread = 0.0;
+    for (double m : means) mean += m / kFrames;
+    for (double m : means) spread += (m - mean) * (m - mean) / (kFrames - 1);
+    EXPECT_NEAR(mean, level, 4 * std::sqrt(predicted / kFrames));
+    // The sample variance of 200 means is within +-30 % of the truth at ~3 sigma.
+    EXPECT_NEAR(spread / predicted, 1.0, 0.3);
+  }
+}
+
+TEST(AreaReading, ANoiseFreeEightBitFrameKeepsItsQuantisationInTheVariance) {
+  // Nothing dithers the codes: the mean is off by up to half a step, whatever the pixel count.
+  std::mt19937 rng(3);
+  for (const double level : {0.0041, 0.0137, 0.2213}) {
+    SCOPED_TRACE(level);
+    const hal::Frame frame = flatFrame(level, 0.0, PixelEncoding::Srgb8, rng);
+    const AreaReading r =
+        readArea(frame, fromAbove(), smallCamera(), {{-5.0, -5.0, 5.0, 5.0}, 0.0}, {0.0, 0.0});
+    EXPECT_LE(std::abs(r.mean[0] - level), 2.0 * std::sqrt(r.variance[0]));
+    EXPECT_GE(std::sqrt(r.variance[0]),
+              quantisationStep(PixelEncoding::Srgb8, level) / std::acos(-1.0) * 0.9);
+  }
+}
+
+}  // namespace
+}  // namespace slicecap::capture
