@@ -2,11 +2,10 @@
 #include "slicecap/capture/recording_processor.hpp"
 
 #include <algorithm>
-
-#include "slicecap/hal/recorded_frame.hpp"
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "slicecap/hal/recorded_frame.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/io/recording.hpp"
