@@ -41,10 +41,10 @@ bool exposureKnown(const hal::Frame& frame) {
 }
 
 // Mean linear colour over target points, divided by exposure x gain (camera units per us).
-RegionMean regionMean(const hal::Frame& frame, const vision::Pose& pose,
+RegionMean regionMean(const hal::Frame& frame, const CodeTable& codes, const vision::Pose& pose,
                       const vision::CameraModel& camera, const std::vector<Eigen::Vector2d>& points,
                       double clipFraction) {
-  const LinearView view(frame);
+  const LinearView view(frame, codes);
   RegionMean mean;
   for (const auto& p : points) {
     const auto px = camera.project(pose.toCamera({p.x(), p.y(), 0.0}));
@@ -197,6 +197,8 @@ struct FramePipeline::State {
   vision::TargetGeometry target;
   vision::CameraModel camera;
   PipelineSettings settings;
+  // settings.toneCurve's table, or sRGB's: how every 8-bit frame is read.
+  std::shared_ptr<const CodeTable> codes;
   MarkerDetector detector;
   std::vector<Eigen::Vector2d> windowPoints;
   struct Reference {
@@ -220,7 +222,12 @@ struct FramePipeline::State {
   int framesSinceLastPose = 0;
 
   State(vision::TargetGeometry t, vision::CameraModel c, PipelineSettings s)
-      : target(std::move(t)), camera(std::move(c)), settings(s), detector(s.detector) {}
+      : target(std::move(t)),
+        camera(std::move(c)),
+        settings(s),
+        codes(s.toneCurve ? std::make_shared<const CodeTable>(*s.toneCurve)
+                          : std::shared_ptr<const CodeTable>(&CodeTable::srgb(), [](auto*) {})),
+        detector(s.detector) {}
 
   // Markers. Tracking from the latest pose: only the sheet's area, at the coarsest scale its tag
   // cells allow, accepted when it finds half the markers that pose had in view, else at full
@@ -276,10 +283,10 @@ struct FramePipeline::State {
     for (const AmbientTerm& term : terms) {
       std::optional<Rgb> value;
       if (term.pose) {
-        const RegionMean own = regionMean(*term.frame, *term.pose, camera, points, 2.0);
+        const RegionMean own = regionMean(*term.frame, *codes, *term.pose, camera, points, 2.0);
         if (own.inside) value = own.value;
       }
-      if (!value) value = regionMean(*term.frame, pose, camera, points, 2.0).value;
+      if (!value) value = regionMean(*term.frame, *codes, pose, camera, points, 2.0).value;
       sum += term.weight * *value;
     }
     return sum;
@@ -421,7 +428,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
     return rejected("elevation_off", "view elevation " + std::to_string(m.view->thetaDeg) + " deg",
                     outcome);
   // Blur: motion smears the edges across the motion, so the blurriest quarter of the edges counts.
-  const LinearView view(frame);
+  const LinearView view(frame, *s.codes);
   std::vector<double> sharpness;
   for (const DetectedMarker* marker : known)
     for (int c = 0; c < 4; ++c) {
@@ -435,7 +442,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
     return rejected("blurred", "edge sharpness " + std::to_string(m.sharpness), outcome);
 
   const RegionMean window =
-      regionMean(frame, pose, s.camera, s.windowPoints, s.settings.clipFraction);
+      regionMean(frame, *s.codes, pose, s.camera, s.windowPoints, s.settings.clipFraction);
   if (!window.inside) return rejected("window_occluded", "window out of the image", outcome);
   if (window.clipped) return rejected("window_clipped", "window saturated", outcome);
   // The same room-light term for the window and every reference, found once.
@@ -458,7 +465,8 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   const Rgb windowRadiance = window.value - s.ambientAt(ambient, s.windowPoints, pose);
   std::vector<ReferenceObservation> observations;
   for (const auto& reference : s.references) {
-    RegionMean area = regionMean(frame, pose, s.camera, reference.points, s.settings.clipFraction);
+    RegionMean area =
+        regionMean(frame, *s.codes, pose, s.camera, reference.points, s.settings.clipFraction);
     if (!area.inside) continue;
     if (area.clipped) return rejected("window_clipped", "white reference saturated", outcome);
     area.value -= s.ambientAt(ambient, reference.points, pose);
