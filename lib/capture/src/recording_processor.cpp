@@ -67,6 +67,12 @@ RecordingResult processRecording(const std::filesystem::path& directory,
   // and interpolated (FramePipeline::setFollowingAmbientFrame).
   PipelineSettings offline = settings;
   offline.poseAmbientFrames = settings.offlineTwoSidedAmbient;
+  // The frames are read as they were taken: through the curve measured at sweep start when the
+  // recording says so (a caller's own curve, e.g. sRGB to compare, wins).
+  if (!offline.toneCurve)
+    offline.toneCurve =
+        recording.decoding.value_or(io::RecordedDecoding::defaultFor(recording.encoding))
+            .toneCurve();
   FramePipeline pipeline(recording.target, recording.camera, offline);
   const auto readFrame = [&](std::size_t i) {
     return frameOf(io::readPng(io::framePath(directory, recording.frames[i])), recording,

@@ -51,7 +51,7 @@ struct PipelineSettings {
   /// camera's response measured at sweep start, fitResponse in response_curve.hpp); nullopt:
   /// as sRGB. 16-bit frames are linear either way. processRecording uses the recording's own
   /// decoding when this is nullopt.
-  std::optional<ToneCurve> toneCurve;
+  std::optional<ToneCurve> toneCurve{};
 };
 
 /// \brief One LED-off frame's share of an LED-on frame's room-light term.

@@ -29,7 +29,8 @@ struct RecordingResult {
   nlohmann::json toJson() const;
 };
 
-/// \brief Runs `directory` (a recording with a slice) through a FramePipeline. Each LED-on
+/// \brief Runs `directory` (a recording with a slice) through a FramePipeline, decoding 8-bit
+/// frames as the recording's `decoding` says unless settings.toneCurve is set. Each LED-on
 /// frame's ambient term comes from the LED-off frames before and after it, each sampled at its own
 /// pose, interpolated in time (the first LED-off frame alone for the LED-on frames before it, the
 /// last alone after it). A frame whose PNG is missing,
