@@ -108,6 +108,10 @@ TEST(BracketPlan, CapsTheExposureAndPutsTheRestOnTheGain) {
   EXPECT_DOUBLE_EQ(settings[6].exposureUs, 32'000.0);
   EXPECT_DOUBLE_EQ(settings.back().exposureUs, 33'333.0);
   EXPECT_NEAR(settings.back().exposureUs * *settings.back().gain, 4 * 16'000.0 * 2.0, 1e-6);
+  // The camera's default gain is left alone where the exposure alone does it.
+  const auto automatic = BracketPlan{}.settings({1'000.0, std::nullopt});
+  EXPECT_FALSE(automatic.back().gain);
+  EXPECT_DOUBLE_EQ(automatic.back().exposureUs, 4'000.0);
 }
 
 // The model camera over the still rig, with the default sensor noise.

@@ -73,6 +73,7 @@ RecordingResult processRecording(const std::filesystem::path& directory,
     offline.toneCurve =
         recording.decoding.value_or(io::RecordedDecoding::defaultFor(recording.encoding))
             .toneCurve();
+  if (offline.toneCurve) result.decoding = offline.toneCurve->name();
   FramePipeline pipeline(recording.target, recording.camera, offline);
   const auto readFrame = [&](std::size_t i) {
     return frameOf(io::readPng(io::framePath(directory, recording.frames[i])), recording,
@@ -174,6 +175,7 @@ nlohmann::json RecordingResult::toJson() const {
   }
   return {{"recording", directory.string()},
           {"slice", toString(slice)},
+          {"decoding", decoding},
           {"bins_filled", bins.filledCount()},
           {"rejections", rejections},
           {"frames", frames},

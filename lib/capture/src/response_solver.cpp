@@ -31,11 +31,16 @@ std::vector<hal::ExposureSetting> BracketPlan::settings(const hal::ExposureSetti
                                                          double maxExposureUs,
                                                          double maxGain) const {
   std::vector<hal::ExposureSetting> out;
-  const double gain = metered.gain.value_or(1.0);
   for (const double factor : factors) {
     const double wantedUs = metered.exposureUs * factor;
     const double exposureUs = std::min(wantedUs, maxExposureUs);
-    out.push_back({exposureUs, std::min(gain * wantedUs / exposureUs, std::max(gain, maxGain))});
+    // The metered gain (nullopt: the camera's default, left alone) unless the exposure is capped.
+    std::optional<double> gain = metered.gain;
+    if (wantedUs > exposureUs) {
+      const double base = metered.gain.value_or(1.0);
+      gain = std::min(base * wantedUs / exposureUs, std::max(base, maxGain));
+    }
+    out.push_back({exposureUs, gain});
   }
   return out;
 }
@@ -116,8 +121,9 @@ ResponseFit fitResponseCurve(const std::vector<ResponseObservation>& observation
     lowest = std::min(lowest, o->code), highest = std::max(highest, o->code);
   fit.lowestCode = lowest;
   fit.highestCode = highest;
-  // Knots at every code the observations span: ln(linear) at each, linear in ln(code) between.
-  const int first = static_cast<int>(std::floor(lowest));
+  // The unknown curve: ln(linear) at knots over the codes the observations span, linear in
+  // ln(code) between (code 0 has no logarithm: the first knot is at 1 or above).
+  const int first = std::max(1, static_cast<int>(std::floor(lowest)));
   const int last = std::max(first + 1, static_cast<int>(std::ceil(highest)));
   if (last - first < 16)
     throw ResponseFitError(source + ": the references cover codes " + std::to_string(lowest) +

@@ -25,6 +25,8 @@ struct RecordingResult {
   AzimuthBins bins{SliceKind::Axial};
   std::map<std::string, int> rejections;  ///< count by reason
   int ambientFrames = 0;
+  /// \brief How 8-bit frames were decoded: "srgb", or the curve's name ("measured", "linear").
+  std::string decoding = "srgb";
   /// \brief The report's entry: per frame the pose, light, gate outcome; per bin its frames.
   nlohmann::json toJson() const;
 };

@@ -35,7 +35,8 @@ struct BracketPlan {
   /// \brief The settings to lock, one per factor: the exposure scaled, capped at maxExposureUs
   /// (a longer one lowers the frame rate), the rest of the factor put on the gain (capped at
   /// maxGain). The fit reads each frame's own reported exposure and gain, so a capped step is a
-  /// repeated exposure, not an error. `metered.gain` nullopt is taken as 1.
+  /// repeated exposure, not an error. The gain stays metered.gain (nullopt: the camera's default)
+  /// where the exposure is not capped; a capped step takes metered.gain (or 1) times the rest.
   std::vector<hal::ExposureSetting> settings(const hal::ExposureSetting& metered,
                                              double maxExposureUs = 33'333.0,
                                              double maxGain = 16.0) const;
