@@ -112,6 +112,13 @@ TEST(Recording, ReaderNamesTheFieldThatIsWrong) {
       // A size no frame could be allocated for (simulate --camera failed with bad_alloc).
       {"camera.width_px", [](auto& j) { j["camera"]["width_px"] = kMaxCameraSidePx + 1; }},
       {"format_version", [](auto& j) { j["format_version"] = 99; }},
+      {"decoding", [](auto& j) { j["decoding"] = "gamma"; }},
+      {"decoding_curve", [](auto& j) { j["decoding"] = "measured-curve"; }},
+      {"decoding_curve.points",
+       [](auto& j) {
+         j["decoding"] = "measured-curve";
+         j["decoding_curve"] = {{"name", "measured"}, {"points", {{0, 0}, {0.5, 0.2}, {0.4, 0.6}, {1, 1}}}};
+       }},
       {"target", [](auto& j) { j.erase("target"); }},
       // Not tag 3 (the id was cast to int, which wrapped round).
       {"target.markers[0].id", [](auto& j) { j["target"]["markers"][0]["id"] = 4294967299; }},
@@ -134,6 +141,28 @@ TEST(Recording, ReaderNamesTheFieldThatIsWrong) {
     EXPECT_NE(message.find(kRecordingManifest), std::string::npos) << message;
     EXPECT_NE(message.find(c.field), std::string::npos) << c.field << ": " << message;
   }
+}
+
+TEST(Recording, DecodingRoundTripsAndIsImpliedByTheEncodingWhenAbsent) {
+  const auto dir = test::freshTempDir() / "rec";
+  Recording header = smallHeader(PixelEncoding::Srgb8);
+  header.decoding = RecordedDecoding{RecordedDecoding::Kind::MeasuredCurve,
+                                     ToneCurve("measured", {{0, 0}, {0.2, 0.5}, {1, 1}})};
+  RecordingWriter writer(dir, header);
+  writer.append(gradient(3, 8, 0), {"", 0, true, 100.0, 1.0});
+  const nlohmann::json manifest = readJsonFile(dir / kRecordingManifest);
+  EXPECT_EQ(manifest["decoding"], "measured-curve");
+  EXPECT_EQ(manifest["format_version"], 2);
+  const Recording read = readRecording(dir);
+  EXPECT_EQ(read, writer.recording());
+  ASSERT_TRUE(read.decoding && read.decoding->toneCurve());
+  EXPECT_DOUBLE_EQ(read.decoding->toneCurve()->decode(0.5), 0.2);
+  // A version 1 recording says nothing: sRGB for 8-bit, linear for 16-bit.
+  const auto old = editedRecording([](auto& j) { j["format_version"] = 1; });
+  EXPECT_FALSE(readRecording(old).decoding);
+  EXPECT_EQ(RecordedDecoding::defaultFor(PixelEncoding::Srgb8).kind, RecordedDecoding::Kind::Srgb);
+  EXPECT_FALSE(RecordedDecoding::defaultFor(PixelEncoding::Srgb8).toneCurve());
+  EXPECT_EQ(RecordedDecoding::defaultFor(PixelEncoding::Linear16).toneCurve()->name(), "linear");
 }
 
 TEST(Recording, CameraMayComeFromACalibrationFileInsideTheRecording) {

@@ -32,7 +32,9 @@ std::vector<float> rectifyFrame(const TextureGrid& grid, const vision::CameraMod
                                 const FrameGeometry& geometry, const RectifyParams& params) {
   const int n = grid.resolution();
   std::vector<float> out(grid.texelCount() * 3, std::numeric_limits<float>::quiet_NaN());
-  const capture::LinearView on(frame);
+  const capture::CodeTable codes =
+      params.toneCurve ? capture::CodeTable(*params.toneCurve) : capture::CodeTable::srgb();
+  const capture::LinearView on(frame, codes);
   const auto perUsOf = [](const hal::Frame& f) {
     const double scale = f.metadata.exposureUs * f.metadata.gain;
     return 1.0 / (scale > 0 ? scale : 1.0);
@@ -46,7 +48,7 @@ std::vector<float> rectifyFrame(const TextureGrid& grid, const vision::CameraMod
   for (const capture::AmbientTerm& term : ambient)
     if (term.frame)
       offs.push_back(
-          {capture::LinearView(*term.frame), &term.pose, term.weight * perUsOf(*term.frame)});
+          {capture::LinearView(*term.frame, codes), &term.pose, term.weight * perUsOf(*term.frame)});
   const double perUs = perUsOf(frame);
   const int s = subsamplesOf(grid, camera, geometry.pose, std::max(1, params.maxSubsamples));
   for (int row = 0; row < n; ++row) {

@@ -48,13 +48,15 @@ TextureCapture::TextureCapture(const vision::CameraModel& camera, const vision::
     throw std::invalid_argument("texture capture: frames per bin must be at least 1");
 }
 
-void TextureCapture::startSlice(const SliceId& slice) {
+void TextureCapture::startSlice(const SliceId& slice, std::optional<ToneCurve> toneCurve) {
   finishSlice();
   for (const SliceTexture& done : slices_)
     if (done.slice == slice)
       throw std::invalid_argument("texture capture: slice " + toString(slice) +
                                   " was already captured");
   active_.emplace(slice, grid_.texelCount(), params_.framesPerBin);
+  activeRectify_ = params_.rectify;
+  if (toneCurve) activeRectify_.toneCurve = std::move(toneCurve);
 }
 
 void TextureCapture::add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
@@ -62,7 +64,7 @@ void TextureCapture::add(const hal::Frame& frame, const capture::FrameOutcome& o
   if (!active_) throw std::logic_error("texture capture: a frame outside a sweep");
   if (!textureSliceParameterDeg(outcome, active_->slice().kind)) return;
   active_->add(
-      textureFrameOf(grid_, camera_, frame, outcome, ambient, active_->slice().kind, params_.rectify));
+      textureFrameOf(grid_, camera_, frame, outcome, ambient, active_->slice().kind, activeRectify_));
   peakBytes_ = std::max(peakBytes_, memoryBytes());
 }
 
@@ -119,7 +121,13 @@ SessionTexture captureRecordings(const std::vector<std::filesystem::path>& recor
       throw std::invalid_argument(directory.string() +
                                   ": recording.json has no slice (a calibration recording?)");
     try {
-      session.texture.startSlice(header.slice->id);
+      // Rectified through the same decoding as processRecording reads the sweep with.
+      session.texture.startSlice(
+          header.slice->id,
+          settings.toneCurve
+              ? settings.toneCurve
+              : header.decoding.value_or(io::RecordedDecoding::defaultFor(header.encoding))
+                    .toneCurve());
     } catch (const std::invalid_argument& error) {
       throw std::invalid_argument(directory.string() + ": " + error.what());
     }

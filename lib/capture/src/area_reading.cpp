@@ -21,23 +21,6 @@ double srgbEncode(double v) {
   return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
 }
 
-// Per 8-bit sRGB code: its linear value and the linear width of the values it stands for.
-struct SrgbCodes {
-  std::array<double, 256> linear{}, step{};
-};
-
-const SrgbCodes& srgbCodes() {
-  static const SrgbCodes codes = [] {
-    SrgbCodes c;
-    for (int k = 0; k < 256; ++k) {
-      c.linear[k] = srgbDecode(k / 255.0);
-      c.step[k] = srgbDecode((k + 0.5) / 255.0) - srgbDecode((k - 0.5) / 255.0);
-    }
-    return c;
-  }();
-  return codes;
-}
-
 // The area's outline in pixels: each edge sampled so that lens distortion bends it. Empty when
 // a point is behind the camera.
 std::vector<Eigen::Vector2d> outlinePx(const vision::Pose& pose, const vision::CameraModel& camera,
@@ -86,7 +69,7 @@ double quantisationStep(PixelEncoding encoding, double v) {
 
 AreaReading readArea(const hal::Frame& frame, const vision::Pose& pose,
                      const vision::CameraModel& camera, const AreaSpec& area,
-                     const SensorNoise& noise) {
+                     const SensorNoise& noise, const CodeTable& codes) {
   AreaReading reading;
   const Image& im = frame.image;
   const std::vector<Eigen::Vector2d> outline = outlinePx(pose, camera, area.rectMm);
@@ -114,7 +97,6 @@ AreaReading readArea(const hal::Frame& frame, const vision::Pose& pose,
     edges.push_back({n, n.dot(outline[i]) + area.insetPx});
   }
   const bool srgb = frame.encoding == PixelEncoding::Srgb8;
-  const SrgbCodes& codes = srgbCodes();
   const double fullScale = srgb ? 255.0 : 65535.0;
   const double clipRaw = area.clipFraction * fullScale;
   const double gain = frame.metadata.gain > 0 ? frame.metadata.gain : 1.0;
@@ -146,7 +128,10 @@ AreaReading readArea(const hal::Frame& frame, const vision::Pose& pose,
         double v, step;
         if (srgb) {
           const int code = std::min<int>(raw, 255);
-          v = codes.linear[code], step = codes.step[code];
+          // The linear width of the values the code stands for, half a code either side.
+          v = codes[std::uint16_t(code)];
+          step = (codes[std::uint16_t(std::min(code + 1, 255))] -
+                  codes[std::uint16_t(std::max(code - 1, 0))]) / 2.0;
         } else {
           v = raw / 65535.0, step = step16;
         }

@@ -190,6 +190,8 @@ struct FramePipeline::State {
   vision::TargetGeometry target;
   vision::CameraModel camera;
   PipelineSettings settings;
+  // settings.toneCurve's table, or sRGB's: how every 8-bit frame is read.
+  std::shared_ptr<const CodeTable> codes;
   MarkerDetector detector;
   AreaSpec windowArea;  // the centre of the window, every pixel
   struct Reference {
@@ -213,7 +215,12 @@ struct FramePipeline::State {
   int framesSinceLastPose = 0;
 
   State(vision::TargetGeometry t, vision::CameraModel c, PipelineSettings s)
-      : target(std::move(t)), camera(std::move(c)), settings(s), detector(s.detector) {}
+      : target(std::move(t)),
+        camera(std::move(c)),
+        settings(s),
+        codes(s.toneCurve ? std::make_shared<const CodeTable>(*s.toneCurve)
+                          : std::shared_ptr<const CodeTable>(&CodeTable::srgb(), [](auto*) {})),
+        detector(s.detector) {}
 
   // Markers. Tracking from the latest pose: only the sheet's area, at the coarsest scale its tag
   // cells allow, accepted when it finds half the markers that pose had in view, else at full
@@ -270,8 +277,8 @@ struct FramePipeline::State {
     AreaReading sum;
     for (const AmbientTerm& term : terms) {
       AreaReading value;
-      if (term.pose) value = readArea(*term.frame, *term.pose, camera, area, settings.noise);
-      if (!value.inside) value = readArea(*term.frame, pose, camera, area, settings.noise);
+      if (term.pose) value = readArea(*term.frame, *term.pose, camera, area, settings.noise, *codes);
+      if (!value.inside) value = readArea(*term.frame, pose, camera, area, settings.noise, *codes);
       sum.mean += term.weight * value.mean;
       sum.variance += term.weight * term.weight * value.variance;
     }
@@ -283,7 +290,7 @@ struct FramePipeline::State {
                                         AreaReading* window) const {
     AreaSpec spec = windowArea;
     spec.clipFraction = settings.clipFraction;
-    *window = readArea(frame, pose, camera, spec, settings.noise);
+    *window = readArea(frame, pose, camera, spec, settings.noise, *codes);
     if (!window->inside) return GateFailure{"window_occluded", "window out of the image"};
     if (window->clipped) return GateFailure{"window_clipped", "window saturated"};
     return std::nullopt;
@@ -300,7 +307,7 @@ struct FramePipeline::State {
     for (const auto& reference : references) {
       AreaSpec spec = reference.area;
       spec.clipFraction = settings.clipFraction;
-      const AreaReading area = readArea(frame, pose, camera, spec, settings.noise);
+      const AreaReading area = readArea(frame, pose, camera, spec, settings.noise, *codes);
       if (!area.inside) continue;
       if (area.clipped) return GateFailure{"window_clipped", "white reference saturated"};
       const AreaReading room = ambientAt(roomLight, reference.area, pose);
@@ -522,7 +529,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
     return rejected("elevation_off", "view elevation " + std::to_string(m.view->thetaDeg) + " deg",
                     outcome);
   // Blur: motion smears the edges across the motion, so the blurriest quarter of the edges counts.
-  const LinearView view(frame);
+  const LinearView view(frame, *s.codes);
   std::vector<double> sharpness;
   for (const DetectedMarker* marker : known)
     for (int c = 0; c < 4; ++c) {

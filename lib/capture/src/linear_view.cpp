@@ -1,4 +1,4 @@
-// Linear reads of 8-bit sRGB and 16-bit linear frames.
+// Linear reads of 8-bit frames (through a code table) and 16-bit linear frames.
 #include "slicecap/capture/linear_view.hpp"
 
 #include <algorithm>
@@ -7,22 +7,23 @@
 #include <vector>
 
 namespace slicecap::capture {
-namespace {
 
-// Linear value (1 = full scale) of every 8-bit sRGB code.
-const std::vector<double>& srgbToLinear() {
-  static const std::vector<double> table = [] {
-    std::vector<double> t(256);
+CodeTable::CodeTable(const ToneCurve& curve) : name_(curve.name()) {
+  for (int i = 0; i < 256; ++i) linear_[i] = curve.decode(i / 255.0);
+}
+
+const CodeTable& CodeTable::srgb() {
+  static const CodeTable table = [] {
+    CodeTable t;
+    t.name_ = "srgb";
     for (int i = 0; i < 256; ++i) {
       const double v = i / 255.0;
-      t[i] = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+      t.linear_[i] = v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
     }
     return t;
   }();
   return table;
 }
-
-}  // namespace
 
 double LinearView::linear(int x, int y, int c, double clipFraction, bool* clipped) const {
   const Image& im = frame_.image;
@@ -30,7 +31,7 @@ double LinearView::linear(int x, int y, int c, double clipFraction, bool* clippe
   const std::uint16_t raw = im.at(x, y, channel);
   if (frame_.encoding == PixelEncoding::Srgb8) {
     if (raw >= clipFraction * 255.0) *clipped = true;
-    return srgbToLinear()[std::min<int>(raw, 255)];
+    return codes_[raw];
   }
   if (raw >= clipFraction * 65535.0) *clipped = true;
   return raw / 65535.0;

@@ -76,6 +76,13 @@ RecordingResult processRecording(const std::filesystem::path& directory,
     offline.requireAmbient = false;
     result.roomLightSubtracted = false;
   }
+  // The frames are read as they were taken: through the curve measured at sweep start when the
+  // recording says so (a caller's own curve, e.g. sRGB to compare, wins).
+  if (!offline.toneCurve)
+    offline.toneCurve =
+        recording.decoding.value_or(io::RecordedDecoding::defaultFor(recording.encoding))
+            .toneCurve();
+  if (offline.toneCurve) result.decoding = offline.toneCurve->name();
   FramePipeline pipeline(recording.target, recording.camera, offline);
   const auto readFrame = [&](std::size_t i) {
     return frameOf(io::readPng(io::framePath(directory, recording.frames[i])), recording,
@@ -180,6 +187,7 @@ nlohmann::json RecordingResult::toJson() const {
   }
   return {{"recording", directory.string()},
           {"slice", toString(slice)},
+          {"decoding", decoding},
           {"bins_filled", bins.filledCount()},
           {"room_light", roomLightSubtracted
                              ? "subtracted (the LED-off frames)"

@@ -1,6 +1,7 @@
 // recording.json: reading with field-level validation, atomic writing, frame-by-frame appends.
 #include "slicecap/io/recording.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "json_fields.hpp"
@@ -8,6 +9,33 @@
 #include "slicecap/io/target_json.hpp"
 
 namespace slicecap::io {
+
+RecordedDecoding RecordedDecoding::defaultFor(PixelEncoding encoding) {
+  return {encoding == PixelEncoding::Srgb8 ? Kind::Srgb : Kind::Linear, std::nullopt};
+}
+
+std::optional<ToneCurve> RecordedDecoding::toneCurve() const {
+  if (kind == Kind::MeasuredCurve) return curve;
+  if (kind == Kind::Linear) return ToneCurve::linear();
+  return std::nullopt;
+}
+
+bool operator==(const RecordedDecoding& a, const RecordedDecoding& b) {
+  if (a.kind != b.kind || a.curve.has_value() != b.curve.has_value()) return false;
+  return !a.curve || (a.curve->name() == b.curve->name() && a.curve->points() == b.curve->points());
+}
+
+std::string toString(RecordedDecoding::Kind kind) {
+  switch (kind) {
+    case RecordedDecoding::Kind::Srgb:
+      return "srgb";
+    case RecordedDecoding::Kind::MeasuredCurve:
+      return "measured-curve";
+    case RecordedDecoding::Kind::Linear:
+      return "linear";
+  }
+  return "srgb";
+}
 
 using json_fields::Location;
 using nlohmann::json;
@@ -61,11 +89,21 @@ json toJson(const Recording& r) {
   for (const RecordedFrame& f : r.frames)
     frames.push_back(frameToJson(f));
   json out = {{"format", kFormatName},
-              {"format_version", r.formatVersion},
+              // A decoding needs a reader that knows it (version 2).
+              {"format_version", r.decoding ? std::max(r.formatVersion, 2) : r.formatVersion},
               {"created_by", r.createdBy},
               {"camera", r.calibrationFile ? json{{"calibration_file", *r.calibrationFile}}
                                            : cameraToJson(r.camera)},
               {"pixel_encoding", std::string(toString(r.encoding))}};
+  if (r.decoding) {
+    out["decoding"] = toString(r.decoding->kind);
+    if (r.decoding->curve) {
+      json points = json::array();
+      for (const auto& [linear, encoded] : r.decoding->curve->points())
+        points.push_back({linear, encoded});
+      out["decoding_curve"] = {{"name", r.decoding->curve->name()}, {"points", points}};
+    }
+  }
   if (r.slice) {
     out["slice"] = {{"kind", std::string(toString(r.slice->id.kind))},
                     {"theta_i_deg", r.slice->id.elevations.thetaIDeg},
@@ -107,6 +145,37 @@ RecordedSlice sliceFromJson(const json& value, const Location& at) {
   if (slice.alphaDeg <= -180.0 || slice.alphaDeg > 180.0)
     (at / "alpha_deg").fail("expected (-180, 180]");
   return slice;
+}
+
+// `decoding` and, for a measured curve, `decoding_curve`: {name, points: [[linear, encoded]...]}.
+RecordedDecoding decodingFromJson(const json& root, PixelEncoding encoding, const Location& at) {
+  namespace f = json_fields;
+  const std::string text = f::string(root, "decoding", at);
+  RecordedDecoding decoding;
+  if (text == "srgb") decoding.kind = RecordedDecoding::Kind::Srgb;
+  else if (text == "measured-curve") decoding.kind = RecordedDecoding::Kind::MeasuredCurve;
+  else if (text == "linear") decoding.kind = RecordedDecoding::Kind::Linear;
+  else (at / "decoding").fail("expected \"srgb\", \"measured-curve\" or \"linear\", got \"" + text + "\"");
+  if (encoding == PixelEncoding::Linear16 && decoding.kind != RecordedDecoding::Kind::Linear)
+    (at / "decoding").fail("linear16 frames are linear, not \"" + text + "\"");
+  if (decoding.kind != RecordedDecoding::Kind::MeasuredCurve) return decoding;
+  const Location curveAt = at / "decoding_curve";
+  const json& curve = f::object(f::member(root, "decoding_curve", at), curveAt);
+  const std::string name = f::string(curve, "name", curveAt);
+  const json& points = f::array(curve, "points", curveAt);
+  std::vector<std::pair<double, double>> values;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const json& point = points[i];
+    if (!point.is_array() || point.size() != 2 || !point[0].is_number() || !point[1].is_number())
+      (curveAt / "points")[i].fail("expected [linear, encoded]");
+    values.emplace_back(point[0].get<double>(), point[1].get<double>());
+  }
+  try {
+    decoding.curve = ToneCurve(name, std::move(values));
+  } catch (const std::invalid_argument& error) {
+    (curveAt / "points").fail(error.what());
+  }
+  return decoding;
 }
 
 }  // namespace
@@ -158,6 +227,7 @@ Recording readRecording(const std::filesystem::path& input) {
   if (!parsed)
     (at / "pixel_encoding").fail("expected \"srgb8\" or \"linear16\", got \"" + encoding + "\"");
   r.encoding = *parsed;
+  if (root.contains("decoding")) r.decoding = decodingFromJson(root, r.encoding, at);
   if (root.contains("slice") && !root["slice"].is_null())
     r.slice = sliceFromJson(root["slice"], at / "slice");
   r.target = targetFromJson(f::member(root, "target", at), manifest.string(), "target");

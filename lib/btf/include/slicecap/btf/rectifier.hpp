@@ -2,12 +2,14 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "slicecap/btf/texture_grid.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/capture/light_model.hpp"
+#include "slicecap/core/tone_curve.hpp"
 #include "slicecap/hal/frame.hpp"
 #include "slicecap/vision/camera_model.hpp"
 #include "slicecap/vision/pose.hpp"
@@ -28,6 +30,9 @@ struct RectifyParams {
   /// \brief Sub-samples per texel side are chosen so that they lie about one image pixel apart
   /// (a box filter over the texel's footprint), at most this many.
   int maxSubsamples = 4;
+  /// \brief How 8-bit frames are decoded, as the pipeline that accepted them did
+  /// (capture::PipelineSettings::toneCurve); nullopt: sRGB.
+  std::optional<ToneCurve> toneCurve{};
 };
 
 /// \brief The frame's window on `grid`: per texel (row-major, R G B floats) the linear BRDF, 1/sr

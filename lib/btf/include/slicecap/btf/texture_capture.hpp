@@ -50,9 +50,10 @@ class TextureCapture {
   TextureCapture(const vision::CameraModel& camera, const vision::RectMm& window,
                  const TextureCaptureParams& params = {});
 
-  /// \brief Starts a sweep (finishing the previous one). Throws std::invalid_argument when the
-  /// slice was already captured.
-  void startSlice(const SliceId& slice);
+  /// \brief Starts a sweep (finishing the previous one); its 8-bit frames are decoded through
+  /// `toneCurve` when given (the sweep's measured response, as its pipeline reads them), else as
+  /// params.rectify says. Throws std::invalid_argument when the slice was already captured.
+  void startSlice(const SliceId& slice, std::optional<ToneCurve> toneCurve = std::nullopt);
   /// \brief One frame of the active sweep: an accepted sample (with its pose and light fit) is
   /// rectified and binned; anything else is ignored. `ambient` is the room-light term the
   /// pipeline corrected it with (FramePipeline::ambientTermsFor; empty: none). Throws
@@ -74,6 +75,7 @@ class TextureCapture {
   TextureGrid grid_;
   vision::CameraModel camera_;
   TextureCaptureParams params_;
+  RectifyParams activeRectify_;  // the active sweep's: params_.rectify with its decoding
   std::optional<SliceTextureBins> active_;
   std::vector<SliceTexture> slices_;
   std::size_t peakBytes_ = 0;

@@ -1,6 +1,8 @@
 // Reads an area of the target in a frame: the mean of every pixel inside it and that mean's noise.
 #pragma once
 
+#include "slicecap/capture/linear_view.hpp"
+
 #include <string>
 
 #include "slicecap/core/rgb.hpp"
@@ -51,10 +53,11 @@ struct AreaSpec {
 /// `insetPx` from the outline. The variance sums each pixel's sensor variance and quantisation
 /// (step^2 / 12) over the pixel count squared, plus the quantisation bias that noise too small to
 /// dither leaves in a mean (at most step / pi * exp(-2 pi^2 sigma^2 / step^2) for Gaussian noise
-/// sigma), so a noise-free 8-bit frame is not taken for exact.
+/// sigma), so a noise-free 8-bit frame is not taken for exact. 8-bit codes are decoded through
+/// `codes` (sRGB, or the curve measured at sweep start).
 AreaReading readArea(const hal::Frame& frame, const vision::Pose& pose,
                      const vision::CameraModel& camera, const AreaSpec& area,
-                     const SensorNoise& noise);
+                     const SensorNoise& noise, const CodeTable& codes = CodeTable::srgb());
 
 /// \brief The quantisation step of `encoding` at linear level `v` (full scale 1): for 8-bit sRGB
 /// the linear width of the code that holds v.

@@ -9,6 +9,7 @@
 #include "slicecap/capture/area_reading.hpp"
 #include "slicecap/capture/frame_outcome.hpp"
 #include "slicecap/capture/marker_detector.hpp"
+#include "slicecap/core/tone_curve.hpp"
 #include "slicecap/vision/camera_model.hpp"
 #include "slicecap/vision/target.hpp"
 
@@ -59,6 +60,11 @@ struct PipelineSettings {
   /// \brief processRecording's ambient term: false reproduces the live loop exactly (the LED-off
   /// frame before, at the LED-on frame's pixels), e.g. to compare a daemon's session with it.
   bool offlineTwoSidedAmbient = true;
+  /// \brief How 8-bit frames are decoded to linear light: through this curve (e.g. the
+  /// camera's response measured at sweep start, fitResponse in response_curve.hpp); nullopt:
+  /// as sRGB. 16-bit frames are linear either way. processRecording uses the recording's own
+  /// decoding when this is nullopt.
+  std::optional<ToneCurve> toneCurve{};
 };
 
 /// \brief One LED-off frame's share of an LED-on frame's room-light term.

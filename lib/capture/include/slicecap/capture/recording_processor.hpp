@@ -29,11 +29,14 @@ struct RecordingResult {
   /// simulate --no-led-alternation and slicecapd's led_alternate = false record): its samples
   /// keep the room light.
   bool roomLightSubtracted = true;
+  /// \brief How 8-bit frames were decoded: "srgb", or the curve's name ("measured", "linear").
+  std::string decoding = "srgb";
   /// \brief The report's entry: per frame the pose, light, gate outcome; per bin its frames.
   nlohmann::json toJson() const;
 };
 
-/// \brief Runs `directory` (a recording with a slice) through a FramePipeline. Each LED-on
+/// \brief Runs `directory` (a recording with a slice) through a FramePipeline, decoding 8-bit
+/// frames as the recording's `decoding` says unless settings.toneCurve is set. Each LED-on
 /// frame's ambient term comes from the LED-off frames before and after it, each sampled at its own
 /// pose, interpolated in time (the first LED-off frame alone for the LED-on frames before it, the
 /// last alone after it). A recording without any LED-off frame is processed without a room-light

@@ -12,13 +12,15 @@
 #include "slicecap/core/image.hpp"
 #include "slicecap/core/pixel_encoding.hpp"
 #include "slicecap/core/slice.hpp"
+#include "slicecap/core/tone_curve.hpp"
 #include "slicecap/vision/camera_model.hpp"
 #include "slicecap/vision/target.hpp"
 
 namespace slicecap::io {
 
-/// \brief The version this build writes and the newest it reads.
-inline constexpr int kRecordingFormatVersion = 1;
+/// \brief The version this build writes and the newest it reads. 2 added `decoding` (a version 1
+/// reader would decode a measured-curve recording as sRGB without a word).
+inline constexpr int kRecordingFormatVersion = 2;
 /// \brief The manifest's file name inside a recording directory.
 inline constexpr const char* kRecordingManifest = "recording.json";
 
@@ -55,6 +57,27 @@ struct RecordedSlice {
   friend bool operator==(const RecordedSlice&, const RecordedSlice&) = default;
 };
 
+/// \brief How the frames' samples become linear light (docs/linear-light.md).
+struct RecordedDecoding {
+  enum class Kind {
+    Srgb,           ///< 8-bit through the sRGB curve (what version 1 recordings of srgb8 mean)
+    MeasuredCurve,  ///< 8-bit through `curve`, the camera's response measured at sweep start
+    Linear,         ///< proportional to the sensor's signal (linear16; or 8-bit linear)
+  };
+  Kind kind = Kind::Srgb;
+  std::optional<ToneCurve> curve{};  ///< set exactly when kind is MeasuredCurve
+
+  /// \brief What a recording without `decoding` means: sRGB for srgb8, linear for linear16.
+  static RecordedDecoding defaultFor(PixelEncoding encoding);
+  /// \brief The curve 8-bit frames are read through: `curve`, ToneCurve::linear(), or nullopt for
+  /// sRGB (the pipeline's default).
+  std::optional<ToneCurve> toneCurve() const;
+  friend bool operator==(const RecordedDecoding& a, const RecordedDecoding& b);
+};
+
+/// \brief "srgb", "measured-curve" or "linear".
+std::string toString(RecordedDecoding::Kind kind);
+
 /// \brief Everything recording.json holds.
 struct Recording {
   int formatVersion = kRecordingFormatVersion;
@@ -65,6 +88,8 @@ struct Recording {
   /// instead of embedding the camera; `camera` then holds what the file says.
   std::optional<std::string> calibrationFile;
   PixelEncoding encoding = PixelEncoding::Srgb8;
+  /// nullopt: RecordedDecoding::defaultFor(encoding) (what recordings before version 2 mean).
+  std::optional<RecordedDecoding> decoding{};
   std::optional<RecordedSlice> slice;  ///< absent for e.g. a calibration recording
   vision::TargetGeometry target;
   std::vector<RecordedFrame> frames;

@@ -1,0 +1,215 @@
+// The response fit: Debevec-Malik least squares in ln(linear) over ln(code), on mean codes of
+// reference areas, with the bracket's plan and the fit's options.
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "slicecap/capture/response_curve.hpp"
+
+namespace slicecap::capture {
+
+bool BracketPlan::isValid(std::string* error) const {
+  const auto fail = [error](const std::string& why) {
+    if (error) *error = "bracket plan: " + why;
+    return false;
+  };
+  if (static_cast<int>(factors.size()) < ResponseFitParams{}.minExposures)
+    return fail(std::to_string(factors.size()) + " exposures, at least " +
+                std::to_string(ResponseFitParams{}.minExposures) + " are needed");
+  for (std::size_t i = 0; i < factors.size(); ++i) {
+    if (!(factors[i] > 0.0) || !std::isfinite(factors[i]))
+      return fail("factor " + std::to_string(i) + " is not a positive number");
+    if (i > 0 && !(factors[i] > factors[i - 1]))
+      return fail("factor " + std::to_string(i) + " does not rise above the one before");
+  }
+  return true;
+}
+
+std::vector<hal::ExposureSetting> BracketPlan::settings(const hal::ExposureSetting& metered,
+                                                         double maxExposureUs,
+                                                         double maxGain) const {
+  std::vector<hal::ExposureSetting> out;
+  for (const double factor : factors) {
+    const double wantedUs = metered.exposureUs * factor;
+    const double exposureUs = std::min(wantedUs, maxExposureUs);
+    // The metered gain (nullopt: the camera's default, left alone) unless the exposure is capped.
+    std::optional<double> gain = metered.gain;
+    if (wantedUs > exposureUs) {
+      const double base = metered.gain.value_or(1.0);
+      gain = std::min(base * wantedUs / exposureUs, std::max(base, maxGain));
+    }
+    out.push_back({exposureUs, gain});
+  }
+  return out;
+}
+
+bool ResponseFitParams::isValid(std::string* error) const {
+  const auto fail = [error](const std::string& why) {
+    if (error) *error = "response fit: " + why;
+    return false;
+  };
+  if (!(darkCode >= 0.0 && clipCode <= 255.0 && clipCode - darkCode >= 16.0))
+    return fail("dark code " + std::to_string(darkCode) + " and clip code " +
+                std::to_string(clipCode) + " must leave at least 16 codes between them in 0..255");
+  if (!(areaMm > 0.5)) return fail("area size " + std::to_string(areaMm) + " mm is under 0.5 mm");
+  if (!(insetFraction >= 0.0 && insetFraction < 0.5))
+    return fail("inset fraction " + std::to_string(insetFraction) + " is outside [0, 0.5)");
+  if (minPixels < 1) return fail("min pixels must be at least 1");
+  if (minExposures < 2) return fail("min exposures must be at least 2");
+  if (!(smoothness >= 0.0) || !std::isfinite(smoothness)) return fail("smoothness is negative");
+  if (minMarkers < 1) return fail("min markers must be at least 1");
+  return true;
+}
+
+std::string ResponseFit::summary() const {
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "response measured over codes %.1f..%.1f from %d exposures (%d observations, %d "
+                "clipped or dark left out), RMS residual %.2f %%",
+                lowestCode, highestCode, exposures, observationsUsed, observationsLeftOut,
+                100.0 * rmsLogResidual);
+  return line;
+}
+
+namespace {
+
+// Distinct values, 1 % apart (the camera quantises exposure to its line time).
+int distinctExposures(const std::vector<const ResponseObservation*>& used) {
+  std::vector<double> values;
+  for (const ResponseObservation* o : used) values.push_back(o->exposure);
+  std::sort(values.begin(), values.end());
+  int count = 0;
+  double last = -1.0;
+  for (const double v : values)
+    if (count == 0 || v > last * 1.01) ++count, last = v;
+  return count;
+}
+
+}  // namespace
+
+ResponseFit fitResponseCurve(const std::vector<ResponseObservation>& observations,
+                             const ResponseFitParams& params, const std::string& source) {
+  std::string why;
+  if (!params.isValid(&why)) throw std::invalid_argument(why);
+  ResponseFit fit;
+  std::vector<const ResponseObservation*> used;
+  for (const ResponseObservation& o : observations) {
+    if (!(o.weight > 0.0) || !(o.exposure > 0.0) || !(o.albedo > 0.0)) continue;
+    if (o.code <= params.darkCode || o.code >= params.clipCode) {
+      ++fit.observationsLeftOut;
+      continue;
+    }
+    used.push_back(&o);
+  }
+  if (used.empty())
+    throw ResponseFitError(source + ": every reference area is clipped (code >= " +
+                           std::to_string(int(params.clipCode)) + ") or black (code <= " +
+                           std::to_string(int(params.darkCode)) +
+                           ") in every frame: meter with the LED on and the target in view, or "
+                           "widen the bracket (BracketPlan::factors)");
+  fit.exposures = distinctExposures(used);
+  if (fit.exposures < params.minExposures)
+    throw ResponseFitError(source + ": " + std::to_string(fit.exposures) +
+                           " distinct exposures with usable references, at least " +
+                           std::to_string(params.minExposures) +
+                           " are needed: the camera must accept exposure locks (check "
+                           "exposure and gain limits) and the bracket span x1/32..x4");
+  double lowest = 255.0, highest = 0.0;
+  for (const ResponseObservation* o : used)
+    lowest = std::min(lowest, o->code), highest = std::max(highest, o->code);
+  fit.lowestCode = lowest;
+  fit.highestCode = highest;
+  // The unknown curve: ln(linear) at knots over the codes the observations span, linear in
+  // ln(code) between (code 0 has no logarithm: the first knot is at 1 or above).
+  const int first = std::max(1, static_cast<int>(std::floor(lowest)));
+  const int last = std::max(first + 1, static_cast<int>(std::ceil(highest)));
+  if (last - first < 16)
+    throw ResponseFitError(source + ": the references cover codes " + std::to_string(lowest) +
+                           ".." + std::to_string(highest) +
+                           " only; the bracket must spread them over most of 0..255 (widen "
+                           "BracketPlan::factors, check that the exposure locks took effect)");
+  // Knots about 10 % apart in code (every code near black, where the curve bends most in
+  // ln-ln terms), at most 8 codes apart: enough observations between two knots to average their
+  // noise (about 1 % each on a Pi-like sensor), close enough for an ISP table's kinks.
+  std::vector<int> knotCodes{first};
+  while (knotCodes.back() < last)
+    knotCodes.push_back(std::min(
+        last, knotCodes.back() + std::clamp(static_cast<int>(std::lround(knotCodes.back() * 0.1)),
+                                            1, 8)));
+  const int knots = static_cast<int>(knotCodes.size());
+  const auto segment = [&](double code) {
+    const auto upper = std::upper_bound(knotCodes.begin(), knotCodes.end(), code);
+    return std::clamp(static_cast<int>(upper - knotCodes.begin()) - 1, 0, knots - 2);
+  };
+  std::map<int, int> areaColumn;
+  for (const ResponseObservation* o : used)
+    areaColumn.emplace(o->area, knots + static_cast<int>(areaColumn.size()));
+  const int unknowns = knots + static_cast<int>(areaColumn.size());
+  const int rows = static_cast<int>(used.size()) + std::max(0, knots - 2) + 1;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(rows, unknowns);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(rows);
+  const auto u = [&](int knot) { return std::log(double(knotCodes[knot])); };
+  int row = 0;
+  double largestWeight = 0.0;
+  for (const ResponseObservation* o : used) {
+    const int k = segment(o->code);
+    const double t = (std::log(o->code) - u(k)) / (u(k + 1) - u(k));
+    a(row, k) = o->weight * (1.0 - t);
+    a(row, k + 1) = o->weight * t;
+    a(row, areaColumn.at(o->area)) = -o->weight;
+    b(row) = o->weight * std::log(o->exposure * o->albedo);
+    largestWeight = std::max(largestWeight, o->weight);
+    ++row;
+  }
+  // Curvature of ln(linear) over ln(code), integrated: zero for a power law, so the penalty
+  // bridges codes no observation has with the local gamma.
+  for (int k = 1; k + 1 < knots; ++k) {
+    const double h0 = u(k) - u(k - 1), h1 = u(k + 1) - u(k), span = h0 + h1;
+    const double scale = std::sqrt(params.smoothness * span / 2.0) * 2.0 / span;
+    a(row, k - 1) = scale / h0;
+    a(row, k) = -scale * (1.0 / h0 + 1.0 / h1);
+    a(row, k + 1) = scale / h1;
+    ++row;
+  }
+  // The global scale: ln(linear) = 0 at the highest knot (renormalised below).
+  a(row, knots - 1) = 1e3 * std::max(largestWeight, 1.0);
+  const Eigen::VectorXd x = a.householderQr().solve(b);
+  double sumSquares = 0.0;
+  for (const ResponseObservation* o : used) {
+    const int k = segment(o->code);
+    const double t = (std::log(o->code) - u(k)) / (u(k + 1) - u(k));
+    const double residual = (1.0 - t) * x(k) + t * x(k + 1) - x(areaColumn.at(o->area)) -
+                            std::log(o->exposure * o->albedo);
+    sumSquares += residual * residual;
+  }
+  fit.observationsUsed = static_cast<int>(used.size());
+  fit.rmsLogResidual = std::sqrt(sumSquares / double(used.size()));
+  for (int k = 1; k < knots; ++k)
+    if (!(x(k) > x(k - 1)))
+      throw ResponseFitError(
+          source + ": the fitted response falls between codes " + std::to_string(knotCodes[k - 1]) +
+          " and " + std::to_string(knotCodes[k]) +
+          " (not monotone): the frames disagree with their reported exposures. Keep the LED on "
+          "and the room light steady through the bracket, and check that the camera reports each "
+          "frame's own exposure and gain");
+  // Linear 1 where the slope of the last knot interval, carried on, reaches code 255.
+  std::vector<double> linear(knots);
+  for (int k = 0; k < knots; ++k) linear[k] = std::exp(x(k));
+  const double slope =
+      (linear[knots - 1] - linear[knots - 2]) / (knotCodes[knots - 1] - knotCodes[knots - 2]);
+  const double atFullScale = linear[knots - 1] + slope * (255.0 - last);
+  // Between knots the curve is linear in ln-ln terms: tabulated at every code.
+  std::vector<std::pair<double, double>> points{{0.0, 0.0}};
+  for (int code = std::max(first, 1); code <= std::min(last, 254); ++code) {
+    const int k = segment(code);
+    const double t = (std::log(double(code)) - u(k)) / (u(k + 1) - u(k));
+    points.emplace_back(std::exp((1.0 - t) * x(k) + t * x(k + 1)) / atFullScale, code / 255.0);
+  }
+  points.emplace_back(1.0, 1.0);
+  fit.curve = ToneCurve("measured", std::move(points));
+  return fit;
+}
+
+}  // namespace slicecap::capture
