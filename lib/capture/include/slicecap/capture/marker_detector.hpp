@@ -65,7 +65,26 @@ struct MarkerDetectorSettings {
   /// leaves every cell this many binned pixels. 1.0 keeps every tag of a 75 deg sweep; 1.2 already
   /// rules binning out for most of its frames. Else full resolution.
   double minBinnedCellPx = 1.0;
+  /// \brief The most detector work one frame may cost, in detectionWorkPx units (about the pixels
+  /// the library searches at full resolution). A search that needs more goes on in the next
+  /// frames (MarkerSearch) and the frame is rejected as "detection_deferred": the frame loop must
+  /// not fall behind the camera. The default keeps every frame of bench/capture_bench's sweeps
+  /// near the plain library's cost at decimation 2 or below (docs/detection.md); infinity
+  /// searches every pass in the frame it is needed (the old behaviour, slow on a miss).
+  double frameBudgetPx = 160000.0;
+  /// \brief LED-on frames without a pose after which tracking gives up the last pose and the
+  /// whole-frame re-acquisition passes start (one blurred frame or the arm's shadow should not
+  /// cost a re-acquisition).
+  int trackingPatienceFrames = 3;
 };
+
+/// \brief The detector work of searching a width x height area at `scale`, the unit of
+/// MarkerDetectorSettings::frameBudgetPx: the pixels the library searches (after binning and
+/// decimation), weighted by what one cost on bench/capture_bench's frames relative to a
+/// full-resolution pixel (1.4 for decimation 2 and 3, which subsample and keep the noise that
+/// makes many small quad candidates; 0.65 for decimation 1.5 and binning, which average it away),
+/// plus the gray conversion of every pixel of the area (1/64).
+double detectionWorkPx(int width, int height, const DetectionScale& scale);
 
 /// \brief Wraps an apriltag_detector_t for tag36h11 (single-threaded, no blur: quad_sigma would
 /// blur the buffer it is given). Not thread-safe; one per frame loop.
