@@ -189,15 +189,18 @@ void BM_PipelineSweep(benchmark::State& state) {
       anyFrameMs.push_back(took.count());
       if (listFrames) {
         const auto& scale = outcome.measurement.trackedScale;
-        frameList += "frame " + std::to_string(i) + (sweep.frames[i].metadata.ledOn ? " on " : " off ") +
+        const std::string what =
+            outcome.kind == capture::FrameOutcome::Kind::Rejected ? outcome.rejectReason
+            : outcome.kind == capture::FrameOutcome::Kind::Sample ? "sample"
+                                                                  : "ambient";
+        const std::string how = scale ? " tracked dec " + std::to_string(scale->quadDecimate) +
+                                            " bin " + std::to_string(scale->binX) + "x" +
+                                            std::to_string(scale->binY)
+                                      : std::string(" untracked");
+        frameList += "frame " + std::to_string(i) +
+                     (sweep.frames[i].metadata.ledOn ? " on " : " off ") +
                      std::to_string(took.count()) + " ms (cpu " + std::to_string(cpuMs) + ") " +
-                     (outcome.kind == capture::FrameOutcome::Kind::Rejected ? outcome.rejectReason
-                      : outcome.kind == capture::FrameOutcome::Kind::Sample ? "sample"
-                                                                            : "ambient") +
-                     " markers " + std::to_string(outcome.measurement.markerCount) +
-                     (scale ? " tracked dec " + std::to_string(scale->quadDecimate) + " bin " +
-                                  std::to_string(scale->binX) + "x" + std::to_string(scale->binY)
-                            : std::string(" untracked")) +
+                     what + " markers " + std::to_string(outcome.measurement.markerCount) + how +
                      "\n";
       }
       if (!sweep.frames[i].metadata.ledOn) continue;

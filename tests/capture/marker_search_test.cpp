@@ -132,8 +132,19 @@ TEST(MarkerSearch, ALostTargetCostsAtMostTheBudgetEveryFrameAndIsFoundAgain) {
     EXPECT_GE(result.markers.size(), 4u) << "not found again in " << frames << " frames";
     EXPECT_FALSE(result.deferred);
     EXPECT_FALSE(result.trackedScale.has_value()) << "found by re-acquisition, not tracking";
-    // The first pass (binning 4 x 1 over the frame) finds the sheet of either elevation.
-    EXPECT_LE(frames, 3);
+  }
+}
+
+TEST(MarkerSearch, TheFirstFrameFindsATargetInTheMiddleOfTheView) {
+  // No pose yet: the first pass (binning 4 x 1, the tile in the middle of the frame) finds the
+  // sheet of either elevation in one frame.
+  for (const int thetaDeg : {30, 75}) {
+    SCOPED_TRACE(thetaDeg);
+    MarkerSearch search = makeSearch();
+    const MarkerSearchResult result = search.search(renderView(thetaDeg, 2).frame);
+    EXPECT_GE(result.markers.size(), 12u);
+    EXPECT_EQ(result.passes, 1);
+    EXPECT_FALSE(result.deferred);
   }
 }
 

@@ -144,7 +144,9 @@ PixelRect clampTo(const PixelRect& area, int width, int height) {
 }
 
 // The whole image at `scale` as the fewest tiles that each fit `budget`, overlapping by
-// `overlapPx` so that a tag up to that size lies wholly inside one of them.
+// `overlapPx` so that a tag up to that size lies wholly inside one of them; when it takes more
+// than one, a tile of the same size centred in the image comes first (the person aims at the
+// target: a sheet in the middle of the frame is found whole by one pass).
 std::vector<SearchPass> tiled(int width, int height, const DetectionScale& scale, double budget,
                               int overlapPx) {
   for (int count = 1; count <= 64; ++count)
@@ -155,6 +157,8 @@ std::vector<SearchPass> tiled(int width, int height, const DetectionScale& scale
       const int tileH = ny == 1 ? height : (height + (ny - 1) * overlapPx + ny - 1) / ny;
       if (detectionWorkPx(tileW, tileH, scale) > budget) continue;
       std::vector<SearchPass> tiles;
+      if (count > 1)
+        tiles.push_back({{(width - tileW) / 2, (height - tileH) / 2, tileW, tileH}, scale});
       for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
           const int x0 = nx == 1 ? 0 : i * (width - tileW) / (nx - 1);
