@@ -191,7 +191,15 @@ MarkerSearch::MarkerSearch(const vision::TargetGeometry& target, const vision::C
   // finds 14 and 0.6), then the settings' decimation, binning the other way (a camera rolled by
   // 90 deg), decimation 1.5, and full resolution for small or far targets. 128 px of overlap: a
   // tag at the rig's 30 cm is under 100 px across.
+  // Without a budget (offline) the order that was measured before the budget existed: the
+  // settings' decimation, then full resolution (what detect() without a scale does), which
+  // keeps `slicecap process`'s frames and view errors as they were.
   const int width = camera.intrinsics.widthPx, height = camera.intrinsics.heightPx;
+  if (std::isinf(settings.frameBudgetPx)) {
+    acquisition_ = {{{0, 0, width, height}, {settings.decimation, 1, 1}},
+                    {{0, 0, width, height}, {1.0f, 1, 1}}};
+    return;
+  }
   for (const DetectionScale& scale : {DetectionScale{1.0f, 4, 1},
                                       DetectionScale{settings.decimation, 1, 1},
                                       DetectionScale{1.0f, 1, 4}, DetectionScale{1.5f, 1, 1},
@@ -268,11 +276,15 @@ MarkerSearchResult MarkerSearch::search(const hal::Frame& frame, bool countsAsMi
         wanted = true;
       }
     }
-  // Re-acquisition: the next passes of the fixed list that fit, each at most once per frame.
-  for (std::size_t tried = 0; bestCount < minMarkers_ && tried < acquisition_.size(); ++tried) {
+  // Re-acquisition: the next passes of the fixed list that fit, each at most once per frame, until
+  // fullResolutionBelow markers are found (as detect() without a scale: a pose from the first 4
+  // found by a coarse pass is less precise; beyond minMarkers only while the budget lasts).
+  const int wantedMarkers =
+      bestCount >= minMarkers_ ? 0 : std::max(minMarkers_, settings_.fullResolutionBelow);
+  for (std::size_t tried = 0; bestCount < wantedMarkers && tried < acquisition_.size(); ++tried) {
     const SearchPass& pass = acquisition_[nextAcquisition_];
     if (workOf(pass) > spare()) {
-      wanted = true;
+      wanted = bestCount < minMarkers_;
       break;
     }
     run(pass, false);
