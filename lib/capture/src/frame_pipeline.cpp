@@ -133,12 +133,13 @@ struct FramePipeline::State {
         settings(s),
         search(target, camera, s.detector, s.minMarkers) {}
 
-  // An LED-off frame is located when its own pose is wanted (offline) or, while no pose is
-  // tracked, to re-acquire the target for the LED-on frames after it (the room light shows the
-  // markers too): the search then goes on in every frame, not every other one.
-  Ambient makeAmbient(const hal::Frame& frame) {
+  // An LED-off frame is located when its own pose is wanted (offline) or, in its turn in
+  // process() (`inTurn`) while no pose is tracked, to re-acquire the target for the LED-on frames
+  // after it (the room light shows the markers too): the search then goes on in every frame, not
+  // every other one. The offline setters do not re-acquire: frames are searched in their order.
+  Ambient makeAmbient(const hal::Frame& frame, bool inTurn) {
     Ambient a{frame, std::nullopt};
-    const bool acquiring = !search.tracking();
+    const bool acquiring = inTurn && !search.tracking();
     if (!settings.poseAmbientFrames && !acquiring) return a;
     std::vector<PlaneCorrespondence> corners;
     for (const auto& marker : search.search(frame, false).markers)
@@ -229,7 +230,7 @@ FramePipeline& FramePipeline::operator=(FramePipeline&&) noexcept = default;
 // where the LED-on frame's are, or not in its encoding.
 void FramePipeline::setAmbientFrame(const hal::Frame& frame) {
   if (badFrameDetail(frame, state_->camera.intrinsics)) return;
-  state_->ambient = state_->makeAmbient(frame);
+  state_->ambient = state_->makeAmbient(frame, false);
 }
 
 void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
@@ -237,7 +238,7 @@ void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
   if (badFrameDetail(frame, s.camera.intrinsics)) return;
   if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs)
     return;
-  s.nextAmbient = s.makeAmbient(frame);
+  s.nextAmbient = s.makeAmbient(frame, false);
 }
 
 std::vector<AmbientTerm> FramePipeline::ambientTermsFor(std::int64_t timeUs) const {
@@ -254,7 +255,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
       s.ambient = std::move(s.nextAmbient);  // already located by setFollowingAmbientFrame
       s.nextAmbient.reset();
     } else {
-      s.ambient = s.makeAmbient(frame);
+      s.ambient = s.makeAmbient(frame, true);
     }
     FrameOutcome outcome;
     outcome.kind = FrameOutcome::Kind::Ambient;
