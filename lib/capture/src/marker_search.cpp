@@ -217,6 +217,9 @@ void MarkerSearch::located(const vision::Pose& pose) {
 MarkerSearchResult MarkerSearch::search(const hal::Frame& frame, bool countsAsMiss) {
   if (countsAsMiss && ++framesSinceLastPose_ > settings_.trackingPatienceFrames)
     lastPose_.reset();
+  // Without a budget nothing is spread over frames: every frame takes the list from its start
+  // (offline, an LED-off frame read ahead would otherwise move the next LED-on frame's start).
+  if (std::isinf(settings_.frameBudgetPx)) nextAcquisition_ = 0;
   MarkerSearchResult result;
   int bestCount = -1;
   const auto spare = [&] { return settings_.frameBudgetPx - result.workPx; };
