@@ -9,7 +9,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <filesystem>
+#include <map>
+#include <string>
 
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/io/png_image.hpp"
@@ -143,36 +146,85 @@ const Sweep& sweepAt(int thetaDeg) {
   return thetaDeg == 30 ? at30 : at75;
 }
 
+// This thread's CPU time, ms: on a shared machine wall time also counts other programs' turns.
+double threadCpuMs() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) * 1e3 + static_cast<double>(now.tv_nsec) * 1e-6;
+}
+
 double percentile(std::vector<double> values, double q) {
   if (values.empty()) return std::nan("");
   std::sort(values.begin(), values.end());
   return values[static_cast<std::size_t>(std::lround(q * static_cast<double>(values.size() - 1)))];
 }
 
+// Per LED-on frame (the figures) and over every frame (the LED-off ones search too while
+// the target is lost), wall and this thread's CPU time; the rejections by reason; with
+// SLICECAP_BENCH_FRAMES=1 in the environment, each frame of the last iteration on stderr (its
+// time, outcome, markers and tracked scale: which path a slow frame took).
 void BM_PipelineSweep(benchmark::State& state) {
   const Sweep& sweep = sweepAt(static_cast<int>(state.range(0)));
-  std::vector<double> frameMs, viewErrorDeg;
+  const bool listFrames = std::getenv("SLICECAP_BENCH_FRAMES") != nullptr;
+  std::vector<double> frameMs, frameCpuMs, anyFrameMs, viewErrorDeg;
+  std::map<std::string, int> rejections;
   int samples = 0, ledOnFrames = 0;
+  std::string frameList;
   for (auto _ : state) {
     capture::FramePipeline pipeline(sweep.recording.target, sweep.recording.camera);
     frameMs.clear();
+    frameCpuMs.clear();
+    anyFrameMs.clear();
     viewErrorDeg.clear();
+    rejections.clear();
+    frameList.clear();
     samples = ledOnFrames = 0;
     for (std::size_t i = 0; i < sweep.frames.size(); ++i) {
+      const double cpuStart = threadCpuMs();
       const auto start = std::chrono::steady_clock::now();
       const capture::FrameOutcome outcome = pipeline.process(sweep.frames[i], sweep.slice);
       const std::chrono::duration<double, std::milli> took =
           std::chrono::steady_clock::now() - start;
+      const double cpuMs = threadCpuMs() - cpuStart;
+      anyFrameMs.push_back(took.count());
+      if (listFrames) {
+        const auto& scale = outcome.measurement.trackedScale;
+        const std::string what =
+            outcome.kind == capture::FrameOutcome::Kind::Rejected ? outcome.rejectReason
+            : outcome.kind == capture::FrameOutcome::Kind::Sample ? "sample"
+                                                                  : "ambient";
+        const std::string how = scale ? " tracked dec " + std::to_string(scale->quadDecimate) +
+                                            " bin " + std::to_string(scale->binX) + "x" +
+                                            std::to_string(scale->binY)
+                                      : std::string(" untracked");
+        frameList += "frame " + std::to_string(i) +
+                     (sweep.frames[i].metadata.ledOn ? " on " : " off ") +
+                     std::to_string(took.count()) + " ms (cpu " + std::to_string(cpuMs) + ") " +
+                     what + " markers " + std::to_string(outcome.measurement.markerCount) + how +
+                     "\n";
+      }
       if (!sweep.frames[i].metadata.ledOn) continue;
       ++ledOnFrames;
       frameMs.push_back(took.count());
+      frameCpuMs.push_back(cpuMs);
+      if (outcome.kind == capture::FrameOutcome::Kind::Rejected) ++rejections[outcome.rejectReason];
       if (outcome.kind != capture::FrameOutcome::Kind::Sample) continue;
       ++samples;
       viewErrorDeg.push_back(angleBetweenDeg(outcome.sample->view, sweep.truth.frames[i].view));
     }
   }
+  if (listFrames)
+    std::fputs(("BM_PipelineSweep/" + std::to_string(state.range(0)) + ":\n" + frameList).c_str(),
+               stderr);
   state.counters["frame_ms_median"] = percentile(frameMs, 0.5);
   state.counters["frame_ms_p95"] = percentile(frameMs, 0.95);
+  state.counters["frame_ms_max"] = percentile(frameMs, 1.0);
+  state.counters["frame_cpu_ms_median"] = percentile(frameCpuMs, 0.5);
+  state.counters["frame_cpu_ms_p95"] = percentile(frameCpuMs, 0.95);
+  state.counters["any_frame_ms_p95"] = percentile(anyFrameMs, 0.95);
+  state.counters["any_frame_ms_max"] = percentile(anyFrameMs, 1.0);
+  for (const auto& [reason, count] : rejections)
+    state.counters["rejected_" + reason] = count;
   state.counters["view_err_deg_median"] = percentile(viewErrorDeg, 0.5);
   state.counters["view_err_deg_p95"] = percentile(viewErrorDeg, 0.95);
   state.counters["samples"] = samples;
@@ -187,19 +239,24 @@ void BM_PlainApriltagSweep(benchmark::State& state) {
   for (const hal::Frame& frame : sweep.frames)
     if (frame.metadata.ledOn) grays.push_back(meanGray(frame.image));
   PlainDetector plain(2.0f);
-  std::vector<double> frameMs;
+  std::vector<double> frameMs, frameCpuMs;
   for (auto _ : state) {
     frameMs.clear();
+    frameCpuMs.clear();
     for (image_u8_t* gray : grays) {
+      const double cpuStart = threadCpuMs();
       const auto start = std::chrono::steady_clock::now();
       plain.detect(gray);
       frameMs.push_back(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
               .count());
+      frameCpuMs.push_back(threadCpuMs() - cpuStart);
     }
   }
   state.counters["frame_ms_median"] = percentile(frameMs, 0.5);
   state.counters["frame_ms_p95"] = percentile(frameMs, 0.95);
+  state.counters["frame_cpu_ms_median"] = percentile(frameCpuMs, 0.5);
+  state.counters["frame_cpu_ms_p95"] = percentile(frameCpuMs, 0.95);
   for (image_u8_t* gray : grays)
     image_u8_destroy(gray);
 }

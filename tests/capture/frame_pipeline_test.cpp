@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "../support/test_support.hpp"
@@ -96,15 +97,24 @@ TEST(FramePipeline, GateCountsElevationOffTooFewMarkersAndBadFrames) {
   ASSERT_TRUE(off.viewElevationErrorDeg.has_value());
   EXPECT_NEAR(*off.viewElevationErrorDeg, -45.0, 1.0);
 
-  // A blank frame (no target in view) and one with all but the top rows blanked.
+  // A blank frame (no target in view) and one with all but the top rows blanked. Live, the
+  // search of a lost target is spread over frames: each such frame is a counted
+  // "detection_deferred"; with no budget every pass runs at once and finds too few.
   hal::Frame blank = good;
   std::fill(blank.image.samples.begin(), blank.image.samples.end(), 128);
-  EXPECT_EQ(pipeline.process(blank, slice).rejectReason, "too_few_markers");
+  EXPECT_EQ(pipeline.process(blank, slice).rejectReason, "detection_deferred");
   hal::Frame cut = good;
   std::fill(cut.image.samples.begin() + cut.image.samples.size() / 8, cut.image.samples.end(), 128);
   const FrameOutcome few = pipeline.process(cut, slice);
-  EXPECT_EQ(few.rejectReason, "too_few_markers");
+  EXPECT_EQ(few.rejectReason, "detection_deferred");
   EXPECT_LT(few.measurement.markerCount, 4);
+  EXPECT_LE(few.measurement.detectionWorkPx, MarkerDetectorSettings{}.frameBudgetPx);
+  PipelineSettings unlimited;
+  unlimited.detector.frameBudgetPx = std::numeric_limits<double>::infinity();
+  FramePipeline everything(recording.target, recording.camera, unlimited);
+  everything.setAmbientFrame(frameOf(dir, 1));
+  EXPECT_EQ(everything.process(blank, slice).rejectReason, "too_few_markers");
+  EXPECT_EQ(everything.process(cut, slice).rejectReason, "too_few_markers");
 
   hal::Frame small = good;
   small.image.width /= 2;
@@ -235,7 +245,9 @@ TEST(FramePipeline, WithoutAmbientRequiredAnLedOffFrameIsNotSubtracted) {
   const Rgb afterLedOff = sampleAfterLedOff(false, true);
   const Rgb subtracted = sampleAfterLedOff(true, true);
   for (int c = 0; c < 3; ++c) {
-    EXPECT_EQ(afterLedOff[c], alone[c]) << "channel " << c;
+    // Not bit-equal: the LED-off frame located the target, so the LED-on one was found by the
+    // tracked search (corners a fraction of a pixel apart; measured 0.01 % at most).
+    EXPECT_NEAR(afterLedOff[c], alone[c], 3e-4 * alone[c]) << "channel " << c;
     // The room light is there to subtract: else this test could not tell.
     EXPECT_LT(subtracted[c], 0.999 * alone[c]) << "channel " << c;
   }

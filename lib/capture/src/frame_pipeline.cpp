@@ -14,6 +14,7 @@
 #include "slicecap/capture/area_reading.hpp"
 #include "slicecap/capture/light_model.hpp"
 #include "slicecap/capture/linear_view.hpp"
+#include "slicecap/capture/marker_search.hpp"
 #include "slicecap/capture/planar_pose.hpp"
 #include "slicecap/core/angles.hpp"
 #include "slicecap/vision/tag_family.hpp"
@@ -74,95 +75,6 @@ std::string ledTransitionDetail(const RowSpan& rows) {
          std::to_string(rows.last) + " were exposed";
 }
 
-int countKnown(const std::vector<DetectedMarker>& markers, const vision::TargetGeometry& target) {
-  return static_cast<int>(std::count_if(markers.begin(), markers.end(), [&](const auto& m) {
-    return target.findMarker(m.id) != nullptr;
-  }));
-}
-
-// The image box of the sheet seen from `pose`, grown by 10 % of its size and 16 px on every side.
-std::optional<PixelRect> sheetRegion(const vision::Pose& pose, const vision::CameraModel& camera,
-                                     const vision::RectMm& sheet) {
-  double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
-  for (const double x : {sheet.xMinMm, sheet.xMaxMm})
-    for (const double y : {sheet.yMinMm, sheet.yMaxMm}) {
-      const auto px = camera.project(pose.toCamera({x, y, 0.0}));
-      if (!px) return std::nullopt;
-      x0 = std::min(x0, px->x()), x1 = std::max(x1, px->x());
-      y0 = std::min(y0, px->y()), y1 = std::max(y1, px->y());
-    }
-  // 10 % and 16 px each side: between two LED-on frames of a simulated 48-frame sweep (15 deg
-  // of azimuth apart, far more than at 30 frames/s) the sheet stayed inside (bench/capture_bench's
-  // sweep cases: same samples as with 25 %, which cost 1.5-2x the time); a miss falls back.
-  const double mx = 0.1 * (x1 - x0) + 16.0, my = 0.1 * (y1 - y0) + 16.0;
-  return PixelRect{static_cast<int>(std::floor(x0 - mx)), static_cast<int>(std::floor(y0 - my)),
-                   static_cast<int>(std::ceil(x1 - x0 + 2 * mx)),
-                   static_cast<int>(std::ceil(y1 - y0 + 2 * my))};
-}
-
-// The markers in view at `pose` (all four corners project into the image): how many, and how
-// each maps one tag cell to pixels near its corners 0 and 2 (the columns are the image vectors of
-// a cell's two edges; at a grazing view the far edges are shorter than the near ones).
-struct MarkersInView {
-  int count = 0;
-  std::vector<Eigen::Matrix2d> cellMaps;
-};
-
-MarkersInView markersInView(const vision::Pose& pose, const vision::CameraModel& camera,
-                            const vision::TargetGeometry& target) {
-  MarkersInView view;
-  for (const vision::Marker& marker : target.markers) {
-    std::array<Eigen::Vector2d, 4> px;
-    bool inView = true;
-    for (int c = 0; c < 4 && inView; ++c) {
-      const auto p =
-          camera.project(pose.toCamera({marker.cornersMm[c].xMm, marker.cornersMm[c].yMm, 0.0}));
-      inView = p && p->x() >= 0 && p->y() >= 0 && p->x() < camera.intrinsics.widthPx &&
-               p->y() < camera.intrinsics.heightPx;
-      if (inView) px[c] = *p;
-    }
-    if (!inView) continue;
-    ++view.count;
-    Eigen::Matrix2d atFirst, atThird;
-    atFirst << px[1] - px[0], px[3] - px[0];
-    atThird << px[2] - px[3], px[2] - px[1];
-    view.cellMaps.push_back(atFirst / vision::kTagBorderCells);
-    view.cellMaps.push_back(atThird / vision::kTagBorderCells);
-  }
-  return view;
-}
-
-// The cheapest way to look at markers seen through `cellMaps`. First the library's decimations
-// (3, 2, 1.5: quads found coarsely, corners refined at full resolution), the coarsest that leaves
-// every cell at least minDecimatedCellPx across in any direction (the smaller singular value of
-// the scaled map). Only when none does, binning along one axis (2-4 pixels averaged; the corners
-// are refined at that resolution, measured worst corner 0.36 / 0.63 / 0.78 px at 2 / 3 / 4 x 1
-// against 0.35 px at full resolution, and binned 4 x 4 the view error grew from 0.017 to 0.11 deg):
-// the coarsest that leaves every cell minBinnedCellPx. Else full resolution. Decimation 4 is not
-// offered: on a 30 deg frame it missed a tag and put a corner 3.8 px off
-// (tests/capture/marker_detector_test.cpp).
-DetectionScale trackedScale(const std::vector<Eigen::Matrix2d>& cellMaps,
-                            const MarkerDetectorSettings& settings) {
-  const auto smallestAcross = [&](double sx, double sy) {
-    double smallest = 1e30;
-    for (const Eigen::Matrix2d& map : cellMaps) {
-      const Eigen::Matrix2d scaled = Eigen::Vector2d(1.0 / sx, 1.0 / sy).asDiagonal() * map;
-      smallest = std::min(smallest, Eigen::JacobiSVD<Eigen::Matrix2d>(scaled).singularValues()(1));
-    }
-    return smallest;
-  };
-  if (cellMaps.empty()) return {};
-  for (const float d : {3.0f, 2.0f, 1.5f})
-    if (smallestAcross(d, d) >= settings.minDecimatedCellPx) return {d, 1, 1};
-  for (int b = 4; b >= 2; --b)
-    for (const auto& [bx, by] : {std::pair{b, 1}, std::pair{1, b}})
-      if (smallestAcross(bx, by) >= settings.minBinnedCellPx) return {1.0f, bx, by};
-  return {};
-}
-
-// LED-on frames without a pose after which tracking gives up on the last one.
-constexpr int kTrackingPatienceFrames = 3;
-
 // Why `frame` cannot be read as this camera's frame ("bad_frame"), or nullopt when it can.
 std::optional<std::string> badFrameDetail(const hal::Frame& frame,
                                           const vision::CameraIntrinsics& k) {
@@ -192,7 +104,7 @@ struct FramePipeline::State {
   PipelineSettings settings;
   // settings.toneCurve's table, or sRGB's: how every 8-bit frame is read.
   std::shared_ptr<const CodeTable> codes;
-  MarkerDetector detector;
+  MarkerSearch search;
   AreaSpec windowArea;  // the centre of the window, every pixel
   struct Reference {
     AreaSpec area;  // a part of a white patch, every pixel but near its outline
@@ -209,10 +121,6 @@ struct FramePipeline::State {
   std::optional<Ambient> ambient;      // the latest LED-off frame
   std::optional<Ambient> nextAmbient;  // offline: the LED-off frame after the coming LED-on ones
   std::uint64_t frameIndex = 0;
-  // The latest LED-on frame's pose, for tracking, kept over a few frames that were not located
-  // (a blurred frame, the arm's shadow) so one bad frame does not cost a whole-frame search.
-  std::optional<vision::Pose> lastPose;
-  int framesSinceLastPose = 0;
 
   State(vision::TargetGeometry t, vision::CameraModel c, PipelineSettings s)
       : target(std::move(t)),
@@ -220,51 +128,27 @@ struct FramePipeline::State {
         settings(s),
         codes(s.toneCurve ? std::make_shared<const CodeTable>(*s.toneCurve)
                           : std::shared_ptr<const CodeTable>(&CodeTable::srgb(), [](auto*) {})),
-        detector(s.detector) {}
+        search(target, camera, s.detector, s.minMarkers) {}
 
-  // Markers. Tracking from the latest pose: only the sheet's area, at the coarsest scale its tag
-  // cells allow, accepted when it finds half the markers that pose had in view, else at full
-  // resolution there; a miss (the target moved far, blur) searches the whole frame with the
-  // detector's own settings before giving up. `trackedScale` tells which tracked pass was used.
-  std::vector<DetectedMarker> detectMarkers(const hal::Frame& frame,
-                                            std::optional<DetectionScale>* trackedScaleUsed) {
-    if (trackedScaleUsed) trackedScaleUsed->reset();
-    const std::optional<PixelRect> region =
-        lastPose ? sheetRegion(*lastPose, camera, target.sheet) : std::nullopt;
-    if (region) {
-      const MarkersInView expected = markersInView(*lastPose, camera, target);
-      const int enough = std::max(settings.minMarkers, (expected.count + 1) / 2);
-      const DetectionScale scale = trackedScale(expected.cellMaps, settings.detector);
-      std::vector<DetectedMarker> markers = detector.detect(frame, region, scale);
-      DetectionScale used = scale;
-      if (countKnown(markers, target) < enough &&
-          (scale.quadDecimate > 1.0f || scale.binX > 1 || scale.binY > 1)) {
-        std::vector<DetectedMarker> finer = detector.detect(frame, region, DetectionScale{});
-        if (countKnown(finer, target) >= countKnown(markers, target)) {
-          markers = std::move(finer);
-          used = DetectionScale{};
-        }
-      }
-      if (countKnown(markers, target) >= settings.minMarkers) {
-        if (trackedScaleUsed) *trackedScaleUsed = used;
-        return markers;
-      }
-    }
-    return detector.detect(frame);
-  }
-
-  Ambient makeAmbient(const hal::Frame& frame) {
+  // An LED-off frame is located when its own pose is wanted (offline) or, in its turn in
+  // process() (`inTurn`) while no pose is tracked, to re-acquire the target for the LED-on frames
+  // after it (the room light shows the markers too): the search then goes on in every frame, not
+  // every other one. The offline setters do not re-acquire: frames are searched in their order.
+  Ambient makeAmbient(const hal::Frame& frame, bool inTurn) {
     Ambient a{frame, std::nullopt};
-    if (!settings.poseAmbientFrames) return a;
+    const bool acquiring = inTurn && !search.tracking();
+    if (!settings.poseAmbientFrames && !acquiring) return a;
     std::vector<PlaneCorrespondence> corners;
-    for (const auto& marker : detectMarkers(frame, nullptr))
+    for (const auto& marker : search.search(frame, false).markers)
       if (const vision::Marker* geometry = target.findMarker(marker.id))
         for (int c = 0; c < 4; ++c)
           corners.push_back(
               {{geometry->cornersMm[c].xMm, geometry->cornersMm[c].yMm}, marker.cornersPx[c]});
     if (static_cast<int>(corners.size()) < 4 * settings.minMarkers) return a;
     const auto estimate = estimatePlanarPose(corners, camera);
-    if (estimate && estimate->residualRmsPx <= settings.maxPoseResidualPx) a.pose = estimate->pose;
+    if (!estimate || estimate->residualRmsPx > settings.maxPoseResidualPx) return a;
+    if (acquiring) search.located(estimate->pose);
+    if (settings.poseAmbientFrames) a.pose = estimate->pose;
     return a;
   }
 
@@ -425,7 +309,7 @@ FramePipeline& FramePipeline::operator=(FramePipeline&&) noexcept = default;
 // where the LED-on frame's are, or not in its encoding.
 void FramePipeline::setAmbientFrame(const hal::Frame& frame) {
   if (badFrameDetail(frame, state_->camera.intrinsics) || !offOverSampleRows(frame)) return;
-  state_->ambient = state_->makeAmbient(frame);
+  state_->ambient = state_->makeAmbient(frame, false);
 }
 
 void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
@@ -433,7 +317,7 @@ void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
   if (badFrameDetail(frame, s.camera.intrinsics) || !offOverSampleRows(frame)) return;
   if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs)
     return;
-  s.nextAmbient = s.makeAmbient(frame);
+  s.nextAmbient = s.makeAmbient(frame, false);
 }
 
 // An LED-off frame offered as room light (offline) is one only if the LED was off over the rows
@@ -441,7 +325,7 @@ void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
 bool FramePipeline::offOverSampleRows(const hal::Frame& frame) const {
   const State& s = *state_;
   const int height = frame.image.height;
-  const RowSpan rows = s.lastPose ? rowsOfInterest(s.target, s.camera, *s.lastPose, height,
+  const RowSpan rows = s.search.lastPose() ? rowsOfInterest(s.target, s.camera, *s.search.lastPose(), height,
                                                    kRowMarginFraction * height)
                                   : RowSpan{0, height - 1};
   return ledStateOver(frame, rows) == hal::LedExposure::State::Off;
@@ -461,7 +345,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   // all its rows may still be clean where the target is: it is located, and its own rows decide.
   const int height = frame.image.height;
   const std::optional<RowSpan> predictedRows =
-      s.lastPose ? std::optional<RowSpan>(rowsOfInterest(s.target, s.camera, *s.lastPose, height,
+      s.search.lastPose() ? std::optional<RowSpan>(rowsOfInterest(s.target, s.camera, *s.search.lastPose(), height,
                                                          kRowMarginFraction * height))
                  : std::nullopt;
   const hal::LedExposure::State ledState =
@@ -473,7 +357,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
       s.ambient = std::move(s.nextAmbient);  // already located by setFollowingAmbientFrame
       s.nextAmbient.reset();
     } else {
-      s.ambient = s.makeAmbient(frame);
+      s.ambient = s.makeAmbient(frame, true);
     }
     FrameOutcome outcome;
     outcome.kind = FrameOutcome::Kind::Ambient;
@@ -481,12 +365,13 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   }
   FrameOutcome outcome;
   auto& m = outcome.measurement;
-  // Tracking: search only where the sheet was in the latest located LED-on frame (plus a margin
-  // for the hand's motion between frames), as coarsely as its tags allow; the detector's cost goes
-  // with the pixels it is given, so this is what keeps a frame in budget (bench/capture_bench.cpp).
-  // A miss there searches the whole frame before giving up.
-  if (++s.framesSinceLastPose > kTrackingPatienceFrames) s.lastPose.reset();
-  const std::vector<DetectedMarker> markers = s.detectMarkers(frame, &m.trackedScale);
+  // Markers within the frame's detection budget (MarkerSearch: tracked from the latest pose, a
+  // lost target re-acquired over several frames), so no frame stalls the camera.
+  MarkerSearchResult found = s.search.search(frame);
+  m.trackedScale = found.trackedScale;
+  m.detectionPasses = found.passes;
+  m.detectionWorkPx = found.workPx;
+  const std::vector<DetectedMarker> markers = std::move(found.markers);
   std::vector<PlaneCorrespondence> corners;
   std::vector<const DetectedMarker*> known;
   for (const auto& marker : markers) {
@@ -500,19 +385,19 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   m.markerCount = static_cast<int>(known.size());
   const std::string markerText =
       std::to_string(known.size()) + " of " + std::to_string(s.target.markers.size()) + " markers";
+  if (m.markerCount < s.settings.minMarkers && found.deferred)
+    return rejected("detection_deferred", markerText + " in this frame's detection budget",
+                    outcome);
   if (m.markerCount < s.settings.minMarkers)
     return rejected("too_few_markers", markerText, outcome);
   const auto estimate = estimatePlanarPose(corners, s.camera);
   if (!estimate) return rejected("too_few_markers", markerText + ", no pose", outcome);
   const vision::Pose& pose = estimate->pose;
   m.pose = pose;
+  if (estimate->residualRmsPx <= s.settings.maxPoseResidualPx) s.search.located(pose);
   m.rowsOfInterest = rowsOfInterest(s.target, s.camera, pose, height, kBlurRowMarginPx);
   if (ledStateOver(frame, *m.rowsOfInterest) != hal::LedExposure::State::On)
     return rejected("led_transition", ledTransitionDetail(*m.rowsOfInterest), outcome);
-  if (estimate->residualRmsPx <= s.settings.maxPoseResidualPx) {
-    s.lastPose = pose;
-    s.framesSinceLastPose = 0;
-  }
   const Eigen::Vector3d cameraCentre = pose.cameraCentreMm();
   m.poseResidualPx = estimate->residualRmsPx;
   m.cameraDistanceMm = cameraCentre.norm();

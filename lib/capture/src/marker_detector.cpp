@@ -70,6 +70,12 @@ MarkerDetector::MarkerDetector(MarkerDetectorSettings settings)
             << kMinDecimation << ".." << kMaxDecimation;
     throw std::invalid_argument(message.str());
   }
+  if (!(settings.frameBudgetPx > 0.0)) {
+    std::ostringstream message;
+    message << "marker detector: frame budget " << settings.frameBudgetPx
+            << " px is not positive";
+    throw std::invalid_argument(message.str());
+  }
   state_->settings = settings;
   state_->family = tag36h11_create();
   state_->detector = apriltag_detector_create();
@@ -151,6 +157,15 @@ std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame,
     if (full.size() > found.size()) found = std::move(full);
   }
   return found;
+}
+
+double detectionWorkPx(int width, int height, const DetectionScale& scale) {
+  const int binX = std::max(1, scale.binX), binY = std::max(1, scale.binY);
+  const double d = std::max(1.0f, scale.quadDecimate);
+  const double searched = static_cast<double>(width / binX) * (height / binY) / (d * d);
+  const bool averaged = binX * binY > 1 || scale.quadDecimate == 1.5f;
+  const double weight = averaged ? 0.65 : (d > 1.0 ? 1.4 : 1.0);
+  return weight * searched + static_cast<double>(width) * height / 64.0;
 }
 
 bool MarkerDetector::lastNeededFullResolution() const {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
+#include <limits>
 #include <stdexcept>
 
 #include "slicecap/hal/recorded_frame.hpp"
@@ -67,6 +68,9 @@ RecordingResult processRecording(const std::filesystem::path& directory,
   result.bins = AzimuthBins(result.slice.kind);
   // Offline the LED-off frames on both sides of each LED-on frame are known: each is located
   // and interpolated (FramePipeline::setFollowingAmbientFrame).
+  // No camera waits on a recording either: every frame is searched as long as it takes (the live
+  // loop spreads a lost target's search over frames, rejecting them as "detection_deferred").
+  // `--ambient previous` reproduces the live loop, budget included.
   PipelineSettings offline = settings;
   offline.poseAmbientFrames = settings.offlineTwoSidedAmbient;
   // The recording decides: with the LED on in every frame there is no room light to subtract
@@ -83,6 +87,8 @@ RecordingResult processRecording(const std::filesystem::path& directory,
         recording.decoding.value_or(io::RecordedDecoding::defaultFor(recording.encoding))
             .toneCurve();
   if (offline.toneCurve) result.decoding = offline.toneCurve->name();
+  if (settings.offlineTwoSidedAmbient)
+    offline.detector.frameBudgetPx = std::numeric_limits<double>::infinity();
   FramePipeline pipeline(recording.target, recording.camera, offline);
   const auto readFrame = [&](std::size_t i) {
     return frameOf(io::readPng(io::framePath(directory, recording.frames[i])), recording,

@@ -20,9 +20,13 @@ namespace slicecap::capture {
 /// \brief One frame's outcome. Exactly one of: a sample (an accepted LED-on frame), an ambient
 /// frame (an LED-off frame kept to subtract room light from its neighbours; not a sample), or a
 /// rejection with its reason, one of the stable snake_case names the status and the report
-/// count: "too_few_markers", "elevation_off", "blurred", "window_clipped", "window_occluded",
-/// "pose_residual", "no_ambient_frame", "bad_frame", "led_transition" (the LED switched while
-/// the rows of the window or the white references were exposed: neither a sample nor room light).
+/// count: "too_few_markers", "detection_deferred", "elevation_off", "blurred", "window_clipped",
+/// "window_occluded", "pose_residual", "no_ambient_frame", "bad_frame", "led_transition".
+/// "detection_deferred": too few markers found within the frame's detection budget
+/// (MarkerDetectorSettings::frameBudgetPx) while the search wanted more (a wider region, the
+/// next re-acquisition passes), which go on in the next frames; "too_few_markers": the frame's
+/// whole planned search ran and found too few; "led_transition": the LED switched while the rows
+/// of the window or the white references were exposed (neither a sample nor room light).
 struct FrameOutcome {
   enum class Kind { Sample, Ambient, Rejected };
   Kind kind = Kind::Rejected;
@@ -38,6 +42,8 @@ struct FrameOutcome {
     /// \brief The scale of the tracked search whose markers were used (from the latest pose, in
     /// the sheet's area); none when the whole frame was searched (no pose yet, or tracking missed).
     std::optional<DetectionScale> trackedScale;
+    int detectionPasses = 0;       ///< detector calls on this frame (MarkerSearchResult)
+    double detectionWorkPx = 0.0;  ///< their detectionWorkPx, at most the frame budget
     std::optional<Direction> view;  ///< toward the camera from the window centre
     double cameraDistanceMm = 0.0;
     double poseResidualPx = 0.0;

@@ -42,16 +42,18 @@ inline constexpr float kMaxDecimation = 16.0f;
 
 /// \brief Detector options.
 struct MarkerDetectorSettings {
-  /// \brief The library's quad_decimate. 2 finds the quads on a half-size image and refines the
-  /// corners on the full one (refine_edges): measured by bench/capture_bench.cpp (see the README
-  /// section "Processing recordings") to be several times faster than 1 at 1280 x 720 with the
-  /// same markers found at the rig's ~30 cm; 1 is for small or far targets. Must lie in
-  /// kMinDecimation..kMaxDecimation.
+  /// \brief The library's quad_decimate for detect() without a scale (calibration views), and
+  /// the second scale of MarkerSearch's whole-frame re-acquisition passes. 2 finds the quads on a
+  /// half-size image and refines the corners on the full one (refine_edges): measured by
+  /// bench/capture_bench.cpp (see the README section "Processing recordings") to be several
+  /// times faster than 1 at 1280 x 720 with the same markers found at the rig's ~30 cm; 1 is for
+  /// small or far targets. Must lie in kMinDecimation..kMaxDecimation.
   float decimation = 2.0f;
-  /// \brief With fewer markers than this found after decimation, detect again at full
-  /// resolution: at the 75 deg view elevation the tags are foreshortened to a quarter of their
-  /// height and the half-size image loses most of them (measured on a simulated session: 9 of 24
-  /// LED-on frames of axial 75/75 kept at decimation 2 alone, 23 of 24 with this).
+  /// \brief detect() without a scale: with fewer markers than this found after decimation,
+  /// detect again at full resolution: at the 75 deg view elevation the tags are foreshortened to
+  /// a quarter of their height and the half-size image loses most of them (measured on a
+  /// simulated session: 9 of 24 LED-on frames of axial 75/75 kept at decimation 2 alone, 23 of 24
+  /// with this). MarkerSearch has its own passes and does not use it.
   int fullResolutionBelow = 8;
   /// \brief When the pipeline tracks the target (it knows the latest pose), it predicts how each
   /// tag cell will appear and takes the coarsest of the library's decimations 3, 2, 1.5 that leaves
@@ -65,7 +67,26 @@ struct MarkerDetectorSettings {
   /// leaves every cell this many binned pixels. 1.0 keeps every tag of a 75 deg sweep; 1.2 already
   /// rules binning out for most of its frames. Else full resolution.
   double minBinnedCellPx = 1.0;
+  /// \brief The most detector work one frame may cost, in detectionWorkPx units (about the pixels
+  /// the library searches at full resolution). A search that needs more goes on in the next
+  /// frames (MarkerSearch) and the frame is rejected as "detection_deferred": the frame loop must
+  /// not fall behind the camera. The default keeps every frame of bench/capture_bench's sweeps
+  /// near the plain library's cost at decimation 2 or below (docs/detection.md); infinity
+  /// searches every pass in the frame it is needed (the old behaviour, slow on a miss).
+  double frameBudgetPx = 120000.0;
+  /// \brief LED-on frames without a pose after which tracking gives up the last pose and the
+  /// whole-frame re-acquisition passes start (one blurred frame or the arm's shadow should not
+  /// cost a re-acquisition).
+  int trackingPatienceFrames = 3;
 };
+
+/// \brief The detector work of searching a width x height area at `scale`, the unit of
+/// MarkerDetectorSettings::frameBudgetPx: the pixels the library searches (after binning and
+/// decimation), weighted by what one cost on bench/capture_bench's frames relative to a
+/// full-resolution pixel (1.4 for decimation 2 and 3, which subsample and keep the noise that
+/// makes many small quad candidates; 0.65 for decimation 1.5 and binning, which average it away),
+/// plus the gray conversion of every pixel of the area (1/64).
+double detectionWorkPx(int width, int height, const DetectionScale& scale);
 
 /// \brief Wraps an apriltag_detector_t for tag36h11 (single-threaded, no blur: quad_sigma would
 /// blur the buffer it is given). Not thread-safe; one per frame loop.
