@@ -21,34 +21,27 @@ session_cleanup() {
 }
 fail() { echo "FAIL: $*" >&2; [[ -f $work/daemon.log ]] && tail -20 "$work/daemon.log" >&2; exit 1; }
 
+# write_daemon_config LINE...: a configuration of the given lines, with the socket and the LED log
+# in $work.
+write_daemon_config() {
+  {
+    printf '%s\n' "$@"
+    echo "socket = $work/s.sock"
+    echo "socket_group ="
+    echo "led_log = $work/led.log"
+  } >"$work/slicecapd.conf"
+  export SLICECAP_SOCKET=$work/s.sock
+}
 # write_config RECORDINGS [EXTRA_LINE...]: a file-camera configuration with everything in $work.
 write_config() {
   local recordings=$1
   shift
-  {
-    echo "camera = file"
-    echo "camera_recording = $recordings"
-    echo "storage = $work/storage"
-    echo "socket = $work/s.sock"
-    echo "socket_group ="
-    echo "led_log = $work/led.log"
-    printf '%s\n' "$@"
-  } >"$work/slicecapd.conf"
-  export SLICECAP_SOCKET=$work/s.sock
+  write_daemon_config "camera = file" "camera_recording = $recordings" "storage = $work/storage" "$@"
 }
-
 # write_model_config [EXTRA_LINE...]: a camera-model configuration (the virtual rig in front of a
 # model of a Pi camera) with everything in $work; storage in $work/storage-model.
 write_model_config() {
-  {
-    echo "camera = model"
-    echo "storage = $work/storage-model"
-    echo "socket = $work/s.sock"
-    echo "socket_group ="
-    echo "led_log = $work/led.log"
-    printf '%s\n' "$@"
-  } >"$work/slicecapd.conf"
-  export SLICECAP_SOCKET=$work/s.sock
+  write_daemon_config "camera = model" "storage = $work/storage-model" "$@"
 }
 
 start_daemon() {
