@@ -134,9 +134,6 @@ const std::pair<fs::path, io::Recording>& recordingFor(const RecordingsBySlice& 
 // camera = model: the LED's light follows a switch this much later (a GPIO call and an LED
 // driver take tens of microseconds).
 constexpr std::int64_t kModelLedDelayUs = 40;
-// camera = model: the virtual operator holds the rig still this long at each sweep's start, as a
-// person does while the exposure is metered, then goes round.
-constexpr double kModelHoldSeconds = 2.0;
 
 struct Rig {
   vision::TargetGeometry target;
@@ -295,8 +292,7 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
                                                         : ToneCurve::imx708Tuning();
       parts.cameraFor = [renderer, rig, sensor, modelLight](const SliceId& slice) {
         return std::make_shared<hal::ModelCamera>(
-            std::make_shared<sim::RigScene>(renderer, slice, rig, kModelHoldSeconds), modelLight,
-            clock, sensor);
+            std::make_shared<sim::RigScene>(renderer, slice, rig), modelLight, clock, sensor);
       };
       createdBy += " (model camera)";
       break;

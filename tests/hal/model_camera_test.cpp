@@ -37,6 +37,7 @@ SensorModel quietModel() {
   model.readNoise = 0.0;
   model.fullWellElectrons = 0.0;
   model.colourGains = {1.0, 1.0, 1.0};
+  model.holdSceneUntilStrobe = false;
   return model;
 }
 
@@ -175,6 +176,29 @@ TEST(ModelCamera, TheSceneEndingEndsTheStream) {
   }
   EXPECT_GE(frames, 3);
   EXPECT_LE(frames, 4);
+}
+
+TEST(ModelCamera, TheSceneHoldsStillUntilTheLedFirstGoesOff) {
+  // The person holds the rig while the daemon meters with the LED on; the sweep's 100 ms begin
+  // once the LED strobes.
+  FakeClock clock(0);
+  auto light = std::make_shared<LedTimeline>();
+  SensorModel model = quietModel();
+  model.holdSceneUntilStrobe = true;
+  ModelCamera camera(std::make_shared<FlatScene>(64, 48, 1.0f, 1.0f, 100'000), light, clock, model);
+  CameraConfig config;
+  config.widthPx = 64;
+  config.heightPx = 48;
+  camera.configure(config);
+  camera.start();
+  light->record(clock.nowUs(), true);
+  for (int i = 0; i < 10; ++i)  // a third of a second of metering: the scene has not moved
+    ASSERT_EQ(camera.nextFrame(std::chrono::milliseconds(1000)).status, CaptureResult::Status::Frame);
+  light->record(clock.nowUs(), false);
+  int frames = 0;
+  while (camera.nextFrame(std::chrono::milliseconds(1000)).status == CaptureResult::Status::Frame)
+    ASSERT_LT(++frames, 10);
+  EXPECT_GE(frames, 2);
 }
 
 TEST(ModelCamera, RefusesAnInvalidModelNamingTheField) {

@@ -116,6 +116,13 @@ LedExposure LedTimeline::exposureOf(std::int64_t row0StartUs, double lineTimeUs,
   return exposure;
 }
 
+std::optional<std::int64_t> LedTimeline::firstSwitchAfter(std::int64_t timeUs, bool on) const {
+  std::lock_guard lock(mutex_);
+  for (const LedChange& change : changes_)
+    if (change.timeUs > timeUs && change.on == on) return change.timeUs;
+  return std::nullopt;
+}
+
 void LedTimeline::forgetBefore(std::int64_t timeUs) {
   std::lock_guard lock(mutex_);
   const auto keepFrom = std::upper_bound(

@@ -159,7 +159,13 @@ struct ModelCamera::State {
     // The scene at the middle row's mid-exposure: the rig moves little within one frame.
     const std::int64_t middleUs = captured.readoutStartUs +
                                   static_cast<std::int64_t>(height / 2 * lineUs - exposureUs / 2);
-    const std::shared_ptr<const SceneLight> light = scene->lightAt(middleUs - startUs);
+    std::int64_t sceneStartUs = startUs;
+    if (model.holdSceneUntilStrobe) {
+      const std::optional<std::int64_t> strobing = led->firstSwitchAfter(startUs, false);
+      sceneStartUs = strobing ? *strobing : std::max(startUs, middleUs);
+    }
+    const std::shared_ptr<const SceneLight> light =
+        scene->lightAt(std::max<std::int64_t>(0, middleUs - sceneStartUs));
     if (!light) {
       ended = true;
       return {CaptureResult::Status::EndOfStream, std::nullopt, ""};

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,8 @@ class LedTimeline {
   /// (heightPx - 1) * lineTimeUs + exposureUs).
   LedExposure exposureOf(std::int64_t row0StartUs, double lineTimeUs, double exposureUs,
                          int heightPx, double guardUs) const;
+  /// \brief The first switch to `on` after `timeUs`, or nullopt.
+  std::optional<std::int64_t> firstSwitchAfter(std::int64_t timeUs, bool on) const;
   /// \brief Drops switches before `timeUs` that no later query needs (keeps the state there).
   void forgetBefore(std::int64_t timeUs);
   std::size_t size() const;

@@ -61,6 +61,10 @@ struct SensorModel {
   bool reportsLineTime = false;
   /// Whether frames carry their exposure (uvcvideo does not).
   bool reportsExposure = true;
+  /// The scene stands still until the LED first goes off after start (a person holds the rig
+  /// while the daemon meters the exposure with the LED on, and moves once it strobes), then
+  /// runs from its start; false: the scene runs from start().
+  bool holdSceneUntilStrobe = true;
   /// Real time (a timer descriptor for the daemon's poll loop, the steady clock) or a FakeClock
   /// that nextFrame() advances.
   bool realTime = true;
