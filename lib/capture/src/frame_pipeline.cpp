@@ -122,6 +122,14 @@ struct FramePipeline::State {
   std::optional<Ambient> nextAmbient;  // offline: the LED-off frame after the coming LED-on ones
   std::uint64_t frameIndex = 0;
 
+  // The rows a sample of a `heightPx`-row frame reads, predicted from the latest pose with a
+  // margin for the motion since; nullopt before the target was first located.
+  std::optional<RowSpan> predictedRowsOfInterest(int heightPx) const {
+    if (!search.lastPose()) return std::nullopt;
+    return rowsOfInterest(target, camera, *search.lastPose(), heightPx,
+                          kRowMarginFraction * heightPx);
+  }
+
   State(vision::TargetGeometry t, vision::CameraModel c, PipelineSettings s)
       : target(std::move(t)),
         camera(std::move(c)),
@@ -323,11 +331,8 @@ void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
 // An LED-off frame offered as room light (offline) is one only if the LED was off over the rows
 // a sample reads, as process() judges it.
 bool FramePipeline::offOverSampleRows(const hal::Frame& frame) const {
-  const State& s = *state_;
   const int height = frame.image.height;
-  const RowSpan rows = s.search.lastPose() ? rowsOfInterest(s.target, s.camera, *s.search.lastPose(), height,
-                                                   kRowMarginFraction * height)
-                                  : RowSpan{0, height - 1};
+  const RowSpan rows = state_->predictedRowsOfInterest(height).value_or(RowSpan{0, height - 1});
   return ledStateOver(frame, rows) == hal::LedExposure::State::Off;
 }
 
@@ -344,10 +349,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   // switched during is neither a sample nor room light. Without a pose yet, a frame mixed over
   // all its rows may still be clean where the target is: it is located, and its own rows decide.
   const int height = frame.image.height;
-  const std::optional<RowSpan> predictedRows =
-      s.search.lastPose() ? std::optional<RowSpan>(rowsOfInterest(s.target, s.camera, *s.search.lastPose(), height,
-                                                         kRowMarginFraction * height))
-                 : std::nullopt;
+  const std::optional<RowSpan> predictedRows = s.predictedRowsOfInterest(height);
   const hal::LedExposure::State ledState =
       ledStateOver(frame, predictedRows.value_or(RowSpan{0, height - 1}));
   if (ledState == hal::LedExposure::State::Mixed && predictedRows)
