@@ -362,6 +362,7 @@ struct Daemon::State {
       processor = parts.newDecodingFrameProcessor(*cameraSlice, observer, decided.decoding.curve);
     if (const std::optional<std::filesystem::path> session = manager.sessionDirectory()) {
       try {
+        std::filesystem::create_directories(*session / kDecodingFolder);
         io::writeJsonFileAtomically(*session / kDecodingFolder / (folderName(*cameraSlice) + ".json"),
                                     toJson(decided, id));
       } catch (const std::exception& error) {
