@@ -117,6 +117,7 @@ struct LiveCameraLog {
   int lockDelayFrames = 2;          // frames taken before a lock reaches the sensor
   int frames = 40;                  // per start
   bool streaming = false;
+  bool eightBit = false;  // 8-bit processed frames (a UVC camera) instead of linear 16-bit ones
 };
 
 class FakeLiveCamera : public hal::Camera {
@@ -174,6 +175,12 @@ class FakeLiveCamera : public hal::Camera {
     frame.encoding = PixelEncoding::Linear16;
     frame.image = {32, 24, 3, 16,
                    std::vector<std::uint16_t>(32 * 24 * 3, std::uint16_t(level * 65535.0))};
+    if (log_->eightBit) {
+      frame.encoding = PixelEncoding::Srgb8;
+      frame.image = {32, 24, 3, 8,
+                     std::vector<std::uint16_t>(
+                         32 * 24 * 3, std::uint16_t(std::lround(ToneCurve::srgb().encode(level) * 255)))};
+    }
     const std::int64_t timestampUs = nextDueUs_;
     nextDueUs_ += kPeriodUs;
     armReady();
@@ -242,6 +249,19 @@ class DaemonOnFileCamera : public ::testing::Test {
         if (texture->failToOpen) throw io::IoError(*texture->failToOpen);
         return std::make_unique<FakeTextureSink>(texture);
       };
+    if (bracketing_) {
+      // The daemon's bracket seams, as slicecapd sets them: a 32 x 24 camera over the default
+      // target (which the grey frames do not show).
+      parts.bracketSubjectFor = [](const SliceId&) {
+        vision::CameraModel camera = vision::defaultSimulatedCamera();
+        camera.intrinsics = {32, 24, 30.0, 30.0, 15.5, 11.5};
+        return BracketSubject{vision::defaultTarget(), camera};
+      };
+      parts.newDecodingFrameProcessor = [](const SliceId&, capture::FrameObserver,
+                                           const std::optional<ToneCurve>&) {
+        return standInPipeline();
+      };
+    }
     parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };
     parts.clientLimits.socketGroup = socketGroup_;
     listening_.emplace(ListenSpec{socket_, 0600, std::nullopt, {}});
@@ -308,6 +328,7 @@ class DaemonOnFileCamera : public ::testing::Test {
   hal::SteadyClock clock_;
   std::optional<double> configuredExposureUs_;
   std::shared_ptr<LiveCameraLog> liveCamera_;  // set: a live camera instead of the recording
+  bool bracketing_ = false;  // set the daemon's bracket seams
   std::shared_ptr<hal::Camera> liveCameraDevice_;
   test::SocketDir socketDir_;  // the socket path must fit sun_path
   std::filesystem::path dir_, socket_, ledLog_;
@@ -438,6 +459,49 @@ TEST_F(DaemonOnFileCamera, ALiveCameraIsMeteredWithTheLedOnThenLockedForTheSweep
   EXPECT_FALSE(leds.back().on);
   const auto offs = std::count_if(leds.begin(), leds.end(), [](const auto& e) { return !e.on; });
   EXPECT_LE(offs, samples + 2);
+}
+
+TEST_F(DaemonOnFileCamera, ALinearLiveCameraTakesNoBracketAndTheSessionSaysItsDecoding) {
+  liveCamera_ = std::make_shared<LiveCameraLog>();
+  bracketing_ = true;
+  start();
+  const json status = sweepUntilPaused();
+  ASSERT_TRUE(status.contains("decoding")) << status.dump();
+  EXPECT_EQ(status["decoding"]["decoding"], "linear");
+  EXPECT_FALSE(status.contains("warnings")) << status.dump();
+  // Only the metering locked: its last lock is the sweep's (no bracket of x1/32 .. x4 after it).
+  const auto& locks = liveCamera_->locks;
+  ASSERT_GE(locks.size(), 2u);
+  EXPECT_GT(locks.back().exposureUs, 15'000.0);
+  const json recorded = json::parse(std::ifstream(
+      dir_ / "storage" / status["session"]["id"].get<std::string>() / "decoding" / "axial-30-30.json"));
+  EXPECT_EQ(recorded["decoding"], "linear");
+  EXPECT_EQ(recorded["camera"], "fake-live");
+}
+
+TEST_F(DaemonOnFileCamera, ABracketWithoutTheTargetFallsBackToSrgbAndEveryStatusSaysSo) {
+  liveCamera_ = std::make_shared<LiveCameraLog>();
+  liveCamera_->eightBit = true;
+  liveCamera_->frames = 120;  // the metering, 9 bracket locks two frames late each, then samples
+  bracketing_ = true;
+  testing::internal::CaptureStderr();
+  start();
+  const json status = sweepUntilPaused();
+  const std::string log = testing::internal::GetCapturedStderr();
+  ASSERT_TRUE(status.contains("decoding")) << status.dump();
+  EXPECT_EQ(status["decoding"]["decoding"], "srgb");
+  ASSERT_TRUE(status.contains("warnings")) << status.dump();
+  const std::string warning = status["warnings"].dump();
+  EXPECT_THAT(warning, HasSubstr("fake-live"));
+  EXPECT_THAT(warning, HasSubstr("the target was not found"));
+  EXPECT_THAT(warning, HasSubstr("decodes its 8-bit frames as sRGB"));
+  EXPECT_THAT(log, HasSubstr("decoding srgb"));
+  // The bracket ran after the metering (its x1/32 step) and the sweep went on at the metered
+  // exposure, with samples.
+  const auto& locks = liveCamera_->locks;
+  ASSERT_GE(locks.size(), 10u);
+  EXPECT_DOUBLE_EQ(locks.back().exposureUs, locks[locks.size() - 10].exposureUs);
+  EXPECT_GT(status["sweep"]["samples"].get<int>(), 0);
 }
 
 TEST_F(DaemonOnFileCamera, AMeteringAtTheCamerasExposureLimitSaysItIsOffTheTarget) {

@@ -94,6 +94,36 @@ TEST(FrameRecorder, AContinuedSweepAppendsWithIncreasingTimestamps) {
   EXPECT_EQ(written.frames[5].timestampUs, 2000 + 33333 + 2000);
 }
 
+// The sweep run's decoding goes into recording.json; a continued sweep whose new bracket measured
+// another curve cannot add its frames to the same recording: the recording stops, saying why.
+TEST(FrameRecorder, RecordsTheSweepsDecodingAndRefusesToMixTwoCurves) {
+  const auto dir = test::freshTempDir() / "rec";
+  io::RecordedDecoding measured{io::RecordedDecoding::Kind::MeasuredCurve,
+                                ToneCurve("measured", {{0.0, 0.0}, {0.2, 0.5}, {1.0, 1.0}})};
+  {
+    FrameRecorder recorder(dir, smallHeader(), 16);
+    recorder.setDecoding(measured);
+    ASSERT_TRUE(recorder.offer(smallFrame(1000, true)));
+  }
+  const io::Recording written = io::readRecording(dir);
+  ASSERT_TRUE(written.decoding);
+  EXPECT_EQ(*written.decoding, measured);
+  {
+    FrameRecorder recorder(dir, smallHeader(), 16);
+    recorder.setDecoding(measured);  // the same curve (a continued run without a new bracket)
+    ASSERT_TRUE(recorder.offer(smallFrame(2000, false)));
+  }
+  EXPECT_EQ(io::readRecording(dir).frames.size(), 2u);
+  FrameRecorder recorder(dir, smallHeader(), 16);
+  recorder.setDecoding({io::RecordedDecoding::Kind::MeasuredCurve,
+                        ToneCurve("measured", {{0.0, 0.0}, {0.3, 0.5}, {1.0, 1.0}})});
+  ASSERT_TRUE(recorder.offer(smallFrame(3000, true)));
+  while (!recorder.idle()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  EXPECT_NE(recorder.status().error.find("one recording cannot hold both"), std::string::npos)
+      << recorder.status().error;
+  EXPECT_EQ(io::readRecording(dir).frames.size(), 2u);  // nothing recorded before is lost
+}
+
 // The daemon records a simulated sweep played by the file camera through the real pipeline.
 class DaemonRecordingFrames : public ::testing::Test {
  protected:

@@ -53,6 +53,8 @@ struct Harness {
   capture::RowSpan rows{240, 480};
   double processingUs = 9000.0, slowUs = 70000.0;
   int slowEvery = 11;
+  // Spoils each frame's metadata before the strobe sees it (a camera that stamps nothing).
+  std::function<void(hal::FrameMetadata&)> spoil;
 
   struct Tally {
     int frames = 0, clean = 0, mislabelled = 0;
@@ -110,7 +112,8 @@ struct Harness {
         continue;
       }
       hal::Frame& frame = *result.frame;
-      strobe.label(frame);
+      if (spoil) spoil(frame.metadata);
+      strobe.label(frame, clock.nowUs());
       judge(frame, tally);
       process(index++);
       if (!pending) pending = strobe.plan(clock.nowUs() + 1000);  // as the daemon: kept once planned
@@ -176,6 +179,44 @@ TEST(LedStrobe, ACameraThatDoesNotSayItsExposureIsJudgedConservativelyAndSaysSo)
   EXPECT_NE(tally.warning.find("model:flat"), std::string::npos) << tally.warning;
 }
 
+// A camera whose frames carry no timestamp (0) or the same one over and over: the strobe says so,
+// naming the camera, times frames by their arrival with a wide window and longer LED blocks, and
+// still never mislabels a frame.
+TEST(LedStrobe, ACameraWithoutTimestampsFallsBackToArrivalTimesAndSaysSo) {
+  for (const std::int64_t stamp : {std::int64_t(0), std::int64_t(123456)}) {
+    SCOPED_TRACE(stamp);
+    Harness harness({}, 8000.0);
+    harness.spoil = [stamp](hal::FrameMetadata& m) {
+      m.timestampUs = stamp;
+      m.exposureStartUs.reset();
+    };
+    const Harness::Tally tally = harness.runStrobe({}, 240);
+    EXPECT_EQ(tally.mislabelled, 0);
+    EXPECT_GT(tally.clean, 0.3 * tally.frames) << tally.clean << " of " << tally.frames;
+    EXPECT_LT(tally.clean, tally.frames);
+    EXPECT_NE(tally.warning.find("model:flat reports no usable frame timestamps"), std::string::npos)
+        << tally.warning;
+    EXPECT_NE(tally.warning.find("holds each state for 12 frames"), std::string::npos) << tally.warning;
+  }
+}
+
+TEST(LedStrobe, UntimedFramesGetIncreasingArrivalTimestamps) {
+  Harness harness({}, 8000.0);
+  LedStrobe strobe({}, *harness.led, harness.commanded, "cam");
+  std::int64_t previous = 0;
+  for (int i = 0; i < 10; ++i) {
+    hal::CaptureResult result = harness.camera->nextFrame(std::chrono::milliseconds(1000));
+    ASSERT_EQ(result.status, hal::CaptureResult::Status::Frame);
+    result.frame->metadata.timestampUs = 0;
+    strobe.label(*result.frame, harness.clock.nowUs());
+    EXPECT_GT(result.frame->metadata.timestampUs, previous);
+    EXPECT_LE(result.frame->metadata.timestampUs, harness.clock.nowUs());
+    previous = result.frame->metadata.timestampUs;
+  }
+  EXPECT_TRUE(strobe.untimed());
+  EXPECT_EQ(strobe.pattern(), "12 on, 12 off");
+}
+
 TEST(LedStrobe, CountsDroppedFramesFromSequenceGaps) {
   Harness harness({}, 8000.0);
   harness.slowUs = 250000.0;  // a stall longer than four frames' buffers
@@ -184,7 +225,7 @@ TEST(LedStrobe, CountsDroppedFramesFromSequenceGaps) {
   for (int i = 0; i < 60; ++i) {
     hal::CaptureResult result = harness.camera->nextFrame(std::chrono::milliseconds(1000));
     ASSERT_EQ(result.status, hal::CaptureResult::Status::Frame);
-    strobe.label(*result.frame);
+    strobe.label(*result.frame, harness.clock.nowUs());
     harness.process(i);
   }
   EXPECT_EQ(strobe.stats().framesDropped, harness.camera->framesDropped());
@@ -199,7 +240,7 @@ TEST(LedStrobe, PlansASwitchEvenWhenTheLatestFrameIsLongPast) {
   for (int i = 0; i < 3; ++i) {
     hal::CaptureResult result = harness.camera->nextFrame(std::chrono::milliseconds(1000));
     ASSERT_EQ(result.status, hal::CaptureResult::Status::Frame);
-    strobe.label(*result.frame);
+    strobe.label(*result.frame, harness.clock.nowUs());
   }
   const std::int64_t laterUs = harness.clock.nowUs() + 5'000'000;
   const std::optional<PlannedSwitch> planned = strobe.plan(laterUs);

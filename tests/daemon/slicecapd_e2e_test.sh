@@ -119,6 +119,20 @@ switches=$(grep -c . "$work/led.log")
 recording=$work/storage-model/model/recordings/diagonal-30-30
 grep -q '"led_exposure"' "$recording/recording.json" ||
   fail "the camera model's recording keeps no LED exposure"
+# The sweep's decoding (docs/linear-light.md): said by the status and the session; with a measured
+# curve, the recording decodes through it and the bracket frames are kept beside it.
+grep -q '"decoding":{"decoding":"' <<<"$status" || fail "the status does not say the sweep's decoding: $status"
+decoding_file=$work/storage-model/model/decoding/diagonal-30-30.json
+[[ -f $decoding_file ]] || fail "the session does not record the sweep's decoding ($decoding_file)"
+if grep -q '"decoding": *"measured-curve"' "$decoding_file"; then
+  grep -q '"decoding": *"measured-curve"' "$recording/recording.json" ||
+    fail "the sweep decoded through a measured curve but its recording does not say so"
+  bracket=$work/storage-model/model/brackets/diagonal-30-30/run-1/recording.json
+  for _ in $(seq 1 100); do [[ -f $bracket ]] && grep -q '"frame-00007.png"' "$bracket" && break; sleep 0.1; done
+  grep -q '"frame-00007.png"' "$bracket" 2>/dev/null || fail "the bracket's 8 frames are not kept in $bracket"
+else
+  grep -q '"warning"' "$decoding_file" || fail "the sweep fell back to sRGB without a warning: $(cat "$decoding_file")"
+fi
 "$slicecap" process "$recording" -o "$work/model-slices.csv" >"$work/model-process.log" 2>&1 ||
   fail "slicecap process on the camera model's recording failed: $(tail -3 "$work/model-process.log")"
 stop_daemon

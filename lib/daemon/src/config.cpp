@@ -1,5 +1,6 @@
 // Parsing and checking slicecapd.conf.
 #include "slicecap/daemon/config.hpp"
+#include "slicecap/daemon/sweep_decoding.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -89,6 +90,11 @@ const std::map<std::string, Setter>& setters() {
        [](DaemonConfig& c, const std::string& v) {
          c.readoutUs = v.empty() ? std::nullopt
                                  : std::optional(positiveNumber(v, "a positive readout time in us"));
+       }},
+      {"decoding",
+       [](DaemonConfig& c, const std::string& v) {
+         decodingModeFromString(v);  // throws naming the value
+         c.decoding = v;
        }},
       {"model_material", [](DaemonConfig& c, const std::string& v) { c.modelMaterial = v; }},
       {"model_rig",
@@ -224,6 +230,15 @@ calibration =
 # measures it). Empty: the camera's line time where it reports one, else a whole frame period
 # (safe, but it rejects more frames as led_transition).
 readout_us =
+# How 8-bit frames become linear light. auto: at each sweep start, right after the metering and
+# with the LED on, a bracket of 8 exposures (x1/32 .. x4, about a second) of the target's white and
+# black references measures the camera's response curve, and every frame of the sweep is decoded
+# through it; a camera delivering linear 16-bit frames needs none. Hold the target still and in
+# view meanwhile. A bracket that cannot be fitted (target not in view, clipping, a camera that
+# cannot lock or report its exposure) falls back to sRGB, with a warning in `slicecap status`
+# naming the camera. measured-curve: the same. srgb: no bracket; frames decoded as sRGB (only for
+# a camera known to encode sRGB).
+decoding = auto
 
 # With camera = model: the material (any `slicecap simulate --material`), the rig (realistic:
 # hand-held jitter, blur, occlusion, room light; ideal: none), seconds per sweep, the positions the

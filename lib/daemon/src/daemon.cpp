@@ -19,6 +19,7 @@
 #include "slicecap/hal/led_timeline.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/journal.hpp"
+#include "slicecap/io/target_json.hpp"
 
 namespace slicecap::daemon {
 
@@ -78,6 +79,15 @@ struct Daemon::State {
   std::optional<StrobeStats> strobeStats;
   std::string strobePattern;
 
+  // The sweep run's decoding (issue 27 item 2): decided on the first frame after the metering,
+  // after a response bracket where one is taken (the LED stays on, no frame is processed).
+  std::uint32_t locksAccepted = 0;  // the camera's locks since it started
+  std::optional<hal::ExposureSetting> lockedSetting;  // the sweep's exposure, once known
+  std::optional<ResponseBracket> bracket;
+  std::optional<SweepDecoding> decoding;
+  std::string decodingWarning;  // shown by every status until the next sweep start
+  capture::FrameObserver observer;
+
   explicit State(DaemonParts p)
       : parts(std::move(p)),
         clock(parts.clock ? *parts.clock : steadyClock),
@@ -107,7 +117,10 @@ struct Daemon::State {
     if (switchTimer) loop.cancelTimer(*switchTimer);
     switchTimer.reset();
     scheduledSwitch.reset();
-    if (strobeRun) strobeStats = strobeRun->stats();
+    if (strobeRun) {
+      strobeStats = strobeRun->stats();
+      strobePattern = strobeRun->pattern();  // the untimed mode lengthens it
+    }
     strobeRun.reset();
   }
 
@@ -122,6 +135,7 @@ struct Daemon::State {
     // A metering cut short locked nothing final: its "metering ..." line would outlive it.
     if (meter) exposureNote.clear();
     meter.reset();
+    bracket.reset();
     cameraSlice.reset();
     processor = nullptr;
     ledOff();
@@ -162,6 +176,13 @@ struct Daemon::State {
     meter.reset();
     exposureNote.clear();
     exposureUnlocked = false;
+    bracket.reset();
+    decoding.reset();
+    decodingWarning.clear();
+    locksAccepted = 0;
+    lockedSetting.reset();
+    if (parts.cameraConfig.exposureUs)
+      lockedSetting = hal::ExposureSetting{*parts.cameraConfig.exposureUs, parts.cameraConfig.gain};
     std::shared_ptr<hal::Camera> opened;
     try {
       opened = parts.cameraFor(slice);
@@ -209,7 +230,7 @@ struct Daemon::State {
     }
     camera = std::move(opened);
     cameraSlice = slice;
-    capture::FrameObserver observer;
+    observer = nullptr;
     if (parts.newTextureSink)
       observer = [this](const hal::Frame& frame, const capture::FrameOutcome& outcome,
                         const std::vector<capture::AmbientTerm>& ambient) {
@@ -222,7 +243,7 @@ struct Daemon::State {
           textureError = std::string("texture capture error: ") + error.what();
         }
       };
-    processor = parts.newFrameProcessor(slice, std::move(observer));
+    processor = parts.newFrameProcessor(slice, observer);
     if (const std::optional<int> fd = camera->readyDescriptor()) {
       watchedFd = *fd;
       loop.watch(*fd, EPOLLIN, [this](std::uint32_t) { pumpFrame(); });
@@ -241,6 +262,7 @@ struct Daemon::State {
       return;
     }
     metering.accepted(*lock.locked);
+    ++locksAccepted;
     meter = metering;
     exposureNote = "metering the exposure with the LED on";
     parts.led->set(true);
@@ -262,6 +284,7 @@ struct Daemon::State {
       const hal::ExposureLock lock = camera->lockExposure(step.setting);
       if (lock.locked) {
         meter->accepted(*lock.locked);
+        ++locksAccepted;
       } else {
         // The setting accepted before stays fixed (a source that refuses part of a lock puts
         // back what it had): the metering ends there, on the next frame.
@@ -270,8 +293,112 @@ struct Daemon::State {
     } else if (step.kind == ExposureMeter::Step::Kind::Done) {
       exposureNote = "camera " + camera->id() + ": " + meter->summary();
       std::cerr << "slicecapd: " << exposureNote << "\n";
+      lockedSetting = step.setting;
       meter.reset();
     }
+  }
+
+  /// The first frame after the metering: the sweep's decoding without a bracket (a linear
+  /// stream, decoding = srgb, a camera that cannot take one), or the bracket's first lock.
+  void decideDecoding(const hal::Frame& frame) {
+    const std::string id = camera->id();
+    if (frame.encoding == PixelEncoding::Linear16 || parts.decoding == DecodingMode::Srgb)
+      return applyDecoding(decodingWithoutBracket(frame.encoding, parts.decoding, id, ""));
+    const auto fallBack = [&](const std::string& why) {
+      applyDecoding(decodingWithoutBracket(frame.encoding, parts.decoding, id, why));
+    };
+    if (!parts.bracketSubjectFor || !parts.newDecodingFrameProcessor)
+      return fallBack("this daemon was started without the target and pipeline a response "
+                      "bracket needs (decoding = " + toString(parts.decoding) + ")");
+    if (exposureUnlocked || !lockedSetting)
+      return fallBack("no response bracket: its exposure is not locked (" + exposureNote +
+                      "); set exposure_us and gain, or decoding = srgb");
+    bracket.emplace(*lockedSetting, locksAccepted, capture::BracketPlan{},
+                    parts.exposureMeter.maxExposureUs);
+    const hal::ExposureLock lock = camera->lockExposure(bracket->firstSetting());
+    if (!lock.locked) {
+      bracket->refused(lock.reason);
+      return finishBracket();
+    }
+    bracket->accepted();
+    ++locksAccepted;
+    parts.led->set(true);
+  }
+
+  /// One frame of the bracket: kept or skipped, never processed; the LED stays on.
+  void bracketFrame(const hal::Frame& frame) {
+    parts.led->set(true);
+    const ResponseBracket::Step step = bracket->onFrame(frame);
+    if (step.kind == ResponseBracket::Step::Kind::Lock) {
+      const hal::ExposureLock lock = camera->lockExposure(step.setting);
+      if (!lock.locked) {
+        bracket->refused(lock.reason);
+      } else {
+        bracket->accepted();
+        ++locksAccepted;
+      }
+    } else if (step.kind == ResponseBracket::Step::Kind::Done) {
+      finishBracket();
+    }
+  }
+
+  void finishBracket() {
+    ResponseBracket done = std::move(*bracket);
+    bracket.reset();
+    // The fit reads the frames' poses and codes: about a second on a Pi, once a sweep run.
+    applyDecoding(decodingFromBracket(std::move(done.frames()), done.failure(),
+                                      parts.bracketSubjectFor(*cameraSlice), camera->id()));
+  }
+
+  /// The sweep run's decoding: the pipeline reads through it, the status and the session say it,
+  /// the recording records it (with the bracket frames, under record_frames).
+  void applyDecoding(SweepDecoding decided) {
+    const std::string id = camera->id();
+    std::cerr << "slicecapd: camera " << id << ": decoding " << io::toString(decided.decoding.kind)
+              << ": " << decided.note << "\n";
+    if (!decided.warning.empty()) std::cerr << "slicecapd: " << decided.warning << "\n";
+    decodingWarning = decided.warning;
+    if (decided.decoding.kind == io::RecordedDecoding::Kind::MeasuredCurve)
+      processor = parts.newDecodingFrameProcessor(*cameraSlice, observer, decided.decoding.curve);
+    if (const std::optional<std::filesystem::path> session = manager.sessionDirectory()) {
+      try {
+        std::filesystem::create_directories(*session / kDecodingFolder);
+        io::writeJsonFileAtomically(*session / kDecodingFolder / (folderName(*cameraSlice) + ".json"),
+                                    toJson(decided, id));
+      } catch (const std::exception& error) {
+        // The sweep goes on (its samples are what matters); the status shows why it is unrecorded.
+        decodingWarning += std::string(decodingWarning.empty() ? "" : "; ") +
+                           "the sweep's decoding could not be recorded in the session: " + error.what();
+      }
+    }
+    if (recorder) recorder->setDecoding(decided.decoding);
+    recordBracket(decided);
+    decided.bracketFrames.clear();
+    decoding = std::move(decided);
+  }
+
+  /// record_frames: the bracket as a recording of its own (no slice; LED on; the fit's decoding),
+  /// <session>/brackets/<slice>/run-N, so the fit can be redone on a desktop.
+  void recordBracket(SweepDecoding& decided) {
+    if (decided.bracketFrames.empty() || !parts.recordingHeaderFor) return;
+    const std::optional<std::filesystem::path> session = manager.sessionDirectory();
+    if (!session) return;
+    const std::filesystem::path folder = *session / kBracketFolder / folderName(*cameraSlice);
+    std::filesystem::path directory;
+    for (int run = 1;; ++run) {
+      directory = folder / ("run-" + std::to_string(run));
+      std::error_code ignored;
+      if (!std::filesystem::exists(directory, ignored)) break;
+    }
+    io::Recording header = parts.recordingHeaderFor(*cameraSlice);
+    header.slice.reset();
+    header.createdBy += " (response bracket)";
+    header.decoding = decided.decoding;
+    auto writer = std::make_unique<FrameRecorder>(directory, std::move(header),
+                                                  decided.bracketFrames.size());
+    writer->setDecoding(decided.decoding);
+    for (hal::Frame& frame : decided.bracketFrames) writer->offer(std::move(frame));
+    retiredRecorders.push_back(std::move(writer));  // writes on its thread, then is dropped
   }
 
   /// Brings the devices in line with the session state after anything that may change it.
@@ -366,6 +493,18 @@ struct Daemon::State {
       }
       return;
     }
+    if (camera->readyDescriptor()) {
+      if (!decoding && !bracket) decideDecoding(frame);
+      if (bracket) {
+        try {
+          bracketFrame(frame);
+        } catch (const std::exception& error) {
+          manager.pauseSweep(std::string("response bracket: ") + error.what());
+          reconcile();
+        }
+        return;
+      }
+    }
     strobe(frame);
     capture::FrameOutcome outcome;
     try {
@@ -410,7 +549,7 @@ struct Daemon::State {
       strobePattern = strobeRun->pattern();
       parts.led->set(true);  // each block starts lit; the metering may have left it so already
     }
-    strobeRun->label(frame);
+    strobeRun->label(frame, clock.nowUs());
     // What no frame can still need: a few seconds are plenty for any queue of frames.
     commanded->forgetBefore(clock.nowUs() - 5'000'000);
   }
@@ -523,11 +662,18 @@ struct Daemon::State {
         json["camera_frames"] = {
             {"delivered", shown->framesDelivered},
             {"dropped", shown->framesDropped},
-            {"led_pattern", strobePattern},
+            {"led_pattern", strobeRun ? strobeRun->pattern() : strobePattern},
             {"led_clean_fraction", judged > 0 ? double(shown->framesClean) / judged : 0.0},
             {"timing", shown->timing}};
         if (!shown->warning.empty()) warnings.push_back(shown->warning);
       }
+      if (decoding)
+        json["decoding"] = {{"decoding", io::toString(decoding->decoding.kind)},
+                            {"note", decoding->note}};
+      else if (bracket)
+        json["decoding"] = {{"decoding", "measuring"},
+                            {"note", "taking the response bracket with the LED on"}};
+      if (!decodingWarning.empty()) warnings.push_back(decodingWarning);
       if (!warnings.empty()) json["warnings"] = warnings;
     }
     reconcile();

@@ -23,6 +23,7 @@ struct FrameRecorder::State {
   bool closing = false;
   std::size_t written = 0, dropped = 0;
   std::string error;
+  std::optional<io::RecordedDecoding> decoding;  // set by the loop before the run's first frame
 
   // Writer thread only.
   std::optional<io::RecordingWriter> writer;
@@ -30,14 +31,30 @@ struct FrameRecorder::State {
   std::thread thread;
 
   void open(const hal::Frame& first) {
+    std::optional<io::RecordedDecoding> wanted;
+    {
+      std::lock_guard lock(mutex);
+      wanted = decoding;
+    }
     if (std::filesystem::exists(directory / io::kRecordingManifest)) {
       writer.emplace(io::RecordingWriter::resume(directory));
-      if (writer->recording().encoding != first.encoding)
+      const io::Recording& held = writer->recording();
+      if (held.encoding != first.encoding)
         throw std::invalid_argument(
-            directory.string() + " holds " + std::string(toString(writer->recording().encoding)) +
+            directory.string() + " holds " + std::string(toString(held.encoding)) +
             " frames; the camera now delivers " + std::string(toString(first.encoding)));
+      const io::RecordedDecoding heldDecoding =
+          held.decoding.value_or(io::RecordedDecoding::defaultFor(held.encoding));
+      if (wanted && !(*wanted == heldDecoding))
+        throw std::invalid_argument(
+            directory.string() + " holds frames decoded as " + io::toString(heldDecoding.kind) +
+            (heldDecoding.curve ? " (an earlier bracket's curve)" : "") + "; this sweep run decodes as " +
+            io::toString(wanted->kind) +
+            (wanted->curve ? " (its own bracket's curve)" : "") +
+            ": one recording cannot hold both (redo the sweep to record it whole)");
     } else {
       header.encoding = first.encoding;
+      if (wanted) header.decoding = wanted;
       writer.emplace(directory, header);
     }
     std::lock_guard lock(mutex);
@@ -116,6 +133,11 @@ bool FrameRecorder::offer(hal::Frame&& frame) {
   }
   state_->wake.notify_one();
   return true;
+}
+
+void FrameRecorder::setDecoding(const io::RecordedDecoding& decoding) {
+  std::lock_guard lock(state_->mutex);
+  state_->decoding = decoding;
 }
 
 RecorderStatus FrameRecorder::status() const {

@@ -33,14 +33,18 @@ LedStrobe::LedStrobe(StrobeSettings settings, hal::Led& led,
       commanded_(std::move(commanded)),
       cameraId_(std::move(cameraId)) {}
 
+int LedStrobe::framesPerState() const {
+  return untimed_ ? std::max(settings_.framesPerState, kUntimedFramesPerState) : settings_.framesPerState;
+}
+
 bool LedStrobe::desiredOn(std::uint64_t sequence) const {
   if (!settings_.alternate) return true;
-  return (sequence / static_cast<std::uint64_t>(settings_.framesPerState)) % 2 == 0;
+  return (sequence / static_cast<std::uint64_t>(framesPerState())) % 2 == 0;
 }
 
 std::string LedStrobe::pattern() const {
   if (!settings_.alternate) return "on";
-  const std::string n = std::to_string(settings_.framesPerState);
+  const std::string n = std::to_string(framesPerState());
   return n + " on, " + n + " off";
 }
 
@@ -50,15 +54,51 @@ double LedStrobe::lineTimeUs(const hal::Frame& frame) const {
   return settings_.readoutUs.value_or(periodUs_.value_or(kAssumedPeriodUs)) / height;
 }
 
-void LedStrobe::label(hal::Frame& frame) {
-  const hal::FrameMetadata& m = frame.metadata;
+void LedStrobe::label(hal::Frame& frame, std::int64_t arrivalUs) {
+  hal::FrameMetadata& m = frame.metadata;
+  // A timestamp of 0 (a driver that stamps nothing) or one that does not increase cannot place
+  // the frame against the LED's timeline; nor can any later one of this camera be trusted.
+  // So is one far from the frame's arrival on the LED's clock (the camera's clock is another, or
+  // its stamp garbage): a frame reaches the daemon after its exposure, and a few buffers' worth,
+  // or a stall of the loop, later at most (the LED's timeline is kept 5 s).
+  constexpr std::int64_t kEarliestStampUs = 5'000'000, kLatestStampUs = 1'000;
+  if (!untimed_ &&
+      (m.timestampUs <= 0 || (lastTimestampUs_ && m.timestampUs <= *lastTimestampUs_) ||
+       m.timestampUs > arrivalUs + kLatestStampUs || m.timestampUs < arrivalUs - kEarliestStampUs)) {
+    untimed_ = true;
+    recentStarts_.clear();
+    periodUs_.reset();
+  }
+  lastTimestampUs_ = m.timestampUs;
+  if (untimed_) {
+    // Downstream (samples, room-light terms, record_frames) needs increasing times on the LED's
+    // clock: the arrival is the only one there is.
+    m.timestampUs = std::max(arrivalUs, untimedLastUs_ + 1);
+    untimedLastUs_ = m.timestampUs;
+    m.exposureStartUs.reset();
+  }
   ++stats_.framesDelivered;
   if (last_ && m.sequence > last_->sequence + 1) stats_.framesDropped += m.sequence - last_->sequence - 1;
   const double period = periodUs_.value_or(kAssumedPeriodUs);
   Timing timing;
   timing.sequence = m.sequence;
   timing.heightPx = frame.image.height;
-  if (m.exposureStartUs && m.exposureUs > 0) {
+  if (untimed_) {
+    timing.row0StartUs = m.timestampUs - static_cast<std::int64_t>(kUntimedWindowPeriods * period);
+    timing.exposureUs = kUntimedWindowPeriods * period;
+    timing.lineTimeUs = 0.0;
+    stats_.timing = "timestamps unusable: a frame counts as exposed during the " +
+                    std::to_string(kUntimedWindowPeriods) +
+                    " frame periods before it reached the daemon";
+    stats_.warning =
+        "camera " + cameraId_ + " reports no usable frame timestamps (0, not increasing, or not on the LED's clock): frames " +
+        "are timed by their arrival, each judged exposed during the " +
+        std::to_string(kUntimedWindowPeriods) + " frame periods before it, and the LED holds each " +
+        "state for " + std::to_string(framesPerState()) +
+        " frames (fewer frames are clean, rejected as led_transition). Use a driver or camera that "
+        "stamps its frames (libcamera's SensorTimestamp, V4L2 buffer timestamps); a larger "
+        "led_frames_per_state keeps more frames";
+  } else if (m.exposureStartUs && m.exposureUs > 0) {
     timing.row0StartUs = *m.exposureStartUs;
     timing.exposureUs = m.exposureUs;
     timing.lineTimeUs = lineTimeUs(frame);

@@ -41,6 +41,9 @@ struct DaemonConfig {
   /// readout_us: the sensor's top-to-bottom readout time (slicecapd --check-hardware measures
   /// it); empty: the camera's line time where it says it, else a whole frame period.
   std::optional<double> readoutUs;
+  /// decoding = auto | measured-curve | srgb: how 8-bit live frames become linear light
+  /// (daemon::DecodingMode; docs/linear-light.md "In the daemon").
+  std::string decoding = "auto";
 
   // camera = model: the virtual rig in front of a camera model that behaves like a Pi camera
   // (hal::ModelCamera): a material, the rig's imperfections, the sweep's pace, the ISP's curve.

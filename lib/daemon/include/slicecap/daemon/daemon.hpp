@@ -12,6 +12,7 @@
 #include "slicecap/daemon/exposure_meter.hpp"
 #include "slicecap/daemon/led_strobe.hpp"
 #include "slicecap/daemon/session_manager.hpp"
+#include "slicecap/daemon/sweep_decoding.hpp"
 #include "slicecap/daemon/texture_sink.hpp"
 #include "slicecap/hal/camera.hpp"
 #include "slicecap/hal/clock.hpp"
@@ -46,6 +47,18 @@ struct DaemonParts {
   /// frames; the file camera's recordings may each have their own camera and target). The
   /// processor calls the observer (when set: texture capture) for every frame it processes.
   std::function<capture::FrameProcessor(const SliceId&, capture::FrameObserver)> newFrameProcessor;
+  /// slicecapd.conf `decoding` (docs/linear-light.md): how a live camera's 8-bit frames become
+  /// linear light. Auto and measured-curve take a response bracket after the metering, when the
+  /// two seams below are set; without them (or when the bracket cannot be fitted) the sweep
+  /// decodes as sRGB and every status says so, naming the camera.
+  DecodingMode decoding = DecodingMode::Auto;
+  /// The target and camera model a slice's bracket is fitted against. Empty: no bracket.
+  std::function<BracketSubject(const SliceId&)> bracketSubjectFor;
+  /// A sweep's pipeline decoding 8-bit frames through `curve` (nullopt: sRGB), called once the
+  /// sweep's decoding is known (PipelineSettings::toneCurve). Empty: no bracket.
+  std::function<capture::FrameProcessor(const SliceId&, capture::FrameObserver,
+                                        const std::optional<ToneCurve>& curve)>
+      newDecodingFrameProcessor;
   /// Texture capture (texture_resolution): the texture of a slice's sweep, stored in
   /// <session>/texture (kTextureFolder). Throws (std::exception with a message) when it cannot
   /// be opened, e.g. the session's texture has another resolution; the sweep then pauses. Empty:

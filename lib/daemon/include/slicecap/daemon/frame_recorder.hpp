@@ -42,6 +42,11 @@ class FrameRecorder {
   /// \brief Never blocks: queues the frame (taking its pixels) if there is room and the recording
   /// has not stopped; otherwise counts it dropped (when full) and returns false.
   bool offer(hal::Frame&& frame);
+  /// \brief How this sweep run's frames decode (issue 27: the bracket's fit, or why sRGB), for
+  /// the recording's `decoding`; call it before the run's first offer(). A recording continued
+  /// from an earlier run that decoded otherwise (every bracket fits its own curve) cannot hold
+  /// both: the recording stops with an error saying so, and the sweep goes on.
+  void setDecoding(const io::RecordedDecoding& decoding);
   RecorderStatus status() const;
   /// \brief True when nothing is queued or being written.
   bool idle() const;

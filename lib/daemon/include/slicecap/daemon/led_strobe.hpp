@@ -55,10 +55,18 @@ class LedStrobe {
   LedStrobe(StrobeSettings settings, hal::Led& led,
             std::shared_ptr<const hal::LedTimeline> commanded, std::string cameraId);
 
-  /// \brief A live frame arrived: sets its LED exposure from the timeline (when the camera says
-  /// when it was exposed, else conservatively from its timestamp) and its `ledOn` label (the
-  /// state over the latest rows of interest), and counts dropped frames.
-  void label(hal::Frame& frame);
+  /// \brief A live frame arrived (at `arrivalUs` on the camera's clock, as the daemon's clock
+  /// reads it): sets its LED exposure from the timeline (when the camera says when it was
+  /// exposed, else conservatively from its timestamp) and its `ledOn` label (the state over the
+  /// latest rows of interest), and counts dropped frames.
+  ///
+  /// A camera whose timestamps are unusable (0, not increasing, after the arrival or more than
+  /// 5 s before it) puts the strobe, for the rest
+  /// of the run, in its untimed mode: the frame's timestamp is replaced by its arrival, it counts
+  /// as exposed at any time in the kUntimedWindowPeriods frame periods before it, and the LED
+  /// holds each state for at least kUntimedFramesPerState frames; stats().warning says so,
+  /// naming the camera.
+  void label(hal::Frame& frame, std::int64_t arrivalUs);
   /// \brief The rows the pipeline read in the latest located frame (nullopt: keep the last).
   void noteRows(const std::optional<capture::RowSpan>& rows);
   /// \brief The next switch to make at or after `earliestUs` (now plus the loop's latency), from
@@ -67,12 +75,23 @@ class LedStrobe {
   /// \brief Makes a planned switch. Throws what the LED throws.
   void fire(const PlannedSwitch& planned);
 
+  /// Untimed mode: a frame may have been exposed up to this many frame periods before it reached
+  /// the daemon (exposure, a rolling readout of most of a period, the ISP's hand-off, and a few
+  /// frames queued in the camera's buffers while the loop was busy).
+  static constexpr int kUntimedWindowPeriods = 6;
+  /// Untimed mode: the LED holds each state at least this long, so about half of each block's
+  /// frames fall wholly inside it.
+  static constexpr int kUntimedFramesPerState = 12;
+
   const StrobeStats& stats() const { return stats_; }
+  /// \brief Whether the camera's timestamps were found unusable (the untimed mode).
+  bool untimed() const { return untimed_; }
   /// \brief "2 on, 2 off", or "on" without alternation.
   std::string pattern() const;
 
  private:
   bool desiredOn(std::uint64_t sequence) const;
+  int framesPerState() const;
   double lineTimeUs(const hal::Frame& frame) const;
 
   StrobeSettings settings_;
@@ -92,6 +111,9 @@ class LedStrobe {
   std::vector<std::pair<std::uint64_t, std::int64_t>> recentStarts_;  // for the frame period
   std::optional<double> periodUs_;
   std::optional<capture::RowSpan> rows_;
+  std::optional<std::int64_t> lastTimestampUs_;
+  bool untimed_ = false;
+  std::int64_t untimedLastUs_ = 0;
 };
 
 }  // namespace slicecap::daemon
