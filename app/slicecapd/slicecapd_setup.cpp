@@ -325,6 +325,21 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
     return capture::makeFramePipeline(rig.target, rig.camera, pipelineSettings,
                                       std::move(observer));
   };
+  // decoding (issue 27): a live camera's bracket is fitted against the slice's target and camera
+  // model, and the sweep's pipeline then reads 8-bit frames through the measured curve.
+  parts.decoding = daemon::decodingModeFromString(config.decoding);
+  parts.bracketSubjectFor = [rigFor](const SliceId& slice) {
+    const Rig rig = rigFor(slice);
+    return daemon::BracketSubject{rig.target, rig.camera};
+  };
+  parts.newDecodingFrameProcessor = [rigFor, pipelineSettings](
+                                        const SliceId& slice, capture::FrameObserver observer,
+                                        const std::optional<ToneCurve>& curve) {
+    const Rig rig = rigFor(slice);
+    capture::PipelineSettings settings = pipelineSettings;
+    settings.toneCurve = curve;
+    return capture::makeFramePipeline(rig.target, rig.camera, settings, std::move(observer));
+  };
   if (config.recordFrames) {
     parts.recordingHeaderFor = [rigFor, createdBy](const SliceId& slice) {
       const Rig rig = rigFor(slice);
