@@ -527,10 +527,11 @@ TEST_F(DaemonOnFileCamera, ALiveCameraThatCannotLockItsExposureIsAWarning) {
   EXPECT_FALSE(status.contains("exposure")) << "the same text once, as the warning";
   // Nothing was metered: every frame reached the strobe. Its 30 ms auto exposure leaves no gap
   // between frames for a switch, so each block's first frame is mixed and rejected: fewer than
-  // half the frames are LED-on samples (2 on, 2 off, one of each pair lost).
+  // half the frames are LED-on samples (2 on, 2 off, one of each pair lost); a switch made late
+  // on a loaded machine lengthens a block, so the bound leaves room for it.
   EXPECT_EQ(status["camera_frames"]["delivered"], liveCamera_->frames) << status.dump();
   EXPECT_GT(status["sweep"]["samples"].get<int>(), 0) << status.dump();
-  EXPECT_LE(status["sweep"]["samples"].get<int>(), liveCamera_->frames / 2) << status.dump();
+  EXPECT_LE(status["sweep"]["samples"].get<int>(), liveCamera_->frames * 3 / 4) << status.dump();
 }
 
 TEST_F(DaemonOnFileCamera, ACameraFailingDuringTheMeteringPausesTheSweep) {
@@ -605,10 +606,12 @@ TEST_F(DaemonOnFileCamera, AConfiguredExposureIsNotMetered) {
   EXPECT_FALSE(status.contains("exposure")) << status.dump();
   // Every frame reached the strobe (none was metered away). With an 8 ms exposure the frames
   // leave room for each switch, so about half are samples (2 on, 2 off); a switch the loop made
-  // late (a loaded machine) costs a frame, never a label.
+  // late (a loaded machine) costs a frame, never a label. A late switch also leaves the LED on
+  // over more frames than the block's two, which are then rightly samples: the bound is the
+  // strobe's, not the exact half (22 of 40 were seen under a load of 14 on two cores).
   EXPECT_EQ(status["camera_frames"]["delivered"], liveCamera_->frames) << status.dump();
   EXPECT_GT(status["sweep"]["samples"].get<int>(), 0) << status.dump();
-  EXPECT_LE(status["sweep"]["samples"].get<int>(), liveCamera_->frames / 2 + 1) << status.dump();
+  EXPECT_LE(status["sweep"]["samples"].get<int>(), liveCamera_->frames * 3 / 4) << status.dump();
 }
 
 TEST_F(DaemonOnFileCamera, StoppingTheDaemonMidSweepLeavesTheLedOff) {
