@@ -160,10 +160,15 @@ LedTiming measureLedTiming(CheckRig& rig, const WhiteRows& whites, const capture
       if (!seen) throw std::runtime_error(rig.camera().id() + ": no frame for a second");
       keep(std::move(*seen));
     }
-    // The switch shows in the frame aimed at unless the timestamps are off by a frame or more.
-    for (const Planned& p : planned)
+    // The frames whose rows could hold the switch (by its recorded time: a busy loop switches
+    // late), from the one whose row 0 starts a period after it to two before; a switch shows in
+    // the frame aimed at unless the timestamps are off by a frame or more.
+    for (const Planned& p : planned) {
+      const auto aimed = std::int64_t(std::floor(
+          (double(p.atUs) - lockedUs / 2 - row0Start(last.frame.metadata.sequence)) / framePeriodUs +
+          double(last.frame.metadata.sequence)));
       for (int shift = -1; shift <= 2; ++shift) {
-        const auto found = frames.find(p.frame + std::uint64_t(std::int64_t(shift)));
+        const auto found = frames.find(std::uint64_t(aimed + shift));
         if (found == frames.end() || !found->second.frame.metadata.exposureStartUs) continue;
         const hal::FrameMetadata& m = found->second.frame.metadata;
         const auto row = halfRow(whites.rowMeans(found->second.frame, codes), ref, p.toOn, whites);
@@ -173,6 +178,7 @@ LedTiming measureLedTiming(CheckRig& rig, const WhiteRows& whites, const capture
              shift});
         break;
       }
+    }
   };
   // A scrambled order, so that a drift over the run does not look like a slope.
   const auto scrambled = [](int count) {
