@@ -8,6 +8,9 @@
 #include <cstdio>
 
 #include "../support/bracket_rig.hpp"
+#include "../support/test_support.hpp"
+#include "slicecap/hal/file_camera.hpp"
+#include "slicecap/io/recording.hpp"
 #include "slicecap/hal/led_timeline.hpp"
 #include "slicecap/hal/model_camera.hpp"
 #include "slicecap/hwcheck/response_check.hpp"
@@ -69,10 +72,11 @@ struct ModelRig {
     model.holdSceneUntilStrobe = false;
     camera = std::make_unique<hal::ModelCamera>(std::move(scene), light, clock, model);
   }
-  HardwareReport run(HardwareCheckOptions options = {}) {
+  HardwareReport run(HardwareCheckOptions options = {}) { return runOn(*camera, options); }
+  HardwareReport runOn(hal::Camera& on, HardwareCheckOptions options = {}) {
     options.captureSeconds = 1.0;
     BackendInfo backend{{"model camera"}, Verdict::Warn, "none: the model delivers ISP output", ""};
-    return runHardwareCheck(*camera, {}, led, clock, vision::defaultTarget(),
+    return runHardwareCheck(on, {}, led, clock, vision::defaultTarget(),
                             vision::defaultSimulatedCamera(), backend, options);
   }
 };
@@ -116,6 +120,113 @@ TEST(HardwareCheck, ReportsTheModelsConfiguredTimingAndCurve) {
   EXPECT_EQ(report.configLines[0].first, "readout_us");
   EXPECT_EQ(report.configLines[1].first, "led_guard_us");
   EXPECT_FALSE(rig.led.isOn()) << "the LED is left off";
+}
+
+TEST(HardwareCheck, TargetNotInViewIsAVerdictNamingTheCamera) {
+  ModelRig rig(hal::SensorModel{}, std::make_shared<EmptyScene>());
+  const HardwareReport report = rig.run();
+  EXPECT_EQ(item(report, "frame timing").verdict, Verdict::Ok);  // still measured
+  const CheckItem& target = item(report, "target");
+  EXPECT_EQ(target.verdict, Verdict::Fail);
+  EXPECT_NE(target.finding.find("not in view of model:empty desk"), std::string::npos) << target.finding;
+  EXPECT_NE(target.advice.find("target"), std::string::npos);
+  EXPECT_EQ(item(report, "response curve").verdict, Verdict::Fail);
+  EXPECT_NE(item(report, "LED timing and readout").finding.find("target is not in view"), std::string::npos);
+  EXPECT_TRUE(report.configLines.empty()) << "nothing measured, nothing to configure";
+  EXPECT_EQ(report.overall(), Verdict::Fail);
+}
+
+// A camera whose driver fills in no timestamps (every frame at 0) nor exposure start.
+class NoTimestamps final : public hal::Camera {
+ public:
+  explicit NoTimestamps(hal::Camera& inner) : inner_(inner) {}
+  std::string id() const override { return "uvc:no-timestamps"; }
+  hal::ConfigResult configure(hal::CameraConfig& config) override { return inner_.configure(config); }
+  void start() override { inner_.start(); }
+  void stop() override { inner_.stop(); }
+  hal::CaptureResult nextFrame(std::chrono::milliseconds timeout) override {
+    hal::CaptureResult result = inner_.nextFrame(timeout);
+    if (result.frame) {
+      result.frame->metadata.timestampUs = 0;
+      result.frame->metadata.exposureStartUs.reset();
+    }
+    return result;
+  }
+  hal::ExposureLock lockExposure(const hal::ExposureSetting& wanted) override {
+    return inner_.lockExposure(wanted);
+  }
+
+ private:
+  hal::Camera& inner_;
+};
+
+TEST(HardwareCheck, ACameraWithoutTimestampsIsAVerdictSayingWhatToConfigure) {
+  ModelRig rig(hal::SensorModel{});
+  NoTimestamps camera(*rig.camera);
+  const HardwareReport report = rig.runOn(camera);
+  const CheckItem& timing = item(report, "frame timing");
+  EXPECT_EQ(timing.verdict, Verdict::Fail);
+  EXPECT_NE(timing.finding.find("uvc:no-timestamps"), std::string::npos) << timing.finding;
+  EXPECT_NE(timing.advice.find("led_frames_per_state"), std::string::npos) << timing.advice;
+  const CheckItem& led = item(report, "LED timing and readout");
+  EXPECT_EQ(led.verdict, Verdict::Fail);
+  EXPECT_NE(led.finding.find("no timestamps"), std::string::npos) << led.finding;
+  EXPECT_FALSE(report.figures.readoutUs);
+  EXPECT_TRUE(report.configLines.empty());
+}
+
+// A recording of the still target from the model camera, LED on throughout.
+std::filesystem::path modelRecording(int frames) {
+  ModelRig rig(hal::SensorModel{});
+  rig.led.set(true);
+  hal::CameraConfig config;
+  config.exposureUs = 2000.0;
+  rig.camera->configure(config);
+  rig.camera->start();
+  const auto dir = test::freshTempDir() / "still";
+  io::Recording header;
+  header.camera = vision::defaultSimulatedCamera();
+  header.target = vision::defaultTarget();
+  io::RecordingWriter writer(dir, header);
+  for (int i = 0; i < frames; ++i) {
+    hal::CaptureResult result = rig.camera->nextFrame(std::chrono::milliseconds(1000));
+    if (!result.frame) throw std::runtime_error("the model camera gave no frame");
+    const hal::FrameMetadata& m = result.frame->metadata;
+    writer.append(result.frame->image, {"", m.timestampUs, true, m.exposureUs, m.gain});
+  }
+  return dir;
+}
+
+TEST(HardwareCheck, OnTheFileCameraSaysWhatARecordingCannotAnswer) {
+  hal::FakeClock clock{1'000'000};
+  hal::FileCameraOptions options;
+  options.paced = true;
+  hal::FileCamera camera(modelRecording(50), clock, options);
+  PlainLed led;
+  HardwareCheckOptions checkOptions;
+  checkOptions.captureSeconds = 0.5;
+  checkOptions.led.referenceFrames = 2;  // a short recording
+  const BackendInfo backend{{"file camera"}, Verdict::Warn, "none: a recording", ""};
+  const HardwareReport report =
+      runHardwareCheck(camera, {}, led, clock, vision::defaultTarget(),
+                       vision::defaultSimulatedCamera(), backend, checkOptions);
+  std::printf("%s\n", report.text().c_str());
+  // What it can say: the recorded frames' timing, and where the target is.
+  EXPECT_EQ(item(report, "frame timing").verdict, Verdict::Ok);
+  ASSERT_TRUE(report.figures.framePeriodUs);
+  EXPECT_NEAR(*report.figures.framePeriodUs, 33333.0, 1.0);
+  EXPECT_EQ(item(report, "target").verdict, Verdict::Ok);
+  // What it cannot: its exposure is what was recorded, and the LED does not reach its frames.
+  const CheckItem& lock = item(report, "exposure lock");
+  EXPECT_EQ(lock.verdict, Verdict::Fail);
+  EXPECT_NE(lock.finding.find("refused"), std::string::npos) << lock.finding;
+  const CheckItem& ledItem = item(report, "LED timing and readout");
+  EXPECT_EQ(ledItem.verdict, Verdict::Fail);
+  EXPECT_NE(ledItem.finding.find("did not change when the LED switched"), std::string::npos)
+      << ledItem.finding;
+  EXPECT_NE(ledItem.advice.find("file camera"), std::string::npos) << ledItem.advice;
+  EXPECT_TRUE(report.configLines.empty());
+  EXPECT_FALSE(led.isOn());
 }
 
 }  // namespace

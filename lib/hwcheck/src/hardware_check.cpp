@@ -89,8 +89,6 @@ void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeomet
     report.items.push_back(skipped("LED timing and readout", "the frames have no timestamps"));
   } else if (!whitesPtr) {
     report.items.push_back(skipped("LED timing and readout", "the target is not in view"));
-  } else if (lock.refused) {
-    report.items.push_back(skipped("LED timing and readout", "the exposure cannot be locked"));
   } else {
     const LedTiming led = measureLedTiming(rig, *whitesPtr, codes ? *codes : capture::CodeTable::srgb(),
                                            timing.periodUs, brightExposureUs, options.led);

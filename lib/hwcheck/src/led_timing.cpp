@@ -94,13 +94,22 @@ LedTiming measureLedTiming(CheckRig& rig, const WhiteRows& whites, const capture
   LedTiming timing;
   const double exposureUs = params.exposureUs;
   const double gain = std::clamp(brightExposureUs / exposureUs, 1.0, 16.0);
-  SeenFrame last = rig.lockAndWait({exposureUs, gain});
-  if (!last.frame.metadata.exposureStartUs) {
-    timing.problem = rig.camera().id() +
-                     " does not say when its frames were exposed (no exposure start or no "
-                     "exposure time in the metadata)";
-    return timing;
+  // A camera that cannot lock (a recording) is measured at its own exposure: the references
+  // then still say whether the LED reaches its frames at all.
+  std::optional<SeenFrame> first;
+  if (rig.lock({exposureUs, gain}).locked) {
+    for (int n = 0; n < 20 && !first; ++n) {
+      std::optional<SeenFrame> seen = rig.next(std::chrono::milliseconds(1000));
+      if (!seen) throw std::runtime_error(rig.camera().id() + ": no frame for a second");
+      if (seen->frame.metadata.exposureLocks >= rig.locksMade()) first = std::move(seen);
+    }
+    if (!first)
+      throw std::runtime_error(rig.camera().id() + ": no frame taken under the exposure lock");
+  } else {
+    first = rig.next(std::chrono::milliseconds(1000));
+    if (!first) throw std::runtime_error(rig.camera().id() + ": no frame for a second");
   }
+  SeenFrame last = std::move(*first);
   const double lockedUs = last.frame.metadata.exposureUs;
   Reference ref;
   rig.setLed(true);
@@ -118,6 +127,12 @@ LedTiming measureLedTiming(CheckRig& rig, const WhiteRows& whites, const capture
   if (timing.respondingRows < 16) {
     timing.problem = "the white references did not change when the LED switched (" +
                      std::to_string(timing.respondingRows) + " rows changed by more than 5 %)";
+    return timing;
+  }
+  if (!last.frame.metadata.exposureStartUs) {
+    timing.problem = rig.camera().id() +
+                     " does not say when its frames were exposed (no exposure start or no "
+                     "exposure time in the metadata)";
     return timing;
   }
 
