@@ -82,6 +82,21 @@ hwcheck::BackendInfo describeBackend(const DaemonConfig& config) {
   return info;
 }
 
+// The camera the configuration asks for, to name it when it cannot be opened.
+std::string configuredCamera(const DaemonConfig& config) {
+  switch (config.camera) {
+    case DaemonConfig::CameraKind::Libcamera:
+      return "libcamera " + (config.cameraDevice.empty() ? std::string("(the first camera)") : config.cameraDevice);
+    case DaemonConfig::CameraKind::V4l2:
+      return "v4l2 " + (config.cameraDevice.empty() ? std::string("/dev/video0") : config.cameraDevice);
+    case DaemonConfig::CameraKind::Model:
+      return "model camera";
+    case DaemonConfig::CameraKind::File:
+      return "file camera " + config.recording.string();
+  }
+  return "camera";
+}
+
 }  // namespace
 
 int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& options,
@@ -96,6 +111,14 @@ int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& option
   // real time the check would measure the machine's load (frames dropped for want of a free
   // buffer), not the camera it models. The model runs on a simulated clock instead, which its
   // frames advance as a real camera's time would pass; every other camera on the steady clock.
+  // Refused before measuring, not after (writeConfigFile refuses again, atomically).
+  std::error_code error;
+  if (options.writeConfig && !options.overwrite && fs::exists(*options.writeConfig, error)) {
+    err << "slicecapd: " << *options.writeConfig
+        << " exists: not overwritten (pass --overwrite, or choose another file and merge its "
+           "lines into slicecapd.conf)\n";
+    return 1;
+  }
   hal::SteadyClock steadyClock;
   hal::FakeClock simulatedClock(steadyClock.nowUs());
   const bool simulated = config.camera == DaemonConfig::CameraKind::Model;
@@ -119,7 +142,7 @@ int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& option
     camera = sources.cameraFor(sources.firstSlice);
     rig = sources.rigFor(sources.firstSlice);
   } catch (const std::exception& error) {
-    report.cameraId = "(none)";
+    report.cameraId = configuredCamera(config);
     report.cameras = backend.cameras;
     report.items.push_back({"camera", hwcheck::Verdict::Fail, std::string("no camera: ") + error.what(),
                             "connect the camera and check camera and camera_device in the "
