@@ -112,8 +112,8 @@ int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& option
   // buffer), not the camera it models. The model runs on a simulated clock instead, which its
   // frames advance as a real camera's time would pass; every other camera on the steady clock.
   // Refused before measuring, not after (writeConfigFile refuses again, atomically).
-  std::error_code error;
-  if (options.writeConfig && !options.overwrite && fs::exists(*options.writeConfig, error)) {
+  std::error_code existsError;
+  if (options.writeConfig && !options.overwrite && fs::exists(*options.writeConfig, existsError)) {
     err << "slicecapd: " << *options.writeConfig
         << " exists: not overwritten (pass --overwrite, or choose another file and merge its "
            "lines into slicecapd.conf)\n";
