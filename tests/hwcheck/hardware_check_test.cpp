@@ -74,7 +74,7 @@ struct ModelRig {
   }
   HardwareReport run(HardwareCheckOptions options = {}) { return runOn(*camera, options); }
   HardwareReport runOn(hal::Camera& on, HardwareCheckOptions options = {}) {
-    options.captureSeconds = 1.0;
+    options.captureSeconds = 0.5;  // 15 frames: enough for a period and a drop count
     BackendInfo backend{{"model camera"}, Verdict::Warn, "none: the model delivers ISP output", ""};
     return runHardwareCheck(on, {}, led, clock, vision::defaultTarget(),
                             vision::defaultSimulatedCamera(), backend, options);
@@ -112,7 +112,9 @@ TEST(HardwareCheck, ReportsTheModelsConfiguredTimingAndCurve) {
   const auto [lowCode, highCode] = *report.responseRange;
   EXPECT_LT(lowCode, 20.0);
   EXPECT_GT(highCode, 200.0);
-  EXPECT_LT(curveDistance(*report.responseCurve, sensor.tone, 20, highCode, highCode), 0.10);
+  const double curveError = curveDistance(*report.responseCurve, sensor.tone, 20, highCode, highCode);
+  std::printf("curve against the model's, codes 20..%.1f: %.2f %%\n", highCode, 100 * curveError);
+  EXPECT_LT(curveError, 0.10);
   EXPECT_GT(*f.curveFromSrgb, 0.10) << "the IMX708 curve is not sRGB";
   EXPECT_EQ(item(report, "LED timing and readout").verdict, Verdict::Ok);
   EXPECT_EQ(item(report, "response curve").verdict, Verdict::Warn);  // not sRGB: says what to do
