@@ -2,6 +2,9 @@
 // mistake stops the start with a message before systemd hears READY.
 #include "slicecapd_setup.hpp"
 
+#include "check_hardware_command.hpp"
+#include "slicecapd_devices.hpp"
+
 #include <grp.h>
 
 #include <algorithm>
@@ -48,15 +51,23 @@ using daemon::DaemonConfig;
 
 constexpr const char* kUsage =
     "usage: slicecapd [--config FILE] [--print-config | --check-config | --led-off]\n"
+    "       slicecapd [--config FILE] --check-hardware [--seconds N] [--write-config FILE\n"
+    "                 [--overwrite]] [--json]\n"
     "  --config FILE    the configuration (default /etc/slicecap/slicecapd.conf)\n"
     "  --print-config   print the default configuration, every key documented, and exit\n"
     "  --check-config   read and check the configuration, open nothing, and exit\n"
     "  --led-off        switch the LED off and exit (the service's ExecStopPost)\n"
+    "  --check-hardware measure the camera and LED with the target under the camera and print\n"
+    "                   a report and the configuration lines it supports (the daemon must be\n"
+    "                   stopped); --seconds N of frame timing (default 2), --write-config FILE\n"
+    "                   writes the lines (an existing FILE only with --overwrite), --json\n"
     "  --version        print the version and exit\n";
 
 struct Options {
   fs::path config = "/etc/slicecap/slicecapd.conf";
   bool printConfig = false, checkConfig = false, ledOff = false, version = false, help = false;
+  bool checkHardware = false;
+  CheckHardwareOptions hardware;
 };
 
 struct UsageError : std::runtime_error {
@@ -76,6 +87,22 @@ Options parseOptions(std::span<const std::string> args) {
       options.checkConfig = true;
     } else if (arg == "--led-off") {
       options.ledOff = true;
+    } else if (arg == "--check-hardware") {
+      options.checkHardware = true;
+    } else if (arg == "--seconds") {
+      if (i + 1 >= args.size()) throw UsageError("--seconds needs a number");
+      char* end = nullptr;
+      const std::string& value = args[++i];
+      options.hardware.seconds = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || !(options.hardware.seconds >= 0.2 && options.hardware.seconds <= 60))
+        throw UsageError("--seconds '" + value + "' is not a number of seconds in 0.2..60");
+    } else if (arg == "--write-config") {
+      if (i + 1 >= args.size()) throw UsageError("--write-config needs a FILE");
+      options.hardware.writeConfig = args[++i];
+    } else if (arg == "--overwrite") {
+      options.hardware.overwrite = true;
+    } else if (arg == "--json") {
+      options.hardware.json = true;
     } else if (arg == "--version") {
       options.version = true;
     } else if (arg == "--help" || arg == "-h") {
@@ -84,61 +111,14 @@ Options parseOptions(std::span<const std::string> args) {
       throw UsageError("unknown argument '" + arg + "'");
     }
   }
+  const bool hardwareOnly = options.hardware.writeConfig || options.hardware.overwrite ||
+                            options.hardware.json || options.hardware.seconds != 2.0;
+  if (hardwareOnly && !options.checkHardware)
+    throw UsageError("--seconds, --write-config, --overwrite and --json go with --check-hardware");
+  if (options.hardware.overwrite && !options.hardware.writeConfig)
+    throw UsageError("--overwrite goes with --write-config FILE");
   return options;
 }
-
-std::unique_ptr<hal::Led> openLed(const DaemonConfig& config, hal::Clock& clock) {
-  if (config.camera == DaemonConfig::CameraKind::File ||
-      config.camera == DaemonConfig::CameraKind::Model) {
-    const fs::path log = config.ledLog.empty() ? config.storage / "led.log" : config.ledLog;
-    fs::create_directories(log.parent_path());
-    return std::make_unique<hal::FileLed>(log, clock);
-  }
-  return std::make_unique<hal::GpiodLed>(
-      hal::GpioLineSpec{config.ledChip, config.ledLine, config.ledActiveLow});
-}
-
-/// The recordings a file camera plays, by slice: the configured recording itself, or those of a
-/// session folder (as `slicecap simulate --session` writes). Read once at start: a sweep start
-/// then reads only the recording it plays.
-using RecordingsBySlice = std::map<SliceId, std::pair<fs::path, io::Recording>>;
-
-RecordingsBySlice findRecordings(const fs::path& configured) {
-  RecordingsBySlice found;
-  const auto add = [&found](const fs::path& directory) {
-    io::Recording recording = io::readRecording(directory);
-    if (recording.slice) found.try_emplace(recording.slice->id, directory, std::move(recording));
-  };
-  if (fs::exists(configured / io::kRecordingManifest)) {
-    add(configured);
-  } else {
-    std::error_code error;
-    for (const fs::directory_entry& entry : fs::directory_iterator(configured, error))
-      if (fs::exists(entry.path() / io::kRecordingManifest)) add(entry.path());
-    if (error) throw std::runtime_error(configured.string() + ": " + error.message());
-  }
-  if (found.empty())
-    throw std::runtime_error(configured.string() + ": no recording of a slice to play");
-  return found;
-}
-
-const std::pair<fs::path, io::Recording>& recordingFor(const RecordingsBySlice& recordings,
-                                                       const fs::path& configured,
-                                                       const SliceId& slice) {
-  const auto found = recordings.find(slice);
-  if (found == recordings.end())
-    throw std::runtime_error(configured.string() + ": no recording of slice " + toString(slice));
-  return found->second;
-}
-
-// camera = model: the LED's light follows a switch this much later (a GPIO call and an LED
-// driver take tens of microseconds).
-constexpr std::int64_t kModelLedDelayUs = 40;
-
-struct Rig {
-  vision::TargetGeometry target;
-  vision::CameraModel camera;
-};
 
 /// The daemon's texture seam on a TextureStore in the session's folder (lib/btf).
 class StoreTextureSink final : public daemon::TextureSink {
@@ -238,13 +218,8 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   daemon::DaemonParts parts;
   parts.storage = config.storage;
   parts.clock = &clock;
-  parts.led = openLed(config, clock);
-  // camera = model: the model camera sees the light itself, a little after each switch (the GPIO
-  // call and the LED driver), on its own timeline.
   auto modelLight = std::make_shared<hal::LedTimeline>();
-  if (config.camera == DaemonConfig::CameraKind::Model)
-    parts.led = std::make_unique<hal::TimelineLed>(std::move(parts.led), clock, modelLight,
-                                                   kModelLedDelayUs);
+  parts.led = openLed(config, clock, modelLight);
   parts.ledAlternate = config.ledAlternate;
   parts.strobe.framesPerState = config.ledFramesPerState;
   parts.strobe.guardUs = config.ledGuardUs;
@@ -262,60 +237,14 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
     cameraModel =
         io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
 
-  // The target and camera model of a slice's sweep.
-  std::function<Rig(const SliceId&)> rigFor;
+  const CameraSources sources =
+      makeCameraSources(config, clock, modelLight, target, cameraModel, ModelScene::Sweep);
+  parts.cameraFor = sources.cameraFor;
+  const std::function<Rig(const SliceId&)> rigFor = sources.rigFor;
   std::string createdBy = std::string("slicecapd ") + kVersion;
-  switch (config.camera) {
-    case DaemonConfig::CameraKind::Libcamera: {
-      auto camera = std::make_shared<hal::LibcameraCamera>(config.cameraDevice);
-      parts.cameraFor = [camera](const SliceId&) { return camera; };
-      break;
-    }
-    case DaemonConfig::CameraKind::V4l2: {
-      auto camera = std::make_shared<hal::V4l2Camera>(
-          config.cameraDevice.empty() ? std::string("/dev/video0") : config.cameraDevice);
-      parts.cameraFor = [camera](const SliceId&) { return camera; };
-      break;
-    }
-    case DaemonConfig::CameraKind::Model: {
-      // One renderer for every sweep (building it takes about half a second).
-      sim::RigParams rig = config.modelRealistic ? sim::RigParams::realistic() : sim::RigParams::ideal();
-      rig.framesPerSlice = config.modelPositions;
-      rig.sweepSeconds = config.modelSweepSeconds;
-      rig.seed = static_cast<std::uint64_t>(config.modelSeed);
-      auto renderer = std::make_shared<const sim::FrameRenderer>(
-          cameraModel, target, sim::loadMaterial(config.modelMaterial), rig);
-      hal::SensorModel sensor;
-      sensor.seed = static_cast<std::uint64_t>(config.modelSeed);
-      sensor.tone = config.modelToneCurve == "srgb"     ? ToneCurve::srgb()
-                    : config.modelToneCurve == "linear" ? ToneCurve::linear()
-                                                        : ToneCurve::imx708Tuning();
-      parts.cameraFor = [renderer, rig, sensor, modelLight](const SliceId& slice) {
-        return std::make_shared<hal::ModelCamera>(
-            std::make_shared<sim::RigScene>(renderer, slice, rig), modelLight, clock, sensor);
-      };
-      createdBy += " (model camera)";
-      break;
-    }
-    case DaemonConfig::CameraKind::File: {
-      auto recordings = std::make_shared<const RecordingsBySlice>(findRecordings(config.recording));
-      const fs::path configured = config.recording;
-      parts.cameraFor = [recordings, configured](const SliceId& slice) {
-        hal::FileCameraOptions options;
-        options.paced = true;  // frames at their recorded rate, as a live camera delivers them
-        return std::make_shared<hal::FileCamera>(recordingFor(*recordings, configured, slice).first,
-                                                 clock, options);
-      };
-      // A recording carries the camera and target it was taken with.
-      rigFor = [recordings, configured](const SliceId& slice) {
-        const io::Recording& recording = recordingFor(*recordings, configured, slice).second;
-        return Rig{recording.target, recording.camera};
-      };
-      createdBy += " (file camera)";
-      break;
-    }
-  }
-  if (!rigFor) rigFor = [=](const SliceId&) { return Rig{target, cameraModel}; };
+  if (config.camera == DaemonConfig::CameraKind::Model ||
+      config.camera == DaemonConfig::CameraKind::File)
+    createdBy += " (" + sources.kind + ")";
   capture::PipelineSettings pipelineSettings;
   // Without alternation there is no LED-off frame to measure the room light with.
   pipelineSettings.requireAmbient = config.ledAlternate;
@@ -414,6 +343,7 @@ int run(std::span<const std::string> args, std::ostream& out, std::ostream& err)
       out << options.config.string() << ": ok\n";
       return 0;
     }
+    if (options.checkHardware) return checkHardware(config, options.hardware, out, err);
     if (options.ledOff) {
       hal::SteadyClock clock;
       openLed(config, clock)->set(false);

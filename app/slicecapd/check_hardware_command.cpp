@@ -1,0 +1,194 @@
+// `slicecapd --check-hardware`: the devices from the configuration, the report printed.
+#include "check_hardware_command.hpp"
+
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <ostream>
+
+#include "slicecap/hal/clock.hpp"
+#include "slicecap/hal/libcamera_camera.hpp"
+#include "slicecap/hwcheck/hardware_check.hpp"
+#include "slicecap/io/recording.hpp"
+#include "slicecap/io/target_json.hpp"
+#include "slicecapd_devices.hpp"
+
+namespace slicecap::slicecapd {
+namespace {
+
+namespace fs = std::filesystem;
+using daemon::DaemonConfig;
+
+// Whether a daemon answers on the control socket: the check must not fight a session for the
+// camera and the LED.
+bool daemonAnswers(const fs::path& socketPath) {
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return false;
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  const std::string path = socketPath.string();
+  if (path.size() >= sizeof address.sun_path) {
+    ::close(fd);
+    return false;
+  }
+  std::memcpy(address.sun_path, path.c_str(), path.size() + 1);
+  const bool connected = ::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
+  ::close(fd);
+  return connected;
+}
+
+hwcheck::BackendInfo describeBackend(const DaemonConfig& config) {
+  hwcheck::BackendInfo info;
+  switch (config.camera) {
+    case DaemonConfig::CameraKind::Libcamera:
+      try {
+        for (const std::string& id : hal::listLibcameraCameras()) info.cameras.push_back("libcamera: " + id);
+      } catch (const std::exception& error) {
+        info.cameras.push_back(std::string("libcamera: cannot list: ") + error.what());
+      }
+      info.cameras.push_back("(sensor modes: `rpicam-hello --list-cameras` lists them with their "
+                             "RAW formats)");
+      info.rawFinding = "slicecapd reads libcamera's processed stream; its RAW (Bayer) stream is "
+                        "not read yet";
+      info.rawAdvice = "frames are decoded through the measured response curve below; "
+                       "`rpicam-hello --list-cameras` shows which RAW modes the sensor has";
+      break;
+    case DaemonConfig::CameraKind::V4l2: {
+      std::error_code error;
+      for (const fs::directory_entry& entry : fs::directory_iterator("/dev", error))
+        if (entry.path().filename().string().rfind("video", 0) == 0)
+          info.cameras.push_back("v4l2: " + entry.path().string());
+      info.cameras.push_back("(formats and sizes: `v4l2-ctl --list-formats-ext -d DEVICE`)");
+      info.rawFinding = "V4L2 (UVC) cameras deliver processed frames: no RAW stream";
+      info.rawAdvice = "frames are decoded through the measured response curve below";
+      break;
+    }
+    case DaemonConfig::CameraKind::Model:
+      info.cameras.push_back("model camera: a Pi camera module 3 behind the Pi's ISP (tone curve " +
+                             config.modelToneCurve + "), " + std::to_string(config.widthPx) + " x " +
+                             std::to_string(config.heightPx) + ", 30 fps, over the virtual rig");
+      info.rawFinding = "none: the model delivers the ISP's 8-bit output";
+      info.rawAdvice = "frames are decoded through the measured response curve below";
+      break;
+    case DaemonConfig::CameraKind::File:
+      info.cameras.push_back("file camera: plays " + config.recording.string());
+      info.rawFinding = "none: a recording holds the frames as they were recorded";
+      info.rawAdvice = "";
+      break;
+  }
+  return info;
+}
+
+// The camera the configuration asks for, to name it when it cannot be opened.
+std::string configuredCamera(const DaemonConfig& config) {
+  switch (config.camera) {
+    case DaemonConfig::CameraKind::Libcamera:
+      return "libcamera " + (config.cameraDevice.empty() ? std::string("(the first camera)") : config.cameraDevice);
+    case DaemonConfig::CameraKind::V4l2:
+      return "v4l2 " + (config.cameraDevice.empty() ? std::string("/dev/video0") : config.cameraDevice);
+    case DaemonConfig::CameraKind::Model:
+      return "model camera";
+    case DaemonConfig::CameraKind::File:
+      return "file camera " + config.recording.string();
+  }
+  return "camera";
+}
+
+}  // namespace
+
+int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& options,
+                  std::ostream& out, std::ostream& err) {
+  if (daemonAnswers(config.socket)) {
+    err << "slicecapd: a daemon answers on " << config.socket.string()
+        << ": stop it first (systemctl stop slicecapd), the check opens the camera and the LED "
+           "itself\n";
+    return 1;
+  }
+  // camera = model renders every frame in software, slower than 30 fps on a loaded machine: in
+  // real time the check would measure the machine's load (frames dropped for want of a free
+  // buffer), not the camera it models. The model runs on a simulated clock instead, which its
+  // frames advance as a real camera's time would pass; every other camera on the steady clock.
+  // Refused before measuring, not after (writeConfigFile refuses again, atomically).
+  std::error_code existsError;
+  if (options.writeConfig && !options.overwrite && fs::exists(*options.writeConfig, existsError)) {
+    err << "slicecapd: " << *options.writeConfig
+        << " exists: not overwritten (pass --overwrite, or choose another file and merge its "
+           "lines into slicecapd.conf)\n";
+    return 1;
+  }
+  hal::SteadyClock steadyClock;
+  hal::FakeClock simulatedClock(steadyClock.nowUs());
+  const bool simulated = config.camera == DaemonConfig::CameraKind::Model;
+  hal::Clock& clock = simulated ? static_cast<hal::Clock&>(simulatedClock) : steadyClock;
+  const vision::TargetGeometry target =
+      config.target == "default" ? vision::defaultTarget() : io::readTargetJson(config.target);
+  vision::CameraModel cameraModel = vision::defaultSimulatedCamera();
+  if (!config.calibration.empty())
+    cameraModel =
+        io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
+  auto modelLight = std::make_shared<hal::LedTimeline>();
+  const hwcheck::BackendInfo backend = describeBackend(config);
+
+  hwcheck::HardwareReport report;
+  std::shared_ptr<hal::Camera> camera;
+  Rig rig{target, cameraModel};
+  try {
+    const CameraSources sources =
+        makeCameraSources(config, clock, modelLight, target, cameraModel, ModelScene::Still,
+                          /*modelRealTime=*/!simulated);
+    camera = sources.cameraFor(sources.firstSlice);
+    rig = sources.rigFor(sources.firstSlice);
+  } catch (const std::exception& error) {
+    report.cameraId = configuredCamera(config);
+    report.cameras = backend.cameras;
+    report.items.push_back({"camera", hwcheck::Verdict::Fail, std::string("no camera: ") + error.what(),
+                            "connect the camera and check camera and camera_device in the "
+                            "configuration (with camera = file: camera_recording)"});
+  }
+  std::unique_ptr<hal::Led> led;
+  if (camera) {
+    try {
+      led = openLed(config, clock, modelLight);
+    } catch (const std::exception& error) {
+      report.cameraId = camera->id();
+      report.cameras = backend.cameras;
+      report.items.push_back({"LED", hwcheck::Verdict::Fail, std::string("no LED: ") + error.what(),
+                              "check led_chip, led_line and led_active_low (gpioinfo lists the "
+                              "lines), and that the user may use the GPIO chip"});
+    }
+  }
+  if (camera && led) {
+    hal::CameraConfig cameraConfig;
+    cameraConfig.widthPx = config.widthPx;
+    cameraConfig.heightPx = config.heightPx;
+    hwcheck::HardwareCheckOptions checkOptions;
+    checkOptions.captureSeconds = options.seconds;
+    report = hwcheck::runHardwareCheck(*camera, cameraConfig, *led, clock, rig.target, rig.camera,
+                                       backend, checkOptions);
+  }
+  if (options.json)
+    out << report.json().dump(2) << "\n";
+  else
+    out << report.text();
+  if (options.writeConfig) {
+    if (report.configLines.empty()) {
+      err << "slicecapd: nothing measured to write to " << *options.writeConfig
+          << " (see the items above)\n";
+      return 1;
+    }
+    try {
+      hwcheck::writeConfigFile(*options.writeConfig, report.configSnippet(), options.overwrite);
+      err << "slicecapd: wrote " << *options.writeConfig
+          << " (merge its lines into slicecapd.conf)\n";
+    } catch (const std::exception& error) {
+      err << "slicecapd: " << error.what() << "\n";
+      return 1;
+    }
+  }
+  return report.overall() == hwcheck::Verdict::Fail ? 1 : 0;
+}
+
+}  // namespace slicecap::slicecapd

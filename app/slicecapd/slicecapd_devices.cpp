@@ -1,0 +1,153 @@
+// The camera factory and the LED from slicecapd's configuration.
+#include "slicecapd_devices.hpp"
+
+#include "slicecap/hal/file_camera.hpp"
+#include "slicecap/hal/file_led.hpp"
+#include "slicecap/hal/gpiod_led.hpp"
+#include "slicecap/hal/libcamera_camera.hpp"
+#include "slicecap/hal/model_camera.hpp"
+#include "slicecap/hal/v4l2_camera.hpp"
+#include "slicecap/sim/material.hpp"
+#include "slicecap/sim/renderer.hpp"
+#include "slicecap/sim/rig_scene.hpp"
+
+namespace slicecap::slicecapd {
+namespace {
+
+namespace fs = std::filesystem;
+using daemon::DaemonConfig;
+
+// camera = model: the LED's light follows a switch this much later (a GPIO call and an LED
+// driver take tens of microseconds).
+constexpr std::int64_t kModelLedDelayUs = 40;
+
+const std::pair<fs::path, io::Recording>& recordingFor(const RecordingsBySlice& recordings,
+                                                       const fs::path& configured,
+                                                       const SliceId& slice) {
+  const auto found = recordings.find(slice);
+  if (found == recordings.end())
+    throw std::runtime_error(configured.string() + ": no recording of slice " + toString(slice));
+  return found->second;
+}
+
+// The rig's scene frozen at its start: a person holding the target still under the camera.
+class StillScene final : public hal::SceneSource {
+ public:
+  explicit StillScene(std::shared_ptr<hal::SceneSource> inner) : inner_(std::move(inner)) {}
+  std::string id() const override { return inner_->id() + " (held still)"; }
+  std::shared_ptr<const hal::SceneLight> lightAt(std::int64_t) override {
+    if (!light_) light_ = inner_->lightAt(0);
+    return light_;
+  }
+
+ private:
+  std::shared_ptr<hal::SceneSource> inner_;
+  std::shared_ptr<const hal::SceneLight> light_;
+};
+
+}  // namespace
+
+RecordingsBySlice findRecordings(const fs::path& configured) {
+  RecordingsBySlice found;
+  const auto add = [&found](const fs::path& directory) {
+    io::Recording recording = io::readRecording(directory);
+    if (recording.slice) found.try_emplace(recording.slice->id, directory, std::move(recording));
+  };
+  if (fs::exists(configured / io::kRecordingManifest)) {
+    add(configured);
+  } else {
+    std::error_code error;
+    for (const fs::directory_entry& entry : fs::directory_iterator(configured, error))
+      if (fs::exists(entry.path() / io::kRecordingManifest)) add(entry.path());
+    if (error) throw std::runtime_error(configured.string() + ": " + error.message());
+  }
+  if (found.empty())
+    throw std::runtime_error(configured.string() + ": no recording of a slice to play");
+  return found;
+}
+
+CameraSources makeCameraSources(const DaemonConfig& config, hal::Clock& clock,
+                                std::shared_ptr<hal::LedTimeline> modelLight,
+                                const vision::TargetGeometry& target,
+                                const vision::CameraModel& cameraModel, ModelScene scene,
+                                bool modelRealTime) {
+  CameraSources sources;
+  sources.firstSlice = SliceId{SliceKind::Diagonal, {30, 30}};
+  switch (config.camera) {
+    case DaemonConfig::CameraKind::Libcamera: {
+      auto camera = std::make_shared<hal::LibcameraCamera>(config.cameraDevice);
+      sources.cameraFor = [camera](const SliceId&) { return camera; };
+      sources.kind = "libcamera";
+      break;
+    }
+    case DaemonConfig::CameraKind::V4l2: {
+      auto camera = std::make_shared<hal::V4l2Camera>(
+          config.cameraDevice.empty() ? std::string("/dev/video0") : config.cameraDevice);
+      sources.cameraFor = [camera](const SliceId&) { return camera; };
+      sources.kind = "v4l2";
+      break;
+    }
+    case DaemonConfig::CameraKind::Model: {
+      // One renderer for every sweep (building it takes about half a second).
+      sim::RigParams rig = config.modelRealistic ? sim::RigParams::realistic() : sim::RigParams::ideal();
+      rig.framesPerSlice = config.modelPositions;
+      rig.sweepSeconds = config.modelSweepSeconds;
+      rig.seed = static_cast<std::uint64_t>(config.modelSeed);
+      auto renderer = std::make_shared<const sim::FrameRenderer>(
+          cameraModel, target, sim::loadMaterial(config.modelMaterial), rig);
+      hal::SensorModel sensor;
+      sensor.seed = static_cast<std::uint64_t>(config.modelSeed);
+      sensor.tone = config.modelToneCurve == "srgb"     ? ToneCurve::srgb()
+                    : config.modelToneCurve == "linear" ? ToneCurve::linear()
+                                                        : ToneCurve::imx708Tuning();
+      if (scene == ModelScene::Still) sensor.holdSceneUntilStrobe = false;
+      sensor.realTime = modelRealTime;
+      sources.cameraFor = [renderer, rig, sensor, modelLight, &clock, scene](const SliceId& slice) {
+        std::shared_ptr<hal::SceneSource> source = std::make_shared<sim::RigScene>(renderer, slice, rig);
+        if (scene == ModelScene::Still) source = std::make_shared<StillScene>(std::move(source));
+        return std::make_shared<hal::ModelCamera>(std::move(source), modelLight, clock, sensor);
+      };
+      sources.kind = "model camera";
+      break;
+    }
+    case DaemonConfig::CameraKind::File: {
+      auto recordings = std::make_shared<const RecordingsBySlice>(findRecordings(config.recording));
+      const fs::path configured = config.recording;
+      sources.firstSlice = recordings->begin()->first;
+      sources.cameraFor = [recordings, configured, &clock](const SliceId& slice) {
+        hal::FileCameraOptions options;
+        options.paced = true;  // frames at their recorded rate, as a live camera delivers them
+        return std::make_shared<hal::FileCamera>(recordingFor(*recordings, configured, slice).first,
+                                                 clock, options);
+      };
+      // A recording carries the camera and target it was taken with.
+      sources.rigFor = [recordings, configured](const SliceId& slice) {
+        const io::Recording& recording = recordingFor(*recordings, configured, slice).second;
+        return Rig{recording.target, recording.camera};
+      };
+      sources.kind = "file camera";
+      break;
+    }
+  }
+  if (!sources.rigFor) sources.rigFor = [=](const SliceId&) { return Rig{target, cameraModel}; };
+  return sources;
+}
+
+std::unique_ptr<hal::Led> openLed(const DaemonConfig& config, hal::Clock& clock,
+                                  std::shared_ptr<hal::LedTimeline> modelLight) {
+  if (config.camera == DaemonConfig::CameraKind::File ||
+      config.camera == DaemonConfig::CameraKind::Model) {
+    const fs::path log = config.ledLog.empty() ? config.storage / "led.log" : config.ledLog;
+    fs::create_directories(log.parent_path());
+    std::unique_ptr<hal::Led> led = std::make_unique<hal::FileLed>(log, clock);
+    // camera = model: the model camera sees the light itself, a little after each switch (the
+    // GPIO call and the LED driver), on its own timeline.
+    if (config.camera == DaemonConfig::CameraKind::Model && modelLight)
+      led = std::make_unique<hal::TimelineLed>(std::move(led), clock, modelLight, kModelLedDelayUs);
+    return led;
+  }
+  return std::make_unique<hal::GpiodLed>(
+      hal::GpioLineSpec{config.ledChip, config.ledLine, config.ledActiveLow});
+}
+
+}  // namespace slicecap::slicecapd

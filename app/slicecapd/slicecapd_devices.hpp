@@ -1,0 +1,68 @@
+// slicecapd's devices from its configuration: the camera factory and the LED, shared by the
+// daemon and `--check-hardware` so that both open exactly the same camera.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "slicecap/core/slice.hpp"
+#include "slicecap/daemon/config.hpp"
+#include "slicecap/hal/camera.hpp"
+#include "slicecap/hal/clock.hpp"
+#include "slicecap/hal/led.hpp"
+#include "slicecap/hal/led_timeline.hpp"
+#include "slicecap/io/recording.hpp"
+#include "slicecap/vision/camera_model.hpp"
+#include "slicecap/vision/target.hpp"
+
+namespace slicecap::slicecapd {
+
+/// The recordings a file camera plays, by slice.
+using RecordingsBySlice = std::map<SliceId, std::pair<std::filesystem::path, io::Recording>>;
+
+/// \brief The configured recording itself, or those of a session folder (as `slicecap simulate
+/// --session` writes). Throws std::runtime_error naming the folder when none is found.
+RecordingsBySlice findRecordings(const std::filesystem::path& configured);
+
+/// \brief The target and camera model of a slice's sweep.
+struct Rig {
+  vision::TargetGeometry target;
+  vision::CameraModel camera;
+};
+
+/// \brief What the configuration's camera setting builds.
+struct CameraSources {
+  std::function<std::shared_ptr<hal::Camera>(const SliceId&)> cameraFor;
+  std::function<Rig(const SliceId&)> rigFor;
+  std::string kind;  ///< e.g. "model camera", "file camera" (the recording's created_by says it)
+  SliceId firstSlice;  ///< a slice to open the camera for outside a sweep (--check-hardware)
+};
+
+/// \brief How the model camera's scene behaves.
+enum class ModelScene {
+  Sweep,  ///< the virtual rig goes round the slice (the daemon's sessions)
+  Still,  ///< the target held still under the camera at the sweep's first position (the check)
+};
+
+/// \brief The camera factory of `config`. camera = model shares `modelLight` (the LED's light,
+/// which openLed records) and `clock`, which must outlive every camera; with `modelRealTime`
+/// false the model runs on `clock` as a FakeClock that its frames advance (as fast as it
+/// renders). Throws what the backends throw when a file the configuration names cannot be read
+/// (a recording, a material) or a device cannot be opened.
+CameraSources makeCameraSources(const daemon::DaemonConfig& config, hal::Clock& clock,
+                                std::shared_ptr<hal::LedTimeline> modelLight,
+                                const vision::TargetGeometry& target,
+                                const vision::CameraModel& cameraModel, ModelScene scene,
+                                bool modelRealTime = true);
+
+/// \brief The configured LED: the GPIO line, or with camera = file or model a file LED (its log)
+/// which for the model also records its light on `modelLight` a little after each switch.
+/// Throws hal::DeviceError (or the GPIO's error) naming the chip, line or file.
+std::unique_ptr<hal::Led> openLed(const daemon::DaemonConfig& config, hal::Clock& clock,
+                                  std::shared_ptr<hal::LedTimeline> modelLight = nullptr);
+
+}  // namespace slicecap::slicecapd

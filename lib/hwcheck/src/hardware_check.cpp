@@ -1,0 +1,159 @@
+// The hardware check's order: frames, the target, the exposure lock, the response, the LED.
+#include "slicecap/hwcheck/hardware_check.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "slicecap/hwcheck/check_rig.hpp"
+#include "slicecap/hwcheck/exposure_lock_check.hpp"
+#include "slicecap/hwcheck/frame_timing.hpp"
+#include "slicecap/hwcheck/response_check.hpp"
+#include "slicecap/hwcheck/white_rows.hpp"
+
+namespace slicecap::hwcheck {
+namespace {
+
+std::string format(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+CheckItem skipped(const std::string& name, const std::string& because) {
+  return {name, Verdict::Fail, "not measured: " + because, "fix the item above first"};
+}
+
+// Everything after the camera has started; throws what CheckRig throws.
+void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeometry& target,
+               const vision::CameraModel& cameraModel, const HardwareCheckOptions& options) {
+  const std::string& id = report.cameraId;
+  rig.setLed(true);
+  const std::vector<SeenFrame> frames =
+      rig.collect(std::int64_t(std::llround(options.captureSeconds * 1e6)));
+  const FrameTiming timing = measureFrameTiming(frames);
+  report.items.push_back(frameTimingItem(timing, id));
+  report.figures.framesSeen = timing.frames + timing.dropped;
+  report.figures.framesDropped = timing.dropped;
+  if (timing.hasTimestamps) {
+    report.figures.framePeriodUs = timing.periodUs;
+    report.figures.frameJitterUs = timing.jitterUs;
+  }
+
+  // The target, from the newest frames (the first ones may still be settling their exposure).
+  std::optional<vision::Pose> pose;
+  for (std::size_t i = frames.size(); i-- > 0 && !pose && frames.size() - i <= 5;)
+    pose = locateTarget(frames[i].frame, target, cameraModel);
+  std::optional<WhiteRows> whites;
+  if (pose) whites = whiteRowsOf(target, cameraModel, *pose);
+  if (!whites || whites->firstRow < 0) {
+    report.items.push_back(
+        {"target", Verdict::Fail,
+         "the target (" + target.name + ") is not in view of " + id + " (fewer than 4 of its markers found)",
+         "put the whole printed target under the camera, lit by the LED and in focus; with a "
+         "target of your own, set target = its JSON; with a lens other than the nominal one, set "
+         "calibration"});
+  } else {
+    report.items.push_back({"target", Verdict::Ok,
+                            "found; its white references cover rows " +
+                                std::to_string(whites->firstRow) + ".." +
+                                std::to_string(whites->lastRow),
+                            ""});
+  }
+  const WhiteRows* whitesPtr = whites && whites->firstRow >= 0 ? &*whites : nullptr;
+
+  const ExposureLockResult lock = checkExposureLock(rig, whitesPtr);
+  report.items.push_back(exposureLockItem(lock, id));
+  if (lock.metadataDelayFrames) report.figures.exposureLockDelayFrames = lock.metadataDelayFrames;
+  else if (lock.brightnessDelayFrames) report.figures.exposureLockDelayFrames = lock.brightnessDelayFrames;
+
+  std::optional<capture::CodeTable> codes;
+  double brightExposureUs = lock.toUs > 0 ? lock.toUs * 2.0 : 10000.0;
+  if (!whitesPtr) {
+    report.items.push_back(skipped("response curve", "the target is not in view"));
+  } else if (lock.refused) {
+    report.items.push_back(skipped("response curve", "the exposure cannot be locked"));
+  } else {
+    const ResponseCheck response = checkResponse(rig, target, cameraModel, options.bracket);
+    report.items.push_back(responseItem(response, id));
+    report.figures.curveFromLinear = response.fromLinear;
+    report.figures.curveFromSrgb = response.fromSrgb;
+    if (response.fit) {
+      codes.emplace(response.fit->curve);
+      report.responseCurve = response.fit->curve;
+      report.responseRange = {response.fit->lowestCode, response.fit->highestCode};
+    }
+    if (response.meteredExposureUs > 0) brightExposureUs = response.meteredExposureUs;
+  }
+
+  if (!timing.hasTimestamps) {
+    report.items.push_back(skipped("LED timing and readout", "the frames have no timestamps"));
+  } else if (!whitesPtr) {
+    report.items.push_back(skipped("LED timing and readout", "the target is not in view"));
+  } else {
+    const LedTiming led = measureLedTiming(rig, *whitesPtr, codes ? *codes : capture::CodeTable::srgb(),
+                                           timing.periodUs, brightExposureUs, options.led);
+    report.items.push_back(ledTimingItem(led, id));
+    report.figures.lineTimeUs = led.lineTimeUs;
+    report.figures.readoutUs = led.readoutUs;
+    report.figures.ledOffsetUs = led.offsetUs;
+    report.figures.ledOffsetSpreadUs = led.residualUs;
+    if (led.readoutUs) {
+      report.figures.deliveryLatencyUs = timing.timestampToArrivalUs - *led.readoutUs;
+      report.items.push_back(
+          {"delivery latency", Verdict::Ok,
+           format("frames arrive %.1f ms after their last row is read out", *report.figures.deliveryLatencyUs / 1000.0) +
+               format(" (%.1f frame periods after their first row)", timing.timestampToArrivalUs / timing.periodUs),
+           ""});
+      report.configLines.emplace_back("readout_us", format("%.0f", *led.readoutUs));
+      report.configLines.emplace_back("led_guard_us", format("%.0f", guardFor(*led.offsetUs, *led.residualUs)));
+    }
+  }
+}
+
+}  // namespace
+
+HardwareReport runHardwareCheck(hal::Camera& camera, hal::CameraConfig config, hal::Led& led,
+                                hal::Clock& clock, const vision::TargetGeometry& target,
+                                const vision::CameraModel& cameraModel, const BackendInfo& backend,
+                                const HardwareCheckOptions& options) {
+  HardwareReport report;
+  report.cameraId = camera.id();
+  report.cameras = backend.cameras;
+  const std::string& id = report.cameraId;
+  bool started = false;
+  try {
+    const hal::ConfigResult configured = camera.configure(config);
+    if (configured.status == hal::ConfigResult::Status::Invalid) {
+      report.items.push_back({"camera", Verdict::Fail, id + " cannot be configured: " + configured.reason,
+                              "set resolution to a mode the camera lists"});
+    } else {
+      report.items.push_back(
+          {"camera",
+           configured.status == hal::ConfigResult::Status::Valid ? Verdict::Ok : Verdict::Warn,
+           id + " at " + std::to_string(config.widthPx) + " x " + std::to_string(config.heightPx) +
+               (configured.reason.empty() ? std::string() : " (adjusted: " + configured.reason + ")"),
+           configured.status == hal::ConfigResult::Status::Valid
+               ? ""
+               : "set resolution to what the camera delivers, and calibrate at that size"});
+      camera.start();
+      started = true;
+      CheckRig rig(camera, led, clock);
+      runChecks(rig, report, target, cameraModel, options);
+    }
+  } catch (const std::exception& error) {
+    report.items.push_back({"camera", Verdict::Fail, std::string("the check stopped: ") + error.what(),
+                            "check the camera's cable and that no other program (or a running "
+                            "slicecapd) uses it; camera and camera_device in slicecapd.conf"});
+  }
+  report.items.push_back({"RAW", backend.rawVerdict, backend.rawFinding, backend.rawAdvice});
+  try {
+    led.set(false);
+  } catch (const std::exception& error) {
+    report.items.push_back({"LED", Verdict::Fail, std::string("cannot switch the LED off: ") + error.what(),
+                            "check led_chip and led_line"});
+  }
+  if (started) camera.stop();
+  return report;
+}
+
+}  // namespace slicecap::hwcheck
