@@ -307,10 +307,19 @@ Abrdf reconstruct(const SliceSet& slices, const PriorModel& model, const PriorPa
     for (const SliceSample& s : slice.samples) {
       SampleRow row{{}, {}, {}, {}, &slice.id, sliceParameterDeg(slice.id.kind, s)};
       try {
-        // The sample at its own measured angles: the isotropic basis at its own relative
-        // azimuth and elevations, the anisotropy terms at its own half vector.
-        row.taps = isotropicTableTaps(s.light, s.view);
-        row.terms = halfVectorTerms(toUnitVector(s.light), toUnitVector(s.view));
+        // See PriorParams::readAtMeasuredAngles.
+        if (params.readAtMeasuredAngles) {
+          row.taps = isotropicTableTaps(s.light, s.view);
+          row.terms = halfVectorTerms(toUnitVector(s.light), toUnitVector(s.view));
+        } else {
+          row.taps = tableTaps(s.light, s.view);
+          for (const TableTap& tap : row.taps) {
+            const HalfVectorTerms& entryTerms =
+                gridHalfVectorTerms()[std::size_t(tap.light * 81 + tap.view)];
+            for (int j = 0; j < kHalfVectorTermCount; ++j)
+              row.terms[std::size_t(j)] += tap.weight * entryTerms[std::size_t(j)];
+          }
+        }
       } catch (const std::invalid_argument& e) {
         throw recon::ReconstructionError("slice " + toString(slice.id) + ": " + e.what());
       }
