@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 
+#include "slicecap/recon/elevation_correction.hpp"
 #include "slicecap/recon/errors.hpp"
 #include "slicecap/recon/measured_subspaces.hpp"
 
@@ -76,10 +77,13 @@ bool MethodBReport::allConverged() const {
   return std::all_of(fits.begin(), fits.end(), [](const LineFit& f) { return f.fit.converged; });
 }
 
-Abrdf reconstructMethodB(const SliceSet& slices, const MethodBParams& params,
+Abrdf reconstructMethodB(const SliceSet& measuredSlices, const MethodBParams& params,
                          MethodBReport* report) {
   std::string error;
   if (!params.fit.isValid(&error)) throw std::invalid_argument("Method B: " + error);
+  // The slice-sum reads a slice as a signal of its azimuth alone, so a sample taken a degree or
+  // two off its pair's elevations is first moved to them along the fitted elevation lobe.
+  const SliceSet slices = correctedToNominalElevations(measuredSlices);
 
   std::vector<Subspace> measured =
       reconstructMeasuredSubspaces(slices, params.isotropic, params.torusRule, "Method B");
@@ -91,8 +95,7 @@ Abrdf reconstructMethodB(const SliceSet& slices, const MethodBParams& params,
     const Slice* diagonal = slices.find({SliceKind::Diagonal, pair});
     const Slice* axial = params.isotropic ? nullptr : slices.find({SliceKind::Axial, pair});
     PairData data{std::move(measured[p]), 0.0, {}};
-    // Every sample counts at its pair's nominal elevations: the lobe is a curve over the line's
-    // varying elevation, and a capture's jittered angles belong to the pair they were taken for.
+    // Every sample counts at its pair's nominal elevations, where it was moved above.
     for (const Slice* slice : {diagonal, axial}) {
       if (!slice) continue;
       for (const SliceSample& s : slice->samples)
