@@ -77,14 +77,11 @@ bool MethodBReport::allConverged() const {
   return std::all_of(fits.begin(), fits.end(), [](const LineFit& f) { return f.fit.converged; });
 }
 
-Abrdf reconstructMethodB(const SliceSet& measuredSlices, const MethodBParams& params,
-                         MethodBReport* report) {
-  std::string error;
-  if (!params.fit.isValid(&error)) throw std::invalid_argument("Method B: " + error);
-  // The slice-sum reads a slice as a signal of its azimuth alone, so a sample taken a degree or
-  // two off its pair's elevations is first moved to them along the fitted elevation lobe.
-  const SliceSet slices = correctedToNominalElevations(measuredSlices);
+namespace {
 
+// Method B on slices whose samples sit at their nominal elevations.
+Abrdf reconstructAtNominalElevations(const SliceSet& slices, const MethodBParams& params,
+                                     MethodBReport* report) {
   std::vector<Subspace> measured =
       reconstructMeasuredSubspaces(slices, params.isotropic, params.torusRule, "Method B");
 
@@ -142,6 +139,36 @@ Abrdf reconstructMethodB(const SliceSet& measuredSlices, const MethodBParams& pa
   for (float& v : table.values())
     v = std::max(v, 0.0f);
   return table;
+}
+
+bool atNominalElevations(const SliceSet& slices) {
+  for (const Slice& slice : slices.slices()) {
+    for (const SliceSample& s : slice.samples) {
+      if (slice.id.kind != SliceKind::Point &&
+          (s.light.thetaDeg != slice.id.elevations.thetaIDeg ||
+           s.view.thetaDeg != slice.id.elevations.thetaVDeg))
+        return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+Abrdf reconstructMethodB(const SliceSet& slices, const MethodBParams& params,
+                         MethodBReport* report) {
+  std::string error;
+  if (!params.fit.isValid(&error)) throw std::invalid_argument("Method B: " + error);
+  if (atNominalElevations(slices)) return reconstructAtNominalElevations(slices, params, report);
+  // The slice-sum reads a slice as a signal of its azimuth alone, so samples taken a degree or two
+  // off their pair's elevations are first moved to them: along a fitted elevation lobe for a
+  // first reconstruction, then along that reconstruction's own local change with elevation at
+  // each sample's azimuths, which follows highlights and sheens one lobe cannot
+  // (elevation_correction.hpp).
+  const Abrdf first =
+      reconstructAtNominalElevations(correctedToNominalElevations(slices), params, nullptr);
+  return reconstructAtNominalElevations(correctedToNominalElevations(slices, first), params,
+                                        report);
 }
 
 }  // namespace slicecap::recon
