@@ -71,9 +71,9 @@ struct Result {
 };
 
 Result reconstructDe(const Abrdf& truth, const SliceSet& slices) {
-  return {eval::compare(truth, prior::reconstructWithPrior(slices, prior::defaultPriorModel()))
-              .deltaE,
-          eval::compare(truth, recon::reconstructMethodB(slices)).deltaE};
+  return {
+      eval::compare(truth, prior::reconstructWithPrior(slices, prior::defaultPriorModel())).deltaE,
+      eval::compare(truth, recon::reconstructMethodB(slices)).deltaE};
 }
 
 struct Ratios {
@@ -119,8 +119,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  const auto materials =
-      isotropic ? models::isotropicMaterials() : models::anisotropicMaterials();
+  const auto materials = isotropic ? models::isotropicMaterials() : models::anisotropicMaterials();
   Ratios midPrior, randomPrior, randomB, jitterPrior, jitterB;
   if (perMaterial)
     std::printf("%-20s %28s %28s %28s %22s\n", "material", "prior grid / mid / random",
@@ -134,8 +133,7 @@ int main(int argc, char** argv) {
     for (int k = 0; k < seedCount; ++k) {
       const unsigned materialSeed = (seed + unsigned(k)) * 1000u + unsigned(m);
       const Result r = reconstructDe(truth, capture(model, {Phase::Random, 0.0, materialSeed}));
-      const Result j =
-          reconstructDe(truth, capture(model, {Phase::Grid, jitterDeg, materialSeed}));
+      const Result j = reconstructDe(truth, capture(model, {Phase::Grid, jitterDeg, materialSeed}));
       random.prior += r.prior / seedCount;
       random.methodB += r.methodB / seedCount;
       jitter.prior += j.prior / seedCount;
@@ -159,9 +157,9 @@ int main(int argc, char** argv) {
   auto line = [](const char* what, const Ratios& r) {
     std::printf("%-44s mean %.3f  worst %.3f\n", what, r.mean(), r.worst());
   };
-  std::printf(
-      "dE ratios over %zu built-in %s materials (seeds %u..%u, jitter +-%.1f deg):\n",
-      materials.size(), isotropic ? "isotropic" : "anisotropic", seed, seed + unsigned(seedCount) - 1, jitterDeg);
+  std::printf("dE ratios over %zu built-in %s materials (seeds %u..%u, jitter +-%.1f deg):\n",
+              materials.size(), isotropic ? "isotropic" : "anisotropic", seed,
+              seed + unsigned(seedCount) - 1, jitterDeg);
   line("prior, mid-bin / grid azimuths", midPrior);
   line("prior, random in bin / grid azimuths", randomPrior);
   line("Method B, random in bin / grid azimuths", randomB);

@@ -344,12 +344,12 @@ TEST(PriorReconstruction, MidBinSamplesReconstructAsWellAsGridOnes) {
   // (2.46 -> 3.50); read at their measured angles the loss is a few per cent.
   const auto material = models::findMaterial("brushed-steel-30");
   const Abrdf truth = models::tabulate(*material);
-  const double grid =
-      eval::compare(truth, reconstructWithPrior(shiftedCapture(*material, 0.0), defaultPriorModel()))
-          .deltaE;
-  const double midBin =
-      eval::compare(truth, reconstructWithPrior(shiftedCapture(*material, 0.5), defaultPriorModel()))
-          .deltaE;
+  const double grid = eval::compare(truth, reconstructWithPrior(shiftedCapture(*material, 0.0),
+                                                                defaultPriorModel()))
+                          .deltaE;
+  const double midBin = eval::compare(truth, reconstructWithPrior(shiftedCapture(*material, 0.5),
+                                                                  defaultPriorModel()))
+                            .deltaE;
   EXPECT_LT(midBin, 1.1 * grid) << "grid " << grid << ", mid-bin " << midBin;
 }
 

@@ -90,8 +90,7 @@ TEST(ElevationCorrection, MethodBOnJitteredSamplesComesCloseToTheNominalCapture)
   for (const auto& material : materials) {
     const Abrdf nominal = reconstructMethodB(extractSlices(models::tabulate(*material)));
     const SliceSet jittered = jitteredCapture(*material, 2.0, 9);
-    const double corrected =
-        eval::compare(nominal, reconstructMethodB(jittered)).relativeRmse;
+    const double corrected = eval::compare(nominal, reconstructMethodB(jittered)).relativeRmse;
     const double ignored =
         eval::compare(nominal, reconstructMethodB(elevationsIgnored(jittered))).relativeRmse;
     // Seen: 0.13 of the error for the lobe, 0.29 for the sheen.

@@ -25,9 +25,9 @@ constexpr int kEntries = kFeatureCount;
 
 struct SampleRow {
   std::vector<TableTap> taps;  ///< isotropicTableTaps: where the basis and mean are read
-  std::vector<int> slots;  ///< per tap, its entry's row in TappedEntries
-  HalfVectorTerms terms;   ///< the half-vector terms at the sample's own directions
-  Rgb weighted;  ///< value times cos(theta_i) cos(theta_v), clipped at 0
+  std::vector<int> slots;      ///< per tap, its entry's row in TappedEntries
+  HalfVectorTerms terms;       ///< the half-vector terms at the sample's own directions
+  Rgb weighted;                ///< value times cos(theta_i) cos(theta_v), clipped at 0
   const SliceId* slice;
   double parameterDeg;
 };
@@ -135,10 +135,9 @@ SampleModel sampleModel(const std::vector<SampleRow>& rows, const TappedEntries&
   SampleModel out;
   out.slotLog.resize(tapped.entries.size());
   for (std::size_t s = 0; s < tapped.entries.size(); ++s) {
-    out.slotLog[s] = (tapped.features.row(Eigen::Index(s)) * coefficients.topRows(k))
-                         .transpose()
-                         .array() +
-                     double(model.mean[std::size_t(tapped.entries[s])]);
+    out.slotLog[s] =
+        (tapped.features.row(Eigen::Index(s)) * coefficients.topRows(k)).transpose().array() +
+        double(model.mean[std::size_t(tapped.entries[s])]);
   }
   out.rowLog.assign(rows.size(), Eigen::Array3d::Zero());
   if (terms > 0) {

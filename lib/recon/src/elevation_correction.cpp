@@ -2,8 +2,8 @@
 #include "slicecap/recon/elevation_correction.hpp"
 
 #include <Eigen/Dense>
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "slicecap/core/angles.hpp"
@@ -108,11 +108,10 @@ SliceSet correctedToNominalElevations(const SliceSet& slices, const Abrdf& local
       if (onSlice(slice) &&
           (s.light.thetaDeg != pair.thetaIDeg || s.view.thetaDeg != pair.thetaVDeg)) {
         const AzimuthPair azimuths{wrapDeg360(s.light.phiDeg), wrapDeg360(s.view.phiDeg)};
-        const double logFactor =
-            localLogSlopePerDeg(localModel, pair, azimuths, true, floor) *
-                (pair.thetaIDeg - s.light.thetaDeg) +
-            localLogSlopePerDeg(localModel, pair, azimuths, false, floor) *
-                (pair.thetaVDeg - s.view.thetaDeg);
+        const double logFactor = localLogSlopePerDeg(localModel, pair, azimuths, true, floor) *
+                                     (pair.thetaIDeg - s.light.thetaDeg) +
+                                 localLogSlopePerDeg(localModel, pair, azimuths, false, floor) *
+                                     (pair.thetaVDeg - s.view.thetaDeg);
         if (std::isfinite(logFactor)) s.value = s.value * std::exp(logFactor);
         s.light.thetaDeg = pair.thetaIDeg;
         s.view.thetaDeg = pair.thetaVDeg;

@@ -144,9 +144,8 @@ Abrdf reconstructAtNominalElevations(const SliceSet& slices, const MethodBParams
 bool atNominalElevations(const SliceSet& slices) {
   for (const Slice& slice : slices.slices()) {
     for (const SliceSample& s : slice.samples) {
-      if (slice.id.kind != SliceKind::Point &&
-          (s.light.thetaDeg != slice.id.elevations.thetaIDeg ||
-           s.view.thetaDeg != slice.id.elevations.thetaVDeg))
+      if (slice.id.kind != SliceKind::Point && (s.light.thetaDeg != slice.id.elevations.thetaIDeg ||
+                                                s.view.thetaDeg != slice.id.elevations.thetaVDeg))
         return false;
     }
   }
