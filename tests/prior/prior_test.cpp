@@ -193,6 +193,8 @@ TEST(PriorReconstruction, RecoversATableOfItsOwnTrainingSet) {
   PriorReport report;
   PriorParams isotropic;
   isotropic.isotropicOnly = true;
+  // Slices extracted from the table: between grid azimuths the truth is the table's interpolation.
+  isotropic.readAtMeasuredAngles = false;
   const Abrdf result = reconstructWithPrior(recon::extractSlices(truth), model, isotropic, &report);
   EXPECT_EQ(report.samples, 168u);
   EXPECT_EQ(report.measuredPairs.size(), 4u);
@@ -305,13 +307,50 @@ TEST(PriorReconstruction, OffGridSamplesAreReadThroughTheTablesOwnInterpolation)
         return slicecap::evaluate(truth, light, view);
       });
   PriorReport atGrid, offGrid;
+  PriorParams throughTable;
+  throughTable.readAtMeasuredAngles = false;
   const double idealDe =
-      eval::compare(truth, reconstructWithPrior(ideal, model, {}, &atGrid)).deltaE;
+      eval::compare(truth, reconstructWithPrior(ideal, model, throughTable, &atGrid)).deltaE;
   const double movedDe =
-      eval::compare(truth, reconstructWithPrior(moved, model, {}, &offGrid)).deltaE;
+      eval::compare(truth, reconstructWithPrior(moved, model, throughTable, &offGrid)).deltaE;
   EXPECT_LT(offGrid.fitRmsLog, 2.0 * atGrid.fitRmsLog + 0.005)
       << "on the grid " << atGrid.fitRmsLog << ", off it " << offGrid.fitRmsLog;
   EXPECT_LT(movedDe, idealDe + 0.2);
+}
+
+// The default capture's 168 slice positions moved by `shiftFraction` of each slice's step along the
+// slice, valued by the material at each sample's own directions (as a capture measures them).
+SliceSet shiftedCapture(const models::ReflectanceModel& material, double shiftFraction) {
+  const SliceSet positions = recon::extractSlices(models::tabulate(material));
+  SliceSet out;
+  for (const Slice& slice : positions.slices()) {
+    const double stepDeg = 360.0 / double(slice.samples.size());
+    for (const SliceSample& nominal : slice.samples) {
+      const AzimuthPair at = slicePoint(
+          slice.id.kind, sliceParameterDeg(slice.id.kind, nominal) + shiftFraction * stepDeg);
+      SliceSample s;
+      s.light = {double(slice.id.elevations.thetaIDeg), at.phiIDeg};
+      s.view = {double(slice.id.elevations.thetaVDeg), at.phiVDeg};
+      s.value = material.evaluate(toUnitVector(s.light), toUnitVector(s.view));
+      out.add(slice.id, s);
+    }
+  }
+  return out;
+}
+
+TEST(PriorReconstruction, MidBinSamplesReconstructAsWellAsGridOnes) {
+  // A capture never lands on grid azimuths. Read through the table's interpolation, samples half a
+  // step along their slices blend entries a bin apart and lose 42 % in dE on this brushed metal
+  // (2.46 -> 3.50); read at their measured angles the loss is a few per cent.
+  const auto material = models::findMaterial("brushed-steel-30");
+  const Abrdf truth = models::tabulate(*material);
+  const double grid = eval::compare(truth, reconstructWithPrior(shiftedCapture(*material, 0.0),
+                                                                defaultPriorModel()))
+                          .deltaE;
+  const double midBin = eval::compare(truth, reconstructWithPrior(shiftedCapture(*material, 0.5),
+                                                                  defaultPriorModel()))
+                            .deltaE;
+  EXPECT_LT(midBin, 1.1 * grid) << "grid " << grid << ", mid-bin " << midBin;
 }
 
 TEST(PriorReconstructor, GivesReconstructWithPriorsTablesToTheBit) {

@@ -136,6 +136,7 @@ IsotropyVerdict testIsotropy(const SliceSet& slices, const PriorModel& model,
   PriorReport report;
   PriorParams fit;
   fit.anisotropyScoreRatio = params.priorScoreRatio;
+  fit.readAtMeasuredAngles = params.readAtMeasuredAngles;
   reconstructWithPrior(slices, model, fit, &report);
   if (report.isotropicScore > 0.0 && std::isfinite(report.anisotropicScore))
     verdict.priorScoreRatio = report.anisotropicScore / report.isotropicScore;

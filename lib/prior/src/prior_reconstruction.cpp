@@ -11,6 +11,7 @@
 #include <span>
 
 #include "half_vector_terms.hpp"
+#include "isotropic_taps.hpp"
 #include "residual_field.hpp"
 #include "slicecap/core/grid.hpp"
 #include "slicecap/core/grid_interpolation.hpp"
@@ -23,9 +24,10 @@ namespace {
 constexpr int kEntries = kFeatureCount;
 
 struct SampleRow {
-  std::vector<TableTap> taps;
-  std::vector<int> slots;  ///< per tap, its entry's row in TappedEntries
-  Rgb weighted;  ///< value times cos(theta_i) cos(theta_v), clipped at 0
+  std::vector<TableTap> taps;  ///< isotropicTableTaps: where the basis and mean are read
+  std::vector<int> slots;      ///< per tap, its entry's row in TappedEntries
+  HalfVectorTerms terms;       ///< the half-vector terms at the sample's own directions
+  Rgb weighted;                ///< value times cos(theta_i) cos(theta_v), clipped at 0
   const SliceId* slice;
   double parameterDeg;
 };
@@ -80,7 +82,7 @@ using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eig
 // before.
 struct TappedEntries {
   std::vector<int> entries;  // slot -> table entry (light * 81 + view)
-  RowMajorMatrix features;   // slot x (components + half-vector terms)
+  RowMajorMatrix features;   // slot x components
 };
 
 // `basisByEntry`: the basis entry by entry (PriorReconstructor), or null to read it from the model.
@@ -101,8 +103,7 @@ TappedEntries gatherTappedEntries(std::vector<SampleRow>& rows, const PriorModel
   }
   const int k = model.components();
   const int slots = static_cast<int>(out.entries.size());
-  const auto& gridTerms = gridHalfVectorTerms();
-  out.features.resize(slots, k + kHalfVectorTermCount);
+  out.features.resize(slots, k);
   if (basisByEntry) {
     for (int s = 0; s < slots; ++s) {
       const float* entryBasis = basisByEntry + std::size_t(out.entries[std::size_t(s)]) * k;
@@ -116,10 +117,34 @@ TappedEntries gatherTappedEntries(std::vector<SampleRow>& rows, const PriorModel
         out.features(s, j) = component[out.entries[std::size_t(s)]];
     }
   }
-  for (int s = 0; s < slots; ++s) {
-    const HalfVectorTerms& terms = gridTerms[std::size_t(out.entries[std::size_t(s)])];
-    for (int j = 0; j < kHalfVectorTermCount; ++j)
-      out.features(s, k + j) = terms[std::size_t(j)];
+  return out;
+}
+
+// The log values of the fitted model at each sample's taps (basis and mean, per slot) and, per
+// row, its half-vector part at the sample's own directions: the model at a sample is
+// sum_t w_t exp(slotLog_t + rowLog) (see refineOnLinearTaps).
+struct SampleModel {
+  std::vector<Eigen::Array3d> slotLog;  // per slot: mean + basis c
+  std::vector<Eigen::Array3d> rowLog;   // per row: half-vector terms d
+};
+
+SampleModel sampleModel(const std::vector<SampleRow>& rows, const TappedEntries& tapped,
+                        const PriorModel& model, const Eigen::MatrixXd& coefficients) {
+  const int k = static_cast<int>(tapped.features.cols());
+  const int terms = static_cast<int>(coefficients.rows()) - k;
+  SampleModel out;
+  out.slotLog.resize(tapped.entries.size());
+  for (std::size_t s = 0; s < tapped.entries.size(); ++s) {
+    out.slotLog[s] =
+        (tapped.features.row(Eigen::Index(s)) * coefficients.topRows(k)).transpose().array() +
+        double(model.mean[std::size_t(tapped.entries[s])]);
+  }
+  out.rowLog.assign(rows.size(), Eigen::Array3d::Zero());
+  if (terms > 0) {
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const Eigen::Map<const Eigen::RowVectorXd> rowTerms(rows[i].terms.data(), terms);
+      out.rowLog[i] = (rowTerms * coefficients.bottomRows(terms)).transpose().array();
+    }
   }
   return out;
 }
@@ -130,42 +155,44 @@ TappedEntries gatherTappedEntries(std::vector<SampleRow>& rows, const PriorModel
 // sample between two azimuths of a ring) the two differ most where L varies most, at highlights.
 // Linearised at the current coefficients, a sample's row is the basis blended with the weights
 // w_t exp(L_t) / sum (one set of weights for the three channels, from their mean log, so one
-// system serves all three). Model selection stays with the first fit; one step removes nearly all
-// of the mismatch (a second changed the held-out mean dE by < 0.002).
+// system serves all three), then its own half-vector terms, which are the same for every tap.
+// Model selection stays with the first fit; one step removes nearly all of the mismatch (a
+// second changed the held-out mean dE by < 0.002).
 Eigen::MatrixXd refineOnLinearTaps(const std::vector<SampleRow>& rows, const TappedEntries& tapped,
                                    const PriorModel& model, const Rgb& floor,
                                    const Eigen::VectorXd& penalty,
                                    const Eigen::MatrixXd& coefficients) {
   const int n = static_cast<int>(rows.size());
   const int columns = static_cast<int>(coefficients.rows());
-  // Per entry: exp of the fitted log values, and exp of their channel mean.
+  const int k = static_cast<int>(tapped.features.cols());
+  const int terms = columns - k;
+  const SampleModel fitted = sampleModel(rows, tapped, model, coefficients);
   const std::size_t slots = tapped.entries.size();
   std::vector<Eigen::Array3d> entryValues(slots);
   std::vector<double> entryShares(slots);
   for (std::size_t s = 0; s < slots; ++s) {
-    Eigen::Array3d logValue =
-        (tapped.features.row(Eigen::Index(s)).head(columns) * coefficients).transpose().array();
-    logValue += model.mean[std::size_t(tapped.entries[s])];
-    entryShares[s] = std::exp(logValue.mean());
-    entryValues[s] = logValue.exp();
+    entryShares[s] = std::exp(fitted.slotLog[s].mean());
+    entryValues[s] = fitted.slotLog[s].exp();
   }
   Eigen::MatrixXd jacobian(n, columns);
   Eigen::MatrixXd linearTargets(n, 3);
-  Eigen::RowVectorXd jacobianRow(columns);
+  Eigen::RowVectorXd basisRow(k);
   for (int i = 0; i < n; ++i) {
     double shareSum = 0.0;
     Eigen::Array3d predicted = Eigen::Array3d::Zero();
-    jacobianRow.setZero();
+    basisRow.setZero();
     const SampleRow& row = rows[std::size_t(i)];
     for (std::size_t t = 0; t < row.taps.size(); ++t) {
       const std::size_t s = std::size_t(row.slots[t]);
       const double share = row.taps[t].weight * entryShares[s];
-      jacobianRow += share * tapped.features.row(Eigen::Index(s)).head(columns);
+      basisRow += share * tapped.features.row(Eigen::Index(s));
       shareSum += share;
       predicted += row.taps[t].weight * entryValues[s];
     }
-    jacobianRow /= shareSum;
-    jacobian.row(i) = jacobianRow;
+    predicted *= fitted.rowLog[std::size_t(i)].exp();
+    jacobian.row(i).head(k) = basisRow / shareSum;
+    for (int j = 0; j < terms; ++j)
+      jacobian(i, k + j) = row.terms[std::size_t(j)];
     for (int c = 0; c < 3; ++c)
       linearTargets(i, c) = std::log(rows[i].weighted[c] + floor[c]) - std::log(predicted[c]) +
                             jacobian.row(i).dot(coefficients.col(c));
@@ -277,9 +304,21 @@ Abrdf reconstruct(const SliceSet& slices, const PriorModel& model, const PriorPa
   rows.reserve(slices.sampleCount());
   for (const Slice& slice : slices.slices()) {
     for (const SliceSample& s : slice.samples) {
-      SampleRow row{{}, {}, {}, &slice.id, sliceParameterDeg(slice.id.kind, s)};
+      SampleRow row{{}, {}, {}, {}, &slice.id, sliceParameterDeg(slice.id.kind, s)};
       try {
-        row.taps = tableTaps(s.light, s.view);
+        // See PriorParams::readAtMeasuredAngles.
+        if (params.readAtMeasuredAngles) {
+          row.taps = isotropicTableTaps(s.light, s.view);
+          row.terms = halfVectorTerms(toUnitVector(s.light), toUnitVector(s.view));
+        } else {
+          row.taps = tableTaps(s.light, s.view);
+          for (const TableTap& tap : row.taps) {
+            const HalfVectorTerms& entryTerms =
+                gridHalfVectorTerms()[std::size_t(tap.light * 81 + tap.view)];
+            for (int j = 0; j < kHalfVectorTermCount; ++j)
+              row.terms[std::size_t(j)] += tap.weight * entryTerms[std::size_t(j)];
+          }
+        }
       } catch (const std::invalid_argument& e) {
         throw recon::ReconstructionError("slice " + toString(slice.id) + ": " + e.what());
       }
@@ -315,7 +354,7 @@ Abrdf reconstruct(const SliceSet& slices, const PriorModel& model, const PriorPa
   const TappedEntries tapped = gatherTappedEntries(rows, model, basisByEntry);
   Eigen::MatrixXd design(n, k + kHalfVectorTermCount);
   Eigen::MatrixXd targets(n, 3);
-  Eigen::RowVectorXd designRow(k + kHalfVectorTermCount);
+  Eigen::RowVectorXd designRow(k);
   for (int i = 0; i < n; ++i) {
     double meanAtSample = 0.0;
     designRow.setZero();
@@ -325,7 +364,9 @@ Abrdf reconstruct(const SliceSet& slices, const PriorModel& model, const PriorPa
       meanAtSample += tap.weight * model.mean[std::size_t(tap.light * 81 + tap.view)];
       designRow += tap.weight * tapped.features.row(row.slots[t]);
     }
-    design.row(i) = designRow;
+    design.row(i).head(k) = designRow;
+    for (int j = 0; j < kHalfVectorTermCount; ++j)
+      design(i, k + j) = row.terms[std::size_t(j)];
     for (int c = 0; c < 3; ++c)
       targets(i, c) = std::log(rows[i].weighted[c] + floor[c]) - meanAtSample;
   }
@@ -391,20 +432,21 @@ Abrdf reconstruct(const SliceSet& slices, const PriorModel& model, const PriorPa
     }
   }
 
-  // The samples' residuals against the fitted table, read as the sample was (linear taps).
-  std::vector<std::array<double, 3>> entryValues(tapped.entries.size());
-  for (std::size_t s = 0; s < tapped.entries.size(); ++s) {
-    for (int c = 0; c < 3; ++c)
-      entryValues[s][std::size_t(c)] = std::exp(double(logTable(tapped.entries[s], c)));
-  }
+  // The samples' residuals against the fitted model at their own angles (linear taps, their
+  // own half-vector terms). The residual field puts them at the slice's nominal elevation pair:
+  // a ratio to the model moves with the model, so a sample taken a few degrees off its pair is
+  // corrected to the pair by the fitted model's own change over those degrees.
+  const SampleModel fitted = sampleModel(rows, tapped, model, refined);
   SliceResiduals residuals;
   double squares = 0.0;
-  for (const SampleRow& r : rows) {
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const SampleRow& r = rows[i];
     Rgb predicted;
+    const Eigen::Array3d rowFactor = fitted.rowLog[i].exp();
     for (std::size_t t = 0; t < r.taps.size(); ++t) {
-      const std::array<double, 3>& value = entryValues[std::size_t(r.slots[t])];
+      const Eigen::Array3d value = fitted.slotLog[std::size_t(r.slots[t])].exp() * rowFactor;
       for (int c = 0; c < 3; ++c)
-        predicted[c] += r.taps[t].weight * (value[std::size_t(c)] - floor[c]);
+        predicted[c] += r.taps[t].weight * (value[c] - floor[c]);
     }
     Rgb residual;
     for (std::size_t c = 0; c < 3; ++c) {

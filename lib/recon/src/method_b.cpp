@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 
+#include "slicecap/recon/elevation_correction.hpp"
 #include "slicecap/recon/errors.hpp"
 #include "slicecap/recon/measured_subspaces.hpp"
 
@@ -76,11 +77,11 @@ bool MethodBReport::allConverged() const {
   return std::all_of(fits.begin(), fits.end(), [](const LineFit& f) { return f.fit.converged; });
 }
 
-Abrdf reconstructMethodB(const SliceSet& slices, const MethodBParams& params,
-                         MethodBReport* report) {
-  std::string error;
-  if (!params.fit.isValid(&error)) throw std::invalid_argument("Method B: " + error);
+namespace {
 
+// Method B on slices whose samples sit at their nominal elevations.
+Abrdf reconstructAtNominalElevations(const SliceSet& slices, const MethodBParams& params,
+                                     MethodBReport* report) {
   std::vector<Subspace> measured =
       reconstructMeasuredSubspaces(slices, params.isotropic, params.torusRule, "Method B");
 
@@ -91,8 +92,7 @@ Abrdf reconstructMethodB(const SliceSet& slices, const MethodBParams& params,
     const Slice* diagonal = slices.find({SliceKind::Diagonal, pair});
     const Slice* axial = params.isotropic ? nullptr : slices.find({SliceKind::Axial, pair});
     PairData data{std::move(measured[p]), 0.0, {}};
-    // Every sample counts at its pair's nominal elevations: the lobe is a curve over the line's
-    // varying elevation, and a capture's jittered angles belong to the pair they were taken for.
+    // Every sample counts at its pair's nominal elevations, where it was moved above.
     for (const Slice* slice : {diagonal, axial}) {
       if (!slice) continue;
       for (const SliceSample& s : slice->samples)
@@ -139,6 +139,35 @@ Abrdf reconstructMethodB(const SliceSet& slices, const MethodBParams& params,
   for (float& v : table.values())
     v = std::max(v, 0.0f);
   return table;
+}
+
+bool atNominalElevations(const SliceSet& slices) {
+  for (const Slice& slice : slices.slices()) {
+    for (const SliceSample& s : slice.samples) {
+      if (slice.id.kind != SliceKind::Point && (s.light.thetaDeg != slice.id.elevations.thetaIDeg ||
+                                                s.view.thetaDeg != slice.id.elevations.thetaVDeg))
+        return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+Abrdf reconstructMethodB(const SliceSet& slices, const MethodBParams& params,
+                         MethodBReport* report) {
+  std::string error;
+  if (!params.fit.isValid(&error)) throw std::invalid_argument("Method B: " + error);
+  if (atNominalElevations(slices)) return reconstructAtNominalElevations(slices, params, report);
+  // The slice-sum reads a slice as a signal of its azimuth alone, so samples taken a degree or two
+  // off their pair's elevations are first moved to them: along a fitted elevation lobe for a
+  // first reconstruction, then along that reconstruction's own local change with elevation at
+  // each sample's azimuths, which follows highlights and sheens one lobe cannot
+  // (elevation_correction.hpp).
+  const Abrdf first =
+      reconstructAtNominalElevations(correctedToNominalElevations(slices), params, nullptr);
+  return reconstructAtNominalElevations(correctedToNominalElevations(slices, first), params,
+                                        report);
 }
 
 }  // namespace slicecap::recon

@@ -27,6 +27,11 @@ struct IsotropyParams {
   /// generalised cross-validation score below this fraction of the isotropic fit's (as
   /// PriorParams::anisotropyScoreRatio).
   double priorScoreRatio = 0.3;
+  /// \brief PriorParams::readAtMeasuredAngles of the prior's fit. Off by default: priorScoreRatio
+  /// was set with the table's interpolation, and reading the basis at the samples' own relative
+  /// azimuth changes the scores of slices extracted from a table (blue-plastic's ratio falls to
+  /// 0.28); it has not been set again for captures.
+  bool readAtMeasuredAngles = false;
   bool isValid(std::string* error) const;
 };
 

@@ -29,6 +29,15 @@ struct PriorParams {
   double anisotropyScoreRatio = 0.3;
   /// \brief Never use the anisotropy terms (e.g. an operator who knows the material is isotropic).
   bool isotropicOnly = false;
+  /// \brief How a sample's design row is read. True (a capture): at the sample's own measured
+  /// angles -- the learned basis and mean, which are isotropic, at its own phi_v - phi_i and
+  /// elevations (the sample turned about the normal so that one direction sits on a grid
+  /// azimuth), the half-vector terms at its own directions; the error then does not depend on
+  /// where the samples fall inside their bins. False: through the table's linear interpolation at
+  /// the sample's angles (tableTaps), which is exact only when the truth between grid azimuths IS
+  /// that interpolation (slices extracted from a table, METHOD.md 2.3); read that way, a real
+  /// capture's samples between grid azimuths blend entries a bin apart and smear highlights.
+  bool readAtMeasuredAngles = true;
   /// \brief Blend with Method B where the samples show little directional structure: near-diffuse
   /// materials (felts, papers, matte paints, spectralon), where B's one-lobe model is nearly exact
   /// and a basis learned mostly from glossy tables adds structure that is not there. The weight
