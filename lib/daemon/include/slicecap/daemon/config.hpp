@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "slicecap/hal/camera.hpp"
+
 namespace slicecap::daemon {
 
 /// \brief A configuration that cannot be used; what() is "FILE:LINE: key: what is wrong" (or
@@ -41,6 +43,9 @@ struct DaemonConfig {
   /// readout_us: the sensor's top-to-bottom readout time (slicecapd --check-hardware measures
   /// it); empty: the camera's line time where it says it, else a whole frame period.
   std::optional<double> readoutUs;
+  /// camera_raw = auto | on | off: the RAW (Bayer) stream, decoded to linear light, where the
+  /// camera offers a format slicecap decodes (hal::RawCapture).
+  hal::RawCapture cameraRaw = hal::RawCapture::Auto;
 
   // camera = model: the virtual rig in front of a camera model that behaves like a Pi camera
   // (hal::ModelCamera): a material, the rig's imperfections, the sweep's pace, the ISP's curve.
@@ -50,6 +55,9 @@ struct DaemonConfig {
   int modelPositions = 32;          ///< model_positions: where the hand rests on the way round
   std::string modelToneCurve = "imx708";  ///< model_tone_curve = imx708 | srgb | linear
   int modelSeed = 7;                      ///< model_seed: the rig's and the sensor's randomness
+  /// model_raw: the RAW format the model's sensor offers (a libcamera name slicecap decodes, e.g.
+  /// SRGGB10_CSI2P, a Pi 4's IMX708); empty = none, the model offers processed frames only.
+  std::string modelRaw;
 
   // LED.
   std::string ledChip = "gpiochip0";  ///< led_chip: the GPIO chip (name or /dev path)

@@ -42,10 +42,10 @@ struct CameraConfig {
   RawCapture raw = RawCapture::Auto;
   /// The sensor's top-to-bottom readout time, when known (slicecapd.conf readout_us): a V4L2
   /// camera whose timestamps mark the end of a frame needs it to say when the frame began.
-  std::optional<double> readoutUs;
+  std::optional<double> readoutUs{};
   /// Set by configure: the RAW format the frames are decoded from (libcamera's name, e.g.
   /// "SRGGB10_CSI2P"); empty when they come from the processed stream.
-  std::string rawFormat;
+  std::string rawFormat{};
 };
 
 /// \brief The outcome of Camera::configure, as libcamera's CameraConfiguration::validate: Valid
