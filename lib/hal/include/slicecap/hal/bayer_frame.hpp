@@ -50,6 +50,8 @@ struct BayerBlackLevels {
 /// \brief Raspberry Pi's default black level, 64 at 10 bits = 4096 on the 16-bit scale (the
 /// `rpi.black_level` algorithm's default in libcamera's Raspberry Pi IPA, black_level.cpp; the
 /// IMX708 and IMX219 tuning files say the same): used when a camera does not report its own.
+/// rpicam-apps' DNG writer does the same: SensorBlackLevels (R, Gr, Gb, B) when the frame has
+/// it, else 4096 scaled to the sample's bits.
 inline constexpr double kDefaultBlackLevel16 = 4096.0;
 
 /// \brief One RAW frame's bytes as the device delivered them: the mosaic's size in sensor pixels.
