@@ -331,11 +331,24 @@ ConfigResult LibcameraCamera::configure(CameraConfig& config) {
   std::vector<std::string> adjustments;
   if (config.raw != RawCapture::Off) {
     RawAttempt raw = state_->tryRaw(config);
-    if (raw.configuration) return configureRaw(config, std::move(raw.configuration), *raw.format);
-    if (config.raw == RawCapture::On)
+    if (raw.configuration) {
+      // A pipeline that validates a RAW-only configuration may still refuse to apply it.
+      const int result = state_->camera->configure(raw.configuration.get());
+      if (result == 0) return configureRaw(config, std::move(raw.configuration), *raw.format);
+      raw.reason = "libcamera could not apply the RAW stream " +
+                   raw.configuration->at(0).toString() + " (" + std::strerror(-result) +
+                   "): the processed stream is used instead";
+    }
+    if (config.raw == RawCapture::On) {
+      // The same cause, without the fallback that `on` refuses.
+      std::string cause = raw.reason.empty() ? std::string("it offers no RAW stream") : raw.reason;
+      if (const auto fallback = cause.find(": the processed stream is used instead");
+          fallback != std::string::npos)
+        cause.erase(fallback);
       return {ConfigResult::Status::Invalid,
-              state_->name() + ": camera_raw = on, but " +
-                  (raw.reason.empty() ? std::string("it offers no RAW stream") : raw.reason)};
+              state_->name() + ": camera_raw = on, but " + cause +
+                  " (camera_raw = auto takes the processed stream instead)"};
+    }
     if (!raw.reason.empty()) {
       // Said once on stderr and in every sweep's configuration result (the session's journal).
       warnOnce(state_->name() + ": " + raw.reason);
@@ -399,9 +412,7 @@ ConfigResult LibcameraCamera::configure(CameraConfig& config) {
 ConfigResult LibcameraCamera::configureRaw(
     CameraConfig& config, std::unique_ptr<libcamera::CameraConfiguration> configuration,
     const BayerFormat& format) {
-  libcamera::StreamConfiguration& stream = configuration->at(0);
-  if (const int result = state_->camera->configure(configuration.get()); result != 0)
-    state_->fail("cannot apply the configuration " + stream.toString(), result);
+  const libcamera::StreamConfiguration& stream = configuration->at(0);
   std::vector<std::string> adjustments;
   const int width = int(stream.size.width) / 2, height = int(stream.size.height) / 2;
   if (width != config.widthPx || height != config.heightPx)

@@ -62,6 +62,7 @@ class LibcameraCamera final : public Camera {
   struct State;
 
  private:
+  /// Takes a RAW configuration the camera has applied: the delivered size and encoding.
   ConfigResult configureRaw(CameraConfig& config,
                             std::unique_ptr<libcamera::CameraConfiguration> configuration,
                             const BayerFormat& format);
