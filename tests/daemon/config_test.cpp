@@ -37,6 +37,9 @@ TEST(DaemonConfig, TheDocumentedDefaultsAreTheDefaults) {
   EXPECT_EQ(fromFile.clientIdleTimeoutS, defaults.clientIdleTimeoutS);
   EXPECT_EQ(fromFile.clientIdleTimeoutS, 300);
   EXPECT_FALSE(fromFile.exposureUs.has_value());
+  EXPECT_EQ(fromFile.cameraRaw, defaults.cameraRaw);
+  EXPECT_EQ(fromFile.cameraRaw, hal::RawCapture::Auto);
+  EXPECT_EQ(fromFile.modelRaw, "") << "the model offers no RAW stream unless asked";
   EXPECT_EQ(fromFile.textureResolution, 0) << "no texture unless asked";
   EXPECT_EQ(fromFile.textureFramesPerBin, defaults.textureFramesPerBin);
   EXPECT_EQ(parse("").storage, defaults.storage) << "an empty file is the defaults";
@@ -53,8 +56,12 @@ TEST(DaemonConfig, ReadsEveryKind) {
       "storage = /tmp/slicecap\n"
       "texture_resolution = 128\n"
       "texture_frames_per_bin = 3\n"
-      "client_idle_timeout_s = 0\n");
+      "client_idle_timeout_s = 0\n"
+      "camera_raw = off\n"
+      "model_raw = SBGGR12_CSI2P\n");
   EXPECT_EQ(c.camera, DaemonConfig::CameraKind::File);
+  EXPECT_EQ(c.cameraRaw, hal::RawCapture::Off);
+  EXPECT_EQ(c.modelRaw, "SBGGR12_CSI2P");
   EXPECT_EQ(c.recording, "/srv/sim/felt");
   EXPECT_EQ(c.widthPx, 1920);
   EXPECT_EQ(c.exposureUs, 8000.0);
@@ -97,6 +104,9 @@ TEST(DaemonConfig, NamesTheLineAndKeyOfEveryMistake) {
             "slicecapd.conf:1: texture_resolution: '128.5' is not a whole number in 0..512 "
             "(texels across the window (0: off))");
   EXPECT_NE(error("texture_frames_per_bin = 0\n").find("1..64"), std::string::npos);
+  EXPECT_EQ(error("camera_raw = yes\n"), "slicecapd.conf:1: camera_raw: 'yes' is not auto, on or off");
+  EXPECT_NE(error("model_raw = RGGB_PISP_COMP1\n").find("not a RAW format slicecap decodes"),
+            std::string::npos);
   EXPECT_THROW(readDaemonConfig("/nonexistent/slicecapd.conf"), ConfigError);
 }
 

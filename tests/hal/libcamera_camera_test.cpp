@@ -3,6 +3,8 @@
 // two live managers would.
 #include "slicecap/hal/libcamera_camera.hpp"
 
+#include <libcamera/formats.h>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -38,6 +40,28 @@ TEST(LibcameraCamera, ManyUsersShareOneCameraManager) {
     EXPECT_TRUE(first.empty()) << error.what();
     EXPECT_THAT(error.what(), HasSubstr("no camera found"));
   }
+}
+
+// The RAW formats are chosen by libcamera's names for them (PixelFormat::toString), which this
+// installed libcamera must spell as the decoder expects.
+TEST(LibcameraCamera, LibcamerasRawFormatNamesMapToTheDecodersFormats) {
+  namespace f = libcamera::formats;
+  using O = BayerOrder;
+  using P = BayerPacking;
+  const std::pair<libcamera::PixelFormat, BayerFormat> decodable[] = {
+      {f::SRGGB10_CSI2P, {O::Rggb, 10, P::Csi2Packed}}, {f::SGRBG10_CSI2P, {O::Grbg, 10, P::Csi2Packed}},
+      {f::SGBRG10_CSI2P, {O::Gbrg, 10, P::Csi2Packed}}, {f::SBGGR10_CSI2P, {O::Bggr, 10, P::Csi2Packed}},
+      {f::SRGGB12_CSI2P, {O::Rggb, 12, P::Csi2Packed}}, {f::SBGGR12_CSI2P, {O::Bggr, 12, P::Csi2Packed}},
+      {f::SRGGB10, {O::Rggb, 10, P::Unpacked16}},       {f::SGBRG12, {O::Gbrg, 12, P::Unpacked16}},
+      {f::SRGGB16, {O::Rggb, 16, P::Unpacked16}},       {f::SBGGR16, {O::Bggr, 16, P::Unpacked16}}};
+  for (const auto& [format, expected] : decodable) {
+    EXPECT_TRUE(isRawFormatName(format.toString())) << format.toString();
+    EXPECT_EQ(bayerFormatFromLibcameraName(format.toString()), expected) << format.toString();
+  }
+  EXPECT_TRUE(isRawFormatName(f::SRGGB10_IPU3.toString()));
+  EXPECT_FALSE(bayerFormatFromLibcameraName(f::SRGGB10_IPU3.toString()));
+  for (const libcamera::PixelFormat& processed : {f::YUYV, f::YUV420, f::RGB888, f::XRGB8888})
+    EXPECT_FALSE(isRawFormatName(processed.toString())) << processed.toString();
 }
 
 }  // namespace

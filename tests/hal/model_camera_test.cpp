@@ -155,6 +155,86 @@ TEST(ModelCamera, TheIspCurveAndColourGainsAreNotSrgb) {
   EXPECT_GT(std::abs(asSrgb / linear - 1.0), 0.1);
 }
 
+SensorModel rawModel() {
+  SensorModel model = quietModel();
+  model.rawFormat = BayerFormat{BayerOrder::Rggb, 10, BayerPacking::Csi2Packed};  // a Pi 4's IMX708
+  model.colourGains = {1.9, 1.0, 1.6};  // the ISP's: the RAW stream never sees them
+  return model;
+}
+
+TEST(ModelCamera, ItsRawStreamIsLinearPerRowThroughTheBayerDecoder) {
+  const SensorModel model = rawModel();
+  Rig rig(model);
+  const std::int64_t frame1Row0Us = 1'000'000 + 33333 - 10000;
+  rig.light->record(frame1Row0Us + std::int64_t(24 * model.lineTimeUs), true);
+  rig.next();
+  const Frame frame = rig.next();
+  ASSERT_EQ(frame.encoding, PixelEncoding::Linear16);
+  ASSERT_EQ(frame.image.bitDepth, 16);
+  ASSERT_EQ(frame.image.width, 64);  // the sensor is twice the size, binned 2 x 2
+  ASSERT_EQ(frame.image.height, 48);
+  const std::optional<FrameTruth> truth = rig.camera->truth(1);
+  ASSERT_TRUE(truth);
+  for (int row : {0, 20, 47}) {
+    const double expected = 0.01 * (2.0 + 20.0 * truth->rowOnFraction[row]);
+    // One 10-bit code above the black level of 64 is 1/959 of full scale.
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(frame.image.at(10, row, c) / 65535.0, expected, 0.51 / 959) << row << " " << c;
+  }
+  EXPECT_LT(frame.image.at(10, 0, 1), frame.image.at(10, 47, 1));
+}
+
+TEST(ModelCamera, ItsNoisyRawStreamAveragesToTheLightWithTheBlackLevelTakenOff) {
+  SensorModel model = rawModel();
+  model.readNoise = 0.002;  // about 2 codes at 10 bits
+  model.fullWellElectrons = 8000.0;
+  Rig rig(model, 4, 0.0f, 5.0f);  // LED dark, room light 5 x 10 ms = 0.05 of full scale
+  const Frame frame = rig.next();
+  for (int c = 0; c < 3; ++c) {
+    double sum = 0.0, sumSquares = 0.0;
+    for (int y = 0; y < 48; ++y)
+      for (int x = 0; x < 64; ++x) {
+        const double v = frame.image.at(x, y, c) / 65535.0;
+        sum += v;
+        sumSquares += v * v;
+      }
+    const double mean = sum / (64 * 48), deviation = std::sqrt(sumSquares / (64 * 48) - mean * mean);
+    // A black level left in would add 64 / 959 = 0.067.
+    EXPECT_NEAR(mean, 0.05, 0.0005) << c;
+    // Shot and read noise, the greens' halved: sqrt(0.05 / 8000 + 0.002^2) = 0.0032.
+    EXPECT_NEAR(deviation, c == 1 ? 0.0032 / std::sqrt(2.0) : 0.0032, 0.0006) << c;
+  }
+}
+
+TEST(ModelCamera, RawIsTakenOnlyWhereOfferedAndAskedFor) {
+  FakeClock clock;
+  auto light = std::make_shared<LedTimeline>();
+  const auto scene = std::make_shared<FlatScene>(64, 48, 1.0f, 1.0f);
+  CameraConfig config;
+  config.widthPx = 64;
+  config.heightPx = 48;
+  config.raw = RawCapture::On;
+  ModelCamera processedOnly(scene, light, clock, quietModel());
+  const ConfigResult refused = processedOnly.configure(config);
+  EXPECT_EQ(refused.status, ConfigResult::Status::Invalid);
+  EXPECT_NE(refused.reason.find("no RAW stream"), std::string::npos) << refused.reason;
+
+  ModelCamera withRaw(scene, light, clock, rawModel());
+  config.raw = RawCapture::Auto;
+  EXPECT_EQ(withRaw.configure(config).status, ConfigResult::Status::Adjusted);
+  EXPECT_EQ(config.encoding, PixelEncoding::Linear16);
+  EXPECT_EQ(config.rawFormat, "SRGGB10_CSI2P");
+  config.raw = RawCapture::Off;
+  withRaw.configure(config);
+  EXPECT_EQ(config.encoding, PixelEncoding::Srgb8);
+  EXPECT_EQ(config.rawFormat, "");
+  withRaw.start();
+  const CaptureResult result = withRaw.nextFrame(std::chrono::milliseconds(1000));
+  ASSERT_EQ(result.status, CaptureResult::Status::Frame);
+  EXPECT_EQ(result.frame->encoding, PixelEncoding::Srgb8);
+  EXPECT_EQ(result.frame->image.bitDepth, 8);
+}
+
 TEST(ModelCamera, TheSceneEndingEndsTheStream) {
   FakeClock clock(0);
   auto light = std::make_shared<LedTimeline>();

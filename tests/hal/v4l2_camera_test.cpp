@@ -1,9 +1,11 @@
 // The V4L2 source's errors without a camera: a missing node and a node that is not a V4L2 device
 // are refused with the path in the message.
 #include "slicecap/hal/v4l2_camera.hpp"
+#include "slicecap/hal/v4l2_timestamp.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <linux/videodev2.h>
 
 namespace slicecap::hal {
 namespace {
@@ -21,6 +23,37 @@ TEST(V4l2Camera, ADeviceThatIsNotAV4l2NodeIsRefused) {
   EXPECT_THAT([] { V4l2Camera camera("/dev/null"); },
               ::testing::ThrowsMessage<CameraError>(
                   AllOf(HasSubstr("/dev/null"), HasSubstr("not a V4L2 device"))));
+}
+
+// The buffer flags as the kernel's documentation defines them (struct v4l2_buffer): which clock
+// the timestamp is on, and which moment of the frame it marks.
+TEST(V4l2Timestamp, StartOfExposureIsTheTimestampItself) {
+  const std::uint32_t soe = V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC | V4L2_BUF_FLAG_TSTAMP_SRC_SOE;
+  EXPECT_EQ(v4l2ExposureStartUs(soe, 5'000'000, 10'000.0, std::nullopt), 5'000'000);
+  // Exposure and readout do not matter when the timestamp marks the start.
+  EXPECT_EQ(v4l2ExposureStartUs(soe, 5'000'000, 0.0, 20'000.0), 5'000'000);
+}
+
+TEST(V4l2Timestamp, EndOfFrameSubtractsReadoutAndExposureWhenBothAreKnown) {
+  const std::uint32_t eof = V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC | V4L2_BUF_FLAG_TSTAMP_SRC_EOF;
+  EXPECT_EQ(v4l2ExposureStartUs(eof, 5'000'000, 10'000.0, 28'800.0), 5'000'000 - 38'800);
+  EXPECT_EQ(v4l2ExposureStartUs(eof, 5'000'000, 10'000.0, std::nullopt), std::nullopt);
+  EXPECT_EQ(v4l2ExposureStartUs(eof, 5'000'000, 0.0, 28'800.0), std::nullopt);  // auto exposure
+}
+
+TEST(V4l2Timestamp, OnlyMonotonicTimestampsShareTheLedsClock) {
+  for (std::uint32_t clock : {std::uint32_t(V4L2_BUF_FLAG_TIMESTAMP_UNKNOWN),
+                              std::uint32_t(V4L2_BUF_FLAG_TIMESTAMP_COPY)})
+    EXPECT_EQ(v4l2ExposureStartUs(clock | V4L2_BUF_FLAG_TSTAMP_SRC_SOE, 5'000'000, 10'000.0, 1.0),
+              std::nullopt);
+  // Other flags of the buffer (a keyframe, done) change nothing.
+  EXPECT_EQ(v4l2ExposureStartUs(V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC | V4L2_BUF_FLAG_TSTAMP_SRC_SOE |
+                                    V4L2_BUF_FLAG_DONE | V4L2_BUF_FLAG_KEYFRAME,
+                                7, 1.0, std::nullopt),
+            7);
+  // A source value the flags did not define yet: unknown, not guessed.
+  EXPECT_EQ(v4l2ExposureStartUs(V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC | 0x20000, 7, 1.0, 1.0),
+            std::nullopt);
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 #include "slicecap/daemon/config.hpp"
 #include "slicecap/daemon/sweep_decoding.hpp"
 
+#include "slicecap/hal/bayer_frame.hpp"
+
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -95,6 +97,20 @@ const std::map<std::string, Setter>& setters() {
        [](DaemonConfig& c, const std::string& v) {
          decodingModeFromString(v);  // throws naming the value
          c.decoding = v;
+       }},
+      {"camera_raw",
+       [](DaemonConfig& c, const std::string& v) {
+         const std::optional<hal::RawCapture> raw = hal::parseRawCapture(v);
+         if (!raw) throw std::invalid_argument("'" + v + "' is not auto, on or off");
+         c.cameraRaw = *raw;
+       }},
+      {"model_raw",
+       [](DaemonConfig& c, const std::string& v) {
+         if (!v.empty() && !hal::bayerFormatFromLibcameraName(v))
+           throw std::invalid_argument("'" + v + "' is not a RAW format slicecap decodes (" +
+                                       "SRGGB10_CSI2P, SBGGR12, ...: S + the CFA order + 10, 12 " +
+                                       "or 16 bits, _CSI2P for 10 or 12 packed)");
+         c.modelRaw = v;
        }},
       {"model_material", [](DaemonConfig& c, const std::string& v) { c.modelMaterial = v; }},
       {"model_rig",
@@ -240,16 +256,25 @@ readout_us =
 # a camera known to encode sRGB).
 decoding = auto
 
+# The sensor's RAW (Bayer) stream, black level off and 2 x 2 binned into linear light (half the
+# sensor mode's size: a camera module 3 asked for 1280x720 delivers 1152x648; calibrate at that
+# size): auto takes it where the camera offers a format slicecap decodes (10/12-bit, packed or
+# not; a Pi 5's compressed RAW is not, and the processed stream is used), on requires it, off
+# never takes it (docs/real-sensors.md).
+camera_raw = auto
+
 # With camera = model: the material (any `slicecap simulate --material`), the rig (realistic:
 # hand-held jitter, blur, occlusion, room light; ideal: none), seconds per sweep, the positions the
 # hand rests at on the way round, the ISP's tone curve (imx708: the Pi camera module 3's tuning),
-# and the seed of the rig's and the sensor's randomness.
+# the seed of the rig's and the sensor's randomness, and the RAW format its sensor offers (empty:
+# none; SRGGB10_CSI2P: a Pi 4's camera module 3; taken as camera_raw says).
 model_material = satin-blue-45
 model_rig = realistic
 model_sweep_seconds = 8
 model_positions = 32
 model_tone_curve = imx708
 model_seed = 7
+model_raw =
 
 # LED: the GPIO chip and line that drive the LED driver (never an LED straight on a pin; see
 # firmware/README.md). The line by name (as `gpioinfo` lists it) or by offset.

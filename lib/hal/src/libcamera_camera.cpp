@@ -21,7 +21,11 @@
 #include <map>
 #include <mutex>
 
+#include <iostream>
+#include <set>
+
 #include "libcamera_compat.hpp"
+#include "slicecap/hal/bayer_frame.hpp"
 #include "slicecap/hal/raw_frame.hpp"
 
 namespace slicecap::hal {
@@ -74,6 +78,24 @@ std::optional<RawLayout> layoutOf(const libcamera::PixelFormat& format) {
   return std::nullopt;
 }
 
+/// Says `message` on stderr the first time this process meets it: a camera reconfigured for
+/// every sweep would otherwise repeat it every sweep.
+void warnOnce(const std::string& message) {
+  static std::mutex mutex;
+  static std::set<std::string> said;
+  const std::lock_guard lock(mutex);
+  if (said.insert(message).second) std::cerr << "slicecap: " << message << "\n";
+}
+
+/// What trying the RAW stream came to: configured (`configuration` set), or not, with `reason`
+/// empty when the camera offers no RAW stream at all and naming the format when it offers one
+/// slicecap does not decode.
+struct RawAttempt {
+  std::unique_ptr<libcamera::CameraConfiguration> configuration;
+  std::optional<BayerFormat> format;
+  std::string reason;
+};
+
 struct Mapping {
   void* start = MAP_FAILED;
   std::size_t length = 0;
@@ -112,6 +134,8 @@ struct LibcameraCamera::State {
   std::map<const libcamera::FrameBuffer*, std::vector<std::span<const std::uint8_t>>> planes;
   CameraConfig config;
   RawLayout layout = RawLayout::Yuyv;
+  std::optional<BayerFormat> bayer;  // RAW: frames are decoded mosaics of rawSize
+  libcamera::Size rawSize;
   std::size_t strideBytes = 0;
   bool configured = false;
   bool streaming = false;
@@ -174,6 +198,76 @@ struct LibcameraCamera::State {
     planes.clear();
   }
 
+  /// The RAW stream alone (the ISP is not needed: the sensor's samples are decoded here), in a
+  /// format decodeBayer reads, at the sensor mode whose binned size best fits the request.
+  RawAttempt tryRaw(const CameraConfig& wanted) {
+    RawAttempt attempt;
+    auto generated = libcamera_compat::generateConfiguration(*camera, libcamera::StreamRole::Raw);
+    if (!generated || generated->empty()) return attempt;
+    libcamera::StreamConfiguration& stream = generated->at(0);
+    // A pipeline without RAW (uvcvideo) answers the Raw role with its processed formats.
+    std::vector<libcamera::PixelFormat> rawOffered;
+    for (const libcamera::PixelFormat& format : stream.formats().pixelformats())
+      if (isRawFormatName(format.toString())) rawOffered.push_back(format);
+    if (rawOffered.empty()) return attempt;
+    // The format libcamera proposes (the sensor's own packing) when decodable, else any that is.
+    std::optional<libcamera::PixelFormat> chosen;
+    if (bayerFormatFromLibcameraName(stream.pixelFormat.toString())) chosen = stream.pixelFormat;
+    for (const libcamera::PixelFormat& format : rawOffered)
+      if (!chosen && bayerFormatFromLibcameraName(format.toString())) chosen = format;
+    if (!chosen) {
+      const bool proposedIsRaw = isRawFormatName(stream.pixelFormat.toString());
+      attempt.reason = undecodableRawReason(
+          (proposedIsRaw ? stream.pixelFormat : rawOffered.front()).toString());
+      return attempt;
+    }
+    std::vector<std::pair<int, int>> modes;
+    for (const libcamera::Size& size : stream.formats().sizes(*chosen))
+      modes.emplace_back(int(size.width), int(size.height));
+    const std::pair<int, int> mode =
+        chooseBayerSize(modes, wanted.widthPx, wanted.heightPx)
+            .value_or(std::pair{2 * wanted.widthPx, 2 * wanted.heightPx});
+    stream.pixelFormat = *chosen;
+    stream.size = libcamera::Size(unsigned(mode.first), unsigned(mode.second));
+    stream.bufferCount = static_cast<unsigned>(std::max(wanted.bufferCount, 2));
+    // No flips: a transform would also change the CFA order of the samples.
+    libcamera_compat::keepSensorOrientation(*generated);
+    if (generated->validate() == libcamera::CameraConfiguration::Invalid) {
+      attempt.reason = "libcamera refused the RAW stream " + stream.toString() +
+                       ": the processed stream is used instead";
+      return attempt;
+    }
+    const std::string validated = stream.pixelFormat.toString();
+    attempt.format = bayerFormatFromLibcameraName(validated);
+    if (!attempt.format) {
+      attempt.reason = undecodableRawReason(validated);
+      return attempt;
+    }
+    attempt.configuration = std::move(generated);
+    return attempt;
+  }
+
+  BayerFrameView mosaicOf(const libcamera::FrameBuffer& buffer) const {
+    const std::vector<std::span<const std::uint8_t>>& spans = planes.at(&buffer);
+    BayerFrameView mosaic;
+    mosaic.format = *bayer;
+    mosaic.widthPx = int(rawSize.width);
+    mosaic.heightPx = int(rawSize.height);
+    mosaic.strideBytes = strideBytes;
+    if (!spans.empty()) mosaic.bytes = spans[0];
+    return mosaic;
+  }
+
+  /// The frame's own black levels (SensorBlackLevels, which the Pi's IPA reports with every
+  /// frame), else Raspberry Pi's default, said once.
+  BayerBlackLevels blackLevelsOf(const libcamera::ControlList& reported) {
+    if (const auto levels = libcamera_compat::sensorBlackLevels(reported)) return {*levels};
+    warnOnce(name() + " reports no SensorBlackLevels with its RAW frames: a black level of " +
+             std::to_string(int(kDefaultBlackLevel16)) +
+             " of 65535 (64 at 10 bits, Raspberry Pi's default) is assumed");
+    return BayerBlackLevels::uniform(kDefaultBlackLevel16);
+  }
+
   RawFrameView viewOf(const libcamera::FrameBuffer& buffer) const {
     const std::vector<std::span<const std::uint8_t>>& spans = planes.at(&buffer);
     RawFrameView raw;
@@ -232,6 +326,35 @@ std::string LibcameraCamera::id() const { return state_->camera->id(); }
 
 ConfigResult LibcameraCamera::configure(CameraConfig& config) {
   if (state_->streaming) throw std::logic_error("LibcameraCamera::configure while streaming");
+  config.rawFormat.clear();
+  state_->bayer.reset();
+  std::vector<std::string> adjustments;
+  if (config.raw != RawCapture::Off) {
+    RawAttempt raw = state_->tryRaw(config);
+    if (raw.configuration) {
+      // A pipeline that validates a RAW-only configuration may still refuse to apply it.
+      const int result = state_->camera->configure(raw.configuration.get());
+      if (result == 0) return configureRaw(config, std::move(raw.configuration), *raw.format);
+      raw.reason = "libcamera could not apply the RAW stream " +
+                   raw.configuration->at(0).toString() + " (" + std::strerror(-result) +
+                   "): the processed stream is used instead";
+    }
+    if (config.raw == RawCapture::On) {
+      // The same cause, without the fallback that `on` refuses.
+      std::string cause = raw.reason.empty() ? std::string("it offers no RAW stream") : raw.reason;
+      if (const auto fallback = cause.find(": the processed stream is used instead");
+          fallback != std::string::npos)
+        cause.erase(fallback);
+      return {ConfigResult::Status::Invalid,
+              state_->name() + ": camera_raw = on, but " + cause +
+                  " (camera_raw = auto takes the processed stream instead)"};
+    }
+    if (!raw.reason.empty()) {
+      // Said once on stderr and in every sweep's configuration result (the session's journal).
+      warnOnce(state_->name() + ": " + raw.reason);
+      adjustments.push_back(raw.reason);
+    }
+  }
   state_->configuration = libcamera_compat::generateConfiguration(
       *state_->camera, libcamera::StreamRole::VideoRecording);
   if (!state_->configuration || state_->configuration->empty())
@@ -254,7 +377,6 @@ ConfigResult LibcameraCamera::configure(CameraConfig& config) {
   stream.bufferCount = static_cast<unsigned>(std::max(config.bufferCount, 2));
   libcamera_compat::keepSensorOrientation(*state_->configuration);
 
-  std::vector<std::string> adjustments;
   switch (state_->configuration->validate()) {
     case libcamera::CameraConfiguration::Invalid:
       return {ConfigResult::Status::Invalid,
@@ -281,6 +403,33 @@ ConfigResult LibcameraCamera::configure(CameraConfig& config) {
     config.encoding = PixelEncoding::Srgb8;
   }
   state_->layout = *layout;
+  state_->strideBytes = stream.stride;
+  state_->config = config;
+  state_->configured = true;
+  return ConfigResult::fromAdjustments(adjustments);
+}
+
+ConfigResult LibcameraCamera::configureRaw(
+    CameraConfig& config, std::unique_ptr<libcamera::CameraConfiguration> configuration,
+    const BayerFormat& format) {
+  const libcamera::StreamConfiguration& stream = configuration->at(0);
+  std::vector<std::string> adjustments;
+  const int width = int(stream.size.width) / 2, height = int(stream.size.height) / 2;
+  if (width != config.widthPx || height != config.heightPx)
+    adjustments.push_back("size " + std::to_string(config.widthPx) + "x" +
+                          std::to_string(config.heightPx) + " -> " + std::to_string(width) + "x" +
+                          std::to_string(height) + " (RAW " + stream.toString() +
+                          " binned 2 x 2)");
+  if (config.encoding != PixelEncoding::Linear16)
+    adjustments.push_back("encoding srgb8 -> linear16 (RAW " + bayerFormatName(format) + ")");
+  config.widthPx = width;
+  config.heightPx = height;
+  config.encoding = PixelEncoding::Linear16;
+  config.bufferCount = static_cast<int>(stream.bufferCount);
+  config.rawFormat = bayerFormatName(format);
+  state_->configuration = std::move(configuration);
+  state_->bayer = format;
+  state_->rawSize = stream.size;
   state_->strideBytes = stream.stride;
   state_->config = config;
   state_->configured = true;
@@ -401,18 +550,26 @@ CaptureResult LibcameraCamera::nextFrame(std::chrono::milliseconds timeout) {
   if (metadata.status != libcamera::FrameMetadata::FrameSuccess)
     return {CaptureResult::Status::Error, std::nullopt,
             state_->name() + ": frame " + std::to_string(metadata.sequence) + " failed"};
+  const libcamera::ControlList& reported = request->metadata();
   Frame frame;
   try {
-    frame.image = toImage(state_->viewOf(*buffer));
+    if (state_->bayer) {
+      frame.image = decodeBayer(state_->mosaicOf(*buffer), state_->blackLevelsOf(reported));
+    } else {
+      frame.image = toImage(state_->viewOf(*buffer));
+    }
   } catch (const RawFrameError& error) {
     return {CaptureResult::Status::Error, std::nullopt,
             state_->name() + ": frame " + std::to_string(metadata.sequence) + ": " + error.what()};
   }
   if (!state_->firstSequence) state_->firstSequence = metadata.sequence;
-  frame.encoding = PixelEncoding::Srgb8;
+  frame.encoding = state_->bayer ? PixelEncoding::Linear16 : PixelEncoding::Srgb8;
   frame.metadata.sequence = metadata.sequence - *state_->firstSequence;
-  frame.metadata.timestampUs = static_cast<std::int64_t>(metadata.timestamp / 1000);
-  const libcamera::ControlList& reported = request->metadata();
+  // The sensor's timestamp where the pipeline reports it (the Pi: the start of row 0's readout,
+  // picamera2 issue 821), else the buffer's.
+  const std::int64_t timestampNs = reported.get(libcamera::controls::SensorTimestamp)
+                                       .value_or(static_cast<std::int64_t>(metadata.timestamp));
+  frame.metadata.timestampUs = timestampNs / 1000;
   const auto carried = state_->locksCarried.find(request);
   frame.metadata.exposureLocks = carried == state_->locksCarried.end() ? 0 : carried->second;
   // A pipeline that reports no exposure (libcamera's uvcvideo reports only the timestamp): the
@@ -429,6 +586,11 @@ CaptureResult LibcameraCamera::nextFrame(std::chrono::milliseconds timeout) {
       double(reported.get(libcamera::controls::AnalogueGain)
                  .value_or(static_cast<float>(known ? known->gain.value_or(1.0) : 1.0))) *
       double(reported.get(libcamera::controls::DigitalGain).value_or(1.0f));
+  // Row 0 began exposing one exposure before its readout; only where the pipeline says both
+  // (a timestamp without a reported exposure, as uvcvideo's, marks nothing known).
+  if (const auto exposureUs = reported.get(libcamera::controls::ExposureTime);
+      exposureUs && reported.get(libcamera::controls::SensorTimestamp))
+    frame.metadata.exposureStartUs = frame.metadata.timestampUs - std::int64_t(*exposureUs);
   return {CaptureResult::Status::Frame, std::move(frame), ""};
 }
 

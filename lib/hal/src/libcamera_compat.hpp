@@ -3,8 +3,12 @@
 #pragma once
 
 #include <libcamera/camera.h>
+#include <libcamera/control_ids.h>
+#include <libcamera/controls.h>
 
+#include <array>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace slicecap::hal::libcamera_compat {
@@ -15,6 +19,15 @@ inline std::unique_ptr<libcamera::CameraConfiguration> generateConfiguration(
     libcamera::Camera& camera, libcamera::StreamRole role) {
   const std::vector<libcamera::StreamRole> roles{role};
   return camera.generateConfiguration(roles);
+}
+
+/// SensorBlackLevels is `Span<const int32_t, 4>` metadata in both (0.0.3's control_ids.h and the
+/// fork's); ControlList::get returns std::optional in both. Levels on a 16-bit scale, R, Gr, Gb, B.
+inline std::optional<std::array<double, 4>> sensorBlackLevels(const libcamera::ControlList& metadata) {
+  const auto levels = metadata.get(libcamera::controls::SensorBlackLevels);
+  if (!levels) return std::nullopt;
+  return std::array<double, 4>{double((*levels)[0]), double((*levels)[1]), double((*levels)[2]),
+                               double((*levels)[3])};
 }
 
 /// The rig needs frames as the sensor sees them: no flips. Debian's 0.0.x spells that

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -38,6 +39,13 @@ bool SensorModel::isValid(std::string* error) const {
   if (!(autoExposureUs > 0.0 && autoExposureUs <= framePeriodUs))
     return fail("auto exposure " + std::to_string(autoExposureUs) + " us is outside (0, period]");
   if (!(autoGain >= 1.0 && autoGain <= maxGain)) return fail("auto gain is outside 1..max gain");
+  if (rawFormat) {
+    if (!bayerFormatFromLibcameraName(bayerFormatName(*rawFormat)))
+      return fail("RAW format " + bayerFormatName(*rawFormat) + " is not one the decoder reads");
+    const double largest16 = std::ldexp(double((1 << rawFormat->bitDepth) - 1), 16 - rawFormat->bitDepth);
+    if (!(rawBlackLevel16 >= 0.0 && rawBlackLevel16 < largest16))
+      return fail("RAW black level " + std::to_string(rawBlackLevel16) + " is outside 0..full scale");
+  }
   return true;
 }
 
@@ -63,6 +71,17 @@ struct Lock {
   std::uint32_t index = 0;
 };
 
+/// The scene channel (0 R, 1 G, 2 B) a Bayer order puts at (row parity, column parity).
+std::array<std::array<int, 2>, 2> cfaColours(BayerOrder order) {
+  switch (order) {
+    case BayerOrder::Rggb: return {{{0, 1}, {1, 2}}};
+    case BayerOrder::Grbg: return {{{1, 0}, {2, 1}}};
+    case BayerOrder::Gbrg: return {{{1, 2}, {0, 1}}};
+    case BayerOrder::Bggr: return {{{2, 1}, {1, 0}}};
+  }
+  return {{{0, 1}, {1, 2}}};
+}
+
 struct Captured {
   std::uint64_t sequence = 0;
   std::int64_t readoutStartUs = 0;  // row 0's readout start: libcamera's SensorTimestamp
@@ -80,6 +99,7 @@ struct ModelCamera::State {
   Clock& clock;
   SensorModel model;
   CameraConfig config;
+  bool raw = false;  // delivering the RAW stream, decoded
   bool configured = false, running = false, ended = false;
   std::int64_t startUs = 0;
   std::uint64_t nextToStart = 0;  // the next frame whose readout has not been decided
@@ -184,12 +204,19 @@ struct ModelCamera::State {
     truth.gain = captured.gain;
     truth.rowOnFraction.resize(height);
     Frame frame;
-    frame.encoding = PixelEncoding::Srgb8;
+    frame.encoding = raw ? PixelEncoding::Linear16 : PixelEncoding::Srgb8;
     frame.image.width = width;
     frame.image.height = height;
     frame.image.channels = 3;
     frame.image.bitDepth = 8;
-    frame.image.samples.resize(values);
+    if (!raw) frame.image.samples.resize(values);
+    // RAW: the sensor's codes, twice the size, offset by the black level.
+    std::vector<std::uint16_t> mosaic(raw ? values / 3 * 4 : 0);
+    const int largestCode = raw ? (1 << model.rawFormat->bitDepth) - 1 : 0;
+    const float blackCode =
+        raw ? float(std::ldexp(model.rawBlackLevel16, model.rawFormat->bitDepth - 16)) : 0.0f;
+    const float codeRange = float(largestCode) - blackCode;
+    const auto colours = cfaColours(raw ? model.rawFormat->order : BayerOrder::Rggb);
     const double exposureS = exposureUs * 1e-6;
     // Per value: one shot-plus-read noise draw (the two are independent Gaussians, so one draw
     // of their summed variance), the ISP's colour gain, then the tone curve by table.
@@ -208,6 +235,24 @@ struct ModelCamera::State {
       truth.rowOnFraction[row] = static_cast<float>(exposureS > 0 ? onS / exposureS : 0.0);
       const float ambientScale = float(captured.gain * exposureS), ledScale = float(captured.gain * onS);
       const std::size_t base = std::size_t(row) * width * 3;
+      if (raw) {
+        // Mosaic rows 2 row and 2 row + 1 are this scene row's cells (read out together, as a
+        // sensor's 2 x 2 binned mode reads them).
+        for (int dy = 0; dy < 2; ++dy) {
+          std::uint16_t* codes = mosaic.data() + std::size_t(2 * row + dy) * 2 * width;
+          for (int mx = 0; mx < 2 * width; ++mx) {
+            const std::size_t at = base + std::size_t(mx / 2) * 3 + colours[dy][mx & 1];
+            const float signal = ambientScale * ambient[at] + ledScale * lit[at];
+            const float sigma = std::sqrt(std::max(signal, 0.0f) * inverseFullWell + readVariance);
+            const float value = signal + sigma * normals[noiseAt];
+            noiseAt = (noiseAt + 1) & (kNoiseTableSize - 1);
+            const float code = blackCode + value * codeRange;
+            codes[mx] = static_cast<std::uint16_t>(
+                std::min(std::max(code, 0.0f), float(largestCode)) + 0.5f);
+          }
+        }
+        continue;
+      }
       for (int i = 0; i < width * 3; ++i) {
         const std::size_t at = base + i;
         const float signal = ambientScale * ambient[at] + ledScale * lit[at];
@@ -217,6 +262,17 @@ struct ModelCamera::State {
         const float clamped = std::min(std::max(value, 0.0f), 1.0f);
         out[at] = encodeTable[static_cast<std::size_t>(clamped * 65535.0f + 0.5f)];
       }
+    }
+    if (raw) {
+      // Through the bytes a sensor sends and the decoder a real camera's frames go through.
+      BayerFrameView view;
+      view.format = *model.rawFormat;
+      view.widthPx = 2 * width;
+      view.heightPx = 2 * height;
+      const std::vector<std::uint8_t> bytes = packBayer(view.format, view.widthPx, view.heightPx, mosaic);
+      view.bytes = bytes;
+      view.strideBytes = minimalBayerStrideBytes(view.format, view.widthPx);
+      frame.image = decodeBayer(view, BayerBlackLevels::uniform(model.rawBlackLevel16));
     }
     frame.metadata.sequence = captured.sequence;
     frame.metadata.timestampUs = captured.readoutStartUs;
@@ -259,9 +315,17 @@ std::string ModelCamera::id() const {
 ConfigResult ModelCamera::configure(CameraConfig& config) {
   if (state_->running) throw std::logic_error("ModelCamera::configure while running");
   std::vector<std::string> adjusted;
-  if (config.encoding != PixelEncoding::Srgb8) {
-    adjusted.push_back("encoding set to srgb8 (the ISP's 8-bit output)");
-    config.encoding = PixelEncoding::Srgb8;
+  const std::optional<BayerFormat>& rawFormat = state_->model.rawFormat;
+  if (config.raw == RawCapture::On && !rawFormat)
+    return {ConfigResult::Status::Invalid,
+            id() + ": camera_raw = on, but the model offers no RAW stream"};
+  state_->raw = rawFormat && config.raw != RawCapture::Off;
+  config.rawFormat = state_->raw ? bayerFormatName(*rawFormat) : std::string();
+  const PixelEncoding delivered = state_->raw ? PixelEncoding::Linear16 : PixelEncoding::Srgb8;
+  if (config.encoding != delivered) {
+    adjusted.push_back(state_->raw ? "encoding set to linear16 (RAW " + config.rawFormat + ")"
+                                   : std::string("encoding set to srgb8 (the ISP's 8-bit output)"));
+    config.encoding = delivered;
   }
   if (config.bufferCount < 2) {
     adjusted.push_back("buffer count set to 2");

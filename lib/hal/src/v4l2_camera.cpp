@@ -15,7 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "slicecap/hal/bayer_frame.hpp"
 #include "slicecap/hal/raw_frame.hpp"
+#include "slicecap/hal/v4l2_timestamp.hpp"
 
 namespace slicecap::hal {
 namespace {
@@ -31,11 +33,28 @@ int retryIoctl(int fd, unsigned long request, void* argument) {
 struct FormatChoice {
   std::uint32_t fourcc;
   RawLayout layout;
+  std::optional<BayerFormat> bayer{};  ///< set for a RAW Bayer format (decodeBayer)
 };
 
-/// The formats slicecap takes, best first for each encoding. Compressed formats are left out on
-/// purpose: JPEG's quantisation would be part of every measured value.
-std::vector<FormatChoice> preferredFormats(PixelEncoding encoding) {
+/// The RAW Bayer formats decodeBayer reads: 10- and 12-bit, CSI-2 packed first (a bridge such as
+/// the Pi's unicam offers the sensor's own packing), then 16-bit words.
+std::vector<FormatChoice> bayerFormats() {
+  std::vector<FormatChoice> formats;
+  for (std::uint32_t fourcc :
+       {V4L2_PIX_FMT_SRGGB10P, V4L2_PIX_FMT_SGRBG10P, V4L2_PIX_FMT_SGBRG10P, V4L2_PIX_FMT_SBGGR10P,
+        V4L2_PIX_FMT_SRGGB12P, V4L2_PIX_FMT_SGRBG12P, V4L2_PIX_FMT_SGBRG12P, V4L2_PIX_FMT_SBGGR12P,
+        V4L2_PIX_FMT_SRGGB10, V4L2_PIX_FMT_SGRBG10, V4L2_PIX_FMT_SGBRG10, V4L2_PIX_FMT_SBGGR10,
+        V4L2_PIX_FMT_SRGGB12, V4L2_PIX_FMT_SGRBG12, V4L2_PIX_FMT_SGBRG12, V4L2_PIX_FMT_SBGGR12,
+        V4L2_PIX_FMT_SRGGB16, V4L2_PIX_FMT_SGRBG16, V4L2_PIX_FMT_SGBRG16, V4L2_PIX_FMT_SBGGR16})
+    formats.push_back({fourcc, RawLayout::Y16, bayerFormatFromV4l2(fourcc)});
+  return formats;
+}
+
+/// The formats slicecap takes, best first for each encoding: RAW Bayer first unless `raw` is
+/// Off (only RAW when On). Compressed formats are left out on purpose: JPEG's quantisation would
+/// be part of every measured value.
+std::vector<FormatChoice> preferredFormats(PixelEncoding encoding, RawCapture raw) {
+  if (raw == RawCapture::On) return bayerFormats();
   std::vector<FormatChoice> formats = {{V4L2_PIX_FMT_YUYV, RawLayout::Yuyv},
                                        {V4L2_PIX_FMT_RGB24, RawLayout::Rgb24},
                                        {V4L2_PIX_FMT_BGR24, RawLayout::Bgr24},
@@ -46,6 +65,11 @@ std::vector<FormatChoice> preferredFormats(PixelEncoding encoding) {
     formats.insert(formats.begin(), y16);
   else
     formats.push_back(y16);
+  if (raw == RawCapture::Auto) {
+    std::vector<FormatChoice> withRaw = bayerFormats();
+    withRaw.insert(withRaw.end(), formats.begin(), formats.end());
+    return withRaw;
+  }
   return formats;
 }
 
@@ -70,6 +94,7 @@ struct V4l2Camera::State {
   bool streaming = false;
   CameraConfig config;
   RawLayout layout = RawLayout::Yuyv;
+  std::optional<BayerFormat> bayer;  // RAW: the mosaic is twice the frame's size
   std::size_t strideBytes = 0;
   std::size_t imageBytes = 0;
   std::vector<MappedBuffer> buffers;
@@ -218,7 +243,7 @@ ConfigResult V4l2Camera::configure(CameraConfig& config) {
     ++description.index;
   }
   std::optional<FormatChoice> chosen;
-  for (const FormatChoice& candidate : preferredFormats(config.encoding)) {
+  for (const FormatChoice& candidate : preferredFormats(config.encoding, config.raw)) {
     if (std::find(offered.begin(), offered.end(), candidate.fourcc) != offered.end()) {
       chosen = candidate;
       break;
@@ -228,15 +253,19 @@ ConfigResult V4l2Camera::configure(CameraConfig& config) {
     std::string list;
     for (std::uint32_t fourcc : offered) list += (list.empty() ? "" : ", ") + fourccText(fourcc);
     return {ConfigResult::Status::Invalid,
-            "no uncompressed format slicecap can read (the camera offers: " +
-                (list.empty() ? std::string("none") : list) + ")"};
+            std::string(config.raw == RawCapture::On
+                            ? "camera_raw = on, but no RAW Bayer format slicecap decodes"
+                            : "no uncompressed format slicecap can read") +
+                " (the camera offers: " + (list.empty() ? std::string("none") : list) + ")"};
   }
 
   std::vector<std::string> adjustments;
   v4l2_format format{};
   format.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-  format.fmt.pix.width = static_cast<std::uint32_t>(config.widthPx);
-  format.fmt.pix.height = static_cast<std::uint32_t>(config.heightPx);
+  // A RAW mosaic is binned 2 x 2: the sensor mode twice the size asked for.
+  const int scale = chosen->bayer ? 2 : 1;
+  format.fmt.pix.width = static_cast<std::uint32_t>(scale * config.widthPx);
+  format.fmt.pix.height = static_cast<std::uint32_t>(scale * config.heightPx);
   format.fmt.pix.pixelformat = chosen->fourcc;
   format.fmt.pix.field = V4L2_FIELD_NONE;
   if (retryIoctl(state_->fd, VIDIOC_S_FMT, &format) != 0) state_->fail("cannot set the format", errno);
@@ -244,22 +273,39 @@ ConfigResult V4l2Camera::configure(CameraConfig& config) {
     return {ConfigResult::Status::Invalid,
             "the driver replaced " + fourccText(chosen->fourcc) + " by " +
                 fourccText(format.fmt.pix.pixelformat)};
-  if (int(format.fmt.pix.width) != config.widthPx || int(format.fmt.pix.height) != config.heightPx) {
+  const int deliveredWidth = int(format.fmt.pix.width) / scale;
+  const int deliveredHeight = int(format.fmt.pix.height) / scale;
+  if (deliveredWidth != config.widthPx || deliveredHeight != config.heightPx) {
     adjustments.push_back("size " + std::to_string(config.widthPx) + "x" +
                           std::to_string(config.heightPx) + " -> " +
-                          std::to_string(format.fmt.pix.width) + "x" +
-                          std::to_string(format.fmt.pix.height));
-    config.widthPx = int(format.fmt.pix.width);
-    config.heightPx = int(format.fmt.pix.height);
+                          std::to_string(deliveredWidth) + "x" + std::to_string(deliveredHeight) +
+                          (chosen->bayer ? " (RAW " + std::to_string(format.fmt.pix.width) + "x" +
+                                               std::to_string(format.fmt.pix.height) +
+                                               " binned 2 x 2)"
+                                         : std::string()));
+    config.widthPx = deliveredWidth;
+    config.heightPx = deliveredHeight;
   }
   if (encodingOf(chosen->layout) != config.encoding) {
     adjustments.push_back(std::string("encoding ") + std::string(toString(config.encoding)) +
                           " -> " + std::string(toString(encodingOf(chosen->layout))));
     config.encoding = encodingOf(chosen->layout);
   }
+  config.rawFormat.clear();
+  if (chosen->bayer) {
+    // V4L2 has no standard control for the sensor's black level.
+    config.rawFormat = bayerFormatName(*chosen->bayer);
+    adjustments.push_back("RAW " + config.rawFormat + " (" + fourccText(chosen->fourcc) +
+                          "): the driver reports no black level; assumed " +
+                          std::to_string(int(kDefaultBlackLevel16)) +
+                          " of 65535 (64 at 10 bits, Raspberry Pi sensors' default)");
+  }
   state_->layout = chosen->layout;
+  state_->bayer = chosen->bayer;
   state_->strideBytes = format.fmt.pix.bytesperline != 0
                             ? format.fmt.pix.bytesperline
+                        : chosen->bayer
+                            ? minimalBayerStrideBytes(*chosen->bayer, int(format.fmt.pix.width))
                             : minimalStrideBytes(chosen->layout, config.widthPx, 0);
   state_->imageBytes = format.fmt.pix.sizeimage;
 
@@ -414,13 +460,23 @@ CaptureResult V4l2Camera::nextFrame(std::chrono::milliseconds timeout) {
   }
   Frame frame;
   try {
-    frame.image = toImage(raw);
+    if (state_->bayer) {
+      BayerFrameView mosaic;
+      mosaic.format = *state_->bayer;
+      mosaic.widthPx = 2 * raw.widthPx;
+      mosaic.heightPx = 2 * raw.heightPx;
+      mosaic.bytes = raw.planes[0];
+      mosaic.strideBytes = state_->strideBytes;
+      frame.image = decodeBayer(mosaic, BayerBlackLevels::uniform(kDefaultBlackLevel16));
+    } else {
+      frame.image = toImage(raw);
+    }
   } catch (const RawFrameError& error) {
     return {CaptureResult::Status::Error, std::nullopt,
             state_->device + ": frame " + std::to_string(buffer.sequence) + ": " + error.what()};
   }
   if (!state_->firstSequence) state_->firstSequence = buffer.sequence;
-  frame.encoding = encodingOf(raw.layout);
+  frame.encoding = state_->bayer ? PixelEncoding::Linear16 : encodingOf(raw.layout);
   frame.metadata.sequence = buffer.sequence - *state_->firstSequence;
   frame.metadata.timestampUs =
       std::int64_t(buffer.timestamp.tv_sec) * 1'000'000 + buffer.timestamp.tv_usec;
@@ -429,6 +485,11 @@ CaptureResult V4l2Camera::nextFrame(std::chrono::milliseconds timeout) {
   frame.metadata.gain =
       exposedBeforeLock ? state_->gainBeforeLock : state_->config.gain.value_or(1.0);
   frame.metadata.exposureLocks = exposedBeforeLock ? state_->locks - 1 : state_->locks;
+  // What the timestamp marks is in the buffer's flags; an exposure left to the camera (0) is
+  // unknown, so an end-of-frame timestamp then says nothing about the start.
+  frame.metadata.exposureStartUs =
+      v4l2ExposureStartUs(buffer.flags, frame.metadata.timestampUs, frame.metadata.exposureUs,
+                          state_->config.readoutUs);
   return {CaptureResult::Status::Frame, std::move(frame), ""};
 }
 

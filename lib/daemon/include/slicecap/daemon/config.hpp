@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "slicecap/hal/camera.hpp"
+
 namespace slicecap::daemon {
 
 /// \brief A configuration that cannot be used; what() is "FILE:LINE: key: what is wrong" (or
@@ -44,6 +46,9 @@ struct DaemonConfig {
   /// decoding = auto | measured-curve | srgb: how 8-bit live frames become linear light
   /// (daemon::DecodingMode; docs/linear-light.md "In the daemon").
   std::string decoding = "auto";
+  /// camera_raw = auto | on | off: the RAW (Bayer) stream, decoded to linear light, where the
+  /// camera offers a format slicecap decodes (hal::RawCapture).
+  hal::RawCapture cameraRaw = hal::RawCapture::Auto;
 
   // camera = model: the virtual rig in front of a camera model that behaves like a Pi camera
   // (hal::ModelCamera): a material, the rig's imperfections, the sweep's pace, the ISP's curve.
@@ -53,6 +58,9 @@ struct DaemonConfig {
   int modelPositions = 32;          ///< model_positions: where the hand rests on the way round
   std::string modelToneCurve = "imx708";  ///< model_tone_curve = imx708 | srgb | linear
   int modelSeed = 7;                      ///< model_seed: the rig's and the sensor's randomness
+  /// model_raw: the RAW format the model's sensor offers (a libcamera name slicecap decodes, e.g.
+  /// SRGGB10_CSI2P, a Pi 4's IMX708); empty = none, the model offers processed frames only.
+  std::string modelRaw;
 
   // LED.
   std::string ledChip = "gpiochip0";  ///< led_chip: the GPIO chip (name or /dev path)

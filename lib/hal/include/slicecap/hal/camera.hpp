@@ -4,12 +4,31 @@
 #include <chrono>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "slicecap/core/pixel_encoding.hpp"
 #include "slicecap/hal/frame.hpp"
 
 namespace slicecap::hal {
+
+/// \brief Whether a camera delivers its sensor's RAW (Bayer) samples, decoded to linear light
+/// (hal::decodeBayer: black level off, 2 x 2 binned, half the sensor mode's size): Auto takes RAW
+/// when the camera offers a format slicecap decodes, else the processed stream; On refuses a
+/// camera without one (ConfigResult::Invalid); Off always takes the processed stream.
+enum class RawCapture { Auto, On, Off };
+
+/// \brief "auto", "on" or "off" (slicecapd.conf's camera_raw).
+inline std::string_view toString(RawCapture raw) {
+  return raw == RawCapture::On ? "on" : raw == RawCapture::Off ? "off" : "auto";
+}
+/// \brief The setting spelled exactly "auto", "on" or "off", or nullopt.
+inline std::optional<RawCapture> parseRawCapture(std::string_view text) {
+  if (text == "auto") return RawCapture::Auto;
+  if (text == "on") return RawCapture::On;
+  if (text == "off") return RawCapture::Off;
+  return std::nullopt;
+}
 
 /// \brief What the session asks for. Exposure and gain are locked when set (the capture needs
 /// frames whose brightness it can relate); nullopt leaves them to the camera.
@@ -20,6 +39,13 @@ struct CameraConfig {
   std::optional<double> exposureUs;
   std::optional<double> gain;
   int bufferCount = 4;  ///< frames the source may queue ahead
+  RawCapture raw = RawCapture::Auto;
+  /// The sensor's top-to-bottom readout time, when known (slicecapd.conf readout_us): a V4L2
+  /// camera whose timestamps mark the end of a frame needs it to say when the frame began.
+  std::optional<double> readoutUs{};
+  /// Set by configure: the RAW format the frames are decoded from (libcamera's name, e.g.
+  /// "SRGGB10_CSI2P"); empty when they come from the processed stream.
+  std::string rawFormat{};
 };
 
 /// \brief The outcome of Camera::configure, as libcamera's CameraConfiguration::validate: Valid

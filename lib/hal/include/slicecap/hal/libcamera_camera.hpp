@@ -6,8 +6,13 @@
 #include <string>
 #include <vector>
 
+#include "slicecap/hal/bayer_frame.hpp"
 #include "slicecap/hal/camera.hpp"
 #include "slicecap/hal/camera_error.hpp"
+
+namespace libcamera {
+class CameraConfiguration;
+}
 
 namespace slicecap::hal {
 
@@ -23,7 +28,17 @@ std::vector<std::string> listLibcameraCameras();
 /// reports libcamera's Adjusted changes; exposure and gain, when set, are locked through
 /// ExposureTime/AnalogueGain with AeEnable off; auto white balance is always off during capture.
 /// Frames carry the sensor timestamp and the ExposureTime x (AnalogueGain x DigitalGain) the
-/// request's metadata reports.
+/// request's metadata reports, and the start of row 0's exposure (SensorTimestamp -
+/// ExposureTime) where both are reported.
+///
+/// RAW (CameraConfig::raw Auto or On): the camera's StreamRole::Raw stream alone, in a format
+/// decodeBayer reads (the one libcamera proposes when it can, e.g. SRGGB10_CSI2P on a Pi 4's
+/// IMX708), at the sensor mode whose 2 x 2 binned size best fits the request (chooseBayerSize:
+/// 2304 x 1296 for 1280 x 720, delivered as 1152 x 648), decoded with each frame's
+/// SensorBlackLevels (or kDefaultBlackLevel16, said once) into Linear16 frames; configure
+/// reports the size and encoding it changed. A RAW format slicecap does not decode (the Pi 5's
+/// PiSP compressed formats) is said once on stderr and in the ConfigResult, naming the camera
+/// and the format, and Auto falls back to the processed stream (On is Invalid).
 class LibcameraCamera final : public Camera {
  public:
   /// \brief Acquires the camera with this id, or the first one when `cameraId` is empty. Throws
@@ -47,6 +62,10 @@ class LibcameraCamera final : public Camera {
   struct State;
 
  private:
+  /// Takes a RAW configuration the camera has applied: the delivered size and encoding.
+  ConfigResult configureRaw(CameraConfig& config,
+                            std::unique_ptr<libcamera::CameraConfiguration> configuration,
+                            const BayerFormat& format);
   std::unique_ptr<State> state_;
 };
 

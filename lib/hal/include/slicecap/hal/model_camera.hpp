@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "slicecap/core/tone_curve.hpp"
+#include "slicecap/hal/bayer_frame.hpp"
 #include "slicecap/hal/camera.hpp"
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/led_timeline.hpp"
@@ -57,6 +58,16 @@ struct SensorModel {
   double autoExposureUs = 15000.0;    ///< the camera's own exposure until one is locked
   double autoGain = 1.0;
   double maxGain = 16.0;
+  /// A RAW stream the sensor offers (nullopt: none). With it and CameraConfig::raw Auto or On,
+  /// the model is a sensor of twice the configured size in this Bayer format (a Pi 4's IMX708:
+  /// SRGGB10_CSI2P): each scene pixel is a 2 x 2 cell whose R, two G and B samples see its
+  /// linear light with their own noise, no colour gains and no tone curve, offset by the black
+  /// level and quantised to the format's codes; the bytes are packed as the sensor packs them and
+  /// decoded by decodeBayer, so frames are Linear16 at the configured size.
+  std::optional<BayerFormat> rawFormat;
+  /// The sensor's black level on the 16-bit scale, as libcamera reports it (SensorBlackLevels):
+  /// 4096, 64 at 10 bits, the IMX708's tuning.
+  double rawBlackLevel16 = kDefaultBlackLevel16;
   /// Whether frames carry the line time (libcamera does not say it on a Pi; a model may).
   bool reportsLineTime = false;
   /// Whether frames carry their exposure (uvcvideo does not).
@@ -99,8 +110,10 @@ class ModelCamera final : public Camera {
   ~ModelCamera() override;
 
   std::string id() const override;
-  /// \brief Adjusts the encoding to 8-bit sRGB (the ISP's output, whatever its real curve) and
-  /// the buffer count to at least 2.
+  /// \brief Adjusts the encoding to 8-bit sRGB (the ISP's output, whatever its real curve), or
+  /// to linear16 when the RAW stream is taken (SensorModel::rawFormat and CameraConfig::raw not
+  /// Off; CameraConfig::rawFormat names it), and the buffer count to at least 2. Invalid when
+  /// CameraConfig::raw is On and the model offers no RAW stream.
   ConfigResult configure(CameraConfig& config) override;
   void start() override;
   void stop() override;

@@ -15,6 +15,15 @@ namespace slicecap::hal {
 /// (100 us units) with auto exposure off; gain through V4L2_CID_GAIN in the device's own units;
 /// auto white balance is switched off when the device has it. What the device cannot do is
 /// reported as ConfigResult::Adjusted with the reason.
+///
+/// RAW Bayer formats (10/12-bit CSI-2 packed or in 16-bit words, any CFA order; what a bridge
+/// such as the Pi's unicam offers) are taken first unless CameraConfig::raw is Off (and only
+/// they when On): the sensor mode twice the asked size, decoded by decodeBayer with the default
+/// black level (V4L2 reports none) into Linear16 frames of half the mode's size.
+///
+/// Frames carry FrameMetadata::exposureStartUs from the buffer flags (v4l2ExposureStartUs): the
+/// timestamp itself when it marks the start of exposure, minus CameraConfig::readoutUs and the
+/// locked exposure when it marks the end of the frame, else nothing.
 class V4l2Camera final : public Camera {
  public:
   /// \brief Opens the device. Throws CameraError naming it: missing, permission, not a V4L2
