@@ -164,6 +164,8 @@ int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& option
     hal::CameraConfig cameraConfig;
     cameraConfig.widthPx = config.widthPx;
     cameraConfig.heightPx = config.heightPx;
+    cameraConfig.raw = config.cameraRaw;
+    cameraConfig.readoutUs = config.readoutUs;
     hwcheck::HardwareCheckOptions checkOptions;
     checkOptions.captureSeconds = options.seconds;
     report = hwcheck::runHardwareCheck(*camera, cameraConfig, *led, clock, rig.target, rig.camera,

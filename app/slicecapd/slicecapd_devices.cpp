@@ -1,6 +1,11 @@
 // The camera factory and the LED from slicecapd's configuration.
 #include "slicecapd_devices.hpp"
 
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+#include "slicecap/hal/bayer_frame.hpp"
 #include "slicecap/hal/file_camera.hpp"
 #include "slicecap/hal/file_led.hpp"
 #include "slicecap/hal/gpiod_led.hpp"
@@ -66,6 +71,76 @@ RecordingsBySlice findRecordings(const fs::path& configured) {
   return found;
 }
 
+namespace {
+
+/// The frame size the camera last agreed to deliver (its configure's answer).
+using DeliveredSize = std::optional<std::pair<int, int>>;
+
+/// A camera that notes the size its configure settled on, for the camera model to follow.
+class SizeNotingCamera : public hal::Camera {
+ public:
+  SizeNotingCamera(std::shared_ptr<hal::Camera> camera, std::shared_ptr<DeliveredSize> delivered)
+      : camera_(std::move(camera)), delivered_(std::move(delivered)) {}
+  std::string id() const override { return camera_->id(); }
+  hal::ConfigResult configure(hal::CameraConfig& config) override {
+    const int askedWidthPx = config.widthPx, askedHeightPx = config.heightPx;
+    hal::ConfigResult result = camera_->configure(config);
+    if (result.status == hal::ConfigResult::Status::Invalid) return result;
+    // A binned RAW stream covers the sensor mode's field of view: the model scales to it. Another
+    // aspect ratio is another crop, which no scaling of the calibration describes.
+    const double aspectChange = (double(config.widthPx) / config.heightPx) /
+                                (double(askedWidthPx) / askedHeightPx);
+    if (!config.rawFormat.empty() && std::abs(aspectChange - 1.0) > 0.01)
+      return {hal::ConfigResult::Status::Invalid,
+              "its RAW stream " + config.rawFormat + " delivers " + std::to_string(config.widthPx) +
+                  "x" + std::to_string(config.heightPx) + " frames for the " +
+                  std::to_string(askedWidthPx) + "x" + std::to_string(askedHeightPx) +
+                  " asked, another aspect ratio: set width and height to a size of the sensor's "
+                  "aspect ratio, or camera_raw = off"};
+    *delivered_ = std::pair{config.widthPx, config.heightPx};
+    return result;
+  }
+  void start() override { camera_->start(); }
+  void stop() override { camera_->stop(); }
+  hal::CaptureResult nextFrame(std::chrono::milliseconds timeout) override {
+    return camera_->nextFrame(timeout);
+  }
+  std::optional<int> readyDescriptor() const override { return camera_->readyDescriptor(); }
+  hal::ExposureLock lockExposure(const hal::ExposureSetting& wanted) override {
+    return camera_->lockExposure(wanted);
+  }
+
+ private:
+  std::shared_ptr<hal::Camera> camera_;
+  std::shared_ptr<DeliveredSize> delivered_;
+};
+
+// A camera may deliver another size than asked: a RAW stream 2 x 2 binned from its sensor mode
+// (1152 x 648 from a camera module 3 asked for 1280 x 720; docs/real-sensors.md, RAW). The rig's
+// camera model follows the size the camera last configured, so every pose, sample row and
+// recording of the sweep is in the frames' own pixels.
+void followDeliveredSize(CameraSources& sources) {
+  auto delivered = std::make_shared<DeliveredSize>();
+  sources.cameraFor = [inner = std::move(sources.cameraFor), delivered](const SliceId& slice) {
+    return std::shared_ptr<hal::Camera>(std::make_shared<SizeNotingCamera>(inner(slice), delivered));
+  };
+  sources.rigFor = [inner = std::move(sources.rigFor), delivered](const SliceId& slice) {
+    Rig rig = inner(slice);
+    const vision::CameraIntrinsics& at = rig.camera.intrinsics;
+    if (*delivered && (at.widthPx != (*delivered)->first || at.heightPx != (*delivered)->second)) {
+      try {
+        rig.camera = rig.camera.scaledTo((*delivered)->first, (*delivered)->second);
+      } catch (const std::invalid_argument&) {
+        // Another crop than the calibration's: left as it is, the pipeline rejects the frames
+        // as bad_frame naming both sizes, as before a camera could change its size.
+      }
+    }
+    return rig;
+  };
+}
+
+}  // namespace
+
 CameraSources makeCameraSources(const DaemonConfig& config, hal::Clock& clock,
                                 std::shared_ptr<hal::LedTimeline> modelLight,
                                 const vision::TargetGeometry& target,
@@ -100,6 +175,8 @@ CameraSources makeCameraSources(const DaemonConfig& config, hal::Clock& clock,
       sensor.tone = config.modelToneCurve == "srgb"     ? ToneCurve::srgb()
                     : config.modelToneCurve == "linear" ? ToneCurve::linear()
                                                         : ToneCurve::imx708Tuning();
+      // model_raw: the model's sensor offers a RAW stream, taken as camera_raw says.
+      if (!config.modelRaw.empty()) sensor.rawFormat = hal::bayerFormatFromLibcameraName(config.modelRaw);
       if (scene == ModelScene::Still) sensor.holdSceneUntilStrobe = false;
       sensor.realTime = modelRealTime;
       sources.cameraFor = [renderer, rig, sensor, modelLight, &clock, scene](const SliceId& slice) {
@@ -130,6 +207,7 @@ CameraSources makeCameraSources(const DaemonConfig& config, hal::Clock& clock,
     }
   }
   if (!sources.rigFor) sources.rigFor = [=](const SliceId&) { return Rig{target, cameraModel}; };
+  followDeliveredSize(sources);
   return sources;
 }
 

@@ -228,6 +228,8 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   parts.cameraConfig.heightPx = config.heightPx;
   parts.cameraConfig.exposureUs = config.exposureUs;
   parts.cameraConfig.gain = config.gain;
+  parts.cameraConfig.raw = config.cameraRaw;
+  parts.cameraConfig.readoutUs = config.readoutUs;
   parts.warnings = std::move(warnings);
 
   const vision::TargetGeometry target =

@@ -3,6 +3,8 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace slicecap::vision {
 namespace {
@@ -92,6 +94,28 @@ Eigen::Vector2d CameraModel::pixelOf(const Eigen::Vector2d& normalised) const {
 Eigen::Vector2d CameraModel::normalisedOf(const Eigen::Vector2d& pixel) const {
   return undistort({(pixel.x() - intrinsics.cxPx) / intrinsics.fxPx,
                     (pixel.y() - intrinsics.cyPx) / intrinsics.fyPx});
+}
+
+CameraModel CameraModel::scaledTo(int widthPx, int heightPx) const {
+  const CameraIntrinsics& from = intrinsics;
+  const auto size = [](int w, int h) { return std::to_string(w) + "x" + std::to_string(h); };
+  if (widthPx <= 0 || heightPx <= 0)
+    throw std::invalid_argument("camera model: cannot scale to " + size(widthPx, heightPx));
+  const double sx = double(widthPx) / from.widthPx, sy = double(heightPx) / from.heightPx;
+  if (std::abs(sx / sy - 1.0) > 0.01)
+    throw std::invalid_argument("camera model: a " + size(from.widthPx, from.heightPx) +
+                                " calibration does not scale to " + size(widthPx, heightPx) +
+                                " frames (another aspect ratio: another crop of the sensor); "
+                                "calibrate the camera at " + size(widthPx, heightPx));
+  CameraModel scaled = *this;
+  // Pixel centres at integer coordinates: the image's edge (-0.5) maps to the new edge.
+  scaled.intrinsics = {widthPx,
+                       heightPx,
+                       from.fxPx * sx,
+                       from.fyPx * sy,
+                       (from.cxPx + 0.5) * sx - 0.5,
+                       (from.cyPx + 0.5) * sy - 0.5};
+  return scaled;
 }
 
 CameraModel defaultSimulatedCamera() {

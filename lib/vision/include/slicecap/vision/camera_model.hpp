@@ -53,6 +53,14 @@ struct CameraModel {
   Eigen::Vector2d pixelOf(const Eigen::Vector2d& normalised) const;
   /// \brief Undistorted normalised coordinates of a pixel (the ray (x, y, 1) through it).
   Eigen::Vector2d normalisedOf(const Eigen::Vector2d& pixel) const;
+
+  /// \brief The same camera seen through an image of `widthPx` x `heightPx` covering the same
+  /// field of view (e.g. a RAW stream 2 x 2 binned from the sensor mode the processed stream was
+  /// scaled from): focal lengths and principal point scaled, pixel centres kept at integer
+  /// coordinates, distortion unchanged (it acts on normalised coordinates). Throws
+  /// std::invalid_argument naming both sizes when the aspect ratios differ by more than 1 %
+  /// (another crop of the sensor: calibrate at that size instead).
+  CameraModel scaledTo(int widthPx, int heightPx) const;
 };
 
 /// \brief A typical Raspberry Pi camera module 3 at 1280 x 720 (wide 66 deg), with moderate barrel
