@@ -12,8 +12,8 @@
 namespace slicecap::fit::detail {
 
 /// \brief Parameter block of the GGX part: diffuse albedo RGB, f0 RGB, log alpha_t, log alpha_b,
-/// tangent (rad). Logs keep the alphas positive and their steps relative.
-inline constexpr int kGgxParameters = 9;
+/// tangent (rad), f90. Logs keep the alphas positive and their steps relative.
+inline constexpr int kGgxParameters = 10;
 /// \brief Parameter block of the sheen part: sheen colour RGB, log sheen roughness.
 inline constexpr int kSheenParameters = 4;
 

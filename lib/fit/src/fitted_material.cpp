@@ -24,7 +24,7 @@ Rgb FittedMaterial::evaluate(const UnitVector& toLight, const UnitVector& toView
   Rgb value;
   for (std::size_t c = 0; c < 3; ++c) {
     value[c] = diffuseAlbedo[c] / std::numbers::pi +
-               (specularF0[c] + (1.0 - specularF0[c]) * g.fresnelWeight) * specular +
+               (specularF0[c] + (specularF90 - specularF0[c]) * g.fresnelWeight) * specular +
                sheenColour[c] * sheen;
   }
   return value;

@@ -52,7 +52,7 @@ bool MaterialCost::Evaluate(double const* const* parameters, double* residuals,
       if (sheen) sheenShape = Jet1(sheenLobe(g, sheenRoughnessValue));
     }
     for (int c = 0; c < 3; ++c) {
-      const double fresnel = ggx[3 + c] + (1.0 - ggx[3 + c]) * g.fresnelWeight;
+      const double fresnel = ggx[3 + c] + (ggx[9] - ggx[3 + c]) * g.fresnelWeight;
       double value = ggx[c] / std::numbers::pi + fresnel * specular.a;
       if (sheen) value += sheen[c] * sheenShape.a;
       const double x = value * data_.scale[i];
@@ -67,6 +67,7 @@ bool MaterialCost::Evaluate(double const* const* parameters, double* residuals,
         r[c] = k / std::numbers::pi;
         r[3 + c] = k * (1.0 - g.fresnelWeight) * specular.a;
         for (int p = 0; p < 3; ++p) r[6 + p] = k * fresnel * specular.v[p];
+        r[9] = k * g.fresnelWeight * specular.a;
       }
       if (sheenJacobian) {
         double* r = sheenJacobian + row * kSheenParameters;

@@ -22,10 +22,11 @@ using detail::SolveOutcome;
 
 // The start's lobe: elongated (3:1) so that each tangent start is a distinct basin.
 constexpr double kStartAlphaTangent = 0.3, kStartAlphaBitangent = 0.1;
-// Sheen starts: a narrow and a broad pile, dim against the diffuse, on the GGX solution; and a
-// pile with no specular at all (f0 = 0): a velvet's GGX fit bends its lobe to mimic the sheen,
-// and from there the sheen term alone is a long way off.
-constexpr std::array<double, 2> kSheenStartRoughness{0.3, 0.7};
+// Sheen starts: a pile dim against the diffuse on the GGX solution; and a pile with no specular at
+// all (f0 = f90 = 0): a velvet's GGX fit bends its lobe to mimic the sheen, and from there the
+// sheen term alone is a long way off. (A third start, a narrower pile on the GGX solution, changed
+// no built-in material's result and cost a third more time.)
+constexpr std::array<double, 1> kSheenStartRoughness{0.5};
 constexpr double kSheenOnlyStartRoughness = 0.5;
 constexpr double kSheenStartColour = 0.1;
 
@@ -48,6 +49,7 @@ FitParameters ggxStart(const Abrdf& table, const FitData& data, double tangentDe
   p.ggx[6] = std::log(kStartAlphaTangent);
   p.ggx[7] = std::log(kStartAlphaBitangent);
   p.ggx[8] = degToRad(tangentDeg);
+  p.ggx[9] = 1.0;  // plain Schlick: what most measured materials show
   std::size_t brightest = 0;
   double brightestValue = -1.0;
   for (std::size_t i = 0; i < data.pairs.size(); ++i) {
@@ -74,6 +76,7 @@ FittedMaterial materialOf(const FitParameters& p) {
   m.alphaTangent = std::exp(p.ggx[6]);
   m.alphaBitangent = std::exp(p.ggx[7]);
   m.tangentDeg = radToDeg(p.ggx[8]);
+  m.specularF90 = p.ggx[9];
   if (p.withSheen) {
     m.sheenColour = {p.sheen[0], p.sheen[1], p.sheen[2]};
     m.sheenRoughness = std::exp(p.sheen[3]);
@@ -199,12 +202,14 @@ FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOpti
       const FittedMaterial& m = ggx->material;
       p.ggx = {m.diffuseAlbedo[0], m.diffuseAlbedo[1], m.diffuseAlbedo[2],
                m.specularF0[0],    m.specularF0[1],    m.specularF0[2],
-               std::log(m.alphaTangent), std::log(m.alphaBitangent), degToRad(m.tangentDeg)};
+               std::log(m.alphaTangent), std::log(m.alphaBitangent), degToRad(m.tangentDeg),
+               m.specularF90};
       p.sheen = {kSheenStartColour, kSheenStartColour, kSheenStartColour, std::log(roughness)};
       sheenStarts.push_back(p);
     }
     FitParameters sheenOnly = sheenStarts.front();
     for (std::size_t c = 3; c < 6; ++c) sheenOnly.ggx[c] = 0.0;
+    sheenOnly.ggx[9] = 0.0;
     sheenOnly.sheen[3] = std::log(kSheenOnlyStartRoughness);
     sheenStarts.push_back(sheenOnly);
     std::string sheenFailure;

@@ -8,7 +8,7 @@
 namespace slicecap::fit {
 namespace {
 
-using nlohmann::json;
+using json = nlohmann::ordered_json;
 
 json orNull(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
 
@@ -36,6 +36,9 @@ json parametersJson(const FittedMaterial& m, const ParameterSigmas& s) {
                                       "Lambertian albedo, linear RGB; BRDF = albedo / pi (1/sr)")},
       {"specular_f0", rgbParameter(m.specularF0, s.specularF0,
                                    "Schlick reflectance at normal incidence, linear RGB, 0..1")},
+      {"specular_f90", scalarParameter(m.specularF90, s.specularF90,
+                                       "Schlick reflectance at grazing incidence, grey, 0..1 "
+                                       "(glTF KHR_materials_specular 'specular')")},
       {"alpha_tangent", scalarParameter(m.alphaTangent, s.alphaTangent,
                                         "GGX alpha (= perceptual roughness^2) along the tangent")},
       {"alpha_bitangent",
@@ -81,7 +84,7 @@ json materialJson(const FitResult& result, const std::string& source) {
                     "glTF KHR_materials_anisotropy's anisotropy direction; the lobe repeats every "
                     "180 deg"},
         {"roughness", "alpha convention: alpha = perceptual roughness^2"},
-        {"brdf", "diffuse_albedo / pi + F_schlick(specular_f0, l.h) D_ggx G2_smith_height_"
+        {"brdf", "diffuse_albedo / pi + F_schlick(specular_f0, specular_f90, l.h) D_ggx G2_smith_height_"
                  "correlated / (4 cos_i cos_v) [+ sheen_colour D_charlie / (4 (cos_i + cos_v - "
                  "cos_i cos_v))]"},
         {"sigma", "one standard deviation from the Jacobian at the solution, treating the misfit "

@@ -55,10 +55,11 @@ ParameterSigmas parameterSigmas(const FitData& data, const SolveOutcome& solutio
   s.alphaTangent = sigma(swapped ? 7 : 6, material.alphaTangent);
   s.alphaBitangent = sigma(swapped ? 6 : 7, material.alphaBitangent);
   s.tangentDeg = sigma(8, radToDeg(1.0));
+  s.specularF90 = sigma(9, 1.0);
   if (solution.parameters.withSheen) {
     for (Eigen::Index c = 0; c < 3; ++c)
-      s.sheenColour[static_cast<std::size_t>(c)] = sigma(9 + c, 1.0);
-    s.sheenRoughness = sigma(12, material.sheenRoughness);
+      s.sheenColour[static_cast<std::size_t>(c)] = sigma(10 + c, 1.0);
+    s.sheenRoughness = sigma(13, material.sheenRoughness);
   }
   return s;
 }

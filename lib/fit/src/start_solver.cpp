@@ -36,6 +36,8 @@ BuiltProblem buildProblem(const FitData& data, FitParameters& p) {
   }
   for (int i = 0; i < 6; ++i) problem.SetParameterLowerBound(built.ggx, i, 0.0);
   for (int i = 3; i < 6; ++i) problem.SetParameterUpperBound(built.ggx, i, 1.0);
+  problem.SetParameterLowerBound(built.ggx, 9, 0.0);
+  problem.SetParameterUpperBound(built.ggx, 9, 1.0);
   for (int i = 6; i < 8; ++i) {
     problem.SetParameterLowerBound(built.ggx, i, std::log(kMinimumAlpha));
     problem.SetParameterUpperBound(built.ggx, i, std::log(kMaximumAlpha));

@@ -26,7 +26,7 @@ struct SolveOutcome {
   std::string message;     ///< Ceres' own account of how it ended
 };
 
-/// \brief Solves from `start` (bounds: albedo and sheen >= 0, f0 in [0, 1], alphas in
+/// \brief Solves from `start` (bounds: albedo and sheen >= 0, f0 and f90 in [0, 1], alphas in
 /// [0.002, 2], sheen roughness in [0.05, 1]). Never throws for a bad fit: see `converged`.
 SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int maxIterations);
 

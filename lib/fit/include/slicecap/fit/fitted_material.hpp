@@ -19,8 +19,12 @@ std::string_view toString(MaterialModel model);
 /// \brief f_r(l, v) = diffuse / pi + F(l.h) D(h) G2(l, v) / (4 cos_i cos_v) + sheen term, 1/sr.
 ///
 /// D: anisotropic GGX with alpha = roughness^2 convention (alphaTangent along the tangent,
-/// alphaBitangent across it); G2: height-correlated Smith; F: Schlick with per-channel f0. This is
-/// the same lobe as models::makeAnisotropicGgx, so a GGX table is matched exactly.
+/// alphaBitangent across it); G2: height-correlated Smith; F: Schlick with per-channel f0 and a
+/// grey f90, F = f0 + (f90 - f0) (1 - l.h)^5. With f90 = 1 this is the lobe of
+/// models::makeAnisotropicGgx, so a GGX table is matched exactly; f90 < 1 (glTF's
+/// KHR_materials_specular "specular" factor) lets the lobe fade at grazing angles too, and f0 = f90
+/// = 0 removes it: without it no fit could describe a material with no specular (a velvet, a
+/// matte paint), whose Schlick edge would otherwise always reflect.
 /// Sheen: the "Charlie" distribution (Estevez and Kulla 2017) with the visibility
 /// 1 / (4 (cos_i + cos_v - cos_i cos_v)), as models::makeSheen; zero when the model is Ggx.
 ///
@@ -33,6 +37,7 @@ struct FittedMaterial {
   MaterialModel model = MaterialModel::Ggx;
   Rgb diffuseAlbedo;           ///< Lambertian albedo; the diffuse BRDF is this / pi
   Rgb specularF0;              ///< Schlick reflectance at normal incidence, [0, 1]
+  double specularF90 = 1.0;    ///< Schlick reflectance at grazing incidence, [0, 1]
   double alphaTangent = 0.1;   ///< GGX alpha along the tangent
   double alphaBitangent = 0.1; ///< GGX alpha across the tangent
   double tangentDeg = 0.0;     ///< tangent azimuth, deg, counter-clockwise from x

@@ -39,7 +39,7 @@ struct FitOptions {
 /// tangent of an isotropic lobe).
 struct ParameterSigmas {
   std::array<std::optional<double>, 3> diffuseAlbedo, specularF0, sheenColour;
-  std::optional<double> alphaTangent, alphaBitangent, tangentDeg, sheenRoughness;
+  std::optional<double> specularF90, alphaTangent, alphaBitangent, tangentDeg, sheenRoughness;
 };
 
 /// \brief How one candidate model fitted.
