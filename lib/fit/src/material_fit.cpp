@@ -90,9 +90,11 @@ FittedMaterial materialOf(const FitParameters& p) {
 // cost 4x the time for the same answers on the built-in materials.
 constexpr int kScoutStride = 3;
 constexpr int kScoutIterations = 8;
-// Scouts whose cost is within this factor of the best are solved in full too (at most two).
+// Scouts whose cost is within this factor of the best are solved in full too: at most two for the
+// GGX (the tangent's basins), one for the sheen (its starts differ in the specular, which the
+// scout has already settled; a second full solve doubled the velvet's time for the same answer).
 constexpr double kPolishCostFactor = 1.25;
-constexpr std::size_t kMaxPolished = 2;
+constexpr std::size_t kMaxPolishedGgx = 2, kMaxPolishedSheen = 1;
 
 // Two scouts are in the same basin when their lobes agree in canonical form (alphas within 10 %,
 // tangent within 5 deg): polishing both would find the same minimum twice.
@@ -121,7 +123,8 @@ std::optional<CandidateFit> bestOf(const Abrdf& table, const FitData& data, cons
   std::optional<SolveOutcome> best, bestUnconverged;
   std::size_t bestStart = order.front();
   int converged = 0;
-  for (std::size_t rank = 0; rank < order.size() && rank < kMaxPolished; ++rank) {
+  const std::size_t maxPolished = starts.front().withSheen ? kMaxPolishedSheen : kMaxPolishedGgx;
+  for (std::size_t rank = 0; rank < order.size() && rank < maxPolished; ++rank) {
     const std::size_t i = order[rank];
     if (rank > 0 && !(scouts[i].cost <= kPolishCostFactor * scouts[order.front()].cost)) break;
     if (rank > 0 && sameBasin(scouts[i].parameters, scouts[order.front()].parameters)) continue;
