@@ -20,9 +20,9 @@ class FitError : public std::runtime_error {
 };
 
 struct FitOptions {
-  /// \brief Tangent angles the solver starts from, deg. The tangent is multimodal: a start far
-  /// from the true one can settle on the lobe turned by 90 deg with the alphas swapped only when
-  /// the alphas can cross, which they can; but a start near 45 deg off may sit in a saddle.
+  /// \brief Tangent angles the solver starts from, deg (each with an elongated 0.3 x 0.1 lobe).
+  /// The cost is multimodal in the tangent: a start far from the true tangent can settle in a
+  /// local minimum, so starts spread over the half turn the lobe repeats in, and the best wins.
   std::vector<double> startTangentsDeg{0.0, 45.0, 90.0, 135.0};
   int maxIterations = 200;     ///< Levenberg-Marquardt iterations per solve
   bool trySheen = true;        ///< also fit GGX + sheen and keep it if it earns its place
@@ -72,7 +72,9 @@ struct FitResult {
 /// a bounded Levenberg-Marquardt solve (Ceres, dense, one thread, automatic derivatives).
 ///
 /// Throws FitError naming `name` when the table holds a negative or non-finite value or no
-/// positive one (not a BRDF), or when no start converged within maxIterations.
+/// positive one (not a BRDF), or when no full GGX solve converged within maxIterations (a sheen
+/// candidate that does not converge is only left out, and choiceReason says so);
+/// std::invalid_argument for options with no start or fewer than one iteration.
 FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOptions& options = {});
 
 }  // namespace slicecap::fit
