@@ -13,7 +13,7 @@ std::vector<Command> allCommands() {
           evalCommand(),        previewCommand(),  isotropyCommand(), priorTrainCommand(),
           targetCommand(),      simulateCommand(), sessionCommand(),  sweepCommand(),
           statusCommand(),      exportCommand(),   processCommand(),  captureOfflineCommand(),
-          calibrateCommand(),   btfCommand()};
+          calibrateCommand(),   btfCommand(),       fitCommand()};
 }
 
 namespace {

@@ -39,6 +39,7 @@ Command processCommand();
 Command captureOfflineCommand();
 Command calibrateCommand();
 Command btfCommand();
+Command fitCommand();
 
 /// \brief Every subcommand, in the order `slicecap --help` lists them.
 std::vector<Command> allCommands();

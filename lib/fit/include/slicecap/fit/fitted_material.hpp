@@ -1,0 +1,61 @@
+// The parametric material `slicecap fit` produces: Lambertian diffuse + anisotropic GGX + optional
+// sheen, with the conventions the JSON and the exports rely on.
+#pragma once
+
+#include <string_view>
+
+#include "slicecap/core/abrdf.hpp"
+#include "slicecap/core/grid.hpp"
+#include "slicecap/core/rgb.hpp"
+
+namespace slicecap::fit {
+
+/// \brief Which terms a fitted material has.
+enum class MaterialModel { Ggx, GgxSheen };
+
+/// \brief "ggx" or "ggx+sheen" (the spelling of the JSON's "model").
+std::string_view toString(MaterialModel model);
+
+/// \brief f_r(l, v) = diffuse / pi + F(l.h) D(h) G2(l, v) / (4 cos_i cos_v) + sheen term, 1/sr.
+///
+/// D: anisotropic GGX with alpha = roughness^2 convention (alphaTangent along the tangent,
+/// alphaBitangent across it); G2: height-correlated Smith; F: Schlick with per-channel f0 and a
+/// grey f90, F = f0 + (f90 - f0) (1 - l.h)^5. With f90 = 1 this is the lobe of
+/// models::makeAnisotropicGgx, so a GGX table is matched exactly; f90 < 1 (glTF's
+/// KHR_materials_specular "specular" factor) lets the lobe fade at grazing angles too, and f0 = f90
+/// = 0 removes it: without it no fit could describe a material with no specular (a velvet, a
+/// matte paint), whose Schlick edge would otherwise always reflect.
+/// Sheen: the "Charlie" distribution (Estevez and Kulla 2017) with the visibility
+/// 1 / (4 (cos_i + cos_v - cos_i cos_v)), as models::makeSheen; zero when the model is Ggx.
+///
+/// Conventions (canonical(), what every fit returns): the tangent lies at `tangentDeg`
+/// counter-clockwise from the table's azimuth-0 axis (x of the Bonn grid, METHOD.md 1.2), in
+/// [0, 180) because the lobe is symmetric under a half turn, and it is the axis of the LARGER
+/// roughness: alphaTangent >= alphaBitangent (glTF KHR_materials_anisotropy's anisotropy
+/// direction; a highlight is stretched along it in half-vector space).
+struct FittedMaterial {
+  MaterialModel model = MaterialModel::Ggx;
+  Rgb diffuseAlbedo;           ///< Lambertian albedo; the diffuse BRDF is this / pi
+  Rgb specularF0;              ///< Schlick reflectance at normal incidence, [0, 1]
+  double specularF90 = 1.0;    ///< Schlick reflectance at grazing incidence, [0, 1]
+  double alphaTangent = 0.1;   ///< GGX alpha along the tangent
+  double alphaBitangent = 0.1; ///< GGX alpha across the tangent
+  double tangentDeg = 0.0;     ///< tangent azimuth, deg, counter-clockwise from x
+  Rgb sheenColour;             ///< sheen tint (zero for Ggx)
+  double sheenRoughness = 0.5; ///< Charlie roughness r (exponent 1 / r); unused for Ggx
+
+  /// \brief f_r for unit vectors toward the light and the viewer (z > 0), 1/sr.
+  Rgb evaluate(const UnitVector& toLight, const UnitVector& toView) const;
+  /// \brief The same material in the canonical convention above (swaps the alphas and turns the
+  /// tangent by 90 deg when alphaTangent < alphaBitangent; wraps the tangent into [0, 180)).
+  FittedMaterial canonical() const;
+};
+
+/// \brief The material's 81 x 81 table on the Bonn grid (as models::tabulate).
+Abrdf tabulate(const FittedMaterial& material);
+
+/// \brief The tangent difference a - b of two lobe orientations, in (-90, 90] deg (the lobe repeats
+/// every 180 deg).
+double tangentDifferenceDeg(double aDeg, double bDeg);
+
+}  // namespace slicecap::fit

@@ -1,0 +1,80 @@
+// Fitting a FittedMaterial to a measured 81 x 81 table (issue 30 item 1).
+#pragma once
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "slicecap/core/abrdf.hpp"
+#include "slicecap/eval/metrics.hpp"
+#include "slicecap/fit/fitted_material.hpp"
+
+namespace slicecap::fit {
+
+/// \brief A table that cannot be fitted (not a BRDF) or a fit that did not converge; what() starts
+/// with the table's name (its path for the command line).
+class FitError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct FitOptions {
+  /// \brief Tangent angles the solver starts from, deg (each with an elongated 0.3 x 0.1 lobe).
+  /// The cost is multimodal in the tangent: a start far from the true tangent can settle in a
+  /// local minimum, so starts spread over the half turn the lobe repeats in, and the best wins.
+  std::vector<double> startTangentsDeg{0.0, 45.0, 90.0, 135.0};
+  int maxIterations = 200;     ///< Levenberg-Marquardt iterations per solve
+  bool trySheen = true;        ///< also fit GGX + sheen and keep it if it earns its place
+  /// \brief The sheen model is chosen only when its mean dE is at most this fraction of the GGX
+  /// fit's and lower by at least `sheenMinimumGainDeltaE` (both: a tenth of a dE on a nearly
+  /// perfect fit is not worth four more parameters).
+  double sheenMaximumDeltaEFraction = 0.9;
+  double sheenMinimumGainDeltaE = 0.1;
+};
+
+/// \brief One standard deviation of each parameter, in the parameter's own unit, from the
+/// Jacobian at the solution: cov = s^2 (J^T J)^-1 with s^2 the residual variance. Formal: it
+/// treats the misfit as noise. nullopt where the data do not determine the parameter (e.g. the
+/// tangent of an isotropic lobe).
+struct ParameterSigmas {
+  std::array<std::optional<double>, 3> diffuseAlbedo, specularF0, sheenColour;
+  std::optional<double> specularF90, alphaTangent, alphaBitangent, tangentDeg, sheenRoughness;
+};
+
+/// \brief How one candidate model fitted.
+struct CandidateFit {
+  MaterialModel model = MaterialModel::Ggx;
+  FittedMaterial material;
+  ParameterSigmas sigmas;
+  eval::Metrics metrics;     ///< of tabulate(material) against the table
+  double cost = 0.0;         ///< 1/2 sum of squared residuals (8-bit sRGB levels)
+  int iterations = 0;        ///< of the best start, summed over its solves
+  int startsTried = 0;       ///< starts scouted
+  int solvesConverged = 0;   ///< full solves (of the most promising starts) that converged
+  double bestStartTangentDeg = 0.0;  ///< the start the kept solution came from
+};
+
+struct FitResult {
+  FittedMaterial material;  ///< the chosen candidate's material (canonical)
+  ParameterSigmas sigmas;
+  eval::Metrics metrics;
+  std::vector<CandidateFit> candidates;  ///< ggx first, then ggx+sheen when tried
+  std::string choiceReason;              ///< why this model, in a sentence
+};
+
+/// \brief Fits the table. `name` (the file's path) starts every error message.
+///
+/// Residuals: per light/view pair and channel, 255 (g(f cos_i / M) - g(t cos_i / M)) with g the
+/// sRGB curve (continued past 1), f the model, t the table and M the table's largest cos-weighted
+/// value: the paper's 8-bit convention of eval::compare without the rounding, so highlights and
+/// diffuse both count and the least-squares optimum is where the reported RMSE is. Each start is
+/// a bounded Levenberg-Marquardt solve (Ceres, dense, one thread, automatic derivatives).
+///
+/// Throws FitError naming `name` when the table holds a negative or non-finite value or no
+/// positive one (not a BRDF), or when no full GGX solve converged within maxIterations (a sheen
+/// candidate that does not converge is only left out, and choiceReason says so);
+/// std::invalid_argument for options with no start or fewer than one iteration.
+FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOptions& options = {});
+
+}  // namespace slicecap::fit

@@ -1,0 +1,83 @@
+// Residuals 255 g(f cos_i / M) - target and their derivatives, chained by hand through g and the
+// linear colours; Jets only for the lobe shapes.
+#include "material_cost.hpp"
+
+#include <ceres/jet.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace slicecap::fit::detail {
+namespace {
+
+using Jet3 = ceres::Jet<double, 3>;
+using Jet1 = ceres::Jet<double, 1>;
+
+}  // namespace
+
+MaterialCost::MaterialCost(const FitData& data, bool withSheen)
+    : data_(data), withSheen_(withSheen) {
+  set_num_residuals(data.residualCount());
+  if (withSheen)
+    mutable_parameter_block_sizes()->assign({kGgxParameters, kSheenParameters});
+  else
+    mutable_parameter_block_sizes()->assign({kGgxParameters});
+}
+
+bool MaterialCost::Evaluate(double const* const* parameters, double* residuals,
+                            double** jacobians) const {
+  const double* ggx = parameters[0];
+  const double* sheen = withSheen_ ? parameters[1] : nullptr;
+  double* ggxJacobian = jacobians ? jacobians[0] : nullptr;
+  double* sheenJacobian = (jacobians && withSheen_) ? jacobians[1] : nullptr;
+  const bool shapeDerivatives = ggxJacobian != nullptr || sheenJacobian != nullptr;
+
+  const Jet3 alphaT = exp(Jet3(ggx[6], 0)), alphaB = exp(Jet3(ggx[7], 1));
+  const Jet3 tangent(ggx[8], 2);
+  const Jet3 cosT = cos(tangent), sinT = sin(tangent);
+  const double alphaTValue = std::exp(ggx[6]), alphaBValue = std::exp(ggx[7]);
+  const double cosTValue = std::cos(ggx[8]), sinTValue = std::sin(ggx[8]);
+  const Jet1 sheenRoughness = sheen ? exp(Jet1(sheen[3], 0)) : Jet1(1.0);
+  const double sheenRoughnessValue = sheenRoughness.a;
+
+  for (std::size_t i = 0; i < data_.pairs.size(); ++i) {
+    const PairGeometry& g = data_.pairs[i];
+    Jet3 specular;
+    Jet1 sheenShape;
+    if (shapeDerivatives) {
+      specular = ggxSpecular(g, alphaT, alphaB, cosT, sinT);
+      if (sheen) sheenShape = sheenLobe(g, sheenRoughness);
+    } else {
+      specular = Jet3(ggxSpecular(g, alphaTValue, alphaBValue, cosTValue, sinTValue));
+      if (sheen) sheenShape = Jet1(sheenLobe(g, sheenRoughnessValue));
+    }
+    for (int c = 0; c < 3; ++c) {
+      const double fresnel = ggx[3 + c] + (ggx[9] - ggx[3 + c]) * g.fresnelWeight;
+      double value = ggx[c] / std::numbers::pi + fresnel * specular.a;
+      if (sheen) value += sheen[c] * sheenShape.a;
+      const double x = value * data_.scale[i];
+      const std::size_t row = 3 * i + static_cast<std::size_t>(c);
+      const double curve = srgbCurve(x);
+      residuals[row] = 255.0 * curve - data_.target[i][static_cast<std::size_t>(c)];
+      if (!shapeDerivatives) continue;
+      const double k = 255.0 * srgbSlope(x, curve) * data_.scale[i];  // d residual / d value
+      if (ggxJacobian) {
+        double* r = ggxJacobian + row * kGgxParameters;
+        for (int p = 0; p < kGgxParameters; ++p) r[p] = 0.0;
+        r[c] = k / std::numbers::pi;
+        r[3 + c] = k * (1.0 - g.fresnelWeight) * specular.a;
+        for (int p = 0; p < 3; ++p) r[6 + p] = k * fresnel * specular.v[p];
+        r[9] = k * g.fresnelWeight * specular.a;
+      }
+      if (sheenJacobian) {
+        double* r = sheenJacobian + row * kSheenParameters;
+        for (int p = 0; p < kSheenParameters; ++p) r[p] = 0.0;
+        r[c] = k * sheenShape.a;
+        r[3] = k * sheen[c] * sheenShape.v[0];
+      }
+    }
+  }
+  return std::isfinite(residuals[0]);
+}
+
+}  // namespace slicecap::fit::detail

@@ -1,0 +1,30 @@
+// The fit's least-squares cost with its Jacobian written out: the colours enter linearly, so only
+// the lobe shapes need derivatives (three Jet dimensions for the GGX shape, one for the sheen's).
+#pragma once
+
+#include <ceres/cost_function.h>
+
+#include "fit_data.hpp"
+
+namespace slicecap::fit::detail {
+
+/// \brief All residuals of fitResiduals() in one cost: parameter blocks {ggx (9)} or
+/// {ggx (9), sheen (4)}.
+///
+/// Why not ceres::AutoDiffCostFunction over fitResiduals: with 9 or 13 Jet dimensions every
+/// operation of every pair and channel carries 13 derivatives, although 10 of the parameters are
+/// colours whose derivatives are the lobe values themselves. Here the Jets are 3 and 1 wide and
+/// are evaluated once a pair, not once a channel: the sheen fit went from ~40 to ~10 ms an
+/// iteration, which is what brings one table's fit under a second.
+class MaterialCost final : public ceres::CostFunction {
+ public:
+  MaterialCost(const FitData& data, bool withSheen);
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  const FitData& data_;
+  bool withSheen_;
+};
+
+}  // namespace slicecap::fit::detail

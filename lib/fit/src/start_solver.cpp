@@ -1,0 +1,93 @@
+// Ceres problem set-up: one cost over all 19683 residuals (one dense Jacobian; per-pair blocks
+// would cost Ceres 6561 block evaluations an iteration for nothing).
+#include "start_solver.hpp"
+
+#include <ceres/crs_matrix.h>
+#include <ceres/problem.h>
+#include <ceres/solver.h>
+
+#include <cmath>
+#include <memory>
+
+#include "material_cost.hpp"
+
+namespace slicecap::fit::detail {
+namespace {
+
+// The alphas' range: below 0.002 the lobe is a mirror the grid's 15 deg steps cannot see; above
+// 2 it is flatter than any rough surface. The sheen roughness as the Charlie lobe allows.
+constexpr double kMinimumAlpha = 0.002, kMaximumAlpha = 2.0;
+constexpr double kMinimumSheenRoughness = 0.05, kMaximumSheenRoughness = 1.0;
+
+struct BuiltProblem {
+  std::unique_ptr<ceres::Problem> problem;
+  double* ggx;
+  double* sheen;
+};
+
+BuiltProblem buildProblem(const FitData& data, FitParameters& p) {
+  BuiltProblem built{std::make_unique<ceres::Problem>(), p.ggx.data(),
+                     p.withSheen ? p.sheen.data() : nullptr};
+  ceres::Problem& problem = *built.problem;
+  if (p.withSheen) {
+    problem.AddResidualBlock(new MaterialCost(data, true), nullptr, built.ggx, built.sheen);
+  } else {
+    problem.AddResidualBlock(new MaterialCost(data, false), nullptr, built.ggx);
+  }
+  for (int i = 0; i < 6; ++i) problem.SetParameterLowerBound(built.ggx, i, 0.0);
+  for (int i = 3; i < 6; ++i) problem.SetParameterUpperBound(built.ggx, i, 1.0);
+  problem.SetParameterLowerBound(built.ggx, 9, 0.0);
+  problem.SetParameterUpperBound(built.ggx, 9, 1.0);
+  for (int i = 6; i < 8; ++i) {
+    problem.SetParameterLowerBound(built.ggx, i, std::log(kMinimumAlpha));
+    problem.SetParameterUpperBound(built.ggx, i, std::log(kMaximumAlpha));
+  }
+  if (p.withSheen) {
+    for (int i = 0; i < 3; ++i) problem.SetParameterLowerBound(built.sheen, i, 0.0);
+    problem.SetParameterLowerBound(built.sheen, 3, std::log(kMinimumSheenRoughness));
+    problem.SetParameterUpperBound(built.sheen, 3, std::log(kMaximumSheenRoughness));
+  }
+  return built;
+}
+
+}  // namespace
+
+SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int maxIterations) {
+  SolveOutcome outcome;
+  outcome.parameters = start;
+  BuiltProblem built = buildProblem(data, outcome.parameters);
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  options.max_num_iterations = maxIterations;
+  options.num_threads = 1;
+  options.logging_type = ceres::SILENT;
+  options.minimizer_progress_to_stdout = false;
+  // Residuals are in 8-bit levels: a relative cost change of 1e-10 is far below what rounding to
+  // 8 bits can show, so converged means settled, not merely slow.
+  options.function_tolerance = 1e-7;
+  options.parameter_tolerance = 1e-8;
+  options.gradient_tolerance = 1e-12;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, built.problem.get(), &summary);
+  outcome.cost = summary.final_cost;
+  outcome.iterations = static_cast<int>(summary.iterations.size());
+  outcome.converged =
+      summary.termination_type == ceres::CONVERGENCE && std::isfinite(summary.final_cost);
+  outcome.message = summary.message;
+  return outcome;
+}
+
+Eigen::MatrixXd jacobianAt(const FitData& data, const FitParameters& parameters) {
+  FitParameters p = parameters;
+  BuiltProblem built = buildProblem(data, p);
+  ceres::CRSMatrix crs;
+  built.problem->Evaluate(ceres::Problem::EvaluateOptions(), nullptr, nullptr, nullptr, &crs);
+  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int row = 0; row < crs.num_rows; ++row)
+    for (int k = crs.rows[static_cast<std::size_t>(row)];
+         k < crs.rows[static_cast<std::size_t>(row) + 1]; ++k)
+      jacobian(row, crs.cols[static_cast<std::size_t>(k)]) = crs.values[static_cast<std::size_t>(k)];
+  return jacobian;
+}
+
+}  // namespace slicecap::fit::detail

@@ -1,0 +1,36 @@
+// One bounded Levenberg-Marquardt solve of the fit from one start, and the Jacobian at a solution.
+#pragma once
+
+#include <array>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "fit_data.hpp"
+
+namespace slicecap::fit::detail {
+
+/// \brief The parameters of one solve: the GGX block always, the sheen block when `withSheen`.
+struct FitParameters {
+  std::array<double, kGgxParameters> ggx{};
+  std::array<double, kSheenParameters> sheen{};
+  bool withSheen = false;
+  int count() const { return withSheen ? kGgxParameters + kSheenParameters : kGgxParameters; }
+};
+
+struct SolveOutcome {
+  FitParameters parameters;
+  bool converged = false;  ///< Ceres ended with CONVERGENCE and a finite cost
+  double cost = 0.0;       ///< 1/2 sum of squared residuals
+  int iterations = 0;
+  std::string message;     ///< Ceres' own account of how it ended
+};
+
+/// \brief Solves from `start` (bounds: albedo and sheen >= 0, f0 and f90 in [0, 1], alphas in
+/// [0.002, 2], sheen roughness in [0.05, 1]). Never throws for a bad fit: see `converged`.
+SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int maxIterations);
+
+/// \brief The residuals' Jacobian (residuals x parameters) at `parameters`.
+Eigen::MatrixXd jacobianAt(const FitData& data, const FitParameters& parameters);
+
+}  // namespace slicecap::fit::detail

@@ -1,0 +1,62 @@
+// `slicecap fit` from the command line: a table in, a material JSON out; bad input named, and
+// nothing written.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "../support/cli_runner.hpp"
+#include "slicecap/io/abrdf_exr.hpp"
+#include "slicecap/io/table_file.hpp"
+#include "slicecap/models/reflectance_model.hpp"
+#include "../support/test_support.hpp"
+
+namespace slicecap::fit {
+namespace {
+
+TEST(FitCommand, WritesTheFittedMaterial) {
+  const auto dir = test::freshTempDir();
+  io::writeAbrdfExr(dir / "copper.exr",
+                    models::tabulate(*models::findMaterial("copper-ggx-15")));
+  const auto result = test::runSlicecap(
+      {"fit", (dir / "copper.exr").string(), "-o", (dir / "copper.json").string()});
+  ASSERT_EQ(result.code, 0) << result.err;
+  EXPECT_NE(result.out.find("fitted ggx"), std::string::npos) << result.out;
+  std::ifstream in(dir / "copper.json");
+  const auto doc = nlohmann::json::parse(in);
+  EXPECT_EQ(doc["model"], "ggx");
+  EXPECT_NEAR(doc["parameters"]["alpha_tangent"]["value"].get<double>(), 0.30, 0.003);
+  EXPECT_NEAR(doc["parameters"]["tangent_deg"]["value"].get<double>(), 15.0, 0.1);
+  EXPECT_LE(doc["metrics"]["delta_e"].get<double>(), 1.0);
+}
+
+TEST(FitCommand, AllZeroTableFailsNamingItAndWritesNothing) {
+  const auto dir = test::freshTempDir();
+  io::writeF32Table(dir / "black.f32", Abrdf{});
+  const auto result =
+      test::runSlicecap({"fit", (dir / "black.f32").string(), "-o", (dir / "m.json").string()});
+  EXPECT_EQ(result.code, 1);
+  EXPECT_NE(result.err.find("black.f32"), std::string::npos) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "m.json"));
+}
+
+TEST(FitCommand, NonConvergenceFailsAndKeepsAnOldMaterial) {
+  const auto dir = test::freshTempDir();
+  io::writeAbrdfExr(dir / "satin.exr", models::tabulate(*models::findMaterial("satin-blue-45")));
+  std::ofstream(dir / "m.json") << "{\"old\": true}";
+  const auto result = test::runSlicecap({"fit", (dir / "satin.exr").string(), "-o",
+                                         (dir / "m.json").string(), "--max-iterations", "2"});
+  EXPECT_EQ(result.code, 1);
+  EXPECT_NE(result.err.find("satin.exr"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("did not converge"), std::string::npos) << result.err;
+  std::ifstream in(dir / "m.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["old"], true);
+}
+
+TEST(FitCommand, BadIterationCountIsAUsageError) {
+  const auto result = test::runSlicecap({"fit", "t.exr", "-o", "m.json", "--max-iterations", "0"});
+  EXPECT_EQ(result.code, 2);
+}
+
+}  // namespace
+}  // namespace slicecap::fit

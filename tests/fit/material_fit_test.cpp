@@ -1,0 +1,126 @@
+// The fit: a GGX table gives its parameters back, the tangent at any angle, a velvet its sheen;
+// a table that is not a BRDF and a fit that does not converge are errors naming the table.
+#include "slicecap/fit/material_fit.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "slicecap/models/reflectance_model.hpp"
+
+namespace slicecap::fit {
+namespace {
+
+using ::testing::HasSubstr;
+
+TEST(MaterialFit, GgxTableGivesItsParametersBack) {
+  // brushed-brass-120: ax 0.2 along the tangent at 120 deg, ay 0.5 across; canonical form puts
+  // the tangent on the larger alpha: 0.5 at 30 deg.
+  const Abrdf table = models::tabulate(*models::findMaterial("brushed-brass-120"));
+  const FitResult r = fitMaterial(table, "brass.exr");
+  const FittedMaterial& m = r.material;
+  EXPECT_EQ(m.model, MaterialModel::Ggx);
+  EXPECT_NEAR(m.alphaTangent, 0.5, 0.5 * 1e-3);
+  EXPECT_NEAR(m.alphaBitangent, 0.2, 0.2 * 1e-3);
+  EXPECT_NEAR(tangentDifferenceDeg(m.tangentDeg, 30.0), 0.0, 0.05);
+  const Rgb f0{0.91, 0.78, 0.42}, diffuse{0.02, 0.02, 0.01};
+  for (std::size_t c = 0; c < 3; ++c) {
+    EXPECT_NEAR(m.specularF0[c], f0[c], 1e-3) << c;
+    EXPECT_NEAR(m.diffuseAlbedo[c], diffuse[c], 1e-3) << c;
+  }
+  EXPECT_LE(r.metrics.deltaE, 0.05);
+  EXPECT_GE(r.metrics.psnrDb, 60.0);
+  // A perfect fit has (next to) no residual, so next to no uncertainty; every parameter of an
+  // anisotropic lobe is determined.
+  ASSERT_TRUE(r.sigmas.tangentDeg.has_value());
+  EXPECT_LT(*r.sigmas.tangentDeg, 0.01);
+  ASSERT_TRUE(r.sigmas.alphaTangent.has_value());
+  EXPECT_FALSE(r.choiceReason.empty());
+}
+
+TEST(MaterialFit, TangentIsRecoveredAtEveryAngle) {
+  for (const double tangentDeg : {10.0, 55.0, 100.0, 165.0}) {
+    const auto model =
+        models::makeAnisotropicGgx({0.1, 0.1, 0.1}, {0.6, 0.6, 0.6}, 0.35, 0.1, tangentDeg);
+    FitOptions options;
+    options.trySheen = false;
+    const FitResult r = fitMaterial(models::tabulate(*model), "rotated.exr", options);
+    EXPECT_NEAR(tangentDifferenceDeg(r.material.tangentDeg, tangentDeg), 0.0, 0.5) << tangentDeg;
+    EXPECT_NEAR(r.material.alphaTangent, 0.35, 0.35 * 0.01) << tangentDeg;
+    EXPECT_NEAR(r.material.alphaBitangent, 0.1, 0.1 * 0.01) << tangentDeg;
+  }
+}
+
+TEST(MaterialFit, IsotropicLobeHasNoTangentToReport) {
+  const Abrdf table = models::tabulate(*models::findMaterial("red-plastic-ggx"));
+  FitOptions options;
+  options.trySheen = false;
+  const FitResult r = fitMaterial(table, "plastic.exr", options);
+  EXPECT_NEAR(r.material.alphaTangent, 0.15, 0.15 * 0.01);
+  EXPECT_NEAR(r.material.alphaBitangent, 0.15, 0.15 * 0.01);
+  EXPECT_FALSE(r.sigmas.tangentDeg.has_value());
+}
+
+TEST(MaterialFit, VelvetChoosesTheSheenAndSaysWhy) {
+  const Abrdf table = models::tabulate(*models::findMaterial("velvet-red"));
+  const FitResult r = fitMaterial(table, "velvet.exr");
+  ASSERT_EQ(r.candidates.size(), 2u);
+  EXPECT_EQ(r.material.model, MaterialModel::GgxSheen);
+  EXPECT_LT(r.metrics.deltaE, 0.5 * r.candidates.front().metrics.deltaE);
+  EXPECT_NEAR(r.material.sheenRoughness, 0.3, 0.03);
+  EXPECT_THAT(r.choiceReason, HasSubstr("ggx+sheen"));
+}
+
+TEST(MaterialFit, NegativeValueIsNotABrdf) {
+  Abrdf table = models::tabulate(*models::findMaterial("blue-plastic"));
+  table.channel(12, 34, 1) = -0.5f;
+  try {
+    fitMaterial(table, "measured/negative.exr");
+    FAIL() << "fitted a negative table";
+  } catch (const FitError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("measured/negative.exr"));
+    EXPECT_THAT(e.what(), HasSubstr("light 12, view 34, channel G"));
+  }
+}
+
+TEST(MaterialFit, NanIsNotABrdf) {
+  Abrdf table = models::tabulate(*models::findMaterial("blue-plastic"));
+  table.channel(80, 0, 2) = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(
+      {
+        try {
+          fitMaterial(table, "nan.exr");
+        } catch (const FitError& e) {
+          EXPECT_THAT(e.what(), HasSubstr("nan.exr: not a BRDF"));
+          throw;
+        }
+      },
+      FitError);
+}
+
+TEST(MaterialFit, AllZeroTableIsRefused) {
+  try {
+    fitMaterial(Abrdf{}, "black.exr");
+    FAIL() << "fitted an all-zero table";
+  } catch (const FitError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("black.exr"));
+    EXPECT_THAT(e.what(), HasSubstr("every value is zero"));
+  }
+}
+
+TEST(MaterialFit, FitThatDoesNotConvergeIsAnErrorNotAResult) {
+  FitOptions options;
+  options.maxIterations = 2;
+  try {
+    fitMaterial(models::tabulate(*models::findMaterial("satin-blue-45")), "satin.exr", options);
+    FAIL() << "a fit cut off after 2 iterations was returned";
+  } catch (const FitError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("satin.exr"));
+    EXPECT_THAT(e.what(), HasSubstr("did not converge"));
+  }
+}
+
+}  // namespace
+}  // namespace slicecap::fit
