@@ -68,8 +68,8 @@ def test_glossy_isotropic_round_trip_stays_within_the_stated_error(tmp_path):
     assert (tmp_path / "glossy.binary").stat().st_size == 12 + 8 * 3 * 90 * 90 * 180
     merl = read_merl(tmp_path / "glossy.binary")
     back = merl_lookup(merl, *grid_pairs()).reshape(81, 81, 3)
-    # Stated error (README): at the 6561 grid pairs, a MERL reader returns the table within
-    # 3.5 % relative RMSE for this glossy Phong lobe (n = 20; measured 2.4 %; a broad n = 3
+    # Stated error (docs/guide/desktop.md): at the 6561 grid pairs, a MERL reader returns the table
+    # within 3.5 % relative RMSE for this glossy Phong lobe (n = 20; measured 2.4 %; a broad n = 3
     # lobe: 1.0 %, Lambertian: exact). What is left is the MERL bins' width (about 1 deg).
     relative_rmse = np.sqrt(np.mean((back - table) ** 2) / np.mean(table.astype(float) ** 2))
     assert relative_rmse < 0.035, relative_rmse

@@ -168,7 +168,7 @@ TEST(Cli, ReconstructWithALostSliceNamesItWithItsSweepAndExportsWithThePrior) {
 }
 
 TEST(Cli, EveryOptionOfACommandIsInItsUsageLine) {
-  // The usage line is what a person reads first (and the README's headings copy it): an option
+  // The usage line is what a person reads first (and docs/reference/cli.md shows it): an option
   // it leaves out must at least be announced by "[options]" or "...".
   for (const Command& command : allCommands()) {
     const std::string& synopsis = command.spec.synopsis;

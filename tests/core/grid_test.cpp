@@ -1,4 +1,4 @@
-// The Bonn grid: ring layout, index round trips and the file-name anchors of METHOD.md 1.2.
+// The Bonn grid: ring layout, index round trips and the file-name anchors of docs/method.md §1.1.
 #include "slicecap/core/grid.hpp"
 
 #include <gtest/gtest.h>

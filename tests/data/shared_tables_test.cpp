@@ -1,5 +1,5 @@
-// Golden test on measured materials: METHOD.md's reference implementation figures (skips without
-// ../shared).
+// Golden test on measured materials: the reference implementation figures of docs/method.md §1.5
+// (skips without the measured tables).
 #include <gtest/gtest.h>
 
 #include "../support/test_support.hpp"
@@ -16,7 +16,8 @@ struct Golden {
   double deltaE, rmse, psnrDb;
 };
 
-// METHOD.md "Check your implementation against ours" (ideal slices, slice-sum, Method B).
+// docs/method.md §1.5: an independent implementation of the same reading (ideal slices, slice-sum,
+// Method B).
 constexpr Golden kGolden[] = {
     {"merl_nbrdf__blue-acrylic", 2.00, 18.95, 22.58},
     {"merl_nbrdf__chrome", 3.62, 37.46, 16.66},

@@ -22,7 +22,7 @@ TEST(Report, MeansArePerMaterialMeansAndFailuresAreCountedApart) {
   EXPECT_EQ(s[0].materials, 2u);
   EXPECT_DOUBLE_EQ(s[0].mean.deltaE, 3.0);
   EXPECT_DOUBLE_EQ(s[0].mean.rmse, 20.0);
-  // PSNR is the mean of the per-material PSNRs (METHOD.md 6.1), not the PSNR of the mean RMSE.
+  // PSNR is the mean of per-material PSNRs (docs/method.md §6.1), not the PSNR of the mean RMSE.
   EXPECT_NEAR(s[0].mean.psnrDb,
               (20.0 * std::log10(255.0 / 10.0) + 20.0 * std::log10(255.0 / 30.0)) / 2.0, 1e-12);
   EXPECT_EQ(s[1].materials, 1u);

@@ -1,6 +1,6 @@
-// libFuzzer target: any bytes as a prior file (README "Prior file"). readPriorModel either returns
-// a model whose arrays have the sizes its header gave, or throws PriorError naming the file (the
-// error a person sees); anything else is a bug.
+// libFuzzer target: any bytes as a prior file (docs/reference/file-formats.md). readPriorModel
+// either returns a model whose arrays have the sizes its header gave, or throws PriorError naming
+// the file (the error a person sees); anything else is a bug.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>

@@ -42,7 +42,7 @@ MethodRun runMethodB(const SliceSet& slices, const MethodOptions& options) {
   return run;
 }
 
-// The paper interpolated 8-bit sRGB data (METHOD.md 6.2); 2.2 is close to that encoding.
+// The paper interpolated 8-bit sRGB data (docs/method.md §6.2); 2.2 is close to that encoding.
 constexpr double kPaperValueGamma = 2.2;
 
 MethodRun runMethodAWithGamma(const SliceSet& slices, const MethodOptions& options,
@@ -183,22 +183,26 @@ MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
 const std::vector<Method>& reconstructionMethods() {
   static const std::vector<Method> methods{
       {"b",
-       "Method B of the paper (METHOD.md 4): slice-sum subspaces, lobe-weighted elevation blends",
+       "Method B of the paper (docs/method.md section 4): slice-sum subspaces, lobe-weighted "
+       "elevation blends",
        runMethodB},
       {"a",
-       "Method A of the paper (METHOD.md 5): slice-sum subspaces, 4-D RBF in onion coordinates",
+       "Method A of the paper (docs/method.md section 5): slice-sum subspaces, 4-D RBF in onion "
+       "coordinates",
        runMethodA},
       {"uniform",
-       "the uniform baseline (METHOD.md 6.3): RBF over point samples, e.g. sample --uniform 13",
+       "the uniform baseline (docs/method.md section 6.3): RBF over point samples, e.g. sample "
+       "--uniform 13",
        runUniform, Acquisition::UniformGrid13},
       {"a-gamma",
-       "Method A interpolating v^(1/2.2), close to the paper's 8-bit sRGB data (METHOD.md 6.2)",
+       "Method A interpolating v^(1/2.2), close to the paper's 8-bit sRGB data (docs/method.md "
+       "section 6.2)",
        runMethodAGamma},
       {"uniform-gamma", "the uniform baseline interpolating v^(1/2.2), as a-gamma", runUniformGamma,
        Acquisition::UniformGrid13},
       {"halfway",
-       "slicecap's improvement (README): unmeasured entries from the nearest measured ones in\n"
-       "halfway angle; for isotropic materials only where Method B extrapolates",
+       "slicecap's improvement (docs/method.md section 7): unmeasured entries from the nearest\n"
+       "measured ones in halfway angle; for isotropic materials only where Method B extrapolates",
        runHalfway},
       {"prior",
        "learned prior (issue 10): PCA of measured tables fitted at the samples' actual angles, "

@@ -31,12 +31,13 @@ std::string kernelName(recon::RbfKernel kernel) {
 }
 
 // The ranges where Method A and the uniform baseline still interpolate (measured with `slicecap
-// eval`, README "Method A's open choices"). r0: below 0.01 the inverse multiquadric's diagonal
-// tends to 1/0 (NaN, clipped to an all-zero table); above 4 the multiquadric is nearly flat over
-// the centres and the system's rounding swamps the interpolant (dE 22 at 5, 79 at 10; from 1e10
-// all zeros). gamma: below 1 it expands the values the interpolant already overshoots (at 0.5 a
-// third of a glossy table's entries clip to zero, at 0.1 more than half; further down float's
-// range ends), and above 1000 the result loses float's precision (1e10: all zeros).
+// eval`, docs/results/2026-11-23-method-a-rbf-choices.md). r0: below 0.01 the inverse
+// multiquadric's diagonal tends to 1/0 (NaN, clipped to an all-zero table); above 4 the
+// multiquadric is nearly flat over the centres and the system's rounding swamps the interpolant (dE
+// 22 at 5, 79 at 10; from 1e10 all zeros). gamma: below 1 it expands the values the interpolant
+// already overshoots (at 0.5 a third of a glossy table's entries clip to zero, at 0.1 more than
+// half; further down float's range ends), and above 1000 the result loses float's precision (1e10:
+// all zeros).
 constexpr double kMinShapeScale = 0.01, kMaxShapeScale = 4.0;
 constexpr double kMinValueGamma = 1.0, kMaxValueGamma = 1000.0;
 

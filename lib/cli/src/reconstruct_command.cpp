@@ -87,10 +87,11 @@ Command reconstructCommand() {
            {{"output", 'o', "OUT.exr", "where to write the ABRDF (required)"},
             {"method", 0, "NAME", "reconstruction method (default b)"},
             {"isotropic", 0, "", "use the diagonal slices only (eq. 5)"},
-            {"torus", 0, "RULE", "square (default) or pi-symmetric (METHOD.md 3.2)"},
+            {"torus", 0, "RULE", "square (default) or pi-symmetric (docs/method.md section 3.2)"},
             {"rbf", 0, "SPEC",
              "a, uniform: the RBF's open choices, key=value,... (kernel=mq|imq|r|r3, "
-             "poly=const|linear, r0=SCALE, frame=relative|absolute, gamma=G); see README"},
+             "poly=const|linear, r0=SCALE, frame=relative|absolute, gamma=G); see "
+             "docs/reference/commands.md"},
             {"json", 0, "", "print a JSON summary instead of text"}},
            1,
            1},

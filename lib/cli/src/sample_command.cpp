@@ -64,13 +64,12 @@ Command sampleCommand() {
            "TABLE -o SAMPLES.csv --uniform N",
            "Take the ideal slices of a full table (EXR or .f32), as a perfect capture would "
            "measure them.\n"
-           "By default each slice has max(n(theta_i), n(theta_v)) samples (168 in all, METHOD.md "
-           "2.2);\n"
-           "--step 15 gives 24 a slice (192, as the real rig records).\n"
-           "--uniform N takes the uniform baseline instead: N light x N view directions of the "
-           "grid,\n"
-           "spread by farthest-point selection from the pole (METHOD.md 6.3), as point samples\n"
-           "(N = 13: the paper's 169); reconstruct them with --method uniform.",
+           "By default each slice has max(n(theta_i), n(theta_v)) samples (168 in all,\n"
+           "docs/method.md section 2.2); --step 15 gives 24 a slice (192, as the real rig\n"
+           "records). --uniform N takes the uniform baseline instead: N light x N view directions\n"
+           "of the grid, spread by farthest-point selection from the pole (docs/method.md section\n"
+           "6.3), as point samples (N = 13: the paper's 169); reconstruct them with --method\n"
+           "uniform.",
            {{"output", 'o', "SLICES.csv", "where to write the slice CSV (required)"},
             {"step", 0, "DEG", "slice step in degrees (must divide 360)"},
             {"diagonal-only", 0, "", "only the four diagonal slices (isotropic capture)"},

@@ -1,9 +1,10 @@
 """slicecap on the desktop: read, evaluate, render and export slicecap's ABRDF EXR files.
 
-The box exports an apparent BRDF as an 81 x 81 table on the Bonn grid (README "File formats");
-this package reads it into numpy with the same checks as the C++ reader, evaluates it at any light
-and view directions exactly as the C++ `slicecap::evaluate` does, exports isotropic tables to the
-MERL binary format, and (with mitsuba installed) renders it through the Mitsuba 3 BSDF `slicecap`.
+The box exports an apparent BRDF as an 81 x 81 table on the Bonn grid
+(docs/reference/file-formats.md); this package reads it into numpy with the same checks as the C++
+reader, evaluates it at any light and view directions exactly as the C++ `slicecap::evaluate` does,
+exports isotropic tables to the MERL binary format, and (with mitsuba installed) renders it through
+the Mitsuba 3 BSDF `slicecap`.
 """
 
 from slicecap.abrdf import Abrdf

@@ -1,4 +1,4 @@
-"""The Bonn 81-direction hemisphere grid (METHOD.md 1.1): rings, index order, unit vectors."""
+"""The Bonn 81-direction hemisphere grid (docs/method.md §1.1): rings, index order, unit vectors."""
 
 import numbers
 from dataclasses import dataclass

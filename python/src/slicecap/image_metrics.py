@@ -1,4 +1,4 @@
-"""The paper's 8-bit metrics (README "Metrics"; lib/eval/metrics) applied to two renderings.
+"""The paper's 8-bit metrics (docs/method.md §6.1; lib/eval/metrics) applied to two renderings.
 
 Both images are divided by one exposure taken from the reference, clipped to [0, 1],
 sRGB-encoded, x255 and rounded; then the mean CIE76 dE over the masked pixels (sRGB D65 to

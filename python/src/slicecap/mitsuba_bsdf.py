@@ -7,7 +7,7 @@
     bsdf = mi.load_dict({"type": "slicecap", "filename": "satin.exr"})
 
 The local frame is Mitsuba's shading frame: z = normal, x = the shape's tangent (dp/du), azimuths
-counter-clockwise from x, as the Bonn grid's (METHOD.md 1.2). One-sided like `diffuse`. `eval`
+counter-clockwise from x, as the Bonn grid's (docs/method.md §1.2). One-sided like `diffuse`. `eval`
 interpolates the table exactly as slicecap.evaluate does (16 table entries per call, vectorised
 with Dr.Jit gathers); `sample` draws from the tabulated mixture of slicecap.sampling, mixed with a
 cosine-weighted share.

@@ -18,9 +18,9 @@ namespace slicecap::btf {
 
 /// \brief Which method reconstructs every texel.
 enum class TexelMethod {
-  B,  ///< Method B (METHOD.md 4), texel by texel
-  A,  ///< Method A (METHOD.md 5): one factorised RBF system, a row of texels per matrix product
-  /// The learned prior (README "Prior reconstruction"), texel by texel, at each texel's own
+  B,  ///< Method B (docs/method.md §4), texel by texel
+  A,  ///< Method A (docs/method.md §5): one factorised RBF system, a texel row per matrix product
+  /// The learned prior (docs/method.md §8), texel by texel, at each texel's own
   /// directions; a texel some slice's frames missed is still reconstructed from the rest.
   Prior,
 };

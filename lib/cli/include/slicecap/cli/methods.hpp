@@ -34,8 +34,8 @@ struct MethodRun {
 
 /// \brief What a method reconstructs from, so that `eval` can simulate its capture.
 enum class Acquisition {
-  Slices,         ///< the 8 slices, 168 samples (METHOD.md 2.2)
-  UniformGrid13,  ///< 13 light x 13 view directions, 169 point samples (METHOD.md 6.3)
+  Slices,         ///< the 8 slices, 168 samples (docs/method.md §2.2)
+  UniformGrid13,  ///< 13 light x 13 view directions, 169 point samples (docs/method.md §6.3)
 };
 
 /// \brief A named method: `run` throws (e.g. recon::ReconstructionError naming a missing slice)

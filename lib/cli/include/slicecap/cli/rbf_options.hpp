@@ -1,4 +1,4 @@
-// `--rbf SPEC`: the open choices of Method A's interpolant (METHOD.md 5), for a and uniform alike.
+// `--rbf SPEC`: Method A's open choices (docs/method.md §5.3), for a and uniform alike.
 #pragma once
 
 #include <string>

@@ -12,7 +12,7 @@
 namespace slicecap {
 
 /// \brief A full ABRDF table: 81 light x 81 view directions x 3 channels of linear float32 BRDF
-/// values (1/sr), light-major in the Bonn order (METHOD.md 1.3). Zero-initialised.
+/// values (1/sr), light-major in the Bonn order (docs/method.md §1.3). Zero-initialised.
 class Abrdf {
  public:
   static constexpr int kDirections = bonn::kDirectionCount;

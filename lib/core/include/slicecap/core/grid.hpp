@@ -1,4 +1,4 @@
-// The Bonn 81-direction hemisphere grid (METHOD.md 1.1): rings, order, index <-> (theta, phi).
+// The Bonn 81-direction grid (docs/method.md §1.1): rings, order, index <-> (theta, phi).
 #pragma once
 
 #include <array>
@@ -18,7 +18,7 @@ struct UnitVector {
   double x = 0.0, y = 0.0, z = 1.0;
 };
 
-/// \brief The unit vector of a direction (azimuth taken as counter-clockwise, METHOD.md 1.2).
+/// \brief The unit vector of a direction (azimuth taken as counter-clockwise, docs/method.md §1.2).
 UnitVector toUnitVector(const Direction& direction);
 
 /// \brief The direction of a vector with z >= 0 (it need not be normalised; zero length throws

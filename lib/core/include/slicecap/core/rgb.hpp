@@ -21,7 +21,7 @@ struct Rgb {
   constexpr double r() const { return channel[0]; }
   constexpr double g() const { return channel[1]; }
   constexpr double b() const { return channel[2]; }
-  /// \brief Plain average of the three channels (the "monospectral" value of METHOD.md 4.2).
+  /// \brief Plain average of the three channels (the "monospectral" value of docs/method.md §4.2).
   constexpr double mean() const { return (channel[0] + channel[1] + channel[2]) / 3.0; }
   constexpr double maxChannel() const { return std::max({channel[0], channel[1], channel[2]}); }
   constexpr double minChannel() const { return std::min({channel[0], channel[1], channel[2]}); }

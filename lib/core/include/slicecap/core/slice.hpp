@@ -1,4 +1,4 @@
-// Slices (METHOD.md 2): the two kinds, the measured elevation pairs, samples at arbitrary azimuths.
+// Slices (docs/method.md §2): the two kinds, the measured elevation pairs, samples at any azimuth.
 #pragma once
 
 #include <array>
@@ -16,7 +16,7 @@ namespace slicecap {
 
 /// \brief Axial: camera and light keep phi_v = phi_i + 15 deg. Diagonal: phi_i = 360 - phi_v.
 /// Point: a sample at its own light and view directions, on no slice (e.g. the uniform 13 x 13
-/// baseline of METHOD.md 6.3); such samples are grouped by their nominal elevation pair only.
+/// baseline of docs/method.md §6.3); such samples are grouped by their nominal elevation pair only.
 enum class SliceKind { Axial, Diagonal, Point };
 
 /// \brief The axial slice's azimuth offset alpha_A (the paper's alpha).
@@ -34,7 +34,7 @@ struct ElevationPair {
   friend constexpr auto operator<=>(const ElevationPair&, const ElevationPair&) = default;
 };
 
-/// \brief The four pairs the rig measures (METHOD.md 2.1), in this order.
+/// \brief The four pairs the rig measures (docs/method.md §2.1), in this order.
 inline constexpr std::array<ElevationPair, 4> kMeasuredPairs{
     {{30, 30}, {30, 75}, {75, 30}, {75, 75}}};
 /// \brief The elevations the rig measures; Method B interpolates and extrapolates from them.
@@ -66,7 +66,8 @@ struct AzimuthPair {
 };
 
 /// \brief The slice parameter of a sample: its light azimuth on an axial slice, its view azimuth on
-/// a diagonal slice (METHOD.md 2.1), in [0, 360). Point samples have none (std::invalid_argument).
+/// a diagonal slice (docs/method.md §2.1), in [0, 360). Point samples have none (throws
+/// std::invalid_argument).
 double sliceParameterDeg(SliceKind kind, const SliceSample& sample);
 
 /// \brief The point of the slice line at a parameter: axial (x, x + 15), diagonal (360 - x, x),

@@ -1,4 +1,4 @@
-// The paper's 8-bit error metrics (METHOD.md "slicecap conventions", 6.1) and a linear-domain
+// The paper's 8-bit error metrics (docs/method.md §1.4, §6.1) and a linear-domain
 // error.
 #pragma once
 

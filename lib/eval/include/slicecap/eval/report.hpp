@@ -23,8 +23,8 @@ struct EvaluationRow {
   std::string error;
 };
 
-/// \brief One method over every material it succeeded on: means of per-material values (METHOD.md
-/// 6.1) and the worst materials by dE, worst first.
+/// \brief One method over every material it succeeded on: means of per-material values
+/// (docs/method.md §6.1) and the worst materials by dE, worst first.
 struct MethodSummary {
   std::string method;
   std::size_t materials = 0;
