@@ -18,7 +18,7 @@ const bool kRegistered = [] {
   benchmark::AddCustomContext(
       "slicecap_budgets",
       "stated as multiples of the development machine's figures (x86-64, one core: Method B "
-      "~0.6 ms per RGB ABRDF from 168 samples, README 'Accuracy and speed'); a Pi 4 core is "
+      "~0.6 ms per RGB ABRDF from 168 samples, docs/results/2026-11-24-reconstruction-methods.md); a Pi 4 core is "
       "estimated, not measured, at 2-5x slower, so up to 5x those figures is within budget there");
   benchmark::AddCustomContext(
       "slicecap_reproduce_on_a_pi",

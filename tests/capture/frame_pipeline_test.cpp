@@ -287,7 +287,7 @@ TEST(FramePipeline, AmbientFromBothSidesBeatsThePreviousLedOffFrameOnASpecularMa
   const double oneSided = medianSampleError(liveOutcomes, truth);
   EXPECT_LT(offline, 0.5 * oneSided) << "two-sided " << offline << ", one-sided " << oneSided;
   // Seven times the realistic room light and 15 deg steps: the 2 % goal holds on the realistic
-  // 48-frame session (README, "Processing recordings"); here the residual curvature shows.
+  // 48-frame session (docs/results/2026-11-24-capture-accuracy.md); here the residual curvature shows.
   EXPECT_LT(offline, 0.04);
 }
 

@@ -228,7 +228,7 @@ TEST(PriorReconstruction, AcceptsDiagonalOnlyAndSomePairsWhereMethodBRefuses) {
   const Abrdf fromTwo = reconstructWithPrior(twoSweeps, defaultPriorModel(), {}, &report);
   EXPECT_EQ(report.measuredPairs.size(), 2u);
   // A loose bound: analytic lobes lie outside the measured tables the prior learned from (the
-  // measured-table figures are in README "Prior reconstruction").
+  // measured-table figures are in docs/results/2026-11-24-prior.md).
   EXPECT_LT(eval::compare(truth, fromTwo).deltaE, 6.0);
   const SliceSet somePairs = keepPairs(all, {{30, 30}, {45, 60}, {75, 75}});
   EXPECT_THROW(recon::reconstructMethodB(somePairs), recon::ReconstructionError);

@@ -58,7 +58,7 @@ TEST(HalfwayMethod, KeepsTheMeasuredSubspacesAndReproducesADiffuseMaterial) {
 }
 
 TEST(HalfwayMethod, BeatsMethodBOnGlossyIsotropicAndAnisotropicMaterials) {
-  // The unmeasured highlights (METHOD.md 9): Method B scales the 30 deg ring and blends
+  // The unmeasured highlights (docs/method.md §7): Method B scales the 30 deg ring and blends
   // subspaces, the halfway neighbours carry the measured peaks over.
   for (const char* material : {"blue-plastic", "brushed-aluminium", "satin-blue-45"}) {
     const Abrdf truth = tableOf(material);

@@ -24,7 +24,7 @@ TEST(MethodA, SharedSystemKeepsTheMeasuredSubspacesAndIsExactForConstantsAtAnyGa
   const MethodASystem& system = sharedMethodASystem();
   EXPECT_EQ(system.centreEntries().size(), 1296u);
   EXPECT_EQ(system.otherEntries().size(), 6561u - 1296u);
-  // METHOD.md 5.2: r0 ~ 0.26 rad on the Bonn grid.
+  // docs/method.md §5.2: r0 ~ 0.26 rad on the Bonn grid.
   EXPECT_NEAR(system.interpolant().shapeRad(), 0.26, 0.01);
   EXPECT_EQ(&system, &sharedMethodASystem()) << "built once";
   EXPECT_LT(system.memoryBytes(), std::size_t{45} << 20);

@@ -1,4 +1,4 @@
-// Simulated acquisition: sample counts, grid coincidences and lookup weights of METHOD.md 2.2-2.3.
+// Simulated acquisition: sample counts, grid coincidences and lookup weights of docs/method.md §2.2-2.3.
 #include "slicecap/recon/slice_extraction.hpp"
 
 #include <gtest/gtest.h>
@@ -66,7 +66,7 @@ TEST(SliceExtraction, OnGridSamplesAreExactTableValues) {
       EXPECT_EQ(s.value, table.at(bonn::indexOf(s.light), bonn::indexOf(s.view)));
     }
   }
-  EXPECT_EQ(onGrid, 108) << "METHOD.md 2.2: 108 of the 168 samples fall on the grid";
+  EXPECT_EQ(onGrid, 108) << "docs/method.md §2.2: 108 of the 168 samples fall on the grid";
 }
 
 TEST(SliceExtraction, InterpolatesAlongTheCoarserRing) {

@@ -1,4 +1,4 @@
-// Slice-sum reconstruction: the resolved mapping, METHOD.md's worked example, the isotropic
+// Slice-sum reconstruction: the resolved mapping, docs/method.md §3.5's worked example, the isotropic
 // reduction.
 #include "slicecap/recon/slice_sum.hpp"
 
@@ -88,7 +88,7 @@ SliceSet analyticSlices(const models::ReflectanceModel& model) {
 }
 
 TEST(SliceSum, IsotropicMaterialsGiveTheEquation5Result) {
-  // METHOD.md 3.3 and 9: on an isotropic material the axial slice is constant and eq. 2-4 reduce
+  // docs/method.md §3.3-3.4: on an isotropic material the axial slice is constant and eq. 2-4 reduce
   // to eq. 5 exactly (the constant lies within the diagonal slice's range).
   const auto model = models::makeBlinnPhong({0.1, 0.2, 0.3}, {0.5, 0.5, 0.5}, 20.0);
   const SliceSet slices = analyticSlices(*model);

@@ -1,4 +1,4 @@
-// The uniform baseline's directions (METHOD.md 6.3) and its point samples.
+// The uniform baseline's directions (docs/method.md §6.3) and its point samples.
 #include "slicecap/recon/uniform_sampling.hpp"
 
 #include <gtest/gtest.h>

@@ -78,7 +78,7 @@ json materialJson(const FitResult& result, const std::string& source) {
       {"model", toString(result.material.model)},
       {"choice", result.choiceReason},
       {"conventions",
-       {{"frame", "z = surface normal, x = azimuth 0 of the Bonn grid (METHOD.md 1.2), azimuths "
+       {{"frame", "z = surface normal, x = azimuth 0 of the Bonn grid (docs/method.md §1.2), azimuths "
                   "counter-clockwise"},
         {"tangent", "the axis of the larger GGX alpha (alpha_tangent >= alpha_bitangent), as "
                     "glTF KHR_materials_anisotropy's anisotropy direction; the lobe repeats every "

@@ -49,7 +49,7 @@ ElevationLobe fitLine(const std::string& line, const PairData& low, const PairDa
   return lobe;
 }
 
-// The block at `targetDeg` along a line, from the known low and high blocks (METHOD.md 4.2).
+// The block at `targetDeg` along a line, from the known low and high blocks (docs/method.md §4.2).
 // `resample` moves a known block to the target elevation along the varying direction.
 template <typename Resample, typename ResampledBlend>
 Subspace interpolateAlongLine(const ElevationLobe& lobe, const Subspace& low, const Subspace& high,

@@ -1,4 +1,4 @@
-// Slice-sum subspace reconstruction (METHOD.md 3.2-3.4).
+// Slice-sum subspace reconstruction (docs/method.md §3.2-3.4).
 #include "slicecap/recon/slice_sum.hpp"
 
 #include <cmath>

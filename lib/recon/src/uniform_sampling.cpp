@@ -13,7 +13,7 @@ double squaredDistance(const UnitVector& a, const UnitVector& b) {
   return (a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) + (a.z - b.z) * (a.z - b.z);
 }
 
-// METHOD.md 6.3's published selection order, (theta, phi) in degrees. Every pick is a farthest
+// docs/method.md §6.3's published selection order, (theta, phi) in degrees. Every pick is a farthest
 // point, but several were ties (every 75 deg direction is equally far from the pole) that fell by
 // floating-point rounding; keeping this order keeps the documented baseline on every platform.
 constexpr std::array<std::array<int, 2>, 14> kPublishedOrder{{{0, 0},

@@ -45,7 +45,7 @@ struct MarkerDetectorSettings {
   /// \brief The library's quad_decimate for detect() without a scale (calibration views), and
   /// the second scale of MarkerSearch's whole-frame re-acquisition passes. 2 finds the quads on a
   /// half-size image and refines the corners on the full one (refine_edges): measured by
-  /// bench/capture_bench.cpp (see the README section "Processing recordings") to be several
+  /// bench/capture_bench.cpp (docs/results/2026-11-24-capture-accuracy.md) to be several
   /// times faster than 1 at 1280 x 720 with the same markers found at the rig's ~30 cm; 1 is for
   /// small or far targets. Must lie in kMinDecimation..kMaxDecimation.
   float decimation = 2.0f;

@@ -29,7 +29,7 @@ std::string_view toString(MaterialModel model);
 /// 1 / (4 (cos_i + cos_v - cos_i cos_v)), as models::makeSheen; zero when the model is Ggx.
 ///
 /// Conventions (canonical(), what every fit returns): the tangent lies at `tangentDeg`
-/// counter-clockwise from the table's azimuth-0 axis (x of the Bonn grid, METHOD.md 1.2), in
+/// counter-clockwise from the table's azimuth-0 axis (x of the Bonn grid, docs/method.md §1.2), in
 /// [0, 180) because the lobe is symmetric under a half turn, and it is the axis of the LARGER
 /// roughness: alphaTangent >= alphaBitangent (glTF KHR_materials_anisotropy's anisotropy
 /// direction; a highlight is stretched along it in half-vector space).

@@ -11,7 +11,7 @@
 namespace slicecap::prior {
 
 /// \brief Options of the test; thresholds were set on the 100 MERL tables, ideal and under capture
-/// noise (README "Isotropy test").
+/// noise (docs/method.md §8.1).
 struct IsotropyParams {
   /// \brief Values below this fraction of the largest cos(theta_i)-weighted sample are raised to
   /// it before logarithms (what 8-bit output cannot show cannot count as anisotropy).
@@ -39,7 +39,7 @@ struct IsotropyParams {
 struct SliceIsotropyScore {
   SliceId slice;
   double score = 0.0;       ///< RMS log deviation from what an isotropic material would show
-  bool informative = true;  ///< false for checks that cannot see anisotropy (explained in README)
+  bool informative = true;  ///< false for checks that cannot see anisotropy (docs/method.md §8.1)
 };
 
 /// \brief The verdict and its evidence.

@@ -56,7 +56,7 @@ PriorModel trainPriorModel(std::span<const Abrdf> tables, const TrainingParams& 
 /// \brief The feature vector (kFeatureCount) of one channel of a table (see PriorModel).
 std::vector<double> channelFeatures(const Abrdf& table, int channel, double floorFraction);
 
-/// \brief Writes the model (little-endian binary, format in README "Prior file"). Throws PriorError
+/// \brief Writes the model (little-endian binary, format in docs/reference/file-formats.md "Prior file"). Throws PriorError
 /// naming the path on failure, which leaves an old file at `path` as it was (written through a
 /// temporary).
 void writePriorModel(const std::filesystem::path& path, const PriorModel& model);

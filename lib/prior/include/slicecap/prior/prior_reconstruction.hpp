@@ -12,7 +12,7 @@
 namespace slicecap::prior {
 
 /// \brief Options of the prior reconstruction; the defaults were chosen by 5-fold cross-validation
-/// within the 100 MERL tables (README "Prior reconstruction").
+/// within the 100 MERL tables (docs/results/2026-11-24-prior.md).
 struct PriorParams {
   /// \brief Ridge weight: component k is penalised by ridge * residualVariance / variance_k.
   double ridge = 30.0;
@@ -35,7 +35,7 @@ struct PriorParams {
   /// azimuth), the half-vector terms at its own directions; the error then does not depend on
   /// where the samples fall inside their bins. False: through the table's linear interpolation at
   /// the sample's angles (tableTaps), which is exact only when the truth between grid azimuths IS
-  /// that interpolation (slices extracted from a table, METHOD.md 2.3); read that way, a real
+  /// that interpolation (slices extracted from a table, docs/method.md §2.3); read that way, a real
   /// capture's samples between grid azimuths blend entries a bin apart and smear highlights.
   bool readAtMeasuredAngles = true;
   /// \brief Blend with Method B where the samples show little directional structure: near-diffuse
@@ -45,7 +45,7 @@ struct PriorParams {
   /// of the largest cos-weighted sample over the median) from 0 at blendFromLog to 1 at
   /// blendToLog. Needs the slices Method B needs (all eight, or the four diagonal ones);
   /// otherwise the prior stands alone. The range was chosen by 5-fold cross-validation within the
-  /// 100 MERL tables, ideal and noisy captures together (README "Prior reconstruction").
+  /// 100 MERL tables, ideal and noisy captures together (docs/results/2026-11-24-prior.md).
   bool blendWithMethodB = true;
   double blendFromLog = 0.45;
   double blendToLog = 2.45;

@@ -14,7 +14,7 @@ struct SeparableElevationLobe {
 
 /// \brief Fits the lobe to every axial and diagonal sample at its measured elevations (least
 /// squares on the logarithm of the channel mean; samples whose mean is not positive are left out).
-/// Why this lobe: it is Method B's own model (METHOD.md 4.1, eq. 6) with one exponent per
+/// Why this lobe: it is Method B's own model (docs/method.md §4.1, eq. 6) with one exponent per
 /// direction, and over the +-2 deg a hand-held capture strays it only has to give the local slope
 /// of the level with elevation, which the four measured pairs pin down. Returns exponents 0 (no
 /// correction) when the samples do not determine them (fewer than two light or two view

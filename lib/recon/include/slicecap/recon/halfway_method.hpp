@@ -16,7 +16,7 @@
 namespace slicecap::recon {
 
 /// \brief Options of the halfway method. The defaults were chosen on a third of the shared tables
-/// and the analytic anisotropic materials (README, "The halfway method").
+/// and the analytic anisotropic materials (docs/method.md §7).
 struct HalfwayParams {
   /// \brief Use only the diagonal slices (eq. 5); the axial ones may then be absent.
   bool isotropic = false;

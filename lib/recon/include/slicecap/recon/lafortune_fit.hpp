@@ -37,7 +37,7 @@ struct LobeFitResult {
 struct LobeFitParams {
   double initialN = 1.0;
   int maxIterations = 100;
-  /// \brief Values are clamped to at least this before fitting (METHOD.md 4.2), in data units.
+  /// \brief Values are clamped to at least this before fitting (docs/method.md §4.2), in data units.
   double minimumValue = 1e-6;
   /// \brief Returns false, with a reason, when a field is out of range.
   bool isValid(std::string* error) const;
@@ -52,7 +52,7 @@ struct LobeFitParams {
 LobeFitResult fitElevationLobe(std::span<const ElevationSample> samples,
                                const LobeFitParams& params = {});
 
-/// \brief The exact least-squares curve through the means of two elevation groups (METHOD.md 4.2),
+/// \brief The exact least-squares curve through the means of two elevation groups (docs/method.md §4.2),
 /// the reference the Ceres fit is checked against.
 ElevationLobe closedFormLobe(double theta1Deg, double mean1, double theta2Deg, double mean2,
                              double minimumValue = 1e-6);

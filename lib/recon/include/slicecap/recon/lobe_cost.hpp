@@ -26,7 +26,7 @@ namespace slicecap::recon {
 /// One cost function holds every sample so that Ceres' TinySolver can minimise it through
 /// TinySolverCostFunctionAdapter; the general Problem/Solver path cost 5-10x more per fit here,
 /// which matters once per pixel in texture mode. Values are clamped to `minimumValue` first, as
-/// METHOD.md 4.2 asks before logarithms.
+/// docs/method.md §4.2 asks before logarithms.
 class LobeCost final : public ceres::CostFunction {
  public:
   /// \brief Needs samples at two or more distinct elevations (std::invalid_argument otherwise).

@@ -1,4 +1,4 @@
-// The four measured subspaces of a capture (METHOD.md 3), the common first step of Methods A and B
+// The four measured subspaces of a capture (docs/method.md §3), the common first step of Methods A and B
 // and of the methods built on them.
 #pragma once
 

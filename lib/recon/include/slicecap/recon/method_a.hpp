@@ -1,4 +1,4 @@
-// Method A (METHOD.md 5): 4-D multiquadric RBF interpolation in the onion parameterisation over
+// Method A (docs/method.md §5): 4-D multiquadric RBF interpolation in the onion parameterisation over
 // the four measured subspaces.
 #pragma once
 
@@ -33,8 +33,8 @@ struct MethodAParams {
   bool isotropic = false;
   TorusRule torusRule = TorusRule::FundamentalSquare;
   OnionFrame frame = OnionFrame::ViewRelative;
-  /// \brief [METHOD.md 5.2 defaults kept: multiquadric, r0 = median NN distance, constant term,
-  /// linear values. Issue 3 measured every open choice (README, `--rbf`): none helps in the
+  /// \brief [docs/method.md §5.2 defaults kept: multiquadric, r0 = median NN distance, constant term,
+  /// linear values. Issue 3 measured every open choice (docs/method.md §5.3): none helps in the
   /// linear domain; absolute frame + r3 + linear term help only with compressed values, which
   /// 5.2 does not list as open, and even then A does not beat uniform in all three metrics.]
   RbfParams rbf;

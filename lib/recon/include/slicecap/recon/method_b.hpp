@@ -1,4 +1,4 @@
-// Method B (METHOD.md 4): slice-sum at the measured pairs, model-weighted blends for the rest.
+// Method B (docs/method.md §4): slice-sum at the measured pairs, model-weighted blends for the rest.
 #pragma once
 
 #include <string>

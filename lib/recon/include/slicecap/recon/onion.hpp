@@ -1,4 +1,4 @@
-// The onion parameterisation of Method A (METHOD.md 5.1): a seam-free map of the hemisphere.
+// The onion parameterisation of Method A (docs/method.md §5.1): a seam-free map of the hemisphere.
 #pragma once
 
 #include <array>
@@ -23,8 +23,8 @@ OnionAngles onionAnglesRelativeToView(const Direction& light, double viewPhiDeg)
 
 /// \brief How the light direction enters Method A's feature vector.
 enum class OnionFrame {
-  ViewRelative,  ///< light relative to the view azimuth (METHOD.md 5.1, default)
-  Absolute,      ///< the plain map for both directions (the alternative METHOD.md names)
+  ViewRelative,  ///< light relative to the view azimuth (docs/method.md §5.1, default)
+  Absolute,      ///< the plain map for both directions (the alternative docs/method.md §5.1 names)
 };
 
 /// \brief A point of the 4-D interpolation space, radians: (a_i, b_i, a_v, b_v).

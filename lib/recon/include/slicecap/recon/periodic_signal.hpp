@@ -15,7 +15,7 @@ struct SignalPoint {
   Rgb value;
 };
 
-/// \brief A slice as a 2-pi periodic 1-D signal (METHOD.md 2.4). Positions are wrapped to [0, 360);
+/// \brief A slice as a 2-pi periodic 1-D signal (docs/method.md §2.4). Positions are wrapped to [0, 360);
 /// points that share a position are averaged. Between neighbours (cyclically) the value is linear.
 class PeriodicSignal {
  public:

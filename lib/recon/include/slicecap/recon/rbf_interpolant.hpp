@@ -13,7 +13,7 @@
 
 namespace slicecap::recon {
 
-/// \brief The radial function phi(r) (METHOD.md 5.2 leaves it open; SRC-8 found the first three
+/// \brief The radial function phi(r) (docs/method.md §5.2 leaves it open; SRC-8 found the first three
 /// about equal on synthetic data).
 enum class RbfKernel {
   Multiquadric,         ///< sqrt(r^2 + r0^2), Numerical Recipes' default
@@ -28,14 +28,14 @@ enum class RbfPolynomial {
   Linear,    ///< c + g . x: reproduces linear functions of the features (linear precision)
 };
 
-/// \brief Options of the interpolant (METHOD.md 5.2).
+/// \brief Options of the interpolant (docs/method.md §5.2).
 struct RbfParams {
   /// \brief r0 of the kernel sqrt(r^2 + r0^2), in feature-space radians; unset = the median
   /// nearest-neighbour distance among the centres (~0.26 rad on Method A's centres).
   std::optional<double> shapeRad;
   /// \brief The methods built on the interpolant (Method A, the uniform baseline) interpolate
   /// v^(1/valueGamma) and raise the result back. 1: linear BRDF values. 2.2: close to the 8-bit
-  /// sRGB data the paper interpolated (METHOD.md 6.2), which compresses the highlights the
+  /// sRGB data the paper interpolated (docs/method.md §6.2), which compresses the highlights the
   /// multiquadric otherwise overshoots between elevations.
   double valueGamma = 1.0;
   RbfKernel kernel = RbfKernel::Multiquadric;

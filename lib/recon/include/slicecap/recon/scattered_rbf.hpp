@@ -1,5 +1,5 @@
 // RBF interpolation over samples wherever they lie: the uniform baseline's reconstruction
-// (METHOD.md 6.3), with Method A's kernel and parameterisation.
+// (docs/method.md §6.3), with Method A's kernel and parameterisation.
 #pragma once
 
 #include "slicecap/core/abrdf.hpp"

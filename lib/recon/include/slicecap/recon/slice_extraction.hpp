@@ -1,4 +1,4 @@
-// Ideal slices taken from a full table (eq. 1, METHOD.md 2.2-2.3): the simulated acquisition.
+// Ideal slices taken from a full table (eq. 1, docs/method.md §2.2-2.3): the simulated acquisition.
 #pragma once
 
 #include <optional>
@@ -12,7 +12,7 @@ namespace slicecap::recon {
 
 /// \brief How a table is read between grid azimuths of a ring.
 enum class AzimuthLookup {
-  Linear,   ///< periodic linear along each ring (METHOD.md 2.3; default)
+  Linear,   ///< periodic linear along each ring (docs/method.md §2.3; default)
   Nearest,  ///< the nearest ring azimuth, ties to the lower index
 };
 
@@ -46,7 +46,7 @@ struct ExtractionParams {
   bool isValid(std::string* error) const;
 };
 
-/// \brief Number of samples of a slice of this pair (METHOD.md 2.2, or 360 / stepDeg).
+/// \brief Number of samples of a slice of this pair (docs/method.md §2.2, or 360 / stepDeg).
 int samplesPerSlice(ElevationPair pair, const ExtractionParams& params);
 
 /// \brief The 8 (or 4) ideal slices of a table at the measured pairs. Sample k of a slice sits at

@@ -1,4 +1,4 @@
-// One (theta_i, theta_v) block of the table, on its own ring azimuths (METHOD.md 1.3), and its
+// One (theta_i, theta_v) block of the table, on its own ring azimuths (docs/method.md §1.3), and its
 // resampling.
 #pragma once
 

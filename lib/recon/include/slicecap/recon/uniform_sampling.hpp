@@ -1,4 +1,4 @@
-// The uniform-sampling baseline's capture (METHOD.md 6.3): n light x n view grid directions.
+// The uniform-sampling baseline's capture (docs/method.md §6.3): n light x n view grid directions.
 #pragma once
 
 #include <vector>
@@ -12,8 +12,8 @@ namespace slicecap::recon {
 inline constexpr int kUniformBaselineDirections = 13;
 
 /// \brief `count` Bonn directions spread over the hemisphere by greedy farthest-point selection
-/// on their unit vectors, starting from the pole, in selection order. The first 14 are METHOD.md
-/// 6.3's published order (its ties fell by rounding), so 13 gives its list: (0,0), (30,30),
+/// on their unit vectors, starting from the pole, in selection order. The first 14 are docs/method.md
+/// §6.3's published order (its ties fell by rounding), so 13 gives its list: (0,0), (30,30),
 /// (30,270), (45,140), (45,200), (45,340), (60,54), (60,252), (60,288), (75,0), (75,105),
 /// (75,165), (75,225); later ties go to the lower index. Throws std::invalid_argument unless
 /// 1 <= count <= 81.
