@@ -123,22 +123,17 @@ int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& option
   hal::FakeClock simulatedClock(steadyClock.nowUs());
   const bool simulated = config.camera == DaemonConfig::CameraKind::Model;
   hal::Clock& clock = simulated ? static_cast<hal::Clock&>(simulatedClock) : steadyClock;
-  const vision::TargetGeometry target =
-      config.target == "default" ? vision::defaultTarget() : io::readTargetJson(config.target);
-  vision::CameraModel cameraModel = vision::defaultSimulatedCamera();
-  if (!config.calibration.empty())
-    cameraModel =
-        io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
+  const Rig configured = configuredRig(config);
   auto modelLight = std::make_shared<hal::LedTimeline>();
   const hwcheck::BackendInfo backend = describeBackend(config);
 
   hwcheck::HardwareReport report;
   std::shared_ptr<hal::Camera> camera;
-  Rig rig{target, cameraModel};
+  Rig rig = configured;
   try {
     const CameraSources sources =
-        makeCameraSources(config, clock, modelLight, target, cameraModel, ModelScene::Still,
-                          /*modelRealTime=*/!simulated);
+        makeCameraSources(config, clock, modelLight, configured.target, configured.camera,
+                          ModelScene::Still, /*modelRealTime=*/!simulated);
     camera = sources.cameraFor(sources.firstSlice);
     rig = sources.rigFor(sources.firstSlice);
   } catch (const std::exception& error) {
@@ -161,11 +156,10 @@ int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& option
     }
   }
   if (camera && led) {
-    hal::CameraConfig cameraConfig;
-    cameraConfig.widthPx = config.widthPx;
-    cameraConfig.heightPx = config.heightPx;
-    cameraConfig.raw = config.cameraRaw;
-    cameraConfig.readoutUs = config.readoutUs;
+    // The check locks the exposures it measures with itself: the sweep's setting is not one.
+    hal::CameraConfig cameraConfig = cameraConfigFrom(config);
+    cameraConfig.exposureUs.reset();
+    cameraConfig.gain.reset();
     hwcheck::HardwareCheckOptions checkOptions;
     checkOptions.captureSeconds = options.seconds;
     report = hwcheck::runHardwareCheck(*camera, cameraConfig, *led, clock, rig.target, rig.camera,

@@ -12,6 +12,7 @@
 #include "slicecap/hal/libcamera_camera.hpp"
 #include "slicecap/hal/model_camera.hpp"
 #include "slicecap/hal/v4l2_camera.hpp"
+#include "slicecap/io/target_json.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
 #include "slicecap/sim/rig_scene.hpp"
@@ -140,6 +141,26 @@ void followDeliveredSize(CameraSources& sources) {
 }
 
 }  // namespace
+
+Rig configuredRig(const DaemonConfig& config) {
+  Rig rig{config.target == "default" ? vision::defaultTarget() : io::readTargetJson(config.target),
+          vision::defaultSimulatedCamera()};
+  if (!config.calibration.empty())
+    rig.camera =
+        io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
+  return rig;
+}
+
+hal::CameraConfig cameraConfigFrom(const DaemonConfig& config) {
+  hal::CameraConfig camera;
+  camera.widthPx = config.widthPx;
+  camera.heightPx = config.heightPx;
+  camera.exposureUs = config.exposureUs;
+  camera.gain = config.gain;
+  camera.raw = config.cameraRaw;
+  camera.readoutUs = config.readoutUs;
+  return camera;
+}
 
 CameraSources makeCameraSources(const DaemonConfig& config, hal::Clock& clock,
                                 std::shared_ptr<hal::LedTimeline> modelLight,

@@ -34,6 +34,15 @@ struct Rig {
   vision::CameraModel camera;
 };
 
+/// \brief The configured target (`target`: default or a target JSON) and camera model
+/// (`calibration`, else the default camera module 3 at 1280 x 720). Throws io::IoError naming the
+/// file that cannot be read.
+Rig configuredRig(const daemon::DaemonConfig& config);
+
+/// \brief What the daemon and the check ask of the camera: size, exposure and gain when set,
+/// RAW, readout time.
+hal::CameraConfig cameraConfigFrom(const daemon::DaemonConfig& config);
+
 /// \brief What the configuration's camera setting builds.
 struct CameraSources {
   std::function<std::shared_ptr<hal::Camera>(const SliceId&)> cameraFor;

@@ -224,23 +224,12 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   parts.strobe.framesPerState = config.ledFramesPerState;
   parts.strobe.guardUs = config.ledGuardUs;
   parts.strobe.readoutUs = config.readoutUs;
-  parts.cameraConfig.widthPx = config.widthPx;
-  parts.cameraConfig.heightPx = config.heightPx;
-  parts.cameraConfig.exposureUs = config.exposureUs;
-  parts.cameraConfig.gain = config.gain;
-  parts.cameraConfig.raw = config.cameraRaw;
-  parts.cameraConfig.readoutUs = config.readoutUs;
+  parts.cameraConfig = cameraConfigFrom(config);
   parts.warnings = std::move(warnings);
 
-  const vision::TargetGeometry target =
-      config.target == "default" ? vision::defaultTarget() : io::readTargetJson(config.target);
-  vision::CameraModel cameraModel = vision::defaultSimulatedCamera();
-  if (!config.calibration.empty())
-    cameraModel =
-        io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
-
-  const CameraSources sources =
-      makeCameraSources(config, clock, modelLight, target, cameraModel, ModelScene::Sweep);
+  const Rig configured = configuredRig(config);
+  const CameraSources sources = makeCameraSources(config, clock, modelLight, configured.target,
+                                                  configured.camera, ModelScene::Sweep);
   parts.cameraFor = sources.cameraFor;
   const std::function<Rig(const SliceId&)> rigFor = sources.rigFor;
   std::string createdBy = std::string("slicecapd ") + kVersion;

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "../support/bracket_rig.hpp"
+#include "../support/curve_error.hpp"
 #include "slicecap/capture/linear_view.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/vision/camera_model.hpp"
@@ -36,21 +37,6 @@ std::vector<ResponseObservation> exactObservations(const ToneCurve& curve) {
   return out;
 }
 
-// Largest relative difference of two curves' linear values over linear [lo, hi] of `truth`:
-// as they are (`scaled`: the fit's decode(1) = 1 rests on its extrapolation above the codes it
-// saw), or relative to their values at `hi` (the shape, which is what every ratio of two pixels
-// reads: the window over the white references, LED-on minus LED-off over the white).
-double largestRelativeError(const ToneCurve& fitted, const ToneCurve& truth, double lo, double hi,
-                            bool scaled = false) {
-  const double top = scaled ? 1.0 : fitted.decode(truth.encode(hi)) / hi;
-  double worst = 0.0;
-  for (int i = 0; i <= 200; ++i) {
-    const double linear = lo * std::pow(hi / lo, i / 200.0);
-    const double encoded = truth.encode(linear);
-    worst = std::max(worst, std::abs(fitted.decode(encoded) / truth.decode(encoded) / top - 1.0));
-  }
-  return worst;
-}
 
 TEST(ResponseCurve, SolverRecoversSrgbAndTheImx708CurveFromExactObservations) {
   for (const ToneCurve& truth : {ToneCurve::srgb(), ToneCurve::imx708Tuning()}) {
@@ -63,7 +49,7 @@ TEST(ResponseCurve, SolverRecoversSrgbAndTheImx708CurveFromExactObservations) {
     // Exact data: what is left is the knots' interpolation and the curvature penalty, which
     // rounds the IMX708 table's kinks (1.4 % at worst at the default smoothness; sRGB, smooth,
     // 0.5 %): the solver's own share of the 2 % goal.
-    EXPECT_LT(largestRelativeError(fit.curve, truth, 0.0055, 0.35), 0.02);
+    EXPECT_LT(test::largestRelativeError(fit.curve, truth, 0.0055, 0.35), 0.02);
     EXPECT_LT(fit.rmsLogResidual, 0.005);
   }
 }
@@ -192,8 +178,8 @@ TEST(ResponseCurve, RecoversTheModelCamerasCurveAndDecodesTheWindowAgainstTheWhi
     EXPECT_GT(hi, 0.25);
     // Issue 27's goal, relative to the white (the curve's scale is arbitrary: only ratios are
     // read). The solver's own error on exact data is 1.4 % for this table; the noise adds little.
-    const double curveError = largestRelativeError(fit.curve, truth, lo, hi);
-    const double scaledError = largestRelativeError(fit.curve, truth, lo, hi, true);
+    const double curveError = test::largestRelativeError(fit.curve, truth, lo, hi);
+    const double scaledError = test::largestRelativeError(fit.curve, truth, lo, hi, true);
     EXPECT_LT(curveError, 0.02) << "over linear " << lo << ".." << hi;
     // The window (matte paint) against the white strip left of it, at the metered exposure.
     const vision::TargetGeometry& target = setup.renderer->target();

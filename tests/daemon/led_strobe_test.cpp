@@ -9,6 +9,7 @@
 #include "slicecap/capture/led_gate.hpp"
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/led_timeline.hpp"
+#include "../support/plain_led.hpp"
 #include "slicecap/hal/model_camera.hpp"
 
 namespace slicecap::daemon {
@@ -29,16 +30,6 @@ class DarkScene final : public hal::SceneSource {
 
  private:
   std::shared_ptr<hal::SceneLight> light_;
-};
-
-class PlainLed final : public hal::Led {
- public:
-  std::string id() const override { return "plain"; }
-  void set(bool on) override { on_ = on; }
-  bool isOn() const override { return on_; }
-
- private:
-  bool on_ = false;
 };
 
 // A frame loop as the daemon's: frames arrive from the model camera, each takes the pipeline
@@ -63,7 +54,7 @@ struct Harness {
 
   explicit Harness(hal::SensorModel model, double exposureUs) {
     model.realTime = false;
-    auto physical = std::make_unique<hal::TimelineLed>(std::make_unique<PlainLed>(), clock, light, 40);
+    auto physical = std::make_unique<hal::TimelineLed>(std::make_unique<test::PlainLed>(), clock, light, 40);
     led = std::make_unique<hal::TimelineLed>(std::move(physical), clock, commanded);
     camera = std::make_unique<hal::ModelCamera>(std::make_shared<DarkScene>(), light, clock, model);
     hal::CameraConfig config;

@@ -9,23 +9,12 @@
 #include <cstdio>
 
 #include "../support/bracket_rig.hpp"
+#include "../support/curve_error.hpp"
 #include "slicecap/sim/material.hpp"
 
 namespace slicecap::daemon {
 namespace {
 
-// The largest relative error of `fitted` against `truth` over linear lo..hi, relative to the
-// white (the curve's scale is arbitrary: every sample is a ratio), as docs/linear-light.md.
-double largestRelativeError(const ToneCurve& fitted, const ToneCurve& truth, double lo, double hi) {
-  const double top = fitted.decode(truth.encode(hi)) / hi;
-  double worst = 0.0;
-  for (int i = 0; i <= 200; ++i) {
-    const double linear = lo * std::pow(hi / lo, i / 200.0);
-    const double encoded = truth.encode(linear);
-    worst = std::max(worst, std::abs(fitted.decode(encoded) / truth.decode(encoded) / top - 1.0));
-  }
-  return worst;
-}
 
 std::shared_ptr<const sim::FrameRenderer> renderer() {
   static const auto r = std::make_shared<const sim::FrameRenderer>(
@@ -85,12 +74,12 @@ TEST(SweepDecoding, TheBracketOnTheCameraModelRecoversItsCurveWithinTwoPercent) 
   // Issue 27's goal over the target's white-to-black range at the metered exposure
   // (docs/linear-light.md: linear 0.0068 .. 0.33).
   ASSERT_TRUE(d.decoding.curve);
-  const double error = largestRelativeError(*d.decoding.curve, ToneCurve::imx708Tuning(), 0.0068, 0.33);
+  const double error = test::largestRelativeError(*d.decoding.curve, ToneCurve::imx708Tuning(), 0.0068, 0.33);
   EXPECT_LT(error, 0.02) << d.note;
   std::printf("[ bracket ] %s; curve error over linear 0.0068..0.33: %.2f %% relative to the white\n",
               d.note.c_str(), 100 * error);
   // sRGB is far off the same range: the test can tell the two apart.
-  EXPECT_GT(largestRelativeError(ToneCurve::srgb(), ToneCurve::imx708Tuning(), 0.0068, 0.33), 0.1);
+  EXPECT_GT(test::largestRelativeError(ToneCurve::srgb(), ToneCurve::imx708Tuning(), 0.0068, 0.33), 0.1);
   // The session's record says it, with the curve.
   const nlohmann::json json = toJson(d, "model:rig");
   EXPECT_EQ(json["decoding"], "measured-curve");

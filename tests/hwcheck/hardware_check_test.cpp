@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "../support/bracket_rig.hpp"
+#include "../support/plain_led.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/hal/file_camera.hpp"
 #include "slicecap/io/recording.hpp"
@@ -19,16 +20,6 @@
 
 namespace slicecap::hwcheck {
 namespace {
-
-class PlainLed final : public hal::Led {
- public:
-  std::string id() const override { return "plain"; }
-  void set(bool on) override { on_ = on; }
-  bool isOn() const override { return on_; }
-
- private:
-  bool on_ = false;
-};
 
 std::shared_ptr<test::StillScene> stillScene() {
   static const auto scene = [] {
@@ -62,7 +53,7 @@ constexpr std::int64_t kLedDelayUs = 40;  // the physical LED's light after the 
 struct ModelRig {
   hal::FakeClock clock{5'000'000};
   std::shared_ptr<hal::LedTimeline> light = std::make_shared<hal::LedTimeline>();
-  hal::TimelineLed led{std::make_unique<PlainLed>(), clock, light, kLedDelayUs};
+  hal::TimelineLed led{std::make_unique<test::PlainLed>(), clock, light, kLedDelayUs};
   hal::SensorModel model;
   std::unique_ptr<hal::ModelCamera> camera;
 
@@ -204,7 +195,7 @@ TEST(HardwareCheck, OnTheFileCameraSaysWhatARecordingCannotAnswer) {
   hal::FileCameraOptions options;
   options.paced = true;
   hal::FileCamera camera(modelRecording(50), clock, options);
-  PlainLed led;
+  test::PlainLed led;
   HardwareCheckOptions checkOptions;
   checkOptions.captureSeconds = 0.5;
   checkOptions.led.referenceFrames = 2;  // a short recording
