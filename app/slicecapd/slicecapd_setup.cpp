@@ -239,19 +239,9 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   capture::PipelineSettings pipelineSettings;
   // Without alternation there is no LED-off frame to measure the room light with.
   pipelineSettings.requireAmbient = config.ledAlternate;
-  parts.newFrameProcessor = [rigFor, pipelineSettings](const SliceId& slice,
-                                                       capture::FrameObserver observer) {
-    const Rig rig = rigFor(slice);
-    return capture::makeFramePipeline(rig.target, rig.camera, pipelineSettings,
-                                      std::move(observer));
-  };
   // decoding (issue 27): a live camera's bracket is fitted against the slice's target and camera
-  // model, and the sweep's pipeline then reads 8-bit frames through the measured curve.
-  parts.decoding = daemon::decodingModeFromString(config.decoding);
-  parts.bracketSubjectFor = [rigFor](const SliceId& slice) {
-    const Rig rig = rigFor(slice);
-    return daemon::BracketSubject{rig.target, rig.camera};
-  };
+  // model, and the sweep's pipeline then reads 8-bit frames through the measured curve; until
+  // then (and without one) frames are read as sRGB.
   parts.newDecodingFrameProcessor = [rigFor, pipelineSettings](
                                         const SliceId& slice, capture::FrameObserver observer,
                                         const std::optional<ToneCurve>& curve) {
@@ -259,6 +249,15 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
     capture::PipelineSettings settings = pipelineSettings;
     settings.toneCurve = curve;
     return capture::makeFramePipeline(rig.target, rig.camera, settings, std::move(observer));
+  };
+  parts.newFrameProcessor = [decodingProcessor = parts.newDecodingFrameProcessor](
+                                const SliceId& slice, capture::FrameObserver observer) {
+    return decodingProcessor(slice, std::move(observer), std::nullopt);
+  };
+  parts.decoding = daemon::decodingModeFromString(config.decoding);
+  parts.bracketSubjectFor = [rigFor](const SliceId& slice) {
+    const Rig rig = rigFor(slice);
+    return daemon::BracketSubject{rig.target, rig.camera};
   };
   if (config.recordFrames) {
     parts.recordingHeaderFor = [rigFor, createdBy](const SliceId& slice) {
