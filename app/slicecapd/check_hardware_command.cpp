@@ -5,12 +5,16 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
+#include <optional>
 #include <filesystem>
 #include <ostream>
 
 #include "slicecap/hal/clock.hpp"
+#include "slicecap/hal/camera_modes.hpp"
 #include "slicecap/hal/libcamera_camera.hpp"
+#include "slicecap/hal/v4l2_camera.hpp"
 #include "slicecap/hwcheck/hardware_check.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/io/target_json.hpp"
@@ -40,39 +44,90 @@ bool daemonAnswers(const fs::path& socketPath) {
   return connected;
 }
 
+void addModes(hwcheck::BackendInfo& info, const hal::CameraModes& modes) {
+  for (std::string& line : hal::describeModes(modes)) info.cameras.push_back(std::move(line));
+}
+
+// What the RAW setting will do with the camera the sweep opens, before the check configures it:
+// said when the camera delivers no RAW stream (the check's RAW item then stands as this).
+void describeRaw(hwcheck::BackendInfo& info, const DaemonConfig& config,
+                 const hal::CameraModes* camera) {
+  const auto& raw = camera ? camera->formats : std::vector<hal::OfferedFormat>{};
+  const hal::RawStreamChoice choice = hal::chooseRawStream(
+      raw, camera ? camera->proposedRawFormat : "", config.widthPx, config.heightPx);
+  if (!choice.format.empty() && config.cameraRaw == hal::RawCapture::Off) {
+    info.rawFinding = "the camera offers RAW " + choice.format + " (" +
+                      std::to_string(choice.modePx.first) + "x" + std::to_string(choice.modePx.second) +
+                      "), but camera_raw = off: frames are the ISP's processed output";
+    info.rawAdvice = "set camera_raw = auto to measure linear light from the sensor";
+  } else if (!choice.format.empty()) {
+    info.rawFinding = "the camera offers RAW " + choice.format +
+                      ", but did not deliver it (see the camera item): frames are processed";
+    info.rawAdvice = "frames are decoded through the measured response curve; with camera_raw = on "
+                     "the configure error names the cause";
+  } else {
+    info.rawFinding = (camera ? choice.reason : std::string("the camera's formats could not be listed")) +
+                      ": frames are the camera's processed output";
+    info.rawAdvice = "frames are decoded through the measured response curve below";
+  }
+}
+
 hwcheck::BackendInfo describeBackend(const DaemonConfig& config) {
   hwcheck::BackendInfo info;
   switch (config.camera) {
-    case DaemonConfig::CameraKind::Libcamera:
+    case DaemonConfig::CameraKind::Libcamera: {
+      std::vector<hal::CameraModes> cameras;
       try {
-        for (const std::string& id : hal::listLibcameraCameras()) info.cameras.push_back("libcamera: " + id);
+        cameras = hal::listLibcameraModes();
       } catch (const std::exception& error) {
         info.cameras.push_back(std::string("libcamera: cannot list: ") + error.what());
       }
-      info.cameras.push_back("(sensor modes: `rpicam-hello --list-cameras` lists them with their "
-                             "RAW formats)");
-      info.rawFinding = "slicecapd reads libcamera's processed stream; its RAW (Bayer) stream is "
-                        "not read yet";
-      info.rawAdvice = "frames are decoded through the measured response curve below; "
-                       "`rpicam-hello --list-cameras` shows which RAW modes the sensor has";
-      break;
-    case DaemonConfig::CameraKind::V4l2: {
-      std::error_code error;
-      for (const fs::directory_entry& entry : fs::directory_iterator("/dev", error))
-        if (entry.path().filename().string().rfind("video", 0) == 0)
-          info.cameras.push_back("v4l2: " + entry.path().string());
-      info.cameras.push_back("(formats and sizes: `v4l2-ctl --list-formats-ext -d DEVICE`)");
-      info.rawFinding = "V4L2 (UVC) cameras deliver processed frames: no RAW stream";
-      info.rawAdvice = "frames are decoded through the measured response curve below";
+      if (cameras.empty() && info.cameras.empty()) info.cameras.push_back("libcamera: no camera found");
+      const hal::CameraModes* used = nullptr;
+      for (const hal::CameraModes& modes : cameras) {
+        addModes(info, modes);
+        if (!used && (config.cameraDevice.empty() || modes.id == "libcamera: " + config.cameraDevice))
+          used = &modes;
+      }
+      describeRaw(info, config, used);
       break;
     }
-    case DaemonConfig::CameraKind::Model:
-      info.cameras.push_back("model camera: a Pi camera module 3 behind the Pi's ISP (tone curve " +
-                             config.modelToneCurve + "), " + std::to_string(config.widthPx) + " x " +
-                             std::to_string(config.heightPx) + ", 30 fps, over the virtual rig");
-      info.rawFinding = "none: the model delivers the ISP's 8-bit output";
-      info.rawAdvice = "frames are decoded through the measured response curve below";
+    case DaemonConfig::CameraKind::V4l2: {
+      const std::string device = config.cameraDevice.empty() ? "/dev/video0" : config.cameraDevice;
+      std::optional<hal::CameraModes> used;
+      std::error_code error;
+      std::vector<fs::path> nodes;
+      for (const fs::directory_entry& entry : fs::directory_iterator("/dev", error))
+        if (entry.path().filename().string().rfind("video", 0) == 0) nodes.push_back(entry.path());
+      std::sort(nodes.begin(), nodes.end());
+      for (const fs::path& node : nodes) {
+        try {
+          hal::CameraModes modes = hal::listV4l2Modes(node.string());
+          addModes(info, modes);
+          if (node == device) used = std::move(modes);
+        } catch (const std::exception& listError) {
+          // Bridges such as the Pi's unicam expose metadata nodes: named, not a failure.
+          info.cameras.push_back(std::string("v4l2: ") + listError.what());
+        }
+      }
+      if (nodes.empty()) info.cameras.push_back("v4l2: no /dev/video* device");
+      describeRaw(info, config, used ? &*used : nullptr);
       break;
+    }
+    case DaemonConfig::CameraKind::Model: {
+      hal::CameraModes modes;
+      modes.id = "model camera: a Pi camera module 3 behind the Pi's ISP (tone curve " +
+                 config.modelToneCurve + "), 30 fps, over the virtual rig";
+      modes.formats.push_back(hal::offeredFormat("RGB888", {{config.widthPx, config.heightPx}}));
+      if (!config.modelRaw.empty()) {
+        modes.formats.push_back(
+            hal::offeredFormat(config.modelRaw, {{2 * config.widthPx, 2 * config.heightPx}}));
+        modes.proposedRawFormat = config.modelRaw;
+      }
+      addModes(info, modes);
+      describeRaw(info, config, &modes);
+      break;
+    }
     case DaemonConfig::CameraKind::File:
       info.cameras.push_back("file camera: plays " + config.recording.string());
       info.rawFinding = "none: a recording holds the frames as they were recorded";

@@ -10,6 +10,7 @@
 #include "../support/bracket_rig.hpp"
 #include "../support/plain_led.hpp"
 #include "../support/test_support.hpp"
+#include "slicecap/hal/bayer_frame.hpp"
 #include "slicecap/hal/file_camera.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/hal/led_timeline.hpp"
@@ -166,6 +167,77 @@ TEST(HardwareCheck, ACameraWithoutTimestampsIsAVerdictSayingWhatToConfigure) {
   EXPECT_NE(led.finding.find("no timestamps"), std::string::npos) << led.finding;
   EXPECT_FALSE(report.figures.readoutUs);
   EXPECT_TRUE(report.configLines.empty());
+}
+
+// A camera that settles on another size than asked, as the libcamera backend does with a RAW
+// mode binned 2 x 2 (2304 x 1296 delivered as 1152 x 648 for a 1280 x 720 request).
+class SettlesOnItsOwnSize final : public hal::Camera {
+ public:
+  SettlesOnItsOwnSize(hal::Camera& inner, int widthPx, int heightPx)
+      : inner_(inner), widthPx_(widthPx), heightPx_(heightPx) {}
+  std::string id() const override { return inner_.id(); }
+  hal::ConfigResult configure(hal::CameraConfig& config) override {
+    const bool asked = config.widthPx == widthPx_ && config.heightPx == heightPx_;
+    config.widthPx = widthPx_;
+    config.heightPx = heightPx_;
+    hal::ConfigResult result = inner_.configure(config);
+    if (!asked && result.status == hal::ConfigResult::Status::Valid)
+      result = {hal::ConfigResult::Status::Adjusted, "size set to the RAW mode's binned size"};
+    return result;
+  }
+  void start() override { inner_.start(); }
+  void stop() override { inner_.stop(); }
+  hal::CaptureResult nextFrame(std::chrono::milliseconds timeout) override { return inner_.nextFrame(timeout); }
+  hal::ExposureLock lockExposure(const hal::ExposureSetting& wanted) override {
+    return inner_.lockExposure(wanted);
+  }
+
+ private:
+  hal::Camera& inner_;
+  int widthPx_, heightPx_;
+};
+
+TEST(HardwareCheck, FollowsTheSizeARawStreamDeliversAndSaysItNeedsNoCurve) {
+  // The sensor seen at half the calibration's size through a RAW stream; the check is given the
+  // 1280 x 720 calibration, as slicecapd's configuration gives it.
+  const vision::CameraModel half = vision::defaultSimulatedCamera().scaledTo(640, 360);
+  auto renderer = std::make_shared<sim::FrameRenderer>(half, vision::defaultTarget(),
+                                                       sim::loadMaterial("matte-paint"),
+                                                       sim::RigParams::realistic());
+  auto scene = std::make_shared<test::StillScene>(renderer, test::stillPose(), test::stillLightMm());
+  hal::SensorModel sensor;
+  sensor.rawFormat = hal::bayerFormatFromLibcameraName("SRGGB10_CSI2P");
+  ModelRig rig(sensor, scene);
+  SettlesOnItsOwnSize camera(*rig.camera, 640, 360);
+  const HardwareReport report = rig.runOn(camera);
+  std::printf("%s\n", report.text().c_str());
+  EXPECT_EQ(item(report, "target").verdict, Verdict::Ok) << report.text();
+  const CheckItem& raw = item(report, "RAW");
+  EXPECT_EQ(raw.verdict, Verdict::Ok);
+  EXPECT_NE(raw.finding.find("SRGGB10_CSI2P"), std::string::npos) << raw.finding;
+  EXPECT_NE(raw.finding.find("640 x 360"), std::string::npos) << raw.finding;
+  EXPECT_EQ(item(report, "response curve").verdict, Verdict::Ok) << "linear frames need no curve";
+  EXPECT_FALSE(report.responseCurve);
+  // The rows are the delivered frame's: its 360 rows read out in 360 line times.
+  ASSERT_TRUE(report.figures.readoutUs) << report.text();
+  EXPECT_NEAR(*report.figures.readoutUs, sensor.lineTimeUs * 360, 0.1 * sensor.lineTimeUs * 360);
+}
+
+TEST(HardwareCheck, ACameraThatDeliversAnotherCropFailsNamingBothSizes) {
+  ModelRig rig(hal::SensorModel{});
+  SettlesOnItsOwnSize camera(*rig.camera, 640, 480);  // 4:3 from a 16:9 calibration
+  const HardwareReport report = rig.runOn(camera);
+  bool named = false;
+  for (const CheckItem& i : report.items)
+    if (i.name == "camera" && i.verdict == Verdict::Fail) {
+      named = true;
+      EXPECT_NE(i.finding.find("640 x 480"), std::string::npos) << i.finding;
+      EXPECT_NE(i.finding.find("1280 x 720"), std::string::npos) << i.finding;
+      EXPECT_NE(i.advice.find("calibrate"), std::string::npos) << i.advice;
+    }
+  EXPECT_TRUE(named) << report.text();
+  EXPECT_EQ(report.overall(), Verdict::Fail);
+  EXPECT_FALSE(report.figures.readoutUs) << "nothing is measured through the wrong calibration";
 }
 
 // A recording of the still target from the model camera, LED on throughout.

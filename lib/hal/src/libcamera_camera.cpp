@@ -26,6 +26,7 @@
 
 #include "libcamera_compat.hpp"
 #include "slicecap/hal/bayer_frame.hpp"
+#include "slicecap/hal/camera_modes.hpp"
 #include "slicecap/hal/raw_frame.hpp"
 
 namespace slicecap::hal {
@@ -112,6 +113,19 @@ void setManualExposure(libcamera::ControlList& controls, std::optional<double> e
   if (gain) controls.set(libcamera::controls::AnalogueGain, static_cast<float>(*gain));
 }
 
+// A stream configuration's formats with their discrete sizes (a RAW format's sizes are the
+// sensor's modes: picamera2's Picamera2.sensor_modes reads them the same way, from the Raw role).
+std::vector<OfferedFormat> offeredFormatsOf(const libcamera::StreamConfiguration& stream) {
+  std::vector<OfferedFormat> offered;
+  for (const libcamera::PixelFormat& format : stream.formats().pixelformats()) {
+    std::vector<std::pair<int, int>> sizes;
+    for (const libcamera::Size& size : stream.formats().sizes(format))
+      sizes.emplace_back(int(size.width), int(size.height));
+    offered.push_back(offeredFormat(format.toString(), std::move(sizes)));
+  }
+  return offered;
+}
+
 }  // namespace
 
 std::vector<std::string> listLibcameraCameras() {
@@ -120,6 +134,31 @@ std::vector<std::string> listLibcameraCameras() {
   for (const std::shared_ptr<libcamera::Camera>& camera : manager->cameras())
     ids.push_back(camera->id());
   return ids;
+}
+
+std::vector<CameraModes> listLibcameraModes() {
+  const std::shared_ptr<libcamera::CameraManager> manager = sharedCameraManager();
+  std::vector<CameraModes> cameras;
+  for (const std::shared_ptr<libcamera::Camera>& camera : manager->cameras()) {
+    CameraModes modes;
+    modes.id = "libcamera: " + camera->id();
+    // generateConfiguration needs no acquire: a camera another process holds still lists.
+    // The Raw role lists the sensor's RAW formats and modes; the processed formats come from
+    // the role the sweep uses without RAW.
+    if (auto raw = libcamera_compat::generateConfiguration(*camera, libcamera::StreamRole::Raw);
+        raw && !raw->empty()) {
+      for (OfferedFormat& format : offeredFormatsOf(raw->at(0)))
+        if (format.raw) modes.formats.push_back(std::move(format));
+      if (isRawFormatName(raw->at(0).pixelFormat.toString()))
+        modes.proposedRawFormat = raw->at(0).pixelFormat.toString();
+    }
+    if (auto video = libcamera_compat::generateConfiguration(*camera, libcamera::StreamRole::VideoRecording);
+        video && !video->empty())
+      for (OfferedFormat& format : offeredFormatsOf(video->at(0)))
+        if (!format.raw) modes.formats.push_back(std::move(format));
+    cameras.push_back(std::move(modes));
+  }
+  return cameras;
 }
 
 struct LibcameraCamera::State {
@@ -205,29 +244,24 @@ struct LibcameraCamera::State {
     auto generated = libcamera_compat::generateConfiguration(*camera, libcamera::StreamRole::Raw);
     if (!generated || generated->empty()) return attempt;
     libcamera::StreamConfiguration& stream = generated->at(0);
-    // A pipeline without RAW (uvcvideo) answers the Raw role with its processed formats.
-    std::vector<libcamera::PixelFormat> rawOffered;
-    for (const libcamera::PixelFormat& format : stream.formats().pixelformats())
-      if (isRawFormatName(format.toString())) rawOffered.push_back(format);
-    if (rawOffered.empty()) return attempt;
-    // The format libcamera proposes (the sensor's own packing) when decodable, else any that is.
-    std::optional<libcamera::PixelFormat> chosen;
-    if (bayerFormatFromLibcameraName(stream.pixelFormat.toString())) chosen = stream.pixelFormat;
-    for (const libcamera::PixelFormat& format : rawOffered)
-      if (!chosen && bayerFormatFromLibcameraName(format.toString())) chosen = format;
-    if (!chosen) {
-      const bool proposedIsRaw = isRawFormatName(stream.pixelFormat.toString());
-      attempt.reason = undecodableRawReason(
-          (proposedIsRaw ? stream.pixelFormat : rawOffered.front()).toString());
+    // A pipeline without RAW (uvcvideo) answers the Raw role with its processed formats: then
+    // no RAW is offered and nothing is said.
+    const std::vector<OfferedFormat> offered = offeredFormatsOf(stream);
+    if (std::none_of(offered.begin(), offered.end(), [](const OfferedFormat& f) { return f.raw; }))
+      return attempt;
+    const RawStreamChoice choice =
+        chooseRawStream(offered, stream.pixelFormat.toString(), wanted.widthPx, wanted.heightPx);
+    if (choice.format.empty()) {
+      attempt.reason = choice.reason;
       return attempt;
     }
-    std::vector<std::pair<int, int>> modes;
-    for (const libcamera::Size& size : stream.formats().sizes(*chosen))
-      modes.emplace_back(int(size.width), int(size.height));
-    const std::pair<int, int> mode =
-        chooseBayerSize(modes, wanted.widthPx, wanted.heightPx)
-            .value_or(std::pair{2 * wanted.widthPx, 2 * wanted.heightPx});
-    stream.pixelFormat = *chosen;
+    // The offered PixelFormat whose name was chosen (the choice is made on names, shared with
+    // the hardware check).
+    libcamera::PixelFormat chosen;
+    for (const libcamera::PixelFormat& format : stream.formats().pixelformats())
+      if (format.toString() == choice.format) chosen = format;
+    const std::pair<int, int> mode = choice.modePx;
+    stream.pixelFormat = chosen;
     stream.size = libcamera::Size(unsigned(mode.first), unsigned(mode.second));
     stream.bufferCount = static_cast<unsigned>(std::max(wanted.bufferCount, 2));
     // No flips: a transform would also change the CFA order of the samples.

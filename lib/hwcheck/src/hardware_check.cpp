@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <stdexcept>
 
 #include "slicecap/hwcheck/check_rig.hpp"
 #include "slicecap/hwcheck/exposure_lock_check.hpp"
@@ -23,9 +25,42 @@ CheckItem skipped(const std::string& name, const std::string& because) {
   return {name, Verdict::Fail, "not measured: " + because, "fix the item above first"};
 }
 
+// The camera model at the size the camera delivers; nullopt, with a failed item, when that size
+// is another crop than the calibration's (another aspect ratio).
+std::optional<vision::CameraModel> cameraModelFor(const vision::CameraModel& calibrated,
+                                                  const hal::CameraConfig& configured,
+                                                  const std::string& id, HardwareReport& report) {
+  const vision::CameraIntrinsics& k = calibrated.intrinsics;
+  if (k.widthPx == configured.widthPx && k.heightPx == configured.heightPx) return calibrated;
+  try {
+    return calibrated.scaledTo(configured.widthPx, configured.heightPx);
+  } catch (const std::invalid_argument&) {
+    report.items.push_back(
+        {"camera", Verdict::Fail,
+         id + " delivers " + std::to_string(configured.widthPx) + " x " +
+             std::to_string(configured.heightPx) + ", another crop than the calibration's " +
+             std::to_string(k.widthPx) + " x " + std::to_string(k.heightPx),
+         "set resolution to a size of the calibration's aspect ratio, or calibrate the camera at " +
+             std::to_string(configured.widthPx) + " x " + std::to_string(configured.heightPx)});
+    return std::nullopt;
+  }
+}
+
+// RAW is the best a camera can give: linear light with no ISP curve to measure.
+std::optional<CheckItem> rawStreamItem(const hal::CameraConfig& configured, const std::string& id) {
+  if (configured.rawFormat.empty()) return std::nullopt;
+  return CheckItem{"RAW", Verdict::Ok,
+                   id + " delivers its RAW stream " + configured.rawFormat +
+                       ", decoded here to linear light at " + std::to_string(configured.widthPx) +
+                       " x " + std::to_string(configured.heightPx) +
+                       ": the sweeps need no response curve",
+                   ""};
+}
+
 // Everything after the camera has started; throws what CheckRig throws.
 void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeometry& target,
-               const vision::CameraModel& cameraModel, const HardwareCheckOptions& options) {
+               const vision::CameraModel& cameraModel, bool linearFrames,
+               const HardwareCheckOptions& options) {
   const std::string& id = report.cameraId;
   rig.setLed(true);
   const std::vector<SeenFrame> frames =
@@ -68,7 +103,14 @@ void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeomet
 
   std::optional<capture::CodeTable> codes;
   double brightExposureUs = lock.toUs > 0 ? lock.toUs * 2.0 : 10000.0;
-  if (!whitesPtr) {
+  if (linearFrames) {
+    // RAW decoded here, or a 16-bit linear stream: the sensor's own response, linear to well
+    // within what the capture resolves; there is no ISP curve to measure.
+    report.items.push_back({"response curve", Verdict::Ok,
+                            "not needed: " + id + " delivers linear frames (" +
+                                std::string(toString(PixelEncoding::Linear16)) + ")",
+                            ""});
+  } else if (!whitesPtr) {
     report.items.push_back(skipped("response curve", "the target is not in view"));
   } else if (lock.refused) {
     report.items.push_back(skipped("response curve", "the exposure cannot be locked"));
@@ -120,32 +162,45 @@ HardwareReport runHardwareCheck(hal::Camera& camera, hal::CameraConfig config, h
   report.cameraId = camera.id();
   report.cameras = backend.cameras;
   const std::string& id = report.cameraId;
+  std::optional<CheckItem> rawItem;  // set when the camera delivers a RAW stream
   bool started = false;
   try {
+    const int askedWidthPx = config.widthPx, askedHeightPx = config.heightPx;
     const hal::ConfigResult configured = camera.configure(config);
     if (configured.status == hal::ConfigResult::Status::Invalid) {
       report.items.push_back({"camera", Verdict::Fail, id + " cannot be configured: " + configured.reason,
                               "set resolution to a mode the camera lists"});
     } else {
+      const bool sizeChanged = config.widthPx != askedWidthPx || config.heightPx != askedHeightPx;
+      const bool valid = configured.status == hal::ConfigResult::Status::Valid;
       report.items.push_back(
-          {"camera",
-           configured.status == hal::ConfigResult::Status::Valid ? Verdict::Ok : Verdict::Warn,
+          {"camera", valid ? Verdict::Ok : Verdict::Warn,
            id + " at " + std::to_string(config.widthPx) + " x " + std::to_string(config.heightPx) +
                (configured.reason.empty() ? std::string() : " (adjusted: " + configured.reason + ")"),
-           configured.status == hal::ConfigResult::Status::Valid
-               ? ""
-               : "set resolution to what the camera delivers, and calibrate at that size"});
-      camera.start();
-      started = true;
-      CheckRig rig(camera, led, clock);
-      runChecks(rig, report, target, cameraModel, options);
+           valid ? ""
+           : sizeChanged
+               ? "the calibration is scaled to the delivered size; for the best poses set "
+                 "resolution to it and calibrate at that size"
+               : "the camera changed what was asked (above): the check and the sweeps run with it"});
+      rawItem = rawStreamItem(config, id);
+      // The frames come at the size configure settled on (a binned RAW stream is half its
+      // sensor mode): the camera model follows it, as slicecapd's does, or the target's rows
+      // and the pose would be read through the calibration of another size.
+      const std::optional<vision::CameraModel> delivered = cameraModelFor(cameraModel, config, id, report);
+      if (delivered) {
+        camera.start();
+        started = true;
+        CheckRig rig(camera, led, clock);
+        runChecks(rig, report, target, *delivered, config.encoding == PixelEncoding::Linear16, options);
+      }
     }
   } catch (const std::exception& error) {
     report.items.push_back({"camera", Verdict::Fail, std::string("the check stopped: ") + error.what(),
                             "check the camera's cable and that no other program (or a running "
                             "slicecapd) uses it; camera and camera_device in slicecapd.conf"});
   }
-  report.items.push_back({"RAW", backend.rawVerdict, backend.rawFinding, backend.rawAdvice});
+  report.items.push_back(rawItem ? *rawItem
+                                 : CheckItem{"RAW", backend.rawVerdict, backend.rawFinding, backend.rawAdvice});
   try {
     led.set(false);
   } catch (const std::exception& error) {

@@ -8,6 +8,7 @@
 
 #include "slicecap/hal/bayer_frame.hpp"
 #include "slicecap/hal/camera.hpp"
+#include "slicecap/hal/camera_modes.hpp"
 #include "slicecap/hal/camera_error.hpp"
 
 namespace libcamera {
@@ -19,6 +20,11 @@ namespace slicecap::hal {
 /// \brief The ids of the cameras libcamera finds, through the process's one CameraManager.
 /// Throws CameraError if the manager cannot start.
 std::vector<std::string> listLibcameraCameras();
+
+/// \brief Every camera libcamera finds with its RAW formats and sensor modes (the Raw role's
+/// formats and sizes) and its processed formats, for the hardware check. Needs no acquire.
+/// Throws CameraError if the manager cannot start.
+std::vector<CameraModes> listLibcameraModes();
 
 /// \brief One libcamera camera, acquired for the object's lifetime. Every instance in a process
 /// shares one libcamera::CameraManager (two alive at once abort the process); it is created with

@@ -6,9 +6,16 @@
 #include <memory>
 
 #include "slicecap/hal/camera.hpp"
+#include "slicecap/hal/camera_modes.hpp"
 #include "slicecap/hal/camera_error.hpp"
 
 namespace slicecap::hal {
+
+/// \brief What the V4L2 device at `devicePath` offers: its formats (RAW Bayer ones by libcamera's
+/// names, e.g. SRGGB10_CSI2P, others by their fourcc) with their discrete frame sizes
+/// (VIDIOC_ENUM_FMT, VIDIOC_ENUM_FRAMESIZES), for the hardware check. Throws CameraError naming
+/// the path when it cannot be opened or is not a capture device.
+CameraModes listV4l2Modes(const std::string& devicePath);
 
 /// \brief Uncompressed formats only (YUYV, RGB24, BGR24, GREY; Y16 when linear16 is asked for):
 /// a measurement cannot go through JPEG. Exposure is set through V4L2_CID_EXPOSURE_ABSOLUTE

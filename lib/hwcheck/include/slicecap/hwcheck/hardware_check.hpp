@@ -17,7 +17,7 @@ namespace slicecap::hwcheck {
 
 /// \brief What the backend says about itself: the caller knows which backend it opened.
 struct BackendInfo {
-  std::vector<std::string> cameras;  ///< cameras (and modes where known) the backend lists
+  std::vector<std::string> cameras;  ///< cameras, with their formats and modes, the backend lists
   Verdict rawVerdict = Verdict::Warn;
   std::string rawFinding;  ///< what RAW (Bayer) stream the backend offers
   std::string rawAdvice;
@@ -33,7 +33,9 @@ struct HardwareCheckOptions {
 /// the end) and stops the camera. Never throws for what the hardware does: a camera that fails
 /// to configure, start or deliver, a target not in view, an LED not seen are items with a
 /// verdict naming the camera and what to configure; later items that depend on an earlier
-/// one say so.
+/// one say so. `cameraModel` is scaled to the size configure settles on (a binned RAW stream
+/// delivers half its sensor mode); another aspect ratio is a failed item. The RAW item is the
+/// stream the camera delivers when configure took one, else the backend's finding.
 HardwareReport runHardwareCheck(hal::Camera& camera, hal::CameraConfig config, hal::Led& led,
                                 hal::Clock& clock, const vision::TargetGeometry& target,
                                 const vision::CameraModel& cameraModel, const BackendInfo& backend,
