@@ -110,8 +110,8 @@ GltfConversion toGltfMaterial(const fit::FittedMaterial& fitted) {
     out.losses.push_back(
         {LossKind::DiffuseLayering,
          "glTF dims the diffuse by the specular's Fresnel (1 - F); baseColorFactor is raised by "
-         "1 / (1 - f0) to match at normal incidence, toward grazing the diffuse still fades "
-         "to (1 - " + format(g.specularFactor) + ") of the fit's"});
+         "1 / (1 - f0) to match at normal incidence; toward grazing glTF's diffuse still fades "
+         "to " + format(1.0 - g.specularFactor) + " x the fit's (1 - f90)"});
   if (albedoClamped)
     out.losses.push_back({LossKind::DiffuseLayering,
                           "diffuse albedo " + format(m.diffuseAlbedo.maxChannel()) +

@@ -30,24 +30,37 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
   out.report.format = "Mitsuba 3";
   auto& losses = out.report.losses;
 
-  // Blend weight w: the blend is (1 - w) A + w B, so A = diffuse / (1 - w), B = specular / w
-  // sum to the fit. w = S / (S + D) keeps both scaled reflectances at most S + D (<= 1 for any
-  // material that conserves energy at normal incidence).
-  const double diffuseMax = m.diffuseAlbedo.maxChannel(), specularMax = m.specularF90;
-  const double total = diffuseMax + specularMax;
-  const double weight = total > 0.0 ? specularMax / total : 0.0;
+  // Blend weight w: the blend is (1 - w) A + w B with A = diffuse (albedo / (1 - w)) and
+  // B = a conductor whose Fresnel is F0 / w at normal incidence and 1 at grazing, so the sum has the
+  // fit's F0 exactly and w at grazing. Mitsuba refuses reflectances above 1, so w must lie in
+  // [max f0, 1 - max albedo] (non-empty for a material that reflects at most all light at normal
+  // incidence); within it, w as close to f90 as it can be.
+  const double diffuseMax = m.diffuseAlbedo.maxChannel(), f0Max = m.specularF0.maxChannel();
+  const double low = f0Max, high = 1.0 - diffuseMax;
+  const double weight = low <= high ? std::clamp(m.specularF90, low, high) : std::min(low, 1.0);
   Rgb diffuseReflectance, eta;
+  bool diffuseClamped = false;
   for (std::size_t c = 0; c < 3; ++c) {
-    diffuseReflectance[c] = weight < 1.0 ? m.diffuseAlbedo[c] / (1.0 - weight) : 0.0;
-    const double ratio = m.specularF90 > 0.0 ? m.specularF0[c] / m.specularF90 : 0.0;
-    const double f0 = std::clamp(ratio, kMinF0, kMaxF0);
+    double reflectance = weight < 1.0 ? m.diffuseAlbedo[c] / (1.0 - weight) : 0.0;
+    if (reflectance > 1.0) {
+      // Beyond rounding, only a material brighter than 1 at normal incidence gets here.
+      diffuseClamped = diffuseClamped || reflectance > 1.0 + 1e-9 || weight >= 1.0;
+      reflectance = 1.0;
+    }
+    diffuseReflectance[c] = reflectance;
+    const double f0 = std::clamp(weight > 0.0 ? m.specularF0[c] / weight : 0.0, kMinF0, kMaxF0);
     eta[c] = (1.0 + std::sqrt(f0)) / (1.0 - std::sqrt(f0));
   }
-  const double specularScale = weight > 0.0 ? m.specularF90 / weight : 0.0;
-  if (m.specularF0.maxChannel() > m.specularF90 + 1e-9)
+  if (diffuseClamped || (weight >= 1.0 && diffuseMax > 0.0))
+    losses.push_back({LossKind::DiffuseLayering,
+                      "f0 " + num(f0Max) + " + diffuse albedo " + num(diffuseMax) +
+                          " exceed 1 at normal incidence: the diffuse is capped (reflectance 1 "
+                          "after the blend weight)"});
+  if (std::abs(weight - m.specularF90) > 1e-6 && f0Max > 0.0)
     losses.push_back({LossKind::SpecularColourAtGrazing,
-                      "f0 " + num(m.specularF0.maxChannel()) + " exceeds f90 " + num(m.specularF90) +
-                          ": the conductor's F0 is capped at its grazing value"});
+                      "grazing reflectance " + num(weight) + " instead of the fit's f90 " +
+                          num(m.specularF90) + " (the blend weight must keep both parts' "
+                          "reflectances within [0, 1])"});
   losses.push_back({LossKind::FresnelForm,
                     "roughconductor's Fresnel is the exact one of eta " + detail::rgbText(eta) +
                         " (k = 0), not Schlick's curve: equal at normal and grazing incidence"});
@@ -69,7 +82,8 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
     << "     BSDF slicecap_fit = diffuse (albedo " << detail::rgbText(m.diffuseAlbedo)
     << ") + GGX (alpha_t " << num(m.alphaTangent) << " along u, alpha_b " << num(m.alphaBitangent)
     << ", f0 " << detail::rgbText(m.specularF0) << ", f90 " << num(m.specularF90) << "),\n"
-    << "     as blendbsdf weight w with each part divided by its weight. Use it with\n"
+    << "     as blendbsdf weight w = grazing reflectance, the diffuse divided by (1 - w), the\n"
+    << "     conductor's F0 = f0 / w. Use it with\n"
     << "     <ref id=\"slicecap_fit\"/>; its anisotropy follows each shape's dp/du. -->\n"
     << "<scene version=\"3.0.0\">\n"
     << "  <bsdf type=\"blendbsdf\" id=\"slicecap_fit\">\n"
@@ -83,7 +97,6 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
     << "      <float name=\"alpha_v\" value=\"" << num(m.alphaBitangent) << "\"/>\n"
     << "      " << rgbElement("eta", eta) << "\n"
     << "      " << rgbElement("k", Rgb::gray(0.0)) << "\n"
-    << "      " << rgbElement("specular_reflectance", Rgb::gray(specularScale)) << "\n"
     << "    </bsdf>\n"
     << "  </bsdf>\n"
     << "  <!-- A flat sample, normal +z, its u axis turned onto the fitted tangent. -->\n"

@@ -10,11 +10,11 @@
 namespace slicecap::material_export {
 
 /// \brief The XML text and what it loses. Never throws. The BSDF (id "slicecap_fit") is a
-/// `blendbsdf` of a `diffuse` and a `roughconductor` (GGX, alpha_u = alpha_t along the shading
-/// frame's u, alpha_v = alpha_b), each scaled by the reciprocal of its blend weight so that the
-/// blend is their sum: (1 - w) (albedo / (1 - w)) / pi + w (f90 / w) F D G / (4 cos cos). The
-/// conductor's Fresnel is a real one with k = 0 and eta = (1 + sqrt(F0')) / (1 - sqrt(F0')) per
-/// channel, F0' = f0 / f90: F0 at normal incidence and 1 at grazing like the fit's Schlick. The
+/// `blendbsdf` (weight w) of a `diffuse` with reflectance albedo / (1 - w) and a `roughconductor`
+/// (GGX, alpha_u = alpha_t along the shading frame's u, alpha_v = alpha_b) whose Fresnel is the
+/// exact one of k = 0 and eta = (1 + sqrt(F0')) / (1 - sqrt(F0')), F0' = f0 / w per channel, so the
+/// blend is albedo / pi + F D G / (4 cos cos) with F = f0 at normal incidence and w at grazing.
+/// Mitsuba refuses reflectances above 1, so w = f90 clamped into [max f0, 1 - max albedo]. The
 /// tangent angle has no BSDF parameter in Mitsuba: the snippet's `rectangle` (id
 /// "slicecap_sample") is turned by tangent_deg about its normal so that its u axis is the tangent.
 struct MitsubaExport {
