@@ -1,6 +1,7 @@
 // Dispatch to lib/material_export and the report of conversion losses.
 #include "material_exports.hpp"
 
+#include <iomanip>
 #include <ostream>
 
 #include "slicecap/material_export/gltf_writer.hpp"
@@ -15,11 +16,16 @@ void printReport(const std::filesystem::path& path, const material_export::Expor
   out << "wrote " << path.string() << " (" << report.format << ")";
   if (report.losses.empty()) {
     out << ": the fitted material exactly\n";
-    return;
+  } else {
+    out << "; what it cannot express:\n";
+    for (const material_export::ConversionLoss& loss : report.losses)
+      out << "  - " << toString(loss.kind) << ": " << loss.detail << "\n";
   }
-  out << "; what it cannot express:\n";
-  for (const material_export::ConversionLoss& loss : report.losses)
-    out << "  - " << toString(loss.kind) << ": " << loss.detail << "\n";
+  if (report.measured)
+    out << std::fixed << std::setprecision(2) << "  its BRDF against the fit: dE "
+        << report.measured->deltaE << ", RMSE " << report.measured->rmse << ", PSNR "
+        << report.measured->psnrDb << " dB (slicecap compare's metrics)\n"
+        << std::defaultfloat;
 }
 
 }  // namespace

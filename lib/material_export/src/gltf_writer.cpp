@@ -10,6 +10,7 @@
 
 #include "slicecap/core/version.hpp"
 #include "slicecap/io/file_replacement.hpp"
+#include "slicecap/material_export/gltf_brdf.hpp"
 #include "slicecap/material_export/gltf_material.hpp"
 #include "slicecap/material_export/preview_mesh.hpp"
 
@@ -103,6 +104,15 @@ json lossesJson(const ExportReport& report) {
   return losses;
 }
 
+json measuredJson(const ExportReport& report) {
+  if (!report.measured) return nullptr;
+  return {{"delta_e", report.measured->deltaE},
+          {"rmse", report.measured->rmse},
+          {"psnr_db", report.measured->psnrDb},
+          {"convention", "glTF's BRDF of these factors tabulated on the Bonn grid against the fitted "
+                         "material's table, as slicecap compare FIT GLTF"}};
+}
+
 void appendLittleEndian32(std::vector<std::uint8_t>& out, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) out.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
 }
@@ -130,7 +140,12 @@ std::string base64(const std::vector<std::uint8_t>& bytes) {
 GltfAsset gltfAsset(const fit::FittedMaterial& material, const std::string& source) {
   const GltfConversion conversion = toGltfMaterial(material);
   GltfAsset asset;
-  asset.report = {"glTF 2.0", conversion.losses};
+  asset.report = {"glTF 2.0", conversion.losses, std::nullopt};
+  try {
+    asset.report.measured = gltfVersusFit(material);
+  } catch (const std::invalid_argument&) {
+    // A material that reflects nothing has no table to compare against: nothing to measure.
+  }
 
   BufferBuilder buffer;
   json meshes = json::array(), nodes = json::array();
@@ -161,7 +176,8 @@ GltfAsset gltfAsset(const fit::FittedMaterial& material, const std::string& sour
           {"slicecap_conventions",
            "material fitted by slicecap fit (docs/material-fit.md), mapped as docs/material-export.md; "
            "TANGENT is the table's azimuth-0 axis, anisotropyRotation the fitted tangent_deg"},
-          {"slicecap_conversion_losses", lossesJson(asset.report)}}}}},
+          {"slicecap_conversion_losses", lossesJson(asset.report)},
+          {"slicecap_gltf_versus_fit", measuredJson(asset.report)}}}}},
       {"extensionsUsed", extensionsUsed},
       {"scene", 0},
       {"scenes", {{{"name", "slicecap preview"}, {"nodes", {0, 1}}}}},

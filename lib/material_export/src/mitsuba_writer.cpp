@@ -17,6 +17,8 @@ using detail::num;
 // F0' = 1 would need an infinite eta; 0 gives eta = 1, a Fresnel of 0 at every angle where
 // Schlick still rises to 1 at grazing. Both ends are kept just inside.
 constexpr double kMinF0 = 1e-4, kMaxF0 = 0.999;
+// Below this an f0 is no specular at all (the fit's bounds reach exactly 0).
+constexpr double kNegligible = 1e-6;
 
 std::string rgbElement(const char* name, const Rgb& c) {
   return std::string("<rgb name=\"") + name + "\" value=\"" + detail::rgbText(c) + "\"/>";
@@ -37,7 +39,9 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
   // incidence); within it, w as close to f90 as it can be.
   const double diffuseMax = m.diffuseAlbedo.maxChannel(), f0Max = m.specularF0.maxChannel();
   const double low = f0Max, high = 1.0 - diffuseMax;
-  const double weight = low <= high ? std::clamp(m.specularF90, low, high) : std::min(low, 1.0);
+  double weight = low <= high ? std::clamp(m.specularF90, low, high) : std::min(low, 1.0);
+  // A fit with no specular (a velvet: f0 ~ 1e-12, f90 = 0) is the diffuse alone.
+  if (f0Max <= kNegligible) weight = 0.0;
   Rgb diffuseReflectance, eta;
   bool diffuseClamped = false;
   for (std::size_t c = 0; c < 3; ++c) {
@@ -48,7 +52,8 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
       reflectance = 1.0;
     }
     diffuseReflectance[c] = reflectance;
-    const double f0 = std::clamp(weight > 0.0 ? m.specularF0[c] / weight : 0.0, kMinF0, kMaxF0);
+    // With weight 0 the conductor does not count; eta 1.5 only keeps its parameters ordinary.
+    const double f0 = weight > 0.0 ? std::clamp(m.specularF0[c] / weight, kMinF0, kMaxF0) : 0.04;
     eta[c] = (1.0 + std::sqrt(f0)) / (1.0 - std::sqrt(f0));
   }
   if (diffuseClamped || (weight >= 1.0 && diffuseMax > 0.0))
@@ -56,7 +61,7 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
                       "f0 " + num(f0Max) + " + diffuse albedo " + num(diffuseMax) +
                           " exceed 1 at normal incidence: the diffuse is capped (reflectance 1 "
                           "after the blend weight)"});
-  if (std::abs(weight - m.specularF90) > 1e-6 && f0Max > 0.0)
+  if (std::abs(weight - m.specularF90) > 1e-6 && f0Max > kNegligible)
     losses.push_back({LossKind::SpecularColourAtGrazing,
                       "grazing reflectance " + num(weight) + " instead of the fit's f90 " +
                           num(m.specularF90) + " (the blend weight must keep both parts' "

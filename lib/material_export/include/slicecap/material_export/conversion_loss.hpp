@@ -2,9 +2,12 @@
 // CLI prints them and a test can assert on them (docs/material-export.md).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "slicecap/eval/metrics.hpp"
 
 namespace slicecap::material_export {
 
@@ -35,6 +38,9 @@ struct ConversionLoss {
 struct ExportReport {
   std::string format;  ///< "glTF 2.0", "MaterialX (OpenPBR + standard_surface)", "Mitsuba 3"
   std::vector<ConversionLoss> losses;
+  /// \brief The exported material's BRDF tabulated against the fitted one (slicecap compare's
+  /// metrics, the fit as reference), where slicecap evaluates the format's BRDF: glTF only.
+  std::optional<eval::Metrics> measured;
 };
 
 }  // namespace slicecap::material_export

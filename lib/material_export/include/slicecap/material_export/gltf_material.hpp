@@ -40,7 +40,8 @@ struct GltfConversion {
 ///   bitangent (cross(normal, tangent) * w, w = +1) is its y axis.
 /// - Fresnel: KHR_materials_specular + KHR_materials_ior give F0 = F0(ior) * specularFactor *
 ///   specularColorFactor and F90 = specularFactor (KHR_materials_specular README,
-///   "Implementation"), exactly the fit's Schlick f0/f90 when f0 <= f90 per channel.
+///   "Implementation"), exactly the fit's Schlick f0/f90 when f0 <= f90 per channel; otherwise F0
+///   is kept and F90 raised to max f0 (SpecularColourAtGrazing): glTF's F0 cannot exceed its F90.
 /// - The diffuse: glTF dims it by the specular's reflectance; baseColorFactor is raised by
 ///   1 / (1 - f0) so that it matches at normal incidence (DiffuseLayering).
 /// - Sheen: sheenRoughnessFactor = sqrt(sheen_roughness) (glTF's Charlie alpha is its square).
