@@ -1,23 +1,56 @@
 // `slicecap fit`: a parametric material (diffuse + anisotropic GGX, optionally sheen) fitted to a
-// measured table, written as JSON (docs/material-fit.md).
+// measured table, written as JSON (docs/material-fit.md), and optionally exported to glTF,
+// MaterialX and Mitsuba 3 (docs/material-export.md); given a material JSON, only the exports.
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <ostream>
 
+#include "material_exports.hpp"
 #include "path_clash.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/fit/material_fit.hpp"
 #include "slicecap/fit/material_json.hpp"
 #include "slicecap/io/table_file.hpp"
+#include "slicecap/material_export/material_reader.hpp"
 
 namespace slicecap::cli {
 namespace {
 
+bool isMaterialJson(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".json";
+}
+
+// A fit made earlier: read back strictly (a file that is not a completed fit is refused, naming it)
+// and exported as it is, without fitting again.
+int exportExisting(const ParsedArgs& args, Streams& io) {
+  const std::filesystem::path input = args.positional[0];
+  const MaterialExportPaths exports = materialExportPaths(args);
+  if (args.value("output") || args.flag("no-sheen") || args.value("max-iterations"))
+    throw UsageError("fit: " + input.string() +
+                     " is a fitted material: only --gltf, --mtlx and --mitsuba apply to it");
+  if (!exports.any())
+    throw UsageError("fit: " + input.string() +
+                     " is a fitted material: say what to export (--gltf, --mtlx, --mitsuba)");
+  refuseClashingPaths({{"the input", input}}, exports.named());
+  const fit::FittedMaterial material = material_export::readFittedMaterial(input);
+  writeMaterialExports(material, input.string(), exports, io);
+  return 0;
+}
+
 int run(const ParsedArgs& args, Streams& io) {
+  if (isMaterialJson(args.positional[0])) return exportExisting(args, io);
   const std::filesystem::path input = args.positional[0];
   const std::filesystem::path output = args.required("output");
-  refuseClashingPaths({{"the input", input}}, {{"-o", output}});
+  const MaterialExportPaths exports = materialExportPaths(args);
+  std::vector<NamedPath> outputs = exports.named();
+  outputs.insert(outputs.begin(), {"-o", output});
+  refuseClashingPaths({{"the input", input}}, outputs);
   fit::FitOptions options;
   options.trySheen = !args.flag("no-sheen");
   const double iterations = args.number("max-iterations", options.maxIterations);
@@ -37,23 +70,37 @@ int run(const ParsedArgs& args, Streams& io) {
          << result.metrics.psnrDb << " dB\n"
          << "  " << result.choiceReason << "\n"
          << "wrote " << output.string() << "\n";
+  writeMaterialExports(m, input.string(), exports, io);
   return 0;
+}
+
+std::vector<OptionSpec> fitOptions() {
+  std::vector<OptionSpec> options = {
+      {"output", 'o', "MATERIAL.json", "where to write the fitted material (replaced whole)"},
+      {"no-sheen", 0, "", "fit diffuse + GGX only"},
+      {"max-iterations", 0, "N", "Levenberg-Marquardt iterations per solve (default 200)"}};
+  for (OptionSpec& o : materialExportOptions()) options.push_back(std::move(o));
+  return options;
 }
 
 }  // namespace
 
 Command fitCommand() {
   return {{"fit",
-           "TABLE.exr|TABLE.f32 -o MATERIAL.json [--no-sheen] [--max-iterations N]",
+           "TABLE.exr|TABLE.f32 -o MATERIAL.json [--no-sheen] [--max-iterations N]\n"
+           "                    [--gltf F.gltf|F.glb] [--mtlx F.mtlx] [--mitsuba F.xml]\n"
+           "       slicecap fit MATERIAL.json [--gltf F.gltf|F.glb] [--mtlx F.mtlx] [--mitsuba F.xml]",
            "Fit a parametric material to a measured table: diffuse RGB + anisotropic GGX (f0 RGB,\n"
            "alpha along and across the tangent, tangent angle), plus a Charlie sheen term when it\n"
            "lowers the fit's mean dE clearly. The JSON holds the parameters with units, conventions\n"
            "and sigmas, every candidate's dE/RMSE/PSNR against the table and why the model was\n"
            "chosen (docs/material-fit.md). Fails, writing nothing, on a table that is not a BRDF or\n"
-           "a fit that does not converge.",
-           {{"output", 'o', "MATERIAL.json", "where to write the fitted material (replaced whole)"},
-            {"no-sheen", 0, "", "fit diffuse + GGX only"},
-            {"max-iterations", 0, "N", "Levenberg-Marquardt iterations per solve (default 200)"}},
+           "a fit that does not converge.\n"
+           "--gltf/--mtlx/--mitsuba also write the material for glTF viewers and Blender, MaterialX\n"
+           "(OpenPBR) and Mitsuba 3, and print what each format cannot express\n"
+           "(docs/material-export.md). Given a MATERIAL.json written by an earlier fit, only the\n"
+           "exports are written; a file that is not a completed fit is refused, naming it.",
+           fitOptions(),
            1,
            1},
           run};

@@ -1,0 +1,129 @@
+// Parses a `slicecap fit` JSON strictly: a field missing or out of range is an error naming the file
+// and the field, never a default (issue 30: exports refuse a material they could not fit).
+#include "slicecap/material_export/material_reader.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "slicecap/fit/material_json.hpp"
+
+namespace slicecap::material_export {
+namespace {
+
+using json = nlohmann::json;
+
+class Reader {
+ public:
+  Reader(std::filesystem::path path, json document)
+      : path_(std::move(path)), document_(std::move(document)) {}
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw MaterialFileError(path_.string() + ": " + what);
+  }
+
+  const json& parameter(const char* name) const {
+    const json& parameters = document_.at("parameters");
+    if (!parameters.contains(name)) fail(std::string("no parameter \"") + name + "\"");
+    const json& p = parameters.at(name);
+    if (!p.is_object() || !p.contains("value"))
+      fail(std::string("parameter \"") + name + "\" has no value");
+    return p.at("value");
+  }
+
+  double number(const json& value, const std::string& name, double low, double high) const {
+    if (!value.is_number()) fail("parameter \"" + name + "\" is not a number");
+    const double v = value.get<double>();
+    if (!std::isfinite(v) || v < low || v > high) {
+      std::ostringstream s;
+      s << "parameter \"" << name << "\" is " << v << ", outside [" << low << ", " << high
+        << "]: not a fitted material";
+      fail(s.str());
+    }
+    return v;
+  }
+
+  double scalar(const char* name, double low, double high) const {
+    return number(parameter(name), name, low, high);
+  }
+
+  Rgb rgb(const char* name, double low, double high) const {
+    const json& v = parameter(name);
+    if (!v.is_array() || v.size() != 3)
+      fail(std::string("parameter \"") + name + "\" is not an RGB triple");
+    Rgb out;
+    for (std::size_t c = 0; c < 3; ++c) out[c] = number(v[c], name, low, high);
+    return out;
+  }
+
+ private:
+  std::filesystem::path path_;
+  json document_;
+};
+
+json parseFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw MaterialFileError(path.string() + ": cannot be read (no such file, or no permission)");
+  try {
+    return json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw MaterialFileError(path.string() + ": not JSON (" + e.what() + ")");
+  }
+}
+
+fit::FittedMaterial readMaterialDocument(const std::filesystem::path& path, const json& document) {
+  const Reader r(path, document);
+  if (!document.is_object() || document.value("format", "") != fit::kMaterialFormat)
+    r.fail(std::string("not a slicecap material (\"format\" is not \"") + fit::kMaterialFormat +
+           "\"): write one with slicecap fit TABLE -o MATERIAL.json");
+  if (document.value("format_version", 0) != fit::kMaterialFormatVersion)
+    r.fail("format_version " + document.value("format_version", json()).dump() +
+           " is not the one this build reads (" + std::to_string(fit::kMaterialFormatVersion) + ")");
+  if (!document.contains("parameters") || !document.at("parameters").is_object())
+    r.fail("no \"parameters\": not a completed fit");
+  // A completed fit always records how close it came; without that the file was not written by a
+  // fit that converged (or was edited), and an export would hide that.
+  const json* metrics = document.contains("metrics") ? &document.at("metrics") : nullptr;
+  if (metrics == nullptr || !metrics->is_object() || !metrics->contains("delta_e") ||
+      !metrics->at("delta_e").is_number() || !std::isfinite(metrics->at("delta_e").get<double>()))
+    r.fail("no finite \"metrics\".\"delta_e\": not a completed fit");
+
+  const std::string model = document.value("model", "");
+  fit::FittedMaterial m;
+  if (model == "ggx") {
+    m.model = fit::MaterialModel::Ggx;
+  } else if (model == "ggx+sheen") {
+    m.model = fit::MaterialModel::GgxSheen;
+  } else {
+    r.fail("unknown model \"" + model + "\" (expected \"ggx\" or \"ggx+sheen\")");
+  }
+  const double inf = HUGE_VAL;
+  m.diffuseAlbedo = r.rgb("diffuse_albedo", 0.0, inf);
+  m.specularF0 = r.rgb("specular_f0", 0.0, 1.0);
+  m.specularF90 = r.scalar("specular_f90", 0.0, 1.0);
+  // The fit bounds alphas to [0.002, 2]; anything <= 0 is no GGX lobe at all.
+  m.alphaTangent = r.scalar("alpha_tangent", 1e-6, inf);
+  m.alphaBitangent = r.scalar("alpha_bitangent", 1e-6, inf);
+  m.tangentDeg = r.scalar("tangent_deg", -360.0, 360.0);
+  if (m.model == fit::MaterialModel::GgxSheen) {
+    m.sheenColour = r.rgb("sheen_colour", 0.0, inf);
+    m.sheenRoughness = r.scalar("sheen_roughness", 1e-6, 1.0);
+  }
+  return m.canonical();
+}
+
+}  // namespace
+
+fit::FittedMaterial readFittedMaterial(const std::filesystem::path& path) {
+  const json document = parseFile(path);
+  try {
+    return readMaterialDocument(path, document);
+  } catch (const json::exception& e) {
+    // A field of the wrong JSON type (a string where a number belongs).
+    throw MaterialFileError(path.string() + ": malformed material (" + e.what() + ")");
+  }
+}
+
+}  // namespace slicecap::material_export

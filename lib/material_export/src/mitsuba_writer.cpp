@@ -1,0 +1,126 @@
+// The fit as Mitsuba 3 XML: blendbsdf(diffuse, roughconductor) weighted so that the blend is a sum.
+#include "slicecap/material_export/mitsuba_writer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+#include <sstream>
+
+#include "slicecap/io/file_replacement.hpp"
+#include "xml_text.hpp"
+
+namespace slicecap::material_export {
+namespace {
+
+using detail::num;
+
+// F0' = 1 would need an infinite eta; 0 gives eta = 1, a Fresnel of 0 at every angle where
+// Schlick still rises to 1 at grazing. Both ends are kept just inside.
+constexpr double kMinF0 = 1e-4, kMaxF0 = 0.999;
+// Below this an f0 is no specular at all (the fit's bounds reach exactly 0).
+constexpr double kNegligible = 1e-6;
+
+std::string rgbElement(const char* name, const Rgb& c) {
+  return std::string("<rgb name=\"") + name + "\" value=\"" + detail::rgbText(c) + "\"/>";
+}
+
+}  // namespace
+
+MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::string& source) {
+  const fit::FittedMaterial m = fitted.canonical();
+  MitsubaExport out;
+  out.report.format = "Mitsuba 3";
+  auto& losses = out.report.losses;
+
+  // Blend weight w: the blend is (1 - w) A + w B with A = diffuse (albedo / (1 - w)) and
+  // B = a conductor whose Fresnel is F0 / w at normal incidence and 1 at grazing, so the sum has the
+  // fit's F0 exactly and w at grazing. Mitsuba refuses reflectances above 1, so w must lie in
+  // [max f0, 1 - max albedo] (non-empty for a material that reflects at most all light at normal
+  // incidence); within it, w as close to f90 as it can be.
+  const double diffuseMax = m.diffuseAlbedo.maxChannel(), f0Max = m.specularF0.maxChannel();
+  const double low = f0Max, high = 1.0 - diffuseMax;
+  double weight = low <= high ? std::clamp(m.specularF90, low, high) : std::min(low, 1.0);
+  // A fit with no specular (a velvet: f0 ~ 1e-12, f90 = 0) is the diffuse alone.
+  if (f0Max <= kNegligible) weight = 0.0;
+  Rgb diffuseReflectance, eta;
+  bool diffuseClamped = false;
+  for (std::size_t c = 0; c < 3; ++c) {
+    double reflectance = weight < 1.0 ? m.diffuseAlbedo[c] / (1.0 - weight) : 0.0;
+    if (reflectance > 1.0) {
+      // Beyond rounding, only a material brighter than 1 at normal incidence gets here.
+      diffuseClamped = diffuseClamped || reflectance > 1.0 + 1e-9 || weight >= 1.0;
+      reflectance = 1.0;
+    }
+    diffuseReflectance[c] = reflectance;
+    // With weight 0 the conductor does not count; eta 1.5 only keeps its parameters ordinary.
+    const double f0 = weight > 0.0 ? std::clamp(m.specularF0[c] / weight, kMinF0, kMaxF0) : 0.04;
+    eta[c] = (1.0 + std::sqrt(f0)) / (1.0 - std::sqrt(f0));
+  }
+  if (diffuseClamped || (weight >= 1.0 && diffuseMax > 0.0))
+    losses.push_back({LossKind::DiffuseLayering,
+                      "f0 " + num(f0Max) + " + diffuse albedo " + num(diffuseMax) +
+                          " exceed 1 at normal incidence: the diffuse is capped (reflectance 1 "
+                          "after the blend weight)"});
+  if (std::abs(weight - m.specularF90) > 1e-6 && f0Max > kNegligible)
+    losses.push_back({LossKind::SpecularColourAtGrazing,
+                      "grazing reflectance " + num(weight) + " instead of the fit's f90 " +
+                          num(m.specularF90) + " (the blend weight must keep both parts' "
+                          "reflectances within [0, 1])"});
+  losses.push_back({LossKind::FresnelForm,
+                    "roughconductor's Fresnel is the exact one of eta " + detail::rgbText(eta) +
+                        " (k = 0), not Schlick's curve: equal at normal and grazing incidence"});
+  losses.push_back({LossKind::ShadowingForm,
+                    "Mitsuba's microfacet masking is the separable Smith G1(i) G1(o), the fit's "
+                    "the height-correlated one: a little darker toward grazing"});
+  losses.push_back({LossKind::TangentFromMesh,
+                    "Mitsuba has no anisotropy rotation: alpha_u follows the shape's dp/du; the "
+                    "snippet's rectangle is turned by tangent_deg " + num(m.tangentDeg) +
+                        " so that its u axis is the fitted tangent"});
+  if (m.model == fit::MaterialModel::GgxSheen)
+    losses.push_back({LossKind::SheenDropped,
+                      "Mitsuba 3 has no Charlie sheen BSDF: the fitted sheen (colour " +
+                          detail::rgbText(m.sheenColour) + ") is left out"});
+
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\"?>\n"
+    << "<!-- slicecap fit of " << detail::commentSafe(source) << " (docs/material-export.md).\n"
+    << "     BSDF slicecap_fit = diffuse (albedo " << detail::rgbText(m.diffuseAlbedo)
+    << ") + GGX (alpha_t " << num(m.alphaTangent) << " along u, alpha_b " << num(m.alphaBitangent)
+    << ", f0 " << detail::rgbText(m.specularF0) << ", f90 " << num(m.specularF90) << "),\n"
+    << "     as blendbsdf weight w = grazing reflectance, the diffuse divided by (1 - w), the\n"
+    << "     conductor's F0 = f0 / w. Use it with\n"
+    << "     <ref id=\"slicecap_fit\"/>; its anisotropy follows each shape's dp/du. -->\n"
+    << "<scene version=\"3.0.0\">\n"
+    << "  <bsdf type=\"blendbsdf\" id=\"slicecap_fit\">\n"
+    << "    <float name=\"weight\" value=\"" << num(weight) << "\"/>\n"
+    << "    <bsdf type=\"diffuse\">\n"
+    << "      " << rgbElement("reflectance", diffuseReflectance) << "\n"
+    << "    </bsdf>\n"
+    << "    <bsdf type=\"roughconductor\">\n"
+    << "      <string name=\"distribution\" value=\"ggx\"/>\n"
+    << "      <float name=\"alpha_u\" value=\"" << num(m.alphaTangent) << "\"/>\n"
+    << "      <float name=\"alpha_v\" value=\"" << num(m.alphaBitangent) << "\"/>\n"
+    << "      " << rgbElement("eta", eta) << "\n"
+    << "      " << rgbElement("k", Rgb::gray(0.0)) << "\n"
+    << "    </bsdf>\n"
+    << "  </bsdf>\n"
+    << "  <!-- A flat sample, normal +z, its u axis turned onto the fitted tangent. -->\n"
+    << "  <shape type=\"rectangle\" id=\"slicecap_sample\">\n"
+    << "    <transform name=\"to_world\">\n"
+    << "      <rotate z=\"1\" angle=\"" << num(m.tangentDeg) << "\"/>\n"
+    << "    </transform>\n"
+    << "    <ref id=\"slicecap_fit\"/>\n"
+    << "  </shape>\n"
+    << "</scene>\n";
+  out.text = x.str();
+  return out;
+}
+
+ExportReport writeMitsuba(const std::filesystem::path& path, const fit::FittedMaterial& material,
+                          const std::string& source) {
+  const MitsubaExport e = mitsubaSnippet(material, source);
+  io::writeStreamReplacing(path, [&](std::ostream& out) { out << e.text; });
+  return e.report;
+}
+
+}  // namespace slicecap::material_export

@@ -1,0 +1,147 @@
+// The fit as MaterialX 1.39 nodes: open_pbr_surface + standard_surface, each in a surfacematerial.
+#include "slicecap/material_export/mtlx_writer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+#include <sstream>
+
+#include "slicecap/io/file_replacement.hpp"
+#include "slicecap/material_export/gltf_material.hpp"
+#include "xml_text.hpp"
+
+namespace slicecap::material_export {
+namespace {
+
+using detail::num;
+using detail::rgbText;
+
+// The largest anisotropy MaterialX's mx_roughness_anisotropy honours (it clamps to 0.98).
+constexpr double kMaxStandardSurfaceAnisotropy = 0.98;
+
+std::string input(const char* name, const char* type, const std::string& value) {
+  return std::string("    <input name=\"") + name + "\" type=\"" + type + "\" value=\"" + value +
+         "\" />\n";
+}
+
+}  // namespace
+
+MtlxExport mtlxDocument(const fit::FittedMaterial& fitted, const std::string& source) {
+  const fit::FittedMaterial m = fitted.canonical();
+  MtlxExport out;
+  out.report.format = "MaterialX (OpenPBR Surface + standard_surface)";
+  auto& losses = out.report.losses;
+
+  // Colours: the same F0 split as the glTF export (IOR from the brightest channel of f0 / f90),
+  // but OpenPBR and standard_surface tint the whole dielectric Fresnel with specular_color, so
+  // specular_color = f90 x the glTF colour: exact at normal incidence.
+  const GltfConversion gltf = toGltfMaterial(m);
+  const GltfMaterial& g = gltf.material;
+  Rgb specularColour;
+  for (std::size_t c = 0; c < 3; ++c) specularColour[c] = g.specularFactor * g.specularColorFactor[c];
+  losses.push_back({LossKind::FresnelForm,
+                    "OpenPBR and standard_surface use the exact dielectric Fresnel of specular_ior " +
+                        num(g.ior) + " times specular_color, not Schlick's f0/f90 curve"});
+  if (specularColour.maxChannel() - specularColour.minChannel() > 1e-3 ||
+      std::abs(specularColour.maxChannel() - m.specularF90) > 1e-3)
+    losses.push_back({LossKind::SpecularColourAtGrazing,
+                      "specular_color " + rgbText(specularColour) +
+                          " also scales the grazing reflectance, where the fit has a grey f90 " +
+                          num(m.specularF90)});
+  for (const ConversionLoss& loss : gltf.losses)
+    if (loss.kind == LossKind::DiffuseLayering || loss.kind == LossKind::SpecularColourAtGrazing)
+      losses.push_back({loss.kind, "as in glTF: " + loss.detail});
+
+  // OpenPBR roughness and anisotropy (NG_open_pbr_anisotropy inverted).
+  const double ratio = m.alphaBitangent / m.alphaTangent;  // <= 1 in the canonical form
+  const double openPbrAnisotropy = 1.0 - ratio;
+  double openPbrRoughness =
+      std::sqrt(m.alphaTangent / std::sqrt(2.0 / (1.0 + ratio * ratio)));
+  if (openPbrRoughness > 1.0) {
+    losses.push_back({LossKind::RoughnessClamped,
+                      "OpenPBR specular_roughness " + num(openPbrRoughness) + " capped at 1"});
+    openPbrRoughness = 1.0;
+  }
+  // standard_surface: alpha_x alpha_y = r^4, alpha_y / alpha_x = 1 - a.
+  double standardAnisotropy = 1.0 - ratio;
+  if (standardAnisotropy > kMaxStandardSurfaceAnisotropy) {
+    losses.push_back({LossKind::AnisotropyClamped,
+                      "standard_surface specular_anisotropy " + num(standardAnisotropy) +
+                          " > 0.98, where MaterialX clamps it: alpha ratio " + num(ratio) +
+                          " becomes 0.02"});
+    standardAnisotropy = kMaxStandardSurfaceAnisotropy;
+  }
+  const double standardRoughness = std::pow(m.alphaTangent * m.alphaBitangent, 0.25);
+  if (m.alphaTangent > 1.0)
+    losses.push_back({LossKind::RoughnessClamped,
+                      "standard_surface caps alpha along the tangent at 1 (fit: " +
+                          num(m.alphaTangent) + ")"});
+
+  const bool sheen = m.model == fit::MaterialModel::GgxSheen;
+  if (sheen)
+    losses.push_back({LossKind::SheenForm,
+                      "OpenPBR's fuzz (and standard_surface's sheen) layer over the base and dim it "
+                      "by their albedo; OpenPBR's fuzz lobe is not the fitted Charlie lobe"});
+
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\"?>\n"
+    << "<!-- slicecap fit of " << detail::commentSafe(source) << " (docs/material-export.md).\n"
+    << "     Primary material: slicecap_fit (OpenPBR Surface); alternative:\n"
+    << "     slicecap_fit_standard_surface. The fitted tangent is the surface tangent (the table's\n"
+    << "     azimuth-0 axis on the mesh) turned by " << num(m.tangentDeg)
+    << " deg about the normal. Fit: alpha_t " << num(m.alphaTangent) << ", alpha_b "
+    << num(m.alphaBitangent) << ". -->\n"
+    << "<materialx version=\"1.39\" colorspace=\"lin_rec709\">\n"
+    << "  <tangent name=\"surface_tangent\" type=\"vector3\">\n"
+    << input("space", "string", "world") << "  </tangent>\n"
+    << "  <normal name=\"surface_normal\" type=\"vector3\">\n"
+    << input("space", "string", "world") << "  </normal>\n"
+    << "  <rotate3d name=\"fitted_tangent\" type=\"vector3\">\n"
+    << "    <input name=\"in\" type=\"vector3\" nodename=\"surface_tangent\" />\n"
+    << input("amount", "float", num(m.tangentDeg))
+    << "    <input name=\"axis\" type=\"vector3\" nodename=\"surface_normal\" />\n"
+    << "  </rotate3d>\n"
+    << "  <open_pbr_surface name=\"slicecap_fit_open_pbr\" type=\"surfaceshader\">\n"
+    << input("base_weight", "float", "1") << input("base_color", "color3", rgbText(g.baseColorFactor))
+    << input("base_metalness", "float", "0") << input("specular_weight", "float", "1")
+    << input("specular_color", "color3", rgbText(specularColour))
+    << input("specular_roughness", "float", num(openPbrRoughness))
+    << input("specular_ior", "float", num(g.ior))
+    << input("specular_roughness_anisotropy", "float", num(openPbrAnisotropy));
+  if (sheen)
+    x << input("fuzz_weight", "float", "1")
+      << input("fuzz_color", "color3", rgbText(g.sheenColorFactor))
+      << input("fuzz_roughness", "float", num(m.sheenRoughness));
+  x << "    <input name=\"geometry_tangent\" type=\"vector3\" nodename=\"fitted_tangent\" />\n"
+    << "  </open_pbr_surface>\n"
+    << "  <surfacematerial name=\"slicecap_fit\" type=\"material\">\n"
+    << "    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"slicecap_fit_open_pbr\" />\n"
+    << "  </surfacematerial>\n"
+    << "  <standard_surface name=\"slicecap_fit_standard_surface_shader\" type=\"surfaceshader\">\n"
+    << input("base", "float", "1") << input("base_color", "color3", rgbText(g.baseColorFactor))
+    << input("specular", "float", "1") << input("specular_color", "color3", rgbText(specularColour))
+    << input("specular_roughness", "float", num(standardRoughness))
+    << input("specular_IOR", "float", num(g.ior))
+    << input("specular_anisotropy", "float", num(standardAnisotropy))
+    << input("specular_rotation", "float", num(m.tangentDeg / 360.0));
+  if (sheen)
+    x << input("sheen", "float", "1") << input("sheen_color", "color3", rgbText(g.sheenColorFactor))
+      << input("sheen_roughness", "float", num(m.sheenRoughness));
+  x << "  </standard_surface>\n"
+    << "  <surfacematerial name=\"slicecap_fit_standard_surface\" type=\"material\">\n"
+    << "    <input name=\"surfaceshader\" type=\"surfaceshader\" "
+       "nodename=\"slicecap_fit_standard_surface_shader\" />\n"
+    << "  </surfacematerial>\n"
+    << "</materialx>\n";
+  out.text = x.str();
+  return out;
+}
+
+ExportReport writeMtlx(const std::filesystem::path& path, const fit::FittedMaterial& material,
+                       const std::string& source) {
+  const MtlxExport e = mtlxDocument(material, source);
+  io::writeStreamReplacing(path, [&](std::ostream& out) { out << e.text; });
+  return e.report;
+}
+
+}  // namespace slicecap::material_export

@@ -1,0 +1,44 @@
+"""Shared by python/tests/test_material_export.py and python/bench/material_export_figures.py: the
+fitted material's BRDF as docs/material-fit.md writes it, and the ratio of a Mitsuba snippet's BSDF
+to it at random light/view pairs."""
+
+import numpy as np
+
+
+def fitted_brdf(parameters: dict, to_light: np.ndarray, to_view: np.ndarray) -> np.ndarray:
+    """The fitted material's diffuse + GGX terms (no sheen) for unit vectors, z = normal."""
+    p = {k: v["value"] for k, v in parameters.items()}
+    half = to_light + to_view
+    half = half / np.linalg.norm(half)
+    t = np.radians(p["tangent_deg"])
+    along, across = np.array([np.cos(t), np.sin(t), 0.0]), np.array([-np.sin(t), np.cos(t), 0.0])
+    at, ab = p["alpha_tangent"], p["alpha_bitangent"]
+
+    def lam(w):
+        return (np.sqrt(1 + ((at * w @ along) ** 2 + (ab * w @ across) ** 2) / w[2] ** 2) - 1) / 2
+
+    s = (half @ along / at) ** 2 + (half @ across / ab) ** 2 + half[2] ** 2
+    d = 1 / (np.pi * at * ab * s * s)
+    g = 1 / (1 + lam(to_light) + lam(to_view))
+    f0 = np.array(p["specular_f0"])
+    f = f0 + (p["specular_f90"] - f0) * (1 - to_light @ half) ** 5
+    return np.array(p["diffuse_albedo"]) / np.pi + f * d * g / (4 * to_light[2] * to_view[2])
+
+
+def mitsuba_ratios(mi, scene, parameters: dict, pairs=300, max_theta_deg=75.0, seed=7):
+    """Mitsuba's BSDF of the snippet's sample shape (its eval / cos) over the fitted BRDF, per
+    channel, at `pairs` random light/view pairs up to `max_theta_deg`, in world directions on the
+    turned rectangle: a wrong tangent rotation shows as ratios far from 1."""
+    bsdf = scene.shapes()[0].bsdf()
+    si = scene.ray_intersect(mi.Ray3f([0.01, 0.02, 1.0], [0.0, 0.0, -1.0]))
+    rng = np.random.default_rng(seed)
+    ratios = []
+    for _ in range(pairs):
+        theta = np.radians(rng.uniform(0, max_theta_deg, 2))
+        phi = rng.uniform(0, 2 * np.pi, 2)
+        to_light, to_view = np.stack(
+            [np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)], 1)
+        si.wi = si.to_local(mi.Vector3f(*to_view))
+        value = np.array(bsdf.eval(mi.BSDFContext(), si, si.to_local(mi.Vector3f(*to_light))))
+        ratios.append(value / to_light[2] / fitted_brdf(parameters, to_light, to_view))
+    return np.array(ratios)

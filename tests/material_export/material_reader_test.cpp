@@ -1,0 +1,98 @@
+// Reading a fit back: a round trip through lib/fit's JSON, and every way a file can fail to be a
+// completed fit refused with the file's name.
+#include "slicecap/material_export/material_reader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "../support/test_support.hpp"
+#include "slicecap/fit/material_json.hpp"
+
+namespace slicecap::material_export {
+namespace {
+
+fit::FitResult sheenFit() {
+  fit::FitResult r;
+  r.material.model = fit::MaterialModel::GgxSheen;
+  r.material.diffuseAlbedo = Rgb{0.3, 0.2, 0.1};
+  r.material.specularF0 = Rgb{0.04, 0.05, 0.06};
+  r.material.specularF90 = 0.7;
+  r.material.alphaTangent = 0.35;
+  r.material.alphaBitangent = 0.06;
+  r.material.tangentDeg = 90.0;
+  r.material.sheenColour = Rgb{0.4, 0.1, 0.2};
+  r.material.sheenRoughness = 0.3;
+  r.metrics.deltaE = 0.4;
+  r.choiceReason = "test";
+  return r;
+}
+
+std::filesystem::path writeDocument(const std::filesystem::path& dir, const nlohmann::ordered_json& d) {
+  const auto path = dir / "m.json";
+  std::ofstream(path) << d.dump();
+  return path;
+}
+
+void expectRefused(const std::filesystem::path& path, const std::string& words) {
+  try {
+    readFittedMaterial(path);
+    FAIL() << "accepted " << path;
+  } catch (const MaterialFileError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind(path.string(), 0), 0u) << what;
+    EXPECT_NE(what.find(words), std::string::npos) << what;
+  }
+}
+
+TEST(MaterialReader, RoundTripsLibFitsJson) {
+  const auto dir = test::freshTempDir();
+  const fit::FitResult r = sheenFit();
+  fit::writeMaterialJson(dir / "m.json", fit::materialJson(r, "t.exr"));
+  const fit::FittedMaterial m = readFittedMaterial(dir / "m.json");
+  EXPECT_EQ(m.model, fit::MaterialModel::GgxSheen);
+  EXPECT_DOUBLE_EQ(m.diffuseAlbedo[2], 0.1);
+  EXPECT_DOUBLE_EQ(m.specularF0[1], 0.05);
+  EXPECT_DOUBLE_EQ(m.specularF90, 0.7);
+  EXPECT_DOUBLE_EQ(m.alphaTangent, 0.35);
+  EXPECT_DOUBLE_EQ(m.alphaBitangent, 0.06);
+  EXPECT_DOUBLE_EQ(m.tangentDeg, 90.0);
+  EXPECT_DOUBLE_EQ(m.sheenColour[0], 0.4);
+  EXPECT_DOUBLE_EQ(m.sheenRoughness, 0.3);
+}
+
+TEST(MaterialReader, RefusesWhatIsNotACompletedFit) {
+  const auto dir = test::freshTempDir();
+  expectRefused(dir / "absent.json", "cannot be read");
+  std::ofstream(dir / "text.json") << "not json {";
+  expectRefused(dir / "text.json", "not JSON");
+
+  const nlohmann::ordered_json good = fit::materialJson(sheenFit(), "t.exr");
+  auto d = good;
+  d["format"] = "something-else";
+  expectRefused(writeDocument(dir, d), "not a slicecap material");
+  d = good;
+  d.erase("metrics");
+  expectRefused(writeDocument(dir, d), "not a completed fit");
+  d = good;
+  d["parameters"].erase("alpha_tangent");
+  expectRefused(writeDocument(dir, d), "alpha_tangent");
+  d = good;
+  d["parameters"]["specular_f0"]["value"][1] = 1.5;
+  expectRefused(writeDocument(dir, d), "specular_f0");
+  d = good;
+  d["parameters"]["alpha_bitangent"]["value"] = -0.1;
+  expectRefused(writeDocument(dir, d), "alpha_bitangent");
+  d = good;
+  d["parameters"]["tangent_deg"]["value"] = "ninety";
+  expectRefused(writeDocument(dir, d), "tangent_deg");
+  d = good;
+  d["model"] = "ward";
+  expectRefused(writeDocument(dir, d), "unknown model");
+  d = good;
+  d["format_version"] = "1";
+  expectRefused(writeDocument(dir, d), "malformed");
+}
+
+}  // namespace
+}  // namespace slicecap::material_export

@@ -1,0 +1,86 @@
+// The MaterialX document: OpenPBR's and standard_surface's anisotropy inverted from the fitted
+// alphas, the tangent rotation, and the losses. (python/tests validates it with MaterialX itself.)
+#include "slicecap/material_export/mtlx_writer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <regex>
+
+namespace slicecap::material_export {
+namespace {
+
+fit::FittedMaterial brushed() {
+  fit::FittedMaterial m;
+  m.diffuseAlbedo = Rgb{0.02, 0.02, 0.02};
+  m.specularF0 = Rgb{0.9, 0.6, 0.5};
+  m.specularF90 = 1.0;
+  m.alphaTangent = 0.4;
+  m.alphaBitangent = 0.1;
+  m.tangentDeg = 120.0;
+  return m;
+}
+
+// The value of input `name` in the node that starts with `node`.
+double inputValue(const std::string& text, const std::string& node, const std::string& name) {
+  const std::size_t at = text.find(node);
+  EXPECT_NE(at, std::string::npos) << node;
+  const std::regex re("<input name=\"" + name + "\" type=\"float\" value=\"([^\"]+)\"");
+  std::smatch match;
+  const std::string rest = text.substr(at);
+  EXPECT_TRUE(std::regex_search(rest, match, re)) << name;
+  return std::stod(match[1]);
+}
+
+TEST(MtlxWriter, OpenPbrAnisotropyReproducesTheFittedAlphas) {
+  const std::string text = mtlxDocument(brushed(), "b.json").text;
+  const double r = inputValue(text, "<open_pbr_surface", "specular_roughness");
+  const double a = inputValue(text, "<open_pbr_surface", "specular_roughness_anisotropy");
+  // NG_open_pbr_anisotropy: alpha_x = r^2 sqrt(2 / (1 + (1 - a)^2)), alpha_y = (1 - a) alpha_x.
+  const double alphaX = r * r * std::sqrt(2.0 / (1.0 + (1.0 - a) * (1.0 - a)));
+  EXPECT_NEAR(alphaX, 0.4, 1e-5);
+  EXPECT_NEAR((1.0 - a) * alphaX, 0.1, 1e-5);
+  EXPECT_NEAR(inputValue(text, "<rotate3d", "amount"), 120.0, 1e-9);
+  EXPECT_NE(text.find("<input name=\"geometry_tangent\" type=\"vector3\" nodename=\"fitted_tangent\""),
+            std::string::npos);
+}
+
+TEST(MtlxWriter, StandardSurfaceAnisotropyAndRotation) {
+  const std::string text = mtlxDocument(brushed(), "b.json").text;
+  const double r = inputValue(text, "<standard_surface", "specular_roughness");
+  const double a = inputValue(text, "<standard_surface", "specular_anisotropy");
+  // mx_roughness_anisotropy: alpha_x = r^2 / sqrt(1 - a), alpha_y = r^2 sqrt(1 - a).
+  EXPECT_NEAR(r * r / std::sqrt(1.0 - a), 0.4, 1e-5);
+  EXPECT_NEAR(r * r * std::sqrt(1.0 - a), 0.1, 1e-5);
+  EXPECT_NEAR(inputValue(text, "<standard_surface", "specular_rotation"), 120.0 / 360.0, 1e-6);
+}
+
+TEST(MtlxWriter, ExtremeAnisotropyIsClampedAndReported) {
+  fit::FittedMaterial m = brushed();
+  m.alphaBitangent = 0.004;  // ratio 0.01 < 0.02
+  const MtlxExport e = mtlxDocument(m, "b.json");
+  EXPECT_NEAR(inputValue(e.text, "<standard_surface", "specular_anisotropy"), 0.98, 1e-9);
+  EXPECT_TRUE(std::any_of(e.report.losses.begin(), e.report.losses.end(),
+                          [](const ConversionLoss& l) { return l.kind == LossKind::AnisotropyClamped; }));
+}
+
+TEST(MtlxWriter, ASourceWithDoubleDashesKeepsTheCommentWellFormed) {
+  const std::string text = mtlxDocument(brushed(), "a--b--.json").text;
+  const std::size_t open = text.find("<!--"), close = text.find("-->");
+  ASSERT_NE(close, std::string::npos);
+  EXPECT_EQ(text.substr(open + 4, close - open - 4).find("--"), std::string::npos);
+}
+
+TEST(MtlxWriter, SheenBecomesFuzz) {
+  fit::FittedMaterial m = brushed();
+  m.model = fit::MaterialModel::GgxSheen;
+  m.sheenColour = Rgb{0.5, 0.5, 0.5};
+  m.sheenRoughness = 0.4;
+  const MtlxExport e = mtlxDocument(m, "b.json");
+  EXPECT_NEAR(inputValue(e.text, "<open_pbr_surface", "fuzz_roughness"), 0.4, 1e-9);
+  EXPECT_NEAR(inputValue(e.text, "<standard_surface", "sheen_roughness"), 0.4, 1e-9);
+}
+
+}  // namespace
+}  // namespace slicecap::material_export
