@@ -239,6 +239,7 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   capture::PipelineSettings pipelineSettings;
   // Without alternation there is no LED-off frame to measure the room light with.
   pipelineSettings.requireAmbient = config.ledAlternate;
+  pipelineSettings.noise = {config.sensorReadNoise, config.sensorFullWellElectrons};
   // decoding (issue 27): a live camera's bracket is fitted against the slice's target and camera
   // model, and the sweep's pipeline then reads 8-bit frames through the measured curve; until
   // then (and without one) frames are read as sRGB.

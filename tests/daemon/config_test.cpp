@@ -41,6 +41,8 @@ TEST(DaemonConfig, TheDocumentedDefaultsAreTheDefaults) {
   EXPECT_EQ(fromFile.cameraRaw, hal::RawCapture::Auto);
   EXPECT_EQ(fromFile.modelRaw, "") << "the model offers no RAW stream unless asked";
   EXPECT_EQ(fromFile.textureResolution, 0) << "no texture unless asked";
+  EXPECT_EQ(fromFile.sensorReadNoise, defaults.sensorReadNoise);
+  EXPECT_EQ(fromFile.sensorFullWellElectrons, defaults.sensorFullWellElectrons);
   EXPECT_EQ(fromFile.textureFramesPerBin, defaults.textureFramesPerBin);
   EXPECT_EQ(parse("").storage, defaults.storage) << "an empty file is the defaults";
 }
@@ -58,7 +60,11 @@ TEST(DaemonConfig, ReadsEveryKind) {
       "texture_frames_per_bin = 3\n"
       "client_idle_timeout_s = 0\n"
       "camera_raw = off\n"
-      "model_raw = SBGGR12_CSI2P\n");
+      "model_raw = SBGGR12_CSI2P\n"
+      "sensor_read_noise = 0.0038\n"
+      "sensor_full_well_electrons = 4200\n");
+  EXPECT_EQ(c.sensorReadNoise, 0.0038);
+  EXPECT_EQ(c.sensorFullWellElectrons, 4200.0);
   EXPECT_EQ(c.camera, DaemonConfig::CameraKind::File);
   EXPECT_EQ(c.cameraRaw, hal::RawCapture::Off);
   EXPECT_EQ(c.modelRaw, "SBGGR12_CSI2P");
@@ -107,6 +113,9 @@ TEST(DaemonConfig, NamesTheLineAndKeyOfEveryMistake) {
   EXPECT_EQ(error("camera_raw = yes\n"), "slicecapd.conf:1: camera_raw: 'yes' is not auto, on or off");
   EXPECT_NE(error("model_raw = RGGB_PISP_COMP1\n").find("not a RAW format slicecap decodes"),
             std::string::npos);
+  EXPECT_EQ(error("sensor_read_noise = 0.7\n"),
+            "slicecapd.conf:1: sensor_read_noise: '0.7' is not a read noise in 0..0.5 of full scale");
+  EXPECT_NE(error("sensor_full_well_electrons = 0\n").find("positive"), std::string::npos);
   EXPECT_THROW(readDaemonConfig("/nonexistent/slicecapd.conf"), ConfigError);
 }
 

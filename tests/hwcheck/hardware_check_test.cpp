@@ -110,9 +110,20 @@ TEST(HardwareCheck, ReportsTheModelsConfiguredTimingAndCurve) {
   EXPECT_GT(*f.curveFromSrgb, 0.10) << "the IMX708 curve is not sRGB";
   EXPECT_EQ(item(report, "LED timing and readout").verdict, Verdict::Ok);
   EXPECT_EQ(item(report, "response curve").verdict, Verdict::Warn);  // not sRGB: says what to do
-  ASSERT_EQ(report.configLines.size(), 2u);
-  EXPECT_EQ(report.configLines[0].first, "readout_us");
-  EXPECT_EQ(report.configLines[1].first, "led_guard_us");
+  // Noise: the ISP's red gain (1.9, the largest) scales red's noise, the noisiest channel's:
+  // read noise x 1.9, shot noise as 8000 / 1.9 electrons, through the measured curve.
+  ASSERT_TRUE(f.sensorReadNoise && f.sensorFullWellElectrons) << report.text();
+  const double redGain = sensor.colourGains[0];
+  std::printf("noise: read %.5f (model %.5f), full well %.0f (model %.0f)\n", *f.sensorReadNoise,
+              sensor.readNoise * redGain, *f.sensorFullWellElectrons, sensor.fullWellElectrons / redGain);
+  EXPECT_NEAR(*f.sensorReadNoise, sensor.readNoise * redGain, 0.2 * sensor.readNoise * redGain);
+  EXPECT_NEAR(*f.sensorFullWellElectrons, sensor.fullWellElectrons / redGain,
+              0.1 * sensor.fullWellElectrons / redGain);
+  ASSERT_EQ(report.configLines.size(), 4u);
+  EXPECT_EQ(report.configLines[0].first, "sensor_read_noise");
+  EXPECT_EQ(report.configLines[1].first, "sensor_full_well_electrons");
+  EXPECT_EQ(report.configLines[2].first, "readout_us");
+  EXPECT_EQ(report.configLines[3].first, "led_guard_us");
   EXPECT_FALSE(rig.led.isOn()) << "the LED is left off";
 }
 
@@ -218,6 +229,11 @@ TEST(HardwareCheck, FollowsTheSizeARawStreamDeliversAndSaysItNeedsNoCurve) {
   EXPECT_NE(raw.finding.find("640 x 360"), std::string::npos) << raw.finding;
   EXPECT_EQ(item(report, "response curve").verdict, Verdict::Ok) << "linear frames need no curve";
   EXPECT_FALSE(report.responseCurve);
+  // RAW: no colour gains; R and B are single samples (green, two averaged, is quieter), so the
+  // noisiest channel carries the sensor's own noise.
+  ASSERT_TRUE(report.figures.sensorReadNoise && report.figures.sensorFullWellElectrons) << report.text();
+  EXPECT_NEAR(*report.figures.sensorReadNoise, sensor.readNoise, 0.2 * sensor.readNoise);
+  EXPECT_NEAR(*report.figures.sensorFullWellElectrons, sensor.fullWellElectrons, 0.1 * sensor.fullWellElectrons);
   // The rows are the delivered frame's: its 360 rows read out in 360 line times.
   ASSERT_TRUE(report.figures.readoutUs) << report.text();
   EXPECT_NEAR(*report.figures.readoutUs, sensor.lineTimeUs * 360, 0.1 * sensor.lineTimeUs * 360);

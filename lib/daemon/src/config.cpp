@@ -93,6 +93,18 @@ const std::map<std::string, Setter>& setters() {
          c.readoutUs = v.empty() ? std::nullopt
                                  : std::optional(positiveNumber(v, "a positive readout time in us"));
        }},
+      {"sensor_read_noise",
+       [](DaemonConfig& c, const std::string& v) {
+         char* end = nullptr;
+         const double noise = std::strtod(v.c_str(), &end);
+         if (v.empty() || *end != '\0' || !(noise >= 0 && noise < 0.5))
+           throw std::invalid_argument("'" + v + "' is not a read noise in 0..0.5 of full scale");
+         c.sensorReadNoise = noise;
+       }},
+      {"sensor_full_well_electrons",
+       [](DaemonConfig& c, const std::string& v) {
+         c.sensorFullWellElectrons = positiveNumber(v, "a positive number of electrons");
+       }},
       {"decoding",
        [](DaemonConfig& c, const std::string& v) {
          decodingModeFromString(v);  // throws naming the value
@@ -246,6 +258,12 @@ calibration =
 # measures it). Empty: the camera's line time where it reports one, else a whole frame period
 # (safe, but it rejects more frames as led_transition).
 readout_us =
+# The frames' noise, which the white-reference test allows for (an 8-bit frame's references near
+# black disagree by noise alone): read noise as a fraction of full scale, and shot noise as the
+# electrons a full-scale value stands for at gain 1. `slicecapd --check-hardware` measures both;
+# the defaults are a small 8-bit camera module's.
+sensor_read_noise = 0.002
+sensor_full_well_electrons = 8000
 # How 8-bit frames become linear light. auto: at each sweep start, right after the metering and
 # with the LED on, a bracket of 8 exposures (x1/32 .. x4, about a second) of the target's white and
 # black references measures the camera's response curve, and every frame of the sweep is decoded

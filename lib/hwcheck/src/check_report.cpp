@@ -59,6 +59,8 @@ nlohmann::json HardwareReport::json() const {
   put("exposure_lock_delay_frames", figures.exposureLockDelayFrames);
   put("line_time_us", figures.lineTimeUs);
   put("readout_us", figures.readoutUs);
+  put("sensor_read_noise", figures.sensorReadNoise);
+  put("sensor_full_well_electrons", figures.sensorFullWellElectrons);
   put("led_offset_us", figures.ledOffsetUs);
   put("led_offset_spread_us", figures.ledOffsetSpreadUs);
   put("delivery_latency_us", figures.deliveryLatencyUs);

@@ -9,6 +9,7 @@
 #include "slicecap/hwcheck/check_rig.hpp"
 #include "slicecap/hwcheck/exposure_lock_check.hpp"
 #include "slicecap/hwcheck/frame_timing.hpp"
+#include "slicecap/hwcheck/noise_check.hpp"
 #include "slicecap/hwcheck/response_check.hpp"
 #include "slicecap/hwcheck/white_rows.hpp"
 
@@ -125,6 +126,26 @@ void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeomet
       report.responseRange = {response.fit->lowestCode, response.fit->highestCode};
     }
     if (response.meteredExposureUs > 0) brightExposureUs = response.meteredExposureUs;
+  }
+
+  if (!whitesPtr) {
+    report.items.push_back(skipped("sensor noise", "the target is not in view"));
+  } else if (lock.refused) {
+    report.items.push_back(skipped("sensor noise", "the exposure cannot be locked"));
+  } else {
+    // The white references at about 0.35, 0.09 and 0.02 of full scale: shot noise dominates the
+    // first, read noise the last.
+    const NoiseResult noise = measureSensorNoise(
+        rig, *whitesPtr, codes ? *codes : capture::CodeTable::srgb(),
+        {brightExposureUs, brightExposureUs / 4.0, brightExposureUs / 16.0});
+    report.items.push_back(sensorNoiseItem(noise, id));
+    if (noise.noise) {
+      report.figures.sensorReadNoise = noise.noise->readNoise;
+      report.figures.sensorFullWellElectrons = noise.noise->fullWellElectrons;
+      report.configLines.emplace_back("sensor_read_noise", format("%.5f", noise.noise->readNoise));
+      report.configLines.emplace_back("sensor_full_well_electrons",
+                                      format("%.0f", noise.noise->fullWellElectrons));
+    }
   }
 
   if (!timing.hasTimestamps) {

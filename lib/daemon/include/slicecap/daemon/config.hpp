@@ -43,6 +43,10 @@ struct DaemonConfig {
   /// readout_us: the sensor's top-to-bottom readout time (slicecapd --check-hardware measures
   /// it); empty: the camera's line time where it says it, else a whole frame period.
   std::optional<double> readoutUs;
+  /// sensor_read_noise, sensor_full_well_electrons: the frames' noise as the white-reference
+  /// test expects it (capture::SensorNoise; slicecapd --check-hardware measures both).
+  double sensorReadNoise = 0.002;
+  double sensorFullWellElectrons = 8000.0;
   /// decoding = auto | measured-curve | srgb: how 8-bit live frames become linear light
   /// (daemon::DecodingMode; docs/linear-light.md "In the daemon").
   std::string decoding = "auto";

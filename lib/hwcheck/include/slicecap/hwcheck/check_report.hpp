@@ -42,6 +42,9 @@ struct MeasuredFigures {
   /// The recovered response: max relative difference of its ratios to white from linear and
   /// from sRGB over the codes the bracket covered.
   std::optional<double> curveFromLinear, curveFromSrgb;
+  /// The frames' noise (capture::SensorNoise): read noise, fraction of full scale; shot noise as
+  /// electrons at full scale, gain 1.
+  std::optional<double> sensorReadNoise, sensorFullWellElectrons;
 };
 
 /// \brief The whole report.
