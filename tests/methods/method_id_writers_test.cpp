@@ -63,7 +63,7 @@ class WritersAgree : public ::testing::Test {
 
   // `slicecap reconstruct` of the slices that export wrote, with `options`.
   std::string cliWrites(const std::vector<std::string>& options) {
-    const fs::path out = test::freshTempDir() / "cli.exr";
+    const fs::path out = root_ / "cli.exr";
     std::vector<std::string> args{"reconstruct", (exported_ / "steel-slices.csv").string(), "-o",
                                   out.string()};
     args.insert(args.end(), options.begin(), options.end());
@@ -72,8 +72,11 @@ class WritersAgree : public ::testing::Test {
     return r.code == 0 ? methodAttribute(out) : "";
   }
 
-  fs::path exported_ = test::freshTempDir();
-  daemon::SessionManager manager_{test::freshTempDir(), slicecapdReconstruct};
+  // One fresh folder per test (freshTempDir() empties it on every call): the daemon's storage,
+  // its export and the CLI's table in it.
+  fs::path root_ = test::freshTempDir();
+  fs::path exported_ = root_ / "export";
+  daemon::SessionManager manager_{root_ / "storage", slicecapdReconstruct};
 };
 
 TEST_F(WritersAgree, OnEveryMeasuredSlice) {

@@ -126,7 +126,7 @@ void printSummary(std::ostream& out, const std::vector<eval::MethodSummary>& sum
   for (const eval::MethodSummary& s : summaries) {
     out << formatRow(s.method, s.mean, s.meanMilliseconds)
         << (s.failures ? "  (" + std::to_string(s.failures) + " failed)" : "") << "\n";
-    if (s.method == "uniform") uniform = &s;
+    if (s.method == methods::cliName(methods::MethodId::Uniform)) uniform = &s;
   }
   if (uniform && uniform->materials > 0 && summaries.size() > 1) {
     out << "\nmargin over the uniform baseline (positive = better than uniform)\n"
