@@ -24,25 +24,11 @@ namespace {
 
 using methods::MethodId;
 
-// The methods a texel can be reconstructed with (btf::reconstructBtf solves each texel with one
-// of them); the average ABRDF is made with the same one, or with Method B for Method A.
-constexpr MethodId kTexelMethods[] = {MethodId::B, MethodId::A, MethodId::Prior};
-
-btf::TexelMethod texelMethod(MethodId id) {
-  switch (id) {
-    case MethodId::A:
-      return btf::TexelMethod::A;
-    case MethodId::Prior:
-      return btf::TexelMethod::Prior;
-    default:
-      return btf::TexelMethod::B;
-  }
-}
-
+// One of the methods btf::reconstructBtf solves a texel with (btf::kTexelMethods).
 MethodId parseTexelMethod(const std::string& name) {
   const std::optional<MethodId> id = methods::parseMethodName(name);
-  if (!id || std::find(std::begin(kTexelMethods), std::end(kTexelMethods), *id) ==
-                 std::end(kTexelMethods))
+  if (!id || std::find(btf::kTexelMethods.begin(), btf::kTexelMethods.end(), *id) ==
+                 btf::kTexelMethods.end())
     throw UsageError("--method must be " + methods::cliName(MethodId::B) + ", " +
                      methods::cliName(MethodId::A) + " or " + methods::cliName(MethodId::Prior));
   return *id;
@@ -133,11 +119,11 @@ int run(const ParsedArgs& args, Streams& io) {
   reconParams.prior.isotropicOnly = reconParams.methodB.isotropic;
   const MethodId method =
       args.value("method") ? parseTexelMethod(*args.value("method")) : MethodId::B;
-  reconParams.method = texelMethod(method);
+  reconParams.method = method;
   // Found (or its absence named) before minutes of frames are processed; its path is said from
   // here, as the file may go while they are.
   std::filesystem::path priorFile;
-  if (reconParams.method == btf::TexelMethod::Prior) {
+  if (method == MethodId::Prior) {
     priorFile = prior::locatePriorModel();
     reconParams.priorModel = &prior::defaultPriorModel();
   }
@@ -170,7 +156,7 @@ int run(const ParsedArgs& args, Streams& io) {
   io.err << "btf: " << (method == MethodId::Prior ? "the prior" : "Method " + methodName) << ", "
          << report.texels << " texels on " << report.threads << " threads in " << report.seconds
          << " s; texture " << texture.memoryBytes() / 1e6 << " MB\n";
-  if (reconParams.method == btf::TexelMethod::Prior)
+  if (method == MethodId::Prior)
     io.err << "btf: prior " << priorFile.string() << "; " << report.priorBlendedTexels
            << " texels blended with Method B (little directional "
            << "structure), " << report.priorAnisotropicTexels << " with the anisotropy terms\n";
