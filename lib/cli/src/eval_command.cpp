@@ -156,7 +156,8 @@ int run(const ParsedArgs& args, Streams& io) {
   const std::vector<const Method*> methods =
       parseMethods(args.value("methods").value_or("b,a,uniform"));
   MethodOptions options;
-  if (const std::optional<std::string> spec = args.value("rbf")) methods::applyRbfSpec(*spec, options);
+  if (const std::optional<std::string> spec = args.value("rbf"))
+    methods::applyRbfSpec(*spec, options);
   const std::vector<MaterialSource> materials = resolveMaterials(args.positional);
   const bool json = args.flag("json"), quiet = args.flag("quiet");
   const std::optional<std::filesystem::path> out = args.value("out");

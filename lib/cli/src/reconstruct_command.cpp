@@ -28,7 +28,8 @@ int run(const ParsedArgs& args, Streams& io) {
   methods::MethodOptions options;
   options.isotropic = args.flag("isotropic");
   options.torusRule = parseTorusRule(args.value("torus").value_or("square"));
-  if (const std::optional<std::string> spec = args.value("rbf")) methods::applyRbfSpec(*spec, options);
+  if (const std::optional<std::string> spec = args.value("rbf"))
+    methods::applyRbfSpec(*spec, options);
   const std::filesystem::path input = args.positional[0];
   const std::filesystem::path output = args.required("output");
   refuseClashingPaths({{"the input", input}}, {{"-o", output}});

@@ -136,7 +136,8 @@ Command parseCommand(std::string_view name, const json& args) {
   if (name == "sweep.redo") return SweepRedo{slice(args)};
   if (name == "status") return Status{};
   if (name == "reconstruct") {
-    return Reconstruct{optionalSessionId(args, "id"), optionalMethod(args).value_or(methods::cliName(methods::MethodId::B))};
+    return Reconstruct{optionalSessionId(args, "id"),
+                       optionalMethod(args).value_or(methods::cliName(methods::MethodId::B))};
   }
   if (name == "export") {
     std::string directory = optionalText(args, "directory").value_or("");

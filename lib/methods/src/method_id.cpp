@@ -9,8 +9,8 @@
 namespace slicecap::methods {
 namespace {
 
-// In MethodId's order (methodInfo indexes it). The EXR names are those docs/reference/file-formats.md
-// documents and `slicecap reconstruct` has always written.
+// In MethodId's order (methodInfo indexes it). The EXR names are those
+// docs/reference/file-formats.md documents and `slicecap reconstruct` has always written.
 constexpr std::array<MethodInfo, 7> kTable{{
     {MethodId::B, "b", "B", "B-isotropic", SliceSubset::EveryMeasuredSlice},
     {MethodId::A, "a", "A", "A-isotropic", SliceSubset::EveryMeasuredSlice},

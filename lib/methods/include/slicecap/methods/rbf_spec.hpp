@@ -1,4 +1,4 @@
-// An RBF spec (`--rbf SPEC`): Method A's open choices (docs/method.md §5.3), for a and uniform alike.
+// An RBF spec (`--rbf SPEC`): Method A's open choices (docs/method.md §5.3), for a and uniform.
 #pragma once
 
 #include <string>
