@@ -19,8 +19,8 @@ std::string sweepCommand(const SliceId& slice);
 /// \brief `method` on `slices`; when the method needs every measured slice
 /// (SliceSubset::EveryMeasuredSlice) and some are missing, the prior, which reads any subset,
 /// with a warning naming each missing slice and the command that sweeps it. Throws what the
-/// method throws, and a recon::ReconstructionError naming the missing slices and their commands when
-/// the prior fails too or when every axial slice is missing and every diagonal one there (an
+/// method throws, and a recon::ReconstructionError naming the missing slices and their commands
+/// when the prior fails too or when every axial slice is missing and every diagonal one there (an
 /// isotropic capture without --isotropic: said, not hidden by the prior).
 MethodRun runMethodOrPrior(const Method& method, const SliceSet& slices,
                            const MethodOptions& options);
