@@ -24,6 +24,14 @@ namespace {
 
 using methods::MethodId;
 
+// "b|a|prior": the methods btf::reconstructBtf solves a texel with (btf::kTexelMethods).
+std::string texelMethodNames() {
+  std::string names;
+  for (MethodId id : btf::kTexelMethods)
+    names += (names.empty() ? "" : "|") + methods::cliName(id);
+  return names;
+}
+
 // One of the methods btf::reconstructBtf solves a texel with (btf::kTexelMethods).
 MethodId parseTexelMethod(const std::string& name) {
   const std::optional<MethodId> id = methods::parseMethodName(name);
@@ -194,7 +202,7 @@ Command btfCommand() {
       {"output", 'o', "DIR", "the BTF directory (required; created, files in it replaced)"},
       {"resolution", 0, "N", "texels across the window (default 128)"},
       {"threads", 0, "N", "reconstruction and writing threads (default: all cores)"},
-      {"method", 0, "b|a|prior",
+      {"method", 0, texelMethodNames(),
        "per-texel method: b (default), a (one shared RBF factorisation) or prior (the learned "
        "prior; also for average.exr)"},
       {"frames-per-bin", 0, "K", "frames a bin keeps for its per-texel median (default 5)"},
@@ -203,8 +211,8 @@ Command btfCommand() {
   for (auto& o : pipelineOptions())
     if (o.name != "report") options.push_back(o);
   return {{"btf",
-           "SESSION_DIR|TEXTURE_DIR -o DIR [--resolution N] [--threads N] [--method b|a|prior] "
-           "[options]",
+           "SESSION_DIR|TEXTURE_DIR -o DIR [--resolution N] [--threads N] [--method " +
+               texelMethodNames() + "] [options]",
            "Spatially varying capture: every recording under SESSION_DIR through the capture\n"
            "pipeline, and each accepted frame's window rectified to an N x N texture in the\n"
            "target plane (through the pose and the camera's distortion; per texel its own light\n"
