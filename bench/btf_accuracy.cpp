@@ -81,7 +81,7 @@ RunResult evaluate(const btf::TextureCapture& texture, const SliceSet& averageSl
   RunResult result;
   result.methodB = texelErrors(texture, {});
   btf::BtfReconstructionParams priorParams;
-  priorParams.method = btf::TexelMethod::Prior;
+  priorParams.method = methods::MethodId::Prior;
   priorParams.priorModel = &prior::defaultPriorModel();
   result.prior = texelErrors(texture, priorParams);
   const auto woven = sim::makeWovenMaterial(10.0);

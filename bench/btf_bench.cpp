@@ -120,7 +120,7 @@ void BM_Btf128_MethodA(benchmark::State& state) {
   const btf::TextureGrid grid(128, vision::defaultTarget().window);
   const std::vector<btf::SliceTexture> slices = wovenCapture(grid);
   btf::BtfReconstructionParams params;
-  params.method = btf::TexelMethod::A;
+  params.method = methods::MethodId::A;
   params.threads = static_cast<int>(state.range(0));
   const double cpuBefore = processCpuSeconds();
   for (auto _ : state)
@@ -134,7 +134,7 @@ void BM_Btf128_Prior(benchmark::State& state) {
   const btf::TextureGrid grid(128, vision::defaultTarget().window);
   const std::vector<btf::SliceTexture> slices = wovenCapture(grid);
   btf::BtfReconstructionParams params;
-  params.method = btf::TexelMethod::Prior;
+  params.method = methods::MethodId::Prior;
   params.priorModel = &prior::defaultPriorModel();
   params.threads = static_cast<int>(state.range(0));
   const double cpuBefore = processCpuSeconds();

@@ -16,7 +16,6 @@
 
 #include "slicecap/btf/texture_capture.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
-#include "slicecap/cli/methods.hpp"
 #include "slicecap/core/version.hpp"
 #include "slicecap/daemon/config.hpp"
 #include "slicecap/daemon/control_server.hpp"
@@ -35,6 +34,7 @@
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/io/target_json.hpp"
+#include "slicecap/methods/methods.hpp"
 #include "slicecap/prior/isotropy_test.hpp"
 #include "slicecap/prior/prior_location.hpp"
 #include "slicecap/render/sheets.hpp"
@@ -154,15 +154,10 @@ class StoreTextureSink final : public daemon::TextureSink {
   btf::TextureSweep sweep_;
 };
 
+// The registry decides the form (isotropic for a session without axial sweeps), so the table
+// and the `slicecap:method` the daemon writes beside it agree (methods::runForSession).
 Abrdf reconstruct(const SliceSet& slices, const std::string& method) {
-  cli::MethodOptions options;
-  // A session without axial sweeps (an isotropic material, its operator stopped after the
-  // diagonal ones): the paper's methods take their isotropic form (eq. 5); the prior reads any
-  // subset as it is and still looks for anisotropy in the mixed-elevation diagonal slices.
-  const bool anyAxial = std::any_of(slices.slices().begin(), slices.slices().end(),
-                                    [](const Slice& s) { return s.id.kind == SliceKind::Axial; });
-  options.isotropic = !anyAxial && method != "prior";
-  return cli::findMethod(method).run(slices, options).table;
+  return methods::runForSession(methods::methodNamed(method), slices).table;
 }
 
 daemon::IsotropyAssessment assessIsotropy(const SliceSet& slices) {

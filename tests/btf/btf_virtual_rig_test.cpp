@@ -267,7 +267,7 @@ TEST(BtfVirtualRig, WovenSessionReconstructsEveryTexelNearItsTruth) {
 
   // The learned prior per texel (the shipped model), from the same texture.
   BtfReconstructionParams priorParams;
-  priorParams.method = TexelMethod::Prior;
+  priorParams.method = methods::MethodId::Prior;
   priorParams.priorModel = &prior::defaultPriorModel();
   BtfReconstructionReport priorReport;
   const TexelErrors prior =

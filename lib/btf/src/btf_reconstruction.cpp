@@ -141,8 +141,11 @@ SliceSet texelSlices(const TextureGrid& grid, const std::vector<SliceTexture>& s
 BtfTexture reconstructBtf(const TextureGrid& grid, const std::vector<SliceTexture>& slices,
                           const BtfReconstructionParams& params, BtfReconstructionReport* report) {
   std::string error;
+  if (std::find(kTexelMethods.begin(), kTexelMethods.end(), params.method) == kTexelMethods.end())
+    throw std::invalid_argument("method " + methods::cliName(params.method) +
+                                " does not reconstruct texels (b, a or prior do)");
   if (!params.methodB.fit.isValid(&error)) throw std::invalid_argument("Method B: " + error);
-  if (params.method == TexelMethod::Prior) {
+  if (params.method == methods::MethodId::Prior) {
     if (!params.priorModel) throw std::invalid_argument("the prior method needs a prior model");
     if (!params.prior.isValid(&error)) throw std::invalid_argument("prior: " + error);
   }
@@ -153,10 +156,10 @@ BtfTexture reconstructBtf(const TextureGrid& grid, const std::vector<SliceTextur
                                      : static_cast<int>(std::thread::hardware_concurrency()));
   // Built before the threads start: the one factorisation every texel shares.
   const recon::MethodASystem* system =
-      params.method == TexelMethod::A ? &recon::sharedMethodASystem() : nullptr;
+      params.method == methods::MethodId::A ? &recon::sharedMethodASystem() : nullptr;
   // The prior's basis entry by entry, shared likewise.
   const std::optional<prior::PriorReconstructor> priorReconstructor =
-      params.method == TexelMethod::Prior ? std::optional<prior::PriorReconstructor>(
+      params.method == methods::MethodId::Prior ? std::optional<prior::PriorReconstructor>(
                                                 std::in_place, *params.priorModel, params.prior)
                                           : std::nullopt;
   Tally tally;
@@ -168,7 +171,7 @@ BtfTexture reconstructBtf(const TextureGrid& grid, const std::vector<SliceTextur
         for (int row = nextRow++; row < grid.resolution(); row = nextRow++) {
           if (system)
             methodARow(grid, slices, params.methodB, *system, row, out, tally);
-          else if (params.method == TexelMethod::Prior)
+          else if (params.method == methods::MethodId::Prior)
             texelByTexelRow(grid, slices, row, out, tally,
                             [&](const SliceSet& samples, RowCounts& counts) {
                               return priorTexel(samples, *priorReconstructor, counts);

@@ -1,7 +1,9 @@
 // `slicecap btf`: a session's recordings, or the texture slicecapd captured, to a BTF directory
 // (per-texel reconstruction), beside the average ABRDF.
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <optional>
 #include <ostream>
 #include <thread>
 
@@ -12,13 +14,33 @@
 #include "slicecap/btf/texture_capture.hpp"
 #include "slicecap/btf/texture_store.hpp"
 #include "slicecap/cli/command.hpp"
-#include "slicecap/cli/methods.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/slice_csv.hpp"
+#include "slicecap/methods/methods.hpp"
 #include "slicecap/prior/prior_location.hpp"
 
 namespace slicecap::cli {
 namespace {
+
+using methods::MethodId;
+
+// "b|a|prior": the methods btf::reconstructBtf solves a texel with (btf::kTexelMethods).
+std::string texelMethodNames() {
+  std::string names;
+  for (MethodId id : btf::kTexelMethods)
+    names += (names.empty() ? "" : "|") + methods::cliName(id);
+  return names;
+}
+
+// One of the methods btf::reconstructBtf solves a texel with (btf::kTexelMethods).
+MethodId parseTexelMethod(const std::string& name) {
+  const std::optional<MethodId> id = methods::parseMethodName(name);
+  if (!id || std::find(btf::kTexelMethods.begin(), btf::kTexelMethods.end(), *id) ==
+                 btf::kTexelMethods.end())
+    throw UsageError("--method must be " + methods::cliName(MethodId::B) + ", " +
+                     methods::cliName(MethodId::A) + " or " + methods::cliName(MethodId::Prior));
+  return *id;
+}
 
 int wholeNumber(const ParsedArgs& args, const std::string& name, int fallback, int lo, int hi) {
   const double v = args.number(name, fallback);
@@ -103,16 +125,13 @@ int run(const ParsedArgs& args, Streams& io) {
   reconParams.threads = wholeNumber(args, "threads", 0, 0, 256);
   reconParams.methodB.isotropic = args.flag("isotropic");
   reconParams.prior.isotropicOnly = reconParams.methodB.isotropic;
-  const std::string method = args.value("method").value_or("b");
-  if (method != "a" && method != "b" && method != "prior")
-    throw UsageError("--method must be b, a or prior");
-  reconParams.method = method == "a"       ? btf::TexelMethod::A
-                       : method == "prior" ? btf::TexelMethod::Prior
-                                           : btf::TexelMethod::B;
+  const MethodId method =
+      args.value("method") ? parseTexelMethod(*args.value("method")) : MethodId::B;
+  reconParams.method = method;
   // Found (or its absence named) before minutes of frames are processed; its path is said from
   // here, as the file may go while they are.
   std::filesystem::path priorFile;
-  if (reconParams.method == btf::TexelMethod::Prior) {
+  if (method == MethodId::Prior) {
     priorFile = prior::locatePriorModel();
     reconParams.priorModel = &prior::defaultPriorModel();
   }
@@ -128,23 +147,24 @@ int run(const ParsedArgs& args, Streams& io) {
   const btf::TextureGrid& grid = captured.grid;
 
   // The average ABRDF, exactly as capture-offline makes it (with the prior when the texels are).
-  MethodOptions averageOptions;
+  methods::MethodOptions averageOptions;
   averageOptions.isotropic = reconParams.methodB.isotropic;
-  const MethodRun average =
-      findMethod(method == "prior" ? "prior" : "b").run(captured.averageSlices, averageOptions);
+  const methods::MethodRun average =
+      methods::findMethod(method == MethodId::Prior ? MethodId::Prior : MethodId::B)
+          .run(captured.averageSlices, averageOptions);
   for (const std::string& warning : average.warnings)
     io.err << "warning: average: " << warning << "\n";
 
   btf::BtfReconstructionReport report;
   const btf::BtfTexture texture =
       btf::reconstructBtf(grid, captured.slices, reconParams, &report);
-  const std::string methodName = reconParams.method == btf::TexelMethod::A       ? "A"
-                                 : reconParams.method == btf::TexelMethod::Prior ? "prior"
-                                                                                 : "B";
-  io.err << "btf: " << (methodName == "prior" ? "the prior" : "Method " + methodName) << ", "
+  // btf.json's "method": the texels' method by its EXR name, without the isotropic form (as
+  // before the registry).
+  const std::string methodName = methods::exrMethodValue(method, false);
+  io.err << "btf: " << (method == MethodId::Prior ? "the prior" : "Method " + methodName) << ", "
          << report.texels << " texels on " << report.threads << " threads in " << report.seconds
          << " s; texture " << texture.memoryBytes() / 1e6 << " MB\n";
-  if (reconParams.method == btf::TexelMethod::Prior)
+  if (method == MethodId::Prior)
     io.err << "btf: prior " << priorFile.string() << "; " << report.priorBlendedTexels
            << " texels blended with Method B (little directional "
            << "structure), " << report.priorAnisotropicTexels << " with the anisotropy terms\n";
@@ -182,7 +202,7 @@ Command btfCommand() {
       {"output", 'o', "DIR", "the BTF directory (required; created, files in it replaced)"},
       {"resolution", 0, "N", "texels across the window (default 128)"},
       {"threads", 0, "N", "reconstruction and writing threads (default: all cores)"},
-      {"method", 0, "b|a|prior",
+      {"method", 0, texelMethodNames(),
        "per-texel method: b (default), a (one shared RBF factorisation) or prior (the learned "
        "prior; also for average.exr)"},
       {"frames-per-bin", 0, "K", "frames a bin keeps for its per-texel median (default 5)"},
@@ -191,8 +211,8 @@ Command btfCommand() {
   for (auto& o : pipelineOptions())
     if (o.name != "report") options.push_back(o);
   return {{"btf",
-           "SESSION_DIR|TEXTURE_DIR -o DIR [--resolution N] [--threads N] [--method b|a|prior] "
-           "[options]",
+           "SESSION_DIR|TEXTURE_DIR -o DIR [--resolution N] [--threads N] [--method " +
+               texelMethodNames() + "] [options]",
            "Spatially varying capture: every recording under SESSION_DIR through the capture\n"
            "pipeline, and each accepted frame's window rectified to an N x N texture in the\n"
            "target plane (through the pose and the camera's distortion; per texel its own light\n"

@@ -5,6 +5,7 @@
 
 #include "slicecap/cli/command.hpp"
 #include "slicecap/core/version.hpp"
+#include "slicecap/methods/errors.hpp"
 
 namespace slicecap::cli {
 
@@ -58,6 +59,10 @@ int runCli(std::span<const std::string> args, std::ostream& out, std::ostream& e
       }
       return command.run(parsed, streams);
     } catch (const UsageError& e) {
+      err << "slicecap: " << e.what() << "\n";
+      return kExitUsage;
+    } catch (const methods::MethodError& e) {
+      // A method name or RBF spec from the command line: bad usage as the CLI's own checks.
       err << "slicecap: " << e.what() << "\n";
       return kExitUsage;
     } catch (const std::exception& e) {

@@ -13,7 +13,7 @@
 
 #include "slicecap/cli/cli.hpp"
 #include "slicecap/cli/command.hpp"
-#include "slicecap/cli/methods.hpp"
+#include "slicecap/methods/method_id.hpp"
 #include "slicecap/daemon/control_client.hpp"
 #include "slicecap/io/file_set.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -296,7 +296,7 @@ void copyTexture(const fs::path& source, const fs::path& copy) {
 int runExport(const ParsedArgs& args, Streams& io) {
   const fs::path destination = args.required("output");
   std::optional<std::string> method = args.value("method");
-  if (method) method = findMethod(*method).name;  // an unknown name: UsageError, exit 2
+  if (method) method = methods::cliName(methods::methodNamed(*method));  // unknown: exit 2
   const json result = call(args, daemon::Export{args.positional[0], "", method});
   const std::string id = result["session"].get<std::string>();
   std::vector<io::FileSetEntry> entries;

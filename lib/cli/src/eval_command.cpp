@@ -11,12 +11,11 @@
 #include "eval_materials.hpp"
 #include "path_clash.hpp"
 #include "slicecap/cli/command.hpp"
-#include "slicecap/cli/methods.hpp"
-#include "slicecap/cli/rbf_options.hpp"
 #include "slicecap/eval/report.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/png_image.hpp"
+#include "slicecap/methods/rbf_spec.hpp"
 #include "slicecap/recon/slice_extraction.hpp"
 #include "slicecap/recon/uniform_sampling.hpp"
 #include "slicecap/render/sheets.hpp"
@@ -24,17 +23,22 @@
 namespace slicecap::cli {
 namespace {
 
+using methods::Acquisition;
+using methods::Method;
+using methods::MethodOptions;
+using methods::MethodRun;
+
 std::vector<const Method*> parseMethods(const std::string& list) {
   std::vector<const Method*> methods;
   if (list == "all") {
-    for (const Method& m : reconstructionMethods())
+    for (const Method& m : methods::reconstructionMethods())
       methods.push_back(&m);
     return methods;
   }
   std::stringstream stream(list);
   std::string name;
   while (std::getline(stream, name, ',')) {
-    const Method* method = &findMethod(name);
+    const Method* method = &methods::findMethod(name);
     if (std::find(methods.begin(), methods.end(), method) != methods.end())
       throw UsageError("--methods: '" + name + "' is listed twice");
     methods.push_back(method);
@@ -122,7 +126,7 @@ void printSummary(std::ostream& out, const std::vector<eval::MethodSummary>& sum
   for (const eval::MethodSummary& s : summaries) {
     out << formatRow(s.method, s.mean, s.meanMilliseconds)
         << (s.failures ? "  (" + std::to_string(s.failures) + " failed)" : "") << "\n";
-    if (s.method == "uniform") uniform = &s;
+    if (s.method == methods::cliName(methods::MethodId::Uniform)) uniform = &s;
   }
   if (uniform && uniform->materials > 0 && summaries.size() > 1) {
     out << "\nmargin over the uniform baseline (positive = better than uniform)\n"
@@ -152,7 +156,8 @@ int run(const ParsedArgs& args, Streams& io) {
   const std::vector<const Method*> methods =
       parseMethods(args.value("methods").value_or("b,a,uniform"));
   MethodOptions options;
-  if (const std::optional<std::string> spec = args.value("rbf")) applyRbfSpec(*spec, options);
+  if (const std::optional<std::string> spec = args.value("rbf"))
+    methods::applyRbfSpec(*spec, options);
   const std::vector<MaterialSource> materials = resolveMaterials(args.positional);
   const bool json = args.flag("json"), quiet = args.flag("quiet");
   const std::optional<std::filesystem::path> out = args.value("out");
@@ -263,7 +268,7 @@ Command evalCommand() {
       "reconstruction and its x10 difference in the paper's 81 x 81 layout, numbers under each.\n"
       "A material or method that fails is reported on stderr and the run goes on; exit code 1 "
       "then.\n\nmethods:\n";
-  description += methodHelpLines();
+  description += methods::methodHelpLines();
   return {
       {"eval",
        "MATERIALS... [--methods b,a,uniform|all] [--rbf SPEC] [--out DIR] [--no-sheets] [--json] "

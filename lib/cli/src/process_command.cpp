@@ -9,12 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "method_fallback.hpp"
 #include "path_clash.hpp"
 #include "pipeline_options.hpp"
 #include "slicecap/capture/recording_processor.hpp"
 #include "slicecap/cli/command.hpp"
-#include "slicecap/cli/methods.hpp"
+#include "slicecap/methods/method_fallback.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -134,7 +133,8 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   const std::filesystem::path output = args.required("output");
   // Bad options are usage errors before the session is even looked at.
   const capture::PipelineSettings settings = pipelineSettingsOf(args);
-  const Method& method = findMethod(args.value("method").value_or("b"));
+  const methods::Method& method = methods::findMethod(
+      args.value("method").value_or(methods::cliName(methods::MethodId::B)));
   const std::vector<std::filesystem::path> recordings = sessionRecordings(session);
   nlohmann::json report = {{"recordings", nlohmann::json::array()}};
   const auto reportPath = args.value("report");
@@ -147,9 +147,9 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   refuseNoSamples(processed, reportPath, output, io);
   const SliceSet& slices = processed.slices;
   if (const auto csv = args.value("slices")) io::writeSliceCsv(*csv, slices);
-  MethodOptions options;
+  methods::MethodOptions options;
   options.isotropic = args.flag("isotropic");
-  const MethodRun result = runMethodOrPrior(method, slices, options);
+  const methods::MethodRun result = methods::runMethodOrPrior(method, slices, options);
   io::writeAbrdfExr(output, result.table,
                     {{"method", result.exrMethodName},
                      {"source", session.filename().string()},
@@ -186,7 +186,8 @@ Command processCommand() {
 Command captureOfflineCommand() {
   std::vector<OptionSpec> options = {
       {"output", 'o', "OUT.exr", "the reconstructed ABRDF (required)"},
-      {"method", 0, "NAME", "reconstruction method (default b)"},
+      {"method", 0, "NAME",
+       "reconstruction method (default " + methods::cliName(methods::MethodId::B) + ")"},
       {"isotropic", 0, "", "use the diagonal slices only"},
       {"slices", 0, "FILE", "also write the slice CSV"}};
   for (auto& o : pipelineOptions())

@@ -4,16 +4,17 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
-#include "method_fallback.hpp"
 #include "path_clash.hpp"
 #include "slicecap/cli/command.hpp"
-#include "slicecap/cli/methods.hpp"
-#include "slicecap/cli/rbf_options.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/slice_csv.hpp"
+#include "slicecap/methods/method_fallback.hpp"
+#include "slicecap/methods/rbf_spec.hpp"
 
 namespace slicecap::cli {
 namespace {
+
+using methods::MethodId;
 
 recon::TorusRule parseTorusRule(const std::string& text) {
   if (text == "square") return recon::TorusRule::FundamentalSquare;
@@ -22,18 +23,20 @@ recon::TorusRule parseTorusRule(const std::string& text) {
 }
 
 int run(const ParsedArgs& args, Streams& io) {
-  const Method& method = findMethod(args.value("method").value_or("b"));
-  MethodOptions options;
+  const methods::Method& method =
+      methods::findMethod(args.value("method").value_or(methods::cliName(MethodId::B)));
+  methods::MethodOptions options;
   options.isotropic = args.flag("isotropic");
   options.torusRule = parseTorusRule(args.value("torus").value_or("square"));
-  if (const std::optional<std::string> spec = args.value("rbf")) applyRbfSpec(*spec, options);
+  if (const std::optional<std::string> spec = args.value("rbf"))
+    methods::applyRbfSpec(*spec, options);
   const std::filesystem::path input = args.positional[0];
   const std::filesystem::path output = args.required("output");
   refuseClashingPaths({{"the input", input}}, {{"-o", output}});
 
   const SliceSet slices = io::readSliceCsv(input);
   const auto start = std::chrono::steady_clock::now();
-  const MethodRun result = runMethodOrPrior(method, slices, options);
+  const methods::MethodRun result = methods::runMethodOrPrior(method, slices, options);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   io::writeAbrdfExr(output, result.table,
@@ -79,13 +82,14 @@ Command reconstructCommand() {
       "with\n"
       "--isotropic only the four diagonal ones; uniform takes point samples (sample --uniform).\n"
       "\nmethods:\n";
-  description += methodHelpLines();
+  description += methods::methodHelpLines();
   return {{"reconstruct",
            "SLICES.csv -o OUT.exr [--method NAME] [--isotropic] [--torus square|pi-symmetric] "
            "[--rbf SPEC] [--json]",
            description,
            {{"output", 'o', "OUT.exr", "where to write the ABRDF (required)"},
-            {"method", 0, "NAME", "reconstruction method (default b)"},
+            {"method", 0, "NAME",
+             "reconstruction method (default " + methods::cliName(MethodId::B) + ")"},
             {"isotropic", 0, "", "use the diagonal slices only (eq. 5)"},
             {"torus", 0, "RULE", "square (default) or pi-symmetric (docs/method.md section 3.2)"},
             {"rbf", 0, "SPEC",

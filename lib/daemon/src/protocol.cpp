@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "slicecap/capture/session_store.hpp"
+#include "slicecap/methods/method_id.hpp"
 
 namespace slicecap::daemon {
 namespace {
@@ -135,7 +136,8 @@ Command parseCommand(std::string_view name, const json& args) {
   if (name == "sweep.redo") return SweepRedo{slice(args)};
   if (name == "status") return Status{};
   if (name == "reconstruct") {
-    return Reconstruct{optionalSessionId(args, "id"), optionalMethod(args).value_or("b")};
+    return Reconstruct{optionalSessionId(args, "id"),
+                       optionalMethod(args).value_or(methods::cliName(methods::MethodId::B))};
   }
   if (name == "export") {
     std::string directory = optionalText(args, "directory").value_or("");

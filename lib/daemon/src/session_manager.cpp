@@ -22,12 +22,22 @@
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/journal.hpp"
 #include "slicecap/io/slice_csv.hpp"
+#include "slicecap/methods/method_id.hpp"
 
 namespace slicecap::daemon {
 namespace {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
+
+// The `slicecap:method` of a table the session's `slices` gave with the method named `method`:
+// the value `slicecap reconstruct` writes for the same form (methods::exrMethodValue). A name the
+// registry does not know (only a test's stand-in reconstruction accepts one) is written as it is.
+std::string exrMethodValue(const std::string& method, const SliceSet& slices) {
+  const std::optional<methods::MethodId> id = methods::parseMethodName(method);
+  if (!id) return method;
+  return methods::exrMethodValue(*id, methods::sessionTakesIsotropicForm(*id, slices));
+}
 
 // Thrown inside this file only, turned into a ProtocolError by handle().
 struct Refusal {
@@ -125,9 +135,9 @@ const std::vector<SliceId>& sweepOrder() {
 std::string defaultExportMethod(const SliceSet& slices) {
   for (const SliceId& slice : sweepOrder()) {
     const Slice* measured = slices.find(slice);
-    if (!measured || measured->samples.empty()) return "prior";
+    if (!measured || measured->samples.empty()) return methods::cliName(methods::MethodId::Prior);
   }
-  return "b";
+  return methods::cliName(methods::MethodId::B);
 }
 
 struct SessionManager::State {
@@ -484,14 +494,17 @@ struct SessionManager::State {
       table = reconstruct(slices, method);
     } catch (const std::exception& error) {
       std::string message = "reconstruction with method '" + method + "' failed: " + error.what();
-      if (method != "prior")
-        message += " (`--method prior` reconstructs from any subset of the slices)";
+      if (methods::parseMethodName(method) != methods::MethodId::Prior)
+        message += " (`--method " + methods::cliName(methods::MethodId::Prior) +
+                   "` reconstructs from any subset of the slices)";
       throw Refusal{ErrorCode::Conflict, message};
     }
     const fs::path path = store.directory() / (std::string(kTablePrefix) + method + ".exr");
     io::writeAbrdfExr(
         path, table,
-        {{"method", method}, {"material", store.info().material}, {"session", store.info().id}});
+        {{"method", exrMethodValue(method, slices)},
+         {"material", store.info().material},
+         {"session", store.info().id}});
     return {path, std::move(table)};
   }
 

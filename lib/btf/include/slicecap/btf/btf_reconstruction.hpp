@@ -2,6 +2,7 @@
 // (or Method A with one shared factorisation, or the learned prior), on a pool of threads.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -10,26 +11,25 @@
 #include "slicecap/btf/slice_texture.hpp"
 #include "slicecap/btf/texture_grid.hpp"
 #include "slicecap/core/slice.hpp"
+#include "slicecap/methods/method_id.hpp"
 #include "slicecap/prior/prior_model.hpp"
 #include "slicecap/prior/prior_reconstruction.hpp"
 #include "slicecap/recon/method_b.hpp"
 
 namespace slicecap::btf {
 
-/// \brief Which method reconstructs every texel.
-enum class TexelMethod {
-  B,  ///< Method B (docs/method.md §4), texel by texel
-  A,  ///< Method A (docs/method.md §5): one factorised RBF system, a texel row per matrix product
-  /// The learned prior (docs/method.md §8), texel by texel, at each texel's own
-  /// directions; a texel some slice's frames missed is still reconstructed from the rest.
-  Prior,
-};
+/// \brief The methods of the registry that reconstruct every texel: Method B (docs/method.md §4),
+/// texel by texel; Method A (§5), one factorised RBF system, a texel row per matrix product; the
+/// learned prior (§8), texel by texel at each texel's own directions (a texel some slice's frames
+/// missed is still reconstructed from the rest).
+inline constexpr std::array<methods::MethodId, 3> kTexelMethods{
+    methods::MethodId::B, methods::MethodId::A, methods::MethodId::Prior};
 
 /// \brief Options of the per-texel reconstruction.
 struct BtfReconstructionParams {
-  TexelMethod method = TexelMethod::B;
+  methods::MethodId method = methods::MethodId::B;  ///< one of kTexelMethods
   recon::MethodBParams methodB;  ///< isotropic and torus rule also apply to Method A
-  /// \brief TexelMethod::Prior: the model (e.g. prior::defaultPriorModel()), which must outlive
+  /// \brief MethodId::Prior: the model (e.g. prior::defaultPriorModel()), which must outlive
   /// the call, and its options (an operator's "isotropic" is `prior.isotropicOnly`).
   const prior::PriorModel* priorModel = nullptr;
   prior::PriorParams prior;
@@ -46,7 +46,7 @@ struct BtfReconstructionReport {
   std::string firstFailure;  ///< the first failed texel's reason, naming the texel
   /// \brief Method B line fits that fell back to the closed form, over all texels.
   std::size_t closedFormFits = 0;
-  /// \brief TexelMethod::Prior: texels blended with Method B (little directional structure) and
+  /// \brief MethodId::Prior: texels blended with Method B (little directional structure) and
   /// texels fitted with the anisotropy terms.
   std::size_t priorBlendedTexels = 0;
   std::size_t priorAnisotropicTexels = 0;
@@ -59,8 +59,8 @@ SliceSet texelSlices(const TextureGrid& grid, const std::vector<SliceTexture>& s
                      int row);
 
 /// \brief Every texel reconstructed. Rows of texels are shared out among the threads.
-/// Throws std::invalid_argument for invalid Method B or prior options, or TexelMethod::Prior
-/// without a model.
+/// Throws std::invalid_argument for a method not in kTexelMethods, invalid Method B or prior
+/// options, or MethodId::Prior without a model.
 BtfTexture reconstructBtf(const TextureGrid& grid, const std::vector<SliceTexture>& slices,
                           const BtfReconstructionParams& params = {},
                           BtfReconstructionReport* report = nullptr);

@@ -9,6 +9,7 @@
 #include <variant>
 
 #include "slicecap/core/slice.hpp"
+#include "slicecap/methods/method_id.hpp"
 
 namespace slicecap::daemon {
 
@@ -61,7 +62,7 @@ struct Reconstruct {
   std::optional<std::string> id;  ///< default: the current session
   /// A method of the registry (`slicecap reconstruct --help`); on the wire 1-32 characters of
   /// a-z, 0-9 and '-' (it names <session>/abrdf-<method>.exr), else a bad_request reply.
-  std::string method = "b";
+  std::string method = methods::cliName(methods::MethodId::B);
 };
 struct Export {
   std::optional<std::string> id;  ///< default: the current session

@@ -17,9 +17,10 @@
 
 namespace slicecap::daemon {
 
-/// \brief Reconstructs a full table from a session's slices with a named method (the registry
-/// lives with the CLI, which the daemon's main injects). Throws std::exception with a message a
-/// person can act on (e.g. which slices are missing).
+/// \brief Reconstructs a full table from a session's slices with a named method of lib/methods
+/// (slicecapd's main injects methods::runForSession), in the form the registry gives the session
+/// (methods::sessionTakesIsotropicForm): the daemon names the table's `slicecap:method` by that
+/// form. Throws std::exception with a message a person can act on (e.g. which slices are missing).
 using ReconstructFunction = std::function<Abrdf(const SliceSet& slices, const std::string& method)>;
 /// \brief Writes a PNG preview of a table (optional: export leaves the preview out without it).
 using PreviewFunction =

@@ -1,11 +1,11 @@
-// The method registry: each method is one entry here.
-#include "slicecap/cli/methods.hpp"
+// The methods' runs: each MethodId's reconstruction and what it reports.
+#include "slicecap/methods/methods.hpp"
 
 #include <algorithm>
 #include <cstdio>
 
-#include "slicecap/cli/args.hpp"
-#include "slicecap/cli/rbf_options.hpp"
+#include "slicecap/methods/errors.hpp"
+#include "slicecap/methods/rbf_spec.hpp"
 #include "slicecap/prior/prior_location.hpp"
 #include "slicecap/prior/prior_reconstruction.hpp"
 #include "slicecap/recon/halfway_method.hpp"
@@ -13,7 +13,7 @@
 #include "slicecap/recon/method_b.hpp"
 #include "slicecap/recon/scattered_rbf.hpp"
 
-namespace slicecap::cli {
+namespace slicecap::methods {
 namespace {
 
 MethodRun runMethodB(const SliceSet& slices, const MethodOptions& options) {
@@ -22,7 +22,7 @@ MethodRun runMethodB(const SliceSet& slices, const MethodOptions& options) {
   params.torusRule = options.torusRule;
   recon::MethodBReport report;
   MethodRun run{recon::reconstructMethodB(slices, params, &report),
-                options.isotropic ? "B-isotropic" : "B",
+                exrMethodValue(MethodId::B, options.isotropic),
                 {},
                 {},
                 {}};
@@ -53,9 +53,8 @@ MethodRun runMethodAWithGamma(const SliceSet& slices, const MethodOptions& optio
   params.frame = options.onionFrame;
   params.rbf = options.rbf;
   params.rbf.valueGamma = valueGamma;
-  const std::string name = valueGamma == 1.0 ? "A" : "A-gamma";
-  MethodRun run{recon::reconstructMethodA(slices, params),
-                options.isotropic ? name + "-isotropic" : name,
+  const MethodId id = valueGamma == 1.0 ? MethodId::A : MethodId::AGamma;
+  MethodRun run{recon::reconstructMethodA(slices, params), exrMethodValue(id, options.isotropic),
                 {},
                 {},
                 {}};
@@ -87,7 +86,8 @@ MethodRun runUniformWithGamma(const SliceSet& samples, const MethodOptions& opti
   params.rbf = options.rbf;
   params.rbf.valueGamma = valueGamma;
   MethodRun run{recon::reconstructScattered(samples, params),
-                valueGamma == 1.0 ? "uniform-RBF" : "uniform-RBF-gamma",
+                exrMethodValue(valueGamma == 1.0 ? MethodId::Uniform : MethodId::UniformGamma,
+                               options.isotropic),
                 {},
                 {},
                 {}};
@@ -124,7 +124,7 @@ MethodRun runHalfway(const SliceSet& slices, const MethodOptions& options) {
   params.torusRule = options.torusRule;
   recon::HalfwayReport report;
   MethodRun run{recon::reconstructHalfway(slices, params, &report),
-                options.isotropic ? "halfway-isotropic" : "halfway",
+                exrMethodValue(MethodId::Halfway, options.isotropic),
                 {},
                 {},
                 {}};
@@ -149,7 +149,7 @@ MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
   params.isotropicOnly = options.isotropic;
   prior::PriorReport report;
   MethodRun run{prior::reconstructWithPrior(slices, prior::defaultPriorModel(), params, &report),
-                options.isotropic ? "prior-isotropic" : "prior",
+                exrMethodValue(MethodId::Prior, options.isotropic),
                 {},
                 {},
                 {}};
@@ -178,52 +178,62 @@ MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
   return run;
 }
 
+// A method's row of the registry: its name comes from the table (method_id.cpp).
+Method entry(MethodId id, std::string summary,
+             std::function<MethodRun(const SliceSet&, const MethodOptions&)> run) {
+  const Acquisition acquisition = methodInfo(id).reads == SliceSubset::PointSamples
+                                      ? Acquisition::UniformGrid13
+                                      : Acquisition::Slices;
+  return {id, cliName(id), std::move(summary), std::move(run), acquisition};
+}
+
 }  // namespace
 
 const std::vector<Method>& reconstructionMethods() {
+  // In MethodId's order (findMethod(MethodId) indexes it).
   static const std::vector<Method> methods{
-      {"b",
-       "Method B of the paper (docs/method.md section 4): slice-sum subspaces, lobe-weighted "
-       "elevation blends",
-       runMethodB},
-      {"a",
-       "Method A of the paper (docs/method.md section 5): slice-sum subspaces, 4-D RBF in onion "
-       "coordinates",
-       runMethodA},
-      {"uniform",
-       "the uniform baseline (docs/method.md section 6.3): RBF over point samples, e.g. sample "
-       "--uniform 13",
-       runUniform, Acquisition::UniformGrid13},
-      {"a-gamma",
-       "Method A interpolating v^(1/2.2), close to the paper's 8-bit sRGB data (docs/method.md "
-       "section 6.2)",
-       runMethodAGamma},
-      {"uniform-gamma", "the uniform baseline interpolating v^(1/2.2), as a-gamma", runUniformGamma,
-       Acquisition::UniformGrid13},
-      {"halfway",
-       "slicecap's improvement (docs/method.md section 7): unmeasured entries from the nearest\n"
-       "measured ones in halfway angle; for isotropic materials only where Method B extrapolates",
-       runHalfway},
-      {"prior",
-       "learned prior (issue 10): PCA of measured tables fitted at the samples' actual angles, "
-       "half-vector anisotropy, measured slices kept; any subset of slices",
-       runPrior},
+      entry(MethodId::B,
+            "Method B of the paper (docs/method.md section 4): slice-sum subspaces, lobe-weighted "
+            "elevation blends",
+            runMethodB),
+      entry(MethodId::A,
+            "Method A of the paper (docs/method.md section 5): slice-sum subspaces, 4-D RBF in "
+            "onion coordinates",
+            runMethodA),
+      entry(MethodId::Uniform,
+            "the uniform baseline (docs/method.md section 6.3): RBF over point samples, e.g. "
+            "sample --uniform 13",
+            runUniform),
+      entry(MethodId::AGamma,
+            "Method A interpolating v^(1/2.2), close to the paper's 8-bit sRGB data "
+            "(docs/method.md section 6.2)",
+            runMethodAGamma),
+      entry(MethodId::UniformGamma, "the uniform baseline interpolating v^(1/2.2), as a-gamma",
+            runUniformGamma),
+      entry(MethodId::Halfway,
+            "slicecap's improvement (docs/method.md section 7): unmeasured entries from the "
+            "nearest\nmeasured ones in halfway angle; for isotropic materials only where Method B "
+            "extrapolates",
+            runHalfway),
+      entry(MethodId::Prior,
+            "learned prior (issue 10): PCA of measured tables fitted at the samples' actual "
+            "angles, half-vector anisotropy, measured slices kept; any subset of slices",
+            runPrior),
   };
   return methods;
 }
 
-const Method& findMethod(const std::string& name) {
-  for (const Method& m : reconstructionMethods()) {
-    if (m.name == name) return m;
-  }
-  throw UsageError("unknown method '" + name + "' (known: " + methodNames() + ")");
+const Method& findMethod(MethodId id) {
+  const Method& method = reconstructionMethods().at(static_cast<std::size_t>(methodInfo(id).id));
+  return method;
 }
 
-std::string methodNames() {
-  std::string names;
-  for (const Method& m : reconstructionMethods())
-    names += (names.empty() ? "" : ", ") + m.name;
-  return names;
+const Method& findMethod(const std::string& name) { return findMethod(methodNamed(name)); }
+
+MethodRun runForSession(MethodId id, const SliceSet& slices) {
+  MethodOptions options;
+  options.isotropic = sessionTakesIsotropicForm(id, slices);
+  return findMethod(id).run(slices, options);
 }
 
 std::string methodHelpLines() {
@@ -242,4 +252,4 @@ std::string methodHelpLines() {
   return lines;
 }
 
-}  // namespace slicecap::cli
+}  // namespace slicecap::methods

@@ -1,13 +1,13 @@
 // Offline reconstruction of a session with a missing slice: name it, say how to sweep it, and
 // export with the prior.
-#include "method_fallback.hpp"
+#include "slicecap/methods/method_fallback.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 
 #include "slicecap/recon/errors.hpp"
 
-namespace slicecap::cli {
+namespace slicecap::methods {
 
 std::vector<SliceId> missingMeasuredSlices(const SliceSet& slices, bool isotropic) {
   std::vector<SliceId> missing;
@@ -27,7 +27,7 @@ std::string sweepCommand(const SliceId& slice) {
 
 MethodRun runMethodOrPrior(const Method& method, const SliceSet& slices,
                            const MethodOptions& options) {
-  const bool anySubset = method.name == "prior" || method.acquisition != Acquisition::Slices;
+  const bool anySubset = methodInfo(method.id).reads != SliceSubset::EveryMeasuredSlice;
   const std::vector<SliceId> missing = missingMeasuredSlices(slices, options.isotropic);
   if (anySubset || missing.empty()) return method.run(slices, options);
   std::string which;
@@ -46,7 +46,7 @@ MethodRun runMethodOrPrior(const Method& method, const SliceSet& slices,
                 "from them with --isotropic; else sweep the axial ones, or use --method prior");
   MethodRun run;
   try {
-    run = findMethod("prior").run(slices, options);
+    run = findMethod(MethodId::Prior).run(slices, options);
   } catch (const std::exception& error) {
     throw recon::ReconstructionError(lacks + "\n(and the prior, which reads any subset, failed: " +
                                      error.what() + ")");
@@ -61,4 +61,4 @@ MethodRun runMethodOrPrior(const Method& method, const SliceSet& slices,
   return run;
 }
 
-}  // namespace slicecap::cli
+}  // namespace slicecap::methods

@@ -1,11 +1,11 @@
-// Parsing and printing of `--rbf SPEC`.
-#include "slicecap/cli/rbf_options.hpp"
+// Parsing and printing of an RBF spec (`--rbf SPEC`).
+#include "slicecap/methods/rbf_spec.hpp"
 
 #include <sstream>
 
-#include "slicecap/cli/args.hpp"
+#include "slicecap/methods/errors.hpp"
 
-namespace slicecap::cli {
+namespace slicecap::methods {
 namespace {
 
 recon::RbfKernel parseKernel(const std::string& text) {
@@ -13,7 +13,7 @@ recon::RbfKernel parseKernel(const std::string& text) {
   if (text == "imq") return recon::RbfKernel::InverseMultiquadric;
   if (text == "r") return recon::RbfKernel::Linear;
   if (text == "r3") return recon::RbfKernel::Cubic;
-  throw UsageError("--rbf: kernel '" + text + "' is not one of mq, imq, r, r3");
+  throw MethodError("--rbf: kernel '" + text + "' is not one of mq, imq, r, r3");
 }
 
 std::string kernelName(recon::RbfKernel kernel) {
@@ -52,7 +52,7 @@ double parseInRange(const std::string& key, const std::string& text, double lo, 
   if (used != text.size() || !(value >= lo && value <= hi)) {
     std::ostringstream range;
     range << lo << ".." << hi;
-    throw UsageError("--rbf: " + key + " '" + text + "' is not a number in " + range.str());
+    throw MethodError("--rbf: " + key + " '" + text + "' is not a number in " + range.str());
   }
   return value;
 }
@@ -65,7 +65,7 @@ void applyRbfSpec(const std::string& spec, MethodOptions& options) {
   while (std::getline(items, item, ',')) {
     const std::size_t equals = item.find('=');
     if (equals == std::string::npos)
-      throw UsageError("--rbf: '" + item +
+      throw MethodError("--rbf: '" + item +
                        "' is not key=value (keys: kernel, poly, r0, frame, "
                        "gamma)");
     const std::string key = item.substr(0, equals), value = item.substr(equals + 1);
@@ -73,20 +73,20 @@ void applyRbfSpec(const std::string& spec, MethodOptions& options) {
       options.rbf.kernel = parseKernel(value);
     } else if (key == "poly") {
       if (value != "const" && value != "linear")
-        throw UsageError("--rbf: poly '" + value + "' is not one of const, linear");
+        throw MethodError("--rbf: poly '" + value + "' is not one of const, linear");
       options.rbf.polynomial =
           value == "linear" ? recon::RbfPolynomial::Linear : recon::RbfPolynomial::Constant;
     } else if (key == "r0") {
       options.rbf.shapeScale = parseInRange(key, value, kMinShapeScale, kMaxShapeScale);
     } else if (key == "frame") {
       if (value != "relative" && value != "absolute")
-        throw UsageError("--rbf: frame '" + value + "' is not one of relative, absolute");
+        throw MethodError("--rbf: frame '" + value + "' is not one of relative, absolute");
       options.onionFrame =
           value == "absolute" ? recon::OnionFrame::Absolute : recon::OnionFrame::ViewRelative;
     } else if (key == "gamma") {
       options.rbf.valueGamma = parseInRange(key, value, kMinValueGamma, kMaxValueGamma);
     } else {
-      throw UsageError("--rbf: unknown key '" + key + "' (keys: kernel, poly, r0, frame, gamma)");
+      throw MethodError("--rbf: unknown key '" + key + "' (keys: kernel, poly, r0, frame, gamma)");
     }
   }
 }
@@ -101,4 +101,4 @@ std::string rbfSpec(const MethodOptions& options) {
   return spec.str();
 }
 
-}  // namespace slicecap::cli
+}  // namespace slicecap::methods

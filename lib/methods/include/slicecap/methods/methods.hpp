@@ -1,4 +1,4 @@
-// The reconstruction methods the commands offer, by name (`--method b`, `eval --methods b,a`).
+// The reconstruction methods: each MethodId's run on a SliceSet, with what it reports.
 #pragma once
 
 #include <functional>
@@ -8,17 +8,18 @@
 
 #include "slicecap/core/abrdf.hpp"
 #include "slicecap/core/slice.hpp"
+#include "slicecap/methods/method_id.hpp"
 #include "slicecap/recon/method_a.hpp"
 #include "slicecap/recon/slice_sum.hpp"
 
-namespace slicecap::cli {
+namespace slicecap::methods {
 
 /// \brief Options every method receives; a method ignores what does not apply to it.
 struct MethodOptions {
   bool isotropic = false;  ///< only the diagonal slices are measured (eq. 5)
   recon::TorusRule torusRule = recon::TorusRule::FundamentalSquare;
   /// \brief The shared RBF machinery of a and uniform (and their -gamma variants, which force
-  /// valueGamma 2.2): Method A's defaults unless `--rbf` says otherwise (rbf_options.hpp).
+  /// valueGamma 2.2): Method A's defaults unless an RBF spec says otherwise (rbf_spec.hpp).
   recon::RbfParams rbf = recon::MethodAParams{}.rbf;
   recon::OnionFrame onionFrame = recon::MethodAParams{}.frame;
 };
@@ -26,7 +27,7 @@ struct MethodOptions {
 /// \brief What a method produced: the table and what a person or a script should know about it.
 struct MethodRun {
   Abrdf table;
-  std::string exrMethodName;          ///< `slicecap:method` of the EXR, e.g. "B-isotropic"
+  std::string exrMethodName;          ///< `slicecap:method` of the EXR: exrMethodValue()
   std::vector<std::string> warnings;  ///< printed on stderr (e.g. a fit that did not converge)
   std::vector<std::string> lines;     ///< a human summary, printed on stdout
   nlohmann::json details;             ///< the same for --json
@@ -38,25 +39,31 @@ enum class Acquisition {
   UniformGrid13,  ///< 13 light x 13 view directions, 169 point samples (docs/method.md §6.3)
 };
 
-/// \brief A named method: `run` throws (e.g. recon::ReconstructionError naming a missing slice)
-/// when the samples cannot give a table.
+/// \brief A method: its entry in the table, a summary for --help and its run. `run` throws (e.g.
+/// recon::ReconstructionError naming a missing slice) when the samples cannot give a table.
 struct Method {
-  std::string name;
+  MethodId id;
+  std::string name;  ///< methodInfo(id).cliName
   std::string summary;
   std::function<MethodRun(const SliceSet&, const MethodOptions&)> run;
   Acquisition acquisition = Acquisition::Slices;
 };
 
-/// \brief Every method, in the order --help lists them.
+/// \brief Every method, in MethodId's order (the order --help lists them).
 const std::vector<Method>& reconstructionMethods();
 
-/// \brief The method of this name; UsageError listing the known names otherwise.
-const Method& findMethod(const std::string& name);
+/// \brief The method `id`.
+const Method& findMethod(MethodId id);
 
-/// \brief "b, a, ..." for help texts.
-std::string methodNames();
+/// \brief The method of this CLI name; MethodError listing the known names otherwise.
+const Method& findMethod(const std::string& name);
 
 /// \brief One line per method, "  name     summary", names padded to one column, for --help.
 std::string methodHelpLines();
 
-}  // namespace slicecap::cli
+/// \brief The table slicecapd makes of a session's `slices` with `id`: the form
+/// sessionTakesIsotropicForm() gives, default options otherwise. The EXR's `slicecap:method` is
+/// exrMethodValue(id, sessionTakesIsotropicForm(id, slices)). Throws what the method throws.
+MethodRun runForSession(MethodId id, const SliceSet& slices);
+
+}  // namespace slicecap::methods

@@ -1,0 +1,86 @@
+// The registry's runs: each method by its id and name, and the EXR name each run reports is the
+// table's (method_id.hpp), in both forms.
+#include "slicecap/methods/methods.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "slicecap/methods/errors.hpp"
+#include "slicecap/models/reflectance_model.hpp"
+#include "slicecap/recon/slice_extraction.hpp"
+#include "slicecap/recon/uniform_sampling.hpp"
+
+namespace slicecap::methods {
+namespace {
+
+using ::testing::HasSubstr;
+
+const SliceSet& brushedSteelSlices() {
+  static const SliceSet slices =
+      recon::extractSlices(models::tabulate(*models::findMaterial("brushed-steel-30")));
+  return slices;
+}
+
+SliceSet diagonalOnly(const SliceSet& slices) {
+  SliceSet diagonal;
+  for (const Slice& slice : slices.slices())
+    if (slice.id.kind == SliceKind::Diagonal)
+      for (const SliceSample& sample : slice.samples)
+        diagonal.add(slice.id, sample);
+  return diagonal;
+}
+
+TEST(Methods, EveryMethodOnceInTheTablesOrder) {
+  const std::vector<Method>& methods = reconstructionMethods();
+  ASSERT_EQ(methods.size(), methodTable().size());
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    EXPECT_EQ(methods[k].id, methodTable()[k].id);
+    EXPECT_EQ(methods[k].name, methodTable()[k].cliName);
+    EXPECT_EQ(&findMethod(methods[k].id), &methods[k]);
+    EXPECT_EQ(&findMethod(methods[k].name), &methods[k]);
+    EXPECT_EQ(methods[k].acquisition == Acquisition::UniformGrid13,
+              methodTable()[k].reads == SliceSubset::PointSamples);
+  }
+  EXPECT_THROW(findMethod(std::string("B")), MethodError);
+}
+
+TEST(Methods, HelpListsEachNameInOneColumn) {
+  const std::string help = methodHelpLines();
+  for (const Method& m : reconstructionMethods())
+    EXPECT_THAT(help, HasSubstr("  " + m.name + " ")) << help;
+  // The halfway summary's second line starts in the summaries' column (name width 13 + 4).
+  EXPECT_THAT(help, HasSubstr("\n" + std::string(17, ' ') + "measured ones in halfway angle"));
+}
+
+TEST(Methods, EachRunNamesItsTableByTheRegistrysValue) {
+  const SliceSet& slices = brushedSteelSlices();
+  for (MethodId id : {MethodId::B, MethodId::Halfway}) {
+    MethodOptions options;
+    EXPECT_EQ(findMethod(id).run(slices, options).exrMethodName, exrMethodValue(id, false));
+    options.isotropic = true;
+    EXPECT_EQ(findMethod(id).run(diagonalOnly(slices), options).exrMethodName,
+              exrMethodValue(id, true));
+  }
+  const SliceSet points = recon::extractUniformSamples(
+      models::tabulate(*models::findMaterial("brushed-steel-30")),
+      recon::kUniformBaselineDirections);
+  MethodOptions isotropic;
+  isotropic.isotropic = true;
+  EXPECT_EQ(findMethod(MethodId::Uniform).run(points, isotropic).exrMethodName, "uniform-RBF");
+}
+
+TEST(Methods, ASessionsRunTakesTheFormItsSlicesGive) {
+  const SliceSet& slices = brushedSteelSlices();
+  EXPECT_EQ(runForSession(MethodId::B, slices).exrMethodName, "B");
+  const MethodRun isotropic = runForSession(MethodId::B, diagonalOnly(slices));
+  EXPECT_EQ(isotropic.exrMethodName, "B-isotropic");
+  // The same table as the isotropic form asked for by hand (`reconstruct --isotropic`).
+  MethodOptions options;
+  options.isotropic = true;
+  const Abrdf byHand = findMethod(MethodId::B).run(diagonalOnly(slices), options).table;
+  EXPECT_EQ(isotropic.table.at(20, 40).r(), byHand.at(20, 40).r());
+  EXPECT_GT(byHand.at(20, 40).r(), 0.0f);
+}
+
+}  // namespace
+}  // namespace slicecap::methods
