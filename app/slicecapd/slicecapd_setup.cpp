@@ -16,6 +16,7 @@
 
 #include "slicecap/btf/texture_capture.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
+#include "slicecap/material_export/session_material.hpp"
 #include "slicecap/core/version.hpp"
 #include "slicecap/daemon/config.hpp"
 #include "slicecap/daemon/control_server.hpp"
@@ -172,6 +173,16 @@ void preview(const Abrdf& table, const fs::path& png) {
   io::writePng(png, render::previewSheet(png.stem().string(), {line}, table).toPng());
 }
 
+// The exported table's fitted material (docs/material-fit.md, docs/material-export.md).
+daemon::ExportedMaterial fittedMaterial(const Abrdf& table, const std::string& tableName) {
+  material_export::SessionMaterial fitted = material_export::sessionMaterial(table, tableName);
+  daemon::ExportedMaterial exported;
+  exported.summary = fitted.summary;
+  for (material_export::MaterialFile& file : fitted.files)
+    exported.files.push_back({std::move(file.suffix), std::move(file.write)});
+  return exported;
+}
+
 // What a start would find wrong before it opens a device: the files the configuration names, the
 // socket's path and group (--check-config opens no device, so a camera or GPIO line is not tried).
 std::vector<std::string> startProblems(const DaemonConfig& config) {
@@ -278,6 +289,7 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   parts.reconstruct = reconstruct;
   parts.preview = preview;
   parts.isotropy = assessIsotropy;
+  parts.material = fittedMaterial;
 
   // Outlives the daemon: its socket file is removed when the daemon has stopped (not systemd's).
   const daemon::ListenSocket listening(

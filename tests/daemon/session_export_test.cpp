@@ -120,6 +120,52 @@ TEST(SessionExport, ALinkPlantedInTheFolderIsReplacedAndForeignTablesStay) {
   EXPECT_TRUE(fs::exists(out / "felt-abrdf-mine.exr")) << "the export did not write it";
 }
 
+// A material function as slicecapd's is, but cheap: one file holding the table's first value.
+ExportedMaterial oneFileMaterial(const Abrdf& table, const std::string& tableName) {
+  const float value = table.at(0, 0).r();
+  return {{{"-material.json",
+            [value, tableName](const fs::path& path) {
+              std::ofstream(path) << "{\"source\": \"" << tableName << "\", \"value\": " << value << "}";
+            }}},
+          "fitted from " + tableName};
+}
+
+TEST(SessionExport, HoldsTheFirstTablesFittedMaterialExceptWhileASweepRuns) {
+  const auto dir = test::freshTempDir();
+  const fs::path out = dir / "out";
+  SessionManager manager(dir / "storage", meanTable, {}, {}, oneFileMaterial);
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  sweep(manager, 0.25, 0);
+  const json reply = ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  EXPECT_EQ(reply["material"], "fitted from felt-abrdf-b.exr");
+  ASSERT_TRUE(fs::exists(out / "felt-material.json"));
+  EXPECT_THAT(reply["files"].dump(), HasSubstr("felt-material.json"));
+  std::ifstream written(out / "felt-material.json");
+  EXPECT_THAT(std::string(std::istreambuf_iterator<char>(written), {}), HasSubstr("0.25"));
+
+  // While a sweep runs, no fit (it would hold up the frames): said, and the earlier file goes as
+  // a stale member of the set rather than stay beside newer tables.
+  ok(manager, SweepStart{kAxial3030});
+  const json during = ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  EXPECT_THAT(during["material"].get<std::string>(), HasSubstr("not fitted while sweep"));
+  EXPECT_FALSE(fs::exists(out / "felt-material.json"));
+}
+
+TEST(SessionExport, ATableThatCannotBeFittedIsAWarningNotAFailedExport) {
+  const auto dir = test::freshTempDir();
+  const fs::path out = dir / "out";
+  SessionManager manager(dir / "storage", meanTable, {}, {},
+                         [](const Abrdf&, const std::string& name) -> ExportedMaterial {
+                           throw std::runtime_error(name + ": the fit did not converge");
+                         });
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  sweep(manager, 0.25, 0);
+  const json reply = ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  EXPECT_TRUE(fs::exists(out / "felt-abrdf-b.exr"));
+  EXPECT_FALSE(fs::exists(out / "felt-material.json"));
+  EXPECT_THAT(reply["warnings"].dump(), HasSubstr("no fitted material: felt-abrdf-b.exr: the fit did not converge"));
+}
+
 TEST(SessionExport, WhatADamagedJournalSetAsideIsSaidWithTheExport) {
   const auto dir = test::freshTempDir();
   {

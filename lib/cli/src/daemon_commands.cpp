@@ -328,11 +328,13 @@ int runExport(const ParsedArgs& args, Streams& io) {
     io.err << "warning: texture not exported: " << result["texture_skipped"].get<std::string>()
            << "\n";
   json answer = {{"session", result["session"]}, {"method", result["method"]}, {"files", copied}};
+  if (result.contains("material")) answer["material"] = result["material"];
   return finish(args, io, answer, [](std::ostream& out, const json& r) {
     out << "exported session " << r["session"].get<std::string>() << " (reconstructed with "
         << r["method"].get<std::string>() << "):\n";
     for (const json& f : r["files"])
       out << "  " << f.get<std::string>() << "\n";
+    if (r.contains("material")) out << "material: " << r["material"].get<std::string>() << "\n";
   });
 }
 

@@ -91,7 +91,7 @@ struct Daemon::State {
   explicit State(DaemonParts p)
       : parts(std::move(p)),
         clock(parts.clock ? *parts.clock : steadyClock),
-        manager(parts.storage, parts.reconstruct, parts.preview, parts.isotropy) {
+        manager(parts.storage, parts.reconstruct, parts.preview, parts.isotropy, parts.material) {
     parts.strobe.alternate = parts.ledAlternate;
     parts.led = std::make_unique<hal::TimelineLed>(std::move(parts.led), clock, commanded);
   }

@@ -163,6 +163,7 @@ struct SessionManager::State {
   ReconstructFunction reconstruct;
   PreviewFunction preview;
   IsotropyFunction isotropy;
+  MaterialFunction material;
   std::optional<capture::SessionStore> session;
   std::optional<Sweep> sweep;
   std::string lastError;
@@ -434,6 +435,28 @@ struct SessionManager::State {
         entries.push_back({fs::path(name).replace_extension(".png").string(),
                            [this, &table](const fs::path& path) { preview(table.values, path); }});
     }
+    // The first (asked or default) table's fitted material. A fit takes about a second here and
+    // several on a Pi: not while a sweep's frames wait on this thread.
+    const bool sweepRunning = sweep && !sweep->paused;
+    std::optional<ExportedMaterial> fitted;
+    json materialNote;
+    if (material && !tables.empty()) {
+      const std::string tableName = id + "-" + tables.front().path.filename().string();
+      if (sweepRunning) {
+        materialNote = "not fitted while sweep " + toString(sweep->slice) +
+                       " runs: `slicecap sweep stop` (or let it pause), then export again";
+      } else {
+        try {
+          fitted = material(tables.front().values, tableName);
+          materialNote = fitted->summary;
+        } catch (const std::exception& error) {
+          warnings.push_back(std::string("no fitted material: ") + error.what());
+        }
+      }
+    }
+    if (fitted)
+      for (const ExportedMaterialFile& file : fitted->files)
+        entries.push_back({id + file.suffix, file.write});
     entries.push_back({id + "-slices.csv",
                        [&slices](const fs::path& path) { io::writeSliceCsv(path, slices); }});
     json summary = sessionJson(store);
@@ -452,6 +475,7 @@ struct SessionManager::State {
                   {"directory", directory.string()},
                   {"files", files},
                   {"method", methods.front()}};
+    if (!materialNote.is_null()) reply["material"] = materialNote;
     if (!warnings.empty()) reply["warnings"] = std::move(warnings);
     // A running sweep adds and replaces texture frames while the client copies: refused, not
     // half copied. A paused or stopped sweep leaves the folder still.
@@ -639,12 +663,14 @@ struct SessionManager::State {
 };
 
 SessionManager::SessionManager(fs::path storageRoot, ReconstructFunction reconstruct,
-                               PreviewFunction preview, IsotropyFunction isotropy)
+                               PreviewFunction preview, IsotropyFunction isotropy,
+                               MaterialFunction material)
     : state_(std::make_unique<State>()) {
   state_->root = std::move(storageRoot);
   state_->reconstruct = std::move(reconstruct);
   state_->preview = std::move(preview);
   state_->isotropy = std::move(isotropy);
+  state_->material = std::move(material);
   std::error_code error;
   fs::create_directories(state_->root, error);
   if (error || !fs::is_directory(state_->root))

@@ -70,6 +70,8 @@ struct DaemonParts {
   /// The isotropy test status runs once the four diagonal sweeps are complete. Empty: status
   /// never says the axial sweeps can be skipped.
   IsotropyFunction isotropy;
+  /// The exported table's fitted material (empty: exports hold none).
+  MaterialFunction material;
   /// record_frames: the recording header (camera model, target, slice) of a slice's sweep; every
   /// frame of the sweep is then kept in <session>/recordings/<slice> (FrameRecorder). Empty: no
   /// frames are kept.

@@ -26,6 +26,22 @@ using ReconstructFunction = std::function<Abrdf(const SliceSet& slices, const st
 using PreviewFunction =
     std::function<void(const Abrdf& table, const std::filesystem::path& pngPath)>;
 
+/// \brief One file of an exported table's fitted material: `write` writes it to the path given,
+/// whose name ends in `suffix`.
+struct ExportedMaterialFile {
+  std::string suffix;
+  std::function<void(const std::filesystem::path&)> write;
+};
+/// \brief The fitted material of an exported table (material_export::sessionMaterial, injected by
+/// the daemon's main): its files and a line for the reply. Throws std::exception with a message
+/// when the table cannot be fitted; the export then goes on without it, saying why.
+struct ExportedMaterial {
+  std::vector<ExportedMaterialFile> files;
+  std::string summary;
+};
+using MaterialFunction =
+    std::function<ExportedMaterial(const Abrdf& table, const std::string& tableName)>;
+
 /// \brief The isotropy test's answer on a session's slices: are the axial sweeps needed?
 struct IsotropyAssessment {
   bool isotropic = true;
@@ -47,9 +63,10 @@ class SessionManager {
  public:
   /// \brief Opens the storage root (creating it) and the session that was current. Throws
   /// io::IoError naming the folder if it cannot be used. Without `isotropy`, status never says
-  /// whether the axial sweeps can be skipped.
+  /// whether the axial sweeps can be skipped. Without `material`, exports hold no fitted material.
   SessionManager(std::filesystem::path storageRoot, ReconstructFunction reconstruct,
-                 PreviewFunction preview = {}, IsotropyFunction isotropy = {});
+                 PreviewFunction preview = {}, IsotropyFunction isotropy = {},
+                 MaterialFunction material = {});
   ~SessionManager();
 
   /// \brief Carries out one command. Never throws: refusals and failures come back as a
