@@ -313,8 +313,12 @@ def test_not_a_table_is_refused_naming_it(tmp_path, capsys, files):
          "parameter alpha_tangent must be a finite number"),
         (json.dumps(fit_document(STEEL)).replace('"value": 0.1', '"value": -0.1'),
          "parameter alpha_bitangent must be positive"),
+        (json.dumps({**fit_document(STEEL), "metrics": {}}), "a fit that did not finish"),
+        (json.dumps(fit_document(STEEL)).replace('"value": 1.0', '"value": 1.5'),
+         "parameter specular_f90 must be in [0, 1]"),
     ],
-    ids=["not-json", "format", "model", "no-parameters", "null-alpha", "negative-alpha"],
+    ids=["not-json", "format", "model", "no-parameters", "null-alpha", "negative-alpha",
+         "unfinished", "f90-range"],
 )
 def test_not_a_completed_fit_is_refused_naming_it(tmp_path, capsys, files, content, message):
     bogus = tmp_path / "material.json"

@@ -102,7 +102,8 @@ def _number(path, name: str, raw, count: int):
 def parse_fitted_material(document, path) -> FittedMaterial:
     """The material of a parsed `slicecap fit` JSON. Raises SlicecapFileError naming `path` for
     anything but a completed fit (another format or version, an unknown model, a missing or
-    non-finite parameter, an alpha that is not positive)."""
+    non-finite parameter, one outside its range, no metrics.delta_e), as `slicecap fit
+    MATERIAL.json --gltf ...` refuses them."""
 
     def refuse(what: str):
         return SlicecapFileError(f"{os.fspath(path)}: not a completed slicecap fit: {what}")
@@ -126,11 +127,23 @@ def parse_fitted_material(document, path) -> FittedMaterial:
         if not isinstance(entry, dict) or "value" not in entry:
             raise refuse(f"parameter {name} is missing")
         values[name] = _number(path, name, entry["value"], count)
+    # The ranges `slicecap fit` keeps to and its exports check (docs/material-export.md).
+    ranges = {"diffuse_albedo": (0.0, math.inf), "specular_f0": (0.0, 1.0),
+              "specular_f90": (0.0, 1.0), _SHEEN_RGB: (0.0, math.inf)}
+    for name, (low, high) in ranges.items():
+        if name in values:
+            for v in values[name] if isinstance(values[name], tuple) else (values[name],):
+                if not low <= v <= high:
+                    raise refuse(f"parameter {name} must be in [{low:g}, {high:g}], got {v!r}")
     for name in ("alpha_tangent", "alpha_bitangent") + (
         (_SHEEN_SCALAR,) if model == "ggx+sheen" else ()
     ):
         if not values[name] > 0.0:
             raise refuse(f"parameter {name} must be positive, got {values[name]!r}")
+    metrics = document.get("metrics")
+    delta_e = metrics.get("delta_e") if isinstance(metrics, dict) else None
+    if not isinstance(delta_e, (int, float)) or isinstance(delta_e, bool):
+        raise refuse('no "metrics": {"delta_e": ...} (a fit that did not finish)')
     return FittedMaterial(model=model, **values)
 
 
