@@ -130,7 +130,7 @@ def test_page_embeds_the_table_the_parameters_and_the_layout_picture(page, files
     uri = re.search(r'<img id="layout"[^>]*src="data:image/png;base64,([^"]+)"', page).group(1)
     png = base64.b64decode(uri)
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
-    assert int.from_bytes(png[16:20], "big") == 81 * viewer.LAYOUT_SCALE
+    assert int.from_bytes(png[16:20], "big") == 81 * viewer.LAYOUT_SCALE + 5
     assert data["exposure"] > 0 and data["panel_size"] == 128
 
 
@@ -144,6 +144,24 @@ def test_page_script_is_valid_javascript(page, tmp_path):
     path.write_text(scripts[0])
     run = subprocess.run([node, "--check", path], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
+
+
+def test_layout_picture_is_light_rows_by_view_columns():
+    values = np.zeros((81, 81, 3), dtype=np.float32)
+    values[3, 40] = (2.0, 1.0, 0.0)  # light 3 (15 deg ring), view 40 (60 deg ring)
+    values[70, 5] = (0.02, 0.02, 0.02)
+    image = viewer.layout_picture(values)
+    scale = viewer.LAYOUT_SCALE
+    assert image.shape == (81 * scale + 5,) * 2 + (3,)
+    y, x = viewer.layout_offset(3), viewer.layout_offset(40)
+    assert (y, x) == (3 * scale + 1, 40 * scale + 4)  # one ring line above, four to the left
+    assert image[y : y + scale, x : x + scale].tolist() == [[[255, 188, 0]] * scale] * scale
+    assert image[viewer.layout_offset(1) - 1, x].tolist() == [72, 72, 72]  # rings 0 / 1
+    # A dim entry on the 75 deg light ring: 0.02 cos(75) / (2 cos(15)), sRGB, x255.
+    dim = image[viewer.layout_offset(70), viewer.layout_offset(5)]
+    assert dim.tolist() == [int(np.floor(255 * 1.055 * (0.02 * np.cos(np.radians(75)) / (
+        2 * np.cos(np.radians(15)))) ** (1 / 2.4) - 255 * 0.055 + 0.5))] * 3
+    assert image[viewer.layout_offset(40), viewer.layout_offset(3)].tolist() == [0, 0, 0]
 
 
 # ---- the shader's fittedBrdf, run from the page's GLSL text ----
@@ -299,6 +317,15 @@ def test_not_a_table_is_refused_naming_it(tmp_path, capsys, files):
     output = tmp_path / "view.html"
     assert viewer.run([str(bogus), "--material", str(files["fit"]), "-o", str(output)]) == 1
     assert f"slicecap.viewer: {bogus}: cannot read EXR" in capsys.readouterr().err
+    assert not output.exists()
+
+
+def test_all_zero_table_is_refused_naming_it(tmp_path, capsys):
+    table = tmp_path / "black.exr"
+    write_abrdf_exr(table, np.zeros((81, 81, 3), dtype=np.float32))
+    output = tmp_path / "view.html"
+    assert viewer.run([str(table), "-o", str(output)]) == 1
+    assert f"slicecap.viewer: {table}: the table has no positive value" in capsys.readouterr().err
     assert not output.exists()
 
 

@@ -147,9 +147,10 @@ def parse_fitted_material(document, path) -> FittedMaterial:
     return FittedMaterial(model=model, **values)
 
 
-def read_fitted_material(path) -> FittedMaterial:
-    """The material in a `slicecap fit` JSON file; SlicecapFileError naming the file when it
-    cannot be read, is not JSON, or is not a completed fit."""
+def read_fit_document(path) -> tuple[FittedMaterial, dict]:
+    """The material in a `slicecap fit` JSON file and the whole parsed document (for its metrics
+    and choice); SlicecapFileError naming the file when it cannot be read, is not JSON, or is not
+    a completed fit."""
     try:
         with open(os.fspath(path), encoding="utf-8") as file:
             text = file.read()
@@ -161,4 +162,9 @@ def read_fitted_material(path) -> FittedMaterial:
         document = json.loads(text)
     except json.JSONDecodeError as e:
         raise SlicecapFileError(f"{os.fspath(path)}: not JSON ({e.msg} at line {e.lineno})") from e
-    return parse_fitted_material(document, path)
+    return parse_fitted_material(document, path), document
+
+
+def read_fitted_material(path) -> FittedMaterial:
+    """The material in a `slicecap fit` JSON file (read_fit_document, without the document)."""
+    return read_fit_document(path)[0]

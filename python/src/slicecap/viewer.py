@@ -20,15 +20,17 @@ import numpy as np
 
 from slicecap import viewer_scene
 from slicecap.abrdf_exr import SlicecapFileError
-from slicecap.fitted_material import FittedMaterial, read_fitted_material
+from slicecap.fitted_material import FittedMaterial, read_fit_document
+from slicecap.interpolation import evaluate
 from slicecap.image_metrics import EXPOSURE_PERCENTILE, to_8bit
 from slicecap.materials import load_material
 from slicecap.paths import same_file, write_replacing
 from slicecap.png import encode_png
 from slicecap.render import render_sphere_point_light
-from slicecap.grid import GRID_DIRECTIONS_DEG, to_directions_deg
+from slicecap.grid import DIRECTION_COUNT, GRID_DIRECTIONS_DEG, RING_FIRST_INDEX, to_directions_deg
 
 LAYOUT_SCALE = 4
+_RING_LINE = (72, 72, 72)
 DEFAULT_PANEL_SIZE = 320
 _EXPOSURE_PROBE_SIZE = 96
 
@@ -36,22 +38,38 @@ _EXPOSURE_PROBE_SIZE = 96
 def table_brdf(values: np.ndarray):
     """brdf(to_light, to_view) of an (81, 81, 3) table: (N, 3) unit vectors in the table's frame
     to (N, 3) RGB, interpolated as slicecap.interpolation (the page's tableBrdf)."""
-    from slicecap.interpolation import evaluate
-
     def brdf(to_light, to_view):
         return evaluate(values, to_directions_deg(to_light), to_directions_deg(to_view))
 
     return brdf
 
 
+def layout_offset(index: int) -> int:
+    """The pixel offset of a direction's row or column in layout_picture: whole entries plus one
+    line per ring boundary before it (lib/render layout_image.cpp)."""
+    return index * LAYOUT_SCALE + int(np.searchsorted(RING_FIRST_INDEX, index, side="right")) - 1
+
+
 def layout_picture(values: np.ndarray) -> np.ndarray:
-    """The table as `slicecap preview` lays it out: 81 x 81 (row = light, column = view), times
-    cos(theta_light), normalised to its maximum, sRGB 8-bit; enlarged LAYOUT_SCALE times."""
+    """The table as `slicecap preview` lays it out (lib/render layoutImage): row = light, column =
+    view, both in Bonn order, LAYOUT_SCALE pixels an entry and a grey line between the six rings;
+    each entry the paper's 8-bit encoding (times cos(theta_light), over the table's largest such
+    value, clipped, sRGB). ValueError for a table with no positive value."""
     cos_light = np.cos(np.radians(GRID_DIRECTIONS_DEG[:, 0]))
     weighted = np.asarray(values, dtype=np.float64) * cos_light[:, None, None]
     peak = float(weighted.max())
-    image = to_8bit(weighted, peak if peak > 0 else 1.0)
-    return np.repeat(np.repeat(image, LAYOUT_SCALE, axis=0), LAYOUT_SCALE, axis=1)
+    if not peak > 0.0:
+        raise ValueError("the table has no positive value to show")
+    encoded = to_8bit(weighted, peak)
+    side = DIRECTION_COUNT * LAYOUT_SCALE + len(RING_FIRST_INDEX) - 1
+    image = np.full((side, side, 3), _RING_LINE, dtype=np.uint8)
+    offsets = [layout_offset(i) for i in range(DIRECTION_COUNT)]
+    for light, y in enumerate(offsets):
+        row = np.repeat(encoded[light], LAYOUT_SCALE, axis=0)  # (81 * scale, 3)
+        for dy in range(LAYOUT_SCALE):
+            for view, x in enumerate(offsets):
+                image[y + dy, x : x + LAYOUT_SCALE] = row[view * LAYOUT_SCALE]
+    return image
 
 
 def default_exposure(brdf, albedo: np.ndarray) -> float:
@@ -106,6 +124,9 @@ def build_page(table_path, material_path=None, panel_size: int = DEFAULT_PANEL_S
     """The page's HTML text. Raises SlicecapFileError naming the file that is not an ABRDF table
     or not a completed `slicecap fit` JSON."""
     table = load_material(table_path)
+    if not np.any(table.values > 0.0):
+        # Nothing would show, and no exposure can be chosen: said, not drawn black.
+        raise SlicecapFileError(f"{os.fspath(table_path)}: the table has no positive value to show")
     brdf = table_brdf(table.values)
     table_albedo = viewer_scene.directional_albedo(brdf)
     table_name = os.path.basename(os.fspath(table_path))
@@ -122,9 +143,7 @@ def build_page(table_path, material_path=None, panel_size: int = DEFAULT_PANEL_S
     }
     material_html, material_name = "", None
     if material_path is not None:
-        material = read_fitted_material(material_path)
-        with open(os.fspath(material_path), encoding="utf-8") as file:
-            document = json.load(file)
+        material, document = read_fit_document(material_path)
         parameters = {
             name: getattr(material, name)
             for name in FittedMaterial.__dataclass_fields__
