@@ -102,7 +102,8 @@ def page_data(page: str) -> dict:
 
 def test_page_is_self_contained_and_well_formed(page):
     parsed = parse(page)
-    links = [(tag, name, value) for tag, name, value in parsed.attributes if name in ("src", "href")]
+    links = [(tag, name, value) for tag, name, value in parsed.attributes
+             if name in ("src", "href")]
     assert links, "the layout picture's src is expected"
     for tag, name, value in links:
         assert value.startswith("data:"), f"<{tag} {name}={value[:60]!r}> is not inline"
@@ -335,7 +336,8 @@ def test_all_zero_table_is_refused_naming_it(tmp_path, capsys):
         ("{", "not JSON"),
         ('{"format": "something-else"}', 'not a completed slicecap fit: "format"'),
         (json.dumps({**fit_document(STEEL), "model": "ward"}), '"model" \'ward\''),
-        (json.dumps({**fit_document(STEEL), "parameters": {}}), "parameter diffuse_albedo is missing"),
+        (json.dumps({**fit_document(STEEL), "parameters": {}}),
+         "parameter diffuse_albedo is missing"),
         (json.dumps(fit_document(STEEL)).replace('"value": 0.4', '"value": null'),
          "parameter alpha_tangent must be a finite number"),
         (json.dumps(fit_document(STEEL)).replace('"value": 0.1', '"value": -0.1'),

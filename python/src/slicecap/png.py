@@ -18,7 +18,7 @@ def encode_png(image: np.ndarray) -> bytes:
     another shape."""
     image = np.ascontiguousarray(image, dtype=np.uint8)
     if image.ndim != 3 or image.shape[2] != 3:
-        raise ValueError(f"write_png: expected an (H, W, 3) image, got {image.shape}")
+        raise ValueError(f"encode_png: expected an (H, W, 3) image, got {image.shape}")
     height, width = image.shape[:2]
     rows = np.concatenate([np.zeros((height, 1), np.uint8), image.reshape(height, -1)], axis=1)
     header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)

@@ -105,7 +105,9 @@ def render_sphere_point_light(
     tangent, bitangent = viewer_scene.sphere_frame(normal)
 
     def to_local(w):
-        return np.stack([np.sum(w * tangent, -1), np.sum(w * bitangent, -1), np.sum(w * normal, -1)], -1)
+        return np.stack(
+            [np.sum(w * tangent, -1), np.sum(w * bitangent, -1), np.sum(w * normal, -1)], -1
+        )
 
     light = viewer_scene.LIGHT_DISTANCE * viewer_scene.orbit_direction(light_az_deg, light_el_deg)
     to_light = light - point

@@ -129,8 +129,9 @@
   let program;
   try {
     program = gl.createProgram();
-    gl.attachShader(program, compile(gl.VERTEX_SHADER, document.getElementById("vertex-shader").textContent.trim()));
-    gl.attachShader(program, compile(gl.FRAGMENT_SHADER, document.getElementById("fragment-shader").textContent.trim()));
+    const text = (id) => document.getElementById(id).textContent.trim();
+    gl.attachShader(program, compile(gl.VERTEX_SHADER, text("vertex-shader")));
+    gl.attachShader(program, compile(gl.FRAGMENT_SHADER, text("fragment-shader")));
     gl.linkProgram(program);
     if (!gl.getProgramParameter(program, gl.LINK_STATUS))
       throw new Error("link: " + gl.getProgramInfoLog(program));
@@ -164,7 +165,8 @@
   const texture = gl.createTexture();
   gl.bindTexture(gl.TEXTURE_2D, texture);
   gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-  gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGB32F, 81, 81, 0, gl.RGB, gl.FLOAT, floatsOf(data.table.values_base64));
+  gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGB32F, 81, 81, 0, gl.RGB, gl.FLOAT,
+    floatsOf(data.table.values_base64));
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
   gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
   gl.uniform1i(uniform("u_table"), 0);

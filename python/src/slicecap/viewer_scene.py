@@ -31,7 +31,8 @@ _ALBEDO_THETA_STEPS, _ALBEDO_PHI_STEPS = 45, 90
 
 
 def orbit_direction(azimuth_deg: float, elevation_deg: float) -> np.ndarray:
-    """The unit vector at an azimuth about y (0 = +z, 90 = +x) and an elevation above the xz plane."""
+    """The unit vector at an azimuth about y (0 = +z, 90 = +x) and an elevation above the xz
+    plane."""
     az, el = math.radians(azimuth_deg), math.radians(elevation_deg)
     return np.array([math.cos(el) * math.sin(az), math.sin(el), math.cos(el) * math.cos(az)])
 
