@@ -61,6 +61,11 @@ def _lab(srgb8: np.ndarray) -> np.ndarray:
     )
 
 
+def delta_e_8bit(reference8: np.ndarray, test8: np.ndarray) -> np.ndarray:
+    """Per-pixel CIE76 dE between two (..., 3) 8-bit sRGB images (as compare_images uses)."""
+    return np.linalg.norm(_lab(np.asarray(reference8)) - _lab(np.asarray(test8)), axis=-1)
+
+
 def exposure_of(reference: np.ndarray, mask: np.ndarray | None = None) -> float:
     """The reference's EXPOSURE_PERCENTILE-th percentile of channel values (masked pixels)."""
     values = reference if mask is None else reference[mask]

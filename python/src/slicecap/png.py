@@ -13,22 +13,29 @@ def _chunk(kind: bytes, data: bytes) -> bytes:
     return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
 
 
-def write_png(path, image: np.ndarray) -> None:
-    """Writes an (H, W, 3) uint8 image through a temporary renamed onto PATH (paths.write_replacing);
-    raises OSError (naming the file) when it cannot."""
+def encode_png(image: np.ndarray) -> bytes:
+    """The PNG file's bytes of an (H, W, 3) uint8 image (e.g. for a data: URI); ValueError for
+    another shape."""
     image = np.ascontiguousarray(image, dtype=np.uint8)
     if image.ndim != 3 or image.shape[2] != 3:
-        raise ValueError(f"write_png: expected an (H, W, 3) image, got {image.shape}")
+        raise ValueError(f"encode_png: expected an (H, W, 3) image, got {image.shape}")
     height, width = image.shape[:2]
     rows = np.concatenate([np.zeros((height, 1), np.uint8), image.reshape(height, -1)], axis=1)
     header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
-    data = (
+    return (
         b"\x89PNG\r\n\x1a\n"
         + _chunk(b"IHDR", header)
         + _chunk(b"sRGB", b"\x00")
         + _chunk(b"IDAT", zlib.compress(rows.tobytes(), 6))
         + _chunk(b"IEND", b"")
     )
+
+
+def write_png(path, image: np.ndarray) -> None:
+    """Writes an (H, W, 3) uint8 image through a temporary renamed onto PATH (paths.write_replacing);
+    raises OSError (naming the file) when it cannot."""
+    data = encode_png(image)
+
     def write(target):
         with open(target, "wb") as file:
             file.write(data)
@@ -47,3 +54,69 @@ def read_png_size(path) -> tuple[int, int]:
     if head[:8] != b"\x89PNG\r\n\x1a\n":
         raise ValueError(f"{os.fspath(path)}: not a PNG file")
     return struct.unpack(">II", head[16:24])
+
+
+def _unfilter(kind: int, row: np.ndarray, previous: np.ndarray, stride: int) -> np.ndarray:
+    """One scanline's bytes after PNG filter `kind` (0 none, 1 sub, 2 up, 3 average, 4 Paeth)."""
+    if kind == 0:
+        return row
+    if kind == 2:
+        return (row + previous).astype(np.uint8)
+    out = row.astype(np.int32)
+    above = previous.astype(np.int32)
+    for i in range(len(out)):
+        left = out[i - stride] if i >= stride else 0
+        upper_left = above[i - stride] if i >= stride else 0
+        if kind == 1:
+            out[i] = (out[i] + left) & 255
+        elif kind == 3:
+            out[i] = (out[i] + (left + above[i]) // 2) & 255
+        elif kind == 4:
+            p = left + above[i] - upper_left
+            pa, pb, pc = abs(p - left), abs(p - above[i]), abs(p - upper_left)
+            predictor = left if pa <= pb and pa <= pc else (above[i] if pb <= pc else upper_left)
+            out[i] = (out[i] + predictor) & 255
+        else:
+            raise ValueError(f"unknown PNG filter type {kind}")
+    return out.astype(np.uint8)
+
+
+def read_png(path) -> np.ndarray:
+    """An 8-bit RGB or RGBA, non-interlaced PNG (what browsers' screenshots are) as an (H, W, 3)
+    uint8 array (alpha dropped). Raises ValueError naming the file for any other PNG, OSError
+    when it cannot be read."""
+    name = os.fspath(path)
+    with open(name, "rb") as file:
+        data = file.read()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        raise ValueError(f"{name}: not a PNG file")
+    position, header, compressed = 8, None, []
+    while position + 8 <= len(data):
+        (length,) = struct.unpack(">I", data[position : position + 4])
+        kind = data[position + 4 : position + 8]
+        body = data[position + 8 : position + 8 + length]
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            compressed.append(body)
+        elif kind == b"IEND":
+            break
+        position += 12 + length
+    if header is None:
+        raise ValueError(f"{name}: a PNG without a header")
+    width, height, depth, colour, _, _, interlace = header
+    channels = {2: 3, 6: 4}.get(colour)
+    if depth != 8 or channels is None or interlace != 0:
+        raise ValueError(
+            f"{name}: only 8-bit RGB/RGBA non-interlaced PNGs are read (depth {depth}, "
+            f"colour type {colour}, interlace {interlace})"
+        )
+    raw = np.frombuffer(zlib.decompress(b"".join(compressed)), dtype=np.uint8)
+    stride = width * channels
+    raw = raw.reshape(height, stride + 1)
+    image = np.zeros((height, stride), dtype=np.uint8)
+    previous = np.zeros(stride, dtype=np.uint8)
+    for y in range(height):
+        image[y] = _unfilter(int(raw[y, 0]), raw[y, 1:], previous, channels)
+        previous = image[y]
+    return image.reshape(height, width, channels)[..., :3]

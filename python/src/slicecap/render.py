@@ -22,6 +22,7 @@ from slicecap.materials import load_material
 from slicecap.paths import same_file
 from slicecap.png import write_png
 from slicecap.scenes import LIGHTINGS, SHAPES, object_mask, scene_dict
+from slicecap import viewer_scene
 
 COLUMNS = [(shape, lighting) for shape in SHAPES for lighting in LIGHTINGS]
 _TEXT_SCALE = 2
@@ -80,6 +81,51 @@ def render_material(mi, path, size: int, spp: int, seed: int) -> dict:
         scene = mi.load_dict(scene_dict(mi, shape, lighting, bsdf, size, spp))
         images[(shape, lighting)] = np.array(mi.render(scene, seed=seed), dtype=np.float64)
     return images
+
+
+def render_sphere_point_light(
+    brdf, albedo: np.ndarray, size: int, light_az_deg: float, light_el_deg: float,
+    yaw_deg: float, pitch_deg: float, env: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The unit sphere under the material viewer's point light and constant environment
+    (slicecap.viewer_scene, docs/material-viewer.md), ray-cast in numpy with no sampling noise:
+    the picture the page's WebGL rendering is checked against (scripts/consumer-check).
+    `brdf(to_light, to_view)` maps (N, 3) unit vectors in the surface frame to (N, 3) RGB in 1/sr;
+    `albedo` is its (81, 3) directional albedo (viewer_scene.directional_albedo). Returns the
+    (size, size, 3) linear radiance (row 0 at the top) and the (size, size) mask of sphere pixels.
+    """
+    origin, rays = viewer_scene.camera_rays(size, yaw_deg, pitch_deg)
+    # |o + t r| = 1: t^2 + 2 (o.r) t + |o|^2 - 1 = 0, the nearer root.
+    b = rays @ origin
+    discriminant = b * b - (origin @ origin - 1.0)
+    mask = discriminant > 0.0
+    t = -b[mask] - np.sqrt(discriminant[mask])
+    point = origin + t[:, None] * rays[mask]
+    normal = point / np.linalg.norm(point, axis=-1, keepdims=True)
+    tangent, bitangent = viewer_scene.sphere_frame(normal)
+
+    def to_local(w):
+        return np.stack(
+            [np.sum(w * tangent, -1), np.sum(w * bitangent, -1), np.sum(w * normal, -1)], -1
+        )
+
+    light = viewer_scene.LIGHT_DISTANCE * viewer_scene.orbit_direction(light_az_deg, light_el_deg)
+    to_light = light - point
+    distance2 = np.sum(to_light * to_light, axis=-1)
+    to_light_local = to_local(to_light / np.sqrt(distance2)[:, None])
+    to_view_local = to_local(-rays[mask])
+    # Grazing views (the silhouette) are clamped just above the surface, as the shader does.
+    to_view_local[:, 2] = np.maximum(to_view_local[:, 2], 1e-4)
+    to_view_local /= np.linalg.norm(to_view_local, axis=-1, keepdims=True)
+    lit = to_light_local[:, 2] > 0.0
+    radiance = env * viewer_scene.albedo_at(albedo, to_view_local)
+    value = brdf(to_light_local[lit], to_view_local[lit])
+    radiance[lit] += value * (
+        to_light_local[lit, 2] * viewer_scene.LIGHT_INTENSITY / distance2[lit]
+    )[:, None]
+    image = np.zeros((size, size, 3))
+    image[mask] = radiance
+    return image, mask
 
 
 def _display(image: np.ndarray, exposure: float) -> np.ndarray:

@@ -1,0 +1,170 @@
+"""A material fitted by `slicecap fit` (docs/material-fit.md): its JSON read and checked, and its
+BRDF evaluated in numpy, term for term as lib/fit (fitted_material.cpp, lobe_terms.hpp).
+
+The evaluation is the reference the viewer's WebGL shader is tested against
+(python/tests/test_viewer.py): diffuse / pi + Schlick F(l.h) D_ggx G2_smith / (4 cos_i cos_v)
+[+ sheen D_charlie / (4 (cos_i + cos_v - cos_i cos_v))], in the table's frame (z = normal,
+x = the Bonn grid's azimuth 0, the tangent at `tangent_deg` counter-clockwise from x).
+"""
+
+import json
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from slicecap.abrdf_exr import SlicecapFileError
+
+FORMAT = "slicecap-material"
+FORMAT_VERSION = 1
+MODELS = ("ggx", "ggx+sheen")
+_RGB = ("diffuse_albedo", "specular_f0")
+_SCALARS = ("specular_f90", "alpha_tangent", "alpha_bitangent", "tangent_deg")
+_SHEEN_RGB, _SHEEN_SCALAR = "sheen_colour", "sheen_roughness"
+
+
+@dataclass(frozen=True)
+class FittedMaterial:
+    """The parameters of docs/material-fit.md "The JSON" (values only, no sigmas)."""
+
+    model: str
+    diffuse_albedo: tuple[float, float, float]
+    specular_f0: tuple[float, float, float]
+    specular_f90: float
+    alpha_tangent: float
+    alpha_bitangent: float
+    tangent_deg: float
+    sheen_colour: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    sheen_roughness: float = 0.5
+
+    def evaluate(self, to_light: np.ndarray, to_view: np.ndarray) -> np.ndarray:
+        """(..., 3) RGB BRDF in 1/sr for (..., 3) unit vectors toward the light and the viewer in
+        the table's frame; 0 where either is at or below the surface (z <= 0), where the fit's
+        model is not defined."""
+        light = np.asarray(to_light, dtype=np.float64)
+        view = np.asarray(to_view, dtype=np.float64)
+        above = (light[..., 2] > 0.0) & (view[..., 2] > 0.0)
+        # Below-horizon pairs get a harmless stand-in so that no division warns; they are zeroed.
+        light = np.where(above[..., None], light, [0.0, 0.0, 1.0])
+        view = np.where(above[..., None], view, [0.0, 0.0, 1.0])
+        half = light + view
+        half = half / np.linalg.norm(half, axis=-1, keepdims=True)
+        t = math.radians(self.tangent_deg)
+        cos_t, sin_t = math.cos(t), math.sin(t)
+
+        def local(w):
+            return w[..., 0] * cos_t + w[..., 1] * sin_t, -w[..., 0] * sin_t + w[..., 1] * cos_t
+
+        at2, ab2 = self.alpha_tangent**2, self.alpha_bitangent**2
+        hx, hy = local(half)
+        s = hx * hx / at2 + hy * hy / ab2 + half[..., 2] ** 2
+        distribution = 1.0 / (math.pi * self.alpha_tangent * self.alpha_bitangent * s * s)
+
+        def smith_lambda(w):
+            wx, wy = local(w)
+            return (np.sqrt(1.0 + (at2 * wx * wx + ab2 * wy * wy) / w[..., 2] ** 2) - 1.0) / 2.0
+
+        cos_i, cos_v = light[..., 2], view[..., 2]
+        specular = distribution / (
+            (1.0 + smith_lambda(light) + smith_lambda(view)) * (4.0 * cos_i * cos_v)
+        )
+        cos_lh = np.clip(np.sum(light * half, axis=-1), 0.0, 1.0)
+        fresnel_weight = (1.0 - cos_lh) ** 5
+        f0 = np.asarray(self.specular_f0)
+        fresnel = f0 + (self.specular_f90 - f0) * fresnel_weight[..., None]
+        value = np.asarray(self.diffuse_albedo) / math.pi + fresnel * specular[..., None]
+        if self.model == "ggx+sheen":
+            inverse = 1.0 / self.sheen_roughness
+            log_sin2 = np.log(np.maximum(1.0 - half[..., 2] ** 2, 1e-12))
+            sheen = (2.0 + inverse) * np.exp(log_sin2 * 0.5 * inverse) / (2.0 * math.pi)
+            sheen = sheen / (4.0 * (cos_i + cos_v - cos_i * cos_v))
+            value = value + np.asarray(self.sheen_colour) * sheen[..., None]
+        return np.where(above[..., None], value, 0.0)
+
+
+def _number(path, name: str, raw, count: int):
+    """A parameter's value: `count` finite numbers (count 1: one number)."""
+    values = raw if isinstance(raw, list) else [raw]
+    ok = len(values) == count and all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+        for v in values
+    )
+    if not ok:
+        what = f"{count} finite numbers" if count > 1 else "a finite number"
+        raise SlicecapFileError(
+            f"{os.fspath(path)}: not a completed slicecap fit: parameter {name} must be {what}, "
+            f"got {raw!r}"
+        )
+    return tuple(float(v) for v in values) if count > 1 else float(values[0])
+
+
+def parse_fitted_material(document, path) -> FittedMaterial:
+    """The material of a parsed `slicecap fit` JSON. Raises SlicecapFileError naming `path` for
+    anything but a completed fit (another format or version, an unknown model, a missing or
+    non-finite parameter, one outside its range, no metrics.delta_e), as `slicecap fit
+    MATERIAL.json --gltf ...` refuses them."""
+
+    def refuse(what: str):
+        return SlicecapFileError(f"{os.fspath(path)}: not a completed slicecap fit: {what}")
+
+    if not isinstance(document, dict) or document.get("format") != FORMAT:
+        raise refuse(f'"format" is not "{FORMAT}"')
+    if document.get("format_version") != FORMAT_VERSION:
+        raise refuse(f'"format_version" {document.get("format_version")!r} is not {FORMAT_VERSION}')
+    model = document.get("model")
+    if model not in MODELS:
+        raise refuse(f'"model" {model!r} is not one of {", ".join(MODELS)}')
+    parameters = document.get("parameters")
+    if not isinstance(parameters, dict):
+        raise refuse('no "parameters" object')
+    wanted = [(n, 3) for n in _RGB] + [(n, 1) for n in _SCALARS]
+    if model == "ggx+sheen":
+        wanted += [(_SHEEN_RGB, 3), (_SHEEN_SCALAR, 1)]
+    values = {}
+    for name, count in wanted:
+        entry = parameters.get(name)
+        if not isinstance(entry, dict) or "value" not in entry:
+            raise refuse(f"parameter {name} is missing")
+        values[name] = _number(path, name, entry["value"], count)
+    # The ranges `slicecap fit` keeps to and its exports check (docs/material-export.md).
+    ranges = {"diffuse_albedo": (0.0, math.inf), "specular_f0": (0.0, 1.0),
+              "specular_f90": (0.0, 1.0), _SHEEN_RGB: (0.0, math.inf)}
+    for name, (low, high) in ranges.items():
+        if name in values:
+            for v in values[name] if isinstance(values[name], tuple) else (values[name],):
+                if not low <= v <= high:
+                    raise refuse(f"parameter {name} must be in [{low:g}, {high:g}], got {v!r}")
+    for name in ("alpha_tangent", "alpha_bitangent") + (
+        (_SHEEN_SCALAR,) if model == "ggx+sheen" else ()
+    ):
+        if not values[name] > 0.0:
+            raise refuse(f"parameter {name} must be positive, got {values[name]!r}")
+    metrics = document.get("metrics")
+    delta_e = metrics.get("delta_e") if isinstance(metrics, dict) else None
+    if not isinstance(delta_e, (int, float)) or isinstance(delta_e, bool):
+        raise refuse('no "metrics": {"delta_e": ...} (a fit that did not finish)')
+    return FittedMaterial(model=model, **values)
+
+
+def read_fit_document(path) -> tuple[FittedMaterial, dict]:
+    """The material in a `slicecap fit` JSON file and the whole parsed document (for its metrics
+    and choice); SlicecapFileError naming the file when it cannot be read, is not JSON, or is not
+    a completed fit."""
+    try:
+        with open(os.fspath(path), encoding="utf-8") as file:
+            text = file.read()
+    except OSError as e:
+        raise SlicecapFileError(f"{os.fspath(path)}: cannot read: {e.strerror}") from e
+    except UnicodeDecodeError as e:
+        raise SlicecapFileError(f"{os.fspath(path)}: not a text (UTF-8) file") from e
+    try:
+        document = json.loads(text)
+    except json.JSONDecodeError as e:
+        raise SlicecapFileError(f"{os.fspath(path)}: not JSON ({e.msg} at line {e.lineno})") from e
+    return parse_fitted_material(document, path), document
+
+
+def read_fitted_material(path) -> FittedMaterial:
+    """The material in a `slicecap fit` JSON file (read_fit_document, without the document)."""
+    return read_fit_document(path)[0]

@@ -1,0 +1,231 @@
+"""python -m slicecap.viewer TABLE.exr [--material MATERIAL.json] -o VIEW.html
+
+Writes one self-contained HTML page (docs/material-viewer.md): the fitted material of
+`slicecap fit` and the measured table side by side on a sphere and a cloth-like sheet, drawn by
+WebGL under a point light the viewer drags plus a constant environment, beside the table's
+81 x 81 layout picture. Everything is inline (script, shaders, the table as base64 float32, the
+picture as a data: URI): the page needs no network. Exit codes: 0 success, 1 failure (a message
+naming the input), 2 bad usage.
+"""
+
+import argparse
+import base64
+import html
+import importlib.resources
+import json
+import os
+import sys
+
+import numpy as np
+
+from slicecap import viewer_scene
+from slicecap.abrdf_exr import SlicecapFileError
+from slicecap.fitted_material import FittedMaterial, read_fit_document
+from slicecap.interpolation import evaluate
+from slicecap.image_metrics import EXPOSURE_PERCENTILE, to_8bit
+from slicecap.materials import load_material
+from slicecap.paths import same_file, write_replacing
+from slicecap.png import encode_png
+from slicecap.render import render_sphere_point_light
+from slicecap.grid import DIRECTION_COUNT, GRID_DIRECTIONS_DEG, RING_FIRST_INDEX, to_directions_deg
+
+LAYOUT_SCALE = 4
+_RING_LINE = (72, 72, 72)
+DEFAULT_PANEL_SIZE = 320
+_EXPOSURE_PROBE_SIZE = 96
+
+
+def table_brdf(values: np.ndarray):
+    """brdf(to_light, to_view) of an (81, 81, 3) table: (N, 3) unit vectors in the table's frame
+    to (N, 3) RGB, interpolated as slicecap.interpolation (the page's tableBrdf)."""
+    def brdf(to_light, to_view):
+        return evaluate(values, to_directions_deg(to_light), to_directions_deg(to_view))
+
+    return brdf
+
+
+def layout_offset(index: int) -> int:
+    """The pixel offset of a direction's row or column in layout_picture: whole entries plus one
+    line per ring boundary before it (lib/render layout_image.cpp)."""
+    return index * LAYOUT_SCALE + int(np.searchsorted(RING_FIRST_INDEX, index, side="right")) - 1
+
+
+def layout_picture(values: np.ndarray) -> np.ndarray:
+    """The table as `slicecap preview` lays it out (lib/render layoutImage): row = light, column =
+    view, both in Bonn order, LAYOUT_SCALE pixels an entry and a grey line between the six rings;
+    each entry the paper's 8-bit encoding (times cos(theta_light), over the table's largest such
+    value, clipped, sRGB). ValueError for a table with no positive value."""
+    cos_light = np.cos(np.radians(GRID_DIRECTIONS_DEG[:, 0]))
+    weighted = np.asarray(values, dtype=np.float64) * cos_light[:, None, None]
+    peak = float(weighted.max())
+    if not peak > 0.0:
+        raise ValueError("the table has no positive value to show")
+    encoded = to_8bit(weighted, peak)
+    side = DIRECTION_COUNT * LAYOUT_SCALE + len(RING_FIRST_INDEX) - 1
+    image = np.full((side, side, 3), _RING_LINE, dtype=np.uint8)
+    offsets = [layout_offset(i) for i in range(DIRECTION_COUNT)]
+    for light, y in enumerate(offsets):
+        row = np.repeat(encoded[light], LAYOUT_SCALE, axis=0)  # (81 * scale, 3)
+        for dy in range(LAYOUT_SCALE):
+            for view, x in enumerate(offsets):
+                image[y + dy, x : x + LAYOUT_SCALE] = row[view * LAYOUT_SCALE]
+    return image
+
+
+def default_exposure(brdf, albedo: np.ndarray) -> float:
+    """1 / the EXPOSURE_PERCENTILE-th percentile of the table's sphere under the default view:
+    the highlight just reaches white (as slicecap.render's pictures)."""
+    d = viewer_scene.DEFAULTS
+    image, mask = render_sphere_point_light(
+        brdf, albedo, _EXPOSURE_PROBE_SIZE, d["light_az"], d["light_el"], d["yaw"], d["pitch"],
+        d["env"],
+    )
+    level = float(np.percentile(image[mask], EXPOSURE_PERCENTILE))
+    return 1.0 / level if level > 0.0 else 1.0
+
+
+def _base64_floats(values) -> str:
+    return base64.b64encode(np.asarray(values, dtype="<f4").tobytes()).decode("ascii")
+
+
+def _material_rows(material: FittedMaterial, document: dict) -> str:
+    def show(value):
+        if isinstance(value, tuple):
+            return " / ".join(f"{v:.4g}" for v in value)
+        return f"{value:.4g}"
+
+    names = ["diffuse_albedo", "specular_f0", "specular_f90", "alpha_tangent", "alpha_bitangent",
+             "tangent_deg"]
+    if material.model == "ggx+sheen":
+        names += ["sheen_colour", "sheen_roughness"]
+    rows = [f"<tr><td>model</td><td>{html.escape(material.model)}</td></tr>"]
+    rows += [f"<tr><td>{n}</td><td>{show(getattr(material, n))}</td></tr>" for n in names]
+    metrics = document.get("metrics") or {}
+    if isinstance(metrics.get("delta_e"), (int, float)):
+        rows.append(f"<tr><td>fit vs table</td><td>dE {metrics['delta_e']:.2f}</td></tr>")
+    return "<p>Fitted material:</p><table>" + "".join(rows) + "</table>"
+
+
+def _labels(size: int, material_name: str | None, table_name: str) -> str:
+    texts = [
+        (0, 0, f"fitted: {material_name}" if material_name else "no fit given (--material)"),
+        (size, 0, f"measured: {table_name}"),
+        (0, size, "fitted, cloth" if material_name else ""),
+        (size, size, "measured, cloth"),
+    ]
+    return "\n".join(
+        f'<div class="label" style="left:{x + 6}px; top:{y + 4}px">{html.escape(t)}</div>'
+        for x, y, t in texts
+        if t
+    )
+
+
+def build_page(table_path, material_path=None, panel_size: int = DEFAULT_PANEL_SIZE) -> str:
+    """The page's HTML text. Raises SlicecapFileError naming the file that is not an ABRDF table
+    or not a completed `slicecap fit` JSON."""
+    table = load_material(table_path)
+    if not np.any(table.values > 0.0):
+        # Nothing would show, and no exposure can be chosen: said, not drawn black.
+        raise SlicecapFileError(f"{os.fspath(table_path)}: the table has no positive value to show")
+    brdf = table_brdf(table.values)
+    table_albedo = viewer_scene.directional_albedo(brdf)
+    table_name = os.path.basename(os.fspath(table_path))
+    data = {
+        "panel_size": panel_size,
+        "scene": viewer_scene.page_constants(),
+        "exposure": default_exposure(brdf, table_albedo),
+        "table": {
+            "name": table_name,
+            "values_base64": _base64_floats(table.values),
+            "albedo_base64": _base64_floats(table_albedo),
+        },
+        "material": None,
+    }
+    material_html, material_name = "", None
+    if material_path is not None:
+        material, document = read_fit_document(material_path)
+        parameters = {
+            name: getattr(material, name)
+            for name in FittedMaterial.__dataclass_fields__
+            if name != "model"
+        }
+        data["material"] = {
+            "name": os.path.basename(os.fspath(material_path)),
+            "model": material.model,
+            "parameters": parameters,
+            "albedo_base64": _base64_floats(viewer_scene.directional_albedo(material.evaluate)),
+        }
+        material_html = _material_rows(material, document)
+        material_name = f"{data['material']['name']} ({material.model})"
+    layout_uri = "data:image/png;base64," + base64.b64encode(
+        encode_png(layout_picture(table.values))
+    ).decode("ascii")
+    package = importlib.resources.files("slicecap")
+    template = (package / "viewer_page.html").read_text(encoding="utf-8")
+    script = (package / "viewer_page.js").read_text(encoding="utf-8")
+    # "</" inside a script element would end it early.
+    data_text = json.dumps(data).replace("</", "<\\/")
+    replacements = {
+        "{{LABELS}}": _labels(panel_size, material_name, table_name),
+        "{{SIDE_LEFT}}": str(2 * panel_size),
+        "{{TITLE}}": html.escape(table_name + (f" / {material_name}" if material_name else "")),
+        "{{LAYOUT_URI}}": layout_uri,
+        "{{MATERIAL_TABLE}}": material_html,
+        "{{DATA}}": data_text,
+        "{{SCRIPT}}": script,
+    }
+    for key, value in replacements.items():
+        template = template.replace(key, value)
+    return template
+
+
+def _parse(argv):
+    parser = argparse.ArgumentParser(
+        prog="python -m slicecap.viewer",
+        description="Write a self-contained HTML viewer of a measured ABRDF table and its fitted "
+        "material (slicecap fit) on a sphere and a cloth under a light you drag.",
+    )
+    parser.add_argument("table", help="the ABRDF EXR (81 x 81 table)")
+    parser.add_argument("--material", help="the fit of the table: slicecap fit's MATERIAL.json")
+    parser.add_argument("-o", "--output", required=True, help="the page to write (.html)")
+    parser.add_argument(
+        "--panel-size", type=int, default=DEFAULT_PANEL_SIZE,
+        help=f"pixels per rendering panel, 64..1024 (default {DEFAULT_PANEL_SIZE})",
+    )
+    return parser.parse_args(argv)
+
+
+def run(argv) -> int:
+    args = _parse(argv)
+    if not 64 <= args.panel_size <= 1024:
+        print("slicecap.viewer: --panel-size must be in 64..1024", file=sys.stderr)
+        return 2
+    for role, path in (("table", args.table), ("material", args.material)):
+        if path and same_file(args.output, path):
+            print(f"slicecap.viewer: -o {args.output} is the {role}: it would be overwritten",
+                  file=sys.stderr)
+            return 2
+    try:
+        page = build_page(args.table, args.material, args.panel_size)
+
+        def write(target):
+            with open(target, "w", encoding="utf-8") as file:
+                file.write(page)
+
+        write_replacing(args.output, write)
+    except SlicecapFileError as e:
+        print(f"slicecap.viewer: {e}", file=sys.stderr)
+        return 1
+    except OSError as e:
+        print(f"slicecap.viewer: {args.output}: {e.strerror}", file=sys.stderr)
+        return 1
+    print(f"wrote {args.output} ({len(page) // 1024} KiB)")
+    return 0
+
+
+def main() -> None:
+    sys.exit(run(sys.argv[1:]))
+
+
+if __name__ == "__main__":
+    main()
