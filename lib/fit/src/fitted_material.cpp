@@ -43,15 +43,8 @@ FittedMaterial FittedMaterial::canonical() const {
 }
 
 Abrdf tabulate(const FittedMaterial& material) {
-  Abrdf table;
-  std::array<UnitVector, bonn::kDirectionCount> directions;
-  for (int i = 0; i < bonn::kDirectionCount; ++i)
-    directions[static_cast<std::size_t>(i)] = toUnitVector(bonn::direction(i));
-  for (int l = 0; l < bonn::kDirectionCount; ++l)
-    for (int v = 0; v < bonn::kDirectionCount; ++v)
-      table.set(l, v, material.evaluate(directions[static_cast<std::size_t>(l)],
-                                        directions[static_cast<std::size_t>(v)]));
-  return table;
+  return tabulateOnGrid(
+      [&material](const UnitVector& l, const UnitVector& v) { return material.evaluate(l, v); });
 }
 
 double tangentDifferenceDeg(double aDeg, double bDeg) {

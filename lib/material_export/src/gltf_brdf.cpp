@@ -94,15 +94,7 @@ Rgb GltfBrdf::evaluate(const UnitVector& l, const UnitVector& v) const {
 }
 
 Abrdf tabulate(const GltfBrdf& brdf) {
-  Abrdf table;
-  std::array<UnitVector, bonn::kDirectionCount> directions;
-  for (int i = 0; i < bonn::kDirectionCount; ++i)
-    directions[static_cast<std::size_t>(i)] = toUnitVector(bonn::direction(i));
-  for (int l = 0; l < bonn::kDirectionCount; ++l)
-    for (int v = 0; v < bonn::kDirectionCount; ++v)
-      table.set(l, v, brdf.evaluate(directions[static_cast<std::size_t>(l)],
-                                    directions[static_cast<std::size_t>(v)]));
-  return table;
+  return tabulateOnGrid([&brdf](const UnitVector& l, const UnitVector& v) { return brdf.evaluate(l, v); });
 }
 
 eval::Metrics gltfVersusFit(const fit::FittedMaterial& fitted) {

@@ -219,15 +219,7 @@ std::unique_ptr<ReflectanceModel> makeSheen(const Rgb& diffuse, const Rgb& sheen
 }
 
 Abrdf tabulate(const ReflectanceModel& model) {
-  Abrdf table;
-  std::vector<UnitVector> directions;
-  for (int i = 0; i < bonn::kDirectionCount; ++i)
-    directions.push_back(toUnitVector(bonn::direction(i)));
-  for (int l = 0; l < bonn::kDirectionCount; ++l) {
-    for (int v = 0; v < bonn::kDirectionCount; ++v)
-      table.set(l, v, model.evaluate(directions[l], directions[v]));
-  }
-  return table;
+  return tabulateOnGrid([&model](const UnitVector& l, const UnitVector& v) { return model.evaluate(l, v); });
 }
 
 }  // namespace slicecap::models

@@ -3,6 +3,7 @@
 
 #include <cassert>
 #include <cstddef>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -47,5 +48,10 @@ class Abrdf {
   }
   std::vector<float> values_;
 };
+
+/// \brief The table of a BRDF given as f_r(toLight, toView) (unit vectors, z up, 1/sr) at the 81
+/// Bonn directions: what every analytic material (built-in models, fits, a format's BRDF) is
+/// compared through. Throws what `brdf` throws.
+Abrdf tabulateOnGrid(const std::function<Rgb(const UnitVector& toLight, const UnitVector& toView)>& brdf);
 
 }  // namespace slicecap
