@@ -146,12 +146,8 @@ Command simulateCommand() {
         {"ideal", 0, "", "no imperfections: exact slice positions, no noise, blur or occlusion"},
         {"encoding", 0, "E", "srgb8 (default) or linear16 frames"},
         {"exposure-us", 0, "US", "fixed exposure (default: metered, see --metering)"},
-        {"metering", 0, "RULE",
-         "brightest (default: the sweep's brightest window centre or white reference at 80 %) "
-         "or paper (the white references at 80 %)"},
-        {"hdr", 0, "N",
-         "up to N (2 or 3) exposures alternated by LED pair, N x the frames: the paper at 80 %, "
-         "the highlight at 80 % (docs/method.md, HDR capture); default 1"},
+        {"metering", 0, "RULE", "brightest (default: window or references at 80 %) or paper"},
+        {"hdr", 0, "N", "up to N (2, 3) metered exposures by LED pair (method.md 9.3)"},
         {"ambient", 0, "W/M2", "room light irradiance (default 0.3; the LED gives ~10)"},
         {"camera-distance", 0, "MM", "camera to window centre (default 300)"},
         {"light-distance", 0, "MM", "LED to window centre (default 300)"},
