@@ -19,18 +19,6 @@ namespace {
 
 constexpr const char* kSharpMetal = "ward:diffuse=0.02,specular=0.9,ax=0.04,ay=0.3,tangent=0";
 
-// The realistic rig's sensor (noise, room light) without the hand's imperfections: the peak of a
-// lobe this narrow moves by tens of percent with 2 deg of azimuth jitter, which is not what this
-// test is about.
-sim::RigParams steadyNoisyRig() {
-  sim::RigParams rig = sim::RigParams::realistic();
-  rig.elevationJitterDeg = rig.azimuthJitterDeg = rig.distanceJitterMm = rig.aimJitterMm = 0.0;
-  rig.rollJitterDeg = rig.lightElevationErrorDeg = 0.0;
-  rig.motionBlurFraction = rig.exposureChangeFraction = rig.occlusionFraction = 0.0;
-  rig.markersOutOfViewFraction = 0.0;
-  return rig;
-}
-
 struct SliceFigures {
   double peakRatio = 0.0;     // captured peak over the true peak (at the samples' angles)
   double relativeRmse = 0.0;  // over the slice's samples, linear
@@ -75,11 +63,14 @@ SliceFigures captureSlice(const std::string& name, const sim::RigParams& rig) {
   return figures;
 }
 
+// The rig is steady (RigParams::steady: the realistic sensor's noise and room light, no hand
+// jitter): the peak of a lobe this narrow moves by tens of percent with 2 deg of azimuth jitter,
+// which is not what this test is about.
 TEST(HdrCapture, TwoLevelsKeepTheSharpHighlightThatOneExposureMeteredOnThePaperLoses) {
-  sim::RigParams paper = steadyNoisyRig();
+  sim::RigParams paper = sim::RigParams::steady();
   paper.metering = sim::RigParams::Metering::Paper;
   const SliceFigures single = captureSlice("paper", paper);
-  sim::RigParams hdr = steadyNoisyRig();
+  sim::RigParams hdr = sim::RigParams::steady();
   hdr.maxExposureLevels = 2;
   const SliceFigures merged = captureSlice("hdr", hdr);
 

@@ -15,7 +15,11 @@ namespace slicecap::cli {
 namespace {
 
 sim::RigParams rigOf(const ParsedArgs& args) {
-  sim::RigParams rig = args.flag("ideal") ? sim::RigParams::ideal() : sim::RigParams::realistic();
+  if (args.flag("ideal") && args.flag("steady"))
+    throw UsageError("--ideal and --steady exclude each other");
+  sim::RigParams rig = args.flag("ideal")    ? sim::RigParams::ideal()
+                       : args.flag("steady") ? sim::RigParams::steady()
+                                             : sim::RigParams::realistic();
   const double frames = args.number("frames", rig.framesPerSlice);
   if (frames != static_cast<int>(frames)) throw UsageError("--frames must be a whole number");
   rig.framesPerSlice = static_cast<int>(frames);
@@ -144,6 +148,7 @@ Command simulateCommand() {
         {"theta-v", 0, "DEG", "camera elevation, with -o (default 30)"},
         {"frames", 0, "N", "frames a sweep (default 48: 24 with the LED on, 24 off)"},
         {"ideal", 0, "", "no imperfections: exact slice positions, no noise, blur or occlusion"},
+        {"steady", 0, "", "the realistic sensor noise, none of the hand's imperfections"},
         {"encoding", 0, "E", "srgb8 (default) or linear16 frames"},
         {"exposure-us", 0, "US", "fixed exposure (default: metered, see --metering)"},
         {"metering", 0, "RULE", "brightest (default: window or references at 80 %) or paper"},

@@ -74,6 +74,14 @@ RigParams RigParams::realistic() {
   return p;
 }
 
+RigParams RigParams::steady() {
+  const RigParams noisy = realistic();
+  RigParams p;
+  p.readNoise = noisy.readNoise;
+  p.fullWellElectrons = noisy.fullWellElectrons;
+  return p;
+}
+
 bool RigParams::isValid(std::string* error) const {
   if (framesPerSlice < 2 || framesPerSlice > 10000)
     return fail(error, "frames per slice must be 2..10000");

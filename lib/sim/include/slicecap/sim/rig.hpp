@@ -67,6 +67,10 @@ struct RigParams {
   /// \brief A careful person with a hand-held camera: elevation within ~2 deg, 1 in 10 frames
   /// blurred, 1 in 20 occluded or partly out of view, some exposure changes, sensor noise.
   static RigParams realistic();
+  /// \brief realistic()'s sensor and room light (noise as on an 8-bit sensor) without the hand's
+  /// imperfections (jitter, blur, occlusion, exposure changes, markers out of view): what the
+  /// exposure alone costs.
+  static RigParams steady();
 
   /// \brief False with a reason naming the field for a value out of range.
   bool isValid(std::string* error = nullptr) const;
