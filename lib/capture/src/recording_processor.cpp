@@ -2,9 +2,9 @@
 #include "slicecap/capture/recording_processor.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <limits>
 #include <stdexcept>
 
 #include "slicecap/hal/recorded_frame.hpp"
