@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -54,6 +55,7 @@ TEST(Metrics, ScalingTheTestChangesTheErrorButNotTheReferenceScale) {
   EXPECT_GT(m.rmse, 1.0);
   EXPECT_GT(m.deltaE, 0.5);
   EXPECT_NEAR(m.relativeRmse, 0.2, 1e-6);
+  EXPECT_NEAR(m.peakRatio, 1.2, 1e-6);
   EXPECT_NEAR(m.psnrDb, 20 * std::log10(255 / m.rmse), 1e-9);
   // The metrics are invariant to a common scale of reference and test (normalised by the
   // reference).
@@ -63,6 +65,19 @@ TEST(Metrics, ScalingTheTestChangesTheErrorButNotTheReferenceScale) {
   for (float& v : brighter2.values())
     v *= 4.0f;
   EXPECT_NEAR(compare(ref2, brighter2).rmse, m.rmse, 1e-9);
+}
+
+TEST(Metrics, PeakRatioShowsAHighlightLostToClipping) {
+  const Abrdf ref = models::tabulate(*models::findMaterial("brushed-aluminium"));
+  EXPECT_DOUBLE_EQ(compare(ref, ref).peakRatio, 1.0);
+  // Every value above a tenth of the peak clipped to it: the lobe's top is gone.
+  Abrdf clipped = ref;
+  const float peak = *std::max_element(ref.values().begin(), ref.values().end());
+  for (float& v : clipped.values())
+    v = std::min(v, peak / 10.0f);
+  const Metrics m = compare(ref, clipped);
+  EXPECT_NEAR(m.peakRatio, 0.1, 1e-6);
+  EXPECT_GT(m.relativeRmse, 0.3);
 }
 
 TEST(Metrics, RejectsABlackReference) {

@@ -55,9 +55,10 @@ TEST(Report, CsvQuotesFieldsAndLeavesFailedMetricsEmpty) {
   std::getline(lines, first);
   std::getline(lines, second);
   EXPECT_EQ(header,
-            "material,method,samples,delta_e,rmse,psnr_db,relative_rmse,milliseconds,error");
+            "material,method,samples,delta_e,rmse,psnr_db,relative_rmse,peak_ratio,milliseconds,"
+            "error");
   EXPECT_EQ(first.rfind("plain,b,168,1.5000,10.0000,", 0), 0u) << first;
-  EXPECT_EQ(second, "\"odd, \"\"name\"\"\",a,168,,,,,2.000,no slice 75/30");
+  EXPECT_EQ(second, "\"odd, \"\"name\"\"\",a,168,,,,,,2.000,no slice 75/30");
 }
 
 TEST(Report, JsonHoldsRowsAndMeans) {
@@ -66,6 +67,7 @@ TEST(Report, JsonHoldsRowsAndMeans) {
   const nlohmann::json j = reportJson(rows, summarise(rows, {"b", "a"}));
   ASSERT_EQ(j["materials"].size(), 2u);
   EXPECT_EQ(j["materials"][0]["delta_e"], 4.0);
+  EXPECT_EQ(j["materials"][0]["peak_ratio"], 1.0);
   EXPECT_FALSE(j["materials"][1].contains("delta_e"));
   EXPECT_EQ(j["materials"][1]["error"], "failed");
   EXPECT_EQ(j["means"][0]["method"], "b");

@@ -83,6 +83,24 @@ TEST(Recording, ALiveFramesLedExposureReadsBackExactly) {
   EXPECT_FALSE(read.frames[1].ledExposure);
 }
 
+TEST(Recording, AnHdrFramesExposureLevelReadsBackAndIsAbsentOtherwise) {
+  const auto dir = test::freshTempDir() / "rec";
+  RecordingWriter writer(dir, smallHeader(PixelEncoding::Srgb8));
+  RecordedFrame longFrame{"", 1000, true, 8000.0, 1.0};
+  longFrame.exposureLevel = 0;
+  RecordedFrame shortFrame{"", 2000, true, 400.0, 1.0};
+  shortFrame.exposureLevel = 2;
+  writer.append(gradient(3, 8, 0), longFrame);
+  writer.append(gradient(3, 8, 1), shortFrame);
+  writer.append(gradient(3, 8, 2), {"", 3000, false, 400.0, 1.0});
+  const Recording read = readRecording(dir);
+  EXPECT_EQ(read, writer.recording());
+  EXPECT_EQ(read.frames[0].exposureLevel, 0);
+  EXPECT_EQ(read.frames[1].exposureLevel, 2);
+  EXPECT_FALSE(read.frames[2].exposureLevel);
+  EXPECT_FALSE(readJsonFile(dir / kRecordingManifest)["frames"][2].contains("exposure_level"));
+}
+
 TEST(Recording, WriterRefusesToOverwriteARecordingAndRejectsBadFrames) {
   const auto dir = test::freshTempDir() / "rec";
   RecordingWriter writer(dir, smallHeader(PixelEncoding::Srgb8));
@@ -102,6 +120,9 @@ TEST(Recording, ReaderNamesTheFieldThatIsWrong) {
   const std::vector<Case> cases = {
       {"frames[1].exposure_us", [](auto& j) { j["frames"][1]["exposure_us"] = -5; }},
       {"frames[1].timestamp_us", [](auto& j) { j["frames"][1]["timestamp_us"] = 1000; }},
+      {"frames[1].exposure_level", [](auto& j) { j["frames"][1]["exposure_level"] = 3; }},
+      {"frames[0].exposure_level", [](auto& j) { j["frames"][0]["exposure_level"] = -1; }},
+      {"frames[0].exposure_level", [](auto& j) { j["frames"][0]["exposure_level"] = "long"; }},
       {"frames[0].file", [](auto& j) { j["frames"][0]["file"] = "../elsewhere.png"; }},
       {"frames[1].file", [](auto& j) { j["frames"][1]["file"] = "missing.png"; }},
       {"frames[0].led_on", [](auto& j) { j["frames"][0]["led_on"] = "yes"; }},

@@ -2,15 +2,54 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <vector>
 
 #include "slicecap/core/angles.hpp"
 #include "slicecap/sim/rig.hpp"
+#include "slicecap/sim/simulate.hpp"
 
 namespace slicecap::sim {
 namespace {
 
 double azimuthDifferenceDeg(double aDeg, double bDeg) {
   return std::abs(std::remainder(aDeg - bDeg, 360.0));
+}
+
+TEST(RigPlan, HdrMeteringPutsThePaperAndTheHighlightAtEightyPercent) {
+  RigParams rig = RigParams::ideal();  // full scale per 20 W/(m^2 sr) s
+  rig.maxExposureLevels = 3;
+  // Paper 1 W/(m^2 sr): 0.8 / 20 s = 40 ms; a highlight 100 x brighter: 0.4 ms, a third between.
+  const std::vector<double> three = chooseHdrLevelsUs({100.0, 1.0}, rig);
+  ASSERT_EQ(three.size(), 3u);
+  EXPECT_NEAR(three[0], 40000.0, 1e-6);
+  EXPECT_NEAR(three[1], 4000.0, 1e-6);
+  EXPECT_NEAR(three[2], 400.0, 1e-6);
+  rig.maxExposureLevels = 2;
+  EXPECT_EQ(chooseHdrLevelsUs({100.0, 1.0}, rig), (std::vector<double>{40000.0, 400.0}));
+  // Within 16 x, two levels even when three are allowed; within 2 x, the brighter's one exposure.
+  rig.maxExposureLevels = 3;
+  EXPECT_EQ(chooseHdrLevelsUs({10.0, 1.0}, rig).size(), 2u);
+  const std::vector<double> one = chooseHdrLevelsUs({1.5, 1.0}, rig);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_NEAR(one[0], 0.8 / (20.0 * 1.5) * 1e6, 1e-6);
+}
+
+TEST(RigPlan, AnHdrBracketsLedPairsShareTheirNominalPosition) {
+  const RigParams rig = RigParams::ideal();
+  const auto camera = vision::defaultSimulatedCamera();
+  const auto target = vision::defaultTarget();
+  const SliceId slice{SliceKind::Diagonal, {30, 30}};
+  const auto single = planSweep(slice, 15.0, rig, camera, target);
+  const auto bracket = planSweep(slice, 15.0, rig, camera, target, 2);
+  ASSERT_EQ(bracket.size(), 2 * single.size());
+  for (std::size_t k = 0; k < bracket.size(); ++k) {
+    // Frames 4q, 4q + 2 (LED on) at single frame 2q; 4q + 1, 4q + 3 (off) at 2q + 1.
+    const std::size_t same = (k / 4) * 2 + k % 2;
+    EXPECT_DOUBLE_EQ(bracket[k].sliceParameterDeg, single[same].sliceParameterDeg) << k;
+    EXPECT_EQ(bracket[k].ledOn, single[same].ledOn) << k;
+  }
+  EXPECT_THROW(planSweep(slice, 15.0, rig, camera, target, 4), std::invalid_argument);
 }
 
 TEST(RigPlan, IdealSweepsFollowTheirSliceExactly) {

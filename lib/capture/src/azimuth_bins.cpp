@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "slicecap/capture/hdr_merge.hpp"
 #include "slicecap/core/angles.hpp"
 
 namespace slicecap::capture {
@@ -84,9 +85,13 @@ std::vector<SliceSample> AzimuthBins::combine() const {
       viewPhi.push_back(s.view.phiDeg);
     }
     const double n = double(bin.size());
+    // An HDR sweep's bin merges its exposures per cell (hdr_merge.hpp); one exposure's frames
+    // keep the median, robust to a blurred or occluded frame that passed the gate.
+    const std::optional<HdrMerge> merged = mergeHdrBin(bin);
     out.push_back({{lightTheta / n, circularMeanDeg(lightPhi)},
                    {viewTheta / n, circularMeanDeg(viewPhi)},
-                   {median(channel[0]), median(channel[1]), median(channel[2])}});
+                   merged ? merged->value
+                          : Rgb{median(channel[0]), median(channel[1]), median(channel[2])}});
   }
   return out;
 }

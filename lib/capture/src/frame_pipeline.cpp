@@ -184,7 +184,7 @@ struct FramePipeline::State {
     spec.clipFraction = settings.clipFraction;
     *window = readArea(frame, pose, camera, spec, settings.noise, *codes);
     if (!window->inside) return GateFailure{"window_occluded", "window out of the image"};
-    if (window->clipped) return GateFailure{"window_clipped", "window saturated"};
+    if (window->clipped && !settings.hdr) return GateFailure{"window_clipped", "window saturated"};
     return std::nullopt;
   }
 
@@ -255,6 +255,35 @@ struct FramePipeline::State {
       }
     }
     return std::nullopt;
+  }
+
+  // The window's sample square in cells (HDR sweeps): each cell's radiance per unit exposure x
+  // gain minus the room light (LED-off frames of the same level), its variance, its level as
+  // exposed and whether it clipped; a cell out of the image counts as clipped (unusable).
+  std::vector<HdrCell> readCells(const hal::Frame& frame, const vision::Pose& pose,
+                                 const std::vector<AmbientTerm>& roomLight) const {
+    const vision::RectMm& r = windowArea.rectMm;
+    const int n = kHdrCellsPerSide;
+    const double scale =
+        exposureKnown(frame) ? frame.metadata.exposureUs * frame.metadata.gain : 1.0;
+    std::vector<HdrCell> cells;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double x0 = r.xMinMm + i * r.widthMm() / n, y0 = r.yMinMm + j * r.heightMm() / n;
+        const AreaSpec spec{{x0, y0, x0 + r.widthMm() / n, y0 + r.heightMm() / n},
+                            0.0,
+                            settings.clipFraction};
+        const AreaReading area = readArea(frame, pose, camera, spec, settings.noise, *codes);
+        const AreaReading room = ambientAt(roomLight, spec, pose);
+        HdrCell cell;
+        cell.radiance = area.mean - room.mean;
+        for (int c = 0; c < 3; ++c)
+          cell.variance[c] = area.variance[c] + room.variance[c];
+        cell.level = area.mean.maxChannel() * scale;
+        cell.clipped = area.clipped || !area.inside;
+        cells.push_back(cell);
+      }
+    return cells;
   }
 
   // The LED-off frames on both sides of `timeUs`, weighted linearly in time, when the following
@@ -471,6 +500,17 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
                                                                                : *m.nominalLight;
   for (int c = 0; c < 3; ++c)
     sample.value[c] = irradiance[c] > 0 ? std::max(0.0, windowRadiance[c]) / irradiance[c] : 0.0;
+  if (s.settings.hdr) {
+    // The references' SNR^2 stands for the irradiance's inverse relative variance: a short
+    // exposure's dark references give a noisier fit, and weigh less in the bin's irradiance.
+    HdrReading hdr;
+    hdr.cells = s.readCells(frame, pose, ambient);
+    hdr.irradiance = irradiance;
+    for (const ReferenceObservation& o : observations)
+      for (int c = 0; c < 3; ++c)
+        if (o.sigma[c] > 0) hdr.irradianceWeight += std::pow(o.radiance[c] / o.sigma[c], 2);
+    sample.hdr = std::move(hdr);
+  }
   outcome.kind = FrameOutcome::Kind::Sample;
   outcome.sample = sample;
   outcome.detail = markerText;

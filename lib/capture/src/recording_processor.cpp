@@ -2,8 +2,9 @@
 #include "slicecap/capture/recording_processor.hpp"
 
 #include <algorithm>
-#include <nlohmann/json.hpp>
 #include <limits>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 
 #include "slicecap/hal/recorded_frame.hpp"
@@ -38,6 +39,65 @@ hal::Frame frameOf(Image image, const io::Recording& recording, const io::Record
   frame.encoding = recording.encoding;
   frame.metadata = hal::metadataOf(entry, sequence);
   return frame;
+}
+
+// The frames `group` (indices into recording.frames, in time order) through one pipeline; their
+// outcomes go to result.outcomes at their indices.
+void processGroup(const std::filesystem::path& directory, const io::Recording& recording,
+                  const std::vector<std::size_t>& group, const PipelineSettings& offline,
+                  const FrameObserver& observer, RecordingResult& result) {
+  FramePipeline pipeline(recording.target, recording.camera, offline);
+  const auto readFrame = [&](std::size_t i) {
+    return frameOf(io::readPng(io::framePath(directory, recording.frames[i])), recording,
+                   recording.frames[i], i);
+  };
+  if (!offline.offlineTwoSidedAmbient) {
+    // As live, except that LED-on frames before the first LED-off one use that one.
+    for (std::size_t i : group) {
+      if (recording.frames[i].ledOn) continue;
+      try {
+        pipeline.setAmbientFrame(readFrame(i));
+      } catch (const io::IoError&) {
+        continue;  // counted as bad_frame when its turn comes
+      }
+      break;
+    }
+  }
+  // `following` holds a position in `group`, read ahead and used in its turn.
+  std::optional<std::pair<std::size_t, hal::Frame>> following;
+  for (std::size_t n = 0; n < group.size(); ++n) {
+    const std::size_t i = group[n];
+    const io::RecordedFrame& entry = recording.frames[i];
+    result.frameFiles[i] = entry.file;
+    FrameOutcome outcome;
+    try {
+      if (offline.offlineTwoSidedAmbient && entry.ledOn && (!following || following->first < n)) {
+        following.reset();
+        for (std::size_t m = n + 1; m < group.size() && !following; ++m) {
+          if (recording.frames[group[m]].ledOn) continue;
+          try {
+            following.emplace(m, readFrame(group[m]));
+            pipeline.setFollowingAmbientFrame(following->second);
+          } catch (const io::IoError&) {
+            break;  // counted as bad_frame when its turn comes; one-sided until then
+          }
+        }
+      }
+      const hal::Frame frame =
+          following && following->first == n ? following->second : readFrame(i);
+      outcome = pipeline.process(frame, result.slice);
+      // An LED-on frame leaves the pipeline's LED-off frames as they were: its own term.
+      if (observer)
+        observer(frame, outcome,
+                 entry.ledOn ? pipeline.ambientTermsFor(frame.metadata.timestampUs)
+                             : std::vector<AmbientTerm>{});
+    } catch (const io::IoError& error) {
+      outcome.kind = FrameOutcome::Kind::Rejected;
+      outcome.rejectReason = "bad_frame";
+      outcome.detail = error.what();
+    }
+    result.outcomes[i] = std::move(outcome);
+  }
 }
 
 }  // namespace
@@ -89,63 +149,33 @@ RecordingResult processRecording(const std::filesystem::path& directory,
   if (offline.toneCurve) result.decoding = offline.toneCurve->name();
   if (settings.offlineTwoSidedAmbient)
     offline.detector.frameBudgetPx = std::numeric_limits<double>::infinity();
-  FramePipeline pipeline(recording.target, recording.camera, offline);
-  const auto readFrame = [&](std::size_t i) {
-    return frameOf(io::readPng(io::framePath(directory, recording.frames[i])), recording,
-                   recording.frames[i], i);
-  };
-  if (!settings.offlineTwoSidedAmbient) {
-    // As live, except that LED-on frames before the first LED-off one use that one.
-    for (std::size_t i = 0; i < recording.frames.size(); ++i) {
-      if (recording.frames[i].ledOn) continue;
-      try {
-        pipeline.setAmbientFrame(readFrame(i));
-      } catch (const io::IoError&) {
-        continue;  // counted as bad_frame when its turn comes
-      }
-      break;
-    }
-  }
-  std::optional<std::pair<std::size_t, hal::Frame>> following;  // read ahead, used in its turn
+  // An HDR recording (frames[].exposure_level) is processed level by level, each with its own
+  // pipeline: an LED-on frame's room light then comes from the LED-off frames of its own
+  // exposure, and the bins merge the levels (hdr_merge.hpp). One level: the frames in order.
+  std::vector<std::vector<std::size_t>> groups(1);
   for (std::size_t i = 0; i < recording.frames.size(); ++i) {
-    const io::RecordedFrame& entry = recording.frames[i];
-    result.frameFiles.push_back(entry.file);
-    FrameOutcome outcome;
-    try {
-      if (settings.offlineTwoSidedAmbient && entry.ledOn && (!following || following->first < i)) {
-        following.reset();
-        for (std::size_t j = i + 1; j < recording.frames.size() && !following; ++j) {
-          if (recording.frames[j].ledOn) continue;
-          try {
-            following.emplace(j, readFrame(j));
-            pipeline.setFollowingAmbientFrame(following->second);
-          } catch (const io::IoError&) {
-            break;  // counted as bad_frame when its turn comes; one-sided until then
-          }
-        }
-      }
-      const hal::Frame frame =
-          following && following->first == i ? following->second : readFrame(i);
-      outcome = pipeline.process(frame, result.slice);
-      // An LED-on frame leaves the pipeline's LED-off frames as they were: its own term.
-      if (observer)
-        observer(frame, outcome,
-                 entry.ledOn ? pipeline.ambientTermsFor(frame.metadata.timestampUs)
-                             : std::vector<AmbientTerm>{});
-    } catch (const io::IoError& error) {
-      outcome.kind = FrameOutcome::Kind::Rejected;
-      outcome.rejectReason = "bad_frame";
-      outcome.detail = error.what();
-    }
+    const std::size_t level = static_cast<std::size_t>(recording.frames[i].exposureLevel.value_or(0));
+    if (groups.size() <= level) groups.resize(level + 1);
+    groups[level].push_back(i);
+  }
+  result.exposureLevels = static_cast<int>(groups.size());
+  offline.hdr = result.exposureLevels > 1;
+  result.frameFiles.resize(recording.frames.size());
+  result.outcomes.resize(recording.frames.size());
+  for (const std::vector<std::size_t>& group : groups)
+    processGroup(directory, recording, group, offline, observer, result);
+  for (std::size_t i = 0; i < recording.frames.size(); ++i) {
+    FrameOutcome& outcome = result.outcomes[i];
     if (outcome.kind == FrameOutcome::Kind::Sample) {
       outcome.sample->frameIndex = i;
+      if (outcome.sample->hdr)
+        outcome.sample->hdr->exposureLevel = recording.frames[i].exposureLevel.value_or(0);
       result.bins.add(*outcome.sample);
     } else if (outcome.kind == FrameOutcome::Kind::Ambient) {
       ++result.ambientFrames;
     } else {
       ++result.rejections[outcome.rejectReason];
     }
-    result.outcomes.push_back(std::move(outcome));
   }
   return result;
 }
@@ -175,6 +205,7 @@ nlohmann::json RecordingResult::toJson() const {
     if (m.referenceDisagreement)
       f["white_references"] = {{"disagreement", *m.referenceDisagreement},
                                {"allowed", m.referenceDisagreementLimit.value_or(0.0)}};
+    if (o.sample && o.sample->hdr) f["exposure_level"] = o.sample->hdr->exposureLevel;
     if (o.kind == FrameOutcome::Kind::Rejected) f["reason"] = o.rejectReason;
     if (!o.detail.empty()) f["detail"] = o.detail;
     if (o.sample) {
@@ -195,6 +226,7 @@ nlohmann::json RecordingResult::toJson() const {
           {"slice", toString(slice)},
           {"decoding", decoding},
           {"bins_filled", bins.filledCount()},
+          {"exposure_levels", exposureLevels},
           {"room_light", roomLightSubtracted
                              ? "subtracted (the LED-off frames)"
                              : "not subtracted: the recording has no LED-off frame"},

@@ -20,13 +20,14 @@ int run(const ParsedArgs& args, Streams& io) {
                              {"delta_e", m.deltaE},
                              {"rmse", m.rmse},
                              {"psnr_db", m.psnrDb},
-                             {"relative_rmse", m.relativeRmse}}
+                             {"relative_rmse", m.relativeRmse},
+                             {"peak_ratio", m.peakRatio}}
                   .dump(2)
            << "\n";
   } else {
     io.out << std::fixed << std::setprecision(2) << "dE " << m.deltaE << "  RMSE " << m.rmse
            << "  PSNR " << m.psnrDb << " dB  linear relative RMSE " << std::setprecision(4)
-           << m.relativeRmse << "\n";
+           << m.relativeRmse << "  peak ratio " << m.peakRatio << "\n";
   }
   return 0;
 }
@@ -41,7 +42,8 @@ Command compareCommand() {
        "cos(theta_i),\n"
        "divided by the reference's maximum, sRGB-encoded to 8 bits; mean CIE76 dE, RMSE and PSNR\n"
        "(20 log10(255 / RMSE), at most 100 dB); plus the linear-domain relative RMSE\n"
-       "||TEST - REFERENCE|| / ||REFERENCE|| over all 19683 BRDF values.",
+       "||TEST - REFERENCE|| / ||REFERENCE|| over all 19683 BRDF values, and the peak ratio\n"
+       "max(TEST) / max(REFERENCE) (a clipped highlight: << 1).",
        {{"json", 0, "", "print JSON instead of text"}},
        2,
        2},

@@ -7,6 +7,7 @@
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/table_file.hpp"
 #include "slicecap/models/reflectance_model.hpp"
+#include "slicecap/sim/material.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -22,7 +23,16 @@ int run(const ParsedArgs& args, Streams& io) {
   if (args.positional.size() != 1)
     throw UsageError("generate: expected a MATERIAL name (see --list)");
   const std::string name = args.positional[0];
-  const auto model = models::findMaterial(name);
+  std::shared_ptr<const models::ReflectanceModel> model = models::findMaterial(name);
+  // A model specification (ward:..., ggx:..., lambert:...), as simulate takes it: the truth of
+  // a simulated capture of a material that is not built in.
+  if (!model && name.find(':') != std::string::npos && !name.starts_with("woven")) {
+    try {
+      model = sim::loadMaterial(name);
+    } catch (const sim::MaterialError& e) {
+      throw UsageError(std::string("generate: ") + e.what());
+    }
+  }
   if (!model)
     throw UsageError("generate: unknown material '" + name + "' (see slicecap generate --list)");
   const std::filesystem::path output = args.required("output");
@@ -46,7 +56,8 @@ Command generateCommand() {
            "MATERIAL -o OUT.exr|OUT.f32 | --list",
            "Tabulate a built-in analytic material (Ward, anisotropic GGX, Blinn-Phong, Lambert, "
            "sheen) on\n"
-           "the Bonn 81 x 81 grid: ground truth for simulated captures.",
+           "the Bonn 81 x 81 grid: ground truth for simulated captures. MATERIAL may also be a\n"
+           "model specification as simulate takes it (ward:..., ggx:..., lambert:...).",
            {{"output", 'o', "OUT", "where to write the table (.exr or .f32)"},
             {"list", 0, "", "list the built-in materials and their parameters"}},
            0,

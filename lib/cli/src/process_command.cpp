@@ -176,7 +176,9 @@ Command processCommand() {
            "as live, also detection_deferred), the window's BRDF\n"
            "(the room light subtracted: the LED-off frames before and after, each at its own\n"
            "pose, interpolated in time; divided by the fitted irradiance), 15 deg azimuth bins\n"
-           "combined by median. One recording per slice; its slice comes from recording.json.\n"
+           "combined by median (an HDR recording's levels merged per cell instead, with the room\n"
+           "light of each level: docs/method.md 9.3). One recording per slice; its slice comes\n"
+           "from recording.json.\n"
            "Prints per slice the bins filled and the rejections by reason on stderr; no sample\n"
            "from any recording is a failure naming them (the report is still written).",
            options, 1, 64},

@@ -15,7 +15,11 @@ namespace slicecap::cli {
 namespace {
 
 sim::RigParams rigOf(const ParsedArgs& args) {
-  sim::RigParams rig = args.flag("ideal") ? sim::RigParams::ideal() : sim::RigParams::realistic();
+  if (args.flag("ideal") && args.flag("steady"))
+    throw UsageError("--ideal and --steady exclude each other");
+  sim::RigParams rig = args.flag("ideal")    ? sim::RigParams::ideal()
+                       : args.flag("steady") ? sim::RigParams::steady()
+                                             : sim::RigParams::realistic();
   const double frames = args.number("frames", rig.framesPerSlice);
   if (frames != static_cast<int>(frames)) throw UsageError("--frames must be a whole number");
   rig.framesPerSlice = static_cast<int>(frames);
@@ -28,6 +32,17 @@ sim::RigParams rigOf(const ParsedArgs& args) {
   rig.cameraDistanceMm = args.number("camera-distance", rig.cameraDistanceMm);
   rig.lightDistanceMm = args.number("light-distance", rig.lightDistanceMm);
   rig.alternateLed = !args.flag("no-led-alternation");
+  const std::string metering = args.value("metering").value_or("brightest");
+  if (metering != "brightest" && metering != "paper")
+    throw UsageError("--metering must be brightest or paper");
+  rig.metering =
+      metering == "paper" ? sim::RigParams::Metering::Paper : sim::RigParams::Metering::Brightest;
+  const double hdr = args.number("hdr", 1.0);
+  if (hdr != static_cast<int>(hdr) || hdr < 1 || hdr > 3)
+    throw UsageError("--hdr must be 1, 2 or 3");
+  rig.maxExposureLevels = static_cast<int>(hdr);
+  if (rig.maxExposureLevels > 1 && rig.exposureUs)
+    throw UsageError("--hdr meters its exposures: give it without --exposure-us");
   const std::string encoding = args.value("encoding").value_or("srgb8");
   const auto parsed = parsePixelEncoding(encoding);
   if (!parsed) throw UsageError("--encoding must be srgb8 or linear16");
@@ -91,14 +106,14 @@ int run(const ParsedArgs& args, Streams& io) {
                                     setup.rig);
   int frames = 0;
   if (output) {
-    sim::simulateSweep(*output, slice, renderer, setup);
-    frames = setup.rig.framesPerSlice;
+    frames = static_cast<int>(sim::simulateSweep(*output, slice, renderer, setup).frames.size());
     io.out << "wrote " << frames << " frames of " << toString(slice.id) << " to " << *output
            << " (with " << sim::kTruthFile << ")\n";
   } else {
     const auto recordings = sim::simulateSession(
         *session, renderer, setup, [&](const std::string& line) { io.err << line << "\n"; });
-    frames = static_cast<int>(recordings.size()) * setup.rig.framesPerSlice;
+    for (const auto& recording : recordings)
+      frames += static_cast<int>(io::readRecording(recording).frames.size());
     io.out << "wrote " << recordings.size() << " recordings (" << frames << " frames) under "
            << *session << "\n";
   }
@@ -133,8 +148,11 @@ Command simulateCommand() {
         {"theta-v", 0, "DEG", "camera elevation, with -o (default 30)"},
         {"frames", 0, "N", "frames a sweep (default 48: 24 with the LED on, 24 off)"},
         {"ideal", 0, "", "no imperfections: exact slice positions, no noise, blur or occlusion"},
+        {"steady", 0, "", "the realistic sensor noise, none of the hand's imperfections"},
         {"encoding", 0, "E", "srgb8 (default) or linear16 frames"},
-        {"exposure-us", 0, "US", "fixed exposure (default: the sweep's brightest at 80 %)"},
+        {"exposure-us", 0, "US", "fixed exposure (default: metered, see --metering)"},
+        {"metering", 0, "RULE", "brightest (default: window or references at 80 %) or paper"},
+        {"hdr", 0, "N", "up to N (2, 3) metered exposures by LED pair (method.md 9.3)"},
         {"ambient", 0, "W/M2", "room light irradiance (default 0.3; the LED gives ~10)"},
         {"camera-distance", 0, "MM", "camera to window centre (default 300)"},
         {"light-distance", 0, "MM", "LED to window centre (default 300)"},

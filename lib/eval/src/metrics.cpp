@@ -105,6 +105,9 @@ Metrics compare(const Abrdf& reference, const Abrdf& test) {
     referenceSquared += r * r;
   }
   m.relativeRmse = std::sqrt(differenceSquared / referenceSquared);
+  const auto& ref = reference.values();
+  const auto& tst = test.values();
+  m.peakRatio = *std::max_element(tst.begin(), tst.end()) / *std::max_element(ref.begin(), ref.end());
   return m;
 }
 

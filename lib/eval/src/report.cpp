@@ -20,7 +20,8 @@ nlohmann::json metricsJson(const Metrics& m) {
   return {{"delta_e", m.deltaE},
           {"rmse", m.rmse},
           {"psnr_db", m.psnrDb},
-          {"relative_rmse", m.relativeRmse}};
+          {"relative_rmse", m.relativeRmse},
+          {"peak_ratio", m.peakRatio}};
 }
 
 nlohmann::json rowJson(const EvaluationRow& row) {
@@ -44,6 +45,7 @@ std::vector<MethodSummary> summarise(const std::vector<EvaluationRow>& rows,
   std::vector<MethodSummary> summaries;
   for (const std::string& method : methods) {
     MethodSummary s{method, 0, 0, {}, 0.0, {}};
+    s.mean.peakRatio = 0.0;  // a sum until divided
     for (const EvaluationRow& row : rows) {
       if (row.method != method) continue;
       if (!row.error.empty()) {
@@ -55,12 +57,14 @@ std::vector<MethodSummary> summarise(const std::vector<EvaluationRow>& rows,
       s.mean.rmse += row.metrics.rmse;
       s.mean.psnrDb += row.metrics.psnrDb;
       s.mean.relativeRmse += row.metrics.relativeRmse;
+      s.mean.peakRatio += row.metrics.peakRatio;
       s.meanMilliseconds += row.milliseconds;
       s.worst.push_back(row);
     }
     if (s.materials > 0) {
       const double n = double(s.materials);
-      s.mean = {s.mean.deltaE / n, s.mean.rmse / n, s.mean.psnrDb / n, s.mean.relativeRmse / n};
+      s.mean = {s.mean.deltaE / n, s.mean.rmse / n, s.mean.psnrDb / n, s.mean.relativeRmse / n,
+                s.mean.peakRatio / n};
       s.meanMilliseconds /= n;
     }
     std::stable_sort(s.worst.begin(), s.worst.end(), [](const auto& a, const auto& b) {
@@ -73,17 +77,18 @@ std::vector<MethodSummary> summarise(const std::vector<EvaluationRow>& rows,
 }
 
 void writeReportCsvHeader(std::ostream& out) {
-  out << "material,method,samples,delta_e,rmse,psnr_db,relative_rmse,milliseconds,error\n";
+  out << "material,method,samples,delta_e,rmse,psnr_db,relative_rmse,peak_ratio,milliseconds,"
+         "error\n";
 }
 
 void writeReportCsvRow(std::ostream& out, const EvaluationRow& row) {
   char numbers[256];
   if (row.error.empty()) {
-    std::snprintf(numbers, sizeof numbers, "%zu,%.4f,%.4f,%.4f,%.6f,%.3f", row.samples,
+    std::snprintf(numbers, sizeof numbers, "%zu,%.4f,%.4f,%.4f,%.6f,%.4f,%.3f", row.samples,
                   row.metrics.deltaE, row.metrics.rmse, row.metrics.psnrDb,
-                  row.metrics.relativeRmse, row.milliseconds);
+                  row.metrics.relativeRmse, row.metrics.peakRatio, row.milliseconds);
   } else {
-    std::snprintf(numbers, sizeof numbers, "%zu,,,,,%.3f", row.samples, row.milliseconds);
+    std::snprintf(numbers, sizeof numbers, "%zu,,,,,,%.3f", row.samples, row.milliseconds);
   }
   out << csvField(row.material) << "," << csvField(row.method) << "," << numbers << ","
       << csvField(row.error) << "\n";

@@ -50,6 +50,7 @@ json frameToJson(const RecordedFrame& f) {
               {"led_on", f.ledOn},
               {"exposure_us", f.exposureUs},
               {"gain", f.gain}};
+  if (f.exposureLevel) out["exposure_level"] = *f.exposureLevel;
   if (f.ledExposure) {
     const RecordedLedExposure& e = *f.ledExposure;
     json changes = json::array();
@@ -250,6 +251,14 @@ Recording readRecording(const std::filesystem::path& input) {
     frame.ledOn = f::boolean(frames[i], "led_on", here);
     frame.exposureUs = f::positiveNumber(frames[i], "exposure_us", here);
     frame.gain = f::positiveNumber(frames[i], "gain", here);
+    if (frames[i].contains("exposure_level")) {
+      const std::int64_t level = f::integer(frames[i], "exposure_level", here);
+      if (level < 0 || level >= kMaxExposureLevels)
+        (here / "exposure_level")
+            .fail("expected 0.." + std::to_string(kMaxExposureLevels - 1) + ", got " +
+                  std::to_string(level));
+      frame.exposureLevel = static_cast<int>(level);
+    }
     if (frames[i].contains("led_exposure"))
       frame.ledExposure = ledExposureFromJson(frames[i]["led_exposure"], here / "led_exposure");
     r.frames.push_back(frame);

@@ -74,6 +74,14 @@ RigParams RigParams::realistic() {
   return p;
 }
 
+RigParams RigParams::steady() {
+  const RigParams noisy = realistic();
+  RigParams p;
+  p.readNoise = noisy.readNoise;
+  p.fullWellElectrons = noisy.fullWellElectrons;
+  return p;
+}
+
 bool RigParams::isValid(std::string* error) const {
   if (framesPerSlice < 2 || framesPerSlice > 10000)
     return fail(error, "frames per slice must be 2..10000");
@@ -87,6 +95,8 @@ bool RigParams::isValid(std::string* error) const {
   }
   if (cameraDistanceMm < 100.0 || lightDistanceMm < 100.0)
     return fail(error, "camera and light distances must be at least 100 mm");
+  if (maxExposureLevels < 1 || maxExposureLevels > 3)
+    return fail(error, "exposure levels must be 1..3");
   if (exposureUs && !(*exposureUs > 0.0 && std::isfinite(*exposureUs)))
     return fail(error, "exposure must be positive");
   const std::pair<const char*, double> nonNegative[] = {{"ambient irradiance", ambientIrradiance},
@@ -120,8 +130,10 @@ bool RigParams::isValid(std::string* error) const {
 
 std::vector<FramePlan> planSweep(const SliceId& slice, double alphaDeg, const RigParams& params,
                                  const vision::CameraModel& camera,
-                                 const vision::TargetGeometry& target) {
+                                 const vision::TargetGeometry& target, int bracketLevels) {
   std::string error;
+  if (bracketLevels < 1 || bracketLevels > 3)
+    throw std::invalid_argument("rig parameters: bracket levels must be 1..3");
   if (!params.isValid(&error)) throw std::invalid_argument("rig parameters: " + error);
   // One stream per slice, so a session's slices differ but each is reproducible on its own.
   std::mt19937_64 rng(params.seed * 1000003u +
@@ -130,14 +142,19 @@ std::vector<FramePlan> planSweep(const SliceId& slice, double alphaDeg, const Ri
                       static_cast<std::uint64_t>(slice.elevations.thetaVDeg));
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  const int n = params.framesPerSlice;
+  const int n = params.framesPerSlice * bracketLevels;
+  const int framesPerPair = params.alternateLed ? 2 : 1;
   std::vector<FramePlan> plans;
   double pairExposureScale = 1.0;
   for (int k = 0; k < n; ++k) {
     FramePlan plan;
     plan.index = k;
     plan.timestampUs = static_cast<std::int64_t>(std::llround(k * params.sweepSeconds * 1e6 / n));
-    plan.sliceParameterDeg = k * 360.0 / n;
+    // An HDR bracket's LED pairs share their nominal position (consecutive frames of a camera
+    // at video rate, ~1 deg apart), so every level sees each position; one level: frame k at k.
+    const int pair = k / framesPerPair;
+    const int position = (pair / bracketLevels) * framesPerPair + k % framesPerPair;
+    plan.sliceParameterDeg = position * 360.0 / params.framesPerSlice;
     const double parameterDeg = plan.sliceParameterDeg + params.azimuthJitterDeg * normal(rng);
     const bool axial = slice.kind == SliceKind::Axial;
     const double phiIDeg = wrapDeg360(axial ? parameterDeg : 360.0 - parameterDeg);

@@ -69,9 +69,9 @@ FrameTruth truthOf(const FrameRenderer& renderer, const FramePlan& plan, const F
 
 }  // namespace
 
-double chooseExposureUs(const FrameRenderer& renderer, const RigParams& rig,
-                        const std::vector<FramePlan>& plans) {
-  double brightest = 0.0;  // radiance, W / (m^2 sr)
+MeteredRadiance meterSweep(const FrameRenderer& renderer, const RigParams& rig,
+                           const std::vector<FramePlan>& plans) {
+  MeteredRadiance metered;
   const vision::TargetGeometry& target = renderer.target();
   for (const FramePlan& plan : plans) {
     FrameScene scene = sceneOf(plan, 0);
@@ -79,20 +79,48 @@ double chooseExposureUs(const FrameRenderer& renderer, const RigParams& rig,
     scene.exposureUs = 1e6;
     scene.gain = 1.0;
     const double perRadiance = renderer.pixelScale(scene);
-    brightest =
-        std::max(brightest,
-                 renderer.windowPoint(scene, Eigen::Vector3d::Zero()).expectedLinear.maxChannel() /
-                     perRadiance);
+    metered.window = std::max(
+        metered.window,
+        renderer.windowPoint(scene, Eigen::Vector3d::Zero()).expectedLinear.maxChannel() /
+            perRadiance);
     for (const vision::Patch& p : target.patches) {
       if (p.kind != vision::PatchKind::White) continue;
       const Eigen::Vector3d at(p.rect.centre().xMm, p.rect.centre().yMm, 0.0);
-      brightest =
-          std::max(brightest, p.albedo.maxChannel() / std::numbers::pi *
-                                  (renderer.ledIrradiance(scene, at) + rig.ambientIrradiance));
+      metered.references =
+          std::max(metered.references, p.albedo.maxChannel() / std::numbers::pi *
+                                           (renderer.ledIrradiance(scene, at) + rig.ambientIrradiance));
     }
   }
-  const double exposureS = 0.8 / (rig.sensorResponse * rig.gain * std::max(brightest, 1e-12));
+  return metered;
+}
+
+namespace {
+
+// The exposure (us, 20 us .. 0.5 s) that puts `radiance` (W / (m^2 sr)) at 80 % of full scale.
+double exposureForUs(const RigParams& rig, double radiance) {
+  const double exposureS = 0.8 / (rig.sensorResponse * rig.gain * std::max(radiance, 1e-12));
   return std::clamp(exposureS * 1e6, 20.0, 5e5);
+}
+
+}  // namespace
+
+double chooseExposureUs(const FrameRenderer& renderer, const RigParams& rig,
+                        const std::vector<FramePlan>& plans) {
+  const MeteredRadiance metered = meterSweep(renderer, rig, plans);
+  return exposureForUs(rig, rig.metering == RigParams::Metering::Paper
+                                ? metered.references
+                                : std::max(metered.window, metered.references));
+}
+
+std::vector<double> chooseHdrLevelsUs(const MeteredRadiance& metered, const RigParams& rig) {
+  const double paperUs = exposureForUs(rig, metered.references);
+  const double highlightUs = exposureForUs(rig, metered.window);
+  // The window never much brighter than the paper: one exposure holds both.
+  if (rig.maxExposureLevels < 2 || highlightUs * kHdrMinRatio >= paperUs)
+    return {std::min(paperUs, highlightUs)};
+  if (rig.maxExposureLevels < 3 || highlightUs * kHdrMaxStepRatio >= paperUs)
+    return {paperUs, highlightUs};
+  return {paperUs, std::sqrt(paperUs * highlightUs), highlightUs};
 }
 
 SweepTruth simulateSweep(const std::filesystem::path& directory, const io::RecordedSlice& slice,
@@ -100,10 +128,26 @@ SweepTruth simulateSweep(const std::filesystem::path& directory, const io::Recor
                          const std::function<void(int, int)>& progress) {
   std::vector<FramePlan> plans =
       planSweep(slice.id, slice.alphaDeg, setup.rig, renderer.camera(), renderer.target());
-  const double baseExposureUs =
-      setup.rig.exposureUs ? *setup.rig.exposureUs : chooseExposureUs(renderer, setup.rig, plans);
-  for (FramePlan& plan : plans)
-    plan.exposureUs = std::round(baseExposureUs * plan.exposureScale);
+  std::vector<double> levelsUs;
+  if (setup.rig.exposureUs)
+    levelsUs = {*setup.rig.exposureUs};
+  else if (setup.rig.maxExposureLevels > 1)
+    levelsUs = chooseHdrLevelsUs(meterSweep(renderer, setup.rig, plans), setup.rig);
+  else
+    levelsUs = {chooseExposureUs(renderer, setup.rig, plans)};
+  const int levels = static_cast<int>(levelsUs.size());
+  if (levels > 1) {
+    // Every position of the sweep is taken at every level, by consecutive LED pairs: as many
+    // frames per level as a one-exposure sweep has (the same sweep time, frames closer).
+    plans = planSweep(slice.id, slice.alphaDeg, setup.rig, renderer.camera(), renderer.target(),
+                      levels);
+  }
+  for (FramePlan& plan : plans) {
+    // Levels alternate by LED pair, so each LED-off frame has its LED-on frame's exposure.
+    const int pair = setup.rig.alternateLed ? plan.index / 2 : plan.index;
+    plan.exposureLevel = pair % levels;
+    plan.exposureUs = std::round(levelsUs[plan.exposureLevel] * plan.exposureScale);
+  }
 
   io::Recording header;
   header.createdBy = setup.createdBy + " " + std::string(kVersion);
@@ -128,8 +172,9 @@ SweepTruth simulateSweep(const std::filesystem::path& directory, const io::Recor
   for (const FramePlan& plan : plans) {
     const FrameScene scene =
         sceneOf(plan, sliceSeed + static_cast<std::uint64_t>(plan.index) * 7919u);
-    const io::RecordedFrame& written = writer.append(
-        renderer.render(scene), {"", plan.timestampUs, plan.ledOn, plan.exposureUs, plan.gain});
+    io::RecordedFrame entry{"", plan.timestampUs, plan.ledOn, plan.exposureUs, plan.gain};
+    if (levels > 1) entry.exposureLevel = plan.exposureLevel;
+    const io::RecordedFrame& written = writer.append(renderer.render(scene), entry);
     FrameTruth frameTruth = truthOf(renderer, plan, scene);
     frameTruth.file = written.file;
     truth.frames.push_back(std::move(frameTruth));

@@ -31,7 +31,8 @@ class AzimuthBins {
   std::vector<bool> filled() const;
 
   /// \brief One slice sample per non-empty bin: the per-channel median of its values (robust to a
-  /// blurred or occluded frame that passed the gate), at the mean light and view directions of its
+  /// blurred or occluded frame that passed the gate) or, when every sample of the bin carries an
+  /// HDR reading, their merge (mergeHdrBin), at the mean light and view directions of its
   /// frames (elevations averaged, azimuths by circular mean): the sample sits at the measured
   /// angles, not at the bin centre.
   std::vector<SliceSample> combine() const;

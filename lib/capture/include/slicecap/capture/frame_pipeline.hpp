@@ -65,6 +65,10 @@ struct PipelineSettings {
   /// as sRGB. 16-bit frames are linear either way. processRecording uses the recording's own
   /// decoding when this is nullopt.
   std::optional<ToneCurve> toneCurve{};
+  /// \brief An HDR sweep's frames (processRecording sets it for a recording with exposure
+  /// levels): a clipped window is no rejection (the white references still are), and every
+  /// sample carries its window cells and irradiance (FrameSample::hdr) for the per-bin merge.
+  bool hdr = false;
 };
 
 /// \brief One LED-off frame's share of an LED-on frame's room-light term.

@@ -2,11 +2,33 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <vector>
 
 #include "slicecap/core/grid.hpp"
 #include "slicecap/core/rgb.hpp"
 
 namespace slicecap::capture {
+
+/// \brief One target cell of the window's sample square in one frame of an HDR sweep.
+struct HdrCell {
+  Rgb radiance;          ///< per unit exposure x gain, the room light (same level) subtracted
+  Rgb variance;          ///< of `radiance`, from the noise model at this frame's exposure
+  double level = 0.0;    ///< the reading's brightest channel as exposed, fraction of full scale
+  bool clipped = false;  ///< a pixel channel of the cell at or above the clip fraction
+};
+
+/// \brief What an HDR sweep's frame keeps for the per-bin merge (hdr_merge.hpp): its window
+/// cells (clipped ones too: the merge leaves them out) and its irradiance.
+struct HdrReading {
+  int exposureLevel = 0;        ///< the recording's frames[].exposure_level (0 = longest)
+  std::vector<HdrCell> cells;   ///< kHdrCellsPerSide^2 cells, row by row
+  Rgb irradiance;               ///< the point-light fit's at the window centre, per exposure x gain
+  double irradianceWeight = 0.0;  ///< ~ inverse relative variance: the references' summed SNR^2
+};
+
+/// \brief The window's sample square is read in this many cells per side in HDR sweeps.
+inline constexpr int kHdrCellsPerSide = 6;
 
 /// \brief What one frame contributes: the BRDF of the window at the frame's actual light and view
 /// directions (target frame, degrees), with where it came from.
@@ -15,7 +37,8 @@ struct FrameSample {
   std::uint64_t frameIndex = 0;  ///< position in its recording or stream
   Direction light;               ///< direction to the LED from the window centre
   Direction view;                ///< direction to the camera from the window centre
-  Rgb value;                     ///< linear BRDF, 1/sr
+  Rgb value;                     ///< linear BRDF, 1/sr (HDR: this frame alone, clipped or not)
+  std::optional<HdrReading> hdr{};  ///< HDR sweeps only (PipelineSettings::hdr)
 };
 
 }  // namespace slicecap::capture

@@ -29,6 +29,10 @@ struct RecordingResult {
   /// simulate --no-led-alternation and slicecapd's led_alternate = false record): its samples
   /// keep the room light.
   bool roomLightSubtracted = true;
+  /// \brief Exposure levels of an HDR recording (frames[].exposure_level), 1 without: with more,
+  /// each level's frames went through their own pipeline (room light of the same level) and the
+  /// bins merge the levels (mergeHdrBin).
+  int exposureLevels = 1;
   /// \brief How 8-bit frames were decoded: "srgb", or the curve's name ("measured", "linear").
   std::string decoding = "srgb";
   /// \brief The report's entry: per frame the pose, light, gate outcome; per bin its frames.
@@ -44,7 +48,11 @@ struct RecordingResult {
 /// corrupt or of the wrong size is a "bad_frame" rejection naming the file. Throws io::IoError
 /// for a bad recording.json (naming the field) and std::invalid_argument for a recording without
 /// a slice (e.g. a calibration recording) or with a point one, naming the directory.
-/// `observer` (if set) is called for every frame whose PNG could be read.
+/// An HDR recording (frames[].exposure_level) is processed level by level: each level's frames
+/// through their own pipeline with PipelineSettings::hdr, so an LED-on frame's room light comes
+/// from LED-off frames at its exposure, and the bins merge the levels per cell (mergeHdrBin).
+/// `observer` (if set) is called for every frame whose PNG could be read (level by level in an
+/// HDR recording, else in order).
 RecordingResult processRecording(const std::filesystem::path& directory,
                                  const PipelineSettings& settings = {},
                                  const FrameObserver& observer = {});

@@ -17,6 +17,9 @@ struct Metrics {
   double rmse = 0.0;          ///< RMSE of 8-bit values over 6561 x 3
   double psnrDb = 0.0;        ///< 20 log10(255 / rmse), at most kMaxPsnrDb
   double relativeRmse = 0.0;  ///< ||test - ref|| / ||ref|| over the linear BRDF values
+  /// \brief The test's largest linear value over the reference's (any direction pair, any
+  /// channel): a sharp highlight lost to clipping shows here (<< 1) while dE hardly notices.
+  double peakRatio = 1.0;
 };
 
 /// \brief The paper's encoding of a table: times cos(theta_i), divided by `referenceMax` (the

@@ -40,7 +40,7 @@ std::vector<MethodSummary> summarise(const std::vector<EvaluationRow>& rows,
                                      std::size_t worstCount = 5);
 
 /// \brief The CSV header `material,method,samples,delta_e,rmse,psnr_db,relative_rmse,
-/// milliseconds,error` and one row; fields with a comma or quote are quoted.
+/// peak_ratio,milliseconds,error` and one row; fields with a comma or quote are quoted.
 void writeReportCsvHeader(std::ostream& out);
 void writeReportCsvRow(std::ostream& out, const EvaluationRow& row);
 

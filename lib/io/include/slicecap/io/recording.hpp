@@ -23,6 +23,8 @@ namespace slicecap::io {
 inline constexpr int kRecordingFormatVersion = 2;
 /// \brief The manifest's file name inside a recording directory.
 inline constexpr const char* kRecordingManifest = "recording.json";
+/// \brief An HDR sweep alternates at most this many exposure levels (frames[].exposure_level).
+inline constexpr int kMaxExposureLevels = 3;
 
 /// \brief One frame's entry: its PNG (relative to the recording directory) and what the camera and
 /// the LED were doing.
@@ -47,6 +49,10 @@ struct RecordedFrame {
   /// A live frame's LED exposure (slicecapd's record_frames): the LED switched while some rows
   /// were exposed; `ledOn` is then only the majority. Absent in simulated recordings.
   std::optional<RecordedLedExposure> ledExposure{};
+  /// An HDR sweep's exposure level (0 = the longest, 1, 2 = shorter; docs/recording-format.md):
+  /// the sweep alternates LED pairs over the levels, and each LED-off frame is the room light of
+  /// the LED-on frames of its own level. Absent: one exposure (what every older recording means).
+  std::optional<int> exposureLevel{};
   friend bool operator==(const RecordedFrame&, const RecordedFrame&) = default;
 };
 

@@ -31,7 +31,16 @@ struct RigParams {
   double ambientIrradiance = 0.3;  ///< W/m^2 of diffuse room light (the LED gives ~10)
   double deskAlbedo = 0.25;        ///< the desk around the sheet
   std::optional<double>
-      exposureUs;  ///< nullopt: the sweep's brightest window or white patch at 80 %
+      exposureUs;  ///< nullopt: metered (chooseExposureUs, or the HDR levels of chooseHdrLevelsUs)
+  /// \brief What a single metered exposure puts at 80 % of full scale: the brightest of the window
+  /// centre and the white references (Brightest), or the white references alone (Paper: what a
+  /// camera metering on the sheet does; a sharp highlight then clips).
+  enum class Metering { Brightest, Paper };
+  Metering metering = Metering::Brightest;
+  /// \brief HDR: at most this many exposure levels (1..3) alternated by LED pair over the sweep,
+  /// chosen by chooseHdrLevelsUs; the sweep then has framesPerSlice frames per level. 1: one
+  /// exposure, as before.
+  int maxExposureLevels = 1;
   double gain = 1.0;
   PixelEncoding encoding = PixelEncoding::Srgb8;
   bool alternateLed = true;  ///< every second frame with the LED off (ambient subtraction)
@@ -58,6 +67,10 @@ struct RigParams {
   /// \brief A careful person with a hand-held camera: elevation within ~2 deg, 1 in 10 frames
   /// blurred, 1 in 20 occluded or partly out of view, some exposure changes, sensor noise.
   static RigParams realistic();
+  /// \brief realistic()'s sensor and room light (noise as on an 8-bit sensor) without the hand's
+  /// imperfections (jitter, blur, occlusion, exposure changes, markers out of view): what the
+  /// exposure alone costs.
+  static RigParams steady();
 
   /// \brief False with a reason naming the field for a value out of range.
   bool isValid(std::string* error = nullptr) const;
@@ -79,6 +92,7 @@ struct FramePlan {
   bool ledOn = true;
   double exposureScale = 1.0;  ///< this frame's exposure relative to the sweep's base exposure
   double exposureUs = 0.0;     ///< 0 until the sweep's base exposure is chosen
+  int exposureLevel = 0;       ///< HDR: the level of the sweep's exposure cycle (0 = longest)
   double gain = 1.0;
   std::optional<Occluder> occluder;
   bool aimedOff = false;  ///< aimed so that some markers leave the image (the window stays in)
@@ -87,9 +101,12 @@ struct FramePlan {
 /// \brief The frames of one sweep: the slice's parameter goes once around (0..360), the light at
 /// theta_i and, for an axial slice, phi_i = parameter with the camera at phi_v = phi_i + alpha;
 /// for a diagonal one the camera at phi_v = parameter and the light at phi_i = 360 - phi_v. All
-/// randomness comes from params.seed and the slice, so a plan is reproducible.
+/// randomness comes from params.seed and the slice, so a plan is reproducible. `bracketLevels`
+/// (1..3, an HDR sweep's exposure levels) takes each position with that many consecutive LED
+/// pairs (framesPerSlice x bracketLevels frames), each drawing its own hand-held imperfections.
+/// Throws std::invalid_argument for invalid parameters.
 std::vector<FramePlan> planSweep(const SliceId& slice, double alphaDeg, const RigParams& params,
                                  const vision::CameraModel& camera,
-                                 const vision::TargetGeometry& target);
+                                 const vision::TargetGeometry& target, int bracketLevels = 1);
 
 }  // namespace slicecap::sim

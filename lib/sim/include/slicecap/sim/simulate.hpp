@@ -24,10 +24,36 @@ struct SweepSetup {
   std::string createdBy = "slicecap simulate";
 };
 
-/// \brief The exposure that puts the sweep's brightest window centre or white patch at 80 % of
-/// full scale (a person setting the exposure for the sweep), in microseconds, 20 us .. 0.5 s.
+/// \brief The brightest radiances (W / (m^2 sr), LED on, any channel) over a sweep's planned
+/// positions: the window centre's, and the white references' (their centres, room light
+/// included).
+struct MeteredRadiance {
+  double window = 0.0;
+  double references = 0.0;
+};
+MeteredRadiance meterSweep(const FrameRenderer& renderer, const RigParams& rig,
+                           const std::vector<FramePlan>& plans);
+
+/// \brief The one exposure of a sweep (a person setting it), in microseconds, 20 us .. 0.5 s:
+/// the brightest window centre or white patch at 80 % of full scale (RigParams::Metering::
+/// Brightest), or the brightest white patch alone (Paper).
 double chooseExposureUs(const FrameRenderer& renderer, const RigParams& rig,
                         const std::vector<FramePlan>& plans);
+
+/// \brief HDR levels differ at least this much (the window at least this much brighter than the
+/// paper), else one exposure holds both.
+inline constexpr double kHdrMinRatio = 2.0;
+/// \brief Two levels at most this far apart; a wider range gets a third level between them (8-bit
+/// frames keep ~6 bits of a value 16 times below the level that holds it).
+inline constexpr double kHdrMaxStepRatio = 16.0;
+
+/// \brief The HDR metering rule (docs/method.md, HDR capture), longest first, each 20 us .. 0.5 s:
+/// level 0 puts the brightest white reference at 80 % of full scale (the paper: the irradiance
+/// and the dark parts of the lobe), the last level the brightest window centre (the highlight);
+/// a third, their geometric mean, when rig.maxExposureLevels is 3 and they are more than
+/// kHdrMaxStepRatio apart. One level (the Brightest rule) when rig.maxExposureLevels is 1 or the
+/// window is less than kHdrMinRatio brighter than the paper.
+std::vector<double> chooseHdrLevelsUs(const MeteredRadiance& metered, const RigParams& rig);
 
 /// \brief Renders one sweep into `directory` (which must not hold a recording yet): the
 /// recording (recording.json + PNG frames) and truth.json. `progress` (if set) is called after

@@ -1,0 +1,124 @@
+// The per-bin HDR merge: clipped and dark cells out, inverse-variance weights, irradiance by the
+// references' SNR; bins without HDR readings keep the median.
+#include "slicecap/capture/hdr_merge.hpp"
+
+#include <gtest/gtest.h>
+
+#include "slicecap/capture/azimuth_bins.hpp"
+
+namespace slicecap::capture {
+namespace {
+
+constexpr double kIrradiance = 10.0;
+constexpr std::size_t kCells = kHdrCellsPerSide * kHdrCellsPerSide;
+
+// A frame of exposure x gain `scale` (units per unit radiance) reading a window whose cells all
+// have `radiance` per unit exposure, on an 8-bit-like sensor: full scale 1, clipped at 0.98,
+// variance (read 0.002 + shot) / scale^2.
+FrameSample frameAt(double scale, double radiance, double parameterDeg = 90.0) {
+  FrameSample s;
+  s.light = {30.0, 360.0 - parameterDeg};
+  s.view = {30.0, parameterDeg};
+  HdrReading hdr;
+  for (std::size_t k = 0; k < kCells; ++k) {
+    HdrCell cell;
+    const double level = radiance * scale;
+    cell.level = std::min(level, 1.0);
+    cell.clipped = level >= 0.98;
+    // What a clipped cell reads: full scale, far below the truth.
+    const double read = std::min(level, 1.0) / scale;
+    cell.radiance = {read, read, read};
+    const double variance = (0.002 * 0.002 + level / 8000.0) / (scale * scale);
+    cell.variance = {variance, variance, variance};
+    hdr.cells.push_back(cell);
+  }
+  hdr.irradiance = {kIrradiance, kIrradiance, kIrradiance};
+  hdr.irradianceWeight = scale;  // brighter references: a surer irradiance
+  s.value = hdr.cells.front().radiance * (1.0 / kIrradiance);
+  s.hdr = std::move(hdr);
+  return s;
+}
+
+TEST(HdrMerge, RecoversAValueThatClipsInTheLongExposure) {
+  const double radiance = 2.0;  // x 16 = 32 x full scale in the long frame
+  const FrameSample longFrame = frameAt(16.0, radiance);
+  const FrameSample shortFrame = frameAt(0.25, radiance);  // at 0.5 of full scale
+  ASSERT_TRUE(longFrame.hdr->cells.front().clipped);
+  ASSERT_NEAR(longFrame.value[0], 1.0 / 16.0 / kIrradiance, 1e-12);  // what one frame says
+  const auto merged = mergeHdrBin({longFrame, shortFrame});
+  ASSERT_TRUE(merged);
+  EXPECT_NEAR(merged->value[0], radiance / kIrradiance, 1e-9);
+  EXPECT_EQ(merged->clippedCells, 0);
+}
+
+TEST(HdrMerge, WeighsTheLongExposureMoreWhereNeitherClips) {
+  FrameSample longFrame = frameAt(16.0, 0.01);
+  FrameSample shortFrame = frameAt(1.0, 0.01);
+  // Noise in each: the long frame's reading is off by 1 %, the short one's by 20 %.
+  for (HdrCell& c : longFrame.hdr->cells) c.radiance = {0.0101, 0.0101, 0.0101};
+  for (HdrCell& c : shortFrame.hdr->cells) c.radiance = {0.012, 0.012, 0.012};
+  const auto merged = mergeHdrBin({shortFrame, longFrame});
+  ASSERT_TRUE(merged);
+  // The long frame's variance is ~100 x smaller: the merge stays within 1.5 % of the truth.
+  EXPECT_NEAR(merged->value[1] * kIrradiance, 0.01, 0.00015);
+  EXPECT_GT(merged->value[1] * kIrradiance, 0.0101 - 1e-9);
+}
+
+TEST(HdrMerge, LeavesOutATooDarkReadingWhenAnotherFrameReadsTheCellBrighter) {
+  FrameSample longFrame = frameAt(16.0, 0.01);  // level 0.16
+  FrameSample shortFrame = frameAt(0.1, 0.01);  // level 0.001: a code or two of 8 bits
+  // A dark reading's bias (quantisation, room light) is not in its variance: give it none.
+  for (HdrCell& c : shortFrame.hdr->cells) {
+    c.radiance = {0.05, 0.05, 0.05};
+    c.variance = {1e-12, 1e-12, 1e-12};
+  }
+  const auto merged = mergeHdrBin({longFrame, shortFrame});
+  ASSERT_TRUE(merged);
+  EXPECT_NEAR(merged->value[0] * kIrradiance, 0.01, 1e-9);
+}
+
+TEST(HdrMerge, ACellClippedInEveryFrameGivesItsLargestReadingAndIsCounted) {
+  const auto merged = mergeHdrBin({frameAt(16.0, 100.0), frameAt(4.0, 100.0)});
+  ASSERT_TRUE(merged);
+  EXPECT_EQ(merged->clippedCells, static_cast<int>(kCells));
+  EXPECT_NEAR(merged->value[0] * kIrradiance, 1.0 / 4.0, 1e-9);
+}
+
+TEST(HdrMerge, IrradianceWeighsTheSurerReferences) {
+  FrameSample longFrame = frameAt(16.0, 0.01);
+  FrameSample shortFrame = frameAt(1.0, 0.01);
+  shortFrame.hdr->irradiance = {5.0, 5.0, 5.0};  // a noisy fit
+  shortFrame.hdr->irradianceWeight = 0.0;
+  const auto merged = mergeHdrBin({longFrame, shortFrame});
+  ASSERT_TRUE(merged);
+  EXPECT_NEAR(merged->value[2] * kIrradiance, 0.01, 2e-4);
+}
+
+TEST(HdrMerge, SamplesWithoutReadingsAreNoHdrBin) {
+  FrameSample plain = frameAt(1.0, 0.01);
+  plain.hdr.reset();
+  EXPECT_FALSE(mergeHdrBin({plain, frameAt(1.0, 0.01)}));
+  EXPECT_FALSE(mergeHdrBin({}));
+}
+
+TEST(HdrMerge, AzimuthBinsMergeHdrSamplesAndKeepTheMedianOtherwise) {
+  AzimuthBins hdrBins(SliceKind::Diagonal);
+  hdrBins.add(frameAt(16.0, 2.0));
+  hdrBins.add(frameAt(0.25, 2.0));
+  const auto merged = hdrBins.combine();
+  ASSERT_EQ(merged.size(), 1u);
+  EXPECT_NEAR(merged[0].value[0], 2.0 / kIrradiance, 1e-9);
+
+  AzimuthBins plainBins(SliceKind::Diagonal);
+  for (double scale : {16.0, 0.25, 0.5}) {
+    FrameSample s = frameAt(scale, 2.0);
+    s.hdr.reset();
+    plainBins.add(s);
+  }
+  const auto median = plainBins.combine();
+  ASSERT_EQ(median.size(), 1u);
+  EXPECT_NEAR(median[0].value[0], 2.0 / kIrradiance, 1e-9);  // the median of 1/16, 2, 2
+}
+
+}  // namespace
+}  // namespace slicecap::capture
