@@ -113,7 +113,9 @@ TEST(HdrCapture, TheRecordingCarriesEachFramesLevelAndLedPairsShareTheirExposure
     const io::RecordedFrame& f = recording.frames[i];
     ASSERT_TRUE(f.exposureLevel) << i;
     EXPECT_EQ(*f.exposureLevel, static_cast<int>(i / 2) % levels) << i;
-    if (i % 2 == 1) EXPECT_EQ(f.exposureUs, recording.frames[i - 1].exposureUs) << i;
+    if (i % 2 == 1) {
+      EXPECT_EQ(f.exposureUs, recording.frames[i - 1].exposureUs) << i;
+    }
   }
   const double longUs = recording.frames[0].exposureUs, middleUs = recording.frames[2].exposureUs,
                shortUs = recording.frames[4].exposureUs;
