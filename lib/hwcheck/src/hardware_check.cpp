@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "formatted.hpp"
 #include "slicecap/hwcheck/check_rig.hpp"
 #include "slicecap/hwcheck/exposure_lock_check.hpp"
 #include "slicecap/hwcheck/frame_timing.hpp"
@@ -16,11 +17,6 @@
 namespace slicecap::hwcheck {
 namespace {
 
-std::string format(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
 
 CheckItem skipped(const std::string& name, const std::string& because) {
   return {name, Verdict::Fail, "not measured: " + because, "fix the item above first"};
@@ -142,9 +138,9 @@ void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeomet
     if (noise.noise) {
       report.figures.sensorReadNoise = noise.noise->readNoise;
       report.figures.sensorFullWellElectrons = noise.noise->fullWellElectrons;
-      report.configLines.emplace_back("sensor_read_noise", format("%.5f", noise.noise->readNoise));
+      report.configLines.emplace_back("sensor_read_noise", formatted("%.5f", noise.noise->readNoise));
       report.configLines.emplace_back("sensor_full_well_electrons",
-                                      format("%.0f", noise.noise->fullWellElectrons));
+                                      formatted("%.0f", noise.noise->fullWellElectrons));
     }
   }
 
@@ -164,11 +160,11 @@ void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeomet
       report.figures.deliveryLatencyUs = timing.timestampToArrivalUs - *led.readoutUs;
       report.items.push_back(
           {"delivery latency", Verdict::Ok,
-           format("frames arrive %.1f ms after their last row is read out", *report.figures.deliveryLatencyUs / 1000.0) +
-               format(" (%.1f frame periods after their first row)", timing.timestampToArrivalUs / timing.periodUs),
+           formatted("frames arrive %.1f ms after their last row is read out", *report.figures.deliveryLatencyUs / 1000.0) +
+               formatted(" (%.1f frame periods after their first row)", timing.timestampToArrivalUs / timing.periodUs),
            ""});
-      report.configLines.emplace_back("readout_us", format("%.0f", *led.readoutUs));
-      report.configLines.emplace_back("led_guard_us", format("%.0f", guardFor(*led.offsetUs, *led.residualUs)));
+      report.configLines.emplace_back("readout_us", formatted("%.0f", *led.readoutUs));
+      report.configLines.emplace_back("led_guard_us", formatted("%.0f", guardFor(*led.offsetUs, *led.residualUs)));
     }
   }
 }

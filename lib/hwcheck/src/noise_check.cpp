@@ -1,5 +1,6 @@
 // Sensor noise from pairs of frames of the white references at several exposures.
 #include "slicecap/hwcheck/noise_check.hpp"
+#include "formatted.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,11 +12,6 @@ namespace {
 // Pixels above this level may clip in one frame of the pair: their difference says nothing.
 constexpr double kMaxLevel = 0.85;
 
-std::string format(const char* pattern, double a, double b = 0.0) {
-  char text[160];
-  std::snprintf(text, sizeof text, pattern, a, b);
-  return text;
-}
 
 // One channel, linear, fraction of full scale; and its 8-bit step's quantisation variance.
 struct PixelValue {
@@ -159,9 +155,9 @@ CheckItem sensorNoiseItem(const NoiseResult& result, const std::string& cameraId
             "target still under the LED and run the check again"};
   std::string levels;
   for (const NoisePoint& p : result.points)
-    levels += (levels.empty() ? "" : ", ") + format("%.3f", p.level);
+    levels += (levels.empty() ? "" : ", ") + formatted("%.3f", p.level);
   return {"sensor noise", Verdict::Ok,
-          format("read noise %.4f of full scale, shot noise as %.0f electrons at full scale (gain 1)",
+          formatted("read noise %.4f of full scale, shot noise as %.0f electrons at full scale (gain 1)",
                  result.noise->readNoise, result.noise->fullWellElectrons) +
               " (the noisiest channel, " + std::string(1, "RGB"[result.channel]) +
               "), from pairs of frames of the white references at levels " + levels,
