@@ -68,7 +68,8 @@ def main():
             gltf_losses = sorted({loss["kind"] for loss in extras["slicecap_conversion_losses"]})
             sheen = " (sheen dropped)" if fitted["model"] == "ggx+sheen" else ""
             print(f"| {name} | {fitted['model']} | {fitted['metrics']['delta_e']:.2f} | "
-                  f"{extras['slicecap_gltf_versus_fit']['delta_e']:.2f} | {validator_counts(gltf)} | "
+                  f"{extras['slicecap_gltf_versus_fit']['delta_e']:.2f} | "
+                  f"{validator_counts(gltf)} | "
                   f"{materialx_valid(mtlx)} | {np.median(ratios):.3f} | "
                   f"{np.percentile(ratios, 5):.3f} | {np.percentile(ratios, 95):.3f} | "
                   f"{', '.join(gltf_losses) or '-'}{sheen} |")

@@ -10,14 +10,13 @@ Usage: viewer_chromium.py --cli build/app/slicecap --out DIR [--chromium chromiu
 """
 
 import argparse
+import dataclasses
 import json
 import os
 import re
 import subprocess
 import sys
 import time
-
-import dataclasses
 
 import numpy as np
 

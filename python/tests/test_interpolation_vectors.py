@@ -5,11 +5,10 @@ import json
 
 import numpy as np
 import pytest
+from conftest import VECTORS_FILE
 
 from slicecap import evaluate
 from slicecap.interpolation import direction_taps
-
-from conftest import VECTORS_FILE
 
 
 @pytest.fixture(scope="module")
@@ -33,7 +32,8 @@ def test_every_case_matches_the_cpp_values(vectors):
     expected = np.array([c["rgb"] for c in cases])
     got = evaluate(table, light, view)
     worst = np.max(np.abs(got - expected) / np.abs(expected))
-    assert worst < 1e-12, [c for c, g in zip(cases, got) if not np.allclose(g, c["rgb"], 1e-12)]
+    wrong = [c for c, g in zip(cases, got, strict=True) if not np.allclose(g, c["rgb"], 1e-12)]
+    assert worst < 1e-12, wrong
     assert {c["kind"] for c in cases} >= {"grid", "azimuth", "elevation", "pole", "wrap", "clamp"}
 
 

@@ -1,7 +1,8 @@
 """The material exports of `slicecap fit --gltf/--mtlx/--mitsuba` (docs/material-export.md), read
 by the real consumers: the Khronos glTF validator (npm gltf-validator, scripts/consumers-install)
-finds no errors, MaterialX's own Python package validates the .mtlx and generates GLSL for both of
-its materials, and Mitsuba 3 loads the snippet, evaluates a BSDF close to the fitted one and renders.
+finds no errors, MaterialX's own Python package validates the .mtlx and generates GLSL for both
+of its materials, and Mitsuba 3 loads the snippet, evaluates a BSDF close to the fitted one and
+renders.
 Each skips with its reason only when that consumer is not installed."""
 
 import json
@@ -12,7 +13,6 @@ import subprocess
 
 import numpy as np
 import pytest
-
 from conftest import REPOSITORY, find_slicecap_cli
 from material_export_support import mitsuba_ratios
 from mitsuba_support import render, sphere_scene, use_variant
@@ -123,7 +123,8 @@ def test_mitsuba_loads_the_snippet_matches_the_fit_and_renders(exports):
     parameters = json.loads(files["json"].read_text())["parameters"]
     ratios = mitsuba_ratios(mi, scene, parameters)
     # Measured 2026-12-02: median 0.999, 5th percentile 0.967 (the exact Fresnel and the separable
-    # Smith masking against the fit's Schlick and height-correlated Smith; grazing reflectance 0.97).
+    # Smith masking against the fit's Schlick and height-correlated Smith; grazing reflectance
+    # 0.97).
     assert np.all(np.abs(np.median(ratios, axis=0) - 1) < 0.01), np.median(ratios, axis=0)
     assert np.all(np.percentile(ratios, 5, axis=0) > 0.93), np.percentile(ratios, 5, axis=0)
     assert np.all(np.percentile(ratios, 95, axis=0) < 1.03), np.percentile(ratios, 95, axis=0)

@@ -3,6 +3,7 @@ stated round-trip error of an isotropic analytic material."""
 
 import numpy as np
 import pytest
+from mitsuba_support import phong
 
 from slicecap import SlicecapFileError, tabulate
 from slicecap.grid import GRID_DIRECTIONS_DEG, to_unit_vectors
@@ -15,8 +16,6 @@ from slicecap.merl import (
     merl_lookup,
     read_merl,
 )
-
-from mitsuba_support import phong
 
 GLOSSY = phong([0.3, 0.15, 0.05], [0.25, 0.25, 0.25], 20)
 

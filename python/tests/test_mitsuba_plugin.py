@@ -4,11 +4,10 @@ reciprocity, samples by the density it reports, and fails with the reader's mess
 
 import numpy as np
 import pytest
+from mitsuba_support import analytic_phong_bsdf_class, phong, render, sphere_scene, use_variant
 
 from slicecap import evaluate, tabulate, write_abrdf_exr
 from slicecap.grid import to_unit_vectors
-
-from mitsuba_support import analytic_phong_bsdf_class, phong, render, sphere_scene, use_variant
 
 LLVM = "llvm_ad_rgb"
 SCALAR = "scalar_rgb"

@@ -2,11 +2,10 @@
 
 import numpy as np
 import pytest
+from mitsuba_support import phong
 
 from slicecap import read_abrdf_exr, render, tabulate, write_abrdf_exr
 from slicecap.png import read_png_size
-
-from mitsuba_support import phong
 
 
 def tiny_run(args, capsys):

@@ -1,11 +1,10 @@
 """The sampling histograms (numpy side of the plugin's importance sampling)."""
 
 import numpy as np
+from mitsuba_support import phong
 
 from slicecap import tabulate
 from slicecap.sampling import COS_BINS, PHI_BINS, bin_of, build_sampling_tables
-
-from mitsuba_support import phong
 
 
 def test_histograms_are_normalised_and_follow_f_cos():

@@ -13,8 +13,8 @@ import subprocess
 
 import numpy as np
 import pytest
-
 from conftest import find_slicecap_cli
+
 from slicecap import viewer, viewer_scene
 from slicecap.abrdf_exr import write_abrdf_exr
 from slicecap.fitted_material import FittedMaterial, read_fitted_material
@@ -242,7 +242,7 @@ def test_shader_brdf_is_the_fit_model(page, material):
     shader = glsl_function(page, "fittedBrdf", shader_uniforms(material))
     lights, views = random_pairs(200, seed=3)
     expected = material.evaluate(lights, views)
-    for light, view, value in zip(lights, views, expected):
+    for light, view, value in zip(lights, views, expected, strict=True):
         got = shader(_vec(*light), _vec(*view))
         np.testing.assert_allclose(got, value, rtol=1e-9, atol=1e-12)
 
@@ -253,7 +253,9 @@ def test_shader_port_would_see_a_wrong_tangent(page):
     uniforms["u_tangentRad"] = -uniforms["u_tangentRad"]
     shader = glsl_function(page, "fittedBrdf", uniforms)
     lights, views = random_pairs(50, seed=4)
-    got = np.array([shader(_vec(*l), _vec(*v)) for l, v in zip(lights, views)])
+    got = np.array(
+        [shader(_vec(*lt), _vec(*vw)) for lt, vw in zip(lights, views, strict=True)]
+    )
     assert np.max(np.abs(got / STEEL.evaluate(lights, views) - 1)) > 0.1
 
 
@@ -298,7 +300,10 @@ def test_cpp_fit_json_reads_and_reproduces_its_table(tmp_path):
 
 def test_sphere_renderer_gives_lambert_radiance():
     albedo = 0.6
-    brdf = lambda l, v: np.full(l.shape, albedo / np.pi)  # noqa: E731
+
+    def brdf(light: np.ndarray, view: np.ndarray) -> np.ndarray:
+        return np.full(light.shape, albedo / np.pi)
+
     albedo81 = viewer_scene.directional_albedo(brdf)
     np.testing.assert_allclose(albedo81, albedo, rtol=2e-3)
     size = 65  # an odd size: the middle pixel looks at the sphere's front point (0, 0, 1)

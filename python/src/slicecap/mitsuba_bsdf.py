@@ -240,7 +240,7 @@ def _make_class():
         def traverse(self, callback):
             pass
 
-        def parameters_changed(self, keys=[]):
+        def parameters_changed(self, keys=None):
             pass
 
         def to_string(self):

@@ -32,8 +32,8 @@ def encode_png(image: np.ndarray) -> bytes:
 
 
 def write_png(path, image: np.ndarray) -> None:
-    """Writes an (H, W, 3) uint8 image through a temporary renamed onto PATH (paths.write_replacing);
-    raises OSError (naming the file) when it cannot."""
+    """Writes an (H, W, 3) uint8 image through a temporary renamed onto PATH
+    (paths.write_replacing); raises OSError (naming the file) when it cannot."""
     data = encode_png(image)
 
     def write(target):

@@ -15,6 +15,7 @@ import time
 
 import numpy as np
 
+from slicecap import viewer_scene
 from slicecap.abrdf_exr import SlicecapFileError
 from slicecap.bitmap_font import GLYPH_HEIGHT, GLYPH_WIDTH, draw_text
 from slicecap.image_metrics import compare_images, exposure_of, srgb_encode
@@ -22,7 +23,6 @@ from slicecap.materials import load_material
 from slicecap.paths import same_file
 from slicecap.png import write_png
 from slicecap.scenes import LIGHTINGS, SHAPES, object_mask, scene_dict
-from slicecap import viewer_scene
 
 COLUMNS = [(shape, lighting) for shape in SHAPES for lighting in LIGHTINGS]
 _TEXT_SCALE = 2
@@ -57,8 +57,8 @@ def _parse(argv):
 def _set_variant(variant: str):
     try:
         import mitsuba as mi
-    except ImportError:
-        raise RuntimeError("mitsuba is not installed: pip install mitsuba (see the README)")
+    except ImportError as e:
+        raise RuntimeError("mitsuba is not installed: pip install mitsuba (see the README)") from e
     try:
         mi.set_variant(variant)
     except (ImportError, AttributeError) as e:
@@ -188,7 +188,8 @@ def run(argv) -> int:
     folder = os.path.dirname(os.path.abspath(args.output))
     if not os.path.isdir(folder) or not os.access(folder, os.W_OK | os.X_OK):
         print(
-            f"slicecap.render: {args.output}: the folder {folder} does not exist or is not writable",
+            f"slicecap.render: {args.output}: the folder {folder} does not exist"
+            " or is not writable",
             file=sys.stderr,
         )
         return 1

@@ -21,13 +21,13 @@ import numpy as np
 from slicecap import viewer_scene
 from slicecap.abrdf_exr import SlicecapFileError
 from slicecap.fitted_material import FittedMaterial, read_fit_document
-from slicecap.interpolation import evaluate
+from slicecap.grid import DIRECTION_COUNT, GRID_DIRECTIONS_DEG, RING_FIRST_INDEX, to_directions_deg
 from slicecap.image_metrics import EXPOSURE_PERCENTILE, to_8bit
+from slicecap.interpolation import evaluate
 from slicecap.materials import load_material
 from slicecap.paths import same_file, write_replacing
 from slicecap.png import encode_png
 from slicecap.render import render_sphere_point_light
-from slicecap.grid import DIRECTION_COUNT, GRID_DIRECTIONS_DEG, RING_FIRST_INDEX, to_directions_deg
 
 LAYOUT_SCALE = 4
 _RING_LINE = (72, 72, 72)
