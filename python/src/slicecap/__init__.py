@@ -7,6 +7,7 @@ exports isotropic tables to the MERL binary format, and (with mitsuba installed)
 the Mitsuba 3 BSDF `slicecap`.
 """
 
+from slicecap._version import __version__
 from slicecap.abrdf import Abrdf
 from slicecap.abrdf_exr import SlicecapFileError, read_abrdf_exr, write_abrdf_exr
 from slicecap.btf import Btf, read_btf
@@ -15,6 +16,7 @@ from slicecap.interpolation import evaluate
 from slicecap.materials import load_material
 
 __all__ = [
+    "__version__",
     "Abrdf",
     "Btf",
     "SlicecapFileError",
@@ -26,4 +28,3 @@ __all__ = [
     "tabulate",
     "write_abrdf_exr",
 ]
-__version__ = "0.1.0"

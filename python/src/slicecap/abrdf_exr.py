@@ -15,6 +15,7 @@ import threading
 import numpy as np
 import OpenEXR
 
+from slicecap._version import __version__
 from slicecap.abrdf import Abrdf
 from slicecap.paths import write_replacing
 
@@ -22,7 +23,7 @@ PREFIX = "slicecap:"
 CHANNELS = ("R", "G", "B")
 SIZE = 81
 ABRDF_LAYOUT = "bonn81"
-VERSION = "0.1.0 (python)"
+VERSION = f"{__version__} (python)"
 EXR_MAGIC = b"\x76\x2f\x31\x01"
 
 

@@ -1,4 +1,5 @@
-"""python -m slicecap.export_merl MATERIAL.exr -o OUT.binary [--allow-anisotropic]
+"""slicecap-export-merl MATERIAL.exr -o OUT.binary [--allow-anisotropic]
+(or python -m slicecap.export_merl ...)
 
 Writes an isotropic capture in the MERL binary format (slicecap.merl). Exit codes: 0 success,
 1 failure (a message naming the input: unreadable, or anisotropic without the flag), 2 bad usage
@@ -13,10 +14,13 @@ from slicecap.materials import load_material
 from slicecap.merl import MAX_ANISOTROPY, export_merl
 from slicecap.paths import same_file
 
+# The usage names what started it: the console script, or python -m (then this module is __main__).
+PROG = "python -m slicecap.export_merl" if __name__ == "__main__" else "slicecap-export-merl"
+
 
 def run(argv) -> int:
     parser = argparse.ArgumentParser(
-        prog="python -m slicecap.export_merl",
+        prog=PROG,
         description="Export an isotropic ABRDF EXR to MERL .binary",
     )
     parser.add_argument("material", help="the ABRDF EXR")
@@ -47,5 +51,9 @@ def run(argv) -> int:
     return 0
 
 
-if __name__ == "__main__":
+def main() -> None:
     sys.exit(run(sys.argv[1:]))
+
+
+if __name__ == "__main__":
+    main()

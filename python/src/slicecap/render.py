@@ -1,4 +1,4 @@
-"""python -m slicecap.render MATERIAL.exr [--reference REF.exr] -o OUT.png
+"""slicecap-render (or python -m slicecap.render) MATERIAL.exr [--reference REF.exr] -o OUT.png
 
 Renders a captured material (and a reference, when given) on a sphere and a cylinder, each under
 a few point lights and under one environment map, through the Mitsuba 3 BSDF `slicecap`, and
@@ -30,11 +30,13 @@ DIFFERENCE_GAIN = 2.0
 _LINE = (GLYPH_HEIGHT + 3) * _TEXT_SCALE
 _MARGIN = 8
 MAX_SEED = 2**32 - 1
+# The usage names what started it: the console script, or python -m (then this module is __main__).
+PROG = "python -m slicecap.render" if __name__ == "__main__" else "slicecap-render"
 
 
 def _parse(argv):
     parser = argparse.ArgumentParser(
-        prog="python -m slicecap.render",
+        prog=PROG,
         description="Render a slicecap ABRDF EXR on a sphere and a cylinder under point lights "
         "and an environment map, beside a reference with dE and PSNR.",
     )

@@ -33,6 +33,8 @@ LAYOUT_SCALE = 4
 _RING_LINE = (72, 72, 72)
 DEFAULT_PANEL_SIZE = 320
 _EXPOSURE_PROBE_SIZE = 96
+# The usage names what started it: the console script, or python -m (then this module is __main__).
+PROG = "python -m slicecap.viewer" if __name__ == "__main__" else "slicecap-viewer"
 
 
 def table_brdf(values: np.ndarray):
@@ -181,7 +183,7 @@ def build_page(table_path, material_path=None, panel_size: int = DEFAULT_PANEL_S
 
 def _parse(argv):
     parser = argparse.ArgumentParser(
-        prog="python -m slicecap.viewer",
+        prog=PROG,
         description="Write a self-contained HTML viewer of a measured ABRDF table and its fitted "
         "material (slicecap fit) on a sphere and a cloth under a light you drag.",
     )
