@@ -3,6 +3,7 @@
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from slicecap.interpolation import evaluate
 
@@ -22,7 +23,7 @@ class Abrdf:
         if self.values.shape != TABLE_SHAPE:
             raise ValueError(f"an ABRDF table has shape (81, 81, 3), got {self.values.shape}")
 
-    def evaluate(self, light_deg, view_deg) -> np.ndarray:
+    def evaluate(self, light_deg: ArrayLike, view_deg: ArrayLike) -> np.ndarray:
         """RGB BRDF at (..., 2) light and view directions (theta_deg, phi_deg); see
         slicecap.interpolation.evaluate."""
         return evaluate(self.values, light_deg, view_deg)
@@ -30,6 +31,6 @@ class Abrdf:
     def is_reciprocal(self, relative_tolerance: float = 1e-6) -> bool:
         """True if swapping light and view changes no value by more than the tolerance (relative
         to the table's largest value)."""
-        scale = max(float(np.max(np.abs(self.values))), np.finfo(np.float32).tiny)
+        scale = max(float(np.max(np.abs(self.values))), float(np.finfo(np.float32).tiny))
         swapped = np.transpose(self.values, (1, 0, 2))
         return bool(np.max(np.abs(self.values - swapped)) <= relative_tolerance * scale)

@@ -11,13 +11,16 @@ import re
 import sys
 import tempfile
 import threading
+from collections.abc import Iterator
+from typing import IO, TextIO
 
 import numpy as np
 import OpenEXR
+from numpy.typing import ArrayLike
 
 from slicecap._version import __version__
 from slicecap.abrdf import Abrdf
-from slicecap.paths import write_replacing
+from slicecap.paths import StrPath, write_replacing
 
 PREFIX = "slicecap:"
 CHANNELS = ("R", "G", "B")
@@ -32,7 +35,7 @@ class SlicecapFileError(RuntimeError):
     (the Python counterpart of the C++ slicecap::io::IoError)."""
 
 
-def _error(path, what: str) -> SlicecapFileError:
+def _error(path: StrPath, what: str) -> SlicecapFileError:
     return SlicecapFileError(f"{os.fspath(path)}: {what}")
 
 
@@ -62,7 +65,7 @@ def first_invalid_value(values: np.ndarray) -> str | None:
     return f"negative value {float(value):g} {where} (a BRDF is never negative)"
 
 
-def _refuse_unopenable(path, expected: str) -> str:
+def _refuse_unopenable(path: StrPath, expected: str) -> str:
     """The path as a string, once it names a readable file that starts as an EXR does. OpenEXR's
     bindings say only "Unable to open 'PATH' for read" for a missing file, a directory, an empty
     or a text file alike (the reason goes to stderr); this says which."""
@@ -88,7 +91,7 @@ _OPENEXR_DAMAGE_LINE = re.compile(r"\(EXR_ERR_[A-Z_]+\)|^Warning: Exception rais
 _HOLD_LOCK = threading.RLock()
 
 
-def _pass_on(text: str, stream) -> None:
+def _pass_on(text: str, stream: TextIO | None) -> None:
     if stream is None:  # pythonw
         return
     for line in text.splitlines():
@@ -97,7 +100,7 @@ def _pass_on(text: str, stream) -> None:
 
 
 @contextlib.contextmanager
-def _openexr_damage_lines_held():
+def _openexr_damage_lines_held() -> Iterator[None]:
     """While OpenEXR reads a file: what it prints is held and, at exit, passed on where it was
     going (descriptor 2 to sys.stderr, sys.stdout to sys.stdout), except OpenEXR's own lines about
     a damaged file (a line per chunk it cannot place, then a warning on sys.stdout, where it would
@@ -106,7 +109,8 @@ def _openexr_damage_lines_held():
     2 (pythonw) or a temporary file, descriptor 2 is not held."""
     with _HOLD_LOCK:
         python_side = io.StringIO()
-        sink = saved = None
+        sink: IO[bytes] | None = None
+        saved: int | None = None
         try:
             sink = tempfile.TemporaryFile()
             if sys.stderr is not None:
@@ -117,13 +121,13 @@ def _openexr_damage_lines_held():
                 sink.close()
             sink = None
         try:
-            if saved is not None:
+            if saved is not None and sink is not None:  # saved is only set once sink is
                 os.dup2(sink.fileno(), 2)
             with contextlib.redirect_stdout(python_side):
                 yield
         finally:
             held = ""
-            if saved is not None:
+            if saved is not None and sink is not None:
                 os.dup2(saved, 2)
                 os.close(saved)
                 sink.seek(0)
@@ -134,14 +138,14 @@ def _openexr_damage_lines_held():
             _pass_on(python_side.getvalue(), sys.stdout)
 
 
-def read_exr(path, expected: str) -> tuple[dict, dict]:
+def read_exr(path: StrPath, expected: str) -> tuple[dict, dict]:
     """(header, channels) of an EXR's first part, pixels read, channels separate. Raises
     SlicecapFileError naming the file and what is wrong: missing, a directory, not an EXR, a
     damaged header, truncated or corrupt pixel data (where the bindings print a warning and
     leave a file of no parts, which then says only "Invalid part index '0': file has 0 parts").
     OpenEXR's own lines about a damaged file are not printed (the error says it)."""
     name = _refuse_unopenable(path, expected)
-    failure = None
+    failure: Exception | None = None
     with _openexr_damage_lines_held():
         try:
             with OpenEXR.File(name, separate_channels=True) as file:
@@ -158,7 +162,7 @@ def read_exr(path, expected: str) -> tuple[dict, dict]:
     raise _error(path, "cannot read EXR: its pixel data is truncated or corrupt") from failure
 
 
-def read_exr_header(path) -> dict:
+def read_exr_header(path: StrPath) -> dict:
     """The header of any EXR file (no pixels); raises SlicecapFileError naming the file."""
     name = _refuse_unopenable(path, "an EXR file")
     try:
@@ -168,7 +172,7 @@ def read_exr_header(path) -> dict:
         raise _error(path, "cannot read EXR: its header is truncated or corrupt") from e
 
 
-def _require(path, found: dict[str, str], key: str, expected: str) -> None:
+def _require(path: StrPath, found: dict[str, str], key: str, expected: str) -> None:
     if key not in found:
         raise _error(
             path,
@@ -181,7 +185,7 @@ def _require(path, found: dict[str, str], key: str, expected: str) -> None:
         )
 
 
-def read_abrdf_exr(path) -> Abrdf:
+def read_abrdf_exr(path: StrPath) -> Abrdf:
     """Reads an ABRDF EXR; checks the 81 x 81 size, the R, G, B channels, `slicecap:layout` =
     "bonn81", `slicecap:quantity` = "brdf" and finite, non-negative values. Raises
     SlicecapFileError whose message names the file and what is wrong (the same messages as the
@@ -217,7 +221,9 @@ def read_abrdf_exr(path) -> Abrdf:
     return Abrdf(values, found)
 
 
-def write_abrdf_exr(path, table, attributes: dict[str, str] | None = None) -> None:
+def write_abrdf_exr(
+    path: StrPath, table: Abrdf | ArrayLike, attributes: dict[str, str] | None = None
+) -> None:
     """Writes an (81, 81, 3) table or an Abrdf (ZIP compressed, float32). The writer always sets
     layout = "bonn81", quantity = "brdf" and (unless given) version. Raises SlicecapFileError
     naming the file on failure or for a table with a non-finite or negative value (the reader

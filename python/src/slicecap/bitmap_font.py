@@ -73,7 +73,8 @@ def text_mask(text: str, scale: int = 2) -> np.ndarray:
 
 
 def draw_text(
-    canvas: np.ndarray, text: str, row: int, column: int, colour=(255, 255, 255), scale: int = 2
+    canvas: np.ndarray, text: str, row: int, column: int,
+    colour: tuple[int, int, int] = (255, 255, 255), scale: int = 2,
 ) -> None:
     """Draws `text` into an (H, W, 3) uint8 canvas at (row, column), clipped at its edges."""
     mask = text_mask(text, scale)

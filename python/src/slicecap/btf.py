@@ -14,6 +14,7 @@ import numpy as np
 from slicecap.abrdf import Abrdf
 from slicecap.abrdf_exr import SlicecapFileError, read_abrdf_exr, read_exr
 from slicecap.grid import direction_of_index, is_whole_number
+from slicecap.paths import StrPath
 
 MANIFEST = "btf.json"
 DEFAULT_AVERAGE = "average.exr"
@@ -52,7 +53,8 @@ class Btf:
     @property
     def window_mm(self) -> tuple[float, float, float, float]:
         """(x_min, y_min, x_max, y_max) of the window in the target frame, mm."""
-        return tuple(float(v) for v in self.manifest["window_mm"])
+        x_min, y_min, x_max, y_max = (float(v) for v in self.manifest["window_mm"])
+        return x_min, y_min, x_max, y_max
 
     def texel(self, column: int, row: int) -> Abrdf:
         """The 81 x 81 apparent BRDF of one texel (float32): column 0..N-1 from the left, row
@@ -69,7 +71,7 @@ class Btf:
         return Abrdf(self.images[:, :, row, column, :].astype(np.float32))
 
 
-def _error(path, what: str) -> SlicecapFileError:
+def _error(path: StrPath, what: str) -> SlicecapFileError:
     return SlicecapFileError(f"{os.fspath(path)}: {what}")
 
 
@@ -103,11 +105,11 @@ def _read_image(path: pathlib.Path, resolution: int) -> np.ndarray:
     return image
 
 
-def _is_number(value) -> bool:
+def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
-def _check_manifest(path: pathlib.Path, manifest) -> None:
+def _check_manifest(path: pathlib.Path, manifest: object) -> None:
     """The manifest's fields this package relies on, each refused naming btf.json."""
     if not isinstance(manifest, dict):
         raise _error(path, f"not a JSON object but {type(manifest).__name__}")
@@ -131,7 +133,7 @@ def _check_manifest(path: pathlib.Path, manifest) -> None:
         raise _error(path, "field 'average' is not a file name")
 
 
-def read_btf(directory) -> Btf:
+def read_btf(directory: StrPath) -> Btf:
     """Reads a BTF directory: btf.json (format "slicecap-btf", its resolution and window), all
     6561 images (each N x N, R G B, finite half floats) and average.exr. Raises
     SlicecapFileError naming the file that is missing or wrong."""

@@ -8,6 +8,7 @@ Writes an isotropic capture in the MERL binary format (slicecap.merl). Exit code
 
 import argparse
 import sys
+from collections.abc import Sequence
 
 from slicecap.abrdf_exr import SlicecapFileError
 from slicecap.materials import load_material
@@ -18,7 +19,7 @@ from slicecap.paths import same_file
 PROG = "python -m slicecap.export_merl" if __name__ == "__main__" else "slicecap-export-merl"
 
 
-def run(argv) -> int:
+def run(argv: Sequence[str]) -> int:
     parser = argparse.ArgumentParser(
         prog=PROG,
         description="Export an isotropic ABRDF EXR to MERL .binary",

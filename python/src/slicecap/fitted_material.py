@@ -11,10 +11,12 @@ import json
 import math
 import os
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from slicecap.abrdf_exr import SlicecapFileError
+from slicecap.paths import StrPath
 
 FORMAT = "slicecap-material"
 FORMAT_VERSION = 1
@@ -53,7 +55,7 @@ class FittedMaterial:
         t = math.radians(self.tangent_deg)
         cos_t, sin_t = math.cos(t), math.sin(t)
 
-        def local(w):
+        def local(w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             return w[..., 0] * cos_t + w[..., 1] * sin_t, -w[..., 0] * sin_t + w[..., 1] * cos_t
 
         at2, ab2 = self.alpha_tangent**2, self.alpha_bitangent**2
@@ -61,7 +63,7 @@ class FittedMaterial:
         s = hx * hx / at2 + hy * hy / ab2 + half[..., 2] ** 2
         distribution = 1.0 / (math.pi * self.alpha_tangent * self.alpha_bitangent * s * s)
 
-        def smith_lambda(w):
+        def smith_lambda(w: np.ndarray) -> np.ndarray:
             wx, wy = local(w)
             return (np.sqrt(1.0 + (at2 * wx * wx + ab2 * wy * wy) / w[..., 2] ** 2) - 1.0) / 2.0
 
@@ -83,9 +85,9 @@ class FittedMaterial:
         return np.where(above[..., None], value, 0.0)
 
 
-def _number(path, name: str, raw, count: int):
+def _number(path: StrPath, name: str, raw: object, count: int) -> float | tuple[float, ...]:
     """A parameter's value: `count` finite numbers (count 1: one number)."""
-    values = raw if isinstance(raw, list) else [raw]
+    values: list[Any] = raw if isinstance(raw, list) else [raw]
     ok = len(values) == count and all(
         isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
         for v in values
@@ -99,13 +101,13 @@ def _number(path, name: str, raw, count: int):
     return tuple(float(v) for v in values) if count > 1 else float(values[0])
 
 
-def parse_fitted_material(document, path) -> FittedMaterial:
+def parse_fitted_material(document: object, path: StrPath) -> FittedMaterial:
     """The material of a parsed `slicecap fit` JSON. Raises SlicecapFileError naming `path` for
     anything but a completed fit (another format or version, an unknown model, a missing or
     non-finite parameter, one outside its range, no metrics.delta_e), as `slicecap fit
     MATERIAL.json --gltf ...` refuses them."""
 
-    def refuse(what: str):
+    def refuse(what: str) -> SlicecapFileError:
         return SlicecapFileError(f"{os.fspath(path)}: not a completed slicecap fit: {what}")
 
     if not isinstance(document, dict) or document.get("format") != FORMAT:
@@ -121,7 +123,8 @@ def parse_fitted_material(document, path) -> FittedMaterial:
     wanted = [(n, 3) for n in _RGB] + [(n, 1) for n in _SCALARS]
     if model == "ggx+sheen":
         wanted += [(_SHEEN_RGB, 3), (_SHEEN_SCALAR, 1)]
-    values = {}
+    # Each value checked by _number: RGB ones tuples of three floats, the others floats.
+    values: dict[str, Any] = {}
     for name, count in wanted:
         entry = parameters.get(name)
         if not isinstance(entry, dict) or "value" not in entry:
@@ -147,7 +150,7 @@ def parse_fitted_material(document, path) -> FittedMaterial:
     return FittedMaterial(model=model, **values)
 
 
-def read_fit_document(path) -> tuple[FittedMaterial, dict]:
+def read_fit_document(path: StrPath) -> tuple[FittedMaterial, dict]:
     """The material in a `slicecap fit` JSON file and the whole parsed document (for its metrics
     and choice); SlicecapFileError naming the file when it cannot be read, is not JSON, or is not
     a completed fit."""
@@ -165,6 +168,6 @@ def read_fit_document(path) -> tuple[FittedMaterial, dict]:
     return parse_fitted_material(document, path), document
 
 
-def read_fitted_material(path) -> FittedMaterial:
+def read_fitted_material(path: StrPath) -> FittedMaterial:
     """The material in a `slicecap fit` JSON file (read_fit_document, without the document)."""
     return read_fit_document(path)[0]

@@ -1,11 +1,17 @@
 """The Bonn 81-direction hemisphere grid (docs/method.md §1.1): rings, index order, unit vectors."""
 
 import numbers
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 DIRECTION_COUNT = 81
+
+# A BRDF as a function: brdf(to_light, to_view) maps (N, 3) unit vectors in the surface frame to
+# (N, 3) RGB values in 1/sr.
+Brdf = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -44,7 +50,7 @@ GRID_DIRECTIONS_DEG = _direction_table()
 """(81, 2) array of (theta_deg, phi_deg) in the Bonn index order."""
 
 
-def is_whole_number(value) -> bool:
+def is_whole_number(value: object) -> bool:
     """An integer of any integral type, but not a bool (True would index as 1)."""
     return isinstance(value, numbers.Integral) and not isinstance(value, bool)
 
@@ -60,7 +66,7 @@ def direction_of_index(index: int) -> tuple[float, float]:
     return float(theta_deg), float(phi_deg)
 
 
-def wrap_deg360(azimuth_deg):
+def wrap_deg360(azimuth_deg: ArrayLike) -> np.ndarray:
     """Azimuths taken mod 360 into [0, 360), as the C++ wrapDeg360 (fmod, then + 360)."""
     wrapped = np.fmod(np.asarray(azimuth_deg, dtype=np.float64), 360.0)
     wrapped = np.where(wrapped < 0.0, wrapped + 360.0, wrapped)
@@ -92,7 +98,7 @@ def to_directions_deg(vectors: np.ndarray) -> np.ndarray:
     return np.stack([theta_deg, phi_deg], axis=-1)
 
 
-def tabulate(brdf) -> np.ndarray:
+def tabulate(brdf: Brdf) -> np.ndarray:
     """The (81, 81, 3) float32 table of `brdf(to_light, to_view)`, a function of (N, 3) unit
     vectors returning (N, 3) RGB values in 1/sr: row = light index, column = view index."""
     vectors = to_unit_vectors(GRID_DIRECTIONS_DEG)

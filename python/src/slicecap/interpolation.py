@@ -7,6 +7,7 @@ written by the C++ code, holds both to the same numbers.
 """
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from slicecap.grid import RING_COUNT, RING_FIRST_INDEX, RING_THETA_DEG, wrap_deg360
 
@@ -34,7 +35,7 @@ def _ring_taps(ring: np.ndarray, phi_deg: np.ndarray) -> tuple[np.ndarray, ...]:
     return first + lower % count, 1.0 - fraction, first + (lower + 1) % count, fraction
 
 
-def direction_taps(theta_deg, phi_deg) -> tuple[np.ndarray, np.ndarray]:
+def direction_taps(theta_deg: ArrayLike, phi_deg: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Grid indices and weights, each of shape (..., 4), whose weighted sum is the value at the
     given directions; weights sum to 1 (some may be 0). Raises ValueError for a negative or
     non-finite elevation or a non-finite azimuth."""
@@ -54,7 +55,7 @@ def direction_taps(theta_deg, phi_deg) -> tuple[np.ndarray, np.ndarray]:
     return indices, weights
 
 
-def _pairs(directions_deg, name: str) -> np.ndarray:
+def _pairs(directions_deg: ArrayLike, name: str) -> np.ndarray:
     """(..., 2) directions as float64; a ValueError naming the argument for any other shape (a
     unit vector's three numbers would otherwise read as theta and phi in degrees)."""
     directions_deg = np.asarray(directions_deg, dtype=np.float64)
@@ -66,7 +67,7 @@ def _pairs(directions_deg, name: str) -> np.ndarray:
     return directions_deg
 
 
-def evaluate(table: np.ndarray, light_deg, view_deg) -> np.ndarray:
+def evaluate(table: ArrayLike, light_deg: ArrayLike, view_deg: ArrayLike) -> np.ndarray:
     """The interpolated RGB value of an (81, 81, 3) table (row = light, column = view) at light
     and view directions given as (..., 2) arrays of (theta_deg, phi_deg); returns (..., 3)
     float64. Raises ValueError for directions of another shape, or one below the horizon plane

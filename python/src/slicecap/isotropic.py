@@ -12,15 +12,16 @@ isotropic table this reproduces the table exactly.
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from slicecap.grid import RINGS, wrap_deg360
+from slicecap.grid import RINGS, Ring, wrap_deg360
 
 
-def _ring_step_deg(ring) -> int:
+def _ring_step_deg(ring: Ring) -> int:
     return 360 // ring.count
 
 
-def _pair_profile(table: np.ndarray, ring_a, ring_b) -> tuple[float, np.ndarray]:
+def _pair_profile(table: np.ndarray, ring_a: Ring, ring_b: Ring) -> tuple[float, np.ndarray]:
     """(spacing_deg, (360 / spacing, 3) mean value per azimuth difference) of a ring pair."""
     poles = ring_a.count == 1 or ring_b.count == 1
     spacing = 360 if poles else math.gcd(_ring_step_deg(ring_a), _ring_step_deg(ring_b))
@@ -38,13 +39,13 @@ def _pair_profile(table: np.ndarray, ring_a, ring_b) -> tuple[float, np.ndarray]
 class IsotropicTable:
     """An (81, 81, 3) table read as an isotropic material (see the module's note)."""
 
-    def __init__(self, table: np.ndarray):
+    def __init__(self, table: ArrayLike) -> None:
         table = np.asarray(table, dtype=np.float64)
         count = len(RINGS)
         self.spacing_deg = np.zeros((count, count))
         self.length = np.zeros((count, count), dtype=np.int64)
         self.offset = np.zeros((count, count), dtype=np.int64)
-        profiles = []
+        profiles: list[np.ndarray] = []
         for a, ring_a in enumerate(RINGS):
             for b, ring_b in enumerate(RINGS):
                 spacing, profile = _pair_profile(table, ring_a, ring_b)
@@ -56,12 +57,14 @@ class IsotropicTable:
         self.profiles = np.concatenate(profiles)
 
     @staticmethod
-    def _elevation_taps(theta_deg: np.ndarray):
+    def _elevation_taps(theta_deg: np.ndarray) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
         upper = np.clip(np.ceil(theta_deg / 15.0).astype(np.int64), 1, 5)
         t = np.clip((theta_deg - 15.0 * (upper - 1)) / 15.0, 0.0, 1.0)
         return ((upper - 1, 1.0 - t), (upper, t))
 
-    def evaluate(self, theta_light_deg, theta_view_deg, phi_difference_deg) -> np.ndarray:
+    def evaluate(
+        self, theta_light_deg: ArrayLike, theta_view_deg: ArrayLike, phi_difference_deg: ArrayLike
+    ) -> np.ndarray:
         """(..., 3) BRDF at light and view elevations and azimuth difference phi_v - phi_i."""
         theta_light_deg, theta_view_deg, difference = np.broadcast_arrays(
             np.asarray(theta_light_deg, float),

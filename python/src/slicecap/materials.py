@@ -8,8 +8,9 @@ texture coordinates; until then every other layout gets the ABRDF reader's error
 
 from slicecap.abrdf import Abrdf
 from slicecap.abrdf_exr import read_abrdf_exr
+from slicecap.paths import StrPath
 
 
-def load_material(path) -> Abrdf:
+def load_material(path: StrPath) -> Abrdf:
     """The material in a slicecap EXR file. Raises SlicecapFileError naming the file."""
     return read_abrdf_exr(path)

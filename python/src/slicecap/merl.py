@@ -11,12 +11,13 @@ import math
 import os
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from slicecap.abrdf import TABLE_SHAPE
+from slicecap.abrdf import TABLE_SHAPE, Abrdf
 from slicecap.abrdf_exr import SlicecapFileError, first_invalid_value
 from slicecap.grid import RINGS, to_directions_deg
 from slicecap.isotropic import IsotropicTable
-from slicecap.paths import write_replacing
+from slicecap.paths import StrPath, write_replacing
 
 THETA_HALF_BINS = 90
 THETA_DIFF_BINS = 90
@@ -25,12 +26,12 @@ SCALE = np.array([1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0])
 MAX_ANISOTROPY = 0.05
 
 
-def _rotate_z(v, angle_rad):
+def _rotate_z(v: np.ndarray, angle_rad: ArrayLike) -> np.ndarray:
     c, s = np.cos(angle_rad), np.sin(angle_rad)
     return np.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1], v[..., 2]], -1)
 
 
-def _rotate_y(v, angle_rad):
+def _rotate_y(v: np.ndarray, angle_rad: ArrayLike) -> np.ndarray:
     c, s = np.cos(angle_rad), np.sin(angle_rad)
     return np.stack([c * v[..., 0] + s * v[..., 2], v[..., 1], -s * v[..., 0] + c * v[..., 2]], -1)
 
@@ -48,7 +49,12 @@ def half_diff_angles(to_light: np.ndarray, to_view: np.ndarray) -> tuple[np.ndar
     return theta_half, theta_diff, phi_diff
 
 
-def directions_of_half_diff(theta_half_rad, phi_half_rad, theta_diff_rad, phi_diff_rad):
+def directions_of_half_diff(
+    theta_half_rad: ArrayLike,
+    phi_half_rad: ArrayLike,
+    theta_diff_rad: ArrayLike,
+    phi_diff_rad: ArrayLike,
+) -> tuple[np.ndarray, np.ndarray]:
     """(to_light, to_view) unit vectors of half/difference angles in radians (the inverse of the
     above)."""
     diff = np.stack(
@@ -72,7 +78,9 @@ def directions_of_half_diff(theta_half_rad, phi_half_rad, theta_diff_rad, phi_di
     return to_light, to_view
 
 
-def bin_indices(theta_half_rad, theta_diff_rad, phi_diff_rad) -> np.ndarray:
+def bin_indices(
+    theta_half_rad: np.ndarray, theta_diff_rad: np.ndarray, phi_diff_rad: np.ndarray
+) -> np.ndarray:
     """The flat MERL index of half/difference angles in radians (BRDFRead.cpp's nearest-bin
     rule)."""
     half_position = np.sqrt(
@@ -131,7 +139,9 @@ def merl_values_of_table(table: np.ndarray) -> np.ndarray:
     return np.moveaxis(values, -1, 0)
 
 
-def export_merl(path, table, *, allow_anisotropic: bool = False) -> float:
+def export_merl(
+    path: StrPath, table: Abrdf | ArrayLike, *, allow_anisotropic: bool = False
+) -> float:
     """Writes an (81, 81, 3) table (or an Abrdf) as a MERL .binary file and returns its grid
     anisotropy. Raises ValueError for a table of another shape, with a non-finite or negative
     value, or anisotropic beyond MAX_ANISOTROPY (MERL holds isotropic materials only;
@@ -155,7 +165,7 @@ def export_merl(path, table, *, allow_anisotropic: bool = False) -> float:
     merl = merl_values_of_table(values) / SCALE[:, None, None, None]
     try:
 
-        def write(target):
+        def write(target: str) -> None:
             with open(target, "wb") as file:
                 np.array([THETA_HALF_BINS, THETA_DIFF_BINS, PHI_DIFF_BINS], "<i4").tofile(file)
                 merl.astype("<f8").tofile(file)
@@ -166,7 +176,7 @@ def export_merl(path, table, *, allow_anisotropic: bool = False) -> float:
     return anisotropy
 
 
-def read_merl(path) -> np.ndarray:
+def read_merl(path: StrPath) -> np.ndarray:
     """The (3, 90, 90, 180) BRDF values (1/sr, scaled back) of a MERL .binary file. Raises
     SlicecapFileError naming the file when it is missing, short or has other dimensions."""
     try:

@@ -13,6 +13,9 @@ with Dr.Jit gathers); `sample` draws from the tabulated mixture of slicecap.samp
 cosine-weighted share.
 """
 
+from collections.abc import Sequence
+from typing import Any
+
 import drjit as dr
 import mitsuba as mi
 import numpy as np
@@ -24,9 +27,14 @@ PLUGIN_NAME = "slicecap"
 _RING_COUNTS = (1, 6, 12, 18, 20, 24)
 _RING_FIRST = (0, 1, 7, 19, 37, 57)
 _RING_STEP_DEG = 15.0
+# Mitsuba and Dr.Jit values (one per lane): Python numbers in scalar variants, JIT arrays in the
+# others. The variant is chosen at run time, so no one static type fits: they are typed Any.
+DrValue = Any
+# A (grid index, weight) tap of a direction.
+Tap = tuple[DrValue, DrValue]
 
 
-def _ring_property(ring, values):
+def _ring_property(ring: DrValue, values: tuple[int, ...]) -> DrValue:
     """values[ring] for a per-lane ring number, by selects (works in scalar and JIT variants)."""
     result = mi.UInt32(values[0])
     for r in range(1, len(values)):
@@ -34,7 +42,7 @@ def _ring_property(ring, values):
     return result
 
 
-def _azimuth_taps(ring, phi_deg):
+def _azimuth_taps(ring: DrValue, phi_deg: DrValue) -> tuple[Tap, Tap]:
     """Two (index, weight) taps on each lane's ring: periodic linear in azimuth."""
     count = _ring_property(ring, _RING_COUNTS)
     first = _ring_property(ring, _RING_FIRST)
@@ -46,7 +54,7 @@ def _azimuth_taps(ring, phi_deg):
     return (first + lower, 1.0 - fraction), (first + upper, fraction)
 
 
-def direction_taps(v):
+def direction_taps(v: DrValue) -> list[Tap]:
     """Four (grid index, weight) taps of a local unit vector (the rule of slicecap.interpolation:
     two rings around the elevation, the 75 deg ring above 75)."""
     theta_deg = dr.rad2deg(dr.safe_acos(v.z))
@@ -69,7 +77,7 @@ class _Tables:
     """The table and the sampling histograms as flat arrays of the current variant, with gathers
     that work in scalar variants too (where Dr.Jit has no gather of Python floats)."""
 
-    def __init__(self, values: np.ndarray):
+    def __init__(self, values: np.ndarray) -> None:
         self.jit = dr.is_jit_v(mi.Float)
         self.brdf = self._array(values.reshape(-1))
         radiance = sampling.build_sampling_tables(values, known_side="view")
@@ -85,16 +93,16 @@ class _Tables:
         self.bins = sampling.COS_BINS * sampling.PHI_BINS
         self.bin_solid_angle_sr = radiance.bin_solid_angle_sr
 
-    def _array(self, values: np.ndarray):
+    def _array(self, values: np.ndarray) -> DrValue:
         values = np.ascontiguousarray(values, dtype=np.float32)
         return mi.Float(values) if self.jit else values
 
-    def gather(self, array, index, active=True):
+    def gather(self, array: DrValue, index: DrValue, active: DrValue = True) -> DrValue:
         if self.jit:
             return dr.gather(mi.Float, array, index, active)
         return float(array[index]) if active else 0.0
 
-    def brdf_rgb(self, index, active=True):
+    def brdf_rgb(self, index: DrValue, active: DrValue = True) -> DrValue:
         if self.jit:
             return dr.gather(mi.Color3f, self.brdf, index, active)
         if not active:
@@ -102,7 +110,7 @@ class _Tables:
         return mi.Color3f(*(float(x) for x in self.brdf[3 * index : 3 * index + 3]))
 
 
-def _bin_of(v):
+def _bin_of(v: DrValue) -> DrValue:
     """Flat histogram bin of a local direction (slicecap.sampling.bin_of)."""
     a = dr.clip(mi.Int32(dr.floor(v.z * sampling.COS_BINS)), 0, sampling.COS_BINS - 1)
     phi = dr.atan2(v.y, v.x)
@@ -111,18 +119,19 @@ def _bin_of(v):
     return mi.UInt32(a * sampling.PHI_BINS + b)
 
 
-def _file_resolver():
+def _file_resolver() -> DrValue:
     """Mitsuba's file resolver (mi.file_resolver() in recent versions, the thread's before)."""
-    if hasattr(mi, "file_resolver"):
-        return mi.file_resolver()
+    resolver = getattr(mi, "file_resolver", None)
+    if resolver is not None:
+        return resolver()
     return mi.Thread.thread().file_resolver()
 
 
-def _make_class():
+def _make_class() -> type:
     class SlicecapBsdf(mi.BSDF):
         """A slicecap ABRDF EXR (property `filename`) as a one-sided glossy BSDF."""
 
-        def __init__(self, props):
+        def __init__(self, props: DrValue) -> None:
             mi.BSDF.__init__(self, props)
             if "filename" not in props:
                 raise ValueError(
@@ -137,13 +146,13 @@ def _make_class():
             self.m_components = [flags]
             self.m_flags = flags
 
-        def _oriented(self, ctx, wi, wo):
+        def _oriented(self, ctx: DrValue, wi: DrValue, wo: DrValue) -> tuple[DrValue, DrValue, str]:
             """(light, view, known side) for Mitsuba's (wi, wo): from the camera wi is the view."""
             if ctx.mode == mi.TransportMode.Radiance:
                 return wo, wi, "view"
             return wi, wo, "light"
 
-        def _value(self, light, view, active):
+        def _value(self, light: DrValue, view: DrValue, active: DrValue) -> DrValue:
             light_taps = direction_taps(light)
             view_taps = direction_taps(view)
             value = mi.Color3f(0.0)
@@ -153,7 +162,7 @@ def _make_class():
                     value += entry * (light_weight * view_weight)
             return value
 
-        def _pdf(self, known, unknown, side, active):
+        def _pdf(self, known: DrValue, unknown: DrValue, side: str, active: DrValue) -> DrValue:
             """Density in solid angle of sampling `unknown` (cosine share plus the tap-weighted
             histograms of the known direction)."""
             bin_index = _bin_of(unknown)
@@ -168,27 +177,36 @@ def _make_class():
             pdf = sampling.COSINE_SHARE * cosine + (1.0 - sampling.COSINE_SHARE) * tabulated
             return dr.select(active & (unknown.z > 0.0), pdf, 0.0)
 
-        def _active(self, ctx, si, wo, active):
+        def _active(self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue) -> DrValue:
             enabled = ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
             cos_i = mi.Frame3f.cos_theta(si.wi)
             cos_o = mi.Frame3f.cos_theta(wo)
             return active & enabled & (cos_i > 0.0) & (cos_o > 0.0)
 
-        def eval(self, ctx, si, wo, active=True):
+        def eval(self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True) -> DrValue:
             active = self._active(ctx, si, wo, active)
             light, view, _ = self._oriented(ctx, si.wi, wo)
             value = self._value(light, view, active) * mi.Frame3f.cos_theta(wo)
             return dr.select(active, value, mi.Color3f(0.0))
 
-        def pdf(self, ctx, si, wo, active=True):
+        def pdf(self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True) -> DrValue:
             active = self._active(ctx, si, wo, active)
             _, _, side = self._oriented(ctx, si.wi, wo)
             return self._pdf(si.wi, wo, side, active)
 
-        def eval_pdf(self, ctx, si, wo, active=True):
+        def eval_pdf(
+            self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True
+        ) -> tuple[DrValue, DrValue]:
             return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
 
-        def sample(self, ctx, si, sample1, sample2, active=True):
+        def sample(
+            self,
+            ctx: DrValue,
+            si: DrValue,
+            sample1: DrValue,
+            sample2: DrValue,
+            active: DrValue = True,
+        ) -> tuple[DrValue, DrValue]:
             _, _, side = self._oriented(ctx, si.wi, si.wi)
             active = active & ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
             active = active & (mi.Frame3f.cos_theta(si.wi) > 0.0)
@@ -226,7 +244,9 @@ def _make_class():
             cosine_wo = mi.warp.square_to_cosine_hemisphere(sample2)
             wo = dr.select(use_cosine, cosine_wo, tabulated_wo)
 
-            bs = dr.zeros(mi.BSDFSample3f)
+            # DrValue: the stubs type its fields for one variant family (eta a Dr.Jit Float, where
+            # scalar variants take a Python float).
+            bs: DrValue = dr.zeros(mi.BSDFSample3f)
             bs.wo = wo
             bs.eta = 1.0
             bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
@@ -237,13 +257,13 @@ def _make_class():
             weight = dr.select(active, value / dr.maximum(pdf, 1e-20), mi.Color3f(0.0))
             return bs, weight
 
-        def traverse(self, callback):
+        def traverse(self, callback: DrValue) -> None:
             pass
 
-        def parameters_changed(self, keys=None):
+        def parameters_changed(self, keys: Sequence[str] | None = None) -> None:
             pass
 
-        def to_string(self):
+        def to_string(self) -> str:
             material = self.material.attributes.get("material", "?")
             return f"SlicecapBSDF[filename={self.filename!r}, material={material!r}]"
 

@@ -1,9 +1,13 @@
 """Path checks shared by the command-line entry points."""
 
 import os
+from collections.abc import Callable
+
+# A path as the standard library takes it: a str or an os.PathLike (pathlib.Path).
+StrPath = str | os.PathLike[str]
 
 
-def same_file(a, b) -> bool:
+def same_file(a: StrPath, b: StrPath) -> bool:
     """True when both paths name one existing file (the same path, a symbolic or a hard link):
     a command's output that is one of its inputs would overwrite it."""
     try:
@@ -12,7 +16,7 @@ def same_file(a, b) -> bool:
         return False
 
 
-def write_replacing(path, write) -> None:
+def write_replacing(path: StrPath, write: Callable[[str], object]) -> None:
     """Calls write(temporary) on PATH.tmp beside PATH, then renames it onto PATH, as the C++
     writers do: a write that fails (a full disk) or is interrupted leaves the previous PATH as it
     was, never a truncated file that looks whole. A device such as /dev/null is written directly.

@@ -6,7 +6,7 @@ import zlib
 
 import numpy as np
 
-from slicecap.paths import write_replacing
+from slicecap.paths import StrPath, write_replacing
 
 
 def _chunk(kind: bytes, data: bytes) -> bytes:
@@ -31,12 +31,12 @@ def encode_png(image: np.ndarray) -> bytes:
     )
 
 
-def write_png(path, image: np.ndarray) -> None:
+def write_png(path: StrPath, image: np.ndarray) -> None:
     """Writes an (H, W, 3) uint8 image through a temporary renamed onto PATH
     (paths.write_replacing); raises OSError (naming the file) when it cannot."""
     data = encode_png(image)
 
-    def write(target):
+    def write(target: str) -> None:
         with open(target, "wb") as file:
             file.write(data)
 
@@ -47,7 +47,7 @@ def write_png(path, image: np.ndarray) -> None:
         raise OSError(e.errno, e.strerror, os.fspath(path)) from e
 
 
-def read_png_size(path) -> tuple[int, int]:
+def read_png_size(path: StrPath) -> tuple[int, int]:
     """(width, height) from a PNG's header (for checks)."""
     with open(os.fspath(path), "rb") as file:
         head = file.read(24)
@@ -81,7 +81,7 @@ def _unfilter(kind: int, row: np.ndarray, previous: np.ndarray, stride: int) -> 
     return out.astype(np.uint8)
 
 
-def read_png(path) -> np.ndarray:
+def read_png(path: StrPath) -> np.ndarray:
     """An 8-bit RGB or RGBA, non-interlaced PNG (what browsers' screenshots are) as an (H, W, 3)
     uint8 array (alpha dropped). Raises ValueError naming the file for any other PNG, OSError
     when it cannot be read."""
@@ -90,7 +90,9 @@ def read_png(path) -> np.ndarray:
         data = file.read()
     if data[:8] != b"\x89PNG\r\n\x1a\n":
         raise ValueError(f"{name}: not a PNG file")
-    position, header, compressed = 8, None, []
+    position = 8
+    header: tuple[int, ...] | None = None
+    compressed: list[bytes] = []
     while position + 8 <= len(data):
         (length,) = struct.unpack(">I", data[position : position + 4])
         kind = data[position + 4 : position + 8]

@@ -12,15 +12,19 @@ import argparse
 import os
 import sys
 import time
+from collections.abc import Sequence
+from types import ModuleType
 
 import numpy as np
 
 from slicecap import viewer_scene
+from slicecap.abrdf import Abrdf
 from slicecap.abrdf_exr import SlicecapFileError
 from slicecap.bitmap_font import GLYPH_HEIGHT, GLYPH_WIDTH, draw_text
+from slicecap.grid import Brdf
 from slicecap.image_metrics import compare_images, exposure_of, srgb_encode
 from slicecap.materials import load_material
-from slicecap.paths import same_file
+from slicecap.paths import StrPath, same_file
 from slicecap.png import write_png
 from slicecap.scenes import LIGHTINGS, SHAPES, object_mask, scene_dict
 
@@ -30,11 +34,13 @@ DIFFERENCE_GAIN = 2.0
 _LINE = (GLYPH_HEIGHT + 3) * _TEXT_SCALE
 _MARGIN = 8
 MAX_SEED = 2**32 - 1
+# A picture per column: (shape, lighting) -> (size, size, 3) linear RGB.
+Images = dict[tuple[str, str], np.ndarray]
 # The usage names what started it: the console script, or python -m (then this module is __main__).
 PROG = "python -m slicecap.render" if __name__ == "__main__" else "slicecap-render"
 
 
-def _parse(argv):
+def _parse(argv: Sequence[str]) -> argparse.Namespace:
     parser = argparse.ArgumentParser(
         prog=PROG,
         description="Render a slicecap ABRDF EXR on a sphere and a cylinder under point lights "
@@ -56,7 +62,7 @@ def _parse(argv):
     return parser.parse_args(argv)
 
 
-def _set_variant(variant: str):
+def _set_variant(variant: str) -> ModuleType:
     try:
         import mitsuba as mi
     except ImportError as e:
@@ -75,10 +81,10 @@ def _set_variant(variant: str):
     return mi
 
 
-def render_material(mi, path, size: int, spp: int, seed: int) -> dict:
+def render_material(mi: ModuleType, path: StrPath, size: int, spp: int, seed: int) -> Images:
     """{(shape, lighting): (size, size, 3) linear rendering} of one EXR."""
     bsdf = {"type": "slicecap", "filename": os.fspath(path)}
-    images = {}
+    images: Images = {}
     for shape, lighting in COLUMNS:
         scene = mi.load_dict(scene_dict(mi, shape, lighting, bsdf, size, spp))
         images[(shape, lighting)] = np.array(mi.render(scene, seed=seed), dtype=np.float64)
@@ -86,7 +92,7 @@ def render_material(mi, path, size: int, spp: int, seed: int) -> dict:
 
 
 def render_sphere_point_light(
-    brdf, albedo: np.ndarray, size: int, light_az_deg: float, light_el_deg: float,
+    brdf: Brdf, albedo: np.ndarray, size: int, light_az_deg: float, light_el_deg: float,
     yaw_deg: float, pitch_deg: float, env: float,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The unit sphere under the material viewer's point light and constant environment
@@ -106,7 +112,7 @@ def render_sphere_point_light(
     normal = point / np.linalg.norm(point, axis=-1, keepdims=True)
     tangent, bitangent = viewer_scene.sphere_frame(normal)
 
-    def to_local(w):
+    def to_local(w: np.ndarray) -> np.ndarray:
         return np.stack(
             [np.sum(w * tangent, -1), np.sum(w * bitangent, -1), np.sum(w * normal, -1)], -1
         )
@@ -134,13 +140,20 @@ def _display(image: np.ndarray, exposure: float) -> np.ndarray:
     return np.floor(srgb_encode(np.clip(image / exposure, 0.0, 1.0)) * 255 + 0.5).astype(np.uint8)
 
 
-def _draw_fitting(canvas, text: str, row: int, column: int, width: int, colour) -> None:
+def _draw_fitting(
+    canvas: np.ndarray, text: str, row: int, column: int, width: int, colour: tuple[int, int, int]
+) -> None:
     """Text at the larger scale when it fits in `width` pixels, else at the smaller."""
     scale = _TEXT_SCALE if len(text) * (GLYPH_WIDTH + 1) * _TEXT_SCALE <= width else 1
     draw_text(canvas, text, row, column, colour=colour, scale=scale)
 
 
-def compose(rows: list[tuple[str, dict]], exposures: dict, captions: dict, size: int) -> np.ndarray:
+def compose(
+    rows: list[tuple[str, Images]],
+    exposures: dict[tuple[str, str], float],
+    captions: dict[tuple[str, str], list[str]],
+    size: int,
+) -> np.ndarray:
     """The picture: column titles, one row of renderings per (label, images), captions below."""
     title_height = _LINE + _MARGIN
     label_height = _LINE
@@ -165,12 +178,12 @@ def compose(rows: list[tuple[str, dict]], exposures: dict, captions: dict, size:
     return canvas
 
 
-def _label(path, material) -> str:
+def _label(path: StrPath, material: Abrdf) -> str:
     name = material.attributes.get("material") or os.path.splitext(os.path.basename(path))[0]
     return f"{name} ({material.attributes.get('method', '?')})"
 
 
-def run(argv) -> int:
+def run(argv: Sequence[str]) -> int:
     args = _parse(argv)
     if args.size < 8 or args.spp < 1:
         print("slicecap.render: --size must be >= 8 and --spp >= 1", file=sys.stderr)
@@ -202,12 +215,13 @@ def run(argv) -> int:
         started = time.perf_counter()
         images = render_material(mi, args.material, args.size, args.spp, args.seed)
         rows = [(_label(args.material, material), images)]
-        exposures, captions = {}, {}
+        exposures: dict[tuple[str, str], float] = {}
+        captions: dict[tuple[str, str], list[str]] = {}
         masks = {shape: object_mask(mi, shape, args.size) for shape in SHAPES}
         if reference is not None:
             reference_images = render_material(mi, args.reference, args.size, args.spp, args.seed)
             rows.append((_label(args.reference, reference), reference_images))
-            differences = {}
+            differences: Images = {}
             for key in COLUMNS:
                 mask = masks[key[0]]
                 exposures[key] = exposure_of(reference_images[key], mask)

@@ -1,6 +1,8 @@
 """The renderer's scenes: a sphere and a cylinder (the paper's Figs. 18-20), each under a few
 point lights or under one environment map, as Mitsuba 3 scene dictionaries (y is up)."""
 
+from types import ModuleType
+
 import numpy as np
 
 SHAPES = ("sphere", "cylinder")
@@ -47,7 +49,13 @@ def _shape(shape: str, bsdf: dict) -> dict:
 
 
 def scene_dict(
-    mi, shape: str, lighting: str, bsdf: dict, size: int, spp: int, integrator: dict | None = None
+    mi: ModuleType,
+    shape: str,
+    lighting: str,
+    bsdf: dict,
+    size: int,
+    spp: int,
+    integrator: dict | None = None,
 ) -> dict:
     """One scene: `shape` with `bsdf`, lit by `lighting`, seen by a size x size camera."""
     origin, fov = _CAMERA[shape]
@@ -79,7 +87,7 @@ def scene_dict(
     return scene
 
 
-def object_mask(mi, shape: str, size: int) -> np.ndarray:
+def object_mask(mi: ModuleType, shape: str, size: int) -> np.ndarray:
     """(size, size) True where the camera sees the object (from a depth AOV)."""
     integrator = {"type": "aov", "aovs": "depth:depth"}
     scene = mi.load_dict(scene_dict(mi, shape, "points", {"type": "diffuse"}, size, 4, integrator))

@@ -15,17 +15,25 @@ import importlib.resources
 import json
 import os
 import sys
+from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from slicecap import viewer_scene
 from slicecap.abrdf_exr import SlicecapFileError
 from slicecap.fitted_material import FittedMaterial, read_fit_document
-from slicecap.grid import DIRECTION_COUNT, GRID_DIRECTIONS_DEG, RING_FIRST_INDEX, to_directions_deg
+from slicecap.grid import (
+    DIRECTION_COUNT,
+    GRID_DIRECTIONS_DEG,
+    RING_FIRST_INDEX,
+    Brdf,
+    to_directions_deg,
+)
 from slicecap.image_metrics import EXPOSURE_PERCENTILE, to_8bit
 from slicecap.interpolation import evaluate
 from slicecap.materials import load_material
-from slicecap.paths import same_file, write_replacing
+from slicecap.paths import StrPath, same_file, write_replacing
 from slicecap.png import encode_png
 from slicecap.render import render_sphere_point_light
 
@@ -37,10 +45,10 @@ _EXPOSURE_PROBE_SIZE = 96
 PROG = "python -m slicecap.viewer" if __name__ == "__main__" else "slicecap-viewer"
 
 
-def table_brdf(values: np.ndarray):
+def table_brdf(values: np.ndarray) -> Brdf:
     """brdf(to_light, to_view) of an (81, 81, 3) table: (N, 3) unit vectors in the table's frame
     to (N, 3) RGB, interpolated as slicecap.interpolation (the page's tableBrdf)."""
-    def brdf(to_light, to_view):
+    def brdf(to_light: np.ndarray, to_view: np.ndarray) -> np.ndarray:
         return evaluate(values, to_directions_deg(to_light), to_directions_deg(to_view))
 
     return brdf
@@ -74,7 +82,7 @@ def layout_picture(values: np.ndarray) -> np.ndarray:
     return image
 
 
-def default_exposure(brdf, albedo: np.ndarray) -> float:
+def default_exposure(brdf: Brdf, albedo: np.ndarray) -> float:
     """1 / the EXPOSURE_PERCENTILE-th percentile of the table's sphere under the default view:
     the highlight just reaches white (as slicecap.render's pictures)."""
     d = viewer_scene.DEFAULTS
@@ -86,12 +94,12 @@ def default_exposure(brdf, albedo: np.ndarray) -> float:
     return 1.0 / level if level > 0.0 else 1.0
 
 
-def _base64_floats(values) -> str:
+def _base64_floats(values: ArrayLike) -> str:
     return base64.b64encode(np.asarray(values, dtype="<f4").tobytes()).decode("ascii")
 
 
 def _material_rows(material: FittedMaterial, document: dict) -> str:
-    def show(value):
+    def show(value: float | tuple[float, ...]) -> str:
         if isinstance(value, tuple):
             return " / ".join(f"{v:.4g}" for v in value)
         return f"{value:.4g}"
@@ -122,7 +130,9 @@ def _labels(size: int, material_name: str | None, table_name: str) -> str:
     )
 
 
-def build_page(table_path, material_path=None, panel_size: int = DEFAULT_PANEL_SIZE) -> str:
+def build_page(
+    table_path: StrPath, material_path: StrPath | None = None, panel_size: int = DEFAULT_PANEL_SIZE
+) -> str:
     """The page's HTML text. Raises SlicecapFileError naming the file that is not an ABRDF table
     or not a completed `slicecap fit` JSON."""
     table = load_material(table_path)
@@ -151,14 +161,15 @@ def build_page(table_path, material_path=None, panel_size: int = DEFAULT_PANEL_S
             for name in FittedMaterial.__dataclass_fields__
             if name != "model"
         }
+        material_file = os.path.basename(os.fspath(material_path))
         data["material"] = {
-            "name": os.path.basename(os.fspath(material_path)),
+            "name": material_file,
             "model": material.model,
             "parameters": parameters,
             "albedo_base64": _base64_floats(viewer_scene.directional_albedo(material.evaluate)),
         }
         material_html = _material_rows(material, document)
-        material_name = f"{data['material']['name']} ({material.model})"
+        material_name = f"{material_file} ({material.model})"
     layout_uri = "data:image/png;base64," + base64.b64encode(
         encode_png(layout_picture(table.values))
     ).decode("ascii")
@@ -181,7 +192,7 @@ def build_page(table_path, material_path=None, panel_size: int = DEFAULT_PANEL_S
     return template
 
 
-def _parse(argv):
+def _parse(argv: Sequence[str]) -> argparse.Namespace:
     parser = argparse.ArgumentParser(
         prog=PROG,
         description="Write a self-contained HTML viewer of a measured ABRDF table and its fitted "
@@ -197,7 +208,7 @@ def _parse(argv):
     return parser.parse_args(argv)
 
 
-def run(argv) -> int:
+def run(argv: Sequence[str]) -> int:
     args = _parse(argv)
     if not 64 <= args.panel_size <= 1024:
         print("slicecap.viewer: --panel-size must be in 64..1024", file=sys.stderr)
@@ -210,7 +221,7 @@ def run(argv) -> int:
     try:
         page = build_page(args.table, args.material, args.panel_size)
 
-        def write(target):
+        def write(target: str) -> None:
             with open(target, "w", encoding="utf-8") as file:
                 file.write(page)
 

@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from slicecap.grid import GRID_DIRECTIONS_DEG, to_directions_deg, to_unit_vectors
+from slicecap.grid import GRID_DIRECTIONS_DEG, Brdf, to_directions_deg, to_unit_vectors
 from slicecap.interpolation import direction_taps
 
 CAMERA_DISTANCE = 4.6
@@ -62,7 +62,7 @@ def sphere_frame(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return tangent, np.cross(normal, tangent)
 
 
-def directional_albedo(brdf) -> np.ndarray:
+def directional_albedo(brdf: Brdf) -> np.ndarray:
     """(81, 3): for each grid direction as the view, the integral of brdf(l, v) cos(theta_l) over
     the light hemisphere (midpoint rule, 45 x 90 cells): what a constant unit environment gives.
     `brdf(to_light, to_view)` takes and returns (N, 3) arrays."""
