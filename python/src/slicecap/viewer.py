@@ -1,4 +1,5 @@
-"""python -m slicecap.viewer TABLE.exr [--material MATERIAL.json] -o VIEW.html
+"""slicecap-viewer TABLE.exr [--material MATERIAL.json] -o VIEW.html
+(or python -m slicecap.viewer ...)
 
 Writes one self-contained HTML page (docs/material-viewer.md): the fitted material of
 `slicecap fit` and the measured table side by side on a sphere and a cloth-like sheet, drawn by
