@@ -13,6 +13,7 @@
 #include <sstream>
 #include <utility>
 
+#include "journal_records.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/target_json.hpp"
 
@@ -20,44 +21,8 @@ namespace slicecap::capture {
 namespace {
 
 using nlohmann::json;
+using namespace journal_records;
 constexpr int kFormatVersion = 1;
-constexpr const char* kJournal = "journal";
-// Left in a session folder whose journal was missing when it was opened: the loss is said on
-// every later open, not only the first.
-constexpr const char* kJournalMissing = "journal.missing";
-
-json sliceJson(const SliceId& s) {
-  return {{"kind", toString(s.kind)},
-          {"theta_i", s.elevations.thetaIDeg},
-          {"theta_v", s.elevations.thetaVDeg}};
-}
-
-// A whole number in lo..hi. nlohmann's get<int>() of 1e300 is undefined behaviour and its
-// get<std::uint64_t>() of -1 wraps round, so a damaged record would not be named.
-template <typename T>
-T wholeNumber(const json& parent, const std::string& key, T lo, T hi) {
-  const json& value = parent.at(key);
-  const auto within = [&](auto v) {
-    return std::cmp_greater_equal(v, lo) && std::cmp_less_equal(v, hi);
-  };
-  if (value.is_number_unsigned() && within(value.get<std::uint64_t>()))
-    return static_cast<T>(value.get<std::uint64_t>());
-  if (value.is_number_integer() && !value.is_number_unsigned() && within(value.get<std::int64_t>()))
-    return static_cast<T>(value.get<std::int64_t>());
-  throw std::invalid_argument(key + ": expected a whole number in " + std::to_string(lo) + ".." +
-                              std::to_string(hi) + ", got " + value.dump());
-}
-
-template <typename T>
-T wholeNumber(const json& parent, const std::string& key) {
-  return wholeNumber(parent, key, std::numeric_limits<T>::min(), std::numeric_limits<T>::max());
-}
-
-SliceId sliceFrom(const json& j) {
-  const auto kind = parseSliceKind(j.at("kind").get<std::string>());
-  if (!kind) throw std::invalid_argument("unknown slice kind");
-  return {*kind, {wholeNumber(j, "theta_i", 0, 89), wholeNumber(j, "theta_v", 0, 89)}};
-}
 
 // A sweep is of an axial or a diagonal slice: a point "slice" has no azimuth bins, and a journal
 // record of it would not replay (the session would no longer open). Refused before anything is
@@ -228,174 +193,6 @@ std::size_t SessionStore::setAsideCount(const SliceId& slice) const {
   return it == setAside_.end() ? 0 : it->second;
 }
 
-// Skipping a damaged record is safe for a sample (one sample is lost, and said), never for a
-// record that changes which samples count: had it been a redo, the samples before it must not
-// come back. What such a record may have changed is set aside (still in the journal, not
-// counted), so the session opens, the doubt said, and a redo of the slice ends it.
-void SessionStore::replay(const std::vector<io::JournalLine>& lines) {
-  const std::string file = (directory_ / kJournal).string();
-  std::uint64_t expected = 1;  // the "n" the next line should carry
-  for (const io::JournalLine& line : lines) {
-    const std::string where = file + " line " + std::to_string(line.line);
-    std::optional<json> j;
-    try {
-      j = io::parseJson(line.text, where);
-      if (!j->is_object()) throw std::invalid_argument("not a JSON object");
-    } catch (const std::exception&) {
-      j.reset();
-    }
-    // A record's number says whether lines went missing before it (or came twice).
-    if (line.intact && j && j->contains("n")) {
-      std::uint64_t n = 0;
-      try {
-        n = wholeNumber<std::uint64_t>(*j, "n", 1, std::numeric_limits<std::int64_t>::max());
-      } catch (const std::exception& e) {
-        setAside(line.line, where + ": unreadable record number (" + std::string(e.what()) + ")",
-                 std::nullopt);
-        ++expected;
-        continue;
-      }
-      if (n > expected) {
-        setAside(line.line,
-                 where + ": " + std::to_string(n - expected) + " record(s) missing before it (" +
-                     "numbers " + std::to_string(expected) + "-" + std::to_string(n - 1) +
-                     "); any samples they held are lost",
-                 std::nullopt);
-      } else if (n < expected) {
-        setAside(line.line,
-                 where + ": record number " + std::to_string(n) + " where " +
-                     std::to_string(expected) + " was expected (a line repeated or moved): skipped",
-                 std::nullopt);
-        continue;
-      }
-      expected = n + 1;
-    } else {
-      ++expected;
-    }
-    if (line.intact) {
-      try {
-        apply(line.text, line.line);
-        continue;
-      } catch (const std::exception& e) {
-        // A valid checksum over content this version cannot use (a damaged writer, a newer
-        // daemon): judged as a damaged record, below.
-        const std::string reason = e.what();
-        const std::optional<std::string> type =
-            j && j->contains("t") && j->at("t").is_string()
-                ? std::optional<std::string>(j->at("t").get<std::string>())
-                : std::nullopt;
-        std::optional<SliceId> slice;
-        try {
-          if (j) slice = sliceFrom(j->at("slice"));
-        } catch (const std::exception&) {
-        }
-        if (type == "sample") {
-          damage_.push_back({line.line, reason + ": the sample is not counted", {}, 0, 1});
-        } else if (type == "start" || type == "stop") {
-          damage_.push_back({line.line, reason + ": skipped (it changes no samples)", {}, 0, 0});
-        } else {
-          setAside(line.line, reason, type == "redo" ? slice : std::nullopt);
-        }
-        continue;
-      }
-    }
-    // The checksum failed: what is left of the line says what it may have been.
-    std::optional<std::string> type;
-    std::optional<SliceId> slice;
-    try {
-      if (j) {
-        type = j->at("t").get<std::string>();
-        slice = sliceFrom(j->at("slice"));
-      }
-    } catch (const std::exception&) {
-    }
-    if (type == "sample") {
-      damage_.push_back({line.line,
-                         where + ": damaged sample record (checksum mismatch) skipped: " +
-                             (slice ? "1 sample of " + toString(*slice) : std::string("1 sample")) +
-                             " lost",
-                         {},
-                         0,
-                         1});
-    } else if (type == "start" || type == "stop") {
-      damage_.push_back({line.line,
-                         where + ": damaged sweep " + *type +
-                             " record (checksum mismatch) skipped (it changes no samples; the "
-                             "sweep in progress may be shown wrongly)",
-                         {},
-                         0,
-                         0});
-    } else {
-      setAside(line.line, where + ": damaged record (checksum mismatch) that may have been a redo",
-               type == "redo" ? slice : std::nullopt);
-    }
-  }
-  nextSequence_ = expected;
-}
-
-void SessionStore::setAside(std::size_t line, std::string what, std::optional<SliceId> slice) {
-  // A redo of a slice that had no samples before it may be a slice damaged into another name:
-  // then it cannot be told which slice it was.
-  if (slice && sampleCount(*slice) == 0 && setAsideCount(*slice) == 0) slice.reset();
-  JournalDamage damage{line, std::move(what), {}, 0, 0};
-  std::vector<SliceId> affected;
-  if (slice) {
-    affected.push_back(*slice);
-  } else {
-    for (const auto& [id, bins] : bins_)
-      if (sampleCount(id) > 0) affected.push_back(id);
-  }
-  std::string names;
-  for (const SliceId& id : affected) {
-    const std::size_t count = sampleCount(id);
-    if (count == 0) continue;
-    setAside_[id] += count;
-    damagedSlices_.insert(id);
-    binsFor(id).clear();
-    damage.slicesSetAside.push_back(id);
-    damage.samplesSetAside += count;
-    names += (names.empty() ? "" : ", ") + toString(id) + " (" + std::to_string(count) + ")";
-  }
-  if (damage.slicesSetAside.empty()) {
-    damage.message += ": no earlier samples were in doubt";
-  } else {
-    damage.message += ": the earlier samples of " + names +
-                      " are set aside (kept in the journal, not counted); a redo of the slice "
-                      "sweeps it again";
-  }
-  damage_.push_back(std::move(damage));
-}
-
-void SessionStore::apply(const std::string& record, std::size_t line) {
-  const std::string where = (directory_ / kJournal).string() + " line " + std::to_string(line);
-  const json j = io::parseJson(record, where);
-  try {
-    const std::string type = j.at("t").get<std::string>();
-    const SliceId slice = sliceFrom(j.at("slice"));
-    if (type == "sample") {
-      const json& light = j.at("light");
-      const json& view = j.at("view");
-      const json& rgb = j.at("rgb");
-      binsFor(slice).add(
-          {wholeNumber<std::int64_t>(j, "ts"),
-           wholeNumber<std::uint64_t>(j, "frame"),
-           {light.at(0).get<double>(), light.at(1).get<double>()},
-           {view.at(0).get<double>(), view.at(1).get<double>()},
-           {rgb.at(0).get<double>(), rgb.at(1).get<double>(), rgb.at(2).get<double>()}});
-    } else if (type == "redo") {
-      binsFor(slice).clear();
-      damagedSlices_.erase(slice);  // what was set aside would be discarded now anyway
-    } else if (type == "start") {
-      activeSweep_ = slice;
-    } else if (type == "stop") {
-      if (activeSweep_ == slice) activeSweep_.reset();
-    } else {
-      throw std::invalid_argument("unknown record type \"" + type + "\"");
-    }
-  } catch (const std::exception& e) {
-    throw io::IoError(where + ": " + e.what());
-  }
-}
 
 void SessionStore::append(json record) {
   record["n"] = nextSequence_;

@@ -2,6 +2,7 @@
 // event.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json_fwd.hpp>
@@ -89,7 +90,17 @@ class SessionStore {
 
  private:
   SessionStore(std::filesystem::path directory, SessionInfo info, io::Journal journal);
-  void replay(const std::vector<io::JournalLine>& lines);
+  void replay(const std::vector<io::JournalLine>& lines);  // session_journal_replay.cpp
+  // Whether the record is applied, after what its number says of records missing or repeated.
+  bool acceptRecordNumber(const io::JournalLine& line, const std::optional<nlohmann::json>& j,
+                          const std::string& where, std::uint64_t& expected);
+  // An intact record this version cannot apply, and one whose checksum failed: by its remains.
+  void judgeUnusableRecord(std::size_t line, const std::string& reason,
+                           const std::optional<std::string>& type,
+                           const std::optional<SliceId>& slice);
+  void judgeDamagedRecord(std::size_t line, const std::string& where,
+                          const std::optional<std::string>& type,
+                          const std::optional<SliceId>& slice);
   void apply(const std::string& record, std::size_t line);
   void setAside(std::size_t line, std::string what, std::optional<SliceId> slice);
   void append(nlohmann::json record);  // numbers it ("n") and makes it durable

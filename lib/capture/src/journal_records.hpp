@@ -1,0 +1,49 @@
+// The session journal's records as JSON: the slice object, whole numbers read without undefined
+// behaviour, and the journal's file names.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "slicecap/core/slice.hpp"
+
+namespace slicecap::capture::journal_records {
+
+inline constexpr const char* kJournal = "journal";
+/// Left in a session folder whose journal was missing when it was opened: the loss is said on
+/// every later open, not only the first.
+inline constexpr const char* kJournalMissing = "journal.missing";
+
+/// \brief {"kind", "theta_i", "theta_v"}.
+nlohmann::json sliceJson(const SliceId& s);
+
+/// \brief A whole number in lo..hi. nlohmann's get<int>() of 1e300 is undefined behaviour and its
+/// get<std::uint64_t>() of -1 wraps round, so a damaged record would not be named. Throws
+/// std::invalid_argument naming the key, nlohmann::json::exception when it is missing.
+template <typename T>
+T wholeNumber(const nlohmann::json& parent, const std::string& key, T lo, T hi) {
+  const nlohmann::json& value = parent.at(key);
+  const auto within = [&](auto v) {
+    return std::cmp_greater_equal(v, lo) && std::cmp_less_equal(v, hi);
+  };
+  if (value.is_number_unsigned() && within(value.get<std::uint64_t>()))
+    return static_cast<T>(value.get<std::uint64_t>());
+  if (value.is_number_integer() && !value.is_number_unsigned() && within(value.get<std::int64_t>()))
+    return static_cast<T>(value.get<std::int64_t>());
+  throw std::invalid_argument(key + ": expected a whole number in " + std::to_string(lo) + ".." +
+                              std::to_string(hi) + ", got " + value.dump());
+}
+
+template <typename T>
+T wholeNumber(const nlohmann::json& parent, const std::string& key) {
+  return wholeNumber(parent, key, std::numeric_limits<T>::min(), std::numeric_limits<T>::max());
+}
+
+/// \brief The slice of sliceJson. Throws std::invalid_argument or nlohmann::json::exception.
+SliceId sliceFrom(const nlohmann::json& j);
+
+}  // namespace slicecap::capture::journal_records
