@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "../support/test_support.hpp"
+#include "../support/wait_until.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/capture/recording_processor.hpp"
 #include "slicecap/capture/session_store.hpp"
@@ -72,8 +73,8 @@ TEST(FrameRecorder, AFailedWriteStopsTheRecordingWithItsReason) {
   std::ofstream(dir / "file") << "not a folder";
   FrameRecorder recorder(dir / "file" / "rec", smallHeader());
   EXPECT_TRUE(recorder.offer(smallFrame(0, true)));
-  while (!recorder.idle())
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_TRUE(test::waitUntil([&] { return recorder.idle(); }))
+      << "the recorder did not finish its queue of one frame within 10 s";
   const RecorderStatus status = recorder.status();
   EXPECT_NE(status.error.find((dir / "file" / "rec").string()), std::string::npos) << status.error;
   EXPECT_EQ(status.framesWritten, 0u);
@@ -118,7 +119,8 @@ TEST(FrameRecorder, RecordsTheSweepsDecodingAndRefusesToMixTwoCurves) {
   recorder.setDecoding({io::RecordedDecoding::Kind::MeasuredCurve,
                         ToneCurve("measured", {{0.0, 0.0}, {0.3, 0.5}, {1.0, 1.0}})});
   ASSERT_TRUE(recorder.offer(smallFrame(3000, true)));
-  while (!recorder.idle()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ASSERT_TRUE(test::waitUntil([&] { return recorder.idle(); }))
+      << "the recorder did not finish its queue of one frame within 10 s";
   EXPECT_NE(recorder.status().error.find("one recording cannot hold both"), std::string::npos)
       << recorder.status().error;
   EXPECT_EQ(io::readRecording(dir).frames.size(), 2u);  // nothing recorded before is lost
