@@ -4,7 +4,10 @@ put on the Principled BSDF, and renders the glTF's sphere with Cycles (CPU) in t
 consumer_scene.py, written by python/checks/blender_gltf.py as VIEW.json (glTF coordinates).
 Writes OUT.npy (linear RGB, rows top first) and OUT.json (the Principled inputs, Blender version).
 
-Usage: python blender_render.py MODEL.gltf VIEW.json OUT [SAMPLES]
+With `remap`, the Principled BSDF's Roughness and Anisotropic are then set to give glTF's two
+alphas in Cycles (remap_anisotropy): information, what a user can do by hand.
+
+Usage: python blender_render.py MODEL.gltf VIEW.json OUT [SAMPLES [remap]]
 """
 
 import json
@@ -96,9 +99,28 @@ def scene_from(view, samples):
     scene.render.image_settings.color_depth = "32"
 
 
+def remap_anisotropy(principled) -> dict:
+    """Sets Roughness and Anisotropic so that Cycles' Principled lobe has glTF's two alphas:
+    KHR_materials_anisotropy gives alpha_b = roughness^2, alpha_t = mix(alpha_b, 1, strength^2);
+    Cycles' Principled BSDF (its svm_closure code) takes alpha_x = r^2 / aspect along the tangent,
+    alpha_y = r^2 aspect, aspect = sqrt(1 - 0.9 anisotropic). So r^2 = sqrt(alpha_t alpha_b) and
+    anisotropic = (1 - alpha_b / alpha_t) / 0.9, which reaches ratios up to 10. Returns the
+    alphas and the inputs set."""
+    alpha_b = principled.inputs["Roughness"].default_value ** 2
+    strength = principled.inputs["Anisotropic"].default_value
+    alpha_t = alpha_b + (1.0 - alpha_b) * strength**2
+    roughness = (alpha_t * alpha_b) ** 0.25
+    anisotropic = min(1.0, (1.0 - alpha_b / alpha_t) / 0.9)
+    principled.inputs["Roughness"].default_value = roughness
+    principled.inputs["Anisotropic"].default_value = anisotropic
+    return {"alpha_t": alpha_t, "alpha_b": alpha_b, "Roughness": roughness,
+            "Anisotropic": anisotropic}
+
+
 def main(argv):
     gltf_path, view_path, out = argv[:3]
     samples = int(argv[3]) if len(argv) > 3 else 16
+    remap = len(argv) > 4 and argv[4] == "remap"
     with open(view_path, encoding="utf-8") as file:
         view = json.load(file)
     sphere = import_sphere(gltf_path)
@@ -108,6 +130,7 @@ def main(argv):
     imported["tangent_linked_by_importer"] = principled.inputs["Tangent"].is_linked
     imported["distribution"] = principled.distribution
     connect_uv_tangent(sphere, tree, principled)
+    remapped = remap_anisotropy(principled) if remap else None
     scene_from(view, samples)
     bpy.context.scene.render.filepath = out + ".exr"
     bpy.ops.render.render(write_still=True)
@@ -116,7 +139,8 @@ def main(argv):
         image.size[1], image.size[0], image.channels)
     np.save(out + ".npy", pixels[::-1, :, :3])
     with open(out + ".json", "w", encoding="utf-8") as file:
-        json.dump({"blender": bpy.app.version_string, "principled": imported}, file, indent=1)
+        json.dump({"blender": bpy.app.version_string, "principled": imported,
+                   "remapped": remapped}, file, indent=1)
 
 
 if __name__ == "__main__":
