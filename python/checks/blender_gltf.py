@@ -63,7 +63,9 @@ def run(argv) -> int:
             info = json.load(file)
         strength, rotation = exported_anisotropy(gltf)
         principled = info["principled"]
-        imported = (abs(principled["Anisotropic"] - strength) < 1e-4
+        # Every built-in anisotropic fit exports a strength above 0; a glTF without one would
+        # make the comparison below pass trivially.
+        imported = (strength > 0.0 and abs(principled["Anisotropic"] - strength) < 1e-4
                     and abs(principled["Anisotropic Rotation"] - rotation / (2 * math.pi)) < 1e-4)
         image8 = cs.encode(np.load(prefix + ".npy"), m["exposure"])
         write_png(prefix + ".png", image8)
