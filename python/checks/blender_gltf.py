@@ -18,9 +18,9 @@ import subprocess
 import sys
 import time
 
+import consumer_scene as cs
 import numpy as np
 
-import consumer_scene as cs
 from slicecap.png import write_png
 
 RENDER_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "blender_render.py")

@@ -1,8 +1,9 @@
 """Runs inside PyPI `bpy` (Blender as a Python module, in a venv of its own that
-scripts/consumer-check makes): imports an exported glTF with Blender's bundled glTF importer, reads the anisotropy the importer
-put on the Principled BSDF, and renders the glTF's sphere with Cycles (CPU) in the scene of
-consumer_scene.py, written by python/checks/blender_gltf.py as VIEW.json (glTF coordinates).
-Writes OUT.npy (linear RGB, rows top first) and OUT.json (the Principled inputs, Blender version).
+scripts/consumer-check makes): imports an exported glTF with Blender's bundled glTF importer, reads
+the anisotropy the importer put on the Principled BSDF, and renders the glTF's sphere with Cycles
+(CPU) in the scene of consumer_scene.py, written by python/checks/blender_gltf.py as VIEW.json
+(glTF coordinates). Writes OUT.npy (linear RGB, rows top first) and OUT.json (the Principled
+inputs, the Blender version).
 
 With `remap`, the Principled BSDF's Roughness and Anisotropic are then set to give glTF's two
 alphas in Cycles (remap_anisotropy): information, what a user can do by hand.

@@ -23,12 +23,12 @@ import re
 import subprocess
 import sys
 
+import consumer_scene as cs
 import numpy as np
 
-import consumer_scene as cs
-from slicecap.image_metrics import exposure_of
 from slicecap import tabulate, write_abrdf_exr
 from slicecap.fitted_material import read_fitted_material
+from slicecap.image_metrics import exposure_of
 from slicecap.png import write_png
 
 VARIANT = "llvm_ad_rgb"

@@ -19,9 +19,9 @@ import subprocess
 import sys
 import threading
 
+import consumer_scene as cs
 import numpy as np
 
-import consumer_scene as cs
 from slicecap.png import write_png
 
 PAGE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "threejs_page.html")

@@ -9,7 +9,6 @@ import sys
 
 import numpy as np
 import pytest
-
 from conftest import REPOSITORY
 from mitsuba_support import use_variant
 
