@@ -20,6 +20,7 @@
 #include "slicecap/io/journal.hpp"
 #include "slicecap/io/target_json.hpp"
 #include "export_authorization.hpp"
+#include "sweep_calibration.hpp"
 #include "sweep_outputs.hpp"
 
 namespace slicecap::daemon {
@@ -56,12 +57,8 @@ struct Daemon::State {
   // What the camera could not do as configured, as it said at the last start.
   std::string cameraAdjustment;
 
-  // Sweep-start metering (no exposure configured, a live camera): while it runs the LED stays on
-  // and no frame reaches the pipeline; then the exposure stays locked for the sweep. The note
-  // says what it did, or why the camera's auto exposure runs instead (then also a warning).
-  std::optional<ExposureMeter> meter;
-  std::string exposureNote;
-  bool exposureUnlocked = false;
+  // Sweep-start metering and the sweep run's decoding (no frame is processed meanwhile).
+  SweepCalibration calibration{parts};
 
   // A live camera's strobe (from the end of the metering to the sweep's stop), its planned
   // switch, and the last run's figures for the status.
@@ -71,13 +68,6 @@ struct Daemon::State {
   std::optional<StrobeStats> strobeStats;
   std::string strobePattern;
 
-  // The sweep run's decoding (issue 27 item 2): decided on the first frame after the metering,
-  // after a response bracket where one is taken (the LED stays on, no frame is processed).
-  std::uint32_t locksAccepted = 0;  // the camera's locks since it started
-  std::optional<hal::ExposureSetting> lockedSetting;  // the sweep's exposure, once known
-  std::optional<ResponseBracket> bracket;
-  std::optional<SweepDecoding> decoding;
-  std::string decodingWarning;  // shown by every status until the next sweep start
   capture::FrameObserver observer;
 
   explicit State(DaemonParts p)
@@ -124,10 +114,7 @@ struct Daemon::State {
     pollTimer.reset();
     if (camera) stopQuietly(*camera);
     camera.reset();
-    // A metering cut short locked nothing final: its "metering ..." line would outlive it.
-    if (meter) exposureNote.clear();
-    meter.reset();
-    bracket.reset();
+    calibration.cameraStopped();
     cameraSlice.reset();
     processor = nullptr;
     ledOff();
@@ -135,16 +122,7 @@ struct Daemon::State {
 
   void startCamera(const SliceId& slice) {
     // The last sweep's exposure line is not this one's, whatever happens below.
-    meter.reset();
-    exposureNote.clear();
-    exposureUnlocked = false;
-    bracket.reset();
-    decoding.reset();
-    decodingWarning.clear();
-    locksAccepted = 0;
-    lockedSetting.reset();
-    if (parts.cameraConfig.exposureUs)
-      lockedSetting = hal::ExposureSetting{*parts.cameraConfig.exposureUs, parts.cameraConfig.gain};
+    calibration.reset();
     std::shared_ptr<hal::Camera> opened;
     try {
       opened = parts.cameraFor(slice);
@@ -167,20 +145,19 @@ struct Daemon::State {
       return;
     }
     try {
-      beginMetering(*opened);
+      calibration.begin(*opened);
     } catch (const std::exception& error) {
       // The camera runs: stopped here, or (one camera serves every slice) the next sweep's
       // configure would find it streaming. The lock or the LED failed; each names its device.
       stopQuietly(*opened);
-      meter.reset();
-      exposureNote.clear();
+      calibration.abandonMetering();
       manager.pauseSweep(std::string("exposure metering: ") + error.what());
       ledOff();
       return;
     }
     // A live camera's strobe starts lit, before its first frame is exposed: a switch while the
     // first frames expose would cost them.
-    if (opened->readyDescriptor() && !meter) {
+    if (opened->readyDescriptor() && !calibration.metering()) {
       try {
         parts.led->set(true);
       } catch (const std::exception& error) {
@@ -202,104 +179,6 @@ struct Daemon::State {
     }
   }
 
-  void beginMetering(hal::Camera& opened) {
-    if (parts.cameraConfig.exposureUs || !opened.readyDescriptor()) return;
-    ExposureMeter metering(parts.exposureMeter);
-    const hal::ExposureLock lock =
-        opened.lockExposure(metering.firstSetting(parts.cameraConfig.gain));
-    if (!lock.locked) {
-      leaveExposureToCamera(opened.id(), lock.reason);
-      return;
-    }
-    metering.accepted(*lock.locked);
-    ++locksAccepted;
-    meter = metering;
-    exposureNote = "metering the exposure with the LED on";
-    parts.led->set(true);
-  }
-
-  void leaveExposureToCamera(const std::string& cameraId, const std::string& reason) {
-    meter.reset();
-    exposureUnlocked = true;
-    exposureNote = "camera " + cameraId + ": exposure not locked (" + reason +
-                   "): its auto exposure runs through the sweep";
-    std::cerr << "slicecapd: " << exposureNote << "\n";
-  }
-
-  /// One frame of the metering: measured, never processed; the LED stays on.
-  void meterFrame(const hal::Frame& frame) {
-    parts.led->set(true);
-    const ExposureMeter::Step step = meter->onFrame(frame);
-    if (step.kind == ExposureMeter::Step::Kind::Lock) {
-      const hal::ExposureLock lock = camera->lockExposure(step.setting);
-      if (lock.locked) {
-        meter->accepted(*lock.locked);
-        ++locksAccepted;
-      } else {
-        // The setting accepted before stays fixed (a source that refuses part of a lock puts
-        // back what it had): the metering ends there, on the next frame.
-        meter->refused(lock.reason);
-      }
-    } else if (step.kind == ExposureMeter::Step::Kind::Done) {
-      exposureNote = "camera " + camera->id() + ": " + meter->summary();
-      std::cerr << "slicecapd: " << exposureNote << "\n";
-      lockedSetting = step.setting;
-      meter.reset();
-    }
-  }
-
-  /// The first frame after the metering: the sweep's decoding without a bracket (a linear
-  /// stream, decoding = srgb, a camera that cannot take one), or the bracket's first lock.
-  void decideDecoding(const hal::Frame& frame) {
-    const std::string id = camera->id();
-    if (frame.encoding == PixelEncoding::Linear16 || parts.decoding == DecodingMode::Srgb)
-      return applyDecoding(decodingWithoutBracket(frame.encoding, parts.decoding, id, ""));
-    const auto fallBack = [&](const std::string& why) {
-      applyDecoding(decodingWithoutBracket(frame.encoding, parts.decoding, id, why));
-    };
-    if (!parts.bracketSubjectFor || !parts.newDecodingFrameProcessor)
-      return fallBack("this daemon was started without the target and pipeline a response "
-                      "bracket needs (decoding = " + toString(parts.decoding) + ")");
-    if (exposureUnlocked || !lockedSetting)
-      return fallBack("no response bracket: its exposure is not locked (" + exposureNote +
-                      "); set exposure_us and gain, or decoding = srgb");
-    bracket.emplace(*lockedSetting, locksAccepted, capture::BracketPlan{},
-                    parts.exposureMeter.maxExposureUs);
-    const hal::ExposureLock lock = camera->lockExposure(bracket->firstSetting());
-    if (!lock.locked) {
-      bracket->refused(lock.reason);
-      return finishBracket();
-    }
-    bracket->accepted();
-    ++locksAccepted;
-    parts.led->set(true);
-  }
-
-  /// One frame of the bracket: kept or skipped, never processed; the LED stays on.
-  void bracketFrame(const hal::Frame& frame) {
-    parts.led->set(true);
-    const ResponseBracket::Step step = bracket->onFrame(frame);
-    if (step.kind == ResponseBracket::Step::Kind::Lock) {
-      const hal::ExposureLock lock = camera->lockExposure(step.setting);
-      if (!lock.locked) {
-        bracket->refused(lock.reason);
-      } else {
-        bracket->accepted();
-        ++locksAccepted;
-      }
-    } else if (step.kind == ResponseBracket::Step::Kind::Done) {
-      finishBracket();
-    }
-  }
-
-  void finishBracket() {
-    ResponseBracket done = std::move(*bracket);
-    bracket.reset();
-    // The fit reads the frames' poses and codes: about a second on a Pi, once a sweep run.
-    applyDecoding(decodingFromBracket(std::move(done.frames()), done.failure(),
-                                      parts.bracketSubjectFor(*cameraSlice), camera->id()));
-  }
-
   /// The sweep run's decoding: the pipeline reads through it, the status and the session say it,
   /// the recording records it (with the bracket frames, under record_frames).
   void applyDecoding(SweepDecoding decided) {
@@ -307,7 +186,8 @@ struct Daemon::State {
     std::cerr << "slicecapd: camera " << id << ": decoding " << io::toString(decided.decoding.kind)
               << ": " << decided.note << "\n";
     if (!decided.warning.empty()) std::cerr << "slicecapd: " << decided.warning << "\n";
-    decodingWarning = decided.warning;
+    calibration.noteDecodingWarning(decided.warning);
+    std::string decodingWarning = decided.warning;
     if (decided.decoding.kind == io::RecordedDecoding::Kind::MeasuredCurve)
       processor = parts.newDecodingFrameProcessor(*cameraSlice, observer, decided.decoding.curve);
     if (const std::optional<std::filesystem::path> session = manager.sessionDirectory()) {
@@ -324,7 +204,8 @@ struct Daemon::State {
     outputs.setDecoding(decided.decoding);
     outputs.recordBracket(decided, *cameraSlice);
     decided.bracketFrames.clear();
-    decoding = std::move(decided);
+    calibration.noteDecodingWarning(decodingWarning);
+    calibration.adopt(std::move(decided));
   }
 
   /// Brings the devices in line with the session state after anything that may change it.
@@ -358,9 +239,9 @@ struct Daemon::State {
         break;
     }
     hal::Frame& frame = *result.frame;
-    if (meter) {
+    if (calibration.metering()) {
       try {
-        meterFrame(frame);
+        calibration.meterFrame(*camera, frame);
       } catch (const std::exception& error) {
         // The camera's lock or the LED failed: each message names its device.
         manager.pauseSweep(std::string("exposure metering: ") + error.what());
@@ -369,10 +250,14 @@ struct Daemon::State {
       return;
     }
     if (camera->readyDescriptor()) {
-      if (!decoding && !bracket) decideDecoding(frame);
-      if (bracket) {
+      if (!calibration.decided() && !calibration.bracketing())
+        if (std::optional<SweepDecoding> decided = calibration.decide(*camera, frame, *cameraSlice))
+          applyDecoding(std::move(*decided));
+      if (calibration.bracketing()) {
         try {
-          bracketFrame(frame);
+          if (std::optional<SweepDecoding> decided =
+                  calibration.bracketFrame(*camera, frame, *cameraSlice))
+            applyDecoding(std::move(*decided));
         } catch (const std::exception& error) {
           manager.pauseSweep(std::string("response bracket: ") + error.what());
           reconcile();
@@ -457,11 +342,7 @@ struct Daemon::State {
   void describeDevices(nlohmann::json& json) const {
     std::vector<std::string> warnings = parts.warnings;
     if (!cameraAdjustment.empty()) warnings.push_back(cameraAdjustment);
-    // The last sweep start's: a camera that could not lock is a warning, shown once.
-    if (exposureUnlocked)
-      warnings.push_back(exposureNote);
-    else if (!exposureNote.empty())
-      json["exposure"] = exposureNote;
+    calibration.describeExposure(json, warnings);
     const std::optional<StrobeStats> shown = strobeRun ? strobeRun->stats() : strobeStats;
     if (shown) {
       const double judged = double(shown->framesClean + shown->framesMixed);
@@ -473,13 +354,7 @@ struct Daemon::State {
           {"timing", shown->timing}};
       if (!shown->warning.empty()) warnings.push_back(shown->warning);
     }
-    if (decoding)
-      json["decoding"] = {{"decoding", io::toString(decoding->decoding.kind)},
-                          {"note", decoding->note}};
-    else if (bracket)
-      json["decoding"] = {{"decoding", "measuring"},
-                          {"note", "taking the response bracket with the LED on"}};
-    if (!decodingWarning.empty()) warnings.push_back(decodingWarning);
+    calibration.describeDecoding(json, warnings);
     if (!warnings.empty()) json["warnings"] = warnings;
   }
 
