@@ -219,6 +219,37 @@ struct Daemon::State {
     outputs.reconcileRecorder(cameraSlice);
   }
 
+  /// The sweep start's metering and bracket take the frame (true), or it goes to the pipeline.
+  bool calibrate(const hal::Frame& frame) {
+    if (calibration.metering()) {
+      try {
+        calibration.meterFrame(*camera, frame);
+      } catch (const std::exception& error) {
+        // The camera's lock or the LED failed: each message names its device.
+        manager.pauseSweep(std::string("exposure metering: ") + error.what());
+        reconcile();
+      }
+      return true;
+    }
+    if (camera->readyDescriptor()) {
+      if (!calibration.decided() && !calibration.bracketing())
+        if (std::optional<SweepDecoding> decided = calibration.decide(*camera, frame, *cameraSlice))
+          applyDecoding(std::move(*decided));
+      if (calibration.bracketing()) {
+        try {
+          if (std::optional<SweepDecoding> decided =
+                  calibration.bracketFrame(*camera, frame, *cameraSlice))
+            applyDecoding(std::move(*decided));
+        } catch (const std::exception& error) {
+          manager.pauseSweep(std::string("response bracket: ") + error.what());
+          reconcile();
+        }
+        return true;
+      }
+    }
+    return false;
+  }
+
   void pumpFrame() {
     if (!camera || !cameraSlice) return;
     hal::CaptureResult result = camera->nextFrame(std::chrono::milliseconds(0));
@@ -239,32 +270,7 @@ struct Daemon::State {
         break;
     }
     hal::Frame& frame = *result.frame;
-    if (calibration.metering()) {
-      try {
-        calibration.meterFrame(*camera, frame);
-      } catch (const std::exception& error) {
-        // The camera's lock or the LED failed: each message names its device.
-        manager.pauseSweep(std::string("exposure metering: ") + error.what());
-        reconcile();
-      }
-      return;
-    }
-    if (camera->readyDescriptor()) {
-      if (!calibration.decided() && !calibration.bracketing())
-        if (std::optional<SweepDecoding> decided = calibration.decide(*camera, frame, *cameraSlice))
-          applyDecoding(std::move(*decided));
-      if (calibration.bracketing()) {
-        try {
-          if (std::optional<SweepDecoding> decided =
-                  calibration.bracketFrame(*camera, frame, *cameraSlice))
-            applyDecoding(std::move(*decided));
-        } catch (const std::exception& error) {
-          manager.pauseSweep(std::string("response bracket: ") + error.what());
-          reconcile();
-        }
-        return;
-      }
-    }
+    if (calibrate(frame)) return;
     strobe(frame);
     capture::FrameOutcome outcome;
     try {
