@@ -182,11 +182,13 @@ int runSession(const ParsedArgs& args, Streams& io) {
   }
   if (action == "show") {
     needs(1, "ID");
-    return finish(args, io, call(args, control::SessionShow{args.positional[1]}), printSessionReply);
+    return finish(args, io, call(args, control::SessionShow{args.positional[1]}),
+                  printSessionReply);
   }
   if (action == "resume") {
     needs(1, "ID");
-    return finish(args, io, call(args, control::SessionResume{args.positional[1]}), printSessionReply);
+    return finish(args, io, call(args, control::SessionResume{args.positional[1]}),
+                  printSessionReply);
   }
   if (action == "delete") {
     needs(1, "ID");
@@ -218,7 +220,8 @@ int runSweep(const ParsedArgs& args, Streams& io) {
                        " axial|diagonal THETA_I THETA_V");
     const SliceId slice = sliceFrom(args, 1);
     const control::Command command =
-        action == "start" ? control::Command{control::SweepStart{slice}} : control::SweepRedo{slice};
+        action == "start" ? control::Command{control::SweepStart{slice}}
+                          : control::Command{control::SweepRedo{slice}};
     const json reply = call(args, command);
     // The daemon takes the command, but a camera, exposure lock or texture store that fails at
     // once leaves the sweep paused with the reason: it is not capturing, so this is no success
@@ -310,7 +313,8 @@ int runExport(const ParsedArgs& args, Streams& io) {
     copied.push_back(path.string());
   for (const std::string& warning : reply.warnings)
     io.err << "warning: " << warning << "\n";
-  if (reply.textureSkipped) io.err << "warning: texture not exported: " << *reply.textureSkipped << "\n";
+  if (reply.textureSkipped)
+    io.err << "warning: texture not exported: " << *reply.textureSkipped << "\n";
   json answer = {{"session", reply.session}, {"method", reply.method}, {"files", copied}};
   if (reply.material) answer["material"] = *reply.material;
   return finish(args, io, answer, [](std::ostream& out, const json& r) {

@@ -87,7 +87,8 @@ json toJson(const SessionView& session) {
                  {"slices", std::move(slices)}};
   if (session.createdUtc) object["created"] = *session.createdUtc;
   if (session.directory) object["directory"] = *session.directory;
-  if (session.tornTailBytesDropped) object["torn_tail_bytes_dropped"] = *session.tornTailBytesDropped;
+  if (session.tornTailBytesDropped)
+    object["torn_tail_bytes_dropped"] = *session.tornTailBytesDropped;
   if (!session.corruptJournalLines.empty())
     object["corrupt_journal_lines"] = session.corruptJournalLines;
   if (!session.journalDamage.empty()) {
@@ -134,7 +135,8 @@ json toJson(const SweepView& sweep) {
                  {"rejected", std::move(rejected)},
                  {"view_elevation_error_deg", nullptr}};
   if (sweep.pauseReason) object["pause_reason"] = *sweep.pauseReason;
-  if (sweep.viewElevationErrorDeg) object["view_elevation_error_deg"] = *sweep.viewElevationErrorDeg;
+  if (sweep.viewElevationErrorDeg)
+    object["view_elevation_error_deg"] = *sweep.viewElevationErrorDeg;
   return object;
 }
 

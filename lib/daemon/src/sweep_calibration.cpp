@@ -15,13 +15,15 @@ void SweepCalibration::reset() {
   locksAccepted_ = 0;
   lockedSetting_.reset();
   if (parts_.cameraConfig.exposureUs)
-    lockedSetting_ = hal::ExposureSetting{*parts_.cameraConfig.exposureUs, parts_.cameraConfig.gain};
+    lockedSetting_ =
+        hal::ExposureSetting{*parts_.cameraConfig.exposureUs, parts_.cameraConfig.gain};
 }
 
 void SweepCalibration::begin(hal::Camera& opened) {
   if (parts_.cameraConfig.exposureUs || !opened.readyDescriptor()) return;
   ExposureMeter metering(parts_.exposureMeter);
-  const hal::ExposureLock lock = opened.lockExposure(metering.firstSetting(parts_.cameraConfig.gain));
+  const hal::ExposureLock lock =
+      opened.lockExposure(metering.firstSetting(parts_.cameraConfig.gain));
   if (!lock.locked) {
     leaveExposureToCamera(opened.id(), lock.reason);
     return;
