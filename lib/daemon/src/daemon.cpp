@@ -2,22 +2,17 @@
 #include "slicecap/daemon/daemon.hpp"
 
 #include <signal.h>
-#include <string.h>
 #include <sys/epoll.h>
-#include <sys/stat.h>
 #include <systemd/sd-daemon.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <csignal>
-#include <cstring>
 #include <iostream>
 
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/event_loop.hpp"
 #include "slicecap/hal/led_timeline.hpp"
 #include "slicecap/io/io_error.hpp"
-#include "slicecap/io/journal.hpp"
 #include "slicecap/io/target_json.hpp"
 #include "export_authorization.hpp"
 #include "sweep_calibration.hpp"
