@@ -390,7 +390,7 @@ struct Daemon::State {
     if ((std::holds_alternative<SweepStart>(request.command) ||
          std::holds_alternative<SweepRedo>(request.command)) &&
         manager.sweepSlice() && !manager.capturing())
-      json = manager.status()["sweep"];
+      json = control::toJson(*manager.sweepView());
     return json;
   }
 };

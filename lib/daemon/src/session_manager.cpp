@@ -358,6 +358,11 @@ json replyOrThrow(std::variant<json, ProtocolError> reply) {
   return std::move(std::get<json>(reply));
 }
 
+std::optional<control::SweepView> SessionManager::sweepView() const {
+  if (!state_->sweep) return std::nullopt;
+  return state_->sweep->view(*state_->session);
+}
+
 json SessionManager::status() const {
   return control::toJson(state_->statusView());
 }

@@ -12,6 +12,7 @@
 #include <variant>
 
 #include "slicecap/capture/session_store.hpp"
+#include "slicecap/control/reply_views.hpp"
 #include "slicecap/core/abrdf.hpp"
 #include "slicecap/daemon/protocol.hpp"
 #include "slicecap/daemon/session_exporter.hpp"
@@ -67,6 +68,9 @@ class SessionManager {
   void noteViewElevationErrorDeg(double errorDeg);
   /// \brief The camera or LED failed: the sweep pauses (samples kept) with the reason shown.
   void pauseSweep(const std::string& reason);
+
+  /// \brief The sweep (running or paused), as its replies show it.
+  std::optional<control::SweepView> sweepView() const;
 
   /// \brief What `slicecap status` shows (also the reply to the status command).
   nlohmann::json status() const;
