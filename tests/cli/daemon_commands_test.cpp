@@ -157,6 +157,34 @@ TEST(DaemonCommands, ASessionFromNewToExport) {
   EXPECT_THAT(r.err, HasSubstr("unknown method 'nosuch' (known: b, a,"));
 }
 
+// The texture folder is fetched as the daemon's reply lists it: a frame being written (.tmp) and
+// a discarded sweep's folder stay behind on the box.
+TEST(DaemonCommands, ExportCopiesTheTextureFilesTheReplyLists) {
+  const auto dir = test::freshTempDir();
+  LiveDaemon daemon(dir / "storage");
+  ASSERT_EQ(daemon.run({"session", "new", "felt", "--id", "felt"}).code, kExitOk);
+  ASSERT_EQ(daemon.run({"sweep", "start", "axial", "30", "30"}).code, kExitOk);
+  for (int k = 0; k < 5; ++k)
+    daemon.manager().acceptSample(
+        {k, std::uint64_t(k), {30, k * 15.0}, {30, k * 15.0 + 15}, Rgb::gray(0.2)});
+  ASSERT_EQ(daemon.run({"sweep", "stop"}).code, kExitOk);
+  const std::filesystem::path texture = dir / "storage" / "felt" / "texture";
+  for (const char* file : {"texture.json", "axial-30-30/0001.tex", "axial-30-30/0002.tex.tmp",
+                           "axial-75-75.discarded/0001.tex"}) {
+    std::filesystem::create_directories((texture / file).parent_path());
+    std::ofstream(texture / file) << file;
+  }
+  const std::filesystem::path desk = dir / "desk";
+  const Result r = daemon.run({"export", "felt", "-o", desk.string()});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  const std::filesystem::path copy = desk / "felt-texture";
+  EXPECT_TRUE(std::filesystem::is_regular_file(copy / "texture.json"));
+  EXPECT_TRUE(std::filesystem::is_regular_file(copy / "axial-30-30" / "0001.tex"));
+  EXPECT_TRUE(std::filesystem::is_regular_file(copy / "slices.csv"));  // written by the export
+  EXPECT_FALSE(std::filesystem::exists(copy / "axial-30-30" / "0002.tex.tmp"));
+  EXPECT_FALSE(std::filesystem::exists(copy / "axial-75-75.discarded"));
+}
+
 TEST(DaemonCommands, AnExportFolderKeepsNoTableTheSamplesNoLongerGive) {
   // The daemon removed the table (with a warning) from the session and its own export folder, but
   // the copy an earlier `slicecap export` had put into DIR stayed there beside the new slices CSV.

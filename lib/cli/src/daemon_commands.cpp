@@ -13,11 +13,11 @@
 
 #include "slicecap/cli/cli.hpp"
 #include "slicecap/cli/command.hpp"
+#include "slicecap/control/control_client.hpp"
+#include "slicecap/control/reply_views.hpp"
 #include "slicecap/methods/method_id.hpp"
-#include "slicecap/daemon/control_client.hpp"
 #include "slicecap/io/file_set.hpp"
 #include "slicecap/io/io_error.hpp"
-#include "slicecap/io/journal.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -40,8 +40,8 @@ fs::path socketPath(const ParsedArgs& args) {
 }
 
 /// Sends one command; a refusal becomes an exception carrying the daemon's message (exit 1).
-json call(const ParsedArgs& args, const daemon::Command& command) {
-  daemon::ControlClient client(socketPath(args));
+json call(const ParsedArgs& args, const control::Command& command) {
+  control::ControlClient client(socketPath(args));
   return client.call(command);
 }
 
@@ -58,10 +58,10 @@ SliceId sliceFrom(const ParsedArgs& args, std::size_t first) {
   return {*kind, {elevation(first + 1, "THETA_I"), elevation(first + 2, "THETA_V")}};
 }
 
-std::string bar(const json& bins) {
+std::string bar(const std::vector<bool>& bins) {
   std::string text = "[";
-  for (const json& filled : bins)
-    text += filled.get<bool>() ? '#' : '.';
+  for (const bool filled : bins)
+    text += filled ? '#' : '.';
   return text + "]";
 }
 
@@ -70,80 +70,76 @@ std::string padded(std::string text, std::size_t width) {
   return text;
 }
 
-void printSession(std::ostream& out, const json& session) {
-  out << "session " << session["id"].get<std::string>() << " ("
-      << session["material"].get<std::string>() << "), " << session["samples"] << " samples";
-  if (session.contains("created")) out << ", created " << session["created"].get<std::string>();
+void printSession(std::ostream& out, const control::SessionView& session) {
+  out << "session " << session.id << " (" << session.material << "), " << session.samples
+      << " samples";
+  if (session.createdUtc) out << ", created " << *session.createdUtc;
   out << "\n";
-  if (session.contains("slices"))
-    for (const json& slice : session["slices"]) {
-      out << "  " << padded(slice["name"].get<std::string>(), 16) << slice["bins_filled"]
-          << "/24 bins, " << slice["samples"] << " samples";
-      if (slice.contains("samples_set_aside"))
-        out << ", " << slice["samples_set_aside"] << " set aside (damaged journal)";
-      out << "\n";
-    }
+  for (const control::SliceProgress& slice : session.slices) {
+    out << "  " << padded(toString(slice.slice), 16) << slice.binsFilled << "/"
+        << control::kBinsPerSlice << " bins, " << slice.samples << " samples";
+    if (slice.samplesSetAside > 0)
+      out << ", " << slice.samplesSetAside << " set aside (damaged journal)";
+    out << "\n";
+  }
   // What the journal could not tell for sure, each naming the file and line: never only in --json.
-  if (session.contains("journal_damage"))
-    for (const json& damage : session["journal_damage"])
-      out << "journal damage: " << damage["message"].get<std::string>() << "\n";
+  for (const control::JournalDamageView& damage : session.journalDamage)
+    out << "journal damage: " << damage.message << "\n";
 }
 
-void printStatus(std::ostream& out, const json& status) {
-  if (status["session"].is_null()) {
+void printSessionReply(std::ostream& out, const json& reply) {
+  printSession(out, control::sessionFromJson(reply));
+}
+
+std::string isotropyText(const control::IsotropyView& isotropy) {
+  if (isotropy.error) return *isotropy.error;
+  return std::string(isotropy.isotropic == false ? "anisotropic, the axial sweeps are needed"
+                     : isotropy.axialSweepsNeeded
+                         ? "cannot tell yet, the axial sweeps are needed"
+                         : "isotropic, the axial sweeps are not needed") +
+         " (" + isotropy.reason + ")";
+}
+
+void printSweepProgress(std::ostream& out, const control::SweepView& sweep) {
+  out << "sweep " << toString(sweep.slice) << ": " << sweep.state << "\n"
+      << "  bins " << bar(sweep.bins) << " " << sweep.binsFilled << "/" << control::kBinsPerSlice
+      << "\n";
+  if (sweep.viewElevationErrorDeg) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%+.1f", *sweep.viewElevationErrorDeg);
+    out << "  view elevation error " << text << " deg\n";
+  }
+  if (!sweep.rejected.empty()) {
+    out << "  rejected frames:";
+    for (const auto& [reason, count] : sweep.rejected)
+      out << " " << reason << " " << count;
+    out << "\n";
+  }
+}
+
+void printStatus(std::ostream& out, const json& reply) {
+  const control::StatusView status = control::statusFromJson(reply);
+  if (!status.session)
     out << "no current session\n";
-  } else {
-    printSession(out, status["session"]);
-  }
-  if (!status["sweep"].is_null()) {
-    const json& sweep = status["sweep"];
-    out << "sweep " << sweep["slice"]["name"].get<std::string>() << ": "
-        << sweep["state"].get<std::string>() << "\n"
-        << "  bins " << bar(sweep["bins"]) << " " << sweep["bins_filled"] << "/24\n";
-    if (!sweep["view_elevation_error_deg"].is_null()) {
-      char text[32];
-      std::snprintf(text, sizeof text, "%+.1f", sweep["view_elevation_error_deg"].get<double>());
-      out << "  view elevation error " << text << " deg\n";
-    }
-    if (!sweep["rejected"].empty()) {
-      out << "  rejected frames:";
-      for (const auto& [reason, count] : sweep["rejected"].items())
-        out << " " << reason << " " << count.get<std::size_t>();
-      out << "\n";
-    }
-  }
-  if (status.contains("recording")) {
-    const json& recording = status["recording"];
-    out << "  raw frames recorded: " << recording["frames_written"] << " in "
-        << recording["directory"].get<std::string>() << ", " << recording["frames_dropped"]
+  else
+    printSession(out, *status.session);
+  if (status.sweep) printSweepProgress(out, *status.sweep);
+  if (status.recording)
+    out << "  raw frames recorded: " << status.recording->framesWritten << " in "
+        << status.recording->directory << ", " << status.recording->framesDropped
         << " dropped from the recording (writer behind)\n";
-    if (recording.contains("error")) out << "  " << recording["error"].get<std::string>() << "\n";
-  }
-  if (status.contains("texture")) {
-    const json& texture = status["texture"];
-    out << "  texture " << texture["resolution"] << " x " << texture["resolution"] << ": "
-        << texture["bins_filled"] << "/24 bins, " << texture["frames_stored"]
-        << " frames kept in " << texture["directory"].get<std::string>() << "\n";
-  }
-  if (status.contains("isotropy")) {
-    const json& isotropy = status["isotropy"];
-    if (isotropy.contains("error"))
-      out << "isotropy: " << isotropy["error"].get<std::string>() << "\n";
-    else
-      out << "isotropy: "
-          << (isotropy["isotropic"] == false ? "anisotropic, the axial sweeps are needed"
-              : isotropy["axial_sweeps_needed"].get<bool>()
-                  ? "cannot tell yet, the axial sweeps are needed"
-                  : "isotropic, the axial sweeps are not needed")
-          << " (" << isotropy["reason"].get<std::string>() << ")\n";
-  }
-  if (status.contains("error")) out << "error: " << status["error"].get<std::string>() << "\n";
-  if (status.contains("exposure"))
-    out << "exposure: " << status["exposure"].get<std::string>() << "\n";
-  if (status.contains("warnings"))
-    for (const json& warning : status["warnings"])
-      out << "warning: " << warning.get<std::string>() << "\n";
-  out << "next: " << status["next"].get<std::string>() << "\n";
+  if (status.recording && status.recording->error) out << "  " << *status.recording->error << "\n";
+  if (status.texture)
+    out << "  texture " << status.texture->resolution << " x " << status.texture->resolution
+        << ": " << status.texture->binsFilled << "/" << control::kBinsPerSlice << " bins, "
+        << status.texture->framesStored << " frames kept in " << status.texture->directory
+        << "\n";
+  if (status.isotropy) out << "isotropy: " << isotropyText(*status.isotropy) << "\n";
+  if (status.error) out << "error: " << *status.error << "\n";
+  if (status.exposure) out << "exposure: " << *status.exposure << "\n";
+  for (const std::string& warning : status.warnings)
+    out << "warning: " << warning << "\n";
+  out << "next: " << status.next << "\n";
 }
 
 int finish(const ParsedArgs& args, Streams& io, const json& result,
@@ -155,6 +151,18 @@ int finish(const ParsedArgs& args, Streams& io, const json& result,
   return kExitOk;
 }
 
+void printSessionList(std::ostream& out, const json& reply) {
+  const std::vector<control::SessionListEntry> sessions = control::sessionListFromJson(reply);
+  if (sessions.empty()) out << "no sessions\n";
+  for (const control::SessionListEntry& session : sessions) {
+    out << (session.current ? "* " : "  ") << session.id;
+    if (session.damaged)
+      out << "  damaged: " << *session.damaged << "\n";
+    else
+      out << "  " << session.createdUtc << "  " << session.material << "\n";
+  }
+}
+
 int runSession(const ParsedArgs& args, Streams& io) {
   const std::string& action = args.positional[0];
   auto needs = [&](std::size_t count, const char* synopsis) {
@@ -164,35 +172,27 @@ int runSession(const ParsedArgs& args, Streams& io) {
   };
   if (action == "new") {
     needs(1, "MATERIAL [--id ID]");
-    return finish(args, io, call(args, daemon::SessionNew{args.positional[1], args.value("id")}),
-                  printSession);
+    return finish(args, io, call(args, control::SessionNew{args.positional[1], args.value("id")}),
+                  printSessionReply);
   }
   if (action == "list") {
     needs(0, "");
-    return finish(args, io, call(args, daemon::SessionList{}),
-                  [](std::ostream& out, const json& r) {
-                    if (r["sessions"].empty()) out << "no sessions\n";
-                    for (const json& s : r["sessions"]) {
-                      out << (s["current"].get<bool>() ? "* " : "  ") << s["id"].get<std::string>();
-                      if (s.contains("damaged"))
-                        out << "  damaged: " << s["damaged"].get<std::string>() << "\n";
-                      else
-                        out << "  " << s["created"].get<std::string>() << "  "
-                            << s["material"].get<std::string>() << "\n";
-                    }
-                  });
+    return finish(args, io, call(args, control::SessionList{}),
+                  printSessionList);
   }
   if (action == "show") {
     needs(1, "ID");
-    return finish(args, io, call(args, daemon::SessionShow{args.positional[1]}), printSession);
+    return finish(args, io, call(args, control::SessionShow{args.positional[1]}),
+                  printSessionReply);
   }
   if (action == "resume") {
     needs(1, "ID");
-    return finish(args, io, call(args, daemon::SessionResume{args.positional[1]}), printSession);
+    return finish(args, io, call(args, control::SessionResume{args.positional[1]}),
+                  printSessionReply);
   }
   if (action == "delete") {
     needs(1, "ID");
-    return finish(args, io, call(args, daemon::SessionDelete{args.positional[1]}),
+    return finish(args, io, call(args, control::SessionDelete{args.positional[1]}),
                   [](std::ostream& out, const json& r) {
                     out << "deleted " << r["deleted"].get<std::string>() << "\n";
                   });
@@ -200,37 +200,38 @@ int runSession(const ParsedArgs& args, Streams& io) {
   throw UsageError("session: unknown action '" + action + "' (new, list, show, resume, delete)");
 }
 
-void printSweep(std::ostream& out, const json& sweep) {
-  out << "sweep " << sweep["slice"]["name"].get<std::string>() << ": "
-      << sweep["state"].get<std::string>() << ", " << sweep["samples"] << " samples, bins "
-      << bar(sweep["bins"]) << " " << sweep["bins_filled"] << "/24\n";
-  if (sweep.contains("pause_reason"))
-    out << "  " << sweep["pause_reason"].get<std::string>() << "\n";
+void printSweep(std::ostream& out, const json& reply) {
+  const control::SweepView sweep = control::sweepFromJson(reply);
+  out << "sweep " << toString(sweep.slice) << ": " << sweep.state << ", " << sweep.samples
+      << " samples, bins " << bar(sweep.bins) << " " << sweep.binsFilled << "/"
+      << control::kBinsPerSlice << "\n";
+  if (sweep.pauseReason) out << "  " << *sweep.pauseReason << "\n";
 }
 
 int runSweep(const ParsedArgs& args, Streams& io) {
   const std::string& action = args.positional[0];
   if (action == "stop") {
     if (args.positional.size() != 1) throw UsageError("sweep stop takes no arguments");
-    return finish(args, io, call(args, daemon::SweepStop{}), printSweep);
+    return finish(args, io, call(args, control::SweepStop{}), printSweep);
   }
   if (action == "start" || action == "redo") {
     if (args.positional.size() != 4)
       throw UsageError("sweep " + action + ": usage: slicecap sweep " + action +
                        " axial|diagonal THETA_I THETA_V");
     const SliceId slice = sliceFrom(args, 1);
-    const daemon::Command command =
-        action == "start" ? daemon::Command{daemon::SweepStart{slice}} : daemon::SweepRedo{slice};
-    const json sweep = call(args, command);
+    const control::Command command =
+        action == "start" ? control::Command{control::SweepStart{slice}}
+                          : control::Command{control::SweepRedo{slice}};
+    const json reply = call(args, command);
     // The daemon takes the command, but a camera, exposure lock or texture store that fails at
     // once leaves the sweep paused with the reason: it is not capturing, so this is no success
     // (a script's `sweep start ... && ...` went on as if it were).
-    if (sweep.value("state", "") == "paused")
-      throw daemon::DaemonError(
-          std::string(daemon::errorCodeName(daemon::ErrorCode::Unavailable)),
-          "sweep " + sweep["slice"]["name"].get<std::string>() +
-              " is paused, not capturing: " + sweep.value("pause_reason", "no reason given"));
-    return finish(args, io, sweep, printSweep);
+    if (const control::SweepView sweep = control::sweepFromJson(reply); sweep.state == "paused")
+      throw control::DaemonError(
+          std::string(control::errorCodeName(control::ErrorCode::Unavailable)),
+          "sweep " + toString(sweep.slice) + " is paused, not capturing: " +
+              sweep.pauseReason.value_or("no reason given"));
+    return finish(args, io, reply, printSweep);
   }
   throw UsageError("sweep: unknown action '" + action + "' (start, stop, redo)");
 }
@@ -238,7 +239,7 @@ int runSweep(const ParsedArgs& args, Streams& io) {
 volatile std::sig_atomic_t interrupted = 0;
 
 int runStatus(const ParsedArgs& args, Streams& io) {
-  if (!args.flag("watch")) return finish(args, io, call(args, daemon::Status{}), printStatus);
+  if (!args.flag("watch")) return finish(args, io, call(args, control::Status{}), printStatus);
   const double intervalSeconds = args.number("interval", 0.5);
   if (intervalSeconds < 0.05) throw UsageError("--interval must be at least 0.05 s");
   const double count = args.number("count", 0);
@@ -246,9 +247,9 @@ int runStatus(const ParsedArgs& args, Streams& io) {
     throw UsageError("--count must be a whole number from 1 to 1000000000");
   interrupted = 0;
   auto previous = std::signal(SIGINT, [](int) { interrupted = 1; });
-  daemon::ControlClient client(socketPath(args));
+  control::ControlClient client(socketPath(args));
   for (long shown = 0; !interrupted && (count <= 0 || shown < long(count)); ++shown) {
-    const json status = client.call(daemon::Status{});
+    const json status = client.call(control::Status{});
     if (args.flag("json")) {
       io.out << status.dump() << "\n";
     } else {
@@ -263,72 +264,59 @@ int runStatus(const ParsedArgs& args, Streams& io) {
   return kExitOk;
 }
 
-// A session's texture store, file by file (it can be hundreds of MB; the daemon exports it only
-// while no sweep writes to it), into `copy`. Temporaries and discarded slices are left out.
-void copyTexture(const fs::path& source, const fs::path& copy) {
+// One file of the box's export, copied into the set's new version at `copy`.
+void copyExportedFile(const fs::path& source, const fs::path& copy) {
+  std::error_code error;
+  fs::create_directories(copy.parent_path(), error);
+  if (!error) fs::copy_file(source, copy, fs::copy_options::overwrite_existing, error);
+  if (error)
+    throw io::IoError("cannot copy " + source.string() + " to " + copy.string() + ": " +
+                      error.message());
+}
+
+// The session's texture folder into `copy`: exactly the files the reply lists (the daemon's
+// exporter chose them; it can be hundreds of MB, so it is copied from the box's folder, not
+// duplicated there).
+void copyTexture(const control::ExportView& reply, const fs::path& copy) {
   std::error_code error;
   fs::create_directories(copy, error);
   if (error) throw io::IoError(copy.string() + ": cannot create: " + error.message());
-  fs::recursive_directory_iterator it(source, error);
-  for (const fs::recursive_directory_iterator end; !error && it != end; it.increment(error)) {
-    if (it->path().extension() == io::kDiscardedSuffix) {
-      it.disable_recursion_pending();
-      continue;
-    }
-    const fs::path target = copy / fs::relative(it->path(), source);
-    if (it->is_directory(error)) {
-      fs::create_directories(target, error);
-    } else if (!error && it->path().extension() != ".tmp") {
-      fs::create_directories(target.parent_path(), error);
-      if (!error) fs::copy_file(it->path(), target, fs::copy_options::overwrite_existing, error);
-      if (error == std::errc::no_such_file_or_directory) error.clear();
-    }
-    if (error)
-      throw io::IoError("cannot copy " + it->path().string() + " to " + target.string() + ": " +
-                        error.message());
-  }
-  if (error) throw io::IoError(source.string() + ": cannot read: " + error.message());
+  for (const std::string& file : reply.textureFiles)
+    copyExportedFile(fs::path(*reply.texture) / file, copy / file);
 }
 
 // Fetches what the daemon exported into DIR as one set (io::replaceFileSet, as the daemon's own
-// export folder): a failed copy leaves DIR's previous export whole, no link planted in DIR is
-// written through, and only files this session's earlier export listed in its manifest go.
+// export folder): exactly the files the reply lists. A failed copy leaves DIR's previous export
+// whole, no link planted in DIR is written through, and only files this session's earlier export
+// listed in its manifest go.
 int runExport(const ParsedArgs& args, Streams& io) {
   const fs::path destination = args.required("output");
   std::optional<std::string> method = args.value("method");
   if (method) method = methods::cliName(methods::methodNamed(*method));  // unknown: exit 2
-  const json result = call(args, daemon::Export{args.positional[0], "", method});
-  const std::string id = result["session"].get<std::string>();
+  const control::ExportView reply =
+      control::exportFromJson(call(args, control::Export{args.positional[0], "", method}));
   std::vector<io::FileSetEntry> entries;
-  for (const json& file : result["files"]) {
-    const fs::path source = file.get<std::string>();
-    entries.push_back({source.filename().string(), [source](const fs::path& copy) {
-                         std::error_code error;
-                         fs::copy_file(source, copy, error);
-                         if (error)
-                           throw io::IoError("cannot copy " + source.string() + " to " +
-                                             copy.string() + ": " + error.message());
-                       }});
+  for (const std::string& file : reply.files) {
+    const fs::path source = file;
+    entries.push_back({source.filename().string(),
+                       [source](const fs::path& copy) { copyExportedFile(source, copy); }});
   }
-  const std::string textureName = id + "-texture";
-  if (result.contains("texture"))
-    entries.push_back({textureName, [&result](const fs::path& copy) {
-                         copyTexture(result["texture"].get<std::string>(), copy);
-                       }});
+  const std::string textureName = reply.session + "-texture";
+  if (reply.texture)
+    entries.push_back(
+        {textureName, [&reply](const fs::path& copy) { copyTexture(reply, copy); }});
   // A texture not exported this time (a sweep was capturing into it): the earlier copy stays.
   std::vector<std::string> keep;
-  if (result.contains("texture_skipped")) keep.push_back(textureName);
+  if (reply.textureSkipped) keep.push_back(textureName);
   json copied = json::array();
-  for (const fs::path& path : io::replaceFileSet(destination, id, entries, keep))
+  for (const fs::path& path : io::replaceFileSet(destination, reply.session, entries, keep))
     copied.push_back(path.string());
-  if (result.contains("warnings"))
-    for (const json& warning : result["warnings"])
-      io.err << "warning: " << warning.get<std::string>() << "\n";
-  if (result.contains("texture_skipped"))
-    io.err << "warning: texture not exported: " << result["texture_skipped"].get<std::string>()
-           << "\n";
-  json answer = {{"session", result["session"]}, {"method", result["method"]}, {"files", copied}};
-  if (result.contains("material")) answer["material"] = result["material"];
+  for (const std::string& warning : reply.warnings)
+    io.err << "warning: " << warning << "\n";
+  if (reply.textureSkipped)
+    io.err << "warning: texture not exported: " << *reply.textureSkipped << "\n";
+  json answer = {{"session", reply.session}, {"method", reply.method}, {"files", copied}};
+  if (reply.material) answer["material"] = *reply.material;
   return finish(args, io, answer, [](std::ostream& out, const json& r) {
     out << "exported session " << r["session"].get<std::string>() << " (reconstructed with "
         << r["method"].get<std::string>() << "):\n";
@@ -349,7 +337,7 @@ std::function<int(const ParsedArgs&, Streams&)> withJsonErrors(int (*run)(const 
     } catch (const std::exception& e) {
       if (args.flag("json")) {
         json error = {{"error", e.what()}};
-        if (const auto* refusal = dynamic_cast<const daemon::DaemonError*>(&e))
+        if (const auto* refusal = dynamic_cast<const control::DaemonError*>(&e))
           error["code"] = refusal->code();
         // Replacing bytes that are not UTF-8 (a path may hold any): dump must not throw here.
         io.out << error.dump(-1, ' ', false, json::error_handler_t::replace) << "\n";

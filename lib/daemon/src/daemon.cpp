@@ -2,24 +2,21 @@
 #include "slicecap/daemon/daemon.hpp"
 
 #include <signal.h>
-#include <string.h>
 #include <sys/epoll.h>
-#include <sys/stat.h>
 #include <systemd/sd-daemon.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <csignal>
-#include <cstring>
 #include <iostream>
 
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/event_loop.hpp"
-#include "slicecap/daemon/frame_recorder.hpp"
 #include "slicecap/hal/led_timeline.hpp"
 #include "slicecap/io/io_error.hpp"
-#include "slicecap/io/journal.hpp"
 #include "slicecap/io/target_json.hpp"
+#include "export_authorization.hpp"
+#include "sweep_calibration.hpp"
+#include "sweep_outputs.hpp"
 
 namespace slicecap::daemon {
 
@@ -49,27 +46,14 @@ struct Daemon::State {
   std::optional<int> watchedFd;
   std::optional<EventLoop::TimerId> pollTimer;
 
-  // record_frames: the sweep's recorder, and recorders of ended sweeps still writing their queue
-  // (destroying one waits for its writer, which the loop must not do).
-  std::unique_ptr<FrameRecorder> recorder;
-  std::optional<SliceId> recorderSlice;
-  std::vector<std::unique_ptr<FrameRecorder>> retiredRecorders;
-
-  // Texture capture: the texture of the swept slice (while it runs or is paused), and the error
-  // its last frame met (the frame loop pauses the sweep on it).
-  std::unique_ptr<TextureSink> texture;
-  std::optional<SliceId> textureSlice;
-  std::string textureError;
+  // record_frames and texture capture: what the sweep writes besides its samples.
+  SweepOutputs outputs{parts, manager};
 
   // What the camera could not do as configured, as it said at the last start.
   std::string cameraAdjustment;
 
-  // Sweep-start metering (no exposure configured, a live camera): while it runs the LED stays on
-  // and no frame reaches the pipeline; then the exposure stays locked for the sweep. The note
-  // says what it did, or why the camera's auto exposure runs instead (then also a warning).
-  std::optional<ExposureMeter> meter;
-  std::string exposureNote;
-  bool exposureUnlocked = false;
+  // Sweep-start metering and the sweep run's decoding (no frame is processed meanwhile).
+  SweepCalibration calibration{parts};
 
   // A live camera's strobe (from the end of the metering to the sweep's stop), its planned
   // switch, and the last run's figures for the status.
@@ -79,13 +63,6 @@ struct Daemon::State {
   std::optional<StrobeStats> strobeStats;
   std::string strobePattern;
 
-  // The sweep run's decoding (issue 27 item 2): decided on the first frame after the metering,
-  // after a response bracket where one is taken (the LED stays on, no frame is processed).
-  std::uint32_t locksAccepted = 0;  // the camera's locks since it started
-  std::optional<hal::ExposureSetting> lockedSetting;  // the sweep's exposure, once known
-  std::optional<ResponseBracket> bracket;
-  std::optional<SweepDecoding> decoding;
-  std::string decodingWarning;  // shown by every status until the next sweep start
   capture::FrameObserver observer;
 
   explicit State(DaemonParts p)
@@ -132,57 +109,15 @@ struct Daemon::State {
     pollTimer.reset();
     if (camera) stopQuietly(*camera);
     camera.reset();
-    // A metering cut short locked nothing final: its "metering ..." line would outlive it.
-    if (meter) exposureNote.clear();
-    meter.reset();
-    bracket.reset();
+    calibration.cameraStopped();
     cameraSlice.reset();
     processor = nullptr;
     ledOff();
   }
 
-  void closeTexture() {
-    texture.reset();
-    textureSlice.reset();
-  }
-
-  /// The texture of the slice's sweep (texture capture on); if it cannot be opened, the sweep
-  /// pauses with the reason.
-  void openTexture(const SliceId& slice) {
-    const std::optional<std::filesystem::path> session = manager.sessionDirectory();
-    if (!parts.newTextureSink || !session) return;
-    try {
-      texture = parts.newTextureSink(slice, *session);
-      textureSlice = slice;
-    } catch (const std::exception& error) {
-      manager.pauseSweep(std::string("texture capture: ") + error.what());
-    }
-  }
-
-  /// A redone sweep's texture starts afresh, as its samples: its folder is discarded durably
-  /// before the redo is journaled, so no crash or failure can mix the old sweep's frames into the
-  /// new one (texture capture on or off). Throws io::IoError (the redo is then refused).
-  void discardTexture(const SweepRedo& redo) {
-    const std::optional<std::filesystem::path> session = manager.sessionDirectory();
-    // Only a redo the session manager will accept: none while another slice's sweep runs.
-    const std::optional<SliceId> swept = manager.sweepSlice();
-    if (!session || (swept && *swept != redo.slice)) return;
-    if (textureSlice == redo.slice) closeTexture();  // its index would still hold the frames
-    io::discardFolderDurably(*session / kTextureFolder / folderName(redo.slice));
-  }
-
   void startCamera(const SliceId& slice) {
     // The last sweep's exposure line is not this one's, whatever happens below.
-    meter.reset();
-    exposureNote.clear();
-    exposureUnlocked = false;
-    bracket.reset();
-    decoding.reset();
-    decodingWarning.clear();
-    locksAccepted = 0;
-    lockedSetting.reset();
-    if (parts.cameraConfig.exposureUs)
-      lockedSetting = hal::ExposureSetting{*parts.cameraConfig.exposureUs, parts.cameraConfig.gain};
+    calibration.reset();
     std::shared_ptr<hal::Camera> opened;
     try {
       opened = parts.cameraFor(slice);
@@ -205,20 +140,19 @@ struct Daemon::State {
       return;
     }
     try {
-      beginMetering(*opened);
+      calibration.begin(*opened);
     } catch (const std::exception& error) {
       // The camera runs: stopped here, or (one camera serves every slice) the next sweep's
       // configure would find it streaming. The lock or the LED failed; each names its device.
       stopQuietly(*opened);
-      meter.reset();
-      exposureNote.clear();
+      calibration.abandonMetering();
       manager.pauseSweep(std::string("exposure metering: ") + error.what());
       ledOff();
       return;
     }
     // A live camera's strobe starts lit, before its first frame is exposed: a switch while the
     // first frames expose would cost them.
-    if (opened->readyDescriptor() && !meter) {
+    if (opened->readyDescriptor() && !calibration.metering()) {
       try {
         parts.led->set(true);
       } catch (const std::exception& error) {
@@ -230,19 +164,7 @@ struct Daemon::State {
     }
     camera = std::move(opened);
     cameraSlice = slice;
-    observer = nullptr;
-    if (parts.newTextureSink)
-      observer = [this](const hal::Frame& frame, const capture::FrameOutcome& outcome,
-                        const std::vector<capture::AmbientTerm>& ambient) {
-        if (!texture || !textureError.empty()) return;
-        try {
-          texture->add(frame, outcome, ambient);
-        } catch (const io::IoError& error) {
-          textureError = std::string("texture storage error: ") + error.what();
-        } catch (const std::exception& error) {
-          textureError = std::string("texture capture error: ") + error.what();
-        }
-      };
+    observer = outputs.textureObserver();
     processor = parts.newFrameProcessor(slice, observer);
     if (const std::optional<int> fd = camera->readyDescriptor()) {
       watchedFd = *fd;
@@ -252,104 +174,6 @@ struct Daemon::State {
     }
   }
 
-  void beginMetering(hal::Camera& opened) {
-    if (parts.cameraConfig.exposureUs || !opened.readyDescriptor()) return;
-    ExposureMeter metering(parts.exposureMeter);
-    const hal::ExposureLock lock =
-        opened.lockExposure(metering.firstSetting(parts.cameraConfig.gain));
-    if (!lock.locked) {
-      leaveExposureToCamera(opened.id(), lock.reason);
-      return;
-    }
-    metering.accepted(*lock.locked);
-    ++locksAccepted;
-    meter = metering;
-    exposureNote = "metering the exposure with the LED on";
-    parts.led->set(true);
-  }
-
-  void leaveExposureToCamera(const std::string& cameraId, const std::string& reason) {
-    meter.reset();
-    exposureUnlocked = true;
-    exposureNote = "camera " + cameraId + ": exposure not locked (" + reason +
-                   "): its auto exposure runs through the sweep";
-    std::cerr << "slicecapd: " << exposureNote << "\n";
-  }
-
-  /// One frame of the metering: measured, never processed; the LED stays on.
-  void meterFrame(const hal::Frame& frame) {
-    parts.led->set(true);
-    const ExposureMeter::Step step = meter->onFrame(frame);
-    if (step.kind == ExposureMeter::Step::Kind::Lock) {
-      const hal::ExposureLock lock = camera->lockExposure(step.setting);
-      if (lock.locked) {
-        meter->accepted(*lock.locked);
-        ++locksAccepted;
-      } else {
-        // The setting accepted before stays fixed (a source that refuses part of a lock puts
-        // back what it had): the metering ends there, on the next frame.
-        meter->refused(lock.reason);
-      }
-    } else if (step.kind == ExposureMeter::Step::Kind::Done) {
-      exposureNote = "camera " + camera->id() + ": " + meter->summary();
-      std::cerr << "slicecapd: " << exposureNote << "\n";
-      lockedSetting = step.setting;
-      meter.reset();
-    }
-  }
-
-  /// The first frame after the metering: the sweep's decoding without a bracket (a linear
-  /// stream, decoding = srgb, a camera that cannot take one), or the bracket's first lock.
-  void decideDecoding(const hal::Frame& frame) {
-    const std::string id = camera->id();
-    if (frame.encoding == PixelEncoding::Linear16 || parts.decoding == DecodingMode::Srgb)
-      return applyDecoding(decodingWithoutBracket(frame.encoding, parts.decoding, id, ""));
-    const auto fallBack = [&](const std::string& why) {
-      applyDecoding(decodingWithoutBracket(frame.encoding, parts.decoding, id, why));
-    };
-    if (!parts.bracketSubjectFor || !parts.newDecodingFrameProcessor)
-      return fallBack("this daemon was started without the target and pipeline a response "
-                      "bracket needs (decoding = " + toString(parts.decoding) + ")");
-    if (exposureUnlocked || !lockedSetting)
-      return fallBack("no response bracket: its exposure is not locked (" + exposureNote +
-                      "); set exposure_us and gain, or decoding = srgb");
-    bracket.emplace(*lockedSetting, locksAccepted, capture::BracketPlan{},
-                    parts.exposureMeter.maxExposureUs);
-    const hal::ExposureLock lock = camera->lockExposure(bracket->firstSetting());
-    if (!lock.locked) {
-      bracket->refused(lock.reason);
-      return finishBracket();
-    }
-    bracket->accepted();
-    ++locksAccepted;
-    parts.led->set(true);
-  }
-
-  /// One frame of the bracket: kept or skipped, never processed; the LED stays on.
-  void bracketFrame(const hal::Frame& frame) {
-    parts.led->set(true);
-    const ResponseBracket::Step step = bracket->onFrame(frame);
-    if (step.kind == ResponseBracket::Step::Kind::Lock) {
-      const hal::ExposureLock lock = camera->lockExposure(step.setting);
-      if (!lock.locked) {
-        bracket->refused(lock.reason);
-      } else {
-        bracket->accepted();
-        ++locksAccepted;
-      }
-    } else if (step.kind == ResponseBracket::Step::Kind::Done) {
-      finishBracket();
-    }
-  }
-
-  void finishBracket() {
-    ResponseBracket done = std::move(*bracket);
-    bracket.reset();
-    // The fit reads the frames' poses and codes: about a second on a Pi, once a sweep run.
-    applyDecoding(decodingFromBracket(std::move(done.frames()), done.failure(),
-                                      parts.bracketSubjectFor(*cameraSlice), camera->id()));
-  }
-
   /// The sweep run's decoding: the pipeline reads through it, the status and the session say it,
   /// the recording records it (with the bracket frames, under record_frames).
   void applyDecoding(SweepDecoding decided) {
@@ -357,7 +181,8 @@ struct Daemon::State {
     std::cerr << "slicecapd: camera " << id << ": decoding " << io::toString(decided.decoding.kind)
               << ": " << decided.note << "\n";
     if (!decided.warning.empty()) std::cerr << "slicecapd: " << decided.warning << "\n";
-    decodingWarning = decided.warning;
+    calibration.noteDecodingWarning(decided.warning);
+    std::string decodingWarning = decided.warning;
     if (decided.decoding.kind == io::RecordedDecoding::Kind::MeasuredCurve)
       processor = parts.newDecodingFrameProcessor(*cameraSlice, observer, decided.decoding.curve);
     if (const std::optional<std::filesystem::path> session = manager.sessionDirectory()) {
@@ -371,96 +196,53 @@ struct Daemon::State {
                            "the sweep's decoding could not be recorded in the session: " + error.what();
       }
     }
-    if (recorder) recorder->setDecoding(decided.decoding);
-    recordBracket(decided);
+    outputs.setDecoding(decided.decoding);
+    outputs.recordBracket(decided, *cameraSlice);
     decided.bracketFrames.clear();
-    decoding = std::move(decided);
-  }
-
-  /// record_frames: the bracket as a recording of its own (no slice; LED on; the fit's decoding),
-  /// <session>/brackets/<slice>/run-N, so the fit can be redone on a desktop.
-  void recordBracket(SweepDecoding& decided) {
-    if (decided.bracketFrames.empty() || !parts.recordingHeaderFor) return;
-    const std::optional<std::filesystem::path> session = manager.sessionDirectory();
-    if (!session) return;
-    const std::filesystem::path folder = *session / kBracketFolder / folderName(*cameraSlice);
-    std::filesystem::path directory;
-    for (int run = 1;; ++run) {
-      directory = folder / ("run-" + std::to_string(run));
-      std::error_code ignored;
-      if (!std::filesystem::exists(directory, ignored)) break;
-    }
-    io::Recording header = parts.recordingHeaderFor(*cameraSlice);
-    header.slice.reset();
-    header.createdBy += " (response bracket)";
-    header.decoding = decided.decoding;
-    auto writer = std::make_unique<FrameRecorder>(directory, std::move(header),
-                                                  decided.bracketFrames.size());
-    writer->setDecoding(decided.decoding);
-    for (hal::Frame& frame : decided.bracketFrames) writer->offer(std::move(frame));
-    retiredRecorders.push_back(std::move(writer));  // writes on its thread, then is dropped
+    calibration.noteDecodingWarning(decodingWarning);
+    calibration.adopt(std::move(decided));
   }
 
   /// Brings the devices in line with the session state after anything that may change it.
   void reconcile() {
-    if (texture && textureSlice != manager.sweepSlice()) closeTexture();
-    // The swept slice's texture is open before its frames flow (also after a redo of the running
-    // sweep closed it); if it cannot be, the sweep pauses here and no camera starts.
-    if (manager.capturing() && !texture) openTexture(*manager.sweepSlice());
+    outputs.reconcileTexture();
     const std::optional<SliceId> wanted =
         manager.capturing() ? manager.sweepSlice() : std::optional<SliceId>();
     if (cameraSlice && cameraSlice != wanted) stopCamera();
     if (wanted && !cameraSlice) startCamera(*wanted);
     if (!manager.capturing()) ledOff();
-    reconcileRecorder();
+    outputs.reconcileRecorder(cameraSlice);
   }
 
-  /// One recorder per sweep of a slice: it lives while the sweep runs or is paused (a continued
-  /// sweep appends to its recording) and retires when the sweep stops.
-  void reconcileRecorder() {
-    const std::optional<SliceId> swept = manager.sweepSlice();
-    if (recorder && recorderSlice != swept) {
-      retiredRecorders.push_back(std::move(recorder));
-      recorderSlice.reset();
+  /// The sweep start's metering and bracket take the frame (true), or it goes to the pipeline.
+  bool calibrate(const hal::Frame& frame) {
+    if (calibration.metering()) {
+      try {
+        calibration.meterFrame(*camera, frame);
+      } catch (const std::exception& error) {
+        // The camera's lock or the LED failed: each message names its device.
+        manager.pauseSweep(std::string("exposure metering: ") + error.what());
+        reconcile();
+      }
+      return true;
     }
-    std::erase_if(retiredRecorders, [](const auto& retired) { return retired->idle(); });
-    if (!recorder && cameraSlice && parts.recordingHeaderFor) {
-      if (const std::optional<std::filesystem::path> session = manager.sessionDirectory()) {
-        io::Recording header = parts.recordingHeaderFor(*cameraSlice);
-        header.slice = io::RecordedSlice{*cameraSlice, kAxialOffsetDeg};
-        recorder = std::make_unique<FrameRecorder>(recordingDirectory(*session, *cameraSlice),
-                                                   std::move(header), parts.recordQueueFrames);
-        recorderSlice = cameraSlice;
+    if (camera->readyDescriptor()) {
+      if (!calibration.decided() && !calibration.bracketing())
+        if (std::optional<SweepDecoding> decided = calibration.decide(*camera, frame, *cameraSlice))
+          applyDecoding(std::move(*decided));
+      if (calibration.bracketing()) {
+        try {
+          if (std::optional<SweepDecoding> decided =
+                  calibration.bracketFrame(*camera, frame, *cameraSlice))
+            applyDecoding(std::move(*decided));
+        } catch (const std::exception& error) {
+          manager.pauseSweep(std::string("response bracket: ") + error.what());
+          reconcile();
+        }
+        return true;
       }
     }
-  }
-
-  static std::filesystem::path recordingDirectory(const std::filesystem::path& session,
-                                                  const SliceId& slice) {
-    return session / "recordings" / folderName(slice);
-  }
-
-  /// A redone sweep starts its recording afresh, as its samples.
-  void discardRecording(const SliceId& slice) {
-    if (recorderSlice == slice) {
-      recorder.reset();  // waits for its writer: a person's command, not the frame loop
-      recorderSlice.reset();
-    }
-    retiredRecorders.clear();
-    if (const std::optional<std::filesystem::path> session = manager.sessionDirectory()) {
-      std::error_code ignored;
-      std::filesystem::remove_all(recordingDirectory(*session, slice), ignored);
-    }
-  }
-
-  nlohmann::json recorderJson() const {
-    const RecorderStatus s = recorder->status();
-    nlohmann::json json = {{"directory", s.directory.string()},
-                           {"frames_written", s.framesWritten},
-                           {"frames_queued", s.framesQueued},
-                           {"frames_dropped", s.framesDropped}};
-    if (!s.error.empty()) json["error"] = "recording stopped: " + s.error;
-    return json;
+    return false;
   }
 
   void pumpFrame() {
@@ -483,28 +265,7 @@ struct Daemon::State {
         break;
     }
     hal::Frame& frame = *result.frame;
-    if (meter) {
-      try {
-        meterFrame(frame);
-      } catch (const std::exception& error) {
-        // The camera's lock or the LED failed: each message names its device.
-        manager.pauseSweep(std::string("exposure metering: ") + error.what());
-        reconcile();
-      }
-      return;
-    }
-    if (camera->readyDescriptor()) {
-      if (!decoding && !bracket) decideDecoding(frame);
-      if (bracket) {
-        try {
-          bracketFrame(frame);
-        } catch (const std::exception& error) {
-          manager.pauseSweep(std::string("response bracket: ") + error.what());
-          reconcile();
-        }
-        return;
-      }
-    }
+    if (calibrate(frame)) return;
     strobe(frame);
     capture::FrameOutcome outcome;
     try {
@@ -526,13 +287,9 @@ struct Daemon::State {
       case capture::FrameOutcome::Kind::Ambient:
         break;
     }
-    if (!textureError.empty()) {
-      // The sample is kept; the texture stops with the sweep until the person frees space.
-      manager.pauseSweep(textureError);
-      textureError.clear();
-    }
+    outputs.pauseOnTextureError();
     scheduleSwitch(outcome);
-    if (recorder) recorder->offer(std::move(frame));
+    outputs.record(std::move(frame));
     reconcile();  // a storage error pauses the sweep, and the LED must go off at once
   }
 
@@ -581,54 +338,35 @@ struct Daemon::State {
                                 });
   }
 
-  /// An export into a folder the client names is written with the daemon's rights: only into its
-  /// storage, or into a folder the asking uid owns (root may name any). The nearest folder that
-  /// exists, links resolved, decides: the export creates the rest inside it.
-  void authorizeExport(const Export& command, const std::optional<Peer>& peer) const {
-    namespace fs = std::filesystem;
-    if (command.directory.empty()) return;
-    const fs::path wanted(command.directory);
-    for (const fs::path& part : wanted)
-      if (part == "..")
-        throw RequestError(ErrorCode::BadRequest,
-                           "export directory " + command.directory + " must not contain '..'");
-    std::error_code error;
-    fs::path existing = wanted;
-    while (!fs::exists(existing, error) && existing.has_relative_path())
-      existing = existing.parent_path();
-    const fs::path real = fs::canonical(existing, error);
-    if (error)
-      throw RequestError(ErrorCode::BadRequest,
-                         "export directory " + command.directory + ": " + error.message());
-    const fs::path storage = fs::weakly_canonical(parts.storage, error);
-    const auto [storageEnd, realEnd] =
-        std::mismatch(storage.begin(), storage.end(), real.begin(), real.end());
-    if (!error && storageEnd == storage.end()) return;  // the storage or a folder in it
-    struct stat folder {};
-    if (::stat(real.c_str(), &folder) != 0)
-      throw RequestError(ErrorCode::BadRequest,
-                         "export directory " + command.directory + ": " + std::strerror(errno));
-    if (!peer)
-      throw RequestError(
-          ErrorCode::PermissionDenied,
-          "export into " + command.directory + " refused: the daemon cannot tell who asked");
-    if (peer->uid == 0 || folder.st_uid == peer->uid) return;
-    throw RequestError(ErrorCode::PermissionDenied,
-                       "export into " + command.directory + " refused: " + real.string() +
-                           " belongs to uid " + std::to_string(folder.st_uid) + ", not to uid " +
-                           std::to_string(peer->uid) +
-                           " who asked (export into a folder you "
-                           "own, or leave out the directory to export into the session's folder)");
+  /// The status's parts from the capture devices: the exposure, the camera's frames and LED
+  /// pattern, the decoding, and the warnings of the configuration, camera and last sweep start.
+  void describeDevices(nlohmann::json& json) const {
+    std::vector<std::string> warnings = parts.warnings;
+    if (!cameraAdjustment.empty()) warnings.push_back(cameraAdjustment);
+    calibration.describeExposure(json, warnings);
+    const std::optional<StrobeStats> shown = strobeRun ? strobeRun->stats() : strobeStats;
+    if (shown) {
+      const double judged = double(shown->framesClean + shown->framesMixed);
+      json["camera_frames"] = {
+          {"delivered", shown->framesDelivered},
+          {"dropped", shown->framesDropped},
+          {"led_pattern", strobeRun ? strobeRun->pattern() : strobePattern},
+          {"led_clean_fraction", judged > 0 ? double(shown->framesClean) / judged : 0.0},
+          {"timing", shown->timing}};
+      if (!shown->warning.empty()) warnings.push_back(shown->warning);
+    }
+    calibration.describeDecoding(json, warnings);
+    if (!warnings.empty()) json["warnings"] = warnings;
   }
 
   nlohmann::json handle(const Request& request) {
     if (const auto* exporting = std::get_if<Export>(&request.command))
-      authorizeExport(*exporting, request.peer);
+      authorizeExport(*exporting, request.peer, parts.storage);
     nlohmann::json json;
     try {
       if (const auto* redo = std::get_if<SweepRedo>(&request.command)) {
         try {
-          discardTexture(*redo);
+          outputs.discardTexture(redo->slice);
         } catch (const io::IoError& error) {
           throw RequestError(ErrorCode::StorageError,
                              std::string("cannot discard the old sweep's texture: ") +
@@ -640,48 +378,19 @@ struct Daemon::State {
       reconcile();
       throw;
     }
-    if (const auto* redo = std::get_if<SweepRedo>(&request.command)) discardRecording(redo->slice);
+    if (const auto* redo = std::get_if<SweepRedo>(&request.command))
+      outputs.discardRecording(redo->slice);
     // The recording of a sweep being stopped is reported in the stop's reply.
-    if (recorder && (std::holds_alternative<Status>(request.command) ||
-                     std::holds_alternative<SweepStop>(request.command)))
-      json["recording"] = recorderJson();
-    if (texture && (std::holds_alternative<Status>(request.command) ||
-                    std::holds_alternative<SweepStop>(request.command)))
-      json["texture"] = texture->status();
-    if (std::holds_alternative<Status>(request.command)) {
-      std::vector<std::string> warnings = parts.warnings;
-      if (!cameraAdjustment.empty()) warnings.push_back(cameraAdjustment);
-      // The last sweep start's: a camera that could not lock is a warning, shown once.
-      if (exposureUnlocked)
-        warnings.push_back(exposureNote);
-      else if (!exposureNote.empty())
-        json["exposure"] = exposureNote;
-      const std::optional<StrobeStats> shown = strobeRun ? strobeRun->stats() : strobeStats;
-      if (shown) {
-        const double judged = double(shown->framesClean + shown->framesMixed);
-        json["camera_frames"] = {
-            {"delivered", shown->framesDelivered},
-            {"dropped", shown->framesDropped},
-            {"led_pattern", strobeRun ? strobeRun->pattern() : strobePattern},
-            {"led_clean_fraction", judged > 0 ? double(shown->framesClean) / judged : 0.0},
-            {"timing", shown->timing}};
-        if (!shown->warning.empty()) warnings.push_back(shown->warning);
-      }
-      if (decoding)
-        json["decoding"] = {{"decoding", io::toString(decoding->decoding.kind)},
-                            {"note", decoding->note}};
-      else if (bracket)
-        json["decoding"] = {{"decoding", "measuring"},
-                            {"note", "taking the response bracket with the LED on"}};
-      if (!decodingWarning.empty()) warnings.push_back(decodingWarning);
-      if (!warnings.empty()) json["warnings"] = warnings;
-    }
+    if (std::holds_alternative<Status>(request.command) ||
+        std::holds_alternative<SweepStop>(request.command))
+      outputs.describe(json);
+    if (std::holds_alternative<Status>(request.command)) describeDevices(json);
     reconcile();
     // A start the devices refused at once (camera, texture) comes back paused, with the reason.
     if ((std::holds_alternative<SweepStart>(request.command) ||
          std::holds_alternative<SweepRedo>(request.command)) &&
         manager.sweepSlice() && !manager.capturing())
-      json = manager.status()["sweep"];
+      json = control::toJson(*manager.sweepView());
     return json;
   }
 };

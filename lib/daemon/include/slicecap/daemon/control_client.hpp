@@ -1,56 +1,13 @@
-// The client side of the control socket, used by the `slicecap` command.
+// The control client's names in the daemon's namespace (its tests drive the daemon through it).
 #pragma once
 
-#include <chrono>
-#include <filesystem>
-#include <nlohmann/json.hpp>
-#include <stdexcept>
-#include <string>
-
+#include "slicecap/control/control_client.hpp"
 #include "slicecap/daemon/protocol.hpp"
 
 namespace slicecap::daemon {
 
-/// \brief The daemon could not be reached or answered nonsense; the message says which and names
-/// the socket.
-class ConnectionError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-/// \brief The daemon refused a request; code() is the protocol's error code.
-class DaemonError : public std::runtime_error {
- public:
-  DaemonError(std::string code, const std::string& message)
-      : std::runtime_error(message), code_(std::move(code)) {}
-  const std::string& code() const { return code_; }
-
- private:
-  std::string code_;
-};
-
-/// \brief One connection to slicecapd; requests are answered in order.
-class ControlClient {
- public:
-  /// \brief Connects; ConnectionError naming the socket (and saying whether it is missing or
-  /// refused).
-  explicit ControlClient(const std::filesystem::path& socketPath,
-                         std::chrono::milliseconds timeout = std::chrono::seconds(30));
-  ~ControlClient();
-  ControlClient(const ControlClient&) = delete;
-  ControlClient& operator=(const ControlClient&) = delete;
-
-  /// \brief Sends a command and waits for its answer: the result, or DaemonError for a refusal, or
-  /// ConnectionError when the connection fails or times out.
-  nlohmann::json call(const Command& command);
-
- private:
-  std::string readLine();
-  std::filesystem::path socketPath_;
-  std::chrono::milliseconds timeout_;
-  int fd_ = -1;
-  std::int64_t nextId_ = 1;
-  std::string buffer_;
-};
+using control::ConnectionError;
+using control::ControlClient;
+using control::DaemonError;
 
 }  // namespace slicecap::daemon

@@ -12,35 +12,12 @@
 #include <variant>
 
 #include "slicecap/capture/session_store.hpp"
+#include "slicecap/control/reply_views.hpp"
 #include "slicecap/core/abrdf.hpp"
 #include "slicecap/daemon/protocol.hpp"
+#include "slicecap/daemon/session_exporter.hpp"
 
 namespace slicecap::daemon {
-
-/// \brief Reconstructs a full table from a session's slices with a named method of lib/methods
-/// (slicecapd's main injects methods::runForSession), in the form the registry gives the session
-/// (methods::sessionTakesIsotropicForm): the daemon names the table's `slicecap:method` by that
-/// form. Throws std::exception with a message a person can act on (e.g. which slices are missing).
-using ReconstructFunction = std::function<Abrdf(const SliceSet& slices, const std::string& method)>;
-/// \brief Writes a PNG preview of a table (optional: export leaves the preview out without it).
-using PreviewFunction =
-    std::function<void(const Abrdf& table, const std::filesystem::path& pngPath)>;
-
-/// \brief One file of an exported table's fitted material: `write` writes it to the path given,
-/// whose name ends in `suffix`.
-struct ExportedMaterialFile {
-  std::string suffix;
-  std::function<void(const std::filesystem::path&)> write;
-};
-/// \brief The fitted material of an exported table (material_export::sessionMaterial, injected by
-/// the daemon's main): its files and a line for the reply. Throws std::exception with a message
-/// when the table cannot be fitted; the export then goes on without it, saying why.
-struct ExportedMaterial {
-  std::vector<ExportedMaterialFile> files;
-  std::string summary;
-};
-using MaterialFunction =
-    std::function<ExportedMaterial(const Abrdf& table, const std::string& tableName)>;
 
 /// \brief The isotropy test's answer on a session's slices: are the axial sweeps needed?
 struct IsotropyAssessment {
@@ -92,6 +69,9 @@ class SessionManager {
   /// \brief The camera or LED failed: the sweep pauses (samples kept) with the reason shown.
   void pauseSweep(const std::string& reason);
 
+  /// \brief The sweep (running or paused), as its replies show it.
+  std::optional<control::SweepView> sweepView() const;
+
   /// \brief What `slicecap status` shows (also the reply to the status command).
   nlohmann::json status() const;
 
@@ -109,9 +89,5 @@ nlohmann::json replyOrThrow(std::variant<nlohmann::json, ProtocolError> reply);
 /// 75/75). Someone who knows the material is isotropic may stop after two; after all four
 /// diagonal ones the isotropy test says whether the axial ones are needed.
 const std::vector<SliceId>& sweepOrder();
-
-/// \brief The method `export` reconstructs with when none is asked for: Method B when each of
-/// the eight slices has samples, otherwise the learned prior ("prior"), which reads any subset.
-std::string defaultExportMethod(const SliceSet& slices);
 
 }  // namespace slicecap::daemon

@@ -1,12 +1,12 @@
 // The control protocol: every command round-trips; malformed, hostile and oversized lines are
 // refused.
-#include "slicecap/daemon/protocol.hpp"
+#include "slicecap/control/protocol.hpp"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-namespace slicecap::daemon {
+namespace slicecap::control {
 namespace {
 
 ProtocolError refusal(std::string_view line) {
@@ -193,4 +193,4 @@ TEST(Protocol, ResponsesAreOneLineAndNeverThrow) {
 }
 
 }  // namespace
-}  // namespace slicecap::daemon
+}  // namespace slicecap::control

@@ -1,5 +1,5 @@
 // Request parsing and validation for the control protocol; never throws on client input.
-#include "slicecap/daemon/protocol.hpp"
+#include "slicecap/control/protocol.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,7 +8,7 @@
 #include "slicecap/capture/session_store.hpp"
 #include "slicecap/methods/method_id.hpp"
 
-namespace slicecap::daemon {
+namespace slicecap::control {
 namespace {
 
 using nlohmann::json;
@@ -265,4 +265,4 @@ std::string encodeError(const ProtocolError& error) {
       .dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
-}  // namespace slicecap::daemon
+}  // namespace slicecap::control

@@ -1,5 +1,5 @@
 // Blocking client with a timeout for the control socket.
-#include "slicecap/daemon/control_client.hpp"
+#include "slicecap/control/control_client.hpp"
 
 #include <poll.h>
 #include <sys/socket.h>
@@ -9,7 +9,7 @@
 #include <cerrno>
 #include <cstring>
 
-namespace slicecap::daemon {
+namespace slicecap::control {
 
 ControlClient::ControlClient(const std::filesystem::path& socketPath,
                              std::chrono::milliseconds timeout)
@@ -91,4 +91,4 @@ nlohmann::json ControlClient::call(const Command& command) {
   throw DaemonError(error.value("code", "internal"), error.value("message", "no message"));
 }
 
-}  // namespace slicecap::daemon
+}  // namespace slicecap::control

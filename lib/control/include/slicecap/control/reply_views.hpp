@@ -1,0 +1,166 @@
+// The replies of slicecapd as typed values: the daemon makes their JSON and the CLI reads it here,
+// in one place (docs/reference/protocol.md gives the fields).
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "slicecap/core/slice.hpp"
+
+namespace slicecap::control {
+
+/// \brief A reply that lacks a field its view needs, or holds it with the wrong type; the message
+/// names the field.
+class ReplyError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// \brief Azimuth bins a slice's sweep fills (docs/method.md: one per 15 deg).
+inline constexpr int kBinsPerSlice = 24;
+
+/// \brief One slice of a session: "name", "kind", "theta_i", "theta_v", "samples", "bins_filled",
+/// and "samples_set_aside" / "damaged" only when there are any.
+struct SliceProgress {
+  SliceId slice;
+  std::size_t samples = 0;
+  int binsFilled = 0;
+  std::size_t samplesSetAside = 0;
+  bool damaged = false;
+};
+
+/// \brief What replaying a session's journal could not tell for sure (the message names the
+/// journal and line).
+struct JournalDamageView {
+  std::size_t line = 0;
+  std::string message;
+  std::vector<std::string> slicesSetAside;  ///< slice names
+  std::size_t samplesSetAside = 0;
+  std::size_t samplesLost = 0;
+};
+
+/// \brief A session as `session.new/show/resume` and the status give it. The status leaves out
+/// "created", "directory" and the journal's recovery figures; `session.show` adds "current".
+struct SessionView {
+  std::string id;
+  std::string material;
+  std::optional<std::string> createdUtc;
+  std::optional<std::string> directory;
+  std::size_t samples = 0;
+  std::vector<SliceProgress> slices;
+  std::optional<std::size_t> tornTailBytesDropped;
+  std::vector<std::size_t> corruptJournalLines;
+  std::vector<JournalDamageView> journalDamage;
+  std::optional<bool> current;
+};
+
+/// \brief The sweep of one slice, as `sweep.*` and the status give it. "view_elevation_error_deg"
+/// is always there (null before a posed frame); "pause_reason" only while paused.
+struct SweepView {
+  SliceId slice;
+  std::string state;  ///< "capturing", "paused", or (the reply to sweep.stop) "stopped"
+  std::vector<bool> bins;
+  int binsFilled = 0;
+  std::size_t samples = 0;
+  std::size_t acceptedThisRun = 0;
+  std::map<std::string, std::size_t> rejected;  ///< frames by reject reason
+  std::optional<double> viewElevationErrorDeg;
+  std::optional<std::string> pauseReason;
+};
+
+/// \brief The isotropy test's answer in the status: either an error, or a verdict ("isotropic" is
+/// null when the slices cannot tell).
+struct IsotropyView {
+  std::optional<std::string> error;
+  std::optional<bool> isotropic;
+  bool informative = true;
+  bool axialSweepsNeeded = true;
+  std::string reason;
+};
+
+/// \brief A sweep's raw-frame recording (record_frames), in the status and the stop's reply.
+struct RecordingView {
+  std::string directory;
+  std::size_t framesWritten = 0;
+  std::size_t framesQueued = 0;
+  std::size_t framesDropped = 0;
+  std::optional<std::string> error;
+};
+
+/// \brief The texture capture's progress as the CLI shows it (the daemon's texture store writes
+/// these fields among others).
+struct TextureProgressView {
+  int resolution = 0;
+  int binsFilled = 0;
+  std::size_t framesStored = 0;
+  std::string directory;
+};
+
+/// \brief What `status` answers. The session manager fills session, sweep, next, isotropy and
+/// error; the daemon adds the devices' parts.
+struct StatusView {
+  std::optional<SessionView> session;
+  std::optional<SweepView> sweep;
+  std::string next;
+  std::optional<IsotropyView> isotropy;
+  std::optional<std::string> error;
+  std::optional<RecordingView> recording;
+  std::optional<TextureProgressView> texture;
+  std::optional<std::string> exposure;
+  std::vector<std::string> warnings;
+};
+
+/// \brief One session of `session.list`: "damaged" replaces created/material's meaning when the
+/// session cannot be read.
+struct SessionListEntry {
+  std::string id;
+  std::string material;
+  std::string createdUtc;
+  bool current = false;
+  std::optional<std::string> damaged;
+};
+
+/// \brief What `export` answers: the files written (absolute paths on the box), the method of the
+/// first table, and the session's texture folder when it is to be copied too.
+struct ExportView {
+  std::string session;
+  std::string directory;
+  std::vector<std::string> files;
+  std::string method;
+  std::optional<std::string> material;  ///< the fitted material's one-line summary
+  std::vector<std::string> warnings;
+  std::optional<std::string> texture;         ///< the texture folder to copy
+  std::vector<std::string> textureFiles;      ///< its files, relative to it, to copy
+  std::optional<std::string> textureSkipped;  ///< why the texture is not exported this time
+};
+
+// To JSON: what the daemon sends. From JSON: what the client reads; a reply without a field
+// these need throws ReplyError naming the field.
+nlohmann::json toJson(const SliceProgress& slice);
+nlohmann::json toJson(const JournalDamageView& damage);
+nlohmann::json toJson(const SessionView& session);
+nlohmann::json toJson(const SweepView& sweep);
+nlohmann::json toJson(const IsotropyView& isotropy);
+nlohmann::json toJson(const RecordingView& recording);
+nlohmann::json toJson(const StatusView& status);
+nlohmann::json toJson(const SessionListEntry& entry);
+nlohmann::json toJson(const ExportView& reply);
+
+/// \brief The slice's own fields ("name", "kind", "theta_i", "theta_v").
+nlohmann::json sliceJson(const SliceId& slice);
+
+SessionView sessionFromJson(const nlohmann::json& json);
+SweepView sweepFromJson(const nlohmann::json& json);
+IsotropyView isotropyFromJson(const nlohmann::json& json);
+RecordingView recordingFromJson(const nlohmann::json& json);
+TextureProgressView textureProgressFromJson(const nlohmann::json& json);
+StatusView statusFromJson(const nlohmann::json& json);
+std::vector<SessionListEntry> sessionListFromJson(const nlohmann::json& json);
+ExportView exportFromJson(const nlohmann::json& json);
+
+}  // namespace slicecap::control

@@ -1,0 +1,276 @@
+// The replies' JSON, written and read in this one file (docs/reference/protocol.md).
+#include "slicecap/control/reply_views.hpp"
+
+namespace slicecap::control {
+namespace {
+
+using nlohmann::json;
+
+// The field `key` of `object` as T; ReplyError naming the field when it is missing or mistyped.
+template <typename T>
+T field(const json& object, const char* key) {
+  if (!object.is_object() || !object.contains(key))
+    throw ReplyError("slicecapd's reply has no \"" + std::string(key) + "\"");
+  try {
+    return object.at(key).get<T>();
+  } catch (const json::exception&) {
+    throw ReplyError("slicecapd's reply has an unreadable \"" + std::string(key) +
+                     "\": " + object.at(key).dump());
+  }
+}
+
+// The field if it is there and not null.
+template <typename T>
+std::optional<T> optionalField(const json& object, const char* key) {
+  if (!object.is_object() || !object.contains(key) || object.at(key).is_null())
+    return std::nullopt;
+  return field<T>(object, key);
+}
+
+std::vector<std::string> stringsOf(const json& object, const char* key) {
+  return optionalField<std::vector<std::string>>(object, key).value_or(std::vector<std::string>{});
+}
+
+SliceId sliceFromJson(const json& object) {
+  const auto kind = parseSliceKind(field<std::string>(object, "kind"));
+  if (!kind) throw ReplyError("slicecapd's reply has an unknown slice kind: " + object.dump());
+  return {*kind, {field<int>(object, "theta_i"), field<int>(object, "theta_v")}};
+}
+
+SliceProgress sliceProgressFromJson(const json& object) {
+  return {sliceFromJson(object), field<std::size_t>(object, "samples"),
+          field<int>(object, "bins_filled"),
+          optionalField<std::size_t>(object, "samples_set_aside").value_or(0),
+          optionalField<bool>(object, "damaged").value_or(false)};
+}
+
+JournalDamageView journalDamageFromJson(const json& object) {
+  return {field<std::size_t>(object, "line"), field<std::string>(object, "message"),
+          field<std::vector<std::string>>(object, "slices_set_aside"),
+          field<std::size_t>(object, "samples_set_aside"),
+          field<std::size_t>(object, "samples_lost")};
+}
+
+}  // namespace
+
+json sliceJson(const SliceId& slice) {
+  return {{"name", toString(slice)},
+          {"kind", std::string(toString(slice.kind))},
+          {"theta_i", slice.elevations.thetaIDeg},
+          {"theta_v", slice.elevations.thetaVDeg}};
+}
+
+json toJson(const SliceProgress& slice) {
+  json entry = sliceJson(slice.slice);
+  entry["samples"] = slice.samples;
+  entry["bins_filled"] = slice.binsFilled;
+  if (slice.samplesSetAside > 0) entry["samples_set_aside"] = slice.samplesSetAside;
+  if (slice.damaged) entry["damaged"] = true;
+  return entry;
+}
+
+json toJson(const JournalDamageView& damage) {
+  return {{"line", damage.line},
+          {"message", damage.message},
+          {"slices_set_aside", damage.slicesSetAside},
+          {"samples_set_aside", damage.samplesSetAside},
+          {"samples_lost", damage.samplesLost}};
+}
+
+json toJson(const SessionView& session) {
+  json slices = json::array();
+  for (const SliceProgress& slice : session.slices)
+    slices.push_back(toJson(slice));
+  json object = {{"id", session.id},
+                 {"material", session.material},
+                 {"samples", session.samples},
+                 {"slices", std::move(slices)}};
+  if (session.createdUtc) object["created"] = *session.createdUtc;
+  if (session.directory) object["directory"] = *session.directory;
+  if (session.tornTailBytesDropped)
+    object["torn_tail_bytes_dropped"] = *session.tornTailBytesDropped;
+  if (!session.corruptJournalLines.empty())
+    object["corrupt_journal_lines"] = session.corruptJournalLines;
+  if (!session.journalDamage.empty()) {
+    json damage = json::array();
+    for (const JournalDamageView& d : session.journalDamage)
+      damage.push_back(toJson(d));
+    object["journal_damage"] = std::move(damage);
+  }
+  if (session.current) object["current"] = *session.current;
+  return object;
+}
+
+SessionView sessionFromJson(const json& object) {
+  SessionView session;
+  session.id = field<std::string>(object, "id");
+  session.material = field<std::string>(object, "material");
+  session.samples = field<std::size_t>(object, "samples");
+  if (object.contains("slices"))
+    for (const json& slice : object.at("slices"))
+      session.slices.push_back(sliceProgressFromJson(slice));
+  session.createdUtc = optionalField<std::string>(object, "created");
+  session.directory = optionalField<std::string>(object, "directory");
+  session.tornTailBytesDropped = optionalField<std::size_t>(object, "torn_tail_bytes_dropped");
+  session.corruptJournalLines =
+      optionalField<std::vector<std::size_t>>(object, "corrupt_journal_lines")
+          .value_or(std::vector<std::size_t>{});
+  if (object.contains("journal_damage"))
+    for (const json& damage : object.at("journal_damage"))
+      session.journalDamage.push_back(journalDamageFromJson(damage));
+  session.current = optionalField<bool>(object, "current");
+  return session;
+}
+
+json toJson(const SweepView& sweep) {
+  json rejected = json::object();
+  for (const auto& [reason, count] : sweep.rejected)
+    rejected[reason] = count;
+  json object = {{"slice", sliceJson(sweep.slice)},
+                 {"state", sweep.state},
+                 {"bins", sweep.bins},
+                 {"bins_filled", sweep.binsFilled},
+                 {"samples", sweep.samples},
+                 {"accepted_this_run", sweep.acceptedThisRun},
+                 {"rejected", std::move(rejected)},
+                 {"view_elevation_error_deg", nullptr}};
+  if (sweep.pauseReason) object["pause_reason"] = *sweep.pauseReason;
+  if (sweep.viewElevationErrorDeg)
+    object["view_elevation_error_deg"] = *sweep.viewElevationErrorDeg;
+  return object;
+}
+
+SweepView sweepFromJson(const json& object) {
+  SweepView sweep;
+  sweep.slice = sliceFromJson(field<json>(object, "slice"));
+  sweep.state = field<std::string>(object, "state");
+  sweep.bins = field<std::vector<bool>>(object, "bins");
+  sweep.binsFilled = field<int>(object, "bins_filled");
+  sweep.samples = field<std::size_t>(object, "samples");
+  sweep.acceptedThisRun = optionalField<std::size_t>(object, "accepted_this_run").value_or(0);
+  sweep.rejected = optionalField<std::map<std::string, std::size_t>>(object, "rejected")
+                       .value_or(std::map<std::string, std::size_t>{});
+  sweep.viewElevationErrorDeg = optionalField<double>(object, "view_elevation_error_deg");
+  sweep.pauseReason = optionalField<std::string>(object, "pause_reason");
+  return sweep;
+}
+
+json toJson(const IsotropyView& isotropy) {
+  if (isotropy.error)
+    return {{"error", *isotropy.error}, {"axial_sweeps_needed", isotropy.axialSweepsNeeded}};
+  return {{"isotropic", isotropy.isotropic ? json(*isotropy.isotropic) : json(nullptr)},
+          {"informative", isotropy.informative},
+          {"axial_sweeps_needed", isotropy.axialSweepsNeeded},
+          {"reason", isotropy.reason}};
+}
+
+IsotropyView isotropyFromJson(const json& object) {
+  IsotropyView isotropy;
+  isotropy.axialSweepsNeeded = field<bool>(object, "axial_sweeps_needed");
+  isotropy.error = optionalField<std::string>(object, "error");
+  if (isotropy.error) return isotropy;
+  isotropy.isotropic = optionalField<bool>(object, "isotropic");
+  isotropy.informative = field<bool>(object, "informative");
+  isotropy.reason = field<std::string>(object, "reason");
+  return isotropy;
+}
+
+json toJson(const RecordingView& recording) {
+  json object = {{"directory", recording.directory},
+                 {"frames_written", recording.framesWritten},
+                 {"frames_queued", recording.framesQueued},
+                 {"frames_dropped", recording.framesDropped}};
+  if (recording.error) object["error"] = *recording.error;
+  return object;
+}
+
+RecordingView recordingFromJson(const json& object) {
+  return {field<std::string>(object, "directory"), field<std::size_t>(object, "frames_written"),
+          field<std::size_t>(object, "frames_queued"),
+          field<std::size_t>(object, "frames_dropped"),
+          optionalField<std::string>(object, "error")};
+}
+
+TextureProgressView textureProgressFromJson(const json& object) {
+  return {field<int>(object, "resolution"), field<int>(object, "bins_filled"),
+          field<std::size_t>(object, "frames_stored"), field<std::string>(object, "directory")};
+}
+
+json toJson(const StatusView& status) {
+  json object = {{"session", status.session ? toJson(*status.session) : json(nullptr)},
+                 {"sweep", status.sweep ? toJson(*status.sweep) : json(nullptr)},
+                 {"next", status.next}};
+  if (status.isotropy) object["isotropy"] = toJson(*status.isotropy);
+  if (status.error) object["error"] = *status.error;
+  if (status.recording) object["recording"] = toJson(*status.recording);
+  if (status.exposure) object["exposure"] = *status.exposure;
+  if (!status.warnings.empty()) object["warnings"] = status.warnings;
+  return object;
+}
+
+StatusView statusFromJson(const json& object) {
+  StatusView status;
+  if (const auto session = optionalField<json>(object, "session"))
+    status.session = sessionFromJson(*session);
+  if (const auto sweep = optionalField<json>(object, "sweep")) status.sweep = sweepFromJson(*sweep);
+  status.next = field<std::string>(object, "next");
+  if (const auto isotropy = optionalField<json>(object, "isotropy"))
+    status.isotropy = isotropyFromJson(*isotropy);
+  status.error = optionalField<std::string>(object, "error");
+  if (const auto recording = optionalField<json>(object, "recording"))
+    status.recording = recordingFromJson(*recording);
+  if (const auto texture = optionalField<json>(object, "texture"))
+    status.texture = textureProgressFromJson(*texture);
+  status.exposure = optionalField<std::string>(object, "exposure");
+  status.warnings = stringsOf(object, "warnings");
+  return status;
+}
+
+json toJson(const SessionListEntry& entry) {
+  json object = {{"id", entry.id},
+                 {"material", entry.material},
+                 {"created", entry.createdUtc},
+                 {"current", entry.current}};
+  if (entry.damaged) object["damaged"] = *entry.damaged;
+  return object;
+}
+
+std::vector<SessionListEntry> sessionListFromJson(const json& object) {
+  std::vector<SessionListEntry> sessions;
+  for (const json& entry : field<json>(object, "sessions"))
+    sessions.push_back({field<std::string>(entry, "id"), field<std::string>(entry, "material"),
+                        field<std::string>(entry, "created"), field<bool>(entry, "current"),
+                        optionalField<std::string>(entry, "damaged")});
+  return sessions;
+}
+
+json toJson(const ExportView& reply) {
+  json object = {{"session", reply.session},
+                 {"directory", reply.directory},
+                 {"files", reply.files},
+                 {"method", reply.method}};
+  if (reply.material) object["material"] = *reply.material;
+  if (!reply.warnings.empty()) object["warnings"] = reply.warnings;
+  if (reply.texture) {
+    object["texture"] = *reply.texture;
+    object["texture_files"] = reply.textureFiles;
+  }
+  if (reply.textureSkipped) object["texture_skipped"] = *reply.textureSkipped;
+  return object;
+}
+
+ExportView exportFromJson(const json& object) {
+  ExportView reply;
+  reply.session = field<std::string>(object, "session");
+  reply.directory = field<std::string>(object, "directory");
+  reply.files = field<std::vector<std::string>>(object, "files");
+  reply.method = field<std::string>(object, "method");
+  reply.material = optionalField<std::string>(object, "material");
+  reply.warnings = stringsOf(object, "warnings");
+  reply.texture = optionalField<std::string>(object, "texture");
+  if (reply.texture) reply.textureFiles = field<std::vector<std::string>>(object, "texture_files");
+  reply.textureSkipped = optionalField<std::string>(object, "texture_skipped");
+  return reply;
+}
+
+}  // namespace slicecap::control

@@ -1,0 +1,18 @@
+// The status's "next": what the person at the rig does now, as a command where there is one.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "slicecap/capture/session_store.hpp"
+#include "slicecap/control/reply_views.hpp"
+#include "sweep_run.hpp"
+
+namespace slicecap::daemon {
+
+/// \brief The next step for the current session (none: start one), its sweep if any, and the
+/// isotropy test's verdict on it if there is one.
+std::string nextStep(const capture::SessionStore* session, const SweepRun* sweep,
+                     const std::optional<control::IsotropyView>& isotropy);
+
+}  // namespace slicecap::daemon

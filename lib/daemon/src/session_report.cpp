@@ -1,0 +1,70 @@
+// A session's state as the replies show it: its slices in sweep order and its journal's damage.
+#include "session_report.hpp"
+
+#include <chrono>
+#include <ctime>
+
+#include "slicecap/daemon/session_manager.hpp"
+
+namespace slicecap::daemon {
+namespace {
+
+std::vector<control::SliceProgress> sliceProgress(const capture::SessionStore& store) {
+  std::vector<control::SliceProgress> slices;
+  for (const SliceId& slice : sweepOrder())
+    slices.push_back({slice, store.sampleCount(slice), store.bins(slice).filledCount(),
+                      store.setAsideCount(slice), store.damaged(slice)});
+  return slices;
+}
+
+// What replaying the journal could not tell for sure: each with the file and line in its message.
+std::vector<control::JournalDamageView> journalDamage(const capture::SessionStore& store) {
+  std::vector<control::JournalDamageView> damage;
+  for (const capture::JournalDamage& d : store.damage()) {
+    std::vector<std::string> slices;
+    for (const SliceId& slice : d.slicesSetAside)
+      slices.push_back(toString(slice));
+    damage.push_back({d.line, d.message, std::move(slices), d.samplesSetAside, d.samplesLost});
+  }
+  return damage;
+}
+
+}  // namespace
+
+control::SessionView statusSessionView(const capture::SessionStore& store) {
+  control::SessionView session;
+  session.id = store.info().id;
+  session.material = store.info().material;
+  session.samples = store.sampleCount();
+  session.slices = sliceProgress(store);
+  session.journalDamage = journalDamage(store);
+  return session;
+}
+
+control::SessionView sessionView(const capture::SessionStore& store) {
+  control::SessionView session = statusSessionView(store);
+  session.createdUtc = store.info().createdUtc;
+  session.directory = store.directory().string();
+  if (store.recovery().tornTailBytes > 0)
+    session.tornTailBytesDropped = store.recovery().tornTailBytes;
+  session.corruptJournalLines.assign(store.recovery().corruptLines.begin(),
+                                     store.recovery().corruptLines.end());
+  return session;
+}
+
+std::string startCommand(const SliceId& slice) {
+  return "slicecap sweep start " + std::string(toString(slice.kind)) + " " +
+         std::to_string(slice.elevations.thetaIDeg) + " " +
+         std::to_string(slice.elevations.thetaVDeg);
+}
+
+std::string utcNow(const char* format) {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, format, &utc);
+  return text;
+}
+
+}  // namespace slicecap::daemon

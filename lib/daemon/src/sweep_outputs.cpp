@@ -1,0 +1,142 @@
+// A sweep's raw-frame recording and texture, kept in line with the session manager's sweep.
+#include "sweep_outputs.hpp"
+
+#include <system_error>
+
+#include "slicecap/control/reply_views.hpp"
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/io/journal.hpp"
+
+namespace slicecap::daemon {
+
+namespace fs = std::filesystem;
+
+void SweepOutputs::closeTexture() {
+  texture_.reset();
+  textureSlice_.reset();
+}
+
+void SweepOutputs::openTexture(const SliceId& slice) {
+  const std::optional<fs::path> session = manager_.sessionDirectory();
+  if (!parts_.newTextureSink || !session) return;
+  try {
+    texture_ = parts_.newTextureSink(slice, *session);
+    textureSlice_ = slice;
+  } catch (const std::exception& error) {
+    manager_.pauseSweep(std::string("texture capture: ") + error.what());
+  }
+}
+
+void SweepOutputs::reconcileTexture() {
+  if (texture_ && textureSlice_ != manager_.sweepSlice()) closeTexture();
+  // The swept slice's texture is open before its frames flow (also after a redo of the running
+  // sweep closed it); if it cannot be, the sweep pauses here and no camera starts.
+  if (manager_.capturing() && !texture_) openTexture(*manager_.sweepSlice());
+}
+
+void SweepOutputs::discardTexture(const SliceId& redone) {
+  const std::optional<fs::path> session = manager_.sessionDirectory();
+  // Only a redo the session manager will accept: none while another slice's sweep runs.
+  const std::optional<SliceId> swept = manager_.sweepSlice();
+  if (!session || (swept && *swept != redone)) return;
+  if (textureSlice_ == redone) closeTexture();  // its index would still hold the frames
+  io::discardFolderDurably(*session / kTextureFolder / folderName(redone));
+}
+
+capture::FrameObserver SweepOutputs::textureObserver() {
+  if (!parts_.newTextureSink) return nullptr;
+  return [this](const hal::Frame& frame, const capture::FrameOutcome& outcome,
+                const std::vector<capture::AmbientTerm>& ambient) {
+    if (!texture_ || !textureError_.empty()) return;
+    try {
+      texture_->add(frame, outcome, ambient);
+    } catch (const io::IoError& error) {
+      textureError_ = std::string("texture storage error: ") + error.what();
+    } catch (const std::exception& error) {
+      textureError_ = std::string("texture capture error: ") + error.what();
+    }
+  };
+}
+
+void SweepOutputs::pauseOnTextureError() {
+  if (textureError_.empty()) return;
+  // The sample is kept; the texture stops with the sweep until the person frees space.
+  manager_.pauseSweep(textureError_);
+  textureError_.clear();
+}
+
+fs::path SweepOutputs::recordingDirectory(const fs::path& session, const SliceId& slice) {
+  return session / "recordings" / folderName(slice);
+}
+
+void SweepOutputs::reconcileRecorder(const std::optional<SliceId>& cameraSlice) {
+  const std::optional<SliceId> swept = manager_.sweepSlice();
+  if (recorder_ && recorderSlice_ != swept) {
+    retiredRecorders_.push_back(std::move(recorder_));
+    recorderSlice_.reset();
+  }
+  std::erase_if(retiredRecorders_, [](const auto& retired) { return retired->idle(); });
+  if (recorder_ || !cameraSlice || !parts_.recordingHeaderFor) return;
+  if (const std::optional<fs::path> session = manager_.sessionDirectory()) {
+    io::Recording header = parts_.recordingHeaderFor(*cameraSlice);
+    header.slice = io::RecordedSlice{*cameraSlice, kAxialOffsetDeg};
+    recorder_ = std::make_unique<FrameRecorder>(recordingDirectory(*session, *cameraSlice),
+                                                std::move(header), parts_.recordQueueFrames);
+    recorderSlice_ = cameraSlice;
+  }
+}
+
+void SweepOutputs::discardRecording(const SliceId& redone) {
+  if (recorderSlice_ == redone) {
+    recorder_.reset();  // waits for its writer: a person's command, not the frame loop
+    recorderSlice_.reset();
+  }
+  retiredRecorders_.clear();
+  if (const std::optional<fs::path> session = manager_.sessionDirectory()) {
+    std::error_code ignored;
+    fs::remove_all(recordingDirectory(*session, redone), ignored);
+  }
+}
+
+void SweepOutputs::record(hal::Frame&& frame) {
+  if (recorder_) recorder_->offer(std::move(frame));
+}
+
+void SweepOutputs::setDecoding(const io::RecordedDecoding& decoding) {
+  if (recorder_) recorder_->setDecoding(decoding);
+}
+
+void SweepOutputs::recordBracket(SweepDecoding& decided, const SliceId& slice) {
+  if (decided.bracketFrames.empty() || !parts_.recordingHeaderFor) return;
+  const std::optional<fs::path> session = manager_.sessionDirectory();
+  if (!session) return;
+  const fs::path folder = *session / kBracketFolder / folderName(slice);
+  fs::path directory;
+  for (int run = 1;; ++run) {
+    directory = folder / ("run-" + std::to_string(run));
+    std::error_code ignored;
+    if (!fs::exists(directory, ignored)) break;
+  }
+  io::Recording header = parts_.recordingHeaderFor(slice);
+  header.slice.reset();
+  header.createdBy += " (response bracket)";
+  header.decoding = decided.decoding;
+  auto writer = std::make_unique<FrameRecorder>(directory, std::move(header),
+                                                decided.bracketFrames.size());
+  writer->setDecoding(decided.decoding);
+  for (hal::Frame& frame : decided.bracketFrames) writer->offer(std::move(frame));
+  retiredRecorders_.push_back(std::move(writer));  // writes on its thread, then is dropped
+}
+
+void SweepOutputs::describe(nlohmann::json& reply) const {
+  if (recorder_) {
+    const RecorderStatus s = recorder_->status();
+    control::RecordingView recording{s.directory.string(), s.framesWritten, s.framesQueued,
+                                     s.framesDropped, std::nullopt};
+    if (!s.error.empty()) recording.error = "recording stopped: " + s.error;
+    reply["recording"] = control::toJson(recording);
+  }
+  if (texture_) reply["texture"] = texture_->status();
+}
+
+}  // namespace slicecap::daemon

@@ -1,0 +1,140 @@
+// The typed replies: each view's JSON reads back as the same view, replies as the daemon wrote
+// them before the views read and write back byte for byte, and a missing field is named.
+#include "slicecap/control/reply_views.hpp"
+
+#include <gtest/gtest.h>
+
+namespace slicecap::control {
+namespace {
+
+using nlohmann::json;
+
+SessionView fullSession() {
+  SessionView session;
+  session.id = "s1";
+  session.material = "brushed steel";
+  session.createdUtc = "2026-12-02T10:00:00Z";
+  session.directory = "/var/lib/slicecap/s1";
+  session.samples = 7;
+  session.slices = {{{SliceKind::Diagonal, {30, 30}}, 5, 4, 0, false},
+                    {{SliceKind::Axial, {75, 30}}, 2, 1, 3, true}};
+  session.tornTailBytesDropped = 12;
+  session.corruptJournalLines = {4, 9};
+  session.journalDamage = {{9, "journal line 9: unreadable", {"axial 75/30"}, 3, 1}};
+  session.current = true;
+  return session;
+}
+
+SweepView pausedSweep() {
+  SweepView sweep;
+  sweep.slice = {SliceKind::Axial, {30, 75}};
+  sweep.state = "paused";
+  sweep.bins = std::vector<bool>(kBinsPerSlice, false);
+  sweep.bins[3] = true;
+  sweep.binsFilled = 1;
+  sweep.samples = 9;
+  sweep.acceptedThisRun = 2;
+  sweep.rejected = {{"too_few_markers", 4}, {"elevation_off", 1}};
+  sweep.viewElevationErrorDeg = -1.25;
+  sweep.pauseReason = "camera error: gone";
+  return sweep;
+}
+
+TEST(ReplyViews, SessionRoundTrips) {
+  const json written = toJson(fullSession());
+  EXPECT_EQ(toJson(sessionFromJson(written)), written);
+  EXPECT_EQ(written["slices"][1]["name"], "axial 75/30");
+  EXPECT_EQ(written["slices"][1]["samples_set_aside"], 3);
+  EXPECT_FALSE(written["slices"][0].contains("samples_set_aside"));
+  EXPECT_FALSE(written["slices"][0].contains("damaged"));
+  const SessionView read = sessionFromJson(written);
+  EXPECT_EQ(read.slices.at(1).slice, (SliceId{SliceKind::Axial, {75, 30}}));
+  EXPECT_EQ(read.journalDamage.at(0).samplesLost, 1u);
+  EXPECT_EQ(read.current, true);
+}
+
+TEST(ReplyViews, SweepRoundTripsWithAndWithoutAPosedFrame) {
+  SweepView sweep = pausedSweep();
+  const json written = toJson(sweep);
+  EXPECT_EQ(toJson(sweepFromJson(written)), written);
+  EXPECT_EQ(sweepFromJson(written).rejected.at("too_few_markers"), 4u);
+  sweep.viewElevationErrorDeg.reset();
+  sweep.pauseReason.reset();
+  sweep.state = "capturing";
+  const json capturing = toJson(sweep);
+  // Always present, null before a posed frame: a client reads the key without checking for it.
+  ASSERT_TRUE(capturing.contains("view_elevation_error_deg"));
+  EXPECT_TRUE(capturing["view_elevation_error_deg"].is_null());
+  EXPECT_FALSE(capturing.contains("pause_reason"));
+  EXPECT_EQ(toJson(sweepFromJson(capturing)), capturing);
+}
+
+TEST(ReplyViews, StatusRoundTrips) {
+  StatusView status;
+  status.next = "slicecap sweep stop";
+  EXPECT_EQ(toJson(statusFromJson(toJson(status))), toJson(status));
+  EXPECT_TRUE(toJson(status)["session"].is_null());
+  status.session = fullSession();
+  status.session->current.reset();
+  status.sweep = pausedSweep();
+  status.isotropy = IsotropyView{std::nullopt, std::nullopt, false, true, "too few bins"};
+  status.error = "camera error: gone";
+  status.recording = RecordingView{"/s1/frames", 10, 1, 2, "recording stopped: disk full"};
+  status.exposure = "locked at 4000 us";
+  status.warnings = {"one", "two"};
+  const json written = toJson(status);
+  EXPECT_TRUE(written["isotropy"]["isotropic"].is_null());
+  EXPECT_EQ(toJson(statusFromJson(written)), written);
+}
+
+TEST(ReplyViews, IsotropyErrorKeepsOnlyTheErrorAndTheAdvice) {
+  const IsotropyView failed{"isotropy test: no prior", std::nullopt, true, true, ""};
+  const json written = toJson(failed);
+  EXPECT_EQ(written, (json{{"error", "isotropy test: no prior"}, {"axial_sweeps_needed", true}}));
+  EXPECT_EQ(toJson(isotropyFromJson(written)), written);
+}
+
+TEST(ReplyViews, ExportRoundTripsAndListsTheTextureFiles) {
+  ExportView reply{"s1", "/s1/export", {"/s1/export/s1-abrdf-b.exr"}, "b", "fitted: ward",
+                   {"a warning"}, "/s1/texture", {"slices.csv", "diagonal-30-30/frame-1.exr"},
+                   std::nullopt};
+  const json written = toJson(reply);
+  EXPECT_EQ(written["texture_files"].size(), 2u);
+  EXPECT_EQ(toJson(exportFromJson(written)), written);
+  reply.texture.reset();
+  reply.textureFiles.clear();
+  reply.textureSkipped = "sweep axial 30/30 is capturing";
+  const json skipped = toJson(reply);
+  EXPECT_FALSE(skipped.contains("texture_files"));
+  EXPECT_EQ(toJson(exportFromJson(skipped)), skipped);
+}
+
+// A status line as slicecapd wrote it before the views: read and written again, byte for byte.
+TEST(ReplyViews, ADaemonStatusLineIsWrittenBackByteForByte) {
+  const std::string line =
+      R"({"error":"camera error: gone","isotropy":{"axial_sweeps_needed":true,"informative":true,)"
+      R"("isotropic":false,"reason":"anisotropic"},"next":"keep sweeping","session":{"id":"s1",)"
+      R"("material":"felt","samples":3,"slices":[{"bins_filled":2,"kind":"diagonal","name":)"
+      R"("diagonal 30/30","samples":3,"theta_i":30,"theta_v":30}]},"sweep":{"accepted_this_run":3,)"
+      R"("bins":[true,false,true],"bins_filled":2,"rejected":{"elevation_off":2},"samples":3,)"
+      R"("slice":{"kind":"diagonal","name":"diagonal 30/30","theta_i":30,"theta_v":30},"state":)"
+      R"("capturing","view_elevation_error_deg":0.5}})";
+  EXPECT_EQ(toJson(statusFromJson(json::parse(line))).dump(), line);
+}
+
+TEST(ReplyViews, AMissingFieldIsNamed) {
+  json sweep = toJson(pausedSweep());
+  sweep.erase("bins_filled");
+  try {
+    sweepFromJson(sweep);
+    FAIL() << "a sweep without bins_filled was read";
+  } catch (const ReplyError& error) {
+    EXPECT_NE(std::string(error.what()).find("bins_filled"), std::string::npos) << error.what();
+  }
+  json session = toJson(fullSession());
+  session["samples"] = "many";
+  EXPECT_THROW(sessionFromJson(session), ReplyError);
+}
+
+}  // namespace
+}  // namespace slicecap::control
