@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <thread>
 
 #include "slicecap/btf/btf_texture.hpp"
@@ -21,16 +22,17 @@ namespace {
 
 using namespace slicecap;
 
-constexpr int kSize = 128;
+// The tile's side: 128 (the goal), 32 for a quick look; set by the benchmark's argument.
+int tileSide = 128;
 
 fit::FittedMaterial truthAt(int x, int y) {
   const bool weft = ((x / 16) + (y / 16)) % 2 == 0;
   fit::FittedMaterial m;
   m.diffuseAlbedo = weft ? Rgb{0.45, 0.12, 0.1} : Rgb{0.1, 0.15, 0.4};
-  m.diffuseAlbedo = m.diffuseAlbedo * (0.8 + 0.4 * y / (kSize - 1.0));
+  m.diffuseAlbedo = m.diffuseAlbedo * (0.8 + 0.4 * y / (tileSide - 1.0));
   m.specularF0 = Rgb::gray(weft ? 0.05 : 0.12);
-  m.alphaBitangent = 0.05 + 0.25 * x / (kSize - 1.0);
-  m.alphaTangent = m.alphaBitangent * (1.5 + 2.5 * y / (kSize - 1.0));
+  m.alphaBitangent = 0.05 + 0.25 * x / (tileSide - 1.0);
+  m.alphaTangent = m.alphaBitangent * (1.5 + 2.5 * y / (tileSide - 1.0));
   m.tangentDeg = weft ? 30.0 : 120.0;
   return m.canonical();
 }
@@ -44,19 +46,23 @@ float noise(std::size_t texel, std::size_t value) {
   return 1.0f + 0.02f * (static_cast<float>(h % 20001) / 10000.0f - 1.0f);
 }
 
+// The simulated tile of side tileSide (made once per side: 16384 tables take a while).
 const btf::BtfTexture& simulatedTexture() {
-  static const btf::BtfTexture texture = [] {
-    btf::BtfTexture t(kSize);
+  static std::unique_ptr<btf::BtfTexture> cached;
+  if (cached && cached->resolution() == tileSide) return *cached;
+  cached.reset();
+  cached = std::make_unique<btf::BtfTexture>([] {
+    btf::BtfTexture t(tileSide);
     std::vector<std::thread> workers;
     for (int w = 0; w < 2; ++w)
       workers.emplace_back([&t, w] {
-        for (int y = w; y < kSize; y += 2) {
+        for (int y = w; y < tileSide; y += 2) {
           std::vector<Abrdf> row;
-          for (int x = 0; x < kSize; ++x) {
+          for (int x = 0; x < tileSide; ++x) {
             Abrdf table = fit::tabulate(truthAt(x, y));
             std::span<float> values = table.values();
             for (std::size_t i = 0; i < values.size(); ++i)
-              values[i] *= noise(std::size_t(y * kSize + x), i);
+              values[i] *= noise(std::size_t(y * tileSide + x), i);
             row.push_back(std::move(table));
           }
           t.setRow(y, row);
@@ -64,17 +70,17 @@ const btf::BtfTexture& simulatedTexture() {
       });
     for (std::thread& worker : workers) worker.join();
     return t;
-  }();
-  return texture;
+  }());
+  return *cached;
 }
 
 // As the command reads a row (lib/cli/src/texture_fit_command.cpp).
 void readRow(const btf::BtfTexture& texture, int row, std::vector<Abrdf>& tables) {
-  tables.assign(std::size_t(kSize), Abrdf());
-  const std::size_t first = std::size_t(row) * kSize;
+  tables.assign(std::size_t(tileSide), Abrdf());
+  const std::size_t first = std::size_t(row) * tileSide;
   for (int l = 0; l < Abrdf::kDirections; ++l)
     for (int v = 0; v < Abrdf::kDirections; ++v)
-      for (int x = 0; x < kSize; ++x)
+      for (int x = 0; x < tileSide; ++x)
         for (int c = 0; c < 3; ++c)
           tables[std::size_t(x)].channel(l, v, c) = texture.value(l, v, first + std::size_t(x), c);
 }
@@ -95,15 +101,15 @@ double quantile(std::vector<double> values, double q) {
 
 void reportAccuracy(benchmark::State& state, const fit::TextureFitResult& result) {
   std::vector<double> alphaError, tangentError, deltaE;
-  for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x) {
-      const fit::TexelFit& t = result.texels[std::size_t(y * kSize + x)];
+  for (int y = 0; y < tileSide; ++y)
+    for (int x = 0; x < tileSide; ++x) {
+      const fit::TexelFit& t = result.texels[std::size_t(y * tileSide + x)];
       if (t.status != fit::TexelStatus::Fitted) continue;
       const fit::FittedMaterial truth = truthAt(x, y);
       alphaError.push_back(std::max(std::abs(t.material.alphaTangent / truth.alphaTangent - 1.0),
                                     std::abs(t.material.alphaBitangent / truth.alphaBitangent - 1.0)));
       tangentError.push_back(std::abs(fit::tangentDifferenceDeg(t.material.tangentDeg, truth.tangentDeg)));
-      if (x % 8 == 3 && y % 8 == 5)  // 256 texels: a table and a comparison each
+      if (x % 8 == 3 && y % 8 == 5)  // 256 texels of a 128 tile: a table and a comparison each
         deltaE.push_back(eval::compare(fit::tabulate(truth), fit::tabulate(t.material)).deltaE);
     }
   state.counters["texels_fitted"] = double(result.fitted);
@@ -116,7 +122,8 @@ void reportAccuracy(benchmark::State& state, const fit::TextureFitResult& result
   state.counters["dE_max"] = quantile(deltaE, 1.0);
 }
 
-void BM_FitTexture128(benchmark::State& state) {
+void BM_FitTexture(benchmark::State& state) {
+  tileSide = static_cast<int>(state.range(1));
   const btf::BtfTexture& texture = simulatedTexture();
   fit::TextureFitOptions options;
   options.threads = static_cast<int>(state.range(0));
@@ -125,14 +132,21 @@ void BM_FitTexture128(benchmark::State& state) {
   for (auto _ : state) {
     const double cpuBefore = processCpuSeconds();
     result = fit::fitTexture(
-        kSize, [&](int row, std::vector<Abrdf>& tables) { readRow(texture, row, tables); }, options);
+        tileSide, [&](int row, std::vector<Abrdf>& tables) { readRow(texture, row, tables); }, options);
     cpuSeconds = processCpuSeconds() - cpuBefore;
   }
   state.counters["cpu_s_all_threads"] = cpuSeconds;
-  state.counters["ms_cpu_per_texel"] = 1000.0 * cpuSeconds / (kSize * kSize);
+  state.counters["ms_cpu_per_texel"] = 1000.0 * cpuSeconds / (tileSide * tileSide);
   reportAccuracy(state, result);
 }
-BENCHMARK(BM_FitTexture128)->Arg(2)->Arg(1)->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
+// {threads, tile side}: the goal's 128 x 128 tile on 2 and 1 threads, and a 32 x 32 tile.
+BENCHMARK(BM_FitTexture)
+    ->Args({2, 128})
+    ->Args({1, 128})
+    ->Args({2, 32})
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kSecond);
 
 }  // namespace
 

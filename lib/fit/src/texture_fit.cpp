@@ -137,7 +137,8 @@ std::optional<WarmStart> TextureFitter::fitTexel(const Abrdf& table, int x, int 
   std::optional<detail::SolveOutcome> best;
   double bestRmse = 0.0;
   if (warm) {
-    detail::SolveOutcome solved = detail::solveFromStart(data, warm->parameters, options_.maxIterations);
+    detail::SolveOutcome solved = detail::solveFromStart(data, warm->parameters, options_.maxIterations,
+                                                         options_.functionTolerance);
     if (solved.converged) {
       bestRmse = std::sqrt(2.0 * solved.cost / data.residualCount());
       best = std::move(solved);

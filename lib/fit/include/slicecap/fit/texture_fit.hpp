@@ -39,14 +39,17 @@ struct TextureFitOptions {
   int threads = 2;          ///< rows fitted at once (>= 1)
   int maxIterations = 200;  ///< Levenberg-Marquardt iterations per solve
   /// \brief The warm-started solve sees every this-many-th light/view pair (coprime with 81, so
-  /// that every light and view direction is seen): a texel's 6561 pairs are ~3x more than the
-  /// 10 parameters need, and the solve's time is proportional to them.
-  int pairStride = 4;
+  /// that every light and view direction is seen): 938 pairs still pin 10 parameters, and the
+  /// solve's time is proportional to the pairs (docs/material-fit.md, "Texture mode").
+  int pairStride = 7;
   /// \brief A warm start is kept when it converged and its RMS residual is at most this factor
   /// times its neighbour's, or at most `warmAcceptFloorLevels`; otherwise the texel gets the
   /// multi-start fit (fitMaterial's four tangent starts, GGX only), and the better of the two.
   double warmAcceptFactor = 1.5;
   double warmAcceptFloorLevels = 1.0;
+  /// \brief A warm-started solve has converged when an iteration changes the cost by less than
+  /// this fraction.
+  double functionTolerance = 1e-6;
 };
 
 struct TextureFitResult {
