@@ -1,4 +1,4 @@
-// `slicecap fit BTF_DIR` speed (issue 30 goal: SVBRDF maps of a 128 x 128 tile in < 60 s on the
+// `slicecap fit BTF_DIR` speed (the goal: SVBRDF maps of a 128 x 128 tile in < 60 s on the
 // 2 cores here) and accuracy: a simulated 128 x 128 BTF whose texels have known GGX parameters (a
 // woven checker of 16-texel cells brushed at 30 and 120 deg, roughness and anisotropy varying
 // smoothly across the tile, 2 % noise on every value), held in half floats as `slicecap btf`
