@@ -3,7 +3,9 @@
 // multi-start fallback), and texels with no samples or that are not BRDFs named, never fitted.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/fit/texture_fit.hpp"
@@ -90,6 +92,20 @@ TEST(TextureFit, NamesTexelsWhoseFitDidNotConverge) {
   EXPECT_EQ(first.status, TexelStatus::NotConverged);
   EXPECT_NE(first.problem.find("texel (0,0): the GGX fit did not converge"), std::string::npos)
       << first.problem;
+}
+
+TEST(TextureFit, PassesOnARowThatCannotBeRead) {
+  const std::vector<Abrdf> tables = truthTables();
+  const TexelRowReader failing = [&tables](int row, std::vector<Abrdf>& out) {
+    if (row == 2) {
+      // Slow, so that the other thread takes row 3 and waits for this row's first texel.
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      throw std::runtime_error("btf/tv000_pv000/x.exr: truncated");
+    }
+    out.assign(tables.begin() + row * kSize, tables.begin() + (row + 1) * kSize);
+  };
+  // Row 3 waits for the first texel of row 2: the failure must release it, not hang.
+  EXPECT_THROW(fitTexture(kSize, failing, {.threads = 2}), std::runtime_error);
 }
 
 TEST(TextureFit, RefusesBadOptions) {

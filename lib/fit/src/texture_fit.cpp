@@ -51,7 +51,7 @@ class TextureFitter {
     for (int t = 0; t < threads; ++t)
       pool.emplace_back([&] {
         try {
-          for (int row = nextRow_++; row < resolution_; row = nextRow_++) fitRow(row);
+          for (int row = nextRow_++; row < resolution_ && !abort_; row = nextRow_++) fitRow(row);
         } catch (...) {
           std::lock_guard lock(failureMutex);
           if (!failure) failure = std::current_exception();
