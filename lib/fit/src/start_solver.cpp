@@ -53,7 +53,7 @@ BuiltProblem buildProblem(const FitData& data, FitParameters& p) {
 }  // namespace
 
 SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int maxIterations,
-                            double functionTolerance) {
+                            double functionTolerance, double initialTrustRegionRadius) {
   SolveOutcome outcome;
   outcome.parameters = start;
   BuiltProblem built = buildProblem(data, outcome.parameters);
@@ -66,6 +66,7 @@ SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int
   // Residuals are in 8-bit levels: a relative cost change of 1e-10 is far below what rounding to
   // 8 bits can show, so converged means settled, not merely slow.
   options.function_tolerance = functionTolerance;
+  options.initial_trust_region_radius = initialTrustRegionRadius;
   options.parameter_tolerance = 1e-8;
   options.gradient_tolerance = 1e-12;
   ceres::Solver::Summary summary;

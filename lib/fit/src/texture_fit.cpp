@@ -137,8 +137,9 @@ std::optional<WarmStart> TextureFitter::fitTexel(const Abrdf& table, int x, int 
   std::optional<detail::SolveOutcome> best;
   double bestRmse = 0.0;
   if (warm) {
-    detail::SolveOutcome solved = detail::solveFromStart(data, warm->parameters, options_.maxIterations,
-                                                         options_.functionTolerance);
+    detail::SolveOutcome solved =
+        detail::solveFromStart(data, warm->parameters, options_.maxIterations,
+                               options_.functionTolerance, options_.warmTrustRegionRadius);
     if (solved.converged) {
       bestRmse = std::sqrt(2.0 * solved.cost / data.residualCount());
       best = std::move(solved);
@@ -189,7 +190,8 @@ TextureFitResult fitTexture(int resolution, const TexelRowReader& readRow,
                             const TextureFitOptions& options) {
   if (resolution < 1) throw std::invalid_argument("fitTexture: resolution must be at least 1");
   if (options.threads < 1 || options.maxIterations < 1 || options.pairStride < 1 ||
-      options.pairStride % 3 == 0 || !(options.warmAcceptFactor >= 1.0))
+      options.pairStride % 3 == 0 || !(options.warmAcceptFactor >= 1.0) ||
+      !(options.warmTrustRegionRadius > 0.0))
     throw std::invalid_argument(
         "fitTexture: threads, iterations and pair stride must be >= 1 (the stride not a multiple "
         "of 3, which would see a third of the view directions), the accept factor >= 1");
