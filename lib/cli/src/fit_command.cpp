@@ -15,6 +15,7 @@
 #include "slicecap/fit/material_json.hpp"
 #include "slicecap/io/table_file.hpp"
 #include "slicecap/material_export/material_reader.hpp"
+#include "texture_fit_command.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -31,7 +32,8 @@ bool isMaterialJson(const std::filesystem::path& path) {
 int exportExisting(const ParsedArgs& args, Streams& io) {
   const std::filesystem::path input = args.positional[0];
   const MaterialExportPaths exports = materialExportPaths(args);
-  if (args.value("output") || args.flag("no-sheen") || args.value("max-iterations"))
+  if (args.value("output") || args.flag("no-sheen") || args.value("max-iterations") ||
+      args.value("threads"))
     throw UsageError("fit: " + input.string() +
                      " is a fitted material: only --gltf, --mtlx and --mitsuba apply to it");
   if (!exports.any())
@@ -45,6 +47,9 @@ int exportExisting(const ParsedArgs& args, Streams& io) {
 
 int run(const ParsedArgs& args, Streams& io) {
   if (isMaterialJson(args.positional[0])) return exportExisting(args, io);
+  if (std::filesystem::is_directory(args.positional[0])) return runTextureFit(args, io);
+  if (args.value("threads"))
+    throw UsageError("fit: --threads applies to a BTF directory (one table is fitted on one core)");
   const std::filesystem::path input = args.positional[0];
   const std::filesystem::path output = args.required("output");
   const MaterialExportPaths exports = materialExportPaths(args);
@@ -78,7 +83,8 @@ std::vector<OptionSpec> fitOptions() {
   std::vector<OptionSpec> options = {
       {"output", 'o', "MATERIAL.json", "where to write the fitted material (replaced whole)"},
       {"no-sheen", 0, "", "fit diffuse + GGX only"},
-      {"max-iterations", 0, "N", "Levenberg-Marquardt iterations per solve (default 200)"}};
+      {"max-iterations", 0, "N", "Levenberg-Marquardt iterations per solve (default 200)"},
+      {"threads", 0, "N", "BTF_DIR: texels fitted at once (default: all cores)"}};
   for (OptionSpec& o : materialExportOptions()) options.push_back(std::move(o));
   return options;
 }
@@ -89,7 +95,8 @@ Command fitCommand() {
   return {{"fit",
            "TABLE.exr|TABLE.f32 -o MATERIAL.json [--no-sheen] [--max-iterations N]\n"
            "                    [--gltf F.gltf|F.glb] [--mtlx F.mtlx] [--mitsuba F.xml]\n"
-           "       slicecap fit MATERIAL.json [--gltf F.gltf|F.glb] [--mtlx F.mtlx] [--mitsuba F.xml]",
+           "       slicecap fit MATERIAL.json [--gltf F.gltf|F.glb] [--mtlx F.mtlx] [--mitsuba F.xml]\n"
+           "       slicecap fit BTF_DIR -o MAPS_DIR [--threads N] [--max-iterations N]",
            "Fit a parametric material to a measured table: diffuse RGB + anisotropic GGX (f0 RGB,\n"
            "alpha along and across the tangent, tangent angle), plus a Charlie sheen term when it\n"
            "lowers the fit's mean dE clearly. The JSON holds the parameters with units, conventions\n"
@@ -99,7 +106,12 @@ Command fitCommand() {
            "--gltf/--mtlx/--mitsuba also write the material for glTF viewers and Blender, MaterialX\n"
            "(OpenPBR) and Mitsuba 3, and print what each format cannot express\n"
            "(docs/material-export.md). Given a MATERIAL.json written by an earlier fit, only the\n"
-           "exports are written; a file that is not a completed fit is refused, naming it.",
+           "exports are written; a file that is not a completed fit is refused, naming it.\n"
+           "BTF_DIR (written by `slicecap btf`): every texel fitted (diffuse + anisotropic GGX, no\n"
+           "sheen), warm-started from its neighbour, on --threads threads; MAPS_DIR gets glTF's\n"
+           "texture maps as PNG (base colour, metallic-roughness, anisotropy, specular, a flat\n"
+           "normal map: the tilt is not fitted), mask.png (0: a texel not fitted, each named),\n"
+           "material.gltf (the maps on a plane) and maps.json.",
            fitOptions(),
            1,
            1},

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "fit_data.hpp"
+#include "parameter_conversion.hpp"
 #include "parameter_sigmas.hpp"
 #include "slicecap/core/angles.hpp"
 #include "start_solver.hpp"
@@ -68,21 +69,7 @@ FitParameters ggxStart(const Abrdf& table, const FitData& data, double tangentDe
   return p;
 }
 
-FittedMaterial materialOf(const FitParameters& p) {
-  FittedMaterial m;
-  m.model = p.withSheen ? MaterialModel::GgxSheen : MaterialModel::Ggx;
-  m.diffuseAlbedo = {p.ggx[0], p.ggx[1], p.ggx[2]};
-  m.specularF0 = {p.ggx[3], p.ggx[4], p.ggx[5]};
-  m.alphaTangent = std::exp(p.ggx[6]);
-  m.alphaBitangent = std::exp(p.ggx[7]);
-  m.tangentDeg = radToDeg(p.ggx[8]);
-  m.specularF90 = p.ggx[9];
-  if (p.withSheen) {
-    m.sheenColour = {p.sheen[0], p.sheen[1], p.sheen[2]};
-    m.sheenRoughness = std::exp(p.sheen[3]);
-  }
-  return m.canonical();
-}
+using detail::materialOf;
 
 // Each start is first scouted on a third of the pairs for a few iterations (the basin shows by
 // then; the tangent's basins are what the starts are for), then the most promising ones are

@@ -52,7 +52,8 @@ BuiltProblem buildProblem(const FitData& data, FitParameters& p) {
 
 }  // namespace
 
-SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int maxIterations) {
+SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int maxIterations,
+                            double functionTolerance, double initialTrustRegionRadius) {
   SolveOutcome outcome;
   outcome.parameters = start;
   BuiltProblem built = buildProblem(data, outcome.parameters);
@@ -64,7 +65,8 @@ SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int
   options.minimizer_progress_to_stdout = false;
   // Residuals are in 8-bit levels: a relative cost change of 1e-10 is far below what rounding to
   // 8 bits can show, so converged means settled, not merely slow.
-  options.function_tolerance = 1e-7;
+  options.function_tolerance = functionTolerance;
+  options.initial_trust_region_radius = initialTrustRegionRadius;
   options.parameter_tolerance = 1e-8;
   options.gradient_tolerance = 1e-12;
   ceres::Solver::Summary summary;

@@ -27,8 +27,13 @@ struct SolveOutcome {
 };
 
 /// \brief Solves from `start` (bounds: albedo and sheen >= 0, f0 and f90 in [0, 1], alphas in
-/// [0.002, 2], sheen roughness in [0.05, 1]). Never throws for a bad fit: see `converged`.
-SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int maxIterations);
+/// [0.002, 2], sheen roughness in [0.05, 1]). Converged: the cost's relative change in an
+/// iteration fell below `functionTolerance`. `initialTrustRegionRadius` is Levenberg-Marquardt's
+/// first step bound (Ceres' default 1e4: a start far from the solution). Never throws for a bad
+/// fit: see `converged`.
+SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int maxIterations,
+                            double functionTolerance = 1e-7,
+                            double initialTrustRegionRadius = 1e4);
 
 /// \brief The residuals' Jacobian (residuals x parameters) at `parameters`.
 Eigen::MatrixXd jacobianAt(const FitData& data, const FitParameters& parameters);

@@ -1,0 +1,159 @@
+// A plane carrying the texture fit's maps as a glTF 2.0 material (glTF 2.0 "Materials",
+// "Textures"; KHR_materials_anisotropy, _specular, _ior READMEs).
+#include "slicecap/material_export/textured_gltf.hpp"
+
+#include <array>
+#include <cstring>
+#include <ostream>
+#include <vector>
+
+#include "slicecap/core/version.hpp"
+#include "slicecap/io/file_replacement.hpp"
+#include "slicecap/io/io_error.hpp"
+#include "slicecap/io/png_image.hpp"
+#include "slicecap/material_export/gltf_writer.hpp"
+
+namespace slicecap::material_export {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+constexpr int kFloat = 5126, kUnsignedShort = 5123;
+constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
+constexpr int kLinear = 9729, kLinearMipmapLinear = 9987, kClampToEdge = 33071;
+
+// The plane's four corners: position, normal, tangent, UV (v grows downward in the image, so
+// toward -y).
+struct PlaneBuffer {
+  std::vector<std::uint8_t> bytes;
+  json views = json::array(), accessors = json::array();
+
+  template <std::size_t N>
+  void add(const std::array<std::array<float, N>, 4>& data, const char* type, bool bounds) {
+    append(data.data(), sizeof(data), kArrayBuffer);
+    json accessor = {{"bufferView", views.size() - 1}, {"componentType", kFloat},
+                     {"count", 4}, {"type", type}};
+    if (bounds) {
+      std::array<float, N> low = data[0], high = data[0];
+      for (const auto& v : data)
+        for (std::size_t i = 0; i < N; ++i) low[i] = std::min(low[i], v[i]), high[i] = std::max(high[i], v[i]);
+      accessor["min"] = low;
+      accessor["max"] = high;
+    }
+    accessors.push_back(accessor);
+  }
+  void addIndices(const std::array<std::uint16_t, 6>& indices) {
+    append(indices.data(), sizeof(indices), kElementArrayBuffer);
+    accessors.push_back({{"bufferView", views.size() - 1}, {"componentType", kUnsignedShort},
+                         {"count", 6}, {"type", "SCALAR"}});
+  }
+
+ private:
+  void append(const void* data, std::size_t size, int target) {
+    while (bytes.size() % 4 != 0) bytes.push_back(0);
+    const std::size_t offset = bytes.size();
+    bytes.resize(offset + size);
+    std::memcpy(bytes.data() + offset, data, size);
+    views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", size}, {"target", target}});
+  }
+};
+
+json textureRef(int index) { return {{"index", index}}; }
+
+json materialJson(const GltfTextureMaps& maps) {
+  // Texture indices follow the images' order in texturedGltfDocument.
+  return {{"name", "slicecap-svbrdf"},
+          {"pbrMetallicRoughness",
+           {{"baseColorTexture", textureRef(0)},
+            {"metallicFactor", 0.0},
+            {"roughnessFactor", 1.0},
+            {"metallicRoughnessTexture", textureRef(1)}}},
+          {"normalTexture", textureRef(4)},
+          {"extensions",
+           {{"KHR_materials_anisotropy",
+             {{"anisotropyStrength", 1.0}, {"anisotropyRotation", 0.0},
+              {"anisotropyTexture", textureRef(2)}}},
+            {"KHR_materials_specular",
+             {{"specularFactor", 1.0}, {"specularTexture", textureRef(3)},
+              {"specularColorFactor", {1.0, 1.0, 1.0}}, {"specularColorTexture", textureRef(3)}}},
+            {"KHR_materials_ior", {{"ior", maps.ior}}}}}};
+}
+
+json lossesJson(const GltfTextureMaps& maps) {
+  json losses = json::object();
+  for (const auto& [kind, texels] : maps.lossCounts) losses[std::string(toString(kind))] = texels;
+  return losses;
+}
+
+}  // namespace
+
+json texturedGltfDocument(const GltfTextureMaps& maps, double widthM, double heightM,
+                          const std::string& source) {
+  const auto w = static_cast<float>(widthM / 2), h = static_cast<float>(heightM / 2);
+  PlaneBuffer buffer;
+  buffer.add<3>({{{-w, h, 0}, {w, h, 0}, {w, -h, 0}, {-w, -h, 0}}}, "VEC3", true);
+  buffer.add<3>({{{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}}}, "VEC3", false);
+  buffer.add<4>({{{1, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}}}, "VEC4", false);
+  buffer.add<2>({{{0, 0}, {1, 0}, {1, 1}, {0, 1}}}, "VEC2", false);
+  buffer.addIndices({0, 3, 2, 0, 2, 1});  // counter-clockwise seen from +z
+
+  json images = json::array();
+  for (const char* file : {kBaseColorPng, kMetallicRoughnessPng, kAnisotropyPng, kSpecularPng, kNormalPng})
+    images.push_back({{"uri", file}, {"mimeType", "image/png"}});
+  json textures = json::array();
+  for (std::size_t i = 0; i < images.size(); ++i) textures.push_back({{"sampler", 0}, {"source", i}});
+
+  return {
+      {"asset",
+       {{"version", "2.0"},
+        {"generator", std::string("slicecap ") + kVersion},
+        {"extras",
+         {{"slicecap_source", source},
+          {"slicecap_conventions",
+           "per-texel material fitted by slicecap fit (docs/material-fit.md, Texture mode); TANGENT "
+           "is the texture's azimuth-0 axis (+x), anisotropyTexture RG the fitted tangent in "
+           "tangent/bitangent space; normal.png is flat: the lobe's tilt is not fitted; mask.png "
+           "(beside this file) is 0 where a texel could not be fitted"},
+          {"slicecap_conversion_losses_texels", lossesJson(maps)}}}}},
+      {"extensionsUsed", {"KHR_materials_anisotropy", "KHR_materials_specular", "KHR_materials_ior"}},
+      {"scene", 0},
+      {"scenes", {{{"name", "slicecap svbrdf"}, {"nodes", {0}}}}},
+      {"nodes", {{{"name", "texture"}, {"mesh", 0}}}},
+      {"meshes",
+       {{{"name", "texture"},
+         {"primitives",
+          {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TANGENT", 2}, {"TEXCOORD_0", 3}}},
+            {"indices", 4}, {"material", 0}, {"mode", 4}}}}}}},
+      {"materials", {materialJson(maps)}},
+      {"textures", textures},
+      {"images", images},
+      {"samplers",
+       {{{"magFilter", kLinear}, {"minFilter", kLinearMipmapLinear}, {"wrapS", kClampToEdge},
+         {"wrapT", kClampToEdge}}}},
+      {"accessors", buffer.accessors},
+      {"bufferViews", buffer.views},
+      {"buffers",
+       {{{"byteLength", buffer.bytes.size()},
+         {"uri", "data:application/octet-stream;base64," + base64(buffer.bytes)}}}},
+  };
+}
+
+void writeTexturedGltf(const std::filesystem::path& directory, const GltfTextureMaps& maps,
+                       double widthM, double heightM, const std::string& source) {
+  std::error_code error;
+  std::filesystem::create_directories(directory, error);
+  if (error)
+    throw io::IoError(directory.string() + ": cannot create the directory (" + error.message() + ")");
+  const std::array<std::pair<const char*, const Image*>, 6> pngs = {{
+      {kBaseColorPng, &maps.baseColor}, {kMetallicRoughnessPng, &maps.metallicRoughness},
+      {kAnisotropyPng, &maps.anisotropy}, {kSpecularPng, &maps.specular},
+      {kNormalPng, &maps.normal}, {kMaskPng, &maps.mask}}};
+  for (const auto& [file, image] : pngs)
+    io::writeReplacing(directory / file,
+                       [&](const std::filesystem::path& path) { io::writePng(path, *image); });
+  const json document = texturedGltfDocument(maps, widthM, heightM, source);
+  io::writeStreamReplacing(directory / kTexturedGltf,
+                           [&](std::ostream& out) { out << document.dump(1) << "\n"; });
+}
+
+}  // namespace slicecap::material_export
