@@ -3,11 +3,11 @@
 #include "slicecap/capture/hdr_merge.hpp"
 
 #include <Eigen/Dense>
-#include <optional>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace slicecap::capture {
 namespace {
@@ -100,7 +100,8 @@ MergedChannel mergeCell(const std::vector<const HdrReading*>& readings,
   int count = 0;
   for (const HdrCell* c : usable) {
     // A noise-free reading (variance 0) would take all the weight: floor it far below any real one.
-    const double w = 1.0 / std::max(c->variance[channel], std::numeric_limits<double>::min() * 1e10);
+    const double w =
+        1.0 / std::max(c->variance[channel], std::numeric_limits<double>::min() * 1e10);
     weighted += w * c->radiance[channel];
     weights += w;
     plain += c->radiance[channel];
