@@ -27,6 +27,8 @@ TEST(RigPlan, HdrMeteringPutsThePaperAndTheHighlightAtEightyPercent) {
   EXPECT_NEAR(three[2], 400.0, 1e-6);
   rig.maxExposureLevels = 2;
   EXPECT_EQ(chooseHdrLevelsUs({100.0, 1.0}, rig), (std::vector<double>{40000.0, 400.0}));
+  // The sample square's brightest point, off the centre, sets the short level when brighter.
+  EXPECT_EQ(chooseHdrLevelsUs({100.0, 1.0, 200.0}, rig), (std::vector<double>{40000.0, 200.0}));
   // Within 16 x, two levels even when three are allowed; within 2 x, the brighter's one exposure.
   rig.maxExposureLevels = 3;
   EXPECT_EQ(chooseHdrLevelsUs({10.0, 1.0}, rig).size(), 2u);

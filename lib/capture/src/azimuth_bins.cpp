@@ -72,7 +72,8 @@ std::vector<bool> AzimuthBins::filled() const {
 
 std::vector<SliceSample> AzimuthBins::combine() const {
   std::vector<SliceSample> out;
-  for (const auto& bin : bins_) {
+  for (std::size_t b = 0; b < bins_.size(); ++b) {
+    const auto& bin = bins_[b];
     if (bin.empty()) continue;
     std::vector<double> channel[3], lightPhi, viewPhi;
     double lightTheta = 0.0, viewTheta = 0.0;
@@ -87,7 +88,13 @@ std::vector<SliceSample> AzimuthBins::combine() const {
     const double n = double(bin.size());
     // An HDR sweep's bin merges its exposures per cell (hdr_merge.hpp); one exposure's frames
     // keep the median, robust to a blurred or occluded frame that passed the gate.
-    const std::optional<HdrMerge> merged = mergeHdrBin(bin);
+    std::vector<double> offCentreDeg;
+    for (const FrameSample& s : bin)
+      offCentreDeg.push_back(
+          wrapDeg360(sliceParameterDeg(kind_, {s.light, s.view, s.value}) -
+                     double(b) * binWidthDeg_ + 180.0) -
+          180.0);
+    const std::optional<HdrMerge> merged = mergeHdrBin(bin, offCentreDeg);
     out.push_back({{lightTheta / n, circularMeanDeg(lightPhi)},
                    {viewTheta / n, circularMeanDeg(viewPhi)},
                    merged ? merged->value

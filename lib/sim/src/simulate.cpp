@@ -83,6 +83,19 @@ MeteredRadiance meterSweep(const FrameRenderer& renderer, const RigParams& rig,
         metered.window,
         renderer.windowPoint(scene, Eigen::Vector3d::Zero()).expectedLinear.maxChannel() /
             perRadiance);
+    // The sample square on a 9 x 9 grid: a cell clipped in every frame of a bin is only a lower
+    // bound in the HDR merge.
+    const vision::RectMm& w = target.window;
+    const double half = kMeteredSquareFraction * std::min(w.widthMm(), w.heightMm()) / 2.0;
+    constexpr int kSteps = 8;
+    for (int j = 0; j <= kSteps; ++j)
+      for (int i = 0; i <= kSteps; ++i) {
+        const Eigen::Vector3d at(w.centre().xMm + half * (2.0 * i / kSteps - 1.0),
+                                 w.centre().yMm + half * (2.0 * j / kSteps - 1.0), 0.0);
+        metered.windowSquare =
+            std::max(metered.windowSquare,
+                     renderer.windowPoint(scene, at).expectedLinear.maxChannel() / perRadiance);
+      }
     for (const vision::Patch& p : target.patches) {
       if (p.kind != vision::PatchKind::White) continue;
       const Eigen::Vector3d at(p.rect.centre().xMm, p.rect.centre().yMm, 0.0);
@@ -114,7 +127,7 @@ double chooseExposureUs(const FrameRenderer& renderer, const RigParams& rig,
 
 std::vector<double> chooseHdrLevelsUs(const MeteredRadiance& metered, const RigParams& rig) {
   const double paperUs = exposureForUs(rig, metered.references);
-  const double highlightUs = exposureForUs(rig, metered.window);
+  const double highlightUs = exposureForUs(rig, std::max(metered.window, metered.windowSquare));
   // The window never much brighter than the paper: one exposure holds both.
   if (rig.maxExposureLevels < 2 || highlightUs * kHdrMinRatio >= paperUs)
     return {std::min(paperUs, highlightUs)};

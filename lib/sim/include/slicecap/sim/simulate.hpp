@@ -25,12 +25,18 @@ struct SweepSetup {
 };
 
 /// \brief The brightest radiances (W / (m^2 sr), LED on, any channel) over a sweep's planned
-/// positions: the window centre's, and the white references' (their centres, room light
+/// positions: the window centre's, the window's sample square's (the part of the window the
+/// capture reads, kMeteredSquareFraction of its side: off the mirror direction, a sharp lobe's
+/// brightest point is off the centre), and the white references' (their centres, room light
 /// included).
 struct MeteredRadiance {
   double window = 0.0;
   double references = 0.0;
+  double windowSquare = 0.0;
 };
+/// \brief The side of the square metered for HDR's short level, as a fraction of the window's:
+/// capture::PipelineSettings::windowSampleFraction's default.
+inline constexpr double kMeteredSquareFraction = 0.2;
 MeteredRadiance meterSweep(const FrameRenderer& renderer, const RigParams& rig,
                            const std::vector<FramePlan>& plans);
 
@@ -49,7 +55,8 @@ inline constexpr double kHdrMaxStepRatio = 16.0;
 
 /// \brief The HDR metering rule (docs/method.md, HDR capture), longest first, each 20 us .. 0.5 s:
 /// level 0 puts the brightest white reference at 80 % of full scale (the paper: the irradiance
-/// and the dark parts of the lobe), the last level the brightest window centre (the highlight);
+/// and the dark parts of the lobe), the last level the brightest point of the window's sample
+/// square (the highlight: every cell of the square unclipped);
 /// a third, their geometric mean, when rig.maxExposureLevels is 3 and they are more than
 /// kHdrMaxStepRatio apart. One level (the Brightest rule) when rig.maxExposureLevels is 1 or the
 /// window is less than kHdrMinRatio brighter than the paper.
