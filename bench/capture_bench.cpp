@@ -190,7 +190,8 @@ void BM_PipelineSweep(benchmark::State& state) {
       if (listFrames) {
         const auto& scale = outcome.measurement.trackedScale;
         const std::string what =
-            outcome.kind == capture::FrameOutcome::Kind::Rejected ? outcome.rejectReason
+            outcome.kind == capture::FrameOutcome::Kind::Rejected
+                ? std::string(toString(outcome.rejectReason))
             : outcome.kind == capture::FrameOutcome::Kind::Sample ? "sample"
                                                                   : "ambient";
         const std::string how = scale ? " tracked dec " + std::to_string(scale->quadDecimate) +
@@ -207,7 +208,7 @@ void BM_PipelineSweep(benchmark::State& state) {
       ++ledOnFrames;
       frameMs.push_back(took.count());
       frameCpuMs.push_back(cpuMs);
-      if (outcome.kind == capture::FrameOutcome::Kind::Rejected) ++rejections[outcome.rejectReason];
+      if (outcome.kind == capture::FrameOutcome::Kind::Rejected) ++rejections[std::string(toString(outcome.rejectReason))];
       if (outcome.kind != capture::FrameOutcome::Kind::Sample) continue;
       ++samples;
       viewErrorDeg.push_back(angleBetweenDeg(outcome.sample->view, sweep.truth.frames[i].view));

@@ -56,7 +56,7 @@ std::pair<int, int> falseOcclusions(const RecordingResult& result, const sim::Sw
   for (std::size_t i = 0; i < truth.frames.size(); ++i) {
     if (!truth.frames[i].ledOn || truth.frames[i].occluded) continue;
     ++clear;
-    if (result.outcomes[i].rejectReason == "window_occluded") {
+    if (result.outcomes[i].rejectReason == RejectReason::WindowOccluded) {
       ++rejected;
       ADD_FAILURE() << "frame " << i << ": " << result.outcomes[i].detail;
     }
@@ -111,9 +111,9 @@ TEST(FramePipelineGate, TheLightArmOverTheWhiteReferencesIsStillCaught) {
       ASSERT_TRUE(truth.frames[i].occluded) << "frame " << i;
       EXPECT_EQ(o.kind, FrameOutcome::Kind::Rejected) << "frame " << i;
       // The arm may hide too many markers first; a frame that got past the pose is the gate's.
-      if (o.rejectReason == "too_few_markers" || o.rejectReason == "pose_residual") continue;
+      if (o.rejectReason == RejectReason::TooFewMarkers || o.rejectReason == RejectReason::PoseResidual) continue;
       ++located;
-      EXPECT_EQ(o.rejectReason, "window_occluded") << "frame " << i << ": " << o.detail;
+      EXPECT_EQ(o.rejectReason, RejectReason::WindowOccluded) << "frame " << i << ": " << o.detail;
     }
     EXPECT_GE(located, 3) << "too few frames reached the gate: the test shows nothing";
   }

@@ -93,34 +93,34 @@ TEST(FramePipeline, GateCountsElevationOffTooFewMarkersAndBadFrames) {
 
   // Swept at 30 deg, processed as a 75 deg slice: the camera is 45 deg off.
   const FrameOutcome off = pipeline.process(good, {SliceKind::Axial, {30, 75}});
-  EXPECT_EQ(off.rejectReason, "elevation_off");
+  EXPECT_EQ(off.rejectReason, RejectReason::ElevationOff);
   ASSERT_TRUE(off.viewElevationErrorDeg.has_value());
   EXPECT_NEAR(*off.viewElevationErrorDeg, -45.0, 1.0);
 
   // A blank frame (no target in view) and one with all but the top rows blanked. Live, the
   // search of a lost target is spread over frames: each such frame is a counted
-  // "detection_deferred"; with no budget every pass runs at once and finds too few.
+  // RejectReason::DetectionDeferred; with no budget every pass runs at once and finds too few.
   hal::Frame blank = good;
   std::fill(blank.image.samples.begin(), blank.image.samples.end(), 128);
-  EXPECT_EQ(pipeline.process(blank, slice).rejectReason, "detection_deferred");
+  EXPECT_EQ(pipeline.process(blank, slice).rejectReason, RejectReason::DetectionDeferred);
   hal::Frame cut = good;
   std::fill(cut.image.samples.begin() + cut.image.samples.size() / 8, cut.image.samples.end(), 128);
   const FrameOutcome few = pipeline.process(cut, slice);
-  EXPECT_EQ(few.rejectReason, "detection_deferred");
+  EXPECT_EQ(few.rejectReason, RejectReason::DetectionDeferred);
   EXPECT_LT(few.measurement.markerCount, 4);
   EXPECT_LE(few.measurement.detectionWorkPx, MarkerDetectorSettings{}.frameBudgetPx);
   PipelineSettings unlimited;
   unlimited.detector.frameBudgetPx = std::numeric_limits<double>::infinity();
   FramePipeline everything(recording.target, recording.camera, unlimited);
   everything.setAmbientFrame(frameOf(dir, 1));
-  EXPECT_EQ(everything.process(blank, slice).rejectReason, "too_few_markers");
-  EXPECT_EQ(everything.process(cut, slice).rejectReason, "too_few_markers");
+  EXPECT_EQ(everything.process(blank, slice).rejectReason, RejectReason::TooFewMarkers);
+  EXPECT_EQ(everything.process(cut, slice).rejectReason, RejectReason::TooFewMarkers);
 
   hal::Frame small = good;
   small.image.width /= 2;
   small.image.samples.resize(small.image.samples.size() / 2);
   const FrameOutcome bad = pipeline.process(small, slice);
-  EXPECT_EQ(bad.rejectReason, "bad_frame");
+  EXPECT_EQ(bad.rejectReason, RejectReason::BadFrame);
   EXPECT_NE(bad.detail.find("expected 1280 x 720"), std::string::npos) << bad.detail;
 
   // The rejections left no state behind: the same good frame is still a sample.
@@ -132,12 +132,12 @@ TEST(FramePipeline, NoAmbientFrameYetIsRejectedLive) {
   const auto dir = simulate(slice, sim::RigParams::ideal(), 2);
   const io::Recording recording = io::readRecording(dir);
   const FrameProcessor process = makeFramePipeline(recording.target, recording.camera);
-  EXPECT_EQ(process(frameOf(dir, 0), slice).rejectReason, "no_ambient_frame");
+  EXPECT_EQ(process(frameOf(dir, 0), slice).rejectReason, RejectReason::NoAmbientFrame);
   EXPECT_EQ(process(frameOf(dir, 1), slice).kind, FrameOutcome::Kind::Ambient);
   EXPECT_EQ(process(frameOf(dir, 0), slice).kind, FrameOutcome::Kind::Sample);
 }
 
-// A frame the pipeline rejects as "bad_frame" (here half the size the camera gives) is no
+// A frame the pipeline rejects as RejectReason::BadFrame (here half the size the camera gives) is no
 // room-light term either: not as the LED-off frame before (live or offline) nor as the one after
 // (offline).
 TEST(FramePipeline, AnLedOffFrameOfTheWrongSizeIsNoRoomLightTerm) {
@@ -159,9 +159,9 @@ TEST(FramePipeline, AnLedOffFrameOfTheWrongSizeIsNoRoomLightTerm) {
   FramePipeline live(recording.target, recording.camera);
   live.setAmbientFrame(half);
   EXPECT_TRUE(live.ambientTermsFor(frameOf(dir, 2).metadata.timestampUs).empty());
-  EXPECT_EQ(live.process(frameOf(dir, 2), slice).rejectReason, "no_ambient_frame");
-  EXPECT_EQ(live.process(half, slice).rejectReason, "bad_frame");
-  EXPECT_EQ(live.process(frameOf(dir, 4), slice).rejectReason, "no_ambient_frame");
+  EXPECT_EQ(live.process(frameOf(dir, 2), slice).rejectReason, RejectReason::NoAmbientFrame);
+  EXPECT_EQ(live.process(half, slice).rejectReason, RejectReason::BadFrame);
+  EXPECT_EQ(live.process(frameOf(dir, 4), slice).rejectReason, RejectReason::NoAmbientFrame);
 
   FramePipeline offline(recording.target, recording.camera);
   offline.setAmbientFrame(frameOf(dir, 1));
@@ -171,14 +171,14 @@ TEST(FramePipeline, AnLedOffFrameOfTheWrongSizeIsNoRoomLightTerm) {
   EXPECT_EQ(terms.at(0).frame->metadata.timestampUs, frameOf(dir, 1).metadata.timestampUs);
 
   // processRecording: the frame's PNG at half size gives every other frame the outcome it has
-  // when that PNG is corrupt (both are "bad_frame").
+  // when that PNG is corrupt (both are RejectReason::BadFrame).
   const auto victim = io::framePath(dir, recording.frames[3]);
   io::writePng(victim, half.image);
   const RecordingResult wrongSize = processRecording(dir);
   std::filesystem::resize_file(victim, std::filesystem::file_size(victim) / 2);
   const RecordingResult corrupt = processRecording(dir);
-  EXPECT_EQ(wrongSize.outcomes[3].rejectReason, "bad_frame");
-  EXPECT_EQ(corrupt.outcomes[3].rejectReason, "bad_frame");
+  EXPECT_EQ(wrongSize.outcomes[3].rejectReason, RejectReason::BadFrame);
+  EXPECT_EQ(corrupt.outcomes[3].rejectReason, RejectReason::BadFrame);
   for (std::size_t i = 0; i < recording.frames.size(); ++i) {
     if (i == 3) continue;
     SCOPED_TRACE("frame " + std::to_string(i));
@@ -219,7 +219,7 @@ TEST(FramePipeline, RoomLightOfAFrameOfUnknownExposureIsNotSubtractedFromAKnownO
   for (const auto& [off, on] : {std::pair{0.0, exposureUs}, std::pair{exposureUs, 0.0}}) {
     SCOPED_TRACE("LED-off exposure " + std::to_string(off) + " us, LED-on " + std::to_string(on));
     const FrameOutcome mixed = outcomeWith(off, on);
-    EXPECT_EQ(mixed.rejectReason, "no_ambient_frame") << mixed.detail;
+    EXPECT_EQ(mixed.rejectReason, RejectReason::NoAmbientFrame) << mixed.detail;
     EXPECT_NE(mixed.detail.find("exposure"), std::string::npos) << mixed.detail;
   }
 }
@@ -332,7 +332,7 @@ TEST(FramePipeline, CorruptPngIsACountedRejectionAndMissingFieldAnError) {
   const auto victim = io::framePath(dir, recording.frames[2]);
   std::filesystem::resize_file(victim, std::filesystem::file_size(victim) / 2);
   const RecordingResult result = processRecording(dir);
-  EXPECT_EQ(result.rejections.at("bad_frame"), 1);
+  EXPECT_EQ(result.rejections.at(RejectReason::BadFrame), 1);
   EXPECT_NE(result.outcomes[2].detail.find("frame-00002.png"), std::string::npos)
       << result.outcomes[2].detail;
   EXPECT_EQ(result.outcomes[0].kind, FrameOutcome::Kind::Sample);

@@ -157,7 +157,7 @@ TEST(FramePipeline, TrackedFramesUseTheCoarseScaleAndAgreeWithTheWholeFrameSearc
     const RenderedView before = renderView(thetaDeg, 2), after = renderView(thetaDeg, 4);
     FramePipeline tracking(vision::defaultTarget(), vision::defaultSimulatedCamera());
     const FrameOutcome first = tracking.process(before.on, before.slice);
-    ASSERT_EQ(first.rejectReason, "no_ambient_frame") << first.detail;
+    ASSERT_EQ(first.rejectReason, RejectReason::NoAmbientFrame) << first.detail;
     EXPECT_FALSE(first.measurement.trackedScale.has_value()) << "no pose yet: the whole frame";
     tracking.setAmbientFrame(after.off);
     const FrameOutcome tracked = tracking.process(after.on, after.slice);
@@ -179,7 +179,7 @@ TEST(FramePipeline, TrackedFramesUseTheCoarseScaleAndAgreeWithTheWholeFrameSearc
     unlimited.detector.frameBudgetPx = std::numeric_limits<double>::infinity();
     FramePipeline fresh(vision::defaultTarget(), vision::defaultSimulatedCamera(), unlimited);
     const FrameOutcome whole = fresh.process(after.on, after.slice);
-    ASSERT_EQ(whole.rejectReason, "no_ambient_frame") << whole.detail;
+    ASSERT_EQ(whole.rejectReason, RejectReason::NoAmbientFrame) << whole.detail;
     ASSERT_TRUE(whole.measurement.view.has_value());
     EXPECT_FALSE(whole.measurement.trackedScale.has_value());
     EXPECT_GE(tracked.measurement.markerCount, whole.measurement.markerCount - 2);

@@ -77,9 +77,9 @@ TEST(SessionManager, WalksAPersonThroughASweep) {
   EXPECT_TRUE(manager.capturing());
   for (int k = 0; k < 10; ++k)
     EXPECT_TRUE(manager.acceptSample(sampleAt(k * 15.0, 0.5, k)));
-  manager.rejectFrame("too_few_markers");
-  manager.rejectFrame("too_few_markers");
-  manager.rejectFrame("elevation_off");
+  manager.rejectFrame(capture::RejectReason::TooFewMarkers);
+  manager.rejectFrame(capture::RejectReason::TooFewMarkers);
+  manager.rejectFrame(capture::RejectReason::ElevationOff);
   manager.noteViewElevationErrorDeg(-2.5);
   const json status = manager.status();
   EXPECT_EQ(status["sweep"]["state"], "capturing");

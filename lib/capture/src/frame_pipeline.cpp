@@ -29,7 +29,8 @@ bool exposureKnown(const hal::Frame& frame) {
 
 // A reason and detail for a rejection by the window and white-reference gate.
 struct GateFailure {
-  std::string reason, detail;
+  RejectReason reason;
+  std::string detail;
 };
 
 // The relative disagreement of the white references that noise alone exceeds with the
@@ -88,10 +89,10 @@ std::optional<std::string> badFrameDetail(const hal::Frame& frame,
          " x " + std::to_string(k.heightPx) + " of " + std::string(toString(frame.encoding));
 }
 
-FrameOutcome rejected(std::string reason, std::string detail, FrameOutcome outcome = {}) {
+FrameOutcome rejected(RejectReason reason, std::string detail, FrameOutcome outcome = {}) {
   outcome.kind = FrameOutcome::Kind::Rejected;
   outcome.sample.reset();
-  outcome.rejectReason = std::move(reason);
+  outcome.rejectReason = reason;
   outcome.detail = std::move(detail);
   return outcome;
 }
@@ -183,8 +184,8 @@ struct FramePipeline::State {
     AreaSpec spec = windowArea;
     spec.clipFraction = settings.clipFraction;
     *window = readArea(frame, pose, camera, spec, settings.noise, *codes);
-    if (!window->inside) return GateFailure{"window_occluded", "window out of the image"};
-    if (window->clipped && !settings.hdr) return GateFailure{"window_clipped", "window saturated"};
+    if (!window->inside) return GateFailure{RejectReason::WindowOccluded, "window out of the image"};
+    if (window->clipped && !settings.hdr) return GateFailure{RejectReason::WindowClipped, "window saturated"};
     return std::nullopt;
   }
 
@@ -201,7 +202,7 @@ struct FramePipeline::State {
       spec.clipFraction = settings.clipFraction;
       const AreaReading area = readArea(frame, pose, camera, spec, settings.noise, *codes);
       if (!area.inside) continue;
-      if (area.clipped) return GateFailure{"window_clipped", "white reference saturated"};
+      if (area.clipped) return GateFailure{RejectReason::WindowClipped, "white reference saturated"};
       const AreaReading room = ambientAt(roomLight, reference.area, pose);
       const Rgb value = area.mean - room.mean;
       Rgb sigma;
@@ -214,7 +215,7 @@ struct FramePipeline::State {
       (value.minChannel() > 0 ? observations : unlit)->push_back(observation);
     }
     if (observations->size() < 5)
-      return GateFailure{"window_occluded", "white references out of the image"};
+      return GateFailure{RejectReason::WindowOccluded, "white references out of the image"};
     return std::nullopt;
   }
 
@@ -233,12 +234,12 @@ struct FramePipeline::State {
     try {
       *fit = fitPointLight(observations, fitParams);
     } catch (const std::invalid_argument& error) {
-      return GateFailure{"window_occluded", error.what()};
+      return GateFailure{RejectReason::WindowOccluded, error.what()};
     }
-    if (!fit->converged) return GateFailure{"window_occluded", "light fit: " + fit->message};
+    if (!fit->converged) return GateFailure{RejectReason::WindowOccluded, "light fit: " + fit->message};
     *limit = settings.maxReferenceResidual + noiseAllowance(*fit, settings.referenceNoiseSigmas);
     if (fit->weightedResidualRms > *limit)
-      return GateFailure{"window_occluded", "white references disagree by " +
+      return GateFailure{RejectReason::WindowOccluded, "white references disagree by " +
                                                 std::to_string(fit->weightedResidualRms) +
                                                 ", noise and margin allow " +
                                                 std::to_string(*limit)};
@@ -248,7 +249,7 @@ struct FramePipeline::State {
         const double expected = o.albedo[c] / std::numbers::pi * irradiance[c];
         if (expected - o.radiance[c] >
             settings.referenceNoiseSigmas * o.sigma[c] + settings.maxReferenceResidual * expected)
-          return GateFailure{"window_occluded",
+          return GateFailure{RejectReason::WindowOccluded,
                              "a white reference (at " + std::to_string(o.point.x) + ", " +
                                  std::to_string(o.point.y) + " mm) gets no LED light, " +
                                  std::to_string(expected / o.sigma[c]) + " sigma expected"};
@@ -373,7 +374,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   State& s = *state_;
   const std::uint64_t index = s.frameIndex++;
   if (auto detail = badFrameDetail(frame, s.camera.intrinsics))
-    return rejected("bad_frame", std::move(*detail));
+    return rejected(RejectReason::BadFrame, std::move(*detail));
   // The LED's state over the rows a sample reads, predicted from the latest pose: a frame the LED
   // switched during is neither a sample nor room light. Without a pose yet, a frame mixed over
   // all its rows may still be clean where the target is: it is located, and its own rows decide.
@@ -382,7 +383,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   const hal::LedExposure::State ledState =
       ledStateOver(frame, predictedRows.value_or(RowSpan{0, height - 1}));
   if (ledState == hal::LedExposure::State::Mixed && predictedRows)
-    return rejected("led_transition", ledTransitionDetail(*predictedRows));
+    return rejected(RejectReason::LedTransition, ledTransitionDetail(*predictedRows));
   if (ledState == hal::LedExposure::State::Off) {
     if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs) {
       s.ambient = std::move(s.nextAmbient);  // already located by setFollowingAmbientFrame
@@ -417,22 +418,22 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   const std::string markerText =
       std::to_string(known.size()) + " of " + std::to_string(s.target.markers.size()) + " markers";
   if (m.markerCount < s.settings.minMarkers && found.deferred)
-    return rejected("detection_deferred", markerText + " in this frame's detection budget",
+    return rejected(RejectReason::DetectionDeferred, markerText + " in this frame's detection budget",
                     outcome);
   if (m.markerCount < s.settings.minMarkers)
-    return rejected("too_few_markers", markerText, outcome);
+    return rejected(RejectReason::TooFewMarkers, markerText, outcome);
   const auto estimate = estimatePlanarPose(corners, s.camera);
-  if (!estimate) return rejected("too_few_markers", markerText + ", no pose", outcome);
+  if (!estimate) return rejected(RejectReason::TooFewMarkers, markerText + ", no pose", outcome);
   const vision::Pose& pose = estimate->pose;
   m.pose = pose;
   if (estimate->residualRmsPx <= s.settings.maxPoseResidualPx) s.search.located(pose);
   m.rowsOfInterest = rowsOfInterest(s.target, s.camera, pose, height, kBlurRowMarginPx);
   if (ledStateOver(frame, *m.rowsOfInterest) != hal::LedExposure::State::On)
-    return rejected("led_transition", ledTransitionDetail(*m.rowsOfInterest), outcome);
+    return rejected(RejectReason::LedTransition, ledTransitionDetail(*m.rowsOfInterest), outcome);
   const Eigen::Vector3d cameraCentre = pose.cameraCentreMm();
   m.poseResidualPx = estimate->residualRmsPx;
   m.cameraDistanceMm = cameraCentre.norm();
-  if (cameraCentre.z() <= 0) return rejected("pose_residual", "camera below the target", outcome);
+  if (cameraCentre.z() <= 0) return rejected(RejectReason::PoseResidual, "camera below the target", outcome);
   m.view = vision::directionFrom(Eigen::Vector3d::Zero(), cameraCentre);
   outcome.viewElevationErrorDeg = m.view->thetaDeg - slice.elevations.thetaVDeg;
   const double phiLight = slice.kind == SliceKind::Axial
@@ -440,9 +441,9 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
                               : wrapDeg360(360.0 - m.view->phiDeg);
   m.nominalLight = Direction{static_cast<double>(slice.elevations.thetaIDeg), phiLight};
   if (m.poseResidualPx > s.settings.maxPoseResidualPx)
-    return rejected("pose_residual", std::to_string(m.poseResidualPx) + " px", outcome);
+    return rejected(RejectReason::PoseResidual, std::to_string(m.poseResidualPx) + " px", outcome);
   if (std::abs(*outcome.viewElevationErrorDeg) > s.settings.elevationToleranceDeg)
-    return rejected("elevation_off", "view elevation " + std::to_string(m.view->thetaDeg) + " deg",
+    return rejected(RejectReason::ElevationOff, "view elevation " + std::to_string(m.view->thetaDeg) + " deg",
                     outcome);
   // Blur: motion smears the edges across the motion, so the blurriest quarter of the edges counts.
   const LinearView view(frame, *s.codes);
@@ -456,11 +457,11 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   std::sort(sharpness.begin(), sharpness.end());
   m.sharpness = sharpness.empty() ? 0.0 : sharpness[sharpness.size() / 4];
   if (m.sharpness < s.settings.minSharpness)
-    return rejected("blurred", "edge sharpness " + std::to_string(m.sharpness), outcome);
+    return rejected(RejectReason::Blurred, "edge sharpness " + std::to_string(m.sharpness), outcome);
 
   AreaReading window;
   if (auto failure = s.readWindow(frame, pose, &window))
-    return rejected(std::move(failure->reason), std::move(failure->detail), outcome);
+    return rejected(failure->reason, std::move(failure->detail), outcome);
   // The same room-light term for the window and every reference, found once.
   // Without the LED alternating, an LED-off frame is a stray (a sweep's first): it would stand
   // for the room light of the whole sweep, read at pixels the camera has long moved from.
@@ -468,12 +469,12 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
                                                ? s.ambientTerms(frame.metadata.timestampUs)
                                                : std::vector<AmbientTerm>{};
   if (s.settings.requireAmbient && ambient.empty())
-    return rejected("no_ambient_frame", "no LED-off frame yet", outcome);
+    return rejected(RejectReason::NoAmbientFrame, "no LED-off frame yet", outcome);
   // Each frame is read per unit of exposure x gain; a frame whose camera reported none is read as
   // it is, which matches another such frame only (the same locked exposure assumed).
   for (const AmbientTerm& term : ambient)
     if (exposureKnown(*term.frame) != exposureKnown(frame))
-      return rejected("no_ambient_frame",
+      return rejected(RejectReason::NoAmbientFrame,
                       exposureKnown(frame)
                           ? "the LED-off frame's exposure is unknown"
                           : "this frame's exposure is unknown, the LED-off frame's is not",
@@ -487,7 +488,7 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   if (!failure) failure = s.fitLight(observations, unlit, *m.nominalLight, &fit, &limit);
   if (fit.converged) m.referenceDisagreement = fit.weightedResidualRms;
   if (fit.converged) m.referenceDisagreementLimit = limit;
-  if (failure) return rejected(std::move(failure->reason), std::move(failure->detail), outcome);
+  if (failure) return rejected(failure->reason, std::move(failure->detail), outcome);
   m.fittedLight = fit.light;
   m.measuredLight = fit.light.directionFrom({0.0, 0.0, 0.0});
   m.measuredLightSigmaDeg = fit.directionSigmaDeg;

@@ -93,7 +93,7 @@ void processGroup(const std::filesystem::path& directory, const io::Recording& r
                              : std::vector<AmbientTerm>{});
     } catch (const io::IoError& error) {
       outcome.kind = FrameOutcome::Kind::Rejected;
-      outcome.rejectReason = "bad_frame";
+      outcome.rejectReason = RejectReason::BadFrame;
       outcome.detail = error.what();
     }
     result.outcomes[i] = std::move(outcome);
@@ -180,6 +180,13 @@ RecordingResult processRecording(const std::filesystem::path& directory,
   return result;
 }
 
+nlohmann::json RecordingResult::rejectionsJson() const {
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [reason, count] : rejections)
+    out[std::string(toString(reason))] = count;
+  return out;
+}
+
 nlohmann::json RecordingResult::toJson() const {
   nlohmann::json frames = nlohmann::json::array();
   for (std::size_t i = 0; i < outcomes.size(); ++i) {
@@ -206,7 +213,7 @@ nlohmann::json RecordingResult::toJson() const {
       f["white_references"] = {{"disagreement", *m.referenceDisagreement},
                                {"allowed", m.referenceDisagreementLimit.value_or(0.0)}};
     if (o.sample && o.sample->hdr) f["exposure_level"] = o.sample->hdr->exposureLevel;
-    if (o.kind == FrameOutcome::Kind::Rejected) f["reason"] = o.rejectReason;
+    if (o.kind == FrameOutcome::Kind::Rejected) f["reason"] = toString(o.rejectReason);
     if (!o.detail.empty()) f["detail"] = o.detail;
     if (o.sample) {
       f["light"] = directionJson(o.sample->light);
@@ -230,7 +237,7 @@ nlohmann::json RecordingResult::toJson() const {
           {"room_light", roomLightSubtracted
                              ? "subtracted (the LED-off frames)"
                              : "not subtracted: the recording has no LED-off frame"},
-          {"rejections", rejections},
+          {"rejections", rejectionsJson()},
           {"frames", frames},
           {"bins", binList}};
 }

@@ -43,15 +43,16 @@ std::vector<io::Recording> readRecordings(const std::vector<std::filesystem::pat
 // "DIR (slice): rejected 20 blurred, 4 too_few_markers": why a recording gave no sample, the
 // three most frequent reasons first.
 std::string noSampleReason(const capture::RecordingResult& result) {
-  std::vector<std::pair<std::string, int>> reasons(result.rejections.begin(),
-                                                   result.rejections.end());
+  std::vector<std::pair<capture::RejectReason, int>> reasons(result.rejections.begin(),
+                                                             result.rejections.end());
   std::stable_sort(reasons.begin(), reasons.end(),
                    [](const auto& a, const auto& b) { return a.second > b.second; });
   std::string text = result.directory.string() + " (" + toString(result.slice) + "): ";
   if (reasons.empty()) return text + "no LED-on frame";
   text += "rejected";
   for (std::size_t k = 0; k < std::min<std::size_t>(reasons.size(), 3); ++k)
-    text += (k ? ", " : " ") + std::to_string(reasons[k].second) + " " + reasons[k].first;
+    text += (k ? ", " : " ") + std::to_string(reasons[k].second) + " " +
+            std::string(toString(reasons[k].first));
   return text;
 }
 

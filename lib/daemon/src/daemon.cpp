@@ -272,7 +272,7 @@ struct Daemon::State {
       outcome = processor(frame, *cameraSlice);
     } catch (const std::exception& error) {
       outcome.kind = capture::FrameOutcome::Kind::Rejected;
-      outcome.rejectReason = "bad_frame";
+      outcome.rejectReason = capture::RejectReason::BadFrame;
       outcome.detail = error.what();
     }
     if (outcome.viewElevationErrorDeg)

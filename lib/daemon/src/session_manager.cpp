@@ -338,8 +338,8 @@ bool SessionManager::acceptSample(const capture::FrameSample& sample) {
   return true;
 }
 
-void SessionManager::rejectFrame(const std::string& reason) {
-  if (state_->sweep) ++state_->sweep->rejected[reason];
+void SessionManager::rejectFrame(capture::RejectReason reason) {
+  if (state_->sweep) ++state_->sweep->rejected[std::string(toString(reason))];
 }
 
 void SessionManager::noteViewElevationErrorDeg(double errorDeg) {

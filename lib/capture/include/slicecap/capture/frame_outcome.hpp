@@ -12,6 +12,7 @@
 #include "slicecap/capture/light_model.hpp"
 #include "slicecap/capture/marker_detector.hpp"
 #include "slicecap/core/slice.hpp"
+#include "slicecap/capture/reject_reason.hpp"
 #include "slicecap/hal/frame.hpp"
 #include "slicecap/vision/pose.hpp"
 
@@ -19,19 +20,12 @@ namespace slicecap::capture {
 
 /// \brief One frame's outcome. Exactly one of: a sample (an accepted LED-on frame), an ambient
 /// frame (an LED-off frame kept to subtract room light from its neighbours; not a sample), or a
-/// rejection with its reason, one of the stable snake_case names the status and the report
-/// count: "too_few_markers", "detection_deferred", "elevation_off", "blurred", "window_clipped",
-/// "window_occluded", "pose_residual", "no_ambient_frame", "bad_frame", "led_transition".
-/// "detection_deferred": too few markers found within the frame's detection budget
-/// (MarkerDetectorSettings::frameBudgetPx) while the search wanted more (a wider region, the
-/// next re-acquisition passes), which go on in the next frames; "too_few_markers": the frame's
-/// whole planned search ran and found too few; "led_transition": the LED switched while the rows
-/// of the window or the white references were exposed (neither a sample nor room light).
+/// rejection with its reason (reject_reason.hpp).
 struct FrameOutcome {
   enum class Kind { Sample, Ambient, Rejected };
   Kind kind = Kind::Rejected;
   std::optional<FrameSample> sample;  ///< set exactly when kind == Sample
-  std::string rejectReason;           ///< set exactly when kind == Rejected
+  RejectReason rejectReason{};        ///< meaningful exactly when kind == Rejected
   std::string detail;                 ///< free text for logs and reports (e.g. "3 of 16 tags")
   /// \brief View elevation minus the slice's nominal, deg, whenever a pose was found (shown live
   /// so the person can correct the arm).

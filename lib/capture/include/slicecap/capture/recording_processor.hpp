@@ -23,7 +23,7 @@ struct RecordingResult {
   std::vector<std::string> frameFiles;  ///< per frame, as in recording.json
   std::vector<FrameOutcome> outcomes;   ///< per frame, in order
   AzimuthBins bins{SliceKind::Axial};
-  std::map<std::string, int> rejections;  ///< count by reason
+  std::map<RejectReason, int> rejections;  ///< count by reason
   int ambientFrames = 0;
   /// \brief False when the recording has no LED-off frame (the LED on in every frame, as
   /// simulate --no-led-alternation and slicecapd's led_alternate = false record): its samples
@@ -37,6 +37,8 @@ struct RecordingResult {
   std::string decoding = "srgb";
   /// \brief The report's entry: per frame the pose, light, gate outcome; per bin its frames.
   nlohmann::json toJson() const;
+  /// \brief The rejections as {"reason name": count}.
+  nlohmann::json rejectionsJson() const;
 };
 
 /// \brief Runs `directory` (a recording with a slice) through a FramePipeline, decoding 8-bit

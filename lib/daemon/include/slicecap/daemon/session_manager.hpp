@@ -11,6 +11,7 @@
 #include <string>
 #include <variant>
 
+#include "slicecap/capture/reject_reason.hpp"
 #include "slicecap/capture/session_store.hpp"
 #include "slicecap/control/reply_views.hpp"
 #include "slicecap/core/abrdf.hpp"
@@ -62,7 +63,7 @@ class SessionManager {
   /// stops with a storage error in its status and this returns false; nothing stored is lost.
   bool acceptSample(const capture::FrameSample& sample);
   /// \brief Counts a rejected frame under its reason ("too_few_markers", "elevation_off", ...).
-  void rejectFrame(const std::string& reason);
+  void rejectFrame(capture::RejectReason reason);
   /// \brief The view elevation's distance from the slice's nominal in the last posed frame, shown
   /// live so the person can correct the arm.
   void noteViewElevationErrorDeg(double errorDeg);
