@@ -7,3 +7,10 @@
 # -DCMAKE_BUILD_TYPE=RelWithDebInfo after this file (scripts/build passes its arguments on to cmake).
 set(CMAKE_BUILD_TYPE Release CACHE STRING "Build type" FORCE)
 set(CMAKE_CXX_FLAGS_RELEASE "-O2 -DNDEBUG" CACHE STRING "Release: -O2 as RelWithDebInfo, without -g" FORCE)
+# Compiled through ccache when it is installed (scripts/deps/host.txt): scripts/offline-build-check
+# builds a second configuration of the same tree right after, and its unchanged translation units
+# (every one but the few that know the SLICECAP_WITH_* options) are then cache hits.
+find_program(SLICECAP_CCACHE ccache)
+if(SLICECAP_CCACHE)
+  set(CMAKE_CXX_COMPILER_LAUNCHER "${SLICECAP_CCACHE}" CACHE STRING "Compiler launcher (ccache)")
+endif()
