@@ -10,7 +10,11 @@ set(CMAKE_CXX_FLAGS_RELEASE "-O2 -DNDEBUG" CACHE STRING "Release: -O2 as RelWith
 # Compiled through ccache when it is installed (scripts/deps/host.txt): scripts/offline-build-check
 # builds a second configuration of the same tree right after, and its unchanged translation units
 # (every one but the few that know the SLICECAP_WITH_* options) are then cache hits.
+# CCACHE_BASEDIR is the source tree: ccache hashes the paths under it relative to the build folder,
+# so build/ and build-offline/ (whose generated-header folders differ) share their entries.
 find_program(SLICECAP_CCACHE ccache)
 if(SLICECAP_CCACHE)
-  set(CMAKE_CXX_COMPILER_LAUNCHER "${SLICECAP_CCACHE}" CACHE STRING "Compiler launcher (ccache)")
+  get_filename_component(slicecap_tree "${CMAKE_CURRENT_LIST_DIR}/.." ABSOLUTE)
+  set(CMAKE_CXX_COMPILER_LAUNCHER "/usr/bin/env;CCACHE_BASEDIR=${slicecap_tree};${SLICECAP_CCACHE}"
+      CACHE STRING "Compiler launcher (ccache)")
 endif()

@@ -10,6 +10,7 @@
 // Without libsystemd (-DSLICECAP_WITH_SYSTEMD=OFF) slicecapd runs as under no service manager:
 // no socket passed (it binds its own), no watchdog, nobody to tell it is ready. The packaged
 // unit (Type=notify, WatchdogSec=) needs a build with systemd (docs/guide/install.md).
+#define SD_LISTEN_FDS_START 3  // as sd-daemon.h: the first descriptor systemd passes
 inline int sd_listen_fds(int) { return 0; }
 inline int sd_watchdog_enabled(int, std::uint64_t*) { return 0; }
 inline int sd_notify(int, const char*) { return 0; }
