@@ -27,7 +27,7 @@ function(slicecap_test name)
   target_link_libraries(${name} PRIVATE ${ARG_DEPENDS} GTest::gtest_main GTest::gmock)
   target_compile_definitions(${name} PRIVATE
     SLICECAP_SHARED_DATA_DIR="${SLICECAP_SHARED_DATA_DIR}"
-    SLICECAP_TEST_TMP_DIR="${CMAKE_BINARY_DIR}/test-tmp")
+    SLICECAP_TEST_TMP_DIR="${SLICECAP_TEST_TMP_DIR}")
   slicecap_warnings(${name})
   if(NOT ARG_LABELS)
     set(ARG_LABELS unit)

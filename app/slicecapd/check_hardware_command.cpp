@@ -13,8 +13,7 @@
 
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/camera_modes.hpp"
-#include "slicecap/hal/libcamera_camera.hpp"
-#include "slicecap/hal/v4l2_camera.hpp"
+#include "slicecap/hal/device_backends.hpp"
 #include "slicecap/hwcheck/hardware_check.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/io/target_json.hpp"
@@ -78,7 +77,9 @@ hwcheck::BackendInfo describeBackend(const DaemonConfig& config) {
     case DaemonConfig::CameraKind::Libcamera: {
       std::vector<hal::CameraModes> cameras;
       try {
-        cameras = hal::listLibcameraModes();
+        cameras = hal::libcameraModes();
+      } catch (const hal::BackendNotBuilt& error) {
+        info.cameras.push_back(error.what());
       } catch (const std::exception& error) {
         info.cameras.push_back(std::string("libcamera: cannot list: ") + error.what());
       }
@@ -94,6 +95,11 @@ hwcheck::BackendInfo describeBackend(const DaemonConfig& config) {
     }
     case DaemonConfig::CameraKind::V4l2: {
       const std::string device = config.cameraDevice.empty() ? "/dev/video0" : config.cameraDevice;
+      if (!hal::isBuilt(hal::DeviceBackend::V4l2)) {
+        info.cameras.push_back(hal::BackendNotBuilt(hal::DeviceBackend::V4l2).what());
+        describeRaw(info, config, nullptr);
+        break;
+      }
       std::optional<hal::CameraModes> used;
       std::error_code error;
       std::vector<fs::path> nodes;
@@ -102,7 +108,7 @@ hwcheck::BackendInfo describeBackend(const DaemonConfig& config) {
       std::sort(nodes.begin(), nodes.end());
       for (const fs::path& node : nodes) {
         try {
-          hal::CameraModes modes = hal::listV4l2Modes(node.string());
+          hal::CameraModes modes = hal::v4l2Modes(node.string());
           addModes(info, modes);
           if (node == device) used = std::move(modes);
         } catch (const std::exception& listError) {
@@ -152,6 +158,13 @@ std::string configuredCamera(const DaemonConfig& config) {
   return "camera";
 }
 
+// A backend this slicecapd was built without: rebuilding is the remedy, not the wiring.
+std::string notBuiltAdvice(const hal::BackendNotBuilt& error) {
+  const std::string option = hal::backendOption(error.backend());
+  return "build slicecapd with -D" + option + "=ON (docs/guide/install.md), or check the other "
+         "devices with camera = model or camera = file";
+}
+
 }  // namespace
 
 int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& options,
@@ -191,6 +204,10 @@ int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& option
                           ModelScene::Still, /*modelRealTime=*/!simulated);
     camera = sources.cameraFor(sources.firstSlice);
     rig = sources.rigFor(sources.firstSlice);
+  } catch (const hal::BackendNotBuilt& error) {
+    report.cameraId = configuredCamera(config);
+    report.cameras = backend.cameras;
+    report.items.push_back({"camera", hwcheck::Verdict::Fail, error.what(), notBuiltAdvice(error)});
   } catch (const std::exception& error) {
     report.cameraId = configuredCamera(config);
     report.cameras = backend.cameras;
@@ -202,6 +219,10 @@ int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& option
   if (camera) {
     try {
       led = openLed(config, clock, modelLight);
+    } catch (const hal::BackendNotBuilt& error) {
+      report.cameraId = camera->id();
+      report.cameras = backend.cameras;
+      report.items.push_back({"LED", hwcheck::Verdict::Fail, error.what(), notBuiltAdvice(error)});
     } catch (const std::exception& error) {
       report.cameraId = camera->id();
       report.cameras = backend.cameras;

@@ -6,12 +6,10 @@
 #include <stdexcept>
 
 #include "slicecap/hal/bayer_frame.hpp"
+#include "slicecap/hal/device_backends.hpp"
 #include "slicecap/hal/file_camera.hpp"
 #include "slicecap/hal/file_led.hpp"
-#include "slicecap/hal/gpiod_led.hpp"
-#include "slicecap/hal/libcamera_camera.hpp"
 #include "slicecap/hal/model_camera.hpp"
-#include "slicecap/hal/v4l2_camera.hpp"
 #include "slicecap/io/target_json.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
@@ -171,13 +169,14 @@ CameraSources makeCameraSources(const DaemonConfig& config, hal::Clock& clock,
   sources.firstSlice = SliceId{SliceKind::Diagonal, {30, 30}};
   switch (config.camera) {
     case DaemonConfig::CameraKind::Libcamera: {
-      auto camera = std::make_shared<hal::LibcameraCamera>(config.cameraDevice);
+      // Through the factory: a build without libcamera throws BackendNotBuilt naming the option.
+      std::shared_ptr<hal::Camera> camera = hal::openLibcameraCamera(config.cameraDevice);
       sources.cameraFor = [camera](const SliceId&) { return camera; };
       sources.kind = "libcamera";
       break;
     }
     case DaemonConfig::CameraKind::V4l2: {
-      auto camera = std::make_shared<hal::V4l2Camera>(
+      std::shared_ptr<hal::Camera> camera = hal::openV4l2Camera(
           config.cameraDevice.empty() ? std::string("/dev/video0") : config.cameraDevice);
       sources.cameraFor = [camera](const SliceId&) { return camera; };
       sources.kind = "v4l2";
@@ -232,6 +231,21 @@ CameraSources makeCameraSources(const DaemonConfig& config, hal::Clock& clock,
   return sources;
 }
 
+std::vector<std::string> backendsNotBuilt(const DaemonConfig& config) {
+  std::vector<std::string> missing;
+  const auto need = [&missing](const std::string& key, hal::DeviceBackend backend) {
+    if (!hal::isBuilt(backend)) missing.push_back(key + ": " + hal::BackendNotBuilt(backend).what());
+  };
+  if (config.camera == DaemonConfig::CameraKind::Libcamera)
+    need("camera = libcamera", hal::DeviceBackend::Libcamera);
+  if (config.camera == DaemonConfig::CameraKind::V4l2) need("camera = v4l2", hal::DeviceBackend::V4l2);
+  // The GPIO LED goes with the live cameras (openLed): file and model log to a file.
+  if (config.camera == DaemonConfig::CameraKind::Libcamera ||
+      config.camera == DaemonConfig::CameraKind::V4l2)
+    need("the LED (led_chip, led_line)", hal::DeviceBackend::Gpiod);
+  return missing;
+}
+
 std::unique_ptr<hal::Led> openLed(const DaemonConfig& config, hal::Clock& clock,
                                   std::shared_ptr<hal::LedTimeline> modelLight) {
   if (config.camera == DaemonConfig::CameraKind::File ||
@@ -245,8 +259,7 @@ std::unique_ptr<hal::Led> openLed(const DaemonConfig& config, hal::Clock& clock,
       led = std::make_unique<hal::TimelineLed>(std::move(led), clock, modelLight, kModelLedDelayUs);
     return led;
   }
-  return std::make_unique<hal::GpiodLed>(
-      hal::GpioLineSpec{config.ledChip, config.ledLine, config.ledActiveLow});
+  return hal::openGpiodLed(hal::GpioLineSpec{config.ledChip, config.ledLine, config.ledActiveLow});
 }
 
 }  // namespace slicecap::slicecapd

@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "slicecap/core/slice.hpp"
 #include "slicecap/daemon/config.hpp"
@@ -67,6 +68,10 @@ CameraSources makeCameraSources(const daemon::DaemonConfig& config, hal::Clock& 
                                 const vision::TargetGeometry& target,
                                 const vision::CameraModel& cameraModel, ModelScene scene,
                                 bool modelRealTime = true);
+
+/// \brief The devices `config` asks for that this build does not have (SLICECAP_WITH_*): one
+/// line each, "camera = libcamera: libcamera: not in this build (...)"; empty when none.
+std::vector<std::string> backendsNotBuilt(const daemon::DaemonConfig& config);
 
 /// \brief The configured LED: the GPIO line, or with camera = file or model a file LED (its log)
 /// which for the model also records its light on `modelLight` a little after each switch.

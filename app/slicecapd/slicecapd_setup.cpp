@@ -194,6 +194,7 @@ std::vector<std::string> startProblems(const DaemonConfig& config) {
       problems.emplace_back(error.what());
     }
   };
+  for (std::string& missing : backendsNotBuilt(config)) problems.push_back(std::move(missing));
   if (const auto problem = daemon::socketPathProblem(config.socket))
     problems.push_back("socket: " + *problem);
   if (!config.socketGroup.empty() && !::getgrnam(config.socketGroup.c_str()))

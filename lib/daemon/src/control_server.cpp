@@ -8,7 +8,7 @@
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
-#include <systemd/sd-daemon.h>
+#include "sd_daemon.hpp"
 #include <unistd.h>
 
 #include <algorithm>

@@ -3,7 +3,7 @@
 
 #include <signal.h>
 #include <sys/epoll.h>
-#include <systemd/sd-daemon.h>
+#include "sd_daemon.hpp"
 
 #include <algorithm>
 #include <csignal>

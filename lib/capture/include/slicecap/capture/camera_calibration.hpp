@@ -8,15 +8,16 @@
 #include <vector>
 
 #include "slicecap/capture/planar_pose.hpp"
+#include "slicecap/core/error.hpp"
 #include "slicecap/vision/camera_model.hpp"
 
 namespace slicecap::capture {
 
 /// \brief Calibration is impossible from these views (too few, all fronto-parallel, diverging);
 /// the message says which and what to record instead.
-class CalibrationError : public std::runtime_error {
+class CalibrationError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 /// \brief The marker corners of one frame: target points (mm, z = 0) and where they were seen.

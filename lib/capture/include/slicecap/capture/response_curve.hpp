@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "slicecap/capture/marker_detector.hpp"
+#include "slicecap/core/error.hpp"
 #include "slicecap/core/tone_curve.hpp"
 #include "slicecap/hal/camera.hpp"
 #include "slicecap/hal/frame.hpp"
@@ -104,9 +105,9 @@ struct ResponseFit {
 
 /// \brief A bracket that cannot be fitted: the message names the camera (and the frames) and says
 /// what to configure or change.
-class ResponseFitError : public std::runtime_error {
+class ResponseFitError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 /// \brief Fits the response to observations (already measured): unknowns ln(linear) at every

@@ -9,12 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "slicecap/core/error.hpp"
+
 namespace slicecap::cli {
 
 /// \brief Bad usage: an unknown option, a missing value, a wrong number of arguments. Exit code 2.
-class UsageError : public std::runtime_error {
+class UsageError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 /// \brief One option: `--name VALUE` (valueName set) or a flag `--name`; `shortName` e.g. 'o'.

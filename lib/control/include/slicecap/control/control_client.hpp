@@ -8,21 +8,22 @@
 #include <string>
 
 #include "slicecap/control/protocol.hpp"
+#include "slicecap/core/error.hpp"
 
 namespace slicecap::control {
 
 /// \brief The daemon could not be reached or answered nonsense; the message says which and names
 /// the socket.
-class ConnectionError : public std::runtime_error {
+class ConnectionError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 /// \brief The daemon refused a request; code() is the protocol's error code.
-class DaemonError : public std::runtime_error {
+class DaemonError : public slicecap::Error {
  public:
   DaemonError(std::string code, const std::string& message)
-      : std::runtime_error(message), code_(std::move(code)) {}
+      : slicecap::Error(message), code_(std::move(code)) {}
   const std::string& code() const { return code_; }
 
  private:

@@ -10,15 +10,16 @@
 #include <string>
 #include <vector>
 
+#include "slicecap/core/error.hpp"
 #include "slicecap/core/slice.hpp"
 
 namespace slicecap::control {
 
 /// \brief A reply that lacks a field its view needs, or holds it with the wrong type; the message
 /// names the field.
-class ReplyError : public std::runtime_error {
+class ReplyError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 /// \brief Azimuth bins a slice's sweep fills (docs/method.md: one per 15 deg).

@@ -9,15 +9,16 @@
 #include <string>
 #include <vector>
 
+#include "slicecap/core/error.hpp"
 #include "slicecap/hal/camera.hpp"
 
 namespace slicecap::daemon {
 
 /// \brief A configuration that cannot be used; what() is "FILE:LINE: key: what is wrong" (or
 /// "FILE: ..." for file-level problems).
-class ConfigError : public std::runtime_error {
+class ConfigError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 /// \brief The daemon's settings. The file is `key = value` lines; `#` starts a comment; blank lines

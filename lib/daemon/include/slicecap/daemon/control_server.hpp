@@ -13,16 +13,17 @@
 #include <string>
 #include <vector>
 
+#include "slicecap/core/error.hpp"
 #include "slicecap/daemon/event_loop.hpp"
 #include "slicecap/daemon/protocol.hpp"
 
 namespace slicecap::daemon {
 
 /// \brief Thrown by a request handler to refuse a request with a code; the server replies with it.
-class RequestError : public std::runtime_error {
+class RequestError : public slicecap::Error {
  public:
   RequestError(ErrorCode code, const std::string& message)
-      : std::runtime_error(message), code_(code) {}
+      : slicecap::Error(message), code_(code) {}
   ErrorCode code() const { return code_; }
 
  private:

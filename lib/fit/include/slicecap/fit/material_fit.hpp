@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "slicecap/core/abrdf.hpp"
+#include "slicecap/core/error.hpp"
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/fit/fitted_material.hpp"
 
@@ -14,9 +15,9 @@ namespace slicecap::fit {
 
 /// \brief A table that cannot be fitted (not a BRDF) or a fit that did not converge; what() starts
 /// with the table's name (its path for the command line).
-class FitError : public std::runtime_error {
+class FitError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 struct FitOptions {

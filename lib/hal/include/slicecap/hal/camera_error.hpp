@@ -3,13 +3,15 @@
 
 #include <stdexcept>
 
+#include "slicecap/core/error.hpp"
+
 namespace slicecap::hal {
 
 /// \brief A camera that cannot be opened, configured or started; what() names the device and
 /// says what it answered. Per-frame failures are CaptureResult::Error values instead.
-class CameraError : public std::runtime_error {
+class CameraError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 }  // namespace slicecap::hal

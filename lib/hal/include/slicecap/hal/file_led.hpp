@@ -7,15 +7,16 @@
 #include <stdexcept>
 #include <vector>
 
+#include "slicecap/core/error.hpp"
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/led.hpp"
 
 namespace slicecap::hal {
 
 /// \brief A device or log that failed; what() names it.
-class DeviceError : public std::runtime_error {
+class DeviceError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 /// \brief Appends "TIMESTAMP_US on|off" lines to a log: "off" when opened (the LED's safe state),

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "slicecap/core/error.hpp"
 #include "slicecap/hal/led.hpp"
 
 namespace slicecap::hal {
@@ -17,9 +18,9 @@ class GpioOutputLine;  // one per libgpiod version, in src/
 
 /// \brief A GPIO line that cannot be found, requested or driven; what() names the chip and line
 /// and says what the kernel answered (e.g. busy: in use by another program).
-class GpioError : public std::runtime_error {
+class GpioError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 /// \brief Which line drives the LED, as slicecapd.conf gives it (led_chip, led_line,

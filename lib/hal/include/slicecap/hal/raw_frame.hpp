@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "slicecap/core/error.hpp"
 #include "slicecap/core/image.hpp"
 #include "slicecap/core/pixel_encoding.hpp"
 
@@ -38,9 +39,9 @@ struct RawFrameView {
 
 /// \brief A buffer whose size or strides do not fit its layout (a driver bug or a truncated
 /// buffer); what() says which plane and by how much.
-class RawFrameError : public std::runtime_error {
+class RawFrameError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 /// \brief The encoding a layout's samples carry: Y16 is linear 16-bit, everything else 8-bit

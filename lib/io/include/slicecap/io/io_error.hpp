@@ -3,12 +3,14 @@
 
 #include <stdexcept>
 
+#include "slicecap/core/error.hpp"
+
 namespace slicecap::io {
 
 /// \brief A file that cannot be read or written as asked; what() starts with the file's path.
-class IoError : public std::runtime_error {
+class IoError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 }  // namespace slicecap::io

@@ -5,14 +5,15 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "slicecap/core/error.hpp"
 #include "slicecap/fit/fitted_material.hpp"
 
 namespace slicecap::material_export {
 
 /// \brief A material file that is not a complete, successful fit. The message starts with the path.
-class MaterialFileError : public std::runtime_error {
+class MaterialFileError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 /// \brief The fitted material in `path`, in the canonical convention (FittedMaterial::canonical).

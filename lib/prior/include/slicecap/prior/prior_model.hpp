@@ -10,14 +10,15 @@
 #include <vector>
 
 #include "slicecap/core/abrdf.hpp"
+#include "slicecap/core/error.hpp"
 
 namespace slicecap::prior {
 
 /// \brief A prior file that cannot be read or written, or a training set that cannot give one; the
 /// message names the file (and field) or the input.
-class PriorError : public std::runtime_error {
+class PriorError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 /// \brief Entries of one channel of a table in the prior's feature space: [light][view].

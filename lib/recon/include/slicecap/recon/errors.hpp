@@ -3,13 +3,15 @@
 
 #include <stdexcept>
 
+#include "slicecap/core/error.hpp"
+
 namespace slicecap::recon {
 
 /// \brief Input that cannot be reconstructed (a missing slice, a slice without finite samples,
 /// ...); the message names the slice.
-class ReconstructionError : public std::runtime_error {
+class ReconstructionError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 }  // namespace slicecap::recon

@@ -6,14 +6,15 @@
 #include <string>
 
 #include "slicecap/core/abrdf.hpp"
+#include "slicecap/core/error.hpp"
 #include "slicecap/models/reflectance_model.hpp"
 
 namespace slicecap::sim {
 
 /// \brief A material specification that cannot be used; what() names it and the bad parameter.
-class MaterialError : public std::runtime_error {
+class MaterialError : public slicecap::Error {
  public:
-  using std::runtime_error::runtime_error;
+  using slicecap::Error::Error;
 };
 
 /// \brief The BRDF of a full table at any directions (core/grid_interpolation: linear on the

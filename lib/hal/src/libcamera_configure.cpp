@@ -1,0 +1,167 @@
+// The libcamera camera's stream choice: the RAW stream where the camera offers one slicecap
+// decodes (and camera_raw allows it), else the processed stream in a format slicecap reads.
+#include <algorithm>
+#include <stdexcept>
+
+#include "libcamera_compat.hpp"
+#include "libcamera_state.hpp"
+
+namespace slicecap::hal {
+
+using namespace libcamera_parts;
+
+libcamera_parts::RawAttempt LibcameraCamera::State::tryRaw(const CameraConfig& wanted) {
+  RawAttempt attempt;
+  auto generated = libcamera_compat::generateConfiguration(*camera, libcamera::StreamRole::Raw);
+  if (!generated || generated->empty()) return attempt;
+  libcamera::StreamConfiguration& stream = generated->at(0);
+  // A pipeline without RAW (uvcvideo) answers the Raw role with its processed formats: then
+  // no RAW is offered and nothing is said.
+  const std::vector<OfferedFormat> offered = offeredFormatsOf(stream);
+  if (std::none_of(offered.begin(), offered.end(), [](const OfferedFormat& f) { return f.raw; }))
+    return attempt;
+  const RawStreamChoice choice =
+      chooseRawStream(offered, stream.pixelFormat.toString(), wanted.widthPx, wanted.heightPx);
+  if (choice.format.empty()) {
+    attempt.reason = choice.reason;
+    return attempt;
+  }
+  // The offered PixelFormat whose name was chosen (the choice is made on names, shared with
+  // the hardware check).
+  libcamera::PixelFormat chosen;
+  for (const libcamera::PixelFormat& format : stream.formats().pixelformats())
+    if (format.toString() == choice.format) chosen = format;
+  const std::pair<int, int> mode = choice.modePx;
+  stream.pixelFormat = chosen;
+  stream.size = libcamera::Size(unsigned(mode.first), unsigned(mode.second));
+  stream.bufferCount = static_cast<unsigned>(std::max(wanted.bufferCount, 2));
+  // No flips: a transform would also change the CFA order of the samples.
+  libcamera_compat::keepSensorOrientation(*generated);
+  if (generated->validate() == libcamera::CameraConfiguration::Invalid) {
+    attempt.reason = "libcamera refused the RAW stream " + stream.toString() +
+                     ": the processed stream is used instead";
+    return attempt;
+  }
+  const std::string validated = stream.pixelFormat.toString();
+  attempt.format = bayerFormatFromLibcameraName(validated);
+  if (!attempt.format) {
+    attempt.reason = undecodableRawReason(validated);
+    return attempt;
+  }
+  attempt.configuration = std::move(generated);
+  return attempt;
+}
+
+ConfigResult LibcameraCamera::configure(CameraConfig& config) {
+  if (state_->streaming) throw std::logic_error("LibcameraCamera::configure while streaming");
+  config.rawFormat.clear();
+  state_->bayer.reset();
+  std::vector<std::string> adjustments;
+  if (config.raw != RawCapture::Off) {
+    RawAttempt raw = state_->tryRaw(config);
+    if (raw.configuration) {
+      // A pipeline that validates a RAW-only configuration may still refuse to apply it.
+      const int result = state_->camera->configure(raw.configuration.get());
+      if (result == 0) return configureRaw(config, std::move(raw.configuration), *raw.format);
+      raw.reason = "libcamera could not apply the RAW stream " +
+                   raw.configuration->at(0).toString() + " (" + std::strerror(-result) +
+                   "): the processed stream is used instead";
+    }
+    if (config.raw == RawCapture::On) {
+      // The same cause, without the fallback that `on` refuses.
+      std::string cause = raw.reason.empty() ? std::string("it offers no RAW stream") : raw.reason;
+      if (const auto fallback = cause.find(": the processed stream is used instead");
+          fallback != std::string::npos)
+        cause.erase(fallback);
+      return {ConfigResult::Status::Invalid,
+              state_->name() + ": camera_raw = on, but " + cause +
+                  " (camera_raw = auto takes the processed stream instead)"};
+    }
+    if (!raw.reason.empty()) {
+      // Said once on stderr and in every sweep's configuration result (the session's journal).
+      warnOnce(state_->name() + ": " + raw.reason);
+      adjustments.push_back(raw.reason);
+    }
+  }
+  state_->configuration = libcamera_compat::generateConfiguration(
+      *state_->camera, libcamera::StreamRole::VideoRecording);
+  if (!state_->configuration || state_->configuration->empty())
+    return {ConfigResult::Status::Invalid, state_->name() + " offers no video stream"};
+  libcamera::StreamConfiguration& stream = state_->configuration->at(0);
+  const std::vector<libcamera::PixelFormat> offered = stream.formats().pixelformats();
+  std::optional<libcamera::PixelFormat> chosen;
+  for (const FormatChoice& choice : kFormats) {
+    if (std::find(offered.begin(), offered.end(), choice.format) != offered.end()) {
+      chosen = choice.format;
+      break;
+    }
+  }
+  if (!chosen)
+    return {ConfigResult::Status::Invalid,
+            state_->name() + " offers none of YUYV, BGR888, RGB888, XRGB8888, YUV420"};
+  stream.pixelFormat = *chosen;
+  stream.size = libcamera::Size(static_cast<unsigned>(config.widthPx),
+                                static_cast<unsigned>(config.heightPx));
+  stream.bufferCount = static_cast<unsigned>(std::max(config.bufferCount, 2));
+  libcamera_compat::keepSensorOrientation(*state_->configuration);
+
+  switch (state_->configuration->validate()) {
+    case libcamera::CameraConfiguration::Invalid:
+      return {ConfigResult::Status::Invalid,
+              state_->name() + " cannot deliver " + stream.toString()};
+    case libcamera::CameraConfiguration::Adjusted:
+      adjustments.push_back("libcamera adjusted the stream to " + stream.toString());
+      break;
+    case libcamera::CameraConfiguration::Valid:
+      break;
+  }
+  const std::optional<RawLayout> layout = layoutOf(stream.pixelFormat);
+  if (!layout)
+    return {ConfigResult::Status::Invalid,
+            state_->name() + " changed the format to " + stream.pixelFormat.toString() +
+                ", which slicecap cannot read"};
+  if (const int result = state_->camera->configure(state_->configuration.get()); result != 0)
+    state_->fail("cannot apply the configuration " + stream.toString(), result);
+
+  config.widthPx = static_cast<int>(stream.size.width);
+  config.heightPx = static_cast<int>(stream.size.height);
+  config.bufferCount = static_cast<int>(stream.bufferCount);
+  if (config.encoding != PixelEncoding::Srgb8) {
+    adjustments.push_back("encoding linear16 -> srgb8 (processed streams are 8-bit)");
+    config.encoding = PixelEncoding::Srgb8;
+  }
+  state_->layout = *layout;
+  state_->strideBytes = stream.stride;
+  state_->config = config;
+  state_->configured = true;
+  return ConfigResult::fromAdjustments(adjustments);
+}
+
+ConfigResult LibcameraCamera::configureRaw(
+    CameraConfig& config, std::unique_ptr<libcamera::CameraConfiguration> configuration,
+    const BayerFormat& format) {
+  const libcamera::StreamConfiguration& stream = configuration->at(0);
+  std::vector<std::string> adjustments;
+  const int width = int(stream.size.width) / 2, height = int(stream.size.height) / 2;
+  if (width != config.widthPx || height != config.heightPx)
+    adjustments.push_back("size " + std::to_string(config.widthPx) + "x" +
+                          std::to_string(config.heightPx) + " -> " + std::to_string(width) + "x" +
+                          std::to_string(height) + " (RAW " + stream.toString() +
+                          " binned 2 x 2)");
+  if (config.encoding != PixelEncoding::Linear16)
+    adjustments.push_back("encoding srgb8 -> linear16 (RAW " + bayerFormatName(format) + ")");
+  config.widthPx = width;
+  config.heightPx = height;
+  config.encoding = PixelEncoding::Linear16;
+  config.bufferCount = static_cast<int>(stream.bufferCount);
+  config.rawFormat = bayerFormatName(format);
+  state_->configuration = std::move(configuration);
+  state_->bayer = format;
+  state_->rawSize = stream.size;
+  state_->strideBytes = stream.stride;
+  state_->config = config;
+  state_->configured = true;
+  return ConfigResult::fromAdjustments(adjustments);
+}
+
+}  // namespace slicecap::hal

@@ -1,0 +1,171 @@
+// The V4L2 camera's format choice: RAW Bayer first unless camera_raw is off, else the
+// uncompressed formats slicecap reads, the size the driver grants, and the locked controls.
+#include <algorithm>
+#include <cerrno>
+#include <stdexcept>
+
+#include "v4l2_state.hpp"
+
+namespace slicecap::hal {
+
+using namespace v4l2_parts;
+
+namespace {
+
+struct FormatChoice {
+  std::uint32_t fourcc;
+  RawLayout layout;
+  std::optional<BayerFormat> bayer{};  ///< set for a RAW Bayer format (decodeBayer)
+};
+
+/// The RAW Bayer formats decodeBayer reads: 10- and 12-bit, CSI-2 packed first (a bridge such as
+/// the Pi's unicam offers the sensor's own packing), then 16-bit words.
+std::vector<FormatChoice> bayerFormats() {
+  std::vector<FormatChoice> formats;
+  for (std::uint32_t fourcc :
+       {V4L2_PIX_FMT_SRGGB10P, V4L2_PIX_FMT_SGRBG10P, V4L2_PIX_FMT_SGBRG10P, V4L2_PIX_FMT_SBGGR10P,
+        V4L2_PIX_FMT_SRGGB12P, V4L2_PIX_FMT_SGRBG12P, V4L2_PIX_FMT_SGBRG12P, V4L2_PIX_FMT_SBGGR12P,
+        V4L2_PIX_FMT_SRGGB10, V4L2_PIX_FMT_SGRBG10, V4L2_PIX_FMT_SGBRG10, V4L2_PIX_FMT_SBGGR10,
+        V4L2_PIX_FMT_SRGGB12, V4L2_PIX_FMT_SGRBG12, V4L2_PIX_FMT_SGBRG12, V4L2_PIX_FMT_SBGGR12,
+        V4L2_PIX_FMT_SRGGB16, V4L2_PIX_FMT_SGRBG16, V4L2_PIX_FMT_SGBRG16, V4L2_PIX_FMT_SBGGR16})
+    formats.push_back({fourcc, RawLayout::Y16, bayerFormatFromV4l2(fourcc)});
+  return formats;
+}
+
+/// The formats slicecap takes, best first for each encoding: RAW Bayer first unless `raw` is
+/// Off (only RAW when On). Compressed formats are left out on purpose: JPEG's quantisation would
+/// be part of every measured value.
+std::vector<FormatChoice> preferredFormats(PixelEncoding encoding, RawCapture raw) {
+  if (raw == RawCapture::On) return bayerFormats();
+  std::vector<FormatChoice> formats = {{V4L2_PIX_FMT_YUYV, RawLayout::Yuyv},
+                                       {V4L2_PIX_FMT_RGB24, RawLayout::Rgb24},
+                                       {V4L2_PIX_FMT_BGR24, RawLayout::Bgr24},
+                                       {V4L2_PIX_FMT_YUV420, RawLayout::Yuv420},
+                                       {V4L2_PIX_FMT_GREY, RawLayout::Grey8}};
+  const FormatChoice y16{V4L2_PIX_FMT_Y16, RawLayout::Y16};
+  if (encoding == PixelEncoding::Linear16)
+    formats.insert(formats.begin(), y16);
+  else
+    formats.push_back(y16);
+  if (raw == RawCapture::Auto) {
+    std::vector<FormatChoice> withRaw = bayerFormats();
+    withRaw.insert(withRaw.end(), formats.begin(), formats.end());
+    return withRaw;
+  }
+  return formats;
+}
+
+std::string fourccText(std::uint32_t fourcc) {
+  std::string text(4, ' ');
+  for (int i = 0; i < 4; ++i) text[i] = static_cast<char>((fourcc >> (8 * i)) & 0xff);
+  return text;
+}
+
+}  // namespace
+
+ConfigResult V4l2Camera::configure(CameraConfig& config) {
+  if (state_->streaming) throw std::logic_error("V4l2Camera::configure while streaming");
+  std::vector<std::uint32_t> offered;
+  v4l2_fmtdesc description{};
+  description.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  while (retryIoctl(state_->fd, VIDIOC_ENUM_FMT, &description) == 0) {
+    offered.push_back(description.pixelformat);
+    ++description.index;
+  }
+  std::optional<FormatChoice> chosen;
+  for (const FormatChoice& candidate : preferredFormats(config.encoding, config.raw)) {
+    if (std::find(offered.begin(), offered.end(), candidate.fourcc) != offered.end()) {
+      chosen = candidate;
+      break;
+    }
+  }
+  if (!chosen) {
+    std::string list;
+    for (std::uint32_t fourcc : offered) list += (list.empty() ? "" : ", ") + fourccText(fourcc);
+    return {ConfigResult::Status::Invalid,
+            std::string(config.raw == RawCapture::On
+                            ? "camera_raw = on, but no RAW Bayer format slicecap decodes"
+                            : "no uncompressed format slicecap can read") +
+                " (the camera offers: " + (list.empty() ? std::string("none") : list) + ")"};
+  }
+
+  std::vector<std::string> adjustments;
+  v4l2_format format{};
+  format.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  // A RAW mosaic is binned 2 x 2: the sensor mode twice the size asked for.
+  const int scale = chosen->bayer ? 2 : 1;
+  format.fmt.pix.width = static_cast<std::uint32_t>(scale * config.widthPx);
+  format.fmt.pix.height = static_cast<std::uint32_t>(scale * config.heightPx);
+  format.fmt.pix.pixelformat = chosen->fourcc;
+  format.fmt.pix.field = V4L2_FIELD_NONE;
+  if (retryIoctl(state_->fd, VIDIOC_S_FMT, &format) != 0) state_->fail("cannot set the format", errno);
+  if (format.fmt.pix.pixelformat != chosen->fourcc)
+    return {ConfigResult::Status::Invalid,
+            "the driver replaced " + fourccText(chosen->fourcc) + " by " +
+                fourccText(format.fmt.pix.pixelformat)};
+  const int deliveredWidth = int(format.fmt.pix.width) / scale;
+  const int deliveredHeight = int(format.fmt.pix.height) / scale;
+  if (deliveredWidth != config.widthPx || deliveredHeight != config.heightPx) {
+    adjustments.push_back("size " + std::to_string(config.widthPx) + "x" +
+                          std::to_string(config.heightPx) + " -> " +
+                          std::to_string(deliveredWidth) + "x" + std::to_string(deliveredHeight) +
+                          (chosen->bayer ? " (RAW " + std::to_string(format.fmt.pix.width) + "x" +
+                                               std::to_string(format.fmt.pix.height) +
+                                               " binned 2 x 2)"
+                                         : std::string()));
+    config.widthPx = deliveredWidth;
+    config.heightPx = deliveredHeight;
+  }
+  if (encodingOf(chosen->layout) != config.encoding) {
+    adjustments.push_back(std::string("encoding ") + std::string(toString(config.encoding)) +
+                          " -> " + std::string(toString(encodingOf(chosen->layout))));
+    config.encoding = encodingOf(chosen->layout);
+  }
+  config.rawFormat.clear();
+  if (chosen->bayer) {
+    // V4L2 has no standard control for the sensor's black level.
+    config.rawFormat = bayerFormatName(*chosen->bayer);
+    adjustments.push_back("RAW " + config.rawFormat + " (" + fourccText(chosen->fourcc) +
+                          "): the driver reports no black level; assumed " +
+                          std::to_string(int(kDefaultBlackLevel16)) +
+                          " of 65535 (64 at 10 bits, Raspberry Pi sensors' default)");
+  }
+  state_->layout = chosen->layout;
+  state_->bayer = chosen->bayer;
+  state_->strideBytes = format.fmt.pix.bytesperline != 0
+                            ? format.fmt.pix.bytesperline
+                        : chosen->bayer
+                            ? minimalBayerStrideBytes(*chosen->bayer, int(format.fmt.pix.width))
+                            : minimalStrideBytes(chosen->layout, config.widthPx, 0);
+  state_->imageBytes = format.fmt.pix.sizeimage;
+
+  // Locked white balance and gain control, then exposure: a sweep's frames must be comparable.
+  state_->setControl(V4L2_CID_AUTO_WHITE_BALANCE, 0);
+  if (config.exposureUs) {
+    const std::optional<double> setUs = state_->setManualExposureUs(*config.exposureUs);
+    if (!setUs) {
+      adjustments.push_back("no manual exposure: left to the camera");
+      config.exposureUs.reset();
+    } else if (std::abs(*setUs - *config.exposureUs) > 1e-6) {
+      adjustments.push_back("exposure " + std::to_string(*config.exposureUs) + " us -> " +
+                            std::to_string(*setUs) + " us");
+      config.exposureUs = *setUs;
+    }
+  }
+  if (config.gain) {
+    const std::optional<std::int32_t> set = state_->setManualGain(*config.gain);
+    if (!set) {
+      adjustments.push_back("no manual gain: left to the camera");
+      config.gain.reset();
+    } else if (*set != *config.gain) {
+      adjustments.push_back("gain " + std::to_string(*config.gain) + " -> " + std::to_string(*set));
+      config.gain = *set;
+    }
+  }
+  config.bufferCount = std::max(config.bufferCount, 2);
+  state_->config = config;
+  state_->configured = true;
+  return ConfigResult::fromAdjustments(adjustments);
+}
+
+}  // namespace slicecap::hal
