@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "slicecap/capture/session_store.hpp"
+#include "slicecap/core/error.hpp"
 #include "slicecap/methods/method_id.hpp"
 
 namespace slicecap::control {
@@ -19,10 +20,12 @@ constexpr std::array<std::string_view, 12> kCommandNames{
     "sweep.redo",     "status",         "reconstruct",  "export"};
 constexpr std::size_t kMaxTextBytes = 256;
 
-// Thrown only inside this file, turned into a ProtocolError at the boundary.
-struct Refusal {
+// Thrown only inside this file, turned into a ProtocolError at the boundary. A slicecap::Error all
+// the same: were one ever to escape, a catch of std::exception (the server's last guard) still
+// takes it instead of letting it end the daemon.
+struct Refusal : Error {
+  Refusal(ErrorCode refusalCode, const std::string& text) : Error(text), code(refusalCode) {}
   ErrorCode code;
-  std::string message;
 };
 
 // The C1 controls (U+0080-U+009F: a terminal takes U+009B as CSI) and the bidirectional
@@ -212,7 +215,7 @@ std::variant<Request, ProtocolError> parseRequest(std::string_view line) {
     return Request{*id, parseCommand(cmd->get_ref<const std::string&>(),
                                      args == document.end() ? kNoArguments : *args)};
   } catch (const Refusal& r) {
-    return ProtocolError{r.code, r.message, id};
+    return ProtocolError{r.code, r.what(), id};
   } catch (const json::exception& e) {
     return ProtocolError{ErrorCode::BadRequest, e.what(), id};
   }
