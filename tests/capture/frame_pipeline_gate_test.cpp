@@ -86,9 +86,9 @@ TEST(FramePipelineGate, DarkWhiteReferencesOfAFrameExposedForTheHighlightAreNoOc
 
 TEST(FramePipelineGate, NoUnoccludedFrameOfTheAnisotropicMaterialsIsTakenForOccluded) {
   // The built-in anisotropic materials, at the slice whose references are darkest.
-  for (const char* material : {"brushed-aluminium", "brushed-steel-30", "brushed-brass-120",
-                               "copper-ggx-15", "satin-red-90", "satin-blue-45", "ward-gold-60",
-                               "velvet-green-20"}) {
+  for (const char* material :
+       {"brushed-aluminium", "brushed-steel-30", "brushed-brass-120", "copper-ggx-15",
+        "satin-red-90", "satin-blue-45", "ward-gold-60", "velvet-green-20"}) {
     SCOPED_TRACE(material);
     const auto dir = simulate(material, kDarkSlice, realisticUnblurred(0.0), 12);
     const auto [rejected, clear] = falseOcclusions(processRecording(dir), sim::readTruth(dir));
@@ -111,7 +111,9 @@ TEST(FramePipelineGate, TheLightArmOverTheWhiteReferencesIsStillCaught) {
       ASSERT_TRUE(truth.frames[i].occluded) << "frame " << i;
       EXPECT_EQ(o.kind, FrameOutcome::Kind::Rejected) << "frame " << i;
       // The arm may hide too many markers first; a frame that got past the pose is the gate's.
-      if (o.rejectReason == RejectReason::TooFewMarkers || o.rejectReason == RejectReason::PoseResidual) continue;
+      if (o.rejectReason == RejectReason::TooFewMarkers ||
+          o.rejectReason == RejectReason::PoseResidual)
+        continue;
       ++located;
       EXPECT_EQ(o.rejectReason, RejectReason::WindowOccluded) << "frame " << i << ": " << o.detail;
     }

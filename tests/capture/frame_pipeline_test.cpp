@@ -137,8 +137,8 @@ TEST(FramePipeline, NoAmbientFrameYetIsRejectedLive) {
   EXPECT_EQ(process(frameOf(dir, 0), slice).kind, FrameOutcome::Kind::Sample);
 }
 
-// A frame the pipeline rejects as RejectReason::BadFrame (here half the size the camera gives) is no
-// room-light term either: not as the LED-off frame before (live or offline) nor as the one after
+// A frame the pipeline rejects as RejectReason::BadFrame (here half the size the camera gives) is
+// no room-light term either: not as the LED-off frame before (live or offline) nor as the one after
 // (offline).
 TEST(FramePipeline, AnLedOffFrameOfTheWrongSizeIsNoRoomLightTerm) {
   const SliceId slice{SliceKind::Axial, {30, 30}};
@@ -287,7 +287,8 @@ TEST(FramePipeline, AmbientFromBothSidesBeatsThePreviousLedOffFrameOnASpecularMa
   const double oneSided = medianSampleError(liveOutcomes, truth);
   EXPECT_LT(offline, 0.5 * oneSided) << "two-sided " << offline << ", one-sided " << oneSided;
   // Seven times the realistic room light and 15 deg steps: the 2 % goal holds on the realistic
-  // 48-frame session (docs/results/2026-11-24-capture-accuracy.md); here the residual curvature shows.
+  // 48-frame session (docs/results/2026-11-24-capture-accuracy.md); here the residual curvature
+  // shows.
   EXPECT_LT(offline, 0.04);
 }
 

@@ -25,9 +25,9 @@ TEST(RejectReason, EveryReasonHasItsOwnNameAndParsesBack) {
 
 TEST(RejectReason, TheNamesAreTheDocumentedOnesInAlphabeticalOrder) {
   // The order keeps per-reason counts (std::map by reason) listed as they were by name.
-  const std::string expected[] = {"bad_frame",       "blurred",        "detection_deferred",
-                                  "elevation_off",   "led_transition", "no_ambient_frame",
-                                  "pose_residual",   "too_few_markers", "window_clipped",
+  const std::string expected[] = {"bad_frame",      "blurred",         "detection_deferred",
+                                  "elevation_off",  "led_transition",  "no_ambient_frame",
+                                  "pose_residual",  "too_few_markers", "window_clipped",
                                   "window_occluded"};
   std::size_t k = 0;
   for (RejectReason reason : kRejectReasons) {

@@ -2,6 +2,7 @@
 // glTF texture maps, the mask and a textured glTF out; a texel with no samples named and masked;
 // an output that would land in (or over) the BTF refused.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
@@ -21,9 +22,11 @@ namespace {
 class TextureFitCommand : public testing::Test {
  protected:
   static void SetUpTestSuite() {
-    // freshTempDir() needs a running test; one directory for the suite instead.
+    // freshTempDir() needs a running test; one directory for the suite instead, of this process:
+    // ctest runs each test of the suite in a process of its own, in parallel, and one folder
+    // shared by them was emptied under the others' feet.
     directory_ = new std::filesystem::path(std::filesystem::path(SLICECAP_TEST_TMP_DIR) /
-                                           "TextureFitCommand");
+                                           ("TextureFitCommand-" + std::to_string(::getpid())));
     std::filesystem::remove_all(*directory_);
     std::filesystem::create_directories(*directory_);
     btf::BtfTexture texture(2);
@@ -40,7 +43,11 @@ class TextureFitCommand : public testing::Test {
     description.windowMm = {-10.0, -10.0, 10.0, 10.0};
     btf::writeBtfDirectory(btf(), texture, tabulate(FittedMaterial{}), description, {}, 2);
   }
-  static void TearDownTestSuite() { delete directory_; }
+  static void TearDownTestSuite() {
+    std::error_code ignored;
+    std::filesystem::remove_all(*directory_, ignored);
+    delete directory_;
+  }
   static std::filesystem::path btf() { return *directory_ / "btf"; }
   static std::filesystem::path root() { return *directory_; }
 

@@ -104,7 +104,8 @@ TextureFrame readFrame(const fs::path& path, int resolution) {
   std::uint32_t crc = 0;
   std::memcpy(&crc, bytes.data() + bytes.size() - sizeof crc, sizeof crc);
   if (crc != io::crc32(std::string_view(bytes).substr(0, bytes.size() - sizeof crc)))
-    throw io::IoError(path.string() + ": checksum mismatch (the file is damaged; delete it to go "
+    throw io::IoError(path.string() +
+                      ": checksum mismatch (the file is damaged; delete it to go "
                       "on without this frame)");
   FrameHeader header;
   std::memcpy(&header, bytes.data() + sizeof kFrameMagic, sizeof header);

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "frame_checks.hpp"
 #include "slicecap/capture/area_reading.hpp"
 #include "slicecap/capture/light_model.hpp"
 #include "slicecap/capture/linear_view.hpp"
@@ -22,80 +23,13 @@
 namespace slicecap::capture {
 namespace {
 
-// True when the camera reported the frame's exposure and gain (else areas are read unscaled).
-bool exposureKnown(const hal::Frame& frame) {
-  return frame.metadata.exposureUs * frame.metadata.gain > 0;
-}
-
-// A reason and detail for a rejection by the window and white-reference gate.
-struct GateFailure {
-  RejectReason reason;
-  std::string detail;
-};
-
-// The relative disagreement of the white references that noise alone exceeds with the
-// probability of a one-sided standard normal beyond `sigmas`: the fit's noise RMS times the
-// chi-square quantile over its degrees of freedom (Wilson-Hilferty), square-rooted.
-double noiseAllowance(const LightFit& fit, double sigmas) {
-  if (fit.degreesOfFreedom <= 0 || fit.noiseResidualRms <= 0) return 0.0;
-  const double h = 2.0 / (9.0 * fit.degreesOfFreedom);
-  const double cubeRoot = std::max(0.0, 1.0 - h + sigmas * std::sqrt(h));
-  return fit.noiseResidualRms * std::pow(cubeRoot, 1.5);
-}
-
-// Sharpness of one marker edge: the largest 1-px step of the profile across its midpoint over
-// the whole step from 3 px inside to 3 px outside.
-double edgeSharpness(const LinearView& view, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const Eigen::Vector2d mid = (a + b) / 2.0;
-  Eigen::Vector2d normal(-(b - a).y(), (b - a).x());
-  if (normal.norm() < 1e-9) return 0.0;
-  normal.normalize();
-  constexpr int kSteps = 24;  // quarter-pixel steps over [-3, 3] px
-  std::vector<double> profile;
-  for (int k = 0; k <= kSteps; ++k) {
-    const Eigen::Vector2d p = mid + normal * (-3.0 + 6.0 * k / kSteps);
-    if (!view.inside(p)) return -1.0;
-    profile.push_back(view.gray(p));
-  }
-  const double step = std::abs(profile.back() - profile.front());
-  if (step < 1e-6) return -1.0;
-  double largest = 0.0;
-  for (int k = 0; k + 4 <= kSteps; ++k)
-    largest = std::max(largest, std::abs(profile[k + 4] - profile[k]));
-  return largest / step;
-}
+using namespace frame_checks;
 
 // Rows around the window and the references that still count: the hand moves between the latest
 // pose and this frame (a tenth of the frame's height covers a 48-frame simulated sweep's step),
 // and blur spreads a row's light to its neighbours.
 constexpr double kRowMarginFraction = 0.1;
 constexpr double kBlurRowMarginPx = 8.0;
-
-std::string ledTransitionDetail(const RowSpan& rows) {
-  return "the LED switched while rows " + std::to_string(rows.first) + ".." +
-         std::to_string(rows.last) + " were exposed";
-}
-
-// Why `frame` cannot be read as this camera's frame ("bad_frame"), or nullopt when it can.
-std::optional<std::string> badFrameDetail(const hal::Frame& frame,
-                                          const vision::CameraIntrinsics& k) {
-  if (frame.image.isValid() && frame.image.width == k.widthPx && frame.image.height == k.heightPx &&
-      frame.image.bitDepth == bitDepthOf(frame.encoding) &&
-      (frame.image.channels == 1 || frame.image.channels == 3))
-    return std::nullopt;
-  return "frame " + std::to_string(frame.image.width) + " x " + std::to_string(frame.image.height) +
-         " x " + std::to_string(frame.image.channels) + " at " +
-         std::to_string(frame.image.bitDepth) + " bits, expected " + std::to_string(k.widthPx) +
-         " x " + std::to_string(k.heightPx) + " of " + std::string(toString(frame.encoding));
-}
-
-FrameOutcome rejected(RejectReason reason, std::string detail, FrameOutcome outcome = {}) {
-  outcome.kind = FrameOutcome::Kind::Rejected;
-  outcome.sample.reset();
-  outcome.rejectReason = reason;
-  outcome.detail = std::move(detail);
-  return outcome;
-}
 
 }  // namespace
 
@@ -170,7 +104,8 @@ struct FramePipeline::State {
     AreaReading sum;
     for (const AmbientTerm& term : terms) {
       AreaReading value;
-      if (term.pose) value = readArea(*term.frame, *term.pose, camera, area, settings.noise, *codes);
+      if (term.pose)
+        value = readArea(*term.frame, *term.pose, camera, area, settings.noise, *codes);
       if (!value.inside) value = readArea(*term.frame, pose, camera, area, settings.noise, *codes);
       sum.mean += term.weight * value.mean;
       sum.variance += term.weight * term.weight * value.variance;
@@ -184,8 +119,10 @@ struct FramePipeline::State {
     AreaSpec spec = windowArea;
     spec.clipFraction = settings.clipFraction;
     *window = readArea(frame, pose, camera, spec, settings.noise, *codes);
-    if (!window->inside) return GateFailure{RejectReason::WindowOccluded, "window out of the image"};
-    if (window->clipped && !settings.hdr) return GateFailure{RejectReason::WindowClipped, "window saturated"};
+    if (!window->inside)
+      return GateFailure{RejectReason::WindowOccluded, "window out of the image"};
+    if (window->clipped && !settings.hdr)
+      return GateFailure{RejectReason::WindowClipped, "window saturated"};
     return std::nullopt;
   }
 
@@ -202,7 +139,8 @@ struct FramePipeline::State {
       spec.clipFraction = settings.clipFraction;
       const AreaReading area = readArea(frame, pose, camera, spec, settings.noise, *codes);
       if (!area.inside) continue;
-      if (area.clipped) return GateFailure{RejectReason::WindowClipped, "white reference saturated"};
+      if (area.clipped)
+        return GateFailure{RejectReason::WindowClipped, "white reference saturated"};
       const AreaReading room = ambientAt(roomLight, reference.area, pose);
       const Rgb value = area.mean - room.mean;
       Rgb sigma;
@@ -236,13 +174,14 @@ struct FramePipeline::State {
     } catch (const std::invalid_argument& error) {
       return GateFailure{RejectReason::WindowOccluded, error.what()};
     }
-    if (!fit->converged) return GateFailure{RejectReason::WindowOccluded, "light fit: " + fit->message};
+    if (!fit->converged)
+      return GateFailure{RejectReason::WindowOccluded, "light fit: " + fit->message};
     *limit = settings.maxReferenceResidual + noiseAllowance(*fit, settings.referenceNoiseSigmas);
     if (fit->weightedResidualRms > *limit)
-      return GateFailure{RejectReason::WindowOccluded, "white references disagree by " +
-                                                std::to_string(fit->weightedResidualRms) +
-                                                ", noise and margin allow " +
-                                                std::to_string(*limit)};
+      return GateFailure{RejectReason::WindowOccluded,
+                         "white references disagree by " +
+                             std::to_string(fit->weightedResidualRms) +
+                             ", noise and margin allow " + std::to_string(*limit)};
     for (const ReferenceObservation& o : unlit) {
       const Rgb irradiance = fit->light.irradianceAt(o.point);
       for (int c = 0; c < 3; ++c) {
@@ -271,9 +210,8 @@ struct FramePipeline::State {
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         const double x0 = r.xMinMm + i * r.widthMm() / n, y0 = r.yMinMm + j * r.heightMm() / n;
-        const AreaSpec spec{{x0, y0, x0 + r.widthMm() / n, y0 + r.heightMm() / n},
-                            0.0,
-                            settings.clipFraction};
+        const AreaSpec spec{
+            {x0, y0, x0 + r.widthMm() / n, y0 + r.heightMm() / n}, 0.0, settings.clipFraction};
         const AreaReading area = readArea(frame, pose, camera, spec, settings.noise, *codes);
         const AreaReading room = ambientAt(roomLight, spec, pose);
         HdrCell cell;
@@ -418,8 +356,8 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   const std::string markerText =
       std::to_string(known.size()) + " of " + std::to_string(s.target.markers.size()) + " markers";
   if (m.markerCount < s.settings.minMarkers && found.deferred)
-    return rejected(RejectReason::DetectionDeferred, markerText + " in this frame's detection budget",
-                    outcome);
+    return rejected(RejectReason::DetectionDeferred,
+                    markerText + " in this frame's detection budget", outcome);
   if (m.markerCount < s.settings.minMarkers)
     return rejected(RejectReason::TooFewMarkers, markerText, outcome);
   const auto estimate = estimatePlanarPose(corners, s.camera);
@@ -433,7 +371,8 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   const Eigen::Vector3d cameraCentre = pose.cameraCentreMm();
   m.poseResidualPx = estimate->residualRmsPx;
   m.cameraDistanceMm = cameraCentre.norm();
-  if (cameraCentre.z() <= 0) return rejected(RejectReason::PoseResidual, "camera below the target", outcome);
+  if (cameraCentre.z() <= 0)
+    return rejected(RejectReason::PoseResidual, "camera below the target", outcome);
   m.view = vision::directionFrom(Eigen::Vector3d::Zero(), cameraCentre);
   outcome.viewElevationErrorDeg = m.view->thetaDeg - slice.elevations.thetaVDeg;
   const double phiLight = slice.kind == SliceKind::Axial
@@ -443,21 +382,12 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   if (m.poseResidualPx > s.settings.maxPoseResidualPx)
     return rejected(RejectReason::PoseResidual, std::to_string(m.poseResidualPx) + " px", outcome);
   if (std::abs(*outcome.viewElevationErrorDeg) > s.settings.elevationToleranceDeg)
-    return rejected(RejectReason::ElevationOff, "view elevation " + std::to_string(m.view->thetaDeg) + " deg",
-                    outcome);
-  // Blur: motion smears the edges across the motion, so the blurriest quarter of the edges counts.
-  const LinearView view(frame, *s.codes);
-  std::vector<double> sharpness;
-  for (const DetectedMarker* marker : known)
-    for (int c = 0; c < 4; ++c) {
-      const double value =
-          edgeSharpness(view, marker->cornersPx[c], marker->cornersPx[(c + 1) % 4]);
-      if (value >= 0) sharpness.push_back(value);
-    }
-  std::sort(sharpness.begin(), sharpness.end());
-  m.sharpness = sharpness.empty() ? 0.0 : sharpness[sharpness.size() / 4];
+    return rejected(RejectReason::ElevationOff,
+                    "view elevation " + std::to_string(m.view->thetaDeg) + " deg", outcome);
+  m.sharpness = blurSharpness(LinearView(frame, *s.codes), known);
   if (m.sharpness < s.settings.minSharpness)
-    return rejected(RejectReason::Blurred, "edge sharpness " + std::to_string(m.sharpness), outcome);
+    return rejected(RejectReason::Blurred, "edge sharpness " + std::to_string(m.sharpness),
+                    outcome);
 
   AreaReading window;
   if (auto failure = s.readWindow(frame, pose, &window))
@@ -516,22 +446,6 @@ FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slic
   outcome.sample = sample;
   outcome.detail = markerText;
   return outcome;
-}
-
-FrameProcessor makeFramePipeline(const vision::TargetGeometry& target,
-                                 const vision::CameraModel& camera,
-                                 const PipelineSettings& settings,
-                                 FrameObserver observer) {
-  auto pipeline = std::make_shared<FramePipeline>(target, camera, settings);
-  return [pipeline, observer = std::move(observer)](const hal::Frame& frame,
-                                                    const SliceId& slice) {
-    FrameOutcome outcome = pipeline->process(frame, slice);
-    if (observer)
-      observer(frame, outcome,
-               frame.metadata.ledOn ? pipeline->ambientTermsFor(frame.metadata.timestampUs)
-                                    : std::vector<AmbientTerm>{});
-    return outcome;
-  };
 }
 
 }  // namespace slicecap::capture

@@ -94,8 +94,8 @@ bool SessionStore::acceptRecordNumber(const io::JournalLine& line, const std::op
              std::nullopt);
   } else if (n < expected) {
     setAside(line.line,
-             where + ": record number " + std::to_string(n) + " where " +
-                 std::to_string(expected) + " was expected (a line repeated or moved): skipped",
+             where + ": record number " + std::to_string(n) + " where " + std::to_string(expected) +
+                 " was expected (a line repeated or moved): skipped",
              std::nullopt);
     return false;
   }

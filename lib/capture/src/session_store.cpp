@@ -60,8 +60,10 @@ SessionInfo readInfo(const std::filesystem::path& directory) {
                         ", expected 1");
     }
     static_cast<void>(j.at("id").get<std::string>());  // required: else not a session
-    return {directory.filename().string(), j.at("material").get<std::string>(),
-            j.at("created").get<std::string>(), {}};
+    return {directory.filename().string(),
+            j.at("material").get<std::string>(),
+            j.at("created").get<std::string>(),
+            {}};
   } catch (const json::exception& e) {
     throw io::IoError(file.string() + ": " + e.what());
   }
@@ -114,8 +116,8 @@ SessionStore SessionStore::open(const std::filesystem::path& root, const std::st
   std::error_code error;
   if (!std::filesystem::exists(journalPath, error) && !error &&
       !std::filesystem::exists(missingMark, error))
-    io::writeFileAtomically(missingMark, "the journal was missing when the session was opened on " +
-                                             utcNow() + "\n");
+    io::writeFileAtomically(
+        missingMark, "the journal was missing when the session was opened on " + utcNow() + "\n");
   std::vector<io::JournalLine> lines;
   io::JournalRecovery recovery;
   io::Journal journal = io::Journal::openLines(journalPath, &lines, &recovery);
@@ -192,7 +194,6 @@ std::size_t SessionStore::setAsideCount(const SliceId& slice) const {
   const auto it = setAside_.find(slice);
   return it == setAside_.end() ? 0 : it->second;
 }
-
 
 void SessionStore::append(json record) {
   record["n"] = nextSequence_;

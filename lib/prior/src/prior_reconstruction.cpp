@@ -176,7 +176,8 @@ Abrdf reconstruct(const SliceSet& slices, const PriorModel& model, const PriorPa
   const std::optional<Abrdf> methodB =
       wanted < 1.0 ? methodBWhereItRuns(slices) : std::optional<Abrdf>{};
   const float priorWeight = methodB ? static_cast<float>(wanted) : 1.0f;
-  Abrdf table = tableFromLog(logTable, floor, priorWeight < 1.0f ? &*methodB : nullptr, priorWeight);
+  Abrdf table =
+      tableFromLog(logTable, floor, priorWeight < 1.0f ? &*methodB : nullptr, priorWeight);
   if (report) {
     report->samples = rows.size();
     report->measuredPairs = fit.measuredPairs;

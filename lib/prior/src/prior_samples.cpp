@@ -13,7 +13,8 @@
 namespace slicecap::prior {
 namespace {
 
-// Where the sample reads the table and its half-vector terms; see PriorParams::readAtMeasuredAngles.
+// Where the sample reads the table and its half-vector terms; see
+// PriorParams::readAtMeasuredAngles.
 void readDirections(SampleRow& row, const SliceSample& s, bool readAtMeasuredAngles) {
   if (readAtMeasuredAngles) {
     row.taps = isotropicTableTaps(s.light, s.view);
@@ -22,7 +23,8 @@ void readDirections(SampleRow& row, const SliceSample& s, bool readAtMeasuredAng
   }
   row.taps = tableTaps(s.light, s.view);
   for (const TableTap& tap : row.taps) {
-    const HalfVectorTerms& entryTerms = gridHalfVectorTerms()[std::size_t(tap.light * 81 + tap.view)];
+    const HalfVectorTerms& entryTerms =
+        gridHalfVectorTerms()[std::size_t(tap.light * 81 + tap.view)];
     for (int j = 0; j < kHalfVectorTermCount; ++j)
       row.terms[std::size_t(j)] += tap.weight * entryTerms[std::size_t(j)];
   }

@@ -30,9 +30,9 @@ enum class RejectReason {
 
 /// \brief Every reason, in the order of the enumeration.
 inline constexpr RejectReason kRejectReasons[] = {
-    RejectReason::BadFrame,       RejectReason::Blurred,       RejectReason::DetectionDeferred,
-    RejectReason::ElevationOff,   RejectReason::LedTransition, RejectReason::NoAmbientFrame,
-    RejectReason::PoseResidual,   RejectReason::TooFewMarkers, RejectReason::WindowClipped,
+    RejectReason::BadFrame,      RejectReason::Blurred,       RejectReason::DetectionDeferred,
+    RejectReason::ElevationOff,  RejectReason::LedTransition, RejectReason::NoAmbientFrame,
+    RejectReason::PoseResidual,  RejectReason::TooFewMarkers, RejectReason::WindowClipped,
     RejectReason::WindowOccluded};
 
 /// \brief The reason's stable name, e.g. "window_occluded".
