@@ -7,6 +7,7 @@
 #include <ostream>
 #include <vector>
 
+#include "gltf_buffer.hpp"
 #include "slicecap/core/version.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -18,45 +19,9 @@ namespace {
 
 using json = nlohmann::ordered_json;
 
-constexpr int kFloat = 5126, kUnsignedShort = 5123;
-constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 constexpr int kLinear = 9729, kLinearMipmapLinear = 9987, kClampToEdge = 33071;
 
-// The plane's four corners: position, normal, tangent, UV (v grows downward in the image, so
-// toward -y).
-struct PlaneBuffer {
-  std::vector<std::uint8_t> bytes;
-  json views = json::array(), accessors = json::array();
-
-  template <std::size_t N>
-  void add(const std::array<std::array<float, N>, 4>& data, const char* type, bool bounds) {
-    append(data.data(), sizeof(data), kArrayBuffer);
-    json accessor = {{"bufferView", views.size() - 1}, {"componentType", kFloat},
-                     {"count", 4}, {"type", type}};
-    if (bounds) {
-      std::array<float, N> low = data[0], high = data[0];
-      for (const auto& v : data)
-        for (std::size_t i = 0; i < N; ++i) low[i] = std::min(low[i], v[i]), high[i] = std::max(high[i], v[i]);
-      accessor["min"] = low;
-      accessor["max"] = high;
-    }
-    accessors.push_back(accessor);
-  }
-  void addIndices(const std::array<std::uint16_t, 6>& indices) {
-    append(indices.data(), sizeof(indices), kElementArrayBuffer);
-    accessors.push_back({{"bufferView", views.size() - 1}, {"componentType", kUnsignedShort},
-                         {"count", 6}, {"type", "SCALAR"}});
-  }
-
- private:
-  void append(const void* data, std::size_t size, int target) {
-    while (bytes.size() % 4 != 0) bytes.push_back(0);
-    const std::size_t offset = bytes.size();
-    bytes.resize(offset + size);
-    std::memcpy(bytes.data() + offset, data, size);
-    views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", size}, {"target", target}});
-  }
-};
+using namespace gltf_buffer;
 
 json textureRef(int index) { return {{"index", index}}; }
 
@@ -90,11 +55,17 @@ json lossesJson(const GltfTextureMaps& maps) {
 json texturedGltfDocument(const GltfTextureMaps& maps, double widthM, double heightM,
                           const std::string& source) {
   const auto w = static_cast<float>(widthM / 2), h = static_cast<float>(heightM / 2);
-  PlaneBuffer buffer;
-  buffer.add<3>({{{-w, h, 0}, {w, h, 0}, {w, -h, 0}, {-w, -h, 0}}}, "VEC3", true);
-  buffer.add<3>({{{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}}}, "VEC3", false);
-  buffer.add<4>({{{1, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}}}, "VEC4", false);
-  buffer.add<2>({{{0, 0}, {1, 0}, {1, 1}, {0, 1}}}, "VEC2", false);
+  // The plane's four corners: position, normal, tangent, UV (v grows downward in the image, so
+  // toward -y).
+  using Vec2 = std::array<float, 2>;
+  using Vec3 = std::array<float, 3>;
+  using Vec4 = std::array<float, 4>;
+  BufferBuilder buffer;
+  buffer.addVectors(std::vector<Vec3>{{-w, h, 0}, {w, h, 0}, {w, -h, 0}, {-w, -h, 0}}, kFloat,
+                    "VEC3", true);
+  buffer.addVectors(std::vector<Vec3>(4, Vec3{0, 0, 1}), kFloat, "VEC3", false);
+  buffer.addVectors(std::vector<Vec4>(4, Vec4{1, 0, 0, 1}), kFloat, "VEC4", false);
+  buffer.addVectors(std::vector<Vec2>{{0, 0}, {1, 0}, {1, 1}, {0, 1}}, kFloat, "VEC2", false);
   buffer.addIndices({0, 3, 2, 0, 2, 1});  // counter-clockwise seen from +z
 
   json images = json::array();
