@@ -114,6 +114,7 @@ class FramePipeline {
  private:
   bool offOverSampleRows(const hal::Frame& frame) const;
   struct State;
+  struct Located;
   std::unique_ptr<State> state_;
 };
 

@@ -1,0 +1,260 @@
+// The frame pipeline's state and its stages (frame_pipeline.cpp runs them; frame_stages.cpp holds
+// the stages): the target, camera and settings, the marker search, the room-light frames.
+#pragma once
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "frame_checks.hpp"
+#include "slicecap/capture/area_reading.hpp"
+#include "slicecap/capture/frame_pipeline.hpp"
+#include "slicecap/capture/light_model.hpp"
+#include "slicecap/capture/linear_view.hpp"
+#include "slicecap/capture/marker_search.hpp"
+#include "slicecap/capture/planar_pose.hpp"
+
+namespace slicecap::capture {
+
+// Rows around the window and the references that still count: the hand moves between the latest
+// pose and this frame (a tenth of the frame's height covers a 48-frame simulated sweep's step),
+// and blur spreads a row's light to its neighbours.
+inline constexpr double kRowMarginFraction = 0.1;
+inline constexpr double kBlurRowMarginPx = 8.0;
+
+using frame_checks::exposureKnown;
+using frame_checks::GateFailure;
+using frame_checks::noiseAllowance;
+
+// The markers found and the pose they give (FramePipeline::State::locate).
+struct FramePipeline::Located {
+  std::vector<DetectedMarker> markers;
+  std::vector<const DetectedMarker*> known;  // into `markers`: those of the target
+  std::string markerText;                    // "12 of 16 markers"
+  vision::Pose pose;
+};
+
+struct FramePipeline::State {
+  vision::TargetGeometry target;
+  vision::CameraModel camera;
+  PipelineSettings settings;
+  // settings.toneCurve's table, or sRGB's: how every 8-bit frame is read.
+  std::shared_ptr<const CodeTable> codes;
+  MarkerSearch search;
+  AreaSpec windowArea;  // the centre of the window, every pixel
+  struct Reference {
+    AreaSpec area;  // a part of a white patch, every pixel but near its outline
+    Eigen::Vector2d centre;
+    Rgb albedo;
+  };
+  std::vector<Reference> references;
+  // An LED-off frame and, when located, its own pose: the camera moved between it and the LED-on
+  // frame, so the same target points sit at other pixels.
+  struct Ambient {
+    hal::Frame frame;
+    std::optional<vision::Pose> pose;
+  };
+  std::optional<Ambient> ambient;      // the latest LED-off frame
+  std::optional<Ambient> nextAmbient;  // offline: the LED-off frame after the coming LED-on ones
+  std::uint64_t frameIndex = 0;
+
+  // The rows a sample of a `heightPx`-row frame reads, predicted from the latest pose with a
+  // margin for the motion since; nullopt before the target was first located.
+  std::optional<RowSpan> predictedRowsOfInterest(int heightPx) const {
+    if (!search.lastPose()) return std::nullopt;
+    return rowsOfInterest(target, camera, *search.lastPose(), heightPx,
+                          kRowMarginFraction * heightPx);
+  }
+
+  State(vision::TargetGeometry t, vision::CameraModel c, PipelineSettings s)
+      : target(std::move(t)),
+        camera(std::move(c)),
+        settings(s),
+        codes(s.toneCurve ? std::make_shared<const CodeTable>(*s.toneCurve)
+                          : std::shared_ptr<const CodeTable>(&CodeTable::srgb(), [](auto*) {})),
+        search(target, camera, s.detector, s.minMarkers) {}
+
+  // An LED-off frame is located when its own pose is wanted (offline) or, in its turn in
+  // process() (`inTurn`) while no pose is tracked, to re-acquire the target for the LED-on frames
+  // after it (the room light shows the markers too): the search then goes on in every frame, not
+  // every other one. The offline setters do not re-acquire: frames are searched in their order.
+  Ambient makeAmbient(const hal::Frame& frame, bool inTurn) {
+    Ambient a{frame, std::nullopt};
+    const bool acquiring = inTurn && !search.tracking();
+    if (!settings.poseAmbientFrames && !acquiring) return a;
+    std::vector<PlaneCorrespondence> corners;
+    for (const auto& marker : search.search(frame, false).markers)
+      if (const vision::Marker* geometry = target.findMarker(marker.id))
+        for (int c = 0; c < 4; ++c)
+          corners.push_back(
+              {{geometry->cornersMm[c].xMm, geometry->cornersMm[c].yMm}, marker.cornersPx[c]});
+    if (static_cast<int>(corners.size()) < 4 * settings.minMarkers) return a;
+    const auto estimate = estimatePlanarPose(corners, camera);
+    if (!estimate || estimate->residualRmsPx > settings.maxPoseResidualPx) return a;
+    if (acquiring) search.located(estimate->pose);
+    if (settings.poseAmbientFrames) a.pose = estimate->pose;
+    return a;
+  }
+
+  // The room light's radiance over a target area for an LED-on frame at `pose`, from its
+  // ambient terms (zero for none), and its variance: each LED-off frame read at its own pose
+  // when located, else at the LED-on frame's pixels.
+  AreaReading ambientAt(const std::vector<AmbientTerm>& terms, AreaSpec area,
+                        const vision::Pose& pose) const {
+    area.clipFraction = 2.0;
+    AreaReading sum;
+    for (const AmbientTerm& term : terms) {
+      AreaReading value;
+      if (term.pose)
+        value = readArea(*term.frame, *term.pose, camera, area, settings.noise, *codes);
+      if (!value.inside) value = readArea(*term.frame, pose, camera, area, settings.noise, *codes);
+      sum.mean += term.weight * value.mean;
+      sum.variance += term.weight * term.weight * value.variance;
+    }
+    return sum;
+  }
+
+  // The window's pixels in an LED-on frame at `pose`, or why they give no sample.
+  std::optional<GateFailure> readWindow(const hal::Frame& frame, const vision::Pose& pose,
+                                        AreaReading* window) const {
+    AreaSpec spec = windowArea;
+    spec.clipFraction = settings.clipFraction;
+    *window = readArea(frame, pose, camera, spec, settings.noise, *codes);
+    if (!window->inside)
+      return GateFailure{RejectReason::WindowOccluded, "window out of the image"};
+    if (window->clipped && !settings.hdr)
+      return GateFailure{RejectReason::WindowClipped, "window saturated"};
+    return std::nullopt;
+  }
+
+  // The window's radiance (its reading minus the room light) and the white references' (room
+  // light subtracted, with their noise) of an LED-on frame at `pose`, or why it gives none.
+  std::optional<GateFailure> readReferences(const hal::Frame& frame, const vision::Pose& pose,
+                                            const std::vector<AmbientTerm>& roomLight,
+                                            const AreaReading& window, Rgb* windowRadiance,
+                                            std::vector<ReferenceObservation>* observations,
+                                            std::vector<ReferenceObservation>* unlit) const {
+    *windowRadiance = window.mean - ambientAt(roomLight, windowArea, pose).mean;
+    for (const auto& reference : references) {
+      AreaSpec spec = reference.area;
+      spec.clipFraction = settings.clipFraction;
+      const AreaReading area = readArea(frame, pose, camera, spec, settings.noise, *codes);
+      if (!area.inside) continue;
+      if (area.clipped)
+        return GateFailure{RejectReason::WindowClipped, "white reference saturated"};
+      const AreaReading room = ambientAt(roomLight, reference.area, pose);
+      const Rgb value = area.mean - room.mean;
+      Rgb sigma;
+      for (int c = 0; c < 3; ++c)
+        sigma[c] = std::sqrt(area.variance[c] + room.variance[c]);
+      const ReferenceObservation observation{
+          {reference.centre.x(), reference.centre.y(), 0.0}, value, reference.albedo, sigma};
+      // No LED light (the arm covers it, or noise in a dark frame): not for the fit, but checked
+      // against the fitted light (fitLight).
+      (value.minChannel() > 0 ? observations : unlit)->push_back(observation);
+    }
+    if (observations->size() < 5)
+      return GateFailure{RejectReason::WindowOccluded, "white references out of the image"};
+    return std::nullopt;
+  }
+
+  // The point light fitted to the references, or a rejection when they disagree by more than
+  // noise explains plus the margin for an occluder (maxReferenceResidual), or one that reads no
+  // LED light (`unlit`) falls short of the fitted light by as much.
+  std::optional<GateFailure> fitLight(const std::vector<ReferenceObservation>& observations,
+                                      const std::vector<ReferenceObservation>& unlit,
+                                      const Direction& nominalLight, LightFit* fit,
+                                      double* limit) const {
+    LightFitParams fitParams;
+    const UnitVector toLight = toUnitVector(nominalLight);
+    fitParams.initialPositionMm = {toLight.x * settings.nominalLightDistanceMm,
+                                   toLight.y * settings.nominalLightDistanceMm,
+                                   toLight.z * settings.nominalLightDistanceMm};
+    try {
+      *fit = fitPointLight(observations, fitParams);
+    } catch (const std::invalid_argument& error) {
+      return GateFailure{RejectReason::WindowOccluded, error.what()};
+    }
+    if (!fit->converged)
+      return GateFailure{RejectReason::WindowOccluded, "light fit: " + fit->message};
+    *limit = settings.maxReferenceResidual + noiseAllowance(*fit, settings.referenceNoiseSigmas);
+    if (fit->weightedResidualRms > *limit)
+      return GateFailure{RejectReason::WindowOccluded,
+                         "white references disagree by " +
+                             std::to_string(fit->weightedResidualRms) +
+                             ", noise and margin allow " + std::to_string(*limit)};
+    for (const ReferenceObservation& o : unlit) {
+      const Rgb irradiance = fit->light.irradianceAt(o.point);
+      for (int c = 0; c < 3; ++c) {
+        const double expected = o.albedo[c] / std::numbers::pi * irradiance[c];
+        if (expected - o.radiance[c] >
+            settings.referenceNoiseSigmas * o.sigma[c] + settings.maxReferenceResidual * expected)
+          return GateFailure{RejectReason::WindowOccluded,
+                             "a white reference (at " + std::to_string(o.point.x) + ", " +
+                                 std::to_string(o.point.y) + " mm) gets no LED light, " +
+                                 std::to_string(expected / o.sigma[c]) + " sigma expected"};
+      }
+    }
+    return std::nullopt;
+  }
+
+  // The window's sample square in cells (HDR sweeps): each cell's radiance per unit exposure x
+  // gain minus the room light (LED-off frames of the same level), its variance, its level as
+  // exposed and whether it clipped; a cell out of the image counts as clipped (unusable).
+  std::vector<HdrCell> readCells(const hal::Frame& frame, const vision::Pose& pose,
+                                 const std::vector<AmbientTerm>& roomLight) const {
+    const vision::RectMm& r = windowArea.rectMm;
+    const int n = kHdrCellsPerSide;
+    const double scale =
+        exposureKnown(frame) ? frame.metadata.exposureUs * frame.metadata.gain : 1.0;
+    std::vector<HdrCell> cells;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double x0 = r.xMinMm + i * r.widthMm() / n, y0 = r.yMinMm + j * r.heightMm() / n;
+        const AreaSpec spec{
+            {x0, y0, x0 + r.widthMm() / n, y0 + r.heightMm() / n}, 0.0, settings.clipFraction};
+        const AreaReading area = readArea(frame, pose, camera, spec, settings.noise, *codes);
+        const AreaReading room = ambientAt(roomLight, spec, pose);
+        HdrCell cell;
+        cell.radiance = area.mean - room.mean;
+        for (int c = 0; c < 3; ++c)
+          cell.variance[c] = area.variance[c] + room.variance[c];
+        cell.level = area.mean.maxChannel() * scale;
+        cell.clipped = area.clipped || !area.inside;
+        cells.push_back(cell);
+      }
+    return cells;
+  }
+
+  // The stages of process(), in order; each returns the frame's outcome when the frame ends there.
+  std::optional<FrameOutcome> screen(const hal::Frame& frame);
+  std::optional<FrameOutcome> locate(const hal::Frame& frame, FrameOutcome& outcome,
+                                     Located& located);
+  std::optional<FrameOutcome> checkView(const hal::Frame& frame, const SliceId& slice,
+                                        FrameOutcome& outcome, const Located& located) const;
+  std::optional<GateFailure> roomLightFor(const hal::Frame& frame,
+                                          std::vector<AmbientTerm>& terms) const;
+  std::optional<FrameOutcome> measure(const hal::Frame& frame, FrameOutcome& outcome,
+                                      const Located& located, FrameSample& sample);
+
+  // The LED-off frames on both sides of `timeUs`, weighted linearly in time, when the following
+  // one is known (offline), else the one there is.
+  std::vector<AmbientTerm> ambientTerms(std::int64_t timeUs) const {
+    const auto term = [](const Ambient& a, double weight) {
+      return AmbientTerm{&a.frame, a.pose, weight};
+    };
+    if (!ambient && !nextAmbient) return {};
+    if (!ambient) return {term(*nextAmbient, 1.0)};
+    const bool after = nextAmbient && nextAmbient->frame.metadata.timestampUs > timeUs;
+    if (!after) return {term(*ambient, 1.0)};
+    const double t0 = static_cast<double>(ambient->frame.metadata.timestampUs);
+    const double t1 = static_cast<double>(nextAmbient->frame.metadata.timestampUs);
+    const double w = std::clamp((static_cast<double>(timeUs) - t0) / (t1 - t0), 0.0, 1.0);
+    return {term(*ambient, 1.0 - w), term(*nextAmbient, w)};
+  }
+};
+
+}  // namespace slicecap::capture
