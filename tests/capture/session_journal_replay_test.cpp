@@ -6,6 +6,7 @@
 #include <iterator>
 #include <sstream>
 
+#include "../support/sweep_sample.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/capture/session_store.hpp"
 
@@ -15,13 +16,7 @@ namespace {
 const SliceId kAxial3030{SliceKind::Axial, {30, 30}};
 const SliceId kDiagonal3030{SliceKind::Diagonal, {30, 30}};
 
-FrameSample sampleAt(double parameterDeg, double value, std::uint64_t frame = 0) {
-  return {std::int64_t(frame) * 33000,
-          frame,
-          {30, parameterDeg},
-          {30, parameterDeg + 15},
-          Rgb::gray(value)};
-}
+using test::sampleAt;
 
 std::vector<std::string> journalLines(const std::filesystem::path& journal) {
   std::ifstream in(journal, std::ios::binary);
@@ -101,7 +96,7 @@ TEST(SessionJournalDamage, ADamagedSampleRecordCostsThatSampleOnly) {
   const auto root = sessionWithRedo();
   const auto journal = root / "s" / "journal";
   std::vector<std::string> lines = journalLines(journal);
-  const std::size_t line = lineOf(lines, "sample");  // the first axial sample
+  const std::size_t line = lineOf(lines, "sample");              // the first axial sample
   lines[line - 1][lines[line - 1].find("\"rgb\"") + 7] ^= 0x01;  // still JSON, a wrong value
   writeLines(journal, lines);
   const SessionStore store = SessionStore::open(root, "s");

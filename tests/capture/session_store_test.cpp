@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "../support/kill_dash_nine.hpp"
+#include "../support/sweep_sample.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/io/io_error.hpp"
 
@@ -20,13 +21,7 @@ namespace {
 const SliceId kAxial3030{SliceKind::Axial, {30, 30}};
 const SliceId kDiagonal7575{SliceKind::Diagonal, {75, 75}};
 
-FrameSample sampleAt(double parameterDeg, double value, std::uint64_t frame = 0) {
-  return {std::int64_t(frame) * 33000,
-          frame,
-          {30, parameterDeg},
-          {30, parameterDeg + 15},
-          Rgb::gray(value)};
-}
+using test::sampleAt;
 
 TEST(SessionStore, CreatesListsReopensAndRemoves) {
   const auto root = test::freshTempDir();
