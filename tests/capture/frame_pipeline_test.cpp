@@ -8,6 +8,10 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
 #include <nlohmann/json.hpp>
 
 #include "../support/test_support.hpp"
@@ -25,13 +29,14 @@ namespace {
 constexpr const char* kMaterial = "ward:diffuse=0.3,0.2,0.1,specular=0.2,ax=0.2,ay=0.3,tangent=30";
 
 // A short sweep (8 frames: 4 with the LED on) written to a fresh directory.
-std::filesystem::path simulate(const SliceId& slice, sim::RigParams rig, int frames = 8) {
+std::filesystem::path simulate(const SliceId& slice, sim::RigParams rig, int frames = 8,
+                               const std::string& material = kMaterial) {
   const auto dir = test::freshTempDir() / folderName(slice);
   sim::SweepSetup setup;
   rig.framesPerSlice = frames;
   setup.rig = rig;
-  setup.materialSpec = kMaterial;
-  const sim::FrameRenderer renderer(setup.camera, setup.target, sim::loadMaterial(kMaterial),
+  setup.materialSpec = material;
+  const sim::FrameRenderer renderer(setup.camera, setup.target, sim::loadMaterial(material),
                                     setup.rig);
   sim::simulateSweep(dir, {slice, kAxialOffsetDeg}, renderer, setup);
   return dir;
@@ -187,6 +192,101 @@ TEST(FramePipeline, AnLedOffFrameOfTheWrongSizeIsNoRoomLightTerm) {
     for (int c = 0; c < 3; ++c)
       EXPECT_DOUBLE_EQ(wrongSize.outcomes[i].sample->value[c],
                        corrupt.outcomes[i].sample->value[c]);
+  }
+}
+
+// Offline HDR: an LED-on frame whose own LED-off frame was not located takes its room light from
+// another level's located LED-off frames around it, weighted linearly in time, each with its pose;
+// one the pipeline would reject as bad_frame is left out; an empty list ends the stand-ins.
+TEST(FramePipeline, AnUnlocatedLedOffFrameGivesWayToStandInsAroundTheLedOnFrame) {
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  const auto dir = simulate(slice, sim::RigParams::ideal(), 4);
+  const io::Recording recording = io::readRecording(dir);
+  PipelineSettings settings;
+  settings.poseAmbientFrames = true;
+  FramePipeline pipeline(recording.target, recording.camera, settings);
+  hal::Frame dark = frameOf(dir, 1);  // LED off and black: no marker to locate
+  std::fill(dark.image.samples.begin(), dark.image.samples.end(), std::uint16_t{0});
+  pipeline.setAmbientFrame(dark);
+  const std::int64_t ledOnUs = frameOf(dir, 2).metadata.timestampUs;
+  ASSERT_EQ(pipeline.ambientTermsFor(ledOnUs).size(), 1u);
+  EXPECT_FALSE(pipeline.ambientTermsFor(ledOnUs).at(0).pose);
+
+  const auto standIn = [&](std::int64_t timeUs, double xMm) {
+    LocatedAmbientFrame f{frameOf(dir, 3), {}};
+    f.frame.metadata.timestampUs = timeUs;
+    f.pose.translationMm = {xMm, 0.0, 500.0};
+    return f;
+  };
+  LocatedAmbientFrame wrongSize = standIn(ledOnUs - 50'000, 3.0);
+  wrongSize.frame.image.width /= 2;
+  pipeline.setStandInAmbientFrames({standIn(ledOnUs - 40'000, 1.0), standIn(ledOnUs - 10'000, 2.0),
+                                    standIn(ledOnUs + 30'000, 4.0), wrongSize});
+  const std::vector<AmbientTerm> terms = pipeline.ambientTermsFor(ledOnUs);
+  ASSERT_EQ(terms.size(), 2u);
+  EXPECT_EQ(terms[0].frame->metadata.timestampUs, ledOnUs - 10'000);
+  EXPECT_EQ(terms[1].frame->metadata.timestampUs, ledOnUs + 30'000);
+  EXPECT_DOUBLE_EQ(terms[0].weight, 0.75);
+  EXPECT_DOUBLE_EQ(terms[1].weight, 0.25);
+  ASSERT_TRUE(terms[0].pose && terms[1].pose);
+  EXPECT_DOUBLE_EQ(terms[0].pose->translationMm.x(), 2.0);
+  EXPECT_DOUBLE_EQ(terms[1].pose->translationMm.x(), 4.0);
+  // Before the first stand-in (the bad one left out), the nearest alone.
+  const std::vector<AmbientTerm> early = pipeline.ambientTermsFor(ledOnUs - 45'000);
+  ASSERT_EQ(early.size(), 1u);
+  EXPECT_EQ(early[0].frame->metadata.timestampUs, ledOnUs - 40'000);
+
+  pipeline.setStandInAmbientFrames({});
+  ASSERT_EQ(pipeline.ambientTermsFor(ledOnUs).size(), 1u);
+  EXPECT_EQ(pipeline.ambientTermsFor(ledOnUs).at(0).frame->metadata.timestampUs,
+            dark.metadata.timestampUs);
+}
+
+// A realistic HDR sweep of a sharp metal: the short level's LED-off frames are too dark to locate
+// (its markers a few codes above black), so their room light was read at the LED-on frame's pixels
+// after the hand moved, and misread references rejected frames on the highlight. processRecording
+// now gives each short LED-on frame the long level's located LED-off frames around it.
+TEST(FramePipeline, AShortExposuresRoomLightComesFromTheLongLevelsLocatedLedOffFrames) {
+  const SliceId slice{SliceKind::Diagonal, {30, 30}};
+  sim::RigParams rig = sim::RigParams::realistic();
+  rig.maxExposureLevels = 2;
+  const auto dir =
+      simulate(slice, rig, 16, "ward:diffuse=0.02,specular=0.9,ax=0.04,ay=0.3,tangent=0");
+  const io::Recording recording = io::readRecording(dir);
+  struct Seen {
+    std::size_t index;
+    std::vector<std::pair<std::int64_t, bool>> terms;  // timestamp, located
+  };
+  std::vector<Seen> shortLedOn;
+  const RecordingResult result = processRecording(
+      dir, {}, [&](const hal::Frame& frame, const FrameOutcome&, const std::vector<AmbientTerm>& t) {
+        const io::RecordedFrame& entry = recording.frames.at(frame.metadata.sequence);
+        if (!entry.ledOn || entry.exposureLevel.value_or(0) != 1) return;
+        Seen seen{frame.metadata.sequence, {}};
+        for (const AmbientTerm& term : t)
+          seen.terms.emplace_back(term.frame->metadata.timestampUs, term.pose.has_value());
+        shortLedOn.push_back(std::move(seen));
+      });
+  ASSERT_EQ(result.exposureLevels, 2);
+  std::set<std::int64_t> locatedLong;
+  int unlocatedShort = 0;
+  for (std::size_t i = 0; i < recording.frames.size(); ++i) {
+    const io::RecordedFrame& entry = recording.frames[i];
+    if (entry.ledOn || result.outcomes[i].kind != FrameOutcome::Kind::Ambient) continue;
+    const bool located = result.outcomes[i].measurement.pose.has_value();
+    if (entry.exposureLevel.value_or(0) == 0 && located) locatedLong.insert(entry.timestampUs);
+    if (entry.exposureLevel.value_or(0) == 1 && !located) ++unlocatedShort;
+  }
+  ASSERT_GT(unlocatedShort, 0) << "the case under test: short LED-off frames not located";
+  ASSERT_GE(locatedLong.size(), 4u);
+  ASSERT_GE(shortLedOn.size(), 8u);
+  for (const Seen& seen : shortLedOn) {
+    SCOPED_TRACE("frame " + std::to_string(seen.index));
+    ASSERT_FALSE(seen.terms.empty());
+    for (const auto& [timeUs, located] : seen.terms) {
+      EXPECT_TRUE(located);
+      EXPECT_TRUE(locatedLong.count(timeUs)) << "a term not from the long level: " << timeUs;
+    }
   }
 }
 

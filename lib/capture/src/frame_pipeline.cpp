@@ -87,6 +87,14 @@ bool FramePipeline::offOverSampleRows(const hal::Frame& frame) const {
   return ledStateOver(frame, rows) == hal::LedExposure::State::Off;
 }
 
+void FramePipeline::setStandInAmbientFrames(std::vector<LocatedAmbientFrame> frames) {
+  std::vector<State::Ambient>& standIns = state_->standIns;
+  standIns.clear();
+  for (LocatedAmbientFrame& f : frames)
+    if (!badFrameDetail(f.frame, state_->camera.intrinsics))
+      standIns.push_back({std::move(f.frame), f.pose});
+}
+
 std::vector<AmbientTerm> FramePipeline::ambientTermsFor(std::int64_t timeUs) const {
   return state_->ambientTerms(timeUs);
 }

@@ -2,7 +2,9 @@
 // the stages): the target, camera and settings, the marker search, the room-light frames.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -59,6 +61,8 @@ struct FramePipeline::State {
   };
   std::optional<Ambient> ambient;      // the latest LED-off frame
   std::optional<Ambient> nextAmbient;  // offline: the LED-off frame after the coming LED-on ones
+  // Offline HDR: another level's located LED-off frames near the coming LED-on ones, in time order.
+  std::vector<Ambient> standIns;
   std::uint64_t frameIndex = 0;
 
   // The rows a sample of a `heightPx`-row frame reads, predicted from the latest pose with a
@@ -241,19 +245,35 @@ struct FramePipeline::State {
                                       const Located& located, FrameSample& sample);
 
   // The LED-off frames on both sides of `timeUs`, weighted linearly in time, when the following
-  // one is known (offline), else the one there is.
+  // one is known (offline), else the one there is; another level's stand-ins when these are
+  // missing or not located and there are any (setStandInAmbientFrames).
   std::vector<AmbientTerm> ambientTerms(std::int64_t timeUs) const {
+    std::vector<AmbientTerm> own = bracketingTerms(ambient ? &*ambient : nullptr,
+                                                   nextAmbient ? &*nextAmbient : nullptr, timeUs);
+    const bool ownLocated = !own.empty() && std::all_of(own.begin(), own.end(),
+                                                        [](const AmbientTerm& t) { return t.pose; });
+    if (ownLocated || standIns.empty()) return own;
+    const auto after = std::find_if(standIns.begin(), standIns.end(), [&](const Ambient& a) {
+      return a.frame.metadata.timestampUs > timeUs;
+    });
+    return bracketingTerms(after == standIns.begin() ? nullptr : &*std::prev(after),
+                           after == standIns.end() ? nullptr : &*after, timeUs);
+  }
+
+  // `before` and `after` (either may be missing) as the terms of a frame at `timeUs`: linear in
+  // time between them when `after` is later, else the one there is (`before` first).
+  static std::vector<AmbientTerm> bracketingTerms(const Ambient* before, const Ambient* after,
+                                                  std::int64_t timeUs) {
     const auto term = [](const Ambient& a, double weight) {
       return AmbientTerm{&a.frame, a.pose, weight};
     };
-    if (!ambient && !nextAmbient) return {};
-    if (!ambient) return {term(*nextAmbient, 1.0)};
-    const bool after = nextAmbient && nextAmbient->frame.metadata.timestampUs > timeUs;
-    if (!after) return {term(*ambient, 1.0)};
-    const double t0 = static_cast<double>(ambient->frame.metadata.timestampUs);
-    const double t1 = static_cast<double>(nextAmbient->frame.metadata.timestampUs);
+    if (!before && !after) return {};
+    if (!before) return {term(*after, 1.0)};
+    if (!after || after->frame.metadata.timestampUs <= timeUs) return {term(*before, 1.0)};
+    const double t0 = static_cast<double>(before->frame.metadata.timestampUs);
+    const double t1 = static_cast<double>(after->frame.metadata.timestampUs);
     const double w = std::clamp((static_cast<double>(timeUs) - t0) / (t1 - t0), 0.0, 1.0);
-    return {term(*ambient, 1.0 - w), term(*nextAmbient, w)};
+    return {term(*before, 1.0 - w), term(*after, w)};
   }
 };
 

@@ -34,6 +34,7 @@ std::optional<FrameOutcome> FramePipeline::State::screen(const hal::Frame& frame
   }
   FrameOutcome outcome;
   outcome.kind = FrameOutcome::Kind::Ambient;
+  outcome.measurement.pose = ambient->pose;  // offline: another level may borrow it
   return outcome;
 }
 

@@ -2,7 +2,10 @@
 #include "slicecap/capture/recording_processor.hpp"
 
 #include <algorithm>
+#include <functional>
+#include <iterator>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
@@ -41,16 +44,81 @@ hal::Frame frameOf(Image image, const io::Recording& recording, const io::Record
   return frame;
 }
 
+// A located LED-off frame of the longest exposure level: where it is in the recording, when it was
+// taken, and its pose.
+struct LocatedOff {
+  std::size_t index = 0;
+  std::int64_t timestampUs = 0;
+  vision::Pose pose;
+};
+
+// The LED-off frames of `group` that were located, in time order (the group's outcomes are in).
+std::vector<LocatedOff> locatedOffFrames(const io::Recording& recording,
+                                         const std::vector<std::size_t>& group,
+                                         const RecordingResult& result) {
+  std::vector<LocatedOff> located;
+  for (std::size_t i : group) {
+    const FrameOutcome& outcome = result.outcomes[i];
+    if (outcome.kind == FrameOutcome::Kind::Ambient && outcome.measurement.pose)
+      located.push_back({i, recording.frames[i].timestampUs, *outcome.measurement.pose});
+  }
+  return located;
+}
+
+// Gives a shorter level's pipeline, before each of its LED-on frames, the longest level's located
+// LED-off frames on both sides of it (FramePipeline::setStandInAmbientFrames): a short level's own
+// LED-off frames are too dark to be located. Each PNG is read once while it stays a neighbour; one
+// that cannot be read is left out (that frame's own turn reports it).
+class StandInFeeder {
+ public:
+  using ReadFrame = std::function<hal::Frame(std::size_t)>;
+  StandInFeeder(const std::vector<LocatedOff>& source, ReadFrame read)
+      : source_(source), read_(std::move(read)) {}
+
+  void feed(FramePipeline& pipeline, std::int64_t timeUs) {
+    if (source_.empty()) return;
+    const auto after = std::find_if(source_.begin(), source_.end(),
+                                     [&](const LocatedOff& f) { return f.timestampUs > timeUs; });
+    std::vector<const LocatedOff*> wanted;
+    if (after != source_.begin()) wanted.push_back(&*std::prev(after));
+    if (after != source_.end()) wanted.push_back(&*after);
+    std::map<std::size_t, hal::Frame> kept;
+    std::vector<LocatedAmbientFrame> frames;
+    for (const LocatedOff* f : wanted) {
+      auto cached = frames_.find(f->index);
+      if (cached == frames_.end()) {
+        try {
+          cached = frames_.emplace(f->index, read_(f->index)).first;
+        } catch (const io::IoError&) {
+          continue;
+        }
+      }
+      frames.push_back({cached->second, f->pose});
+      kept.insert(*cached);
+    }
+    frames_ = std::move(kept);
+    pipeline.setStandInAmbientFrames(std::move(frames));
+  }
+
+ private:
+  const std::vector<LocatedOff>& source_;
+  ReadFrame read_;
+  std::map<std::size_t, hal::Frame> frames_;  // the current neighbours, by recording index
+};
+
 // The frames `group` (indices into recording.frames, in time order) through one pipeline; their
-// outcomes go to result.outcomes at their indices.
+// outcomes go to result.outcomes at their indices. `standIns`: the longest level's located LED-off
+// frames, for a shorter level's group (empty for the longest level or one exposure).
 void processGroup(const std::filesystem::path& directory, const io::Recording& recording,
                   const std::vector<std::size_t>& group, const PipelineSettings& offline,
-                  const FrameObserver& observer, RecordingResult& result) {
+                  const FrameObserver& observer, const std::vector<LocatedOff>& standIns,
+                  RecordingResult& result) {
   FramePipeline pipeline(recording.target, recording.camera, offline);
   const auto readFrame = [&](std::size_t i) {
     return frameOf(io::readPng(io::framePath(directory, recording.frames[i])), recording,
                    recording.frames[i], i);
   };
+  StandInFeeder feeder(standIns, readFrame);
   if (!offline.offlineTwoSidedAmbient) {
     // As live, except that LED-on frames before the first LED-off one use that one.
     for (std::size_t i : group) {
@@ -85,6 +153,7 @@ void processGroup(const std::filesystem::path& directory, const io::Recording& r
       }
       const hal::Frame frame =
           following && following->first == n ? following->second : readFrame(i);
+      if (entry.ledOn) feeder.feed(pipeline, entry.timestampUs);
       outcome = pipeline.process(frame, result.slice);
       // An LED-on frame leaves the pipeline's LED-off frames as they were: its own term.
       if (observer)
@@ -162,8 +231,14 @@ RecordingResult processRecording(const std::filesystem::path& directory,
   offline.hdr = result.exposureLevels > 1;
   result.frameFiles.resize(recording.frames.size());
   result.outcomes.resize(recording.frames.size());
-  for (const std::vector<std::size_t>& group : groups)
-    processGroup(directory, recording, group, offline, observer, result);
+  // The longest level first: with LED-off frames located (offline, two-sided), they stand in for
+  // the room light of the shorter levels' LED-on frames whose own LED-off frames were not.
+  processGroup(directory, recording, groups[0], offline, observer, {}, result);
+  const std::vector<LocatedOff> standIns = offline.poseAmbientFrames && groups.size() > 1
+                                               ? locatedOffFrames(recording, groups[0], result)
+                                               : std::vector<LocatedOff>{};
+  for (std::size_t level = 1; level < groups.size(); ++level)
+    processGroup(directory, recording, groups[level], offline, observer, standIns, result);
   for (std::size_t i = 0; i < recording.frames.size(); ++i) {
     FrameOutcome& outcome = result.outcomes[i];
     if (outcome.kind == FrameOutcome::Kind::Sample) {

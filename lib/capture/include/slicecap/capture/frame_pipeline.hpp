@@ -80,6 +80,13 @@ struct AmbientTerm {
   double weight = 1.0;  ///< the terms of one LED-on frame sum to 1
 };
 
+/// \brief An LED-off frame and the pose it was located at (FrameOutcome::Measurement::pose of its
+/// Ambient outcome, offline).
+struct LocatedAmbientFrame {
+  hal::Frame frame;
+  vision::Pose pose;
+};
+
 /// \brief Turns the frames of one sweep into outcomes; keeps the latest LED-off frame. Construct
 /// a new one per sweep.
 class FramePipeline {
@@ -110,6 +117,15 @@ class FramePipeline {
   /// weighted linearly in time. Empty when there is no LED-off frame. The pointers stay valid until
   /// the next process() or set*AmbientFrame() call.
   std::vector<AmbientTerm> ambientTermsFor(std::int64_t timeUs) const;
+  /// \brief Offline HDR: the located LED-off frames of another (longer) exposure level nearest the
+  /// coming LED-on frames in time, in time order. An LED-on frame whose own room-light term has
+  /// no LED-off frame, or one that was not located (a short exposure's markers sit a few codes
+  /// above black), takes its room light from these instead, weighted linearly in time: every
+  /// frame is read per unit of exposure x gain, so another level's LED-off frames measure the
+  /// same room light, and read at their own poses they read the same target points, where the
+  /// LED-on frame's pixels would read other points after the hand moved (docs/method.md 9.3).
+  /// An empty list ends the stand-ins.
+  void setStandInAmbientFrames(std::vector<LocatedAmbientFrame> frames);
 
  private:
   bool offOverSampleRows(const hal::Frame& frame) const;
