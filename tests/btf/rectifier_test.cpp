@@ -1,12 +1,13 @@
 // The BTF rectifier on the virtual rig with the woven material: one frame's texels against the
 // renderer's own radiometry, and room light read at the LED-off frame's own pose.
+#include "slicecap/btf/rectifier.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <iostream>
 
 #include "../support/clean_btf_rig.hpp"
-#include "slicecap/btf/rectifier.hpp"
 #include "slicecap/btf/texture_grid.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/sim/patterned_material.hpp"

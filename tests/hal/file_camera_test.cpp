@@ -1,12 +1,13 @@
 // The file camera plays a recording with its timestamps and metadata, paced or not, looping, and
 // reports bad frames and calls out of order.
+#include "slicecap/hal/file_camera.hpp"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
 
 #include "../support/test_support.hpp"
 #include "slicecap/hal/clock.hpp"
-#include "slicecap/hal/file_camera.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/recording.hpp"
 

@@ -1,11 +1,12 @@
 // The file LED logs every change with its time and ends off; its log's reader names a bad line.
+#include "slicecap/hal/file_led.hpp"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
 
 #include "../support/test_support.hpp"
 #include "slicecap/hal/clock.hpp"
-#include "slicecap/hal/file_led.hpp"
 
 namespace slicecap::hal {
 namespace {

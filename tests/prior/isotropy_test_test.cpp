@@ -1,12 +1,13 @@
 // The isotropy test (lib/prior/src/isotropy_test.cpp): isotropic from anisotropic materials, axial
 // slices that vary, diagonal slices that cannot tell, no slices.
+#include "slicecap/prior/isotropy_test.hpp"
+
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 
 #include "../support/keep_pairs.hpp"
 #include "slicecap/models/reflectance_model.hpp"
-#include "slicecap/prior/isotropy_test.hpp"
 #include "slicecap/prior/prior_location.hpp"
 #include "slicecap/recon/slice_extraction.hpp"
 

@@ -1,5 +1,7 @@
 // Where the prior is found: the shipped model from the source tree, and SLICECAP_PRIOR used or an
 // error naming it.
+#include "slicecap/prior/prior_location.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -8,7 +10,6 @@
 #include <string>
 
 #include "../support/test_support.hpp"
-#include "slicecap/prior/prior_location.hpp"
 #include "slicecap/prior/prior_model.hpp"
 
 namespace slicecap::prior {

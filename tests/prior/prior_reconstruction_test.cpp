@@ -1,5 +1,7 @@
 // Reconstruction with the learned prior: its fit at the samples' actual angles, partial input that
 // method B refuses, the blend with method B on near-diffuse materials, and its errors.
+#include "slicecap/prior/prior_reconstruction.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,7 +17,6 @@
 #include "slicecap/models/reflectance_model.hpp"
 #include "slicecap/prior/prior_location.hpp"
 #include "slicecap/prior/prior_model.hpp"
-#include "slicecap/prior/prior_reconstruction.hpp"
 #include "slicecap/recon/errors.hpp"
 #include "slicecap/recon/method_b.hpp"
 #include "slicecap/recon/slice_extraction.hpp"

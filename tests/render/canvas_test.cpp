@@ -1,7 +1,7 @@
 // The canvas draws text inside its box only and clips what falls outside.
-#include <gtest/gtest.h>
-
 #include "slicecap/render/canvas.hpp"
+
+#include <gtest/gtest.h>
 
 namespace slicecap::render {
 namespace {

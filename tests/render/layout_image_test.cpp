@@ -1,11 +1,12 @@
 // The layout image shows exactly the metrics' encoding; the difference of equal tables is black
 // and scales by the gain.
+#include "slicecap/render/layout_image.hpp"
+
 #include <gtest/gtest.h>
 
 #include "../support/material_table.hpp"
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/render/canvas.hpp"
-#include "slicecap/render/layout_image.hpp"
 
 namespace slicecap::render {
 namespace {

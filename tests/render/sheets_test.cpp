@@ -1,10 +1,11 @@
 // The evaluation and preview sheets: a panel per reconstruction, a black reference refused.
+#include "slicecap/render/sheets.hpp"
+
 #include <gtest/gtest.h>
 
 #include "../support/material_table.hpp"
 #include "slicecap/render/canvas.hpp"
 #include "slicecap/render/layout_image.hpp"
-#include "slicecap/render/sheets.hpp"
 
 namespace slicecap::render {
 namespace {

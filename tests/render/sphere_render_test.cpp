@@ -1,11 +1,12 @@
 // The sphere render: a Lambertian sphere lit from the viewer is brightest in the middle.
+#include "slicecap/render/sphere_render.hpp"
+
 #include <gtest/gtest.h>
 
 #include <numbers>
 
 #include "../support/material_table.hpp"
 #include "slicecap/render/canvas.hpp"
-#include "slicecap/render/sphere_render.hpp"
 
 namespace slicecap::render {
 namespace {

@@ -39,7 +39,7 @@ inline hal::Frame renderedFrame(const sim::FrameRenderer& renderer, const sim::F
 
 // The plans of a sweep with the exposure a person would set.
 inline std::vector<sim::FramePlan> plannedSweep(const SliceId& slice, const sim::RigParams& rig,
-                                         const sim::FrameRenderer& renderer) {
+                                                const sim::FrameRenderer& renderer) {
   std::vector<sim::FramePlan> plans =
       sim::planSweep(slice, kAxialOffsetDeg, rig, renderer.camera(), renderer.target());
   const double exposureUs = sim::chooseExposureUs(renderer, rig, plans);
