@@ -1,5 +1,6 @@
-// The white-reference gate on realistic 8-bit frames: dark references of a frame exposed for a
-// highlight are not taken for an occluder; the light arm over the references still is.
+// End-to-end: the white-reference gate on the virtual rig's realistic 8-bit sweeps, processed as
+// recordings (sim -> capture): dark references of a frame exposed for a highlight are not taken
+// for an occluder; the light arm over the references still is.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -1,5 +1,6 @@
-// HDR capture end to end: the virtual rig sweeps a sharp metal (Ward, ax 0.04) with noise as on an
-// 8-bit sensor; metered on the paper one exposure clips the highlight, two merged levels keep it.
+// End-to-end: HDR capture (sim -> io recording -> capture): the virtual rig sweeps a sharp metal
+// (Ward, ax 0.04) with noise as on an 8-bit sensor; metered on the paper one exposure clips the
+// highlight, two merged levels keep it.
 #include <gtest/gtest.h>
 
 #include <algorithm>

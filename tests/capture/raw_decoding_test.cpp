@@ -1,8 +1,8 @@
-// Linear light from the RAW stream, end to end on the model camera: the virtual rig's target
-// seen by a sensor offering SRGGB10_CSI2P (black level, shot and read noise, 10-bit codes),
-// packed, decoded by hal::decodeBayer and read by the pipeline's LinearView. The window over the
-// white reference beside it must come out as the scene's linear light says, where the same
-// camera's processed frames read as sRGB do not.
+// End-to-end: linear light from the RAW stream on the model camera (sim -> hal -> capture): the
+// virtual rig's target seen by a sensor offering SRGGB10_CSI2P (black level, shot and read noise,
+// 10-bit codes), packed, decoded by hal::decodeBayer and read by the pipeline's LinearView. The
+// window over the white reference beside it must come out as the scene's linear light says, where
+// the same camera's processed frames read as sRGB do not.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,20 +1,32 @@
-// The session exporter: the reply lists exactly the texture files a copy needs (no temporaries,
-// no discarded sweeps), the texture is skipped while a sweep captures into it, and the reply's
-// files are the ones written.
+// The session exporter: one set, replaced as a whole. The reply lists exactly the texture files a
+// copy needs (no temporaries, no discarded sweeps), the texture is skipped while a sweep captures
+// into it, and the reply's files are the ones written; through the session manager's export, a
+// full disk leaves the folder's earlier export whole, a link planted in the folder is never
+// written through, only files the export wrote are removed, and what a damaged journal set aside
+// goes with it.
 #include "slicecap/daemon/session_exporter.hpp"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <functional>
+#include <iterator>
+#include <map>
 
+#include "../support/small_disk.hpp"
 #include "../support/test_support.hpp"
+#include "slicecap/daemon/session_manager.hpp"
 #include "slicecap/daemon/texture_sink.hpp"
+#include "slicecap/io/io_error.hpp"
 #include "slicecap/io/journal.hpp"
 
 namespace slicecap::daemon {
 namespace {
 
 namespace fs = std::filesystem;
+using nlohmann::json;
+using ::testing::HasSubstr;
 
 const SliceId kAxial3030{SliceKind::Axial, {30, 30}};
 
@@ -75,6 +87,178 @@ TEST(SessionExporter, SkipsTheTextureWhileASweepCapturesIntoIt) {
   EXPECT_TRUE(reply.textureFiles.empty());
   ASSERT_TRUE(reply.textureSkipped);
   EXPECT_NE(reply.textureSkipped->find("axial 30/30"), std::string::npos) << *reply.textureSkipped;
+}
+
+// A table of the mean sample value: a new sweep changes every byte of it.
+Abrdf meanTable(const SliceSet& slices, const std::string&) {
+  double sum = 0;
+  for (const Slice& slice : slices.slices())
+    for (const SliceSample& sample : slice.samples)
+      sum += sample.value.r();
+  Abrdf table;
+  for (int light = 0; light < bonn::kDirectionCount; ++light)
+    for (int view = 0; view < bonn::kDirectionCount; ++view)
+      table.set(light, view, Rgb::gray(static_cast<float>(sum / double(slices.sampleCount()))));
+  return table;
+}
+
+// A preview as big as a real PNG can be, bigger for a brighter table (so a new export needs more
+// room than the one it replaces), failing as the real one does when the disk is full.
+void bigPreview(const Abrdf& table, const fs::path& png) {
+  std::ofstream out(png, std::ios::binary);
+  out << std::string(100000 + std::size_t(table.at(0, 0).r() * 400000), 'p');
+  out.close();
+  if (!out) throw io::IoError(png.string() + ": write failed");
+}
+
+// Each file's name with its size and a hash of its bytes (short enough to print when they differ).
+std::map<std::string, std::string> snapshot(const fs::path& folder) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(folder)) {
+    std::ifstream in(entry.path(), std::ios::binary);
+    const std::string bytes =
+        entry.is_regular_file() ? std::string(std::istreambuf_iterator<char>(in), {}) : "";
+    files[fs::relative(entry.path(), folder).string()] =
+        std::to_string(bytes.size()) + " bytes, hash " +
+        std::to_string(std::hash<std::string>{}(bytes));
+  }
+  return files;
+}
+
+json ok(SessionManager& manager, const Command& command) {
+  auto reply = manager.handle(command);
+  if (auto* error = std::get_if<ProtocolError>(&reply)) {
+    ADD_FAILURE() << commandName(command) << " refused: " << error->message;
+    return {};
+  }
+  return std::get<json>(reply);
+}
+
+void sweep(SessionManager& manager, double value, std::uint64_t firstFrame) {
+  ok(manager, SweepStart{kAxial3030});
+  for (std::uint64_t k = 0; k < 24; ++k)
+    ASSERT_TRUE(manager.acceptSample({std::int64_t(firstFrame + k) * 33000,
+                                      firstFrame + k,
+                                      {30, double(k) * 15.0},
+                                      {30, double(k) * 15.0 + 15},
+                                      Rgb::gray(value)}));
+  ok(manager, SweepStop{});
+}
+
+TEST(SessionExport, AFullDiskLeavesTheEarlierExportWhole) {
+  const auto dir = test::freshTempDir();
+  test::SmallDisk disk(dir / "small", "1M");
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a small tmpfs here (" << disk.why() << ")";
+  const fs::path out = dir / "small" / "out";
+  SessionManager manager(dir / "storage", meanTable, bigPreview);
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  sweep(manager, 0.25, 0);
+  ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  const auto before = snapshot(out);
+  sweep(manager, 0.75, 100);
+  disk.fill(dir / "small" / "filler", 50000);
+  auto reply = manager.handle(Export{std::nullopt, out.string(), std::string("b")});
+  ASSERT_TRUE(std::holds_alternative<ProtocolError>(reply)) << "the export did not fail";
+  EXPECT_EQ(std::get<ProtocolError>(reply).code, ErrorCode::StorageError);
+  EXPECT_EQ(snapshot(out), before) << "the folder holds neither the old export nor the new one";
+  // With room again, the new export goes in whole.
+  fs::remove(dir / "small" / "filler");
+  ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  EXPECT_NE(snapshot(out), before);
+}
+
+TEST(SessionExport, ALinkPlantedInTheFolderIsReplacedAndForeignTablesStay) {
+  const auto dir = test::freshTempDir();
+  const fs::path out = dir / "out";
+  fs::create_directories(out);
+  std::ofstream(dir / "victim") << "not the daemon's";
+  fs::create_symlink(dir / "victim", out / "felt-summary.json");
+  fs::create_symlink(dir / "victim", out / "felt-slices.csv");
+  std::ofstream(out / "felt-abrdf-mine.exr") << "the person's own table";
+  SessionManager manager(dir / "storage", meanTable);
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  sweep(manager, 0.25, 0);
+  ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  std::ifstream victim(dir / "victim");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(victim), {}), "not the daemon's");
+  EXPECT_FALSE(fs::is_symlink(out / "felt-summary.json"));
+  EXPECT_FALSE(fs::is_symlink(out / "felt-slices.csv"));
+  EXPECT_TRUE(fs::exists(out / "felt-abrdf-mine.exr")) << "the export did not write it";
+}
+
+// A material function as slicecapd's is, but cheap: one file holding the table's first value.
+ExportedMaterial oneFileMaterial(const Abrdf& table, const std::string& tableName) {
+  const float value = table.at(0, 0).r();
+  return {{{"-material.json",
+            [value, tableName](const fs::path& path) {
+              std::ofstream(path) << "{\"source\": \"" << tableName << "\", \"value\": " << value << "}";
+            }}},
+          "fitted from " + tableName};
+}
+
+TEST(SessionExport, HoldsTheFirstTablesFittedMaterialExceptWhileASweepRuns) {
+  const auto dir = test::freshTempDir();
+  const fs::path out = dir / "out";
+  SessionManager manager(dir / "storage", meanTable, {}, {}, oneFileMaterial);
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  sweep(manager, 0.25, 0);
+  const json reply = ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  EXPECT_EQ(reply["material"], "fitted from felt-abrdf-b.exr");
+  ASSERT_TRUE(fs::exists(out / "felt-material.json"));
+  EXPECT_THAT(reply["files"].dump(), HasSubstr("felt-material.json"));
+  std::ifstream written(out / "felt-material.json");
+  EXPECT_THAT(std::string(std::istreambuf_iterator<char>(written), {}), HasSubstr("0.25"));
+
+  // While a sweep runs, no fit (it would hold up the frames): said, and the earlier file goes as
+  // a stale member of the set rather than stay beside newer tables.
+  ok(manager, SweepStart{kAxial3030});
+  const json during = ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  EXPECT_THAT(during["material"].get<std::string>(), HasSubstr("not fitted while sweep"));
+  EXPECT_FALSE(fs::exists(out / "felt-material.json"));
+}
+
+TEST(SessionExport, ATableThatCannotBeFittedIsAWarningNotAFailedExport) {
+  const auto dir = test::freshTempDir();
+  const fs::path out = dir / "out";
+  SessionManager manager(dir / "storage", meanTable, {}, {},
+                         [](const Abrdf&, const std::string& name) -> ExportedMaterial {
+                           throw std::runtime_error(name + ": the fit did not converge");
+                         });
+  ok(manager, SessionNew{"felt", std::string("felt")});
+  sweep(manager, 0.25, 0);
+  const json reply = ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  EXPECT_TRUE(fs::exists(out / "felt-abrdf-b.exr"));
+  EXPECT_FALSE(fs::exists(out / "felt-material.json"));
+  EXPECT_THAT(reply["warnings"].dump(), HasSubstr("no fitted material: felt-abrdf-b.exr: the fit did not converge"));
+}
+
+TEST(SessionExport, WhatADamagedJournalSetAsideIsSaidWithTheExport) {
+  const auto dir = test::freshTempDir();
+  {
+    SessionManager manager(dir / "storage", meanTable);
+    ok(manager, SessionNew{"felt", std::string("felt")});
+    sweep(manager, 0.25, 0);
+    ok(manager, SweepRedo{kAxial3030});
+    ok(manager, SweepStop{});
+  }
+  // One flipped byte in the redo record.
+  const fs::path journal = dir / "storage" / "felt" / "journal";
+  std::string bytes;
+  {
+    std::ifstream in(journal, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  bytes[bytes.find("\"redo\"") + 2] = 'x';
+  std::ofstream(journal, std::ios::binary | std::ios::trunc) << bytes;
+
+  SessionManager manager(dir / "storage", meanTable);
+  const json shown = ok(manager, SessionShow{"felt"});
+  EXPECT_EQ(shown["samples"], 0) << "the redone sweep's samples came back";
+  ASSERT_TRUE(shown.contains("journal_damage"));
+  EXPECT_THAT(shown["journal_damage"][0]["message"].get<std::string>(),
+              HasSubstr(journal.string() + " line "));
+  EXPECT_EQ(shown["slices"][4]["samples_set_aside"], 24);
+  EXPECT_TRUE(manager.status()["session"].contains("journal_damage"));
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
-// Golden test on measured materials: the reference implementation figures of docs/method.md §1.5
-// (skips without the measured tables).
+// End-to-end: golden test on measured materials, the reference implementation figures of
+// docs/method.md §1.5 (skips without the measured tables).
 #include <gtest/gtest.h>
 
 #include "../support/test_support.hpp"

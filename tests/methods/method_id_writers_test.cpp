@@ -1,4 +1,4 @@
-// Both writers of an ABRDF EXR put the same `slicecap:method` in the same situation:
+// End-to-end: both writers of an ABRDF EXR put the same `slicecap:method` in the same situation:
 // `slicecap reconstruct` on a session's slices and slicecapd's export of that session, with the
 // reconstruction slicecapd's main injects (methods::runForSession).
 #include <gmock/gmock.h>

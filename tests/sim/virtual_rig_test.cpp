@@ -1,5 +1,6 @@
-// The virtual rig against its own truth: window pixels carry BRDF x irradiance x exposure, truth
-// poses reproject the markers onto where the AprilTag library finds them, recordings read back.
+// End-to-end: the virtual rig against its own truth: window pixels carry BRDF x irradiance x
+// exposure, truth poses reproject the markers onto where the AprilTag library finds them,
+// recordings read back.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>

@@ -22,7 +22,7 @@ struct DetectedTag {
 };
 
 /// \brief apriltag 3.3 places pixel centres at +0.5 (measured in
-/// tests/vision/target_detection_test.cpp); subtracting it gives OpenCV's convention.
+/// tests/vision/target_test.cpp); subtracting it gives OpenCV's convention.
 inline constexpr double kApriltagPixelOffset = 0.5;
 
 /// \brief Detects tag36h11 markers (no decimation, no blur) in an 8-bit gray view of `image`

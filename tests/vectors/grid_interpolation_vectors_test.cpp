@@ -1,4 +1,5 @@
-// The committed interpolation vectors (read by the Python tests) still match the C++ code.
+// End-to-end: the committed interpolation vectors (read by the Python tests) still match the C++
+// code.
 #include "grid_interpolation_vectors.hpp"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,7 @@
 // The printed target as a camera sees it: the PNG, warped by a known homography, is detected by the
 // AprilTag library with every marker id and corner where the target's geometry says.
+#include "slicecap/vision/target.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -9,7 +11,6 @@
 #include "../support/test_support.hpp"
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/io/target_print.hpp"
-#include "slicecap/vision/target.hpp"
 
 namespace slicecap::vision {
 namespace {

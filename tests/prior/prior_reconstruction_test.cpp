@@ -1,27 +1,22 @@
-// The learned prior: its file, its fit at the samples' actual angles, partial input, the isotropy
-// test, and the commands that expose them.
+// Reconstruction with the learned prior: its fit at the samples' actual angles, partial input that
+// method B refuses, the blend with method B on near-diffuse materials, and its errors.
+#include "slicecap/prior/prior_reconstruction.hpp"
+
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-#include <cstring>
-#include <fstream>
+#include <algorithm>
 #include <functional>
-#include <nlohmann/json.hpp>
-#include <optional>
 #include <random>
-#include <sstream>
 
-#include "../support/file_size_limit.hpp"
+#include "../support/isotropic_training_tables.hpp"
+#include "../support/keep_pairs.hpp"
 #include "../support/test_support.hpp"
-#include "slicecap/cli/cli.hpp"
 #include "slicecap/core/grid_interpolation.hpp"
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/io/table_file.hpp"
 #include "slicecap/models/reflectance_model.hpp"
-#include "slicecap/prior/isotropy_test.hpp"
 #include "slicecap/prior/prior_location.hpp"
 #include "slicecap/prior/prior_model.hpp"
-#include "slicecap/prior/prior_reconstruction.hpp"
 #include "slicecap/recon/errors.hpp"
 #include "slicecap/recon/method_b.hpp"
 #include "slicecap/recon/slice_extraction.hpp"
@@ -29,27 +24,8 @@
 namespace slicecap::prior {
 namespace {
 
-// A small training set of isotropic analytic tables (a clean clone has no measured ones).
-std::vector<Abrdf> analyticTables() {
-  std::vector<Abrdf> tables;
-  for (double exponent : {5.0, 20.0, 80.0, 300.0}) {
-    for (double diffuse : {0.05, 0.3}) {
-      tables.push_back(models::tabulate(
-          *models::makeBlinnPhong({diffuse, 0.5 * diffuse, 0.2}, {0.4, 0.4, 0.4}, exponent)));
-    }
-  }
-  return tables;
-}
-
-SliceSet keepPairs(const SliceSet& all, const std::vector<ElevationPair>& pairs) {
-  SliceSet out;
-  for (const Slice& s : all.slices()) {
-    if (std::find(pairs.begin(), pairs.end(), s.id.elevations) == pairs.end()) continue;
-    for (const SliceSample& sample : s.samples)
-      out.add(s.id, sample);
-  }
-  return out;
-}
+using test::analyticTables;
+using test::keepPairs;
 
 // Every sample moved by up to +-3 deg in all four angles (uniform, seeded), with the value
 // valueAt gives at its new angles.
@@ -69,117 +45,6 @@ SliceSet jitteredSlices(const SliceSet& ideal, unsigned seed,
     }
   }
   return out;
-}
-
-TEST(PriorModelFile, RoundTripsEveryField) {
-  const std::vector<Abrdf> tables = analyticTables();
-  TrainingParams params;
-  params.components = 4;
-  const PriorModel model = trainPriorModel(tables, params, "four Blinn-Phong pairs");
-  ASSERT_EQ(model.components(), 4);
-  for (int k = 1; k < model.components(); ++k)
-    EXPECT_LE(model.variance[k], model.variance[k - 1]) << "variances must decrease";
-  const auto path = test::freshTempDir() / "p.bin";
-  writePriorModel(path, model);
-  const PriorModel back = readPriorModel(path);
-  EXPECT_EQ(back.provenance, model.provenance);
-  EXPECT_EQ(back.mean, model.mean);
-  EXPECT_EQ(back.basis, model.basis);
-  EXPECT_EQ(back.variance, model.variance);
-  EXPECT_DOUBLE_EQ(back.residualVariance, model.residualVariance);
-  EXPECT_DOUBLE_EQ(back.floorFraction, model.floorFraction);
-}
-
-TEST(PriorModelFile, TruncatedOrForeignFilesNameThePath) {
-  const auto dir = test::freshTempDir();
-  TrainingParams params;
-  params.components = 2;
-  writePriorModel(dir / "p.bin", trainPriorModel(analyticTables(), params));
-  std::filesystem::resize_file(dir / "p.bin", 1000);
-  std::ofstream(dir / "foreign.bin") << "not a prior at all";
-  for (const char* name : {"p.bin", "foreign.bin", "absent.bin"}) {
-    try {
-      readPriorModel(dir / name);
-      ADD_FAILURE() << name << " was accepted";
-    } catch (const PriorError& e) {
-      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
-    }
-  }
-}
-
-TEST(PriorModelFile, AFailedWriteLeavesTheOldFile) {
-  // prior-train over an existing prior on a full disk used to leave it truncated.
-  const auto dir = test::freshTempDir();
-  TrainingParams params;
-  params.components = 2;
-  const PriorModel model = trainPriorModel(analyticTables(), params);
-  writePriorModel(dir / "p.bin", model);
-  const auto size = std::filesystem::file_size(dir / "p.bin");
-  try {
-    const test::FileSizeLimit limit(4096);  // writes past 4 kB fail as on a full disk
-    writePriorModel(dir / "p.bin", model);
-    ADD_FAILURE() << "the failed write was not noticed";
-  } catch (const PriorError& e) {
-    EXPECT_NE(std::string(e.what()).find((dir / "p.bin").string()), std::string::npos) << e.what();
-  }
-  EXPECT_EQ(std::filesystem::file_size(dir / "p.bin"), size);
-  EXPECT_EQ(readPriorModel(dir / "p.bin").mean, model.mean);
-  EXPECT_FALSE(std::filesystem::exists(dir / "p.bin.tmp"));
-}
-
-TEST(PriorModelFile, TrainingNeedsMoreChannelsThanComponents) {
-  TrainingParams params;
-  params.components = 30;
-  const std::vector<Abrdf> tables = analyticTables();
-  const std::vector<Abrdf> two(tables.begin(), tables.begin() + 2);
-  EXPECT_THROW(trainPriorModel(two, params), PriorError);
-}
-
-TEST(PriorLocation, TheShippedPriorIsFoundFromTheSourceTree) {
-  const PriorModel& model = defaultPriorModel();
-  EXPECT_EQ(model.components(), 16);
-  EXPECT_NE(model.provenance.find("MIT"), std::string::npos) << "the licence is named";
-  EXPECT_LT(std::filesystem::file_size(locatePriorModel()), 2u << 20) << "under 2 MB";
-}
-
-// Sets an environment variable for one scope, restoring what was there.
-class ScopedEnvironment {
- public:
-  ScopedEnvironment(const char* name, const std::string& value) : name_(name) {
-    if (const char* old = std::getenv(name)) saved_ = old;
-    ::setenv(name, value.c_str(), 1);
-  }
-  ~ScopedEnvironment() {
-    if (saved_) {
-      ::setenv(name_, saved_->c_str(), 1);
-    } else {
-      ::unsetenv(name_);
-    }
-  }
-  ScopedEnvironment(const ScopedEnvironment&) = delete;
-  ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> saved_;
-};
-
-TEST(PriorLocation, ASetSlicecapPriorIsUsedOrIsAnErrorNamingIt) {
-  // A missing file or a directory in SLICECAP_PRIOR was silently passed over for the next place.
-  const auto dir = test::freshTempDir();
-  for (const std::filesystem::path& bad : {dir / "absent.bin", dir}) {
-    const ScopedEnvironment prior("SLICECAP_PRIOR", bad.string());
-    try {
-      locatePriorModel();
-      ADD_FAILURE() << bad << " was passed over";
-    } catch (const PriorError& e) {
-      EXPECT_NE(std::string(e.what()).find("SLICECAP_PRIOR=" + bad.string()), std::string::npos)
-          << e.what();
-    }
-  }
-  std::filesystem::copy_file(locatePriorModel(), dir / "mine.bin");
-  const ScopedEnvironment prior("SLICECAP_PRIOR", (dir / "mine.bin").string());
-  EXPECT_EQ(locatePriorModel(), dir / "mine.bin");
 }
 
 TEST(PriorReconstruction, RecoversATableOfItsOwnTrainingSet) {
@@ -455,82 +320,6 @@ TEST(PriorReconstruction, KeepsTheAnisotropyOfTheMeasuredSlices) {
       eval::compare(truth, reconstructWithPrior(slices, defaultPriorModel(), {}, &report)).deltaE;
   const double methodB = eval::compare(truth, recon::reconstructMethodB(slices)).deltaE;
   EXPECT_LT(prior, 1.1 * methodB);
-}
-
-TEST(IsotropyTest, TellsIsotropicFromAnisotropicMaterials) {
-  recon::ExtractionParams diagonal;
-  diagonal.diagonalOnly = true;
-  for (const models::NamedMaterial& m : models::isotropicMaterials()) {
-    const IsotropyVerdict v = testIsotropy(
-        recon::extractSlices(models::tabulate(*m.model), diagonal), defaultPriorModel());
-    EXPECT_TRUE(v.isotropic) << m.name << ": " << v.reason;
-    EXPECT_TRUE(v.informative) << "the 30/75 and 75/30 diagonal slices can show anisotropy";
-  }
-  // Grain at 30 deg and along phi = 0, which the symmetry of the diagonal slices cannot show.
-  for (const char* name : {"brushed-steel-30", "brushed-aluminium"}) {
-    const IsotropyVerdict v =
-        testIsotropy(recon::extractSlices(models::tabulate(*models::findMaterial(name)), diagonal),
-                     defaultPriorModel());
-    EXPECT_FALSE(v.isotropic) << name << ": " << v.reason;
-    EXPECT_LT(v.priorScoreRatio, IsotropyParams{}.priorScoreRatio) << name;
-  }
-}
-
-TEST(IsotropyTest, AxialSlicesThatVaryMeanAnisotropy) {
-  const IsotropyVerdict v = testIsotropy(
-      recon::extractSlices(models::tabulate(*models::findMaterial("brushed-brass-120"))));
-  EXPECT_FALSE(v.isotropic) << v.reason;
-  EXPECT_GT(v.axialScore, IsotropyParams{}.axialThreshold);
-}
-
-TEST(IsotropyTest, EqualElevationDiagonalSlicesCannotTell) {
-  recon::ExtractionParams diagonal;
-  diagonal.diagonalOnly = true;
-  const Abrdf truth = models::tabulate(*models::findMaterial("brushed-steel-30"));
-  const SliceSet twoSweeps = keepPairs(recon::extractSlices(truth, diagonal), {{30, 30}, {75, 75}});
-  const IsotropyVerdict v = testIsotropy(twoSweeps, defaultPriorModel());
-  EXPECT_FALSE(v.informative);
-  EXPECT_NE(v.reason.find("cannot tell"), std::string::npos) << v.reason;
-}
-
-TEST(IsotropyTest, NeedsSlices) {
-  EXPECT_THROW(testIsotropy(SliceSet{}), std::invalid_argument);
-}
-
-struct CliResult {
-  int code;
-  std::string out;
-};
-
-CliResult runCli(std::vector<std::string> args) {
-  std::ostringstream out, err;
-  const int code = cli::runCli(args, out, err);
-  return {code, out.str() + err.str()};
-}
-
-TEST(PriorCli, ReconstructIsotropyAndTrainRun) {
-  const auto dir = test::freshTempDir();
-  const std::string truth = (dir / "t.f32").string(), slices = (dir / "s.csv").string();
-  ASSERT_EQ(runCli({"generate", "blue-plastic", "-o", truth}).code, 0);
-  ASSERT_EQ(runCli({"sample", truth, "-o", slices, "--diagonal-only"}).code, 0);
-  EXPECT_EQ(
-      runCli({"reconstruct", slices, "-o", (dir / "p.exr").string(), "--method", "prior"}).code, 0)
-      << "diagonal-only slices are accepted";
-  const std::string matte = (dir / "m.f32").string(), matteSlices = (dir / "m.csv").string();
-  ASSERT_EQ(runCli({"generate", "matte-paint", "-o", matte}).code, 0);
-  ASSERT_EQ(runCli({"sample", matte, "-o", matteSlices}).code, 0);
-  const CliResult blended = runCli(
-      {"reconstruct", matteSlices, "-o", (dir / "m.exr").string(), "--method", "prior", "--json"});
-  ASSERT_EQ(blended.code, 0) << blended.out;
-  const auto details = nlohmann::json::parse(blended.out)["prior"];
-  EXPECT_TRUE(details["method_b_blended"].get<bool>()) << details;
-  EXPECT_LT(details["prior_weight"].get<double>(), 1.0);
-  const CliResult iso = runCli({"isotropy", slices});
-  EXPECT_EQ(iso.code, 0);
-  EXPECT_NE(iso.out.find("isotropic: the axial sweeps are not needed"), std::string::npos)
-      << iso.out;
-  const CliResult train = runCli({"prior-train", dir.string(), "-o", (dir / "p.bin").string()});
-  EXPECT_EQ(train.code, 1) << "one table cannot give 16 components: " << train.out;
 }
 
 }  // namespace

@@ -1,12 +1,13 @@
 // processRecording reads 8-bit frames through the recording's decoding: a sweep re-encoded with
 // the IMX708 curve and saying so gives the samples of the original; read as sRGB it does not.
+#include "slicecap/capture/recording_processor.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "../support/test_support.hpp"
-#include "slicecap/capture/recording_processor.hpp"
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/sim/material.hpp"
