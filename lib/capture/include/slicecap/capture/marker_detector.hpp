@@ -119,7 +119,7 @@ class MarkerDetector {
 };
 
 /// \brief apriltag 3.3 places pixel centres at +0.5 (measured in
-/// tests/vision/target_detection_test.cpp); subtracting it gives OpenCV's convention.
+/// tests/vision/target_test.cpp); subtracting it gives OpenCV's convention.
 inline constexpr double kApriltagPixelOffset = 0.5;
 
 }  // namespace slicecap::capture
