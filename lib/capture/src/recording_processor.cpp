@@ -169,6 +169,64 @@ void processGroup(const std::filesystem::path& directory, const io::Recording& r
   }
 }
 
+// The settings a recording is processed with. Offline the LED-off frames on both sides of each
+// LED-on frame are known: each is located and interpolated (FramePipeline::setFollowingAmbientFrame).
+// No camera waits on a recording either: every frame is searched as long as it takes (the live
+// loop spreads a lost target's search over frames, rejecting them as "detection_deferred").
+// `--ambient previous` reproduces the live loop, budget included. Notes in `result` what the
+// recording decided (room light, decoding).
+PipelineSettings offlineSettings(const io::Recording& recording, const PipelineSettings& settings,
+                                 RecordingResult& result) {
+  PipelineSettings offline = settings;
+  offline.poseAmbientFrames = settings.offlineTwoSidedAmbient;
+  // The recording decides: with the LED on in every frame there is no room light to subtract
+  // (as slicecapd with led_alternate = false), not a missing LED-off frame for every sample.
+  if (std::none_of(recording.frames.begin(), recording.frames.end(),
+                   [](const io::RecordedFrame& f) { return !f.ledOn; })) {
+    offline.requireAmbient = false;
+    result.roomLightSubtracted = false;
+  }
+  // The frames are read as they were taken: through the curve measured at sweep start when the
+  // recording says so (a caller's own curve, e.g. sRGB to compare, wins).
+  if (!offline.toneCurve)
+    offline.toneCurve =
+        recording.decoding.value_or(io::RecordedDecoding::defaultFor(recording.encoding))
+            .toneCurve();
+  if (offline.toneCurve) result.decoding = offline.toneCurve->name();
+  if (settings.offlineTwoSidedAmbient)
+    offline.detector.frameBudgetPx = std::numeric_limits<double>::infinity();
+  return offline;
+}
+
+// The recording's frame indices by exposure level (level 0, the longest, first; one group for a
+// recording without levels), each in time order.
+std::vector<std::vector<std::size_t>> levelGroups(const io::Recording& recording) {
+  std::vector<std::vector<std::size_t>> groups(1);
+  for (std::size_t i = 0; i < recording.frames.size(); ++i) {
+    const std::size_t level = static_cast<std::size_t>(recording.frames[i].exposureLevel.value_or(0));
+    if (groups.size() <= level) groups.resize(level + 1);
+    groups[level].push_back(i);
+  }
+  return groups;
+}
+
+// The outcomes, in recording order, into the bins and the counts.
+void binOutcomes(const io::Recording& recording, RecordingResult& result) {
+  for (std::size_t i = 0; i < recording.frames.size(); ++i) {
+    FrameOutcome& outcome = result.outcomes[i];
+    if (outcome.kind == FrameOutcome::Kind::Sample) {
+      outcome.sample->frameIndex = i;
+      if (outcome.sample->hdr)
+        outcome.sample->hdr->exposureLevel = recording.frames[i].exposureLevel.value_or(0);
+      result.bins.add(*outcome.sample);
+    } else if (outcome.kind == FrameOutcome::Kind::Ambient) {
+      ++result.ambientFrames;
+    } else {
+      ++result.rejections[outcome.rejectReason];
+    }
+  }
+}
+
 }  // namespace
 
 SliceId sliceOfRecording(const std::filesystem::path& directory, const io::Recording& recording) {
@@ -195,38 +253,11 @@ RecordingResult processRecording(const std::filesystem::path& directory,
   result.directory = directory;
   result.slice = sliceOfRecording(directory, recording);
   result.bins = AzimuthBins(result.slice.kind);
-  // Offline the LED-off frames on both sides of each LED-on frame are known: each is located
-  // and interpolated (FramePipeline::setFollowingAmbientFrame).
-  // No camera waits on a recording either: every frame is searched as long as it takes (the live
-  // loop spreads a lost target's search over frames, rejecting them as "detection_deferred").
-  // `--ambient previous` reproduces the live loop, budget included.
-  PipelineSettings offline = settings;
-  offline.poseAmbientFrames = settings.offlineTwoSidedAmbient;
-  // The recording decides: with the LED on in every frame there is no room light to subtract
-  // (as slicecapd with led_alternate = false), not a missing LED-off frame for every sample.
-  if (std::none_of(recording.frames.begin(), recording.frames.end(),
-                   [](const io::RecordedFrame& f) { return !f.ledOn; })) {
-    offline.requireAmbient = false;
-    result.roomLightSubtracted = false;
-  }
-  // The frames are read as they were taken: through the curve measured at sweep start when the
-  // recording says so (a caller's own curve, e.g. sRGB to compare, wins).
-  if (!offline.toneCurve)
-    offline.toneCurve =
-        recording.decoding.value_or(io::RecordedDecoding::defaultFor(recording.encoding))
-            .toneCurve();
-  if (offline.toneCurve) result.decoding = offline.toneCurve->name();
-  if (settings.offlineTwoSidedAmbient)
-    offline.detector.frameBudgetPx = std::numeric_limits<double>::infinity();
+  PipelineSettings offline = offlineSettings(recording, settings, result);
   // An HDR recording (frames[].exposure_level) is processed level by level, each with its own
   // pipeline: an LED-on frame's room light then comes from the LED-off frames of its own
   // exposure, and the bins merge the levels (hdr_merge.hpp). One level: the frames in order.
-  std::vector<std::vector<std::size_t>> groups(1);
-  for (std::size_t i = 0; i < recording.frames.size(); ++i) {
-    const std::size_t level = static_cast<std::size_t>(recording.frames[i].exposureLevel.value_or(0));
-    if (groups.size() <= level) groups.resize(level + 1);
-    groups[level].push_back(i);
-  }
+  const std::vector<std::vector<std::size_t>> groups = levelGroups(recording);
   result.exposureLevels = static_cast<int>(groups.size());
   offline.hdr = result.exposureLevels > 1;
   result.frameFiles.resize(recording.frames.size());
@@ -239,19 +270,7 @@ RecordingResult processRecording(const std::filesystem::path& directory,
                                                : std::vector<LocatedOff>{};
   for (std::size_t level = 1; level < groups.size(); ++level)
     processGroup(directory, recording, groups[level], offline, observer, standIns, result);
-  for (std::size_t i = 0; i < recording.frames.size(); ++i) {
-    FrameOutcome& outcome = result.outcomes[i];
-    if (outcome.kind == FrameOutcome::Kind::Sample) {
-      outcome.sample->frameIndex = i;
-      if (outcome.sample->hdr)
-        outcome.sample->hdr->exposureLevel = recording.frames[i].exposureLevel.value_or(0);
-      result.bins.add(*outcome.sample);
-    } else if (outcome.kind == FrameOutcome::Kind::Ambient) {
-      ++result.ambientFrames;
-    } else {
-      ++result.rejections[outcome.rejectReason];
-    }
-  }
+  binOutcomes(recording, result);
   return result;
 }
 
