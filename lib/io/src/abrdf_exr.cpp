@@ -128,8 +128,8 @@ ExrAttributes slicecapAttributes(const Imf::Header& header, const std::filesyste
   auto require = [&](const std::string& key, const std::string& expected) {
     auto it = found.find(key);
     if (it == found.end()) {
-      throw error(path, "missing header attribute " + std::string(kPrefix) + key +
-                            " (expected \"" + expected + "\"); is this a slicecap ABRDF?");
+      throw error(path, "missing header attribute " + std::string(kPrefix) + key + " (expected \"" +
+                            expected + "\"); is this a slicecap ABRDF?");
     }
     if (it->second != expected) {
       throw error(path, "header attribute " + std::string(kPrefix) + key + " is \"" + it->second +
@@ -153,9 +153,9 @@ void readAbrdfPixels(Imf::InputFile& file, Abrdf& table) {
                                       std::ptrdiff_t(window.min.y) * std::ptrdiff_t(yStride);
   Imf::FrameBuffer frame;
   for (int c = 0; c < 3; ++c) {
-    frame.insert(kChannels[c],
-                 Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + c) + originOffset, xStride,
-                            yStride));
+    frame.insert(
+        kChannels[c],
+        Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + c) + originOffset, xStride, yStride));
   }
   file.setFrameBuffer(frame);
   file.readPixels(window.min.y, window.max.y);

@@ -147,8 +147,7 @@ StoredPngHeader readStoredHeader(PngReadState& read, std::FILE* file,
     header.storedBitsPerPixel =
         png_get_channels(read.png, read.info) * png_get_bit_depth(read.png, read.info);
   });
-  if (!headerRead)
-    throw IoError(path.string() + ": corrupt PNG header (" + read.message + ")");
+  if (!headerRead) throw IoError(path.string() + ": corrupt PNG header (" + read.message + ")");
   return header;
 }
 
@@ -189,8 +188,7 @@ PngImage setExpandingTransforms(PngReadState& read, const std::filesystem::path&
     if (png_get_valid(read.png, read.info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(read.png);
     png_read_update_info(read.png, read.info);
   });
-  if (!transformsSet)
-    throw IoError(path.string() + ": corrupt PNG header (" + read.message + ")");
+  if (!transformsSet) throw IoError(path.string() + ": corrupt PNG header (" + read.message + ")");
   PngImage image;
   image.width = static_cast<int>(png_get_image_width(read.png, read.info));
   image.height = static_cast<int>(png_get_image_height(read.png, read.info));

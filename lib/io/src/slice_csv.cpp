@@ -115,9 +115,8 @@ void checkSliceRelation(SliceKind kind, const ElevationPair& elevations, double 
                                 : azimuthDifferenceDeg(phiVDeg, -phiIDeg);
     if (std::abs(offDeg) > kSliceRelationToleranceDeg) {
       char measured[32];
-      std::snprintf(
-          measured, sizeof measured, "%.1f",
-          axial ? azimuthDifferenceDeg(phiVDeg, phiIDeg) : wrapDeg360(phiIDeg + phiVDeg));
+      std::snprintf(measured, sizeof measured, "%.1f",
+                    axial ? azimuthDifferenceDeg(phiVDeg, phiIDeg) : wrapDeg360(phiIDeg + phiVDeg));
       throw at.error(std::string(toString(kind)) + " sample with " +
                      (axial ? "phi_v - phi_i = " : "phi_i + phi_v = ") + measured + " deg, " +
                      (axial ? "not 15" : "not 0 or 360") +

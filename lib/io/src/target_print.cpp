@@ -68,8 +68,10 @@ void addMarker(Page& page, const vision::Marker& m, const SheetPlacement& sheet)
   const PointMm o = m.cornersMm[0];
   const double cell = 1.0 / vision::kTagBorderCells;
   auto markerPoint = [&](double u, double v) {  // u, v in border cells from the bottom-left
-    const double x = o.xMm + (m.cornersMm[1].xMm - o.xMm) * u * cell + (m.cornersMm[3].xMm - o.xMm) * v * cell;
-    const double y = o.yMm + (m.cornersMm[1].yMm - o.yMm) * u * cell + (m.cornersMm[3].yMm - o.yMm) * v * cell;
+    const double x =
+        o.xMm + (m.cornersMm[1].xMm - o.xMm) * u * cell + (m.cornersMm[3].xMm - o.xMm) * v * cell;
+    const double y =
+        o.yMm + (m.cornersMm[1].yMm - o.yMm) * u * cell + (m.cornersMm[3].yMm - o.yMm) * v * cell;
     return sheet.toPage(x, y);
   };
   for (int row = 1; row <= vision::kTagBorderCells; ++row) {
@@ -137,7 +139,8 @@ Page layOut(const vision::TargetGeometry& t, PaperSize paper, const std::filesys
   page.shapes.push_back({sheet.rect(t.sheet), false, 0.15, false, 0.7});
   page.shapes.push_back({sheet.rect(t.window), false, 0.3, true, 0.4});
   for (const vision::Patch& p : t.patches) {
-    if (p.kind == vision::PatchKind::Black) page.shapes.push_back({sheet.rect(p.rect), true, 0.0, false, 0.0});
+    if (p.kind == vision::PatchKind::Black)
+      page.shapes.push_back({sheet.rect(p.rect), true, 0.0, false, 0.0});
   }
   for (const vision::Marker& m : t.markers)
     addMarker(page, m, sheet);
