@@ -82,64 +82,71 @@ TextureStore TextureStore::open(const fs::path& directory, StoreAccess access) {
 }
 
 void TextureStore::load() {
-  struct Found {
-    SliceId slice;
-    Entry entry;
-  };
-  std::vector<Found> found;
-  const bool mend = access_ == StoreAccess::Mend;
-  // A leftover is removed when mending, else just not read.
-  const auto leftover = [&](const fs::path& path) {
-    if (mend) removeQuietly(path);
-    ++recovery_.leftovers;
-  };
+  std::vector<StoredFrame> found;
   std::error_code error;
   for (const fs::directory_entry& folder : fs::directory_iterator(directory_, error)) {
     if (!folder.is_directory()) {
-      if (folder.path().extension() == ".tmp") leftover(folder.path());
+      if (folder.path().extension() == ".tmp") setAsideLeftover(folder.path());
       continue;
     }
     const std::string name = folder.path().filename().string();
     if (name.find(io::kDiscardedSuffix) != std::string::npos) {  // a redo cut off half-way
-      leftover(folder.path());
+      setAsideLeftover(folder.path());
       continue;
     }
-    for (const fs::directory_entry& file : fs::directory_iterator(folder.path(), error)) {
-      if (file.path().extension() == ".tmp") {  // a write cut off (or, read-only, under way)
-        leftover(file.path());
-        continue;
-      }
-      if (file.path().extension() != kFrameExtension) continue;
-      try {
-        const FrameHeader header = readFrameHeader(file.path(), layout_.resolution);
-        const SliceId slice{static_cast<SliceKind>(header.kind),
-                            {header.thetaIDeg, header.thetaVDeg}};
-        if (folderName(slice) != name)
-          throw BadFrame(file.path().string() + ": a frame of " + folderName(slice) +
-                         " in the folder of another slice");
-        found.push_back({slice, {header.sliceParameterDeg, header.sequence, file.path()}});
-      } catch (const BadFrame& e) {
-        recovery_.droppedFiles.push_back(e.what());
-        if (mend) removeQuietly(file.path());
-      }
-    }
+    findFramesIn(folder.path(), found, error);
     if (error) break;
   }
   if (error) throw io::IoError(directory_.string() + ": cannot list: " + error.message());
+  indexInStoredOrder(found);
+}
+
+void TextureStore::setAsideLeftover(const fs::path& path) {
+  // A leftover is removed when mending, else just not read.
+  if (access_ == StoreAccess::Mend) removeQuietly(path);
+  ++recovery_.leftovers;
+}
+
+void TextureStore::findFramesIn(const fs::path& folder, std::vector<StoredFrame>& found,
+                                std::error_code& error) {
+  const std::string name = folder.filename().string();
+  for (const fs::directory_entry& file : fs::directory_iterator(folder, error)) {
+    if (file.path().extension() == ".tmp") {  // a write cut off (or, read-only, under way)
+      setAsideLeftover(file.path());
+      continue;
+    }
+    if (file.path().extension() != kFrameExtension) continue;
+    try {
+      const FrameHeader header = readFrameHeader(file.path(), layout_.resolution);
+      const SliceId slice{static_cast<SliceKind>(header.kind),
+                          {header.thetaIDeg, header.thetaVDeg}};
+      if (folderName(slice) != name)
+        throw BadFrame(file.path().string() + ": a frame of " + folderName(slice) +
+                       " in the folder of another slice");
+      found.push_back({slice, {header.sliceParameterDeg, header.sequence, file.path()}});
+    } catch (const BadFrame& e) {
+      recovery_.droppedFiles.push_back(e.what());
+      if (access_ == StoreAccess::Mend) removeQuietly(file.path());
+    }
+  }
+}
+
+void TextureStore::indexInStoredOrder(std::vector<StoredFrame>& found) {
   // In the order they were stored, through the keep rule: a crash between storing a frame and
   // deleting the one it replaced leaves both; the rule drops the replaced one again.
-  std::sort(found.begin(), found.end(),
-            [](const Found& a, const Found& b) { return a.entry.sequence < b.entry.sequence; });
-  for (Found& f : found) {
+  std::sort(found.begin(), found.end(), [](const StoredFrame& a, const StoredFrame& b) {
+    return a.entry.sequence < b.entry.sequence;
+  });
+  for (StoredFrame& f : found) {
     nextSequence_ = std::max(nextSequence_, f.entry.sequence + 1);
     const auto where = placeOf(f.slice, f.entry.parameterDeg);
     if (!where) {
-      leftover(f.entry.file);
+      setAsideLeftover(f.entry.file);
       continue;
     }
     std::vector<Entry>& bin = indexFor(f.slice)[static_cast<std::size_t>(where->first)];
     if (where->second < bin.size()) {  // it replaces a frame whose deletion a crash cut off
-      leftover(bin[where->second].file);
+      setAsideLeftover(bin[where->second].file);
       bin[where->second] = std::move(f.entry);
       continue;
     }

@@ -171,8 +171,11 @@ std::optional<std::pair<int, int>> chooseBayerSize(const std::vector<std::pair<i
   return best;
 }
 
-Image decodeBayer(const BayerFrameView& raw, const BayerBlackLevels& black) {
-  const std::string name = bayerFormatName(raw.format);
+namespace {
+
+// Refuses a format slicecap does not decode, a frame below one 2 x 2 cell, and a plane too small
+// for its rows.
+void checkBayerFrame(const BayerFrameView& raw, const std::string& name) {
   if (!isValidFormat(raw.format))
     throw RawFrameError(name + ": " + std::to_string(raw.format.bitDepth) +
                         "-bit samples in this packing are not a format slicecap decodes");
@@ -187,18 +190,55 @@ Image decodeBayer(const BayerFrameView& raw, const BayerBlackLevels& black) {
   if (raw.bytes.size() < needed)
     throw RawFrameError(name + " plane 0: " + std::to_string(raw.bytes.size()) +
                         " bytes, the frame needs " + std::to_string(needed));
+}
 
-  // Black and scale per channel, on the sample's own scale.
-  const double largest = double((1 << raw.format.bitDepth) - 1);
-  const double toSampleScale = std::ldexp(1.0, raw.format.bitDepth - 16);
+// Black and scale per channel (kR, kGr, kGb, kB), on the sample's own scale.
+struct ChannelLevels {
   std::array<double, 4> offset{}, range{};
+};
+
+ChannelLevels channelLevels(const BayerFormat& format, const BayerBlackLevels& black,
+                            const std::string& name) {
+  const double largest = double((1 << format.bitDepth) - 1);
+  const double toSampleScale = std::ldexp(1.0, format.bitDepth - 16);
+  ChannelLevels levels;
   for (int c = 0; c < 4; ++c) {
-    offset[c] = black.levels16[c] * toSampleScale;
-    if (!(offset[c] >= 0.0 && offset[c] < largest))
+    levels.offset[c] = black.levels16[c] * toSampleScale;
+    if (!(levels.offset[c] >= 0.0 && levels.offset[c] < largest))
       throw RawFrameError(name + ": black level " + std::to_string(black.levels16[c]) +
                           " (16-bit scale) is outside 0..the largest code");
-    range[c] = largest - offset[c];
+    levels.range[c] = largest - levels.offset[c];
   }
+  return levels;
+}
+
+// One output row of RGB pixels from the two unpacked mosaic rows under it.
+void decodeCellRow(const std::vector<std::uint16_t> (&rows)[2],
+                   const std::array<std::array<int, 2>, 2>& channels, const ChannelLevels& levels,
+                   int widthPx, std::uint16_t* out) {
+  const auto toLinear = [](double value) {
+    return static_cast<std::uint16_t>(std::clamp(value, 0.0, 65535.0) + 0.5);
+  };
+  for (int x = 0; x < widthPx; ++x) {
+    double value[4] = {};
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx) {
+        const int c = channels[dy][dx];
+        // Multiplied before divided: the top code lands on 65535 exactly.
+        value[c] = (rows[dy][2 * x + dx] - levels.offset[c]) * 65535.0 / levels.range[c];
+      }
+    out[3 * x + 0] = toLinear(value[kR]);
+    out[3 * x + 1] = toLinear(0.5 * (value[kGr] + value[kGb]));
+    out[3 * x + 2] = toLinear(value[kB]);
+  }
+}
+
+}  // namespace
+
+Image decodeBayer(const BayerFrameView& raw, const BayerBlackLevels& black) {
+  const std::string name = bayerFormatName(raw.format);
+  checkBayerFrame(raw, name);
+  const ChannelLevels levels = channelLevels(raw.format, black, name);
   const auto channels = cellChannels(raw.format.order);
 
   Image image;
@@ -209,26 +249,12 @@ Image decodeBayer(const BayerFrameView& raw, const BayerBlackLevels& black) {
   image.samples.resize(std::size_t(image.width) * image.height * 3);
   std::vector<std::uint16_t> rows[2] = {std::vector<std::uint16_t>(std::size_t(raw.widthPx)),
                                         std::vector<std::uint16_t>(std::size_t(raw.widthPx))};
-  const auto toLinear = [](double value) {
-    return static_cast<std::uint16_t>(std::clamp(value, 0.0, 65535.0) + 0.5);
-  };
   for (int y = 0; y < image.height; ++y) {
     for (int dy = 0; dy < 2; ++dy)
       unpackRow(raw.format, raw.bytes.data() + std::size_t(2 * y + dy) * raw.strideBytes,
                 raw.widthPx, rows[dy].data());
-    std::uint16_t* out = &image.samples[std::size_t(y) * image.width * 3];
-    for (int x = 0; x < image.width; ++x) {
-      double value[4] = {};
-      for (int dy = 0; dy < 2; ++dy)
-        for (int dx = 0; dx < 2; ++dx) {
-          const int c = channels[dy][dx];
-          // Multiplied before divided: the top code lands on 65535 exactly.
-          value[c] = (rows[dy][2 * x + dx] - offset[c]) * 65535.0 / range[c];
-        }
-      out[3 * x + 0] = toLinear(value[kR]);
-      out[3 * x + 1] = toLinear(0.5 * (value[kGr] + value[kGb]));
-      out[3 * x + 2] = toLinear(value[kB]);
-    }
+    decodeCellRow(rows, channels, levels, image.width,
+                  &image.samples[std::size_t(y) * image.width * 3]);
   }
   return image;
 }

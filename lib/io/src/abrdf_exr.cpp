@@ -96,61 +96,81 @@ void writeAbrdfExr(const std::filesystem::path& path, const Abrdf& table,
   });
 }
 
+namespace {
+
+// An ABRDF is 81 x 81 (light rows x view columns) with R, G and B channels.
+void checkAbrdfShape(const Imf::Header& header, const std::filesystem::path& path) {
+  const Imath::Box2i window = header.dataWindow();
+  const int width = window.max.x - window.min.x + 1;
+  const int height = window.max.y - window.min.y + 1;
+  if (width != kSize || height != kSize) {
+    throw error(path, "ABRDF EXR must be 81 x 81 (light rows x view columns), got " +
+                          std::to_string(height) + " x " + std::to_string(width));
+  }
+  for (const char* name : kChannels) {
+    if (!header.channels().findChannel(name)) {
+      throw error(path, std::string("ABRDF EXR has no channel ") + name + " (needs R, G, B)");
+    }
+  }
+}
+
+// The header's slicecap: string attributes (prefix dropped); the layout and quantity must say
+// this is a slicecap ABRDF.
+ExrAttributes slicecapAttributes(const Imf::Header& header, const std::filesystem::path& path) {
+  ExrAttributes found;
+  for (auto it = header.begin(); it != header.end(); ++it) {
+    const std::string name = it.name();
+    if (name.rfind(kPrefix, 0) != 0) continue;
+    if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) {
+      found[name.substr(std::string(kPrefix).size())] = s->value();
+    }
+  }
+  auto require = [&](const std::string& key, const std::string& expected) {
+    auto it = found.find(key);
+    if (it == found.end()) {
+      throw error(path, "missing header attribute " + std::string(kPrefix) + key + " (expected \"" +
+                            expected + "\"); is this a slicecap ABRDF?");
+    }
+    if (it->second != expected) {
+      throw error(path, "header attribute " + std::string(kPrefix) + key + " is \"" + it->second +
+                            "\", expected \"" + expected + "\"");
+    }
+  };
+  require("layout", "bonn81");
+  require("quantity", "brdf");
+  return found;
+}
+
+// Reads the R, G, B channels of the (shape-checked) file into `table`.
+void readAbrdfPixels(Imf::InputFile& file, Abrdf& table) {
+  const Imath::Box2i window = file.header().dataWindow();
+  float* base = table.values().data();
+  constexpr std::size_t xStride = 3 * sizeof(float);
+  constexpr std::size_t yStride = xStride * kSize;
+  // OpenEXR addresses pixels by their data-window coordinates, so the base is shifted by its
+  // origin.
+  const std::ptrdiff_t originOffset = -std::ptrdiff_t(window.min.x) * std::ptrdiff_t(xStride) -
+                                      std::ptrdiff_t(window.min.y) * std::ptrdiff_t(yStride);
+  Imf::FrameBuffer frame;
+  for (int c = 0; c < 3; ++c) {
+    frame.insert(
+        kChannels[c],
+        Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + c) + originOffset, xStride, yStride));
+  }
+  file.setFrameBuffer(frame);
+  file.readPixels(window.min.y, window.max.y);
+}
+
+}  // namespace
+
 Abrdf readAbrdfExr(const std::filesystem::path& path, ExrAttributes* attributes) {
   refuseDirectory(path, "an ABRDF EXR");
   Abrdf table;
   try {
     Imf::InputFile file(path.c_str());
-    const Imf::Header& header = file.header();
-    const Imath::Box2i window = header.dataWindow();
-    const int width = window.max.x - window.min.x + 1;
-    const int height = window.max.y - window.min.y + 1;
-    if (width != kSize || height != kSize) {
-      throw error(path, "ABRDF EXR must be 81 x 81 (light rows x view columns), got " +
-                            std::to_string(height) + " x " + std::to_string(width));
-    }
-    for (const char* name : kChannels) {
-      if (!header.channels().findChannel(name)) {
-        throw error(path, std::string("ABRDF EXR has no channel ") + name + " (needs R, G, B)");
-      }
-    }
-    ExrAttributes found;
-    for (auto it = header.begin(); it != header.end(); ++it) {
-      const std::string name = it.name();
-      if (name.rfind(kPrefix, 0) != 0) continue;
-      if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) {
-        found[name.substr(std::string(kPrefix).size())] = s->value();
-      }
-    }
-    auto require = [&](const std::string& key, const std::string& expected) {
-      auto it = found.find(key);
-      if (it == found.end()) {
-        throw error(path, "missing header attribute " + std::string(kPrefix) + key +
-                              " (expected \"" + expected + "\"); is this a slicecap ABRDF?");
-      }
-      if (it->second != expected) {
-        throw error(path, "header attribute " + std::string(kPrefix) + key + " is \"" + it->second +
-                              "\", expected \"" + expected + "\"");
-      }
-    };
-    require("layout", "bonn81");
-    require("quantity", "brdf");
-
-    float* base = table.values().data();
-    constexpr std::size_t xStride = 3 * sizeof(float);
-    constexpr std::size_t yStride = xStride * kSize;
-    // OpenEXR addresses pixels by their data-window coordinates, so the base is shifted by its
-    // origin.
-    const std::ptrdiff_t originOffset = -std::ptrdiff_t(window.min.x) * std::ptrdiff_t(xStride) -
-                                        std::ptrdiff_t(window.min.y) * std::ptrdiff_t(yStride);
-    Imf::FrameBuffer frame;
-    for (int c = 0; c < 3; ++c) {
-      frame.insert(kChannels[c],
-                   Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + c) + originOffset, xStride,
-                              yStride));
-    }
-    file.setFrameBuffer(frame);
-    file.readPixels(window.min.y, window.max.y);
+    checkAbrdfShape(file.header(), path);
+    ExrAttributes found = slicecapAttributes(file.header(), path);
+    readAbrdfPixels(file, table);
     if (attributes) *attributes = std::move(found);
   } catch (const IoError&) {
     throw;

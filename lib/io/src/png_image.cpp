@@ -93,9 +93,32 @@ bool pixelDataIsWhole(const std::filesystem::path& path, std::string* message) {
   return whole;
 }
 
-}  // namespace
+// libpng's read and info structs for one file, destroyed with this object; `message` keeps
+// libpng's last error (onError writes it). Neither copied nor moved: libpng holds &message.
+class PngReadState {
+ public:
+  explicit PngReadState(const std::filesystem::path& path) {
+    png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &message, onError, onWarning);
+    info = png ? png_create_info_struct(png) : nullptr;
+    if (!info) {
+      png_destroy_read_struct(&png, nullptr, nullptr);
+      throw IoError(path.string() + ": out of memory reading PNG");
+    }
+  }
+  ~PngReadState() { png_destroy_read_struct(&png, &info, nullptr); }
+  PngReadState(const PngReadState&) = delete;
+  PngReadState& operator=(const PngReadState&) = delete;
 
-PngImage readPng(const std::filesystem::path& path) {
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  std::string message;
+};
+
+// Deflate cannot expand its input more than 1032:1; the headroom covers a tiny file's chunks.
+constexpr std::uint64_t kDeflateMaxRatio = 1032, kHeadroomBytes = 4096;
+
+// Opens `path` and checks the PNG signature; the returned file is positioned after it.
+File openPngFile(const std::filesystem::path& path) {
   refuseDirectory(path, "a PNG");
   File file(std::fopen(path.c_str(), "rb"));
   if (!file) throw IoError(path.string() + ": cannot open PNG");
@@ -103,81 +126,112 @@ PngImage readPng(const std::filesystem::path& path) {
   if (std::fread(signature, 1, 8, file.get()) != 8 || png_sig_cmp(signature, 0, 8) != 0) {
     throw IoError(path.string() + ": not a PNG file");
   }
-  std::string message;
-  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &message, onError, onWarning);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!info) {
-    png_destroy_read_struct(&png, nullptr, nullptr);
-    throw IoError(path.string() + ": out of memory reading PNG");
-  }
-  auto fail = [&](const std::string& what) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    return IoError(path.string() + ": " + what + " (" + message + ")");
-  };
-  // What the header claims, as stored (before palettes and low bit depths are expanded).
+  return file;
+}
+
+// What the header claims, as stored (before palettes and low bit depths are expanded).
+struct StoredPngHeader {
   png_uint_32 claimedWidth = 0, claimedHeight = 0;
   int storedBitsPerPixel = 0;
-  const bool headerRead = trapLibpngErrors(png, [&] {
-    png_init_io(png, file.get());
-    png_set_sig_bytes(png, 8);
-    png_read_info(png, info);
-    claimedWidth = png_get_image_width(png, info);
-    claimedHeight = png_get_image_height(png, info);
-    storedBitsPerPixel = png_get_channels(png, info) * png_get_bit_depth(png, info);
+};
+
+StoredPngHeader readStoredHeader(PngReadState& read, std::FILE* file,
+                                 const std::filesystem::path& path) {
+  StoredPngHeader header;
+  const bool headerRead = trapLibpngErrors(read.png, [&] {
+    png_init_io(read.png, file);
+    png_set_sig_bytes(read.png, 8);
+    png_read_info(read.png, read.info);
+    header.claimedWidth = png_get_image_width(read.png, read.info);
+    header.claimedHeight = png_get_image_height(read.png, read.info);
+    header.storedBitsPerPixel =
+        png_get_channels(read.png, read.info) * png_get_bit_depth(read.png, read.info);
   });
-  if (!headerRead) throw fail("corrupt PNG header");
-  // A header may claim any size; the pixels are allocated from it before a byte of them is read.
-  // Deflate cannot expand its input more than 1032:1, so a claim the file's size cannot hold is
-  // a corrupt (or hostile) file: refused before a 100-byte file makes us allocate gigabytes.
+  if (!headerRead) throw IoError(path.string() + ": corrupt PNG header (" + read.message + ")");
+  return header;
+}
+
+// A header may claim any size; the pixels are allocated from it before a byte of them is read.
+// Deflate cannot expand its input more than 1032:1, so a claim the file's size cannot hold is
+// a corrupt (or hostile) file: refused before a 100-byte file makes us allocate gigabytes.
+// Returns the file's size in bytes.
+std::uintmax_t refuseClaimsTheFileCannotHold(const std::filesystem::path& path,
+                                             const StoredPngHeader& header) {
+  const png_uint_32 claimedWidth = header.claimedWidth, claimedHeight = header.claimedHeight;
   if (claimedWidth > kMaxPngSidePx || claimedHeight > kMaxPngSidePx) {
-    png_destroy_read_struct(&png, &info, nullptr);
     throw IoError(path.string() + ": corrupt PNG header (claims " + std::to_string(claimedWidth) +
                   " x " + std::to_string(claimedHeight) + " pixels; at most " +
                   std::to_string(kMaxPngSidePx) + " a side are read)");
   }
   std::error_code sizeError;
   const std::uintmax_t fileBytes = std::filesystem::file_size(path, sizeError);
-  const std::uint64_t storedRowBytes = (std::uint64_t(claimedWidth) * storedBitsPerPixel + 7) / 8;
+  const std::uint64_t storedRowBytes =
+      (std::uint64_t(claimedWidth) * header.storedBitsPerPixel + 7) / 8;
   const std::uint64_t inflatedBytes = (storedRowBytes + 1) * claimedHeight;  // + filter bytes
-  constexpr std::uint64_t kDeflateMaxRatio = 1032, kHeadroomBytes = 4096;
   if (sizeError || inflatedBytes > kDeflateMaxRatio * fileBytes + kHeadroomBytes) {
-    png_destroy_read_struct(&png, &info, nullptr);
     throw IoError(path.string() + ": corrupt PNG header (claims " + std::to_string(claimedWidth) +
                   " x " + std::to_string(claimedHeight) + " pixels, " +
                   std::to_string(inflatedBytes) + " bytes, more than a file of " +
                   std::to_string(fileBytes) + " bytes can hold)");
   }
-  const bool transformsSet = trapLibpngErrors(png, [&] {
-    const int colourType = png_get_color_type(png, info);
-    const int depth = png_get_bit_depth(png, info);
-    if (colourType == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
-    if (colourType == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(png);
-    if (png_get_valid(png, info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(png);
-    png_read_update_info(png, info);
+  return fileBytes;
+}
+
+// Expands palettes, low-bit grays and transparency to 8-bit channels; returns the decoded shape
+// (no samples yet).
+PngImage setExpandingTransforms(PngReadState& read, const std::filesystem::path& path) {
+  const bool transformsSet = trapLibpngErrors(read.png, [&] {
+    const int colourType = png_get_color_type(read.png, read.info);
+    const int depth = png_get_bit_depth(read.png, read.info);
+    if (colourType == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(read.png);
+    if (colourType == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(read.png);
+    if (png_get_valid(read.png, read.info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(read.png);
+    png_read_update_info(read.png, read.info);
   });
-  if (!transformsSet) throw fail("corrupt PNG header");
+  if (!transformsSet) throw IoError(path.string() + ": corrupt PNG header (" + read.message + ")");
   PngImage image;
-  image.width = static_cast<int>(png_get_image_width(png, info));
-  image.height = static_cast<int>(png_get_image_height(png, info));
-  image.channels = png_get_channels(png, info);
-  image.bitDepth = png_get_bit_depth(png, info);
-  const std::size_t rowBytes = png_get_rowbytes(png, info);
-  const std::size_t sampleCount = std::size_t(image.width) * image.height * image.channels;
-  // What reading takes: libpng's rows, expanded (a palette or 1-bit image to 8-bit RGB(A): up to
-  // 32 times the stored bits), and the 16-bit samples. The check above bounds the stored bits
-  // only, so a 70 kB file of 1-bit palette indices could make this 7 GB. Unless the file could
-  // hold it even unexpanded, the pixel data must be there, decoded once without keeping it,
-  // before anything is allocated for it; a valid image is read as before, only slower.
-  const std::uint64_t decodedBytes = std::uint64_t(rowBytes) * image.height + 2 * sampleCount;
+  image.width = static_cast<int>(png_get_image_width(read.png, read.info));
+  image.height = static_cast<int>(png_get_image_height(read.png, read.info));
+  image.channels = png_get_channels(read.png, read.info);
+  image.bitDepth = png_get_bit_depth(read.png, read.info);
+  return image;
+}
+
+// What reading takes: libpng's rows, expanded (a palette or 1-bit image to 8-bit RGB(A): up to
+// 32 times the stored bits), and the 16-bit samples. The check on the claims bounds the stored
+// bits only, so a 70 kB file of 1-bit palette indices could make this 7 GB. Unless the file could
+// hold it even unexpanded, the pixel data must be there, decoded once without keeping it,
+// before anything is allocated for it; a valid image is read as before, only slower.
+void refuseMissingPixelData(const std::filesystem::path& path, const PngImage& shape,
+                            std::uint64_t decodedBytes, std::uintmax_t fileBytes) {
   if (decodedBytes > 3 * (kDeflateMaxRatio * fileBytes + kHeadroomBytes)) {
     std::string whyNot;
     if (!pixelDataIsWhole(path, &whyNot)) {
-      png_destroy_read_struct(&png, &info, nullptr);
       throw IoError(path.string() + ": corrupt or truncated PNG (" + whyNot +
-                    "; its header claims " + std::to_string(image.width) + " x " +
-                    std::to_string(image.height) + " pixels)");
+                    "; its header claims " + std::to_string(shape.width) + " x " +
+                    std::to_string(shape.height) + " pixels)");
     }
   }
+}
+
+// Copies libpng's decoded rows into `image.samples` (already sized).
+void copyRowsToSamples(const std::vector<png_bytep>& rows, PngImage& image) {
+  for (int y = 0; y < image.height; ++y) {
+    const png_byte* row = rows[y];
+    std::uint16_t* out = image.samples.data() + std::size_t(y) * image.width * image.channels;
+    const std::size_t count = std::size_t(image.width) * image.channels;
+    for (std::size_t i = 0; i < count; ++i) {
+      // PNG stores 16-bit samples big-endian.
+      out[i] = image.bitDepth == 16 ? std::uint16_t((row[2 * i] << 8) | row[2 * i + 1]) : row[i];
+    }
+  }
+}
+
+// Allocates for and reads the pixels of `image` (its shape set), then fills its samples.
+void readPixels(PngReadState& read, const std::filesystem::path& path, PngImage& image,
+                std::uint64_t decodedBytes) {
+  const std::size_t rowBytes = png_get_rowbytes(read.png, read.info);
+  const std::size_t sampleCount = std::size_t(image.width) * image.height * image.channels;
   // A valid image may still need more memory than there is: an error naming the file, not
   // std::bad_alloc.
   const auto tooLarge = [&] {
@@ -193,27 +247,32 @@ PngImage readPng(const std::filesystem::path& path) {
     rows.resize(image.height);
     image.samples.resize(sampleCount);
   } catch (const std::bad_alloc&) {
-    png_destroy_read_struct(&png, &info, nullptr);
     throw tooLarge();
   }
   for (int y = 0; y < image.height; ++y)
     rows[y] = pixels.data() + rowBytes * y;
-  const bool pixelsRead = trapLibpngErrors(png, [&] {
-    png_read_image(png, rows.data());
-    png_read_end(png, nullptr);
+  const bool pixelsRead = trapLibpngErrors(read.png, [&] {
+    png_read_image(read.png, rows.data());
+    png_read_end(read.png, nullptr);
   });
-  if (!pixelsRead) throw fail("corrupt or truncated PNG");
-  png_destroy_read_struct(&png, &info, nullptr);
+  if (!pixelsRead)
+    throw IoError(path.string() + ": corrupt or truncated PNG (" + read.message + ")");
+  copyRowsToSamples(rows, image);
+}
 
-  for (int y = 0; y < image.height; ++y) {
-    const png_byte* row = rows[y];
-    std::uint16_t* out = image.samples.data() + std::size_t(y) * image.width * image.channels;
-    const std::size_t count = std::size_t(image.width) * image.channels;
-    for (std::size_t i = 0; i < count; ++i) {
-      // PNG stores 16-bit samples big-endian.
-      out[i] = image.bitDepth == 16 ? std::uint16_t((row[2 * i] << 8) | row[2 * i + 1]) : row[i];
-    }
-  }
+}  // namespace
+
+PngImage readPng(const std::filesystem::path& path) {
+  const File file = openPngFile(path);
+  PngReadState read(path);
+  const StoredPngHeader header = readStoredHeader(read, file.get(), path);
+  const std::uintmax_t fileBytes = refuseClaimsTheFileCannotHold(path, header);
+  PngImage image = setExpandingTransforms(read, path);
+  const std::size_t rowBytes = png_get_rowbytes(read.png, read.info);
+  const std::size_t sampleCount = std::size_t(image.width) * image.height * image.channels;
+  const std::uint64_t decodedBytes = std::uint64_t(rowBytes) * image.height + 2 * sampleCount;
+  refuseMissingPixelData(path, image, decodedBytes, fileBytes);
+  readPixels(read, path, image, decodedBytes);
   return image;
 }
 

@@ -186,18 +186,11 @@ std::filesystem::path framePath(const std::filesystem::path& directory,
   return directory / frame.file;
 }
 
-Recording readRecording(const std::filesystem::path& input) {
+namespace {
+
+// The manifest's format, version and creator.
+void readManifestHeader(const json& root, const Location& at, Recording& r) {
   namespace f = json_fields;
-  const bool isFile = std::filesystem::is_regular_file(input);
-  const std::filesystem::path directory = isFile ? input.parent_path() : input;
-  const std::filesystem::path manifest = isFile ? input : input / kRecordingManifest;
-  if (!std::filesystem::exists(manifest))
-    throw IoError(manifest.string() + ": no recording here (" + kRecordingManifest +
-                  " is missing)");
-  const json root = readJsonFile(manifest);
-  const Location at{manifest.string(), ""};
-  f::object(root, at);
-  Recording r;
   if (f::string(root, "format", at) != kFormatName)
     (at / "format").fail(std::string("expected \"") + kFormatName + "\"");
   const std::int64_t version = f::integer(root, "format_version", at);
@@ -207,7 +200,12 @@ Recording readRecording(const std::filesystem::path& input) {
               std::to_string(kRecordingFormatVersion) + ")");
   r.formatVersion = static_cast<int>(version);
   if (root.contains("created_by")) r.createdBy = f::string(root, "created_by", at);
+}
 
+// The camera, inline or from its calibration file.
+void readCamera(const json& root, const Location& at, const std::filesystem::path& directory,
+                const std::filesystem::path& manifest, Recording& r) {
+  namespace f = json_fields;
   const json& camera = f::object(f::member(root, "camera", at), at / "camera");
   if (camera.contains("calibration_file")) {
     const std::string file = f::string(camera, "calibration_file", at / "camera");
@@ -222,6 +220,57 @@ Recording readRecording(const std::filesystem::path& input) {
   } else {
     r.camera = cameraFromJson(camera, manifest.string(), "camera");
   }
+}
+
+// Frame `here` of the list; `previous` is the recording's frames read so far.
+RecordedFrame frameFromJson(const json& value, const Location& here,
+                            const std::filesystem::path& directory,
+                            const std::vector<RecordedFrame>& previous) {
+  namespace f = json_fields;
+  f::object(value, here);
+  RecordedFrame frame;
+  frame.file = f::string(value, "file", here);
+  if (!isPlainRelative(frame.file))
+    (here / "file").fail("must be a relative path inside the recording");
+  if (!std::filesystem::is_regular_file(directory / frame.file))
+    (here / "file").fail("'" + (directory / frame.file).string() + "' does not exist");
+  frame.timestampUs = f::integer(value, "timestamp_us", here);
+  if (!previous.empty() && frame.timestampUs <= previous.back().timestampUs)
+    (here / "timestamp_us")
+        .fail("timestamps must increase (previous frame: " +
+              std::to_string(previous.back().timestampUs) + ")");
+  frame.ledOn = f::boolean(value, "led_on", here);
+  frame.exposureUs = f::positiveNumber(value, "exposure_us", here);
+  frame.gain = f::positiveNumber(value, "gain", here);
+  if (value.contains("exposure_level")) {
+    const std::int64_t level = f::integer(value, "exposure_level", here);
+    if (level < 0 || level >= kMaxExposureLevels)
+      (here / "exposure_level")
+          .fail("expected 0.." + std::to_string(kMaxExposureLevels - 1) + ", got " +
+                std::to_string(level));
+    frame.exposureLevel = static_cast<int>(level);
+  }
+  if (value.contains("led_exposure"))
+    frame.ledExposure = ledExposureFromJson(value["led_exposure"], here / "led_exposure");
+  return frame;
+}
+
+}  // namespace
+
+Recording readRecording(const std::filesystem::path& input) {
+  namespace f = json_fields;
+  const bool isFile = std::filesystem::is_regular_file(input);
+  const std::filesystem::path directory = isFile ? input.parent_path() : input;
+  const std::filesystem::path manifest = isFile ? input : input / kRecordingManifest;
+  if (!std::filesystem::exists(manifest))
+    throw IoError(manifest.string() + ": no recording here (" + kRecordingManifest +
+                  " is missing)");
+  const json root = readJsonFile(manifest);
+  const Location at{manifest.string(), ""};
+  f::object(root, at);
+  Recording r;
+  readManifestHeader(root, at, r);
+  readCamera(root, at, directory, manifest, r);
 
   const std::string encoding = f::string(root, "pixel_encoding", at);
   const auto parsed = parsePixelEncoding(encoding);
@@ -234,35 +283,8 @@ Recording readRecording(const std::filesystem::path& input) {
   r.target = targetFromJson(f::member(root, "target", at), manifest.string(), "target");
 
   const json& frames = f::array(root, "frames", at);
-  for (std::size_t i = 0; i < frames.size(); ++i) {
-    const Location here = (at / "frames")[i];
-    f::object(frames[i], here);
-    RecordedFrame frame;
-    frame.file = f::string(frames[i], "file", here);
-    if (!isPlainRelative(frame.file))
-      (here / "file").fail("must be a relative path inside the recording");
-    if (!std::filesystem::is_regular_file(directory / frame.file))
-      (here / "file").fail("'" + (directory / frame.file).string() + "' does not exist");
-    frame.timestampUs = f::integer(frames[i], "timestamp_us", here);
-    if (!r.frames.empty() && frame.timestampUs <= r.frames.back().timestampUs)
-      (here / "timestamp_us")
-          .fail("timestamps must increase (previous frame: " +
-                std::to_string(r.frames.back().timestampUs) + ")");
-    frame.ledOn = f::boolean(frames[i], "led_on", here);
-    frame.exposureUs = f::positiveNumber(frames[i], "exposure_us", here);
-    frame.gain = f::positiveNumber(frames[i], "gain", here);
-    if (frames[i].contains("exposure_level")) {
-      const std::int64_t level = f::integer(frames[i], "exposure_level", here);
-      if (level < 0 || level >= kMaxExposureLevels)
-        (here / "exposure_level")
-            .fail("expected 0.." + std::to_string(kMaxExposureLevels - 1) + ", got " +
-                  std::to_string(level));
-      frame.exposureLevel = static_cast<int>(level);
-    }
-    if (frames[i].contains("led_exposure"))
-      frame.ledExposure = ledExposureFromJson(frames[i]["led_exposure"], here / "led_exposure");
-    r.frames.push_back(frame);
-  }
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    r.frames.push_back(frameFromJson(frames[i], (at / "frames")[i], directory, r.frames));
   return r;
 }
 

@@ -52,59 +52,49 @@ std::string formatMm(double v) {
   return text;
 }
 
-Page layOut(const vision::TargetGeometry& t, PaperSize paper, const std::filesystem::path& path) {
-  Page page;
-  page.widthMm = paper == PaperSize::A4 ? 210.0 : 215.9;
-  page.heightMm = paper == PaperSize::A4 ? 297.0 : 279.4;
-  const double topMm = 20.0;
-  const double sheetW = t.sheet.widthMm(), sheetH = t.sheet.heightMm();
-  if (sheetW > page.widthMm - 20.0 || sheetH > page.heightMm - topMm - 50.0)
-    throw IoError(path.string() + ": the target's sheet (" + formatMm(sheetW) + " x " +
-                  formatMm(sheetH) + " mm) does not fit the page with its instructions");
-  const double originX = (page.widthMm - sheetW) / 2 - t.sheet.xMinMm;
-  const double originY = topMm + t.sheet.yMaxMm;
-  auto toPage = [&](double x, double y) { return PointMm{originX + x, originY - y}; };
-  auto rect = [&](const vision::RectMm& r) {
+// Where the sheet sits on the page: target mm (y up) to page mm (y down).
+struct SheetPlacement {
+  double originX = 0.0, originY = 0.0;
+  PointMm toPage(double x, double y) const { return PointMm{originX + x, originY - y}; }
+  std::vector<PointMm> rect(const vision::RectMm& r) const {
     return std::vector<PointMm>{toPage(r.xMinMm, r.yMinMm), toPage(r.xMaxMm, r.yMinMm),
                                 toPage(r.xMaxMm, r.yMaxMm), toPage(r.xMinMm, r.yMaxMm)};
-  };
-  page.shapes.push_back({rect(t.sheet), false, 0.15, false, 0.7});
-  page.shapes.push_back({rect(t.window), false, 0.3, true, 0.4});
-  for (const vision::Patch& p : t.patches) {
-    if (p.kind == vision::PatchKind::Black) page.shapes.push_back({rect(p.rect), true, 0.0, false, 0.0});
   }
-  for (const vision::Marker& m : t.markers) {
-    const vision::TagBitmap bitmap = vision::tag36h11Bitmap(m.id);
-    const PointMm o = m.cornersMm[0];
-    const double cell = 1.0 / vision::kTagBorderCells;
-    auto markerPoint = [&](double u, double v) {  // u, v in border cells from the bottom-left
-      const double x = o.xMm + (m.cornersMm[1].xMm - o.xMm) * u * cell + (m.cornersMm[3].xMm - o.xMm) * v * cell;
-      const double y = o.yMm + (m.cornersMm[1].yMm - o.yMm) * u * cell + (m.cornersMm[3].yMm - o.yMm) * v * cell;
-      return toPage(x, y);
-    };
-    for (int row = 1; row <= vision::kTagBorderCells; ++row) {
-      const double vTop = vision::kTagBorderCells - (row - 1);
-      for (int column = 1; column <= vision::kTagBorderCells;) {
-        if (bitmap[row][column]) {
-          ++column;
-          continue;
-        }
-        int end = column;
-        while (end <= vision::kTagBorderCells && !bitmap[row][end])
-          ++end;
-        const double u0 = column - 1, u1 = end - 1;
-        page.shapes.push_back({{markerPoint(u0, vTop - 1), markerPoint(u1, vTop - 1),
-                                markerPoint(u1, vTop), markerPoint(u0, vTop)},
-                               true, 0.0, false, 0.0});
-        column = end;
+};
+
+// A marker's black cells, one filled shape per run of black cells in a row.
+void addMarker(Page& page, const vision::Marker& m, const SheetPlacement& sheet) {
+  const vision::TagBitmap bitmap = vision::tag36h11Bitmap(m.id);
+  const PointMm o = m.cornersMm[0];
+  const double cell = 1.0 / vision::kTagBorderCells;
+  auto markerPoint = [&](double u, double v) {  // u, v in border cells from the bottom-left
+    const double x =
+        o.xMm + (m.cornersMm[1].xMm - o.xMm) * u * cell + (m.cornersMm[3].xMm - o.xMm) * v * cell;
+    const double y =
+        o.yMm + (m.cornersMm[1].yMm - o.yMm) * u * cell + (m.cornersMm[3].yMm - o.yMm) * v * cell;
+    return sheet.toPage(x, y);
+  };
+  for (int row = 1; row <= vision::kTagBorderCells; ++row) {
+    const double vTop = vision::kTagBorderCells - (row - 1);
+    for (int column = 1; column <= vision::kTagBorderCells;) {
+      if (bitmap[row][column]) {
+        ++column;
+        continue;
       }
+      int end = column;
+      while (end <= vision::kTagBorderCells && !bitmap[row][end])
+        ++end;
+      const double u0 = column - 1, u1 = end - 1;
+      page.shapes.push_back({{markerPoint(u0, vTop - 1), markerPoint(u1, vTop - 1),
+                              markerPoint(u1, vTop), markerPoint(u0, vTop)},
+                             true, 0.0, false, 0.0});
+      column = end;
     }
   }
-  const PointMm windowCentre = toPage(t.window.centre().xMm, t.window.centre().yMm);
-  page.texts.push_back({{windowCentre.xMm - 5.5, windowCentre.yMm + 1.0}, 7.0, "cut out"});
+}
 
-  // A 100 mm scale bar and the instructions under the sheet.
-  double y = topMm + sheetH + 12.0;
+// A 100 mm scale bar with its caption, at page height `y`; returns the height below it.
+double addScaleBar(Page& page, double y) {
   const double barX = (page.widthMm - 100.0) / 2;
   page.shapes.push_back({{{barX, y}, {barX + 100.0, y}, {barX + 100.0, y + 2.0}, {barX, y + 2.0}},
                          true, 0.0, false, 0.0});
@@ -114,7 +104,11 @@ Page layOut(const vision::TargetGeometry& t, PaperSize paper, const std::filesys
                            true, 0.0, false, 0.0});
   y += 7.0;
   page.texts.push_back({{barX, y}, 8.0, "This bar is 100 mm long. Measure it after printing."});
-  y += 10.0;
+  return y;
+}
+
+// The printing and use instructions, from page height `y` down.
+void addInstructions(Page& page, const vision::TargetGeometry& t, double y) {
   const double textX = 20.0;
   const std::string ids = std::to_string(t.markers.front().id) + "-" + std::to_string(t.markers.back().id);
   const std::vector<std::string> lines = {
@@ -130,6 +124,32 @@ Page layOut(const vision::TargetGeometry& t, PaperSize paper, const std::filesys
     page.texts.push_back({{textX, y}, 9.0, line});
     y += 5.5;
   }
+}
+
+Page layOut(const vision::TargetGeometry& t, PaperSize paper, const std::filesystem::path& path) {
+  Page page;
+  page.widthMm = paper == PaperSize::A4 ? 210.0 : 215.9;
+  page.heightMm = paper == PaperSize::A4 ? 297.0 : 279.4;
+  const double topMm = 20.0;
+  const double sheetW = t.sheet.widthMm(), sheetH = t.sheet.heightMm();
+  if (sheetW > page.widthMm - 20.0 || sheetH > page.heightMm - topMm - 50.0)
+    throw IoError(path.string() + ": the target's sheet (" + formatMm(sheetW) + " x " +
+                  formatMm(sheetH) + " mm) does not fit the page with its instructions");
+  const SheetPlacement sheet{(page.widthMm - sheetW) / 2 - t.sheet.xMinMm, topMm + t.sheet.yMaxMm};
+  page.shapes.push_back({sheet.rect(t.sheet), false, 0.15, false, 0.7});
+  page.shapes.push_back({sheet.rect(t.window), false, 0.3, true, 0.4});
+  for (const vision::Patch& p : t.patches) {
+    if (p.kind == vision::PatchKind::Black)
+      page.shapes.push_back({sheet.rect(p.rect), true, 0.0, false, 0.0});
+  }
+  for (const vision::Marker& m : t.markers)
+    addMarker(page, m, sheet);
+  const PointMm windowCentre = sheet.toPage(t.window.centre().xMm, t.window.centre().yMm);
+  page.texts.push_back({{windowCentre.xMm - 5.5, windowCentre.yMm + 1.0}, 7.0, "cut out"});
+
+  // A 100 mm scale bar and the instructions under the sheet.
+  const double belowBarY = addScaleBar(page, topMm + sheetH + 12.0);
+  addInstructions(page, t, belowBarY + 10.0);
   return page;
 }
 

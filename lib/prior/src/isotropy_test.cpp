@@ -20,6 +20,73 @@ double logValue(const SliceSample& s, double floor) {
       std::max(0.0, s.value.mean()) * std::cos(degToRad(std::min(s.light.thetaDeg, 90.0))) + floor);
 }
 
+// The log floor: a fraction of the largest sample, so that zeros and dark samples do not dominate.
+double logFloor(const SliceSet& slices, const IsotropyParams& params) {
+  double largest = 0.0;
+  for (const Slice& slice : slices.slices()) {
+    for (const SliceSample& s : slice.samples)
+      largest = std::max(largest, std::exp(logValue(s, 0.0)));
+  }
+  return std::max(params.floorFraction * largest, 1e-30);
+}
+
+// A sum of squared log differences and how many terms it has.
+struct SquaredTerms {
+  double squares = 0.0;
+  int terms = 0;
+};
+
+// An axial slice should be flat: its spread about the mean.
+SquaredTerms axialSpread(const recon::PeriodicSignal& signal) {
+  SquaredTerms sum;
+  double mean = 0.0;
+  for (const auto& p : signal.points())
+    mean += p.value[0];
+  mean /= double(signal.points().size());
+  for (const auto& p : signal.points()) {
+    sum.squares += (p.value[0] - mean) * (p.value[0] - mean);
+    ++sum.terms;
+  }
+  return sum;
+}
+
+// A diagonal slice's half-turn asymmetry, and its mirror asymmetry when that is informative.
+SquaredTerms diagonalAsymmetry(const recon::PeriodicSignal& signal, bool mirrorInformative) {
+  SquaredTerms sum;
+  for (const auto& p : signal.points()) {
+    const double halfTurn = p.value[0] - signal.at(p.positionDeg + 180.0)[0];
+    sum.squares += halfTurn * halfTurn;
+    ++sum.terms;
+    if (mirrorInformative) {
+      const double mirror = p.value[0] - signal.at(360.0 - p.positionDeg)[0];
+      sum.squares += mirror * mirror;
+      ++sum.terms;
+    }
+  }
+  return sum;
+}
+
+// The RMS log score of one slice of two or more samples.
+SliceIsotropyScore scoreSlice(const Slice& slice, double floor) {
+  std::vector<recon::SignalPoint> points;
+  for (const SliceSample& s : slice.samples)
+    points.push_back({sliceParameterDeg(slice.id.kind, s), Rgb::gray(logValue(s, floor))});
+  const recon::PeriodicSignal signal(points);
+  SliceIsotropyScore score{slice.id, 0.0, true};
+  SquaredTerms sum;
+  if (slice.id.kind == SliceKind::Axial) {
+    sum = axialSpread(signal);
+  } else {
+    // At equal elevations reciprocity alone makes s(x) = s(-x), so only mixed pairs test it;
+    // the half-turn sees only surfaces without central symmetry (no microfacet model).
+    const bool mirrorInformative = slice.id.elevations.thetaIDeg != slice.id.elevations.thetaVDeg;
+    score.informative = mirrorInformative;
+    sum = diagonalAsymmetry(signal, mirrorInformative);
+  }
+  score.score = std::sqrt(sum.squares / sum.terms);
+  return score;
+}
+
 // The verdict and its sentence from the scores.
 void decide(IsotropyVerdict& verdict, const IsotropyParams& params) {
   const bool axialSays = verdict.axialScore > params.axialThreshold;
@@ -70,51 +137,14 @@ bool IsotropyParams::isValid(std::string* error) const {
 IsotropyVerdict testIsotropy(const SliceSet& slices, const IsotropyParams& params) {
   std::string error;
   if (!params.isValid(&error)) throw std::invalid_argument("isotropy test: " + error);
-  double largest = 0.0;
-  for (const Slice& slice : slices.slices()) {
-    for (const SliceSample& s : slice.samples)
-      largest = std::max(largest, std::exp(logValue(s, 0.0)));
-  }
-  const double floor = std::max(params.floorFraction * largest, 1e-30);
+  const double floor = logFloor(slices, params);
 
   IsotropyVerdict verdict;
   bool anyUsable = false;
   for (const Slice& slice : slices.slices()) {
     if (slice.samples.size() < 2) continue;
     anyUsable = true;
-    std::vector<recon::SignalPoint> points;
-    for (const SliceSample& s : slice.samples)
-      points.push_back({sliceParameterDeg(slice.id.kind, s), Rgb::gray(logValue(s, floor))});
-    const recon::PeriodicSignal signal(points);
-    double squares = 0.0;
-    int terms = 0;
-    SliceIsotropyScore score{slice.id, 0.0, true};
-    if (slice.id.kind == SliceKind::Axial) {
-      double mean = 0.0;
-      for (const auto& p : signal.points())
-        mean += p.value[0];
-      mean /= double(signal.points().size());
-      for (const auto& p : signal.points()) {
-        squares += (p.value[0] - mean) * (p.value[0] - mean);
-        ++terms;
-      }
-    } else {
-      // At equal elevations reciprocity alone makes s(x) = s(-x), so only mixed pairs test it;
-      // the half-turn sees only surfaces without central symmetry (no microfacet model).
-      const bool mirrorInformative = slice.id.elevations.thetaIDeg != slice.id.elevations.thetaVDeg;
-      score.informative = mirrorInformative;
-      for (const auto& p : signal.points()) {
-        const double halfTurn = p.value[0] - signal.at(p.positionDeg + 180.0)[0];
-        squares += halfTurn * halfTurn;
-        ++terms;
-        if (mirrorInformative) {
-          const double mirror = p.value[0] - signal.at(360.0 - p.positionDeg)[0];
-          squares += mirror * mirror;
-          ++terms;
-        }
-      }
-    }
-    score.score = std::sqrt(squares / terms);
+    const SliceIsotropyScore score = scoreSlice(slice, floor);
     verdict.slices.push_back(score);
     double& worst = slice.id.kind == SliceKind::Axial ? verdict.axialScore : verdict.diagonalScore;
     worst = std::max(worst, score.score);

@@ -89,6 +89,78 @@ void writeTruth(const std::filesystem::path& directory, const SweepTruth& truth)
   io::writeJsonFileAtomically(directory / kTruthFile, root);
 }
 
+namespace {
+
+io::RecordedSlice sliceOfTruth(const json& s, const std::filesystem::path& path) {
+  const auto kind = parseSliceKind(s.at("kind").get<std::string>());
+  if (!kind) throw io::IoError(path.string() + ": slice.kind: unknown kind");
+  const auto elevationDeg = [&](const char* key) {
+    const auto v = io::wholeNumberIn(s.at(key), 0, 89);
+    if (!v)
+      throw io::IoError(path.string() + ": slice." + key + ": expected a whole number of " +
+                        "degrees in 0..89, got " + s.at(key).dump());
+    return static_cast<int>(*v);
+  };
+  return {{*kind, {elevationDeg("theta_i_deg"), elevationDeg("theta_v_deg")}},
+          s.at("alpha_deg").get<double>()};
+}
+
+std::vector<int> markersInViewOfFrame(const json& f, std::size_t index,
+                                      const std::filesystem::path& path) {
+  const json& markers = f.at("markers_in_view");
+  if (!markers.is_array())
+    throw io::IoError(path.string() + ": frames[" + std::to_string(index) +
+                      "]: markers_in_view: not an array");
+  std::vector<int> ids;
+  for (const json& id : markers) {
+    const auto v = io::wholeNumberIn(id, 0, std::numeric_limits<int>::max());
+    if (!v)
+      throw io::IoError(path.string() + ": frames[" + std::to_string(index) +
+                        "]: markers_in_view: expected marker ids (whole numbers from 0), " +
+                        "got " + id.dump());
+    ids.push_back(static_cast<int>(*v));
+  }
+  return ids;
+}
+
+// Frame `index` of the list; the JSON library's exceptions pass through to the caller, which
+// names the frame.
+FrameTruth frameOfTruth(const json& f, std::size_t index, const std::filesystem::path& path) {
+  FrameTruth ft;
+  ft.file = f.at("file").get<std::string>();
+  const auto timestampUs =
+      io::wholeNumberIn(f.at("timestamp_us"), std::numeric_limits<std::int64_t>::min(),
+                        std::numeric_limits<std::int64_t>::max());
+  if (!timestampUs)
+    throw io::IoError(path.string() + ": frames[" + std::to_string(index) +
+                      "]: timestamp_us: expected a whole number, got " +
+                      f.at("timestamp_us").dump());
+  ft.timestampUs = *timestampUs;
+  ft.ledOn = f.at("led_on").get<bool>();
+  ft.exposureUs = f.at("exposure_us").get<double>();
+  ft.gain = f.at("gain").get<double>();
+  ft.sliceParameterDeg = f.at("slice_parameter_deg").get<double>();
+  for (int row = 0; row < 3; ++row) {
+    for (int column = 0; column < 3; ++column)
+      ft.pose.rotation(row, column) = f.at("pose").at("rotation").at(row).at(column).get<double>();
+  }
+  ft.pose.translationMm = toVec(f.at("pose").at("translation_mm"));
+  ft.view = toDirection(f.at("view"));
+  ft.cameraDistanceMm = f.at("camera_distance_mm").get<double>();
+  ft.lightMm = toVec(f.at("light_mm"));
+  ft.light = toDirection(f.at("light"));
+  ft.ledIrradiance = f.at("led_irradiance_w_per_m2").get<double>();
+  ft.brdf = toRgb(f.at("brdf"));
+  ft.expectedLinear = toRgb(f.at("expected_linear"));
+  ft.motionBlurPx = f.at("motion_blur_px").get<double>();
+  ft.occluded = f.at("occluded").get<bool>();
+  ft.aimedOff = f.at("aimed_off").get<bool>();
+  ft.markersInView = markersInViewOfFrame(f, index, path);
+  return ft;
+}
+
+}  // namespace
+
 SweepTruth readTruth(const std::filesystem::path& directory) {
   const std::filesystem::path path = directory / kTruthFile;
   const json root = io::readJsonFile(path);
@@ -96,18 +168,7 @@ SweepTruth readTruth(const std::filesystem::path& directory) {
     SweepTruth t;
     t.material = root.at("material").get<std::string>();
     t.materialDescription = root.at("material_description").get<std::string>();
-    const json& s = root.at("slice");
-    const auto kind = parseSliceKind(s.at("kind").get<std::string>());
-    if (!kind) throw io::IoError(path.string() + ": slice.kind: unknown kind");
-    const auto elevationDeg = [&](const char* key) {
-      const auto v = io::wholeNumberIn(s.at(key), 0, 89);
-      if (!v)
-        throw io::IoError(path.string() + ": slice." + key + ": expected a whole number of " +
-                          "degrees in 0..89, got " + s.at(key).dump());
-      return static_cast<int>(*v);
-    };
-    t.slice = {{*kind, {elevationDeg("theta_i_deg"), elevationDeg("theta_v_deg")}},
-               s.at("alpha_deg").get<double>()};
+    t.slice = sliceOfTruth(root.at("slice"), path);
     const json& r = root.at("radiometry");
     t.ledIntensityWPerSr = r.at("led_intensity_w_per_sr").get<double>();
     t.sensorResponse = r.at("sensor_response").get<double>();
@@ -116,50 +177,7 @@ SweepTruth readTruth(const std::filesystem::path& directory) {
     if (!frames.is_array()) throw io::IoError(path.string() + ": frames: not an array");
     for (std::size_t index = 0; index < frames.size(); ++index)
       try {
-        const json& f = frames[index];
-        FrameTruth ft;
-        ft.file = f.at("file").get<std::string>();
-        const auto timestampUs =
-            io::wholeNumberIn(f.at("timestamp_us"), std::numeric_limits<std::int64_t>::min(),
-                              std::numeric_limits<std::int64_t>::max());
-        if (!timestampUs)
-          throw io::IoError(path.string() + ": frames[" + std::to_string(index) +
-                            "]: timestamp_us: expected a whole number, got " +
-                            f.at("timestamp_us").dump());
-        ft.timestampUs = *timestampUs;
-        ft.ledOn = f.at("led_on").get<bool>();
-        ft.exposureUs = f.at("exposure_us").get<double>();
-        ft.gain = f.at("gain").get<double>();
-        ft.sliceParameterDeg = f.at("slice_parameter_deg").get<double>();
-        for (int row = 0; row < 3; ++row) {
-          for (int column = 0; column < 3; ++column)
-            ft.pose.rotation(row, column) =
-                f.at("pose").at("rotation").at(row).at(column).get<double>();
-        }
-        ft.pose.translationMm = toVec(f.at("pose").at("translation_mm"));
-        ft.view = toDirection(f.at("view"));
-        ft.cameraDistanceMm = f.at("camera_distance_mm").get<double>();
-        ft.lightMm = toVec(f.at("light_mm"));
-        ft.light = toDirection(f.at("light"));
-        ft.ledIrradiance = f.at("led_irradiance_w_per_m2").get<double>();
-        ft.brdf = toRgb(f.at("brdf"));
-        ft.expectedLinear = toRgb(f.at("expected_linear"));
-        ft.motionBlurPx = f.at("motion_blur_px").get<double>();
-        ft.occluded = f.at("occluded").get<bool>();
-        ft.aimedOff = f.at("aimed_off").get<bool>();
-        const json& markers = f.at("markers_in_view");
-        if (!markers.is_array())
-          throw io::IoError(path.string() + ": frames[" + std::to_string(index) +
-                            "]: markers_in_view: not an array");
-        for (const json& id : markers) {
-          const auto v = io::wholeNumberIn(id, 0, std::numeric_limits<int>::max());
-          if (!v)
-            throw io::IoError(path.string() + ": frames[" + std::to_string(index) +
-                              "]: markers_in_view: expected marker ids (whole numbers from 0), " +
-                              "got " + id.dump());
-          ft.markersInView.push_back(static_cast<int>(*v));
-        }
-        t.frames.push_back(std::move(ft));
+        t.frames.push_back(frameOfTruth(frames[index], index, path));
       } catch (const json::exception& e) {
         throw io::IoError(path.string() + ": frames[" + std::to_string(index) + "]: " + e.what());
       }

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "slicecap/btf/slice_texture.hpp"
@@ -90,9 +91,19 @@ class TextureStore {
     std::filesystem::path file;
   };
   using SliceIndex = std::vector<std::vector<Entry>>;  // per bin
+  struct StoredFrame {  // a frame file found when opening: its slice and index entry
+    SliceId slice;
+    Entry entry;
+  };
 
   TextureStore(std::filesystem::path directory, TextureStoreLayout layout, StoreAccess access);
   void load();
+  /// load's steps: a leftover (.tmp, a redo cut off) is counted, and removed when mending; a
+  /// slice folder's frame files are listed; the frames found are indexed in stored order.
+  void setAsideLeftover(const std::filesystem::path& path);
+  void findFramesIn(const std::filesystem::path& folder, std::vector<StoredFrame>& found,
+                    std::error_code& error);
+  void indexInStoredOrder(std::vector<StoredFrame>& found);
   SliceIndex& indexFor(const SliceId& slice);
   /// The bin and slot a frame would take (slot == bin size: appended), or none.
   std::optional<std::pair<int, std::size_t>> placeOf(const SliceId& slice,
