@@ -78,52 +78,50 @@ bool peerMayConnect(const Peer& peer, const std::vector<std::uint32_t>& suppleme
              supplementaryGroups.end();
 }
 
-ListenSocket::ListenSocket(const ListenSpec& spec) {
-  if (sd_listen_fds(0) == 1) {
-    fromSystemd_ = true;
-    fd_ = SD_LISTEN_FDS_START;
-    ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) | O_NONBLOCK);
-    // Its group (SocketGroup=) says who may connect; the file is systemd's to remove.
-    sockaddr_un address{};
-    socklen_t length = sizeof address;
-    struct stat file {};
-    if (::getsockname(fd_, reinterpret_cast<sockaddr*>(&address), &length) == 0 &&
-        length > offsetof(sockaddr_un, sun_path) && address.sun_path[0] != '\0' &&
-        ::stat(address.sun_path, &file) == 0)
-      group_ = file.st_gid;
-    return;
-  }
-  if (const auto problem = socketPathProblem(spec.path)) throw std::runtime_error(*problem);
-  const sockaddr_un address = socketAddress(spec.path);
+namespace {
+
+// The group of the socket file systemd passed as `fd`, if it can be found.
+std::optional<std::uint32_t> passedSocketGroup(int fd) {
+  sockaddr_un address{};
+  socklen_t length = sizeof address;
+  struct stat file {};
+  if (::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0 &&
+      length > offsetof(sockaddr_un, sun_path) && address.sun_path[0] != '\0' &&
+      ::stat(address.sun_path, &file) == 0)
+    return file.st_gid;
+  return std::nullopt;
+}
+
+// Throws naming `path` when something other than a stale socket is there.
+void refuseOccupiedPath(const std::filesystem::path& path) {
+  const sockaddr_un address = socketAddress(path);
   struct stat existing {};
-  if (::lstat(spec.path.c_str(), &existing) == 0) {
+  if (::lstat(path.c_str(), &existing) == 0) {
     if (!S_ISSOCK(existing.st_mode))
-      throw std::runtime_error(spec.path.string() + ": exists and is not a socket");
+      throw std::runtime_error(path.string() + ": exists and is not a socket");
     if (socketIsLive(address))
-      throw std::runtime_error(spec.path.string() + ": another daemon is listening there");
+      throw std::runtime_error(path.string() + ": another daemon is listening there");
     // A stale one: the rename below replaces it.
   }
-  // Bound where only this uid can reach it (mkdtemp makes a 0700 folder, whatever the umask), given
-  // its mode and group there, then renamed into place: a chmod after binding at the path itself
-  // left a window in which, with a permissive umask, anybody could connect (and stay connected).
-  // The umask is not changed: it is the whole process's, and other threads may be creating files.
-  std::string privateFolder =
-      (spec.path.parent_path() / kPrivateBindSuffix.substr(1, kPrivateBindSuffix.size() - 3))
-          .string();
-  if (!::mkdtemp(privateFolder.data()))
-    throw socketError(spec.path, "cannot make a private folder beside it");
-  const std::filesystem::path bound = std::filesystem::path(privateFolder) / "s";
+}
+
+// A listening socket bound as `bound` in `privateFolder`, given the mode and group of `spec`
+// there, then renamed to `spec.path`; on failure the descriptor, the node and the folder are
+// removed and std::runtime_error names the path.
+int listenFromPrivateFolder(const ListenSpec& spec, const std::string& privateFolder,
+                            const std::filesystem::path& bound) {
+  int fd = -1;
   const auto fail = [&](std::runtime_error error) {
-    if (fd_ >= 0) ::close(fd_);
-    fd_ = -1;
+    if (fd >= 0) ::close(fd);
+    fd = -1;
     ::unlink(bound.c_str());
     ::rmdir(privateFolder.c_str());
     return error;
   };
-  fd_ = ::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-  if (fd_ < 0) throw fail(socketError(spec.path, "cannot create socket"));
+  fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (fd < 0) throw fail(socketError(spec.path, "cannot create socket"));
   const sockaddr_un privateAddress = socketAddress(bound);
-  if (::bind(fd_, reinterpret_cast<const sockaddr*>(&privateAddress), sizeof privateAddress) != 0)
+  if (::bind(fd, reinterpret_cast<const sockaddr*>(&privateAddress), sizeof privateAddress) != 0)
     throw fail(socketError(spec.path, "cannot bind"));
   if (spec.afterBind) spec.afterBind(bound);
   // The group may talk to the daemon; nobody else (the socket is the whole control surface).
@@ -137,9 +135,36 @@ ListenSocket::ListenSocket(const ListenSpec& spec) {
     if (::chown(bound.c_str(), uid_t(-1), g->gr_gid) != 0)
       throw fail(socketError(spec.path, "cannot give the socket to group " + *spec.group));
   }
-  if (::listen(fd_, 64) != 0) throw fail(socketError(spec.path, "cannot listen"));
+  if (::listen(fd, 64) != 0) throw fail(socketError(spec.path, "cannot listen"));
   if (::rename(bound.c_str(), spec.path.c_str()) != 0)
     throw fail(socketError(spec.path, "cannot move the socket into place"));
+  return fd;
+}
+
+}  // namespace
+
+ListenSocket::ListenSocket(const ListenSpec& spec) {
+  if (sd_listen_fds(0) == 1) {
+    fromSystemd_ = true;
+    fd_ = SD_LISTEN_FDS_START;
+    ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) | O_NONBLOCK);
+    // Its group (SocketGroup=) says who may connect; the file is systemd's to remove.
+    group_ = passedSocketGroup(fd_);
+    return;
+  }
+  if (const auto problem = socketPathProblem(spec.path)) throw std::runtime_error(*problem);
+  refuseOccupiedPath(spec.path);
+  // Bound where only this uid can reach it (mkdtemp makes a 0700 folder, whatever the umask), given
+  // its mode and group there, then renamed into place: a chmod after binding at the path itself
+  // left a window in which, with a permissive umask, anybody could connect (and stay connected).
+  // The umask is not changed: it is the whole process's, and other threads may be creating files.
+  std::string privateFolder =
+      (spec.path.parent_path() / kPrivateBindSuffix.substr(1, kPrivateBindSuffix.size() - 3))
+          .string();
+  if (!::mkdtemp(privateFolder.data()))
+    throw socketError(spec.path, "cannot make a private folder beside it");
+  const std::filesystem::path bound = std::filesystem::path(privateFolder) / "s";
+  fd_ = listenFromPrivateFolder(spec, privateFolder, bound);
   ::rmdir(privateFolder.c_str());
   struct stat placed {};
   if (::lstat(spec.path.c_str(), &placed) == 0) {
