@@ -216,33 +216,20 @@ std::vector<std::string> startProblems(const DaemonConfig& config) {
   return problems;
 }
 
-// `warnings`: configWarnings(config), already logged; every status shows them.
-int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::ostream& err) {
-  // Before the camera: libcamera starts its threads in the camera's constructor, and a SIGTERM
-  // that reached one of them would end the process without stopping the sweep cleanly.
-  daemon::blockSignalsInThisAndLaterThreads(daemon::stopSignals());
-  static hal::SteadyClock clock;
-  daemon::DaemonParts parts;
-  parts.storage = config.storage;
-  parts.clock = &clock;
-  auto modelLight = std::make_shared<hal::LedTimeline>();
+// The LED and how the strobe drives it, and what the camera is asked for.
+void setLedAndCamera(daemon::DaemonParts& parts, const DaemonConfig& config, hal::SteadyClock& clock,
+                     const std::shared_ptr<hal::LedTimeline>& modelLight) {
   parts.led = openLed(config, clock, modelLight);
   parts.ledAlternate = config.ledAlternate;
   parts.strobe.framesPerState = config.ledFramesPerState;
   parts.strobe.guardUs = config.ledGuardUs;
   parts.strobe.readoutUs = config.readoutUs;
   parts.cameraConfig = cameraConfigFrom(config);
-  parts.warnings = std::move(warnings);
+}
 
-  const Rig configured = configuredRig(config);
-  const CameraSources sources = makeCameraSources(config, clock, modelLight, configured.target,
-                                                  configured.camera, ModelScene::Sweep);
-  parts.cameraFor = sources.cameraFor;
-  const std::function<Rig(const SliceId&)> rigFor = sources.rigFor;
-  std::string createdBy = std::string("slicecapd ") + kVersion;
-  if (config.camera == DaemonConfig::CameraKind::Model ||
-      config.camera == DaemonConfig::CameraKind::File)
-    createdBy += " (" + sources.kind + ")";
+// The frame pipeline of each slice (with its decoding) and the subject of its exposure bracket.
+void setFrameProcessing(daemon::DaemonParts& parts, const DaemonConfig& config,
+                        const std::function<Rig(const SliceId&)>& rigFor) {
   capture::PipelineSettings pipelineSettings;
   // Without alternation there is no LED-off frame to measure the room light with.
   pipelineSettings.requireAmbient = config.ledAlternate;
@@ -267,6 +254,12 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
     const Rig rig = rigFor(slice);
     return daemon::BracketSubject{rig.target, rig.camera};
   };
+}
+
+// What a session keeps besides its samples: recorded frames, the texture, and the exports.
+void setSessionOutputs(daemon::DaemonParts& parts, const DaemonConfig& config,
+                       const std::function<Rig(const SliceId&)>& rigFor,
+                       const std::string& createdBy) {
   if (config.recordFrames) {
     parts.recordingHeaderFor = [rigFor, createdBy](const SliceId& slice) {
       const Rig rig = rigFor(slice);
@@ -291,6 +284,32 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   parts.preview = preview;
   parts.isotropy = assessIsotropy;
   parts.material = fittedMaterial;
+}
+
+// `warnings`: configWarnings(config), already logged; every status shows them.
+int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::ostream& err) {
+  // Before the camera: libcamera starts its threads in the camera's constructor, and a SIGTERM
+  // that reached one of them would end the process without stopping the sweep cleanly.
+  daemon::blockSignalsInThisAndLaterThreads(daemon::stopSignals());
+  static hal::SteadyClock clock;
+  daemon::DaemonParts parts;
+  parts.storage = config.storage;
+  parts.clock = &clock;
+  auto modelLight = std::make_shared<hal::LedTimeline>();
+  setLedAndCamera(parts, config, clock, modelLight);
+  parts.warnings = std::move(warnings);
+
+  const Rig configured = configuredRig(config);
+  const CameraSources sources = makeCameraSources(config, clock, modelLight, configured.target,
+                                                  configured.camera, ModelScene::Sweep);
+  parts.cameraFor = sources.cameraFor;
+  const std::function<Rig(const SliceId&)> rigFor = sources.rigFor;
+  std::string createdBy = std::string("slicecapd ") + kVersion;
+  if (config.camera == DaemonConfig::CameraKind::Model ||
+      config.camera == DaemonConfig::CameraKind::File)
+    createdBy += " (" + sources.kind + ")";
+  setFrameProcessing(parts, config, rigFor);
+  setSessionOutputs(parts, config, rigFor, createdBy);
 
   // Outlives the daemon: its socket file is removed when the daemon has stopped (not systemd's).
   const daemon::ListenSocket listening(

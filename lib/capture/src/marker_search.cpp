@@ -170,6 +170,110 @@ std::vector<SearchPass> tiled(int width, int height, const DetectionScale& scale
   return {};
 }
 
+// The sheet's image box seen from `pose`, grown by `growth`, clamped to the image; nullopt when
+// it cannot be projected or too little of it (under 16 px either way) is inside.
+std::optional<PixelRect> regionInImage(const vision::Pose& pose, const vision::CameraModel& camera,
+                                       const vision::RectMm& sheet, double growth) {
+  const auto box = sheetRegion(pose, camera, sheet, growth);
+  if (!box) return std::nullopt;
+  const PixelRect inside = clampTo(*box, camera.intrinsics.widthPx, camera.intrinsics.heightPx);
+  if (inside.width < 16 || inside.height < 16) return std::nullopt;
+  return inside;
+}
+
+// The finest of kScales whose cells seen through `cellMaps` are larger than `than` px and whose
+// pass over `area` costs at most `sparePx`.
+std::optional<DetectionScale> finestFitting(const std::vector<Eigen::Matrix2d>& cellMaps,
+                                            const PixelRect& area, double than, double sparePx) {
+  std::optional<DetectionScale> best;
+  double bestCell = than;
+  for (const DetectionScale& scale : kScales) {
+    const double cell = smallestCellPx(cellMaps, scale);
+    if (cell > bestCell && workOf({area, scale}) <= sparePx) best = scale, bestCell = cell;
+  }
+  return best;
+}
+
+// One frame's passes: each run on the frame and its work counted against the budget; the markers
+// kept are those of the pass that found the most known ones (the later of equals).
+class FramePasses {
+ public:
+  FramePasses(MarkerDetector& detector, const hal::Frame& frame,
+              const vision::TargetGeometry& target, double budgetPx)
+      : detector_(detector), frame_(frame), target_(target), budgetPx_(budgetPx) {}
+
+  double spare() const { return budgetPx_ - result_.workPx; }
+  // Known markers found by the best pass so far; -1 before any pass.
+  int bestCount() const { return bestCount_; }
+
+  // Runs `pass` and keeps its markers when they are at least as many as the best so far.
+  void run(const SearchPass& pass, bool tracked) {
+    std::vector<DetectedMarker> found = detector_.detect(frame_, pass.area, pass.scale);
+    ++result_.passes;
+    result_.workPx += workOf(pass);
+    const int count = countKnown(found, target_);
+    if (count < bestCount_) return;
+    bestCount_ = count;
+    result_.markers = std::move(found);
+    result_.trackedScale = tracked ? std::optional(pass.scale) : std::nullopt;
+  }
+
+  MarkerSearchResult& result() { return result_; }
+
+ private:
+  MarkerDetector& detector_;
+  const hal::Frame& frame_;
+  const vision::TargetGeometry& target_;
+  double budgetPx_;
+  MarkerSearchResult result_;
+  int bestCount_ = -1;
+};
+
+// The tracked passes around `lastPose`: the sheet's predicted region at the predicted scale, then
+// finer or wider when markers were lost. True when a pass was wanted but did not fit the budget.
+bool runTrackedPasses(FramePasses& passes, const vision::Pose& lastPose,
+                      const vision::CameraModel& camera, const vision::TargetGeometry& target,
+                      const MarkerDetectorSettings& settings, int minMarkers) {
+  const auto predicted = regionInImage(lastPose, camera, target.sheet, kTrackedGrowth);
+  if (!predicted) return false;
+  const MarkersInView expected = markersInView(lastPose, camera, target);
+  const int enough = std::max(minMarkers, (expected.count + 1) / 2);
+  // The predicted scale, or when the region is too large for it, the finest that fits.
+  std::optional<DetectionScale> scale = trackedScale(expected.cellMaps, settings);
+  if (workOf({*predicted, *scale}) > passes.spare())
+    scale = finestFitting(expected.cellMaps, *predicted, 0.0, passes.spare());
+  if (!scale) return true;
+  passes.run({*predicted, *scale}, true);
+  const double cell = smallestCellPx(expected.cellMaps, *scale);
+  if (passes.bestCount() >= minMarkers && passes.bestCount() < enough) {
+    // Markers there, but some lost at this scale: the same region finer, if affordable.
+    if (const auto finer = finestFitting(expected.cellMaps, *predicted, cell, passes.spare()))
+      passes.run({*predicted, *finer}, true);
+  } else if (passes.bestCount() < minMarkers) {
+    // The target moved further than predicted: a wider region at the same scale.
+    const auto wide = regionInImage(lastPose, camera, target.sheet, kWidenedGrowth);
+    if (wide && workOf({*wide, *scale}) <= passes.spare())
+      passes.run({*wide, *scale}, true);
+    else
+      return true;
+  }
+  return false;
+}
+
+// The next passes of the fixed `acquisition` list from `next` on (which it advances), each at most
+// once, until `wantedMarkers` are found. True when it stopped at a pass that did not fit the budget.
+bool runAcquisitionPasses(FramePasses& passes, const std::vector<SearchPass>& acquisition,
+                          std::size_t& next, int wantedMarkers) {
+  for (std::size_t tried = 0; passes.bestCount() < wantedMarkers && tried < acquisition.size();
+       ++tried) {
+    const SearchPass& pass = acquisition[next];
+    if (workOf(pass) > passes.spare()) return true;
+    passes.run(pass, false);
+    next = (next + 1) % acquisition.size();
+  }
+  return false;
+}
+
 }  // namespace
 
 MarkerSearch::MarkerSearch(const vision::TargetGeometry& target, const vision::CameraModel& camera,
@@ -220,81 +324,21 @@ MarkerSearchResult MarkerSearch::search(const hal::Frame& frame, bool countsAsMi
   // Without a budget nothing is spread over frames: every frame takes the list from its start
   // (offline, an LED-off frame read ahead would otherwise move the next LED-on frame's start).
   if (std::isinf(settings_.frameBudgetPx)) nextAcquisition_ = 0;
-  MarkerSearchResult result;
-  int bestCount = -1;
-  const auto spare = [&] { return settings_.frameBudgetPx - result.workPx; };
-  // Runs `pass` and keeps its markers when they are at least as many as the best so far.
-  const auto run = [&](const SearchPass& pass, bool tracked) {
-    std::vector<DetectedMarker> found = detector_.detect(frame, pass.area, pass.scale);
-    ++result.passes;
-    result.workPx += workOf(pass);
-    const int count = countKnown(found, target_);
-    if (count < bestCount) return;
-    bestCount = count;
-    result.markers = std::move(found);
-    result.trackedScale = tracked ? std::optional(pass.scale) : std::nullopt;
-  };
-  const int width = camera_.intrinsics.widthPx, height = camera_.intrinsics.heightPx;
-  const auto region = [&](double growth) -> std::optional<PixelRect> {
-    const auto box = sheetRegion(*lastPose_, camera_, target_.sheet, growth);
-    if (!box) return std::nullopt;
-    const PixelRect inside = clampTo(*box, width, height);
-    if (inside.width < 16 || inside.height < 16) return std::nullopt;
-    return inside;
-  };
-  bool wanted = false;  // a pass was wanted but did not fit this frame's budget
-  if (lastPose_)
-    if (const auto predicted = region(kTrackedGrowth)) {
-      const MarkersInView expected = markersInView(*lastPose_, camera_, target_);
-      const int enough = std::max(minMarkers_, (expected.count + 1) / 2);
-      // The finest affordable of the scales whose cells are larger than `than` px.
-      const auto finestFitting = [&](const PixelRect& area,
-                                     double than) -> std::optional<DetectionScale> {
-        std::optional<DetectionScale> best;
-        double bestCell = than;
-        for (const DetectionScale& scale : kScales) {
-          const double cell = smallestCellPx(expected.cellMaps, scale);
-          if (cell > bestCell && workOf({area, scale}) <= spare()) best = scale, bestCell = cell;
-        }
-        return best;
-      };
-      // The predicted scale, or when the region is too large for it, the finest that fits.
-      std::optional<DetectionScale> scale = trackedScale(expected.cellMaps, settings_);
-      if (workOf({*predicted, *scale}) > spare()) scale = finestFitting(*predicted, 0.0);
-      if (scale) {
-        run({*predicted, *scale}, true);
-        const double cell = smallestCellPx(expected.cellMaps, *scale);
-        if (bestCount >= minMarkers_ && bestCount < enough) {
-          // Markers there, but some lost at this scale: the same region finer, if affordable.
-          if (const auto finer = finestFitting(*predicted, cell)) run({*predicted, *finer}, true);
-        } else if (bestCount < minMarkers_) {
-          // The target moved further than predicted: a wider region at the same scale.
-          const auto wide = region(kWidenedGrowth);
-          if (wide && workOf({*wide, *scale}) <= spare())
-            run({*wide, *scale}, true);
-          else
-            wanted = true;
-        }
-      } else {
-        wanted = true;
-      }
-    }
+  FramePasses passes(detector_, frame, target_, settings_.frameBudgetPx);
+  // A pass was wanted but did not fit this frame's budget.
+  bool wanted =
+      lastPose_ && runTrackedPasses(passes, *lastPose_, camera_, target_, settings_, minMarkers_);
   // Re-acquisition: the next passes of the fixed list that fit, each at most once per frame, until
   // fullResolutionBelow markers are found (as detect() without a scale: a pose from the first 4
   // found by a coarse pass is less precise; beyond minMarkers only while the budget lasts).
-  const int wantedMarkers =
-      bestCount >= minMarkers_ ? 0 : std::max(minMarkers_, settings_.fullResolutionBelow);
-  for (std::size_t tried = 0; bestCount < wantedMarkers && tried < acquisition_.size(); ++tried) {
-    const SearchPass& pass = acquisition_[nextAcquisition_];
-    if (workOf(pass) > spare()) {
-      wanted = bestCount < minMarkers_;
-      break;
-    }
-    run(pass, false);
-    nextAcquisition_ = (nextAcquisition_ + 1) % acquisition_.size();
-  }
-  result.deferred = bestCount < minMarkers_ && wanted;
-  if (bestCount < 0) result.markers.clear();
+  const int wantedMarkers = passes.bestCount() >= minMarkers_
+                                ? 0
+                                : std::max(minMarkers_, settings_.fullResolutionBelow);
+  if (runAcquisitionPasses(passes, acquisition_, nextAcquisition_, wantedMarkers))
+    wanted = passes.bestCount() < minMarkers_;
+  MarkerSearchResult result = std::move(passes.result());
+  result.deferred = passes.bestCount() < minMarkers_ && wanted;
+  if (passes.bestCount() < 0) result.markers.clear();
   return result;
 }
 

@@ -10,6 +10,17 @@ namespace {
 // A period to assume before two frames have shown the real one (30 frames/s).
 constexpr double kAssumedPeriodUs = 33333.0;
 
+// What the untimed mode costs and how to leave it, naming the camera.
+std::string untimedWarning(const std::string& cameraId, int framesPerState) {
+  return "camera " + cameraId + " reports no usable frame timestamps (0, not increasing, or not on the LED's clock): frames " +
+         "are timed by their arrival, each judged exposed during the " +
+         std::to_string(LedStrobe::kUntimedWindowPeriods) + " frame periods before it, and the LED holds each " +
+         "state for " + std::to_string(framesPerState) +
+         " frames (fewer frames are clean, rejected as led_transition). Use a driver or camera that "
+         "stamps its frames (libcamera's SensorTimestamp, V4L2 buffer timestamps); a larger "
+         "led_frames_per_state keeps more frames";
+}
+
 }  // namespace
 
 bool StrobeSettings::isValid(std::string* error) const {
@@ -55,7 +66,17 @@ double LedStrobe::lineTimeUs(const hal::Frame& frame) const {
 }
 
 void LedStrobe::label(hal::Frame& frame, std::int64_t arrivalUs) {
-  hal::FrameMetadata& m = frame.metadata;
+  checkTimestamp(frame.metadata, arrivalUs);
+  const hal::FrameMetadata& m = frame.metadata;
+  ++stats_.framesDelivered;
+  if (last_ && m.sequence > last_->sequence + 1) stats_.framesDropped += m.sequence - last_->sequence - 1;
+  const Timing timing = timingOf(frame);
+  notePeriod(m.sequence, timing.row0StartUs);
+  labelLedState(frame, timing);
+  last_ = timing;
+}
+
+void LedStrobe::checkTimestamp(hal::FrameMetadata& m, std::int64_t arrivalUs) {
   // A timestamp of 0 (a driver that stamps nothing) or one that does not increase cannot place
   // the frame against the LED's timeline; nor can any later one of this camera be trusted.
   // So is one far from the frame's arrival on the LED's clock (the camera's clock is another, or
@@ -77,8 +98,10 @@ void LedStrobe::label(hal::Frame& frame, std::int64_t arrivalUs) {
     untimedLastUs_ = m.timestampUs;
     m.exposureStartUs.reset();
   }
-  ++stats_.framesDelivered;
-  if (last_ && m.sequence > last_->sequence + 1) stats_.framesDropped += m.sequence - last_->sequence - 1;
+}
+
+LedStrobe::Timing LedStrobe::timingOf(const hal::Frame& frame) {
+  const hal::FrameMetadata& m = frame.metadata;
   const double period = periodUs_.value_or(kAssumedPeriodUs);
   Timing timing;
   timing.sequence = m.sequence;
@@ -90,14 +113,7 @@ void LedStrobe::label(hal::Frame& frame, std::int64_t arrivalUs) {
     stats_.timing = "timestamps unusable: a frame counts as exposed during the " +
                     std::to_string(kUntimedWindowPeriods) +
                     " frame periods before it reached the daemon";
-    stats_.warning =
-        "camera " + cameraId_ + " reports no usable frame timestamps (0, not increasing, or not on the LED's clock): frames " +
-        "are timed by their arrival, each judged exposed during the " +
-        std::to_string(kUntimedWindowPeriods) + " frame periods before it, and the LED holds each " +
-        "state for " + std::to_string(framesPerState()) +
-        " frames (fewer frames are clean, rejected as led_transition). Use a driver or camera that "
-        "stamps its frames (libcamera's SensorTimestamp, V4L2 buffer timestamps); a larger "
-        "led_frames_per_state keeps more frames";
+    stats_.warning = untimedWarning(cameraId_, framesPerState());
   } else if (m.exposureStartUs && m.exposureUs > 0) {
     timing.row0StartUs = *m.exposureStartUs;
     timing.exposureUs = m.exposureUs;
@@ -121,13 +137,20 @@ void LedStrobe::label(hal::Frame& frame, std::int64_t arrivalUs) {
                      "conservatively and many frames are rejected as led_transition; set "
                      "led_frames_per_state = 4 or more, or lock the exposure (exposure_us)";
   }
-  recentStarts_.emplace_back(m.sequence, timing.row0StartUs);
+  return timing;
+}
+
+void LedStrobe::notePeriod(std::uint64_t sequence, std::int64_t row0StartUs) {
+  recentStarts_.emplace_back(sequence, row0StartUs);
   if (recentStarts_.size() > 16) recentStarts_.erase(recentStarts_.begin());
   if (recentStarts_.size() >= 2) {
     const auto& [s0, t0] = recentStarts_.front();
     const auto& [s1, t1] = recentStarts_.back();
     if (s1 > s0 && t1 > t0) periodUs_ = double(t1 - t0) / double(s1 - s0);
   }
+}
+
+void LedStrobe::labelLedState(hal::Frame& frame, const Timing& timing) {
   const int height = std::max(1, frame.image.height);
   hal::LedExposure exposure = commanded_->exposureOf(timing.row0StartUs, timing.lineTimeUs,
                                                      timing.exposureUs, height, settings_.guardUs);
@@ -141,7 +164,6 @@ void LedStrobe::label(hal::Frame& frame, std::int64_t arrivalUs) {
     frame.metadata.ledOn = state == hal::LedExposure::State::On;
   }
   frame.metadata.ledExposure = std::move(exposure);
-  last_ = timing;
 }
 
 void LedStrobe::noteRows(const std::optional<capture::RowSpan>& rows) {

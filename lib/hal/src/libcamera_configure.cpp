@@ -52,6 +52,43 @@ libcamera_parts::RawAttempt LibcameraCamera::State::tryRaw(const CameraConfig& w
   return attempt;
 }
 
+namespace {
+
+/// Why camera_raw = on cannot be met: the RAW attempt's `reason` without the fallback that `on`
+/// refuses.
+std::string rawRequiredReason(const std::string& cameraName, const std::string& reason) {
+  std::string cause = reason.empty() ? std::string("it offers no RAW stream") : reason;
+  if (const auto fallback = cause.find(": the processed stream is used instead");
+      fallback != std::string::npos)
+    cause.erase(fallback);
+  return cameraName + ": camera_raw = on, but " + cause +
+         " (camera_raw = auto takes the processed stream instead)";
+}
+
+/// The first of kFormats among `offered`; nullopt when none is.
+std::optional<libcamera::PixelFormat> firstReadableFormat(
+    const std::vector<libcamera::PixelFormat>& offered) {
+  for (const FormatChoice& choice : kFormats)
+    if (std::find(offered.begin(), offered.end(), choice.format) != offered.end())
+      return choice.format;
+  return std::nullopt;
+}
+
+/// Takes the size and buffers of the applied processed `stream` into `config`, and its
+/// encoding, said in `adjustments` when it changes.
+void adoptProcessedStream(const libcamera::StreamConfiguration& stream, CameraConfig& config,
+                          std::vector<std::string>& adjustments) {
+  config.widthPx = static_cast<int>(stream.size.width);
+  config.heightPx = static_cast<int>(stream.size.height);
+  config.bufferCount = static_cast<int>(stream.bufferCount);
+  if (config.encoding != PixelEncoding::Srgb8) {
+    adjustments.push_back("encoding linear16 -> srgb8 (processed streams are 8-bit)");
+    config.encoding = PixelEncoding::Srgb8;
+  }
+}
+
+}  // namespace
+
 ConfigResult LibcameraCamera::configure(CameraConfig& config) {
   if (state_->streaming) throw std::logic_error("LibcameraCamera::configure while streaming");
   config.rawFormat.clear();
@@ -67,73 +104,57 @@ ConfigResult LibcameraCamera::configure(CameraConfig& config) {
                    raw.configuration->at(0).toString() + " (" + std::strerror(-result) +
                    "): the processed stream is used instead";
     }
-    if (config.raw == RawCapture::On) {
-      // The same cause, without the fallback that `on` refuses.
-      std::string cause = raw.reason.empty() ? std::string("it offers no RAW stream") : raw.reason;
-      if (const auto fallback = cause.find(": the processed stream is used instead");
-          fallback != std::string::npos)
-        cause.erase(fallback);
-      return {ConfigResult::Status::Invalid,
-              state_->name() + ": camera_raw = on, but " + cause +
-                  " (camera_raw = auto takes the processed stream instead)"};
-    }
+    if (config.raw == RawCapture::On)
+      return {ConfigResult::Status::Invalid, rawRequiredReason(state_->name(), raw.reason)};
     if (!raw.reason.empty()) {
       // Said once on stderr and in every sweep's configuration result (the session's journal).
       warnOnce(state_->name() + ": " + raw.reason);
       adjustments.push_back(raw.reason);
     }
   }
-  state_->configuration = libcamera_compat::generateConfiguration(
-      *state_->camera, libcamera::StreamRole::VideoRecording);
-  if (!state_->configuration || state_->configuration->empty())
-    return {ConfigResult::Status::Invalid, state_->name() + " offers no video stream"};
-  libcamera::StreamConfiguration& stream = state_->configuration->at(0);
-  const std::vector<libcamera::PixelFormat> offered = stream.formats().pixelformats();
-  std::optional<libcamera::PixelFormat> chosen;
-  for (const FormatChoice& choice : kFormats) {
-    if (std::find(offered.begin(), offered.end(), choice.format) != offered.end()) {
-      chosen = choice.format;
-      break;
-    }
-  }
+  return state_->configureProcessed(config, std::move(adjustments));
+}
+
+ConfigResult LibcameraCamera::State::configureProcessed(CameraConfig& cameraConfig,
+                                                        std::vector<std::string> adjustments) {
+  configuration =
+      libcamera_compat::generateConfiguration(*camera, libcamera::StreamRole::VideoRecording);
+  if (!configuration || configuration->empty())
+    return {ConfigResult::Status::Invalid, name() + " offers no video stream"};
+  libcamera::StreamConfiguration& stream = configuration->at(0);
+  const std::optional<libcamera::PixelFormat> chosen =
+      firstReadableFormat(stream.formats().pixelformats());
   if (!chosen)
     return {ConfigResult::Status::Invalid,
-            state_->name() + " offers none of YUYV, BGR888, RGB888, XRGB8888, YUV420"};
+            name() + " offers none of YUYV, BGR888, RGB888, XRGB8888, YUV420"};
   stream.pixelFormat = *chosen;
-  stream.size = libcamera::Size(static_cast<unsigned>(config.widthPx),
-                                static_cast<unsigned>(config.heightPx));
-  stream.bufferCount = static_cast<unsigned>(std::max(config.bufferCount, 2));
-  libcamera_compat::keepSensorOrientation(*state_->configuration);
+  stream.size = libcamera::Size(static_cast<unsigned>(cameraConfig.widthPx),
+                                static_cast<unsigned>(cameraConfig.heightPx));
+  stream.bufferCount = static_cast<unsigned>(std::max(cameraConfig.bufferCount, 2));
+  libcamera_compat::keepSensorOrientation(*configuration);
 
-  switch (state_->configuration->validate()) {
+  switch (configuration->validate()) {
     case libcamera::CameraConfiguration::Invalid:
-      return {ConfigResult::Status::Invalid,
-              state_->name() + " cannot deliver " + stream.toString()};
+      return {ConfigResult::Status::Invalid, name() + " cannot deliver " + stream.toString()};
     case libcamera::CameraConfiguration::Adjusted:
       adjustments.push_back("libcamera adjusted the stream to " + stream.toString());
       break;
     case libcamera::CameraConfiguration::Valid:
       break;
   }
-  const std::optional<RawLayout> layout = layoutOf(stream.pixelFormat);
-  if (!layout)
+  const std::optional<RawLayout> streamLayout = layoutOf(stream.pixelFormat);
+  if (!streamLayout)
     return {ConfigResult::Status::Invalid,
-            state_->name() + " changed the format to " + stream.pixelFormat.toString() +
+            name() + " changed the format to " + stream.pixelFormat.toString() +
                 ", which slicecap cannot read"};
-  if (const int result = state_->camera->configure(state_->configuration.get()); result != 0)
-    state_->fail("cannot apply the configuration " + stream.toString(), result);
+  if (const int result = camera->configure(configuration.get()); result != 0)
+    fail("cannot apply the configuration " + stream.toString(), result);
 
-  config.widthPx = static_cast<int>(stream.size.width);
-  config.heightPx = static_cast<int>(stream.size.height);
-  config.bufferCount = static_cast<int>(stream.bufferCount);
-  if (config.encoding != PixelEncoding::Srgb8) {
-    adjustments.push_back("encoding linear16 -> srgb8 (processed streams are 8-bit)");
-    config.encoding = PixelEncoding::Srgb8;
-  }
-  state_->layout = *layout;
-  state_->strideBytes = stream.stride;
-  state_->config = config;
-  state_->configured = true;
+  adoptProcessedStream(stream, cameraConfig, adjustments);
+  layout = *streamLayout;
+  strideBytes = stream.stride;
+  config = cameraConfig;
+  configured = true;
   return ConfigResult::fromAdjustments(adjustments);
 }
 

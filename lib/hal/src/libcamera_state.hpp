@@ -133,6 +133,11 @@ struct LibcameraCamera::State {
   /// The RAW stream alone (the ISP is not needed: the sensor's samples are decoded here), in a
   /// format decodeBayer reads, at the sensor mode whose binned size best fits the request.
   libcamera_parts::RawAttempt tryRaw(const CameraConfig& wanted);
+  /// The processed stream in the first of kFormats the camera offers, at the size `cameraConfig`
+  /// asks, applied and taken into `cameraConfig` (`adjustments`: those said so far). An Invalid
+  /// result naming the camera when it offers no such stream or cannot deliver it; CameraError
+  /// when it cannot apply one it validated.
+  ConfigResult configureProcessed(CameraConfig& cameraConfig, std::vector<std::string> adjustments);
   /// The RAW mosaic in `buffer` (configured RAW only).
   BayerFrameView mosaicOf(const libcamera::FrameBuffer& buffer) const;
   /// The frame's own black levels (SensorBlackLevels, which the Pi's IPA reports with every

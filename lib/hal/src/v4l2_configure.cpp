@@ -61,107 +61,145 @@ std::string fourccText(std::uint32_t fourcc) {
   return text;
 }
 
-}  // namespace
-
-ConfigResult V4l2Camera::configure(CameraConfig& config) {
-  if (state_->streaming) throw std::logic_error("V4l2Camera::configure while streaming");
+/// The pixel formats the device lists, in its order.
+std::vector<std::uint32_t> offeredFormats(int fd) {
   std::vector<std::uint32_t> offered;
   v4l2_fmtdesc description{};
   description.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-  while (retryIoctl(state_->fd, VIDIOC_ENUM_FMT, &description) == 0) {
+  while (retryIoctl(fd, VIDIOC_ENUM_FMT, &description) == 0) {
     offered.push_back(description.pixelformat);
     ++description.index;
   }
-  std::optional<FormatChoice> chosen;
-  for (const FormatChoice& candidate : preferredFormats(config.encoding, config.raw)) {
-    if (std::find(offered.begin(), offered.end(), candidate.fourcc) != offered.end()) {
-      chosen = candidate;
-      break;
-    }
-  }
-  if (!chosen) {
-    std::string list;
-    for (std::uint32_t fourcc : offered) list += (list.empty() ? "" : ", ") + fourccText(fourcc);
-    return {ConfigResult::Status::Invalid,
-            std::string(config.raw == RawCapture::On
-                            ? "camera_raw = on, but no RAW Bayer format slicecap decodes"
-                            : "no uncompressed format slicecap can read") +
-                " (the camera offers: " + (list.empty() ? std::string("none") : list) + ")"};
-  }
+  return offered;
+}
 
-  std::vector<std::string> adjustments;
+/// The first of `preferred` the device offers; nullopt when it offers none of them.
+std::optional<FormatChoice> firstOffered(const std::vector<FormatChoice>& preferred,
+                                         const std::vector<std::uint32_t>& offered) {
+  for (const FormatChoice& candidate : preferred)
+    if (std::find(offered.begin(), offered.end(), candidate.fourcc) != offered.end())
+      return candidate;
+  return std::nullopt;
+}
+
+/// Why no offered format will do, naming what the camera offers.
+std::string noUsableFormatReason(RawCapture raw, const std::vector<std::uint32_t>& offered) {
+  std::string list;
+  for (std::uint32_t fourcc : offered) list += (list.empty() ? "" : ", ") + fourccText(fourcc);
+  return std::string(raw == RawCapture::On
+                         ? "camera_raw = on, but no RAW Bayer format slicecap decodes"
+                         : "no uncompressed format slicecap can read") +
+         " (the camera offers: " + (list.empty() ? std::string("none") : list) + ")";
+}
+
+/// The VIDIOC_S_FMT request for `chosen` at the configured size.
+v4l2_format requestedFormat(const FormatChoice& chosen, const CameraConfig& config) {
   v4l2_format format{};
   format.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   // A RAW mosaic is binned 2 x 2: the sensor mode twice the size asked for.
-  const int scale = chosen->bayer ? 2 : 1;
+  const int scale = chosen.bayer ? 2 : 1;
   format.fmt.pix.width = static_cast<std::uint32_t>(scale * config.widthPx);
   format.fmt.pix.height = static_cast<std::uint32_t>(scale * config.heightPx);
-  format.fmt.pix.pixelformat = chosen->fourcc;
+  format.fmt.pix.pixelformat = chosen.fourcc;
   format.fmt.pix.field = V4L2_FIELD_NONE;
-  if (retryIoctl(state_->fd, VIDIOC_S_FMT, &format) != 0) state_->fail("cannot set the format", errno);
-  if (format.fmt.pix.pixelformat != chosen->fourcc)
-    return {ConfigResult::Status::Invalid,
-            "the driver replaced " + fourccText(chosen->fourcc) + " by " +
-                fourccText(format.fmt.pix.pixelformat)};
+  return format;
+}
+
+/// Takes the size and encoding the driver granted for `chosen` into `config`, each change said
+/// in `adjustments`, and names the RAW format.
+void adoptGrantedFormat(const FormatChoice& chosen, const v4l2_format& format,
+                        CameraConfig& config, std::vector<std::string>& adjustments) {
+  const int scale = chosen.bayer ? 2 : 1;
   const int deliveredWidth = int(format.fmt.pix.width) / scale;
   const int deliveredHeight = int(format.fmt.pix.height) / scale;
   if (deliveredWidth != config.widthPx || deliveredHeight != config.heightPx) {
     adjustments.push_back("size " + std::to_string(config.widthPx) + "x" +
                           std::to_string(config.heightPx) + " -> " +
                           std::to_string(deliveredWidth) + "x" + std::to_string(deliveredHeight) +
-                          (chosen->bayer ? " (RAW " + std::to_string(format.fmt.pix.width) + "x" +
-                                               std::to_string(format.fmt.pix.height) +
-                                               " binned 2 x 2)"
-                                         : std::string()));
+                          (chosen.bayer ? " (RAW " + std::to_string(format.fmt.pix.width) + "x" +
+                                              std::to_string(format.fmt.pix.height) +
+                                              " binned 2 x 2)"
+                                        : std::string()));
     config.widthPx = deliveredWidth;
     config.heightPx = deliveredHeight;
   }
-  if (encodingOf(chosen->layout) != config.encoding) {
+  if (encodingOf(chosen.layout) != config.encoding) {
     adjustments.push_back(std::string("encoding ") + std::string(toString(config.encoding)) +
-                          " -> " + std::string(toString(encodingOf(chosen->layout))));
-    config.encoding = encodingOf(chosen->layout);
+                          " -> " + std::string(toString(encodingOf(chosen.layout))));
+    config.encoding = encodingOf(chosen.layout);
   }
   config.rawFormat.clear();
-  if (chosen->bayer) {
+  if (chosen.bayer) {
     // V4L2 has no standard control for the sensor's black level.
-    config.rawFormat = bayerFormatName(*chosen->bayer);
-    adjustments.push_back("RAW " + config.rawFormat + " (" + fourccText(chosen->fourcc) +
+    config.rawFormat = bayerFormatName(*chosen.bayer);
+    adjustments.push_back("RAW " + config.rawFormat + " (" + fourccText(chosen.fourcc) +
                           "): the driver reports no black level; assumed " +
                           std::to_string(int(kDefaultBlackLevel16)) +
                           " of 65535 (64 at 10 bits, Raspberry Pi sensors' default)");
   }
+}
+
+/// The bytes between rows: the driver's, else the least the format takes.
+std::size_t strideBytesOf(const FormatChoice& chosen, const v4l2_format& format, int widthPx) {
+  return format.fmt.pix.bytesperline != 0 ? format.fmt.pix.bytesperline
+         : chosen.bayer ? minimalBayerStrideBytes(*chosen.bayer, int(format.fmt.pix.width))
+                        : minimalStrideBytes(chosen.layout, widthPx, 0);
+}
+
+/// Takes the exposure the device set (`setUs`, nullopt: it has no manual exposure) into
+/// `config`, the change said in `adjustments`.
+void adoptSetExposure(std::optional<double> setUs, CameraConfig& config,
+                      std::vector<std::string>& adjustments) {
+  if (!setUs) {
+    adjustments.push_back("no manual exposure: left to the camera");
+    config.exposureUs.reset();
+  } else if (std::abs(*setUs - *config.exposureUs) > 1e-6) {
+    adjustments.push_back("exposure " + std::to_string(*config.exposureUs) + " us -> " +
+                          std::to_string(*setUs) + " us");
+    config.exposureUs = *setUs;
+  }
+}
+
+/// Takes the gain the device set (`set`, nullopt: it has no manual gain) into `config`, the
+/// change said in `adjustments`.
+void adoptSetGain(std::optional<std::int32_t> set, CameraConfig& config,
+                  std::vector<std::string>& adjustments) {
+  if (!set) {
+    adjustments.push_back("no manual gain: left to the camera");
+    config.gain.reset();
+  } else if (*set != *config.gain) {
+    adjustments.push_back("gain " + std::to_string(*config.gain) + " -> " + std::to_string(*set));
+    config.gain = *set;
+  }
+}
+
+}  // namespace
+
+ConfigResult V4l2Camera::configure(CameraConfig& config) {
+  if (state_->streaming) throw std::logic_error("V4l2Camera::configure while streaming");
+  const std::vector<std::uint32_t> offered = offeredFormats(state_->fd);
+  const std::optional<FormatChoice> chosen =
+      firstOffered(preferredFormats(config.encoding, config.raw), offered);
+  if (!chosen) return {ConfigResult::Status::Invalid, noUsableFormatReason(config.raw, offered)};
+
+  std::vector<std::string> adjustments;
+  v4l2_format format = requestedFormat(*chosen, config);
+  if (retryIoctl(state_->fd, VIDIOC_S_FMT, &format) != 0) state_->fail("cannot set the format", errno);
+  if (format.fmt.pix.pixelformat != chosen->fourcc)
+    return {ConfigResult::Status::Invalid,
+            "the driver replaced " + fourccText(chosen->fourcc) + " by " +
+                fourccText(format.fmt.pix.pixelformat)};
+  adoptGrantedFormat(*chosen, format, config, adjustments);
   state_->layout = chosen->layout;
   state_->bayer = chosen->bayer;
-  state_->strideBytes = format.fmt.pix.bytesperline != 0
-                            ? format.fmt.pix.bytesperline
-                        : chosen->bayer
-                            ? minimalBayerStrideBytes(*chosen->bayer, int(format.fmt.pix.width))
-                            : minimalStrideBytes(chosen->layout, config.widthPx, 0);
+  state_->strideBytes = strideBytesOf(*chosen, format, config.widthPx);
   state_->imageBytes = format.fmt.pix.sizeimage;
 
   // Locked white balance and gain control, then exposure: a sweep's frames must be comparable.
   state_->setControl(V4L2_CID_AUTO_WHITE_BALANCE, 0);
-  if (config.exposureUs) {
-    const std::optional<double> setUs = state_->setManualExposureUs(*config.exposureUs);
-    if (!setUs) {
-      adjustments.push_back("no manual exposure: left to the camera");
-      config.exposureUs.reset();
-    } else if (std::abs(*setUs - *config.exposureUs) > 1e-6) {
-      adjustments.push_back("exposure " + std::to_string(*config.exposureUs) + " us -> " +
-                            std::to_string(*setUs) + " us");
-      config.exposureUs = *setUs;
-    }
-  }
-  if (config.gain) {
-    const std::optional<std::int32_t> set = state_->setManualGain(*config.gain);
-    if (!set) {
-      adjustments.push_back("no manual gain: left to the camera");
-      config.gain.reset();
-    } else if (*set != *config.gain) {
-      adjustments.push_back("gain " + std::to_string(*config.gain) + " -> " + std::to_string(*set));
-      config.gain = *set;
-    }
-  }
+  if (config.exposureUs)
+    adoptSetExposure(state_->setManualExposureUs(*config.exposureUs), config, adjustments);
+  if (config.gain) adoptSetGain(state_->setManualGain(*config.gain), config, adjustments);
   config.bufferCount = std::max(config.bufferCount, 2);
   state_->config = config;
   state_->configured = true;

@@ -107,6 +107,15 @@ class LedStrobe {
     double lineTimeUs = 0.0;
     int heightPx = 0;
   };
+  // The steps of label(), in its order.
+  /// Enters the untimed mode at the first unusable timestamp; in it, times `m` by its arrival.
+  void checkTimestamp(hal::FrameMetadata& m, std::int64_t arrivalUs);
+  /// When the frame's rows were exposed, as far as the camera says; stats_ says how it is known.
+  Timing timingOf(const hal::Frame& frame);
+  /// The frame period from the latest frames' first-row starts.
+  void notePeriod(std::uint64_t sequence, std::int64_t row0StartUs);
+  /// The frame's LED exposure and its `ledOn` label over the rows of interest, counted.
+  void labelLedState(hal::Frame& frame, const Timing& timing);
   std::optional<Timing> last_;
   std::vector<std::pair<std::uint64_t, std::int64_t>> recentStarts_;  // for the frame period
   std::optional<double> periodUs_;
