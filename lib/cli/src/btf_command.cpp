@@ -116,12 +116,16 @@ CapturedTexture fromStore(const std::filesystem::path& directory, const ParsedAr
   return captured;
 }
 
-int run(const ParsedArgs& args, Streams& io) {
-  const std::filesystem::path session = args.positional[0];
-  const std::filesystem::path output = args.required("output");
-  // The BTF's thousands of images in the session's (or the captured texture's) own folder.
-  refuseClashingPaths({{"the input", session}}, {{"-o", output}});
-  btf::BtfReconstructionParams reconParams;
+// The per-texel reconstruction as the options ask for it, and the prior file it uses.
+struct TexelReconstruction {
+  btf::BtfReconstructionParams params;
+  std::filesystem::path priorFile;  // with the prior: where it was found
+};
+
+// Throws UsageError on a bad --threads or --method; with the prior, whatever locating it throws.
+TexelReconstruction texelReconstructionOf(const ParsedArgs& args) {
+  TexelReconstruction texels;
+  btf::BtfReconstructionParams& reconParams = texels.params;
   reconParams.threads = wholeNumber(args, "threads", 0, 0, 256);
   reconParams.methodB.isotropic = args.flag("isotropic");
   reconParams.prior.isotropicOnly = reconParams.methodB.isotropic;
@@ -130,42 +134,49 @@ int run(const ParsedArgs& args, Streams& io) {
   reconParams.method = method;
   // Found (or its absence named) before minutes of frames are processed; its path is said from
   // here, as the file may go while they are.
-  std::filesystem::path priorFile;
   if (method == MethodId::Prior) {
-    priorFile = prior::locatePriorModel();
+    texels.priorFile = prior::locatePriorModel();
     reconParams.priorModel = &prior::defaultPriorModel();
   }
+  return texels;
+}
 
+// The texture from a captured texture store or from recordings; throws io::IoError naming a
+// slicecapd session folder, which is to be exported first.
+CapturedTexture loadTexture(const std::filesystem::path& session, const ParsedArgs& args,
+                            Streams& io) {
   if (std::filesystem::exists(session / "texture" / btf::kTextureStoreManifest))
     throw io::IoError(session.string() +
                       ": a slicecapd session folder: `slicecap export ID -o DIR` writes its "
                       "texture with the window samples to DIR/ID-texture; run slicecap btf on that");
-  const CapturedTexture captured =
-      std::filesystem::exists(session / btf::kTextureStoreManifest)
-          ? fromStore(session, args, io)
-          : fromRecordings(session, args, io);
-  const btf::TextureGrid& grid = captured.grid;
+  return std::filesystem::exists(session / btf::kTextureStoreManifest)
+             ? fromStore(session, args, io)
+             : fromRecordings(session, args, io);
+}
 
-  // The average ABRDF, exactly as capture-offline makes it (with the prior when the texels are).
+// The average ABRDF, exactly as capture-offline makes it (with the prior when the texels are).
+methods::MethodRun averageAbrdf(const CapturedTexture& captured, const TexelReconstruction& texels,
+                                Streams& io) {
   methods::MethodOptions averageOptions;
-  averageOptions.isotropic = reconParams.methodB.isotropic;
-  const methods::MethodRun average =
+  averageOptions.isotropic = texels.params.methodB.isotropic;
+  const MethodId method = texels.params.method;
+  methods::MethodRun average =
       methods::findMethod(method == MethodId::Prior ? MethodId::Prior : MethodId::B)
           .run(captured.averageSlices, averageOptions);
   for (const std::string& warning : average.warnings)
     io.err << "warning: average: " << warning << "\n";
+  return average;
+}
 
-  btf::BtfReconstructionReport report;
-  const btf::BtfTexture texture =
-      btf::reconstructBtf(grid, captured.slices, reconParams, &report);
-  // btf.json's "method": the texels' method by its EXR name, without the isotropic form (as
-  // before the registry).
-  const std::string methodName = methods::exrMethodValue(method, false);
+void printReconstructionReport(const btf::BtfReconstructionReport& report,
+                               const btf::BtfTexture& texture, const TexelReconstruction& texels,
+                               const std::string& methodName, Streams& io) {
+  const MethodId method = texels.params.method;
   io.err << "btf: " << (method == MethodId::Prior ? "the prior" : "Method " + methodName) << ", "
          << report.texels << " texels on " << report.threads << " threads in " << report.seconds
          << " s; texture " << texture.memoryBytes() / 1e6 << " MB\n";
   if (method == MethodId::Prior)
-    io.err << "btf: prior " << priorFile.string() << "; " << report.priorBlendedTexels
+    io.err << "btf: prior " << texels.priorFile.string() << "; " << report.priorBlendedTexels
            << " texels blended with Method B (little directional "
            << "structure), " << report.priorAnisotropicTexels << " with the anisotropy terms\n";
   if (report.failedTexels > 0)
@@ -175,23 +186,56 @@ int run(const ParsedArgs& args, Streams& io) {
   if (report.closedFormFits > 0)
     io.err << "note: " << report.closedFormFits
            << " lobe fits fell back to the closed form (Ceres did not converge)\n";
+}
 
+// What btf.json and average.exr's attributes say besides the images.
+struct BtfOutput {
+  std::filesystem::path directory, session;
+  std::string methodName;  // the texels' method by its EXR name
+  int threads = 0;
+};
+
+void writeBtf(const BtfOutput& output, const CapturedTexture& captured,
+              const btf::BtfTexture& texture, const methods::MethodRun& average,
+              const btf::BtfReconstructionReport& report, Streams& io) {
+  const btf::TextureGrid& grid = captured.grid;
+  const std::filesystem::path& session = output.session;
   const auto started = std::chrono::steady_clock::now();
   btf::BtfDescription description;
   description.windowMm = grid.window();
-  description.method = methodName;
+  description.method = output.methodName;
   description.averageMethod = average.exrMethodName;
   description.source = session.filename().string();
   description.failedTexels = report.failedTexels;
-  btf::writeBtfDirectory(output, texture, average.table, description,
+  btf::writeBtfDirectory(output.directory, texture, average.table, description,
                          {{"method", average.exrMethodName},
                           {"source", session.filename().string()},
                           {"samples", std::to_string(captured.averageSlices.sampleCount())}},
-                         reconParams.threads);
+                         output.threads);
   io.err << "btf: wrote the images in " << secondsSince(started) << " s\n";
   io.out << "wrote a " << grid.resolution() << " x " << grid.resolution() << " BTF ("
          << Abrdf::kDirections * Abrdf::kDirections << " images), average.exr and previews to "
-         << output.string() << "\n";
+         << output.directory.string() << "\n";
+}
+
+int run(const ParsedArgs& args, Streams& io) {
+  const std::filesystem::path session = args.positional[0];
+  const std::filesystem::path output = args.required("output");
+  // The BTF's thousands of images in the session's (or the captured texture's) own folder.
+  refuseClashingPaths({{"the input", session}}, {{"-o", output}});
+  const TexelReconstruction texels = texelReconstructionOf(args);
+  const CapturedTexture captured = loadTexture(session, args, io);
+  const methods::MethodRun average = averageAbrdf(captured, texels, io);
+
+  btf::BtfReconstructionReport report;
+  const btf::BtfTexture texture =
+      btf::reconstructBtf(captured.grid, captured.slices, texels.params, &report);
+  // btf.json's "method": the texels' method by its EXR name, without the isotropic form (as
+  // before the registry).
+  const std::string methodName = methods::exrMethodValue(texels.params.method, false);
+  printReconstructionReport(report, texture, texels, methodName, io);
+  writeBtf({output, session, methodName, texels.params.threads}, captured, texture, average, report,
+           io);
   return report.failedTexels == report.texels ? 1 : 0;
 }
 

@@ -152,6 +152,98 @@ void printSummary(std::ostream& out, const std::vector<eval::MethodSummary>& sum
   }
 }
 
+// Where the run's results go, as the options say.
+struct EvalOutputs {
+  bool json = false, quiet = false, sheets = false;
+  std::optional<std::filesystem::path> out;
+  // report.csv is written row by row into a temporary beside it that replaces it only when the
+  // run ends: an eval stopped half-way leaves the previous report as it was.
+  std::optional<io::ReplacementFile> csvFile;
+  std::ofstream csv;
+};
+
+// The rows so far, and how many materials or methods failed.
+struct EvalTally {
+  std::vector<eval::EvaluationRow> rows;
+  int failures = 0;
+};
+
+// --out may not be (or hold the reports over) an input table; then report.csv's temporary is
+// opened and its header written. Throws UsageError on a clash, io::IoError naming report.csv.
+void prepareOutDirectory(const std::vector<MaterialSource>& materials, EvalOutputs& outputs) {
+  const std::filesystem::path& out = *outputs.out;
+  std::vector<NamedPath> tables;
+  for (const MaterialSource& material : materials)
+    if (std::filesystem::exists(material.origin))  // a file, not a built-in material
+      tables.push_back({"the input", material.origin});
+  refuseClashingPaths(
+      tables, {{"--out", out}, {"--out", out / "report.csv"}, {"--out", out / "report.json"}});
+  std::filesystem::create_directories(out);
+  outputs.csvFile.emplace(out / "report.csv");
+  outputs.csv.open(outputs.csvFile->writePath(), std::ios::binary | std::ios::trunc);
+  if (!outputs.csv) throw io::IoError((out / "report.csv").string() + ": cannot create report");
+  eval::writeReportCsvHeader(outputs.csv);
+}
+
+// One method's row to the table, stderr (a failure) and report.csv; returns its progress entry.
+std::string reportRow(const std::string& materialName, const eval::EvaluationRow& row,
+                      EvalOutputs& outputs, Streams& io, EvalTally& tally) {
+  std::string progress;
+  if (!row.error.empty()) {
+    ++tally.failures;
+    io.err << "slicecap eval: " << materialName << ", method " << row.method << ": "
+           << row.error << "\n";
+    progress = " " + row.method + " failed";
+  } else {
+    char entry[64];
+    std::snprintf(entry, sizeof entry, " %s %.2f", row.method.c_str(), row.metrics.deltaE);
+    progress = entry;
+  }
+  if (!outputs.json) {
+    io.out << (row.error.empty() ? formatRow(row.method, row.metrics, row.milliseconds)
+                                 : "  " + row.method + "  failed: " + row.error)
+           << "\n";
+  }
+  if (outputs.csv.is_open()) eval::writeReportCsvRow(outputs.csv, row);
+  tally.rows.push_back(row);
+  return progress;
+}
+
+// Every method on one material, reported as it ends; returns the material's progress line.
+std::string evaluateAndReport(const MaterialSource& material, const std::string& progressLabel,
+                              const std::vector<const Method*>& methods,
+                              const MethodOptions& options, EvalOutputs& outputs, Streams& io,
+                              EvalTally& tally) {
+  std::string progress = progressLabel;
+  try {
+    const Abrdf truth = material.load();
+    const MaterialResult result = evaluateMaterial(material.name, truth, methods, options);
+    if (!outputs.json)
+      io.out << material.name << "  (" << material.origin << ")\n" << kTableHeader << "\n";
+    for (const eval::EvaluationRow& row : result.rows)
+      progress += reportRow(material.name, row, outputs, io, tally);
+    if (outputs.csv.is_open()) outputs.csv.flush();
+    if (outputs.sheets)
+      writeSheet(*outputs.out / (material.name + ".png"), material, truth, result);
+  } catch (const std::exception& e) {
+    // A bad table costs its own row, never the materials already evaluated.
+    ++tally.failures;
+    io.err << "slicecap eval: " << material.origin << ": " << e.what() << "\n";
+    progress += " failed";
+  }
+  return progress;
+}
+
+// report.json, then report.csv's temporary in place of the old report.
+void finishReportFiles(const nlohmann::json& report, EvalOutputs& outputs) {
+  const std::filesystem::path& out = *outputs.out;
+  io::writeStreamReplacing(out / "report.json",
+                           [&](std::ostream& file) { file << report.dump(2) << "\n"; });
+  outputs.csv.close();  // flushes: a full disk shows here at the latest
+  if (!outputs.csv) throw io::IoError((out / "report.csv").string() + ": write failed");
+  outputs.csvFile->commit();
+}
+
 int run(const ParsedArgs& args, Streams& io) {
   const std::vector<const Method*> methods =
       parseMethods(args.value("methods").value_or("b,a,uniform"));
@@ -159,93 +251,40 @@ int run(const ParsedArgs& args, Streams& io) {
   if (const std::optional<std::string> spec = args.value("rbf"))
     methods::applyRbfSpec(*spec, options);
   const std::vector<MaterialSource> materials = resolveMaterials(args.positional);
-  const bool json = args.flag("json"), quiet = args.flag("quiet");
-  const std::optional<std::filesystem::path> out = args.value("out");
-  const bool sheets = out && !args.flag("no-sheets");
-  if (out) {
-    std::vector<NamedPath> tables;
-    for (const MaterialSource& material : materials)
-      if (std::filesystem::exists(material.origin))  // a file, not a built-in material
-        tables.push_back({"the input", material.origin});
-    refuseClashingPaths(
-        tables, {{"--out", *out}, {"--out", *out / "report.csv"}, {"--out", *out / "report.json"}});
-  }
-  // report.csv is written row by row into a temporary beside it that replaces it only when the
-  // run ends: an eval stopped half-way leaves the previous report as it was.
-  std::optional<io::ReplacementFile> csvFile;
-  std::ofstream csv;
-  if (out) {
-    std::filesystem::create_directories(*out);
-    csvFile.emplace(*out / "report.csv");
-    csv.open(csvFile->writePath(), std::ios::binary | std::ios::trunc);
-    if (!csv) throw io::IoError((*out / "report.csv").string() + ": cannot create report");
-    eval::writeReportCsvHeader(csv);
-  }
+  EvalOutputs outputs;
+  outputs.json = args.flag("json");
+  outputs.quiet = args.flag("quiet");
+  outputs.out = args.value("out");
+  outputs.sheets = outputs.out && !args.flag("no-sheets");
+  if (outputs.out) prepareOutDirectory(materials, outputs);
 
-  std::vector<eval::EvaluationRow> rows;
+  EvalTally tally;
   std::vector<std::string> methodNames;
   for (const Method* m : methods)
     methodNames.push_back(m->name);
-  int failures = 0;
   const auto start = std::chrono::steady_clock::now();
   for (std::size_t i = 0; i < materials.size(); ++i) {
-    const MaterialSource& material = materials[i];
-    std::string progress = "eval " + std::to_string(i + 1) + "/" +
-                           std::to_string(materials.size()) + " " + material.name + ":";
-    try {
-      const Abrdf truth = material.load();
-      const MaterialResult result = evaluateMaterial(material.name, truth, methods, options);
-      if (!json)
-        io.out << material.name << "  (" << material.origin << ")\n" << kTableHeader << "\n";
-      for (const eval::EvaluationRow& row : result.rows) {
-        if (!row.error.empty()) {
-          ++failures;
-          io.err << "slicecap eval: " << material.name << ", method " << row.method << ": "
-                 << row.error << "\n";
-          progress += " " + row.method + " failed";
-        } else {
-          char entry[64];
-          std::snprintf(entry, sizeof entry, " %s %.2f", row.method.c_str(), row.metrics.deltaE);
-          progress += entry;
-        }
-        if (!json) {
-          io.out << (row.error.empty() ? formatRow(row.method, row.metrics, row.milliseconds)
-                                       : "  " + row.method + "  failed: " + row.error)
-                 << "\n";
-        }
-        if (csv.is_open()) eval::writeReportCsvRow(csv, row);
-        rows.push_back(row);
-      }
-      if (csv.is_open()) csv.flush();
-      if (sheets) writeSheet(*out / (material.name + ".png"), material, truth, result);
-    } catch (const std::exception& e) {
-      // A bad table costs its own row, never the materials already evaluated.
-      ++failures;
-      io.err << "slicecap eval: " << material.origin << ": " << e.what() << "\n";
-      progress += " failed";
-    }
-    if (!quiet) io.err << progress << " (dE)\n";
+    const std::string label = "eval " + std::to_string(i + 1) + "/" +
+                              std::to_string(materials.size()) + " " + materials[i].name + ":";
+    const std::string progress =
+        evaluateAndReport(materials[i], label, methods, options, outputs, io, tally);
+    if (!outputs.quiet) io.err << progress << " (dE)\n";
   }
-  const std::vector<eval::MethodSummary> summaries = eval::summarise(rows, methodNames);
-  const nlohmann::json report = eval::reportJson(rows, summaries);
-  if (out) {
-    io::writeStreamReplacing(*out / "report.json",
-                             [&](std::ostream& file) { file << report.dump(2) << "\n"; });
-    csv.close();  // flushes: a full disk shows here at the latest
-    if (!csv) throw io::IoError((*out / "report.csv").string() + ": write failed");
-    csvFile->commit();
-  }
-  if (json) {
+  const std::vector<eval::MethodSummary> summaries = eval::summarise(tally.rows, methodNames);
+  const nlohmann::json report = eval::reportJson(tally.rows, summaries);
+  if (outputs.out) finishReportFiles(report, outputs);
+  if (outputs.json) {
     io.out << report.dump(2) << "\n";
   } else {
     printSummary(io.out, summaries, materials.size());
   }
-  if (!quiet) {
+  if (!outputs.quiet) {
     io.err << "eval: " << materials.size() << " materials x " << methods.size() << " methods in "
            << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
-           << " s" << (out ? "; wrote " + out->string() : std::string()) << "\n";
+           << " s"
+           << (outputs.out ? "; wrote " + outputs.out->string() : std::string()) << "\n";
   }
-  return failures ? 1 : 0;
+  return tally.failures ? 1 : 0;
 }
 
 }  // namespace

@@ -152,15 +152,10 @@ std::string fixed2(double value) {
   return s.str();
 }
 
-}  // namespace
-
-FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOptions& options) {
-  detail::requireBrdf(table, name);
-  if (options.startTangentsDeg.empty() || options.maxIterations < 1)
-    throw std::invalid_argument("fitMaterial: needs at least one start and one iteration");
-  const FitData data = detail::makeFitData(table);
-  const FitData scoutData = detail::everyNthPair(data, kScoutStride);
-
+// The GGX candidate from one start per tangent; throws FitError naming the table when none of
+// the starts converged.
+CandidateFit fitGgx(const Abrdf& table, const std::string& name, const FitData& data,
+                    const FitData& scoutData, const FitOptions& options) {
   std::vector<FitParameters> ggxStarts;
   for (double tangentDeg : options.startTangentsDeg)
     ggxStarts.push_back(ggxStart(table, data, tangentDeg));
@@ -171,69 +166,97 @@ FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOpti
                    std::to_string(ggxStarts.size()) + " starts within " +
                    std::to_string(options.maxIterations) + " iterations (" + failure + ")");
   }
+  return *ggx;
+}
+
+// The sheen candidate's starts, all from the GGX solution `m`.
+std::vector<FitParameters> sheenStartsFrom(const FittedMaterial& m) {
+  // From the GGX solution (raw, not canonical: the same basin) plus a sheen term.
+  std::vector<FitParameters> sheenStarts;
+  for (double roughness : kSheenStartRoughness) {
+    FitParameters p;
+    p.withSheen = true;
+    p.ggx = {m.diffuseAlbedo[0], m.diffuseAlbedo[1], m.diffuseAlbedo[2],
+             m.specularF0[0],    m.specularF0[1],    m.specularF0[2],
+             std::log(m.alphaTangent), std::log(m.alphaBitangent), degToRad(m.tangentDeg),
+             m.specularF90};
+    p.sheen = {kSheenStartColour, kSheenStartColour, kSheenStartColour, std::log(roughness)};
+    sheenStarts.push_back(p);
+  }
+  // The GGX solution itself with no sheen yet: the sheen candidate then starts no worse than
+  // the GGX fit (without it blue-plastic's sheen candidate settled at dE 4.15 against 3.47).
+  FitParameters noSheenYet = sheenStarts.front();
+  noSheenYet.sheen[0] = noSheenYet.sheen[1] = noSheenYet.sheen[2] = 0.0;
+  FitParameters sheenOnly = sheenStarts.front();
+  for (std::size_t c = 3; c < 6; ++c) sheenOnly.ggx[c] = 0.0;
+  sheenOnly.ggx[9] = 0.0;
+  sheenOnly.sheen[3] = std::log(kSheenOnlyStartRoughness);
+  sheenStarts.push_back(sheenOnly);
+  sheenStarts.push_back(noSheenYet);
+  return sheenStarts;
+}
+
+// Fits ggx+sheen from the GGX candidate (result.candidates.front()), appends it to the candidates
+// when it converged and sets result.choiceReason. Returns whether the sheen term earns its
+// parameters by the options' rule, i.e. whether the appended candidate is the chosen one.
+bool addSheenCandidate(const Abrdf& table, const FitData& data, const FitData& scoutData,
+                       const FitOptions& options, FitResult& result) {
+  const double ggxDeltaE = result.candidates.front().metrics.deltaE;
+  const std::vector<FitParameters> sheenStarts = sheenStartsFrom(result.candidates.front().material);
+  std::string sheenFailure;
+  std::optional<CandidateFit> sheen =
+      bestOf(table, data, scoutData, sheenStarts, options.maxIterations, sheenFailure);
+  if (!sheen) {
+    result.choiceReason = "ggx: the ggx+sheen fit did not converge (" + sheenFailure + ")";
+    return false;
+  }
+  result.candidates.push_back(*sheen);
+  const double sheenDeltaE = sheen->metrics.deltaE;
+  const bool earns = sheenDeltaE <= options.sheenMaximumDeltaEFraction * ggxDeltaE &&
+                     ggxDeltaE - sheenDeltaE >= options.sheenMinimumGainDeltaE;
+  const std::string figures = "mean dE " + fixed2(ggxDeltaE) + " (ggx) -> " +
+                              fixed2(sheenDeltaE) + " (ggx+sheen)";
+  const std::string rule = "needs dE <= " + fixed2(options.sheenMaximumDeltaEFraction) +
+                           " x ggx's and a gain >= " +
+                           fixed2(options.sheenMinimumGainDeltaE);
+  if (earns) {
+    result.choiceReason = "ggx+sheen: the sheen term lowers " + figures + "; " + rule;
+  } else {
+    result.choiceReason = "ggx: the sheen term does not earn its 4 parameters, " + figures +
+                          "; " + rule;
+  }
+  return earns;
+}
+
+}  // namespace
+
+FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOptions& options) {
+  detail::requireBrdf(table, name);
+  if (options.startTangentsDeg.empty() || options.maxIterations < 1)
+    throw std::invalid_argument("fitMaterial: needs at least one start and one iteration");
+  const FitData data = detail::makeFitData(table);
+  const FitData scoutData = detail::everyNthPair(data, kScoutStride);
+
   FitResult result;
-  result.candidates.push_back(*ggx);
-  const CandidateFit* chosen = &result.candidates.front();
+  result.candidates.push_back(fitGgx(table, name, data, scoutData, options));
+  // An index, not a pointer: appending the sheen candidate may move the vector's elements.
+  std::size_t chosen = 0;
   result.choiceReason = "ggx: sheen not tried";
 
-  const double ggxDeltaE = ggx->metrics.deltaE;
+  const double ggxDeltaE = result.candidates.front().metrics.deltaE;
   if (options.trySheen && ggxDeltaE < options.sheenMinimumGainDeltaE) {
-    // The rule below could not choose the sheen: skip its solves (most of the fit's time).
+    // The rule could not choose the sheen: skip its solves (most of the fit's time).
     result.choiceReason = "ggx: its mean dE " + fixed2(ggxDeltaE) +
                           " is already below the gain of " +
                           fixed2(options.sheenMinimumGainDeltaE) +
                           " a sheen term would have to bring; ggx+sheen not tried";
-  } else if (options.trySheen) {
-    // From the GGX solution (raw, not canonical: the same basin) plus a sheen term.
-    std::vector<FitParameters> sheenStarts;
-    for (double roughness : kSheenStartRoughness) {
-      FitParameters p;
-      p.withSheen = true;
-      const FittedMaterial& m = ggx->material;
-      p.ggx = {m.diffuseAlbedo[0], m.diffuseAlbedo[1], m.diffuseAlbedo[2],
-               m.specularF0[0],    m.specularF0[1],    m.specularF0[2],
-               std::log(m.alphaTangent), std::log(m.alphaBitangent), degToRad(m.tangentDeg),
-               m.specularF90};
-      p.sheen = {kSheenStartColour, kSheenStartColour, kSheenStartColour, std::log(roughness)};
-      sheenStarts.push_back(p);
-    }
-    // The GGX solution itself with no sheen yet: the sheen candidate then starts no worse than
-    // the GGX fit (without it blue-plastic's sheen candidate settled at dE 4.15 against 3.47).
-    FitParameters noSheenYet = sheenStarts.front();
-    noSheenYet.sheen[0] = noSheenYet.sheen[1] = noSheenYet.sheen[2] = 0.0;
-    FitParameters sheenOnly = sheenStarts.front();
-    for (std::size_t c = 3; c < 6; ++c) sheenOnly.ggx[c] = 0.0;
-    sheenOnly.ggx[9] = 0.0;
-    sheenOnly.sheen[3] = std::log(kSheenOnlyStartRoughness);
-    sheenStarts.push_back(sheenOnly);
-    sheenStarts.push_back(noSheenYet);
-    std::string sheenFailure;
-    std::optional<CandidateFit> sheen =
-        bestOf(table, data, scoutData, sheenStarts, options.maxIterations, sheenFailure);
-    if (!sheen) {
-      result.choiceReason = "ggx: the ggx+sheen fit did not converge (" + sheenFailure + ")";
-    } else {
-      result.candidates.push_back(*sheen);
-      const double sheenDeltaE = sheen->metrics.deltaE;
-      const bool earns = sheenDeltaE <= options.sheenMaximumDeltaEFraction * ggxDeltaE &&
-                         ggxDeltaE - sheenDeltaE >= options.sheenMinimumGainDeltaE;
-      const std::string figures = "mean dE " + fixed2(ggxDeltaE) + " (ggx) -> " +
-                                  fixed2(sheenDeltaE) + " (ggx+sheen)";
-      const std::string rule = "needs dE <= " + fixed2(options.sheenMaximumDeltaEFraction) +
-                               " x ggx's and a gain >= " +
-                               fixed2(options.sheenMinimumGainDeltaE);
-      if (earns) {
-        chosen = &result.candidates.back();
-        result.choiceReason = "ggx+sheen: the sheen term lowers " + figures + "; " + rule;
-      } else {
-        result.choiceReason = "ggx: the sheen term does not earn its 4 parameters, " + figures +
-                              "; " + rule;
-      }
-    }
+  } else if (options.trySheen && addSheenCandidate(table, data, scoutData, options, result)) {
+    chosen = result.candidates.size() - 1;
   }
-  result.material = chosen->material;
-  result.sigmas = chosen->sigmas;
-  result.metrics = chosen->metrics;
+  const CandidateFit& chosenFit = result.candidates[chosen];
+  result.material = chosenFit.material;
+  result.sigmas = chosenFit.sigmas;
+  result.metrics = chosenFit.metrics;
   return result;
 }
 

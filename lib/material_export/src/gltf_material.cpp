@@ -30,38 +30,36 @@ std::string format(double v) {
   return s.str();
 }
 
-}  // namespace
+using Losses = std::vector<ConversionLoss>;
 
-GltfConversion toGltfMaterial(const fit::FittedMaterial& fitted) {
-  const fit::FittedMaterial m = fitted.canonical();
-  GltfConversion out;
-  GltfMaterial& g = out.material;
-
-  // The lobe: KHR_materials_anisotropy, "Anisotropy": directionAlphaRoughness =
-  // mix(materialAlphaRoughness, 1.0, strength^2), the perpendicular direction keeps
-  // materialAlphaRoughness = roughness^2.
+// The lobe: KHR_materials_anisotropy, "Anisotropy": directionAlphaRoughness =
+// mix(materialAlphaRoughness, 1.0, strength^2), the perpendicular direction keeps
+// materialAlphaRoughness = roughness^2.
+void mapLobe(const fit::FittedMaterial& m, GltfMaterial& g, Losses& losses) {
   double alphaT = m.alphaTangent, alphaB = m.alphaBitangent;
   if (alphaB > 1.0) {
-    out.losses.push_back({LossKind::RoughnessClamped,
-                          "alpha across the tangent " + format(alphaB) +
-                              " > 1: roughnessFactor is capped at 1 (alpha 1)"});
+    losses.push_back({LossKind::RoughnessClamped,
+                      "alpha across the tangent " + format(alphaB) +
+                          " > 1: roughnessFactor is capped at 1 (alpha 1)"});
     alphaB = 1.0;
   }
   if (alphaT > 1.0) {
-    out.losses.push_back({LossKind::RoughnessClamped,
-                          "alpha along the tangent " + format(alphaT) +
-                              " > 1, the most KHR_materials_anisotropy reaches (strength 1): "
-                              "exported as alpha 1"});
+    losses.push_back({LossKind::RoughnessClamped,
+                      "alpha along the tangent " + format(alphaT) +
+                          " > 1, the most KHR_materials_anisotropy reaches (strength 1): "
+                          "exported as alpha 1"});
     alphaT = 1.0;
   }
   g.roughnessFactor = std::sqrt(alphaB);
   g.anisotropyStrength = alphaB < 1.0 ? std::sqrt((alphaT - alphaB) / (1.0 - alphaB)) : 0.0;
   g.anisotropyRotationRad = m.tangentDeg * std::numbers::pi / 180.0;
+}
 
-  // Fresnel: F0 = F0(ior) * specularFactor * specularColorFactor, F90 = specularFactor, so glTF's
-  // F0 never exceeds its F90. A fit whose Fresnel falls toward grazing (f0 > f90: the satins fit
-  // f90 = 0) keeps its F0 exactly and gets F90 = max f0, a flat Fresnel: dropping the lobe, or
-  // capping F0 at f90, would lose the highlight seen face on.
+// Fresnel: F0 = F0(ior) * specularFactor * specularColorFactor, F90 = specularFactor, so glTF's
+// F0 never exceeds its F90. A fit whose Fresnel falls toward grazing (f0 > f90: the satins fit
+// f90 = 0) keeps its F0 exactly and gets F90 = max f0, a flat Fresnel: dropping the lobe, or
+// capping F0 at f90, would lose the highlight seen face on.
+void mapFresnel(const fit::FittedMaterial& m, GltfMaterial& g, Losses& losses) {
   const double f0Max = m.specularF0.maxChannel();
   Rgb f0Ratio;  // f0 / F90: the part of F0 the colour and the IOR carry
   if (f0Max <= kNegligible && m.specularF90 <= kNegligible) {
@@ -69,10 +67,10 @@ GltfConversion toGltfMaterial(const fit::FittedMaterial& fitted) {
   } else {
     g.specularFactor = std::max(m.specularF90, f0Max);
     if (g.specularFactor > m.specularF90 + kNegligible)
-      out.losses.push_back({LossKind::SpecularColourAtGrazing,
-                            "f0 " + format(f0Max) + " exceeds f90 " + format(m.specularF90) +
-                                ": glTF's Fresnel cannot fall toward grazing, so F90 is raised to " +
-                                format(g.specularFactor) + " (a flat Fresnel in the brightest channel)"});
+      losses.push_back({LossKind::SpecularColourAtGrazing,
+                        "f0 " + format(f0Max) + " exceeds f90 " + format(m.specularF90) +
+                            ": glTF's Fresnel cannot fall toward grazing, so F90 is raised to " +
+                            format(g.specularFactor) + " (a flat Fresnel in the brightest channel)"});
     for (std::size_t c = 0; c < 3; ++c) f0Ratio[c] = m.specularF0[c] / g.specularFactor;
   }
   const double brightest = f0Ratio.maxChannel();
@@ -84,10 +82,13 @@ GltfConversion toGltfMaterial(const fit::FittedMaterial& fitted) {
     g.ior = iorFromF0(iorF0);
     for (std::size_t c = 0; c < 3; ++c) g.specularColorFactor[c] = f0Ratio[c] / iorF0;
   }
+}
 
-  // The diffuse: glTF's dielectric BRDF gives the diffuse the energy the specular leaves
-  // (KHR_materials_specular: "the diffuse BRDF will take the remaining energy"); the fit's
-  // Lambertian is not dimmed. Matching at normal incidence keeps the colour a person sees face on.
+// The diffuse: glTF's dielectric BRDF gives the diffuse the energy the specular leaves
+// (KHR_materials_specular: "the diffuse BRDF will take the remaining energy"); the fit's
+// Lambertian is not dimmed. Matching at normal incidence keeps the colour a person sees face on.
+// Needs g.specularFactor, so it runs after mapFresnel.
+void mapDiffuse(const fit::FittedMaterial& m, GltfMaterial& g, Losses& losses) {
   bool albedoClamped = false;
   for (std::size_t c = 0; c < 3; ++c) {
     const double f0 = m.specularF0[c];
@@ -99,51 +100,69 @@ GltfConversion toGltfMaterial(const fit::FittedMaterial& fitted) {
     g.baseColorFactor[c] = base;
   }
   if (m.diffuseAlbedo.maxChannel() > kNegligible && m.specularF0.maxChannel() > kNegligible)
-    out.losses.push_back(
+    losses.push_back(
         {LossKind::DiffuseLayering,
          "glTF dims the diffuse by the specular's Fresnel (1 - F); baseColorFactor is raised by "
          "1 / (1 - f0) to match at normal incidence; toward grazing glTF's diffuse fades to "
          "(1 - F90) = " + format(1.0 - g.specularFactor) + " x the fit's"});
   if (albedoClamped)
-    out.losses.push_back({LossKind::DiffuseLayering,
-                          "diffuse albedo " + format(m.diffuseAlbedo.maxChannel()) +
-                              " needs a baseColorFactor above 1: capped at 1"});
+    losses.push_back({LossKind::DiffuseLayering,
+                      "diffuse albedo " + format(m.diffuseAlbedo.maxChannel()) +
+                          " needs a baseColorFactor above 1: capped at 1"});
+}
 
-  if (m.model == fit::MaterialModel::GgxSheen) {
-    g.hasSheen = true;
-    bool sheenClamped = false;
-    for (std::size_t c = 0; c < 3; ++c) {
-      g.sheenColorFactor[c] = std::min(m.sheenColour[c], 1.0);
-      sheenClamped = sheenClamped || m.sheenColour[c] > 1.0;
-    }
-    // glTF's sheen D uses alpha = sheenRoughnessFactor^2 where the fit's lobe has exponent 1 / r.
-    g.sheenRoughnessFactor = std::sqrt(m.sheenRoughness);
-    out.losses.push_back(
-        {LossKind::SheenForm,
-         "KHR_materials_sheen dims the base layer by the sheen's directional albedo (up to " +
-             format(g.sheenColorFactor.maxChannel()) +
-             " x its albedo) and leaves the visibility term to the renderer; the fit adds its "
-             "Charlie lobe on top with 1 / (4 (cos_i + cos_v - cos_i cos_v))"});
-    if (sheenClamped)
-      out.losses.push_back({LossKind::SheenForm,
-                            "sheen colour " + format(m.sheenColour.maxChannel()) +
-                                " above 1: sheenColorFactor capped at 1"});
-    // KHR_materials_sheen scales the base by 1 - max(sheen) E(cos), E the sheen's directional
-    // albedo. Raising the base colour by that scaling at E's cosine-weighted mean over the
-    // hemisphere almost halves the loss on velvet-red: dE 3.10 unscaled, 2.68 matched face on (where
-    // E is smallest), 1.67 so (docs/material-export.md).
-    const GltfBrdf brdf(g);
-    constexpr int kSteps = 64;
-    double meanAlbedo = 0.0;
-    for (int i = 0; i < kSteps; ++i) {
-      const double mu = (i + 0.5) / kSteps;
-      meanAlbedo += 2.0 * mu * brdf.sheenAlbedo(mu) / kSteps;
-    }
-    const double scaling = 1.0 - g.sheenColorFactor.maxChannel() * meanAlbedo;
-    if (scaling > kNegligible)
-      for (std::size_t c = 0; c < 3; ++c)
-        g.baseColorFactor[c] = std::min(g.baseColorFactor[c] / scaling, 1.0);
+// KHR_materials_sheen scales the base by 1 - max(sheen) E(cos), E the sheen's directional
+// albedo. Raising the base colour by that scaling at E's cosine-weighted mean over the
+// hemisphere almost halves the loss on velvet-red: dE 3.10 unscaled, 2.68 matched face on (where
+// E is smallest), 1.67 so (docs/material-export.md).
+void raiseBaseUnderSheen(GltfMaterial& g) {
+  const GltfBrdf brdf(g);
+  constexpr int kSteps = 64;
+  double meanAlbedo = 0.0;
+  for (int i = 0; i < kSteps; ++i) {
+    const double mu = (i + 0.5) / kSteps;
+    meanAlbedo += 2.0 * mu * brdf.sheenAlbedo(mu) / kSteps;
   }
+  const double scaling = 1.0 - g.sheenColorFactor.maxChannel() * meanAlbedo;
+  if (scaling > kNegligible)
+    for (std::size_t c = 0; c < 3; ++c)
+      g.baseColorFactor[c] = std::min(g.baseColorFactor[c] / scaling, 1.0);
+}
+
+// The sheen of a GgxSheen fit; needs the base colour from mapDiffuse, which it raises.
+void mapSheen(const fit::FittedMaterial& m, GltfMaterial& g, Losses& losses) {
+  g.hasSheen = true;
+  bool sheenClamped = false;
+  for (std::size_t c = 0; c < 3; ++c) {
+    g.sheenColorFactor[c] = std::min(m.sheenColour[c], 1.0);
+    sheenClamped = sheenClamped || m.sheenColour[c] > 1.0;
+  }
+  // glTF's sheen D uses alpha = sheenRoughnessFactor^2 where the fit's lobe has exponent 1 / r.
+  g.sheenRoughnessFactor = std::sqrt(m.sheenRoughness);
+  losses.push_back(
+      {LossKind::SheenForm,
+       "KHR_materials_sheen dims the base layer by the sheen's directional albedo (up to " +
+           format(g.sheenColorFactor.maxChannel()) +
+           " x its albedo) and leaves the visibility term to the renderer; the fit adds its "
+           "Charlie lobe on top with 1 / (4 (cos_i + cos_v - cos_i cos_v))"});
+  if (sheenClamped)
+    losses.push_back({LossKind::SheenForm,
+                      "sheen colour " + format(m.sheenColour.maxChannel()) +
+                          " above 1: sheenColorFactor capped at 1"});
+  raiseBaseUnderSheen(g);
+}
+
+}  // namespace
+
+GltfConversion toGltfMaterial(const fit::FittedMaterial& fitted) {
+  const fit::FittedMaterial m = fitted.canonical();
+  GltfConversion out;
+  // The order matters: the diffuse needs the Fresnel's F90, the sheen the diffuse's base colour;
+  // the losses come out in this order.
+  mapLobe(m, out.material, out.losses);
+  mapFresnel(m, out.material, out.losses);
+  mapDiffuse(m, out.material, out.losses);
+  if (m.model == fit::MaterialModel::GgxSheen) mapSheen(m, out.material, out.losses);
   return out;
 }
 

@@ -24,39 +24,45 @@ std::string rgbElement(const char* name, const Rgb& c) {
   return std::string("<rgb name=\"") + name + "\" value=\"" + detail::rgbText(c) + "\"/>";
 }
 
-}  // namespace
+// The blendbsdf's weight and its two parts' parameters.
+struct Blend {
+  double weight = 0.0;
+  Rgb diffuseReflectance, eta;
+  bool diffuseClamped = false;  // the diffuse needed a reflectance above 1
+};
 
-MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::string& source) {
-  const fit::FittedMaterial m = fitted.canonical();
-  MitsubaExport out;
-  out.report.format = "Mitsuba 3";
-  auto& losses = out.report.losses;
-
-  // Blend weight w: the blend is (1 - w) A + w B with A = diffuse (albedo / (1 - w)) and
-  // B = a conductor whose Fresnel is F0 / w at normal incidence and 1 at grazing, so the sum has the
-  // fit's F0 exactly and w at grazing. Mitsuba refuses reflectances above 1, so w must lie in
-  // [max f0, 1 - max albedo] (non-empty for a material that reflects at most all light at normal
-  // incidence); within it, w as close to f90 as it can be.
+// Blend weight w: the blend is (1 - w) A + w B with A = diffuse (albedo / (1 - w)) and
+// B = a conductor whose Fresnel is F0 / w at normal incidence and 1 at grazing, so the sum has the
+// fit's F0 exactly and w at grazing. Mitsuba refuses reflectances above 1, so w must lie in
+// [max f0, 1 - max albedo] (non-empty for a material that reflects at most all light at normal
+// incidence); within it, w as close to f90 as it can be.
+Blend blendOf(const fit::FittedMaterial& m) {
   const double diffuseMax = m.diffuseAlbedo.maxChannel(), f0Max = m.specularF0.maxChannel();
   const double low = f0Max, high = 1.0 - diffuseMax;
-  double weight = low <= high ? std::clamp(m.specularF90, low, high) : std::min(low, 1.0);
+  Blend b;
+  b.weight = low <= high ? std::clamp(m.specularF90, low, high) : std::min(low, 1.0);
   // A fit with no specular (a velvet: f0 ~ 1e-12, f90 = 0) is the diffuse alone.
-  if (f0Max <= kNegligible) weight = 0.0;
-  Rgb diffuseReflectance, eta;
-  bool diffuseClamped = false;
+  if (f0Max <= kNegligible) b.weight = 0.0;
+  const double weight = b.weight;
   for (std::size_t c = 0; c < 3; ++c) {
     double reflectance = weight < 1.0 ? m.diffuseAlbedo[c] / (1.0 - weight) : 0.0;
     if (reflectance > 1.0) {
       // Beyond rounding, only a material brighter than 1 at normal incidence gets here.
-      diffuseClamped = diffuseClamped || reflectance > 1.0 + 1e-9 || weight >= 1.0;
+      b.diffuseClamped = b.diffuseClamped || reflectance > 1.0 + 1e-9 || weight >= 1.0;
       reflectance = 1.0;
     }
-    diffuseReflectance[c] = reflectance;
+    b.diffuseReflectance[c] = reflectance;
     // With weight 0 the conductor does not count; eta 1.5 only keeps its parameters ordinary.
     const double f0 = weight > 0.0 ? std::clamp(m.specularF0[c] / weight, kMinF0, kMaxF0) : 0.04;
-    eta[c] = (1.0 + std::sqrt(f0)) / (1.0 - std::sqrt(f0));
+    b.eta[c] = (1.0 + std::sqrt(f0)) / (1.0 - std::sqrt(f0));
   }
-  if (diffuseClamped || (weight >= 1.0 && diffuseMax > 0.0))
+  return b;
+}
+
+void addLosses(const fit::FittedMaterial& m, const Blend& b, std::vector<ConversionLoss>& losses) {
+  const double diffuseMax = m.diffuseAlbedo.maxChannel(), f0Max = m.specularF0.maxChannel();
+  const double weight = b.weight;
+  if (b.diffuseClamped || (weight >= 1.0 && diffuseMax > 0.0))
     losses.push_back({LossKind::DiffuseLayering,
                       "f0 " + num(f0Max) + " + diffuse albedo " + num(diffuseMax) +
                           " exceed 1 at normal incidence: the diffuse is capped (reflectance 1 "
@@ -67,7 +73,7 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
                           num(m.specularF90) + " (the blend weight must keep both parts' "
                           "reflectances within [0, 1])"});
   losses.push_back({LossKind::FresnelForm,
-                    "roughconductor's Fresnel is the exact one of eta " + detail::rgbText(eta) +
+                    "roughconductor's Fresnel is the exact one of eta " + detail::rgbText(b.eta) +
                         " (k = 0), not Schlick's curve: equal at normal and grazing incidence"});
   losses.push_back({LossKind::ShadowingForm,
                     "Mitsuba's microfacet masking is the separable Smith G1(i) G1(o), the fit's "
@@ -80,7 +86,9 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
     losses.push_back({LossKind::SheenDropped,
                       "Mitsuba 3 has no Charlie sheen BSDF: the fitted sheen (colour " +
                           detail::rgbText(m.sheenColour) + ") is left out"});
+}
 
+std::string sceneText(const fit::FittedMaterial& m, const std::string& source, const Blend& b) {
   std::ostringstream x;
   x << "<?xml version=\"1.0\"?>\n"
     << "<!-- slicecap fit of " << detail::commentSafe(source) << " (docs/material-export.md).\n"
@@ -92,15 +100,15 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
     << "     <ref id=\"slicecap_fit\"/>; its anisotropy follows each shape's dp/du. -->\n"
     << "<scene version=\"3.0.0\">\n"
     << "  <bsdf type=\"blendbsdf\" id=\"slicecap_fit\">\n"
-    << "    <float name=\"weight\" value=\"" << num(weight) << "\"/>\n"
+    << "    <float name=\"weight\" value=\"" << num(b.weight) << "\"/>\n"
     << "    <bsdf type=\"diffuse\">\n"
-    << "      " << rgbElement("reflectance", diffuseReflectance) << "\n"
+    << "      " << rgbElement("reflectance", b.diffuseReflectance) << "\n"
     << "    </bsdf>\n"
     << "    <bsdf type=\"roughconductor\">\n"
     << "      <string name=\"distribution\" value=\"ggx\"/>\n"
     << "      <float name=\"alpha_u\" value=\"" << num(m.alphaTangent) << "\"/>\n"
     << "      <float name=\"alpha_v\" value=\"" << num(m.alphaBitangent) << "\"/>\n"
-    << "      " << rgbElement("eta", eta) << "\n"
+    << "      " << rgbElement("eta", b.eta) << "\n"
     << "      " << rgbElement("k", Rgb::gray(0.0)) << "\n"
     << "    </bsdf>\n"
     << "  </bsdf>\n"
@@ -112,7 +120,18 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
     << "    <ref id=\"slicecap_fit\"/>\n"
     << "  </shape>\n"
     << "</scene>\n";
-  out.text = x.str();
+  return x.str();
+}
+
+}  // namespace
+
+MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::string& source) {
+  const fit::FittedMaterial m = fitted.canonical();
+  MitsubaExport out;
+  out.report.format = "Mitsuba 3";
+  const Blend blend = blendOf(m);
+  addLosses(m, blend, out.report.losses);
+  out.text = sceneText(m, source, blend);
   return out;
 }
 

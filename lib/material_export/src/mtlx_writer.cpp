@@ -24,66 +24,74 @@ std::string input(const char* name, const char* type, const std::string& value) 
          "\" />\n";
 }
 
-}  // namespace
+using Losses = std::vector<ConversionLoss>;
 
-MtlxExport mtlxDocument(const fit::FittedMaterial& fitted, const std::string& source) {
-  const fit::FittedMaterial m = fitted.canonical();
-  MtlxExport out;
-  out.report.format = "MaterialX (OpenPBR Surface + standard_surface)";
-  auto& losses = out.report.losses;
-
-  // Colours: the same F0 split as the glTF export (IOR from the brightest channel of f0 / f90),
-  // but OpenPBR and standard_surface tint the whole dielectric Fresnel with specular_color, so
-  // specular_color = f90 x the glTF colour: exact at normal incidence.
-  const GltfConversion gltf = toGltfMaterial(m);
-  const GltfMaterial& g = gltf.material;
+// The shading parameters both surfaces are written from.
+struct MtlxParameters {
+  GltfMaterial gltf;  // colours, IOR and sheen as the glTF export maps them
   Rgb specularColour;
-  for (std::size_t c = 0; c < 3; ++c) specularColour[c] = g.specularFactor * g.specularColorFactor[c];
+  double openPbrRoughness = 0.0, openPbrAnisotropy = 0.0;
+  double standardRoughness = 0.0, standardAnisotropy = 0.0;
+  bool sheen = false;
+};
+
+// Colours: the same F0 split as the glTF export (IOR from the brightest channel of f0 / f90),
+// but OpenPBR and standard_surface tint the whole dielectric Fresnel with specular_color, so
+// specular_color = f90 x the glTF colour: exact at normal incidence.
+void mapColours(const fit::FittedMaterial& m, MtlxParameters& p, Losses& losses) {
+  const GltfConversion gltf = toGltfMaterial(m);
+  p.gltf = gltf.material;
+  const GltfMaterial& g = p.gltf;
+  for (std::size_t c = 0; c < 3; ++c) p.specularColour[c] = g.specularFactor * g.specularColorFactor[c];
   losses.push_back({LossKind::FresnelForm,
                     "OpenPBR and standard_surface use the exact dielectric Fresnel of specular_ior " +
                         num(g.ior) + " times specular_color, not Schlick's f0/f90 curve"});
-  if (specularColour.maxChannel() - specularColour.minChannel() > 1e-3 ||
-      std::abs(specularColour.maxChannel() - m.specularF90) > 1e-3)
+  if (p.specularColour.maxChannel() - p.specularColour.minChannel() > 1e-3 ||
+      std::abs(p.specularColour.maxChannel() - m.specularF90) > 1e-3)
     losses.push_back({LossKind::SpecularColourAtGrazing,
-                      "specular_color " + rgbText(specularColour) +
+                      "specular_color " + rgbText(p.specularColour) +
                           " also scales the grazing reflectance, where the fit has a grey f90 " +
                           num(m.specularF90)});
   for (const ConversionLoss& loss : gltf.losses)
     if (loss.kind == LossKind::DiffuseLayering || loss.kind == LossKind::SpecularColourAtGrazing)
       losses.push_back({loss.kind, "as in glTF: " + loss.detail});
+}
 
+// The lobe in both surfaces' terms, and the sheen's loss.
+void mapLobe(const fit::FittedMaterial& m, MtlxParameters& p, Losses& losses) {
   // OpenPBR roughness and anisotropy (NG_open_pbr_anisotropy inverted).
   const double ratio = m.alphaBitangent / m.alphaTangent;  // <= 1 in the canonical form
-  const double openPbrAnisotropy = 1.0 - ratio;
-  double openPbrRoughness =
-      std::sqrt(m.alphaTangent / std::sqrt(2.0 / (1.0 + ratio * ratio)));
-  if (openPbrRoughness > 1.0) {
+  p.openPbrAnisotropy = 1.0 - ratio;
+  p.openPbrRoughness = std::sqrt(m.alphaTangent / std::sqrt(2.0 / (1.0 + ratio * ratio)));
+  if (p.openPbrRoughness > 1.0) {
     losses.push_back({LossKind::RoughnessClamped,
-                      "OpenPBR specular_roughness " + num(openPbrRoughness) + " capped at 1"});
-    openPbrRoughness = 1.0;
+                      "OpenPBR specular_roughness " + num(p.openPbrRoughness) + " capped at 1"});
+    p.openPbrRoughness = 1.0;
   }
   // standard_surface: alpha_x alpha_y = r^4, alpha_y / alpha_x = 1 - a.
-  double standardAnisotropy = 1.0 - ratio;
-  if (standardAnisotropy > kMaxStandardSurfaceAnisotropy) {
+  p.standardAnisotropy = 1.0 - ratio;
+  if (p.standardAnisotropy > kMaxStandardSurfaceAnisotropy) {
     losses.push_back({LossKind::AnisotropyClamped,
-                      "standard_surface specular_anisotropy " + num(standardAnisotropy) +
+                      "standard_surface specular_anisotropy " + num(p.standardAnisotropy) +
                           " > 0.98, where MaterialX clamps it: alpha ratio " + num(ratio) +
                           " becomes 0.02"});
-    standardAnisotropy = kMaxStandardSurfaceAnisotropy;
+    p.standardAnisotropy = kMaxStandardSurfaceAnisotropy;
   }
-  const double standardRoughness = std::pow(m.alphaTangent * m.alphaBitangent, 0.25);
+  p.standardRoughness = std::pow(m.alphaTangent * m.alphaBitangent, 0.25);
   if (m.alphaTangent > 1.0)
     losses.push_back({LossKind::RoughnessClamped,
                       "standard_surface caps alpha along the tangent at 1 (fit: " +
                           num(m.alphaTangent) + ")"});
 
-  const bool sheen = m.model == fit::MaterialModel::GgxSheen;
-  if (sheen)
+  p.sheen = m.model == fit::MaterialModel::GgxSheen;
+  if (p.sheen)
     losses.push_back({LossKind::SheenForm,
                       "OpenPBR's fuzz (and standard_surface's sheen) layer over the base and dim it "
                       "by their albedo; OpenPBR's fuzz lobe is not the fitted Charlie lobe"});
+}
 
-  std::ostringstream x;
+// The comment, and the tangent both surfaces share: the surface tangent turned about the normal.
+void writeHeaderAndTangent(std::ostream& x, const fit::FittedMaterial& m, const std::string& source) {
   x << "<?xml version=\"1.0\"?>\n"
     << "<!-- slicecap fit of " << detail::commentSafe(source) << " (docs/material-export.md).\n"
     << "     Primary material: slicecap_fit (OpenPBR Surface); alternative:\n"
@@ -100,15 +108,19 @@ MtlxExport mtlxDocument(const fit::FittedMaterial& fitted, const std::string& so
     << "    <input name=\"in\" type=\"vector3\" nodename=\"surface_tangent\" />\n"
     << input("amount", "float", num(m.tangentDeg))
     << "    <input name=\"axis\" type=\"vector3\" nodename=\"surface_normal\" />\n"
-    << "  </rotate3d>\n"
-    << "  <open_pbr_surface name=\"slicecap_fit_open_pbr\" type=\"surfaceshader\">\n"
+    << "  </rotate3d>\n";
+}
+
+void writeOpenPbrMaterial(std::ostream& x, const fit::FittedMaterial& m, const MtlxParameters& p) {
+  const GltfMaterial& g = p.gltf;
+  x << "  <open_pbr_surface name=\"slicecap_fit_open_pbr\" type=\"surfaceshader\">\n"
     << input("base_weight", "float", "1") << input("base_color", "color3", rgbText(g.baseColorFactor))
     << input("base_metalness", "float", "0") << input("specular_weight", "float", "1")
-    << input("specular_color", "color3", rgbText(specularColour))
-    << input("specular_roughness", "float", num(openPbrRoughness))
+    << input("specular_color", "color3", rgbText(p.specularColour))
+    << input("specular_roughness", "float", num(p.openPbrRoughness))
     << input("specular_ior", "float", num(g.ior))
-    << input("specular_roughness_anisotropy", "float", num(openPbrAnisotropy));
-  if (sheen)
+    << input("specular_roughness_anisotropy", "float", num(p.openPbrAnisotropy));
+  if (p.sheen)
     x << input("fuzz_weight", "float", "1")
       << input("fuzz_color", "color3", rgbText(g.sheenColorFactor))
       << input("fuzz_roughness", "float", num(m.sheenRoughness));
@@ -116,23 +128,43 @@ MtlxExport mtlxDocument(const fit::FittedMaterial& fitted, const std::string& so
     << "  </open_pbr_surface>\n"
     << "  <surfacematerial name=\"slicecap_fit\" type=\"material\">\n"
     << "    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"slicecap_fit_open_pbr\" />\n"
-    << "  </surfacematerial>\n"
-    << "  <standard_surface name=\"slicecap_fit_standard_surface_shader\" type=\"surfaceshader\">\n"
+    << "  </surfacematerial>\n";
+}
+
+void writeStandardSurfaceMaterial(std::ostream& x, const fit::FittedMaterial& m,
+                                  const MtlxParameters& p) {
+  const GltfMaterial& g = p.gltf;
+  x << "  <standard_surface name=\"slicecap_fit_standard_surface_shader\" type=\"surfaceshader\">\n"
     << input("base", "float", "1") << input("base_color", "color3", rgbText(g.baseColorFactor))
-    << input("specular", "float", "1") << input("specular_color", "color3", rgbText(specularColour))
-    << input("specular_roughness", "float", num(standardRoughness))
+    << input("specular", "float", "1") << input("specular_color", "color3", rgbText(p.specularColour))
+    << input("specular_roughness", "float", num(p.standardRoughness))
     << input("specular_IOR", "float", num(g.ior))
-    << input("specular_anisotropy", "float", num(standardAnisotropy))
+    << input("specular_anisotropy", "float", num(p.standardAnisotropy))
     << input("specular_rotation", "float", num(m.tangentDeg / 360.0));
-  if (sheen)
+  if (p.sheen)
     x << input("sheen", "float", "1") << input("sheen_color", "color3", rgbText(g.sheenColorFactor))
       << input("sheen_roughness", "float", num(m.sheenRoughness));
   x << "  </standard_surface>\n"
     << "  <surfacematerial name=\"slicecap_fit_standard_surface\" type=\"material\">\n"
     << "    <input name=\"surfaceshader\" type=\"surfaceshader\" "
        "nodename=\"slicecap_fit_standard_surface_shader\" />\n"
-    << "  </surfacematerial>\n"
-    << "</materialx>\n";
+    << "  </surfacematerial>\n";
+}
+
+}  // namespace
+
+MtlxExport mtlxDocument(const fit::FittedMaterial& fitted, const std::string& source) {
+  const fit::FittedMaterial m = fitted.canonical();
+  MtlxExport out;
+  out.report.format = "MaterialX (OpenPBR Surface + standard_surface)";
+  MtlxParameters p;
+  mapColours(m, p, out.report.losses);
+  mapLobe(m, p, out.report.losses);
+  std::ostringstream x;
+  writeHeaderAndTangent(x, m, source);
+  writeOpenPbrMaterial(x, m, p);
+  writeStandardSurfaceMaterial(x, m, p);
+  x << "</materialx>\n";
   out.text = x.str();
   return out;
 }

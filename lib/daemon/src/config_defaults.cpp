@@ -1,0 +1,141 @@
+// slicecapd.conf's documented defaults (slicecapd --print-config, docs/reference/slicecapd-conf.md).
+#include "slicecap/daemon/config.hpp"
+
+#include <string>
+
+namespace slicecap::daemon {
+
+namespace {
+
+// slicecapd --print-config, one constant per group of keys; documentedDefaults() joins them with
+// a blank line between groups.
+
+// What the file is.
+constexpr const char* kHeaderDefaults = R"(# slicecapd configuration. `key = value`; `#` starts a comment. Unknown keys are errors.
+# The daemon checks every field when it starts and names the line of any mistake.
+)";
+// The camera, its frames and how they become linear light.
+constexpr const char* kCameraDefaults = R"(# Camera: libcamera (Raspberry Pi camera modules), v4l2 (USB cameras), file (plays a recording
+# or a simulated session) or model (the virtual rig in front of a model of a Pi camera: queued
+# buffers, rolling shutter, late controls, the ISP's curve; for tests and demonstrations).
+camera = libcamera
+# libcamera camera id or /dev/videoN; empty takes the first camera found.
+camera_device =
+# With camera = file: the recording or simulated session folder to play.
+camera_recording =
+# Frame size in pixels.
+resolution = 1280x720
+# Locked exposure (microseconds) and gain (the camera's own units: V4L2's gain control, libcamera's
+# analogue gain). Empty exposure_us: each sweep start meters it with the LED on (the brightest
+# 0.5 % of the image brought to 0.35 of full scale, about a second, at most 33.3 ms: a darker
+# scene needs more gain) and locks it, with gain at its value here or the camera's default, for
+# the sweep; `slicecap status` shows what was locked.
+# Set exposure_us when a glossy material's highlight clips (frames rejected as window_clipped).
+exposure_us =
+gain =
+# Camera intrinsics and distortion (from `slicecap calibrate`); empty uses the sensor's nominal model.
+calibration =
+# The sensor's readout time, top row to bottom row, in microseconds (`slicecapd --check-hardware`
+# measures it). Empty: the camera's line time where it reports one, else a whole frame period
+# (safe, but it rejects more frames as led_transition).
+readout_us =
+# The frames' noise, which the white-reference test allows for (an 8-bit frame's references near
+# black disagree by noise alone): read noise as a fraction of full scale, and shot noise as the
+# electrons a full-scale value stands for at gain 1. `slicecapd --check-hardware` measures both;
+# the defaults are a small 8-bit camera module's.
+sensor_read_noise = 0.002
+sensor_full_well_electrons = 8000
+# How 8-bit frames become linear light. auto: at each sweep start, right after the metering and
+# with the LED on, a bracket of 8 exposures (x1/32 .. x4, about a second) of the target's white and
+# black references measures the camera's response curve, and every frame of the sweep is decoded
+# through it; a camera delivering linear 16-bit frames needs none. Hold the target still and in
+# view meanwhile. A bracket that cannot be fitted (target not in view, clipping, a camera that
+# cannot lock or report its exposure) falls back to sRGB, with a warning in `slicecap status`
+# naming the camera. measured-curve: the same. srgb: no bracket; frames decoded as sRGB (only for
+# a camera known to encode sRGB).
+decoding = auto
+)";
+// The sensor's RAW stream.
+constexpr const char* kCameraRawDefaults = R"(# The sensor's RAW (Bayer) stream, black level off and 2 x 2 binned into linear light (half the
+# sensor mode's size: a camera module 3 asked for 1280x720 delivers 1152x648; calibrate at that
+# size): auto takes it where the camera offers a format slicecap decodes (10/12-bit, packed or
+# not; a Pi 5's compressed RAW is not, and the processed stream is used), on requires it, off
+# never takes it (docs/real-sensors.md).
+camera_raw = auto
+)";
+// With camera = model: the virtual rig.
+constexpr const char* kModelCameraDefaults = R"(# With camera = model: the material (any `slicecap simulate --material`), the rig (realistic:
+# hand-held jitter, blur, occlusion, room light; ideal: none), seconds per sweep, the positions the
+# hand rests at on the way round, the ISP's tone curve (imx708: the Pi camera module 3's tuning),
+# the seed of the rig's and the sensor's randomness, and the RAW format its sensor offers (empty:
+# none; SRGGB10_CSI2P: a Pi 4's camera module 3; taken as camera_raw says).
+model_material = satin-blue-45
+model_rig = realistic
+model_sweep_seconds = 8
+model_positions = 32
+model_tone_curve = imx708
+model_seed = 7
+model_raw =
+)";
+// The LED.
+constexpr const char* kLedDefaults = R"(# LED: the GPIO chip and line that drive the LED driver (never an LED straight on a pin; see
+# firmware/README.md). The line by name (as `gpioinfo` lists it) or by offset.
+led_chip = gpiochip0
+led_line = GPIO17
+led_active_low = false
+# Switch the LED off in blocks of frames, so ambient light can be measured and removed. false: the
+# LED stays on and no room light is removed (only for a dark room).
+led_alternate = true
+# Frames the LED holds each state (on, then off). Each switch is timed from the camera's
+# timestamps to fall where no row of the window or the white references is being exposed; a frame
+# it falls in anyway is rejected as led_transition. A camera that cannot say when it exposed
+# needs 4 or more.
+led_frames_per_state = 2
+# How long either side of a switch a row's exposure is not trusted (GPIO call, driver, LED rise).
+led_guard_us = 200
+# With camera = file: the file the LED's changes are written to (empty: <storage>/led.log).
+led_log =
+)";
+// The target and where sessions and recordings are kept.
+constexpr const char* kStorageDefaults = R"(# The printed target: "default" (slicecap target's built-in one) or a target JSON file.
+target = default
+# Where sessions are kept (one folder each; samples are on disk before they are acknowledged).
+storage = /var/lib/slicecap
+# Also keep every raw frame of a sweep (LED on and off) as a recording in the session's folder,
+# <storage>/<session>/recordings/<kind>-<theta_i>-<theta_v>, to re-process the session on a desktop
+# (`slicecap capture-offline <session>/recordings`). A writer thread saves the PNGs; frames that
+# arrive while 4 wait are left out of the recording (counted in `slicecap status`), never out of
+# the sweep; a full disk stops the recording, not the sweep. About 1-3 MB a 720p frame.
+record_frames = false
+)";
+// Texture (BTF) capture.
+constexpr const char* kTextureDefaults = R"(# Texture (BTF) capture: with N > 0 every accepted frame's window is also rectified to N x N texels
+# (64, 128 or 256 are typical; 0 switches it off) and kept per azimuth bin, at most
+# texture_frames_per_bin frames a bin (those nearest its centre), in <storage>/<session>/texture.
+# Disk: 8 slices x 24 bins x that many frames x N^2 x 6 bytes at most (N = 128, 5 frames: 94 MB);
+# memory only the index. `slicecap export` copies it; `slicecap btf EXPORT/<id>-texture -o DIR`
+# reconstructs the BTF (on the box or a desktop). A session keeps the resolution it started with.
+texture_resolution = 0
+texture_frames_per_bin = 5
+)";
+// The control socket.
+constexpr const char* kSocketDefaults = R"(# The control socket, when systemd does not pass one (slicecapd.socket), and the group allowed to use it.
+socket = /run/slicecap/slicecapd.sock
+socket_group = slicecap
+# A client that sends no request for this many seconds is closed (0: never), so connections left
+# open cannot hold all 128 client slots. `slicecap status --watch` asks every --interval seconds.
+client_idle_timeout_s = 300
+)";
+
+}  // namespace
+
+std::string DaemonConfig::documentedDefaults() {
+  std::string text;
+  for (const char* group :
+       {kHeaderDefaults, kCameraDefaults, kCameraRawDefaults, kModelCameraDefaults, kLedDefaults,
+        kStorageDefaults, kTextureDefaults, kSocketDefaults})
+    text += (text.empty() ? "" : "\n") + std::string(group);
+  return text;
+}
+
+}  // namespace slicecap::daemon
