@@ -92,5 +92,4 @@ TEST(IsotropyScores, EqualElevationDiagonalSlicesScoreTheHalfTurnOnly) {
 }
 
 }  // namespace
-}  // namespace
 }  // namespace slicecap::prior
