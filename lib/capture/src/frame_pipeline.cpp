@@ -1,11 +1,7 @@
 // The per-frame pipeline: detect, pose, gate, measure the window against the white references.
 #include "slicecap/capture/frame_pipeline.hpp"
 
-#include <Eigen/SVD>
 #include <algorithm>
-#include <array>
-#include <cmath>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -13,13 +9,6 @@
 
 #include "frame_checks.hpp"
 #include "frame_pipeline_state.hpp"
-#include "slicecap/capture/area_reading.hpp"
-#include "slicecap/capture/light_model.hpp"
-#include "slicecap/capture/linear_view.hpp"
-#include "slicecap/capture/marker_search.hpp"
-#include "slicecap/capture/planar_pose.hpp"
-#include "slicecap/core/angles.hpp"
-#include "slicecap/vision/tag_family.hpp"
 
 namespace slicecap::capture {
 

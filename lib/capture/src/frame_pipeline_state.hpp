@@ -27,10 +27,6 @@ namespace slicecap::capture {
 inline constexpr double kRowMarginFraction = 0.1;
 inline constexpr double kBlurRowMarginPx = 8.0;
 
-using frame_checks::exposureKnown;
-using frame_checks::GateFailure;
-using frame_checks::noiseAllowance;
-
 // The markers found and the pose they give (FramePipeline::State::locate).
 struct FramePipeline::Located {
   std::vector<DetectedMarker> markers;
@@ -122,21 +118,21 @@ struct FramePipeline::State {
   }
 
   // The window's pixels in an LED-on frame at `pose`, or why they give no sample.
-  std::optional<GateFailure> readWindow(const hal::Frame& frame, const vision::Pose& pose,
+  std::optional<frame_checks::GateFailure> readWindow(const hal::Frame& frame, const vision::Pose& pose,
                                         AreaReading* window) const {
     AreaSpec spec = windowArea;
     spec.clipFraction = settings.clipFraction;
     *window = readArea(frame, pose, camera, spec, settings.noise, *codes);
     if (!window->inside)
-      return GateFailure{RejectReason::WindowOccluded, "window out of the image"};
+      return frame_checks::GateFailure{RejectReason::WindowOccluded, "window out of the image"};
     if (window->clipped && !settings.hdr)
-      return GateFailure{RejectReason::WindowClipped, "window saturated"};
+      return frame_checks::GateFailure{RejectReason::WindowClipped, "window saturated"};
     return std::nullopt;
   }
 
   // The window's radiance (its reading minus the room light) and the white references' (room
   // light subtracted, with their noise) of an LED-on frame at `pose`, or why it gives none.
-  std::optional<GateFailure> readReferences(const hal::Frame& frame, const vision::Pose& pose,
+  std::optional<frame_checks::GateFailure> readReferences(const hal::Frame& frame, const vision::Pose& pose,
                                             const std::vector<AmbientTerm>& roomLight,
                                             const AreaReading& window, Rgb* windowRadiance,
                                             std::vector<ReferenceObservation>* observations,
@@ -148,7 +144,7 @@ struct FramePipeline::State {
       const AreaReading area = readArea(frame, pose, camera, spec, settings.noise, *codes);
       if (!area.inside) continue;
       if (area.clipped)
-        return GateFailure{RejectReason::WindowClipped, "white reference saturated"};
+        return frame_checks::GateFailure{RejectReason::WindowClipped, "white reference saturated"};
       const AreaReading room = ambientAt(roomLight, reference.area, pose);
       const Rgb value = area.mean - room.mean;
       Rgb sigma;
@@ -161,14 +157,14 @@ struct FramePipeline::State {
       (value.minChannel() > 0 ? observations : unlit)->push_back(observation);
     }
     if (observations->size() < 5)
-      return GateFailure{RejectReason::WindowOccluded, "white references out of the image"};
+      return frame_checks::GateFailure{RejectReason::WindowOccluded, "white references out of the image"};
     return std::nullopt;
   }
 
   // The point light fitted to the references, or a rejection when they disagree by more than
   // noise explains plus the margin for an occluder (maxReferenceResidual), or one that reads no
   // LED light (`unlit`) falls short of the fitted light by as much.
-  std::optional<GateFailure> fitLight(const std::vector<ReferenceObservation>& observations,
+  std::optional<frame_checks::GateFailure> fitLight(const std::vector<ReferenceObservation>& observations,
                                       const std::vector<ReferenceObservation>& unlit,
                                       const Direction& nominalLight, LightFit* fit,
                                       double* limit) const {
@@ -180,13 +176,13 @@ struct FramePipeline::State {
     try {
       *fit = fitPointLight(observations, fitParams);
     } catch (const std::invalid_argument& error) {
-      return GateFailure{RejectReason::WindowOccluded, error.what()};
+      return frame_checks::GateFailure{RejectReason::WindowOccluded, error.what()};
     }
     if (!fit->converged)
-      return GateFailure{RejectReason::WindowOccluded, "light fit: " + fit->message};
-    *limit = settings.maxReferenceResidual + noiseAllowance(*fit, settings.referenceNoiseSigmas);
+      return frame_checks::GateFailure{RejectReason::WindowOccluded, "light fit: " + fit->message};
+    *limit = settings.maxReferenceResidual + frame_checks::noiseAllowance(*fit, settings.referenceNoiseSigmas);
     if (fit->weightedResidualRms > *limit)
-      return GateFailure{RejectReason::WindowOccluded,
+      return frame_checks::GateFailure{RejectReason::WindowOccluded,
                          "white references disagree by " +
                              std::to_string(fit->weightedResidualRms) +
                              ", noise and margin allow " + std::to_string(*limit)};
@@ -196,7 +192,7 @@ struct FramePipeline::State {
         const double expected = o.albedo[c] / std::numbers::pi * irradiance[c];
         if (expected - o.radiance[c] >
             settings.referenceNoiseSigmas * o.sigma[c] + settings.maxReferenceResidual * expected)
-          return GateFailure{RejectReason::WindowOccluded,
+          return frame_checks::GateFailure{RejectReason::WindowOccluded,
                              "a white reference (at " + std::to_string(o.point.x) + ", " +
                                  std::to_string(o.point.y) + " mm) gets no LED light, " +
                                  std::to_string(expected / o.sigma[c]) + " sigma expected"};
@@ -213,7 +209,7 @@ struct FramePipeline::State {
     const vision::RectMm& r = windowArea.rectMm;
     const int n = kHdrCellsPerSide;
     const double scale =
-        exposureKnown(frame) ? frame.metadata.exposureUs * frame.metadata.gain : 1.0;
+        frame_checks::exposureKnown(frame) ? frame.metadata.exposureUs * frame.metadata.gain : 1.0;
     std::vector<HdrCell> cells;
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
@@ -239,7 +235,7 @@ struct FramePipeline::State {
                                      Located& located);
   std::optional<FrameOutcome> checkView(const hal::Frame& frame, const SliceId& slice,
                                         FrameOutcome& outcome, const Located& located) const;
-  std::optional<GateFailure> roomLightFor(const hal::Frame& frame,
+  std::optional<frame_checks::GateFailure> roomLightFor(const hal::Frame& frame,
                                           std::vector<AmbientTerm>& terms) const;
   std::optional<FrameOutcome> measure(const hal::Frame& frame, FrameOutcome& outcome,
                                       const Located& located, FrameSample& sample);
