@@ -177,39 +177,32 @@ std::string notBuiltAdvice(const hal::BackendNotBuilt& error) {
          "devices with camera = model or camera = file";
 }
 
-}  // namespace
-
-int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& options,
-                  std::ostream& out, std::ostream& err) {
+// Whether the check may start: no daemon holds the devices, and the file to write is free.
+bool mayStart(const DaemonConfig& config, const CheckHardwareOptions& options, std::ostream& err) {
   if (daemonAnswers(config.socket)) {
     err << "slicecapd: a daemon answers on " << config.socket.string()
         << ": stop it first (systemctl stop slicecapd), the check opens the camera and the LED "
            "itself\n";
-    return 1;
+    return false;
   }
-  // camera = model renders every frame in software, slower than 30 fps on a loaded machine: in
-  // real time the check would measure the machine's load (frames dropped for want of a free
-  // buffer), not the camera it models. The model runs on a simulated clock instead, which its
-  // frames advance as a real camera's time would pass; every other camera on the steady clock.
   // Refused before measuring, not after (writeConfigFile refuses again, atomically).
   std::error_code existsError;
   if (options.writeConfig && !options.overwrite && fs::exists(*options.writeConfig, existsError)) {
     err << "slicecapd: " << *options.writeConfig
         << " exists: not overwritten (pass --overwrite, or choose another file and merge its "
            "lines into slicecapd.conf)\n";
-    return 1;
+    return false;
   }
-  hal::SteadyClock steadyClock;
-  hal::FakeClock simulatedClock(steadyClock.nowUs());
-  const bool simulated = config.camera == DaemonConfig::CameraKind::Model;
-  hal::Clock& clock = simulated ? static_cast<hal::Clock&>(simulatedClock) : steadyClock;
-  const Rig configured = configuredRig(config);
-  auto modelLight = std::make_shared<hal::LedTimeline>();
-  const hwcheck::BackendInfo backend = describeBackend(config);
+  return true;
+}
 
-  hwcheck::HardwareReport report;
-  std::shared_ptr<hal::Camera> camera;
-  Rig rig = configured;
+// The camera of the configuration's first slice in `camera` and its rig in `rig`; a failed item in
+// `report` when they cannot be opened (`camera` stays as far as it got).
+void openCheckCamera(const DaemonConfig& config, hal::Clock& clock,
+                     const std::shared_ptr<hal::LedTimeline>& modelLight, const Rig& configured,
+                     bool simulated, const hwcheck::BackendInfo& backend,
+                     hwcheck::HardwareReport& report, std::shared_ptr<hal::Camera>& camera,
+                     Rig& rig) {
   try {
     const CameraSources sources =
         makeCameraSources(config, clock, modelLight, configured.target, configured.camera,
@@ -227,32 +220,33 @@ int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& option
                             "connect the camera and check camera and camera_device in the "
                             "configuration (with camera = file: camera_recording)"});
   }
-  std::unique_ptr<hal::Led> led;
-  if (camera) {
-    try {
-      led = openLed(config, clock, modelLight);
-    } catch (const hal::BackendNotBuilt& error) {
-      report.cameraId = camera->id();
-      report.cameras = backend.cameras;
-      report.items.push_back({"LED", hwcheck::Verdict::Fail, error.what(), notBuiltAdvice(error)});
-    } catch (const std::exception& error) {
-      report.cameraId = camera->id();
-      report.cameras = backend.cameras;
-      report.items.push_back({"LED", hwcheck::Verdict::Fail, std::string("no LED: ") + error.what(),
-                              "check led_chip, led_line and led_active_low (gpioinfo lists the "
-                              "lines), and that the user may use the GPIO chip"});
-    }
+}
+
+// The configured LED; null, with a failed item in `report`, when it cannot be opened.
+std::unique_ptr<hal::Led> openCheckLed(const DaemonConfig& config, hal::Clock& clock,
+                                       const std::shared_ptr<hal::LedTimeline>& modelLight,
+                                       const hal::Camera& camera,
+                                       const hwcheck::BackendInfo& backend,
+                                       hwcheck::HardwareReport& report) {
+  try {
+    return openLed(config, clock, modelLight);
+  } catch (const hal::BackendNotBuilt& error) {
+    report.cameraId = camera.id();
+    report.cameras = backend.cameras;
+    report.items.push_back({"LED", hwcheck::Verdict::Fail, error.what(), notBuiltAdvice(error)});
+  } catch (const std::exception& error) {
+    report.cameraId = camera.id();
+    report.cameras = backend.cameras;
+    report.items.push_back({"LED", hwcheck::Verdict::Fail, std::string("no LED: ") + error.what(),
+                            "check led_chip, led_line and led_active_low (gpioinfo lists the "
+                            "lines), and that the user may use the GPIO chip"});
   }
-  if (camera && led) {
-    // The check locks the exposures it measures with itself: the sweep's setting is not one.
-    hal::CameraConfig cameraConfig = cameraConfigFrom(config);
-    cameraConfig.exposureUs.reset();
-    cameraConfig.gain.reset();
-    hwcheck::HardwareCheckOptions checkOptions;
-    checkOptions.captureSeconds = options.seconds;
-    report = hwcheck::runHardwareCheck(*camera, cameraConfig, *led, clock, rig.target, rig.camera,
-                                       backend, checkOptions);
-  }
+  return nullptr;
+}
+
+// Prints the report and writes its configuration lines when asked; the exit status.
+int reportResult(const hwcheck::HardwareReport& report, const CheckHardwareOptions& options,
+                 std::ostream& out, std::ostream& err) {
   if (options.json)
     out << report.json().dump(2) << "\n";
   else
@@ -273,6 +267,42 @@ int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& option
     }
   }
   return report.overall() == hwcheck::Verdict::Fail ? 1 : 0;
+}
+
+}  // namespace
+
+int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& options,
+                  std::ostream& out, std::ostream& err) {
+  if (!mayStart(config, options, err)) return 1;
+  // camera = model renders every frame in software, slower than 30 fps on a loaded machine: in
+  // real time the check would measure the machine's load (frames dropped for want of a free
+  // buffer), not the camera it models. The model runs on a simulated clock instead, which its
+  // frames advance as a real camera's time would pass; every other camera on the steady clock.
+  hal::SteadyClock steadyClock;
+  hal::FakeClock simulatedClock(steadyClock.nowUs());
+  const bool simulated = config.camera == DaemonConfig::CameraKind::Model;
+  hal::Clock& clock = simulated ? static_cast<hal::Clock&>(simulatedClock) : steadyClock;
+  const Rig configured = configuredRig(config);
+  auto modelLight = std::make_shared<hal::LedTimeline>();
+  const hwcheck::BackendInfo backend = describeBackend(config);
+
+  hwcheck::HardwareReport report;
+  std::shared_ptr<hal::Camera> camera;
+  Rig rig = configured;
+  openCheckCamera(config, clock, modelLight, configured, simulated, backend, report, camera, rig);
+  std::unique_ptr<hal::Led> led;
+  if (camera) led = openCheckLed(config, clock, modelLight, *camera, backend, report);
+  if (camera && led) {
+    // The check locks the exposures it measures with itself: the sweep's setting is not one.
+    hal::CameraConfig cameraConfig = cameraConfigFrom(config);
+    cameraConfig.exposureUs.reset();
+    cameraConfig.gain.reset();
+    hwcheck::HardwareCheckOptions checkOptions;
+    checkOptions.captureSeconds = options.seconds;
+    report = hwcheck::runHardwareCheck(*camera, cameraConfig, *led, clock, rig.target, rig.camera,
+                                       backend, checkOptions);
+  }
+  return reportResult(report, options, out, err);
 }
 
 }  // namespace slicecap::slicecapd

@@ -138,6 +138,60 @@ void followDeliveredSize(CameraSources& sources) {
   };
 }
 
+// camera = model's sensor: the configured tone curve, RAW stream and seed.
+hal::SensorModel modelSensor(const DaemonConfig& config, ModelScene scene, bool modelRealTime) {
+  hal::SensorModel sensor;
+  sensor.seed = static_cast<std::uint64_t>(config.modelSeed);
+  sensor.tone = config.modelToneCurve == "srgb"     ? ToneCurve::srgb()
+                : config.modelToneCurve == "linear" ? ToneCurve::linear()
+                                                    : ToneCurve::imx708Tuning();
+  // model_raw: the model's sensor offers a RAW stream, taken as camera_raw says.
+  if (!config.modelRaw.empty()) sensor.rawFormat = hal::bayerFormatFromLibcameraName(config.modelRaw);
+  if (scene == ModelScene::Still) sensor.holdSceneUntilStrobe = false;
+  sensor.realTime = modelRealTime;
+  return sensor;
+}
+
+// camera = model: a model camera per slice in front of the virtual rig.
+void setModelCameras(CameraSources& sources, const DaemonConfig& config, hal::Clock& clock,
+                     const std::shared_ptr<hal::LedTimeline>& modelLight,
+                     const vision::TargetGeometry& target, const vision::CameraModel& cameraModel,
+                     ModelScene scene, bool modelRealTime) {
+  // One renderer for every sweep (building it takes about half a second).
+  sim::RigParams rig = config.modelRealistic ? sim::RigParams::realistic() : sim::RigParams::ideal();
+  rig.framesPerSlice = config.modelPositions;
+  rig.sweepSeconds = config.modelSweepSeconds;
+  rig.seed = static_cast<std::uint64_t>(config.modelSeed);
+  auto renderer = std::make_shared<const sim::FrameRenderer>(
+      cameraModel, target, sim::loadMaterial(config.modelMaterial), rig);
+  const hal::SensorModel sensor = modelSensor(config, scene, modelRealTime);
+  sources.cameraFor = [renderer, rig, sensor, modelLight, &clock, scene](const SliceId& slice) {
+    std::shared_ptr<hal::SceneSource> source = std::make_shared<sim::RigScene>(renderer, slice, rig);
+    if (scene == ModelScene::Still) source = std::make_shared<StillScene>(std::move(source));
+    return std::make_shared<hal::ModelCamera>(std::move(source), modelLight, clock, sensor);
+  };
+  sources.kind = "model camera";
+}
+
+// camera = file: each slice's recording, played at its recorded rate, with its own rig.
+void setFileCameras(CameraSources& sources, const DaemonConfig& config, hal::Clock& clock) {
+  auto recordings = std::make_shared<const RecordingsBySlice>(findRecordings(config.recording));
+  const fs::path configured = config.recording;
+  sources.firstSlice = recordings->begin()->first;
+  sources.cameraFor = [recordings, configured, &clock](const SliceId& slice) {
+    hal::FileCameraOptions options;
+    options.paced = true;  // frames at their recorded rate, as a live camera delivers them
+    return std::make_shared<hal::FileCamera>(recordingFor(*recordings, configured, slice).first,
+                                             clock, options);
+  };
+  // A recording carries the camera and target it was taken with.
+  sources.rigFor = [recordings, configured](const SliceId& slice) {
+    const io::Recording& recording = recordingFor(*recordings, configured, slice).second;
+    return Rig{recording.target, recording.camera};
+  };
+  sources.kind = "file camera";
+}
+
 }  // namespace
 
 Rig configuredRig(const DaemonConfig& config) {
@@ -182,49 +236,13 @@ CameraSources makeCameraSources(const DaemonConfig& config, hal::Clock& clock,
       sources.kind = "v4l2";
       break;
     }
-    case DaemonConfig::CameraKind::Model: {
-      // One renderer for every sweep (building it takes about half a second).
-      sim::RigParams rig = config.modelRealistic ? sim::RigParams::realistic() : sim::RigParams::ideal();
-      rig.framesPerSlice = config.modelPositions;
-      rig.sweepSeconds = config.modelSweepSeconds;
-      rig.seed = static_cast<std::uint64_t>(config.modelSeed);
-      auto renderer = std::make_shared<const sim::FrameRenderer>(
-          cameraModel, target, sim::loadMaterial(config.modelMaterial), rig);
-      hal::SensorModel sensor;
-      sensor.seed = static_cast<std::uint64_t>(config.modelSeed);
-      sensor.tone = config.modelToneCurve == "srgb"     ? ToneCurve::srgb()
-                    : config.modelToneCurve == "linear" ? ToneCurve::linear()
-                                                        : ToneCurve::imx708Tuning();
-      // model_raw: the model's sensor offers a RAW stream, taken as camera_raw says.
-      if (!config.modelRaw.empty()) sensor.rawFormat = hal::bayerFormatFromLibcameraName(config.modelRaw);
-      if (scene == ModelScene::Still) sensor.holdSceneUntilStrobe = false;
-      sensor.realTime = modelRealTime;
-      sources.cameraFor = [renderer, rig, sensor, modelLight, &clock, scene](const SliceId& slice) {
-        std::shared_ptr<hal::SceneSource> source = std::make_shared<sim::RigScene>(renderer, slice, rig);
-        if (scene == ModelScene::Still) source = std::make_shared<StillScene>(std::move(source));
-        return std::make_shared<hal::ModelCamera>(std::move(source), modelLight, clock, sensor);
-      };
-      sources.kind = "model camera";
+    case DaemonConfig::CameraKind::Model:
+      setModelCameras(sources, config, clock, modelLight, target, cameraModel, scene,
+                      modelRealTime);
       break;
-    }
-    case DaemonConfig::CameraKind::File: {
-      auto recordings = std::make_shared<const RecordingsBySlice>(findRecordings(config.recording));
-      const fs::path configured = config.recording;
-      sources.firstSlice = recordings->begin()->first;
-      sources.cameraFor = [recordings, configured, &clock](const SliceId& slice) {
-        hal::FileCameraOptions options;
-        options.paced = true;  // frames at their recorded rate, as a live camera delivers them
-        return std::make_shared<hal::FileCamera>(recordingFor(*recordings, configured, slice).first,
-                                                 clock, options);
-      };
-      // A recording carries the camera and target it was taken with.
-      sources.rigFor = [recordings, configured](const SliceId& slice) {
-        const io::Recording& recording = recordingFor(*recordings, configured, slice).second;
-        return Rig{recording.target, recording.camera};
-      };
-      sources.kind = "file camera";
+    case DaemonConfig::CameraKind::File:
+      setFileCameras(sources, config, clock);
       break;
-    }
   }
   if (!sources.rigFor) sources.rigFor = [=](const SliceId&) { return Rig{target, cameraModel}; };
   followDeliveredSize(sources);

@@ -15,7 +15,13 @@
 #include <random>
 #include <stdexcept>
 
+#include "model_exposure.hpp"
+
 namespace slicecap::hal {
+
+using model_exposure::RawCodes;
+using model_exposure::RowExposure;
+using model_exposure::SampleNoise;
 
 bool SensorModel::isValid(std::string* error) const {
   const auto fail = [error](const std::string& why) {
@@ -51,36 +57,11 @@ bool SensorModel::isValid(std::string* error) const {
 
 namespace {
 
-// 2^22 standard normal draws, read from a random offset each frame: per-sample noise for a
-// 1280 x 720 frame costs a load, not a Box-Muller, so the model keeps up with 30 fps.
-constexpr std::size_t kNoiseTableSize = std::size_t(1) << 22;
-const std::vector<float>& normalTable() {
-  static const std::vector<float> table = [] {
-    std::mt19937_64 random(20261202);
-    std::normal_distribution<float> normal;
-    std::vector<float> values(kNoiseTableSize);
-    for (float& v : values) v = normal(random);
-    return values;
-  }();
-  return table;
-}
-
 struct Lock {
   std::uint64_t fromSequence = 0;
   ExposureSetting setting;
   std::uint32_t index = 0;
 };
-
-/// The scene channel (0 R, 1 G, 2 B) a Bayer order puts at (row parity, column parity).
-std::array<std::array<int, 2>, 2> cfaColours(BayerOrder order) {
-  switch (order) {
-    case BayerOrder::Rggb: return {{{0, 1}, {1, 2}}};
-    case BayerOrder::Grbg: return {{{1, 0}, {2, 1}}};
-    case BayerOrder::Gbrg: return {{{1, 2}, {0, 1}}};
-    case BayerOrder::Bggr: return {{{2, 1}, {1, 0}}};
-  }
-  return {{{0, 1}, {1, 2}}};
-}
 
 struct Captured {
   std::uint64_t sequence = 0;
@@ -173,19 +154,87 @@ struct ModelCamera::State {
     timerfd_settime(timerFd, TFD_TIMER_ABSTIME, &spec, nullptr);
   }
 
-  CaptureResult render(const Captured& captured) {
-    const int width = config.widthPx, height = config.heightPx;
-    const double lineUs = model.lineTimeUs, exposureUs = captured.exposureUs;
-    // The scene at the middle row's mid-exposure: the rig moves little within one frame.
-    const std::int64_t middleUs = captured.readoutStartUs +
-                                  static_cast<std::int64_t>(height / 2 * lineUs - exposureUs / 2);
+  // The scene at the middle row's mid-exposure: the rig moves little within one frame.
+  std::shared_ptr<const SceneLight> lightFor(const Captured& captured) const {
+    const std::int64_t middleUs =
+        captured.readoutStartUs +
+        static_cast<std::int64_t>(config.heightPx / 2 * model.lineTimeUs - captured.exposureUs / 2);
     std::int64_t sceneStartUs = startUs;
     if (model.holdSceneUntilStrobe) {
       const std::optional<std::int64_t> strobing = led->firstSwitchAfter(startUs, false);
       sceneStartUs = strobing ? *strobing : std::max(startUs, middleUs);
     }
-    const std::shared_ptr<const SceneLight> light =
-        scene->lightAt(std::max<std::int64_t>(0, middleUs - sceneStartUs));
+    return scene->lightAt(std::max<std::int64_t>(0, middleUs - sceneStartUs));
+  }
+
+  // An empty frame of the configured size, in the encoding the stream delivers.
+  Frame emptyFrame() const {
+    Frame frame;
+    frame.encoding = raw ? PixelEncoding::Linear16 : PixelEncoding::Srgb8;
+    frame.image.width = config.widthPx;
+    frame.image.height = config.heightPx;
+    frame.image.channels = 3;
+    frame.image.bitDepth = 8;
+    if (!raw) frame.image.samples.resize(std::size_t(config.widthPx) * config.heightPx * 3);
+    return frame;
+  }
+
+  // RAW: the sensor's codes, twice the size, offset by the black level.
+  RawCodes rawCodes() const {
+    RawCodes codes;
+    codes.largestCode = raw ? (1 << model.rawFormat->bitDepth) - 1 : 0;
+    codes.blackCode =
+        raw ? float(std::ldexp(model.rawBlackLevel16, model.rawFormat->bitDepth - 16)) : 0.0f;
+    codes.codeRange = float(codes.largestCode) - codes.blackCode;
+    codes.colours = model_exposure::cfaColours(raw ? model.rawFormat->order : BayerOrder::Rggb);
+    return codes;
+  }
+
+  // Every row over its own exposure window (the rolling shutter) against the LED's light, into
+  // `frame`'s samples or, for RAW, `mosaic`; the rows' LED-on fractions into `truth`.
+  void exposeRows(const Captured& captured, const SceneLight& light, FrameTruth& truth,
+                  Frame& frame, std::vector<std::uint16_t>& mosaic) {
+    const double lineUs = model.lineTimeUs, exposureUs = captured.exposureUs;
+    const RawCodes codes = rawCodes();
+    const double exposureS = exposureUs * 1e-6;
+    SampleNoise noise;
+    noise.inverseFullWell =
+        model.fullWellElectrons > 0 ? float(1.0 / model.fullWellElectrons) : 0.0f;
+    noise.readVariance = float(model.readNoise * model.readNoise);
+    const float gains[3] = {float(model.colourGains[0]), float(model.colourGains[1]),
+                            float(model.colourGains[2])};
+    std::uint16_t* out = frame.image.samples.data();
+    noise.normals = model_exposure::normalTable().data();
+    noise.at = std::uniform_int_distribution<std::size_t>(
+        0, model_exposure::kNoiseTableSize - 1)(random);
+    for (int row = 0; row < config.heightPx; ++row) {
+      const double rowStartUs = double(truth.row0StartUs) + row * lineUs;
+      const double onS = led->onTimeUs(rowStartUs, rowStartUs + exposureUs) * 1e-6;
+      truth.rowOnFraction[row] = static_cast<float>(exposureS > 0 ? onS / exposureS : 0.0);
+      RowExposure e{light.ambientRate.data(), light.ledRate.data(),
+                    std::size_t(row) * config.widthPx * 3, float(captured.gain * exposureS),
+                    float(captured.gain * onS)};
+      if (raw)
+        model_exposure::exposeRawRow(row, config.widthPx, e, codes, noise, mosaic);
+      else
+        model_exposure::exposeRgbRow(config.widthPx, e, gains, encodeTable, noise, out);
+    }
+  }
+
+  void fillMetadata(Frame& frame, const Captured& captured, const FrameTruth& truth) const {
+    frame.metadata.sequence = captured.sequence;
+    frame.metadata.timestampUs = captured.readoutStartUs;
+    frame.metadata.exposureUs = model.reportsExposure ? captured.exposureUs : 0.0;
+    frame.metadata.gain = model.reportsExposure ? captured.gain : 1.0;
+    frame.metadata.exposureLocks = captured.locks;
+    frame.metadata.ledOn = false;  // the camera cannot know: whoever drives the LED says
+    if (model.reportsExposure) frame.metadata.exposureStartUs = truth.row0StartUs;
+    if (model.reportsLineTime) frame.metadata.lineTimeUs = model.lineTimeUs;
+  }
+
+  CaptureResult render(const Captured& captured) {
+    const int width = config.widthPx, height = config.heightPx;
+    const std::shared_ptr<const SceneLight> light = lightFor(captured);
     if (!light) {
       ended = true;
       return {CaptureResult::Status::EndOfStream, std::nullopt, ""};
@@ -199,89 +248,18 @@ struct ModelCamera::State {
                   " x " + std::to_string(height)};
     FrameTruth truth;
     truth.sequence = captured.sequence;
-    truth.row0StartUs = captured.readoutStartUs - static_cast<std::int64_t>(std::llround(exposureUs));
-    truth.exposureUs = exposureUs;
+    truth.row0StartUs =
+        captured.readoutStartUs - static_cast<std::int64_t>(std::llround(captured.exposureUs));
+    truth.exposureUs = captured.exposureUs;
     truth.gain = captured.gain;
     truth.rowOnFraction.resize(height);
-    Frame frame;
-    frame.encoding = raw ? PixelEncoding::Linear16 : PixelEncoding::Srgb8;
-    frame.image.width = width;
-    frame.image.height = height;
-    frame.image.channels = 3;
-    frame.image.bitDepth = 8;
-    if (!raw) frame.image.samples.resize(values);
-    // RAW: the sensor's codes, twice the size, offset by the black level.
+    Frame frame = emptyFrame();
     std::vector<std::uint16_t> mosaic(raw ? values / 3 * 4 : 0);
-    const int largestCode = raw ? (1 << model.rawFormat->bitDepth) - 1 : 0;
-    const float blackCode =
-        raw ? float(std::ldexp(model.rawBlackLevel16, model.rawFormat->bitDepth - 16)) : 0.0f;
-    const float codeRange = float(largestCode) - blackCode;
-    const auto colours = cfaColours(raw ? model.rawFormat->order : BayerOrder::Rggb);
-    const double exposureS = exposureUs * 1e-6;
-    // Per value: one shot-plus-read noise draw (the two are independent Gaussians, so one draw
-    // of their summed variance), the ISP's colour gain, then the tone curve by table.
-    const float inverseFullWell = model.fullWellElectrons > 0 ? float(1.0 / model.fullWellElectrons) : 0.0f;
-    const float readVariance = float(model.readNoise * model.readNoise);
-    const float gains[3] = {float(model.colourGains[0]), float(model.colourGains[1]),
-                            float(model.colourGains[2])};
-    const float* ambient = light->ambientRate.data();
-    const float* lit = light->ledRate.data();
-    std::uint16_t* out = frame.image.samples.data();
-    const float* normals = normalTable().data();
-    std::size_t noiseAt = std::uniform_int_distribution<std::size_t>(0, kNoiseTableSize - 1)(random);
-    for (int row = 0; row < height; ++row) {
-      const double rowStartUs = double(truth.row0StartUs) + row * lineUs;
-      const double onS = led->onTimeUs(rowStartUs, rowStartUs + exposureUs) * 1e-6;
-      truth.rowOnFraction[row] = static_cast<float>(exposureS > 0 ? onS / exposureS : 0.0);
-      const float ambientScale = float(captured.gain * exposureS), ledScale = float(captured.gain * onS);
-      const std::size_t base = std::size_t(row) * width * 3;
-      if (raw) {
-        // Mosaic rows 2 row and 2 row + 1 are this scene row's cells (read out together, as a
-        // sensor's 2 x 2 binned mode reads them).
-        for (int dy = 0; dy < 2; ++dy) {
-          std::uint16_t* codes = mosaic.data() + std::size_t(2 * row + dy) * 2 * width;
-          for (int mx = 0; mx < 2 * width; ++mx) {
-            const std::size_t at = base + std::size_t(mx / 2) * 3 + colours[dy][mx & 1];
-            const float signal = ambientScale * ambient[at] + ledScale * lit[at];
-            const float sigma = std::sqrt(std::max(signal, 0.0f) * inverseFullWell + readVariance);
-            const float value = signal + sigma * normals[noiseAt];
-            noiseAt = (noiseAt + 1) & (kNoiseTableSize - 1);
-            const float code = blackCode + value * codeRange;
-            codes[mx] = static_cast<std::uint16_t>(
-                std::min(std::max(code, 0.0f), float(largestCode)) + 0.5f);
-          }
-        }
-        continue;
-      }
-      for (int i = 0; i < width * 3; ++i) {
-        const std::size_t at = base + i;
-        const float signal = ambientScale * ambient[at] + ledScale * lit[at];
-        const float sigma = std::sqrt(std::max(signal, 0.0f) * inverseFullWell + readVariance);
-        const float value = (signal + sigma * normals[noiseAt]) * gains[i % 3];
-        noiseAt = (noiseAt + 1) & (kNoiseTableSize - 1);
-        const float clamped = std::min(std::max(value, 0.0f), 1.0f);
-        out[at] = encodeTable[static_cast<std::size_t>(clamped * 65535.0f + 0.5f)];
-      }
-    }
-    if (raw) {
-      // Through the bytes a sensor sends and the decoder a real camera's frames go through.
-      BayerFrameView view;
-      view.format = *model.rawFormat;
-      view.widthPx = 2 * width;
-      view.heightPx = 2 * height;
-      const std::vector<std::uint8_t> bytes = packBayer(view.format, view.widthPx, view.heightPx, mosaic);
-      view.bytes = bytes;
-      view.strideBytes = minimalBayerStrideBytes(view.format, view.widthPx);
-      frame.image = decodeBayer(view, BayerBlackLevels::uniform(model.rawBlackLevel16));
-    }
-    frame.metadata.sequence = captured.sequence;
-    frame.metadata.timestampUs = captured.readoutStartUs;
-    frame.metadata.exposureUs = model.reportsExposure ? exposureUs : 0.0;
-    frame.metadata.gain = model.reportsExposure ? captured.gain : 1.0;
-    frame.metadata.exposureLocks = captured.locks;
-    frame.metadata.ledOn = false;  // the camera cannot know: whoever drives the LED says
-    if (model.reportsExposure) frame.metadata.exposureStartUs = truth.row0StartUs;
-    if (model.reportsLineTime) frame.metadata.lineTimeUs = lineUs;
+    exposeRows(captured, *light, truth, frame, mosaic);
+    if (raw)
+      frame.image = model_exposure::decodedMosaic(*model.rawFormat, width, height,
+                                                  model.rawBlackLevel16, mosaic);
+    fillMetadata(frame, captured, truth);
     truths[captured.sequence] = std::move(truth);
     while (truths.size() > 256) truths.erase(truths.begin());
     return {CaptureResult::Status::Frame, std::move(frame), ""};

@@ -54,24 +54,29 @@ std::optional<CheckItem> rawStreamItem(const hal::CameraConfig& configured, cons
                    ""};
 }
 
-// Everything after the camera has started; throws what CheckRig throws.
-void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeometry& target,
-               const vision::CameraModel& cameraModel, bool linearFrames,
-               const HardwareCheckOptions& options) {
-  const std::string& id = report.cameraId;
+// The frames' period, jitter and drops, with the LED on; fills the frame items and figures.
+FrameTiming checkFrames(CheckRig& rig, HardwareReport& report, const HardwareCheckOptions& options,
+                        std::vector<SeenFrame>& frames) {
   rig.setLed(true);
-  const std::vector<SeenFrame> frames =
-      rig.collect(std::int64_t(std::llround(options.captureSeconds * 1e6)));
+  frames = rig.collect(std::int64_t(std::llround(options.captureSeconds * 1e6)));
   const FrameTiming timing = measureFrameTiming(frames);
-  report.items.push_back(frameTimingItem(timing, id));
+  report.items.push_back(frameTimingItem(timing, report.cameraId));
   report.figures.framesSeen = timing.frames + timing.dropped;
   report.figures.framesDropped = timing.dropped;
   if (timing.hasTimestamps) {
     report.figures.framePeriodUs = timing.periodUs;
     report.figures.frameJitterUs = timing.jitterUs;
   }
+  return timing;
+}
 
-  // The target, from the newest frames (the first ones may still be settling their exposure).
+// The target, from the newest frames (the first ones may still be settling their exposure), and
+// its white rows; nullopt, with a failed item, when it is not in view.
+std::optional<WhiteRows> checkTarget(const std::vector<SeenFrame>& frames,
+                                     const vision::TargetGeometry& target,
+                                     const vision::CameraModel& cameraModel,
+                                     HardwareReport& report) {
+  const std::string& id = report.cameraId;
   std::optional<vision::Pose> pose;
   for (std::size_t i = frames.size(); i-- > 0 && !pose && frames.size() - i <= 5;)
     pose = locateTarget(frames[i].frame, target, cameraModel);
@@ -84,22 +89,24 @@ void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeomet
          "put the whole printed target under the camera, lit by the LED and in focus; with a "
          "target of your own, set target = its JSON; with a lens other than the nominal one, set "
          "calibration"});
-  } else {
-    report.items.push_back({"target", Verdict::Ok,
-                            "found; its white references cover rows " +
-                                std::to_string(whites->firstRow) + ".." +
-                                std::to_string(whites->lastRow),
-                            ""});
+    return std::nullopt;
   }
-  const WhiteRows* whitesPtr = whites && whites->firstRow >= 0 ? &*whites : nullptr;
+  report.items.push_back({"target", Verdict::Ok,
+                          "found; its white references cover rows " +
+                              std::to_string(whites->firstRow) + ".." +
+                              std::to_string(whites->lastRow),
+                          ""});
+  return whites;
+}
 
-  const ExposureLockResult lock = checkExposureLock(rig, whitesPtr);
-  report.items.push_back(exposureLockItem(lock, id));
-  if (lock.metadataDelayFrames) report.figures.exposureLockDelayFrames = lock.metadataDelayFrames;
-  else if (lock.brightnessDelayFrames) report.figures.exposureLockDelayFrames = lock.brightnessDelayFrames;
-
+// The response curve, unless the frames are linear or it cannot be measured; the codes that
+// decode the frames when it was fitted. Updates `brightExposureUs` to the metered exposure.
+std::optional<capture::CodeTable> checkResponseCurve(
+    CheckRig& rig, HardwareReport& report, const vision::TargetGeometry& target,
+    const vision::CameraModel& cameraModel, bool linearFrames, const WhiteRows* whites,
+    const ExposureLockResult& lock, const HardwareCheckOptions& options, double& brightExposureUs) {
+  const std::string& id = report.cameraId;
   std::optional<capture::CodeTable> codes;
-  double brightExposureUs = lock.toUs > 0 ? lock.toUs * 2.0 : 10000.0;
   if (linearFrames) {
     // RAW decoded here, or a 16-bit linear stream: the sensor's own response, linear to well
     // within what the capture resolves; there is no ISP curve to measure.
@@ -107,7 +114,7 @@ void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeomet
                             "not needed: " + id + " delivers linear frames (" +
                                 std::string(toString(PixelEncoding::Linear16)) + ")",
                             ""});
-  } else if (!whitesPtr) {
+  } else if (!whites) {
     report.items.push_back(skipped("response curve", "the target is not in view"));
   } else if (lock.refused) {
     report.items.push_back(skipped("response curve", "the exposure cannot be locked"));
@@ -123,50 +130,84 @@ void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeomet
     }
     if (response.meteredExposureUs > 0) brightExposureUs = response.meteredExposureUs;
   }
+  return codes;
+}
 
-  if (!whitesPtr) {
+void checkNoise(CheckRig& rig, HardwareReport& report, const WhiteRows* whites,
+                const ExposureLockResult& lock, const capture::CodeTable& codes,
+                double brightExposureUs) {
+  if (!whites) {
     report.items.push_back(skipped("sensor noise", "the target is not in view"));
-  } else if (lock.refused) {
-    report.items.push_back(skipped("sensor noise", "the exposure cannot be locked"));
-  } else {
-    // The white references at about 0.35, 0.09 and 0.02 of full scale: shot noise dominates the
-    // first, read noise the last.
-    const NoiseResult noise = measureSensorNoise(
-        rig, *whitesPtr, codes ? *codes : capture::CodeTable::srgb(),
-        {brightExposureUs, brightExposureUs / 4.0, brightExposureUs / 16.0});
-    report.items.push_back(sensorNoiseItem(noise, id));
-    if (noise.noise) {
-      report.figures.sensorReadNoise = noise.noise->readNoise;
-      report.figures.sensorFullWellElectrons = noise.noise->fullWellElectrons;
-      report.configLines.emplace_back("sensor_read_noise", formatted("%.5f", noise.noise->readNoise));
-      report.configLines.emplace_back("sensor_full_well_electrons",
-                                      formatted("%.0f", noise.noise->fullWellElectrons));
-    }
+    return;
   }
+  if (lock.refused) {
+    report.items.push_back(skipped("sensor noise", "the exposure cannot be locked"));
+    return;
+  }
+  // The white references at about 0.35, 0.09 and 0.02 of full scale: shot noise dominates the
+  // first, read noise the last.
+  const NoiseResult noise = measureSensorNoise(
+      rig, *whites, codes, {brightExposureUs, brightExposureUs / 4.0, brightExposureUs / 16.0});
+  report.items.push_back(sensorNoiseItem(noise, report.cameraId));
+  if (noise.noise) {
+    report.figures.sensorReadNoise = noise.noise->readNoise;
+    report.figures.sensorFullWellElectrons = noise.noise->fullWellElectrons;
+    report.configLines.emplace_back("sensor_read_noise", formatted("%.5f", noise.noise->readNoise));
+    report.configLines.emplace_back("sensor_full_well_electrons",
+                                    formatted("%.0f", noise.noise->fullWellElectrons));
+  }
+}
 
+void checkLedTiming(CheckRig& rig, HardwareReport& report, const FrameTiming& timing,
+                    const WhiteRows* whites, const capture::CodeTable& codes,
+                    double brightExposureUs, const HardwareCheckOptions& options) {
   if (!timing.hasTimestamps) {
     report.items.push_back(skipped("LED timing and readout", "the frames have no timestamps"));
-  } else if (!whitesPtr) {
-    report.items.push_back(skipped("LED timing and readout", "the target is not in view"));
-  } else {
-    const LedTiming led = measureLedTiming(rig, *whitesPtr, codes ? *codes : capture::CodeTable::srgb(),
-                                           timing.periodUs, brightExposureUs, options.led);
-    report.items.push_back(ledTimingItem(led, id));
-    report.figures.lineTimeUs = led.lineTimeUs;
-    report.figures.readoutUs = led.readoutUs;
-    report.figures.ledOffsetUs = led.offsetUs;
-    report.figures.ledOffsetSpreadUs = led.residualUs;
-    if (led.readoutUs) {
-      report.figures.deliveryLatencyUs = timing.timestampToArrivalUs - *led.readoutUs;
-      report.items.push_back(
-          {"delivery latency", Verdict::Ok,
-           formatted("frames arrive %.1f ms after their last row is read out", *report.figures.deliveryLatencyUs / 1000.0) +
-               formatted(" (%.1f frame periods after their first row)", timing.timestampToArrivalUs / timing.periodUs),
-           ""});
-      report.configLines.emplace_back("readout_us", formatted("%.0f", *led.readoutUs));
-      report.configLines.emplace_back("led_guard_us", formatted("%.0f", guardFor(*led.offsetUs, *led.residualUs)));
-    }
+    return;
   }
+  if (!whites) {
+    report.items.push_back(skipped("LED timing and readout", "the target is not in view"));
+    return;
+  }
+  const LedTiming led =
+      measureLedTiming(rig, *whites, codes, timing.periodUs, brightExposureUs, options.led);
+  report.items.push_back(ledTimingItem(led, report.cameraId));
+  report.figures.lineTimeUs = led.lineTimeUs;
+  report.figures.readoutUs = led.readoutUs;
+  report.figures.ledOffsetUs = led.offsetUs;
+  report.figures.ledOffsetSpreadUs = led.residualUs;
+  if (!led.readoutUs) return;
+  report.figures.deliveryLatencyUs = timing.timestampToArrivalUs - *led.readoutUs;
+  report.items.push_back(
+      {"delivery latency", Verdict::Ok,
+       formatted("frames arrive %.1f ms after their last row is read out", *report.figures.deliveryLatencyUs / 1000.0) +
+           formatted(" (%.1f frame periods after their first row)", timing.timestampToArrivalUs / timing.periodUs),
+       ""});
+  report.configLines.emplace_back("readout_us", formatted("%.0f", *led.readoutUs));
+  report.configLines.emplace_back("led_guard_us", formatted("%.0f", guardFor(*led.offsetUs, *led.residualUs)));
+}
+
+// Everything after the camera has started; throws what CheckRig throws.
+void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeometry& target,
+               const vision::CameraModel& cameraModel, bool linearFrames,
+               const HardwareCheckOptions& options) {
+  std::vector<SeenFrame> frames;
+  const FrameTiming timing = checkFrames(rig, report, options, frames);
+  const std::optional<WhiteRows> whites = checkTarget(frames, target, cameraModel, report);
+  const WhiteRows* whitesPtr = whites ? &*whites : nullptr;
+
+  const ExposureLockResult lock = checkExposureLock(rig, whitesPtr);
+  report.items.push_back(exposureLockItem(lock, report.cameraId));
+  if (lock.metadataDelayFrames) report.figures.exposureLockDelayFrames = lock.metadataDelayFrames;
+  else if (lock.brightnessDelayFrames) report.figures.exposureLockDelayFrames = lock.brightnessDelayFrames;
+
+  double brightExposureUs = lock.toUs > 0 ? lock.toUs * 2.0 : 10000.0;
+  const std::optional<capture::CodeTable> codes = checkResponseCurve(
+      rig, report, target, cameraModel, linearFrames, whitesPtr, lock, options, brightExposureUs);
+  checkNoise(rig, report, whitesPtr, lock, codes ? *codes : capture::CodeTable::srgb(),
+             brightExposureUs);
+  checkLedTiming(rig, report, timing, whitesPtr, codes ? *codes : capture::CodeTable::srgb(),
+                 brightExposureUs, options);
 }
 
 }  // namespace

@@ -86,16 +86,9 @@ std::optional<double> halfRow(const std::vector<double>& rows, const Reference& 
   return double(usedRows[first]) + area;
 }
 
-}  // namespace
-
-LedTiming measureLedTiming(CheckRig& rig, const WhiteRows& whites, const capture::CodeTable& codes,
-                           double framePeriodUs, double brightExposureUs,
-                           const LedTimingParams& params) {
-  LedTiming timing;
-  const double exposureUs = params.exposureUs;
-  const double gain = std::clamp(brightExposureUs / exposureUs, 1.0, 16.0);
-  // A camera that cannot lock (a recording) is measured at its own exposure: the references
-  // then still say whether the LED reaches its frames at all.
+// The first frame at the check's exposure. A camera that cannot lock (a recording) is measured at
+// its own exposure: the references then still say whether the LED reaches its frames at all.
+SeenFrame firstFrameAtExposure(CheckRig& rig, double exposureUs, double gain) {
   std::optional<SeenFrame> first;
   if (rig.lock({exposureUs, gain}).locked) {
     for (int n = 0; n < 20 && !first; ++n) {
@@ -109,13 +102,19 @@ LedTiming measureLedTiming(CheckRig& rig, const WhiteRows& whites, const capture
     first = rig.next(std::chrono::milliseconds(1000));
     if (!first) throw std::runtime_error(rig.camera().id() + ": no frame for a second");
   }
-  SeenFrame last = std::move(*first);
-  const double lockedUs = last.frame.metadata.exposureUs;
+  return std::move(*first);
+}
+
+// The LED-on and LED-off rows, averaged over settled frames; leaves the LED off, `last` at the
+// last off frame and counts the responding rows in `timing`.
+Reference measureReferences(CheckRig& rig, const WhiteRows& whites, const capture::CodeTable& codes,
+                            double framePeriodUs, int referenceFrames, SeenFrame& last,
+                            LedTiming& timing) {
   Reference ref;
   rig.setLed(true);
-  ref.on = averageRows(settledFrames(rig, params.referenceFrames, framePeriodUs), whites, codes);
+  ref.on = averageRows(settledFrames(rig, referenceFrames, framePeriodUs), whites, codes);
   rig.setLed(false);
-  const std::vector<SeenFrame> offFrames = settledFrames(rig, params.referenceFrames, framePeriodUs);
+  const std::vector<SeenFrame> offFrames = settledFrames(rig, referenceFrames, framePeriodUs);
   ref.off = averageRows(offFrames, whites, codes);
   last = offFrames.back();
   ref.usable.assign(ref.on.size(), false);
@@ -124,6 +123,137 @@ LedTiming measureLedTiming(CheckRig& rig, const WhiteRows& whites, const capture
       ref.usable[r] = true;
       ++timing.respondingRows;
     }
+  return ref;
+}
+
+// A scrambled order, so that a drift over the run does not look like a slope.
+std::vector<int> scrambledOrder(int count) {
+  std::vector<int> order;
+  int stride = std::max(1, count / 3);
+  while (std::gcd(stride, count) != 1) ++stride;
+  for (int j = 0; j < count; ++j) order.push_back((j * stride) % count);
+  return order;
+}
+
+// Passes of LED switches, once in every other frame, each at its phase after the middle of row
+// 0's exposure, and the transitions they show in the frames.
+class SwitchPasses {
+ public:
+  SwitchPasses(CheckRig& rig, const WhiteRows& whites, const capture::CodeTable& codes,
+               double framePeriodUs, double lockedUs, const Reference& ref, SeenFrame last,
+               LedTiming& timing)
+      : rig_(rig), whites_(whites), codes_(codes), framePeriodUs_(framePeriodUs),
+        lockedUs_(lockedUs), ref_(ref), last_(std::move(last)), timing_(timing) {}
+
+  void run(const std::vector<double>& phasesUs) {
+    std::vector<Planned> planned;
+    std::uint64_t nextAllowed = last_.frame.metadata.sequence + 1;
+    for (const double phaseUs : phasesUs) {
+      const std::uint64_t k = std::max(nextAllowed, last_.frame.metadata.sequence + 1);
+      planned.push_back(switchAt(k, phaseUs));
+      nextAllowed = planned.back().frame + 2;
+    }
+    while (last_.frame.metadata.sequence < planned.back().frame + 3) {
+      std::optional<SeenFrame> seen = rig_.next(std::chrono::milliseconds(1000));
+      if (!seen) throw std::runtime_error(rig_.camera().id() + ": no frame for a second");
+      keep(std::move(*seen));
+    }
+    for (const Planned& p : planned) recordTransition(p);
+  }
+
+ private:
+  struct Planned {
+    std::int64_t atUs;
+    std::uint64_t frame;
+    bool toOn;
+  };
+
+  void keep(SeenFrame&& seen) {
+    last_ = seen;
+    frames_.emplace(seen.frame.metadata.sequence, std::move(seen));
+  }
+
+  double row0StartUs(std::uint64_t sequence) const {
+    return double(*last_.frame.metadata.exposureStartUs) +
+           (double(sequence) - double(last_.frame.metadata.sequence)) * framePeriodUs_;
+  }
+
+  // Switches at `phaseUs` in the first frame from `k` whose moment is still 2 ms ahead.
+  Planned switchAt(std::uint64_t k, double phaseUs) {
+    while (row0StartUs(k) + lockedUs_ / 2 + phaseUs < double(rig_.clock().nowUs()) + 2000.0) ++k;
+    const std::int64_t atUs = std::int64_t(std::llround(row0StartUs(k) + lockedUs_ / 2 + phaseUs));
+    // Take the frames that arrive meanwhile, then wait for the moment itself.
+    while (rig_.clock().nowUs() < atUs) {
+      const auto waitMs = std::chrono::milliseconds((atUs - rig_.clock().nowUs()) / 1000);
+      if (waitMs.count() <= 0) break;
+      if (std::optional<SeenFrame> seen = rig_.next(waitMs)) keep(std::move(*seen));
+    }
+    rig_.clock().sleepUntilUs(atUs);
+    const std::int64_t switchedUs = rig_.setLed(!rig_.ledOn());
+    ++timing_.switchesMade;
+    return {switchedUs, k, rig_.ledOn()};
+  }
+
+  // The frames whose rows could hold the switch (by its recorded time: a busy loop switches
+  // late), from the one whose row 0 starts a period after it to two before; a switch shows in
+  // the frame aimed at unless the timestamps are off by a frame or more.
+  void recordTransition(const Planned& p) {
+    const double lastRow0StartUs = row0StartUs(last_.frame.metadata.sequence);
+    const auto aimed =
+        std::int64_t(std::floor((double(p.atUs) - lockedUs_ / 2 - lastRow0StartUs) / framePeriodUs_ +
+                                double(last_.frame.metadata.sequence)));
+    for (int shift = -1; shift <= 2; ++shift) {
+      const auto found = frames_.find(std::uint64_t(aimed + shift));
+      if (found == frames_.end() || !found->second.frame.metadata.exposureStartUs) continue;
+      const hal::FrameMetadata& m = found->second.frame.metadata;
+      const auto row =
+          halfRow(whites_.rowMeans(found->second.frame, codes_), ref_, p.toOn, whites_);
+      if (!row) continue;
+      timing_.transitions.push_back(
+          {double(p.atUs), *row, double(p.atUs) - double(*m.exposureStartUs) - m.exposureUs / 2.0,
+           shift});
+      break;
+    }
+  }
+
+  CheckRig& rig_;
+  const WhiteRows& whites_;
+  const capture::CodeTable& codes_;
+  const double framePeriodUs_, lockedUs_;
+  const Reference& ref_;
+  SeenFrame last_;
+  std::map<std::uint64_t, SeenFrame> frames_;
+  LedTiming& timing_;
+};
+
+// Second pass's phases: every switch aimed, from the first fit, at a row spread over the whites,
+// which widens the lever arm of the line time and so pins the offset at row 0. Empty when the
+// whites are too narrow for the ramp.
+std::vector<double> aimedPhasesUs(const LedTiming& timing, const WhiteRows& whites, double lockedUs,
+                                  int aimedSwitches) {
+  const double rampRows = lockedUs / *timing.lineTimeUs;
+  const double lo = whites.firstRow + rampRows / 2 + 8, hi = whites.lastRow - rampRows / 2 - 8;
+  std::vector<double> phases;
+  if (!(hi > lo)) return phases;
+  for (int slot : scrambledOrder(aimedSwitches)) {
+    const double row = lo + (hi - lo) * (slot + 0.5) / aimedSwitches;
+    phases.push_back(*timing.lineTimeUs * row - *timing.offsetUs);
+  }
+  return phases;
+}
+
+}  // namespace
+
+LedTiming measureLedTiming(CheckRig& rig, const WhiteRows& whites, const capture::CodeTable& codes,
+                           double framePeriodUs, double brightExposureUs,
+                           const LedTimingParams& params) {
+  LedTiming timing;
+  const double exposureUs = params.exposureUs;
+  const double gain = std::clamp(brightExposureUs / exposureUs, 1.0, 16.0);
+  SeenFrame last = firstFrameAtExposure(rig, exposureUs, gain);
+  const double lockedUs = last.frame.metadata.exposureUs;
+  const Reference ref =
+      measureReferences(rig, whites, codes, framePeriodUs, params.referenceFrames, last, timing);
   if (timing.respondingRows < 16) {
     timing.problem = "the white references did not change when the LED switched (" +
                      std::to_string(timing.respondingRows) + " rows changed by more than 5 %)";
@@ -135,93 +265,17 @@ LedTiming measureLedTiming(CheckRig& rig, const WhiteRows& whites, const capture
                      "exposure time in the metadata)";
     return timing;
   }
-
-  // Switch once in every other frame, each at its phase after the middle of row 0's exposure.
-  struct Planned {
-    std::int64_t atUs;
-    std::uint64_t frame;
-    bool toOn;
-  };
-  std::map<std::uint64_t, SeenFrame> frames;
-  const auto keep = [&](SeenFrame&& seen) {
-    last = seen;
-    frames.emplace(seen.frame.metadata.sequence, std::move(seen));
-  };
-  const auto row0Start = [&](std::uint64_t sequence) {
-    return double(*last.frame.metadata.exposureStartUs) +
-           (double(sequence) - double(last.frame.metadata.sequence)) * framePeriodUs;
-  };
-  const auto runPass = [&](const std::vector<double>& phasesUs) {
-    std::vector<Planned> planned;
-    std::uint64_t nextAllowed = last.frame.metadata.sequence + 1;
-    for (const double phaseUs : phasesUs) {
-      std::uint64_t k = std::max(nextAllowed, last.frame.metadata.sequence + 1);
-      while (row0Start(k) + lockedUs / 2 + phaseUs < double(rig.clock().nowUs()) + 2000.0) ++k;
-      const std::int64_t atUs = std::int64_t(std::llround(row0Start(k) + lockedUs / 2 + phaseUs));
-      // Take the frames that arrive meanwhile, then wait for the moment itself.
-      while (rig.clock().nowUs() < atUs) {
-        const auto waitMs = std::chrono::milliseconds((atUs - rig.clock().nowUs()) / 1000);
-        if (waitMs.count() <= 0) break;
-        if (std::optional<SeenFrame> seen = rig.next(waitMs)) keep(std::move(*seen));
-      }
-      rig.clock().sleepUntilUs(atUs);
-      const std::int64_t switchedUs = rig.setLed(!rig.ledOn());
-      planned.push_back({switchedUs, k, rig.ledOn()});
-      ++timing.switchesMade;
-      nextAllowed = k + 2;
-    }
-    while (last.frame.metadata.sequence < planned.back().frame + 3) {
-      std::optional<SeenFrame> seen = rig.next(std::chrono::milliseconds(1000));
-      if (!seen) throw std::runtime_error(rig.camera().id() + ": no frame for a second");
-      keep(std::move(*seen));
-    }
-    // The frames whose rows could hold the switch (by its recorded time: a busy loop switches
-    // late), from the one whose row 0 starts a period after it to two before; a switch shows in
-    // the frame aimed at unless the timestamps are off by a frame or more.
-    for (const Planned& p : planned) {
-      const auto aimed = std::int64_t(std::floor(
-          (double(p.atUs) - lockedUs / 2 - row0Start(last.frame.metadata.sequence)) / framePeriodUs +
-          double(last.frame.metadata.sequence)));
-      for (int shift = -1; shift <= 2; ++shift) {
-        const auto found = frames.find(std::uint64_t(aimed + shift));
-        if (found == frames.end() || !found->second.frame.metadata.exposureStartUs) continue;
-        const hal::FrameMetadata& m = found->second.frame.metadata;
-        const auto row = halfRow(whites.rowMeans(found->second.frame, codes), ref, p.toOn, whites);
-        if (!row) continue;
-        timing.transitions.push_back(
-            {double(p.atUs), *row, double(p.atUs) - double(*m.exposureStartUs) - m.exposureUs / 2.0,
-             shift});
-        break;
-      }
-    }
-  };
-  // A scrambled order, so that a drift over the run does not look like a slope.
-  const auto scrambled = [](int count) {
-    std::vector<int> order;
-    int stride = std::max(1, count / 3);
-    while (std::gcd(stride, count) != 1) ++stride;
-    for (int j = 0; j < count; ++j) order.push_back((j * stride) % count);
-    return order;
-  };
-
+  SwitchPasses passes(rig, whites, codes, framePeriodUs, lockedUs, ref, std::move(last), timing);
   // First pass: phases over the whole period; only those landing in the white rows are seen.
   std::vector<double> phases;
-  for (int slot : scrambled(params.switches))
+  for (int slot : scrambledOrder(params.switches))
     phases.push_back((slot + 0.5) / params.switches * framePeriodUs);
-  runPass(phases);
+  passes.run(phases);
   fitLedTiming(timing, whites.heightPx);
-  // Second pass: every switch aimed, from the first fit, at a row spread over the whites, which
-  // widens the lever arm of the line time and so pins the offset at row 0.
   if (timing.lineTimeUs && *timing.lineTimeUs > 0 && params.aimedSwitches > 0) {
-    const double rampRows = lockedUs / *timing.lineTimeUs;
-    const double lo = whites.firstRow + rampRows / 2 + 8, hi = whites.lastRow - rampRows / 2 - 8;
-    if (hi > lo) {
-      phases.clear();
-      for (int slot : scrambled(params.aimedSwitches)) {
-        const double row = lo + (hi - lo) * (slot + 0.5) / params.aimedSwitches;
-        phases.push_back(*timing.lineTimeUs * row - *timing.offsetUs);
-      }
-      runPass(phases);
+    phases = aimedPhasesUs(timing, whites, lockedUs, params.aimedSwitches);
+    if (!phases.empty()) {
+      passes.run(phases);
       timing.problem.clear();
     }
   }

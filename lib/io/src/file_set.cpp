@@ -153,6 +153,121 @@ void removeStaging(int directory, const std::string& name, const fs::path& shown
   ::unlinkat(directory, name.c_str(), AT_REMOVEDIR);
 }
 
+// The entries' names: member names, not the manifest's, none twice. std::invalid_argument naming
+// the set and the name otherwise.
+std::set<std::string> checkedNames(const std::string& set, const std::string& manifest,
+                                   const std::vector<FileSetEntry>& entries) {
+  std::set<std::string> names;
+  for (const FileSetEntry& entry : entries)
+    if (!isMemberName(entry.name) || entry.name == manifest || !names.insert(entry.name).second)
+      throw std::invalid_argument("file set " + set + ": bad or repeated name '" + entry.name +
+                                  "'");
+  return names;
+}
+
+// A new, empty staging folder `stagingName` in `directoryFd`, opened: its descriptor. A staging
+// folder an interrupted export left (it may hold the set before that export) goes; whatever
+// stands at its name is replaced, not followed. IoError naming `staging`.
+int createStaging(int directoryFd, const std::string& stagingName, const fs::path& staging) {
+  if (existsIn(directoryFd, stagingName)) removeStaging(directoryFd, stagingName, staging);
+  if (::mkdirat(directoryFd, stagingName.c_str(), 0700) != 0)
+    throw systemError(staging, "cannot create", errno);
+  const int stagingFd =
+      ::openat(directoryFd, stagingName.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (stagingFd < 0) {
+    const IoError error = systemError(staging, "cannot open", errno);
+    ::unlinkat(directoryFd, stagingName.c_str(), AT_REMOVEDIR);
+    throw error;
+  }
+  return stagingFd;
+}
+
+// Writes and syncs every entry under `base` (the staging folder, `staging` in messages): the
+// paths they will have in `folder`. IoError naming the staging folder.
+std::vector<fs::path> writeEntries(const std::vector<FileSetEntry>& entries, const fs::path& base,
+                                   const fs::path& staging, const fs::path& folder) {
+  std::vector<fs::path> placed;
+  for (const FileSetEntry& entry : entries) {
+    // Messages name the staging folder, not the descriptor's path.
+    const auto named = [&](const std::string& what) {
+      std::string message = what;
+      for (std::size_t at = 0; (at = message.find(base.string(), at)) != std::string::npos;
+           at += staging.string().size())
+        message.replace(at, base.string().size(), staging.string());
+      return IoError(message);
+    };
+    try {
+      entry.write(base / entry.name);
+      syncTree(base / entry.name, staging / entry.name);
+    } catch (const IoError& error) {
+      throw named(error.what());
+    } catch (const fs::filesystem_error& error) {
+      throw named(error.what());
+    }
+    placed.push_back(folder / entry.name);
+  }
+  return placed;
+}
+
+// The new manifest under `base`: the entries, then the previous set's members in `keep` that
+// still exist. Returns the previous members that leave the set (stale). Throws what
+// writeFileAtomically throws.
+std::vector<std::string> writeManifest(int directoryFd, const std::string& manifest,
+                                       const std::string& set,
+                                       const std::vector<FileSetEntry>& entries,
+                                       const std::set<std::string>& names,
+                                       const std::vector<std::string>& keep, const fs::path& base) {
+  const std::vector<std::string> previousMembers = readMembers(directoryFd, manifest);
+  json listed = json::array();
+  for (const FileSetEntry& entry : entries)
+    listed.push_back(entry.name);
+  std::vector<std::string> stale;
+  for (const std::string& name : previousMembers) {
+    if (names.count(name) || name == manifest) continue;
+    if (std::find(keep.begin(), keep.end(), name) != keep.end()) {
+      if (existsIn(directoryFd, name)) listed.push_back(name);
+    } else {
+      stale.push_back(name);
+    }
+  }
+  writeFileAtomically(base / manifest,
+                      json{{"format", 1}, {"set", set}, {"files", std::move(listed)}}.dump(1) +
+                          "\n");
+  return stale;
+}
+
+// The staging folder's `.previous`, where what the set replaces goes: its descriptor. IoError
+// naming it.
+int createPrevious(int stagingFd, const fs::path& staging) {
+  const std::string previousName = ".previous";
+  if (::mkdirat(stagingFd, previousName.c_str(), 0700) != 0)
+    throw systemError(staging / previousName, "cannot create", errno);
+  const int previousFd =
+      ::openat(stagingFd, previousName.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (previousFd < 0) throw systemError(staging / previousName, "cannot open", errno);
+  return previousFd;
+}
+
+// The swap itself, rolled back if any rename fails. IoError naming the file.
+void swapIn(const fs::path& folder, int directoryFd, int stagingFd, int previousFd,
+            const std::string& manifest, const std::vector<FileSetEntry>& entries,
+            const std::vector<std::string>& stale) {
+  Swap swap(folder, directoryFd);
+  try {
+    // The old manifest goes first: a crash in the swap leaves no manifest claiming a set.
+    if (existsIn(directoryFd, manifest))
+      swap.move(directoryFd, manifest, previousFd, manifest);
+    for (const FileSetEntry& entry : entries)
+      swap.putInPlace(stagingFd, previousFd, entry.name);
+    for (const std::string& name : stale)
+      if (existsIn(directoryFd, name)) swap.move(directoryFd, name, previousFd, name);
+    swap.move(stagingFd, manifest, directoryFd, manifest);
+  } catch (...) {
+    swap.rollBack();
+    throw;
+  }
+}
+
 }  // namespace
 
 std::string fileSetManifestName(const std::string& set) { return set + "-manifest.json"; }
@@ -168,95 +283,28 @@ std::vector<fs::path> replaceFileSet(const fs::path& folder, const std::string& 
                                      const std::vector<FileSetEntry>& entries,
                                      const std::vector<std::string>& keep) {
   const std::string manifest = fileSetManifestName(set);
-  std::set<std::string> names;
-  for (const FileSetEntry& entry : entries)
-    if (!isMemberName(entry.name) || entry.name == manifest || !names.insert(entry.name).second)
-      throw std::invalid_argument("file set " + set + ": bad or repeated name '" + entry.name +
-                                  "'");
+  const std::set<std::string> names = checkedNames(set, manifest, entries);
   createFoldersDurably(folder);
   const int directoryFd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (directoryFd < 0) throw systemError(folder, "cannot open the folder", errno);
   const Descriptor directory(directoryFd);
 
-  // A staging folder an interrupted export left (it may hold the set before that export) goes;
-  // whatever stands at its name is replaced, not followed.
   const std::string stagingName = "." + set + "-export.partial";
   const fs::path staging = folder / stagingName;
-  if (existsIn(directoryFd, stagingName)) removeStaging(directoryFd, stagingName, staging);
-  if (::mkdirat(directoryFd, stagingName.c_str(), 0700) != 0)
-    throw systemError(staging, "cannot create", errno);
-  const int stagingFd =
-      ::openat(directoryFd, stagingName.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-  if (stagingFd < 0) {
-    const IoError error = systemError(staging, "cannot open", errno);
-    ::unlinkat(directoryFd, stagingName.c_str(), AT_REMOVEDIR);
-    throw error;
-  }
-  const Descriptor stagingDirectory(stagingFd);
+  const Descriptor stagingDirectory(createStaging(directoryFd, stagingName, staging));
+  const int stagingFd = stagingDirectory.get();
   // Written through the descriptor: whoever can rename in `folder` cannot redirect the writes.
   const fs::path viaDescriptor = "/proc/self/fd/" + std::to_string(stagingFd);
   std::error_code procError;
   const fs::path base = fs::is_directory(viaDescriptor, procError) ? viaDescriptor : staging;
   std::vector<fs::path> placed;
-  Swap swap(folder, directoryFd);
   try {
-    for (const FileSetEntry& entry : entries) {
-      // Messages name the staging folder, not the descriptor's path.
-      const auto named = [&](const std::string& what) {
-        std::string message = what;
-        for (std::size_t at = 0; (at = message.find(base.string(), at)) != std::string::npos;
-             at += staging.string().size())
-          message.replace(at, base.string().size(), staging.string());
-        return IoError(message);
-      };
-      try {
-        entry.write(base / entry.name);
-        syncTree(base / entry.name, staging / entry.name);
-      } catch (const IoError& error) {
-        throw named(error.what());
-      } catch (const fs::filesystem_error& error) {
-        throw named(error.what());
-      }
-      placed.push_back(folder / entry.name);
-    }
-    const std::vector<std::string> previousMembers = readMembers(directoryFd, manifest);
-    json listed = json::array();
-    for (const FileSetEntry& entry : entries)
-      listed.push_back(entry.name);
-    std::vector<std::string> stale;
-    for (const std::string& name : previousMembers) {
-      if (names.count(name) || name == manifest) continue;
-      if (std::find(keep.begin(), keep.end(), name) != keep.end()) {
-        if (existsIn(directoryFd, name)) listed.push_back(name);
-      } else {
-        stale.push_back(name);
-      }
-    }
-    writeFileAtomically(base / manifest,
-                        json{{"format", 1}, {"set", set}, {"files", std::move(listed)}}.dump(1) +
-                            "\n");
-    const std::string previousName = ".previous";
-    if (::mkdirat(stagingFd, previousName.c_str(), 0700) != 0)
-      throw systemError(staging / previousName, "cannot create", errno);
-    const int previousFd =
-        ::openat(stagingFd, previousName.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (previousFd < 0) throw systemError(staging / previousName, "cannot open", errno);
-    const Descriptor previous(previousFd);
+    placed = writeEntries(entries, base, staging, folder);
+    const std::vector<std::string> stale =
+        writeManifest(directoryFd, manifest, set, entries, names, keep, base);
+    const Descriptor previous(createPrevious(stagingFd, staging));
     if (::fsync(stagingFd) != 0) throw systemError(staging, "cannot sync", errno);
-
-    try {
-      // The old manifest goes first: a crash in the swap leaves no manifest claiming a set.
-      if (existsIn(directoryFd, manifest))
-        swap.move(directoryFd, manifest, previousFd, manifest);
-      for (const FileSetEntry& entry : entries)
-        swap.putInPlace(stagingFd, previousFd, entry.name);
-      for (const std::string& name : stale)
-        if (existsIn(directoryFd, name)) swap.move(directoryFd, name, previousFd, name);
-      swap.move(stagingFd, manifest, directoryFd, manifest);
-    } catch (...) {
-      swap.rollBack();
-      throw;
-    }
+    swapIn(folder, directoryFd, stagingFd, previous.get(), manifest, entries, stale);
     if (::fsync(directoryFd) != 0) throw systemError(folder, "cannot sync", errno);
   } catch (...) {
     removeStaging(directoryFd, stagingName, staging);

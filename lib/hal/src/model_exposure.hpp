@@ -1,0 +1,73 @@
+// The model camera's exposure of one scene row (private to lib/hal): the noise of its samples,
+// then the ISP's colour gains and tone curve, or the RAW mosaic's codes and their decoding.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "slicecap/hal/bayer_frame.hpp"
+#include "slicecap/hal/frame.hpp"
+
+namespace slicecap::hal::model_exposure {
+
+// 2^22 standard normal draws, read from a random offset each frame: per-sample noise for a
+// 1280 x 720 frame costs a load, not a Box-Muller, so the model keeps up with 30 fps.
+constexpr std::size_t kNoiseTableSize = std::size_t(1) << 22;
+const std::vector<float>& normalTable();
+
+/// The scene channel (0 R, 1 G, 2 B) a Bayer order puts at (row parity, column parity).
+std::array<std::array<int, 2>, 2> cfaColours(BayerOrder order);
+
+// The noise of one frame's samples: per value one shot-plus-read noise draw (the two are
+// independent Gaussians, so one draw of their summed variance), read from the table at a
+// position that runs on from sample to sample.
+struct SampleNoise {
+  float inverseFullWell = 0.0f;
+  float readVariance = 0.0f;
+  const float* normals = nullptr;
+  std::size_t at = 0;
+
+  float added(float signal) {
+    const float sigma = std::sqrt(std::max(signal, 0.0f) * inverseFullWell + readVariance);
+    const float value = signal + sigma * normals[at];
+    at = (at + 1) & (kNoiseTableSize - 1);
+    return value;
+  }
+};
+
+// The RAW stream's codes: offset by the black level, up to the format's largest code.
+struct RawCodes {
+  int largestCode = 0;
+  float blackCode = 0.0f;
+  float codeRange = 0.0f;
+  std::array<std::array<int, 2>, 2> colours{};  // the scene channel of each cell of the mosaic
+};
+
+// One row of the scene as exposed: the light's rates and the row's exposure to each.
+struct RowExposure {
+  const float* ambient = nullptr;
+  const float* lit = nullptr;
+  std::size_t base = 0;  // the row's first value in the scene
+  float ambientScale = 0.0f, ledScale = 0.0f;
+};
+
+// Scene row `row` of a `widthPx` wide frame into `mosaic` (2 widthPx wide), as RAW codes.
+void exposeRawRow(int row, int widthPx, const RowExposure& exposure, const RawCodes& raw,
+                  SampleNoise& noise, std::vector<std::uint16_t>& mosaic);
+
+// The row's values through the ISP's colour gains and the tone curve (`encodeTable`: linear in
+// 1/65535 steps to the 8-bit code) into `out`, at the row's place.
+void exposeRgbRow(int widthPx, const RowExposure& exposure, const float (&gains)[3],
+                  const std::vector<std::uint8_t>& encodeTable, SampleNoise& noise,
+                  std::uint16_t* out);
+
+// The mosaic (2 widthPx x 2 heightPx codes) through the bytes a sensor sends and the decoder a
+// real camera's frames go through. Throws what decodeBayer throws.
+Image decodedMosaic(const BayerFormat& format, int widthPx, int heightPx, double blackLevel16,
+                    const std::vector<std::uint16_t>& mosaic);
+
+}  // namespace slicecap::hal::model_exposure
