@@ -97,9 +97,10 @@ def build_maps_page(maps_dir: StrPath, panel_size: int) -> str:
             "albedo_base64": encoded(albedos, "<f4"),
         },
     }
-    label = f"SVBRDF maps: {name}, on a plane"
     return fill_template({
-        "{{LABELS}}": f'<div class="label" style="left:6px; top:4px">{html.escape(label)}</div>',
+        # No label over the plane (the side panel's title names it): a label would cover texels
+        # the browser check compares.
+        "{{LABELS}}": "",
         "{{SIDE_LEFT}}": str(panel_size),
         "{{TITLE}}": html.escape(f"{name} (SVBRDF maps)"),
         "{{SIDE_DETAILS}}": _side_details(maps),
