@@ -228,3 +228,20 @@ def test_decoding_reads_the_anisotropy_direction(maps_dir):
     """The decoding itself: the tangent turns across the columns as the maps were packed."""
     tangent = decode_parameters(read_maps(maps_dir))["tangent_deg"]
     assert np.all(np.diff(tangent[0]) > 15)
+
+
+def test_maps_larger_than_the_viewer_takes_are_refused(tmp_path, capsys):
+    directory = tmp_path / "big"
+    side = viewer_plane.MAX_RESOLUTION + 1
+    write_maps(directory, [[brushed_tiles(2)[0][0]] * side] * side)
+    output = tmp_path / "view.html"
+    assert viewer.run(["--maps", str(directory), "-o", str(output)]) == 1
+    assert (f"{directory / 'maps.json'}: {side} x {side} texels; the viewer shows maps up to"
+            in capsys.readouterr().err)
+    assert not output.exists()
+
+
+@pytest.mark.parametrize("arguments", [["t.exr", "--maps", "m"], ["--maps", "m", "--material",
+                                                                 "f.json"], []])
+def test_table_and_maps_together_or_neither_is_bad_usage(tmp_path, arguments):
+    assert viewer.run([*arguments, "-o", str(tmp_path / "v.html")]) == 2
