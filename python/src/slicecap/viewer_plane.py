@@ -18,8 +18,8 @@ HALF_WIDTH = 1.0
 # Texels the mask says were not fitted: drawn flat in this sRGB colour, not shaded.
 MARKER_SRGB8 = (255, 0, 255)
 # The page carries one (81, 3) albedo row per texel in a float texture 81 wide and n^2 high;
-# 64 x 64 keeps it within the texture height every WebGL 2 device offers (4096) and the writing
-# time near 3 minutes (about 40 ms of numpy per texel).
+# 64 x 64 keeps it at 4096 rows (common; OpenGL ES 3.0 promises only 2048) and the writing time
+# near 3 minutes (about 45 ms of numpy per distinct texel).
 MAX_RESOLUTION = 64
 
 
