@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from conftest import find_slicecap_cli
 from svbrdf_maps_fixture import brushed_tiles, png_bytes, write_maps
+from test_viewer import parse  # the HTML collector: elements close, scripts by id
 
 from slicecap import viewer, viewer_plane
 from slicecap.image_metrics import delta_e_8bit
@@ -68,6 +69,7 @@ def test_maps_decode_to_the_materials_they_were_packed_from(maps_dir):
 
 def test_page_is_self_contained_and_carries_the_maps_bytes(page, maps_dir):
     text = page.read_text(encoding="utf-8")
+    assert {"slicecap-data", "vertex-shader", "fragment-shader"} <= set(parse(text).scripts)
     for value in re.findall(r'(?:src|href)="([^"]*)"', text):
         assert value.startswith("data:"), value[:60]
     assert not re.search(r"https?://|//cdn|@import", text)
