@@ -191,9 +191,9 @@ def fill_template(replacements: dict[str, str], data: dict) -> str:
     """viewer_page.html with its placeholders, the page data and the script filled in."""
     package = importlib.resources.files("slicecap")
     template = (package / "viewer_page.html").read_text(encoding="utf-8")
-    # "</" inside a script element would end it early.
     replacements = {
         **replacements,
+        # "</" inside a script element would end it early.
         "{{DATA}}": json.dumps(data).replace("</", "<\\/"),
         "{{SCRIPT}}": (package / "viewer_page.js").read_text(encoding="utf-8"),
     }
@@ -206,7 +206,8 @@ def _parse(argv: Sequence[str]) -> argparse.Namespace:
     parser = argparse.ArgumentParser(
         prog=PROG,
         description="Write a self-contained HTML viewer of a measured ABRDF table and its fitted "
-        "material (slicecap fit) on a sphere and a cloth under a light you drag.",
+        "material (slicecap fit) on a sphere and a cloth under a light you drag, or of the "
+        "SVBRDF maps of a texture (slicecap fit BTF_DIR) on a plane.",
     )
     parser.add_argument("table", nargs="?", help="the ABRDF EXR (81 x 81 table)")
     parser.add_argument(
