@@ -217,14 +217,14 @@ def glsl_function(page: str, name: str, uniforms: dict):
 
 
 def shader_uniforms(material: FittedMaterial) -> dict:
-    """The uniforms viewer_page.js sets from the page data."""
+    """The values the shader's useFitUniforms copies from the uniforms viewer_page.js sets."""
     return {
-        "u_diffuse": np.array(material.diffuse_albedo), "u_f0": np.array(material.specular_f0),
-        "u_f90": material.specular_f90, "u_alphaT": material.alpha_tangent,
-        "u_alphaB": material.alpha_bitangent, "u_tangentRad": math.radians(material.tangent_deg),
-        "u_sheen": 1 if material.model == "ggx+sheen" else 0,
-        "u_sheenColour": np.array(material.sheen_colour),
-        "u_sheenRoughness": material.sheen_roughness,
+        "m_diffuse": np.array(material.diffuse_albedo), "m_f0": np.array(material.specular_f0),
+        "m_f90": material.specular_f90, "m_alphaT": material.alpha_tangent,
+        "m_alphaB": material.alpha_bitangent, "m_tangentRad": math.radians(material.tangent_deg),
+        "m_sheen": 1 if material.model == "ggx+sheen" else 0,
+        "m_sheenColour": np.array(material.sheen_colour),
+        "m_sheenRoughness": material.sheen_roughness,
     }
 
 
@@ -250,7 +250,7 @@ def test_shader_brdf_is_the_fit_model(page, material):
 def test_shader_port_would_see_a_wrong_tangent(page):
     """The comparison above can fail: the tangent's sign flipped gives other values."""
     uniforms = shader_uniforms(STEEL)
-    uniforms["u_tangentRad"] = -uniforms["u_tangentRad"]
+    uniforms["m_tangentRad"] = -uniforms["m_tangentRad"]
     shader = glsl_function(page, "fittedBrdf", uniforms)
     lights, views = random_pairs(50, seed=4)
     got = np.array(

@@ -85,6 +85,17 @@ def read_png(path: StrPath) -> np.ndarray:
     """An 8-bit RGB or RGBA, non-interlaced PNG (what browsers' screenshots are) as an (H, W, 3)
     uint8 array (alpha dropped). Raises ValueError naming the file for any other PNG, OSError
     when it cannot be read."""
+    image = read_png_channels(path)
+    if image.shape[2] < 3:
+        raise ValueError(f"{os.fspath(path)}: only 8-bit RGB/RGBA non-interlaced PNGs are read "
+                         "(a grey one)")
+    return image[..., :3]
+
+
+def read_png_channels(path: StrPath) -> np.ndarray:
+    """An 8-bit grey, RGB or RGBA non-interlaced PNG as an (H, W, channels) uint8 array, every
+    channel kept (the SVBRDF maps' mask.png is grey, specular.png's alpha is F90). Raises
+    ValueError naming the file for another or a damaged PNG, OSError when it cannot be read."""
     name = os.fspath(path)
     with open(name, "rb") as file:
         data = file.read()
@@ -107,18 +118,23 @@ def read_png(path: StrPath) -> np.ndarray:
     if header is None:
         raise ValueError(f"{name}: a PNG without a header")
     width, height, depth, colour, _, _, interlace = header
-    channels = {2: 3, 6: 4}.get(colour)
+    channels = {0: 1, 2: 3, 6: 4}.get(colour)
     if depth != 8 or channels is None or interlace != 0:
         raise ValueError(
-            f"{name}: only 8-bit RGB/RGBA non-interlaced PNGs are read (depth {depth}, "
+            f"{name}: only 8-bit grey/RGB/RGBA non-interlaced PNGs are read (depth {depth}, "
             f"colour type {colour}, interlace {interlace})"
         )
-    raw = np.frombuffer(zlib.decompress(b"".join(compressed)), dtype=np.uint8)
     stride = width * channels
+    try:
+        raw = np.frombuffer(zlib.decompress(b"".join(compressed)), dtype=np.uint8)
+    except zlib.error as e:
+        raise ValueError(f"{name}: damaged or truncated PNG data ({e})") from None
+    if raw.size != height * (stride + 1):
+        raise ValueError(f"{name}: truncated PNG ({raw.size} of {height * (stride + 1)} bytes)")
     raw = raw.reshape(height, stride + 1)
     image = np.zeros((height, stride), dtype=np.uint8)
     previous = np.zeros(stride, dtype=np.uint8)
     for y in range(height):
         image[y] = _unfilter(int(raw[y, 0]), raw[y, 1:], previous, channels)
         previous = image[y]
-    return image.reshape(height, width, channels)[..., :3]
+    return image.reshape(height, width, channels)

@@ -1,10 +1,11 @@
-"""slicecap-viewer TABLE.exr [--material MATERIAL.json] -o VIEW.html
-(or python -m slicecap.viewer ...)
+"""slicecap-viewer TABLE.exr [--material MATERIAL.json] -o VIEW.html, or
+slicecap-viewer --maps MAPS_DIR -o VIEW.html (or python -m slicecap.viewer ...)
 
 Writes one self-contained HTML page (docs/material-viewer.md): the fitted material of
 `slicecap fit` and the measured table side by side on a sphere and a cloth-like sheet, drawn by
 WebGL under a point light the viewer drags plus a constant environment, beside the table's
-81 x 81 layout picture. Everything is inline (script, shaders, the table as base64 float32, the
+81 x 81 layout picture; or the SVBRDF maps of `slicecap fit BTF_DIR` on a plane
+(slicecap.viewer_maps_page). Everything is inline (script, shaders, the table as base64 float32, the
 picture as a data: URI): the page needs no network. Exit codes: 0 success, 1 failure (a message
 naming the input), 2 bad usage.
 """
@@ -42,6 +43,10 @@ LAYOUT_SCALE = 4
 _RING_LINE = (72, 72, 72)
 DEFAULT_PANEL_SIZE = 320
 _EXPOSURE_PROBE_SIZE = 96
+_LAYOUT_HTML = """<p>The measured table, 81 x 81 (row = light direction, column = view direction,
+  Bonn order), times cos(theta_light), normalised to its maximum, sRGB:</p>
+  <img id="layout" alt="the 81 x 81 layout of the measured table" src="{{LAYOUT_URI}}">
+  """
 # The usage names what started it: the console script, or python -m (then this module is __main__).
 PROG = "python -m slicecap.viewer" if __name__ == "__main__" else "slicecap-viewer"
 
@@ -174,19 +179,23 @@ def build_page(
     layout_uri = "data:image/png;base64," + base64.b64encode(
         encode_png(layout_picture(table.values))
     ).decode("ascii")
-    package = importlib.resources.files("slicecap")
-    template = (package / "viewer_page.html").read_text(encoding="utf-8")
-    script = (package / "viewer_page.js").read_text(encoding="utf-8")
-    # "</" inside a script element would end it early.
-    data_text = json.dumps(data).replace("</", "<\\/")
-    replacements = {
+    return fill_template({
         "{{LABELS}}": _labels(panel_size, material_name, table_name),
         "{{SIDE_LEFT}}": str(2 * panel_size),
         "{{TITLE}}": html.escape(table_name + (f" / {material_name}" if material_name else "")),
-        "{{LAYOUT_URI}}": layout_uri,
-        "{{MATERIAL_TABLE}}": material_html,
-        "{{DATA}}": data_text,
-        "{{SCRIPT}}": script,
+        "{{SIDE_DETAILS}}": _LAYOUT_HTML.replace("{{LAYOUT_URI}}", layout_uri) + material_html,
+    }, data)
+
+
+def fill_template(replacements: dict[str, str], data: dict) -> str:
+    """viewer_page.html with its placeholders, the page data and the script filled in."""
+    package = importlib.resources.files("slicecap")
+    template = (package / "viewer_page.html").read_text(encoding="utf-8")
+    replacements = {
+        **replacements,
+        # "</" inside a script element would end it early.
+        "{{DATA}}": json.dumps(data).replace("</", "<\\/"),
+        "{{SCRIPT}}": (package / "viewer_page.js").read_text(encoding="utf-8"),
     }
     for key, value in replacements.items():
         template = template.replace(key, value)
@@ -197,9 +206,14 @@ def _parse(argv: Sequence[str]) -> argparse.Namespace:
     parser = argparse.ArgumentParser(
         prog=PROG,
         description="Write a self-contained HTML viewer of a measured ABRDF table and its fitted "
-        "material (slicecap fit) on a sphere and a cloth under a light you drag.",
+        "material (slicecap fit) on a sphere and a cloth under a light you drag, or of the "
+        "SVBRDF maps of a texture (slicecap fit BTF_DIR) on a plane.",
     )
-    parser.add_argument("table", help="the ABRDF EXR (81 x 81 table)")
+    parser.add_argument("table", nargs="?", help="the ABRDF EXR (81 x 81 table)")
+    parser.add_argument(
+        "--maps", metavar="MAPS_DIR",
+        help="instead of a table: the SVBRDF maps `slicecap fit BTF_DIR -o MAPS_DIR` wrote, "
+        "shown on a plane")
     parser.add_argument("--material", help="the fit of the table: slicecap fit's MATERIAL.json")
     parser.add_argument("-o", "--output", required=True, help="the page to write (.html)")
     parser.add_argument(
@@ -214,13 +228,24 @@ def run(argv: Sequence[str]) -> int:
     if not 64 <= args.panel_size <= 1024:
         print("slicecap.viewer: --panel-size must be in 64..1024", file=sys.stderr)
         return 2
+    if (args.table is None) == (args.maps is None):
+        print("slicecap.viewer: give either TABLE.exr or --maps MAPS_DIR", file=sys.stderr)
+        return 2
+    if args.maps is not None and args.material is not None:
+        print("slicecap.viewer: --material is for a table, not --maps", file=sys.stderr)
+        return 2
     for role, path in (("table", args.table), ("material", args.material)):
         if path and same_file(args.output, path):
             print(f"slicecap.viewer: -o {args.output} is the {role}: it would be overwritten",
                   file=sys.stderr)
             return 2
     try:
-        page = build_page(args.table, args.material, args.panel_size)
+        if args.maps is not None:
+            from slicecap.viewer_maps_page import build_maps_page
+
+            page = build_maps_page(args.maps, args.panel_size)
+        else:
+            page = build_page(args.table, args.material, args.panel_size)
 
         def write(target: str) -> None:
             with open(target, "w", encoding="utf-8") as file:

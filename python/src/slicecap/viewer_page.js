@@ -1,6 +1,7 @@
 // The material viewer's page script (python -m slicecap.viewer, docs/material-viewer.md), inlined
 // into the HTML with its data: no network at view time. WebGL 2 draws four panels on one canvas,
 // top row the sphere, bottom row the cloth; left the fitted material, right the measured table.
+// With SVBRDF maps (data.maps) instead: one panel, the maps' texels on a plane.
 // The scene's numbers come from the page data (slicecap.viewer_scene), so that the numpy renderer
 // that checks this page (render.render_sphere_point_light) uses the same ones.
 "use strict";
@@ -8,11 +9,13 @@
   const data = JSON.parse(document.getElementById("slicecap-data").textContent);
   const scene = data.scene;
   const size = data.panel_size;
+  const maps = data.maps;
+  const side = maps ? size : 2 * size;
   const canvas = document.getElementById("view");
-  canvas.width = 2 * size;
-  canvas.height = 2 * size;
-  canvas.style.width = 2 * size + "px";
-  canvas.style.height = 2 * size + "px";
+  canvas.width = side;
+  canvas.height = side;
+  canvas.style.width = side + "px";
+  canvas.style.height = side + "px";
   const state = Object.assign({}, scene.defaults, { exposure: data.exposure });
 
   function fail(message) {
@@ -42,10 +45,8 @@
     history.replaceState(null, "", hash);
   }
 
-  function floatsOf(base64) {
-    const bytes = Uint8Array.from(atob(base64), (c) => c.charCodeAt(0));
-    return new Float32Array(bytes.buffer);
-  }
+  function bytesOf(base64) { return Uint8Array.from(atob(base64), (c) => c.charCodeAt(0)); }
+  function floatsOf(base64) { return new Float32Array(bytesOf(base64).buffer); }
 
   const gl = canvas.getContext("webgl2", { antialias: false, preserveDrawingBuffer: true });
   if (!gl) {
@@ -159,18 +160,42 @@
     gl.bindVertexArray(null);
     return { vao, count: mesh.indices.length };
   }
-  const meshes = { sphere: upload(sphereMesh), cloth: upload(clothMesh) };
+  // The maps' plane (slicecap.viewer_plane): z = 0, normal +z, tangent +x.
+  const half = maps ? maps.half_width : 1;
+  const planeMesh = grid(1, 1, (u, v) => [half * (2 * u - 1), half * (1 - 2 * v), 0, 0, 0, 1, 1, 0, 0]);
+  const meshes = { sphere: upload(sphereMesh), cloth: upload(clothMesh), plane: upload(planeMesh) };
 
-  // The measured table: an 81 x 81 RGB float texture, row = light index, column = view index.
-  const texture = gl.createTexture();
-  gl.bindTexture(gl.TEXTURE_2D, texture);
+  // Textures read with texelFetch only: no filtering, no mipmaps.
   gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-  gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGB32F, 81, 81, 0, gl.RGB, gl.FLOAT,
-    floatsOf(data.table.values_base64));
-  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
-  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
-  gl.uniform1i(uniform("u_table"), 0);
-  const tableAlbedo = floatsOf(data.table.albedo_base64);
+  function texture(unit, name, internal, width, height, format, type, pixels) {
+    gl.activeTexture(gl.TEXTURE0 + unit);
+    gl.bindTexture(gl.TEXTURE_2D, gl.createTexture());
+    gl.texImage2D(gl.TEXTURE_2D, 0, internal, width, height, 0, format, type, pixels);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    gl.uniform1i(uniform(name), unit);
+  }
+  // The measured table: an 81 x 81 RGB float texture, row = light index, column = view index.
+  if (data.table) {
+    texture(0, "u_table", gl.RGB32F, 81, 81, gl.RGB, gl.FLOAT, floatsOf(data.table.values_base64));
+  }
+  const tableAlbedo = data.table ? floatsOf(data.table.albedo_base64) : null;
+  // The maps' bytes as the PNGs hold them (packed by slicecap.viewer), one RGBA8 texture each,
+  // and each texel's directional albedo: one RGB float row of 81 per texel.
+  gl.uniform1i(uniform("u_maps"), maps ? 1 : 0);
+  if (maps) {
+    const n = maps.resolution;
+    const rgba8 = (unit, name, base64) =>
+      texture(unit, name, gl.RGBA8, n, n, gl.RGBA, gl.UNSIGNED_BYTE, bytesOf(base64));
+    rgba8(1, "u_mapBase", maps.base_base64);
+    rgba8(2, "u_mapSpecular", maps.specular_base64);
+    rgba8(3, "u_mapShape", maps.shape_base64);
+    texture(4, "u_texelAlbedo", gl.RGB32F, 81, n * n, gl.RGB, gl.FLOAT, floatsOf(maps.albedo_base64));
+    gl.uniform1i(uniform("u_mapResolution"), n);
+    gl.uniform1f(uniform("u_iorF0"), maps.ior_f0);
+    gl.uniform1f(uniform("u_halfWidth"), maps.half_width);
+    gl.uniform3fv(uniform("u_marker"), maps.marker.map((c) => c / 255));
+  }
   const fit = data.material;
   if (fit) {
     const p = fit.parameters;
@@ -198,16 +223,17 @@
     gl.enable(gl.SCISSOR_TEST);
     gl.enable(gl.DEPTH_TEST);
     gl.disable(gl.CULL_FACE);
-    const panels = [["sphere", 0, 1], ["sphere", 1, 1], ["cloth", 0, 0], ["cloth", 1, 0]];
+    const panels = maps ? [["plane", 0, 0]]
+      : [["sphere", 0, 1], ["sphere", 1, 1], ["cloth", 0, 0], ["cloth", 1, 0]];
     for (const [shape, mode, row] of panels) {
       gl.viewport(mode * size, row * size, size, size);
       gl.scissor(mode * size, row * size, size, size);
       gl.clearColor(0.09, 0.09, 0.09, 1);
       gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
-      if (mode === 0 && !fit) continue;
+      if (mode === 0 && !fit && !maps) continue;
       gl.uniform1i(uniform("u_mode"), mode);
       gl.uniform1i(uniform("u_sphere"), shape === "sphere" ? 1 : 0);
-      gl.uniform3fv(uniform("u_albedo"), mode === 0 ? fitAlbedo : tableAlbedo);
+      if (!maps) gl.uniform3fv(uniform("u_albedo"), mode === 0 ? fitAlbedo : tableAlbedo);
       gl.bindVertexArray(meshes[shape].vao);
       gl.drawElements(gl.TRIANGLES, meshes[shape].count, gl.UNSIGNED_INT, 0);
     }
@@ -262,6 +288,6 @@
 
   readHash();
   render();
-  document.title = "slicecap viewer: " + data.table.name;
+  document.title = "slicecap viewer: " + (maps ? maps.name : data.table.name);
   document.body.dataset.rendered = "yes";
 })();

@@ -1,0 +1,107 @@
+"""The material viewer's page for SVBRDF maps (python -m slicecap.viewer --maps MAPS_DIR,
+docs/material-viewer.md): the maps of `slicecap fit BTF_DIR -o MAPS_DIR` on a plane
+(slicecap.viewer_plane), in the same page, script and shader as the table viewer (viewer_page.*).
+"""
+
+import base64
+import html
+import os
+
+import numpy as np
+
+from slicecap import viewer_plane, viewer_scene
+from slicecap.abrdf_exr import SlicecapFileError
+from slicecap.image_metrics import EXPOSURE_PERCENTILE
+from slicecap.paths import StrPath
+from slicecap.svbrdf_maps import MAP_FILES, SvbrdfMaps, read_maps, texel_materials
+
+_EXPOSURE_PROBE_SIZE = 96
+
+
+def packed_textures(maps: SvbrdfMaps) -> dict[str, np.ndarray]:
+    """The three (n, n, 4) uint8 textures the shader's loadTexel reads: base colour + mask,
+    specular (RGB + F90), anisotropy RGB + roughness (metallic_roughness G)."""
+    images = maps.images
+    return {
+        "base": np.concatenate([images["base_color.png"], images["mask.png"]], axis=-1),
+        "specular": images["specular.png"],
+        "shape": np.concatenate(
+            [images["anisotropy.png"], images["metallic_roughness.png"][..., 1:2]], axis=-1),
+    }
+
+
+def default_exposure(maps: SvbrdfMaps, albedos: np.ndarray) -> float:
+    """1 / the EXPOSURE_PERCENTILE-th percentile of the fitted texels' radiance under the
+    default view (as the table viewer's sphere)."""
+    d = viewer_scene.DEFAULTS
+    image, _, texels = viewer_plane.render_plane_point_light(
+        maps, albedos, _EXPOSURE_PROBE_SIZE, d["light_az"], d["light_el"], d["yaw"], d["pitch"],
+        d["env"])
+    fitted = (texels >= 0) & maps.fitted.reshape(-1)[np.maximum(texels, 0)]
+    if not np.any(fitted):
+        return 1.0
+    level = float(np.percentile(image[fitted], EXPOSURE_PERCENTILE))
+    return 1.0 / level if level > 0.0 else 1.0
+
+
+def _side_details(maps: SvbrdfMaps) -> str:
+    marker = "rgb({}, {}, {})".format(*viewer_plane.MARKER_SRGB8)
+    unfitted = int(np.count_nonzero(~maps.fitted))
+    thumbnails = "".join(
+        f'<img class="map" title="{name}" alt="{name}" src="data:image/png;base64,'
+        f'{base64.b64encode(maps.png_bytes[name]).decode("ascii")}">'
+        for name in MAP_FILES
+    )
+    return (
+        f"<p>The SVBRDF maps ({maps.resolution} x {maps.resolution} texels, IOR {maps.ior:.4g}) "
+        "on a plane, each texel shaded with the fit model (diffuse + anisotropic GGX + Schlick "
+        "f0/f90) decoded from the maps; tangent = the texture's x (right), row 0 at the top.</p>"
+        f'<p><span class="swatch" style="background: {marker}"></span> texel not fitted '
+        f"(mask.png 0): {unfitted} of {maps.resolution ** 2}, drawn flat, not shaded.</p>"
+        f"<p>base_color, metallic_roughness, anisotropy, specular, mask:</p>{thumbnails}"
+    )
+
+
+def build_maps_page(maps_dir: StrPath, panel_size: int) -> str:
+    """The page's HTML text for MAPS_DIR. Raises SlicecapFileError naming the file that is
+    missing, not a PNG, truncated or of the wrong size (svbrdf_maps.read_maps), or maps.json
+    when the maps are larger than viewer_plane.MAX_RESOLUTION."""
+    from slicecap.viewer import fill_template
+
+    maps = read_maps(maps_dir)
+    if maps.resolution > viewer_plane.MAX_RESOLUTION:
+        raise SlicecapFileError(
+            f"{os.path.join(maps.directory, 'maps.json')}: {maps.resolution} x "
+            f"{maps.resolution} texels; the viewer shows maps up to "
+            f"{viewer_plane.MAX_RESOLUTION} x {viewer_plane.MAX_RESOLUTION}")
+    albedos = viewer_plane.texel_albedos(texel_materials(maps))
+    name = os.path.basename(os.path.normpath(maps.directory))
+
+    def encoded(values: np.ndarray, dtype: str) -> str:
+        return base64.b64encode(np.ascontiguousarray(values, dtype=dtype).tobytes()).decode()
+
+    textures = packed_textures(maps)
+    data = {
+        "panel_size": panel_size,
+        "scene": viewer_scene.page_constants(),
+        "exposure": default_exposure(maps, albedos),
+        "table": None,
+        "material": None,
+        "maps": {
+            "name": name,
+            "resolution": maps.resolution,
+            "ior_f0": maps.ior_f0,
+            "half_width": viewer_plane.HALF_WIDTH,
+            "marker": list(viewer_plane.MARKER_SRGB8),
+            **{f"{key}_base64": encoded(value, "u1") for key, value in textures.items()},
+            "albedo_base64": encoded(albedos, "<f4"),
+        },
+    }
+    return fill_template({
+        # No label over the plane (the side panel's title names it): a label would cover texels
+        # the browser check compares.
+        "{{LABELS}}": "",
+        "{{SIDE_LEFT}}": str(panel_size),
+        "{{TITLE}}": html.escape(f"{name} (SVBRDF maps)"),
+        "{{SIDE_DETAILS}}": _side_details(maps),
+    }, data)

@@ -1,0 +1,115 @@
+"""The material viewer's textured plane (docs/material-viewer.md, "SVBRDF maps"): the maps of
+`slicecap fit BTF_DIR -o MAPS_DIR` on a square in the xy plane, shaded per texel with the fit
+model under the viewer's point light and constant environment (slicecap.viewer_scene), and its
+numpy reference rendering, the picture the page's WebGL plane is checked against.
+
+Plane: x, y in [-HALF_WIDTH, HALF_WIDTH], z = 0, normal +z, tangent +x (the texture's azimuth-0
+axis), bitangent +y, as MAPS_DIR/material.gltf's plane: texture row 0 at the top edge (+y),
+column 0 at the left (-x). Seen from below, the normal and bitangent flip (as the cloth's back).
+"""
+
+import numpy as np
+
+from slicecap import viewer_scene
+from slicecap.fitted_material import FittedMaterial
+from slicecap.svbrdf_maps import SvbrdfMaps, texel_materials
+
+HALF_WIDTH = 1.0
+# Texels the mask says were not fitted: drawn flat in this sRGB colour, not shaded.
+MARKER_SRGB8 = (255, 0, 255)
+# The page carries one (81, 3) albedo row per texel in a float texture 81 wide and n^2 high;
+# 64 x 64 keeps it at 4096 rows (common; OpenGL ES 3.0 promises only 2048) and the writing time
+# near 3 minutes (about 45 ms of numpy per distinct texel).
+MAX_RESOLUTION = 64
+
+
+def texel_albedos(materials: list[list[FittedMaterial | None]]) -> np.ndarray:
+    """(n * n, 81, 3): each fitted texel's directional albedo (viewer_scene.directional_albedo,
+    the environment term of the viewer's fitted panels), zero for one not fitted; row-major.
+    Identical texels (8-bit maps repeat) are integrated once."""
+    cache: dict[FittedMaterial, np.ndarray] = {}
+    rows = []
+    for material in (m for row in materials for m in row):
+        if material is None:
+            rows.append(np.zeros((81, 3)))
+            continue
+        if material not in cache:
+            cache[material] = viewer_scene.directional_albedo(material.evaluate)
+        rows.append(cache[material])
+    return np.asarray(rows)
+
+
+def texel_index(x: np.ndarray, y: np.ndarray, resolution: int) -> np.ndarray:
+    """Row-major texel index at plane points (x, y), as the shader's texelOf."""
+    column = np.clip(np.floor((x + HALF_WIDTH) / (2 * HALF_WIDTH) * resolution), 0, resolution - 1)
+    row = np.clip(np.floor((HALF_WIDTH - y) / (2 * HALF_WIDTH) * resolution), 0, resolution - 1)
+    return (row * resolution + column).astype(np.int64)
+
+
+def render_plane_point_light(
+    maps: SvbrdfMaps, albedos: np.ndarray, size: int, light_az_deg: float,
+    light_el_deg: float, yaw_deg: float, pitch_deg: float, env: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The plane under the viewer's light and environment, ray-cast in numpy: (size, size, 3)
+    linear radiance (row 0 at the top), the (size, size) plane mask and the (size, size) texel
+    index (-1 off the plane); a texel not fitted has radiance 0 (display_plane marks it).
+    `albedos` is texel_albedos' array for these maps."""
+    materials = [m for row in texel_materials(maps) for m in row]
+    origin, rays = viewer_scene.camera_rays(size, yaw_deg, pitch_deg)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = -origin[2] / rays[..., 2]
+    point = origin + np.nan_to_num(t, nan=-1.0, posinf=-1.0, neginf=-1.0)[..., None] * rays
+    mask = (t > 0) & (np.abs(point[..., 0]) <= HALF_WIDTH) & (np.abs(point[..., 1]) <= HALF_WIDTH)
+    point = point[mask]
+    side = np.where(origin[2] >= 0.0, 1.0, -1.0)  # the back of the plane: normal flipped
+    light = viewer_scene.LIGHT_DISTANCE * viewer_scene.orbit_direction(light_az_deg, light_el_deg)
+    to_light = light - point
+    distance2 = np.sum(to_light * to_light, axis=-1)
+    to_light /= np.sqrt(distance2)[:, None]
+    frame = np.array([[1.0, 0.0, 0.0], [0.0, side, 0.0], [0.0, 0.0, side]])
+    to_light_local = to_light @ frame.T
+    to_view_local = -rays[mask] @ frame.T
+    to_view_local[:, 2] = np.maximum(to_view_local[:, 2], 1e-4)
+    to_view_local /= np.linalg.norm(to_view_local, axis=-1, keepdims=True)
+    texel = texel_index(point[:, 0], point[:, 1], maps.resolution)
+    radiance = np.zeros((len(point), 3))
+    for index in np.unique(texel):
+        material = materials[index]
+        if material is None:
+            continue
+        here = texel == index
+        radiance[here] = env * viewer_scene.albedo_at(albedos[index], to_view_local[here])
+        lit = here & (to_light_local[:, 2] > 0.0)
+        value = material.evaluate(to_light_local[lit], to_view_local[lit])
+        radiance[lit] += value * (
+            to_light_local[lit, 2] * viewer_scene.LIGHT_INTENSITY / distance2[lit])[:, None]
+    image = np.zeros((size, size, 3))
+    image[mask] = radiance
+    texels = np.full((size, size), -1, dtype=np.int64)
+    texels[mask] = texel
+    return image, mask, texels
+
+
+def display_plane(image: np.ndarray, texels: np.ndarray, maps: SvbrdfMaps,
+                  exposure: float) -> np.ndarray:
+    """The 8-bit sRGB picture the page shows: radiance x exposure, clipped, sRGB; texels not
+    fitted in MARKER_SRGB8; off the plane 0 (the page's background differs: mask it)."""
+    from slicecap.image_metrics import to_8bit
+
+    picture = to_8bit(image, 1.0 / exposure)
+    unfitted = (texels >= 0) & ~maps.fitted.reshape(-1)[np.maximum(texels, 0)]
+    picture[unfitted] = MARKER_SRGB8
+    return picture
+
+
+def interior(texels: np.ndarray) -> np.ndarray:
+    """Plane pixels whose 4 neighbours lie on the same texel: where a rasteriser and the ray
+    caster cannot pick different texels by a rounding (texel edges and the plane's outline
+    are left out of comparisons)."""
+    inner = texels >= 0
+    inner[1:] &= texels[1:] == texels[:-1]
+    inner[:-1] &= texels[:-1] == texels[1:]
+    inner[:, 1:] &= texels[:, 1:] == texels[:, :-1]
+    inner[:, :-1] &= texels[:, :-1] == texels[:, 1:]
+    inner[0, :] = inner[-1, :] = inner[:, 0] = inner[:, -1] = False
+    return inner
