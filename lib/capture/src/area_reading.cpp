@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <utility>
 #include <vector>
 
 namespace slicecap::capture {
@@ -42,6 +44,128 @@ std::vector<Eigen::Vector2d> outlinePx(const vision::Pose& pose, const vision::C
   return outline;
 }
 
+// The outline's vertical extent and its orientation (the sign of twice its area).
+struct OutlineExtent {
+  double minY = 1e30, maxY = -1e30, signedArea = 0.0;
+};
+
+// The outline's extent; nullopt when part of the area is out of the image.
+std::optional<OutlineExtent> extentInImage(const std::vector<Eigen::Vector2d>& outline,
+                                           const Image& im) {
+  OutlineExtent extent;
+  for (std::size_t i = 0; i < outline.size(); ++i) {
+    const Eigen::Vector2d& a = outline[i];
+    const Eigen::Vector2d& b = outline[(i + 1) % outline.size()];
+    if (a.x() < -0.5 || a.y() < -0.5 || a.x() > im.width - 0.5 || a.y() > im.height - 0.5)
+      return std::nullopt;  // part of the area is out of the image
+    extent.minY = std::min(extent.minY, a.y()), extent.maxY = std::max(extent.maxY, a.y());
+    extent.signedArea += a.x() * b.y() - b.x() * a.y();
+  }
+  return extent;
+}
+
+// Each edge as a half-plane n . p >= offset (n its unit inward normal, moved in by the inset).
+struct HalfPlane {
+  Eigen::Vector2d normal;
+  double offset;
+};
+
+std::vector<HalfPlane> insetHalfPlanes(const std::vector<Eigen::Vector2d>& outline,
+                                       double signedArea, double insetPx) {
+  std::vector<HalfPlane> edges;
+  for (std::size_t i = 0; i < outline.size(); ++i) {
+    const Eigen::Vector2d d = outline[(i + 1) % outline.size()] - outline[i];
+    if (d.norm() < 1e-12) continue;
+    Eigen::Vector2d n = signedArea > 0 ? Eigen::Vector2d(-d.y(), d.x()) : Eigen::Vector2d(d.y(), -d.x());
+    n.normalize();
+    edges.push_back({n, n.dot(outline[i]) + insetPx});
+  }
+  return edges;
+}
+
+// The pixel columns x0..x1 of row y inside every half-plane (empty when x1 < x0).
+inline std::pair<int, int> rowRun(const std::vector<HalfPlane>& edges, int y, int widthPx) {
+  // The row's run inside every half-plane: n.x x >= offset - n.y y.
+  double xLo = -0.5, xHi = widthPx - 0.5;
+  for (const HalfPlane& h : edges) {
+    const double rhs = h.offset - h.normal.y() * y;
+    if (std::abs(h.normal.x()) < 1e-12) {
+      if (rhs > 0) xLo = xHi + 1;  // the row lies outside this edge
+    } else if (h.normal.x() > 0) {
+      xLo = std::max(xLo, rhs / h.normal.x());
+    } else {
+      xHi = std::min(xHi, rhs / h.normal.x());
+    }
+  }
+  const int x0 = std::max(0, static_cast<int>(std::ceil(xLo)));
+  const int x1 = std::min(widthPx - 1, static_cast<int>(std::floor(xHi)));
+  return {x0, x1};
+}
+
+// Per channel, the sum of the area's linear pixel values and of their variances (sensor noise
+// and quantisation).
+struct PixelSums {
+  std::array<double, 3> sum{}, variance{};
+  int count = 0;
+};
+
+PixelSums sumAreaPixels(const hal::Frame& frame, const std::vector<HalfPlane>& edges,
+                        const OutlineExtent& extent, const AreaSpec& area, const SensorNoise& noise,
+                        const CodeTable& codes, double gain, AreaReading& reading) {
+  const Image& im = frame.image;
+  const bool srgb = frame.encoding == PixelEncoding::Srgb8;
+  const double fullScale = srgb ? 255.0 : 65535.0;
+  const double clipRaw = area.clipFraction * fullScale;
+  const double step16 = 1.0 / 65535.0;
+  PixelSums sums;
+  const int y0 = std::max(0, static_cast<int>(std::ceil(extent.minY)));
+  const int y1 = std::min(im.height - 1, static_cast<int>(std::floor(extent.maxY)));
+  for (int y = y0; y <= y1; ++y) {
+    const auto [x0, x1] = rowRun(edges, y, im.width);
+    for (int x = x0; x <= x1; ++x) {
+      ++sums.count;
+      for (int c = 0; c < 3; ++c) {
+        const std::uint16_t raw = im.at(x, y, im.channels >= 3 ? c : 0);
+        if (raw >= clipRaw) reading.clipped = true;
+        double v, step;
+        if (srgb) {
+          const int code = std::min<int>(raw, 255);
+          // The linear width of the values the code stands for, half a code either side.
+          v = codes[std::uint16_t(code)];
+          step = (codes[std::uint16_t(std::min(code + 1, 255))] -
+                  codes[std::uint16_t(std::max(code - 1, 0))]) / 2.0;
+        } else {
+          v = raw / 65535.0, step = step16;
+        }
+        sums.sum[c] += v;
+        sums.variance[c] += noise.pixelVariance(v, gain) + step * step / 12.0;
+      }
+    }
+  }
+  return sums;
+}
+
+// The per-unit-exposure mean and the variance of that mean, into `reading`.
+void storeMeanAndVariance(const PixelSums& sums, const hal::Frame& frame, const SensorNoise& noise,
+                          double gain, AreaReading& reading) {
+  const int count = sums.count;
+  const double scale = frame.metadata.exposureUs * frame.metadata.gain;
+  const double perUnit = scale > 0 ? 1.0 / scale : 1.0;
+  for (int c = 0; c < 3; ++c) {
+    const double mean = sums.sum[c] / count;
+    // What noise too small to dither leaves of the quantisation in a mean: a bias that does not
+    // shrink with the pixel count.
+    const double step = quantisationStep(frame.encoding, mean);
+    const double sigma2 = noise.pixelVariance(mean, gain);
+    const double bias =
+        step / std::numbers::pi * std::exp(-2.0 * std::numbers::pi * std::numbers::pi * sigma2 /
+                                           (step * step));
+    reading.mean[c] = mean * perUnit;
+    reading.variance[c] =
+        (sums.variance[c] / (double(count) * count) + bias * bias) * perUnit * perUnit;
+  }
+}
+
 }  // namespace
 
 bool SensorNoise::isValid(std::string* error) const {
@@ -71,91 +195,16 @@ AreaReading readArea(const hal::Frame& frame, const vision::Pose& pose,
                      const vision::CameraModel& camera, const AreaSpec& area,
                      const SensorNoise& noise, const CodeTable& codes) {
   AreaReading reading;
-  const Image& im = frame.image;
   const std::vector<Eigen::Vector2d> outline = outlinePx(pose, camera, area.rectMm);
   if (outline.empty()) return reading;
-  double minY = 1e30, maxY = -1e30, signedArea = 0.0;
-  for (std::size_t i = 0; i < outline.size(); ++i) {
-    const Eigen::Vector2d& a = outline[i];
-    const Eigen::Vector2d& b = outline[(i + 1) % outline.size()];
-    if (a.x() < -0.5 || a.y() < -0.5 || a.x() > im.width - 0.5 || a.y() > im.height - 0.5)
-      return reading;  // part of the area is out of the image
-    minY = std::min(minY, a.y()), maxY = std::max(maxY, a.y());
-    signedArea += a.x() * b.y() - b.x() * a.y();
-  }
-  // Each edge as a half-plane n . p >= offset (n its unit inward normal, moved in by the inset).
-  struct HalfPlane {
-    Eigen::Vector2d normal;
-    double offset;
-  };
-  std::vector<HalfPlane> edges;
-  for (std::size_t i = 0; i < outline.size(); ++i) {
-    const Eigen::Vector2d d = outline[(i + 1) % outline.size()] - outline[i];
-    if (d.norm() < 1e-12) continue;
-    Eigen::Vector2d n = signedArea > 0 ? Eigen::Vector2d(-d.y(), d.x()) : Eigen::Vector2d(d.y(), -d.x());
-    n.normalize();
-    edges.push_back({n, n.dot(outline[i]) + area.insetPx});
-  }
-  const bool srgb = frame.encoding == PixelEncoding::Srgb8;
-  const double fullScale = srgb ? 255.0 : 65535.0;
-  const double clipRaw = area.clipFraction * fullScale;
+  const std::optional<OutlineExtent> extent = extentInImage(outline, frame.image);
+  if (!extent) return reading;
+  const std::vector<HalfPlane> edges = insetHalfPlanes(outline, extent->signedArea, area.insetPx);
   const double gain = frame.metadata.gain > 0 ? frame.metadata.gain : 1.0;
-  const double step16 = 1.0 / 65535.0;
-  std::array<double, 3> sum{}, variance{};
-  int count = 0;
-  const int y0 = std::max(0, static_cast<int>(std::ceil(minY)));
-  const int y1 = std::min(im.height - 1, static_cast<int>(std::floor(maxY)));
-  for (int y = y0; y <= y1; ++y) {
-    // The row's run inside every half-plane: n.x x >= offset - n.y y.
-    double xLo = -0.5, xHi = im.width - 0.5;
-    for (const HalfPlane& h : edges) {
-      const double rhs = h.offset - h.normal.y() * y;
-      if (std::abs(h.normal.x()) < 1e-12) {
-        if (rhs > 0) xLo = xHi + 1;  // the row lies outside this edge
-      } else if (h.normal.x() > 0) {
-        xLo = std::max(xLo, rhs / h.normal.x());
-      } else {
-        xHi = std::min(xHi, rhs / h.normal.x());
-      }
-    }
-    const int x0 = std::max(0, static_cast<int>(std::ceil(xLo)));
-    const int x1 = std::min(im.width - 1, static_cast<int>(std::floor(xHi)));
-    for (int x = x0; x <= x1; ++x) {
-      ++count;
-      for (int c = 0; c < 3; ++c) {
-        const std::uint16_t raw = im.at(x, y, im.channels >= 3 ? c : 0);
-        if (raw >= clipRaw) reading.clipped = true;
-        double v, step;
-        if (srgb) {
-          const int code = std::min<int>(raw, 255);
-          // The linear width of the values the code stands for, half a code either side.
-          v = codes[std::uint16_t(code)];
-          step = (codes[std::uint16_t(std::min(code + 1, 255))] -
-                  codes[std::uint16_t(std::max(code - 1, 0))]) / 2.0;
-        } else {
-          v = raw / 65535.0, step = step16;
-        }
-        sum[c] += v;
-        variance[c] += noise.pixelVariance(v, gain) + step * step / 12.0;
-      }
-    }
-  }
-  if (count == 0) return reading;
-  const double scale = frame.metadata.exposureUs * frame.metadata.gain;
-  const double perUnit = scale > 0 ? 1.0 / scale : 1.0;
-  for (int c = 0; c < 3; ++c) {
-    const double mean = sum[c] / count;
-    // What noise too small to dither leaves of the quantisation in a mean: a bias that does not
-    // shrink with the pixel count.
-    const double step = quantisationStep(frame.encoding, mean);
-    const double sigma2 = noise.pixelVariance(mean, gain);
-    const double bias =
-        step / std::numbers::pi * std::exp(-2.0 * std::numbers::pi * std::numbers::pi * sigma2 /
-                                           (step * step));
-    reading.mean[c] = mean * perUnit;
-    reading.variance[c] = (variance[c] / (double(count) * count) + bias * bias) * perUnit * perUnit;
-  }
-  reading.pixels = count;
+  const PixelSums sums = sumAreaPixels(frame, edges, *extent, area, noise, codes, gain, reading);
+  if (sums.count == 0) return reading;
+  storeMeanAndVariance(sums, frame, noise, gain, reading);
+  reading.pixels = sums.count;
   reading.inside = true;
   return reading;
 }

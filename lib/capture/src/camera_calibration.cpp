@@ -145,9 +145,8 @@ std::array<double, 9> cameraSigma(ceres::Problem& problem, const std::vector<dou
   return sigma;
 }
 
-// Closed form, poses, bundle adjustment over the views `used` (already selected).
-CameraCalibration calibrateViews(const std::vector<const CalibrationView*>& used, int widthPx,
-                                 int heightPx, const CalibrationSettings& settings) {
+// One homography target mm -> pixels per view; throws CalibrationError naming a degenerate view.
+std::vector<Eigen::Matrix3d> viewHomographies(const std::vector<const CalibrationView*>& used) {
   std::vector<Eigen::Matrix3d> homographies;
   for (const CalibrationView* view : used) {
     std::vector<Eigen::Vector2d> from, to;
@@ -159,17 +158,16 @@ CameraCalibration calibrateViews(const std::vector<const CalibrationView*>& used
     if (!h) throw CalibrationError("calibration: " + view->source + ": degenerate marker corners");
     homographies.push_back(*h);
   }
-  const auto initial = closedFormIntrinsics(homographies, widthPx, heightPx);
-  if (!initial)
-    throw CalibrationError(
-        "calibration: the views are degenerate (nearly fronto-parallel, or all turned the same "
-        "way): the focal length is not observable; record the target from several elevations "
-        "and azimuths, tilted 20 deg or more");
+  return homographies;
+}
 
-  vision::CameraModel camera;
-  camera.intrinsics = *initial;
+// Each view's pose under the closed-form camera, as Ceres blocks; sets result.maxTiltDeg. Throws
+// CalibrationError for a view without a pose, or when every view is nearly fronto-parallel.
+std::vector<PoseBlock> initialPoses(const std::vector<const CalibrationView*>& used,
+                                    const vision::CameraModel& camera,
+                                    const CalibrationSettings& settings,
+                                    CameraCalibration& result) {
   std::vector<PoseBlock> poses(used.size());
-  CameraCalibration result;
   for (std::size_t n = 0; n < used.size(); ++n) {
     const auto estimate = estimatePlanarPose(used[n]->points, camera);
     if (!estimate) throw CalibrationError("calibration: " + used[n]->source + ": no pose");
@@ -184,49 +182,82 @@ CameraCalibration calibrateViews(const std::vector<const CalibrationView*>& used
                            std::to_string(result.maxTiltDeg) +
                            " deg): the focal length is not observable; record the target tilted "
                            "20 deg or more, from several directions");
+  return poses;
+}
 
-  // The target covers the middle of the image only: the high-order radial terms are free to
-  // fold the lens outside it. Fix k3 (then k2 too) at zero unless the corners reach out to most
-  // of the image's radius, and take the first ladder step whose camera is valid.
+// The target covers the middle of the image only: the high-order radial terms are free to
+// fold the lens outside it. Fix k3 (then k2 too) at zero unless the corners reach out to most
+// of the image's radius, and take the first ladder step whose camera is valid.
+std::vector<std::vector<int>> distortionLadder(const std::vector<const CalibrationView*>& used,
+                                               const vision::CameraIntrinsics& initial, int widthPx,
+                                               int heightPx) {
   double reach = 0.0;
   for (const CalibrationView* view : used)
     for (const auto& p : view->points)
-      reach = std::max(reach, ((p.imagePx - Eigen::Vector2d(initial->cxPx, initial->cyPx))
-                                   .cwiseQuotient(Eigen::Vector2d(initial->fxPx, initial->fyPx)))
+      reach = std::max(reach, ((p.imagePx - Eigen::Vector2d(initial.cxPx, initial.cyPx))
+                                   .cwiseQuotient(Eigen::Vector2d(initial.fxPx, initial.fyPx)))
                                   .norm());
   const double cornerRadius =
-      Eigen::Vector2d(widthPx / 2.0 / initial->fxPx, heightPx / 2.0 / initial->fyPx).norm();
+      Eigen::Vector2d(widthPx / 2.0 / initial.fxPx, heightPx / 2.0 / initial.fyPx).norm();
   std::vector<std::vector<int>> ladder = {{4}, {1, 4}};
   if (reach >= 0.8 * cornerRadius) ladder.insert(ladder.begin(), std::vector<int>{});
-  const std::vector<PoseBlock> initialPoses = poses;
+  return ladder;
+}
+
+// The parameter blocks Ceres adjusts in place; the problem points into them, so this stays put.
+struct BundleState {
   double k[4], d[5];
+  std::vector<PoseBlock> poses;
   std::unique_ptr<ceres::Problem> problem;
   int residualCount = 0;
+};
+
+// One ladder step: the adjustment from the closed form with the distortion terms `fixed` at zero.
+// Throws CalibrationError when Ceres has no usable solution.
+void adjustBundle(const std::vector<const CalibrationView*>& used,
+                  const vision::CameraIntrinsics& initial, const std::vector<PoseBlock>& startPoses,
+                  const std::vector<int>& fixed, const CalibrationSettings& settings,
+                  BundleState& state) {
+  double* k = state.k;
+  double* d = state.d;
+  k[0] = initial.fxPx, k[1] = initial.fyPx, k[2] = initial.cxPx, k[3] = initial.cyPx;
+  std::fill(d, d + 5, 0.0);
+  state.poses = startPoses;
+  state.problem = std::make_unique<ceres::Problem>();
+  state.residualCount = 0;
+  for (std::size_t n = 0; n < used.size(); ++n)
+    for (const auto& p : used[n]->points) {
+      state.problem->AddResidualBlock(CalibrationCost::Create(p),
+                                      new ceres::HuberLoss(settings.robustLossPx), k, d,
+                                      state.poses[n].rotation, state.poses[n].translation);
+      state.residualCount += 2;
+    }
+  if (!fixed.empty()) state.problem->SetManifold(d, new ceres::SubsetManifold(5, fixed));
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_SCHUR;
+  options.max_num_iterations = 200;
+  options.num_threads = 1;
+  options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, state.problem.get(), &summary);
+  if (!summary.IsSolutionUsable())
+    throw CalibrationError("calibration: the bundle adjustment failed: " + summary.message);
+}
+
+// The first ladder step whose camera is valid, into `camera` and result.fixedDistortion; throws
+// CalibrationError when none is.
+void adjustAlongLadder(const std::vector<const CalibrationView*>& used,
+                       const vision::CameraIntrinsics& initial,
+                       const std::vector<std::vector<int>>& ladder, int widthPx, int heightPx,
+                       const CalibrationSettings& settings, BundleState& state,
+                       vision::CameraModel& camera, CameraCalibration& result) {
+  const std::vector<PoseBlock> startPoses = state.poses;
   std::string problemText;
   for (std::size_t step = 0; step < ladder.size(); ++step) {
     const std::vector<int>& fixed = ladder[step];
-    k[0] = initial->fxPx, k[1] = initial->fyPx, k[2] = initial->cxPx, k[3] = initial->cyPx;
-    std::fill(d, d + 5, 0.0);
-    poses = initialPoses;
-    problem = std::make_unique<ceres::Problem>();
-    residualCount = 0;
-    for (std::size_t n = 0; n < used.size(); ++n)
-      for (const auto& p : used[n]->points) {
-        problem->AddResidualBlock(CalibrationCost::Create(p),
-                                  new ceres::HuberLoss(settings.robustLossPx), k, d,
-                                  poses[n].rotation, poses[n].translation);
-        residualCount += 2;
-      }
-    if (!fixed.empty()) problem->SetManifold(d, new ceres::SubsetManifold(5, fixed));
-    ceres::Solver::Options options;
-    options.linear_solver_type = ceres::DENSE_SCHUR;
-    options.max_num_iterations = 200;
-    options.num_threads = 1;
-    options.logging_type = ceres::SILENT;
-    ceres::Solver::Summary summary;
-    ceres::Solve(options, problem.get(), &summary);
-    if (!summary.IsSolutionUsable())
-      throw CalibrationError("calibration: the bundle adjustment failed: " + summary.message);
+    adjustBundle(used, initial, startPoses, fixed, settings, state);
+    const double* k = state.k;
+    const double* d = state.d;
     camera.intrinsics = {widthPx, heightPx, k[0], k[1], k[2], k[3]};
     camera.distortion = {d[0], d[1], d[2], d[3], d[4]};
     if (camera.isValid(&problemText)) {
@@ -237,7 +268,13 @@ CameraCalibration calibrateViews(const std::vector<const CalibrationView*>& used
       throw CalibrationError("calibration: the solution is not a valid camera (" + problemText +
                              "); record more views, with the target near the image corners too");
   }
+}
 
+// Per-view and total RMS reprojection error of the adjusted camera and poses, with the views'
+// sources and point count; returns the sum of squares.
+double measureReprojection(const std::vector<const CalibrationView*>& used,
+                           const std::vector<PoseBlock>& poses, const vision::CameraModel& camera,
+                           CameraCalibration& result) {
   double sumSquares = 0.0;
   for (std::size_t n = 0; n < used.size(); ++n) {
     vision::Pose pose;
@@ -254,15 +291,39 @@ CameraCalibration calibrateViews(const std::vector<const CalibrationView*>& used
     result.usedSources.push_back(used[n]->source);
     result.pointsUsed += static_cast<int>(used[n]->points.size());
   }
+  return sumSquares;
+}
+
+// Closed form, poses, bundle adjustment over the views `used` (already selected).
+CameraCalibration calibrateViews(const std::vector<const CalibrationView*>& used, int widthPx,
+                                 int heightPx, const CalibrationSettings& settings) {
+  const std::vector<Eigen::Matrix3d> homographies = viewHomographies(used);
+  const auto initial = closedFormIntrinsics(homographies, widthPx, heightPx);
+  if (!initial)
+    throw CalibrationError(
+        "calibration: the views are degenerate (nearly fronto-parallel, or all turned the same "
+        "way): the focal length is not observable; record the target from several elevations "
+        "and azimuths, tilted 20 deg or more");
+
+  vision::CameraModel camera;
+  camera.intrinsics = *initial;
+  CameraCalibration result;
+  BundleState state;
+  state.poses = initialPoses(used, camera, settings, result);
+  const std::vector<std::vector<int>> ladder = distortionLadder(used, *initial, widthPx, heightPx);
+  adjustAlongLadder(used, *initial, ladder, widthPx, heightPx, settings, state, camera, result);
+
+  const double sumSquares = measureReprojection(used, state.poses, camera, result);
   result.camera = camera;
   result.viewsUsed = static_cast<int>(used.size());
   result.rmsReprojectionPx = std::sqrt(sumSquares / result.pointsUsed);
-  std::vector<double*> blocks = {k, d};
-  for (auto& pose : poses) {
+  std::vector<double*> blocks = {state.k, state.d};
+  for (auto& pose : state.poses) {
     blocks.push_back(pose.rotation);
     blocks.push_back(pose.translation);
   }
-  result.sigma = cameraSigma(*problem, blocks, result.fixedDistortion, sumSquares, residualCount);
+  result.sigma =
+      cameraSigma(*state.problem, blocks, result.fixedDistortion, sumSquares, state.residualCount);
   return result;
 }
 

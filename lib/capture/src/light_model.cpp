@@ -85,6 +85,126 @@ double directionSigmaDeg(ceres::Problem& problem, const double* position,
   return radToDeg(std::sqrt(across) / distance);
 }
 
+// Throws std::invalid_argument unless there are 5 or more observations with positive, finite
+// radiance and positive albedo, spread in both directions on the plane.
+void checkObservations(std::span<const ReferenceObservation> observations) {
+  if (observations.size() < 5)
+    throw std::invalid_argument("light fit: needs at least 5 reference observations");
+  double meanX = 0.0, meanY = 0.0;
+  for (const ReferenceObservation& o : observations) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      if (!(o.radiance[c] > 0.0) || !(o.albedo[c] > 0.0) || !std::isfinite(o.radiance[c])) {
+        throw std::invalid_argument(
+            "light fit: reference radiance and albedo must be positive and finite");
+      }
+    }
+    meanX += o.point.x / double(observations.size());
+    meanY += o.point.y / double(observations.size());
+  }
+  // Points on one line cannot fix a position in 3-D: require spread in both directions.
+  double sxx = 0.0, syy = 0.0, sxy = 0.0;
+  for (const ReferenceObservation& o : observations) {
+    sxx += (o.point.x - meanX) * (o.point.x - meanX);
+    syy += (o.point.y - meanY) * (o.point.y - meanY);
+    sxy += (o.point.x - meanX) * (o.point.y - meanY);
+  }
+  if (sxx * syy - sxy * sxy < 1e-6 * (sxx + syy) * (sxx + syy)) {
+    throw std::invalid_argument("light fit: the reference observations lie on one line");
+  }
+}
+
+// With every observation's noise known, each counts by its inverse relative sigma (of the
+// channels' mean for the geometry), scaled to a mean square of 1 so that the prior keeps its
+// meaning; else all alike.
+std::vector<double> observationWeights(std::span<const ReferenceObservation> observations,
+                                       bool weighted) {
+  std::vector<double> weights(observations.size(), 1.0);
+  if (weighted) {
+    double sumSquares = 0.0;
+    for (std::size_t i = 0; i < observations.size(); ++i) {
+      const Rgb& s = observations[i].sigma;
+      const double meanSigma = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) / 3.0;
+      weights[i] = observations[i].radiance.mean() / meanSigma;
+      sumSquares += weights[i] * weights[i];
+    }
+    for (double& w : weights)
+      w *= std::sqrt(double(observations.size()) / sumSquares);
+  }
+  return weights;
+}
+
+// The Ceres fit of the position and the power; fills fit.light.positionMm, directionSigmaDeg,
+// converged and message.
+void solveLightPosition(std::span<const ReferenceObservation> observations,
+                        const std::vector<double>& weights, const LightFitParams& params,
+                        LightFit& fit) {
+  double position[3] = {params.initialPositionMm.x, params.initialPositionMm.y,
+                        params.initialPositionMm.z};
+  // Start the power where the first observation is explained exactly.
+  const ReferenceObservation& first = observations.front();
+  double logIntensity = std::log(first.radiance.mean() * std::numbers::pi / first.albedo.mean() /
+                                 geometry(params.initialPositionMm, first.point));
+  ceres::Problem problem;
+  for (std::size_t i = 0; i < observations.size(); ++i) {
+    problem.AddResidualBlock(ReferenceResidual::Create(observations[i], weights[i]), nullptr,
+                             position, &logIntensity);
+  }
+  if (params.priorWeight > 0.0) {
+    problem.AddResidualBlock(PositionPrior::Create(params.initialPositionMm, params.priorWeight),
+                             nullptr, position);
+  }
+  problem.SetParameterLowerBound(position, 2, 1.0);  // the LED stays above the target
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = params.maxIterations;
+  options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+
+  fit.light.positionMm = {position[0], position[1], position[2]};
+  fit.directionSigmaDeg = directionSigmaDeg(problem, position, summary, observations.size());
+  fit.converged = summary.termination_type == ceres::CONVERGENCE && summary.IsSolutionUsable();
+  fit.message = summary.message;
+}
+
+// Per channel: radiance = albedo_c / pi * I_c * g(x), linear in I_c at the fitted position
+// (least squares weighted by 1 / sigma^2 when the noise is known).
+void fitChannelIntensities(std::span<const ReferenceObservation> observations, bool weighted,
+                           PointLight& light) {
+  const auto inverseVariance = [&](const ReferenceObservation& o, std::size_t c) {
+    return weighted ? 1.0 / (o.sigma[c] * o.sigma[c]) : 1.0;
+  };
+  for (std::size_t c = 0; c < 3; ++c) {
+    double numerator = 0.0, denominator = 0.0;
+    for (const ReferenceObservation& o : observations) {
+      const double a = o.albedo[c] / std::numbers::pi * geometry(light.positionMm, o.point);
+      numerator += inverseVariance(o, c) * a * o.radiance[c];
+      denominator += inverseVariance(o, c) * a * a;
+    }
+    light.intensity[c] = numerator / denominator;
+  }
+}
+
+// Relative residuals r, their relative sigmas s = sigma / measured: plain and weighted RMS.
+void measureResiduals(std::span<const ReferenceObservation> observations, bool weighted,
+                      LightFit& fit) {
+  double squaredRelative = 0.0, weightedSquares = 0.0, weightSum = 0.0;
+  for (const ReferenceObservation& o : observations) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double model = o.albedo[c] / std::numbers::pi * fit.light.irradianceAt(o.point)[c];
+      const double r = model / o.radiance[c] - 1.0;
+      const double w = weighted ? std::pow(o.radiance[c] / o.sigma[c], 2) : 1.0;
+      squaredRelative += r * r;
+      weightedSquares += w * r * r;
+      weightSum += w;
+    }
+  }
+  fit.relativeResidualRms = std::sqrt(squaredRelative / (3.0 * double(observations.size())));
+  fit.weightedResidualRms = std::sqrt(weightedSquares / weightSum);
+  fit.degreesOfFreedom = 3 * static_cast<int>(observations.size()) - 6;
+  fit.noiseResidualRms = weighted ? std::sqrt(fit.degreesOfFreedom / weightSum) : 0.0;
+}
+
 }  // namespace
 
 Rgb PointLight::irradianceAt(const TargetPointMm& point) const {
@@ -115,107 +235,15 @@ LightFit fitPointLight(std::span<const ReferenceObservation> observations,
                        const LightFitParams& params) {
   std::string error;
   if (!params.isValid(&error)) throw std::invalid_argument("light fit: " + error);
-  if (observations.size() < 5)
-    throw std::invalid_argument("light fit: needs at least 5 reference observations");
-  double meanX = 0.0, meanY = 0.0;
-  for (const ReferenceObservation& o : observations) {
-    for (std::size_t c = 0; c < 3; ++c) {
-      if (!(o.radiance[c] > 0.0) || !(o.albedo[c] > 0.0) || !std::isfinite(o.radiance[c])) {
-        throw std::invalid_argument(
-            "light fit: reference radiance and albedo must be positive and finite");
-      }
-    }
-    meanX += o.point.x / double(observations.size());
-    meanY += o.point.y / double(observations.size());
-  }
-  // Points on one line cannot fix a position in 3-D: require spread in both directions.
-  double sxx = 0.0, syy = 0.0, sxy = 0.0;
-  for (const ReferenceObservation& o : observations) {
-    sxx += (o.point.x - meanX) * (o.point.x - meanX);
-    syy += (o.point.y - meanY) * (o.point.y - meanY);
-    sxy += (o.point.x - meanX) * (o.point.y - meanY);
-  }
-  if (sxx * syy - sxy * sxy < 1e-6 * (sxx + syy) * (sxx + syy)) {
-    throw std::invalid_argument("light fit: the reference observations lie on one line");
-  }
-
-  // With every observation's noise known, each counts by its inverse relative sigma (of the
-  // channels' mean for the geometry), scaled to a mean square of 1 so that the prior keeps its
-  // meaning; else all alike.
+  checkObservations(observations);
   const bool weighted = std::all_of(observations.begin(), observations.end(), [](const auto& o) {
     return o.sigma.minChannel() > 0.0 && std::isfinite(o.sigma.maxChannel());
   });
-  std::vector<double> weights(observations.size(), 1.0);
-  if (weighted) {
-    double sumSquares = 0.0;
-    for (std::size_t i = 0; i < observations.size(); ++i) {
-      const Rgb& s = observations[i].sigma;
-      const double meanSigma = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) / 3.0;
-      weights[i] = observations[i].radiance.mean() / meanSigma;
-      sumSquares += weights[i] * weights[i];
-    }
-    for (double& w : weights)
-      w *= std::sqrt(double(observations.size()) / sumSquares);
-  }
-
-  double position[3] = {params.initialPositionMm.x, params.initialPositionMm.y,
-                        params.initialPositionMm.z};
-  // Start the power where the first observation is explained exactly.
-  const ReferenceObservation& first = observations.front();
-  double logIntensity = std::log(first.radiance.mean() * std::numbers::pi / first.albedo.mean() /
-                                 geometry(params.initialPositionMm, first.point));
-  ceres::Problem problem;
-  for (std::size_t i = 0; i < observations.size(); ++i) {
-    problem.AddResidualBlock(ReferenceResidual::Create(observations[i], weights[i]), nullptr,
-                             position, &logIntensity);
-  }
-  if (params.priorWeight > 0.0) {
-    problem.AddResidualBlock(PositionPrior::Create(params.initialPositionMm, params.priorWeight),
-                             nullptr, position);
-  }
-  problem.SetParameterLowerBound(position, 2, 1.0);  // the LED stays above the target
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = params.maxIterations;
-  options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
-
+  const std::vector<double> weights = observationWeights(observations, weighted);
   LightFit fit;
-  fit.light.positionMm = {position[0], position[1], position[2]};
-  fit.directionSigmaDeg = directionSigmaDeg(problem, position, summary, observations.size());
-  fit.converged = summary.termination_type == ceres::CONVERGENCE && summary.IsSolutionUsable();
-  fit.message = summary.message;
-  // Per channel: radiance = albedo_c / pi * I_c * g(x), linear in I_c at the fitted position
-  // (least squares weighted by 1 / sigma^2 when the noise is known).
-  const auto inverseVariance = [&](const ReferenceObservation& o, std::size_t c) {
-    return weighted ? 1.0 / (o.sigma[c] * o.sigma[c]) : 1.0;
-  };
-  for (std::size_t c = 0; c < 3; ++c) {
-    double numerator = 0.0, denominator = 0.0;
-    for (const ReferenceObservation& o : observations) {
-      const double a = o.albedo[c] / std::numbers::pi * geometry(fit.light.positionMm, o.point);
-      numerator += inverseVariance(o, c) * a * o.radiance[c];
-      denominator += inverseVariance(o, c) * a * a;
-    }
-    fit.light.intensity[c] = numerator / denominator;
-  }
-  // Relative residuals r, their relative sigmas s = sigma / measured: plain and weighted RMS.
-  double squaredRelative = 0.0, weightedSquares = 0.0, weightSum = 0.0;
-  for (const ReferenceObservation& o : observations) {
-    for (std::size_t c = 0; c < 3; ++c) {
-      const double model = o.albedo[c] / std::numbers::pi * fit.light.irradianceAt(o.point)[c];
-      const double r = model / o.radiance[c] - 1.0;
-      const double w = weighted ? std::pow(o.radiance[c] / o.sigma[c], 2) : 1.0;
-      squaredRelative += r * r;
-      weightedSquares += w * r * r;
-      weightSum += w;
-    }
-  }
-  fit.relativeResidualRms = std::sqrt(squaredRelative / (3.0 * double(observations.size())));
-  fit.weightedResidualRms = std::sqrt(weightedSquares / weightSum);
-  fit.degreesOfFreedom = 3 * static_cast<int>(observations.size()) - 6;
-  fit.noiseResidualRms = weighted ? std::sqrt(fit.degreesOfFreedom / weightSum) : 0.0;
+  solveLightPosition(observations, weights, params, fit);
+  fitChannelIntensities(observations, weighted, fit.light);
+  measureResiduals(observations, weighted, fit);
   return fit;
 }
 

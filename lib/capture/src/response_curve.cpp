@@ -127,15 +127,10 @@ std::string framesText(const std::vector<hal::Frame>& bracket) {
                                 ".." + std::to_string(bracket.back().metadata.sequence) + ")");
 }
 
-}  // namespace
-
-BracketObservations measureBracket(const std::vector<hal::Frame>& bracket,
-                                   const vision::TargetGeometry& target,
-                                   const vision::CameraModel& camera,
-                                   const ResponseFitParams& params) {
-  std::string why;
-  if (!params.isValid(&why)) throw std::invalid_argument(why);
-  const std::string source = params.cameraName + ", " + framesText(bracket);
+// Throws ResponseFitError when the bracket has too few frames, or a frame is not an 8-bit frame
+// of the camera's size or reports no exposure.
+void checkBracketFrames(const std::vector<hal::Frame>& bracket, const vision::CameraModel& camera,
+                        const ResponseFitParams& params, const std::string& source) {
   if (static_cast<int>(bracket.size()) < params.minExposures)
     throw ResponseFitError(source + ": too few exposures, at least " +
                            std::to_string(params.minExposures) +
@@ -155,6 +150,56 @@ BracketObservations measureBracket(const std::vector<hal::Frame>& bracket,
                              "gain (a camera that does not say them cannot be bracketed: decode "
                              "as sRGB, or use a camera that reports them)");
   }
+}
+
+// A frame too dark for its markers takes the nearest located frame's pose (at least one is).
+std::size_t nearestLocatedFrame(const std::vector<std::optional<vision::Pose>>& poses,
+                                std::size_t f) {
+  std::size_t from = f;
+  for (std::size_t d = 0; !poses[from]; ++d) {
+    if (f >= d && poses[f - d])
+      from = f - d;
+    else if (f + d < poses.size() && poses[f + d])
+      from = f + d;
+  }
+  return from;
+}
+
+// One observation per reference area and channel of `frame` seen from `pose`, with its histogram.
+void observeFrameAreas(const hal::Frame& frame, const vision::Pose& pose,
+                       const vision::CameraModel& camera, const std::vector<Area>& areas,
+                       const ResponseFitParams& params, BracketObservations& measured) {
+  const double exposure = frame.metadata.exposureUs * frame.metadata.gain;
+  const int channels = frame.image.channels >= 3 ? 3 : 1;
+  for (std::size_t a = 0; a < areas.size(); ++a) {
+    const auto codes = measureArea(frame, pose, camera, areas[a]);
+    if (!codes || codes->pixels < params.minPixels) continue;
+    for (int c = 0; c < channels; ++c) {
+      ResponseObservation o;
+      o.area = static_cast<int>(a) * 3 + c;
+      o.code = codes->mean[c];
+      o.exposure = exposure;
+      o.albedo = channels == 3 ? areas[a].albedo[c] : areas[a].albedo.mean();
+      // A clamp at 0 or 255 biases the mean: such an area is left out, as a clipped one.
+      const bool clamped = codes->atZero[c] > 0.01 || codes->atFull[c] > 0.01;
+      if (clamped) o.code = codes->atFull[c] > 0.01 ? 255.0 : 0.0;
+      o.weight = clamped ? 1.0 : o.code / codes->standardError[c];
+      measured.observations.push_back(o);
+      measured.histograms.push_back(codes->histogram[c]);
+    }
+  }
+}
+
+}  // namespace
+
+BracketObservations measureBracket(const std::vector<hal::Frame>& bracket,
+                                   const vision::TargetGeometry& target,
+                                   const vision::CameraModel& camera,
+                                   const ResponseFitParams& params) {
+  std::string why;
+  if (!params.isValid(&why)) throw std::invalid_argument(why);
+  const std::string source = params.cameraName + ", " + framesText(bracket);
+  checkBracketFrames(bracket, camera, params, source);
   const std::vector<Area> areas = referenceAreas(target, params);
   MarkerDetector detector(params.detector);
   std::vector<std::optional<vision::Pose>> poses;
@@ -167,35 +212,9 @@ BracketObservations measureBracket(const std::vector<hal::Frame>& bracket,
     throw ResponseFitError(source + ": the target was not found in any frame (at least " +
                            std::to_string(params.minMarkers) +
                            " markers and a pose): put the whole target in view, the LED on");
-  std::vector<ResponseObservation>& observations = measured.observations;
-  for (std::size_t f = 0; f < bracket.size(); ++f) {
-    // A frame too dark for its markers takes the nearest located frame's pose.
-    std::size_t from = f;
-    for (std::size_t d = 0; !poses[from]; ++d) {
-      if (f >= d && poses[f - d]) from = f - d;
-      else if (f + d < poses.size() && poses[f + d]) from = f + d;
-    }
-    const hal::Frame& frame = bracket[f];
-    const double exposure = frame.metadata.exposureUs * frame.metadata.gain;
-    const int channels = frame.image.channels >= 3 ? 3 : 1;
-    for (std::size_t a = 0; a < areas.size(); ++a) {
-      const auto codes = measureArea(frame, *poses[from], camera, areas[a]);
-      if (!codes || codes->pixels < params.minPixels) continue;
-      for (int c = 0; c < channels; ++c) {
-        ResponseObservation o;
-        o.area = static_cast<int>(a) * 3 + c;
-        o.code = codes->mean[c];
-        o.exposure = exposure;
-        o.albedo = channels == 3 ? areas[a].albedo[c] : areas[a].albedo.mean();
-        // A clamp at 0 or 255 biases the mean: such an area is left out, as a clipped one.
-        const bool clamped = codes->atZero[c] > 0.01 || codes->atFull[c] > 0.01;
-        if (clamped) o.code = codes->atFull[c] > 0.01 ? 255.0 : 0.0;
-        o.weight = clamped ? 1.0 : o.code / codes->standardError[c];
-        observations.push_back(o);
-        measured.histograms.push_back(codes->histogram[c]);
-      }
-    }
-  }
+  for (std::size_t f = 0; f < bracket.size(); ++f)
+    observeFrameAreas(bracket[f], *poses[nearestLocatedFrame(poses, f)], camera, areas, params,
+                      measured);
   return measured;
 }
 

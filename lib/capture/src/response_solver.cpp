@@ -87,13 +87,11 @@ int distinctExposures(const std::vector<const ResponseObservation*>& used) {
   return count;
 }
 
-}  // namespace
-
-ResponseFit fitResponseCurve(const std::vector<ResponseObservation>& observations,
-                             const ResponseFitParams& params, const std::string& source) {
-  std::string why;
-  if (!params.isValid(&why)) throw std::invalid_argument(why);
-  ResponseFit fit;
+// The observations the fit can use: positive weight, exposure and albedo, and a code between the
+// dark and clip codes; the clipped or dark ones are counted in fit.observationsLeftOut.
+std::vector<const ResponseObservation*> usableObservations(
+    const std::vector<ResponseObservation>& observations, const ResponseFitParams& params,
+    ResponseFit& fit) {
   std::vector<const ResponseObservation*> used;
   for (const ResponseObservation& o : observations) {
     if (!(o.weight > 0.0) || !(o.exposure > 0.0) || !(o.albedo > 0.0)) continue;
@@ -103,6 +101,14 @@ ResponseFit fitResponseCurve(const std::vector<ResponseObservation>& observation
     }
     used.push_back(&o);
   }
+  return used;
+}
+
+// Throws ResponseFitError unless the usable observations span enough exposures and codes; fills
+// fit.exposures, fit.lowestCode and fit.highestCode.
+void checkBracketCoverage(const std::vector<const ResponseObservation*>& used,
+                          const ResponseFitParams& params, const std::string& source,
+                          ResponseFit& fit) {
   if (used.empty())
     throw ResponseFitError(source + ": every reference area is clipped (code >= " +
                            std::to_string(int(params.clipCode)) + ") or black (code <= " +
@@ -121,11 +127,28 @@ ResponseFit fitResponseCurve(const std::vector<ResponseObservation>& observation
     lowest = std::min(lowest, o->code), highest = std::max(highest, o->code);
   fit.lowestCode = lowest;
   fit.highestCode = highest;
-  // The unknown curve: ln(linear) at knots over the codes the observations span, linear in
-  // ln(code) between (code 0 has no logarithm: the first knot is at 1 or above).
-  const int first = std::max(1, static_cast<int>(std::floor(lowest)));
-  const int last = std::max(first + 1, static_cast<int>(std::ceil(highest)));
-  if (last - first < 16)
+}
+
+// The unknown curve: ln(linear) at knots over the codes the observations span, linear in
+// ln(code) between (code 0 has no logarithm: the first knot is at 1 or above).
+struct KnotGrid {
+  std::vector<int> codes;
+  int first = 0, last = 0;
+
+  int count() const { return static_cast<int>(codes.size()); }
+  double u(int knot) const { return std::log(double(codes[knot])); }
+  int segment(double code) const {
+    const auto upper = std::upper_bound(codes.begin(), codes.end(), code);
+    return std::clamp(static_cast<int>(upper - codes.begin()) - 1, 0, count() - 2);
+  }
+};
+
+// Throws ResponseFitError when the codes span fewer than 16.
+KnotGrid placeKnots(double lowest, double highest, const std::string& source) {
+  KnotGrid grid;
+  grid.first = std::max(1, static_cast<int>(std::floor(lowest)));
+  grid.last = std::max(grid.first + 1, static_cast<int>(std::ceil(highest)));
+  if (grid.last - grid.first < 16)
     throw ResponseFitError(source + ": the references cover codes " + std::to_string(lowest) +
                            ".." + std::to_string(highest) +
                            " only; the bracket must spread them over most of 0..255 (widen "
@@ -133,29 +156,37 @@ ResponseFit fitResponseCurve(const std::vector<ResponseObservation>& observation
   // Knots about 10 % apart in code (every code near black, where the curve bends most in
   // ln-ln terms), at most 8 codes apart: enough observations between two knots to average their
   // noise (about 1 % each on a Pi-like sensor), close enough for an ISP table's kinks.
-  std::vector<int> knotCodes{first};
-  while (knotCodes.back() < last)
+  std::vector<int>& knotCodes = grid.codes;
+  knotCodes.push_back(grid.first);
+  while (knotCodes.back() < grid.last)
     knotCodes.push_back(std::min(
-        last, knotCodes.back() + std::clamp(static_cast<int>(std::lround(knotCodes.back() * 0.1)),
-                                            1, 8)));
-  const int knots = static_cast<int>(knotCodes.size());
-  const auto segment = [&](double code) {
-    const auto upper = std::upper_bound(knotCodes.begin(), knotCodes.end(), code);
-    return std::clamp(static_cast<int>(upper - knotCodes.begin()) - 1, 0, knots - 2);
-  };
+        grid.last, knotCodes.back() +
+                       std::clamp(static_cast<int>(std::lround(knotCodes.back() * 0.1)), 1, 8)));
+  return grid;
+}
+
+// One unknown per reference area after the knots: ln of its linear value.
+std::map<int, int> areaColumns(const std::vector<const ResponseObservation*>& used, int knots) {
   std::map<int, int> areaColumn;
   for (const ResponseObservation* o : used)
     areaColumn.emplace(o->area, knots + static_cast<int>(areaColumn.size()));
+  return areaColumn;
+}
+
+// The weighted least-squares solution: ln(linear) at each knot, then ln of each area's value.
+Eigen::VectorXd solveLogResponse(const std::vector<const ResponseObservation*>& used,
+                                 const KnotGrid& grid, const std::map<int, int>& areaColumn,
+                                 const ResponseFitParams& params) {
+  const int knots = grid.count();
   const int unknowns = knots + static_cast<int>(areaColumn.size());
   const int rows = static_cast<int>(used.size()) + std::max(0, knots - 2) + 1;
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(rows, unknowns);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(rows);
-  const auto u = [&](int knot) { return std::log(double(knotCodes[knot])); };
   int row = 0;
   double largestWeight = 0.0;
   for (const ResponseObservation* o : used) {
-    const int k = segment(o->code);
-    const double t = (std::log(o->code) - u(k)) / (u(k + 1) - u(k));
+    const int k = grid.segment(o->code);
+    const double t = (std::log(o->code) - grid.u(k)) / (grid.u(k + 1) - grid.u(k));
     a(row, k) = o->weight * (1.0 - t);
     a(row, k + 1) = o->weight * t;
     a(row, areaColumn.at(o->area)) = -o->weight;
@@ -166,7 +197,7 @@ ResponseFit fitResponseCurve(const std::vector<ResponseObservation>& observation
   // Curvature of ln(linear) over ln(code), integrated: zero for a power law, so the penalty
   // bridges codes no observation has with the local gamma.
   for (int k = 1; k + 1 < knots; ++k) {
-    const double h0 = u(k) - u(k - 1), h1 = u(k + 1) - u(k), span = h0 + h1;
+    const double h0 = grid.u(k) - grid.u(k - 1), h1 = grid.u(k + 1) - grid.u(k), span = h0 + h1;
     const double scale = std::sqrt(params.smoothness * span / 2.0) * 2.0 / span;
     a(row, k - 1) = scale / h0;
     a(row, k) = -scale * (1.0 / h0 + 1.0 / h1);
@@ -175,18 +206,27 @@ ResponseFit fitResponseCurve(const std::vector<ResponseObservation>& observation
   }
   // The global scale: ln(linear) = 0 at the highest knot (renormalised below).
   a(row, knots - 1) = 1e3 * std::max(largestWeight, 1.0);
-  const Eigen::VectorXd x = a.householderQr().solve(b);
+  return a.householderQr().solve(b);
+}
+
+// RMS of the unweighted ln residuals of the used observations under the solution x.
+double rmsLogResidual(const std::vector<const ResponseObservation*>& used, const KnotGrid& grid,
+                      const std::map<int, int>& areaColumn, const Eigen::VectorXd& x) {
   double sumSquares = 0.0;
   for (const ResponseObservation* o : used) {
-    const int k = segment(o->code);
-    const double t = (std::log(o->code) - u(k)) / (u(k + 1) - u(k));
+    const int k = grid.segment(o->code);
+    const double t = (std::log(o->code) - grid.u(k)) / (grid.u(k + 1) - grid.u(k));
     const double residual = (1.0 - t) * x(k) + t * x(k + 1) - x(areaColumn.at(o->area)) -
                             std::log(o->exposure * o->albedo);
     sumSquares += residual * residual;
   }
-  fit.observationsUsed = static_cast<int>(used.size());
-  fit.rmsLogResidual = std::sqrt(sumSquares / double(used.size()));
-  for (int k = 1; k < knots; ++k)
+  return std::sqrt(sumSquares / double(used.size()));
+}
+
+// Throws ResponseFitError at the first knot interval where the fitted curve does not rise.
+void checkMonotone(const KnotGrid& grid, const Eigen::VectorXd& x, const std::string& source) {
+  const std::vector<int>& knotCodes = grid.codes;
+  for (int k = 1; k < grid.count(); ++k)
     if (!(x(k) > x(k - 1)))
       throw ResponseFitError(
           source + ": the fitted response falls between codes " + std::to_string(knotCodes[k - 1]) +
@@ -194,21 +234,46 @@ ResponseFit fitResponseCurve(const std::vector<ResponseObservation>& observation
           " (not monotone): the frames disagree with their reported exposures. Keep the LED on "
           "and the room light steady through the bracket, and check that the camera reports each "
           "frame's own exposure and gain");
+}
+
+// The "measured" tone curve: the fitted knots scaled to linear 1 at code 255.
+ToneCurve tabulateCurve(const KnotGrid& grid, const Eigen::VectorXd& x) {
+  const int knots = grid.count();
+  const std::vector<int>& knotCodes = grid.codes;
   // Linear 1 where the slope of the last knot interval, carried on, reaches code 255.
   std::vector<double> linear(knots);
   for (int k = 0; k < knots; ++k) linear[k] = std::exp(x(k));
   const double slope =
       (linear[knots - 1] - linear[knots - 2]) / (knotCodes[knots - 1] - knotCodes[knots - 2]);
-  const double atFullScale = linear[knots - 1] + slope * (255.0 - last);
+  const double atFullScale = linear[knots - 1] + slope * (255.0 - grid.last);
   // Between knots the curve is linear in ln-ln terms: tabulated at every code.
   std::vector<std::pair<double, double>> points{{0.0, 0.0}};
-  for (int code = std::max(first, 1); code <= std::min(last, 254); ++code) {
-    const int k = segment(code);
-    const double t = (std::log(double(code)) - u(k)) / (u(k + 1) - u(k));
+  for (int code = std::max(grid.first, 1); code <= std::min(grid.last, 254); ++code) {
+    const int k = grid.segment(code);
+    const double t = (std::log(double(code)) - grid.u(k)) / (grid.u(k + 1) - grid.u(k));
     points.emplace_back(std::exp((1.0 - t) * x(k) + t * x(k + 1)) / atFullScale, code / 255.0);
   }
   points.emplace_back(1.0, 1.0);
-  fit.curve = ToneCurve("measured", std::move(points));
+  return ToneCurve("measured", std::move(points));
+}
+
+}  // namespace
+
+ResponseFit fitResponseCurve(const std::vector<ResponseObservation>& observations,
+                             const ResponseFitParams& params, const std::string& source) {
+  std::string why;
+  if (!params.isValid(&why)) throw std::invalid_argument(why);
+  ResponseFit fit;
+  const std::vector<const ResponseObservation*> used =
+      usableObservations(observations, params, fit);
+  checkBracketCoverage(used, params, source, fit);
+  const KnotGrid grid = placeKnots(fit.lowestCode, fit.highestCode, source);
+  const std::map<int, int> areaColumn = areaColumns(used, grid.count());
+  const Eigen::VectorXd x = solveLogResponse(used, grid, areaColumn, params);
+  fit.observationsUsed = static_cast<int>(used.size());
+  fit.rmsLogResidual = rmsLogResidual(used, grid, areaColumn, x);
+  checkMonotone(grid, x, source);
+  fit.curve = tabulateCurve(grid, x);
   return fit;
 }
 

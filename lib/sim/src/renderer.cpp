@@ -12,6 +12,7 @@
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/sim/patterned_material.hpp"
 #include "slicecap/vision/target_surface.hpp"
+#include "window_grid.hpp"
 
 namespace slicecap::sim {
 namespace {
@@ -120,6 +121,19 @@ bool insideConvexQuad(const Occluder& q, double x, double y) {
     negative |= cross < 0;
   }
   return !(positive && negative);
+}
+
+// The target raster's values (albedo r, g, b, window) at texel coordinates (tx, ty), bilinear
+// between its four nearest texels.
+inline void sampleTexel(const float* texels, int texWidth, float tx, float ty, float* texel) {
+  const int ix = static_cast<int>(tx), iy = static_cast<int>(ty);
+  const float fx = tx - ix, fy = ty - iy;
+  const float w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy, w11 = fx * fy;
+  const float* t00 = &texels[kTexelFloats * (std::size_t(iy) * texWidth + ix)];
+  const float* t01 = t00 + kTexelFloats * texWidth;
+  for (int c = 0; c < kTexelFloats; ++c)
+    texel[c] =
+        w00 * t00[c] + w10 * t00[c + kTexelFloats] + w01 * t01[c] + w11 * t01[c + kTexelFloats];
 }
 
 }  // namespace
@@ -262,6 +276,8 @@ void FrameRenderer::accumulateRow(const PoseState& state, const FrameScene& scen
   const float ledPart = lz > 0.0f ? ledFactor * lz : 0.0f;
   mapRowToPlane(h, ray, width, lx, ly, lz, ambient, ledPart, lambertScale, planeX.data(),
                 planeY.data(), lambertOf.data());
+  const WindowGrid window{
+      state.grid.data(), nodes, state.nodeStepX, state.nodeStepY, winX0, winY0, maxNode, pattern_};
   // Pass 2: the target's raster, the desk, the window's radiance.
   for (int px = 0; px < width; ++px, out += 3) {
     const float lambert = lambertOf[px];
@@ -276,40 +292,11 @@ void FrameRenderer::accumulateRow(const PoseState& state, const FrameScene& scen
       out[0] += v, out[1] += v, out[2] += v;
       continue;
     }
-    const int ix = static_cast<int>(tx), iy = static_cast<int>(ty);
-    const float fx = tx - ix, fy = ty - iy;
-    const float w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy, w11 = fx * fy;
-    const float* t00 = &texels_[kTexelFloats * (std::size_t(iy) * texWidth_ + ix)];
-    const float* t01 = t00 + kTexelFloats * texWidth_;
     float texel[kTexelFloats];
-    for (int c = 0; c < kTexelFloats; ++c)
-      texel[c] =
-          w00 * t00[c] + w10 * t00[c + kTexelFloats] + w01 * t01[c] + w11 * t01[c + kTexelFloats];
+    sampleTexel(texels_.data(), texWidth_, tx, ty, texel);
     for (int c = 0; c < 3; ++c)
       out[c] += lambert * texel[c];
-    if (texel[3] > 0.0f) {
-      const float gx = std::clamp((x - winX0) / state.nodeStepX, 0.0f, maxNode);
-      const float gy = std::clamp((y - winY0) / state.nodeStepY, 0.0f, maxNode);
-      const int gi = static_cast<int>(gx), gj = static_cast<int>(gy);
-      const float ex = gx - gi, ey = gy - gj;
-      const float* g00 = &state.grid[3 * (std::size_t(gj) * nodes + gi)];
-      const float* g01 = g00 + 3 * nodes;
-      // A patterned material: the pixel's mix of the two components' radiance.
-      const std::size_t second = std::size_t(nodes) * nodes * 3;
-      const float first = pattern_ ? static_cast<float>(pattern_->firstWeightAt(x, y)) : 1.0f;
-      for (int c = 0; c < 3; ++c) {
-        float radiance = (1 - ey) * ((1 - ex) * g00[c] + ex * g00[c + 3]) +
-                         ey * ((1 - ex) * g01[c] + ex * g01[c + 3]);
-        if (pattern_) {
-          const float* k00 = g00 + second;
-          const float* k01 = g01 + second;
-          radiance =
-              first * radiance + (1 - first) * ((1 - ey) * ((1 - ex) * k00[c] + ex * k00[c + 3]) +
-                                                ey * ((1 - ex) * k01[c] + ex * k01[c + 3]));
-        }
-        out[c] += texel[3] * radiance;
-      }
-    }
+    if (texel[3] > 0.0f) addWindowRadiance(window, x, y, texel[3], out);
   }
 }
 
