@@ -1,3 +1,4 @@
+// Whole numbers read from JSON, range-checked, without nlohmann's silent conversions.
 #include "slicecap/io/json_numbers.hpp"
 
 #include <utility>
