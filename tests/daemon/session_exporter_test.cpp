@@ -14,6 +14,7 @@
 #include <iterator>
 #include <map>
 
+#include "../support/manager_reply.hpp"
 #include "../support/small_disk.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/daemon/session_manager.hpp"
@@ -125,14 +126,7 @@ std::map<std::string, std::string> snapshot(const fs::path& folder) {
   return files;
 }
 
-json ok(SessionManager& manager, const Command& command) {
-  auto reply = manager.handle(command);
-  if (auto* error = std::get_if<ProtocolError>(&reply)) {
-    ADD_FAILURE() << commandName(command) << " refused: " << error->message;
-    return {};
-  }
-  return std::get<json>(reply);
-}
+using test::ok;
 
 void sweep(SessionManager& manager, double value, std::uint64_t firstFrame) {
   ok(manager, SweepStart{kAxial3030});

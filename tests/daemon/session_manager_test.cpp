@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "../support/file_size_limit.hpp"
+#include "../support/manager_reply.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -49,14 +50,7 @@ Abrdf meanOfSlices(const SliceSet& slices, const std::string& method) {
   return table;
 }
 
-json ok(SessionManager& manager, const Command& command) {
-  auto reply = manager.handle(command);
-  if (auto* error = std::get_if<ProtocolError>(&reply)) {
-    ADD_FAILURE() << commandName(command) << " refused: " << error->message;
-    return {};
-  }
-  return std::get<json>(reply);
-}
+using test::ok;
 
 ProtocolError refused(SessionManager& manager, const Command& command) {
   auto reply = manager.handle(command);
