@@ -18,6 +18,7 @@ from svbrdf_maps_fixture import brushed_tiles, png_bytes, write_maps
 from test_viewer import parse  # the HTML collector: elements close, scripts by id
 
 from slicecap import viewer, viewer_plane
+from slicecap.albedo_table import AlbedoTable
 from slicecap.image_metrics import delta_e_8bit
 from slicecap.png import read_png
 from slicecap.svbrdf_maps import decode_parameters, read_maps, texel_materials
@@ -46,6 +47,14 @@ def page(maps_dir):
 def page_data(text: str) -> dict:
     return json.loads(re.search(r'<script id="slicecap-data"[^>]*>(.*?)</script>', text,
                                 re.S).group(1))
+
+
+def page_albedo_table(data: dict) -> AlbedoTable:
+    """The albedo table the page carries, as the shader reads it."""
+    table = data["maps"]["albedo_table"]
+    values = np.frombuffer(base64.b64decode(table["base64"]), "<f4").reshape(
+        table["height"], table["width"], 2)
+    return AlbedoTable(values, table["diffuse_weight"])
 
 
 def test_maps_decode_to_the_materials_they_were_packed_from(maps_dir):
@@ -156,9 +165,7 @@ def compare_with_chromium(page, maps_dir, tmp_path, view) -> tuple[float, dict[s
     maps = read_maps(maps_dir)
     data = page_data(page.read_text(encoding="utf-8"))
     exposure = data["exposure"]
-    n = maps.resolution
-    albedos = np.frombuffer(base64.b64decode(data["maps"]["albedo_base64"]), "<f4").reshape(
-        n * n, 81, 3)
+    albedos = page_albedo_table(data)
     shot = _chromium_screenshot(page, tmp_path, view, exposure)
     image, _, texels = viewer_plane.render_plane_point_light(maps, albedos, PANEL, *view, 0.15)
     reference = viewer_plane.display_plane(image, texels, maps, exposure)
