@@ -81,10 +81,15 @@ def main() -> None:
                   f"{page.stat().st_size / 1024:.0f} KiB |")
         print("\n| maps | texels | abs error mean / max | relative error mean / max |\n"
               "| --- | --- | --- | --- |")
-        for name, materials in (("brushed tiles", brushed_tiles(8)), ("mixed", mixed_texels(8))):
-            directory = root / name.replace(" ", "-")
+        mixed = mixed_texels(8)
+        for name, materials, rows in (("brushed tiles (alpha_b 0.08)", brushed_tiles(8), 8),
+                                      ("mixed, alpha_b 0.01-0.07", mixed, 3),
+                                      ("mixed, alpha_b 0.14-0.70", mixed, -5)):
+            directory = root / name.split(" ")[0].strip(",")
             write_maps(directory, materials)
             looked_up, exact = table_error(directory)
+            keep = slice(0, rows * 8) if rows > 0 else slice(rows * 8, None)
+            looked_up, exact = looked_up[keep], exact[keep]
             error = np.abs(looked_up - exact)
             relative = error / np.maximum(exact, 1e-6)
             print(f"| {name} | {len(exact)} fitted x 81 directions | {error.mean():.2e} / "

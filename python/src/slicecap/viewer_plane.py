@@ -19,8 +19,9 @@ HALF_WIDTH = 1.0
 MARKER_SRGB8 = (255, 0, 255)
 # The page carries the maps as n x n textures and one albedo table (slicecap.albedo_table) of
 # 84 x 153 texels, far below OpenGL ES 3.0's promised 2048 a side; writing takes seconds, not
-# minutes. The largest size measured working (docs/results/2026-12-02-material-viewer.md).
-MAX_RESOLUTION = 256
+# minutes. 128 = slicecap fit's default, the largest checked in Chromium
+# (docs/results/2026-12-02-material-viewer.md); larger sizes were not measured.
+MAX_RESOLUTION = 128
 
 
 def environment_albedo(maps: SvbrdfMaps, table: AlbedoTable, texel: np.ndarray,
