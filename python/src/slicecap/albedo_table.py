@@ -39,10 +39,10 @@ class AlbedoTable:
     diffuse_weight: float
 
 
-def _alphas(roughness: np.ndarray, strength: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _alphas(roughness: float, strength: float) -> tuple[float, float]:
     """(alpha_t, alpha_b) as svbrdf_maps.decode_parameters and the shader's loadTexel."""
-    alpha_b = np.maximum(roughness * roughness, MIN_ALPHA)
-    return np.maximum(alpha_b + (1.0 - alpha_b) * strength * strength, MIN_ALPHA), alpha_b
+    alpha_b = max(roughness * roughness, MIN_ALPHA)
+    return max(alpha_b + (1.0 - alpha_b) * strength * strength, MIN_ALPHA), alpha_b
 
 
 def _quadrature() -> tuple[np.ndarray, np.ndarray]:
@@ -94,8 +94,8 @@ def build_table() -> AlbedoTable:
     rows = []
     for roughness in np.linspace(0.0, 1.0, ROUGHNESS_NODES):
         for strength in np.linspace(0.0, 1.0, STRENGTH_NODES):
-            alpha_t, alpha_b = _alphas(np.float64(roughness), np.float64(strength))
-            rows.append(lobe_integrals(float(alpha_t), float(alpha_b), views))
+            alpha_t, alpha_b = _alphas(float(roughness), float(strength))
+            rows.append(lobe_integrals(alpha_t, alpha_b, views))
     _, weights = _quadrature()
     return AlbedoTable(np.asarray(rows, dtype=np.float32),
                        float(weights.sum()) / math.pi)
@@ -125,7 +125,7 @@ def lookup(table: AlbedoTable, roughness: np.ndarray, strength: np.ndarray, tang
         bits = [(corner >> k) & 1 for k in range(4)]
         weight = np.ones(len(to_view))
         at = []
-        for (index, upper), bit in zip(axes, bits):
+        for (index, upper), bit in zip(axes, bits, strict=True):
             weight = weight * (upper if bit else 1.0 - upper)
             at.append(index + bit)
         row = at[0] * STRENGTH_NODES + at[1]

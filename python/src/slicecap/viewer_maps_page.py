@@ -10,8 +10,8 @@ import os
 import numpy as np
 
 from slicecap import albedo_table, viewer_plane, viewer_scene
-from slicecap.albedo_table import AlbedoTable
 from slicecap.abrdf_exr import SlicecapFileError
+from slicecap.albedo_table import AlbedoTable
 from slicecap.image_metrics import EXPOSURE_PERCENTILE
 from slicecap.paths import StrPath
 from slicecap.svbrdf_maps import MAP_FILES, SvbrdfMaps, read_maps
