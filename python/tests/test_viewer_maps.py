@@ -17,7 +17,10 @@ from conftest import find_slicecap_cli
 from svbrdf_maps_fixture import brushed_tiles, png_bytes, write_maps
 from test_viewer import parse  # the HTML collector: elements close, scripts by id
 
-from slicecap import viewer, viewer_plane
+from slicecap import albedo_table, viewer, viewer_plane, viewer_scene
+from slicecap.albedo_table import AlbedoTable
+from slicecap.fitted_material import FittedMaterial
+from slicecap.grid import GRID_DIRECTIONS_DEG, to_unit_vectors
 from slicecap.image_metrics import delta_e_8bit
 from slicecap.png import read_png
 from slicecap.svbrdf_maps import decode_parameters, read_maps, texel_materials
@@ -46,6 +49,14 @@ def page(maps_dir):
 def page_data(text: str) -> dict:
     return json.loads(re.search(r'<script id="slicecap-data"[^>]*>(.*?)</script>', text,
                                 re.S).group(1))
+
+
+def page_albedo_table(data: dict) -> AlbedoTable:
+    """The albedo table the page carries, as the shader reads it."""
+    table = data["maps"]["albedo_table"]
+    values = np.frombuffer(base64.b64decode(table["base64"]), "<f4").reshape(
+        table["height"], table["width"], 2)
+    return AlbedoTable(values, table["diffuse_weight"])
 
 
 def test_maps_decode_to_the_materials_they_were_packed_from(maps_dir):
@@ -156,9 +167,7 @@ def compare_with_chromium(page, maps_dir, tmp_path, view) -> tuple[float, dict[s
     maps = read_maps(maps_dir)
     data = page_data(page.read_text(encoding="utf-8"))
     exposure = data["exposure"]
-    n = maps.resolution
-    albedos = np.frombuffer(base64.b64decode(data["maps"]["albedo_base64"]), "<f4").reshape(
-        n * n, 81, 3)
+    albedos = page_albedo_table(data)
     shot = _chromium_screenshot(page, tmp_path, view, exposure)
     image, _, texels = viewer_plane.render_plane_point_light(maps, albedos, PANEL, *view, 0.15)
     reference = viewer_plane.display_plane(image, texels, maps, exposure)
@@ -247,3 +256,61 @@ def test_maps_larger_than_the_viewer_takes_are_refused(tmp_path, capsys):
                                                                  "f.json"], []])
 def test_table_and_maps_together_or_neither_is_bad_usage(tmp_path, arguments):
     assert viewer.run([*arguments, "-o", str(tmp_path / "v.html")]) == 2
+
+
+def _tiled(tiles: list[list], side: int) -> list[list]:
+    """side x side texels made of the few distinct ones of `tiles`, each a square block."""
+    block = side // len(tiles)
+    return [[tiles[y // block][x // block] for x in range(side)] for y in range(side)]
+
+
+def test_maps_of_slicecap_fit_s_default_size_are_written_self_contained(tmp_path):
+    """128 x 128 texels (slicecap fit's default, docs/reference/cli.md) of 16 distinct ones:
+    the page is written, carries every texel's bytes and no URL, and its albedo texture stays
+    within OpenGL ES 3.0's promised 2048 x 2048."""
+    side = 128
+    directory = tmp_path / "default-size"
+    write_maps(directory, _tiled(brushed_tiles(4), side))
+    output = tmp_path / "view.html"
+    assert viewer.run(["--maps", str(directory), "-o", str(output)]) == 0
+    text = output.read_text(encoding="utf-8")
+    for value in re.findall(r'(?:src|href)="([^"]*)"', text):
+        assert value.startswith("data:"), value[:60]
+    assert not re.search(r"https?://|//cdn|@import", text)
+    data = page_data(text)["maps"]
+    assert data["resolution"] == side
+    shape = np.frombuffer(base64.b64decode(data["shape_base64"]), np.uint8).reshape(side, side, 4)
+    maps = read_maps(directory)
+    assert np.array_equal(shape[..., :3], maps.images["anisotropy.png"])
+    table = data["albedo_table"]
+    assert max(table["width"], table["height"], side) <= 2048
+
+
+def _mixed_texels() -> list[list]:
+    """3 x 4 texels between the albedo table's nodes: alpha_b 0.11..0.6 down the rows, the
+    anisotropy strength and the tangent across the columns."""
+    return [[FittedMaterial("ggx", (0.2, 0.1, 0.05), (0.6, 0.5, 0.4), 0.95,
+                            a + (1 - a) * s * s, a, tangent)
+             for s, tangent in ((0.0, 10.0), (0.37, 55.0), (0.71, 100.0), (0.93, 160.0))]
+            for a in (0.11, 0.29, 0.6)]
+
+
+def test_albedo_table_matches_the_per_texel_integration(tmp_path):
+    """The table's albedo (slicecap.albedo_table, as the page looks it up) against
+    viewer_scene.directional_albedo of each texel's decoded material at the 81 grid
+    directions: within 4 % (measured 3.1 % at most, at 75 deg where the integration itself
+    varies by 7 % around the ring of an isotropic lobe; docs/results/2026-12-02-material-viewer.md).
+    Lobes narrower than alpha ~0.1 are left out: the 45 x 90 quadrature does not resolve them,
+    per texel or in the table."""
+    materials = _mixed_texels()
+    materials = [*materials, materials[0]]  # square: 4 x 4
+    directory = tmp_path / "mixed"
+    write_maps(directory, materials)
+    maps = read_maps(directory)
+    table = albedo_table.build_table()
+    views = to_unit_vectors(GRID_DIRECTIONS_DEG)
+    for index, material in enumerate(m for row in texel_materials(maps) for m in row):
+        exact = viewer_scene.directional_albedo(material.evaluate)
+        looked_up = viewer_plane.environment_albedo(maps, table, np.full(len(views), index),
+                                                    views)
+        np.testing.assert_allclose(looked_up, exact, rtol=0.04, err_msg=str(material))

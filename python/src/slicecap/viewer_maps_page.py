@@ -9,11 +9,12 @@ import os
 
 import numpy as np
 
-from slicecap import viewer_plane, viewer_scene
+from slicecap import albedo_table, viewer_plane, viewer_scene
 from slicecap.abrdf_exr import SlicecapFileError
+from slicecap.albedo_table import AlbedoTable
 from slicecap.image_metrics import EXPOSURE_PERCENTILE
 from slicecap.paths import StrPath
-from slicecap.svbrdf_maps import MAP_FILES, SvbrdfMaps, read_maps, texel_materials
+from slicecap.svbrdf_maps import MAP_FILES, SvbrdfMaps, read_maps
 
 _EXPOSURE_PROBE_SIZE = 96
 
@@ -30,12 +31,12 @@ def packed_textures(maps: SvbrdfMaps) -> dict[str, np.ndarray]:
     }
 
 
-def default_exposure(maps: SvbrdfMaps, albedos: np.ndarray) -> float:
+def default_exposure(maps: SvbrdfMaps, table: AlbedoTable) -> float:
     """1 / the EXPOSURE_PERCENTILE-th percentile of the fitted texels' radiance under the
     default view (as the table viewer's sphere)."""
     d = viewer_scene.DEFAULTS
     image, _, texels = viewer_plane.render_plane_point_light(
-        maps, albedos, _EXPOSURE_PROBE_SIZE, d["light_az"], d["light_el"], d["yaw"], d["pitch"],
+        maps, table, _EXPOSURE_PROBE_SIZE, d["light_az"], d["light_el"], d["yaw"], d["pitch"],
         d["env"])
     fitted = (texels >= 0) & maps.fitted.reshape(-1)[np.maximum(texels, 0)]
     if not np.any(fitted):
@@ -74,7 +75,7 @@ def build_maps_page(maps_dir: StrPath, panel_size: int) -> str:
             f"{os.path.join(maps.directory, 'maps.json')}: {maps.resolution} x "
             f"{maps.resolution} texels; the viewer shows maps up to "
             f"{viewer_plane.MAX_RESOLUTION} x {viewer_plane.MAX_RESOLUTION}")
-    albedos = viewer_plane.texel_albedos(texel_materials(maps))
+    table = albedo_table.build_table()
     name = os.path.basename(os.path.normpath(maps.directory))
 
     def encoded(values: np.ndarray, dtype: str) -> str:
@@ -84,7 +85,7 @@ def build_maps_page(maps_dir: StrPath, panel_size: int) -> str:
     data = {
         "panel_size": panel_size,
         "scene": viewer_scene.page_constants(),
-        "exposure": default_exposure(maps, albedos),
+        "exposure": default_exposure(maps, table),
         "table": None,
         "material": None,
         "maps": {
@@ -94,7 +95,14 @@ def build_maps_page(maps_dir: StrPath, panel_size: int) -> str:
             "half_width": viewer_plane.HALF_WIDTH,
             "marker": list(viewer_plane.MARKER_SRGB8),
             **{f"{key}_base64": encoded(value, "u1") for key, value in textures.items()},
-            "albedo_base64": encoded(albedos, "<f4"),
+            "albedo_table": {
+                "width": table.values.shape[1], "height": table.values.shape[0],
+                "diffuse_weight": table.diffuse_weight,
+                "nodes": [albedo_table.ROUGHNESS_NODES, albedo_table.STRENGTH_NODES,
+                          albedo_table.THETA_NODES, albedo_table.PHI_NODES],
+                "theta_max_deg": albedo_table.THETA_MAX_DEG,
+                "base64": encoded(table.values, "<f4"),
+            },
         },
     }
     return fill_template({

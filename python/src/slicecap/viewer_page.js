@@ -181,7 +181,7 @@
   }
   const tableAlbedo = data.table ? floatsOf(data.table.albedo_base64) : null;
   // The maps' bytes as the PNGs hold them (packed by slicecap.viewer), one RGBA8 texture each,
-  // and each texel's directional albedo: one RGB float row of 81 per texel.
+  // and the GGX lobe's albedo table (A, B) shared by all texels (slicecap.albedo_table).
   gl.uniform1i(uniform("u_maps"), maps ? 1 : 0);
   if (maps) {
     const n = maps.resolution;
@@ -190,7 +190,12 @@
     rgba8(1, "u_mapBase", maps.base_base64);
     rgba8(2, "u_mapSpecular", maps.specular_base64);
     rgba8(3, "u_mapShape", maps.shape_base64);
-    texture(4, "u_texelAlbedo", gl.RGB32F, 81, n * n, gl.RGB, gl.FLOAT, floatsOf(maps.albedo_base64));
+    const albedo = maps.albedo_table;
+    texture(4, "u_albedoTable", gl.RG32F, albedo.width, albedo.height, gl.RG, gl.FLOAT,
+            floatsOf(albedo.base64));
+    gl.uniform1f(uniform("u_diffuseWeight"), albedo.diffuse_weight);
+    gl.uniform4iv(uniform("u_albedoNodes"), albedo.nodes);
+    gl.uniform1f(uniform("u_albedoThetaMaxDeg"), albedo.theta_max_deg);
     gl.uniform1i(uniform("u_mapResolution"), n);
     gl.uniform1f(uniform("u_iorF0"), maps.ior_f0);
     gl.uniform1f(uniform("u_halfWidth"), maps.half_width);

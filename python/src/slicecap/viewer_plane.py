@@ -10,33 +10,34 @@ column 0 at the left (-x). Seen from below, the normal and bitangent flip (as th
 
 import numpy as np
 
-from slicecap import viewer_scene
-from slicecap.fitted_material import FittedMaterial
-from slicecap.svbrdf_maps import SvbrdfMaps, texel_materials
+from slicecap import albedo_table, viewer_scene
+from slicecap.albedo_table import AlbedoTable
+from slicecap.svbrdf_maps import SvbrdfMaps, decode_parameters, texel_materials
 
 HALF_WIDTH = 1.0
 # Texels the mask says were not fitted: drawn flat in this sRGB colour, not shaded.
 MARKER_SRGB8 = (255, 0, 255)
-# The page carries one (81, 3) albedo row per texel in a float texture 81 wide and n^2 high;
-# 64 x 64 keeps it at 4096 rows (common; OpenGL ES 3.0 promises only 2048) and the writing time
-# near 3 minutes (about 45 ms of numpy per distinct texel).
-MAX_RESOLUTION = 64
+# The page carries the maps as n x n textures and one albedo table (slicecap.albedo_table) of
+# 84 x 153 texels, far below OpenGL ES 3.0's promised 2048 a side; writing takes seconds, not
+# minutes. 128 = slicecap fit's default, the largest checked in Chromium
+# (docs/results/2026-12-02-material-viewer.md); larger sizes were not measured.
+MAX_RESOLUTION = 128
 
 
-def texel_albedos(materials: list[list[FittedMaterial | None]]) -> np.ndarray:
-    """(n * n, 81, 3): each fitted texel's directional albedo (viewer_scene.directional_albedo,
-    the environment term of the viewer's fitted panels), zero for one not fitted; row-major.
-    Identical texels (8-bit maps repeat) are integrated once."""
-    cache: dict[FittedMaterial, np.ndarray] = {}
-    rows = []
-    for material in (m for row in materials for m in row):
-        if material is None:
-            rows.append(np.zeros((81, 3)))
-            continue
-        if material not in cache:
-            cache[material] = viewer_scene.directional_albedo(material.evaluate)
-        rows.append(cache[material])
-    return np.asarray(rows)
+def environment_albedo(maps: SvbrdfMaps, table: AlbedoTable, texel: np.ndarray,
+                       to_view: np.ndarray) -> np.ndarray:
+    """(N, 3) directional albedo of the texels (N,) (row-major indices) at unit views (N, 3) in
+    the plane's frame: diffuse x K + f0 x A + (f90 - f0) x B with A, B looked up in the table,
+    as the shader's mapsAlbedo."""
+    p = decode_parameters(maps)
+    shape = maps.images["anisotropy.png"].reshape(-1, 3)[texel].astype(np.float64) / 255.0
+    roughness = maps.images["metallic_roughness.png"][..., 1].reshape(-1)[texel] / 255.0
+    tangent_rad = np.radians(p["tangent_deg"].reshape(-1)[texel])
+    lobe = albedo_table.lookup(table, roughness, shape[:, 2], tangent_rad, to_view)
+    f0 = p["specular_f0"].reshape(-1, 3)[texel]
+    f90 = p["specular_f90"].reshape(-1)[texel][:, None]
+    return (p["diffuse_albedo"].reshape(-1, 3)[texel] * table.diffuse_weight
+            + f0 * lobe[:, 0:1] + (f90 - f0) * lobe[:, 1:2])
 
 
 def texel_index(x: np.ndarray, y: np.ndarray, resolution: int) -> np.ndarray:
@@ -47,13 +48,13 @@ def texel_index(x: np.ndarray, y: np.ndarray, resolution: int) -> np.ndarray:
 
 
 def render_plane_point_light(
-    maps: SvbrdfMaps, albedos: np.ndarray, size: int, light_az_deg: float,
+    maps: SvbrdfMaps, table: AlbedoTable, size: int, light_az_deg: float,
     light_el_deg: float, yaw_deg: float, pitch_deg: float, env: float,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The plane under the viewer's light and environment, ray-cast in numpy: (size, size, 3)
     linear radiance (row 0 at the top), the (size, size) plane mask and the (size, size) texel
     index (-1 off the plane); a texel not fitted has radiance 0 (display_plane marks it).
-    `albedos` is texel_albedos' array for these maps."""
+    `table` is albedo_table.build_table()'s (as the page carries it)."""
     materials = [m for row in texel_materials(maps) for m in row]
     origin, rays = viewer_scene.camera_rays(size, yaw_deg, pitch_deg)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -72,13 +73,14 @@ def render_plane_point_light(
     to_view_local[:, 2] = np.maximum(to_view_local[:, 2], 1e-4)
     to_view_local /= np.linalg.norm(to_view_local, axis=-1, keepdims=True)
     texel = texel_index(point[:, 0], point[:, 1], maps.resolution)
+    fitted = maps.fitted.reshape(-1)[texel]
     radiance = np.zeros((len(point), 3))
-    for index in np.unique(texel):
+    radiance[fitted] = env * environment_albedo(maps, table, texel[fitted], to_view_local[fitted])
+    for index in np.unique(texel[fitted]):
         material = materials[index]
-        if material is None:
+        if material is None:  # not reached: the mask and texel_materials agree
             continue
         here = texel == index
-        radiance[here] = env * viewer_scene.albedo_at(albedos[index], to_view_local[here])
         lit = here & (to_light_local[:, 2] > 0.0)
         value = material.evaluate(to_light_local[lit], to_view_local[lit])
         radiance[lit] += value * (

@@ -28,6 +28,7 @@ LIGHT_DISTANCE = 4.0
 LIGHT_INTENSITY = 16.0
 DEFAULTS = {"light_az": 35.0, "light_el": 35.0, "yaw": 0.0, "pitch": 15.0, "env": 0.15}
 _ALBEDO_THETA_STEPS, _ALBEDO_PHI_STEPS = 45, 90
+ALBEDO_STEPS = (_ALBEDO_THETA_STEPS, _ALBEDO_PHI_STEPS)  # also slicecap.albedo_table's
 
 
 def orbit_direction(azimuth_deg: float, elevation_deg: float) -> np.ndarray:
