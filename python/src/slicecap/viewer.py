@@ -13,8 +13,6 @@ naming the input), 2 bad usage.
 import argparse
 import base64
 import html
-import importlib.resources
-import json
 import os
 import sys
 from collections.abc import Sequence
@@ -38,6 +36,8 @@ from slicecap.materials import load_material
 from slicecap.paths import StrPath, same_file, write_replacing
 from slicecap.png import encode_png
 from slicecap.render import render_sphere_point_light
+from slicecap.viewer_maps_page import build_maps_page
+from slicecap.viewer_template import fill_template
 
 LAYOUT_SCALE = 4
 _RING_LINE = (72, 72, 72)
@@ -187,21 +187,6 @@ def build_page(
     }, data)
 
 
-def fill_template(replacements: dict[str, str], data: dict) -> str:
-    """viewer_page.html with its placeholders, the page data and the script filled in."""
-    package = importlib.resources.files("slicecap")
-    template = (package / "viewer_page.html").read_text(encoding="utf-8")
-    replacements = {
-        **replacements,
-        # "</" inside a script element would end it early.
-        "{{DATA}}": json.dumps(data).replace("</", "<\\/"),
-        "{{SCRIPT}}": (package / "viewer_page.js").read_text(encoding="utf-8"),
-    }
-    for key, value in replacements.items():
-        template = template.replace(key, value)
-    return template
-
-
 def _parse(argv: Sequence[str]) -> argparse.Namespace:
     parser = argparse.ArgumentParser(
         prog=PROG,
@@ -241,8 +226,6 @@ def run(argv: Sequence[str]) -> int:
             return 2
     try:
         if args.maps is not None:
-            from slicecap.viewer_maps_page import build_maps_page
-
             page = build_maps_page(args.maps, args.panel_size)
         else:
             page = build_page(args.table, args.material, args.panel_size)

@@ -15,6 +15,7 @@ from slicecap.albedo_table import AlbedoTable
 from slicecap.image_metrics import EXPOSURE_PERCENTILE
 from slicecap.paths import StrPath
 from slicecap.svbrdf_maps import MAP_FILES, SvbrdfMaps, read_maps
+from slicecap.viewer_template import fill_template
 
 _EXPOSURE_PROBE_SIZE = 96
 
@@ -67,8 +68,6 @@ def build_maps_page(maps_dir: StrPath, panel_size: int) -> str:
     """The page's HTML text for MAPS_DIR. Raises SlicecapFileError naming the file that is
     missing, not a PNG, truncated or of the wrong size (svbrdf_maps.read_maps), or maps.json
     when the maps are larger than viewer_plane.MAX_RESOLUTION."""
-    from slicecap.viewer import fill_template
-
     maps = read_maps(maps_dir)
     if maps.resolution > viewer_plane.MAX_RESOLUTION:
         raise SlicecapFileError(
