@@ -82,19 +82,20 @@ class StandInFeeder {
     std::vector<const LocatedOff*> wanted;
     if (after != source_.begin()) wanted.push_back(&*std::prev(after));
     if (after != source_.end()) wanted.push_back(&*after);
+    // The neighbours kept move over from frames_ (no copy); only a new one is read.
     std::map<std::size_t, hal::Frame> kept;
     std::vector<LocatedAmbientFrame> frames;
     for (const LocatedOff* f : wanted) {
-      auto cached = frames_.find(f->index);
-      if (cached == frames_.end()) {
+      if (auto node = frames_.extract(f->index)) {
+        kept.insert(std::move(node));
+      } else {
         try {
-          cached = frames_.emplace(f->index, read_(f->index)).first;
+          kept.emplace(f->index, read_(f->index));
         } catch (const io::IoError&) {
           continue;
         }
       }
-      frames.push_back({cached->second, f->pose});
-      kept.insert(*cached);
+      frames.push_back({kept.at(f->index), f->pose});
     }
     frames_ = std::move(kept);
     pipeline.setStandInAmbientFrames(std::move(frames));
