@@ -118,8 +118,9 @@ struct FramePipeline::State {
   }
 
   // The window's pixels in an LED-on frame at `pose`, or why they give no sample.
-  std::optional<frame_checks::GateFailure> readWindow(const hal::Frame& frame, const vision::Pose& pose,
-                                        AreaReading* window) const {
+  std::optional<frame_checks::GateFailure> readWindow(const hal::Frame& frame,
+                                                      const vision::Pose& pose,
+                                                      AreaReading* window) const {
     AreaSpec spec = windowArea;
     spec.clipFraction = settings.clipFraction;
     *window = readArea(frame, pose, camera, spec, settings.noise, *codes);
@@ -132,11 +133,11 @@ struct FramePipeline::State {
 
   // The window's radiance (its reading minus the room light) and the white references' (room
   // light subtracted, with their noise) of an LED-on frame at `pose`, or why it gives none.
-  std::optional<frame_checks::GateFailure> readReferences(const hal::Frame& frame, const vision::Pose& pose,
-                                            const std::vector<AmbientTerm>& roomLight,
-                                            const AreaReading& window, Rgb* windowRadiance,
-                                            std::vector<ReferenceObservation>* observations,
-                                            std::vector<ReferenceObservation>* unlit) const {
+  std::optional<frame_checks::GateFailure> readReferences(
+      const hal::Frame& frame, const vision::Pose& pose, const std::vector<AmbientTerm>& roomLight,
+      const AreaReading& window, Rgb* windowRadiance,
+      std::vector<ReferenceObservation>* observations,
+      std::vector<ReferenceObservation>* unlit) const {
     *windowRadiance = window.mean - ambientAt(roomLight, windowArea, pose).mean;
     for (const auto& reference : references) {
       AreaSpec spec = reference.area;
@@ -157,17 +158,18 @@ struct FramePipeline::State {
       (value.minChannel() > 0 ? observations : unlit)->push_back(observation);
     }
     if (observations->size() < 5)
-      return frame_checks::GateFailure{RejectReason::WindowOccluded, "white references out of the image"};
+      return frame_checks::GateFailure{RejectReason::WindowOccluded,
+                                       "white references out of the image"};
     return std::nullopt;
   }
 
   // The point light fitted to the references, or a rejection when they disagree by more than
   // noise explains plus the margin for an occluder (maxReferenceResidual), or one that reads no
   // LED light (`unlit`) falls short of the fitted light by as much.
-  std::optional<frame_checks::GateFailure> fitLight(const std::vector<ReferenceObservation>& observations,
-                                      const std::vector<ReferenceObservation>& unlit,
-                                      const Direction& nominalLight, LightFit* fit,
-                                      double* limit) const {
+  std::optional<frame_checks::GateFailure> fitLight(
+      const std::vector<ReferenceObservation>& observations,
+      const std::vector<ReferenceObservation>& unlit, const Direction& nominalLight, LightFit* fit,
+      double* limit) const {
     LightFitParams fitParams;
     const UnitVector toLight = toUnitVector(nominalLight);
     fitParams.initialPositionMm = {toLight.x * settings.nominalLightDistanceMm,
@@ -180,22 +182,24 @@ struct FramePipeline::State {
     }
     if (!fit->converged)
       return frame_checks::GateFailure{RejectReason::WindowOccluded, "light fit: " + fit->message};
-    *limit = settings.maxReferenceResidual + frame_checks::noiseAllowance(*fit, settings.referenceNoiseSigmas);
+    *limit = settings.maxReferenceResidual +
+             frame_checks::noiseAllowance(*fit, settings.referenceNoiseSigmas);
     if (fit->weightedResidualRms > *limit)
       return frame_checks::GateFailure{RejectReason::WindowOccluded,
-                         "white references disagree by " +
-                             std::to_string(fit->weightedResidualRms) +
-                             ", noise and margin allow " + std::to_string(*limit)};
+                                       "white references disagree by " +
+                                           std::to_string(fit->weightedResidualRms) +
+                                           ", noise and margin allow " + std::to_string(*limit)};
     for (const ReferenceObservation& o : unlit) {
       const Rgb irradiance = fit->light.irradianceAt(o.point);
       for (int c = 0; c < 3; ++c) {
         const double expected = o.albedo[c] / std::numbers::pi * irradiance[c];
         if (expected - o.radiance[c] >
             settings.referenceNoiseSigmas * o.sigma[c] + settings.maxReferenceResidual * expected)
-          return frame_checks::GateFailure{RejectReason::WindowOccluded,
-                             "a white reference (at " + std::to_string(o.point.x) + ", " +
-                                 std::to_string(o.point.y) + " mm) gets no LED light, " +
-                                 std::to_string(expected / o.sigma[c]) + " sigma expected"};
+          return frame_checks::GateFailure{
+              RejectReason::WindowOccluded,
+              "a white reference (at " + std::to_string(o.point.x) + ", " +
+                  std::to_string(o.point.y) + " mm) gets no LED light, " +
+                  std::to_string(expected / o.sigma[c]) + " sigma expected"};
       }
     }
     return std::nullopt;
@@ -236,7 +240,7 @@ struct FramePipeline::State {
   std::optional<FrameOutcome> checkView(const hal::Frame& frame, const SliceId& slice,
                                         FrameOutcome& outcome, const Located& located) const;
   std::optional<frame_checks::GateFailure> roomLightFor(const hal::Frame& frame,
-                                          std::vector<AmbientTerm>& terms) const;
+                                                        std::vector<AmbientTerm>& terms) const;
   std::optional<FrameOutcome> measure(const hal::Frame& frame, FrameOutcome& outcome,
                                       const Located& located, FrameSample& sample);
 
@@ -246,8 +250,9 @@ struct FramePipeline::State {
   std::vector<AmbientTerm> ambientTerms(std::int64_t timeUs) const {
     std::vector<AmbientTerm> own = bracketingTerms(ambient ? &*ambient : nullptr,
                                                    nextAmbient ? &*nextAmbient : nullptr, timeUs);
-    const bool ownLocated = !own.empty() && std::all_of(own.begin(), own.end(),
-                                                        [](const AmbientTerm& t) { return t.pose; });
+    const bool ownLocated =
+        !own.empty() &&
+        std::all_of(own.begin(), own.end(), [](const AmbientTerm& t) { return t.pose; });
     if (ownLocated || standIns.empty()) return own;
     const auto after = std::find_if(standIns.begin(), standIns.end(), [&](const Ambient& a) {
       return a.frame.metadata.timestampUs > timeUs;
