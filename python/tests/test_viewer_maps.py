@@ -141,7 +141,7 @@ def _chromium_screenshot(page, tmp_path, view, exposure) -> np.ndarray:
     binary = shutil.which("chromium")
     if binary is None:
         pytest.skip("chromium is not installed (Debian's `chromium`, "
-                    "scripts/deps/consumer-check.list): the real-browser check cannot run")
+                    "scripts/deps/browser.list): the real-browser check cannot run")
     light_az, light_el, yaw, pitch = view
     url = (f"file://{page}#light={light_az:g},{light_el:g}&camera={yaw:g},{pitch:g}"
            f"&env=0.15&exposure={exposure!r}")
