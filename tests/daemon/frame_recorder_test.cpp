@@ -95,6 +95,23 @@ TEST(FrameRecorder, AContinuedSweepAppendsWithIncreasingTimestamps) {
   EXPECT_EQ(written.frames[5].timestampUs, 2000 + 33333 + 2000);
 }
 
+// An HDR sweep's frames keep their exposure level in the recording (frames[].exposure_level), so
+// that offline processing and the file camera see the levels the live sweep had.
+TEST(FrameRecorder, RecordsEachFramesExposureLevel) {
+  const auto dir = test::freshTempDir() / "rec";
+  {
+    FrameRecorder recorder(dir, smallHeader(), 16);
+    for (int i = 0; i < 4; ++i) {
+      hal::Frame frame = smallFrame(1000 * i, i % 2 == 0);
+      frame.metadata.exposureLevel = i / 2;
+      ASSERT_TRUE(recorder.offer(std::move(frame)));
+    }
+  }
+  const io::Recording written = io::readRecording(dir);
+  ASSERT_EQ(written.frames.size(), 4u);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(written.frames[i].exposureLevel, std::optional(i / 2)) << i;
+}
+
 // The sweep run's decoding goes into recording.json; a continued sweep whose new bracket measured
 // another curve cannot add its frames to the same recording: the recording stops, saying why.
 TEST(FrameRecorder, RecordsTheSweepsDecodingAndRefusesToMixTwoCurves) {

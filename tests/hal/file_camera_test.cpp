@@ -52,6 +52,46 @@ TEST(FileCamera, PlaysEveryFrameWithItsTimestampAndMetadataThenEnds) {
   EXPECT_EQ(camera.nextFrame(100ms).status, CaptureResult::Status::EndOfStream);
 }
 
+// A recording of frames at `levels` (nullopt: no exposure_level written).
+std::filesystem::path levelledRecording(const std::vector<std::optional<int>>& levels) {
+  const auto dir = test::freshTempDir() / "levels";
+  io::Recording header;
+  header.camera.intrinsics = {8, 6, 10.0, 10.0, 3.5, 2.5};
+  header.target = vision::defaultTarget();
+  io::RecordingWriter writer(dir, header);
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    Image image{8, 6, 3, 8, std::vector<std::uint16_t>(8 * 6 * 3, 50)};
+    io::RecordedFrame entry{"", 1'000'000 + 40'000 * std::int64_t(i), i % 2 == 0, 2000.0, 1.0};
+    entry.exposureLevel = levels[i];
+    writer.append(image, entry);
+  }
+  return dir;
+}
+
+std::vector<std::optional<int>> playedLevels(const std::filesystem::path& recording) {
+  FakeClock clock;
+  FileCamera camera(recording, clock);
+  CameraConfig config;
+  camera.configure(config);
+  camera.start();
+  std::vector<std::optional<int>> levels;
+  for (CaptureResult r = camera.nextFrame(100ms); r.status == CaptureResult::Status::Frame;
+       r = camera.nextFrame(100ms))
+    levels.push_back(r.frame->metadata.exposureLevel);
+  return levels;
+}
+
+// The frames' exposure levels as offline processing reads them: an HDR recording's levels (a frame
+// without one at level 0), and none for a recording whose frames all say level 0.
+TEST(FileCamera, PlaysAnHdrRecordingsExposureLevelsAsOfflineProcessingReadsThem) {
+  using Levels = std::vector<std::optional<int>>;
+  EXPECT_EQ(playedLevels(levelledRecording({0, 0, 1, 1, std::nullopt, 0})),
+            (Levels{0, 0, 1, 1, 0, 0}));
+  EXPECT_EQ(playedLevels(levelledRecording({0, 0, 0, 0})), (Levels(4, std::nullopt)));
+  EXPECT_EQ(playedLevels(levelledRecording({std::nullopt, std::nullopt})),
+            (Levels(2, std::nullopt)));
+}
+
 TEST(FileCamera, PacedPlaybackWaitsOnTheClockAndTimesOut) {
   FakeClock clock(500);
   FileCameraOptions options;

@@ -73,7 +73,8 @@ struct FrameRecorder::State {
     }
     writer->append(frame.image, {"", timestampUs, frame.metadata.ledOn, frame.metadata.exposureUs,
                                  frame.metadata.gain,
-                                 hal::recordedLedExposure(frame.metadata, timestampShiftUs)});
+                                 hal::recordedLedExposure(frame.metadata, timestampShiftUs),
+                                 frame.metadata.exposureLevel});
   }
 
   void run() {

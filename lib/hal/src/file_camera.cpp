@@ -1,6 +1,7 @@
 // Playing a recording as a camera: frames in order, paced on the clock if asked, errors as values.
 #include "slicecap/hal/file_camera.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "slicecap/io/io_error.hpp"
@@ -27,6 +28,14 @@ FileCamera::FileCamera(const std::filesystem::path& recording, Clock& clock,
     : state_(new State{recording, io::readRecording(recording), clock, options}) {
   const auto& frames = state_->recording.frames;
   if (frames.empty()) throw io::IoError(recording.string() + ": the recording has no frames");
+  // The frames' exposure levels as offline processing (processRecording) reads them: a recording
+  // with no level above 0 is of one exposure (no levels at all), and in an HDR one a frame
+  // without a level is at level 0.
+  const bool hdr = std::any_of(frames.begin(), frames.end(), [](const io::RecordedFrame& f) {
+    return f.exposureLevel.value_or(0) > 0;
+  });
+  for (io::RecordedFrame& f : state_->recording.frames)
+    f.exposureLevel = hdr ? std::optional(f.exposureLevel.value_or(0)) : std::nullopt;
   state_->periodUs = frames.size() > 1 ? (frames.back().timestampUs - frames.front().timestampUs) /
                                              static_cast<std::int64_t>(frames.size() - 1)
                                        : 33333;

@@ -11,6 +11,7 @@ FrameMetadata metadataOf(const io::RecordedFrame& entry, std::uint64_t sequence,
   m.exposureUs = entry.exposureUs;
   m.gain = entry.gain;
   m.ledOn = entry.ledOn;
+  m.exposureLevel = entry.exposureLevel;
   if (entry.ledExposure) {
     const io::RecordedLedExposure& recorded = *entry.ledExposure;
     LedExposure exposure;

@@ -141,7 +141,8 @@ class FramePipeline {
 using FrameObserver = std::function<void(const hal::Frame& frame, const FrameOutcome& outcome,
                                          const std::vector<AmbientTerm>& ambient)>;
 
-/// \brief A FramePipeline as the FrameProcessor the daemon's frame loop calls; `observer` (if
+/// \brief A FramePipeline as the FrameProcessor the daemon's frame loop calls (one per exposure
+/// level for frames that carry one, FrameMetadata::exposureLevel: an HDR sweep); `observer` (if
 /// set) sees every frame after the pipeline, before the processor returns (the daemon's texture
 /// capture). Whatever the observer throws passes through the processor.
 FrameProcessor makeFramePipeline(const vision::TargetGeometry& target,

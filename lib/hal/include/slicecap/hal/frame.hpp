@@ -34,6 +34,9 @@ struct FrameMetadata {
   /// What the LED did over this frame's rows, from the LED's timeline (the daemon's frame loop).
   /// nullopt: only `ledOn` is known (a recording without it, an offline run).
   std::optional<LedExposure> ledExposure{};
+  /// The level of an HDR sweep's exposure cycle (0 = the longest) this frame was taken at: an HDR
+  /// recording's frames[].exposure_level. nullopt: a sweep of one exposure.
+  std::optional<int> exposureLevel{};
 };
 
 /// \brief One frame: gray or RGB samples in `encoding` (8-bit sRGB or 16-bit linear).
