@@ -13,6 +13,7 @@
 #include "slicecap/cli/cli.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/png_image.hpp"
+#include "slicecap/io/table_file.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -135,6 +136,27 @@ TEST(EvalCommand, ABadTableCostsOnlyItsOwnRows) {
   ASSERT_EQ(csv.size(), 2u);
   EXPECT_EQ(csv[1].rfind("matte-paint,b,", 0), 0u) << csv[1];
   EXPECT_FALSE(std::filesystem::exists(out / "matte-paint.png")) << "--no-sheets";
+}
+
+// A table every method runs on but none can be compared with (no positive value: the metrics
+// are relative to its maximum) fails each method's row, not the material's load: the failure is
+// counted in the method's means row, on stderr and in the exit status.
+TEST(EvalCommand, AMethodThatFailsIsCountedAndFailsTheRun) {
+  const auto dir = test::freshTempDir();
+  const auto dark = dir / "dark.f32";
+  io::writeF32Table(dark, Abrdf());
+  const Result r = run({"eval", dark.string(), "matte-paint", "--methods", "b", "--quiet"});
+  EXPECT_EQ(r.code, kExitFailure) << r.out << r.err;
+  EXPECT_NE(r.err.find("dark, method b: "), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("  b  failed: "), std::string::npos) << r.out;
+  const std::size_t means = r.out.find("means over 2 materials");
+  ASSERT_NE(means, std::string::npos) << r.out;
+  const std::size_t meansRow = r.out.find("\n  b ", means);
+  ASSERT_NE(meansRow, std::string::npos) << r.out;
+  const std::string row = r.out.substr(meansRow + 1, r.out.find('\n', meansRow + 1) - meansRow - 1);
+  EXPECT_NE(row.find("(1 failed)"), std::string::npos) << row;
+  // The same run without the dark table succeeds: the exit status is the failure's.
+  EXPECT_EQ(run({"eval", "matte-paint", "--methods", "b", "--quiet"}).code, kExitOk);
 }
 
 TEST(EvalCommand, BadArgumentsAreUsageErrorsOrNamed) {
