@@ -62,13 +62,13 @@ TEST(MitsubaWriter, BrightMaterialMovesTheGrazingValueAndSaysSo) {
   }));
 }
 
-TEST(MitsubaWriter, SheenIsReportedDropped) {
+TEST(MitsubaWriter, SheenIsApproximatedAndSaysSo) {
   fit::FittedMaterial m = paint();
   m.model = fit::MaterialModel::GgxSheen;
   m.sheenColour = Rgb{0.2, 0.2, 0.2};
   const MitsubaExport e = mitsubaSnippet(m, "p.json");
   EXPECT_TRUE(std::any_of(e.report.losses.begin(), e.report.losses.end(),
-                          [](const ConversionLoss& l) { return l.kind == LossKind::SheenDropped; }));
+                          [](const ConversionLoss& l) { return l.kind == LossKind::SheenForm; }));
 }
 
 }  // namespace

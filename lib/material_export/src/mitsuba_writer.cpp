@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "slicecap/io/file_replacement.hpp"
+#include "slicecap/material_export/mitsuba_sheen.hpp"
 #include "xml_text.hpp"
 
 namespace slicecap::material_export {
@@ -59,9 +60,12 @@ Blend blendOf(const fit::FittedMaterial& m) {
   return b;
 }
 
-void addLosses(const fit::FittedMaterial& m, const Blend& b, std::vector<ConversionLoss>& losses) {
+// `scale` is the share of the diffuse + GGX blend in the snippet (1 without a sheen part), so that
+// the figures reported are the snippet's, not the scaled blend's.
+void addLosses(const fit::FittedMaterial& m, const Blend& b, double scale,
+               std::vector<ConversionLoss>& losses) {
   const double diffuseMax = m.diffuseAlbedo.maxChannel(), f0Max = m.specularF0.maxChannel();
-  const double weight = b.weight;
+  const double weight = scale * b.weight;
   if (b.diffuseClamped || (weight >= 1.0 && diffuseMax > 0.0))
     losses.push_back({LossKind::DiffuseLayering,
                       "f0 " + num(f0Max) + " + diffuse albedo " + num(diffuseMax) +
@@ -82,13 +86,30 @@ void addLosses(const fit::FittedMaterial& m, const Blend& b, std::vector<Convers
                     "Mitsuba has no anisotropy rotation: alpha_u follows the shape's dp/du; the "
                     "snippet's rectangle is turned by tangent_deg " + num(m.tangentDeg) +
                         " so that its u axis is the fitted tangent"});
-  if (m.model == fit::MaterialModel::GgxSheen)
-    losses.push_back({LossKind::SheenDropped,
-                      "Mitsuba 3 has no Charlie sheen BSDF: the fitted sheen (colour " +
-                          detail::rgbText(m.sheenColour) + ") is left out"});
 }
 
-std::string sceneText(const fit::FittedMaterial& m, const std::string& source, const Blend& b) {
+// The diffuse + GGX blendbsdf, each line indented by `indent`; `idAttribute` is empty or
+// ` id="..."`.
+std::string baseBsdf(const fit::FittedMaterial& m, const Blend& b, const std::string& indent,
+                     const std::string& idAttribute) {
+  std::ostringstream x;
+  x << indent << "<bsdf type=\"blendbsdf\"" << idAttribute << ">\n"
+    << indent << "  <float name=\"weight\" value=\"" << num(b.weight) << "\"/>\n"
+    << indent << "  <bsdf type=\"diffuse\">\n"
+    << indent << "    " << rgbElement("reflectance", b.diffuseReflectance) << "\n"
+    << indent << "  </bsdf>\n"
+    << indent << "  <bsdf type=\"roughconductor\">\n"
+    << indent << "    <string name=\"distribution\" value=\"ggx\"/>\n"
+    << indent << "    <float name=\"alpha_u\" value=\"" << num(m.alphaTangent) << "\"/>\n"
+    << indent << "    <float name=\"alpha_v\" value=\"" << num(m.alphaBitangent) << "\"/>\n"
+    << indent << "    " << rgbElement("eta", b.eta) << "\n"
+    << indent << "    " << rgbElement("k", Rgb::gray(0.0)) << "\n"
+    << indent << "  </bsdf>\n"
+    << indent << "</bsdf>\n";
+  return x.str();
+}
+
+std::string header(const fit::FittedMaterial& m, const std::string& source) {
   std::ostringstream x;
   x << "<?xml version=\"1.0\"?>\n"
     << "<!-- slicecap fit of " << detail::commentSafe(source) << " (docs/material-export.md).\n"
@@ -98,21 +119,13 @@ std::string sceneText(const fit::FittedMaterial& m, const std::string& source, c
     << "     as blendbsdf weight w = grazing reflectance, the diffuse divided by (1 - w), the\n"
     << "     conductor's F0 = f0 / w. Use it with\n"
     << "     <ref id=\"slicecap_fit\"/>; its anisotropy follows each shape's dp/du. -->\n"
-    << "<scene version=\"3.0.0\">\n"
-    << "  <bsdf type=\"blendbsdf\" id=\"slicecap_fit\">\n"
-    << "    <float name=\"weight\" value=\"" << num(b.weight) << "\"/>\n"
-    << "    <bsdf type=\"diffuse\">\n"
-    << "      " << rgbElement("reflectance", b.diffuseReflectance) << "\n"
-    << "    </bsdf>\n"
-    << "    <bsdf type=\"roughconductor\">\n"
-    << "      <string name=\"distribution\" value=\"ggx\"/>\n"
-    << "      <float name=\"alpha_u\" value=\"" << num(m.alphaTangent) << "\"/>\n"
-    << "      <float name=\"alpha_v\" value=\"" << num(m.alphaBitangent) << "\"/>\n"
-    << "      " << rgbElement("eta", b.eta) << "\n"
-    << "      " << rgbElement("k", Rgb::gray(0.0)) << "\n"
-    << "    </bsdf>\n"
-    << "  </bsdf>\n"
-    << "  <!-- A flat sample, normal +z, its u axis turned onto the fitted tangent. -->\n"
+    << "<scene version=\"3.0.0\">\n";
+  return x.str();
+}
+
+std::string sampleShape(const fit::FittedMaterial& m) {
+  std::ostringstream x;
+  x << "  <!-- A flat sample, normal +z, its u axis turned onto the fitted tangent. -->\n"
     << "  <shape type=\"rectangle\" id=\"slicecap_sample\">\n"
     << "    <transform name=\"to_world\">\n"
     << "      <rotate z=\"1\" angle=\"" << num(m.tangentDeg) << "\"/>\n"
@@ -123,6 +136,87 @@ std::string sceneText(const fit::FittedMaterial& m, const std::string& source, c
   return x.str();
 }
 
+std::string sceneText(const fit::FittedMaterial& m, const std::string& source, const Blend& b) {
+  return header(m, source) + baseBsdf(m, b, "  ", " id=\"slicecap_fit\"") + sampleShape(m);
+}
+
+// The principled BSDF standing in for the sheen and its blend weight c (docs/material-export.md):
+// the snippet is (1 - c) x [the diffuse + GGX blend of the fit scaled by 1 / (1 - c)] + c x
+// principled, so the principled's parameters are the approximation's divided by c. c is the
+// smallest that keeps its base colour and `sheen` within [0, 1], leaving the most room for the
+// rest.
+struct SheenPart {
+  SheenApproximation approximation;
+  double weight = 0.0;
+  Rgb baseColour;
+  double sheen = 0.0;  // principled `sheen`, with sheen_tint 1 (the base colour's hue)
+};
+
+// Mitsuba's luminance of linear sRGB (mitsuba::luminance): principled tints the sheen by
+// base_color / luminance(base_color), so `sheen` carries the luminance back.
+double luminance(const Rgb& c) { return 0.212671 * c[0] + 0.715160 * c[1] + 0.072169 * c[2]; }
+
+SheenPart sheenPartOf(const fit::FittedMaterial& m) {
+  SheenPart p;
+  p.approximation = approximateSheen(m.sheenRoughness);
+  const double a = p.approximation.diffuseScale, s = p.approximation.sheenScale;
+  p.weight = std::min(1.0, std::max(a * m.sheenColour.maxChannel(), s * luminance(m.sheenColour)));
+  if (p.weight <= kNegligible) return p;
+  for (std::size_t c = 0; c < 3; ++c) p.baseColour[c] = m.sheenColour[c] * a / p.weight;
+  p.sheen = s * luminance(m.sheenColour) / p.weight;
+  return p;
+}
+
+fit::FittedMaterial scaledBy(fit::FittedMaterial m, double factor) {
+  for (std::size_t c = 0; c < 3; ++c) {
+    m.diffuseAlbedo[c] /= factor;
+    m.specularF0[c] /= factor;
+  }
+  m.specularF90 /= factor;
+  return m;
+}
+
+void addSheenLoss(const fit::FittedMaterial& m, const SheenPart& p,
+                  std::vector<ConversionLoss>& losses) {
+  const SheenApproximation& a = p.approximation;
+  losses.push_back(
+      {LossKind::SheenForm,
+       "Mitsuba 3 has no Charlie sheen BSDF: a principled BSDF (blend weight " + num(p.weight) +
+           ") stands in for the fitted sheen (colour " + detail::rgbText(m.sheenColour) +
+           ", roughness " + num(m.sheenRoughness) + "): the sheen colour x (" +
+           num(a.diffuseScale) + " x its diffuse with retro-reflection at roughness " +
+           num(a.roughness) + " + " + num(a.sheenScale) +
+           " x its sheen), the least-squares nearest on the 81 x 81 grid; rms mismatch " +
+           num(a.relativeMismatch) + " of the sheen's (1 = leaving it out)"});
+}
+
+std::string sheenSceneText(const fit::FittedMaterial& m, const std::string& source,
+                           const Blend& b, const SheenPart& p) {
+  std::ostringstream x;
+  x << "  <!-- slicecap_fit = blendbsdf weight c = " << num(p.weight)
+    << ": (1 - c) x the diffuse + GGX above divided by\n"
+    << "       (1 - c), + c x a principled BSDF (no specular) whose diffuse with retro-reflection"
+    << (p.sheen > 0.0 ? " and sheen" : "") << "\n"
+    << "       stand in for the fitted Charlie sheen (colour " << detail::rgbText(m.sheenColour)
+    << ", roughness " << num(m.sheenRoughness) << "),\n"
+    << "       rms mismatch " << num(p.approximation.relativeMismatch)
+    << " of the sheen's (docs/material-export.md). -->\n"
+    << "  <bsdf type=\"blendbsdf\" id=\"slicecap_fit\">\n"
+    << "    <float name=\"weight\" value=\"" << num(p.weight) << "\"/>\n"
+    << baseBsdf(m, b, "    ", "")
+    << "    <bsdf type=\"principled\">\n"
+    << "      " << rgbElement("base_color", p.baseColour) << "\n"
+    << "      <float name=\"roughness\" value=\"" << num(p.approximation.roughness) << "\"/>\n"
+    << "      <float name=\"specular\" value=\"0\"/>\n"
+    << "      <float name=\"main_specular_sampling_rate\" value=\"0\"/>\n";
+  if (p.sheen > 0.0)
+    x << "      <float name=\"sheen\" value=\"" << num(p.sheen) << "\"/>\n"
+      << "      <float name=\"sheen_tint\" value=\"1\"/>\n";
+  x << "    </bsdf>\n"
+    << "  </bsdf>\n";
+  return header(m, source) + x.str() + sampleShape(m);
+}
+
 }  // namespace
 
 MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::string& source) {
@@ -130,7 +224,22 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
   MitsubaExport out;
   out.report.format = "Mitsuba 3";
   const Blend blend = blendOf(m);
-  addLosses(m, blend, out.report.losses);
+  if (m.model == fit::MaterialModel::GgxSheen) {
+    const SheenPart sheen = sheenPartOf(m);
+    if (sheen.weight > kNegligible) {
+      const Blend scaledBlend = blendOf(scaledBy(m, 1.0 - sheen.weight));
+      addLosses(m, scaledBlend, 1.0 - sheen.weight, out.report.losses);
+      addSheenLoss(m, sheen, out.report.losses);
+      out.text = sheenSceneText(m, source, scaledBlend, sheen);
+      return out;
+    }
+  }
+  addLosses(m, blend, 1.0, out.report.losses);
+  if (m.model == fit::MaterialModel::GgxSheen)
+    out.report.losses.push_back(
+        {LossKind::SheenDropped, "the least-squares stand-in for the fitted sheen (colour " +
+                                     detail::rgbText(m.sheenColour) +
+                                     ") in Mitsuba's principled BSDF is zero: it is left out"});
   out.text = sceneText(m, source, blend);
   return out;
 }
