@@ -1,9 +1,8 @@
-// The least-squares stand-in for the Charlie sheen in Mitsuba 3's principled BSDF (why these two
-// terms: docs/material-export.md, Mitsuba section).
+// The least-squares GGX stand-in for the Charlie sheen in a Mitsuba 3 snippet (why this lobe:
+// docs/material-export.md, Mitsuba section).
 #include "slicecap/material_export/mitsuba_sheen.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -13,94 +12,75 @@
 namespace slicecap::material_export {
 namespace {
 
-double schlickWeight(double cosine) { return std::pow(std::clamp(1.0 - cosine, 0.0, 1.0), 5.0); }
-
-// cos of the angle between the half vector and the light (equal to the view's).
-double cosDifference(const UnitVector& l, const UnitVector& v) {
-  const double hx = l.x + v.x, hy = l.y + v.y, hz = l.z + v.z;
-  const double length = std::sqrt(hx * hx + hy * hy + hz * hz);
-  return length > 0.0 ? std::abs(hx * l.x + hy * l.y + hz * l.z) / length : 1.0;
+// Smith's G1 of isotropic GGX for a direction of this cosine (Mitsuba's smith_g1; the half vector
+// of two directions above the surface is always on their side).
+double smithG1(double cosTheta, double alpha) {
+  const double tan2 = (1.0 - cosTheta * cosTheta) / (cosTheta * cosTheta);
+  return 2.0 / (1.0 + std::sqrt(1.0 + alpha * alpha * tan2));
 }
 
-// One grid pair's weighted values: the Charlie lobe and the two principled terms.
-struct Sample {
-  double weight, charlie, diffuse, sheen;
+// One grid pair: its weight and the Charlie lobe there.
+struct Pair {
+  UnitVector light, view;
+  double weight, charlie;
 };
 
-std::vector<Sample> samples(double charlieRoughness, double roughness) {
+std::vector<Pair> gridPairs(double charlieRoughness) {
   fit::FittedMaterial lobe;  // the sheen alone: no diffuse, no specular, colour 1
   lobe.model = fit::MaterialModel::GgxSheen;
   lobe.specularF0 = Rgb::gray(0.0);
   lobe.specularF90 = 0.0;
   lobe.sheenColour = Rgb::gray(1.0);
   lobe.sheenRoughness = charlieRoughness;
-  std::vector<Sample> out;
+  std::vector<Pair> out;
   out.reserve(bonn::kDirectionCount * bonn::kDirectionCount);
   for (int i = 0; i < bonn::kDirectionCount; ++i) {
     const UnitVector l = toUnitVector(bonn::direction(i));
     for (int j = 0; j < bonn::kDirectionCount; ++j) {
       const UnitVector v = toUnitVector(bonn::direction(j));
-      out.push_back({l.z, lobe.evaluate(l, v)[0], principledDiffuseLobe(l, v, roughness),
-                     principledSheenLobe(l, v)});
+      out.push_back({l, v, l.z, lobe.evaluate(l, v)[0]});
     }
   }
   return out;
 }
 
-// Non-negative least squares of two columns: the unconstrained solution if both are >= 0, else
-// the better of the two one-column fits (with a 2 x 2 system that is the whole active-set search).
-SheenApproximation solve(const std::vector<Sample>& s, double roughness) {
-  double aa = 0, ab = 0, bb = 0, ay = 0, by = 0, yy = 0;
-  for (const Sample& x : s) {
-    const double w2 = x.weight * x.weight;
-    aa += w2 * x.diffuse * x.diffuse;
-    ab += w2 * x.diffuse * x.sheen;
-    bb += w2 * x.sheen * x.sheen;
-    ay += w2 * x.diffuse * x.charlie;
-    by += w2 * x.sheen * x.charlie;
-    yy += w2 * x.charlie * x.charlie;
+// The best scale in [0, maxScale] for one alpha: the unconstrained one clamped (one variable, a
+// convex quadratic).
+SheenApproximation fitAlpha(const std::vector<Pair>& pairs, double alpha, double maxScale) {
+  double gg = 0.0, gc = 0.0, cc = 0.0;
+  for (const Pair& p : pairs) {
+    const double w2 = p.weight * p.weight, g = ggxStandInLobe(p.light, p.view, alpha);
+    gg += w2 * g * g;
+    gc += w2 * g * p.charlie;
+    cc += w2 * p.charlie * p.charlie;
   }
-  const auto residual = [&](double a, double b) {
-    return aa * a * a + 2 * ab * a * b + bb * b * b - 2 * (ay * a + by * b) + yy;
-  };
-  std::array<std::array<double, 2>, 3> candidates{{{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}}};
-  const double det = aa * bb - ab * ab;
-  if (det > 0.0) candidates[0] = {(ay * bb - by * ab) / det, (by * aa - ay * ab) / det};
-  if (aa > 0.0) candidates[1] = {std::max(ay / aa, 0.0), 0.0};
-  if (bb > 0.0) candidates[2] = {0.0, std::max(by / bb, 0.0)};
-  SheenApproximation best;
-  double bestResidual = yy;
-  for (const auto& [a, b] : candidates) {
-    if (a < 0.0 || b < 0.0 || residual(a, b) >= bestResidual) continue;
-    bestResidual = residual(a, b);
-    best = {a, roughness, b, 0.0};
-  }
-  best.roughness = roughness;
-  best.relativeMismatch = yy > 0.0 ? std::sqrt(std::max(bestResidual, 0.0) / yy) : 0.0;
-  return best;
+  SheenApproximation a;
+  a.alpha = alpha;
+  a.scale = gg > 0.0 ? std::clamp(gc / gg, 0.0, std::max(maxScale, 0.0)) : 0.0;
+  const double residual = gg * a.scale * a.scale - 2.0 * gc * a.scale + cc;
+  a.relativeMismatch = cc > 0.0 ? std::sqrt(std::max(residual, 0.0) / cc) : 0.0;
+  return a;
 }
 
 }  // namespace
 
-double principledDiffuseLobe(const UnitVector& toLight, const UnitVector& toView,
-                             double roughness) {
-  const double fl = schlickWeight(toLight.z), fv = schlickWeight(toView.z);
-  const double cosD = cosDifference(toLight, toView);
-  const double retro = 2.0 * roughness * cosD * cosD;
-  return ((1.0 - 0.5 * fl) * (1.0 - 0.5 * fv) + retro * (fl + fv + fl * fv * (retro - 1.0))) /
-         std::numbers::pi;
+double ggxStandInLobe(const UnitVector& toLight, const UnitVector& toView, double alpha) {
+  if (toLight.z <= 0.0 || toView.z <= 0.0) return 0.0;
+  const double hx = toLight.x + toView.x, hy = toLight.y + toView.y, hz = toLight.z + toView.z;
+  const double cosH2 = hz * hz / (hx * hx + hy * hy + hz * hz);
+  const double a2 = alpha * alpha;
+  const double d = 1.0 / (std::numbers::pi * a2 * cosH2 * cosH2 *
+                          std::pow(1.0 + (1.0 - cosH2) / (cosH2 * a2), 2.0));
+  return d * smithG1(toLight.z, alpha) * smithG1(toView.z, alpha) / (4.0 * toLight.z * toView.z);
 }
 
-double principledSheenLobe(const UnitVector& toLight, const UnitVector& toView) {
-  return schlickWeight(cosDifference(toLight, toView));
-}
-
-SheenApproximation approximateSheen(double charlieRoughness) {
+SheenApproximation approximateSheen(double charlieRoughness, double maxScale) {
+  const std::vector<Pair> pairs = gridPairs(charlieRoughness);
   SheenApproximation best;
-  constexpr int kSteps = 20;  // principled roughness 0, 0.05, ..., 1
-  for (int k = 0; k <= kSteps; ++k) {
-    const SheenApproximation a = solve(samples(charlieRoughness, k / double(kSteps)), k / double(kSteps));
-    if (k == 0 || a.relativeMismatch < best.relativeMismatch) best = a;
+  constexpr int kSteps = 60;  // alpha 0.05, 0.10, ..., 3: beyond 3 the masking darkens it again
+  for (int k = 1; k <= kSteps; ++k) {
+    const SheenApproximation a = fitAlpha(pairs, 0.05 * k, maxScale);
+    if (k == 1 || a.relativeMismatch < best.relativeMismatch) best = a;
   }
   return best;
 }

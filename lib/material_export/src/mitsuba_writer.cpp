@@ -1,4 +1,5 @@
-// The fit as Mitsuba 3 XML: blendbsdf(diffuse, roughconductor) weighted so that the blend is a sum.
+// The fit as Mitsuba 3 XML: blendbsdf(diffuse, roughconductor) weighted so that the blend is a sum,
+// and for a sheen fit a GGX stand-in for the sheen blended in the same way.
 #include "slicecap/material_export/mitsuba_writer.hpp"
 
 #include <algorithm>
@@ -140,30 +141,26 @@ std::string sceneText(const fit::FittedMaterial& m, const std::string& source, c
   return header(m, source) + baseBsdf(m, b, "  ", " id=\"slicecap_fit\"") + sampleShape(m);
 }
 
-// The principled BSDF standing in for the sheen and its blend weight c (docs/material-export.md):
-// the snippet is (1 - c) x [the diffuse + GGX blend of the fit scaled by 1 / (1 - c)] + c x
-// principled, so the principled's parameters are the approximation's divided by c. c is the
-// smallest that keeps its base colour and `sheen` within [0, 1], leaving the most room for the
-// rest.
+// The GGX lobe standing in for the sheen and its blend weight c (docs/material-export.md): the
+// snippet is (1 - c) x [the diffuse + GGX blend of the fit scaled by 1 / (1 - c)] + c x the
+// stand-in, so the stand-in's reflectance is the approximation's divided by c. c is the smallest
+// that keeps that reflectance within [0, 1] (its largest channel 1), leaving the most room for the
+// rest; the approximation's scale is bounded so that the rest still fits (f0 + albedo <= 1 - c).
 struct SheenPart {
   SheenApproximation approximation;
   double weight = 0.0;
-  Rgb baseColour;
-  double sheen = 0.0;  // principled `sheen`, with sheen_tint 1 (the base colour's hue)
+  Rgb reflectance;
 };
-
-// Mitsuba's luminance of linear sRGB (mitsuba::luminance): principled tints the sheen by
-// base_color / luminance(base_color), so `sheen` carries the luminance back.
-double luminance(const Rgb& c) { return 0.212671 * c[0] + 0.715160 * c[1] + 0.072169 * c[2]; }
 
 SheenPart sheenPartOf(const fit::FittedMaterial& m) {
   SheenPart p;
-  p.approximation = approximateSheen(m.sheenRoughness);
-  const double a = p.approximation.diffuseScale, s = p.approximation.sheenScale;
-  p.weight = std::min(1.0, std::max(a * m.sheenColour.maxChannel(), s * luminance(m.sheenColour)));
+  const double colourMax = m.sheenColour.maxChannel();
+  if (colourMax <= kNegligible) return p;
+  const double room = 1.0 - m.diffuseAlbedo.maxChannel() - m.specularF0.maxChannel();
+  p.approximation = approximateSheen(m.sheenRoughness, room / colourMax);
+  p.weight = std::min(1.0, p.approximation.scale * colourMax);
   if (p.weight <= kNegligible) return p;
-  for (std::size_t c = 0; c < 3; ++c) p.baseColour[c] = m.sheenColour[c] * a / p.weight;
-  p.sheen = s * luminance(m.sheenColour) / p.weight;
+  for (std::size_t c = 0; c < 3; ++c) p.reflectance[c] = m.sheenColour[c] / colourMax;
   return p;
 }
 
@@ -181,12 +178,11 @@ void addSheenLoss(const fit::FittedMaterial& m, const SheenPart& p,
   const SheenApproximation& a = p.approximation;
   losses.push_back(
       {LossKind::SheenForm,
-       "Mitsuba 3 has no Charlie sheen BSDF: a principled BSDF (blend weight " + num(p.weight) +
-           ") stands in for the fitted sheen (colour " + detail::rgbText(m.sheenColour) +
-           ", roughness " + num(m.sheenRoughness) + "): the sheen colour x (" +
-           num(a.diffuseScale) + " x its diffuse with retro-reflection at roughness " +
-           num(a.roughness) + " + " + num(a.sheenScale) +
-           " x its sheen), the least-squares nearest on the 81 x 81 grid; rms mismatch " +
+       "Mitsuba 3 has no Charlie sheen BSDF: the fitted sheen (colour " +
+           detail::rgbText(m.sheenColour) + ", roughness " + num(m.sheenRoughness) +
+           ") is approximated by a GGX lobe of alpha " + num(a.alpha) + " and Fresnel 1 (" +
+           num(a.scale) + " x the sheen colour; blend weight " + num(p.weight) +
+           "), the least-squares nearest on the 81 x 81 grid: rms mismatch " +
            num(a.relativeMismatch) + " of the sheen's (1 = leaving it out)"});
 }
 
@@ -194,25 +190,20 @@ std::string sheenSceneText(const fit::FittedMaterial& m, const std::string& sour
                            const Blend& b, const SheenPart& p) {
   std::ostringstream x;
   x << "  <!-- slicecap_fit = blendbsdf weight c = " << num(p.weight)
-    << ": (1 - c) x the diffuse + GGX above divided by\n"
-    << "       (1 - c), + c x a principled BSDF (no specular) whose diffuse with retro-reflection"
-    << (p.sheen > 0.0 ? " and sheen" : "") << "\n"
-    << "       stand in for the fitted Charlie sheen (colour " << detail::rgbText(m.sheenColour)
-    << ", roughness " << num(m.sheenRoughness) << "),\n"
-    << "       rms mismatch " << num(p.approximation.relativeMismatch)
-    << " of the sheen's (docs/material-export.md). -->\n"
+    << ": (1 - c) x the diffuse + GGX above, divided by\n"
+    << "       (1 - c), + c x a GGX lobe of Fresnel 1 standing in for the fitted Charlie sheen\n"
+    << "       (colour " << detail::rgbText(m.sheenColour) << ", roughness "
+    << num(m.sheenRoughness) << "); rms mismatch " << num(p.approximation.relativeMismatch)
+    << "\n       of the sheen's (docs/material-export.md). -->\n"
     << "  <bsdf type=\"blendbsdf\" id=\"slicecap_fit\">\n"
     << "    <float name=\"weight\" value=\"" << num(p.weight) << "\"/>\n"
     << baseBsdf(m, b, "    ", "")
-    << "    <bsdf type=\"principled\">\n"
-    << "      " << rgbElement("base_color", p.baseColour) << "\n"
-    << "      <float name=\"roughness\" value=\"" << num(p.approximation.roughness) << "\"/>\n"
-    << "      <float name=\"specular\" value=\"0\"/>\n"
-    << "      <float name=\"main_specular_sampling_rate\" value=\"0\"/>\n";
-  if (p.sheen > 0.0)
-    x << "      <float name=\"sheen\" value=\"" << num(p.sheen) << "\"/>\n"
-      << "      <float name=\"sheen_tint\" value=\"1\"/>\n";
-  x << "    </bsdf>\n"
+    << "    <bsdf type=\"roughconductor\">\n"
+    << "      <string name=\"material\" value=\"none\"/>\n"
+    << "      <string name=\"distribution\" value=\"ggx\"/>\n"
+    << "      <float name=\"alpha\" value=\"" << num(p.approximation.alpha) << "\"/>\n"
+    << "      " << rgbElement("specular_reflectance", p.reflectance) << "\n"
+    << "    </bsdf>\n"
     << "  </bsdf>\n";
   return header(m, source) + x.str() + sampleShape(m);
 }
@@ -237,9 +228,9 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
   addLosses(m, blend, 1.0, out.report.losses);
   if (m.model == fit::MaterialModel::GgxSheen)
     out.report.losses.push_back(
-        {LossKind::SheenDropped, "the least-squares stand-in for the fitted sheen (colour " +
-                                     detail::rgbText(m.sheenColour) +
-                                     ") in Mitsuba's principled BSDF is zero: it is left out"});
+        {LossKind::SheenDropped, "the fitted sheen (colour " + detail::rgbText(m.sheenColour) +
+                                     ") is left out: its least-squares GGX stand-in is zero, or "
+                                     "the diffuse and specular leave it no room"});
   out.text = sceneText(m, source, blend);
   return out;
 }

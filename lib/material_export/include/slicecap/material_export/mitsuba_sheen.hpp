@@ -1,33 +1,29 @@
-// The fitted Charlie sheen as Mitsuba 3's principled BSDF can hold it: the least-squares nearest
-// diffuse-with-retro-reflection and Disney sheen terms (docs/material-export.md, Mitsuba section).
+// The fitted Charlie sheen as a Mitsuba 3 built-in can hold it: a very rough, fully reflecting
+// GGX lobe least-squares fitted to it (docs/material-export.md, Mitsuba section).
 #pragma once
 
 #include "slicecap/core/grid.hpp"
 
 namespace slicecap::material_export {
 
-/// \brief Mitsuba's principled BSDF terms that stand in for the fitted sheen lobe, as multiples of
-/// the sheen colour: sheenColour x (diffuseScale x P_roughness(l, v) + sheenScale x Fd(l, v)).
+/// \brief The stand-in for the sheen lobe: sheenColour x scale x ggxStandInLobe(l, v, alpha).
 struct SheenApproximation {
-  double diffuseScale = 0.0;    ///< weight of principledDiffuseLobe (a base colour of sheenColour x this)
-  double roughness = 0.0;       ///< principled `roughness` of that lobe, [0, 1]
-  double sheenScale = 0.0;      ///< weight of principledSheenLobe
-  double relativeMismatch = 1.0;  ///< rms(approximation - Charlie) / rms(Charlie), radiance-weighted
+  double alpha = 1.0;             ///< isotropic GGX alpha of the stand-in (may exceed 1)
+  double scale = 0.0;             ///< its reflectance, as a multiple of the sheen colour
+  double relativeMismatch = 1.0;  ///< rms(stand-in - Charlie) / rms(Charlie), radiance-weighted
 };
 
-/// \brief Mitsuba 3 principled's diffuse and retro-reflection per unit base colour, 1/sr:
-/// ((1 - Fl/2)(1 - Fv/2) + Rr (Fl + Fv + Fl Fv (Rr - 1))) / pi, F = (1 - cos)^5, Rr = 2 roughness
-/// cos_d^2 (its `eval`, no flatness, metallic 0).
-double principledDiffuseLobe(const UnitVector& toLight, const UnitVector& toView, double roughness);
+/// \brief Mitsuba 3's `roughconductor` with material "none" (Fresnel 1) per unit
+/// specular_reflectance, 1/sr: isotropic GGX D(h) G1(l) G1(v) / (4 cos_l cos_v), G1 the separable
+/// Smith term. 0 when either direction is at or below the surface.
+double ggxStandInLobe(const UnitVector& toLight, const UnitVector& toView, double alpha);
 
-/// \brief Mitsuba 3 principled's sheen per unit `sheen` (untinted), 1/sr: (1 - cos_d)^5, cos_d the
-/// angle between the half vector and either direction.
-double principledSheenLobe(const UnitVector& toLight, const UnitVector& toView);
-
-/// \brief The non-negative least-squares fit of those two terms to the fitted Charlie lobe of this
-/// roughness (fit::FittedMaterial's, colour 1) over every pair of the 81 Bonn directions, each
-/// residual weighted by cos(light) (the rendered radiance), the principled roughness the best of
-/// 0, 0.05, ..., 1. Never fails; relativeMismatch 1 would be no better than leaving the sheen out.
-SheenApproximation approximateSheen(double charlieRoughness);
+/// \brief The least-squares stand-in for the fitted Charlie lobe of this roughness
+/// (fit::FittedMaterial's, colour 1) over every pair of the 81 Bonn directions, each residual
+/// weighted by cos(light) (the rendered radiance): for each alpha in 0.05, 0.10, ..., 3 the best
+/// scale in [0, maxScale] (maxScale: how much reflectance the snippet has room for), and the alpha
+/// with the smallest mismatch. Never fails; with maxScale <= 0 the scale is 0 and the mismatch 1
+/// (the sheen left out).
+SheenApproximation approximateSheen(double charlieRoughness, double maxScale);
 
 }  // namespace slicecap::material_export
