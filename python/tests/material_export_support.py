@@ -2,6 +2,8 @@
 fitted material's BRDF as docs/material-fit.md writes it, and the ratio of a Mitsuba snippet's BSDF
 to it at random light/view pairs."""
 
+import re
+
 import numpy as np
 
 
@@ -37,6 +39,21 @@ def ggx_stand_in(alpha: float, to_light: np.ndarray, to_view: np.ndarray) -> flo
         return 2 / (1 + np.sqrt(1 + alpha**2 * (1 - w[2] ** 2) / w[2] ** 2))
 
     return d * g1(to_light) * g1(to_view) / (4 * to_light[2] * to_view[2])
+
+
+def sheen_stand_in(snippet: str):
+    """The BRDF the snippet adds for the fit's sheen, f(to_light, to_view) -> RGB, from its own
+    blend weight, alpha and specular_reflectance; None for a snippet without a stand-in."""
+    if 'name="specular_reflectance"' not in snippet:
+        return None
+
+    def value(name):
+        found = re.search(f'name="{name}" value="([^"]+)"', snippet)[1]
+        return np.array([float(v) for v in found.split(",")])
+
+    weight, alpha = value("weight")[0], value("alpha")[0]
+    reflectance = value("specular_reflectance")
+    return lambda to_light, to_view: weight * reflectance * ggx_stand_in(alpha, to_light, to_view)
 
 
 def mitsuba_ratios(mi, scene, parameters: dict, pairs=300, max_theta_deg=75.0, seed=7,
