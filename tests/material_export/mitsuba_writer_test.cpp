@@ -112,6 +112,19 @@ TEST(MitsubaWriter, SheenBecomesTheLeastSquaresGgxStandInAndTheRestStaysASum) {
   EXPECT_NEAR(std::stod(said.substr(at + 13)), a.relativeMismatch, 1e-5);
 }
 
+TEST(MitsubaWriter, SheenAloneGetsTheWholeBlendAndStaysFinite) {
+  fit::FittedMaterial m = velvet();
+  m.diffuseAlbedo = Rgb::gray(0.0);
+  m.specularF0 = Rgb::gray(0.0);
+  m.specularF90 = 0.0;
+  m.sheenColour = Rgb{0.6, 0.9, 0.7};  // bright: the stand-in's scale reaches the room's bound
+  const MitsubaExport e = mitsubaSnippet(m, "v.json");
+  EXPECT_NEAR(values(e.text, "weight").at(0), 1.0, 1e-9);
+  EXPECT_EQ(e.text.find("nan"), std::string::npos) << e.text;
+  EXPECT_EQ(e.text.find("inf"), std::string::npos) << e.text;
+  for (double r : values(e.text, "reflectance")) EXPECT_EQ(r, 0.0);
+}
+
 TEST(MitsubaWriter, SheenWithNoRoomIsDroppedAndTheSnippetIsTheGgxOne) {
   fit::FittedMaterial m = velvet();
   m.diffuseAlbedo = Rgb{0.5, 0.97, 0.5};  // albedo + f0 = 1: nothing left for the sheen

@@ -164,12 +164,15 @@ SheenPart sheenPartOf(const fit::FittedMaterial& m) {
   return p;
 }
 
+// The fit's diffuse and specular divided by `factor`; a factor of 0 (the stand-in takes the whole
+// blend, which the room allows only when there is no diffuse and no specular) leaves them 0.
 fit::FittedMaterial scaledBy(fit::FittedMaterial m, double factor) {
+  const auto divide = [factor](double v) { return factor > 0.0 ? v / factor : 0.0; };
   for (std::size_t c = 0; c < 3; ++c) {
-    m.diffuseAlbedo[c] /= factor;
-    m.specularF0[c] /= factor;
+    m.diffuseAlbedo[c] = divide(m.diffuseAlbedo[c]);
+    m.specularF0[c] = divide(m.specularF0[c]);
   }
-  m.specularF90 /= factor;
+  m.specularF90 = divide(m.specularF90);
   return m;
 }
 
