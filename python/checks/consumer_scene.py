@@ -187,9 +187,10 @@ def encode(linear: np.ndarray, exposure: float) -> np.ndarray:
 
 def mitsuba_reference(mitsuba_out: str, row: dict, fit_path: str):
     """(8-bit reference, its name) that a glTF render is judged against: Mitsuba's render of the
-    exported snippet, except for a fit with a sheen, which the snippet drops (no sheen BSDF in
-    Mitsuba 3: docs/material-export.md, `sheen-dropped`); then the fit tabulated on the grid and
-    rendered through the slicecap plugin (the fit's own model, at the grid's resolution)."""
+    exported snippet, except for a fit with a sheen, which the snippet only approximates (a GGX
+    stand-in, no Charlie sheen in Mitsuba 3: docs/material-export.md, `sheen-form`); then the fit
+    tabulated on the grid and rendered through the slicecap plugin (the fit's own model, at the
+    grid's resolution)."""
     with open(fit_path, encoding="utf-8") as file:
         sheen = json.load(file)["parameters"].get("sheen_colour", {"value": [0.0]})["value"]
     key = "fit-tabulated" if max(sheen) > 0.01 else "fit"

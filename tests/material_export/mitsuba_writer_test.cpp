@@ -1,7 +1,9 @@
 // The Mitsuba snippet: the blend weight and the scaled parts add up to the fit at normal
-// incidence, every reflectance stays within [0, 1], and the sheen's absence is reported.
+// incidence, every reflectance stays within [0, 1], and a sheen becomes its GGX stand-in.
 // (python/tests loads it in Mitsuba and compares its BSDF with the fit.)
 #include "slicecap/material_export/mitsuba_writer.hpp"
+
+#include "slicecap/material_export/mitsuba_sheen.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,10 +15,15 @@
 namespace slicecap::material_export {
 namespace {
 
-std::vector<double> values(const std::string& text, const std::string& name) {
+// The numbers of the `occurrence`-th (from 0) element of this name.
+std::vector<double> values(const std::string& text, const std::string& name,
+                           std::size_t occurrence = 0) {
   const std::regex re("name=\"" + name + "\" value=\"([^\"]+)\"");
-  std::smatch match;
-  EXPECT_TRUE(std::regex_search(text, match, re)) << name;
+  std::sregex_iterator it(text.begin(), text.end(), re);
+  for (std::size_t k = 0; k < occurrence && it != std::sregex_iterator(); ++k) ++it;
+  EXPECT_TRUE(it != std::sregex_iterator()) << name << " #" << occurrence;
+  if (it == std::sregex_iterator()) return {};
+  const std::smatch& match = *it;
   std::vector<double> out;
   std::string list = match[1];
   std::replace(list.begin(), list.end(), ',', ' ');
@@ -62,13 +69,71 @@ TEST(MitsubaWriter, BrightMaterialMovesTheGrazingValueAndSaysSo) {
   }));
 }
 
-TEST(MitsubaWriter, SheenIsReportedDropped) {
+fit::FittedMaterial velvet() {
   fit::FittedMaterial m = paint();
   m.model = fit::MaterialModel::GgxSheen;
-  m.sheenColour = Rgb{0.2, 0.2, 0.2};
-  const MitsubaExport e = mitsubaSnippet(m, "p.json");
-  EXPECT_TRUE(std::any_of(e.report.losses.begin(), e.report.losses.end(),
-                          [](const ConversionLoss& l) { return l.kind == LossKind::SheenDropped; }));
+  m.diffuseAlbedo = Rgb{0.04, 0.08, 0.05};
+  m.specularF0 = Rgb{0.02, 0.03, 0.02};
+  m.specularF90 = 0.05;
+  m.sheenColour = Rgb{0.12, 0.25, 0.15};  // dim enough that the stand-in's scale is not bounded
+  m.sheenRoughness = 0.3;
+  return m;
+}
+
+bool hasLoss(const MitsubaExport& e, LossKind kind) {
+  return std::any_of(e.report.losses.begin(), e.report.losses.end(),
+                     [&](const ConversionLoss& l) { return l.kind == kind; });
+}
+
+TEST(MitsubaWriter, SheenBecomesTheLeastSquaresGgxStandInAndTheRestStaysASum) {
+  const fit::FittedMaterial m = velvet();
+  const MitsubaExport e = mitsubaSnippet(m, "v.json");
+  const SheenApproximation a = approximateSheen(0.3, (1.0 - 0.08 - 0.03) / 0.25);
+  ASSERT_LT(a.scale, (1.0 - 0.08 - 0.03) / 0.25);
+  // The stand-in: weight c x reflectance = the approximation's scale x the sheen colour.
+  const double c = values(e.text, "weight").at(0);
+  const auto reflectance = values(e.text, "specular_reflectance");
+  for (std::size_t k = 0; k < 3; ++k)
+    EXPECT_NEAR(c * reflectance.at(k), a.scale * m.sheenColour[k], 1e-5);
+  EXPECT_NEAR(values(e.text, "alpha").at(0), a.alpha, 1e-5);
+  EXPECT_NE(e.text.find("<string name=\"material\" value=\"none\"/>"), std::string::npos);
+  // The diffuse + GGX inside, weighted (1 - c): still the fit's albedo and f0 at normal incidence.
+  const double w = values(e.text, "weight", 1).at(0);
+  EXPECT_NEAR((1.0 - c) * (1.0 - w) * values(e.text, "reflectance").at(1), 0.08, 1e-5);
+  const double eta = values(e.text, "eta").at(1);
+  EXPECT_NEAR((1.0 - c) * w * std::pow((eta - 1.0) / (eta + 1.0), 2), 0.03, 1e-5);
+  EXPECT_NEAR((1.0 - c) * w, 0.05, 1e-5);  // the fit's f90 fits: the grazing value is kept
+  EXPECT_TRUE(hasLoss(e, LossKind::SheenForm));
+  EXPECT_FALSE(hasLoss(e, LossKind::SheenDropped));
+  EXPECT_FALSE(hasLoss(e, LossKind::SpecularColourAtGrazing));
+  const std::string& said = e.report.losses.back().detail;
+  const std::size_t at = said.find("rms mismatch ");
+  ASSERT_NE(at, std::string::npos) << said;
+  EXPECT_NEAR(std::stod(said.substr(at + 13)), a.relativeMismatch, 1e-5);
+}
+
+TEST(MitsubaWriter, SheenAloneGetsTheWholeBlendAndStaysFinite) {
+  fit::FittedMaterial m = velvet();
+  m.diffuseAlbedo = Rgb::gray(0.0);
+  m.specularF0 = Rgb::gray(0.0);
+  m.specularF90 = 0.0;
+  m.sheenColour = Rgb{0.6, 0.9, 0.7};  // bright: the stand-in's scale reaches the room's bound
+  const MitsubaExport e = mitsubaSnippet(m, "v.json");
+  EXPECT_NEAR(values(e.text, "weight").at(0), 1.0, 1e-9);
+  EXPECT_EQ(e.text.find("nan"), std::string::npos) << e.text;
+  EXPECT_EQ(e.text.find("inf"), std::string::npos) << e.text;
+  for (double r : values(e.text, "reflectance")) EXPECT_EQ(r, 0.0);
+}
+
+TEST(MitsubaWriter, SheenWithNoRoomIsDroppedAndTheSnippetIsTheGgxOne) {
+  fit::FittedMaterial m = velvet();
+  m.diffuseAlbedo = Rgb{0.5, 0.97, 0.5};  // albedo + f0 = 1: nothing left for the sheen
+  const MitsubaExport e = mitsubaSnippet(m, "v.json");
+  EXPECT_TRUE(hasLoss(e, LossKind::SheenDropped));
+  EXPECT_FALSE(hasLoss(e, LossKind::SheenForm));
+  fit::FittedMaterial ggx = m;
+  ggx.model = fit::MaterialModel::Ggx;
+  EXPECT_EQ(e.text, mitsubaSnippet(ggx, "v.json").text);
 }
 
 }  // namespace

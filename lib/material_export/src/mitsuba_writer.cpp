@@ -1,4 +1,5 @@
-// The fit as Mitsuba 3 XML: blendbsdf(diffuse, roughconductor) weighted so that the blend is a sum.
+// The fit as Mitsuba 3 XML: blendbsdf(diffuse, roughconductor) weighted so that the blend is a sum,
+// and for a sheen fit a GGX stand-in for the sheen blended in the same way.
 #include "slicecap/material_export/mitsuba_writer.hpp"
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <sstream>
 
 #include "slicecap/io/file_replacement.hpp"
+#include "slicecap/material_export/mitsuba_sheen.hpp"
 #include "xml_text.hpp"
 
 namespace slicecap::material_export {
@@ -59,9 +61,12 @@ Blend blendOf(const fit::FittedMaterial& m) {
   return b;
 }
 
-void addLosses(const fit::FittedMaterial& m, const Blend& b, std::vector<ConversionLoss>& losses) {
+// `scale` is the share of the diffuse + GGX blend in the snippet (1 without a sheen part), so that
+// the figures reported are the snippet's, not the scaled blend's.
+void addLosses(const fit::FittedMaterial& m, const Blend& b, double scale,
+               std::vector<ConversionLoss>& losses) {
   const double diffuseMax = m.diffuseAlbedo.maxChannel(), f0Max = m.specularF0.maxChannel();
-  const double weight = b.weight;
+  const double weight = scale * b.weight;
   if (b.diffuseClamped || (weight >= 1.0 && diffuseMax > 0.0))
     losses.push_back({LossKind::DiffuseLayering,
                       "f0 " + num(f0Max) + " + diffuse albedo " + num(diffuseMax) +
@@ -82,13 +87,30 @@ void addLosses(const fit::FittedMaterial& m, const Blend& b, std::vector<Convers
                     "Mitsuba has no anisotropy rotation: alpha_u follows the shape's dp/du; the "
                     "snippet's rectangle is turned by tangent_deg " + num(m.tangentDeg) +
                         " so that its u axis is the fitted tangent"});
-  if (m.model == fit::MaterialModel::GgxSheen)
-    losses.push_back({LossKind::SheenDropped,
-                      "Mitsuba 3 has no Charlie sheen BSDF: the fitted sheen (colour " +
-                          detail::rgbText(m.sheenColour) + ") is left out"});
 }
 
-std::string sceneText(const fit::FittedMaterial& m, const std::string& source, const Blend& b) {
+// The diffuse + GGX blendbsdf, each line indented by `indent`; `idAttribute` is empty or
+// ` id="..."`.
+std::string baseBsdf(const fit::FittedMaterial& m, const Blend& b, const std::string& indent,
+                     const std::string& idAttribute) {
+  std::ostringstream x;
+  x << indent << "<bsdf type=\"blendbsdf\"" << idAttribute << ">\n"
+    << indent << "  <float name=\"weight\" value=\"" << num(b.weight) << "\"/>\n"
+    << indent << "  <bsdf type=\"diffuse\">\n"
+    << indent << "    " << rgbElement("reflectance", b.diffuseReflectance) << "\n"
+    << indent << "  </bsdf>\n"
+    << indent << "  <bsdf type=\"roughconductor\">\n"
+    << indent << "    <string name=\"distribution\" value=\"ggx\"/>\n"
+    << indent << "    <float name=\"alpha_u\" value=\"" << num(m.alphaTangent) << "\"/>\n"
+    << indent << "    <float name=\"alpha_v\" value=\"" << num(m.alphaBitangent) << "\"/>\n"
+    << indent << "    " << rgbElement("eta", b.eta) << "\n"
+    << indent << "    " << rgbElement("k", Rgb::gray(0.0)) << "\n"
+    << indent << "  </bsdf>\n"
+    << indent << "</bsdf>\n";
+  return x.str();
+}
+
+std::string header(const fit::FittedMaterial& m, const std::string& source) {
   std::ostringstream x;
   x << "<?xml version=\"1.0\"?>\n"
     << "<!-- slicecap fit of " << detail::commentSafe(source) << " (docs/material-export.md).\n"
@@ -98,21 +120,13 @@ std::string sceneText(const fit::FittedMaterial& m, const std::string& source, c
     << "     as blendbsdf weight w = grazing reflectance, the diffuse divided by (1 - w), the\n"
     << "     conductor's F0 = f0 / w. Use it with\n"
     << "     <ref id=\"slicecap_fit\"/>; its anisotropy follows each shape's dp/du. -->\n"
-    << "<scene version=\"3.0.0\">\n"
-    << "  <bsdf type=\"blendbsdf\" id=\"slicecap_fit\">\n"
-    << "    <float name=\"weight\" value=\"" << num(b.weight) << "\"/>\n"
-    << "    <bsdf type=\"diffuse\">\n"
-    << "      " << rgbElement("reflectance", b.diffuseReflectance) << "\n"
-    << "    </bsdf>\n"
-    << "    <bsdf type=\"roughconductor\">\n"
-    << "      <string name=\"distribution\" value=\"ggx\"/>\n"
-    << "      <float name=\"alpha_u\" value=\"" << num(m.alphaTangent) << "\"/>\n"
-    << "      <float name=\"alpha_v\" value=\"" << num(m.alphaBitangent) << "\"/>\n"
-    << "      " << rgbElement("eta", b.eta) << "\n"
-    << "      " << rgbElement("k", Rgb::gray(0.0)) << "\n"
-    << "    </bsdf>\n"
-    << "  </bsdf>\n"
-    << "  <!-- A flat sample, normal +z, its u axis turned onto the fitted tangent. -->\n"
+    << "<scene version=\"3.0.0\">\n";
+  return x.str();
+}
+
+std::string sampleShape(const fit::FittedMaterial& m) {
+  std::ostringstream x;
+  x << "  <!-- A flat sample, normal +z, its u axis turned onto the fitted tangent. -->\n"
     << "  <shape type=\"rectangle\" id=\"slicecap_sample\">\n"
     << "    <transform name=\"to_world\">\n"
     << "      <rotate z=\"1\" angle=\"" << num(m.tangentDeg) << "\"/>\n"
@@ -123,6 +137,80 @@ std::string sceneText(const fit::FittedMaterial& m, const std::string& source, c
   return x.str();
 }
 
+std::string sceneText(const fit::FittedMaterial& m, const std::string& source, const Blend& b) {
+  return header(m, source) + baseBsdf(m, b, "  ", " id=\"slicecap_fit\"") + sampleShape(m);
+}
+
+// The GGX lobe standing in for the sheen and its blend weight c (docs/material-export.md): the
+// snippet is (1 - c) x [the diffuse + GGX blend of the fit scaled by 1 / (1 - c)] + c x the
+// stand-in, so the stand-in's reflectance is the approximation's divided by c. c is the smallest
+// that keeps that reflectance within [0, 1] (its largest channel 1), leaving the most room for the
+// rest; the approximation's scale is bounded so that the rest still fits (f0 + albedo <= 1 - c).
+struct SheenPart {
+  SheenApproximation approximation;
+  double weight = 0.0;
+  Rgb reflectance;
+};
+
+SheenPart sheenPartOf(const fit::FittedMaterial& m) {
+  SheenPart p;
+  const double colourMax = m.sheenColour.maxChannel();
+  if (colourMax <= kNegligible) return p;
+  const double room = 1.0 - m.diffuseAlbedo.maxChannel() - m.specularF0.maxChannel();
+  p.approximation = approximateSheen(m.sheenRoughness, room / colourMax);
+  p.weight = std::min(1.0, p.approximation.scale * colourMax);
+  if (p.weight <= kNegligible) return p;
+  for (std::size_t c = 0; c < 3; ++c) p.reflectance[c] = m.sheenColour[c] / colourMax;
+  return p;
+}
+
+// The fit's diffuse and specular divided by `factor`; a factor of 0 (the stand-in takes the whole
+// blend, which the room allows only when there is no diffuse and no specular) leaves them 0.
+fit::FittedMaterial scaledBy(fit::FittedMaterial m, double factor) {
+  const auto divide = [factor](double v) { return factor > 0.0 ? v / factor : 0.0; };
+  for (std::size_t c = 0; c < 3; ++c) {
+    m.diffuseAlbedo[c] = divide(m.diffuseAlbedo[c]);
+    m.specularF0[c] = divide(m.specularF0[c]);
+  }
+  m.specularF90 = divide(m.specularF90);
+  return m;
+}
+
+void addSheenLoss(const fit::FittedMaterial& m, const SheenPart& p,
+                  std::vector<ConversionLoss>& losses) {
+  const SheenApproximation& a = p.approximation;
+  losses.push_back(
+      {LossKind::SheenForm,
+       "Mitsuba 3 has no Charlie sheen BSDF: the fitted sheen (colour " +
+           detail::rgbText(m.sheenColour) + ", roughness " + num(m.sheenRoughness) +
+           ") is approximated by a GGX lobe of alpha " + num(a.alpha) + " and Fresnel 1 (" +
+           num(a.scale) + " x the sheen colour; blend weight " + num(p.weight) +
+           "), the least-squares nearest on the 81 x 81 grid: rms mismatch " +
+           num(a.relativeMismatch) + " of the sheen's (1 = leaving it out)"});
+}
+
+std::string sheenSceneText(const fit::FittedMaterial& m, const std::string& source,
+                           const Blend& b, const SheenPart& p) {
+  std::ostringstream x;
+  x << "  <!-- slicecap_fit = blendbsdf weight c = " << num(p.weight)
+    << ": (1 - c) x the diffuse + GGX above, divided by\n"
+    << "       (1 - c), + c x a GGX lobe of Fresnel 1 standing in for the fitted Charlie sheen\n"
+    << "       (colour " << detail::rgbText(m.sheenColour) << ", roughness "
+    << num(m.sheenRoughness) << "); rms mismatch " << num(p.approximation.relativeMismatch)
+    << "\n       of the sheen's (docs/material-export.md). -->\n"
+    << "  <bsdf type=\"blendbsdf\" id=\"slicecap_fit\">\n"
+    << "    <float name=\"weight\" value=\"" << num(p.weight) << "\"/>\n"
+    << baseBsdf(m, b, "    ", "")
+    << "    <bsdf type=\"roughconductor\">\n"
+    << "      <string name=\"material\" value=\"none\"/>\n"
+    << "      <string name=\"distribution\" value=\"ggx\"/>\n"
+    << "      <float name=\"alpha\" value=\"" << num(p.approximation.alpha) << "\"/>\n"
+    << "      " << rgbElement("specular_reflectance", p.reflectance) << "\n"
+    << "    </bsdf>\n"
+    << "  </bsdf>\n";
+  return header(m, source) + x.str() + sampleShape(m);
+}
+
 }  // namespace
 
 MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::string& source) {
@@ -130,7 +218,22 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
   MitsubaExport out;
   out.report.format = "Mitsuba 3";
   const Blend blend = blendOf(m);
-  addLosses(m, blend, out.report.losses);
+  if (m.model == fit::MaterialModel::GgxSheen) {
+    const SheenPart sheen = sheenPartOf(m);
+    if (sheen.weight > kNegligible) {
+      const Blend scaledBlend = blendOf(scaledBy(m, 1.0 - sheen.weight));
+      addLosses(m, scaledBlend, 1.0 - sheen.weight, out.report.losses);
+      addSheenLoss(m, sheen, out.report.losses);
+      out.text = sheenSceneText(m, source, scaledBlend, sheen);
+      return out;
+    }
+  }
+  addLosses(m, blend, 1.0, out.report.losses);
+  if (m.model == fit::MaterialModel::GgxSheen)
+    out.report.losses.push_back(
+        {LossKind::SheenDropped, "the fitted sheen (colour " + detail::rgbText(m.sheenColour) +
+                                     ") is left out: its least-squares GGX stand-in is zero, or "
+                                     "the diffuse and specular leave it no room"});
   out.text = sceneText(m, source, blend);
   return out;
 }
