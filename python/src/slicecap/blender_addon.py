@@ -247,7 +247,7 @@ def import_slicecap_gltf(filepath: str) -> list[str]:
 _registered: list[Any] = []
 
 
-def _menu_entry(menu: Any, _context: Any) -> None:
+def _slicecap_menu_entry(menu: Any, _context: Any) -> None:
     menu.layout.operator("import_scene.slicecap_gltf", text="Import slicecap glTF (.glb/.gltf)")
 
 
@@ -278,7 +278,13 @@ def register() -> None:
             return {"FINISHED"}
 
     bpy.utils.register_class(ImportSlicecapGltf)
-    bpy.types.TOPBAR_MT_file_import.append(_menu_entry)
+    # Run Script twice executes this file twice: drop the earlier run's menu entry, a different
+    # function object with the same name, so the menu shows one.
+    menu = bpy.types.TOPBAR_MT_file_import
+    for draw in [f for f in menu._dyn_ui_initialize()
+                 if getattr(f, "__name__", "") == _slicecap_menu_entry.__name__]:
+        menu.remove(draw)
+    menu.append(_slicecap_menu_entry)
     _registered.append(ImportSlicecapGltf)
 
 
@@ -286,7 +292,7 @@ def unregister() -> None:
     """Removes what register added (Blender calls this)."""
     import bpy
 
-    bpy.types.TOPBAR_MT_file_import.remove(_menu_entry)
+    bpy.types.TOPBAR_MT_file_import.remove(_slicecap_menu_entry)
     while _registered:
         bpy.utils.unregister_class(_registered.pop())
 
