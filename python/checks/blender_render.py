@@ -5,12 +5,15 @@ the anisotropy the importer put on the Principled BSDF, and renders the glTF's s
 (glTF coordinates). Writes OUT.npy (linear RGB, rows top first) and OUT.json (the Principled
 inputs, the Blender version).
 
-With `remap`, the Principled BSDF's Roughness and Anisotropic are then set to give glTF's two
-alphas in Cycles (remap_anisotropy): information, what a user can do by hand.
+Without `addon`, the glTF is imported as Blender's importer leaves it, plus a UV-map Tangent node;
+with `addon`, through slicecap's Blender add-on (python/src/slicecap/blender_addon.py, loaded from
+its file as Blender loads a single-file add-on): the same tangent and Roughness and Anisotropic
+re-mapped to glTF's two alphas.
 
-Usage: python blender_render.py MODEL.gltf VIEW.json OUT [SAMPLES [remap]]
+Usage: python blender_render.py MODEL.gltf VIEW.json OUT [SAMPLES [addon]]
 """
 
+import importlib.util
 import json
 import math
 import os
@@ -19,6 +22,12 @@ import sys
 import bpy
 import numpy as np
 from mathutils import Vector
+
+ADDON_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src", "slicecap",
+                          "blender_addon.py")
+_spec = importlib.util.spec_from_file_location("slicecap_blender_addon", ADDON_FILE)
+addon = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(addon)
 
 INPUTS = ("Base Color", "Roughness", "Anisotropic", "Anisotropic Rotation", "IOR",
           "Specular IOR Level", "Specular Tint", "Sheen Weight", "Sheen Tint", "Sheen Roughness")
@@ -29,21 +38,20 @@ def to_blender(p) -> Vector:
     return Vector((p[0], -p[2], p[1]))
 
 
-def principled_of(obj):
-    for node in obj.active_material.node_tree.nodes:
-        if node.type == "BSDF_PRINCIPLED":
-            return obj.active_material.node_tree, node
-    raise RuntimeError(f"{obj.name}: the imported material has no Principled BSDF")
-
-
 def value(socket):
     v = socket.default_value
     return [float(x) for x in v] if hasattr(v, "__len__") else float(v)
 
 
-def import_sphere(gltf_path):
+def import_sphere(gltf_path, through_addon):
+    """The glTF's sphere, imported by Blender's importer or through the add-on (whose lines,
+    one per material, are returned beside it); the other meshes are hidden from the render."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    bpy.ops.import_scene.gltf(filepath=gltf_path)
+    if through_addon:
+        lines = addon.import_slicecap_gltf(gltf_path)
+    else:
+        bpy.ops.import_scene.gltf(filepath=gltf_path)
+        lines = []
     spheres = [o for o in bpy.context.scene.objects
                if o.type == "MESH" and "sphere" in (o.name + o.data.name).lower()]
     if len(spheres) != 1:
@@ -51,16 +59,7 @@ def import_sphere(gltf_path):
     for obj in bpy.context.scene.objects:
         if obj.type == "MESH" and obj is not spheres[0]:
             obj.hide_render = True
-    return spheres[0]
-
-
-def connect_uv_tangent(obj, tree, principled):
-    """docs/guide/desktop.md step: without an anisotropy texture the importer connects no tangent;
-    the mesh's u direction is the exported glTF tangent, so a UV-map Tangent node restores it."""
-    tangent = tree.nodes.new("ShaderNodeTangent")
-    tangent.direction_type = "UV_MAP"
-    tangent.uv_map = obj.data.uv_layers[0].name
-    tree.links.new(principled.inputs["Tangent"], tangent.outputs["Tangent"])
+    return spheres[0], lines
 
 
 def scene_from(view, samples):
@@ -100,38 +99,21 @@ def scene_from(view, samples):
     scene.render.image_settings.color_depth = "32"
 
 
-def remap_anisotropy(principled) -> dict:
-    """Sets Roughness and Anisotropic so that Cycles' Principled lobe has glTF's two alphas:
-    KHR_materials_anisotropy gives alpha_b = roughness^2, alpha_t = mix(alpha_b, 1, strength^2);
-    Cycles' Principled BSDF (its svm_closure code) takes alpha_x = r^2 / aspect along the tangent,
-    alpha_y = r^2 aspect, aspect = sqrt(1 - 0.9 anisotropic). So r^2 = sqrt(alpha_t alpha_b) and
-    anisotropic = (1 - alpha_b / alpha_t) / 0.9, which reaches ratios up to 10. Returns the
-    alphas and the inputs set."""
-    alpha_b = principled.inputs["Roughness"].default_value ** 2
-    strength = principled.inputs["Anisotropic"].default_value
-    alpha_t = alpha_b + (1.0 - alpha_b) * strength**2
-    roughness = (alpha_t * alpha_b) ** 0.25
-    anisotropic = min(1.0, (1.0 - alpha_b / alpha_t) / 0.9)
-    principled.inputs["Roughness"].default_value = roughness
-    principled.inputs["Anisotropic"].default_value = anisotropic
-    return {"alpha_t": alpha_t, "alpha_b": alpha_b, "Roughness": roughness,
-            "Anisotropic": anisotropic}
-
-
 def main(argv):
     gltf_path, view_path, out = argv[:3]
     samples = int(argv[3]) if len(argv) > 3 else 16
-    remap = len(argv) > 4 and argv[4] == "remap"
+    through_addon = len(argv) > 4 and argv[4] == "addon"
     with open(view_path, encoding="utf-8") as file:
         view = json.load(file)
-    sphere = import_sphere(gltf_path)
-    tree, principled = principled_of(sphere)
+    sphere, addon_lines = import_sphere(gltf_path, through_addon)
+    tree, principled = addon.principled_of(sphere.active_material)
     imported = {name: value(principled.inputs[name]) for name in INPUTS
                 if name in principled.inputs}
-    imported["tangent_linked_by_importer"] = principled.inputs["Tangent"].is_linked
+    imported["tangent_linked"] = principled.inputs["Tangent"].is_linked
     imported["distribution"] = principled.distribution
-    connect_uv_tangent(sphere, tree, principled)
-    remapped = remap_anisotropy(principled) if remap else None
+    if not through_addon:
+        # As the desktop guide's manual step: the importer connects no tangent.
+        addon.connect_uv_tangent(tree, principled, sphere.data.uv_layers[0].name)
     scene_from(view, samples)
     bpy.context.scene.render.filepath = out + ".exr"
     bpy.ops.render.render(write_still=True)
@@ -141,7 +123,7 @@ def main(argv):
     np.save(out + ".npy", pixels[::-1, :, :3])
     with open(out + ".json", "w", encoding="utf-8") as file:
         json.dump({"blender": bpy.app.version_string, "principled": imported,
-                   "remapped": remapped}, file, indent=1)
+                   "addon": addon_lines if through_addon else None}, file, indent=1)
 
 
 if __name__ == "__main__":
