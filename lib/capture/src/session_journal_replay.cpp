@@ -30,6 +30,22 @@ RecordRemains remainsOf(const std::optional<json>& j) {
   return out;
 }
 
+// A sample record's sample. An HDR sample's reading ("hdr", absent from single-exposure
+// records and from journals written before it) is checked whole: a damaged one makes the record
+// damaged, never a sample without its cells, which the bin would merge differently.
+FrameSample sampleFrom(const json& j) {
+  const json& light = j.at("light");
+  const json& view = j.at("view");
+  const json& rgb = j.at("rgb");
+  FrameSample sample{wholeNumber<std::int64_t>(j, "ts"),
+                     wholeNumber<std::uint64_t>(j, "frame"),
+                     {light.at(0).get<double>(), light.at(1).get<double>()},
+                     {view.at(0).get<double>(), view.at(1).get<double>()},
+                     {rgb.at(0).get<double>(), rgb.at(1).get<double>(), rgb.at(2).get<double>()}};
+  if (j.contains("hdr")) sample.hdr = hdrFrom(j.at("hdr"));
+  return sample;
+}
+
 std::optional<json> parseRecord(const std::string& text, const std::string& where) {
   try {
     json j = io::parseJson(text, where);
@@ -180,15 +196,7 @@ void SessionStore::apply(const std::string& record, std::size_t line) {
     const std::string type = j.at("t").get<std::string>();
     const SliceId slice = sliceFrom(j.at("slice"));
     if (type == "sample") {
-      const json& light = j.at("light");
-      const json& view = j.at("view");
-      const json& rgb = j.at("rgb");
-      binsFor(slice).add(
-          {wholeNumber<std::int64_t>(j, "ts"),
-           wholeNumber<std::uint64_t>(j, "frame"),
-           {light.at(0).get<double>(), light.at(1).get<double>()},
-           {view.at(0).get<double>(), view.at(1).get<double>()},
-           {rgb.at(0).get<double>(), rgb.at(1).get<double>(), rgb.at(2).get<double>()}});
+      binsFor(slice).add(sampleFrom(j));
     } else if (type == "redo") {
       binsFor(slice).clear();
       damagedSlices_.erase(slice);  // what was set aside would be discarded now anyway
