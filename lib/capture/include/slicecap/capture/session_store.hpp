@@ -103,7 +103,7 @@ class SessionStore {
   void judgeDamagedRecord(std::size_t line, const std::string& where,
                           const std::optional<std::string>& type,
                           const std::optional<SliceId>& slice);
-  void apply(const std::string& record, std::size_t line);
+  void apply(const nlohmann::json& record, std::size_t line);
   void setAside(std::size_t line, std::string what, std::optional<SliceId> slice);
   void append(nlohmann::json record);  // numbers it ("n") and makes it durable
   AzimuthBins& binsFor(const SliceId& slice);
