@@ -209,7 +209,7 @@ TEST(SessionJournalDamage, ADamagedHdrReadingCostsThatSampleAndNamesTheLine) {
       {"a NaN written as null", [](json& hdr) { hdr["cells"][7][2] = nullptr; },
        "hdr.cells[7][2] (radiance b): expected a number, got null"},
       {"a negative variance", [](json& hdr) { hdr["cells"][3][4] = -1e-6; },
-       "hdr.cells[3][4] (variance g): expected a variance >= 0"},
+       "hdr.cells[3][4] (variance g): expected a variance >= 0, got -1e-06"},
       {"clipped not a bool", [](json& hdr) { hdr["cells"][0][7] = 1; },
        "hdr.cells[0][7] (clipped): expected true or false, got 1"},
       {"a level beyond full scale", [](json& hdr) { hdr["cells"][5][6] = 7.5; },

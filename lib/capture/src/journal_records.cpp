@@ -2,8 +2,8 @@
 #include "journal_records.hpp"
 
 #include <array>
+#include <charconv>
 #include <cmath>
-#include <cstdio>
 
 #include "slicecap/io/recording.hpp"
 
@@ -19,10 +19,12 @@ constexpr std::array<const char*, 8> kCellFields = {"radiance r", "radiance g", 
 constexpr std::size_t kClippedField = 7;
 constexpr std::size_t kCellCount = std::size_t(kHdrCellsPerSide) * kHdrCellsPerSide;
 
+// The shortest form that reads back as `value` (as the journal writes it): -1e-06, not
+// -9.9999999999999995e-07.
 std::string text(double value) {
   char out[32];
-  std::snprintf(out, sizeof out, "%.17g", value);
-  return out;
+  const std::to_chars_result end = std::to_chars(out, out + sizeof out, value);
+  return std::string(out, end.ptr);
 }
 
 std::string cellField(std::size_t cell, std::size_t field) {
