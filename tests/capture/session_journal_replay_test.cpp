@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <functional>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "../support/sweep_sample.hpp"
@@ -189,6 +191,62 @@ TEST(SessionJournalDamage, ASessionWithADamagedDescriptionIsListedAsDamaged) {
   ASSERT_EQ(sessions.size(), 1u) << "a folder without a journal's records is still no session";
   EXPECT_EQ(sessions[0].id, "s");
   EXPECT_NE(sessions[0].damage.find("session.json"), std::string::npos) << sessions[0].damage;
+}
+
+// An HDR sample's record whose reading is damaged, yet whose checksum holds (a damaged writer): the
+// sample is not counted and the line is named, never counted without its cells (its bin would
+// then be merged as a single exposure's, from a value that may be clipped).
+TEST(SessionJournalDamage, ADamagedHdrReadingCostsThatSampleAndNamesTheLine) {
+  using nlohmann::json;
+  struct Case {
+    std::string name;
+    std::function<void(json&)> damage;
+    std::string said;
+  };
+  const std::vector<Case> cases = {
+      {"35 cells", [](json& hdr) { hdr["cells"].erase(hdr["cells"].size() - 1); },
+       "hdr.cells: expected an array of 36 cells, got 35 cells"},
+      {"a NaN written as null", [](json& hdr) { hdr["cells"][7][2] = nullptr; },
+       "hdr.cells[7][2] (radiance b): expected a number, got null"},
+      {"a negative variance", [](json& hdr) { hdr["cells"][3][4] = -1e-6; },
+       "hdr.cells[3][4] (variance g): expected a variance >= 0, got -1e-06"},
+      {"clipped not a bool", [](json& hdr) { hdr["cells"][0][7] = 1; },
+       "hdr.cells[0][7] (clipped): expected true or false, got 1"},
+      {"a level beyond full scale", [](json& hdr) { hdr["cells"][5][6] = 7.5; },
+       "hdr.cells[5][6] (level): expected a fraction of full scale"},
+      {"exposure level 3", [](json& hdr) { hdr["exposure_level"] = 3; },
+       "hdr.exposure_level: expected a whole number in 0..2, got 3"},
+      {"a negative irradiance weight", [](json& hdr) { hdr["irradiance_weight"] = -2.5; },
+       "hdr.irradiance_weight: expected >= 0, got -2.5"},
+      {"no cells", [](json& hdr) { hdr.erase("cells"); }, "hdr.cells: missing"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const auto root = test::freshTempDir();
+    {
+      SessionStore store = SessionStore::create(root, "s", "m");
+      store.recordSample(kAxial3030, test::hdrSampleAt(0, 0.5, 1.0, 0, 1));
+      store.recordSample(kAxial3030, test::hdrSampleAt(15, 0.5, 1.0, 1, 2));
+    }
+    const auto journal = root / "s" / "journal";
+    std::vector<std::string> lines = journalLines(journal);
+    ASSERT_EQ(lines.size(), 2u);
+    json record = json::parse(lines[1].substr(9));
+    c.damage(record.at("hdr"));
+    lines.pop_back();
+    writeLines(journal, lines);
+    io::Journal::open(journal, nullptr).append(record.dump());  // a valid checksum
+
+    const SessionStore store = SessionStore::open(root, "s");
+    EXPECT_EQ(store.sampleCount(kAxial3030), 1u) << "the damaged sample was counted";
+    ASSERT_EQ(store.damage().size(), 1u) << allDamage(store);
+    EXPECT_EQ(store.damage()[0].line, 2u);
+    EXPECT_EQ(store.damage()[0].samplesLost, 1u);
+    EXPECT_NE(allDamage(store).find(journal.string() + " line 2: " + c.said), std::string::npos)
+        << allDamage(store);
+    EXPECT_NE(allDamage(store).find("the sample is not counted"), std::string::npos)
+        << allDamage(store);
+  }
 }
 
 }  // namespace

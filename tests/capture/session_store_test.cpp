@@ -6,9 +6,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <bit>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
+#include <random>
 
 #include "../support/kill_dash_nine.hpp"
 #include "../support/sweep_sample.hpp"
@@ -21,7 +25,27 @@ namespace {
 const SliceId kAxial3030{SliceKind::Axial, {30, 30}};
 const SliceId kDiagonal7575{SliceKind::Diagonal, {75, 75}};
 
+using test::hdrSampleAt;
 using test::sampleAt;
+
+// The record of each journal line, its checksum and space cut off.
+std::vector<std::string> journalRecords(const std::filesystem::path& journal) {
+  std::ifstream in(journal, std::ios::binary);
+  std::vector<std::string> records;
+  for (std::string line; std::getline(in, line);)
+    records.push_back(line.substr(9));
+  return records;
+}
+
+std::uint64_t bitsOf(double value) {
+  return std::bit_cast<std::uint64_t>(value);
+}
+
+void expectBitIdentical(const Rgb& a, const Rgb& b, const std::string& what) {
+  for (std::size_t c = 0; c < 3; ++c)
+    EXPECT_EQ(bitsOf(a[c]), bitsOf(b[c]))
+        << what << " channel " << c << ": " << a[c] << " vs " << b[c];
+}
 
 TEST(SessionStore, CreatesListsReopensAndRemoves) {
   const auto root = test::freshTempDir();
@@ -203,6 +227,143 @@ TEST(SessionStore, ANumberOutOfItsRangeNamesTheRecordAndTheField) {
   std::ofstream(root / "s" / "session.json")
       << R"({"format":1.5,"id":"s","material":"m","created":"2026-11-23T14:05:00Z"})";
   EXPECT_THROW(SessionStore::open(root, "s"), io::IoError);
+}
+
+// A single-exposure sample's record is the one journals held before HDR readings were kept: old
+// and new journals are one format.
+TEST(SessionStore, ASampleWithoutAReadingWritesTheRecordItAlwaysHas) {
+  const auto root = test::freshTempDir();
+  SessionStore::create(root, "s", "m").recordSample(kAxial3030, sampleAt(45.0, 0.5, 3));
+  const std::vector<std::string> records = journalRecords(root / "s" / "journal");
+  ASSERT_EQ(records.size(), 1u);
+  EXPECT_EQ(records[0],
+            R"({"frame":3,"light":[30.0,45.0],"n":1,"rgb":[0.5,0.5,0.5],)"
+            R"("slice":{"kind":"axial","theta_i":30,"theta_v":30},"t":"sample","ts":99000,)"
+            R"("view":[30.0,60.0]})");
+}
+
+// Every double of a reading reads back with the same bits (nlohmann writes the shortest form that
+// round-trips and reads with strtod): random bit patterns over the whole range, subnormals and
+// -0 among them.
+TEST(SessionStore, AnHdrReadingReplaysBitIdentical) {
+  const auto root = test::freshTempDir();
+  std::mt19937_64 random(31);
+  const auto anyFinite = [&] {
+    for (;;) {
+      const double value = std::bit_cast<double>(random());
+      if (std::isfinite(value)) return value;
+    }
+  };
+  std::uniform_real_distribution<double> fraction(0.0, 1.0);
+  std::vector<FrameSample> written;
+  for (std::uint64_t i = 0; i < 24; ++i) {
+    FrameSample s = hdrSampleAt(double(i) * 15.0, 2.0, 16.0, int(i % 3), i);
+    for (HdrCell& cell : s.hdr->cells) {
+      for (std::size_t c = 0; c < 3; ++c) {
+        cell.radiance[c] = anyFinite();
+        cell.variance[c] = std::abs(anyFinite());
+      }
+      cell.level = fraction(random);
+    }
+    s.hdr->cells[0].radiance = {-0.0, std::numeric_limits<double>::denorm_min(),
+                                std::numeric_limits<double>::max()};
+    s.hdr->cells[1].radiance = {0.1, 1.0 / 3.0, -std::numeric_limits<double>::min()};
+    s.hdr->irradiance = {anyFinite(), anyFinite(), anyFinite()};
+    s.hdr->irradianceWeight = std::abs(anyFinite());
+    written.push_back(s);
+  }
+  {
+    SessionStore store = SessionStore::create(root, "s", "m");
+    for (const FrameSample& s : written)
+      store.recordSample(kAxial3030, s);
+  }
+  const SessionStore store = SessionStore::open(root, "s");
+  EXPECT_TRUE(store.damage().empty());
+  const AzimuthBins& bins = store.bins(kAxial3030);
+  ASSERT_EQ(store.sampleCount(), written.size());
+  for (const FrameSample& w : written) {
+    const std::vector<FrameSample>& bin = bins.samplesIn(bins.binOf(w));
+    ASSERT_EQ(bin.size(), 1u);
+    const FrameSample& r = bin[0];
+    ASSERT_TRUE(r.hdr.has_value()) << "frame " << w.frameIndex << " replayed without its reading";
+    EXPECT_EQ(r.hdr->exposureLevel, w.hdr->exposureLevel);
+    ASSERT_EQ(r.hdr->cells.size(), w.hdr->cells.size());
+    for (std::size_t k = 0; k < w.hdr->cells.size(); ++k) {
+      const std::string cell =
+          "frame " + std::to_string(w.frameIndex) + " cell " + std::to_string(k);
+      expectBitIdentical(r.hdr->cells[k].radiance, w.hdr->cells[k].radiance, cell + " radiance");
+      expectBitIdentical(r.hdr->cells[k].variance, w.hdr->cells[k].variance, cell + " variance");
+      EXPECT_EQ(bitsOf(r.hdr->cells[k].level), bitsOf(w.hdr->cells[k].level)) << cell;
+      EXPECT_EQ(r.hdr->cells[k].clipped, w.hdr->cells[k].clipped) << cell;
+    }
+    expectBitIdentical(r.hdr->irradiance, w.hdr->irradiance, "irradiance");
+    EXPECT_EQ(bitsOf(r.hdr->irradianceWeight), bitsOf(w.hdr->irradianceWeight));
+  }
+}
+
+// The point of keeping the readings: a daemon restarted mid-sweep merges the exposures per cell
+// as before its restart. A long exposure that clips and a short one per bin: the merge reads the
+// short one's cells, the median of the two frames' values would not.
+TEST(SessionStore, TheMergedBinsAfterReopeningAreThoseBefore) {
+  const auto root = test::freshTempDir();
+  SliceSet before, withoutCells;
+  {
+    SessionStore store = SessionStore::create(root, "hdr", "m");
+    SessionStore plain = SessionStore::create(root, "plain", "m");
+    for (std::uint64_t i = 0; i < 24; ++i) {
+      const double radiance = 1.7 + 0.0123 * double(i);
+      for (const FrameSample& s :
+           {hdrSampleAt(double(i) * 15.0 + 1.1, radiance, 16.0, 0, 2 * i),
+            hdrSampleAt(double(i) * 15.0 + 2.3, radiance, 0.25, 1, 2 * i + 1)}) {
+        store.recordSample(kAxial3030, s);
+        FrameSample noCells = s;
+        noCells.hdr.reset();
+        plain.recordSample(kAxial3030, noCells);
+      }
+    }
+    before = store.slices();
+    withoutCells = plain.slices();
+  }
+  const SliceSet after = SessionStore::open(root, "hdr").slices();
+  ASSERT_NE(before.find(kAxial3030), nullptr);
+  ASSERT_NE(after.find(kAxial3030), nullptr);
+  const std::vector<SliceSample>& b = before.find(kAxial3030)->samples;
+  const std::vector<SliceSample>& a = after.find(kAxial3030)->samples;
+  const std::vector<SliceSample>& p = withoutCells.find(kAxial3030)->samples;
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_EQ(p.size(), b.size());
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    expectBitIdentical(a[k].value, b[k].value, "bin " + std::to_string(k));
+    EXPECT_EQ(bitsOf(a[k].light.phiDeg), bitsOf(b[k].light.phiDeg)) << k;
+    EXPECT_EQ(bitsOf(a[k].view.phiDeg), bitsOf(b[k].view.phiDeg)) << k;
+    // The cells matter: without them the bin is the median of a clipped and a true value.
+    EXPECT_GT(std::abs(p[k].value.r() - b[k].value.r()), 0.01 * b[k].value.r()) << "bin " << k;
+  }
+}
+
+// A reading that would not replay (a NaN is written as null) is refused before it is written: a
+// sample counted now and lost on the next open would be worse.
+TEST(SessionStore, AnHdrReadingThatWouldNotReplayIsRefusedAndNothingWritten) {
+  const auto root = test::freshTempDir();
+  {
+    SessionStore store = SessionStore::create(root, "s", "m");
+    store.recordSample(kAxial3030, hdrSampleAt(15.0, 0.5, 1.0, 0, 1));
+    FrameSample bad = hdrSampleAt(30.0, 0.5, 1.0, 0, 2);
+    bad.hdr->cells[4].radiance[1] = std::numeric_limits<double>::quiet_NaN();
+    try {
+      store.recordSample(kAxial3030, bad);
+      FAIL() << "a NaN radiance was recorded";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("frame 2"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("hdr.cells[4][1] (radiance g)"), std::string::npos)
+          << e.what();
+    }
+    EXPECT_EQ(store.sampleCount(), 1u);
+  }
+  EXPECT_EQ(journalRecords(root / "s" / "journal").size(), 1u);
+  const SessionStore store = SessionStore::open(root, "s");
+  EXPECT_EQ(store.sampleCount(), 1u);
+  EXPECT_TRUE(store.damage().empty());
 }
 
 }  // namespace

@@ -1,18 +1,152 @@
 // The session journal's records as JSON.
 #include "journal_records.hpp"
 
-namespace slicecap::capture::journal_records {
+#include <array>
+#include <charconv>
+#include <cmath>
 
-nlohmann::json sliceJson(const SliceId& s) {
+#include "slicecap/io/recording.hpp"
+
+namespace slicecap::capture::journal_records {
+namespace {
+
+using nlohmann::json;
+
+// A cell's array, in order: what each position holds (named in errors).
+constexpr std::array<const char*, 8> kCellFields = {"radiance r", "radiance g", "radiance b",
+                                                    "variance r", "variance g", "variance b",
+                                                    "level",      "clipped"};
+constexpr std::size_t kClippedField = 7;
+constexpr std::size_t kCellCount = std::size_t(kHdrCellsPerSide) * kHdrCellsPerSide;
+
+// The shortest form that reads back as `value` (as the journal writes it): -1e-06, not
+// -9.9999999999999995e-07.
+std::string text(double value) {
+  char out[32];
+  const std::to_chars_result end = std::to_chars(out, out + sizeof out, value);
+  return std::string(out, end.ptr);
+}
+
+std::string cellField(std::size_t cell, std::size_t field) {
+  return "hdr.cells[" + std::to_string(cell) + "][" + std::to_string(field) + "] (" +
+         kCellFields[field] + ")";
+}
+
+const json& member(const json& hdr, const std::string& key) {
+  if (!hdr.contains(key)) throw std::invalid_argument("hdr." + key + ": missing");
+  return hdr.at(key);
+}
+
+double number(const json& value, const std::string& name) {
+  if (!value.is_number())
+    throw std::invalid_argument(name + ": expected a number, got " + value.dump());
+  return value.get<double>();
+}
+
+void requireFinite(double value, const std::string& name) {
+  if (!std::isfinite(value))
+    throw std::invalid_argument(name + ": expected a finite number, got " + text(value));
+}
+
+HdrCell cellFrom(const json& j, std::size_t k) {
+  if (!j.is_array() || j.size() != kCellFields.size())
+    throw std::invalid_argument("hdr.cells[" + std::to_string(k) +
+                                "]: expected [r, g, b, variance r, g, b, level, clipped], got " +
+                                j.dump());
+  HdrCell cell;
+  for (std::size_t c = 0; c < 3; ++c) {
+    cell.radiance[c] = number(j[c], cellField(k, c));
+    cell.variance[c] = number(j[3 + c], cellField(k, 3 + c));
+  }
+  cell.level = number(j[6], cellField(k, 6));
+  if (!j[kClippedField].is_boolean())
+    throw std::invalid_argument(cellField(k, kClippedField) + ": expected true or false, got " +
+                                j[kClippedField].dump());
+  cell.clipped = j[kClippedField].get<bool>();
+  return cell;
+}
+
+}  // namespace
+
+json sliceJson(const SliceId& s) {
   return {{"kind", toString(s.kind)},
           {"theta_i", s.elevations.thetaIDeg},
           {"theta_v", s.elevations.thetaVDeg}};
 }
 
-SliceId sliceFrom(const nlohmann::json& j) {
+SliceId sliceFrom(const json& j) {
   const auto kind = parseSliceKind(j.at("kind").get<std::string>());
   if (!kind) throw std::invalid_argument("unknown slice kind");
   return {*kind, {wholeNumber(j, "theta_i", 0, 89), wholeNumber(j, "theta_v", 0, 89)}};
+}
+
+// Arrays, not objects, per cell: 36 cells x 8 values make most of an HDR sample's record (see
+// docs/reliability.md for its size), and each record is one synced line.
+json hdrJson(const HdrReading& hdr) {
+  json cells = json::array();
+  for (const HdrCell& c : hdr.cells)
+    cells.push_back(json::array({c.radiance[0], c.radiance[1], c.radiance[2], c.variance[0],
+                                 c.variance[1], c.variance[2], c.level, c.clipped}));
+  return {{"exposure_level", hdr.exposureLevel},
+          {"cells", std::move(cells)},
+          {"irradiance", json::array({hdr.irradiance[0], hdr.irradiance[1], hdr.irradiance[2]})},
+          {"irradiance_weight", hdr.irradianceWeight}};
+}
+
+HdrReading hdrFrom(const json& j) {
+  if (!j.is_object()) throw std::invalid_argument("hdr: expected an object, got " + j.dump());
+  HdrReading hdr;
+  static_cast<void>(member(j, "exposure_level"));
+  try {
+    hdr.exposureLevel = wholeNumber(j, "exposure_level", 0, io::kMaxExposureLevels - 1);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("hdr.") + e.what());
+  }
+  const json& cells = member(j, "cells");
+  if (!cells.is_array() || cells.size() != kCellCount)
+    throw std::invalid_argument(
+        "hdr.cells: expected an array of " + std::to_string(kCellCount) + " cells, got " +
+        (cells.is_array() ? std::to_string(cells.size()) + " cells" : cells.dump()));
+  for (std::size_t k = 0; k < cells.size(); ++k)
+    hdr.cells.push_back(cellFrom(cells[k], k));
+  const json& irradiance = member(j, "irradiance");
+  if (!irradiance.is_array() || irradiance.size() != 3)
+    throw std::invalid_argument("hdr.irradiance: expected [r, g, b], got " + irradiance.dump());
+  for (std::size_t c = 0; c < 3; ++c)
+    hdr.irradiance[c] = number(irradiance[c], "hdr.irradiance[" + std::to_string(c) + "]");
+  hdr.irradianceWeight = number(member(j, "irradiance_weight"), "hdr.irradiance_weight");
+  requireValidHdr(hdr);
+  return hdr;
+}
+
+void requireValidHdr(const HdrReading& hdr) {
+  if (hdr.exposureLevel < 0 || hdr.exposureLevel >= io::kMaxExposureLevels)
+    throw std::invalid_argument("hdr.exposure_level: expected 0.." +
+                                std::to_string(io::kMaxExposureLevels - 1) + ", got " +
+                                std::to_string(hdr.exposureLevel));
+  if (hdr.cells.size() != kCellCount)
+    throw std::invalid_argument("hdr.cells: expected " + std::to_string(kCellCount) +
+                                " cells, got " + std::to_string(hdr.cells.size()));
+  for (std::size_t k = 0; k < hdr.cells.size(); ++k) {
+    const HdrCell& cell = hdr.cells[k];
+    for (std::size_t c = 0; c < 3; ++c) {
+      requireFinite(cell.radiance[c], cellField(k, c));
+      requireFinite(cell.variance[c], cellField(k, 3 + c));
+      if (cell.variance[c] < 0)
+        throw std::invalid_argument(cellField(k, 3 + c) + ": expected a variance >= 0, got " +
+                                    text(cell.variance[c]));
+    }
+    requireFinite(cell.level, cellField(k, 6));
+    if (cell.level < 0 || cell.level > kHdrMaxCellLevel)
+      throw std::invalid_argument(cellField(k, 6) + ": expected a fraction of full scale in 0.." +
+                                  text(kHdrMaxCellLevel) + ", got " + text(cell.level));
+  }
+  for (std::size_t c = 0; c < 3; ++c)
+    requireFinite(hdr.irradiance[c], "hdr.irradiance[" + std::to_string(c) + "]");
+  requireFinite(hdr.irradianceWeight, "hdr.irradiance_weight");
+  if (hdr.irradianceWeight < 0)
+    throw std::invalid_argument("hdr.irradiance_weight: expected >= 0, got " +
+                                text(hdr.irradianceWeight));
 }
 
 }  // namespace slicecap::capture::journal_records

@@ -1,5 +1,5 @@
-// The session journal's records as JSON: the slice object, whole numbers read without undefined
-// behaviour, and the journal's file names.
+// The session journal's records as JSON: the slice object, an HDR sample's reading, whole numbers
+// read without undefined behaviour, and the journal's file names.
 #pragma once
 
 #include <cstdint>
@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "slicecap/capture/frame_sample.hpp"
 #include "slicecap/core/slice.hpp"
 
 namespace slicecap::capture::journal_records {
@@ -45,5 +46,24 @@ T wholeNumber(const nlohmann::json& parent, const std::string& key) {
 
 /// \brief The slice of sliceJson. Throws std::invalid_argument or nlohmann::json::exception.
 SliceId sliceFrom(const nlohmann::json& j);
+
+/// \brief An HDR sample's reading as the sample record's "hdr" object (docs/reliability.md):
+/// {"level", "cells": [[r, g, b, var r, var g, var b, level, clipped], ...], "irradiance",
+/// "irradiance_weight"}. Doubles are written in their shortest form that reads back bit-identical.
+nlohmann::json hdrJson(const HdrReading& hdr);
+
+/// \brief The reading of hdrJson, checked by requireValidHdr. Throws std::invalid_argument naming
+/// the field (e.g. "hdr.cells[4][3]: expected a number, got null").
+HdrReading hdrFrom(const nlohmann::json& j);
+
+/// \brief Throws std::invalid_argument naming the field unless the reading is one an HDR sweep
+/// makes: kHdrCellsPerSide^2 cells, every number finite, variances >= 0, cell levels within
+/// 0..kHdrMaxCellLevel, an exposure level within 0..io::kMaxExposureLevels - 1, an irradiance
+/// weight >= 0.
+void requireValidHdr(const HdrReading& hdr);
+
+/// \brief A cell's level is a fraction of full scale as exposed: at most 1 but for rounding (the
+/// mean per unit exposure times the exposure); a level beyond this is no reading.
+inline constexpr double kHdrMaxCellLevel = 2.0;
 
 }  // namespace slicecap::capture::journal_records

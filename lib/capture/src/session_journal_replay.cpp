@@ -30,13 +30,35 @@ RecordRemains remainsOf(const std::optional<json>& j) {
   return out;
 }
 
-std::optional<json> parseRecord(const std::string& text, const std::string& where) {
+// A sample record's sample. An HDR sample's reading ("hdr", absent from single-exposure
+// records and from journals written before it) is checked whole: a damaged one makes the record
+// damaged, never a sample without its cells, which the bin would merge differently.
+FrameSample sampleFrom(const json& j) {
+  const json& light = j.at("light");
+  const json& view = j.at("view");
+  const json& rgb = j.at("rgb");
+  FrameSample sample{wholeNumber<std::int64_t>(j, "ts"),
+                     wholeNumber<std::uint64_t>(j, "frame"),
+                     {light.at(0).get<double>(), light.at(1).get<double>()},
+                     {view.at(0).get<double>(), view.at(1).get<double>()},
+                     {rgb.at(0).get<double>(), rgb.at(1).get<double>(), rgb.at(2).get<double>()}};
+  if (j.contains("hdr")) sample.hdr = hdrFrom(j.at("hdr"));
+  return sample;
+}
+
+// A line's JSON, parsed once: an HDR sample's reading makes a record ~30 times longer, and
+// parsing is most of the time a session takes to open. Else why it is not JSON.
+struct ParsedRecord {
+  std::optional<json> value;
+  std::string error;
+};
+
+ParsedRecord parseRecord(const std::string& text, const std::string& where) {
   try {
-    json j = io::parseJson(text, where);
-    if (j.is_object()) return j;
-  } catch (const std::exception&) {
+    return {io::parseJson(text, where), {}};
+  } catch (const std::exception& e) {
+    return {std::nullopt, e.what()};
   }
-  return std::nullopt;
 }
 
 }  // namespace
@@ -50,11 +72,13 @@ void SessionStore::replay(const std::vector<io::JournalLine>& lines) {
   std::uint64_t expected = 1;  // the "n" the next line should carry
   for (const io::JournalLine& line : lines) {
     const std::string where = file + " line " + std::to_string(line.line);
-    const std::optional<json> j = parseRecord(line.text, where);
+    const ParsedRecord parsed = parseRecord(line.text, where);
+    const std::optional<json>& j = parsed.value;
     if (!acceptRecordNumber(line, j, where, expected)) continue;
     if (line.intact) {
       try {
-        apply(line.text, line.line);
+        if (!j) throw io::IoError(parsed.error);
+        apply(*j, line.line);
       } catch (const std::exception& e) {
         // A valid checksum over content this version cannot use (a damaged writer, a newer
         // daemon): judged as a damaged record.
@@ -173,22 +197,13 @@ void SessionStore::setAside(std::size_t line, std::string what, std::optional<Sl
   damage_.push_back(std::move(damage));
 }
 
-void SessionStore::apply(const std::string& record, std::size_t line) {
+void SessionStore::apply(const json& j, std::size_t line) {
   const std::string where = (directory_ / kJournal).string() + " line " + std::to_string(line);
-  const json j = io::parseJson(record, where);
   try {
     const std::string type = j.at("t").get<std::string>();
     const SliceId slice = sliceFrom(j.at("slice"));
     if (type == "sample") {
-      const json& light = j.at("light");
-      const json& view = j.at("view");
-      const json& rgb = j.at("rgb");
-      binsFor(slice).add(
-          {wholeNumber<std::int64_t>(j, "ts"),
-           wholeNumber<std::uint64_t>(j, "frame"),
-           {light.at(0).get<double>(), light.at(1).get<double>()},
-           {view.at(0).get<double>(), view.at(1).get<double>()},
-           {rgb.at(0).get<double>(), rgb.at(1).get<double>(), rgb.at(2).get<double>()}});
+      binsFor(slice).add(sampleFrom(j));
     } else if (type == "redo") {
       binsFor(slice).clear();
       damagedSlices_.erase(slice);  // what was set aside would be discarded now anyway

@@ -203,13 +203,26 @@ void SessionStore::append(json record) {
 
 void SessionStore::recordSample(const SliceId& slice, const FrameSample& s) {
   requireSweepSlice(slice);
-  append(json{{"t", "sample"},
+  json record{{"t", "sample"},
               {"slice", sliceJson(slice)},
               {"ts", s.timestampUs},
               {"frame", s.frameIndex},
               {"light", {s.light.thetaDeg, s.light.phiDeg}},
               {"view", {s.view.thetaDeg, s.view.phiDeg}},
-              {"rgb", {s.value.r(), s.value.g(), s.value.b()}}});
+              {"rgb", {s.value.r(), s.value.g(), s.value.b()}}};
+  // An HDR sample's reading goes with it: the bins merge the exposures per cell after a restart
+  // too. Checked before it is written, as replay checks it: a reading that would not replay
+  // (a NaN is written as null) would be a sample counted now and lost on the next open.
+  if (s.hdr) {
+    try {
+      requireValidHdr(*s.hdr);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("sample of frame " + std::to_string(s.frameIndex) + " of " +
+                                  toString(slice) + ": " + e.what() + "; nothing written");
+    }
+    record["hdr"] = hdrJson(*s.hdr);
+  }
+  append(std::move(record));
   // durable first: only then does the sample count
   binsFor(slice).add(s);
 }

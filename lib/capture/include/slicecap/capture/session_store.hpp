@@ -70,9 +70,11 @@ class SessionStore {
   /// the slice ends the doubt.
   bool damaged(const SliceId& slice) const { return damagedSlices_.count(slice) > 0; }
 
-  /// \brief Stores one accepted sample of a slice (durable when this returns). Here and in
-  /// recordSweepStarted and redo, a point slice (no sweep) is std::invalid_argument, nothing
-  /// written.
+  /// \brief Stores one accepted sample of a slice (durable when this returns), with its HDR
+  /// reading when it has one (replayed bit-identical). Here and in recordSweepStarted and redo, a
+  /// point slice (no sweep) is std::invalid_argument, nothing written; so is an HDR reading that
+  /// would not replay (not kHdrCellsPerSide^2 cells, a number not finite, a variance below 0, a
+  /// level out of range), the message naming the frame and the field.
   void recordSample(const SliceId& slice, const FrameSample& sample);
   void recordSweepStarted(const SliceId& slice);
   void recordSweepStopped(const SliceId& slice);
@@ -101,7 +103,7 @@ class SessionStore {
   void judgeDamagedRecord(std::size_t line, const std::string& where,
                           const std::optional<std::string>& type,
                           const std::optional<SliceId>& slice);
-  void apply(const std::string& record, std::size_t line);
+  void apply(const nlohmann::json& record, std::size_t line);
   void setAside(std::size_t line, std::string what, std::optional<SliceId> slice);
   void append(nlohmann::json record);  // numbers it ("n") and makes it durable
   AzimuthBins& binsFor(const SliceId& slice);
