@@ -9,6 +9,7 @@
 
 #include "../support/file_size_limit.hpp"
 #include "../support/manager_reply.hpp"
+#include "../support/sweep_sample.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -25,13 +26,7 @@ const SliceId kAxial3030{SliceKind::Axial, {30, 30}};
 const SliceId kAxial3075{SliceKind::Axial, {30, 75}};
 const SliceId kDiagonal3030{SliceKind::Diagonal, {30, 30}};
 
-capture::FrameSample sampleAt(double parameterDeg, double value, std::uint64_t frame) {
-  return {std::int64_t(frame) * 33000,
-          frame,
-          {30, parameterDeg},
-          {30, parameterDeg + 15},
-          Rgb::gray(value)};
-}
+using test::sampleAt;
 
 // Stands in for the method registry: the mean sample value everywhere, or a failure.
 Abrdf meanOfSlices(const SliceSet& slices, const std::string& method) {
@@ -57,6 +52,23 @@ ProtocolError refused(SessionManager& manager, const Command& command) {
   if (auto* error = std::get_if<ProtocolError>(&reply)) return *error;
   ADD_FAILURE() << commandName(command) << " was accepted: " << std::get<json>(reply).dump();
   return {};
+}
+
+// A sample whose HDR reading the journal would refuse (not finite) costs that frame, counted as
+// bad_frame; the sweep goes on and keeps its other samples.
+TEST(SessionManager, ASampleTheJournalRefusesIsABadFrameNotAStoppedSweep) {
+  SessionManager manager(test::freshTempDir(), meanOfSlices);
+  ok(manager, SessionNew{"brushed steel", std::string("steel")});
+  ok(manager, SweepStart{kDiagonal3030});
+  EXPECT_TRUE(manager.acceptSample(test::hdrSampleAt(15.0, 2.0, 1.0, 0, 1)));
+  capture::FrameSample broken = test::hdrSampleAt(30.0, 2.0, 1.0, 1, 2);
+  broken.hdr->cells[3].radiance = Rgb{std::nan(""), 1.0, 1.0};
+  EXPECT_FALSE(manager.acceptSample(broken));
+  EXPECT_TRUE(manager.acceptSample(test::hdrSampleAt(45.0, 2.0, 1.0, 0, 3)));
+  const json status = manager.status();
+  EXPECT_EQ(status["sweep"]["state"], "capturing");
+  EXPECT_EQ(status["sweep"]["samples"], 2);
+  EXPECT_EQ(status["sweep"]["rejected"]["bad_frame"], 1);
 }
 
 TEST(SessionManager, WalksAPersonThroughASweep) {

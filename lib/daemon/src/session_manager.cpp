@@ -2,6 +2,8 @@
 #include "slicecap/daemon/session_manager.hpp"
 
 #include <fstream>
+#include <iostream>
+#include <stdexcept>
 #include <system_error>
 
 #include "isotropy_cache.hpp"
@@ -332,6 +334,12 @@ bool SessionManager::acceptSample(const capture::FrameSample& sample) {
     state_->sweep->pause(std::string("storage error: ") + error.what() + "; free space, then `" +
                          startCommand(state_->sweep->slice) + "` continues");
     state_->lastError = error.what();
+    return false;
+  } catch (const std::invalid_argument& error) {
+    // A sample the journal could not replay (an HDR reading that is not finite, say): that frame
+    // is lost, counted as bad_frame and logged; the sweep and its other samples go on.
+    std::cerr << "slicecapd: a sample was not recorded: " << error.what() << "\n";
+    rejectFrame(capture::RejectReason::BadFrame);
     return false;
   }
   ++state_->sweep->acceptedThisRun;
