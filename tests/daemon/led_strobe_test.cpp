@@ -146,6 +146,30 @@ TEST(LedStrobe, NoFrameIsLabelledOtherwiseThanTheLedShoneOnItsRows) {
   EXPECT_GT(tally.clean, 0.8 * tally.frames) << tally.clean << " of " << tally.frames;
 }
 
+// A switch fired late (a busy loop) can leave the switch back already past when the next one is
+// planned: the strobe then plans the next switch away from the state the LED is in, never one to
+// the same state, which would hold the LED for a whole extra pattern (the daemon's camera model
+// ran a live HDR sweep with the LED off for seconds so).
+TEST(LedStrobe, AfterALateSwitchTheNextOneIsAwayFromTheLedsState) {
+  Harness harness({}, 8000.0);
+  LedStrobe strobe({}, *harness.led, harness.commanded, harness.camera->id());
+  harness.led->set(true);
+  strobe.noteRows(harness.rows);
+  for (int i = 0; i < 6; ++i) {  // the frame timing
+    hal::CaptureResult result = harness.camera->nextFrame(std::chrono::milliseconds(1000));
+    ASSERT_EQ(result.status, hal::CaptureResult::Status::Frame);
+    strobe.label(*result.frame, harness.clock.nowUs());
+  }
+  const std::optional<PlannedSwitch> fired = strobe.plan(harness.clock.nowUs());
+  ASSERT_TRUE(fired);
+  strobe.fire(*fired);
+  for (std::int64_t laterUs = 0; laterUs < 300'000; laterUs += 5'000) {
+    const std::optional<PlannedSwitch> next = strobe.plan(fired->atUs + laterUs);
+    ASSERT_TRUE(next) << laterUs;
+    EXPECT_NE(next->on, fired->on) << "planned from " << laterUs << " us after the switch";
+  }
+}
+
 TEST(LedStrobe, ALongExposureCostsFramesButNeverALabel) {
   Harness harness({}, 30000.0);
   StrobeSettings settings;

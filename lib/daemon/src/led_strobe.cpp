@@ -183,6 +183,11 @@ std::optional<PlannedSwitch> LedStrobe::plan(std::int64_t earliestUs) const {
   const auto limit = first + 2 * static_cast<std::uint64_t>(settings_.framesPerState) + 2;
   for (std::uint64_t j = first; j < limit; ++j) {
     if (desiredOn(j) == desiredOn(j - 1)) continue;
+    // A switch to the state the LED is already in: the one before it fired late (a busy loop)
+    // and the switch back is past. The next switch away keeps the blocks alternating, shorter
+    // by the delay, where skipping a whole pattern would hold the LED in one state for twice as
+    // long and the other state's frames would be missing.
+    if (firedOn_ && desiredOn(j) == *firedOn_) continue;
     // Just after the last row of interest of frame j - 1 has been exposed: frame j's rows of
     // interest start (period - exposure - their readout span) later, clean when that is
     // positive; else frame j is the one that comes out mixed.
@@ -196,6 +201,7 @@ std::optional<PlannedSwitch> LedStrobe::plan(std::int64_t earliestUs) const {
 
 void LedStrobe::fire(const PlannedSwitch& planned) {
   led_.set(planned.on);
+  firedOn_ = planned.on;
 }
 
 }  // namespace slicecap::daemon

@@ -121,6 +121,7 @@ class LedStrobe {
   std::optional<double> periodUs_;
   std::optional<capture::RowSpan> rows_;
   std::optional<std::int64_t> lastTimestampUs_;
+  std::optional<bool> firedOn_;  // the state the last fire() set
   bool untimed_ = false;
   std::int64_t untimedLastUs_ = 0;
 };
