@@ -221,6 +221,7 @@ void setLedAndCamera(daemon::DaemonParts& parts, const DaemonConfig& config, hal
                      const std::shared_ptr<hal::LedTimeline>& modelLight) {
   parts.led = openLed(config, clock, modelLight);
   parts.ledAlternate = config.ledAlternate;
+  parts.hdrLevels = config.hdrLevels;
   parts.strobe.framesPerState = config.ledFramesPerState;
   parts.strobe.guardUs = config.ledGuardUs;
   parts.strobe.readoutUs = config.readoutUs;

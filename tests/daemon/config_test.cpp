@@ -44,6 +44,7 @@ TEST(DaemonConfig, TheDocumentedDefaultsAreTheDefaults) {
   EXPECT_EQ(fromFile.sensorReadNoise, defaults.sensorReadNoise);
   EXPECT_EQ(fromFile.sensorFullWellElectrons, defaults.sensorFullWellElectrons);
   EXPECT_EQ(fromFile.textureFramesPerBin, defaults.textureFramesPerBin);
+  EXPECT_EQ(fromFile.hdrLevels, 1) << "one exposure unless asked";
   EXPECT_EQ(parse("").storage, defaults.storage) << "an empty file is the defaults";
 }
 
@@ -62,7 +63,9 @@ TEST(DaemonConfig, ReadsEveryKind) {
       "camera_raw = off\n"
       "model_raw = SBGGR12_CSI2P\n"
       "sensor_read_noise = 0.0038\n"
-      "sensor_full_well_electrons = 4200\n");
+      "sensor_full_well_electrons = 4200\n"
+      "hdr_levels = 3\n");
+  EXPECT_EQ(c.hdrLevels, 3);
   EXPECT_EQ(c.sensorReadNoise, 0.0038);
   EXPECT_EQ(c.sensorFullWellElectrons, 4200.0);
   EXPECT_EQ(c.camera, DaemonConfig::CameraKind::File);
@@ -116,6 +119,12 @@ TEST(DaemonConfig, NamesTheLineAndKeyOfEveryMistake) {
   EXPECT_EQ(error("sensor_read_noise = 0.7\n"),
             "slicecapd.conf:1: sensor_read_noise: '0.7' is not a read noise in 0..0.5 of full scale");
   EXPECT_NE(error("sensor_full_well_electrons = 0\n").find("positive"), std::string::npos);
+  EXPECT_EQ(error("hdr_levels = 4\n"),
+            "slicecapd.conf:1: hdr_levels: '4' is not a whole number in 1..3 (exposures an HDR "
+            "sweep alternates (1: no HDR))");
+  EXPECT_NE(error("hdr_levels = 2\nled_alternate = false\n").find("needs led_alternate = true"),
+            std::string::npos);
+  EXPECT_EQ(error("hdr_levels = 1\nled_alternate = false\n"), "");
   EXPECT_THROW(readDaemonConfig("/nonexistent/slicecapd.conf"), ConfigError);
 }
 

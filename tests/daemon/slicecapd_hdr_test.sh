@@ -3,7 +3,9 @@
 # alternating a long and a short exposure, frames[].exposure_level): the daemon processes each
 # level in its own pipeline and the bins merge the levels per cell, so its session holds what
 # `slicecap process --ambient previous` (the live loop's one-sided room light) makes of the same
-# recording, bin for bin, and a sharp highlight that clips the long exposure is kept.
+# recording, bin for bin, and a sharp highlight that clips the long exposure is kept; a restart
+# (the bins rebuilt from the session journal) changes nothing. Then live on the camera model with
+# hdr_levels = 2 against one exposure.
 # Usage: slicecapd_hdr_test.sh SLICECAP SLICECAPD
 set -euo pipefail
 slicecap=$1
@@ -22,7 +24,14 @@ start_daemon
 "$slicecap" session new "hdr" --id hdr >/dev/null
 sweep "diagonal 75 75"
 "$slicecap" export hdr -o "$work/desk" >/dev/null || fail "export failed"
+# A restart rebuilds the bins from the session journal: it must keep each sample's cells, or the
+# bins could no longer merge their levels.
 stop_daemon
+start_daemon
+"$slicecap" export hdr -o "$work/desk-restarted" >/dev/null || fail "export after a restart failed"
+stop_daemon
+cmp -s "$work/desk/hdr-slices.csv" "$work/desk-restarted/hdr-slices.csv" ||
+  fail "the slices after a restart differ from before: $(diff "$work/desk/hdr-slices.csv" "$work/desk-restarted/hdr-slices.csv" | head -4)"
 "$slicecap" process "$work/rec" -o "$work/offline.csv" --ambient previous >/dev/null 2>&1 ||
   fail "slicecap process --ambient previous failed"
 
@@ -46,3 +55,50 @@ assert peak >= 0.8 * truth_peak, f"the peak bin reads {peak:.3f} where the truth
 print(f"HDR: {len(daemon)} bins equal to process --ambient previous; peak {peak:.2f} (truth {truth_peak:.2f})")
 PY
 echo "slicecapd on an HDR recording: ok"
+
+# Live, on the camera model (a camera that applies a new exposure frames late, queues and drops
+# frames): hdr_levels = 2 switches the exposure with blocks of LED pairs, labels each frame with
+# its level, records it, and keeps the highlight that one exposure clips and rejects.
+model_sweep() {  # model_sweep LEVELS: the diagonal 75/75 sweep's session, status and recording
+  local levels=$1
+  write_model_config "model_material = $material" "model_rig = ideal" "model_sweep_seconds = 6" \
+    "record_frames = true" "hdr_levels = $levels"
+  rm -rf "$work/storage-model"
+  start_daemon
+  "$slicecap" session new "hdr" --id live >/dev/null
+  "$slicecap" sweep start diagonal 75 75 >/dev/null
+  wait_paused "diagonal 75 75 (camera model, hdr_levels = $levels)"
+  "$slicecap" status --json >"$work/status-$levels.json"
+  "$slicecap" sweep stop >/dev/null
+  "$slicecap" export live -o "$work/live-$levels" >/dev/null || fail "export of the camera model's sweep failed"
+  stop_daemon
+  cp "$work/storage-model/live/recordings/diagonal-75-75/recording.json" "$work/recording-$levels.json"
+}
+model_sweep 1
+model_sweep 2
+python3 - "$work" <<'PY' || fail "the camera model's HDR sweep did not do what it should"
+import collections, csv, json, sys
+work = sys.argv[1]
+
+def peak(levels):
+    rows = [r for r in csv.reader(open(f"{work}/live-{levels}/live-slices.csv")) if r and not r[0].startswith("#")][1:]
+    return max(float(r[5]) for r in rows), len(rows)
+
+status = json.load(open(f"{work}/status-2.json"))
+assert status.get("hdr", "").startswith("HDR, 2 exposures"), f"the status does not say HDR: {status.get('hdr')}"
+assert "hdr" not in json.load(open(f"{work}/status-1.json")), "hdr_levels = 1 shows an HDR line"
+frames = json.load(open(f"{work}/recording-2.json"))["frames"]
+kinds = collections.Counter((f.get("exposure_level"), f["led_on"]) for f in frames)
+for level in (0, 1):
+    for on in (True, False):
+        assert kinds[(level, on)] >= 5, f"the recording holds {kinds[(level, on)]} frames of level {level}, LED {'on' if on else 'off'}: {dict(kinds)}"
+single, single_bins = peak(1)
+hdr, hdr_bins = peak(2)
+# One exposure metered on the paper clips the peak and rejects it (window_clipped): only the
+# diffuse part (~0.005 1/sr) is left. The short level holds it.
+assert single < 0.05, f"one exposure kept a peak of {single}: the check would see no difference"
+assert hdr > 0.3, f"the HDR sweep's largest bin reads {hdr} (one exposure: {single})"
+assert hdr_bins >= 0.8 * single_bins, f"HDR filled {hdr_bins} bins, one exposure {single_bins}"
+print(f"camera model: one exposure peaks at {single:.4f} in {single_bins} bins, HDR at {hdr:.3f} in {hdr_bins} bins; frames {dict(kinds)}")
+PY
+echo "slicecapd HDR on the camera model: ok"

@@ -88,6 +88,10 @@ std::vector<SetterEntry> cameraSetters() {
        c.exposureUs = v.empty() ? std::nullopt
                                 : std::optional(positiveNumber(v, "a positive exposure in us"));
      }},
+    {"hdr_levels",
+     [](DaemonConfig& c, const std::string& v) {
+       c.hdrLevels = wholeNumber(v, 1, 3, "exposures an HDR sweep alternates (1: no HDR)");
+     }},
     {"gain",
      [](DaemonConfig& c, const std::string& v) {
        c.gain = v.empty() ? std::nullopt : std::optional(positiveNumber(v, "a positive gain"));
@@ -261,6 +265,11 @@ DaemonConfig parseDaemonConfig(std::istream& in, const std::string& sourceName) 
   if (config.storage.is_relative()) throw ConfigError(where + "storage must be an absolute path");
   if (config.socket.is_relative()) throw ConfigError(where + "socket must be an absolute path");
   if (config.ledLine.empty()) throw ConfigError(where + "led_line must name the LED's GPIO line");
+  // Each exposure level's room light comes from its own LED-off frames.
+  if (config.hdrLevels > 1 && !config.ledAlternate)
+    throw ConfigError(where + "hdr_levels = " + std::to_string(config.hdrLevels) +
+                      " needs led_alternate = true (each exposure's room light is measured with "
+                      "the LED off at that exposure)");
   return config;
 }
 

@@ -33,6 +33,13 @@ resolution = 1280x720
 # Set exposure_us when a glossy material's highlight clips (frames rejected as window_clipped).
 exposure_us =
 gain =
+# HDR (docs/method.md 9.3): 2 or 3 exposures alternated by blocks of LED pairs through a live
+# sweep, merged per azimuth bin, for a sharp highlight that clips one exposure (a metal, a satin).
+# The longest is the sweep's exposure above; each shorter one starts 16 x shorter, and the
+# shortest is shortened 4 x more wherever the window still clips. 1: one exposure. Needs
+# led_alternate = true and a camera that locks its exposure; the file camera plays a recording's
+# own levels.
+hdr_levels = 1
 # Camera intrinsics and distortion (from `slicecap calibrate`); empty uses the sensor's nominal model.
 calibration =
 # The sensor's readout time, top row to bottom row, in microseconds (`slicecapd --check-hardware`

@@ -15,6 +15,7 @@
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/target_json.hpp"
 #include "export_authorization.hpp"
+#include "sweep_hdr.hpp"
 #include "sweep_calibration.hpp"
 #include "sweep_outputs.hpp"
 
@@ -65,6 +66,9 @@ struct Daemon::State {
 
   capture::FrameObserver observer;
 
+  // A live HDR sweep (hdr_levels > 1), from the end of the calibration to the sweep's stop.
+  SweepHdr hdr{parts.hdrLevels};
+
   explicit State(DaemonParts p)
       : parts(std::move(p)),
         clock(parts.clock ? *parts.clock : steadyClock),
@@ -103,6 +107,7 @@ struct Daemon::State {
 
   void stopCamera() {
     stopStrobe();
+    hdr.stop();
     if (watchedFd) loop.unwatch(*watchedFd);
     if (pollTimer) loop.cancelTimer(*pollTimer);
     watchedFd.reset();
@@ -118,6 +123,7 @@ struct Daemon::State {
   void startCamera(const SliceId& slice) {
     // The last sweep's exposure line is not this one's, whatever happens below.
     calibration.reset();
+    hdr.reset();
     std::shared_ptr<hal::Camera> opened;
     try {
       opened = parts.cameraFor(slice);
@@ -266,6 +272,7 @@ struct Daemon::State {
     }
     hal::Frame& frame = *result.frame;
     if (calibrate(frame)) return;
+    if (camera->readyDescriptor()) hdr.start(camera->id(), calibration.lockedSetting());
     strobe(frame);
     capture::FrameOutcome outcome;
     try {
@@ -277,6 +284,7 @@ struct Daemon::State {
     }
     if (outcome.viewElevationErrorDeg)
       manager.noteViewElevationErrorDeg(*outcome.viewElevationErrorDeg);
+    hdr.noteOutcome(frame, outcome);
     switch (outcome.kind) {
       case capture::FrameOutcome::Kind::Sample:
         manager.acceptSample(*outcome.sample);
@@ -307,6 +315,7 @@ struct Daemon::State {
       parts.led->set(true);  // each block starts lit; the metering may have left it so already
     }
     strobeRun->label(frame, clock.nowUs());
+    hdr.label(frame);
     // What no frame can still need: a few seconds are plenty for any queue of frames.
     commanded->forgetBefore(clock.nowUs() - 5'000'000);
   }
@@ -334,7 +343,9 @@ struct Daemon::State {
                                   } catch (const std::exception& error) {
                                     manager.pauseSweep(std::string("LED error: ") + error.what());
                                     reconcile();
+                                    return;
                                   }
+                                  if (planned.on && camera) hdr.pairStarted(*camera);
                                 });
   }
 
@@ -344,6 +355,7 @@ struct Daemon::State {
     std::vector<std::string> warnings = parts.warnings;
     if (!cameraAdjustment.empty()) warnings.push_back(cameraAdjustment);
     calibration.describeExposure(json, warnings);
+    hdr.describe(json);
     const std::optional<StrobeStats> shown = strobeRun ? strobeRun->stats() : strobeStats;
     if (shown) {
       const double judged = double(shown->framesClean + shown->framesMixed);

@@ -38,6 +38,11 @@ class SweepCalibration {
   bool metering() const { return meter_.has_value(); }
   bool bracketing() const { return bracket_.has_value(); }
   bool decided() const { return decoding_.has_value(); }
+  /// \brief The sweep's exposure once the metering locked it (or exposure_us); nullopt while it
+  /// is metered, or when the camera's auto exposure runs.
+  std::optional<hal::ExposureSetting> lockedSetting() const {
+    return exposureUnlocked_ || meter_ ? std::nullopt : lockedSetting_;
+  }
 
   /// \brief One frame of the metering: measured, never processed; the LED stays on.
   void meterFrame(hal::Camera& camera, const hal::Frame& frame);

@@ -39,6 +39,7 @@ struct DaemonConfig {
   std::optional<double> exposureUs;
   /// gain: locked gain; empty = the camera's default while metered, else its auto gain runs
   std::optional<double> gain;
+  int hdrLevels = 1;  ///< hdr_levels: exposures an HDR sweep alternates by LED-pair blocks
   std::filesystem::path
       calibration;  ///< calibration: camera intrinsics (slicecap calibrate output)
   /// readout_us: the sensor's top-to-bottom readout time (slicecapd --check-hardware measures

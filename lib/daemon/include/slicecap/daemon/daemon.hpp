@@ -43,6 +43,9 @@ struct DaemonParts {
   /// When cameraConfig leaves the exposure to a live camera: each sweep start meters it with the
   /// LED on (no frame is processed meanwhile) and locks it for the sweep (ExposureMeter).
   ExposureMeterParams exposureMeter;
+  /// slicecapd.conf hdr_levels: on a live camera whose exposure is locked, 2 or 3 exposures
+  /// alternated by blocks of LED pairs (HdrCycle), each frame labelled with its level; 1: one.
+  int hdrLevels = 1;
   /// A fresh per-frame pipeline for each sweep run of a slice (it keeps tracking state across
   /// frames; the file camera's recordings may each have their own camera and target). The
   /// processor calls the observer (when set: texture capture) for every frame it processes.

@@ -1,0 +1,73 @@
+// A live sweep's HDR between the frame loop and its exposure cycle (docs/method.md 9.3).
+#include "sweep_hdr.hpp"
+
+#include <algorithm>
+#include <iostream>
+#include <stdexcept>
+
+namespace slicecap::daemon {
+
+void SweepHdr::reset() {
+  cycle_.reset();
+  note_.clear();
+}
+
+void SweepHdr::stop() {
+  if (cycle_) note_ = cycle_->summary();
+  cycle_.reset();
+}
+
+void SweepHdr::start(const std::string& cameraId, const std::optional<hal::ExposureSetting>& locked) {
+  if (levels_ < 2 || started()) return;
+  try {
+    if (!locked) throw std::invalid_argument("the sweep's exposure is not locked");
+    cycle_.emplace(*locked, HdrCycleParams{.levels = levels_});
+    note_ = cycle_->summary();
+  } catch (const std::invalid_argument& error) {
+    note_ = "hdr_levels = " + std::to_string(levels_) + " not used: " + error.what() +
+            "; the sweep takes one exposure";
+  }
+  std::cerr << "slicecapd: camera " << cameraId << ": " << note_ << "\n";
+}
+
+void SweepHdr::label(hal::Frame& frame) const {
+  if (cycle_) frame.metadata.exposureLevel = cycle_->levelOf(frame.metadata);
+}
+
+void SweepHdr::pairStarted(hal::Camera& camera) {
+  if (!cycle_) return;
+  const std::optional<hal::ExposureSetting> wanted = cycle_->pairStarted();
+  if (!wanted) return;
+  try {
+    const hal::ExposureLock lock = camera.lockExposure(*wanted);
+    if (lock.locked) {
+      cycle_->accepted(cycle_->requestedLevel(), *lock.locked);
+      return;
+    }
+    note_ = "camera " + camera.id() + " refused an HDR exposure (" + lock.reason +
+            "): one exposure from here";
+  } catch (const std::exception& error) {
+    note_ = "camera " + camera.id() + " failed an HDR exposure (" + error.what() +
+            "): one exposure from here";
+  }
+  // The frames already labelled keep their levels; later ones are at the exposure the camera kept.
+  std::cerr << "slicecapd: " << note_ << "\n";
+  cycle_.reset();
+}
+
+void SweepHdr::noteOutcome(const hal::Frame& frame, const capture::FrameOutcome& outcome) {
+  if (!cycle_ || !outcome.sample || !outcome.sample->hdr) return;
+  if (frame.metadata.exposureLevel != static_cast<int>(cycle_->levelsUs().size()) - 1) return;
+  const std::vector<capture::HdrCell>& cells = outcome.sample->hdr->cells;
+  if (std::any_of(cells.begin(), cells.end(), [](const capture::HdrCell& c) { return c.clipped; }))
+    cycle_->shortestClipped(frame.metadata);
+}
+
+void SweepHdr::describe(nlohmann::json& status) const {
+  if (cycle_)
+    status["hdr"] = cycle_->summary();
+  else if (!note_.empty())
+    status["hdr"] = note_;
+}
+
+}  // namespace slicecap::daemon
