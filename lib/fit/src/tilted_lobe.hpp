@@ -1,0 +1,58 @@
+// The texture fit's lobe with a tilted shading normal (docs/material-fit.md "Texture mode"): light
+// and view expressed in the tilted frame, templated so that the Ceres cost (Jets) and plain doubles
+// share one formula.
+#pragma once
+
+#include <cmath>
+#include <numbers>
+
+#include "lobe_terms.hpp"
+
+namespace slicecap::fit::detail {
+
+/// \brief Below this cosine to the tilted normal a light or view is behind the shading surface.
+inline constexpr double kTiltedHorizonCosine = 1e-6;
+
+/// \brief The two parameter-dependent factors of one pair's value: f cos_i (geometric) equals
+/// (albedo / pi diffuse + F specular) cos_i, so both already carry the tilted cosine ratio.
+template <typename T>
+struct TiltedShape {
+  T diffuse;   ///< n'.l / n.l: glTF's normal map tilts the diffuse cosine too
+  T specular;  ///< D G2 / (4 n'.l n'.v) in the tilted frame, times n'.l / n.l
+};
+
+/// \brief The shading normal n' = (nx, ny, sqrt(1 - nx^2 - ny^2)) in the texel's frame; the tangent
+/// at (cosT, sinT, 0) projected onto the plane normal to n' (glTF's anisotropy direction lives in
+/// the mesh's tangent plane; a renderer turns it onto the perturbed normal's). A pair with light or
+/// view behind the tilted surface reflects nothing, as a renderer clamping n'.l and n'.v. With
+/// nx = ny = 0 this is ggxSpecular exactly.
+template <typename T>
+TiltedShape<T> tiltedShape(const PairGeometry& g, const T& alphaT, const T& alphaB, const T& cosT,
+                           const T& sinT, const T& nx, const T& ny) {
+  using std::sqrt;
+  const T nz = sqrt(1.0 - nx * nx - ny * ny);
+  const T tn = cosT * nx + sinT * ny;
+  T tx = cosT - tn * nx, ty = sinT - tn * ny, tz = -tn * nz;
+  const T tLength = sqrt(tx * tx + ty * ty + tz * tz);
+  tx = tx / tLength;
+  ty = ty / tLength;
+  tz = tz / tLength;
+  const T bx = ny * tz - nz * ty, by = nz * tx - nx * tz, bz = nx * ty - ny * tx;
+  const auto dotT = [&](const UnitVector& w) { return w.x * tx + w.y * ty + w.z * tz; };
+  const auto dotB = [&](const UnitVector& w) { return w.x * bx + w.y * by + w.z * bz; };
+  const auto dotN = [&](const UnitVector& w) { return w.x * nx + w.y * ny + w.z * nz; };
+  const T cosL = dotN(g.light), cosV = dotN(g.view);
+  if (cosL <= kTiltedHorizonCosine || cosV <= kTiltedHorizonCosine) return {T(0.0), T(0.0)};
+  const T ratio = cosL / g.light.z;
+  const T hx = dotT(g.half), hy = dotB(g.half), hz = dotN(g.half);
+  const T lx = dotT(g.light), ly = dotB(g.light), vx = dotT(g.view), vy = dotB(g.view);
+  const T aT2 = alphaT * alphaT, aB2 = alphaB * alphaB;
+  const T s = hx * hx / aT2 + hy * hy / aB2 + hz * hz;
+  const T distribution = 1.0 / (std::numbers::pi * alphaT * alphaB * s * s);
+  const T lambdaL = (sqrt(1.0 + (aT2 * lx * lx + aB2 * ly * ly) / (cosL * cosL)) - 1.0) / 2.0;
+  const T lambdaV = (sqrt(1.0 + (aT2 * vx * vx + aB2 * vy * vy) / (cosV * cosV)) - 1.0) / 2.0;
+  const T specular = distribution / ((1.0 + lambdaL + lambdaV) * (4.0 * cosL * cosV));
+  return {ratio, specular * ratio};
+}
+
+}  // namespace slicecap::fit::detail
