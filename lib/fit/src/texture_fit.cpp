@@ -172,13 +172,17 @@ TiltStatus TextureFitter::settleTilt(const detail::FitData& data, WarmStart& sol
   return TiltStatus::NoLobe;
 }
 
+// The next texel starts from the tilted solution even when this one is reported flat: a matte
+// texel's flat refit matches a tilted diffuse poorly, and its residual would let a poor warm start
+// of the next texel pass as good (docs/material-fit.md "The normal map").
 WarmStart TextureFitter::fitted(const detail::FitData& data, WarmStart solution, bool multiStart,
                                 TexelFit& out) const {
+  const WarmStart handedOn = solution;
   const TiltStatus tilt = settleTilt(data, solution);
   out = {TexelStatus::Fitted, detail::materialOf(detail::withoutTilt(solution.parameters)),
          solution.rmseLevels, multiStart, "", detail::shadingNormalOf(solution.parameters.tilt),
          tilt};
-  return solution;
+  return handedOn;
 }
 
 std::optional<WarmStart> TextureFitter::fitTexel(const Abrdf& table, int x, int y,
