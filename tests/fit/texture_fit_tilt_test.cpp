@@ -8,53 +8,18 @@
 #include <cmath>
 #include <numbers>
 
+#include "../support/tilted_table.hpp"
 #include "slicecap/fit/texture_fit.hpp"
 
 namespace slicecap::fit {
 namespace {
 
+using test::tilt::angleDeg;
+using test::tilt::tabulateTilted;
+using test::tilt::tiltedNormal;
+using test::tilt::Vec;
+
 constexpr int kSize = 3;
-
-struct Vec {
-  double x, y, z;
-};
-double dot(const Vec& a, const Vec& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Vec unit(const Vec& a) {
-  const double n = std::sqrt(dot(a, a));
-  return {a.x / n, a.y / n, a.z / n};
-}
-Vec cross(const Vec& a, const Vec& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-
-// The normal tilted by `tiltDeg` toward azimuth `azimuthDeg`.
-Vec tiltedNormal(double tiltDeg, double azimuthDeg) {
-  const double t = tiltDeg * std::numbers::pi / 180.0, a = azimuthDeg * std::numbers::pi / 180.0;
-  return {std::sin(t) * std::cos(a), std::sin(t) * std::sin(a), std::cos(t)};
-}
-
-// The BRDF f_eff with f eff cos_i = f' cos_i': `flat` (its tangent at `flat.tangentDeg` in the
-// untilted plane) evaluated with light and view written in the frame of `normal`, whose tangent
-// is the untilted tangent with its component along `normal` removed. Zero behind the tilted
-// surface.
-Abrdf tabulateTilted(FittedMaterial flat, const Vec& normal) {
-  const double t = flat.tangentDeg * std::numbers::pi / 180.0;
-  const Vec untilted{std::cos(t), std::sin(t), 0.0};
-  const double along = dot(untilted, normal);
-  const Vec tangent = unit({untilted.x - along * normal.x, untilted.y - along * normal.y,
-                            untilted.z - along * normal.z});
-  const Vec bitangent = cross(normal, tangent);
-  flat.tangentDeg = 0.0;  // in the tilted frame the tangent is x
-  return tabulateOnGrid([&](const UnitVector& l, const UnitVector& v) {
-    const Vec lw{l.x, l.y, l.z}, vw{v.x, v.y, v.z};
-    const UnitVector lt{dot(lw, tangent), dot(lw, bitangent), dot(lw, normal)};
-    const UnitVector vt{dot(vw, tangent), dot(vw, bitangent), dot(vw, normal)};
-    if (lt.z <= 0.0 || vt.z <= 0.0) return Rgb{};
-    Rgb value = flat.evaluate(lt, vt);
-    for (std::size_t c = 0; c < 3; ++c) value[c] *= lt.z / l.z;
-    return value;
-  });
-}
 
 // Texel (x, y): alphas 0.1 to 0.3, brushed at 30 deg, tilted up to 20 deg in varied azimuths
 // (neighbours differ by 5 to 10 deg, so the warm start has a tilt to move).
@@ -63,7 +28,7 @@ FittedMaterial materialAt(int x, int y) {
   m.diffuseAlbedo = {0.2 + 0.1 * x, 0.25, 0.3 - 0.05 * y};
   m.specularF0 = Rgb::gray(0.04 + 0.2 * ((x + y) % 2));
   m.alphaBitangent = 0.1 + 0.05 * y;
-  m.alphaTangent = std::min(0.3, 2.0 * m.alphaBitangent) + 0.0 * x;
+  m.alphaTangent = std::min(0.3, 2.0 * m.alphaBitangent);
   m.tangentDeg = 30.0;
   return m;
 }
@@ -73,10 +38,6 @@ TexelRowReader readerOf(const std::vector<Abrdf>& tables) {
   return [&tables](int row, std::vector<Abrdf>& out) {
     out.assign(tables.begin() + row * kSize, tables.begin() + (row + 1) * kSize);
   };
-}
-
-double angleDeg(const UnitVector& a, const Vec& b) {
-  return std::acos(std::clamp(dot({a.x, a.y, a.z}, b), -1.0, 1.0)) * 180.0 / std::numbers::pi;
 }
 
 TEST(TextureFitTilt, RecoversEachTexelsTiltWithinOneDegree) {
