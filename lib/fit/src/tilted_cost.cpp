@@ -31,18 +31,18 @@ bool TiltedCost::Evaluate(double const* const* parameters, double* residuals,
 
   const Jet5 alphaT = exp(Jet5(ggx[6], 0)), alphaB = exp(Jet5(ggx[7], 1));
   const Jet5 tangent(ggx[8], 2), nx(tilt[0], 3), ny(tilt[1], 4);
-  const Jet5 cosT = cos(tangent), sinT = sin(tangent);
+  const TiltedFrame<Jet5> frame = tiltedFrame(Jet5(cos(tangent)), Jet5(sin(tangent)), nx, ny);
   const double alphaTValue = std::exp(ggx[6]), alphaBValue = std::exp(ggx[7]);
-  const double cosTValue = std::cos(ggx[8]), sinTValue = std::sin(ggx[8]);
+  const TiltedFrame<double> frameValue =
+      tiltedFrame(std::cos(ggx[8]), std::sin(ggx[8]), tilt[0], tilt[1]);
 
   for (std::size_t i = 0; i < data_.pairs.size(); ++i) {
     const PairGeometry& g = data_.pairs[i];
     TiltedShape<Jet5> shape;
     if (derivatives) {
-      shape = tiltedShape(g, alphaT, alphaB, cosT, sinT, nx, ny);
+      shape = tiltedShape(g, alphaT, alphaB, frame);
     } else {
-      const TiltedShape<double> plain =
-          tiltedShape(g, alphaTValue, alphaBValue, cosTValue, sinTValue, tilt[0], tilt[1]);
+      const TiltedShape<double> plain = tiltedShape(g, alphaTValue, alphaBValue, frameValue);
       shape = {Jet5(plain.diffuse), Jet5(plain.specular)};
     }
     for (int c = 0; c < 3; ++c) {

@@ -21,26 +21,44 @@ struct TiltedShape {
   T specular;  ///< D G2 / (4 n'.l n'.v) in the tilted frame, times n'.l / n.l
 };
 
-/// \brief The shading normal n' = (nx, ny, sqrt(1 - nx^2 - ny^2)) in the texel's frame; the tangent
-/// at (cosT, sinT, 0) projected onto the plane normal to n' (glTF's anisotropy direction lives in
-/// the mesh's tangent plane; a renderer turns it onto the perturbed normal's). A pair with light or
-/// view behind the tilted surface reflects nothing, as a renderer clamping n'.l and n'.v. With
-/// nx = ny = 0 this is ggxSpecular exactly.
+/// \brief The tilted frame: the shading normal n' = (nx, ny, sqrt(1 - nx^2 - ny^2)) in the
+/// texel's frame; the tangent at (cosT, sinT, 0) projected onto the plane normal to n' (glTF's
+/// anisotropy direction lives in the mesh's tangent plane; a renderer turns it onto the perturbed
+/// normal's); the bitangent n' x t'. Built once per parameter set, not per pair.
 template <typename T>
-TiltedShape<T> tiltedShape(const PairGeometry& g, const T& alphaT, const T& alphaB, const T& cosT,
-                           const T& sinT, const T& nx, const T& ny) {
+struct TiltedFrame {
+  T tx, ty, tz, bx, by, bz, nx, ny, nz;
+};
+
+template <typename T>
+TiltedFrame<T> tiltedFrame(const T& cosT, const T& sinT, const T& nx, const T& ny) {
   using std::sqrt;
-  const T nz = sqrt(1.0 - nx * nx - ny * ny);
+  TiltedFrame<T> f;
+  f.nx = nx;
+  f.ny = ny;
+  f.nz = sqrt(1.0 - nx * nx - ny * ny);
   const T tn = cosT * nx + sinT * ny;
-  T tx = cosT - tn * nx, ty = sinT - tn * ny, tz = -tn * nz;
+  const T tx = cosT - tn * nx, ty = sinT - tn * ny, tz = -tn * f.nz;
   const T tLength = sqrt(tx * tx + ty * ty + tz * tz);
-  tx = tx / tLength;
-  ty = ty / tLength;
-  tz = tz / tLength;
-  const T bx = ny * tz - nz * ty, by = nz * tx - nx * tz, bz = nx * ty - ny * tx;
-  const auto dotT = [&](const UnitVector& w) { return w.x * tx + w.y * ty + w.z * tz; };
-  const auto dotB = [&](const UnitVector& w) { return w.x * bx + w.y * by + w.z * bz; };
-  const auto dotN = [&](const UnitVector& w) { return w.x * nx + w.y * ny + w.z * nz; };
+  f.tx = tx / tLength;
+  f.ty = ty / tLength;
+  f.tz = tz / tLength;
+  f.bx = ny * f.tz - f.nz * f.ty;
+  f.by = f.nz * f.tx - nx * f.tz;
+  f.bz = nx * f.ty - ny * f.tx;
+  return f;
+}
+
+/// \brief One pair's shape in the tilted frame `f`. A pair with light or view behind the tilted
+/// surface reflects nothing, as a renderer clamping n'.l and n'.v. With a flat frame this is
+/// ggxSpecular exactly (the grid's directions are all above the untilted horizon).
+template <typename T>
+TiltedShape<T> tiltedShape(const PairGeometry& g, const T& alphaT, const T& alphaB,
+                           const TiltedFrame<T>& f) {
+  using std::sqrt;
+  const auto dotT = [&](const UnitVector& w) { return w.x * f.tx + w.y * f.ty + w.z * f.tz; };
+  const auto dotB = [&](const UnitVector& w) { return w.x * f.bx + w.y * f.by + w.z * f.bz; };
+  const auto dotN = [&](const UnitVector& w) { return w.x * f.nx + w.y * f.ny + w.z * f.nz; };
   const T cosL = dotN(g.light), cosV = dotN(g.view);
   if (cosL <= kTiltedHorizonCosine || cosV <= kTiltedHorizonCosine) return {T(0.0), T(0.0)};
   const T ratio = cosL / g.light.z;
