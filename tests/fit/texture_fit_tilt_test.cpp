@@ -7,8 +7,10 @@
 
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "../support/tilted_table.hpp"
+#include "slicecap/eval/metrics.hpp"
 #include "slicecap/fit/texture_fit.hpp"
 
 namespace slicecap::fit {
@@ -30,6 +32,9 @@ FittedMaterial materialAt(int x, int y) {
   m.alphaBitangent = 0.1 + 0.05 * y;
   m.alphaTangent = std::min(0.3, 2.0 * m.alphaBitangent);
   m.tangentDeg = 30.0;
+  // Column 1 is given the other way round (the larger alpha across the tangent): its canonical
+  // form under the tilt is not the untilted azimuth + 90 deg.
+  if (x == 1) std::swap(m.alphaTangent, m.alphaBitangent);
   return m;
 }
 Vec normalAt(int x, int y) { return tiltedNormal(5.0 + 7.5 * x, 40.0 + 100.0 * y); }
@@ -54,9 +59,18 @@ TEST(TextureFitTilt, RecoversEachTexelsTiltWithinOneDegree) {
       ASSERT_EQ(texel.status, TexelStatus::Fitted) << texel.problem;
       EXPECT_EQ(texel.tilt, TiltStatus::Fitted);
       EXPECT_LE(angleDeg(texel.shadingNormal, normalAt(x, y)), 1.0);
+      EXPECT_NEAR(texel.material.alphaTangent / truth.alphaTangent, 1.0, 0.05);
       EXPECT_NEAR(texel.material.alphaBitangent / truth.alphaBitangent, 1.0, 0.05);
-      EXPECT_LE(std::abs(tangentDifferenceDeg(texel.material.tangentDeg, truth.tangentDeg)), 2.0);
+      if (x != 1) {  // (column 1's canonical tangent under the tilt: the table check below)
+        EXPECT_LE(std::abs(tangentDifferenceDeg(texel.material.tangentDeg, truth.tangentDeg)), 1.0);
+      }
       EXPECT_LE(texel.rmseLevels, 0.5);
+      // The reported material and normal, tabulated the independent way, are the texel's table.
+      const UnitVector& n = texel.shadingNormal;
+      EXPECT_LE(eval::compare(tables[std::size_t(y * kSize + x)],
+                              tabulateTilted(texel.material, {n.x, n.y, n.z}))
+                    .deltaE,
+                0.1);
     }
 }
 
@@ -91,6 +105,28 @@ TEST(TextureFitTilt, DiffuseOnlyTexelIsFlatAsUndetermined) {
   // Its neighbours, warm-started from it, still find their tilts.
   EXPECT_EQ(result.texels[5].tilt, TiltStatus::Fitted);
   EXPECT_LE(angleDeg(result.texels[5].shadingNormal, normalAt(2, 1)), 1.0);
+}
+
+TEST(TextureFitTilt, RoughLobeReachingTheTiltedHorizonIsRecovered) {
+  // Alphas 0.37 / 0.25 tilted 15 deg toward +y and 9.6 toward +x: the grid's 75 deg views on the far
+  // side lie at the tilted horizon, where the model jumps to zero; the fit must not be pinned there.
+  FittedMaterial rough;
+  rough.diffuseAlbedo = {0.1, 0.15, 0.4};
+  rough.specularF0 = Rgb::gray(0.12);
+  rough.alphaTangent = 0.37;
+  rough.alphaBitangent = 0.247;
+  rough.tangentDeg = 120.0;
+  const Vec normal = test::tilt::unit({std::tan(9.6 * std::numbers::pi / 180),
+                                       std::tan(15.0 * std::numbers::pi / 180), 1.0});
+  const std::vector<Abrdf> tables{tabulateTilted(rough, normal)};
+  const TextureFitResult result =
+      fitTexture(1, [&tables](int, std::vector<Abrdf>& out) { out = tables; });
+  const TexelFit& texel = result.texels[0];
+  ASSERT_EQ(texel.status, TexelStatus::Fitted) << texel.problem;
+  EXPECT_LE(texel.rmseLevels, 0.5);
+  EXPECT_LE(angleDeg(texel.shadingNormal, normal), 1.0);
+  EXPECT_NEAR(texel.material.alphaTangent / rough.alphaTangent, 1.0, 0.02);
+  EXPECT_NEAR(texel.material.specularF90, 1.0, 0.02);
 }
 
 }  // namespace

@@ -179,6 +179,7 @@ WarmStart TextureFitter::fitted(const detail::FitData& data, WarmStart solution,
                                 TexelFit& out) const {
   const WarmStart handedOn = solution;
   const TiltStatus tilt = settleTilt(data, solution);
+  solution.parameters = detail::canonicalTilted(solution.parameters);
   out = {TexelStatus::Fitted, detail::materialOf(detail::withoutTilt(solution.parameters)),
          solution.rmseLevels, multiStart, "", detail::shadingNormalOf(solution.parameters.tilt),
          tilt};

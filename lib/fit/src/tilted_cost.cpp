@@ -1,5 +1,6 @@
-// Residuals 255 g(f cos_i / M) - target with a tilted shading normal, derivatives chained by hand
-// through g and the linear colours; Jets only for the lobe shape and the tilt.
+// Residuals w (255 g(f cos_i / M) - target) with a tilted shading normal (w fades pairs near the
+// tilted horizon out), derivatives chained by hand through g and the linear colours; Jets only for
+// the lobe shape, the tilt and w.
 #include "tilted_cost.hpp"
 
 #include <ceres/jet.h>
@@ -43,7 +44,7 @@ bool TiltedCost::Evaluate(double const* const* parameters, double* residuals,
       shape = tiltedShape(g, alphaT, alphaB, frame);
     } else {
       const TiltedShape<double> plain = tiltedShape(g, alphaTValue, alphaBValue, frameValue);
-      shape = {Jet5(plain.diffuse), Jet5(plain.specular)};
+      shape = {Jet5(plain.diffuse), Jet5(plain.specular), Jet5(plain.weight)};
     }
     for (int c = 0; c < 3; ++c) {
       const double fresnel = ggx[3 + c] + (ggx[9] - ggx[3 + c]) * g.fresnelWeight;
@@ -52,11 +53,15 @@ bool TiltedCost::Evaluate(double const* const* parameters, double* residuals,
       const double x = value * data_.scale[i];
       const std::size_t row = 3 * i + static_cast<std::size_t>(c);
       const double curve = srgbCurve(x);
-      residuals[row] = 255.0 * curve - data_.target[i][static_cast<std::size_t>(c)];
+      const double difference = 255.0 * curve - data_.target[i][static_cast<std::size_t>(c)];
+      const double weight = shape.weight.a;
+      residuals[row] = weight * difference;
       if (!derivatives) continue;
-      const double k = 255.0 * srgbSlope(x, curve) * data_.scale[i];  // d residual / d value
+      // d residual / d value
+      const double k = weight * 255.0 * srgbSlope(x, curve) * data_.scale[i];
       const auto shapeSlope = [&](int p) {
-        return k * (diffuse * shape.diffuse.v[p] + fresnel * shape.specular.v[p]);
+        return k * (diffuse * shape.diffuse.v[p] + fresnel * shape.specular.v[p]) +
+               difference * shape.weight.v[p];
       };
       if (ggxJacobian) {
         double* r = ggxJacobian + row * kGgxParameters;

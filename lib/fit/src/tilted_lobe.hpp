@@ -12,6 +12,20 @@ namespace slicecap::fit::detail {
 
 /// \brief Below this cosine to the tilted normal a light or view is behind the shading surface.
 inline constexpr double kTiltedHorizonCosine = 1e-6;
+/// \brief A pair whose light or view is within this cosine (10 deg) of the tilted horizon is faded
+/// out of the fit (smoothly, to 0 at the horizon): there the normal-mapped model jumps to zero (a
+/// renderer's clamp), and a pair on one side of the jump or the other would pin the tilt (a
+/// single such pair left 3.6 levels RMS on an exact table). Every direction of the Bonn grid (75 deg
+/// at most) is outside it when the normal is flat, so a flat texel's fit is the table fit's.
+inline constexpr double kHorizonFadeCosine = 0.17;
+
+/// \brief 0 at or below the tilted horizon, 1 from kHorizonFadeCosine up, smoothstep between.
+template <typename T>
+T horizonFade(const T& cosine) {
+  if (cosine >= kHorizonFadeCosine) return T(1.0);
+  const T s = cosine / kHorizonFadeCosine;
+  return s * s * (3.0 - 2.0 * s);
+}
 
 /// \brief The two parameter-dependent factors of one pair's value: f cos_i (geometric) equals
 /// (albedo / pi diffuse + F specular) cos_i, so both already carry the tilted cosine ratio.
@@ -19,6 +33,7 @@ template <typename T>
 struct TiltedShape {
   T diffuse;   ///< n'.l / n.l: glTF's normal map tilts the diffuse cosine too
   T specular;  ///< D G2 / (4 n'.l n'.v) in the tilted frame, times n'.l / n.l
+  T weight;    ///< the pair's weight in the fit: horizonFade of n'.l times that of n'.v
 };
 
 /// \brief The tilted frame: the shading normal n' = (nx, ny, sqrt(1 - nx^2 - ny^2)) in the
@@ -60,7 +75,8 @@ TiltedShape<T> tiltedShape(const PairGeometry& g, const T& alphaT, const T& alph
   const auto dotB = [&](const UnitVector& w) { return w.x * f.bx + w.y * f.by + w.z * f.bz; };
   const auto dotN = [&](const UnitVector& w) { return w.x * f.nx + w.y * f.ny + w.z * f.nz; };
   const T cosL = dotN(g.light), cosV = dotN(g.view);
-  if (cosL <= kTiltedHorizonCosine || cosV <= kTiltedHorizonCosine) return {T(0.0), T(0.0)};
+  if (cosL <= kTiltedHorizonCosine || cosV <= kTiltedHorizonCosine)
+    return {T(0.0), T(0.0), T(0.0)};
   const T ratio = cosL / g.light.z;
   const T hx = dotT(g.half), hy = dotB(g.half), hz = dotN(g.half);
   const T lx = dotT(g.light), ly = dotB(g.light), vx = dotT(g.view), vy = dotB(g.view);
@@ -70,7 +86,7 @@ TiltedShape<T> tiltedShape(const PairGeometry& g, const T& alphaT, const T& alph
   const T lambdaL = (sqrt(1.0 + (aT2 * lx * lx + aB2 * ly * ly) / (cosL * cosL)) - 1.0) / 2.0;
   const T lambdaV = (sqrt(1.0 + (aT2 * vx * vx + aB2 * vy * vy) / (cosV * cosV)) - 1.0) / 2.0;
   const T specular = distribution / ((1.0 + lambdaL + lambdaV) * (4.0 * cosL * cosV));
-  return {ratio, specular * ratio};
+  return {ratio, specular * ratio, horizonFade(cosL) * horizonFade(cosV)};
 }
 
 }  // namespace slicecap::fit::detail

@@ -7,7 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 #include <vector>
+
+#include "tilted_lobe.hpp"
 
 namespace slicecap::fit::detail {
 
@@ -52,6 +55,17 @@ FitParameters withoutTilt(const TiltedParameters& p) {
   FitParameters flat;
   flat.ggx = p.ggx;
   return flat;
+}
+
+TiltedParameters canonicalTilted(TiltedParameters p) {
+  if (p.ggx[6] >= p.ggx[7]) return p;
+  std::swap(p.ggx[6], p.ggx[7]);
+  const TiltedFrame<double> f =
+      tiltedFrame(std::cos(p.ggx[8]), std::sin(p.ggx[8]), p.tilt[0], p.tilt[1]);
+  // Back along n' from the bitangent to the untilted plane z = 0: its projection is the bitangent.
+  const double back = -f.bz / f.nz;
+  p.ggx[8] = std::atan2(f.by + back * f.ny, f.bx + back * f.nx);
+  return p;
 }
 
 UnitVector shadingNormalOf(const std::array<double, kTiltParameters>& tilt) {

@@ -35,6 +35,13 @@ TiltedOutcome solveTiltedFromStart(const FitData& data, const TiltedParameters& 
 TiltedParameters withTilt(const FitParameters& p, const std::array<double, kTiltParameters>& tilt);
 FitParameters withoutTilt(const TiltedParameters& p);
 
+/// \brief `p` with alpha_t >= alpha_b, the same BRDF: where they are the other way round they are
+/// swapped and the tangent turned to the old bitangent's direction. Under a tilt that is not the
+/// untilted azimuth + 90 deg (projection onto the tilted plane does not keep right angles): it is
+/// the azimuth in the untilted plane whose projection is n' x t'. FittedMaterial::canonical() then
+/// only wraps the azimuth into [0, 180), which a projection keeps.
+TiltedParameters canonicalTilted(TiltedParameters p);
+
 /// \brief The shading normal of a tilt: (x, y, sqrt(1 - x^2 - y^2)).
 UnitVector shadingNormalOf(const std::array<double, kTiltParameters>& tilt);
 
