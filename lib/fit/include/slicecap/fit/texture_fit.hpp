@@ -57,7 +57,7 @@ struct TextureFitOptions {
   int threads = 2;          ///< rows fitted at once (>= 1)
   int maxIterations = 200;  ///< Levenberg-Marquardt iterations per solve
   /// \brief The warm-started solve sees every this-many-th light/view pair (coprime with 81, so
-  /// that every light and view direction is seen): 938 pairs still pin 10 parameters, and the
+  /// that every light and view direction is seen): 938 pairs still pin 12 parameters, and the
   /// solve's time is proportional to the pairs (docs/material-fit.md, "Texture mode").
   int pairStride = 7;
   /// \brief A warm start is kept when it converged and its RMS residual is at most this factor
