@@ -5,10 +5,10 @@
 // writes it, fitted on 1 and 2 threads. Counters: the recovered per-texel roughness and tangent
 // errors, and the dE of the fitted material against the true (noise-free) table on a sample.
 // The tilted variant tilts each texel's shading normal smoothly by up to +-15 deg about each axis
-// (tabulated by turning light and view into the tilted frame by hand, tests/support/tilted_table.hpp)
-// and reports the recovered normal's error; a run with the tilt fitting off is the fit as it was
-// before the normal map.
-// Run it directly (build/bench/texture_fit_bench), not through scripts/bench, which pins to one core.
+// (tabulated by turning light and view into the tilted frame by hand,
+// tests/support/tilted_table.hpp) and reports the recovered normal's error; a run with the tilt
+// fitting off is the fit as it was before the normal map. Run it directly
+// (build/bench/texture_fit_bench), not through scripts/bench, which pins to one core.
 #include <benchmark/benchmark.h>
 
 #include <sys/resource.h>
@@ -46,11 +46,14 @@ fit::FittedMaterial truthAt(int x, int y) {
 }
 
 // The true shading normal: tilted by 15 sin(2 pi x / 64) deg about y (toward +x) and
-// 15 cos(2 pi y / 48) deg about x (toward +y), smooth across the tile; (0, 0, 1) when not tiltedTile.
+// 15 cos(2 pi y / 48) deg about x (toward +y), smooth across the tile; (0, 0, 1) when not
+// tiltedTile.
 test::tilt::Vec normalAt(int x, int y) {
   if (!tiltedTile) return {0.0, 0.0, 1.0};
-  const double towardX = 15.0 * std::sin(2.0 * std::numbers::pi * x / 64.0) * std::numbers::pi / 180;
-  const double towardY = 15.0 * std::cos(2.0 * std::numbers::pi * y / 48.0) * std::numbers::pi / 180;
+  const double towardX =
+      15.0 * std::sin(2.0 * std::numbers::pi * x / 64.0) * std::numbers::pi / 180;
+  const double towardY =
+      15.0 * std::cos(2.0 * std::numbers::pi * y / 48.0) * std::numbers::pi / 180;
   return test::tilt::unit({std::tan(towardX), std::tan(towardY), 1.0});
 }
 
@@ -132,10 +135,9 @@ void reportAccuracy(benchmark::State& state, const fit::TextureFitResult& result
       normalError.push_back(test::tilt::angleDeg(t.shadingNormal, normalAt(x, y)));
       if (x % 8 == 3 && y % 8 == 5) {  // 256 texels of a 128 tile: a table and a comparison each
         const UnitVector& n = t.shadingNormal;
-        deltaE.push_back(
-            eval::compare(test::tilt::tabulateTilted(truth, normalAt(x, y)),
-                          test::tilt::tabulateTilted(t.material, {n.x, n.y, n.z}))
-                .deltaE);
+        deltaE.push_back(eval::compare(test::tilt::tabulateTilted(truth, normalAt(x, y)),
+                                       test::tilt::tabulateTilted(t.material, {n.x, n.y, n.z}))
+                             .deltaE);
       }
     }
   state.counters["texels_fitted"] = double(result.fitted);

@@ -21,7 +21,9 @@ namespace {
 
 // A 2 x 2 BTF: three brushed texels (tangent 30 deg), texel (0,1) tilted 15 deg toward azimuth
 // 60 deg, and texel (1,1) with no samples.
-test::tilt::Vec tiltedNormal() { return test::tilt::tiltedNormal(15.0, 60.0); }
+test::tilt::Vec tiltedNormal() {
+  return test::tilt::tiltedNormal(15.0, 60.0);
+}
 
 class TextureFitCommand : public testing::Test {
  protected:
@@ -41,8 +43,8 @@ class TextureFitCommand : public testing::Test {
       m.alphaTangent = 0.3;
       m.alphaBitangent = 0.1;
       m.tangentDeg = 30.0;
-      texture.setTexel(texel, texel == 2 ? test::tilt::tabulateTilted(m, tiltedNormal())
-                                         : tabulate(m));
+      texture.setTexel(texel,
+                       texel == 2 ? test::tilt::tabulateTilted(m, tiltedNormal()) : tabulate(m));
     }
     btf::BtfDescription description;
     description.windowMm = {-10.0, -10.0, 10.0, 10.0};
@@ -102,7 +104,8 @@ TEST_F(TextureFitCommand, WritesTheMapsAndNamesTheTexelWithNoSamples) {
   EXPECT_EQ(summary["failed_texels"][0]["status"], "no samples");
   EXPECT_EQ(summary["texels_tilt_fitted"], 3);
   EXPECT_EQ(summary["flat_normal_texels"].size(), 0u);
-  EXPECT_TRUE(summary["normal_map"].get<std::string>().starts_with("fitted")) << summary["normal_map"];
+  EXPECT_TRUE(summary["normal_map"].get<std::string>().starts_with("fitted"))
+      << summary["normal_map"];
   std::ifstream gltfFile(maps / "material.gltf");
   const auto gltf = nlohmann::json::parse(gltfFile);
   EXPECT_EQ(gltf["images"].size(), 5u);

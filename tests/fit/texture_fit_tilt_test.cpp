@@ -37,7 +37,9 @@ FittedMaterial materialAt(int x, int y) {
   if (x == 1) std::swap(m.alphaTangent, m.alphaBitangent);
   return m;
 }
-Vec normalAt(int x, int y) { return tiltedNormal(5.0 + 7.5 * x, 40.0 + 100.0 * y); }
+Vec normalAt(int x, int y) {
+  return tiltedNormal(5.0 + 7.5 * x, 40.0 + 100.0 * y);
+}
 
 TexelRowReader readerOf(const std::vector<Abrdf>& tables) {
   return [&tables](int row, std::vector<Abrdf>& out) {
@@ -48,7 +50,8 @@ TexelRowReader readerOf(const std::vector<Abrdf>& tables) {
 TEST(TextureFitTilt, RecoversEachTexelsTiltWithinOneDegree) {
   std::vector<Abrdf> tables;
   for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x) tables.push_back(tabulateTilted(materialAt(x, y), normalAt(x, y)));
+    for (int x = 0; x < kSize; ++x)
+      tables.push_back(tabulateTilted(materialAt(x, y), normalAt(x, y)));
   const TextureFitResult result = fitTexture(kSize, readerOf(tables));
   EXPECT_EQ(result.tiltFitted, tables.size());
   for (int y = 0; y < kSize; ++y)
@@ -77,7 +80,8 @@ TEST(TextureFitTilt, RecoversEachTexelsTiltWithinOneDegree) {
 TEST(TextureFitTilt, FlatTileStaysFlat) {
   std::vector<Abrdf> tables;
   for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x) tables.push_back(tabulate(materialAt(x, y)));
+    for (int x = 0; x < kSize; ++x)
+      tables.push_back(tabulate(materialAt(x, y)));
   const TextureFitResult result = fitTexture(kSize, readerOf(tables));
   for (const TexelFit& texel : result.texels) {
     ASSERT_EQ(texel.status, TexelStatus::Fitted) << texel.problem;
@@ -89,7 +93,8 @@ TEST(TextureFitTilt, FlatTileStaysFlat) {
 TEST(TextureFitTilt, DiffuseOnlyTexelIsFlatAsUndetermined) {
   std::vector<Abrdf> tables;
   for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x) tables.push_back(tabulateTilted(materialAt(x, y), normalAt(x, y)));
+    for (int x = 0; x < kSize; ++x)
+      tables.push_back(tabulateTilted(materialAt(x, y), normalAt(x, y)));
   // Texel (1,1): a tilted matte paint, no specular lobe at all.
   FittedMaterial matte = materialAt(1, 1);
   matte.specularF0 = Rgb{};
@@ -108,16 +113,17 @@ TEST(TextureFitTilt, DiffuseOnlyTexelIsFlatAsUndetermined) {
 }
 
 TEST(TextureFitTilt, RoughLobeReachingTheTiltedHorizonIsRecovered) {
-  // Alphas 0.37 / 0.25 tilted 15 deg toward +y and 9.6 toward +x: the grid's 75 deg views on the far
-  // side lie at the tilted horizon, where the model jumps to zero; the fit must not be pinned there.
+  // Alphas 0.37 / 0.25 tilted 15 deg toward +y and 9.6 toward +x: the grid's 75 deg views on the
+  // far side lie at the tilted horizon, where the model jumps to zero; the fit must not be pinned
+  // there.
   FittedMaterial rough;
   rough.diffuseAlbedo = {0.1, 0.15, 0.4};
   rough.specularF0 = Rgb::gray(0.12);
   rough.alphaTangent = 0.37;
   rough.alphaBitangent = 0.247;
   rough.tangentDeg = 120.0;
-  const Vec normal = test::tilt::unit({std::tan(9.6 * std::numbers::pi / 180),
-                                       std::tan(15.0 * std::numbers::pi / 180), 1.0});
+  const Vec normal = test::tilt::unit(
+      {std::tan(9.6 * std::numbers::pi / 180), std::tan(15.0 * std::numbers::pi / 180), 1.0});
   const std::vector<Abrdf> tables{tabulateTilted(rough, normal)};
   const TextureFitResult result =
       fitTexture(1, [&tables](int, std::vector<Abrdf>& out) { out = tables; });

@@ -17,7 +17,9 @@ using fit::FittedMaterial;
 struct Vec {
   double x, y, z;
 };
-inline double dot(const Vec& a, const Vec& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline double dot(const Vec& a, const Vec& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 inline Vec unit(const Vec& a) {
   const double n = std::sqrt(dot(a, a));
   return {a.x / n, a.y / n, a.z / n};
@@ -50,7 +52,8 @@ inline Abrdf tabulateTilted(FittedMaterial flat, const Vec& normal) {
     const UnitVector vt{dot(vw, tangent), dot(vw, bitangent), dot(vw, normal)};
     if (lt.z <= 0.0 || vt.z <= 0.0) return Rgb{};
     Rgb value = flat.evaluate(lt, vt);
-    for (std::size_t c = 0; c < 3; ++c) value[c] *= lt.z / l.z;
+    for (std::size_t c = 0; c < 3; ++c)
+      value[c] *= lt.z / l.z;
     return value;
   });
 }

@@ -80,7 +80,8 @@ double median(std::vector<double> values) {
 std::string normalMapSummary(const fit::TextureFitResult& result) {
   const std::size_t flat = result.fitted - result.tiltFitted;
   return "fitted: the lobe's tilt of " + std::to_string(result.tiltFitted) + " texels; flat at " +
-         std::to_string(flat) + " fitted texels whose lobe cannot locate a tilt (flat_normal_texels)" +
+         std::to_string(flat) +
+         " fitted texels whose lobe cannot locate a tilt (flat_normal_texels)" +
          " and at the texels not fitted";
 }
 

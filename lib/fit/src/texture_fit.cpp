@@ -161,9 +161,9 @@ TiltStatus TextureFitter::settleTilt(const detail::FitData& data, WarmStart& sol
   if (!options_.fitTilt) return TiltStatus::Off;
   if (detail::lobeLocatesTilt(solution.parameters.ggx)) return TiltStatus::Fitted;
   solution.parameters.tilt = kFlat;
-  const detail::SolveOutcome flat = detail::solveFromStart(
-      data, detail::withoutTilt(solution.parameters), options_.maxIterations,
-      options_.functionTolerance, options_.warmTrustRegionRadius);
+  const detail::SolveOutcome flat =
+      detail::solveFromStart(data, detail::withoutTilt(solution.parameters), options_.maxIterations,
+                             options_.functionTolerance, options_.warmTrustRegionRadius);
   if (flat.converged)
     solution = {detail::withTilt(flat.parameters, kFlat),
                 std::sqrt(2.0 * flat.cost / data.residualCount())};
@@ -180,8 +180,12 @@ WarmStart TextureFitter::fitted(const detail::FitData& data, WarmStart solution,
   const WarmStart handedOn = solution;
   const TiltStatus tilt = settleTilt(data, solution);
   solution.parameters = detail::canonicalTilted(solution.parameters);
-  out = {TexelStatus::Fitted, detail::materialOf(detail::withoutTilt(solution.parameters)),
-         solution.rmseLevels, multiStart, "", detail::shadingNormalOf(solution.parameters.tilt),
+  out = {TexelStatus::Fitted,
+         detail::materialOf(detail::withoutTilt(solution.parameters)),
+         solution.rmseLevels,
+         multiStart,
+         "",
+         detail::shadingNormalOf(solution.parameters.tilt),
          tilt};
   return handedOn;
 }
@@ -209,8 +213,8 @@ std::optional<WarmStart> TextureFitter::fitTexel(const Abrdf& table, int x, int 
     multi.maxIterations = options_.maxIterations;
     const FitResult flat = fitMaterial(table, name, multi);
     // The multi-start fit is flat: the tilt (the neighbour's, if any) is refined from it.
-    const TiltedParameters start =
-        detail::withTilt(detail::ggxParametersOf(flat.material), warm ? warm->parameters.tilt : kFlat);
+    const TiltedParameters start = detail::withTilt(detail::ggxParametersOf(flat.material),
+                                                    warm ? warm->parameters.tilt : kFlat);
     std::optional<WarmStart> refined = solve(data, start, options_.warmTrustRegionRadius);
     if (!refined) refined = WarmStart{start, detail::tiltedRmseLevels(data, start)};
     if (!best || refined->rmseLevels < best->rmseLevels) best = refined;
@@ -229,9 +233,12 @@ std::optional<WarmStart> TextureFitter::fitTexel(const Abrdf& table, int x, int 
 
 std::string_view toString(TiltStatus status) {
   switch (status) {
-    case TiltStatus::Fitted: return "fitted";
-    case TiltStatus::NoLobe: return "flat: no specular lobe to tilt";
-    case TiltStatus::Off: return "flat: tilt fitting off";
+    case TiltStatus::Fitted:
+      return "fitted";
+    case TiltStatus::NoLobe:
+      return "flat: no specular lobe to tilt";
+    case TiltStatus::Off:
+      return "flat: tilt fitting off";
   }
   return "?";
 }

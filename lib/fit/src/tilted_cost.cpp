@@ -65,10 +65,12 @@ bool TiltedCost::Evaluate(double const* const* parameters, double* residuals,
       };
       if (ggxJacobian) {
         double* r = ggxJacobian + row * kGgxParameters;
-        for (int p = 0; p < kGgxParameters; ++p) r[p] = 0.0;
+        for (int p = 0; p < kGgxParameters; ++p)
+          r[p] = 0.0;
         r[c] = k * shape.diffuse.a / std::numbers::pi;
         r[3 + c] = k * (1.0 - g.fresnelWeight) * shape.specular.a;
-        for (int p = 0; p < 3; ++p) r[6 + p] = shapeSlope(p);
+        for (int p = 0; p < 3; ++p)
+          r[6 + p] = shapeSlope(p);
         r[9] = k * g.fresnelWeight * shape.specular.a;
       }
       if (tiltJacobian) {

@@ -15,8 +15,8 @@ inline constexpr double kTiltedHorizonCosine = 1e-6;
 /// \brief A pair whose light or view is within this cosine (10 deg) of the tilted horizon is faded
 /// out of the fit (smoothly, to 0 at the horizon): there the normal-mapped model jumps to zero (a
 /// renderer's clamp), and a pair on one side of the jump or the other would pin the tilt (a
-/// single such pair left 3.6 levels RMS on an exact table). Every direction of the Bonn grid (75 deg
-/// at most) is outside it when the normal is flat, so a flat texel's fit is the table fit's.
+/// single such pair left 3.6 levels RMS on an exact table). Every direction of the Bonn grid (75
+/// deg at most) is outside it when the normal is flat, so a flat texel's fit is the table fit's.
 inline constexpr double kHorizonFadeCosine = 0.17;
 
 /// \brief 0 at or below the tilted horizon, 1 from kHorizonFadeCosine up, smoothstep between.
@@ -75,8 +75,7 @@ TiltedShape<T> tiltedShape(const PairGeometry& g, const T& alphaT, const T& alph
   const auto dotB = [&](const UnitVector& w) { return w.x * f.bx + w.y * f.by + w.z * f.bz; };
   const auto dotN = [&](const UnitVector& w) { return w.x * f.nx + w.y * f.ny + w.z * f.nz; };
   const T cosL = dotN(g.light), cosV = dotN(g.view);
-  if (cosL <= kTiltedHorizonCosine || cosV <= kTiltedHorizonCosine)
-    return {T(0.0), T(0.0), T(0.0)};
+  if (cosL <= kTiltedHorizonCosine || cosV <= kTiltedHorizonCosine) return {T(0.0), T(0.0), T(0.0)};
   const T ratio = cosL / g.light.z;
   const T hx = dotT(g.half), hy = dotB(g.half), hz = dotN(g.half);
   const T lx = dotT(g.light), ly = dotB(g.light), vx = dotT(g.view), vy = dotB(g.view);

@@ -85,7 +85,8 @@ double tiltedRmseLevels(const FitData& data, const TiltedParameters& p) {
   const double* blocks[2] = {p.ggx.data(), p.tilt.data()};
   cost.Evaluate(blocks, residuals.data(), nullptr);
   double sum = 0.0;
-  for (double r : residuals) sum += r * r;
+  for (double r : residuals)
+    sum += r * r;
   return std::sqrt(sum / static_cast<double>(residuals.size()));
 }
 

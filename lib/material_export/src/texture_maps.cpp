@@ -66,8 +66,8 @@ GltfTextureMaps gltfTextureMaps(const fit::TextureFitResult& fit) {
       // glTF's normalTexture: RGB = (n + 1) / 2 of the tangent-space normal, x along TANGENT (the
       // texel frame's x), y along cross(NORMAL, TANGENT) * w (its y); flat where not fitted.
       const UnitVector normal = fit.texels[i].status == fit::TexelStatus::Fitted
-                               ? fit.texels[i].shadingNormal
-                               : UnitVector{};
+                                    ? fit.texels[i].shadingNormal
+                                    : UnitVector{};
       maps.normal.at(x, y, 0) = linear8(0.5 + 0.5 * normal.x);
       maps.normal.at(x, y, 1) = linear8(0.5 + 0.5 * normal.y);
       maps.normal.at(x, y, 2) = linear8(0.5 + 0.5 * normal.z);

@@ -31,9 +31,9 @@ std::string_view toString(TexelStatus status);
 /// \brief What became of a fitted texel's shading-normal tilt (docs/material-fit.md "Texture
 /// mode", "The normal map").
 enum class TiltStatus {
-  Fitted,   ///< the tilt was fitted with the lobe (it may be flat: the data said so)
-  NoLobe,   ///< flat: the specular lobe is too weak to locate (f0 ~ 0 or alphas ~ 1)
-  Off       ///< flat: TextureFitOptions::fitTilt was false
+  Fitted,  ///< the tilt was fitted with the lobe (it may be flat: the data said so)
+  NoLobe,  ///< flat: the specular lobe is too weak to locate (f0 ~ 0 or alphas ~ 1)
+  Off      ///< flat: TextureFitOptions::fitTilt was false
 };
 
 /// \brief "fitted", "flat: no specular lobe to tilt", "flat: tilt fitting off".
@@ -93,8 +93,8 @@ struct TextureFitResult {
 /// warm-started from its left neighbour. A texel that cannot be fitted is named in its
 /// TexelFit::problem, never given a default material; the next texel then starts from the last
 /// good solution. A texel whose specular lobe is too weak to locate gets a flat normal and
-/// TiltStatus::NoLobe (its other parameters refitted flat). Throws std::invalid_argument for resolution < 1 or options out of range;
-/// exceptions of `readRow` (e.g. io::IoError) pass through.
+/// TiltStatus::NoLobe (its other parameters refitted flat). Throws std::invalid_argument for
+/// resolution < 1 or options out of range; exceptions of `readRow` (e.g. io::IoError) pass through.
 TextureFitResult fitTexture(int resolution, const TexelRowReader& readRow,
                             const TextureFitOptions& options = {});
 
