@@ -69,4 +69,9 @@ def test_maps_json_names_every_texel_it_did_not_fit(maps):
     assert summary["texels_fitted"] > 0
     for texel in summary["failed_texels"]:
         assert texel["problem"].startswith(f"texel ({texel['x']},{texel['y']})"), texel
-    assert summary["normal_map"].startswith("flat")
+    # The normal map holds the fitted tilts; a fitted texel left flat is named with the reason.
+    assert summary["normal_map"].startswith("fitted")
+    flat = summary["flat_normal_texels"]
+    assert summary["texels_tilt_fitted"] + len(flat) == summary["texels_fitted"]
+    for texel in flat:
+        assert texel["normal"].startswith("flat"), texel

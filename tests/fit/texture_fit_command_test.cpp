@@ -11,6 +11,7 @@
 
 #include "../support/cli_runner.hpp"
 #include "../support/test_support.hpp"
+#include "../support/tilted_table.hpp"
 #include "slicecap/btf/btf_files.hpp"
 #include "slicecap/fit/fitted_material.hpp"
 #include "slicecap/io/png_image.hpp"
@@ -18,7 +19,12 @@
 namespace slicecap::fit {
 namespace {
 
-// A 2 x 2 BTF: three brushed texels (tangent 30 deg) and texel (1,1) with no samples.
+// A 2 x 2 BTF: three brushed texels (tangent 30 deg), texel (0,1) tilted 15 deg toward azimuth
+// 60 deg, and texel (1,1) with no samples.
+test::tilt::Vec tiltedNormal() {
+  return test::tilt::tiltedNormal(15.0, 60.0);
+}
+
 class TextureFitCommand : public testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -37,7 +43,8 @@ class TextureFitCommand : public testing::Test {
       m.alphaTangent = 0.3;
       m.alphaBitangent = 0.1;
       m.tangentDeg = 30.0;
-      texture.setTexel(texel, tabulate(m));
+      texture.setTexel(texel,
+                       texel == 2 ? test::tilt::tabulateTilted(m, tiltedNormal()) : tabulate(m));
     }
     btf::BtfDescription description;
     description.windowMm = {-10.0, -10.0, 10.0, 10.0};
@@ -78,11 +85,27 @@ TEST_F(TextureFitCommand, WritesTheMapsAndNamesTheTexelWithNoSamples) {
   EXPECT_NEAR(roughness.at(1, 0, 1) / 255.0, std::sqrt(0.1), 2.0 / 255);
   EXPECT_EQ(roughness.at(1, 0, 2), 0);  // metallic
 
+  // glTF's normalTexture: RGB = (n + 1) / 2, x along TANGENT (+x), y along the bitangent (+y).
+  const Image normal = io::readPng(maps / "normal.png");
+  const test::tilt::Vec n = tiltedNormal();
+  EXPECT_NEAR(normal.at(0, 1, 0), 127.5 * (n.x + 1.0), 2.0);
+  EXPECT_NEAR(normal.at(0, 1, 1), 127.5 * (n.y + 1.0), 2.0);
+  EXPECT_NEAR(normal.at(0, 1, 2), 127.5 * (n.z + 1.0), 2.0);
+  for (const auto& [x, y] : {std::pair{0, 0}, std::pair{1, 0}, std::pair{1, 1}}) {
+    EXPECT_NEAR(normal.at(x, y, 0), 128, 1) << x << "," << y;
+    EXPECT_NEAR(normal.at(x, y, 1), 128, 1) << x << "," << y;
+    EXPECT_EQ(normal.at(x, y, 2), 255) << x << "," << y;
+  }
+
   std::ifstream mapsJson(maps / "maps.json");
   const auto summary = nlohmann::json::parse(mapsJson);
   ASSERT_EQ(summary["failed_texels"].size(), 1u);
   EXPECT_EQ(summary["failed_texels"][0]["x"], 1);
   EXPECT_EQ(summary["failed_texels"][0]["status"], "no samples");
+  EXPECT_EQ(summary["texels_tilt_fitted"], 3);
+  EXPECT_EQ(summary["flat_normal_texels"].size(), 0u);
+  EXPECT_TRUE(summary["normal_map"].get<std::string>().starts_with("fitted"))
+      << summary["normal_map"];
   std::ifstream gltfFile(maps / "material.gltf");
   const auto gltf = nlohmann::json::parse(gltfFile);
   EXPECT_EQ(gltf["images"].size(), 5u);
@@ -90,6 +113,8 @@ TEST_F(TextureFitCommand, WritesTheMapsAndNamesTheTexelWithNoSamples) {
     EXPECT_TRUE(std::filesystem::exists(maps / image["uri"].get<std::string>())) << image;
   EXPECT_TRUE(gltf["meshes"][0]["primitives"][0]["attributes"].contains("TANGENT"));
   EXPECT_EQ(gltf["materials"][0]["extensions"]["KHR_materials_anisotropy"]["anisotropyTexture"]["index"], 2);
+  EXPECT_EQ(gltf["images"][gltf["materials"][0]["normalTexture"]["index"].get<int>()]["uri"],
+            "normal.png");
 }
 
 TEST_F(TextureFitCommand, RefusesAnOutputInOrOverTheBtf) {

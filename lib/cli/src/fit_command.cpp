@@ -107,11 +107,12 @@ Command fitCommand() {
            "(OpenPBR) and Mitsuba 3, and print what each format cannot express\n"
            "(docs/material-export.md). Given a MATERIAL.json written by an earlier fit, only the\n"
            "exports are written; a file that is not a completed fit is refused, naming it.\n"
-           "BTF_DIR (written by `slicecap btf`): every texel fitted (diffuse + anisotropic GGX, no\n"
-           "sheen), warm-started from its neighbour, on --threads threads; MAPS_DIR gets glTF's\n"
-           "texture maps as PNG (base colour, metallic-roughness, anisotropy, specular, a flat\n"
-           "normal map: the tilt is not fitted), mask.png (0: a texel not fitted, each named),\n"
-           "material.gltf (the maps on a plane) and maps.json.",
+           "BTF_DIR (written by `slicecap btf`): every texel fitted (diffuse + anisotropic GGX\n"
+           "with a tilted shading normal, no sheen), warm-started from its neighbour, on\n"
+           "--threads threads; MAPS_DIR gets glTF's texture maps as PNG (base colour,\n"
+           "metallic-roughness, anisotropy, specular, the normal map of the lobes' tilts: flat,\n"
+           "and named in maps.json, where no specular lobe locates one), mask.png (0: a texel not\n"
+           "fitted, each named), material.gltf (the maps on a plane) and maps.json.",
            fitOptions(),
            1,
            1},

@@ -76,14 +76,28 @@ double median(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
+// What normal.png holds: fitted tilts, and how many fitted texels are flat and why.
+std::string normalMapSummary(const fit::TextureFitResult& result) {
+  const std::size_t flat = result.fitted - result.tiltFitted;
+  return "fitted: the lobe's tilt of " + std::to_string(result.tiltFitted) + " texels; flat at " +
+         std::to_string(flat) +
+         " fitted texels whose lobe cannot locate a tilt (flat_normal_texels)" +
+         " and at the texels not fitted";
+}
+
 json mapsJson(const fit::TextureFitResult& result, const material_export::GltfTextureMaps& maps,
               const std::string& source) {
   json failed = json::array();
+  json flat = json::array();
   std::vector<double> rmse;
   for (std::size_t i = 0; i < result.texels.size(); ++i) {
     const fit::TexelFit& t = result.texels[i];
     if (t.status == fit::TexelStatus::Fitted) {
       rmse.push_back(t.rmseLevels);
+      if (t.tilt != fit::TiltStatus::Fitted)
+        flat.push_back({{"x", int(i % std::size_t(result.resolution))},
+                        {"y", int(i / std::size_t(result.resolution))},
+                        {"normal", std::string(toString(t.tilt))}});
       continue;
     }
     failed.push_back({{"x", int(i % std::size_t(result.resolution))},
@@ -105,9 +119,11 @@ json mapsJson(const fit::TextureFitResult& result, const material_export::GltfTe
           {"seconds", result.seconds},
           {"threads", result.threads},
           {"ior", maps.ior},
-          {"normal_map", "flat: the lobe's tilt is not fitted"},
+          {"normal_map", normalMapSummary(result)},
+          {"texels_tilt_fitted", result.tiltFitted},
           {"conversion_losses_texels", losses},
-          {"failed_texels", failed}};
+          {"failed_texels", failed},
+          {"flat_normal_texels", flat}};
 }
 
 }  // namespace
@@ -163,8 +179,9 @@ int runTextureFit(const ParsedArgs& args, Streams& io) {
   if (failed > 0)
     io.out << failed << " texels not fitted: 0 in " << (output / material_export::kMaskPng).string()
            << ", named in maps.json\n";
-  io.out << "wrote the maps and " << (output / material_export::kTexturedGltf).string()
-         << " (normal.png is flat: the lobe's tilt is not fitted)\n";
+  io.out << "wrote the maps and " << (output / material_export::kTexturedGltf).string() << " ("
+         << result.tiltFitted << " texels with a fitted tilt in normal.png, "
+         << result.fitted - result.tiltFitted << " flat: no specular lobe to tilt)\n";
   return 0;
 }
 

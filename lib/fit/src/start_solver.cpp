@@ -25,6 +25,21 @@ struct BuiltProblem {
   double* sheen;
 };
 
+}  // namespace
+
+void boundGgxBlock(ceres::Problem& problem, double* ggx) {
+  for (int i = 0; i < 6; ++i) problem.SetParameterLowerBound(ggx, i, 0.0);
+  for (int i = 3; i < 6; ++i) problem.SetParameterUpperBound(ggx, i, 1.0);
+  problem.SetParameterLowerBound(ggx, 9, 0.0);
+  problem.SetParameterUpperBound(ggx, 9, 1.0);
+  for (int i = 6; i < 8; ++i) {
+    problem.SetParameterLowerBound(ggx, i, std::log(kMinimumAlpha));
+    problem.SetParameterUpperBound(ggx, i, std::log(kMaximumAlpha));
+  }
+}
+
+namespace {
+
 BuiltProblem buildProblem(const FitData& data, FitParameters& p) {
   BuiltProblem built{std::make_unique<ceres::Problem>(), p.ggx.data(),
                      p.withSheen ? p.sheen.data() : nullptr};
@@ -34,14 +49,7 @@ BuiltProblem buildProblem(const FitData& data, FitParameters& p) {
   } else {
     problem.AddResidualBlock(new MaterialCost(data, false), nullptr, built.ggx);
   }
-  for (int i = 0; i < 6; ++i) problem.SetParameterLowerBound(built.ggx, i, 0.0);
-  for (int i = 3; i < 6; ++i) problem.SetParameterUpperBound(built.ggx, i, 1.0);
-  problem.SetParameterLowerBound(built.ggx, 9, 0.0);
-  problem.SetParameterUpperBound(built.ggx, 9, 1.0);
-  for (int i = 6; i < 8; ++i) {
-    problem.SetParameterLowerBound(built.ggx, i, std::log(kMinimumAlpha));
-    problem.SetParameterUpperBound(built.ggx, i, std::log(kMaximumAlpha));
-  }
+  boundGgxBlock(problem, built.ggx);
   if (p.withSheen) {
     for (int i = 0; i < 3; ++i) problem.SetParameterLowerBound(built.sheen, i, 0.0);
     problem.SetParameterLowerBound(built.sheen, 3, std::log(kMinimumSheenRoughness));

@@ -8,6 +8,10 @@
 
 #include "fit_data.hpp"
 
+namespace ceres {
+class Problem;
+}
+
 namespace slicecap::fit::detail {
 
 /// \brief The parameters of one solve: the GGX block always, the sheen block when `withSheen`.
@@ -34,6 +38,10 @@ struct SolveOutcome {
 SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int maxIterations,
                             double functionTolerance = 1e-7,
                             double initialTrustRegionRadius = 1e4);
+
+/// \brief Sets solveFromStart's bounds on a GGX parameter block `ggx` already in `problem` (the
+/// texture fit's tilted solve shares them).
+void boundGgxBlock(ceres::Problem& problem, double* ggx);
 
 /// \brief The residuals' Jacobian (residuals x parameters) at `parameters`.
 Eigen::MatrixXd jacobianAt(const FitData& data, const FitParameters& parameters);

@@ -2,6 +2,7 @@
 // given the multi-start fit only when the warm start ends poorly (docs/material-fit.md).
 #include "slicecap/fit/texture_fit.hpp"
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -15,17 +16,21 @@
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/fit/material_fit.hpp"
 #include "texel_data.hpp"
+#include "tilted_solver.hpp"
 
 namespace slicecap::fit {
 namespace {
 
 using detail::FitParameters;
+using detail::TiltedParameters;
 
-// The solution a texel hands to the next one.
+// A texel's solution, and what it hands to the next one as its warm start.
 struct WarmStart {
-  FitParameters parameters;
+  TiltedParameters parameters;
   double rmseLevels = 0.0;
 };
+
+constexpr std::array<double, detail::kTiltParameters> kFlat{0.0, 0.0};
 
 std::string texelName(int x, int y) {
   return "texel (" + std::to_string(x) + "," + std::to_string(y) + ")";
@@ -64,6 +69,8 @@ class TextureFitter {
     for (const TexelFit& texel : result_.texels) {
       result_.fitted += texel.status == TexelStatus::Fitted ? 1 : 0;
       result_.multiStart += texel.multiStart ? 1 : 0;
+      result_.tiltFitted +=
+          texel.status == TexelStatus::Fitted && texel.tilt == TiltStatus::Fitted ? 1 : 0;
     }
     result_.threads = threads;
     result_.seconds =
@@ -110,6 +117,11 @@ class TextureFitter {
 
   std::optional<WarmStart> fitTexel(const Abrdf& table, int x, int y,
                                     const std::optional<WarmStart>& warm, TexelFit& out) const;
+  std::optional<WarmStart> solve(const detail::FitData& data, const TiltedParameters& start,
+                                 double trustRegionRadius) const;
+  TiltStatus settleTilt(const detail::FitData& data, WarmStart& solution) const;
+  WarmStart fitted(const detail::FitData& data, WarmStart solution, bool multiStart,
+                   TexelFit& out) const;
 
   int resolution_;
   const TexelRowReader& readRow_;
@@ -124,6 +136,60 @@ class TextureFitter {
   TextureFitResult result_;
 };
 
+// One solve from `start`: with the tilt, or flat (tilt zero) when the tilt is not fitted.
+std::optional<WarmStart> TextureFitter::solve(const detail::FitData& data,
+                                              const TiltedParameters& start,
+                                              double trustRegionRadius) const {
+  const double residuals = data.residualCount();
+  if (options_.fitTilt) {
+    const detail::TiltedOutcome solved = detail::solveTiltedFromStart(
+        data, start, options_.maxIterations, options_.functionTolerance, trustRegionRadius);
+    if (!solved.converged) return std::nullopt;
+    return WarmStart{solved.parameters, std::sqrt(2.0 * solved.cost / residuals)};
+  }
+  const detail::SolveOutcome solved =
+      detail::solveFromStart(data, detail::withoutTilt(start), options_.maxIterations,
+                             options_.functionTolerance, trustRegionRadius);
+  if (!solved.converged) return std::nullopt;
+  return WarmStart{detail::withTilt(solved.parameters, kFlat),
+                   std::sqrt(2.0 * solved.cost / residuals)};
+}
+
+// A lobe too weak to locate leaves the tilt to the diffuse cosine alone, which trades it against
+// the albedo: such a texel is refitted flat and says so (docs/material-fit.md "The normal map").
+TiltStatus TextureFitter::settleTilt(const detail::FitData& data, WarmStart& solution) const {
+  if (!options_.fitTilt) return TiltStatus::Off;
+  if (detail::lobeLocatesTilt(solution.parameters.ggx)) return TiltStatus::Fitted;
+  solution.parameters.tilt = kFlat;
+  const detail::SolveOutcome flat =
+      detail::solveFromStart(data, detail::withoutTilt(solution.parameters), options_.maxIterations,
+                             options_.functionTolerance, options_.warmTrustRegionRadius);
+  if (flat.converged)
+    solution = {detail::withTilt(flat.parameters, kFlat),
+                std::sqrt(2.0 * flat.cost / data.residualCount())};
+  else
+    solution.rmseLevels = detail::tiltedRmseLevels(data, solution.parameters);
+  return TiltStatus::NoLobe;
+}
+
+// The next texel starts from the tilted solution even when this one is reported flat: a matte
+// texel's flat refit matches a tilted diffuse poorly, and its residual would let a poor warm start
+// of the next texel pass as good (docs/material-fit.md "The normal map").
+WarmStart TextureFitter::fitted(const detail::FitData& data, WarmStart solution, bool multiStart,
+                                TexelFit& out) const {
+  const WarmStart handedOn = solution;
+  const TiltStatus tilt = settleTilt(data, solution);
+  solution.parameters = detail::canonicalTilted(solution.parameters);
+  out = {TexelStatus::Fitted,
+         detail::materialOf(detail::withoutTilt(solution.parameters)),
+         solution.rmseLevels,
+         multiStart,
+         "",
+         detail::shadingNormalOf(solution.parameters.tilt),
+         tilt};
+  return handedOn;
+}
+
 std::optional<WarmStart> TextureFitter::fitTexel(const Abrdf& table, int x, int y,
                                                  const std::optional<WarmStart>& warm,
                                                  TexelFit& out) const {
@@ -134,47 +200,48 @@ std::optional<WarmStart> TextureFitter::fitTexel(const Abrdf& table, int x, int 
     return std::nullopt;
   }
   const detail::FitData data = detail::texelFitData(table, pairs_);
-  std::optional<detail::SolveOutcome> best;
-  double bestRmse = 0.0;
+  std::optional<WarmStart> best;
   if (warm) {
-    detail::SolveOutcome solved =
-        detail::solveFromStart(data, warm->parameters, options_.maxIterations,
-                               options_.functionTolerance, options_.warmTrustRegionRadius);
-    if (solved.converged) {
-      bestRmse = std::sqrt(2.0 * solved.cost / data.residualCount());
-      best = std::move(solved);
-      const double acceptable =
-          std::max(options_.warmAcceptFactor * warm->rmseLevels, options_.warmAcceptFloorLevels);
-      if (bestRmse <= acceptable) {
-        out = {TexelStatus::Fitted, detail::materialOf(best->parameters), bestRmse, false, ""};
-        return WarmStart{best->parameters, bestRmse};
-      }
-    }
+    best = solve(data, warm->parameters, options_.warmTrustRegionRadius);
+    const double acceptable =
+        std::max(options_.warmAcceptFactor * warm->rmseLevels, options_.warmAcceptFloorLevels);
+    if (best && best->rmseLevels <= acceptable) return fitted(data, *best, false, out);
   }
-  out.multiStart = true;
   try {
     FitOptions multi;
     multi.trySheen = false;
     multi.maxIterations = options_.maxIterations;
-    const FitResult fitted = fitMaterial(table, name, multi);
-    const FitParameters p = detail::ggxParametersOf(fitted.material);
-    const double rmse = detail::rmseLevels(data, p);
-    if (!best || rmse < bestRmse) {
-      out = {TexelStatus::Fitted, fitted.material, rmse, true, ""};
-      return WarmStart{p, rmse};
-    }
+    const FitResult flat = fitMaterial(table, name, multi);
+    // The multi-start fit is flat: the tilt (the neighbour's, if any) is refined from it.
+    const TiltedParameters start = detail::withTilt(detail::ggxParametersOf(flat.material),
+                                                    warm ? warm->parameters.tilt : kFlat);
+    std::optional<WarmStart> refined = solve(data, start, options_.warmTrustRegionRadius);
+    if (!refined) refined = WarmStart{start, detail::tiltedRmseLevels(data, start)};
+    if (!best || refined->rmseLevels < best->rmseLevels) best = refined;
   } catch (const FitError& e) {
     if (!best) {
       out.status = TexelStatus::NotConverged;
       out.problem = e.what();
+      out.multiStart = true;
       return std::nullopt;
     }
   }
-  out = {TexelStatus::Fitted, detail::materialOf(best->parameters), bestRmse, true, ""};
-  return WarmStart{best->parameters, bestRmse};
+  return fitted(data, *best, true, out);
 }
 
 }  // namespace
+
+std::string_view toString(TiltStatus status) {
+  switch (status) {
+    case TiltStatus::Fitted:
+      return "fitted";
+    case TiltStatus::NoLobe:
+      return "flat: no specular lobe to tilt";
+    case TiltStatus::Off:
+      return "flat: tilt fitting off";
+  }
+  return "?";
+}
 
 std::string_view toString(TexelStatus status) {
   switch (status) {

@@ -62,10 +62,15 @@ GltfTextureMaps gltfTextureMaps(const fit::TextureFitResult& fit) {
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
       const std::size_t i = std::size_t(y) * std::size_t(n) + std::size_t(x);
-      maps.normal.at(x, y, 0) = 128;
-      maps.normal.at(x, y, 1) = 128;
-      maps.normal.at(x, y, 2) = 255;
       maps.metallicRoughness.at(x, y, 1) = 255;  // an unfitted texel: roughness 1, no specular
+      // glTF's normalTexture: RGB = (n + 1) / 2 of the tangent-space normal, x along TANGENT (the
+      // texel frame's x), y along cross(NORMAL, TANGENT) * w (its y); flat where not fitted.
+      const UnitVector normal = fit.texels[i].status == fit::TexelStatus::Fitted
+                                    ? fit.texels[i].shadingNormal
+                                    : UnitVector{};
+      maps.normal.at(x, y, 0) = linear8(0.5 + 0.5 * normal.x);
+      maps.normal.at(x, y, 1) = linear8(0.5 + 0.5 * normal.y);
+      maps.normal.at(x, y, 2) = linear8(0.5 + 0.5 * normal.z);
       if (fit.texels[i].status != fit::TexelStatus::Fitted) continue;
       const GltfMaterial& g = conversions[i].material;
       maps.mask.at(x, y, 0) = 255;

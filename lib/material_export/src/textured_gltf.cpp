@@ -83,8 +83,9 @@ json texturedGltfDocument(const GltfTextureMaps& maps, double widthM, double hei
           {"slicecap_conventions",
            "per-texel material fitted by slicecap fit (docs/material-fit.md, Texture mode); TANGENT "
            "is the texture's azimuth-0 axis (+x), anisotropyTexture RG the fitted tangent in "
-           "tangent/bitangent space; normal.png is flat: the lobe's tilt is not fitted; mask.png "
-           "(beside this file) is 0 where a texel could not be fitted"},
+           "tangent/bitangent space; normal.png the fitted shading normal (x along TANGENT, y "
+           "along the bitangent; flat where the lobe could not locate it, named in maps.json); "
+           "mask.png (beside this file) is 0 where a texel could not be fitted"},
           {"slicecap_conversion_losses_texels", lossesJson(maps)}}}}},
       {"extensionsUsed", {"KHR_materials_anisotropy", "KHR_materials_specular", "KHR_materials_ior"}},
       {"scene", 0},

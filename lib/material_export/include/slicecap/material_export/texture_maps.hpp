@@ -1,6 +1,7 @@
 // A texture fit as glTF's texture maps (docs/material-fit.md "Texture mode"): base colour,
 // metallic-roughness, KHR_materials_anisotropy's direction + strength, KHR_materials_specular's
-// colour + factor, a flat normal map and the mask of texels that could not be fitted.
+// colour + factor, the normal map of the fitted tilts and the mask of texels that could not be
+// fitted.
 #pragma once
 
 #include <map>
@@ -21,7 +22,8 @@ struct GltfTextureMaps {
   Image metallicRoughness;  ///< RGB, linear: G = roughness (sqrt of alpha across), B = metallic 0
   Image anisotropy;         ///< RGB, linear: RG = direction (cos, sin) * 0.5 + 0.5, B = strength
   Image specular;           ///< RGBA: RGB = specularColor (sRGB), A = specularFactor (linear)
-  Image normal;             ///< RGB, linear: flat (0, 0, 1) everywhere: the lobe's tilt is not fitted
+  Image normal;  ///< RGB, linear: glTF normalTexture, (n + 1) / 2 of TexelFit::shadingNormal
+                 ///< (x = TANGENT, y = bitangent); (0, 0, 1) where the tilt is flat or unfitted
   Image mask;               ///< gray: 255 fitted, 0 not (named in the fit's TexelFit::problem)
   double ior = 1.5;         ///< KHR_materials_ior for the whole material
   /// \brief Conversion losses over the fitted texels: per kind, how many texels had it.
