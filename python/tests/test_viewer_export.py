@@ -229,3 +229,19 @@ def test_neither_output_nor_serve_is_bad_usage(export, capsys):
     assert viewer.run([str(export["dir"])]) == 2
     assert "give -o VIEW.html, --serve [PORT] or both" in capsys.readouterr().err
 
+
+
+def test_texture_without_maps_says_how_to_make_them(tmp_path, capsys):
+    directory = write_export(tmp_path / "e")
+    assert viewer.run([str(directory), "-o", str(tmp_path / "v.html"), "--panel-size",
+                       PANEL]) == 0
+    out = capsys.readouterr().out
+    assert f"slicecap btf {directory / (SESSION + '-texture')} -o BTF" in out, out
+    assert not (tmp_path / f"v-{SESSION}-maps.html").exists()
+
+
+def test_exports_of_two_sessions_in_one_folder_are_refused_naming_it(tmp_path, capsys):
+    directory = write_export(tmp_path / "e")
+    write_export(directory, session="silk")
+    _refused(directory, tmp_path, capsys, directory,
+             "several sessions (felt-manifest.json, silk-manifest.json)")

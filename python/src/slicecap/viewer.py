@@ -259,11 +259,15 @@ def _directory_pages(directory: str, panel_size: int) -> tuple[list[Page], list[
         fit = f" with its fit {contents.material}" if contents.material else " (no fit found)"
         notes.append(f"table {contents.table}{fit}, chosen by {contents.found_by}")
     for other in contents.other_tables:
-        notes.append(f"also in the export: {other} (slicecap-viewer {other} -o ...)")
+        notes.append(f"also in the export: {other} (slicecap-viewer {other} -o VIEW.html)")
     for maps in contents.maps_dirs:
         name = "" if not pages else os.path.basename(os.path.normpath(maps))
         pages.append(Page(name, build_maps_page(maps, panel_size)))
         notes.append(f"SVBRDF maps {maps}")
+    if not contents.maps_dirs:
+        for texture in contents.texture_dirs:
+            notes.append(f"texture {texture}: no maps yet (`slicecap btf {texture} -o BTF` then "
+                         f"`slicecap fit BTF -o {texture[: -len('-texture')]}-maps`)")
     return pages, notes
 
 

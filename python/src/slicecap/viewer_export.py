@@ -14,6 +14,7 @@ from slicecap.paths import StrPath
 MANIFEST_SUFFIX = "-manifest.json"  # io::fileSetManifestName: SESSION-manifest.json
 MATERIAL_SUFFIX = "-material.json"  # material_export::sessionMaterial's material JSON
 TABLE_INFIX = "-abrdf-"  # the daemon's tables: SESSION-abrdf-METHOD.exr
+TEXTURE_SUFFIX = "-texture"  # the client's copy of the session's texture: DIR/SESSION-texture
 MAPS_MANIFEST = "maps.json"  # what makes a folder a MAPS_DIR (slicecap.svbrdf_maps)
 
 
@@ -28,6 +29,7 @@ class DirectoryContents:
     other_tables: tuple[str, ...]
     maps_dirs: tuple[str, ...]
     found_by: str
+    texture_dirs: tuple[str, ...] = ()  # SESSION-texture copies: frames, not yet a BTF or maps
 
 
 def _manifests(directory: str) -> list[str]:
@@ -128,4 +130,6 @@ def find_contents(directory: StrPath) -> DirectoryContents:
         tuple(os.path.join(name, t) for t in tables[1:]),
         tuple(maps),
         found_by,
+        tuple(sorted(os.path.join(name, n) for n in os.listdir(name)
+                     if n.endswith(TEXTURE_SUFFIX) and os.path.isdir(os.path.join(name, n)))),
     )
