@@ -1,5 +1,7 @@
 """slicecap-viewer TABLE.exr [--material MATERIAL.json] -o VIEW.html, or
-slicecap-viewer --maps MAPS_DIR -o VIEW.html (or python -m slicecap.viewer ...)
+slicecap-viewer --maps MAPS_DIR -o VIEW.html, or slicecap-viewer DIR -o VIEW.html (an export
+folder or a MAPS_DIR, slicecap.viewer_export), each also with --serve [PORT] (slicecap.viewer_serve)
+(or python -m slicecap.viewer ...)
 
 Writes one self-contained HTML page (docs/material-viewer.md): the fitted material of
 `slicecap fit` and the measured table side by side on a sphere and a cloth-like sheet, drawn by
@@ -16,6 +18,7 @@ import html
 import os
 import sys
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -36,7 +39,9 @@ from slicecap.materials import load_material
 from slicecap.paths import StrPath, same_file, write_replacing
 from slicecap.png import encode_png
 from slicecap.render import render_sphere_point_light
+from slicecap.viewer_export import find_contents
 from slicecap.viewer_maps_page import build_maps_page
+from slicecap.viewer_serve import LOOPBACK, make_server, page_url
 from slicecap.viewer_template import fill_template
 
 LAYOUT_SCALE = 4
@@ -190,17 +195,29 @@ def build_page(
 def _parse(argv: Sequence[str]) -> argparse.Namespace:
     parser = argparse.ArgumentParser(
         prog=PROG,
-        description="Write a self-contained HTML viewer of a measured ABRDF table and its fitted "
-        "material (slicecap fit) on a sphere and a cloth under a light you drag, or of the "
-        "SVBRDF maps of a texture (slicecap fit BTF_DIR) on a plane.",
+        description="Write (or serve on 127.0.0.1) a self-contained HTML viewer of a measured "
+        "ABRDF table and its fitted material (slicecap fit) on a sphere and a cloth under a "
+        "light you drag, or of the SVBRDF maps of a texture (slicecap fit BTF_DIR) on a plane; "
+        "given a directory (a `slicecap export` folder or a MAPS_DIR), what it holds.",
     )
-    parser.add_argument("table", nargs="?", help="the ABRDF EXR (81 x 81 table)")
+    parser.add_argument(
+        "source", nargs="?", metavar="TABLE.exr|DIR",
+        help="the ABRDF EXR (81 x 81 table), or a directory: a `slicecap export` folder (the "
+        "table its manifest lists first, the daemon's fit of it, and a page for each SVBRDF "
+        "maps folder inside) or a MAPS_DIR")
     parser.add_argument(
         "--maps", metavar="MAPS_DIR",
         help="instead of a table: the SVBRDF maps `slicecap fit BTF_DIR -o MAPS_DIR` wrote, "
         "shown on a plane")
     parser.add_argument("--material", help="the fit of the table: slicecap fit's MATERIAL.json")
-    parser.add_argument("-o", "--output", required=True, help="the page to write (.html)")
+    parser.add_argument(
+        "-o", "--output",
+        help="the page to write (.html); a directory's further pages go beside it as "
+        "VIEW-NAME.html (required unless --serve)")
+    parser.add_argument(
+        "--serve", nargs="?", const=0, type=int, metavar="PORT",
+        help="serve the page(s) on http://127.0.0.1:PORT/ until Ctrl-C (a free port if no PORT "
+        "is given); put it after TABLE.exr|DIR")
     parser.add_argument(
         "--panel-size", type=int, default=DEFAULT_PANEL_SIZE,
         help=f"pixels per rendering panel, 64..1024 (default {DEFAULT_PANEL_SIZE})",
@@ -208,41 +225,124 @@ def _parse(argv: Sequence[str]) -> argparse.Namespace:
     return parser.parse_args(argv)
 
 
+@dataclass(frozen=True)
+class Page:
+    """One page to write or serve: `name` is "" for the main page (-o VIEW.html, URL /), else
+    the page's part of VIEW-NAME.html and /NAME.html."""
+
+    name: str
+    text: str
+
+
+def _usage_error(args: argparse.Namespace) -> str | None:
+    if not 64 <= args.panel_size <= 1024:
+        return "--panel-size must be in 64..1024"
+    if args.output is None and args.serve is None:
+        return "give -o VIEW.html, --serve [PORT] or both"
+    if args.serve is not None and not 0 <= args.serve <= 65535:
+        return "--serve PORT must be in 0..65535 (0: a free port)"
+    if (args.source is None) == (args.maps is None):
+        return "give either TABLE.exr (or a directory) or --maps MAPS_DIR"
+    if args.maps is not None and args.material is not None:
+        return "--material is for a table, not --maps"
+    if args.source is not None and os.path.isdir(args.source) and args.material is not None:
+        return "--material is for TABLE.exr; a directory's fit is found in it"
+    return None
+
+
+def _directory_pages(directory: str, panel_size: int) -> tuple[list[Page], list[str]]:
+    """The pages of a directory (viewer_export.find_contents) and what to tell the user."""
+    contents = find_contents(directory)
+    pages, notes = [], []
+    if contents.table is not None:
+        pages.append(Page("", build_page(contents.table, contents.material, panel_size)))
+        fit = f" with its fit {contents.material}" if contents.material else " (no fit found)"
+        notes.append(f"table {contents.table}{fit}, chosen by {contents.found_by}")
+    for other in contents.other_tables:
+        notes.append(f"also in the export: {other} (slicecap-viewer {other} -o VIEW.html)")
+    for maps in contents.maps_dirs:
+        name = "" if not pages else os.path.basename(os.path.normpath(maps))
+        pages.append(Page(name, build_maps_page(maps, panel_size)))
+        notes.append(f"SVBRDF maps {maps}")
+    if not contents.maps_dirs:
+        for texture in contents.texture_dirs:
+            notes.append(f"texture {texture}: no maps yet (`slicecap btf {texture} -o BTF` then "
+                         f"`slicecap fit BTF -o {texture[: -len('-texture')]}-maps`)")
+    return pages, notes
+
+
+def _build_pages(args: argparse.Namespace) -> tuple[list[Page], list[str]]:
+    if args.maps is not None:
+        return [Page("", build_maps_page(args.maps, args.panel_size))], []
+    if os.path.isdir(args.source):
+        return _directory_pages(args.source, args.panel_size)
+    return [Page("", build_page(args.source, args.material, args.panel_size))], []
+
+
+def page_path(output: str, page: Page) -> str:
+    """Where a page is written: -o's path for the main page, VIEW-NAME.html beside it else."""
+    if not page.name:
+        return output
+    stem, extension = os.path.splitext(output)
+    return f"{stem}-{page.name}{extension or '.html'}"
+
+
+def _write_pages(output: str, pages: list[Page]) -> None:
+    for page in pages:
+        target = page_path(output, page)
+
+        def write(temporary: str, text: str = page.text) -> None:
+            with open(temporary, "w", encoding="utf-8") as file:
+                file.write(text)
+
+        try:
+            write_replacing(target, write)
+        except OSError as e:
+            raise SlicecapFileError(f"{target}: cannot write ({e.strerror})") from None
+        print(f"wrote {target} ({len(page.text) // 1024} KiB)")
+
+
+def _serve(pages: list[Page], port: int) -> int:
+    served = {("/" + page.name + ".html" if page.name else "/"): page.text.encode("utf-8")
+              for page in pages}
+    try:
+        server = make_server(served, port)
+    except OSError as e:
+        print(f"slicecap.viewer: port {port} on {LOOPBACK}: cannot serve ({e.strerror})",
+              file=sys.stderr)
+        return 1
+    with server:
+        for path in served:
+            print(f"serving {page_url(server, path)}", flush=True)
+        print("Ctrl-C stops the server", flush=True)
+        try:
+            server.serve_forever()
+        except KeyboardInterrupt:
+            print("stopped", flush=True)
+    return 0
+
+
 def run(argv: Sequence[str]) -> int:
     args = _parse(argv)
-    if not 64 <= args.panel_size <= 1024:
-        print("slicecap.viewer: --panel-size must be in 64..1024", file=sys.stderr)
+    usage = _usage_error(args)
+    if usage is not None:
+        print(f"slicecap.viewer: {usage}", file=sys.stderr)
         return 2
-    if (args.table is None) == (args.maps is None):
-        print("slicecap.viewer: give either TABLE.exr or --maps MAPS_DIR", file=sys.stderr)
-        return 2
-    if args.maps is not None and args.material is not None:
-        print("slicecap.viewer: --material is for a table, not --maps", file=sys.stderr)
-        return 2
-    for role, path in (("table", args.table), ("material", args.material)):
-        if path and same_file(args.output, path):
+    for role, path in (("table", args.source), ("material", args.material)):
+        if args.output and path and same_file(args.output, path):
             print(f"slicecap.viewer: -o {args.output} is the {role}: it would be overwritten",
                   file=sys.stderr)
             return 2
     try:
-        if args.maps is not None:
-            page = build_maps_page(args.maps, args.panel_size)
-        else:
-            page = build_page(args.table, args.material, args.panel_size)
-
-        def write(target: str) -> None:
-            with open(target, "w", encoding="utf-8") as file:
-                file.write(page)
-
-        write_replacing(args.output, write)
+        pages, notes = _build_pages(args)
+        for note in notes:
+            print(note)
+        if args.output is not None:
+            _write_pages(args.output, pages)
     except SlicecapFileError as e:
         print(f"slicecap.viewer: {e}", file=sys.stderr)
         return 1
-    except OSError as e:
-        print(f"slicecap.viewer: {args.output}: {e.strerror}", file=sys.stderr)
-        return 1
-    print(f"wrote {args.output} ({len(page) // 1024} KiB)")
-    return 0
+    return _serve(pages, args.serve) if args.serve is not None else 0
 
 
 def main() -> None:
