@@ -65,6 +65,20 @@ SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int
   SolveOutcome outcome;
   outcome.parameters = start;
   BuiltProblem built = buildProblem(data, outcome.parameters);
+  const ceres::Solver::Options options =
+      solverOptions(maxIterations, functionTolerance, initialTrustRegionRadius);
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, built.problem.get(), &summary);
+  outcome.cost = summary.final_cost;
+  outcome.iterations = static_cast<int>(summary.iterations.size());
+  outcome.converged =
+      summary.termination_type == ceres::CONVERGENCE && std::isfinite(summary.final_cost);
+  outcome.message = summary.message;
+  return outcome;
+}
+
+ceres::Solver::Options solverOptions(int maxIterations, double functionTolerance,
+                                     double initialTrustRegionRadius) {
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
   options.max_num_iterations = maxIterations;
@@ -77,14 +91,7 @@ SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int
   options.initial_trust_region_radius = initialTrustRegionRadius;
   options.parameter_tolerance = 1e-8;
   options.gradient_tolerance = 1e-12;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, built.problem.get(), &summary);
-  outcome.cost = summary.final_cost;
-  outcome.iterations = static_cast<int>(summary.iterations.size());
-  outcome.converged =
-      summary.termination_type == ceres::CONVERGENCE && std::isfinite(summary.final_cost);
-  outcome.message = summary.message;
-  return outcome;
+  return options;
 }
 
 Eigen::MatrixXd jacobianAt(const FitData& data, const FitParameters& parameters) {

@@ -5,12 +5,9 @@
 #include <string>
 
 #include <Eigen/Core>
+#include <ceres/solver.h>
 
 #include "fit_data.hpp"
-
-namespace ceres {
-class Problem;
-}
 
 namespace slicecap::fit::detail {
 
@@ -42,6 +39,10 @@ SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int
 /// \brief Sets solveFromStart's bounds on a GGX parameter block `ggx` already in `problem` (the
 /// texture fit's tilted solve shares them).
 void boundGgxBlock(ceres::Problem& problem, double* ggx);
+
+/// \brief The options every fit's Levenberg-Marquardt solve runs with (one thread, silent).
+ceres::Solver::Options solverOptions(int maxIterations, double functionTolerance,
+                                     double initialTrustRegionRadius);
 
 /// \brief The residuals' Jacobian (residuals x parameters) at `parameters`.
 Eigen::MatrixXd jacobianAt(const FitData& data, const FitParameters& parameters);

@@ -30,15 +30,8 @@ TiltedOutcome solveTiltedFromStart(const FitData& data, const TiltedParameters& 
     problem.SetParameterLowerBound(tilt, i, -kMaximumTiltComponent);
     problem.SetParameterUpperBound(tilt, i, kMaximumTiltComponent);
   }
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-  options.max_num_iterations = maxIterations;
-  options.num_threads = 1;
-  options.logging_type = ceres::SILENT;
-  options.function_tolerance = functionTolerance;
-  options.initial_trust_region_radius = initialTrustRegionRadius;
-  options.parameter_tolerance = 1e-8;
-  options.gradient_tolerance = 1e-12;
+  const ceres::Solver::Options options =
+      solverOptions(maxIterations, functionTolerance, initialTrustRegionRadius);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   outcome.cost = summary.final_cost;
