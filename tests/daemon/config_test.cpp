@@ -94,6 +94,11 @@ TEST(DaemonConfig, WarnsOfAV4l2CameraLeftOnAutoGain) {
   // libcamera reports every frame's exposure and gain, which the pipeline divides out.
   EXPECT_TRUE(warnings("camera = libcamera\n").empty());
   EXPECT_TRUE(warnings("camera = file\ncamera_recording = /srv/sim\n").empty());
+  // HDR on V4L2: its frames do not say the exposure they were taken at.
+  const std::vector<std::string> hdr = warnings("camera = v4l2\nhdr_levels = 2\n");
+  ASSERT_EQ(hdr.size(), 1u);
+  EXPECT_NE(hdr[0].find("do not report the exposure"), std::string::npos);
+  EXPECT_TRUE(warnings("camera = libcamera\nhdr_levels = 2\n").empty());
 }
 
 TEST(DaemonConfig, NamesTheLineAndKeyOfEveryMistake) {

@@ -290,6 +290,16 @@ std::vector<std::string> configWarnings(const DaemonConfig& config) {
         "frames do not say their gain, so room light is subtracted at a gain that may not be the "
         "LED-on frame's; set gain too, or leave both empty to have them metered at sweep start");
   }
+  if (config.camera == DaemonConfig::CameraKind::V4l2 && config.hdrLevels > 1) {
+    // libcamera reports each frame's own exposure; a V4L2 frame only the control's value, and a
+    // sensor that takes a new exposure a frame or two after the driver would be read at the wrong
+    // one (16 x off between HDR levels).
+    warnings.push_back(
+        "camera = v4l2 with hdr_levels = " + std::to_string(config.hdrLevels) +
+        ": V4L2 frames do not report the exposure they were taken at, so a frame exposed just "
+        "after a level change may be read at the other level's exposure; use camera = libcamera "
+        "for HDR where the camera has a libcamera driver");
+  }
   return warnings;
 }
 
