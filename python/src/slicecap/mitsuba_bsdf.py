@@ -11,6 +11,12 @@ counter-clockwise from x, as the Bonn grid's (docs/method.md §1.2). One-sided l
 interpolates the table exactly as slicecap.evaluate does (16 table entries per call, vectorised
 with Dr.Jit gathers); `sample` draws from the tabulated mixture of slicecap.sampling, mixed with a
 cosine-weighted share.
+
+The BSDF `slicecap_analytic` renders the exact model behind a table of `slicecap generate` (a
+built-in material or a model specification), in the same frame and orientation, evaluated by
+slicecap.analytic_models' formulas in Dr.Jit; it samples cosine-weighted:
+
+    truth = mi.load_dict({"type": "slicecap_analytic", "filename": "satin-blue-45.exr"})
 """
 
 from collections.abc import Sequence
@@ -21,9 +27,11 @@ import mitsuba as mi
 import numpy as np
 
 from slicecap import sampling
+from slicecap.analytic_models import model_of_table, parse_model
 from slicecap.materials import load_material
 
 PLUGIN_NAME = "slicecap"
+ANALYTIC_PLUGIN_NAME = "slicecap_analytic"
 _RING_COUNTS = (1, 6, 12, 18, 20, 24)
 _RING_FIRST = (0, 1, 7, 19, 37, 57)
 _RING_STEP_DEG = 15.0
@@ -127,6 +135,23 @@ def _file_resolver() -> DrValue:
     return mi.Thread.thread().file_resolver()
 
 
+def _oriented(ctx: DrValue, wi: DrValue, wo: DrValue) -> tuple[DrValue, DrValue, str]:
+    """(light, view, known side) for Mitsuba's (wi, wo): from the camera wi is the view. Both
+    BSDFs here orient their (light, view) pair by this, in Mitsuba's shading frame (z = normal,
+    x = dp/du), the frame of the table's Bonn grid."""
+    if ctx.mode == mi.TransportMode.Radiance:
+        return wo, wi, "view"
+    return wi, wo, "light"
+
+
+def _active(ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue) -> DrValue:
+    """Lanes a one-sided glossy reflection answers: both directions above the surface."""
+    enabled = ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
+    cos_i = mi.Frame3f.cos_theta(si.wi)
+    cos_o = mi.Frame3f.cos_theta(wo)
+    return active & enabled & (cos_i > 0.0) & (cos_o > 0.0)
+
+
 def _make_class() -> type:
     class SlicecapBsdf(mi.BSDF):
         """A slicecap ABRDF EXR (property `filename`) as a one-sided glossy BSDF."""
@@ -145,12 +170,6 @@ def _make_class() -> type:
             flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
             self.m_components = [flags]
             self.m_flags = flags
-
-        def _oriented(self, ctx: DrValue, wi: DrValue, wo: DrValue) -> tuple[DrValue, DrValue, str]:
-            """(light, view, known side) for Mitsuba's (wi, wo): from the camera wi is the view."""
-            if ctx.mode == mi.TransportMode.Radiance:
-                return wo, wi, "view"
-            return wi, wo, "light"
 
         def _value(self, light: DrValue, view: DrValue, active: DrValue) -> DrValue:
             light_taps = direction_taps(light)
@@ -177,21 +196,15 @@ def _make_class() -> type:
             pdf = sampling.COSINE_SHARE * cosine + (1.0 - sampling.COSINE_SHARE) * tabulated
             return dr.select(active & (unknown.z > 0.0), pdf, 0.0)
 
-        def _active(self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue) -> DrValue:
-            enabled = ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
-            cos_i = mi.Frame3f.cos_theta(si.wi)
-            cos_o = mi.Frame3f.cos_theta(wo)
-            return active & enabled & (cos_i > 0.0) & (cos_o > 0.0)
-
         def eval(self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True) -> DrValue:
-            active = self._active(ctx, si, wo, active)
-            light, view, _ = self._oriented(ctx, si.wi, wo)
+            active = _active(ctx, si, wo, active)
+            light, view, _ = _oriented(ctx, si.wi, wo)
             value = self._value(light, view, active) * mi.Frame3f.cos_theta(wo)
             return dr.select(active, value, mi.Color3f(0.0))
 
         def pdf(self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True) -> DrValue:
-            active = self._active(ctx, si, wo, active)
-            _, _, side = self._oriented(ctx, si.wi, wo)
+            active = _active(ctx, si, wo, active)
+            _, _, side = _oriented(ctx, si.wi, wo)
             return self._pdf(si.wi, wo, side, active)
 
         def eval_pdf(
@@ -207,7 +220,7 @@ def _make_class() -> type:
             sample2: DrValue,
             active: DrValue = True,
         ) -> tuple[DrValue, DrValue]:
-            _, _, side = self._oriented(ctx, si.wi, si.wi)
+            _, _, side = _oriented(ctx, si.wi, si.wi)
             active = active & ctx.is_enabled(mi.BSDFFlags.GlossyReflection)
             active = active & (mi.Frame3f.cos_theta(si.wi) > 0.0)
             # Pick one of the known direction's taps by its weight, reusing sample1.
@@ -270,11 +283,86 @@ def _make_class() -> type:
     return SlicecapBsdf
 
 
+def _make_analytic_class() -> type:
+    class SlicecapAnalyticBsdf(mi.BSDF):
+        """A slicecap built-in analytic model (slicecap.analytic_models) as a one-sided glossy
+        BSDF: property `model`, its description (a line of `slicecap generate --list` after the
+        name), or `filename`, a table `slicecap generate` wrote, whose model it reads. The exact
+        truth behind such a table, in the table plugin's frame and orientation."""
+
+        def __init__(self, props: DrValue) -> None:
+            mi.BSDF.__init__(self, props)
+            if ("model" in props) == ("filename" in props):
+                raise ValueError(
+                    "slicecap_analytic BSDF: give one of the properties 'model' (a model "
+                    "description) or 'filename' (a table of `slicecap generate`)"
+                )
+            if "model" in props:
+                self.source = str(props["model"])
+                self.model = parse_model(self.source)
+            else:
+                self.source = str(_file_resolver().resolve(str(props["filename"])))
+                self.model = model_of_table(self.source)
+            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
+            self.m_components = [flags]
+            self.m_flags = flags
+
+        def eval(self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True) -> DrValue:
+            active = _active(ctx, si, wo, active)
+            light, view, _ = _oriented(ctx, si.wi, wo)
+            # Lanes below the surface may divide by zero here; select drops them.
+            r, g, b = self.model.channels((light.x, light.y, light.z), (view.x, view.y, view.z), dr)
+            value = mi.Color3f(r, g, b) * mi.Frame3f.cos_theta(wo)
+            return dr.select(active, value, mi.Color3f(0.0))
+
+        def pdf(self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True) -> DrValue:
+            # Cosine-weighted: unbiased for any of the models, if noisy for narrow lobes under
+            # BSDF sampling (a point light is sampled from the light, where this does not count).
+            active = _active(ctx, si, wo, active)
+            return dr.select(active, mi.Frame3f.cos_theta(wo) * dr.inv_pi, 0.0)
+
+        def eval_pdf(
+            self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True
+        ) -> tuple[DrValue, DrValue]:
+            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+
+        def sample(
+            self,
+            ctx: DrValue,
+            si: DrValue,
+            sample1: DrValue,
+            sample2: DrValue,
+            active: DrValue = True,
+        ) -> tuple[DrValue, DrValue]:
+            bs: DrValue = dr.zeros(mi.BSDFSample3f)
+            bs.wo = mi.warp.square_to_cosine_hemisphere(sample2)
+            bs.eta = 1.0
+            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
+            bs.sampled_component = mi.UInt32(0)
+            value, pdf = self.eval_pdf(ctx, si, bs.wo, active)
+            bs.pdf = pdf
+            active = active & (pdf > 0.0)
+            weight = dr.select(active, value / dr.maximum(pdf, 1e-20), mi.Color3f(0.0))
+            return bs, weight
+
+        def traverse(self, callback: DrValue) -> None:
+            pass
+
+        def parameters_changed(self, keys: Sequence[str] | None = None) -> None:
+            pass
+
+        def to_string(self) -> str:
+            return f"SlicecapAnalyticBSDF[{self.model.description!r}]"
+
+    return SlicecapAnalyticBsdf
+
+
 _registered_variants: set[str] = set()
 
 
 def register() -> None:
-    """Registers the BSDF `slicecap` for the current Mitsuba variant (call after set_variant).
+    """Registers the BSDFs `slicecap` (a table) and `slicecap_analytic` (a built-in analytic
+    model) for the current Mitsuba variant (call after set_variant).
     Raises RuntimeError for a variant that is not RGB (spectral, monochrome, polarized): the
     table is RGB, and there its lookups failed only when rendering, with std::bad_cast."""
     variant = mi.variant()
@@ -287,6 +375,7 @@ def register() -> None:
         )
     if variant in _registered_variants:
         return
-    cls = _make_class()
-    mi.register_bsdf(PLUGIN_NAME, lambda props: cls(props))
+    table_class, analytic_class = _make_class(), _make_analytic_class()
+    mi.register_bsdf(PLUGIN_NAME, lambda props: table_class(props))
+    mi.register_bsdf(ANALYTIC_PLUGIN_NAME, lambda props: analytic_class(props))
     _registered_variants.add(variant)
