@@ -51,8 +51,8 @@ class SvbrdfMaps:
     ior: float
     images: dict[str, np.ndarray]  # file name -> (n, n, channels) uint8
     png_bytes: dict[str, bytes]  # file name -> the file as written, for data: URIs
-    # Why the maps are shown untilted although normal.png is read, else None: normal.png is
-    # missing from maps of a fit older than the normal map (images then holds a flat one).
+    # None when normal.png was read; else why every texel is shown untilted (maps of a fit older
+    # than the normal map have no normal.png: images then holds a flat one).
     normal_note: str | None = None
 
     @property
