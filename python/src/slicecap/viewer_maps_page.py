@@ -14,21 +14,23 @@ from slicecap.abrdf_exr import SlicecapFileError
 from slicecap.albedo_table import AlbedoTable
 from slicecap.image_metrics import EXPOSURE_PERCENTILE
 from slicecap.paths import StrPath
-from slicecap.svbrdf_maps import MAP_FILES, SvbrdfMaps, read_maps
+from slicecap.svbrdf_maps import MAP_FILES, NORMAL_MAP, SvbrdfMaps, read_maps, tilted
 from slicecap.viewer_template import fill_template
 
 _EXPOSURE_PROBE_SIZE = 96
 
 
 def packed_textures(maps: SvbrdfMaps) -> dict[str, np.ndarray]:
-    """The three (n, n, 4) uint8 textures the shader's loadTexel reads: base colour + mask,
-    specular (RGB + F90), anisotropy RGB + roughness (metallic_roughness G)."""
+    """The (n, n, 4) uint8 textures the shader's loadTexel reads: base colour + mask, specular
+    (RGB + F90), anisotropy RGB + roughness (metallic_roughness G); and (n, n, 2) normal.png's
+    R, G (the shading normal's x, y; B is the z they give)."""
     images = maps.images
     return {
         "base": np.concatenate([images["base_color.png"], images["mask.png"]], axis=-1),
         "specular": images["specular.png"],
         "shape": np.concatenate(
             [images["anisotropy.png"], images["metallic_roughness.png"][..., 1:2]], axis=-1),
+        "normal": images[NORMAL_MAP][..., :2],
     }
 
 
@@ -49,18 +51,27 @@ def default_exposure(maps: SvbrdfMaps, table: AlbedoTable) -> float:
 def _side_details(maps: SvbrdfMaps) -> str:
     marker = "rgb({}, {}, {})".format(*viewer_plane.MARKER_SRGB8)
     unfitted = int(np.count_nonzero(~maps.fitted))
+    shown = [name for name in (*MAP_FILES, NORMAL_MAP) if name in maps.png_bytes]
     thumbnails = "".join(
         f'<img class="map" title="{name}" alt="{name}" src="data:image/png;base64,'
         f'{base64.b64encode(maps.png_bytes[name]).decode("ascii")}">'
-        for name in MAP_FILES
+        for name in shown
     )
+    tilted_texels = int(np.count_nonzero(tilted(maps) & maps.fitted))
+    if maps.normal_note is not None:
+        # Shown where the user looks, not only on stdout: the highlights are the untilted ones.
+        normals = f'<p class="note">{html.escape(maps.normal_note)}.</p>'
+    else:
+        normals = (f"<p>normal.png: {tilted_texels} of {maps.resolution ** 2} texels tilted, "
+                   "each shaded about its own normal (tangent frame turned onto it).</p>")
     return (
         f"<p>The SVBRDF maps ({maps.resolution} x {maps.resolution} texels, IOR {maps.ior:.4g}) "
         "on a plane, each texel shaded with the fit model (diffuse + anisotropic GGX + Schlick "
         "f0/f90) decoded from the maps; tangent = the texture's x (right), row 0 at the top.</p>"
+        f"{normals}"
         f'<p><span class="swatch" style="background: {marker}"></span> texel not fitted '
         f"(mask.png 0): {unfitted} of {maps.resolution ** 2}, drawn flat, not shaded.</p>"
-        f"<p>base_color, metallic_roughness, anisotropy, specular, mask:</p>{thumbnails}"
+        f"<p>{', '.join(name.removesuffix('.png') for name in shown)}:</p>{thumbnails}"
     )
 
 

@@ -190,6 +190,8 @@
     rgba8(1, "u_mapBase", maps.base_base64);
     rgba8(2, "u_mapSpecular", maps.specular_base64);
     rgba8(3, "u_mapShape", maps.shape_base64);
+    // normal.png's R, G bytes (its B, z, follows from them): an 8-bit texture, as the others.
+    texture(5, "u_mapNormal", gl.RG8, n, n, gl.RG, gl.UNSIGNED_BYTE, bytesOf(maps.normal_base64));
     const albedo = maps.albedo_table;
     texture(4, "u_albedoTable", gl.RG32F, albedo.width, albedo.height, gl.RG, gl.FLOAT,
             floatsOf(albedo.base64));

@@ -6,13 +6,28 @@ numpy reference rendering, the picture the page's WebGL plane is checked against
 Plane: x, y in [-HALF_WIDTH, HALF_WIDTH], z = 0, normal +z, tangent +x (the texture's azimuth-0
 axis), bitangent +y, as MAPS_DIR/material.gltf's plane: texture row 0 at the top edge (+y),
 column 0 at the left (-x). Seen from below, the normal and bitangent flip (as the cloth's back).
+
+normal.png tilts a texel's shading normal (svbrdf_maps.shading_normals, in the texel's frame);
+its tangent frame is then the fit's (lib/fit tilted_lobe.hpp tiltedFrame): the anisotropy
+direction, an azimuth in the untilted plane, projected onto the plane normal to the tilted
+normal, and the bitangent n' x t'. The light's cosine is n'.l (glTF's convention, the fit's
+model); nothing direct where the light is behind the plane or the tilted surface. A texel whose
+normal bytes are 128, 128 is not tilted and takes the untilted path, bit for bit.
 """
+
+import dataclasses
 
 import numpy as np
 
 from slicecap import albedo_table, viewer_scene
 from slicecap.albedo_table import AlbedoTable
-from slicecap.svbrdf_maps import SvbrdfMaps, decode_parameters, texel_materials
+from slicecap.svbrdf_maps import (
+    SvbrdfMaps,
+    decode_parameters,
+    shading_normals,
+    texel_materials,
+    tilted,
+)
 
 HALF_WIDTH = 1.0
 # Texels the mask says were not fitted: drawn flat in this sRGB colour, not shaded.
@@ -25,14 +40,16 @@ MAX_RESOLUTION = 128
 
 
 def environment_albedo(maps: SvbrdfMaps, table: AlbedoTable, texel: np.ndarray,
-                       to_view: np.ndarray) -> np.ndarray:
+                       to_view: np.ndarray, tangent_rad: np.ndarray | None = None) -> np.ndarray:
     """(N, 3) directional albedo of the texels (N,) (row-major indices) at unit views (N, 3) in
-    the plane's frame: diffuse x K + f0 x A + (f90 - f0) x B with A, B looked up in the table,
-    as the shader's mapsAlbedo."""
+    the texel's frame: diffuse x K + f0 x A + (f90 - f0) x B with A, B looked up in the table,
+    as the shader's mapsAlbedo. tangent_rad (N,): the tangent's azimuth in that frame, by
+    default the maps' (a tilted frame's is 0: its x is the anisotropy direction)."""
     p = decode_parameters(maps)
     shape = maps.images["anisotropy.png"].reshape(-1, 3)[texel].astype(np.float64) / 255.0
     roughness = maps.images["metallic_roughness.png"][..., 1].reshape(-1)[texel] / 255.0
-    tangent_rad = np.radians(p["tangent_deg"].reshape(-1)[texel])
+    if tangent_rad is None:
+        tangent_rad = np.radians(p["tangent_deg"].reshape(-1)[texel])
     lobe = albedo_table.lookup(table, roughness, shape[:, 2], tangent_rad, to_view)
     f0 = p["specular_f0"].reshape(-1, 3)[texel]
     f90 = p["specular_f90"].reshape(-1)[texel][:, None]
@@ -47,14 +64,28 @@ def texel_index(x: np.ndarray, y: np.ndarray, resolution: int) -> np.ndarray:
     return (row * resolution + column).astype(np.int64)
 
 
+def tilted_frames(maps: SvbrdfMaps) -> np.ndarray:
+    """(n, n, 3, 3) each texel's tilted frame, rows t', b', n' in its untilted frame (x =
+    tangent +x, y = bitangent, z = normal): n' from normal.png, t' the anisotropy direction
+    (cos, sin, 0) projected onto the plane normal to n', b' = n' x t' (as the shader's main)."""
+    normal = shading_normals(maps)
+    angle = np.radians(decode_parameters(maps)["tangent_deg"])
+    direction = np.stack([np.cos(angle), np.sin(angle), np.zeros_like(angle)], axis=-1)
+    tangent = direction - np.sum(direction * normal, axis=-1, keepdims=True) * normal
+    tangent /= np.linalg.norm(tangent, axis=-1, keepdims=True)
+    bitangent = np.cross(normal, tangent)
+    return np.stack([tangent, bitangent, normal], axis=-2)
+
+
 def render_plane_point_light(
     maps: SvbrdfMaps, table: AlbedoTable, size: int, light_az_deg: float,
-    light_el_deg: float, yaw_deg: float, pitch_deg: float, env: float,
+    light_el_deg: float, yaw_deg: float, pitch_deg: float, env: float, normal_map: bool = True,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The plane under the viewer's light and environment, ray-cast in numpy: (size, size, 3)
     linear radiance (row 0 at the top), the (size, size) plane mask and the (size, size) texel
     index (-1 off the plane); a texel not fitted has radiance 0 (display_plane marks it).
-    `table` is albedo_table.build_table()'s (as the page carries it)."""
+    `table` is albedo_table.build_table()'s (as the page carries it). normal_map False: every
+    texel untilted, normal.png ignored (the picture before the viewer read normal.png)."""
     materials = [m for row in texel_materials(maps) for m in row]
     origin, rays = viewer_scene.camera_rays(size, yaw_deg, pitch_deg)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -75,12 +106,33 @@ def render_plane_point_light(
     texel = texel_index(point[:, 0], point[:, 1], maps.resolution)
     fitted = maps.fitted.reshape(-1)[texel]
     radiance = np.zeros((len(point), 3))
-    radiance[fitted] = env * environment_albedo(maps, table, texel[fitted], to_view_local[fitted])
+    tilt = fitted & tilted(maps).reshape(-1)[texel] if normal_map else np.zeros_like(fitted)
+    flat = fitted & ~tilt
+    radiance[flat] = env * environment_albedo(maps, table, texel[flat], to_view_local[flat])
+    # Tilted texels: light and view in the texel's tilted frame; the view clamped above its
+    # horizon as the untilted one above the plane's.
+    frames = tilted_frames(maps).reshape(-1, 3, 3)[texel[tilt]]
+    light_tilted = np.einsum("nij,nj->ni", frames, to_light_local[tilt])
+    view_tilted = np.einsum("nij,nj->ni", frames, -rays[mask][tilt] @ frame.T)
+    view_tilted[:, 2] = np.maximum(view_tilted[:, 2], 1e-4)
+    view_tilted /= np.linalg.norm(view_tilted, axis=-1, keepdims=True)
+    radiance[tilt] = env * environment_albedo(maps, table, texel[tilt], view_tilted,
+                                              np.zeros(np.count_nonzero(tilt)))
+    tilt_index = np.flatnonzero(tilt)
     for index in np.unique(texel[fitted]):
         material = materials[index]
         if material is None:  # not reached: the mask and texel_materials agree
             continue
         here = texel == index
+        if tilt[here].any():  # tilt is per texel: all of `here` or none
+            rows = texel[tilt_index] == index
+            lit_rows = rows & (light_tilted[:, 2] > 0.0) & (to_light_local[tilt_index, 2] > 0.0)
+            value = dataclasses.replace(material, tangent_deg=0.0).evaluate(
+                light_tilted[lit_rows], view_tilted[lit_rows])
+            at = tilt_index[lit_rows]
+            radiance[at] += value * (
+                light_tilted[lit_rows, 2] * viewer_scene.LIGHT_INTENSITY / distance2[at])[:, None]
+            continue
         lit = here & (to_light_local[:, 2] > 0.0)
         value = material.evaluate(to_light_local[lit], to_view_local[lit])
         radiance[lit] += value * (
