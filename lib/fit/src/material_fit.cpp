@@ -141,6 +141,7 @@ std::optional<CandidateFit> bestOf(const Abrdf& table, const FitData& data, cons
   candidate.startsTried = static_cast<int>(starts.size());
   candidate.solvesConverged = converged;
   candidate.bestStartTangentDeg = radToDeg(starts[bestStart].ggx[8]);
+  candidate.isotropicLobe = starts[bestStart].isotropic;
   return candidate;
 }
 
@@ -169,13 +170,58 @@ CandidateFit fitGgx(const Abrdf& table, const std::string& name, const FitData& 
   return *ggx;
 }
 
+// A lobe whose alphas differ by less than this factor is taken as round: no isotropic solve.
+constexpr double kRoundLobeRatio = 1.05;
+
+// The isotropic candidate from the GGX solution (alphas at their geometric mean, tangent 0),
+// appended to the candidates when it converged. Returns the index of the GGX candidate to keep
+// (0, or the isotropic one when the anisotropic lobe does not earn its two parameters) and says
+// why in `reason`.
+std::size_t addIsotropicCandidate(const Abrdf& table, const FitData& data, const FitData& scoutData,
+                                  const FitOptions& options, FitResult& result, std::string& reason) {
+  const FittedMaterial& m = result.candidates.front().material;
+  if (m.alphaTangent <= kRoundLobeRatio * m.alphaBitangent) {
+    reason = "the lobe is round (alpha ratio " + fixed2(m.alphaTangent / m.alphaBitangent) + ")";
+    return 0;
+  }
+  FitParameters start = detail::ggxParametersOf(m);
+  start.isotropic = true;
+  start.ggx[6] = start.ggx[7] = 0.5 * (std::log(m.alphaTangent) + std::log(m.alphaBitangent));
+  start.ggx[8] = 0.0;
+  std::string failure;
+  std::optional<CandidateFit> isotropic =
+      bestOf(table, data, scoutData, {start}, options.maxIterations, failure);
+  if (!isotropic) {
+    reason = "anisotropic lobe (the isotropic fit did not converge: " + failure + ")";
+    return 0;
+  }
+  result.candidates.push_back(*isotropic);
+  const double anisotropicDeltaE = result.candidates.front().metrics.deltaE;
+  const double isotropicDeltaE = isotropic->metrics.deltaE;
+  const bool earns = anisotropicDeltaE <= options.anisotropyMaximumDeltaEFraction * isotropicDeltaE &&
+                     isotropicDeltaE - anisotropicDeltaE >= options.anisotropyMinimumGainDeltaE;
+  const std::string figures = "mean dE " + fixed2(isotropicDeltaE) + " (isotropic) -> " +
+                              fixed2(anisotropicDeltaE) + " (anisotropic, alpha ratio " +
+                              fixed2(m.alphaTangent / m.alphaBitangent) + "); needs dE <= " +
+                              fixed2(options.anisotropyMaximumDeltaEFraction) +
+                              " x isotropic's and a gain >= " +
+                              fixed2(options.anisotropyMinimumGainDeltaE);
+  if (earns) {
+    reason = "anisotropic lobe: " + figures;
+    return 0;
+  }
+  reason = "isotropic lobe: the anisotropy does not earn its 2 parameters, " + figures;
+  return result.candidates.size() - 1;
+}
+
 // The sheen candidate's starts, all from the GGX solution `m`.
-std::vector<FitParameters> sheenStartsFrom(const FittedMaterial& m) {
+std::vector<FitParameters> sheenStartsFrom(const FittedMaterial& m, bool isotropic) {
   // From the GGX solution (raw, not canonical: the same basin) plus a sheen term.
   std::vector<FitParameters> sheenStarts;
   for (double roughness : kSheenStartRoughness) {
     FitParameters p;
     p.withSheen = true;
+    p.isotropic = isotropic;
     p.ggx = {m.diffuseAlbedo[0], m.diffuseAlbedo[1], m.diffuseAlbedo[2],
              m.specularF0[0],    m.specularF0[1],    m.specularF0[2],
              std::log(m.alphaTangent), std::log(m.alphaBitangent), degToRad(m.tangentDeg),
@@ -196,13 +242,14 @@ std::vector<FitParameters> sheenStartsFrom(const FittedMaterial& m) {
   return sheenStarts;
 }
 
-// Fits ggx+sheen from the GGX candidate (result.candidates.front()), appends it to the candidates
-// when it converged and sets result.choiceReason. Returns whether the sheen term earns its
-// parameters by the options' rule, i.e. whether the appended candidate is the chosen one.
+// Fits ggx+sheen from the GGX candidate kept (result.candidates[ggx]), appends it to the
+// candidates when it converged and sets result.choiceReason. Returns whether the sheen term earns
+// its parameters by the options' rule, i.e. whether the appended candidate is the chosen one.
 bool addSheenCandidate(const Abrdf& table, const FitData& data, const FitData& scoutData,
-                       const FitOptions& options, FitResult& result) {
-  const double ggxDeltaE = result.candidates.front().metrics.deltaE;
-  const std::vector<FitParameters> sheenStarts = sheenStartsFrom(result.candidates.front().material);
+                       const FitOptions& options, std::size_t ggx, FitResult& result) {
+  const double ggxDeltaE = result.candidates[ggx].metrics.deltaE;
+  const std::vector<FitParameters> sheenStarts =
+      sheenStartsFrom(result.candidates[ggx].material, result.candidates[ggx].isotropicLobe);
   std::string sheenFailure;
   std::optional<CandidateFit> sheen =
       bestOf(table, data, scoutData, sheenStarts, options.maxIterations, sheenFailure);
@@ -239,20 +286,24 @@ FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOpti
 
   FitResult result;
   result.candidates.push_back(fitGgx(table, name, data, scoutData, options));
-  // An index, not a pointer: appending the sheen candidate may move the vector's elements.
-  std::size_t chosen = 0;
+  // Indices, not pointers: appending a candidate may move the vector's elements.
+  std::string lobeReason = "anisotropic lobe (isotropic not tried)";
+  const std::size_t ggx =
+      options.tryIsotropic ? addIsotropicCandidate(table, data, scoutData, options, result, lobeReason) : 0;
+  std::size_t chosen = ggx;
   result.choiceReason = "ggx: sheen not tried";
 
-  const double ggxDeltaE = result.candidates.front().metrics.deltaE;
+  const double ggxDeltaE = result.candidates[ggx].metrics.deltaE;
   if (options.trySheen && ggxDeltaE < options.sheenMinimumGainDeltaE) {
     // The rule could not choose the sheen: skip its solves (most of the fit's time).
     result.choiceReason = "ggx: its mean dE " + fixed2(ggxDeltaE) +
                           " is already below the gain of " +
                           fixed2(options.sheenMinimumGainDeltaE) +
                           " a sheen term would have to bring; ggx+sheen not tried";
-  } else if (options.trySheen && addSheenCandidate(table, data, scoutData, options, result)) {
+  } else if (options.trySheen && addSheenCandidate(table, data, scoutData, options, ggx, result)) {
     chosen = result.candidates.size() - 1;
   }
+  result.choiceReason += "; " + lobeReason;
   const CandidateFit& chosenFit = result.candidates[chosen];
   result.material = chosenFit.material;
   result.sigmas = chosenFit.sigmas;

@@ -63,6 +63,7 @@ json materialJson(const FitResult& result, const std::string& source) {
   json candidates = json::array();
   for (const CandidateFit& c : result.candidates) {
     candidates.push_back({{"model", toString(c.model)},
+                          {"lobe", c.isotropicLobe ? "isotropic" : "anisotropic"},
                           {"metrics", metricsJson(c.metrics)},
                           {"cost", c.cost},
                           {"iterations", c.iterations},

@@ -3,6 +3,7 @@
 #include "start_solver.hpp"
 
 #include <ceres/crs_matrix.h>
+#include <ceres/manifold.h>
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 
@@ -18,6 +19,47 @@ namespace {
 // 2 it is flatter than any rough surface. The sheen roughness as the Charlie lobe allows.
 constexpr double kMinimumAlpha = 0.002, kMaximumAlpha = 2.0;
 constexpr double kMinimumSheenRoughness = 0.05, kMaximumSheenRoughness = 1.0;
+
+// The isotropic GGX block: 8 free directions of the 10 parameters. log alpha_t and log alpha_b
+// take the same step (they start equal, so they stay equal; their bounds are the same, so a
+// step clipped at a bound clips both alike) and the tangent none (a round lobe has no direction).
+class IsotropicLobeManifold final : public ceres::Manifold {
+ public:
+  int AmbientSize() const override { return kGgxParameters; }
+  int TangentSize() const override { return kGgxParameters - 2; }
+  bool Plus(const double* x, const double* delta, double* xPlusDelta) const override {
+    for (int i = 0; i < kGgxParameters; ++i) xPlusDelta[i] = x[i];
+    for (int i = 0; i < 6; ++i) xPlusDelta[i] += delta[i];
+    xPlusDelta[6] += delta[6];
+    xPlusDelta[7] += delta[6];
+    xPlusDelta[9] += delta[7];
+    return true;
+  }
+  bool PlusJacobian(const double* /*x*/, double* jacobian) const override {
+    const int cols = TangentSize();
+    for (int i = 0; i < kGgxParameters * cols; ++i) jacobian[i] = 0.0;
+    for (int i = 0; i < 6; ++i) jacobian[i * cols + i] = 1.0;
+    jacobian[6 * cols + 6] = 1.0;
+    jacobian[7 * cols + 6] = 1.0;
+    jacobian[9 * cols + 7] = 1.0;
+    return true;
+  }
+  bool Minus(const double* y, const double* x, double* yMinusX) const override {
+    for (int i = 0; i < 6; ++i) yMinusX[i] = y[i] - x[i];
+    yMinusX[6] = 0.5 * ((y[6] - x[6]) + (y[7] - x[7]));
+    yMinusX[7] = y[9] - x[9];
+    return true;
+  }
+  bool MinusJacobian(const double* /*x*/, double* jacobian) const override {
+    const int cols = kGgxParameters;
+    for (int i = 0; i < TangentSize() * cols; ++i) jacobian[i] = 0.0;
+    for (int i = 0; i < 6; ++i) jacobian[i * cols + i] = 1.0;
+    jacobian[6 * cols + 6] = 0.5;
+    jacobian[6 * cols + 7] = 0.5;
+    jacobian[7 * cols + 9] = 1.0;
+    return true;
+  }
+};
 
 struct BuiltProblem {
   std::unique_ptr<ceres::Problem> problem;
@@ -50,6 +92,10 @@ BuiltProblem buildProblem(const FitData& data, FitParameters& p) {
     problem.AddResidualBlock(new MaterialCost(data, false), nullptr, built.ggx);
   }
   boundGgxBlock(problem, built.ggx);
+  if (p.isotropic) {
+    p.ggx[7] = p.ggx[6];  // the manifold moves them together: they must start equal
+    problem.SetManifold(built.ggx, new IsotropicLobeManifold);
+  }
   if (p.withSheen) {
     for (int i = 0; i < 3; ++i) problem.SetParameterLowerBound(built.sheen, i, 0.0);
     problem.SetParameterLowerBound(built.sheen, 3, std::log(kMinimumSheenRoughness));
@@ -96,6 +142,7 @@ ceres::Solver::Options solverOptions(int maxIterations, double functionTolerance
 
 Eigen::MatrixXd jacobianAt(const FitData& data, const FitParameters& parameters) {
   FitParameters p = parameters;
+  p.isotropic = false;  // every parameter's column, the sigmas' indexing
   BuiltProblem built = buildProblem(data, p);
   ceres::CRSMatrix crs;
   built.problem->Evaluate(ceres::Problem::EvaluateOptions(), nullptr, nullptr, nullptr, &crs);

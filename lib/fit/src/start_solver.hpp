@@ -12,10 +12,13 @@
 namespace slicecap::fit::detail {
 
 /// \brief The parameters of one solve: the GGX block always, the sheen block when `withSheen`.
+/// `isotropic`: the solve keeps the two alphas equal (their logs start equal and move together)
+/// and the tangent where it starts, so the lobe has one roughness and no direction.
 struct FitParameters {
   std::array<double, kGgxParameters> ggx{};
   std::array<double, kSheenParameters> sheen{};
   bool withSheen = false;
+  bool isotropic = false;
   int count() const { return withSheen ? kGgxParameters + kSheenParameters : kGgxParameters; }
 };
 
@@ -44,7 +47,8 @@ void boundGgxBlock(ceres::Problem& problem, double* ggx);
 ceres::Solver::Options solverOptions(int maxIterations, double functionTolerance,
                                      double initialTrustRegionRadius);
 
-/// \brief The residuals' Jacobian (residuals x parameters) at `parameters`.
+/// \brief The residuals' Jacobian (residuals x parameters) at `parameters`, over every parameter
+/// of the blocks (an isotropic solve's alphas and tangent too, as if free).
 Eigen::MatrixXd jacobianAt(const FitData& data, const FitParameters& parameters);
 
 }  // namespace slicecap::fit::detail

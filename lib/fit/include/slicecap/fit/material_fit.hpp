@@ -32,6 +32,15 @@ struct FitOptions {
   /// perfect fit is not worth four more parameters).
   double sheenMaximumDeltaEFraction = 0.9;
   double sheenMinimumGainDeltaE = 0.1;
+  /// \brief Also fit the lobe isotropic (one alpha, no tangent) when the GGX fit's lobe is not
+  /// round, and keep the anisotropic lobe only when it earns its two parameters by the rule below
+  /// (as the sheen's). Why: a lobe narrower than the grid's 15 deg steps is seen at the mirror
+  /// pairs only, where D depends on alpha_t alpha_b alone; the fit of an isotropic glossy table
+  /// then settles on any elongation (measured plastics and metals: ratios up to 85 for a dE
+  /// change of thousandths), which a renderer shows as a streak the material does not have.
+  bool tryIsotropic = true;
+  double anisotropyMaximumDeltaEFraction = 0.9;
+  double anisotropyMinimumGainDeltaE = 0.1;
 };
 
 /// \brief One standard deviation of each parameter, in the parameter's own unit, from the
@@ -54,13 +63,16 @@ struct CandidateFit {
   int startsTried = 0;       ///< starts scouted
   int solvesConverged = 0;   ///< full solves (of the most promising starts) that converged
   double bestStartTangentDeg = 0.0;  ///< the start the kept solution came from
+  bool isotropicLobe = false;  ///< solved with alpha_t = alpha_b and no tangent
 };
 
 struct FitResult {
   FittedMaterial material;  ///< the chosen candidate's material (canonical)
   ParameterSigmas sigmas;
   eval::Metrics metrics;
-  std::vector<CandidateFit> candidates;  ///< ggx first, then ggx+sheen when tried
+  /// \brief ggx first, then the isotropic ggx when tried, then ggx+sheen when tried (from the
+  /// ggx candidate kept, with its lobe's isotropy).
+  std::vector<CandidateFit> candidates;
   std::string choiceReason;              ///< why this model, in a sentence
 };
 
