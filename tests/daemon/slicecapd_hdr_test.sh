@@ -61,7 +61,10 @@ echo "slicecapd on an HDR recording: ok"
 # its level, records it, and keeps the highlight that one exposure clips and rejects.
 model_sweep() {  # model_sweep LEVELS: the diagonal 75/75 sweep's session, status and recording
   local levels=$1
-  write_model_config "model_material = $material" "model_rig = ideal" "model_sweep_seconds = 6" \
+  # 9 s, not 6: the camera model runs in real time, and on a loaded 2-core machine (the test
+  # suite's other job plus a fit) the daemon drops frames; at 6 s the HDR sweep, whose bins share
+  # their frames between two levels, once kept 15 bins to one exposure's 19.
+  write_model_config "model_material = $material" "model_rig = ideal" "model_sweep_seconds = 9" \
     "record_frames = true" "hdr_levels = $levels"
   rm -rf "$work/storage-model"
   start_daemon
@@ -98,7 +101,7 @@ hdr, hdr_bins = peak(2)
 # diffuse part (~0.005 1/sr) is left. The short level holds it.
 assert single < 0.05, f"one exposure kept a peak of {single}: the check would see no difference"
 assert hdr > 0.3, f"the HDR sweep's largest bin reads {hdr} (one exposure: {single})"
-assert hdr_bins >= 0.8 * single_bins, f"HDR filled {hdr_bins} bins, one exposure {single_bins}"
+assert hdr_bins >= 0.8 * single_bins, f"HDR filled {hdr_bins} bins, one exposure {single_bins}; HDR frames {dict(kinds)}"
 print(f"camera model: one exposure peaks at {single:.4f} in {single_bins} bins, HDR at {hdr:.3f} in {hdr_bins} bins; frames {dict(kinds)}")
 PY
 echo "slicecapd HDR on the camera model: ok"
