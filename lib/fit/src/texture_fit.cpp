@@ -210,6 +210,9 @@ std::optional<WarmStart> TextureFitter::fitTexel(const Abrdf& table, int x, int 
   try {
     FitOptions multi;
     multi.trySheen = false;
+    // The tilted solve below frees the lobe again, so a round start would only cost a solve;
+    // whether a texel's anisotropy earns its parameters is not decided in texture mode yet.
+    multi.tryIsotropic = false;
     multi.maxIterations = options_.maxIterations;
     const FitResult flat = fitMaterial(table, name, multi);
     // The multi-start fit is flat: the tilt (the neighbour's, if any) is refined from it.
