@@ -210,8 +210,9 @@ def levenberg_marquardt(g: Geometry, x0: np.ndarray, with_sheen: bool, scale: np
     r = residuals(g, x, with_sheen, scale, target)
     cost = 0.5 * float(r @ r)
     damping = 1e-3
-    iteration = 0
-    for iteration in range(1, max_iterations + 1):
+    iterations = 0
+    for _ in range(max_iterations):
+        iterations += 1
         jacobian = np.empty((r.size, x.size))
         for k in range(x.size):
             step = 1e-7 * max(1.0, abs(x[k]))
@@ -247,7 +248,7 @@ def levenberg_marquardt(g: Geometry, x0: np.ndarray, with_sheen: bool, scale: np
             damping *= 10.0
         if not improved or relative < 1e-9:
             break
-    return x, cost, iteration
+    return x, cost, iterations
 
 
 def tabulate(g: Geometry, p: np.ndarray, with_sheen: bool) -> np.ndarray:
