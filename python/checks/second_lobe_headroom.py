@@ -112,15 +112,18 @@ def sheen_lobe(g: Geometry, roughness: float) -> np.ndarray:
 LOG_PARAMETERS = (7, 8, 14, 18)
 
 
-def brdf(g: Geometry, p: np.ndarray, with_sheen: bool) -> np.ndarray:
-    """(6561, 3) BRDF values (1/sr) of the two-lobe model for the parameter vector p."""
+def brdf(g: Geometry, p: np.ndarray, with_sheen: bool, coat: bool = False) -> np.ndarray:
+    """(6561, 3) BRDF values (1/sr) of the two-lobe model for the parameter vector p. With `coat`
+    the second lobe is a clear coat: grey f0 = p[10], f90 = 1 (p[11:14] unused)."""
     w = g.fresnel_weight[:, None]
+    f0_second = np.full(3, p[10]) if coat else p[10:13]
+    f90_second = 1.0 if coat else p[13]
     first = ggx_specular(g, p[7], p[8], p[9])[:, None]
     second = ggx_specular(g, p[14], p[14], 0.0)[:, None]
     value = (
         p[0:3] / math.pi
         + (p[3:6] + (p[6] - p[3:6]) * w) * first
-        + (p[10:13] + (p[13] - p[10:13]) * w) * second
+        + (f0_second + (f90_second - f0_second) * w) * second
     )
     if with_sheen:
         value = value + p[15:18] * sheen_lobe(g, p[18])[:, None]
@@ -196,18 +199,19 @@ def internal_bounds(size: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def residuals(g: Geometry, x: np.ndarray, with_sheen: bool, scale: np.ndarray,
-              target: np.ndarray) -> np.ndarray:
-    value = brdf(g, to_external(x), with_sheen)
+              target: np.ndarray, coat: bool = False) -> np.ndarray:
+    value = brdf(g, to_external(x), with_sheen, coat)
     return (255.0 * srgb_curve(value * scale[:, None]) - target).ravel()
 
 
 def levenberg_marquardt(g: Geometry, x0: np.ndarray, with_sheen: bool, scale: np.ndarray,
-                        target: np.ndarray, max_iterations: int) -> tuple[np.ndarray, float, int]:
+                        target: np.ndarray, max_iterations: int,
+                        coat: bool = False) -> tuple[np.ndarray, float, int]:
     """Bounded LM: a parameter on a bound whose gradient pushes it out is held for that step,
     a step is projected onto the box. Returns (x, cost = sum r^2 / 2, iterations)."""
     lower, upper = internal_bounds(x0.size)
     x = np.clip(x0, lower, upper)
-    r = residuals(g, x, with_sheen, scale, target)
+    r = residuals(g, x, with_sheen, scale, target, coat)
     cost = 0.5 * float(r @ r)
     damping = 1e-3
     iterations = 0
@@ -221,10 +225,12 @@ def levenberg_marquardt(g: Geometry, x0: np.ndarray, with_sheen: bool, scale: np
                 step = -step
             shifted = x.copy()
             shifted[k] += step
-            jacobian[:, k] = (residuals(g, shifted, with_sheen, scale, target) - r) / step
+            jacobian[:, k] = (residuals(g, shifted, with_sheen, scale, target, coat) - r) / step
         gradient = jacobian.T @ r
         held = ((x <= lower) & (gradient > 0)) | ((x >= upper) & (gradient < 0))
         free = ~held
+        if coat:
+            free[11:14] = False  # the coat's f0 is p[10] alone and its f90 is 1
         normal = jacobian[:, free].T @ jacobian[:, free]
         improved = False
         while damping < 1e12:
@@ -237,7 +243,7 @@ def levenberg_marquardt(g: Geometry, x0: np.ndarray, with_sheen: bool, scale: np
             candidate = x.copy()
             candidate[free] += delta
             candidate = np.clip(candidate, lower, upper)
-            r_new = residuals(g, candidate, with_sheen, scale, target)
+            r_new = residuals(g, candidate, with_sheen, scale, target, coat)
             cost_new = 0.5 * float(r_new @ r_new)
             if np.isfinite(cost_new) and cost_new < cost:
                 relative = (cost - cost_new) / cost
@@ -251,8 +257,8 @@ def levenberg_marquardt(g: Geometry, x0: np.ndarray, with_sheen: bool, scale: np
     return x, cost, iterations
 
 
-def tabulate(g: Geometry, p: np.ndarray, with_sheen: bool) -> np.ndarray:
-    return brdf(g, p, with_sheen).reshape(DIRECTION_COUNT, DIRECTION_COUNT, 3)
+def tabulate(g: Geometry, p: np.ndarray, with_sheen: bool, coat: bool = False) -> np.ndarray:
+    return brdf(g, p, with_sheen, coat).reshape(DIRECTION_COUNT, DIRECTION_COUNT, 3)
 
 
 def read_f32(path: pathlib.Path) -> np.ndarray:
@@ -285,7 +291,7 @@ def compare_delta_e(cli: pathlib.Path, reference: pathlib.Path, test: pathlib.Pa
 
 
 def fit_two_lobes(g: Geometry, table: np.ndarray, fit_json: pathlib.Path,
-                  max_iterations: int) -> dict:
+                  max_iterations: int, coat: bool = False) -> dict:
     p_one, with_sheen = parameters_from_fit(fit_json)
     scale = cos_weighted_scale(table)
     target = 255.0 * srgb_curve(table.reshape(-1, 3) * scale[:, None])
@@ -296,11 +302,14 @@ def fit_two_lobes(g: Geometry, table: np.ndarray, fit_json: pathlib.Path,
         start[10:14] = SECOND_F0_START
         start[14] = alpha
         x, cost, iterations = levenberg_marquardt(g, to_internal(start), with_sheen, scale,
-                                                  target, max_iterations)
+                                                  target, max_iterations, coat)
         if best is None or cost < best["cost"]:
             best = {"cost": cost, "x": x, "start_alpha": alpha, "iterations": iterations}
     assert best is not None
     best["p"] = to_external(best["x"])
+    if coat:  # report the coat as the general lobe it is: grey f0, f90 = 1
+        best["p"][11:13] = best["p"][10]
+        best["p"][13] = 1.0
     best["with_sheen"] = with_sheen
     best["one_lobe_cost"] = 0.5 * float(r_one @ r_one)
     return best
@@ -317,6 +326,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--min-delta-e", type=float, default=1.0)
     parser.add_argument("--max-iterations", type=int, default=60)
     parser.add_argument("--model-tolerance", type=float, default=1e-5)
+    parser.add_argument("--coat", action="store_true",
+                        help="second lobe as a clear coat: grey f0, f90 = 1 (two parameters)")
     parser.add_argument("names", nargs="*")
     args = parser.parse_args(argv)
 
@@ -342,7 +353,8 @@ def main(argv: list[str] | None = None) -> int:
                   f"(relative), above {args.model_tolerance}", file=sys.stderr)
             return 1
         cpu_start = time.process_time()
-        best = fit_two_lobes(g, read_f32(table_path), fit_json, args.max_iterations)
+        best = fit_two_lobes(g, read_f32(table_path), fit_json, args.max_iterations,
+                             args.coat)
         cpu_s = time.process_time() - cpu_start
         p = best["p"]
         out_table = args.out / f"{name}.two-lobe.f32"
@@ -355,7 +367,7 @@ def main(argv: list[str] | None = None) -> int:
         (args.out / f"{name}.two-lobe.json").write_text(json.dumps({
             "prototype": "second_lobe_headroom.py, not the product's fit",
             "table": str(table_path), "one_lobe_fit": str(fit_json),
-            "parameters": p.tolist(), "with_sheen": best["with_sheen"],
+            "parameters": p.tolist(), "with_sheen": best["with_sheen"], "coat": args.coat,
             "delta_e": two, "one_lobe_delta_e": one, "start_alpha": best["start_alpha"],
             "iterations": best["iterations"], "cost": best["cost"],
             "one_lobe_cost": best["one_lobe_cost"]}, indent=1))

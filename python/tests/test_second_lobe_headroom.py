@@ -34,8 +34,9 @@ def test_numpy_model_matches_slicecap_generate(slicecap_cli, tmp_path, material,
     assert mismatch <= 1e-5
 
 
-def test_refit_finds_a_clear_coat_the_one_lobe_fit_misses(slicecap_cli, tmp_path):
-    # A rough red base under a sharper grey coat: a table the two-lobe family holds exactly.
+def coated_table(cli, tmp_path):
+    """A rough red base under a sharper grey coat (f0 0.04, f90 1, alpha 0.06): a table the
+    two-lobe family, and its --coat subfamily, hold exactly; with its one-lobe fit."""
     g = slh.grid_geometry()
     truth = np.zeros(15)
     truth[0:3] = (0.4, 0.05, 0.05)
@@ -48,8 +49,13 @@ def test_refit_finds_a_clear_coat_the_one_lobe_fit_misses(slicecap_cli, tmp_path
     table = tmp_path / "coated.f32"
     slh.write_f32(table, slh.tabulate(g, truth, with_sheen=False))
     fit = tmp_path / "coated.json"
-    subprocess.run([slicecap_cli, "fit", table, "-o", fit, "--no-sheen"], check=True,
+    subprocess.run([cli, "fit", table, "-o", fit, "--no-sheen"], check=True,
                    capture_output=True)
+    return g, table, fit
+
+
+def test_refit_finds_a_clear_coat_the_one_lobe_fit_misses(slicecap_cli, tmp_path):
+    g, table, fit = coated_table(slicecap_cli, tmp_path)
     one_lobe_delta_e = json.loads(fit.read_text())["metrics"]["delta_e"]
 
     best = slh.fit_two_lobes(g, slh.read_f32(table), fit, max_iterations=100)
@@ -62,3 +68,17 @@ def test_refit_finds_a_clear_coat_the_one_lobe_fit_misses(slicecap_cli, tmp_path
     # Either lobe may end up as the coat: the sharper one must be the truth's.
     alphas = sorted([best["p"][7], best["p"][14]])
     assert math.isclose(alphas[0], 0.06, rel_tol=0.1)
+
+
+def test_coat_mode_recovers_a_grey_coat_with_f90_one(slicecap_cli, tmp_path):
+    g, table, fit = coated_table(slicecap_cli, tmp_path)
+
+    best = slh.fit_two_lobes(g, slh.read_f32(table), fit, max_iterations=100, coat=True)
+    p = best["p"]
+    assert p[10] == p[11] == p[12] and p[13] == 1.0
+    refit = tmp_path / "refit.f32"
+    slh.write_f32(refit, slh.tabulate(g, p, best["with_sheen"]))
+    one_lobe_delta_e = json.loads(fit.read_text())["metrics"]["delta_e"]
+    assert slh.compare_delta_e(slicecap_cli, table, refit) < 0.1 * one_lobe_delta_e
+    assert math.isclose(p[14], 0.06, rel_tol=0.1)
+    assert math.isclose(p[10], 0.04, rel_tol=0.1)
