@@ -18,7 +18,8 @@ must agree to --model-tolerance relative. The dE reported is `slicecap compare T
 TWO_LOBE.f32 --json`'s, never a formula of this script's.
 
 Usage: second_lobe_headroom.py --cli build/app/slicecap --tables DIR --fits DIR --out DIR
-       [--min-delta-e 1] [TABLE_NAME ...]
+       [--min-delta-e 1] [--coat] [TABLE_NAME ...]
+--coat restricts the second lobe to a clear coat: one grey f0, f90 fixed at 1.
 TABLE_NAME defaults to every row of FITS/summary.tsv with delta_e above --min-delta-e.
 """
 
