@@ -173,6 +173,21 @@ CandidateFit fitGgx(const Abrdf& table, const std::string& name, const FitData& 
 // A lobe whose alphas differ by less than this factor is taken as round: no isotropic solve.
 constexpr double kRoundLobeRatio = 1.05;
 
+// The rule a candidate with more parameters must meet to be chosen over the simpler one it
+// extends (the sheen over GGX, the anisotropic lobe over the round one): its mean dE at most
+// `maximumFraction` of the simpler one's and lower by at least `minimumGain`.
+bool earnsItsParameters(double richerDeltaE, double simplerDeltaE, double maximumFraction,
+                        double minimumGain) {
+  return richerDeltaE <= maximumFraction * simplerDeltaE &&
+         simplerDeltaE - richerDeltaE >= minimumGain;
+}
+
+// The rule in words, for `choice`: "needs dE <= 0.90 x SIMPLER's and a gain >= 0.10".
+std::string ruleText(const std::string& simpler, double maximumFraction, double minimumGain) {
+  return "needs dE <= " + fixed2(maximumFraction) + " x " + simpler + "'s and a gain >= " +
+         fixed2(minimumGain);
+}
+
 // The isotropic candidate from the GGX solution (alphas at their geometric mean, tangent 0),
 // appended to the candidates when it converged. Returns the index of the GGX candidate to keep
 // (0, or the isotropic one when the anisotropic lobe does not earn its two parameters) and says
@@ -198,14 +213,14 @@ std::size_t addIsotropicCandidate(const Abrdf& table, const FitData& data, const
   result.candidates.push_back(*isotropic);
   const double anisotropicDeltaE = result.candidates.front().metrics.deltaE;
   const double isotropicDeltaE = isotropic->metrics.deltaE;
-  const bool earns = anisotropicDeltaE <= options.anisotropyMaximumDeltaEFraction * isotropicDeltaE &&
-                     isotropicDeltaE - anisotropicDeltaE >= options.anisotropyMinimumGainDeltaE;
+  const bool earns =
+      earnsItsParameters(anisotropicDeltaE, isotropicDeltaE, options.anisotropyMaximumDeltaEFraction,
+                         options.anisotropyMinimumGainDeltaE);
   const std::string figures = "mean dE " + fixed2(isotropicDeltaE) + " (isotropic) -> " +
                               fixed2(anisotropicDeltaE) + " (anisotropic, alpha ratio " +
-                              fixed2(m.alphaTangent / m.alphaBitangent) + "); needs dE <= " +
-                              fixed2(options.anisotropyMaximumDeltaEFraction) +
-                              " x isotropic's and a gain >= " +
-                              fixed2(options.anisotropyMinimumGainDeltaE);
+                              fixed2(m.alphaTangent / m.alphaBitangent) + "); " +
+                              ruleText("isotropic", options.anisotropyMaximumDeltaEFraction,
+                                       options.anisotropyMinimumGainDeltaE);
   if (earns) {
     reason = "anisotropic lobe: " + figures;
     return 0;
@@ -219,13 +234,9 @@ std::vector<FitParameters> sheenStartsFrom(const FittedMaterial& m, bool isotrop
   // From the GGX solution (raw, not canonical: the same basin) plus a sheen term.
   std::vector<FitParameters> sheenStarts;
   for (double roughness : kSheenStartRoughness) {
-    FitParameters p;
+    FitParameters p = detail::ggxParametersOf(m);
     p.withSheen = true;
     p.isotropic = isotropic;
-    p.ggx = {m.diffuseAlbedo[0], m.diffuseAlbedo[1], m.diffuseAlbedo[2],
-             m.specularF0[0],    m.specularF0[1],    m.specularF0[2],
-             std::log(m.alphaTangent), std::log(m.alphaBitangent), degToRad(m.tangentDeg),
-             m.specularF90};
     p.sheen = {kSheenStartColour, kSheenStartColour, kSheenStartColour, std::log(roughness)};
     sheenStarts.push_back(p);
   }
@@ -259,13 +270,12 @@ bool addSheenCandidate(const Abrdf& table, const FitData& data, const FitData& s
   }
   result.candidates.push_back(*sheen);
   const double sheenDeltaE = sheen->metrics.deltaE;
-  const bool earns = sheenDeltaE <= options.sheenMaximumDeltaEFraction * ggxDeltaE &&
-                     ggxDeltaE - sheenDeltaE >= options.sheenMinimumGainDeltaE;
+  const bool earns = earnsItsParameters(sheenDeltaE, ggxDeltaE, options.sheenMaximumDeltaEFraction,
+                                        options.sheenMinimumGainDeltaE);
   const std::string figures = "mean dE " + fixed2(ggxDeltaE) + " (ggx) -> " +
                               fixed2(sheenDeltaE) + " (ggx+sheen)";
-  const std::string rule = "needs dE <= " + fixed2(options.sheenMaximumDeltaEFraction) +
-                           " x ggx's and a gain >= " +
-                           fixed2(options.sheenMinimumGainDeltaE);
+  const std::string rule =
+      ruleText("ggx", options.sheenMaximumDeltaEFraction, options.sheenMinimumGainDeltaE);
   if (earns) {
     result.choiceReason = "ggx+sheen: the sheen term lowers " + figures + "; " + rule;
   } else {
