@@ -84,7 +84,8 @@ TEST(MaterialFit, ASharpIsotropicLobeIsFittedRoundNotStretched) {
   EXPECT_TRUE(r.candidates.back().isotropicLobe);
   EXPECT_FALSE(r.candidates.front().isotropicLobe);
   // The round lobe fits the table as well as the stretched one did (within the rule's gain).
-  EXPECT_LT(r.metrics.deltaE, r.candidates.front().metrics.deltaE + options.anisotropyMinimumGainDeltaE);
+  EXPECT_LT(r.metrics.deltaE,
+            r.candidates.front().metrics.deltaE + options.anisotropyMinimumGainDeltaE);
 }
 
 TEST(MaterialFit, WithoutTheIsotropicCandidateTheSharpLobeIsStretched) {

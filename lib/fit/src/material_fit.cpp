@@ -193,7 +193,8 @@ std::string ruleText(const std::string& simpler, double maximumFraction, double 
 // (0, or the isotropic one when the anisotropic lobe does not earn its two parameters) and says
 // why in `reason`.
 std::size_t addIsotropicCandidate(const Abrdf& table, const FitData& data, const FitData& scoutData,
-                                  const FitOptions& options, FitResult& result, std::string& reason) {
+                                  const FitOptions& options, FitResult& result,
+                                  std::string& reason) {
   const FittedMaterial& m = result.candidates.front().material;
   if (m.alphaTangent <= kRoundLobeRatio * m.alphaBitangent) {
     reason = "the lobe is round (alpha ratio " + fixed2(m.alphaTangent / m.alphaBitangent) + ")";
@@ -213,9 +214,9 @@ std::size_t addIsotropicCandidate(const Abrdf& table, const FitData& data, const
   result.candidates.push_back(*isotropic);
   const double anisotropicDeltaE = result.candidates.front().metrics.deltaE;
   const double isotropicDeltaE = isotropic->metrics.deltaE;
-  const bool earns =
-      earnsItsParameters(anisotropicDeltaE, isotropicDeltaE, options.anisotropyMaximumDeltaEFraction,
-                         options.anisotropyMinimumGainDeltaE);
+  const bool earns = earnsItsParameters(anisotropicDeltaE, isotropicDeltaE,
+                                        options.anisotropyMaximumDeltaEFraction,
+                                        options.anisotropyMinimumGainDeltaE);
   const std::string figures = "mean dE " + fixed2(isotropicDeltaE) + " (isotropic) -> " +
                               fixed2(anisotropicDeltaE) + " (anisotropic, alpha ratio " +
                               fixed2(m.alphaTangent / m.alphaBitangent) + "); " +
@@ -299,7 +300,9 @@ FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOpti
   // Indices, not pointers: appending a candidate may move the vector's elements.
   std::string lobeReason = "anisotropic lobe (isotropic not tried)";
   const std::size_t ggx =
-      options.tryIsotropic ? addIsotropicCandidate(table, data, scoutData, options, result, lobeReason) : 0;
+      options.tryIsotropic
+          ? addIsotropicCandidate(table, data, scoutData, options, result, lobeReason)
+          : 0;
   std::size_t chosen = ggx;
   result.choiceReason = "ggx: sheen not tried";
 
