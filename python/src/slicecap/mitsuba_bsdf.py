@@ -152,8 +152,42 @@ def _active(ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue) -> DrValue:
     return active & enabled & (cos_i > 0.0) & (cos_o > 0.0)
 
 
-def _make_class() -> type:
-    class SlicecapBsdf(mi.BSDF):
+def _make_base_class() -> type:
+    class OneSidedGlossyBsdf(mi.BSDF):
+        """What both slicecap BSDFs share: one-sided glossy reflection, eval as the subclass's
+        `_value(light, view, active)` (RGB BRDF, 1/sr) times cos(wo) in the orientation of
+        _oriented, no differentiable parameters."""
+
+        def _value(self, light: DrValue, view: DrValue, active: DrValue) -> DrValue:
+            raise NotImplementedError  # each BSDF's own: the table's lookup, the model's formula
+
+        def _set_flags(self) -> None:
+            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
+            self.m_components = [flags]
+            self.m_flags = flags
+
+        def eval(self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True) -> DrValue:
+            active = _active(ctx, si, wo, active)
+            light, view, _ = _oriented(ctx, si.wi, wo)
+            value = self._value(light, view, active) * mi.Frame3f.cos_theta(wo)
+            return dr.select(active, value, mi.Color3f(0.0))
+
+        def eval_pdf(
+            self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True
+        ) -> tuple[DrValue, DrValue]:
+            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+
+        def traverse(self, callback: DrValue) -> None:
+            pass
+
+        def parameters_changed(self, keys: Sequence[str] | None = None) -> None:
+            pass
+
+    return OneSidedGlossyBsdf
+
+
+def _make_class(base: type) -> type:
+    class SlicecapBsdf(base):
         """A slicecap ABRDF EXR (property `filename`) as a one-sided glossy BSDF."""
 
         def __init__(self, props: DrValue) -> None:
@@ -167,9 +201,7 @@ def _make_class() -> type:
             self.filename = str(_file_resolver().resolve(str(props["filename"])))
             self.material = load_material(self.filename)
             self.tables = _Tables(self.material.values)
-            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
-            self.m_components = [flags]
-            self.m_flags = flags
+            self._set_flags()
 
         def _value(self, light: DrValue, view: DrValue, active: DrValue) -> DrValue:
             light_taps = direction_taps(light)
@@ -196,21 +228,10 @@ def _make_class() -> type:
             pdf = sampling.COSINE_SHARE * cosine + (1.0 - sampling.COSINE_SHARE) * tabulated
             return dr.select(active & (unknown.z > 0.0), pdf, 0.0)
 
-        def eval(self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True) -> DrValue:
-            active = _active(ctx, si, wo, active)
-            light, view, _ = _oriented(ctx, si.wi, wo)
-            value = self._value(light, view, active) * mi.Frame3f.cos_theta(wo)
-            return dr.select(active, value, mi.Color3f(0.0))
-
         def pdf(self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True) -> DrValue:
             active = _active(ctx, si, wo, active)
             _, _, side = _oriented(ctx, si.wi, wo)
             return self._pdf(si.wi, wo, side, active)
-
-        def eval_pdf(
-            self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True
-        ) -> tuple[DrValue, DrValue]:
-            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
 
         def sample(
             self,
@@ -270,12 +291,6 @@ def _make_class() -> type:
             weight = dr.select(active, value / dr.maximum(pdf, 1e-20), mi.Color3f(0.0))
             return bs, weight
 
-        def traverse(self, callback: DrValue) -> None:
-            pass
-
-        def parameters_changed(self, keys: Sequence[str] | None = None) -> None:
-            pass
-
         def to_string(self) -> str:
             material = self.material.attributes.get("material", "?")
             return f"SlicecapBSDF[filename={self.filename!r}, material={material!r}]"
@@ -283,8 +298,8 @@ def _make_class() -> type:
     return SlicecapBsdf
 
 
-def _make_analytic_class() -> type:
-    class SlicecapAnalyticBsdf(mi.BSDF):
+def _make_analytic_class(base: type) -> type:
+    class SlicecapAnalyticBsdf(base):
         """A slicecap built-in analytic model (slicecap.analytic_models) as a one-sided glossy
         BSDF: property `model`, its description (a line of `slicecap generate --list` after the
         name), or `filename`, a table `slicecap generate` wrote, whose model it reads. The exact
@@ -303,28 +318,18 @@ def _make_analytic_class() -> type:
             else:
                 self.source = str(_file_resolver().resolve(str(props["filename"])))
                 self.model = model_of_table(self.source)
-            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
-            self.m_components = [flags]
-            self.m_flags = flags
+            self._set_flags()
 
-        def eval(self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True) -> DrValue:
-            active = _active(ctx, si, wo, active)
-            light, view, _ = _oriented(ctx, si.wi, wo)
-            # Lanes below the surface may divide by zero here; select drops them.
+        def _value(self, light: DrValue, view: DrValue, active: DrValue) -> DrValue:
+            # Lanes below the surface may divide by zero here; eval's select drops them.
             r, g, b = self.model.channels((light.x, light.y, light.z), (view.x, view.y, view.z), dr)
-            value = mi.Color3f(r, g, b) * mi.Frame3f.cos_theta(wo)
-            return dr.select(active, value, mi.Color3f(0.0))
+            return mi.Color3f(r, g, b)
 
         def pdf(self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True) -> DrValue:
             # Cosine-weighted: unbiased for any of the models, if noisy for narrow lobes under
             # BSDF sampling (a point light is sampled from the light, where this does not count).
             active = _active(ctx, si, wo, active)
             return dr.select(active, mi.Frame3f.cos_theta(wo) * dr.inv_pi, 0.0)
-
-        def eval_pdf(
-            self, ctx: DrValue, si: DrValue, wo: DrValue, active: DrValue = True
-        ) -> tuple[DrValue, DrValue]:
-            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
 
         def sample(
             self,
@@ -344,12 +349,6 @@ def _make_analytic_class() -> type:
             active = active & (pdf > 0.0)
             weight = dr.select(active, value / dr.maximum(pdf, 1e-20), mi.Color3f(0.0))
             return bs, weight
-
-        def traverse(self, callback: DrValue) -> None:
-            pass
-
-        def parameters_changed(self, keys: Sequence[str] | None = None) -> None:
-            pass
 
         def to_string(self) -> str:
             return f"SlicecapAnalyticBSDF[{self.model.description!r}]"
@@ -375,7 +374,8 @@ def register() -> None:
         )
     if variant in _registered_variants:
         return
-    table_class, analytic_class = _make_class(), _make_analytic_class()
+    base = _make_base_class()
+    table_class, analytic_class = _make_class(base), _make_analytic_class(base)
     mi.register_bsdf(PLUGIN_NAME, lambda props: table_class(props))
     mi.register_bsdf(ANALYTIC_PLUGIN_NAME, lambda props: analytic_class(props))
     _registered_variants.add(variant)
