@@ -31,6 +31,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -174,29 +175,27 @@ def bounds(size: int) -> tuple[np.ndarray, np.ndarray]:
     return lower, upper
 
 
-def to_internal(p: np.ndarray) -> np.ndarray:
-    x = p.copy()
+def _map_log_parameters(values: np.ndarray, function: Callable[[float], float]) -> np.ndarray:
+    """A copy of `values` with `function` (math.log or math.exp) applied to the alphas and the
+    sheen roughness that the solver moves in logs (LOG_PARAMETERS present in this size)."""
+    mapped = values.copy()
     for i in LOG_PARAMETERS:
-        if i < x.size:
-            x[i] = math.log(x[i])
-    return x
+        if i < mapped.size:
+            mapped[i] = function(mapped[i])
+    return mapped
+
+
+def to_internal(p: np.ndarray) -> np.ndarray:
+    return _map_log_parameters(p, math.log)
 
 
 def to_external(x: np.ndarray) -> np.ndarray:
-    p = x.copy()
-    for i in LOG_PARAMETERS:
-        if i < p.size:
-            p[i] = math.exp(p[i])
-    return p
+    return _map_log_parameters(x, math.exp)
 
 
 def internal_bounds(size: int) -> tuple[np.ndarray, np.ndarray]:
     lower, upper = bounds(size)
-    lower, upper = lower.copy(), upper.copy()
-    for i in LOG_PARAMETERS:
-        if i < size:
-            lower[i], upper[i] = math.log(lower[i]), math.log(upper[i])
-    return lower, upper
+    return _map_log_parameters(lower, math.log), _map_log_parameters(upper, math.log)
 
 
 def residuals(g: Geometry, x: np.ndarray, with_sheen: bool, scale: np.ndarray,
