@@ -36,7 +36,8 @@ def test_numpy_model_matches_slicecap_generate(slicecap_cli, tmp_path, material,
 
 def coated_table(cli, tmp_path):
     """A rough red base under a sharper grey coat (f0 0.04, f90 1, alpha 0.06): a table the
-    two-lobe family, and its --coat subfamily, hold exactly; with its one-lobe fit."""
+    two-lobe family, and its --coat subfamily, hold exactly; with its one-lobe fit (no coat: the
+    prototype measures what a second lobe adds to the fit of one)."""
     g = slh.grid_geometry()
     truth = np.zeros(15)
     truth[0:3] = (0.4, 0.05, 0.05)
@@ -49,7 +50,7 @@ def coated_table(cli, tmp_path):
     table = tmp_path / "coated.f32"
     slh.write_f32(table, slh.tabulate(g, truth, with_sheen=False))
     fit = tmp_path / "coated.json"
-    subprocess.run([cli, "fit", table, "-o", fit, "--no-sheen"], check=True,
+    subprocess.run([cli, "fit", table, "-o", fit, "--no-sheen", "--no-coat"], check=True,
                    capture_output=True)
     return g, table, fit
 

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../support/cli_runner.hpp"
+#include "slicecap/fit/fitted_material.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/table_file.hpp"
 #include "slicecap/models/reflectance_model.hpp"
@@ -51,6 +52,33 @@ TEST(FitCommand, NonConvergenceFailsAndKeepsAnOldMaterial) {
   EXPECT_NE(result.err.find("did not converge"), std::string::npos) << result.err;
   std::ifstream in(dir / "m.json");
   EXPECT_EQ(nlohmann::json::parse(in)["old"], true);
+}
+
+TEST(FitCommand, ACoatedTableGetsACoatUnlessTold) {
+  const auto dir = test::freshTempDir();
+  FittedMaterial lacquer;
+  lacquer.model = MaterialModel::GgxCoat;
+  lacquer.diffuseAlbedo = {0.1, 0.2, 0.4};
+  lacquer.specularF0 = Rgb::gray(0.04);
+  lacquer.alphaTangent = lacquer.alphaBitangent = 0.4;
+  lacquer.coatWeight = 1.0;
+  lacquer.coatAlpha = 0.08;
+  io::writeF32Table(dir / "lacquer.f32", tabulate(lacquer));
+  const auto coated = test::runSlicecap(
+      {"fit", (dir / "lacquer.f32").string(), "-o", (dir / "coated.json").string()});
+  ASSERT_EQ(coated.code, 0) << coated.err;
+  EXPECT_NE(coated.out.find("fitted ggx+coat"), std::string::npos) << coated.out;
+  const auto plain = test::runSlicecap({"fit", (dir / "lacquer.f32").string(), "-o",
+                                        (dir / "plain.json").string(), "--no-coat"});
+  ASSERT_EQ(plain.code, 0) << plain.err;
+  std::ifstream in(dir / "plain.json");
+  const auto doc = nlohmann::json::parse(in);
+  EXPECT_EQ(doc["model"].get<std::string>().find("coat"), std::string::npos);
+  EXPECT_NE(doc["choice"].get<std::string>().find("coat not tried"), std::string::npos);
+  // --no-coat is for a fit, not for exporting one already made.
+  const auto misuse = test::runSlicecap(
+      {"fit", (dir / "coated.json").string(), "--no-coat", "--gltf", (dir / "c.glb").string()});
+  EXPECT_EQ(misuse.code, 2);
 }
 
 TEST(FitCommand, BadIterationCountIsAUsageError) {

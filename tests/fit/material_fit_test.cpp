@@ -72,10 +72,18 @@ const models::ReflectanceModel& sharpIsotropicWard() {
   return *model;
 }
 
-TEST(MaterialFit, ASharpIsotropicLobeIsFittedRoundNotStretched) {
-  const Abrdf table = models::tabulate(sharpIsotropicWard());
+// The lobe's candidates alone: a coat fits a sharp Ward's peak better than any one GGX lobe does,
+// and would be chosen on top (that is the coat's question, tested below).
+FitOptions lobeCandidatesOnly() {
   FitOptions options;
   options.trySheen = false;
+  options.tryCoat = false;
+  return options;
+}
+
+TEST(MaterialFit, ASharpIsotropicLobeIsFittedRoundNotStretched) {
+  const Abrdf table = models::tabulate(sharpIsotropicWard());
+  const FitOptions options = lobeCandidatesOnly();
   const FitResult r = fitMaterial(table, "glossy.exr", options);
   EXPECT_EQ(r.material.alphaTangent, r.material.alphaBitangent);
   EXPECT_FALSE(r.sigmas.tangentDeg.has_value());
@@ -91,8 +99,7 @@ TEST(MaterialFit, ASharpIsotropicLobeIsFittedRoundNotStretched) {
 TEST(MaterialFit, WithoutTheIsotropicCandidateTheSharpLobeIsStretched) {
   // Why the candidate exists: the same table, fitted free, ends up elongated (this is what the
   // fit did to 60 of 159 measured isotropic materials, docs/results).
-  FitOptions options;
-  options.trySheen = false;
+  FitOptions options = lobeCandidatesOnly();
   options.tryIsotropic = false;
   const FitResult r = fitMaterial(models::tabulate(sharpIsotropicWard()), "glossy.exr", options);
   EXPECT_GT(r.material.alphaTangent, 1.05 * r.material.alphaBitangent);
@@ -100,8 +107,7 @@ TEST(MaterialFit, WithoutTheIsotropicCandidateTheSharpLobeIsStretched) {
 }
 
 TEST(MaterialFit, AnAnisotropicLobeThatEarnsItsParametersIsKept) {
-  FitOptions options;
-  options.trySheen = false;
+  const FitOptions options = lobeCandidatesOnly();
   const FitResult r =
       fitMaterial(models::tabulate(*models::findMaterial("satin-red-90")), "satin.exr", options);
   EXPECT_GT(r.material.alphaTangent, 2.0 * r.material.alphaBitangent);
@@ -122,6 +128,53 @@ TEST(MaterialFit, VelvetChoosesTheSheenAndSaysWhy) {
   EXPECT_LT(r.metrics.deltaE, 0.5 * r.candidates.front().metrics.deltaE);
   EXPECT_NEAR(r.material.sheenRoughness, 0.3, 0.03);
   EXPECT_THAT(r.choiceReason, HasSubstr("ggx+sheen"));
+}
+
+// A lacquered red: a rough red base (round GGX 0.35, dielectric f0) under a glossy clear coat,
+// glTF's layering (fitted_material.hpp).
+FittedMaterial lacqueredRed() {
+  FittedMaterial m;
+  m.model = MaterialModel::GgxCoat;
+  m.diffuseAlbedo = {0.35, 0.05, 0.04};
+  m.specularF0 = Rgb::gray(0.04);
+  m.specularF90 = 1.0;
+  m.alphaTangent = m.alphaBitangent = 0.35;
+  m.coatWeight = 0.8;
+  m.coatAlpha = 0.06;
+  return m;
+}
+
+TEST(MaterialFit, ACoatedTableGivesItsCoatBack) {
+  const FittedMaterial truth = lacqueredRed();
+  const FitResult r = fitMaterial(tabulate(truth), "lacquer.exr");
+  EXPECT_EQ(r.material.model, MaterialModel::GgxCoat) << r.choiceReason;
+  EXPECT_NEAR(r.material.coatWeight, truth.coatWeight, 0.05 * truth.coatWeight);
+  EXPECT_NEAR(r.material.coatAlpha, truth.coatAlpha, 0.05 * truth.coatAlpha);
+  EXPECT_NEAR(r.material.alphaTangent, truth.alphaTangent, 0.05 * truth.alphaTangent);
+  EXPECT_LT(r.metrics.deltaE, 0.1);
+  ASSERT_TRUE(r.sigmas.coatWeight.has_value());
+  ASSERT_TRUE(r.sigmas.coatAlpha.has_value());
+  EXPECT_THAT(r.choiceReason, HasSubstr("the coat lowers"));
+  EXPECT_EQ(r.candidates.back().model, MaterialModel::GgxCoat);
+}
+
+TEST(MaterialFit, WithoutTheCoatCandidateTheCoatedTableFitsWorse) {
+  // Why the candidate exists: one GGX lobe cannot hold the coat's sharp peak over the rough base.
+  FitOptions options;
+  options.tryCoat = false;
+  const FitResult withoutCoat = fitMaterial(tabulate(lacqueredRed()), "lacquer.exr", options);
+  const FitResult withCoat = fitMaterial(tabulate(lacqueredRed()), "lacquer.exr");
+  EXPECT_FALSE(hasCoat(withoutCoat.material.model));
+  EXPECT_GT(withoutCoat.metrics.deltaE, 0.3);
+  EXPECT_LT(withCoat.metrics.deltaE, 0.1);
+}
+
+TEST(MaterialFit, AnUncoatedTableKeepsNoCoat) {
+  // satin-red-90 (a Ward lobe: the GGX fit misses by dE 2.3) is no better with a coat.
+  const FitResult r = fitMaterial(models::tabulate(*models::findMaterial("satin-red-90")),
+                                  "satin.exr");
+  EXPECT_FALSE(hasCoat(r.material.model)) << r.choiceReason;
+  EXPECT_THAT(r.choiceReason, HasSubstr("the coat does not earn its 2 parameters"));
 }
 
 TEST(MaterialFit, NegativeValueIsNotABrdf) {

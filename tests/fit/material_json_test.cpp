@@ -37,6 +37,7 @@ TEST(MaterialJson, SaysTheModelParametersUnitsConventionsAndMetrics) {
     EXPECT_FALSE(doc["parameters"][name]["unit"].get<std::string>().empty()) << name;
   }
   EXPECT_FALSE(doc["parameters"].contains("sheen_colour"));
+  EXPECT_FALSE(doc["parameters"].contains("coat_weight"));
   EXPECT_DOUBLE_EQ(doc["parameters"]["alpha_tangent"]["value"].get<double>(),
                    r.material.alphaTangent);
   EXPECT_DOUBLE_EQ(doc["parameters"]["tangent_deg"]["value"].get<double>(), r.material.tangentDeg);
@@ -46,6 +47,24 @@ TEST(MaterialJson, SaysTheModelParametersUnitsConventionsAndMetrics) {
   EXPECT_TRUE(doc["conventions"].contains("tangent"));
   EXPECT_TRUE(doc["conventions"].contains("roughness"));
   EXPECT_EQ(doc["candidates"].size(), r.candidates.size());
+}
+
+TEST(MaterialJson, ACoatSaysItsWeightAndAlphaWithUnits) {
+  FitResult r = steelFit();
+  r.material.model = MaterialModel::GgxCoat;
+  r.material.coatWeight = 0.9;
+  r.material.coatAlpha = 0.05;
+  r.sigmas.coatWeight = 0.01;
+  const auto doc = materialJson(r, "coated.exr");
+  EXPECT_EQ(doc["model"], "ggx+coat");
+  EXPECT_DOUBLE_EQ(doc["parameters"]["coat_weight"]["value"].get<double>(), 0.9);
+  EXPECT_DOUBLE_EQ(doc["parameters"]["coat_weight"]["sigma"].get<double>(), 0.01);
+  EXPECT_TRUE(doc["parameters"]["coat_alpha"]["sigma"].is_null());
+  EXPECT_DOUBLE_EQ(doc["parameters"]["coat_alpha"]["value"].get<double>(), 0.05);
+  EXPECT_NE(doc["parameters"]["coat_weight"]["unit"].get<std::string>().find("clearcoatFactor"),
+            std::string::npos);
+  EXPECT_NE(doc["conventions"]["brdf"].get<std::string>().find("coat"), std::string::npos);
+  EXPECT_FALSE(doc["parameters"].contains("sheen_colour"));
 }
 
 TEST(MaterialJson, FileIsReplacedWholeAndReadsBack) {

@@ -1,6 +1,7 @@
-// `slicecap fit`: a parametric material (diffuse + anisotropic GGX, optionally sheen) fitted to a
-// measured table, written as JSON (docs/material-fit.md), and optionally exported to glTF,
-// MaterialX and Mitsuba 3 (docs/material-export.md); given a material JSON, only the exports.
+// `slicecap fit`: a parametric material (diffuse + anisotropic GGX, optionally sheen and a clear
+// coat) fitted to a measured table, written as JSON (docs/material-fit.md), and optionally
+// exported to glTF, MaterialX and Mitsuba 3 (docs/material-export.md); given a material JSON, only
+// the exports.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -32,7 +33,8 @@ bool isMaterialJson(const std::filesystem::path& path) {
 int exportExisting(const ParsedArgs& args, Streams& io) {
   const std::filesystem::path input = args.positional[0];
   const MaterialExportPaths exports = materialExportPaths(args);
-  if (args.value("output") || args.flag("no-sheen") || args.value("max-iterations") ||
+  if (args.value("output") || args.flag("no-sheen") || args.flag("no-coat") ||
+      args.value("max-iterations") ||
       args.value("threads"))
     throw UsageError("fit: " + input.string() +
                      " is a fitted material: only --gltf, --mtlx and --mitsuba apply to it");
@@ -58,6 +60,7 @@ int run(const ParsedArgs& args, Streams& io) {
   refuseClashingPaths({{"the input", input}}, outputs);
   fit::FitOptions options;
   options.trySheen = !args.flag("no-sheen");
+  options.tryCoat = !args.flag("no-coat");
   const double iterations = args.number("max-iterations", options.maxIterations);
   if (!(iterations >= 1.0 && iterations <= 10000.0) || iterations != std::floor(iterations))
     throw UsageError("fit: --max-iterations must be a whole number from 1 to 10000");
@@ -82,7 +85,8 @@ int run(const ParsedArgs& args, Streams& io) {
 std::vector<OptionSpec> fitOptions() {
   std::vector<OptionSpec> options = {
       {"output", 'o', "MATERIAL.json", "where to write the fitted material (replaced whole)"},
-      {"no-sheen", 0, "", "fit diffuse + GGX only"},
+      {"no-sheen", 0, "", "no sheen term"},
+      {"no-coat", 0, "", "no clear coat"},
       {"max-iterations", 0, "N", "Levenberg-Marquardt iterations per solve (default 200)"},
       {"threads", 0, "N", "BTF_DIR: texels fitted at once (default: all cores)"}};
   for (OptionSpec& o : materialExportOptions()) options.push_back(std::move(o));
@@ -93,16 +97,16 @@ std::vector<OptionSpec> fitOptions() {
 
 Command fitCommand() {
   return {{"fit",
-           "TABLE.exr|TABLE.f32 -o MATERIAL.json [--no-sheen] [--max-iterations N]\n"
+           "TABLE.exr|TABLE.f32 -o MATERIAL.json [--no-sheen] [--no-coat] [--max-iterations N]\n"
            "                    [--gltf F.gltf|F.glb] [--mtlx F.mtlx] [--mitsuba F.xml]\n"
            "       slicecap fit MATERIAL.json [--gltf F.gltf|F.glb] [--mtlx F.mtlx] [--mitsuba F.xml]\n"
            "       slicecap fit BTF_DIR -o MAPS_DIR [--threads N] [--max-iterations N]",
            "Fit a parametric material to a measured table: diffuse RGB + anisotropic GGX (f0 RGB,\n"
-           "alpha along and across the tangent, tangent angle), plus a Charlie sheen term when it\n"
-           "lowers the fit's mean dE clearly. The JSON holds the parameters with units, conventions\n"
-           "and sigmas, every candidate's dE/RMSE/PSNR against the table and why the model was\n"
-           "chosen (docs/material-fit.md). Fails, writing nothing, on a table that is not a BRDF or\n"
-           "a fit that does not converge.\n"
+           "alpha along and across the tangent, tangent angle), plus a Charlie sheen term and a clear\n"
+           "coat (glTF's, IOR 1.5) each when it lowers the fit's mean dE clearly. The JSON holds the\n"
+           "parameters with units, conventions and sigmas, every candidate's dE/RMSE/PSNR against\n"
+           "the table and why the model was chosen (docs/material-fit.md). Fails, writing nothing,\n"
+           "on a table that is not a BRDF or a fit that does not converge.\n"
            "--gltf/--mtlx/--mitsuba also write the material for glTF viewers and Blender, MaterialX\n"
            "(OpenPBR) and Mitsuba 3, and print what each format cannot express\n"
            "(docs/material-export.md). Given a MATERIAL.json written by an earlier fit, only the\n"

@@ -16,6 +16,8 @@ namespace slicecap::fit::detail {
 inline constexpr int kGgxParameters = 10;
 /// \brief Parameter block of the sheen part: sheen colour RGB, log sheen roughness.
 inline constexpr int kSheenParameters = 4;
+/// \brief Parameter block of the clear coat: weight w, log alpha_c.
+inline constexpr int kCoatParameters = 2;
 
 /// \brief The fit's residuals (MaterialCost): per pair i and channel c,
 /// 255 srgbCurve(f_c(pair i) scale_i) - target_i,c, with f the FittedMaterial's BRDF.

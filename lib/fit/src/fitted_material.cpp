@@ -11,7 +11,26 @@
 namespace slicecap::fit {
 
 std::string_view toString(MaterialModel model) {
-  return model == MaterialModel::GgxSheen ? "ggx+sheen" : "ggx";
+  switch (model) {
+    case MaterialModel::GgxSheen: return "ggx+sheen";
+    case MaterialModel::GgxCoat: return "ggx+coat";
+    case MaterialModel::GgxSheenCoat: return "ggx+sheen+coat";
+    case MaterialModel::Ggx: break;
+  }
+  return "ggx";
+}
+
+bool hasSheen(MaterialModel model) {
+  return model == MaterialModel::GgxSheen || model == MaterialModel::GgxSheenCoat;
+}
+
+bool hasCoat(MaterialModel model) {
+  return model == MaterialModel::GgxCoat || model == MaterialModel::GgxSheenCoat;
+}
+
+MaterialModel modelWith(bool sheen, bool coat) {
+  if (sheen) return coat ? MaterialModel::GgxSheenCoat : MaterialModel::GgxSheen;
+  return coat ? MaterialModel::GgxCoat : MaterialModel::Ggx;
 }
 
 Rgb FittedMaterial::evaluate(const UnitVector& toLight, const UnitVector& toView) const {
@@ -19,13 +38,17 @@ Rgb FittedMaterial::evaluate(const UnitVector& toLight, const UnitVector& toView
   const double t = degToRad(tangentDeg);
   const double specular =
       detail::ggxSpecular(g, alphaTangent, alphaBitangent, std::cos(t), std::sin(t));
-  const double sheen =
-      model == MaterialModel::GgxSheen ? detail::sheenLobe(g, sheenRoughness) : 0.0;
+  const double sheen = hasSheen(model) ? detail::sheenLobe(g, sheenRoughness) : 0.0;
+  const bool coat = hasCoat(model);
+  const double coatShare = coat ? coatWeight * g.coatFresnel : 0.0;
+  const double coatLobe = coat ? detail::ggxSpecular(g, coatAlpha, coatAlpha, 1.0, 0.0) : 0.0;
   Rgb value;
   for (std::size_t c = 0; c < 3; ++c) {
-    value[c] = diffuseAlbedo[c] / std::numbers::pi +
-               (specularF0[c] + (specularF90 - specularF0[c]) * g.fresnelWeight) * specular +
-               sheenColour[c] * sheen;
+    const double base =
+        diffuseAlbedo[c] / std::numbers::pi +
+        (specularF0[c] + (specularF90 - specularF0[c]) * g.fresnelWeight) * specular +
+        sheenColour[c] * sheen;
+    value[c] = base * (1.0 - coatShare) + coatShare * coatLobe;
   }
   return value;
 }

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "slicecap/core/grid.hpp"
+#include "slicecap/fit/fitted_material.hpp"
 
 namespace slicecap::fit::detail {
 
@@ -16,6 +17,7 @@ struct PairGeometry {
   double fresnelWeight = 0.0;    ///< (1 - l.h)^5, rotation-invariant
   double sheenVisibility = 0.0;  ///< 1 / (4 (cos_i + cos_v - cos_i cos_v))
   double logSinSquaredHalf = 0.0;  ///< log(1 - h.z^2), floored so that it is finite
+  double coatFresnel = 0.0;  ///< the clear coat's Schlick 0.04 + 0.96 (1 - cos_v)^5
 };
 
 inline PairGeometry pairGeometry(const UnitVector& l, const UnitVector& v) {
@@ -31,6 +33,7 @@ inline PairGeometry pairGeometry(const UnitVector& l, const UnitVector& v) {
   // At h = n (light = view = normal) sin h = 0, and d/dr of 0^(1/r) is log(0): a floor far
   // below any value that matters keeps the Jacobian finite.
   g.logSinSquaredHalf = std::log(std::max(1.0 - g.half.z * g.half.z, 1e-12));
+  g.coatFresnel = kCoatF0 + (1.0 - kCoatF0) * std::pow(1.0 - std::clamp(v.z, 0.0, 1.0), 5.0);
   return g;
 }
 

@@ -8,8 +8,8 @@
 
 namespace slicecap::fit::detail {
 
-/// \brief All residuals of fitResiduals() in one cost: parameter blocks {ggx (9)} or
-/// {ggx (9), sheen (4)}.
+/// \brief All residuals of the fit in one cost: parameter blocks {ggx (10)}, then sheen (4) when
+/// `withSheen`, then coat (2) when `withCoat`, in that order.
 ///
 /// Why not ceres::AutoDiffCostFunction over fitResiduals: with 9 or 13 Jet dimensions every
 /// operation of every pair and channel carries 13 derivatives, although 10 of the parameters are
@@ -18,13 +18,14 @@ namespace slicecap::fit::detail {
 /// iteration, which is what brings one table's fit under a second.
 class MaterialCost final : public ceres::CostFunction {
  public:
-  MaterialCost(const FitData& data, bool withSheen);
+  MaterialCost(const FitData& data, bool withSheen, bool withCoat = false);
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
 
  private:
   const FitData& data_;
   bool withSheen_;
+  bool withCoat_;
 };
 
 }  // namespace slicecap::fit::detail

@@ -81,7 +81,11 @@ constexpr int kScoutIterations = 8;
 // GGX (the tangent's basins), one for the sheen (its starts differ in the specular, which the
 // scout has already settled; a second full solve doubled the velvet's time for the same answer).
 constexpr double kPolishCostFactor = 1.25;
-constexpr std::size_t kMaxPolishedGgx = 2, kMaxPolishedSheen = 1;
+constexpr std::size_t kMaxPolishedGgx = 2, kMaxPolishedSheen = 1, kMaxPolishedCoat = 2;
+// Coat starts: a sharp coat (a lacquer), a glossy one and a broad one, all at full weight.
+constexpr std::array<double, 3> kCoatStartAlphas{0.03, 0.1, 0.3};
+// How much broader the base lobe starts when the coat takes its place.
+constexpr std::array<double, 2> kCoatSwapBroadening{3.0, 8.0};
 
 // Two scouts are in the same basin when their lobes agree in canonical form (alphas within 10 %,
 // tangent within 5 deg): polishing both would find the same minimum twice.
@@ -99,7 +103,7 @@ bool sameBasin(const FitParameters& a, const FitParameters& b) {
 // how the best one ended).
 std::optional<CandidateFit> bestOf(const Abrdf& table, const FitData& data, const FitData& scoutData,
                                    const std::vector<FitParameters>& starts, int maxIterations,
-                                   std::string& failure) {
+                                   std::string& failure, std::size_t maxPolished = kMaxPolishedGgx) {
   std::vector<SolveOutcome> scouts;
   for (const FitParameters& start : starts)
     scouts.push_back(detail::solveFromStart(scoutData, start, std::min(kScoutIterations, maxIterations)));
@@ -110,7 +114,6 @@ std::optional<CandidateFit> bestOf(const Abrdf& table, const FitData& data, cons
   std::optional<SolveOutcome> best, bestUnconverged;
   std::size_t bestStart = order.front();
   int converged = 0;
-  const std::size_t maxPolished = starts.front().withSheen ? kMaxPolishedSheen : kMaxPolishedGgx;
   for (std::size_t rank = 0; rank < order.size() && rank < maxPolished; ++rank) {
     const std::size_t i = order[rank];
     if (rank > 0 && !(scouts[i].cost <= kPolishCostFactor * scouts[order.front()].cost)) break;
@@ -263,10 +266,10 @@ bool addSheenCandidate(const Abrdf& table, const FitData& data, const FitData& s
   const std::vector<FitParameters> sheenStarts =
       sheenStartsFrom(result.candidates[ggx].material, result.candidates[ggx].isotropicLobe);
   std::string sheenFailure;
-  std::optional<CandidateFit> sheen =
-      bestOf(table, data, scoutData, sheenStarts, options.maxIterations, sheenFailure);
+  std::optional<CandidateFit> sheen = bestOf(table, data, scoutData, sheenStarts,
+                                             options.maxIterations, sheenFailure, kMaxPolishedSheen);
   if (!sheen) {
-    result.choiceReason = "ggx: the ggx+sheen fit did not converge (" + sheenFailure + ")";
+    result.choiceReason = "the ggx+sheen fit did not converge (" + sheenFailure + ")";
     return false;
   }
   result.candidates.push_back(*sheen);
@@ -278,11 +281,80 @@ bool addSheenCandidate(const Abrdf& table, const FitData& data, const FitData& s
   const std::string rule =
       ruleText("ggx", options.sheenMaximumDeltaEFraction, options.sheenMinimumGainDeltaE);
   if (earns) {
-    result.choiceReason = "ggx+sheen: the sheen term lowers " + figures + "; " + rule;
+    result.choiceReason = "the sheen term lowers " + figures + "; " + rule;
   } else {
-    result.choiceReason = "ggx: the sheen term does not earn its 4 parameters, " + figures +
-                          "; " + rule;
+    result.choiceReason = "the sheen term does not earn its 4 parameters, " + figures + "; " + rule;
   }
+  return earns;
+}
+
+// The coat's starts, from the candidate `base` (its sheen too): a sharp, a glossy and a broad coat
+// at full weight over the base as fitted; the base itself with no coat yet (the coat candidate then
+// starts no worse than the base); and the roles swapped: the coat takes the base's lobe, whose
+// alpha is broadened. Why the swap: over a faint rough lobe (a lacquered dielectric) the one-lobe
+// fit spends its lobe on the coat's sharp highlight, and from there a coat start settles with the
+// coat as the rough lobe and the sharp one left in the base (a lacquered red: dE 0.33 instead of 0).
+std::vector<FitParameters> coatStartsFrom(const CandidateFit& base) {
+  const FittedMaterial& m = base.material;
+  FitParameters p = detail::ggxParametersOf(m);
+  p.isotropic = base.isotropicLobe;
+  p.withSheen = hasSheen(m.model);
+  if (p.withSheen)
+    p.sheen = {m.sheenColour[0], m.sheenColour[1], m.sheenColour[2], std::log(m.sheenRoughness)};
+  p.withCoat = true;
+  std::vector<FitParameters> starts;
+  for (double alpha : kCoatStartAlphas) {
+    p.coat = {1.0, std::log(alpha)};
+    starts.push_back(p);
+  }
+  FitParameters noCoatYet = p;
+  noCoatYet.coat = {0.0, std::log(kCoatStartAlphas[1])};
+  starts.push_back(noCoatYet);
+  // The swap: a coat whose weight gives the lobe's reflectance face on, as far as a coat of F0 0.04
+  // reaches; the base lobe broadened by each factor (up to alpha 1), its colours kept.
+  const double lobeAlpha = std::sqrt(m.alphaTangent * m.alphaBitangent);
+  p.coat = {std::clamp(m.specularF0.maxChannel() / kCoatF0, 0.05, 1.0), std::log(lobeAlpha)};
+  for (double factor : kCoatSwapBroadening) {
+    FitParameters swapped = p;
+    swapped.ggx[6] = std::log(std::min(m.alphaTangent * factor, 1.0));
+    swapped.ggx[7] = std::log(std::min(m.alphaBitangent * factor, 1.0));
+    starts.push_back(swapped);
+  }
+  return starts;
+}
+
+// Fits the coat on top of the candidate chosen so far (result.candidates[base]) and appends it
+// when it converged. Returns whether the coat earns its 2 parameters; `reason` says why.
+bool addCoatCandidate(const Abrdf& table, const FitData& data, const FitData& scoutData,
+                      const FitOptions& options, std::size_t base, FitResult& result,
+                      std::string& reason) {
+  const CandidateFit& baseFit = result.candidates[base];
+  const double baseDeltaE = baseFit.metrics.deltaE;
+  const std::string baseName(toString(baseFit.model));
+  if (baseDeltaE < options.coatMinimumGainDeltaE) {
+    reason = "coat not tried (dE " + fixed2(baseDeltaE) + " is below the gain of " +
+             fixed2(options.coatMinimumGainDeltaE) + " it would have to bring)";
+    return false;
+  }
+  std::string failure;
+  std::optional<CandidateFit> coat = bestOf(table, data, scoutData, coatStartsFrom(baseFit),
+                                            options.maxIterations, failure, kMaxPolishedCoat);
+  if (!coat) {
+    reason = "the " + baseName + "+coat fit did not converge (" + failure + ")";
+    return false;
+  }
+  result.candidates.push_back(*coat);
+  const double coatDeltaE = coat->metrics.deltaE;
+  const bool earns = earnsItsParameters(coatDeltaE, baseDeltaE, options.coatMaximumDeltaEFraction,
+                                        options.coatMinimumGainDeltaE);
+  const std::string figures = "mean dE " + fixed2(baseDeltaE) + " (" + baseName + ") -> " +
+                              fixed2(coatDeltaE) + " (" + std::string(toString(coat->model)) +
+                              ", weight " + fixed2(coat->material.coatWeight) + ", alpha " +
+                              fixed2(coat->material.coatAlpha) + "); " +
+                              ruleText(baseName, options.coatMaximumDeltaEFraction,
+                                       options.coatMinimumGainDeltaE);
+  reason = earns ? "the coat lowers " + figures
+                 : "the coat does not earn its 2 parameters, " + figures;
   return earns;
 }
 
@@ -304,19 +376,22 @@ FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOpti
           ? addIsotropicCandidate(table, data, scoutData, options, result, lobeReason)
           : 0;
   std::size_t chosen = ggx;
-  result.choiceReason = "ggx: sheen not tried";
+  result.choiceReason = "sheen not tried";
 
   const double ggxDeltaE = result.candidates[ggx].metrics.deltaE;
   if (options.trySheen && ggxDeltaE < options.sheenMinimumGainDeltaE) {
     // The rule could not choose the sheen: skip its solves (most of the fit's time).
-    result.choiceReason = "ggx: its mean dE " + fixed2(ggxDeltaE) +
-                          " is already below the gain of " +
+    result.choiceReason = "its mean dE " + fixed2(ggxDeltaE) + " is already below the gain of " +
                           fixed2(options.sheenMinimumGainDeltaE) +
                           " a sheen term would have to bring; ggx+sheen not tried";
   } else if (options.trySheen && addSheenCandidate(table, data, scoutData, options, ggx, result)) {
     chosen = result.candidates.size() - 1;
   }
-  result.choiceReason += "; " + lobeReason;
+  std::string coatReason = "coat not tried";
+  if (options.tryCoat && addCoatCandidate(table, data, scoutData, options, chosen, result, coatReason))
+    chosen = result.candidates.size() - 1;
+  result.choiceReason = std::string(toString(result.candidates[chosen].model)) + ": " +
+                        result.choiceReason + "; " + coatReason + "; " + lobeReason;
   const CandidateFit& chosenFit = result.candidates[chosen];
   result.material = chosenFit.material;
   result.sigmas = chosenFit.sigmas;

@@ -48,11 +48,18 @@ json parametersJson(const FittedMaterial& m, const ParameterSigmas& s) {
        scalarParameter(m.tangentDeg, s.tangentDeg,
                        "deg, counter-clockwise from the table's azimuth-0 axis, [0, 180)")},
   };
-  if (m.model == MaterialModel::GgxSheen) {
+  if (hasSheen(m.model)) {
     p["sheen_colour"] = rgbParameter(m.sheenColour, s.sheenColour,
                                      "Charlie sheen tint, linear RGB (multiplies D_sheen V)");
     p["sheen_roughness"] = scalarParameter(m.sheenRoughness, s.sheenRoughness,
                                            "Charlie roughness r (lobe sin^(1/r) theta_h), 0..1");
+  }
+  if (hasCoat(m.model)) {
+    p["coat_weight"] = scalarParameter(m.coatWeight, s.coatWeight,
+                                       "clear coat weight w, 0..1 (glTF KHR_materials_clearcoat "
+                                       "clearcoatFactor)");
+    p["coat_alpha"] = scalarParameter(m.coatAlpha, s.coatAlpha,
+                                      "GGX alpha of the isotropic coat lobe (= clearcoatRoughness^2)");
   }
   return p;
 }
@@ -87,7 +94,9 @@ json materialJson(const FitResult& result, const std::string& source) {
         {"roughness", "alpha convention: alpha = perceptual roughness^2"},
         {"brdf", "diffuse_albedo / pi + F_schlick(specular_f0, specular_f90, l.h) D_ggx G2_smith_height_"
                  "correlated / (4 cos_i cos_v) [+ sheen_colour D_charlie / (4 (cos_i + cos_v - "
-                 "cos_i cos_v))]"},
+                 "cos_i cos_v))]; with a coat, base (1 - w Fc) + w Fc D_ggx(coat_alpha) G2 / "
+                 "(4 cos_i cos_v), Fc = 0.04 + 0.96 (1 - cos_v)^5 (glTF KHR_materials_clearcoat, "
+                 "IOR 1.5), w = coat_weight"},
         {"sigma", "one standard deviation from the Jacobian at the solution, treating the misfit "
                   "as noise; null where the table does not determine the parameter"}}},
       {"parameters", parametersJson(result.material, result.sigmas)},

@@ -11,7 +11,7 @@ namespace slicecap::fit::detail {
 
 FittedMaterial materialOf(const FitParameters& p) {
   FittedMaterial m;
-  m.model = p.withSheen ? MaterialModel::GgxSheen : MaterialModel::Ggx;
+  m.model = modelWith(p.withSheen, p.withCoat);
   m.diffuseAlbedo = {p.ggx[0], p.ggx[1], p.ggx[2]};
   m.specularF0 = {p.ggx[3], p.ggx[4], p.ggx[5]};
   m.alphaTangent = std::exp(p.ggx[6]);
@@ -21,6 +21,10 @@ FittedMaterial materialOf(const FitParameters& p) {
   if (p.withSheen) {
     m.sheenColour = {p.sheen[0], p.sheen[1], p.sheen[2]};
     m.sheenRoughness = std::exp(p.sheen[3]);
+  }
+  if (p.withCoat) {
+    m.coatWeight = p.coat[0];
+    m.coatAlpha = std::exp(p.coat[1]);
   }
   return m.canonical();
 }
@@ -35,10 +39,12 @@ FitParameters ggxParametersOf(const FittedMaterial& m) {
 }
 
 double rmseLevels(const FitData& data, const FitParameters& p) {
-  const MaterialCost cost(data, p.withSheen);
+  const MaterialCost cost(data, p.withSheen, p.withCoat);
   std::vector<double> residuals(static_cast<std::size_t>(data.residualCount()));
-  const double* blocks[2] = {p.ggx.data(), p.sheen.data()};
-  cost.Evaluate(blocks, residuals.data(), nullptr);
+  std::vector<const double*> blocks{p.ggx.data()};
+  if (p.withSheen) blocks.push_back(p.sheen.data());
+  if (p.withCoat) blocks.push_back(p.coat.data());
+  cost.Evaluate(blocks.data(), residuals.data(), nullptr);
   double sum = 0.0;
   for (double r : residuals) sum += r * r;
   return std::sqrt(sum / static_cast<double>(residuals.size()));

@@ -61,6 +61,11 @@ ParameterSigmas parameterSigmas(const FitData& data, const SolveOutcome& solutio
       s.sheenColour[static_cast<std::size_t>(c)] = sigma(10 + c, 1.0);
     s.sheenRoughness = sigma(13, material.sheenRoughness);
   }
+  if (solution.parameters.withCoat) {
+    const Eigen::Index coat = solution.parameters.coatOffset();
+    s.coatWeight = sigma(coat, 1.0);
+    s.coatAlpha = sigma(coat + 1, material.coatAlpha);
+  }
   return s;
 }
 

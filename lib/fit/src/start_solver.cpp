@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include "material_cost.hpp"
 
@@ -65,6 +66,7 @@ struct BuiltProblem {
   std::unique_ptr<ceres::Problem> problem;
   double* ggx;
   double* sheen;
+  double* coat;
 };
 
 }  // namespace
@@ -84,13 +86,12 @@ namespace {
 
 BuiltProblem buildProblem(const FitData& data, FitParameters& p) {
   BuiltProblem built{std::make_unique<ceres::Problem>(), p.ggx.data(),
-                     p.withSheen ? p.sheen.data() : nullptr};
+                     p.withSheen ? p.sheen.data() : nullptr, p.withCoat ? p.coat.data() : nullptr};
   ceres::Problem& problem = *built.problem;
-  if (p.withSheen) {
-    problem.AddResidualBlock(new MaterialCost(data, true), nullptr, built.ggx, built.sheen);
-  } else {
-    problem.AddResidualBlock(new MaterialCost(data, false), nullptr, built.ggx);
-  }
+  std::vector<double*> blocks{built.ggx};
+  if (p.withSheen) blocks.push_back(built.sheen);
+  if (p.withCoat) blocks.push_back(built.coat);
+  problem.AddResidualBlock(new MaterialCost(data, p.withSheen, p.withCoat), nullptr, blocks);
   boundGgxBlock(problem, built.ggx);
   if (p.isotropic) {
     p.ggx[7] = p.ggx[6];  // the manifold moves them together: they must start equal
@@ -100,6 +101,12 @@ BuiltProblem buildProblem(const FitData& data, FitParameters& p) {
     for (int i = 0; i < 3; ++i) problem.SetParameterLowerBound(built.sheen, i, 0.0);
     problem.SetParameterLowerBound(built.sheen, 3, std::log(kMinimumSheenRoughness));
     problem.SetParameterUpperBound(built.sheen, 3, std::log(kMaximumSheenRoughness));
+  }
+  if (p.withCoat) {
+    problem.SetParameterLowerBound(built.coat, 0, 0.0);
+    problem.SetParameterUpperBound(built.coat, 0, 1.0);
+    problem.SetParameterLowerBound(built.coat, 1, std::log(kMinimumAlpha));
+    problem.SetParameterUpperBound(built.coat, 1, std::log(kMaximumAlpha));
   }
   return built;
 }

@@ -11,15 +11,22 @@
 
 namespace slicecap::fit::detail {
 
-/// \brief The parameters of one solve: the GGX block always, the sheen block when `withSheen`.
+/// \brief The parameters of one solve: the GGX block always, the sheen block when `withSheen`, the
+/// coat block when `withCoat`.
 /// `isotropic`: the solve keeps the two alphas equal (their logs start equal and move together)
 /// and the tangent where it starts, so the lobe has one roughness and no direction.
 struct FitParameters {
   std::array<double, kGgxParameters> ggx{};
   std::array<double, kSheenParameters> sheen{};
+  std::array<double, kCoatParameters> coat{};
   bool withSheen = false;
+  bool withCoat = false;
   bool isotropic = false;
-  int count() const { return withSheen ? kGgxParameters + kSheenParameters : kGgxParameters; }
+  int count() const {
+    return kGgxParameters + (withSheen ? kSheenParameters : 0) + (withCoat ? kCoatParameters : 0);
+  }
+  /// \brief Index of the coat block's first parameter among all of count().
+  int coatOffset() const { return kGgxParameters + (withSheen ? kSheenParameters : 0); }
 };
 
 struct SolveOutcome {
@@ -31,7 +38,7 @@ struct SolveOutcome {
 };
 
 /// \brief Solves from `start` (bounds: albedo and sheen >= 0, f0 and f90 in [0, 1], alphas in
-/// [0.002, 2], sheen roughness in [0.05, 1]). Converged: the cost's relative change in an
+/// [0.002, 2], sheen roughness in [0.05, 1], coat weight in [0, 1], coat alpha in [0.002, 2]). Converged: the cost's relative change in an
 /// iteration fell below `functionTolerance`. `initialTrustRegionRadius` is Levenberg-Marquardt's
 /// first step bound (Ceres' default 1e4: a start far from the solution). Never throws for a bad
 /// fit: see `converged`.

@@ -210,6 +210,7 @@ std::optional<WarmStart> TextureFitter::fitTexel(const Abrdf& table, int x, int 
   try {
     FitOptions multi;
     multi.trySheen = false;
+    multi.tryCoat = false;  // no coat maps: a texel's fit is one GGX lobe on its base
     // The tilted solve below frees the lobe again, so a round start would only cost a solve;
     // whether a texel's anisotropy earns its parameters is not decided in texture mode yet.
     multi.tryIsotropic = false;

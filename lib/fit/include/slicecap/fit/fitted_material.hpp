@@ -1,5 +1,5 @@
 // The parametric material `slicecap fit` produces: Lambertian diffuse + anisotropic GGX + optional
-// sheen, with the conventions the JSON and the exports rely on.
+// sheen + optional clear coat, with the conventions the JSON and the exports rely on.
 #pragma once
 
 #include <string_view>
@@ -11,10 +11,18 @@
 namespace slicecap::fit {
 
 /// \brief Which terms a fitted material has.
-enum class MaterialModel { Ggx, GgxSheen };
+enum class MaterialModel { Ggx, GgxSheen, GgxCoat, GgxSheenCoat };
 
-/// \brief "ggx" or "ggx+sheen" (the spelling of the JSON's "model").
+/// \brief "ggx", "ggx+sheen", "ggx+coat" or "ggx+sheen+coat" (the spelling of the JSON's "model").
 std::string_view toString(MaterialModel model);
+bool hasSheen(MaterialModel model);
+bool hasCoat(MaterialModel model);
+/// \brief The model with the given terms.
+MaterialModel modelWith(bool sheen, bool coat);
+
+/// \brief The clear coat's Schlick reflectance at normal incidence: a dielectric of IOR 1.5, glTF
+/// KHR_materials_clearcoat's fixed coat IOR ((1.5 - 1) / (1.5 + 1))^2.
+inline constexpr double kCoatF0 = 0.04;
 
 /// \brief f_r(l, v) = diffuse / pi + F(l.h) D(h) G2(l, v) / (4 cos_i cos_v) + sheen term, 1/sr.
 ///
@@ -26,7 +34,13 @@ std::string_view toString(MaterialModel model);
 /// = 0 removes it: without it no fit could describe a material with no specular (a velvet, a
 /// matte paint), whose Schlick edge would otherwise always reflect.
 /// Sheen: the "Charlie" distribution (Estevez and Kulla 2017) with the visibility
-/// 1 / (4 (cos_i + cos_v - cos_i cos_v)), as models::makeSheen; zero when the model is Ggx.
+/// 1 / (4 (cos_i + cos_v - cos_i cos_v)), as models::makeSheen; zero when the model has none.
+///
+/// Clear coat (models ending in "+coat"): glTF KHR_materials_clearcoat's layering with its fixed
+/// IOR 1.5, so that the glTF export is the fitted material and not an approximation of it:
+/// f_r = base (1 - w Fc) + w Fc D_ggx(alpha_c) G2(alpha_c) / (4 cos_i cos_v), with base the terms
+/// above, w = coatWeight, Fc = 0.04 + 0.96 (1 - cos_v)^5 (the view's cosine with the normal, as
+/// the extension's fresnel_coat, not l.h) and an isotropic GGX lobe of alpha coatAlpha.
 ///
 /// Conventions (canonical(), what every fit returns): the tangent lies at `tangentDeg`
 /// counter-clockwise from the table's azimuth-0 axis (x of the Bonn grid, docs/method.md §1.2), in
@@ -43,6 +57,8 @@ struct FittedMaterial {
   double tangentDeg = 0.0;     ///< tangent azimuth, deg, counter-clockwise from x
   Rgb sheenColour;             ///< sheen tint (zero for Ggx)
   double sheenRoughness = 0.5; ///< Charlie roughness r (exponent 1 / r); unused for Ggx
+  double coatWeight = 0.0;     ///< clear coat weight w, [0, 1] (glTF clearcoatFactor)
+  double coatAlpha = 0.1;      ///< GGX alpha of the isotropic coat lobe (clearcoatRoughness^2)
 
   /// \brief f_r for unit vectors toward the light and the viewer (z > 0), 1/sr.
   Rgb evaluate(const UnitVector& toLight, const UnitVector& toView) const;

@@ -41,6 +41,12 @@ struct FitOptions {
   bool tryIsotropic = true;
   double anisotropyMaximumDeltaEFraction = 0.9;
   double anisotropyMinimumGainDeltaE = 0.1;
+  /// \brief Also fit a clear coat on top of the model chosen so far (GGX or GGX + sheen) and keep
+  /// it by the same rule: a lacquer, a varnish, a glazed print have a sharp reflection of the coat
+  /// above a rougher base that one GGX lobe cannot hold.
+  bool tryCoat = true;
+  double coatMaximumDeltaEFraction = 0.9;
+  double coatMinimumGainDeltaE = 0.1;
 };
 
 /// \brief One standard deviation of each parameter, in the parameter's own unit, from the
@@ -50,6 +56,7 @@ struct FitOptions {
 struct ParameterSigmas {
   std::array<std::optional<double>, 3> diffuseAlbedo, specularF0, sheenColour;
   std::optional<double> specularF90, alphaTangent, alphaBitangent, tangentDeg, sheenRoughness;
+  std::optional<double> coatWeight, coatAlpha;
 };
 
 /// \brief How one candidate model fitted.
@@ -71,7 +78,8 @@ struct FitResult {
   ParameterSigmas sigmas;
   eval::Metrics metrics;
   /// \brief ggx first, then the isotropic ggx when tried, then ggx+sheen when tried (from the
-  /// ggx candidate kept, with its lobe's isotropy).
+  /// ggx candidate kept, with its lobe's isotropy), then the coat on the model chosen so far when
+  /// tried.
   std::vector<CandidateFit> candidates;
   std::string choiceReason;              ///< why this model, in a sentence
 };
@@ -85,8 +93,8 @@ struct FitResult {
 /// a bounded Levenberg-Marquardt solve (Ceres, dense, one thread, automatic derivatives).
 ///
 /// Throws FitError naming `name` when the table holds a negative or non-finite value or no
-/// positive one (not a BRDF), or when no full GGX solve converged within maxIterations (a sheen
-/// candidate that does not converge is only left out, and choiceReason says so);
+/// positive one (not a BRDF), or when no full GGX solve converged within maxIterations (a sheen or
+/// coat candidate that does not converge is only left out, and choiceReason says so);
 /// std::invalid_argument for options with no start or fewer than one iteration.
 FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOptions& options = {});
 
