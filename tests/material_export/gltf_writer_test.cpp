@@ -66,6 +66,21 @@ TEST(GltfWriter, DocumentHasTheMaterialExtensionsAndConsistentBuffers) {
   EXPECT_FALSE(asset.report.losses.empty());
 }
 
+TEST(GltfWriter, ACoatIsKhrMaterialsClearcoat) {
+  fit::FittedMaterial m = velvet();
+  EXPECT_FALSE(gltfAsset(m, "v.json").document["materials"][0]["extensions"].contains(
+      "KHR_materials_clearcoat"));
+  m.model = fit::MaterialModel::GgxSheenCoat;
+  m.coatWeight = 0.9;
+  m.coatAlpha = 0.04;
+  const auto& d = gltfAsset(m, "coated.json").document;
+  std::vector<std::string> used = d["extensionsUsed"];
+  EXPECT_NE(std::find(used.begin(), used.end(), "KHR_materials_clearcoat"), used.end());
+  const auto& coat = d["materials"][0]["extensions"]["KHR_materials_clearcoat"];
+  EXPECT_DOUBLE_EQ(coat["clearcoatFactor"].get<double>(), 0.9);
+  EXPECT_NEAR(coat["clearcoatRoughnessFactor"].get<double>(), 0.2, 1e-12);
+}
+
 TEST(GltfWriter, TextEmbedsTheBufferAsADataUri) {
   const GltfAsset asset = gltfAsset(velvet(), "velvet.json");
   const auto d = nlohmann::json::parse(gltfText(asset));

@@ -94,5 +94,35 @@ TEST(MaterialReader, RefusesWhatIsNotACompletedFit) {
   expectRefused(writeDocument(dir, d), "malformed");
 }
 
+fit::FitResult coatedSheenFit() {
+  fit::FitResult r = sheenFit();
+  r.material.model = fit::MaterialModel::GgxSheenCoat;
+  r.material.coatWeight = 0.85;
+  r.material.coatAlpha = 0.04;
+  return r;
+}
+
+TEST(MaterialReader, RoundTripsACoatAndRefusesABadOne) {
+  const auto dir = test::freshTempDir();
+  fit::writeMaterialJson(dir / "m.json", fit::materialJson(coatedSheenFit(), "t.exr"));
+  const fit::FittedMaterial m = readFittedMaterial(dir / "m.json");
+  EXPECT_EQ(m.model, fit::MaterialModel::GgxSheenCoat);
+  EXPECT_DOUBLE_EQ(m.coatWeight, 0.85);
+  EXPECT_DOUBLE_EQ(m.coatAlpha, 0.04);
+  EXPECT_DOUBLE_EQ(m.sheenRoughness, 0.3);
+
+  const nlohmann::ordered_json good = fit::materialJson(coatedSheenFit(), "t.exr");
+  auto d = good;
+  d["parameters"].erase("coat_alpha");
+  expectRefused(writeDocument(dir, d), "coat_alpha");
+  d = good;
+  d["parameters"]["coat_weight"]["value"] = 1.2;
+  expectRefused(writeDocument(dir, d), "coat_weight");
+  // A coat's parameters under a model without one are not read: the model says the terms.
+  d = good;
+  d["model"] = "ggx+sheen";
+  EXPECT_EQ(readFittedMaterial(writeDocument(dir, d)).model, fit::MaterialModel::GgxSheen);
+}
+
 }  // namespace
 }  // namespace slicecap::material_export

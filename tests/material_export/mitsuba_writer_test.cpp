@@ -136,5 +136,49 @@ TEST(MitsubaWriter, SheenWithNoRoomIsDroppedAndTheSnippetIsTheGgxOne) {
   EXPECT_EQ(e.text, mitsubaSnippet(ggx, "v.json").text);
 }
 
+fit::FittedMaterial lacquer() {
+  fit::FittedMaterial m = paint();
+  m.model = fit::MaterialModel::GgxCoat;
+  m.diffuseAlbedo = Rgb{0.2, 0.1, 0.05};
+  m.coatWeight = 0.5;
+  m.coatAlpha = 0.04;
+  return m;
+}
+
+TEST(MitsubaWriter, CoatIsBlendedAroundTheRestWhichStaysTheFitsSum) {
+  const MitsubaExport e = mitsubaSnippet(lacquer(), "l.json");
+  // The outer blend: the coat's weight, 0.5 (room: 1 - 0.2 - 0.05).
+  const double c = values(e.text, "weight", 0).at(0);
+  EXPECT_NEAR(c, 0.5, 1e-9);
+  // Inside, the diffuse + GGX blend divided by (1 - c): the fit's albedo and grazing value again.
+  const double w = values(e.text, "weight", 1).at(0);
+  EXPECT_NEAR((1.0 - c) * (1.0 - w) * values(e.text, "reflectance").at(0), 0.2, 1e-5);
+  EXPECT_NEAR((1.0 - c) * w, 0.3, 1e-5);
+  EXPECT_FALSE(hasLoss(e, LossKind::SpecularColourAtGrazing));
+  // The coat: a roughconductor after the GGX one, of the coat's alpha and a dielectric's eta.
+  EXPECT_NEAR(values(e.text, "alpha").at(0), 0.04, 1e-12);
+  EXPECT_NEAR(values(e.text, "eta", 1).at(0), 1.5, 1e-12);
+  // One BSDF is the material the scene refers to: the outer blend.
+  const std::string outer = "<bsdf type=\"blendbsdf\" id=\"slicecap_fit\">";
+  ASSERT_NE(e.text.find(outer), std::string::npos);
+  EXPECT_EQ(e.text.find(outer), e.text.rfind(outer));
+  EXPECT_EQ(e.text.find("id=\"slicecap_fit\">"), e.text.rfind("id=\"slicecap_fit\">"));
+  EXPECT_TRUE(hasLoss(e, LossKind::CoatForm));
+  for (double r : values(e.text, "reflectance")) EXPECT_LE(r, 1.0);
+}
+
+TEST(MitsubaWriter, ACoatWithNoRoomIsReducedAndSaysSo) {
+  fit::FittedMaterial m = lacquer();
+  m.coatWeight = 0.9;  // the room is 1 - 0.2 - 0.05 = 0.75
+  const MitsubaExport e = mitsubaSnippet(m, "l.json");
+  EXPECT_NEAR(values(e.text, "weight", 0).at(0), 0.75, 1e-9);
+  EXPECT_TRUE(std::any_of(e.report.losses.begin(), e.report.losses.end(),
+                          [](const ConversionLoss& l) {
+                            return l.kind == LossKind::CoatForm &&
+                                   l.detail.find("reduced to 0.75") != std::string::npos;
+                          }));
+  for (double r : values(e.text, "reflectance")) EXPECT_LE(r, 1.0 + 1e-9);
+}
+
 }  // namespace
 }  // namespace slicecap::material_export

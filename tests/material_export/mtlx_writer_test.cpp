@@ -82,5 +82,22 @@ TEST(MtlxWriter, SheenBecomesFuzz) {
   EXPECT_NEAR(inputValue(e.text, "<standard_surface", "sheen_roughness"), 0.4, 1e-9);
 }
 
+TEST(MtlxWriter, CoatBecomesBothSurfacesCoatOfIor15) {
+  fit::FittedMaterial m = brushed();
+  EXPECT_EQ(mtlxDocument(m, "b.json").text.find("coat"), std::string::npos);
+  m.model = fit::MaterialModel::GgxCoat;
+  m.coatWeight = 0.8;
+  m.coatAlpha = 0.09;
+  const MtlxExport e = mtlxDocument(m, "b.json");
+  EXPECT_NEAR(inputValue(e.text, "<open_pbr_surface", "coat_weight"), 0.8, 1e-9);
+  EXPECT_NEAR(inputValue(e.text, "<open_pbr_surface", "coat_roughness"), 0.3, 1e-9);
+  EXPECT_NEAR(inputValue(e.text, "<open_pbr_surface", "coat_ior"), 1.5, 1e-9);
+  EXPECT_NEAR(inputValue(e.text, "<standard_surface", "coat"), 0.8, 1e-9);
+  EXPECT_NEAR(inputValue(e.text, "<standard_surface", "coat_roughness"), 0.3, 1e-9);
+  EXPECT_NEAR(inputValue(e.text, "<standard_surface", "coat_IOR"), 1.5, 1e-9);
+  EXPECT_TRUE(std::any_of(e.report.losses.begin(), e.report.losses.end(),
+                          [](const ConversionLoss& l) { return l.kind == LossKind::CoatForm; }));
+}
+
 }  // namespace
 }  // namespace slicecap::material_export

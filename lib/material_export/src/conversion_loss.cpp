@@ -14,6 +14,7 @@ std::string_view toString(LossKind kind) {
     case LossKind::SheenDropped: return "sheen-dropped";
     case LossKind::ShadowingForm: return "shadowing-form";
     case LossKind::TangentFromMesh: return "tangent-from-mesh";
+    case LossKind::CoatForm: return "coat-form";
   }
   return "unknown";
 }

@@ -1,6 +1,6 @@
 // glTF's BRDF from its factors (KHR_materials_anisotropy README, "Implementation"; KHR_materials_
-// specular README, "Implementation"; KHR_materials_sheen, the albedo scaling), for measuring the
-// glTF export against the fit.
+// specular README, "Implementation"; KHR_materials_sheen, the albedo scaling; KHR_materials_
+// clearcoat, "Layering"), for measuring the glTF export against the fit.
 #include "slicecap/material_export/gltf_brdf.hpp"
 
 #include <algorithm>
@@ -16,6 +16,18 @@ UnitVector halfVector(const UnitVector& l, const UnitVector& v) {
   const double x = l.x + v.x, y = l.y + v.y, z = l.z + v.z;
   const double n = std::sqrt(x * x + y * y + z * z);
   return {x / n, y / n, z / n};
+}
+
+// glTF 2.0 Appendix B's isotropic D_GGX V_GGX (the clear coat's lobe), alpha = roughness^2.
+double isotropicGgx(const UnitVector& l, const UnitVector& v, double roughness) {
+  const UnitVector h = halfVector(l, v);
+  const double a2 = std::max(std::pow(roughness, 4), 1e-14);
+  const double denominator = h.z * h.z * (a2 - 1.0) + 1.0;
+  const double d = a2 / (std::numbers::pi * denominator * denominator);
+  const double lengthV = std::sqrt(v.z * v.z * (1.0 - a2) + a2);
+  const double lengthL = std::sqrt(l.z * l.z * (1.0 - a2) + a2);
+  const double visibility = 0.5 / (l.z * lengthV + v.z * lengthL);
+  return d * visibility;
 }
 
 }  // namespace
@@ -89,6 +101,12 @@ Rgb GltfBrdf::evaluate(const UnitVector& l, const UnitVector& v) const {
     const double fresnel = f0 + (g.specularFactor - f0) * weight;
     const double base = g.baseColorFactor[c] / std::numbers::pi * (1.0 - fresnel) + fresnel * d * visibility;
     out[c] = g.sheenColorFactor[c] * sheen + scaling * base;
+  }
+  if (g.hasClearcoat) {
+    const double coatFresnel = 0.04 + 0.96 * std::pow(1.0 - std::clamp(v.z, 0.0, 1.0), 5.0);
+    const double share = g.clearcoatFactor * coatFresnel;
+    const double coat = isotropicGgx(l, v, g.clearcoatRoughnessFactor);
+    for (std::size_t c = 0; c < 3; ++c) out[c] = out[c] * (1.0 - share) + share * coat;
   }
   return out;
 }

@@ -152,6 +152,21 @@ void mapSheen(const fit::FittedMaterial& m, GltfMaterial& g, Losses& losses) {
   raiseBaseUnderSheen(g);
 }
 
+// The coat of a "+coat" fit: the fit's coat is the extension's layering, only its roughness can
+// exceed what the extension holds.
+void mapCoat(const fit::FittedMaterial& m, GltfMaterial& g, Losses& losses) {
+  g.hasClearcoat = true;
+  g.clearcoatFactor = m.coatWeight;
+  double alpha = m.coatAlpha;
+  if (alpha > 1.0) {
+    losses.push_back({LossKind::RoughnessClamped,
+                      "coat alpha " + format(alpha) +
+                          " > 1: clearcoatRoughnessFactor is capped at 1 (alpha 1)"});
+    alpha = 1.0;
+  }
+  g.clearcoatRoughnessFactor = std::sqrt(alpha);
+}
+
 }  // namespace
 
 GltfConversion toGltfMaterial(const fit::FittedMaterial& fitted) {
@@ -162,7 +177,8 @@ GltfConversion toGltfMaterial(const fit::FittedMaterial& fitted) {
   mapLobe(m, out.material, out.losses);
   mapFresnel(m, out.material, out.losses);
   mapDiffuse(m, out.material, out.losses);
-  if (m.model == fit::MaterialModel::GgxSheen) mapSheen(m, out.material, out.losses);
+  if (fit::hasSheen(m.model)) mapSheen(m, out.material, out.losses);
+  if (fit::hasCoat(m.model)) mapCoat(m, out.material, out.losses);
   return out;
 }
 

@@ -34,6 +34,10 @@ json materialJson(const GltfMaterial& g, json& extensionsUsed) {
   if (g.hasSheen)
     extensions["KHR_materials_sheen"] = {{"sheenColorFactor", rgbJson(g.sheenColorFactor)},
                                          {"sheenRoughnessFactor", g.sheenRoughnessFactor}};
+  if (g.hasClearcoat)
+    extensions["KHR_materials_clearcoat"] = {
+        {"clearcoatFactor", g.clearcoatFactor},
+        {"clearcoatRoughnessFactor", g.clearcoatRoughnessFactor}};
   for (const auto& [name, value] : extensions.items()) extensionsUsed.push_back(name);
   return {{"name", "slicecap-fit"},
           {"pbrMetallicRoughness",

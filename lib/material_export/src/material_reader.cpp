@@ -92,13 +92,15 @@ fit::FittedMaterial readMaterialDocument(const std::filesystem::path& path, cons
 
   const std::string model = document.value("model", "");
   fit::FittedMaterial m;
-  if (model == "ggx") {
-    m.model = fit::MaterialModel::Ggx;
-  } else if (model == "ggx+sheen") {
-    m.model = fit::MaterialModel::GgxSheen;
-  } else {
-    r.fail("unknown model \"" + model + "\" (expected \"ggx\" or \"ggx+sheen\")");
+  bool known = false;
+  for (const fit::MaterialModel candidate :
+       {fit::MaterialModel::Ggx, fit::MaterialModel::GgxSheen, fit::MaterialModel::GgxCoat,
+        fit::MaterialModel::GgxSheenCoat}) {
+    if (model == toString(candidate)) m.model = candidate, known = true;
   }
+  if (!known)
+    r.fail("unknown model \"" + model +
+           "\" (expected \"ggx\", \"ggx+sheen\", \"ggx+coat\" or \"ggx+sheen+coat\")");
   const double inf = HUGE_VAL;
   m.diffuseAlbedo = r.rgb("diffuse_albedo", 0.0, inf);
   m.specularF0 = r.rgb("specular_f0", 0.0, 1.0);
@@ -107,9 +109,13 @@ fit::FittedMaterial readMaterialDocument(const std::filesystem::path& path, cons
   m.alphaTangent = r.scalar("alpha_tangent", 1e-6, inf);
   m.alphaBitangent = r.scalar("alpha_bitangent", 1e-6, inf);
   m.tangentDeg = r.scalar("tangent_deg", -360.0, 360.0);
-  if (m.model == fit::MaterialModel::GgxSheen) {
+  if (fit::hasSheen(m.model)) {
     m.sheenColour = r.rgb("sheen_colour", 0.0, inf);
     m.sheenRoughness = r.scalar("sheen_roughness", 1e-6, 1.0);
+  }
+  if (fit::hasCoat(m.model)) {
+    m.coatWeight = r.scalar("coat_weight", 0.0, 1.0);
+    m.coatAlpha = r.scalar("coat_alpha", 1e-6, inf);
   }
   return m.canonical();
 }

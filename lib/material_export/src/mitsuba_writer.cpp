@@ -1,5 +1,6 @@
 // The fit as Mitsuba 3 XML: blendbsdf(diffuse, roughconductor) weighted so that the blend is a sum,
-// and for a sheen fit a GGX stand-in for the sheen blended in the same way.
+// for a sheen fit a GGX stand-in for the sheen blended in the same way, and for a coat fit the
+// coat's lobe blended around all of it.
 #include "slicecap/material_export/mitsuba_writer.hpp"
 
 #include <algorithm>
@@ -137,10 +138,6 @@ std::string sampleShape(const fit::FittedMaterial& m) {
   return x.str();
 }
 
-std::string sceneText(const fit::FittedMaterial& m, const std::string& source, const Blend& b) {
-  return header(m, source) + baseBsdf(m, b, "  ", " id=\"slicecap_fit\"") + sampleShape(m);
-}
-
 // The GGX lobe standing in for the sheen and its blend weight c (docs/material-export.md): the
 // snippet is (1 - c) x [the diffuse + GGX blend of the fit scaled by 1 / (1 - c)] + c x the
 // stand-in, so the stand-in's reflectance is the approximation's divided by c. c is the smallest
@@ -189,26 +186,95 @@ void addSheenLoss(const fit::FittedMaterial& m, const SheenPart& p,
            num(a.relativeMismatch) + " of the sheen's (1 = leaving it out)"});
 }
 
-std::string sheenSceneText(const fit::FittedMaterial& m, const std::string& source,
-                           const Blend& b, const SheenPart& p) {
+// The sheen blend (see SheenPart), each line indented by `indent`.
+std::string sheenBsdf(const fit::FittedMaterial& m, const Blend& b, const SheenPart& p,
+                      const std::string& indent, const std::string& idAttribute) {
   std::ostringstream x;
-  x << "  <!-- slicecap_fit = blendbsdf weight c = " << num(p.weight)
-    << ": (1 - c) x the diffuse + GGX above, divided by\n"
-    << "       (1 - c), + c x a GGX lobe of Fresnel 1 standing in for the fitted Charlie sheen\n"
-    << "       (colour " << detail::rgbText(m.sheenColour) << ", roughness "
-    << num(m.sheenRoughness) << "); rms mismatch " << num(p.approximation.relativeMismatch)
-    << "\n       of the sheen's (docs/material-export.md). -->\n"
+  x << indent << "<!-- blendbsdf weight c = " << num(p.weight)
+    << ": (1 - c) x the diffuse + GGX, divided by (1 - c), + c x a GGX\n"
+    << indent << "     lobe of Fresnel 1 standing in for the fitted Charlie sheen (colour "
+    << detail::rgbText(m.sheenColour) << ",\n"
+    << indent << "     roughness " << num(m.sheenRoughness) << "); rms mismatch "
+    << num(p.approximation.relativeMismatch)
+    << " of the sheen's (docs/material-export.md). -->\n"
+    << indent << "<bsdf type=\"blendbsdf\"" << idAttribute << ">\n"
+    << indent << "  <float name=\"weight\" value=\"" << num(p.weight) << "\"/>\n"
+    << baseBsdf(m, b, indent + "  ", "")
+    << indent << "  <bsdf type=\"roughconductor\">\n"
+    << indent << "    <string name=\"material\" value=\"none\"/>\n"
+    << indent << "    <string name=\"distribution\" value=\"ggx\"/>\n"
+    << indent << "    <float name=\"alpha\" value=\"" << num(p.approximation.alpha) << "\"/>\n"
+    << indent << "    " << rgbElement("specular_reflectance", p.reflectance) << "\n"
+    << indent << "  </bsdf>\n"
+    << indent << "</bsdf>\n";
+  return x.str();
+}
+
+// The diffuse + GGX (+ sheen stand-in) BSDF of `m`, whose share of the snippet is `scale` (1
+// without a coat); the losses are reported against `fitted`, the material as fitted.
+std::string fitBsdf(const fit::FittedMaterial& fitted, const fit::FittedMaterial& m, double scale,
+                    const std::string& indent, const std::string& idAttribute,
+                    std::vector<ConversionLoss>& losses) {
+  if (fit::hasSheen(m.model)) {
+    const SheenPart sheen = sheenPartOf(m);
+    if (sheen.weight > kNegligible) {
+      const Blend scaledBlend = blendOf(scaledBy(m, 1.0 - sheen.weight));
+      addLosses(fitted, scaledBlend, scale * (1.0 - sheen.weight), losses);
+      addSheenLoss(fitted, sheen, losses);
+      return sheenBsdf(fitted, scaledBlend, sheen, indent, idAttribute);
+    }
+  }
+  const Blend blend = blendOf(m);
+  addLosses(fitted, blend, scale, losses);
+  if (fit::hasSheen(m.model))
+    losses.push_back(
+        {LossKind::SheenDropped, "the fitted sheen (colour " + detail::rgbText(fitted.sheenColour) +
+                                     ") is left out: its least-squares GGX stand-in is zero, or "
+                                     "the diffuse and specular leave it no room"});
+  return baseBsdf(m, blend, indent, idAttribute);
+}
+
+// The coat's blend weight c: the coat's weight w (its reflectance at grazing, where the fit's
+// Fc is 1 and roughconductor's Fresnel is 1), as far as the rest, divided by (1 - c), stays within
+// Mitsuba's reflectances of at most 1.
+double coatBlendWeight(const fit::FittedMaterial& m) {
+  const double room = 1.0 - m.diffuseAlbedo.maxChannel() - m.specularF0.maxChannel();
+  return std::clamp(std::min(m.coatWeight, room), 0.0, 1.0);
+}
+
+// The fit's coat: blendbsdf(c, the rest divided by (1 - c), a roughconductor of eta 1.5, k 0:
+// the exact Fresnel of the coat's dielectric, 0.04 at normal incidence, 1 at grazing).
+std::string coatedBsdf(const fit::FittedMaterial& m, double c, std::vector<ConversionLoss>& losses) {
+  fit::FittedMaterial inner = scaledBy(m, 1.0 - c);
+  for (std::size_t k = 0; k < 3; ++k)
+    inner.sheenColour[k] = c < 1.0 ? m.sheenColour[k] / (1.0 - c) : 0.0;
+  std::ostringstream x;
+  x << "  <!-- slicecap_fit = blendbsdf weight c = " << num(c)
+    << ": (1 - c) x the fit without its coat, divided by (1 - c),\n"
+    << "       + c x the coat: GGX alpha " << num(m.coatAlpha)
+    << " with the exact Fresnel of IOR 1.5 (fit: weight " << num(m.coatWeight) << "). -->\n"
     << "  <bsdf type=\"blendbsdf\" id=\"slicecap_fit\">\n"
-    << "    <float name=\"weight\" value=\"" << num(p.weight) << "\"/>\n"
-    << baseBsdf(m, b, "    ", "")
+    << "    <float name=\"weight\" value=\"" << num(c) << "\"/>\n"
+    << fitBsdf(m, inner, 1.0 - c, "    ", "", losses)
     << "    <bsdf type=\"roughconductor\">\n"
-    << "      <string name=\"material\" value=\"none\"/>\n"
     << "      <string name=\"distribution\" value=\"ggx\"/>\n"
-    << "      <float name=\"alpha\" value=\"" << num(p.approximation.alpha) << "\"/>\n"
-    << "      " << rgbElement("specular_reflectance", p.reflectance) << "\n"
+    << "      <float name=\"alpha\" value=\"" << num(m.coatAlpha) << "\"/>\n"
+    << "      " << rgbElement("eta", Rgb::gray(1.5)) << "\n"
+    << "      " << rgbElement("k", Rgb::gray(0.0)) << "\n"
     << "    </bsdf>\n"
     << "  </bsdf>\n";
-  return header(m, source) + x.str() + sampleShape(m);
+  losses.push_back({LossKind::CoatForm,
+                    "Mitsuba 3 has no layered coat: the coat is blended in with weight " + num(c) +
+                        ", its Fresnel the exact one of IOR 1.5 at each microfacet (the fit's: "
+                        "Schlick's at the view's angle to the normal), and the rest is not dimmed "
+                        "by it (the fit dims it by 1 - w Fc: " + num(1.0 - 0.04 * m.coatWeight) +
+                        " face on)"});
+  if (c < m.coatWeight - 1e-6)
+    losses.push_back({LossKind::CoatForm,
+                      "coat weight " + num(m.coatWeight) + " reduced to " + num(c) +
+                          ": the diffuse and specular, divided by (1 - c), leave it no more room "
+                          "within reflectances of 1"});
+  return x.str();
 }
 
 }  // namespace
@@ -217,24 +283,13 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
   const fit::FittedMaterial m = fitted.canonical();
   MitsubaExport out;
   out.report.format = "Mitsuba 3";
-  const Blend blend = blendOf(m);
-  if (m.model == fit::MaterialModel::GgxSheen) {
-    const SheenPart sheen = sheenPartOf(m);
-    if (sheen.weight > kNegligible) {
-      const Blend scaledBlend = blendOf(scaledBy(m, 1.0 - sheen.weight));
-      addLosses(m, scaledBlend, 1.0 - sheen.weight, out.report.losses);
-      addSheenLoss(m, sheen, out.report.losses);
-      out.text = sheenSceneText(m, source, scaledBlend, sheen);
-      return out;
-    }
+  std::string bsdf;
+  if (fit::hasCoat(m.model) && m.coatWeight > kNegligible) {
+    bsdf = coatedBsdf(m, coatBlendWeight(m), out.report.losses);
+  } else {
+    bsdf = fitBsdf(m, m, 1.0, "  ", " id=\"slicecap_fit\"", out.report.losses);
   }
-  addLosses(m, blend, 1.0, out.report.losses);
-  if (m.model == fit::MaterialModel::GgxSheen)
-    out.report.losses.push_back(
-        {LossKind::SheenDropped, "the fitted sheen (colour " + detail::rgbText(m.sheenColour) +
-                                     ") is left out: its least-squares GGX stand-in is zero, or "
-                                     "the diffuse and specular leave it no room"});
-  out.text = sceneText(m, source, blend);
+  out.text = header(m, source) + bsdf + sampleShape(m);
   return out;
 }
 

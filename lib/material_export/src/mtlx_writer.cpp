@@ -33,6 +33,8 @@ struct MtlxParameters {
   double openPbrRoughness = 0.0, openPbrAnisotropy = 0.0;
   double standardRoughness = 0.0, standardAnisotropy = 0.0;
   bool sheen = false;
+  bool coat = false;
+  double coatRoughness = 0.0;  // sqrt(coat alpha), capped at 1
 };
 
 // Colours: the same F0 split as the glTF export (IOR from the brightest channel of f0 / f90),
@@ -83,11 +85,28 @@ void mapLobe(const fit::FittedMaterial& m, MtlxParameters& p, Losses& losses) {
                       "standard_surface caps alpha along the tangent at 1 (fit: " +
                           num(m.alphaTangent) + ")"});
 
-  p.sheen = m.model == fit::MaterialModel::GgxSheen;
+  p.sheen = fit::hasSheen(m.model);
   if (p.sheen)
     losses.push_back({LossKind::SheenForm,
                       "OpenPBR's fuzz (and standard_surface's sheen) layer over the base and dim it "
                       "by their albedo; OpenPBR's fuzz lobe is not the fitted Charlie lobe"});
+}
+
+// The coat: both surfaces have one of IOR 1.5 with roughness = sqrt(alpha), as the fit's
+// (glTF's) coat, but layered their own way.
+void mapCoat(const fit::FittedMaterial& m, MtlxParameters& p, Losses& losses) {
+  p.coat = fit::hasCoat(m.model);
+  if (!p.coat) return;
+  p.coatRoughness = std::sqrt(m.coatAlpha);
+  if (p.coatRoughness > 1.0) {
+    losses.push_back({LossKind::RoughnessClamped,
+                      "coat_roughness " + num(p.coatRoughness) + " capped at 1"});
+    p.coatRoughness = 1.0;
+  }
+  losses.push_back({LossKind::CoatForm,
+                    "OpenPBR's and standard_surface's coat use the exact dielectric Fresnel of "
+                    "IOR 1.5 at each microfacet and dim the base by the coat's albedo; the fit "
+                    "(glTF's layering) takes Schlick's 0.04 at the view's angle to the normal"});
 }
 
 // The comment, and the tangent both surfaces share: the surface tangent turned about the normal.
@@ -124,6 +143,11 @@ void writeOpenPbrMaterial(std::ostream& x, const fit::FittedMaterial& m, const M
     x << input("fuzz_weight", "float", "1")
       << input("fuzz_color", "color3", rgbText(g.sheenColorFactor))
       << input("fuzz_roughness", "float", num(m.sheenRoughness));
+  // coat_darkening 0: glTF's coat has no darkening of the base by internal reflections.
+  if (p.coat)
+    x << input("coat_weight", "float", num(m.coatWeight))
+      << input("coat_roughness", "float", num(p.coatRoughness))
+      << input("coat_ior", "float", "1.5") << input("coat_darkening", "float", "0");
   x << "    <input name=\"geometry_tangent\" type=\"vector3\" nodename=\"fitted_tangent\" />\n"
     << "  </open_pbr_surface>\n"
     << "  <surfacematerial name=\"slicecap_fit\" type=\"material\">\n"
@@ -144,6 +168,9 @@ void writeStandardSurfaceMaterial(std::ostream& x, const fit::FittedMaterial& m,
   if (p.sheen)
     x << input("sheen", "float", "1") << input("sheen_color", "color3", rgbText(g.sheenColorFactor))
       << input("sheen_roughness", "float", num(m.sheenRoughness));
+  if (p.coat)
+    x << input("coat", "float", num(m.coatWeight))
+      << input("coat_roughness", "float", num(p.coatRoughness)) << input("coat_IOR", "float", "1.5");
   x << "  </standard_surface>\n"
     << "  <surfacematerial name=\"slicecap_fit_standard_surface\" type=\"material\">\n"
     << "    <input name=\"surfaceshader\" type=\"surfaceshader\" "
@@ -160,6 +187,7 @@ MtlxExport mtlxDocument(const fit::FittedMaterial& fitted, const std::string& so
   MtlxParameters p;
   mapColours(m, p, out.report.losses);
   mapLobe(m, p, out.report.losses);
+  mapCoat(m, p, out.report.losses);
   std::ostringstream x;
   writeHeaderAndTangent(x, m, source);
   writeOpenPbrMaterial(x, m, p);

@@ -23,6 +23,7 @@ enum class LossKind {
   SheenDropped,            ///< the format (as exported) has no sheen: the fitted sheen is left out
   ShadowingForm,           ///< the format's masking-shadowing is not height-correlated Smith
   TangentFromMesh,         ///< the format has no rotation: the tangent comes from the mesh's frame
+  CoatForm,                ///< the format's coat is not glTF's (its Fresnel, lobe or layering)
 };
 
 /// \brief The kind's spelling in messages and JSON, e.g. "roughness-clamped".

@@ -22,7 +22,10 @@ namespace slicecap::material_export {
 ///   Appendix B's fresnel_mix does;
 /// - sheen: KHR_materials_sheen's Charlie D (alpha = sheenRoughnessFactor^2) with the visibility
 ///   1 / (4 (n.l + n.v - n.l n.v)), and its albedo scaling s with E, the sheen's directional albedo,
-///   integrated numerically (32 x 64 midpoint rule, tabulated at 33 cosines).
+///   integrated numerically (32 x 64 midpoint rule, tabulated at 33 cosines);
+/// - clear coat: KHR_materials_clearcoat's fresnel_coat, f -> f (1 - c Fc) + c Fc D V of an
+///   isotropic GGX of alpha clearcoatRoughnessFactor^2, Fc = 0.04 + 0.96 (1 - n.v)^5, c =
+///   clearcoatFactor.
 class GltfBrdf {
  public:
   explicit GltfBrdf(const GltfMaterial& material);

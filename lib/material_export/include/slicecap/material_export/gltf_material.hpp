@@ -1,5 +1,6 @@
 // The fitted material as glTF 2.0 material factors: core metallic-roughness plus
-// KHR_materials_anisotropy, KHR_materials_specular, KHR_materials_ior and KHR_materials_sheen.
+// KHR_materials_anisotropy, KHR_materials_specular, KHR_materials_ior, KHR_materials_sheen and
+// KHR_materials_clearcoat.
 #pragma once
 
 #include <vector>
@@ -22,6 +23,9 @@ struct GltfMaterial {
   bool hasSheen = false;             ///< write KHR_materials_sheen
   Rgb sheenColorFactor;              ///< KHR_materials_sheen
   double sheenRoughnessFactor = 0.0; ///< KHR_materials_sheen
+  bool hasClearcoat = false;         ///< write KHR_materials_clearcoat
+  double clearcoatFactor = 0.0;      ///< KHR_materials_clearcoat
+  double clearcoatRoughnessFactor = 0.0;  ///< KHR_materials_clearcoat (alpha = its square)
 };
 
 /// \brief The factors and what they cannot express.
@@ -45,6 +49,9 @@ struct GltfConversion {
 /// - The diffuse: glTF dims it by the specular's reflectance; baseColorFactor is raised by
 ///   1 / (1 - f0) so that it matches at normal incidence (DiffuseLayering).
 /// - Sheen: sheenRoughnessFactor = sqrt(sheen_roughness) (glTF's Charlie alpha is its square).
+/// - Coat: the fit's coat is KHR_materials_clearcoat's layering (IOR 1.5), so clearcoatFactor =
+///   coat_weight and clearcoatRoughnessFactor = sqrt(coat_alpha), exact while coat_alpha <= 1
+///   (larger: RoughnessClamped).
 GltfConversion toGltfMaterial(const fit::FittedMaterial& fitted);
 
 }  // namespace slicecap::material_export
