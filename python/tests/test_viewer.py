@@ -17,7 +17,7 @@ from conftest import find_slicecap_cli
 
 from slicecap import viewer, viewer_scene
 from slicecap.abrdf_exr import write_abrdf_exr
-from slicecap.fitted_material import FittedMaterial, read_fitted_material
+from slicecap.fitted_material import FittedMaterial, has_coat, has_sheen, read_fitted_material
 from slicecap.grid import tabulate
 from slicecap.render import render_sphere_point_light
 
@@ -26,13 +26,25 @@ VELVET = FittedMaterial(
     "ggx+sheen", (0.15, 0.01, 0.02), (0.02, 0.03, 0.04), 0.4, 0.3, 0.12, 37.0,
     sheen_colour=(0.7, 0.15, 0.15), sheen_roughness=0.3,
 )
+# A rough anisotropic red base under a sharper coat, and the velvet under a rough half-weight coat:
+# the coat's lobe, its view-angle Fresnel and its dimming of everything beneath, sheen included.
+COATED_STEEL = FittedMaterial(
+    "ggx+coat", (0.2, 0.02, 0.02), (0.5, 0.1, 0.1), 0.8, 0.45, 0.2, 70.0,
+    coat_weight=0.9, coat_alpha=0.05,
+)
+COATED_VELVET = FittedMaterial(
+    "ggx+sheen+coat", (0.15, 0.01, 0.02), (0.02, 0.03, 0.04), 0.4, 0.3, 0.12, 37.0,
+    sheen_colour=(0.7, 0.15, 0.15), sheen_roughness=0.3, coat_weight=0.5, coat_alpha=0.3,
+)
 
 
 def fit_document(material: FittedMaterial) -> dict:
     """A `slicecap fit` JSON as docs/material-fit.md describes it (the fields the viewer reads)."""
     names = [n for n in FittedMaterial.__dataclass_fields__ if n != "model"]
-    if material.model == "ggx":
+    if not has_sheen(material.model):
         names = [n for n in names if not n.startswith("sheen")]
+    if not has_coat(material.model):
+        names = [n for n in names if not n.startswith("coat")]
     parameters = {}
     for name in names:
         value = getattr(material, name)
@@ -182,10 +194,12 @@ def _normalize(v):
 
 
 def glsl_function(page: str, name: str, uniforms: dict):
-    """The GLSL function between "// BEGIN name" and "// END name" in the page, transliterated to
-    Python (its statements are one a line: declarations, assignments, one if block, return)."""
+    """The GLSL code between "// BEGIN name" and "// END name" in the page, transliterated to
+    Python (functions of vec3 or float, their statements one a line: declarations, assignments,
+    if blocks, return), and its function `name`."""
     source = parse(page).scripts["fragment-shader"]
-    body = re.search(rf"// BEGIN {name}.*?\n(vec3 {name}.*?)// END {name}", source, re.S).group(1)
+    body = re.search(rf"// BEGIN {name}.*?\n((?:vec3|float) .*?)// END {name}", source,
+                     re.S).group(1)
     lines, depth = [], 0
     for raw in body.splitlines():
         line = raw.split("//")[0].strip()
@@ -194,7 +208,7 @@ def glsl_function(page: str, name: str, uniforms: dict):
         if line == "}":
             depth -= 1
             continue
-        match = re.match(r"vec3 (\w+)\((.*)\) \{$", line)
+        match = re.match(r"(?:vec3|float) (\w+)\((.*)\) \{$", line)
         if match:
             params = ", ".join(p.split()[-1] for p in match.group(2).split(","))
             lines.append(f"def {match.group(1)}({params}):")
@@ -222,9 +236,11 @@ def shader_uniforms(material: FittedMaterial) -> dict:
         "m_diffuse": np.array(material.diffuse_albedo), "m_f0": np.array(material.specular_f0),
         "m_f90": material.specular_f90, "m_alphaT": material.alpha_tangent,
         "m_alphaB": material.alpha_bitangent, "m_tangentRad": math.radians(material.tangent_deg),
-        "m_sheen": 1 if material.model == "ggx+sheen" else 0,
+        "m_sheen": 1 if has_sheen(material.model) else 0,
         "m_sheenColour": np.array(material.sheen_colour),
         "m_sheenRoughness": material.sheen_roughness,
+        "m_coat": 1 if has_coat(material.model) else 0,
+        "m_coatWeight": material.coat_weight, "m_coatAlpha": material.coat_alpha,
     }
 
 
@@ -237,7 +253,8 @@ def random_pairs(count: int, seed: int):
     return vectors[:, 0], vectors[:, 1]
 
 
-@pytest.mark.parametrize("material", [STEEL, VELVET], ids=["ggx", "ggx+sheen"])
+@pytest.mark.parametrize("material", [STEEL, VELVET, COATED_STEEL, COATED_VELVET],
+                         ids=["ggx", "ggx+sheen", "ggx+coat", "ggx+sheen+coat"])
 def test_shader_brdf_is_the_fit_model(page, material):
     shader = glsl_function(page, "fittedBrdf", shader_uniforms(material))
     lights, views = random_pairs(200, seed=3)
