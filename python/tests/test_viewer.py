@@ -4,6 +4,7 @@ from the page's own GLSL text, is lib/fit's model; bad input is refused naming t
 browser's rendering is checked by scripts/consumer-check (section viewer), not here."""
 
 import base64
+import dataclasses
 import html.parser
 import json
 import math
@@ -17,8 +18,14 @@ from conftest import find_slicecap_cli
 
 from slicecap import viewer, viewer_scene
 from slicecap.abrdf_exr import write_abrdf_exr
-from slicecap.fitted_material import FittedMaterial, has_coat, has_sheen, read_fitted_material
-from slicecap.grid import tabulate
+from slicecap.fitted_material import (
+    FittedMaterial,
+    ggx_lobe,
+    has_coat,
+    has_sheen,
+    read_fitted_material,
+)
+from slicecap.grid import GRID_DIRECTIONS_DEG, tabulate
 from slicecap.render import render_sphere_point_light
 
 STEEL = FittedMaterial("ggx", (0.03, 0.03, 0.03), (0.56, 0.57, 0.58), 1.0, 0.4, 0.1, 120.0)
@@ -145,6 +152,40 @@ def test_page_embeds_the_table_the_parameters_and_the_layout_picture(page, files
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
     assert int.from_bytes(png[16:20], "big") == 81 * viewer.LAYOUT_SCALE + 5
     assert data["exposure"] > 0 and data["panel_size"] == 128
+
+
+@pytest.mark.parametrize("material", [COATED_STEEL, COATED_VELVET], ids=["ggx+coat",
+                                                                         "ggx+sheen+coat"])
+def test_coat_page_lists_the_coat_and_its_environment_includes_it(files, tmp_path, material):
+    fit = tmp_path / "coat.json"
+    fit.write_text(json.dumps(fit_document(material)))
+    output = tmp_path / "coat.html"
+    assert viewer.run([str(files["table"]), "--material", str(fit), "-o", str(output),
+                       "--panel-size", "64"]) == 0
+    page = output.read_text(encoding="utf-8")
+    data = page_data(page)["material"]
+    assert data["model"] == material.model
+    for name in ("coat_weight", "coat_alpha"):
+        assert data["parameters"][name] == getattr(material, name)
+        assert f"<td>{name}</td><td>{getattr(material, name):.4g}</td>" in page
+    # The environment term is the coated BRDF's albedo. At a fixed view the coat's Fresnel Fc is a
+    # constant, so that albedo is (1 - w Fc) x the base's + w Fc x the coat lobe's, each
+    # integrated alone.
+    albedo = np.frombuffer(base64.b64decode(data["albedo_base64"]), dtype="<f4").reshape(81, 3)
+    base = dataclasses.replace(material, model=material.model.removesuffix("+coat"))
+    base_albedo = viewer_scene.directional_albedo(base.evaluate)
+
+    def coat_lobe(light, view):
+        half = (light + view) / np.linalg.norm(light + view, axis=-1, keepdims=True)
+        lobe = ggx_lobe(light, view, half, material.coat_alpha, material.coat_alpha, 0.0)
+        return np.repeat(lobe[:, None], 3, axis=1)
+
+    coat_albedo = viewer_scene.directional_albedo(coat_lobe)
+    cos_v = np.cos(np.radians(GRID_DIRECTIONS_DEG[:, 0]))[:, None]
+    weighted_fresnel = material.coat_weight * (0.04 + 0.96 * (1.0 - cos_v) ** 5)
+    expected = (1.0 - weighted_fresnel) * base_albedo + weighted_fresnel * coat_albedo
+    np.testing.assert_allclose(albedo, expected, rtol=1e-5)
+    assert np.max(np.abs(albedo / base_albedo - 1.0)) > 0.05, "the coat must show in the albedo"
 
 
 def test_page_script_is_valid_javascript(page, tmp_path):
@@ -367,9 +408,13 @@ def test_all_zero_table_is_refused_naming_it(tmp_path, capsys):
         (json.dumps({**fit_document(STEEL), "metrics": {}}), "a fit that did not finish"),
         (json.dumps(fit_document(STEEL)).replace('"value": 1.0', '"value": 1.5'),
          "parameter specular_f90 must be in [0, 1]"),
+        (json.dumps(fit_document(COATED_STEEL)).replace('"value": 0.9', '"value": 1.9'),
+         "parameter coat_weight must be in [0, 1]"),
+        (json.dumps({**fit_document(STEEL), "model": "ggx+coat"}),
+         "parameter coat_weight is missing"),
     ],
     ids=["not-json", "format", "model", "no-parameters", "null-alpha", "negative-alpha",
-         "unfinished", "f90-range"],
+         "unfinished", "f90-range", "coat-weight-range", "coat-missing"],
 )
 def test_not_a_completed_fit_is_refused_naming_it(tmp_path, capsys, files, content, message):
     bogus = tmp_path / "material.json"
