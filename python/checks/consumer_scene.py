@@ -187,13 +187,16 @@ def encode(linear: np.ndarray, exposure: float) -> np.ndarray:
 
 def mitsuba_reference(mitsuba_out: str, row: dict, fit_path: str):
     """(8-bit reference, its name) that a glTF render is judged against: Mitsuba's render of the
-    exported snippet, except for a fit with a sheen, which the snippet only approximates (a GGX
-    stand-in, no Charlie sheen in Mitsuba 3: docs/material-export.md, `sheen-form`); then the fit
-    tabulated on the grid and rendered through the slicecap plugin (the fit's own model, at the
-    grid's resolution)."""
+    exported snippet, except for a fit with a sheen or a clear coat, which the snippet only
+    approximates (a GGX stand-in, no Charlie sheen in Mitsuba 3; a blended, undimmed coat, no
+    layered one: docs/material-export.md, `sheen-form`, `coat-form`); then the fit tabulated on
+    the grid and rendered through the slicecap plugin (the fit's own model, at the grid's
+    resolution)."""
     with open(fit_path, encoding="utf-8") as file:
-        sheen = json.load(file)["parameters"].get("sheen_colour", {"value": [0.0]})["value"]
-    key = "fit-tabulated" if max(sheen) > 0.01 else "fit"
+        parameters = json.load(file)["parameters"]
+    sheen = parameters.get("sheen_colour", {"value": [0.0]})["value"]
+    coat_weight = parameters.get("coat_weight", {"value": 0.0})["value"]
+    key = "fit-tabulated" if max(sheen) > 0.01 or coat_weight > 0.01 else "fit"
     name = row["material"]
     linear = np.load(os.path.join(mitsuba_out, f"{name}-mitsuba-{key}.npy"))
     return encode(linear, row["exposure"]), {"fit": "snippet",
@@ -206,7 +209,8 @@ def judge(mitsuba_out: str, row: dict, image8: np.ndarray, tolerance: float) -> 
     which must be farther than the reference is (else the comparison could not tell the right
     frame from a wrong one; for weak lobes, as the satins', a turned tangent moves the image less
     than the renderers' differences do, so the tolerance cannot be the bar).
-    The control is skipped (None) for a fit with a sheen, whose reference is not the snippet."""
+    The control is skipped (None) for a fit with a sheen or a coat, whose reference is not the
+    snippet."""
     name = row["material"]
     reference, against = mitsuba_reference(mitsuba_out, row,
                                            os.path.join(mitsuba_out, f"{name}.json"))

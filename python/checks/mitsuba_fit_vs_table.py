@@ -19,6 +19,10 @@ the BSDF `slicecap_analytic` in the table's frame, and both the snippet and the 
 the table's row says what the 81-direction grid's linear interpolation costs, the snippet's what
 the fit and its export cost against the material itself.
 
+A fit with a clear coat (model "ggx+coat" or "ggx+sheen+coat") goes through unchanged: the
+tabulated fit is slicecap.fitted_material's model, coat included, and the snippet is what
+`slicecap fit --mitsuba` writes for it.
+
 Usage: mitsuba_fit_vs_table.py --cli build/app/slicecap --out DIR [--spp 16] [--goal 3]
 """
 

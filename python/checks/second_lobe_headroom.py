@@ -21,6 +21,10 @@ Usage: second_lobe_headroom.py --cli build/app/slicecap --tables DIR --fits DIR 
        [--min-delta-e 1] [--coat] [TABLE_NAME ...]
 --coat restricts the second lobe to a clear coat: one grey f0, f90 fixed at 1.
 TABLE_NAME defaults to every row of FITS/summary.tsv with delta_e above --min-delta-e.
+
+A fit whose model has a clear coat ("ggx+coat", "ggx+sheen+coat") is refused, exit 1 naming it:
+its coat already is a second lobe, layered (the base dimmed by the coat's Fresnel) where this
+prototype's lobe is added, so neither its numpy model nor its headroom would mean what they say.
 """
 
 import argparse
@@ -36,7 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from slicecap.fitted_material import read_fitted_material
+from slicecap.fitted_material import has_coat, has_sheen, read_fitted_material
 from slicecap.grid import DIRECTION_COUNT, GRID_DIRECTIONS_DEG, to_unit_vectors
 
 ALPHA_BOUNDS = (0.002, 2.0)  # the C++ fit's (start_solver.cpp)
@@ -146,10 +150,19 @@ def cos_weighted_scale(table: np.ndarray) -> np.ndarray:
     return np.repeat(cos_i, DIRECTION_COUNT) / maximum
 
 
+class CoatedFitError(ValueError):
+    """A fit with a clear coat given where this prototype needs a one-lobe fit."""
+
+
 def parameters_from_fit(fit_json: pathlib.Path) -> tuple[np.ndarray, bool]:
-    """The one-lobe fit as a two-lobe vector whose second lobe is absent (f0 = f90 = 0)."""
+    """The one-lobe fit as a two-lobe vector whose second lobe is absent (f0 = f90 = 0).
+    CoatedFitError for a fit with a clear coat (the module's docstring says why)."""
     m = read_fitted_material(fit_json)
-    with_sheen = m.model == "ggx+sheen"
+    if has_coat(m.model):
+        raise CoatedFitError(
+            f"{fit_json}: model {m.model} has a clear coat, a second lobe already; this prototype "
+            "measures a second lobe over a fit without one (ggx or ggx+sheen)")
+    with_sheen = has_sheen(m.model)
     p = np.zeros(19 if with_sheen else 15)
     p[0:3] = m.diffuse_albedo
     p[3:6] = m.specular_f0
@@ -347,7 +360,11 @@ def main(argv: list[str] | None = None) -> int:
     for name in names:
         fit_json = args.fits / f"{name}.json"
         table_path = args.tables / f"{name}.f32"
-        mismatch = model_mismatch(args.cli, fit_json, g)
+        try:
+            mismatch = model_mismatch(args.cli, fit_json, g)
+        except CoatedFitError as e:
+            print(e, file=sys.stderr)
+            return 1
         if not mismatch <= args.model_tolerance:
             print(f"{name}: numpy model differs from `slicecap generate` by {mismatch:.3g} "
                   f"(relative), above {args.model_tolerance}", file=sys.stderr)

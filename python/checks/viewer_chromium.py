@@ -6,6 +6,13 @@ picture of the same table and fitted material under the same light
 values over the sphere (its silhouette eroded by 2 pixels, where rasterised triangles and the
 ray-cast sphere differ by design). Exit 0 when every mean dE is within --tolerance, 1 otherwise.
 
+Materials: built-in ones, tabulated (`slicecap generate`) and fitted (`slicecap fit`) by the CLI,
+and a clear-coated one (COATED, model ggx+sheen+coat) whose fit JSON is written here and whose
+table is that material tabulated by slicecap.fitted_material: the page's coat, sheen and lobe
+against the numpy model, whatever model `slicecap fit` chooses for the built-ins. Its screenshot
+must also differ from the same material without its coat by more than the tolerance, or the check
+could not see a missing coat.
+
 Usage: viewer_chromium.py --cli build/app/slicecap --out DIR [--chromium chromium]
 """
 
@@ -21,7 +28,9 @@ import time
 import numpy as np
 
 from slicecap import viewer_scene
-from slicecap.fitted_material import read_fitted_material
+from slicecap.abrdf_exr import write_abrdf_exr
+from slicecap.fitted_material import FittedMaterial, has_coat, read_fitted_material
+from slicecap.grid import tabulate
 from slicecap.image_metrics import delta_e_8bit, to_8bit
 from slicecap.materials import load_material
 from slicecap.png import read_png
@@ -29,6 +38,12 @@ from slicecap.render import render_sphere_point_light
 from slicecap.viewer import build_page, table_brdf
 
 MATERIALS = ("brushed-steel-30", "satin-blue-45", "velvet-red")
+# A dim blue brushed lobe with a sheen under a strong coat: a shader that dropped the coat from
+# the point light's term alone (the environment's albedo, computed in Python, keeping it) moves
+# the fit panel by mean dE ~1.2 and ~0.8 at the two views (numpy), above the tolerance at both.
+COATED = ("coated-blue-satin", FittedMaterial(
+    "ggx+sheen+coat", (0.02, 0.03, 0.12), (0.1, 0.12, 0.2), 1.0, 0.4, 0.1, 30.0,
+    sheen_colour=(0.3, 0.3, 0.6), sheen_roughness=0.4, coat_weight=0.9, coat_alpha=0.15))
 # (light azimuth, light elevation, camera yaw, camera pitch) in degrees.
 VIEWS = ((35.0, 35.0, 0.0, 15.0), (-70.0, 20.0, 30.0, 35.0))
 PANEL_SIZE = 256
@@ -100,6 +115,50 @@ def control_row(results, name, fit, albedo, crop, exposure, mask, tolerance) -> 
     return seen
 
 
+def coat_control_row(results, name, fit, crop, exposure, mask, tolerance) -> bool:
+    """The coat's negative control: the same screenshot against the fit without its coat must be
+    farther than the tolerance, or the check could not see a page that dropped the coat."""
+    bare = dataclasses.replace(fit, model=fit.model.removesuffix("+coat"))
+    light_az, light_el, yaw, pitch = VIEWS[0]
+    image, _ = render_sphere_point_light(
+        bare.evaluate, viewer_scene.directional_albedo(bare.evaluate), PANEL_SIZE, light_az,
+        light_el, yaw, pitch, ENV)
+    metrics = compare(crop, to_8bit(image, 1.0 / exposure), erode(mask, 2))
+    results.append({"material": name, "panel": "control: fit without its coat", **metrics})
+    seen = metrics["delta_e"] > tolerance
+    print(f"viewer {name:17s} control (coat removed, must differ): mean dE "
+          f"{metrics['delta_e']:.3f}, rel. RMSE {metrics['relative_rmse']:.4f}"
+          f"{'' if seen else '  NOT SEEN: the check is blind'}")
+    return seen
+
+
+def fit_document(material: FittedMaterial) -> dict:
+    """A completed `slicecap fit` JSON of `material` (the fields slicecap.viewer reads; no sigmas,
+    the metrics of a material that is its own table)."""
+    parameters = {}
+    for name in FittedMaterial.__dataclass_fields__:
+        value = getattr(material, name)
+        if name != "model":
+            parameters[name] = {"value": list(value) if isinstance(value, tuple) else value,
+                                "sigma": None, "unit": "-"}
+    return {"format": "slicecap-material", "format_version": 1, "source": "numpy",
+            "model": material.model, "parameters": parameters, "metrics": {"delta_e": 0.0}}
+
+
+def material_files(cli: str, name: str, out: str) -> tuple[str, str]:
+    """(table, fit) paths: a built-in's from the CLI, COATED's written here."""
+    table_path = os.path.join(out, f"{name}.exr")
+    fit_path = os.path.join(out, f"{name}.json")
+    if name == COATED[0]:
+        write_abrdf_exr(table_path, tabulate(COATED[1].evaluate))
+        with open(fit_path, "w", encoding="utf-8") as file:
+            json.dump(fit_document(COATED[1]), file, indent=1)
+        return table_path, fit_path
+    subprocess.run([cli, "generate", name, "-o", table_path], check=True, capture_output=True)
+    subprocess.run([cli, "fit", table_path, "-o", fit_path], check=True, capture_output=True)
+    return table_path, fit_path
+
+
 def run(argv) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cli", required=True, help="the slicecap command (generate, fit)")
@@ -110,13 +169,8 @@ def run(argv) -> int:
     os.makedirs(args.out, exist_ok=True)
     profile = os.path.join(os.path.abspath(args.out), "chromium-profile")
     results, failed = [], False
-    for name in MATERIALS:
-        table_path = os.path.join(args.out, f"{name}.exr")
-        fit_path = os.path.join(args.out, f"{name}.json")
-        subprocess.run([args.cli, "generate", name, "-o", table_path], check=True,
-                       capture_output=True)
-        subprocess.run([args.cli, "fit", table_path, "-o", fit_path], check=True,
-                       capture_output=True)
+    for name in (*MATERIALS, COATED[0]):
+        table_path, fit_path = material_files(args.cli, name, args.out)
         page = build_page(table_path, fit_path, PANEL_SIZE)
         page_path = os.path.abspath(os.path.join(args.out, f"{name}.html"))
         with open(page_path, "w", encoding="utf-8") as file:
@@ -174,6 +228,9 @@ def run(argv) -> int:
                 if panel == "fit" and (light_az, light_el) == VIEWS[0][:2]:
                     failed |= not control_row(results, name, fit, albedo["fit"], crop, exposure,
                                               mask, args.tolerance)
+                    if has_coat(fit.model):
+                        failed |= not coat_control_row(results, name, fit, crop, exposure, mask,
+                                                       args.tolerance)
                 print(f"viewer {name:17s} {panel:5s} light {light_az:5g},{light_el:3g} "
                       f"camera {yaw:3g},{pitch:3g}: mean dE {metrics['delta_e']:.3f} "
                       f"(p99 {metrics['delta_e_p99']:.2f}), rel. RMSE "

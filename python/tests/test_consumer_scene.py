@@ -79,3 +79,25 @@ def test_mitsuba_shading_tangent_is_the_turned_gltf_tangent(gltf, tmp_path, angl
         assert np.degrees(np.arccos(np.clip(got @ expected, -1, 1))) < 4.0
         checked += 1
     assert checked > 20
+
+
+@pytest.mark.parametrize("parameters,against", [
+    ({}, "snippet"),
+    ({"sheen_colour": {"value": [0.3, 0.1, 0.1]}}, "tabulated fit"),
+    ({"coat_weight": {"value": 0.6}, "coat_alpha": {"value": 0.05}}, "tabulated fit"),
+    ({"coat_weight": {"value": 0.0}, "coat_alpha": {"value": 0.05}}, "snippet"),
+], ids=["ggx", "sheen", "coat", "coat-of-weight-0"])
+def test_a_fit_the_snippet_only_approximates_is_judged_against_its_tabulation(
+        tmp_path, parameters, against):
+    """The Mitsuba snippet approximates a sheen and a clear coat (material-export.md's
+    `sheen-form`, `coat-form`): a glTF render of such a fit is judged against the tabulated fit,
+    of any other fit against the snippet. The renders are told apart by their values."""
+    fit = tmp_path / "m.json"
+    fit.write_text(json.dumps({"parameters": {"tangent_deg": {"value": 0.0}, **parameters}}))
+    for key, level in (("fit", 0.25), ("fit-tabulated", 0.5)):
+        np.save(tmp_path / f"m-mitsuba-{key}.npy", np.full((4, 4, 3), level))
+    image, name = cs.mitsuba_reference(str(tmp_path), {"material": "m", "exposure": 1.0},
+                                       str(fit))
+    assert name == against
+    expected = cs.encode(np.full((4, 4, 3), 0.25 if against == "snippet" else 0.5), 1.0)
+    assert np.array_equal(image, expected)

@@ -83,3 +83,26 @@ def test_coat_mode_recovers_a_grey_coat_with_f90_one(slicecap_cli, tmp_path):
     assert slh.compare_delta_e(slicecap_cli, table, refit) < 0.1 * one_lobe_delta_e
     assert math.isclose(p[14], 0.06, rel_tol=0.1)
     assert math.isclose(p[10], 0.04, rel_tol=0.1)
+
+
+@pytest.mark.parametrize("model", ["ggx+coat", "ggx+sheen+coat"])
+def test_a_coated_fit_is_refused_naming_it(tmp_path, capsys, model):
+    """A fit whose coat already is a second lobe, layered where the prototype's is added: refused
+    before anything runs (the CLI given does not exist), exit 1 naming the fit."""
+    fits = tmp_path / "fits"
+    fits.mkdir()
+    parameters = {"diffuse_albedo": [0.2, 0.1, 0.1], "specular_f0": [0.04] * 3,
+                  "specular_f90": 1.0, "alpha_tangent": 0.3, "alpha_bitangent": 0.3,
+                  "tangent_deg": 0.0, "sheen_colour": [0.1] * 3, "sheen_roughness": 0.4,
+                  "coat_weight": 0.8, "coat_alpha": 0.05}
+    (fits / "coated.json").write_text(json.dumps({
+        "format": "slicecap-material", "format_version": 1, "model": model,
+        "parameters": {n: {"value": v, "sigma": None, "unit": "-"} for n, v in parameters.items()},
+        "metrics": {"delta_e": 2.0}}))
+    (fits / "summary.tsv").write_text("table\tmodel\tlobe\tdelta_e\ncoated\t" + model
+                                      + "\tisotropic\t2.0\n")
+    code = slh.main(["--cli", str(tmp_path / "no-such-slicecap"), "--tables", str(tmp_path),
+                     "--fits", str(fits), "--out", str(tmp_path / "out")])
+    assert code == 1
+    err = capsys.readouterr().err
+    assert f"{fits / 'coated.json'}: model {model} has a clear coat" in err, err

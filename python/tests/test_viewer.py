@@ -4,6 +4,7 @@ from the page's own GLSL text, is lib/fit's model; bad input is refused naming t
 browser's rendering is checked by scripts/consumer-check (section viewer), not here."""
 
 import base64
+import dataclasses
 import html.parser
 import json
 import math
@@ -17,8 +18,14 @@ from conftest import find_slicecap_cli
 
 from slicecap import viewer, viewer_scene
 from slicecap.abrdf_exr import write_abrdf_exr
-from slicecap.fitted_material import FittedMaterial, read_fitted_material
-from slicecap.grid import tabulate
+from slicecap.fitted_material import (
+    FittedMaterial,
+    ggx_lobe,
+    has_coat,
+    has_sheen,
+    read_fitted_material,
+)
+from slicecap.grid import GRID_DIRECTIONS_DEG, tabulate
 from slicecap.render import render_sphere_point_light
 
 STEEL = FittedMaterial("ggx", (0.03, 0.03, 0.03), (0.56, 0.57, 0.58), 1.0, 0.4, 0.1, 120.0)
@@ -26,13 +33,25 @@ VELVET = FittedMaterial(
     "ggx+sheen", (0.15, 0.01, 0.02), (0.02, 0.03, 0.04), 0.4, 0.3, 0.12, 37.0,
     sheen_colour=(0.7, 0.15, 0.15), sheen_roughness=0.3,
 )
+# A rough anisotropic red base under a sharper coat, and the velvet under a rough half-weight coat:
+# the coat's lobe, its view-angle Fresnel and its dimming of everything beneath, sheen included.
+COATED_STEEL = FittedMaterial(
+    "ggx+coat", (0.2, 0.02, 0.02), (0.5, 0.1, 0.1), 0.8, 0.45, 0.2, 70.0,
+    coat_weight=0.9, coat_alpha=0.05,
+)
+COATED_VELVET = FittedMaterial(
+    "ggx+sheen+coat", (0.15, 0.01, 0.02), (0.02, 0.03, 0.04), 0.4, 0.3, 0.12, 37.0,
+    sheen_colour=(0.7, 0.15, 0.15), sheen_roughness=0.3, coat_weight=0.5, coat_alpha=0.3,
+)
 
 
 def fit_document(material: FittedMaterial) -> dict:
     """A `slicecap fit` JSON as docs/material-fit.md describes it (the fields the viewer reads)."""
     names = [n for n in FittedMaterial.__dataclass_fields__ if n != "model"]
-    if material.model == "ggx":
+    if not has_sheen(material.model):
         names = [n for n in names if not n.startswith("sheen")]
+    if not has_coat(material.model):
+        names = [n for n in names if not n.startswith("coat")]
     parameters = {}
     for name in names:
         value = getattr(material, name)
@@ -135,6 +154,40 @@ def test_page_embeds_the_table_the_parameters_and_the_layout_picture(page, files
     assert data["exposure"] > 0 and data["panel_size"] == 128
 
 
+@pytest.mark.parametrize("material", [COATED_STEEL, COATED_VELVET], ids=["ggx+coat",
+                                                                         "ggx+sheen+coat"])
+def test_coat_page_lists_the_coat_and_its_environment_includes_it(files, tmp_path, material):
+    fit = tmp_path / "coat.json"
+    fit.write_text(json.dumps(fit_document(material)))
+    output = tmp_path / "coat.html"
+    assert viewer.run([str(files["table"]), "--material", str(fit), "-o", str(output),
+                       "--panel-size", "64"]) == 0
+    page = output.read_text(encoding="utf-8")
+    data = page_data(page)["material"]
+    assert data["model"] == material.model
+    for name in ("coat_weight", "coat_alpha"):
+        assert data["parameters"][name] == getattr(material, name)
+        assert f"<td>{name}</td><td>{getattr(material, name):.4g}</td>" in page
+    # The environment term is the coated BRDF's albedo. At a fixed view the coat's Fresnel Fc is a
+    # constant, so that albedo is (1 - w Fc) x the base's + w Fc x the coat lobe's, each
+    # integrated alone.
+    albedo = np.frombuffer(base64.b64decode(data["albedo_base64"]), dtype="<f4").reshape(81, 3)
+    base = dataclasses.replace(material, model=material.model.removesuffix("+coat"))
+    base_albedo = viewer_scene.directional_albedo(base.evaluate)
+
+    def coat_lobe(light, view):
+        half = (light + view) / np.linalg.norm(light + view, axis=-1, keepdims=True)
+        lobe = ggx_lobe(light, view, half, material.coat_alpha, material.coat_alpha, 0.0)
+        return np.repeat(lobe[:, None], 3, axis=1)
+
+    coat_albedo = viewer_scene.directional_albedo(coat_lobe)
+    cos_v = np.cos(np.radians(GRID_DIRECTIONS_DEG[:, 0]))[:, None]
+    weighted_fresnel = material.coat_weight * (0.04 + 0.96 * (1.0 - cos_v) ** 5)
+    expected = (1.0 - weighted_fresnel) * base_albedo + weighted_fresnel * coat_albedo
+    np.testing.assert_allclose(albedo, expected, rtol=1e-5)
+    assert np.max(np.abs(albedo / base_albedo - 1.0)) > 0.05, "the coat must show in the albedo"
+
+
 def test_page_script_is_valid_javascript(page, tmp_path):
     node = shutil.which("node")
     if node is None:
@@ -182,10 +235,12 @@ def _normalize(v):
 
 
 def glsl_function(page: str, name: str, uniforms: dict):
-    """The GLSL function between "// BEGIN name" and "// END name" in the page, transliterated to
-    Python (its statements are one a line: declarations, assignments, one if block, return)."""
+    """The GLSL code between "// BEGIN name" and "// END name" in the page, transliterated to
+    Python (functions of vec3 or float, their statements one a line: declarations, assignments,
+    if blocks, return), and its function `name`."""
     source = parse(page).scripts["fragment-shader"]
-    body = re.search(rf"// BEGIN {name}.*?\n(vec3 {name}.*?)// END {name}", source, re.S).group(1)
+    body = re.search(rf"// BEGIN {name}.*?\n((?:vec3|float) .*?)// END {name}", source,
+                     re.S).group(1)
     lines, depth = [], 0
     for raw in body.splitlines():
         line = raw.split("//")[0].strip()
@@ -194,7 +249,7 @@ def glsl_function(page: str, name: str, uniforms: dict):
         if line == "}":
             depth -= 1
             continue
-        match = re.match(r"vec3 (\w+)\((.*)\) \{$", line)
+        match = re.match(r"(?:vec3|float) (\w+)\((.*)\) \{$", line)
         if match:
             params = ", ".join(p.split()[-1] for p in match.group(2).split(","))
             lines.append(f"def {match.group(1)}({params}):")
@@ -222,9 +277,11 @@ def shader_uniforms(material: FittedMaterial) -> dict:
         "m_diffuse": np.array(material.diffuse_albedo), "m_f0": np.array(material.specular_f0),
         "m_f90": material.specular_f90, "m_alphaT": material.alpha_tangent,
         "m_alphaB": material.alpha_bitangent, "m_tangentRad": math.radians(material.tangent_deg),
-        "m_sheen": 1 if material.model == "ggx+sheen" else 0,
+        "m_sheen": 1 if has_sheen(material.model) else 0,
         "m_sheenColour": np.array(material.sheen_colour),
         "m_sheenRoughness": material.sheen_roughness,
+        "m_coat": 1 if has_coat(material.model) else 0,
+        "m_coatWeight": material.coat_weight, "m_coatAlpha": material.coat_alpha,
     }
 
 
@@ -237,7 +294,8 @@ def random_pairs(count: int, seed: int):
     return vectors[:, 0], vectors[:, 1]
 
 
-@pytest.mark.parametrize("material", [STEEL, VELVET], ids=["ggx", "ggx+sheen"])
+@pytest.mark.parametrize("material", [STEEL, VELVET, COATED_STEEL, COATED_VELVET],
+                         ids=["ggx", "ggx+sheen", "ggx+coat", "ggx+sheen+coat"])
 def test_shader_brdf_is_the_fit_model(page, material):
     shader = glsl_function(page, "fittedBrdf", shader_uniforms(material))
     lights, views = random_pairs(200, seed=3)
@@ -296,6 +354,36 @@ def test_cpp_fit_json_reads_and_reproduces_its_table(tmp_path):
     assert relative < 1e-3
 
 
+@pytest.mark.parametrize("material", [COATED_STEEL, COATED_VELVET],
+                         ids=["ggx+coat", "ggx+sheen+coat"])
+def test_numpy_coat_matches_slicecap_generate_of_its_json(tmp_path, material):
+    """`slicecap generate FIT.json` tabulates a fit with lib/fit's own evaluation: the port's coat
+    (and the sheen beneath it) must tabulate to the same table."""
+    cli = find_slicecap_cli()
+    fit, table = tmp_path / "coat.json", tmp_path / "coat.f32"
+    fit.write_text(json.dumps(fit_document(material)))
+    subprocess.run([cli, "generate", fit, "-o", table], check=True, capture_output=True)
+    reference = np.fromfile(table, dtype="<f4").reshape(81, 81, 3)
+    np.testing.assert_allclose(tabulate(material.evaluate), reference, rtol=2e-5, atol=1e-7)
+
+
+def test_cpp_fit_of_a_coated_table_reads_as_a_coat_and_reproduces_it(tmp_path):
+    """A table of a round red lobe under a sharp coat, tabulated by the port: `slicecap fit`
+    chooses the coat, and its JSON, read back, gives the table again (the fields' names and
+    meaning agree both ways)."""
+    cli = find_slicecap_cli()
+    truth = FittedMaterial("ggx+coat", (0.2, 0.02, 0.02), (0.5, 0.1, 0.1), 0.8, 0.3, 0.3, 0.0,
+                           coat_weight=0.9, coat_alpha=0.05)
+    table, fit = tmp_path / "coated.exr", tmp_path / "coated.json"
+    write_abrdf_exr(table, tabulate(truth.evaluate))
+    subprocess.run([cli, "fit", table, "-o", fit], check=True, capture_output=True)
+    material = read_fitted_material(fit)
+    assert material.model == "ggx+coat"
+    values = tabulate(truth.evaluate)
+    relative = np.linalg.norm(tabulate(material.evaluate) - values) / np.linalg.norm(values)
+    assert relative < 1e-3
+
+
 # ---- the scene's numpy renderer ----
 
 def test_sphere_renderer_gives_lambert_radiance():
@@ -350,9 +438,13 @@ def test_all_zero_table_is_refused_naming_it(tmp_path, capsys):
         (json.dumps({**fit_document(STEEL), "metrics": {}}), "a fit that did not finish"),
         (json.dumps(fit_document(STEEL)).replace('"value": 1.0', '"value": 1.5'),
          "parameter specular_f90 must be in [0, 1]"),
+        (json.dumps(fit_document(COATED_STEEL)).replace('"value": 0.9', '"value": 1.9'),
+         "parameter coat_weight must be in [0, 1]"),
+        (json.dumps({**fit_document(STEEL), "model": "ggx+coat"}),
+         "parameter coat_weight is missing"),
     ],
     ids=["not-json", "format", "model", "no-parameters", "null-alpha", "negative-alpha",
-         "unfinished", "f90-range"],
+         "unfinished", "f90-range", "coat-weight-range", "coat-missing"],
 )
 def test_not_a_completed_fit_is_refused_naming_it(tmp_path, capsys, files, content, message):
     bogus = tmp_path / "material.json"

@@ -1,7 +1,8 @@
 """The material viewer page in a real browser: Debian's headless Chromium renders the sphere
 panels (python/checks/viewer_chromium.py, also `scripts/consumer-check viewer`) and they must
 match the numpy renderer's pictures of the same table and fit within its tolerance, with the
-turned-tangent control seen. About 20 s; chromium comes with scripts/deps/browser.list."""
+turned-tangent control seen, and for the clear-coated material the coat-removed one. About 60 s;
+chromium comes with scripts/deps/browser.list."""
 
 import json
 import shutil
@@ -27,8 +28,13 @@ def test_chromium_spheres_match_the_numpy_renderer(slicecap_cli, tmp_path):
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     results = json.loads((tmp_path / "viewer-results.json").read_text(encoding="utf-8"))
     panels = [r for r in results if r["panel"] in ("fit", "table")]
-    # Three materials, two views, two panels: a check that compared nothing would pass vacuously.
-    assert len(panels) == 12
+    # Four materials (three built-in, one clear-coated), two views, two panels: a check that
+    # compared nothing would pass vacuously.
+    assert len(panels) == 16
+    assert {r["material"] for r in panels} >= {"coated-blue-satin"}
     assert all(r["delta_e"] <= TOLERANCE for r in panels), panels
+    # The turned tangent for each material, and the coat removed for the coated one.
     controls = [r for r in results if r["panel"].startswith("control")]
-    assert len(controls) == 3
+    assert len(controls) == 5
+    assert any(r["panel"] == "control: fit without its coat" and r["delta_e"] > TOLERANCE
+               for r in controls)

@@ -2,9 +2,17 @@
 BRDF evaluated in numpy, term for term as lib/fit (fitted_material.cpp, lobe_terms.hpp).
 
 The evaluation is the reference the viewer's WebGL shader is tested against
-(python/tests/test_viewer.py): diffuse / pi + Schlick F(l.h) D_ggx G2_smith / (4 cos_i cos_v)
-[+ sheen D_charlie / (4 (cos_i + cos_v - cos_i cos_v))], in the table's frame (z = normal,
-x = the Bonn grid's azimuth 0, the tangent at `tangent_deg` counter-clockwise from x).
+(python/tests/test_viewer.py), in the table's frame (z = normal, x = the Bonn grid's azimuth 0,
+the tangent at `tangent_deg` counter-clockwise from x):
+
+    base = diffuse / pi + Schlick F(l.h) D_ggx G2_smith / (4 cos_i cos_v)
+           [+ sheen D_charlie / (4 (cos_i + cos_v - cos_i cos_v))]
+    f_r  = base                                   (models "ggx", "ggx+sheen")
+    f_r  = base (1 - w Fc) + w Fc coat            (models "ggx+coat", "ggx+sheen+coat")
+
+with the clear coat layered as glTF's KHR_materials_clearcoat (coat IOR 1.5): w = coat_weight,
+Fc = 0.04 + 0.96 (1 - cos_v)^5 (the view's cosine with the normal, not l.h), and coat the
+isotropic GGX lobe D G2 / (4 cos_i cos_v) of alpha coat_alpha, without Fresnel.
 """
 
 import json
@@ -20,10 +28,47 @@ from slicecap.paths import StrPath
 
 FORMAT = "slicecap-material"
 FORMAT_VERSION = 1
-MODELS = ("ggx", "ggx+sheen")
+MODELS = ("ggx", "ggx+sheen", "ggx+coat", "ggx+sheen+coat")
 _RGB = ("diffuse_albedo", "specular_f0")
 _SCALARS = ("specular_f90", "alpha_tangent", "alpha_bitangent", "tangent_deg")
 _SHEEN_RGB, _SHEEN_SCALAR = "sheen_colour", "sheen_roughness"
+_COAT_SCALARS = ("coat_weight", "coat_alpha")
+# KHR_materials_clearcoat's coat: IOR 1.5, so its Schlick f0 is ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
+COAT_F0 = 0.04
+
+
+def has_sheen(model: str) -> bool:
+    """Whether a model of MODELS carries the sheen term."""
+    return "sheen" in model.split("+")
+
+
+def has_coat(model: str) -> bool:
+    """Whether a model of MODELS carries the clear coat (its name ends in "+coat")."""
+    return model.endswith("+coat")
+
+
+def ggx_lobe(light: np.ndarray, view: np.ndarray, half: np.ndarray, alpha_tangent: float,
+             alpha_bitangent: float, tangent_deg: float) -> np.ndarray:
+    """(...,) D_ggx(h) G2_smith(l, v) / (4 cos_i cos_v) of an anisotropic GGX lobe, no Fresnel
+    (lib/fit lobe_terms.hpp); the clear coat is this lobe with both alphas equal."""
+    t = math.radians(tangent_deg)
+    cos_t, sin_t = math.cos(t), math.sin(t)
+
+    def local(w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return w[..., 0] * cos_t + w[..., 1] * sin_t, -w[..., 0] * sin_t + w[..., 1] * cos_t
+
+    at2, ab2 = alpha_tangent**2, alpha_bitangent**2
+    hx, hy = local(half)
+    s = hx * hx / at2 + hy * hy / ab2 + half[..., 2] ** 2
+    distribution = 1.0 / (math.pi * alpha_tangent * alpha_bitangent * s * s)
+
+    def smith_lambda(w: np.ndarray) -> np.ndarray:
+        wx, wy = local(w)
+        return (np.sqrt(1.0 + (at2 * wx * wx + ab2 * wy * wy) / w[..., 2] ** 2) - 1.0) / 2.0
+
+    return distribution / (
+        (1.0 + smith_lambda(light) + smith_lambda(view)) * (4.0 * light[..., 2] * view[..., 2])
+    )
 
 
 @dataclass(frozen=True)
@@ -39,6 +84,9 @@ class FittedMaterial:
     tangent_deg: float
     sheen_colour: tuple[float, float, float] = (0.0, 0.0, 0.0)
     sheen_roughness: float = 0.5
+    # Read only for the "+coat" models; the defaults are what the other models leave unused.
+    coat_weight: float = 0.0
+    coat_alpha: float = 0.1
 
     def evaluate(self, to_light: np.ndarray, to_view: np.ndarray) -> np.ndarray:
         """(..., 3) RGB BRDF in 1/sr for (..., 3) unit vectors toward the light and the viewer in
@@ -52,36 +100,26 @@ class FittedMaterial:
         view = np.where(above[..., None], view, [0.0, 0.0, 1.0])
         half = light + view
         half = half / np.linalg.norm(half, axis=-1, keepdims=True)
-        t = math.radians(self.tangent_deg)
-        cos_t, sin_t = math.cos(t), math.sin(t)
-
-        def local(w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            return w[..., 0] * cos_t + w[..., 1] * sin_t, -w[..., 0] * sin_t + w[..., 1] * cos_t
-
-        at2, ab2 = self.alpha_tangent**2, self.alpha_bitangent**2
-        hx, hy = local(half)
-        s = hx * hx / at2 + hy * hy / ab2 + half[..., 2] ** 2
-        distribution = 1.0 / (math.pi * self.alpha_tangent * self.alpha_bitangent * s * s)
-
-        def smith_lambda(w: np.ndarray) -> np.ndarray:
-            wx, wy = local(w)
-            return (np.sqrt(1.0 + (at2 * wx * wx + ab2 * wy * wy) / w[..., 2] ** 2) - 1.0) / 2.0
-
+        specular = ggx_lobe(light, view, half, self.alpha_tangent, self.alpha_bitangent,
+                            self.tangent_deg)
         cos_i, cos_v = light[..., 2], view[..., 2]
-        specular = distribution / (
-            (1.0 + smith_lambda(light) + smith_lambda(view)) * (4.0 * cos_i * cos_v)
-        )
         cos_lh = np.clip(np.sum(light * half, axis=-1), 0.0, 1.0)
         fresnel_weight = (1.0 - cos_lh) ** 5
         f0 = np.asarray(self.specular_f0)
         fresnel = f0 + (self.specular_f90 - f0) * fresnel_weight[..., None]
         value = np.asarray(self.diffuse_albedo) / math.pi + fresnel * specular[..., None]
-        if self.model == "ggx+sheen":
+        if has_sheen(self.model):
             inverse = 1.0 / self.sheen_roughness
             log_sin2 = np.log(np.maximum(1.0 - half[..., 2] ** 2, 1e-12))
             sheen = (2.0 + inverse) * np.exp(log_sin2 * 0.5 * inverse) / (2.0 * math.pi)
             sheen = sheen / (4.0 * (cos_i + cos_v - cos_i * cos_v))
             value = value + np.asarray(self.sheen_colour) * sheen[..., None]
+        if has_coat(self.model):
+            # The coat's Fresnel takes the view's cosine, as KHR_materials_clearcoat: the layer
+            # dims everything beneath it by what it reflects toward the viewer.
+            coat_fresnel = self.coat_weight * (COAT_F0 + (1.0 - COAT_F0) * (1.0 - cos_v) ** 5)
+            coat = ggx_lobe(light, view, half, self.coat_alpha, self.coat_alpha, 0.0)
+            value = value * (1.0 - coat_fresnel[..., None]) + (coat_fresnel * coat)[..., None]
         return np.where(above[..., None], value, 0.0)
 
 
@@ -121,8 +159,10 @@ def parse_fitted_material(document: object, path: StrPath) -> FittedMaterial:
     if not isinstance(parameters, dict):
         raise refuse('no "parameters" object')
     wanted = [(n, 3) for n in _RGB] + [(n, 1) for n in _SCALARS]
-    if model == "ggx+sheen":
+    if has_sheen(model):
         wanted += [(_SHEEN_RGB, 3), (_SHEEN_SCALAR, 1)]
+    if has_coat(model):
+        wanted += [(n, 1) for n in _COAT_SCALARS]
     # Each value checked by _number: RGB ones tuples of three floats, the others floats.
     values: dict[str, Any] = {}
     for name, count in wanted:
@@ -132,15 +172,16 @@ def parse_fitted_material(document: object, path: StrPath) -> FittedMaterial:
         values[name] = _number(path, name, entry["value"], count)
     # The ranges `slicecap fit` keeps to and its exports check (docs/material-export.md).
     ranges = {"diffuse_albedo": (0.0, math.inf), "specular_f0": (0.0, 1.0),
-              "specular_f90": (0.0, 1.0), _SHEEN_RGB: (0.0, math.inf)}
+              "specular_f90": (0.0, 1.0), _SHEEN_RGB: (0.0, math.inf),
+              "coat_weight": (0.0, 1.0)}
     for name, (low, high) in ranges.items():
         if name in values:
             for v in values[name] if isinstance(values[name], tuple) else (values[name],):
                 if not low <= v <= high:
                     raise refuse(f"parameter {name} must be in [{low:g}, {high:g}], got {v!r}")
     for name in ("alpha_tangent", "alpha_bitangent") + (
-        (_SHEEN_SCALAR,) if model == "ggx+sheen" else ()
-    ):
+        (_SHEEN_SCALAR,) if has_sheen(model) else ()
+    ) + (("coat_alpha",) if has_coat(model) else ()):
         if not values[name] > 0.0:
             raise refuse(f"parameter {name} must be positive, got {values[name]!r}")
     metrics = document.get("metrics")

@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike
 
 from slicecap import viewer_scene
 from slicecap.abrdf_exr import SlicecapFileError
-from slicecap.fitted_material import FittedMaterial, read_fit_document
+from slicecap.fitted_material import FittedMaterial, has_coat, has_sheen, read_fit_document
 from slicecap.grid import (
     DIRECTION_COUNT,
     GRID_DIRECTIONS_DEG,
@@ -117,8 +117,10 @@ def _material_rows(material: FittedMaterial, document: dict) -> str:
 
     names = ["diffuse_albedo", "specular_f0", "specular_f90", "alpha_tangent", "alpha_bitangent",
              "tangent_deg"]
-    if material.model == "ggx+sheen":
+    if has_sheen(material.model):
         names += ["sheen_colour", "sheen_roughness"]
+    if has_coat(material.model):
+        names += ["coat_weight", "coat_alpha"]
     rows = [f"<tr><td>model</td><td>{html.escape(material.model)}</td></tr>"]
     rows += [f"<tr><td>{n}</td><td>{show(getattr(material, n))}</td></tr>" for n in names]
     metrics = document.get("metrics") or {}

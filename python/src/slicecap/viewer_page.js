@@ -212,9 +212,14 @@
     gl.uniform1f(uniform("u_alphaT"), p.alpha_tangent);
     gl.uniform1f(uniform("u_alphaB"), p.alpha_bitangent);
     gl.uniform1f(uniform("u_tangentRad"), (p.tangent_deg * Math.PI) / 180);
-    gl.uniform1i(uniform("u_sheen"), fit.model === "ggx+sheen" ? 1 : 0);
+    // The model names its terms: "ggx", "ggx+sheen", "ggx+coat", "ggx+sheen+coat".
+    const terms = fit.model.split("+");
+    gl.uniform1i(uniform("u_sheen"), terms.includes("sheen") ? 1 : 0);
     gl.uniform3fv(uniform("u_sheenColour"), p.sheen_colour || [0, 0, 0]);
     gl.uniform1f(uniform("u_sheenRoughness"), p.sheen_roughness || 0.5);
+    gl.uniform1i(uniform("u_coat"), terms.includes("coat") ? 1 : 0);
+    gl.uniform1f(uniform("u_coatWeight"), p.coat_weight || 0);
+    gl.uniform1f(uniform("u_coatAlpha"), p.coat_alpha || 0.1);
   }
   const fitAlbedo = fit ? floatsOf(fit.albedo_base64) : null;
 
