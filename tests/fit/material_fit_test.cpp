@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include "slicecap/models/reflectance_model.hpp"
 
@@ -169,12 +170,37 @@ TEST(MaterialFit, WithoutTheCoatCandidateTheCoatedTableFitsWorse) {
   EXPECT_LT(withCoat.metrics.deltaE, 0.1);
 }
 
+// A brushed base under a glossy coat: the one-lobe fit spends its lobe on the coat and sees no
+// anisotropy, so the coat's starts must bring an elongated base lobe of their own (found by a
+// review: these came out round at dE 0.89, and with no coat at dE 1.60).
+TEST(MaterialFit, AnAnisotropicBaseUnderACoatKeepsItsAnisotropy) {
+  for (const auto& [alphaT, alphaB, tangentDeg] :
+       {std::tuple{0.45, 0.2, 70.0}, std::tuple{0.6, 0.1, 150.0}}) {
+    FittedMaterial truth = lacqueredRed();
+    truth.alphaTangent = alphaT;
+    truth.alphaBitangent = alphaB;
+    truth.tangentDeg = tangentDeg;
+    truth.specularF0 = {0.5, 0.4, 0.3};  // a brushed metal under a lacquer
+    truth.coatWeight = 0.9;
+    truth.coatAlpha = 0.05;
+    const FitResult r = fitMaterial(tabulate(truth), "brushed-lacquer.exr");
+    EXPECT_EQ(r.material.model, MaterialModel::GgxCoat) << r.choiceReason;
+    EXPECT_NEAR(r.material.alphaTangent, alphaT, 0.05 * alphaT) << alphaT;
+    EXPECT_NEAR(r.material.alphaBitangent, alphaB, 0.05 * alphaB) << alphaT;
+    EXPECT_NEAR(tangentDifferenceDeg(r.material.tangentDeg, tangentDeg), 0.0, 2.0) << alphaT;
+    EXPECT_NEAR(r.material.coatAlpha, 0.05, 0.05 * 0.05) << alphaT;
+    EXPECT_LT(r.metrics.deltaE, 0.1) << alphaT;
+  }
+}
+
 TEST(MaterialFit, AnUncoatedTableKeepsNoCoat) {
   // satin-red-90 (a Ward lobe: the GGX fit misses by dE 2.3) is no better with a coat.
   const FitResult r = fitMaterial(models::tabulate(*models::findMaterial("satin-red-90")),
                                   "satin.exr");
   EXPECT_FALSE(hasCoat(r.material.model)) << r.choiceReason;
-  EXPECT_THAT(r.choiceReason, HasSubstr("the coat does not earn its 2 parameters"));
+  // Dropped while scouting (every start's coat weight fell to 0) or refused by the rule.
+  EXPECT_THAT(r.choiceReason, ::testing::AnyOf(HasSubstr("no coat: the coat's best start dropped"),
+                                               HasSubstr("the coat does not earn")));
 }
 
 TEST(MaterialFit, NegativeValueIsNotABrdf) {

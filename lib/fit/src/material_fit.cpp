@@ -81,11 +81,11 @@ constexpr int kScoutIterations = 8;
 // GGX (the tangent's basins), one for the sheen (its starts differ in the specular, which the
 // scout has already settled; a second full solve doubled the velvet's time for the same answer).
 constexpr double kPolishCostFactor = 1.25;
-constexpr std::size_t kMaxPolishedGgx = 2, kMaxPolishedSheen = 1, kMaxPolishedCoat = 2;
+constexpr std::size_t kMaxPolishedGgx = 2, kMaxPolishedSheen = 1, kMaxPolishedCoat = 1;
 // Coat starts: a sharp coat (a lacquer), a glossy one and a broad one, all at full weight.
 constexpr std::array<double, 3> kCoatStartAlphas{0.03, 0.1, 0.3};
 // How much broader the base lobe starts when the coat takes its place.
-constexpr std::array<double, 2> kCoatSwapBroadening{3.0, 8.0};
+constexpr double kCoatSwapBroadening = 3.0;
 
 // Two scouts are in the same basin when their lobes agree in canonical form (alphas within 10 %,
 // tangent within 5 deg): polishing both would find the same minimum twice.
@@ -100,10 +100,13 @@ bool sameBasin(const FitParameters& a, const FitParameters& b) {
 }
 
 // The best converged full solve, as a candidate; nullopt when none converged (`failure` then says
-// how the best one ended).
+// how the best one ended) or, with `abandoned` given, when the best scout has dropped its coat
+// (weight 0: every start's coat faded away while scouting; *abandoned is then set, and the full
+// solve, which would end at the base without a coat, is not run).
 std::optional<CandidateFit> bestOf(const Abrdf& table, const FitData& data, const FitData& scoutData,
                                    const std::vector<FitParameters>& starts, int maxIterations,
-                                   std::string& failure, std::size_t maxPolished = kMaxPolishedGgx) {
+                                   std::string& failure, std::size_t maxPolished = kMaxPolishedGgx,
+                                   bool* abandoned = nullptr) {
   std::vector<SolveOutcome> scouts;
   for (const FitParameters& start : starts)
     scouts.push_back(detail::solveFromStart(scoutData, start, std::min(kScoutIterations, maxIterations)));
@@ -111,6 +114,11 @@ std::optional<CandidateFit> bestOf(const Abrdf& table, const FitData& data, cons
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::sort(order.begin(), order.end(),
             [&](std::size_t a, std::size_t b) { return scouts[a].cost < scouts[b].cost; });
+  if (abandoned != nullptr) {
+    const FitParameters& bestScout = scouts[order.front()].parameters;
+    *abandoned = bestScout.withCoat && bestScout.coat[0] <= 0.0;
+    if (*abandoned) return std::nullopt;
+  }
   std::optional<SolveOutcome> best, bestUnconverged;
   std::size_t bestStart = order.front();
   int converged = 0;
@@ -290,11 +298,15 @@ bool addSheenCandidate(const Abrdf& table, const FitData& data, const FitData& s
 
 // The coat's starts, from the candidate `base` (its sheen too): a sharp, a glossy and a broad coat
 // at full weight over the base as fitted; the base itself with no coat yet (the coat candidate then
-// starts no worse than the base); and the roles swapped: the coat takes the base's lobe, whose
-// alpha is broadened. Why the swap: over a faint rough lobe (a lacquered dielectric) the one-lobe
-// fit spends its lobe on the coat's sharp highlight, and from there a coat start settles with the
-// coat as the rough lobe and the sharp one left in the base (a lacquered red: dE 0.33 instead of 0).
-std::vector<FitParameters> coatStartsFrom(const CandidateFit& base) {
+// starts no worse than the base); and the roles swapped: the coat takes the base's lobe, and the
+// base gets a new one, the lobe broadened 3x and, because the one-lobe fit has not seen the base's
+// anisotropy, an elongated lobe at each tangent start. Why the swap: over a faint rough lobe (a
+// lacquered dielectric) the one-lobe fit spends its lobe on the coat's sharp highlight, and from
+// there a coat start settles with the coat as the rough lobe and the sharp one left in the base
+// (a lacquered red: dE 0.33 instead of 0); and a brushed base under a coat came out round (dE 0.89
+// for alphas 0.45 / 0.2 under a coat of alpha 0.05) or with no coat at all (dE 1.60, 0.6 / 0.1).
+std::vector<FitParameters> coatStartsFrom(const CandidateFit& base,
+                                          const std::vector<double>& startTangentsDeg) {
   const FittedMaterial& m = base.material;
   FitParameters p = detail::ggxParametersOf(m);
   p.isotropic = base.isotropicLobe;
@@ -311,14 +323,20 @@ std::vector<FitParameters> coatStartsFrom(const CandidateFit& base) {
   noCoatYet.coat = {0.0, std::log(kCoatStartAlphas[1])};
   starts.push_back(noCoatYet);
   // The swap: a coat whose weight gives the lobe's reflectance face on, as far as a coat of F0 0.04
-  // reaches; the base lobe broadened by each factor (up to alpha 1), its colours kept.
+  // reaches; the base's colours kept.
   const double lobeAlpha = std::sqrt(m.alphaTangent * m.alphaBitangent);
   p.coat = {std::clamp(m.specularF0.maxChannel() / kCoatF0, 0.05, 1.0), std::log(lobeAlpha)};
-  for (double factor : kCoatSwapBroadening) {
-    FitParameters swapped = p;
-    swapped.ggx[6] = std::log(std::min(m.alphaTangent * factor, 1.0));
-    swapped.ggx[7] = std::log(std::min(m.alphaBitangent * factor, 1.0));
-    starts.push_back(swapped);
+  FitParameters broadened = p;
+  broadened.ggx[6] = std::log(std::min(m.alphaTangent * kCoatSwapBroadening, 1.0));
+  broadened.ggx[7] = std::log(std::min(m.alphaBitangent * kCoatSwapBroadening, 1.0));
+  starts.push_back(broadened);
+  for (double tangentDeg : startTangentsDeg) {
+    FitParameters elongated = p;
+    elongated.isotropic = false;
+    elongated.ggx[6] = std::log(kStartAlphaTangent);
+    elongated.ggx[7] = std::log(kStartAlphaBitangent);
+    elongated.ggx[8] = degToRad(tangentDeg);
+    starts.push_back(elongated);
   }
   return starts;
 }
@@ -331,30 +349,49 @@ bool addCoatCandidate(const Abrdf& table, const FitData& data, const FitData& sc
   const CandidateFit& baseFit = result.candidates[base];
   const double baseDeltaE = baseFit.metrics.deltaE;
   const std::string baseName(toString(baseFit.model));
+  const bool baseIsotropic = baseFit.isotropicLobe;
   if (baseDeltaE < options.coatMinimumGainDeltaE) {
     reason = "coat not tried (dE " + fixed2(baseDeltaE) + " is below the gain of " +
              fixed2(options.coatMinimumGainDeltaE) + " it would have to bring)";
     return false;
   }
   std::string failure;
-  std::optional<CandidateFit> coat = bestOf(table, data, scoutData, coatStartsFrom(baseFit),
-                                            options.maxIterations, failure, kMaxPolishedCoat);
+  // The elongated base lobe of the swapped starts: along the free GGX fit's tangent when that lobe
+  // is elongated (its direction is seen), else at every tangent start.
+  const FittedMaterial& freeLobe = result.candidates.front().material;
+  const std::vector<double> swapTangentsDeg =
+      freeLobe.alphaTangent > kRoundLobeRatio * freeLobe.alphaBitangent
+          ? std::vector<double>{freeLobe.tangentDeg}
+          : options.startTangentsDeg;
+  bool abandoned = false;
+  std::optional<CandidateFit> coat =
+      bestOf(table, data, scoutData, coatStartsFrom(baseFit, swapTangentsDeg),
+             options.maxIterations, failure, kMaxPolishedCoat, &abandoned);
+  if (abandoned) {
+    reason = "no coat: the coat's best start dropped it (weight 0) within " +
+             std::to_string(kScoutIterations) + " iterations on a third of the pairs";
+    return false;
+  }
   if (!coat) {
     reason = "the " + baseName + "+coat fit did not converge (" + failure + ")";
     return false;
   }
-  result.candidates.push_back(*coat);
+  result.candidates.push_back(*coat);  // baseFit may dangle from here on
   const double coatDeltaE = coat->metrics.deltaE;
+  // A swapped start may free the lobe of an isotropic base: then the coat brings 4 parameters.
+  const bool freedLobe = baseIsotropic && !coat->isotropicLobe;
   const bool earns = earnsItsParameters(coatDeltaE, baseDeltaE, options.coatMaximumDeltaEFraction,
                                         options.coatMinimumGainDeltaE);
   const std::string figures = "mean dE " + fixed2(baseDeltaE) + " (" + baseName + ") -> " +
                               fixed2(coatDeltaE) + " (" + std::string(toString(coat->model)) +
                               ", weight " + fixed2(coat->material.coatWeight) + ", alpha " +
-                              fixed2(coat->material.coatAlpha) + "); " +
+                              fixed2(coat->material.coatAlpha) +
+                              (freedLobe ? ", its lobe anisotropic" : "") + "); " +
                               ruleText(baseName, options.coatMaximumDeltaEFraction,
                                        options.coatMinimumGainDeltaE);
   reason = earns ? "the coat lowers " + figures
-                 : "the coat does not earn its 2 parameters, " + figures;
+                 : std::string("the coat does not earn its ") + (freedLobe ? "4" : "2") +
+                       " parameters, " + figures;
   return earns;
 }
 
