@@ -206,9 +206,11 @@ std::string ruleText(const std::string& simpler, double maximumFraction, double 
 std::size_t addIsotropicCandidate(const Abrdf& table, const FitData& data, const FitData& scoutData,
                                   const FitOptions& options, FitResult& result,
                                   std::string& reason) {
-  const FittedMaterial& m = result.candidates.front().material;
-  if (m.alphaTangent <= kRoundLobeRatio * m.alphaBitangent) {
-    reason = "the lobe is round (alpha ratio " + fixed2(m.alphaTangent / m.alphaBitangent) + ")";
+  // A copy: the push_back below may move the candidates, and a reference into them would dangle.
+  const FittedMaterial m = result.candidates.front().material;
+  const double alphaRatio = m.alphaTangent / m.alphaBitangent;
+  if (alphaRatio <= kRoundLobeRatio) {
+    reason = "the lobe is round (alpha ratio " + fixed2(alphaRatio) + ")";
     return 0;
   }
   FitParameters start = detail::ggxParametersOf(m);
@@ -230,7 +232,7 @@ std::size_t addIsotropicCandidate(const Abrdf& table, const FitData& data, const
                                         options.anisotropyMinimumGainDeltaE);
   const std::string figures = "mean dE " + fixed2(isotropicDeltaE) + " (isotropic) -> " +
                               fixed2(anisotropicDeltaE) + " (anisotropic, alpha ratio " +
-                              fixed2(m.alphaTangent / m.alphaBitangent) + "); " +
+                              fixed2(alphaRatio) + "); " +
                               ruleText("isotropic", options.anisotropyMaximumDeltaEFraction,
                                        options.anisotropyMinimumGainDeltaE);
   if (earns) {
@@ -368,7 +370,7 @@ bool addCoatCandidate(const Abrdf& table, const FitData& data, const FitData& sc
       bestOf(table, data, scoutData, coatStartsFrom(baseFit, swapTangentsDeg),
              options.maxIterations, failure, kMaxPolishedCoat, &abandoned);
   if (abandoned) {
-    reason = "no coat: the coat's best start dropped it (weight 0) within " +
+    reason = "no coat: the best of the coat's starts has weight 0 after " +
              std::to_string(kScoutIterations) + " iterations on a third of the pairs";
     return false;
   }
@@ -378,8 +380,11 @@ bool addCoatCandidate(const Abrdf& table, const FitData& data, const FitData& sc
   }
   result.candidates.push_back(*coat);  // baseFit may dangle from here on
   const double coatDeltaE = coat->metrics.deltaE;
-  // A swapped start may free the lobe of an isotropic base: then the coat brings 4 parameters.
-  const bool freedLobe = baseIsotropic && !coat->isotropicLobe;
+  // A swapped start may free the lobe of an isotropic base: then, if the lobe came out elongated,
+  // the coat brings 4 parameters.
+  const FittedMaterial& coated = coat->material;
+  const bool freedLobe = baseIsotropic && !coat->isotropicLobe &&
+                         coated.alphaTangent > kRoundLobeRatio * coated.alphaBitangent;
   const bool earns = earnsItsParameters(coatDeltaE, baseDeltaE, options.coatMaximumDeltaEFraction,
                                         options.coatMinimumGainDeltaE);
   const std::string figures = "mean dE " + fixed2(baseDeltaE) + " (" + baseName + ") -> " +
