@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 import pytest
+from brdf_pairs import random_pairs
 
 from slicecap.abrdf_exr import SlicecapFileError
 from slicecap.fitted_material import MODELS, FittedMaterial, read_fitted_material
@@ -27,15 +28,6 @@ def coated(base: FittedMaterial, weight: float, alpha: float) -> FittedMaterial:
 def unit(theta_deg: float, phi_deg: float) -> np.ndarray:
     t, p = math.radians(theta_deg), math.radians(phi_deg)
     return np.array([math.sin(t) * math.cos(p), math.sin(t) * math.sin(p), math.cos(t)])
-
-
-def random_pairs(count: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
-    rng = np.random.default_rng(seed)
-    theta = np.radians(rng.uniform(0.0, 85.0, (count, 2)))
-    phi = rng.uniform(0.0, 2 * np.pi, (count, 2))
-    vectors = np.stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)],
-                       axis=-1)
-    return vectors[:, 0], vectors[:, 1]
 
 
 @pytest.mark.parametrize("base", [BASE, SHEEN_BASE], ids=["ggx", "ggx+sheen"])

@@ -14,6 +14,7 @@ import subprocess
 
 import numpy as np
 import pytest
+from brdf_pairs import random_pairs
 from conftest import find_slicecap_cli
 
 from slicecap import viewer, viewer_scene
@@ -283,15 +284,6 @@ def shader_uniforms(material: FittedMaterial) -> dict:
         "m_coat": 1 if has_coat(material.model) else 0,
         "m_coatWeight": material.coat_weight, "m_coatAlpha": material.coat_alpha,
     }
-
-
-def random_pairs(count: int, seed: int):
-    rng = np.random.default_rng(seed)
-    theta = np.radians(rng.uniform(0.0, 85.0, (count, 2)))
-    phi = rng.uniform(0.0, 2 * np.pi, (count, 2))
-    vectors = np.stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)],
-                       axis=-1)
-    return vectors[:, 0], vectors[:, 1]
 
 
 @pytest.mark.parametrize("material", [STEEL, VELVET, COATED_STEEL, COATED_VELVET],
