@@ -180,5 +180,32 @@ TEST(MitsubaWriter, ACoatWithNoRoomIsReducedAndSaysSo) {
   for (double r : values(e.text, "reflectance")) EXPECT_LE(r, 1.0 + 1e-9);
 }
 
+TEST(MitsubaWriter, ACoatOverASheenNestsThreeBlendsAndAFullCoatStaysFinite) {
+  fit::FittedMaterial m = velvet();  // room: 1 - 0.08 - 0.03 = 0.89
+  m.model = fit::MaterialModel::GgxSheenCoat;
+  m.coatWeight = 0.3;
+  m.coatAlpha = 0.05;
+  const MitsubaExport e = mitsubaSnippet(m, "cv.json");
+  std::size_t blends = 0;
+  for (std::size_t at = 0; (at = e.text.find("type=\"blendbsdf\"", at)) != std::string::npos; ++at)
+    ++blends;
+  EXPECT_EQ(blends, 3u);  // coat around [sheen around [diffuse + GGX]]
+  EXPECT_NEAR(values(e.text, "weight", 0).at(0), 0.3, 1e-9);
+  EXPECT_TRUE(hasLoss(e, LossKind::SheenForm));
+  EXPECT_TRUE(hasLoss(e, LossKind::CoatForm));
+  for (double r : values(e.text, "reflectance")) EXPECT_LE(r, 1.0 + 1e-9);
+
+  // Nothing but the coat: its blend weight is 1 and the rest, divided by 0, is left at 0.
+  fit::FittedMaterial bare = lacquer();
+  bare.diffuseAlbedo = Rgb::gray(0.0);
+  bare.specularF0 = Rgb::gray(0.0);
+  bare.specularF90 = 0.0;
+  bare.coatWeight = 1.0;
+  const MitsubaExport full = mitsubaSnippet(bare, "c.json");
+  EXPECT_NEAR(values(full.text, "weight", 0).at(0), 1.0, 1e-9);
+  EXPECT_EQ(full.text.find("nan"), std::string::npos) << full.text;
+  EXPECT_EQ(full.text.find("inf"), std::string::npos) << full.text;
+}
+
 }  // namespace
 }  // namespace slicecap::material_export

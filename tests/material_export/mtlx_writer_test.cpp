@@ -99,5 +99,46 @@ TEST(MtlxWriter, CoatBecomesBothSurfacesCoatOfIor15) {
                           [](const ConversionLoss& l) { return l.kind == LossKind::CoatForm; }));
 }
 
+// OpenPBR changes the base under its coat (eta_s = mix(n, n / 1.5 or 1.5 / n, C); the base
+// roughness r' = mix(r, (r^4 + 2 rc^4)^(1/4), C)): the inputs written must give back, through
+// those, what the same fit without a coat writes.
+TEST(MtlxWriter, OpenPbrsBaseUnderItsCoatIsTheFitsBase) {
+  for (const double f0 : {0.04, 0.02, 0.6}) {
+    fit::FittedMaterial m = brushed();
+    m.specularF0 = Rgb::gray(f0);
+    const std::string bare = mtlxDocument(m, "b.json").text;
+    m.model = fit::MaterialModel::GgxCoat;
+    m.coatWeight = 0.8;
+    m.coatAlpha = 0.04;
+    const std::string coated = mtlxDocument(m, "b.json").text;
+    const double c = inputValue(coated, "<open_pbr_surface", "coat_weight");
+    const double n = inputValue(coated, "<open_pbr_surface", "specular_ior");
+    const double etaS = (1.0 - c) * n + c * (n > 1.5 ? n / 1.5 : 1.5 / n);
+    EXPECT_NEAR(etaS, inputValue(bare, "<open_pbr_surface", "specular_ior"), 1e-4) << f0;
+    const double rc = inputValue(coated, "<open_pbr_surface", "coat_roughness");
+    const double r = inputValue(coated, "<open_pbr_surface", "specular_roughness");
+    const double widened = (1.0 - c) * r + c * std::pow(std::pow(r, 4) + 2 * std::pow(rc, 4), 0.25);
+    EXPECT_NEAR(widened, inputValue(bare, "<open_pbr_surface", "specular_roughness"), 1e-4) << f0;
+    // standard_surface leaves its base alone under the coat (coat_affect_* default 0).
+    EXPECT_EQ(inputValue(coated, "<standard_surface", "specular_IOR"),
+              inputValue(bare, "<standard_surface", "specular_IOR"));
+  }
+}
+
+TEST(MtlxWriter, ABaseFainterThanOpenPbrAllowsUnderItsCoatIsReported) {
+  fit::FittedMaterial m = brushed();
+  m.specularF0 = Rgb::gray(1e-4);  // IOR 1.02: under coat_weight 0.8, eta_s is at least 1.1
+  m.model = fit::MaterialModel::GgxCoat;
+  m.coatWeight = 0.8;
+  m.coatAlpha = 0.04;
+  const MtlxExport e = mtlxDocument(m, "b.json");
+  EXPECT_TRUE(std::any_of(e.report.losses.begin(), e.report.losses.end(),
+                          [](const ConversionLoss& l) {
+                            return l.kind == LossKind::CoatForm &&
+                                   l.detail.find("comes nearest") != std::string::npos;
+                          }));
+  EXPECT_NEAR(inputValue(e.text, "<open_pbr_surface", "specular_ior"), 1.5, 1e-9);
+}
+
 }  // namespace
 }  // namespace slicecap::material_export

@@ -120,7 +120,10 @@ std::string header(const fit::FittedMaterial& m, const std::string& source) {
     << ", f0 " << detail::rgbText(m.specularF0) << ", f90 " << num(m.specularF90) << "),\n"
     << "     as blendbsdf weight w = grazing reflectance, the diffuse divided by (1 - w), the\n"
     << "     conductor's F0 = f0 / w. Use it with\n"
-    << "     <ref id=\"slicecap_fit\"/>; its anisotropy follows each shape's dp/du. -->\n"
+    << "     <ref id=\"slicecap_fit\"/>; its anisotropy follows each shape's dp/du."
+    << (fit::hasCoat(m.model) && m.coatWeight > kNegligible
+            ? "\n     The fit's clear coat is blended around all of it (below).": "")
+    << " -->\n"
     << "<scene version=\"3.0.0\">\n";
   return x.str();
 }
@@ -173,7 +176,8 @@ fit::FittedMaterial scaledBy(fit::FittedMaterial m, double factor) {
   return m;
 }
 
-void addSheenLoss(const fit::FittedMaterial& m, const SheenPart& p,
+// `share`: the sheen blend's share of the snippet (1 - the coat's weight; 1 without a coat).
+void addSheenLoss(const fit::FittedMaterial& m, const SheenPart& p, double share,
                   std::vector<ConversionLoss>& losses) {
   const SheenApproximation& a = p.approximation;
   losses.push_back(
@@ -181,7 +185,7 @@ void addSheenLoss(const fit::FittedMaterial& m, const SheenPart& p,
        "Mitsuba 3 has no Charlie sheen BSDF: the fitted sheen (colour " +
            detail::rgbText(m.sheenColour) + ", roughness " + num(m.sheenRoughness) +
            ") is approximated by a GGX lobe of alpha " + num(a.alpha) + " and Fresnel 1 (" +
-           num(a.scale) + " x the sheen colour; blend weight " + num(p.weight) +
+           num(a.scale) + " x the sheen colour; weight " + num(share * p.weight) + " of the snippet" +
            "), the least-squares nearest on the 81 x 81 grid: rms mismatch " +
            num(a.relativeMismatch) + " of the sheen's (1 = leaving it out)"});
 }
@@ -220,7 +224,7 @@ std::string fitBsdf(const fit::FittedMaterial& fitted, const fit::FittedMaterial
     if (sheen.weight > kNegligible) {
       const Blend scaledBlend = blendOf(scaledBy(m, 1.0 - sheen.weight));
       addLosses(fitted, scaledBlend, scale * (1.0 - sheen.weight), losses);
-      addSheenLoss(fitted, sheen, losses);
+      addSheenLoss(fitted, sheen, scale, losses);
       return sheenBsdf(fitted, scaledBlend, sheen, indent, idAttribute);
     }
   }
@@ -228,9 +232,11 @@ std::string fitBsdf(const fit::FittedMaterial& fitted, const fit::FittedMaterial
   addLosses(fitted, blend, scale, losses);
   if (fit::hasSheen(m.model))
     losses.push_back(
-        {LossKind::SheenDropped, "the fitted sheen (colour " + detail::rgbText(fitted.sheenColour) +
-                                     ") is left out: its least-squares GGX stand-in is zero, or "
-                                     "the diffuse and specular leave it no room"});
+        {LossKind::SheenDropped,
+         "the fitted sheen (colour " + detail::rgbText(fitted.sheenColour) +
+             ") is left out: its least-squares GGX stand-in is zero, or the diffuse and specular" +
+             (scale < 1.0 ? std::string(", with the coat blended around them,") : std::string()) +
+             " leave it no room"});
   return baseBsdf(m, blend, indent, idAttribute);
 }
 

@@ -35,7 +35,13 @@ struct MtlxParameters {
   bool sheen = false;
   bool coat = false;
   double coatRoughness = 0.0;  // sqrt(coat alpha), capped at 1
+  // OpenPBR's base inputs under its coat, chosen so that what OpenPBR derives from them under the
+  // coat is the fit's base (mapCoat); without a coat, specular_ior and openPbrRoughness.
+  double openPbrSpecularIor = 1.5, openPbrBaseRoughness = 0.0;
 };
+
+// The coat's IOR, glTF KHR_materials_clearcoat's fixed one.
+constexpr double kCoatIor = 1.5;
 
 // Colours: the same F0 split as the glTF export (IOR from the brightest channel of f0 / f90),
 // but OpenPBR and standard_surface tint the whole dielectric Fresnel with specular_color, so
@@ -92,9 +98,52 @@ void mapLobe(const fit::FittedMaterial& m, MtlxParameters& p, Losses& losses) {
                       "by their albedo; OpenPBR's fuzz lobe is not the fitted Charlie lobe"});
 }
 
+// OpenPBR's base under a coat of weight c (the OpenPBR specification's specular IOR ratio with its
+// total-internal-reflection fix, as MaterialX's open_pbr_surface graph computes it): the base
+// reflects with eta_s = mix(n, n > 1.5 ? n / 1.5 : 1.5 / n, c), not n. Returns the n for which
+// eta_s is `target`: n = target / (1 - c / 3) when that is at least 1.5, else a root of
+// (1 - c) n^2 - target n + 1.5 c = 0 in [1, 1.5]; when there is none (a base reflecting less than
+// the coat leaves possible), the n of the smallest eta_s, and `exact` false.
+double specularIorUnderCoat(double target, double c, bool& exact) {
+  exact = true;
+  if (c <= 0.0) return target;
+  const double above = target / (1.0 - c / 3.0);
+  if (above >= kCoatIor) return above;
+  const double disc = target * target - 4.0 * (1.0 - c) * kCoatIor * c;
+  if (disc >= 0.0) {
+    for (const double sign : {1.0, -1.0}) {
+      const double n = (target + sign * std::sqrt(disc)) / (2.0 * (1.0 - c));
+      if (n >= 1.0 && n <= kCoatIor) return n;
+    }
+  }
+  exact = false;
+  return std::clamp(std::sqrt(kCoatIor * c / (1.0 - c)), 1.0, kCoatIor);
+}
+
+// OpenPBR's base roughness under a coat of roughness rc and weight c (the specification's coat
+// roughening, as MaterialX's graph): r' = mix(r, (r^4 + 2 rc^4)^(1/4), c). Returns the r whose r'
+// is `target` (bisection: r' grows with r), 0 and `exact` false when even r = 0 is rougher.
+double baseRoughnessUnderCoat(double target, double rc, double c, bool& exact) {
+  const auto roughened = [&](double r) {
+    return (1.0 - c) * r + c * std::pow(std::pow(r, 4) + 2.0 * std::pow(rc, 4), 0.25);
+  };
+  exact = roughened(0.0) <= target;
+  if (!exact) return 0.0;
+  double low = 0.0, high = 1.0;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (low + high);
+    (roughened(mid) < target ? low : high) = mid;
+  }
+  return 0.5 * (low + high);
+}
+
 // The coat: both surfaces have one of IOR 1.5 with roughness = sqrt(alpha), as the fit's
-// (glTF's) coat, but layered their own way.
+// (glTF's) coat, but layered their own way. OpenPBR also changes the base under its coat (its IOR
+// relative to the coat, its roughness widened by the coat's): its base inputs are inverted so that
+// the base it derives is the fit's.
 void mapCoat(const fit::FittedMaterial& m, MtlxParameters& p, Losses& losses) {
+  p.openPbrSpecularIor = p.gltf.ior;
+  p.openPbrBaseRoughness = p.openPbrRoughness;
   p.coat = fit::hasCoat(m.model);
   if (!p.coat) return;
   p.coatRoughness = std::sqrt(m.coatAlpha);
@@ -107,6 +156,21 @@ void mapCoat(const fit::FittedMaterial& m, MtlxParameters& p, Losses& losses) {
                     "OpenPBR's and standard_surface's coat use the exact dielectric Fresnel of "
                     "IOR 1.5 at each microfacet and dim the base by the coat's albedo; the fit "
                     "(glTF's layering) takes Schlick's 0.04 at the view's angle to the normal"});
+  bool iorExact = true, roughnessExact = true;
+  p.openPbrSpecularIor = specularIorUnderCoat(p.gltf.ior, m.coatWeight, iorExact);
+  p.openPbrBaseRoughness =
+      baseRoughnessUnderCoat(p.openPbrRoughness, p.coatRoughness, m.coatWeight, roughnessExact);
+  // Without a specular (specular_color 0) the base's IOR shows nowhere.
+  if (!iorExact && p.specularColour.maxChannel() > 0.0)
+    losses.push_back({LossKind::CoatForm,
+                      "OpenPBR sets the base's IOR relative to its coat: under coat_weight " +
+                          num(m.coatWeight) + " no specular_ior gives the fit's base F0 (IOR " +
+                          num(p.gltf.ior) + "); specular_ior " + num(p.openPbrSpecularIor) +
+                          " comes nearest"});
+  if (!roughnessExact)
+    losses.push_back({LossKind::CoatForm,
+                      "OpenPBR widens the base's lobe under its coat beyond the fit's (base "
+                      "roughness " + num(p.openPbrRoughness) + "): specular_roughness 0"});
 }
 
 // The comment, and the tangent both surfaces share: the surface tangent turned about the normal.
@@ -136,8 +200,8 @@ void writeOpenPbrMaterial(std::ostream& x, const fit::FittedMaterial& m, const M
     << input("base_weight", "float", "1") << input("base_color", "color3", rgbText(g.baseColorFactor))
     << input("base_metalness", "float", "0") << input("specular_weight", "float", "1")
     << input("specular_color", "color3", rgbText(p.specularColour))
-    << input("specular_roughness", "float", num(p.openPbrRoughness))
-    << input("specular_ior", "float", num(g.ior))
+    << input("specular_roughness", "float", num(p.openPbrBaseRoughness))
+    << input("specular_ior", "float", num(p.openPbrSpecularIor))
     << input("specular_roughness_anisotropy", "float", num(p.openPbrAnisotropy));
   if (p.sheen)
     x << input("fuzz_weight", "float", "1")
