@@ -1,0 +1,267 @@
+"""The fit's clear coat rendered by the real consumers (scripts/consumer-check, section "coat"): one
+coated material, a rough blue dielectric under a glossy clear coat (LACQUER, as the one of
+python/tests/test_material_export.py), written as a fitted material, tabulated by `slicecap generate
+TRUTH.json`, fitted (`slicecap fit`, which must choose "ggx+coat") and exported; then rendered, in
+the scene of consumer_scene.py, by Mitsuba 3 (the --mitsuba snippet: the coat blended in,
+`coat-form`), three.js (the --gltf, KHR_materials_clearcoat) and Blender (Cycles, the --gltf through
+Blender's importer, which is also asked what it put on the Principled BSDF's Coat inputs).
+
+Reference: as for every coated or sheened fit of the other sections (consumer_scene's
+mitsuba_reference), the fit tabulated on the 81 x 81 grid and rendered through the slicecap table
+plugin. Reported: mean CIE76 dE of 8-bit sRGB over the pixels lit in either image, p95 beside.
+
+For information, the same three consumers render the fit with coat_weight 0 (the fitted JSON with
+its coat weight set to 0, exported again by `slicecap fit F.json`, which does not fit again), and
+that render is judged against the same coated reference: how much of the picture the coat is.
+Each consumer's coated render must be nearer the reference than its uncoated one (else the
+comparison could not see the coat), and within its section's tolerance (three.js 4, Blender 8, the
+snippet 3).
+
+Usage: coat_consumers.py --cli build/app/slicecap --out DIR --blender-python VENV/bin/python
+       [--three tools/consumers/node_modules/three] [--chromium chromium] [--spp 16]
+       (--blender-python none: no Blender)
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+import consumer_scene as cs
+import mitsuba_fit_vs_table as mft
+import numpy as np
+import threejs_gltf
+
+from slicecap import tabulate, write_abrdf_exr
+from slicecap.analytic_models import Term
+from slicecap.fitted_material import COAT_F0, read_fitted_material
+from slicecap.image_metrics import delta_e_8bit, exposure_of
+from slicecap.png import write_png
+
+NAME = "lacquer"
+# The truth, written as `slicecap fit` writes a fitted material (material-fit.md, "The JSON").
+LACQUER = {
+    "format": "slicecap-material", "format_version": 1, "model": "ggx+coat",
+    "metrics": {"delta_e": 0.0},
+    "parameters": {name: {"value": value} for name, value in {
+        "diffuse_albedo": [0.05, 0.1, 0.3], "specular_f0": [0.04, 0.04, 0.04],
+        "specular_f90": 1.0, "alpha_tangent": 0.4, "alpha_bitangent": 0.4, "tangent_deg": 0.0,
+        "coat_weight": 0.6, "coat_alpha": 0.08}.items()},
+}
+TOLERANCE = {"mitsuba": 3.0, "threejs": 4.0, "blender": 8.0}
+COAT_REGION_DE = 5.0
+COAT_INPUTS = ("Coat Weight", "Coat Roughness", "Coat IOR", "Coat Tint")
+
+
+class CoatedTruth:
+    """LACQUER exactly, in the form slicecap_analytic evaluates (channels(light, view, xp), numpy
+    or Dr.Jit): the base (Lambert + GGX with Schlick's f90 1, analytic_models' "ggx" term) dimmed
+    by 1 - w Fc and the coat's GGX lobe (the same term with f0 1: no Fresnel) times w Fc, Fc
+    Schlick's of IOR 1.5 at the view's cosine: fitted_material's "+coat" model. Rendered in place
+    of a table, it shows what the tabulated reference's grid interpolation costs."""
+
+    def __init__(self, parameters: dict) -> None:
+        p = {name: entry["value"] for name, entry in parameters.items()}
+        if p["specular_f90"] != 1.0:
+            raise ValueError("CoatedTruth: analytic_models' GGX term has Schlick's f90 = 1 only")
+        self.description = f"lacquer {p}"
+        self.weight = p["coat_weight"]
+        self.base = Term("ggx", {"diffuse": tuple(p["diffuse_albedo"]), "f0": tuple(
+            p["specular_f0"]), "ax": p["alpha_tangent"], "ay": p["alpha_bitangent"],
+                                 "tangent_deg": p["tangent_deg"]})
+        self.coat = Term("ggx", {"diffuse": (0.0, 0.0, 0.0), "f0": (1.0, 1.0, 1.0),
+                                 "ax": p["coat_alpha"], "ay": p["coat_alpha"], "tangent_deg": 0.0})
+
+    def channels(self, light, view, xp):
+        one_minus = 1.0 - view[2]
+        fresnel = self.weight * (COAT_F0 + (1.0 - COAT_F0) * one_minus * one_minus * one_minus
+                                 * one_minus * one_minus)
+        base, coat = self.base.channels(light, view, xp), self.coat.channels(light, view, xp)
+        return tuple(base[c] * (1.0 - fresnel) + coat[c] * fresnel for c in range(3))
+
+
+def run_cli(*args) -> str:
+    return subprocess.run(list(args), check=True, capture_output=True, text=True).stdout
+
+
+def prepare(cli: str, out: str) -> dict:
+    """The truth, its table, the fit and its exports, and the fit without its coat: paths."""
+    paths = {"truth": os.path.join(out, f"{NAME}-truth.json"),
+             "table": os.path.join(out, f"{NAME}.exr")}
+    with open(paths["truth"], "w", encoding="utf-8") as file:
+        json.dump(LACQUER, file, indent=1)
+    run_cli(cli, "generate", paths["truth"], "-o", paths["table"])
+    for variant in ("coat", "nocoat"):
+        stem = os.path.join(out, NAME if variant == "coat" else f"{NAME}-nocoat")
+        paths[variant] = {"json": stem + ".json", "gltf": stem + ".gltf", "xml": stem + ".xml"}
+    coat = paths["coat"]
+    paths["fit_log"] = run_cli(cli, "fit", paths["table"], "-o", coat["json"], "--gltf",
+                               coat["gltf"], "--mitsuba", coat["xml"])
+    with open(coat["json"], encoding="utf-8") as file:
+        fitted = json.load(file)
+    if fitted["model"] != "ggx+coat":
+        raise RuntimeError(f"the fit of {paths['truth']} chose {fitted['model']}, not ggx+coat")
+    fitted["parameters"]["coat_weight"]["value"] = 0.0
+    with open(paths["nocoat"]["json"], "w", encoding="utf-8") as file:
+        json.dump(fitted, file, indent=1)
+    nocoat = paths["nocoat"]
+    paths["nocoat_log"] = run_cli(cli, "fit", nocoat["json"], "--gltf", nocoat["gltf"],
+                                  "--mitsuba", nocoat["xml"])
+    return paths
+
+
+def mitsuba_renders(paths: dict, out: str, spp: int) -> tuple[dict, dict]:
+    """Linear renders: the reference (the coated fit tabulated, through the table plugin), the
+    truth's table (information), and each variant's snippet and tabulated fit."""
+    mi = mft.use_mitsuba()
+    sphere = cs.read_sphere(paths["coat"]["gltf"])
+    view = cs.view_of(sphere)
+    tangent_deg = read_fitted_material(paths["coat"]["json"]).tangent_deg
+    u0 = mft.mesh(sphere, 0.0, os.path.join(out, f"{NAME}-u0.ply"))
+    ufit = mft.mesh(sphere, tangent_deg, os.path.join(out, f"{NAME}-ufit.ply"))
+    renders = {"table": mft.render(mi, u0, mi.load_dict({"type": "slicecap",
+                                                         "filename": paths["table"]}), view, spp)}
+    # The truth exactly: slicecap_analytic's BSDF (the table's frame and orientation) with its
+    # model replaced by CoatedTruth (the BSDF reads only the model's channels).
+    truth = mi.load_dict({"type": "slicecap_analytic", "model": "lambert albedo=0/0/0"})
+    truth.model = CoatedTruth(LACQUER["parameters"])
+    renders["coat-truth"] = mft.render(mi, u0, truth, view, spp)
+    uncoated = dict(LACQUER["parameters"], coat_weight={"value": 0.0})
+    truth.model = CoatedTruth(uncoated)
+    renders["nocoat-truth"] = mft.render(mi, u0, truth, view, spp)
+    for variant in ("coat", "nocoat"):
+        files = paths[variant]
+        tabulated = files["json"].replace(".json", "-fit-tabulated.exr")
+        write_abrdf_exr(tabulated, tabulate(read_fitted_material(files["json"]).evaluate))
+        renders[f"{variant}-tabulated"] = mft.render(
+            mi, u0, mi.load_dict({"type": "slicecap", "filename": tabulated}), view, spp)
+        renders[f"{variant}-mitsuba"] = mft.render(mi, ufit, mft.snippet_bsdf(mi, files["xml"]),
+                                                   view, spp)
+    return renders, {"view": view.__dict__, "tangent_deg": tangent_deg,
+                     "sphere_node": sphere.node_index}
+
+
+def threejs_renders(paths: dict, out: str, view: dict, three: str, chromium: str) -> dict:
+    files: dict = {}
+    server = threejs_gltf.serve(os.path.abspath(three), files)
+    images = {}
+    try:
+        for variant in ("coat", "nocoat"):
+            key = f"{NAME}-{variant}"
+            view_path = os.path.abspath(os.path.join(out, f"{key}-view.json"))
+            with open(view_path, "w", encoding="utf-8") as file:
+                json.dump(view, file)
+            files[f"/m/{key}/model.gltf"] = os.path.abspath(paths[variant]["gltf"])
+            files[f"/m/{key}/view.json"] = view_path
+            url = f"http://127.0.0.1:{server.server_address[1]}/page.html?m={key}"
+            image, material = threejs_gltf.render(chromium, os.path.abspath(
+                os.path.join(out, "chromium-profile")), url, view["size_px"])
+            images[variant] = (image, material)
+    finally:
+        server.shutdown()
+    return images
+
+
+def blender_renders(paths: dict, out: str, view: dict, blender_python: str, samples: int) -> dict:
+    view_path = os.path.join(out, f"{NAME}-blender-view.json")
+    with open(view_path, "w", encoding="utf-8") as file:
+        json.dump(view, file)
+    results = {}
+    for variant in ("coat", "nocoat"):
+        prefix = os.path.join(out, f"{NAME}-{variant}-blender")
+        subprocess.run([blender_python, threejs_gltf.__file__.replace(
+            "threejs_gltf.py", "blender_render.py"), paths[variant]["gltf"], view_path, prefix,
+            str(samples)], check=True, capture_output=True)
+        with open(prefix + ".json", encoding="utf-8") as file:
+            info = json.load(file)
+        results[variant] = (np.load(prefix + ".npy"), info)
+    return results
+
+
+def run(argv) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cli", required=True, help="the slicecap command (generate, fit)")
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--blender-python", required=True, help="bpy's python, or none")
+    parser.add_argument("--three", default="tools/consumers/node_modules/three")
+    parser.add_argument("--chromium", default="chromium")
+    parser.add_argument("--spp", type=int, default=16, help="Mitsuba and Cycles samples")
+    args = parser.parse_args(argv)
+    os.makedirs(args.out, exist_ok=True)
+    paths = prepare(args.cli, args.out)
+    renders, scene = mitsuba_renders(paths, args.out, args.spp)
+    # One exposure, as the mitsuba section: the truth table's render's 99.5th percentile.
+    exposure = exposure_of(renders["table"], renders["table"].max(axis=-1) > 0.0)
+    eight = {key: cs.encode(image, exposure) for key, image in renders.items()}
+    view = dict(scene["view"], exposure=exposure, sphere_node=scene["sphere_node"])
+    for variant, (image, material) in threejs_renders(paths, args.out, view, args.three,
+                                                      args.chromium).items():
+        eight[f"{variant}-threejs"] = image
+        scene[f"threejs_{variant}_material"] = material
+    if args.blender_python != "none":
+        for variant, (image, info) in blender_renders(paths, args.out, scene["view"],
+                                                      args.blender_python, args.spp).items():
+            eight[f"{variant}-blender"] = cs.encode(image, exposure)
+            scene[f"blender_{variant}_principled"] = info["principled"]
+            scene["blender"] = info["blender"]
+    for key, image in eight.items():
+        write_png(os.path.join(args.out, f"{NAME}-{key}.png"), image)
+
+    # The coat's region: the pixels where the exact truth with its coat and without it differ by
+    # at least COAT_REGION_DE (its highlight and, toward the rim, its dimming of the base).
+    coat_region = delta_e_8bit(eight["coat-truth"], eight["nocoat-truth"]) >= COAT_REGION_DE
+    scene["coat_region_pixels"] = int(coat_region.sum())
+
+    def against(reference: str, key: str) -> dict:
+        pair = cs.compare_8bit(eight[reference], eight[key], cs.lit_mask(eight[reference])
+                               | cs.lit_mask(eight[key]))
+        pair["coat_region"] = cs.compare_8bit(eight[reference], eight[key], coat_region)
+        return pair
+
+    rows, failed = [], []
+    print(f"coat: {paths['fit_log'].splitlines()[0]}; the coat's region (truth with and "
+          f"without the coat >= {COAT_REGION_DE:g} dE apart): {scene['coat_region_pixels']} px")
+    for consumer in ("mitsuba", "threejs", "blender", "tabulated"):
+        if f"coat-{consumer}" not in eight:
+            print(f"coat {consumer:9s}: not rendered")
+            continue
+        row = {"consumer": consumer, "coat": against("coat-tabulated", f"coat-{consumer}"),
+               "nocoat": against("coat-tabulated", f"nocoat-{consumer}"),
+               "coat_vs_truth": against("coat-truth", f"coat-{consumer}"),
+               "nocoat_vs_truth": against("coat-truth", f"nocoat-{consumer}")}
+        if consumer == "tabulated":  # the reference itself: against the truth only
+            row["coat"] = None
+        else:
+            row["ok"] = (row["coat"]["delta_e"] <= TOLERANCE[consumer]
+                         and row["coat"]["delta_e"] < row["nocoat"]["delta_e"])
+            if not row["ok"]:
+                failed.append(consumer)
+        rows.append(row)
+
+        def text(pair):
+            return ("(the reference)" if pair is None else
+                    f"{pair['delta_e']:.2f} (p95 {pair['delta_e_p95']:.2f}; coat's region "
+                    f"{pair['coat_region']['delta_e']:.2f})")
+
+        print(f"coat {consumer:9s} mean dE vs the tabulated coated fit: {text(row['coat'])}, "
+              f"without the coat {text(row['nocoat'])}; vs the exact truth: "
+              f"{text(row['coat_vs_truth'])}, without the coat {text(row['nocoat_vs_truth'])}"
+              f"{'  FAIL' if consumer in failed else ''}", flush=True)
+    for variant in ("coat", "nocoat"):
+        if f"blender_{variant}_principled" in scene:
+            principled = scene[f"blender_{variant}_principled"]
+            print(f"coat blender {scene['blender']} imported {variant}: " + ", ".join(
+                f"{name} {principled.get(name)}" for name in COAT_INPUTS))
+        if f"threejs_{variant}_material" in scene:
+            print(f"coat threejs loaded {variant}: {scene[f'threejs_{variant}_material']}")
+    with open(os.path.join(args.out, "coat-results.json"), "w", encoding="utf-8") as file:
+        json.dump({"exposure": exposure, "scene": scene, "rows": rows,
+                   "fit_log": paths["fit_log"], "nocoat_log": paths["nocoat_log"]}, file,
+                  indent=1)
+    print(f"coat: {'FAIL: ' + ', '.join(failed) if failed else 'ok'}")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(run(sys.argv[1:]))
