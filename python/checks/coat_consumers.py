@@ -210,19 +210,41 @@ def run(argv) -> int:
 
     # The coat's region: the pixels where the exact truth with its coat and without it differ by
     # at least COAT_REGION_DE (its highlight and, toward the rim, its dimming of the base).
+    # Its two parts: where the coat brightens the picture (its highlight) and where it darkens it
+    # (the base dimmed by 1 - w Fc, toward the rim).
     coat_region = delta_e_8bit(eight["coat-truth"], eight["nocoat-truth"]) >= COAT_REGION_DE
-    scene["coat_region_pixels"] = int(coat_region.sum())
+    brighter = (eight["coat-truth"].astype(np.int32).sum(axis=-1)
+                > eight["nocoat-truth"].astype(np.int32).sum(axis=-1))
+    parts = {"coat_region": coat_region, "coat_highlight": coat_region & brighter,
+             "coat_dimmed": coat_region & ~brighter}
+    scene.update({f"{part}_pixels": int(mask.sum()) for part, mask in parts.items()})
 
     def against(reference: str, key: str) -> dict:
         pair = cs.compare_8bit(eight[reference], eight[key], cs.lit_mask(eight[reference])
                                | cs.lit_mask(eight[key]))
-        pair["coat_region"] = cs.compare_8bit(eight[reference], eight[key], coat_region)
+        for part, mask in parts.items():
+            pair[part] = cs.compare_8bit(eight[reference], eight[key], mask)
         return pair
+
+    def luminance(key: str) -> np.ndarray:
+        """Linear luminance of an 8-bit sRGB render (the exposure's units)."""
+        x = eight[key] / 255.0
+        linear = np.where(x <= 0.04045, x / 12.92, ((x + 0.055) / 1.055) ** 2.4)
+        return linear @ np.array([0.2126, 0.7152, 0.0722])
+
+    def coat_ratio(consumer: str, part: str) -> float:
+        """Median of the consumer's own coated / uncoated luminance over a part of the coat's
+        region (pixels lit in both): how much its coat brightens or dims, apart from its base."""
+        coated, bare = luminance(f"coat-{consumer}"), luminance(f"nocoat-{consumer}")
+        mask = parts[part] & (coated > 0.0) & (bare > 0.0)
+        return float(np.median(coated[mask] / bare[mask]))
 
     rows, failed = [], []
     print(f"coat: {paths['fit_log'].splitlines()[0]}; the coat's region (truth with and "
-          f"without the coat >= {COAT_REGION_DE:g} dE apart): {scene['coat_region_pixels']} px")
-    for consumer in ("mitsuba", "threejs", "blender", "tabulated"):
+          f"without the coat >= {COAT_REGION_DE:g} dE apart): {scene['coat_region_pixels']} px, "
+          f"{scene['coat_highlight_pixels']} brighter with it, {scene['coat_dimmed_pixels']} "
+          f"darker")
+    for consumer in ("mitsuba", "threejs", "blender", "tabulated", "truth"):
         if f"coat-{consumer}" not in eight:
             print(f"coat {consumer:9s}: not rendered")
             continue
@@ -230,8 +252,12 @@ def run(argv) -> int:
                "nocoat": against("coat-tabulated", f"nocoat-{consumer}"),
                "coat_vs_truth": against("coat-truth", f"coat-{consumer}"),
                "nocoat_vs_truth": against("coat-truth", f"nocoat-{consumer}")}
+        row["coat_over_nocoat"] = {part: coat_ratio(consumer, part)
+                                   for part in ("coat_highlight", "coat_dimmed")}
         if consumer == "tabulated":  # the reference itself: against the truth only
             row["coat"] = None
+        elif consumer == "truth":  # the truth itself: against the reference only
+            row["coat_vs_truth"] = None
         else:
             row["ok"] = (row["coat"]["delta_e"] <= TOLERANCE[consumer]
                          and row["coat"]["delta_e"] < row["nocoat"]["delta_e"])
@@ -240,13 +266,18 @@ def run(argv) -> int:
         rows.append(row)
 
         def text(pair):
-            return ("(the reference)" if pair is None else
+            return ("(itself)" if pair is None else
                     f"{pair['delta_e']:.2f} (p95 {pair['delta_e_p95']:.2f}; coat's region "
-                    f"{pair['coat_region']['delta_e']:.2f})")
+                    f"{pair['coat_region']['delta_e']:.2f}: highlight "
+                    f"{pair['coat_highlight']['delta_e']:.2f}, dimmed "
+                    f"{pair['coat_dimmed']['delta_e']:.2f})")
 
         print(f"coat {consumer:9s} mean dE vs the tabulated coated fit: {text(row['coat'])}, "
               f"without the coat {text(row['nocoat'])}; vs the exact truth: "
-              f"{text(row['coat_vs_truth'])}, without the coat {text(row['nocoat_vs_truth'])}"
+              f"{text(row['coat_vs_truth'])}, without the coat {text(row['nocoat_vs_truth'])}; "
+              f"its coated / uncoated luminance, median: highlight "
+              f"{row['coat_over_nocoat']['coat_highlight']:.3f}, dimmed "
+              f"{row['coat_over_nocoat']['coat_dimmed']:.3f}"
               f"{'  FAIL' if consumer in failed else ''}", flush=True)
     for variant in ("coat", "nocoat"):
         if f"blender_{variant}_principled" in scene:
