@@ -10,9 +10,13 @@ Reference: as for every coated or sheened fit of the other sections (consumer_sc
 mitsuba_reference), the fit tabulated on the 81 x 81 grid and rendered through the slicecap table
 plugin. Reported: mean CIE76 dE of 8-bit sRGB over the pixels lit in either image, p95 beside.
 
-For information, the same three consumers render the fit with coat_weight 0 (the fitted JSON with
-its coat weight set to 0, exported again by `slicecap fit F.json`, which does not fit again), and
-that render is judged against the same coated reference: how much of the picture the coat is.
+For information: the lacquer rendered exactly (CoatedTruth in the slicecap_analytic BSDF), and
+every render against it too, since the 81-direction grid smears a coat lobe as narrow as alpha
+0.08; the pixels where the coat shows (the truth with and without it >= COAT_REGION_DE apart),
+split into its highlight and the rim it dims; and the highlight again at the truth's peak
+exposure, where no render clips. The same three consumers also render the fit with coat_weight 0
+(the fitted JSON with its coat weight set to 0, exported again by `slicecap fit F.json`, which does
+not fit again), judged against the same coated references: how much of the picture the coat is.
 Each consumer's coated render must be nearer the reference than its uncoated one (else the
 comparison could not see the coat), and within its section's tolerance (three.js 4, Blender 8, the
 snippet 3).
@@ -203,6 +207,7 @@ def run(argv) -> int:
         for variant, (image, info) in blender_renders(paths, args.out, scene["view"],
                                                       args.blender_python, args.spp).items():
             eight[f"{variant}-blender"] = cs.encode(image, exposure)
+            renders[f"{variant}-blender"] = image
             scene[f"blender_{variant}_principled"] = info["principled"]
             scene["blender"] = info["blender"]
     for key, image in eight.items():
@@ -279,6 +284,39 @@ def run(argv) -> int:
               f"{row['coat_over_nocoat']['coat_highlight']:.3f}, dimmed "
               f"{row['coat_over_nocoat']['coat_dimmed']:.3f}"
               f"{'  FAIL' if consumer in failed else ''}", flush=True)
+    # The coat's highlight unclipped: at the exposure above its core is 255 in every coated render
+    # (the exposure is the table's 99.5th percentile); at the truth's peak (its brightest channel)
+    # nothing is clipped. three.js renders again at that exposure (its page divides by it).
+    peak = float(renders["coat-truth"].max())
+    peak8 = {consumer: cs.encode(renders[f"coat-{consumer}"], peak)
+             for consumer in ("truth", "tabulated", "mitsuba", "blender")
+             if f"coat-{consumer}" in renders}
+    peak_out = os.path.join(args.out, "peak-exposure")
+    os.makedirs(peak_out, exist_ok=True)
+    peak8["threejs"] = threejs_renders(paths, peak_out, dict(view, exposure=peak), args.three,
+                                       args.chromium)["coat"][0]
+    for consumer, image in peak8.items():
+        write_png(os.path.join(peak_out, f"{NAME}-coat-{consumer}.png"), image)
+
+    def linear_sum(image8: np.ndarray, mask: np.ndarray) -> float:
+        x = image8[mask] / 255.0
+        linear = np.where(x <= 0.04045, x / 12.92, ((x + 0.055) / 1.055) ** 2.4)
+        return float(np.sum(linear @ np.array([0.2126, 0.7152, 0.0722])))
+
+    highlight = parts["coat_highlight"]
+    scene["peak_exposure"] = {"exposure": peak, "rows": {}}
+    for consumer, image in peak8.items():
+        pair = cs.compare_8bit(peak8["truth"], image, highlight)
+        pair["luminance_over_truth"] = (linear_sum(image, highlight)
+                                        / linear_sum(peak8["truth"], highlight))
+        pair["saturated_pixels"] = int((image >= 255).any(axis=-1).sum())
+        scene["peak_exposure"]["rows"][consumer] = pair
+        print(f"coat {consumer:9s} at the truth's peak exposure, the coat's highlight "
+              f"({pair['lit_pixels']} px) against the exact truth: mean dE {pair['delta_e']:.2f} "
+              f"(p95 {pair['delta_e_p95']:.2f}), summed luminance x "
+              f"{pair['luminance_over_truth']:.3f} of the truth's, {pair['saturated_pixels']} "
+              f"px at 255", flush=True)
+
     for variant in ("coat", "nocoat"):
         if f"blender_{variant}_principled" in scene:
             principled = scene[f"blender_{variant}_principled"]
