@@ -237,6 +237,13 @@ def run(argv) -> int:
     parts = {"coat_region": coat_region, "coat_highlight": coat_region & brighter,
              "coat_dimmed": coat_region & ~brighter}
     scene.update({f"{part}_pixels": int(mask.sum()) for part, mask in parts.items()})
+    # Where the dimmed part lies: its share within 2 px of the edge of what the truth lights.
+    inner = cs.lit_mask(eight["nocoat-truth"])
+    for dy in range(-2, 3):
+        for dx in range(-2, 3):
+            inner = inner & np.roll(np.roll(cs.lit_mask(eight["nocoat-truth"]), dy, 0), dx, 1)
+    scene["coat_dimmed_share_within_2px_of_edge"] = float(
+        np.mean(~inner[parts["coat_dimmed"]]))
 
     def against(reference: str, key: str) -> dict:
         pair = cs.compare_8bit(eight[reference], eight[key], cs.lit_mask(eight[reference])
@@ -248,7 +255,8 @@ def run(argv) -> int:
     print(f"coat: {paths['fit_log'].splitlines()[0]}; the coat's region (truth with and "
           f"without the coat >= {COAT_REGION_DE:g} dE apart): {scene['coat_region_pixels']} px, "
           f"{scene['coat_highlight_pixels']} brighter with it, {scene['coat_dimmed_pixels']} "
-          f"darker")
+          f"darker ({100 * scene['coat_dimmed_share_within_2px_of_edge']:.0f} % of these within "
+          f"2 px of the lit edge)")
     # The coat's highlight unclipped: at the exposure above its core is 255 in every coated render
     # (the exposure is the table's 99.5th percentile); at the truth's peak (its brightest channel)
     # nothing is clipped. three.js renders again at that exposure (its page divides by it).
