@@ -238,12 +238,16 @@ def run(argv) -> int:
              "coat_dimmed": coat_region & ~brighter}
     scene.update({f"{part}_pixels": int(mask.sum()) for part, mask in parts.items()})
     # Where the dimmed part lies: its share within 2 px of the edge of what the truth lights.
-    inner = cs.lit_mask(eight["nocoat-truth"])
-    for dy in range(-2, 3):
-        for dx in range(-2, 3):
-            inner = inner & np.roll(np.roll(cs.lit_mask(eight["nocoat-truth"]), dy, 0), dx, 1)
+    def inside(pixels: int) -> np.ndarray:
+        lit = cs.lit_mask(eight["nocoat-truth"])
+        inner = lit.copy()
+        for dy in range(-pixels, pixels + 1):
+            for dx in range(-pixels, pixels + 1):
+                inner &= np.roll(np.roll(lit, dy, 0), dx, 1)
+        return inner
+
     scene["coat_dimmed_share_within_2px_of_edge"] = float(
-        np.mean(~inner[parts["coat_dimmed"]]))
+        np.mean(~inside(2)[parts["coat_dimmed"]]))
 
     def against(reference: str, key: str) -> dict:
         pair = cs.compare_8bit(eight[reference], eight[key], cs.lit_mask(eight[reference])
@@ -298,6 +302,12 @@ def run(argv) -> int:
         linear = np.where(x <= 0.04045, x / 12.92, ((x + 0.055) / 1.055) ** 2.4)
         return linear @ np.array([0.2126, 0.7152, 0.0722])
 
+    # The dimming away from the outline, where the pixels' sampling matters less: at least 3 px
+    # inside the lit area, where the truth's coat dims its base by 5 % or more.
+    truth_ratio = luminance("coat-truth") / np.maximum(luminance("nocoat-truth"), 1e-12)
+    parts["dimmed_inside"] = inside(3) & (truth_ratio > 0.0) & (truth_ratio <= 0.95)
+    scene["dimmed_inside_pixels"] = int(parts["dimmed_inside"].sum())
+
     def coat_ratio(consumer: str, part: str) -> float:
         """Median of the consumer's own coated / uncoated luminance over a part of the coat's
         region (pixels lit in both): how much its coat brightens or dims, apart from its base."""
@@ -315,7 +325,8 @@ def run(argv) -> int:
                "coat_vs_truth": against("coat-truth", f"coat-{consumer}"),
                "nocoat_vs_truth": against("coat-truth", f"nocoat-{consumer}")}
         row["coat_over_nocoat"] = {part: coat_ratio(consumer, part)
-                                   for part in ("coat_highlight", "coat_dimmed")}
+                                   for part in ("coat_highlight", "coat_dimmed",
+                                                "dimmed_inside")}
         if consumer == "tabulated":  # the reference itself: against the truth only
             row["coat"] = None
         elif consumer == "truth":  # the truth itself: against the reference only
@@ -340,7 +351,9 @@ def run(argv) -> int:
               f"{text(row['coat_vs_truth'])}, without the coat {text(row['nocoat_vs_truth'])}; "
               f"its coated / uncoated luminance, median: highlight "
               f"{row['coat_over_nocoat']['coat_highlight']:.3f}, dimmed "
-              f"{row['coat_over_nocoat']['coat_dimmed']:.3f}"
+              f"{row['coat_over_nocoat']['coat_dimmed']:.3f}, dimmed >= 3 px inside "
+              f"({scene['dimmed_inside_pixels']} px) "
+              f"{row['coat_over_nocoat']['dimmed_inside']:.3f}"
               f"{'  FAIL' if consumer in failed else ''}", flush=True)
     for variant in ("coat", "nocoat"):
         if f"blender_{variant}_principled" in scene:
