@@ -30,7 +30,8 @@ addon = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(addon)
 
 INPUTS = ("Base Color", "Roughness", "Anisotropic", "Anisotropic Rotation", "IOR",
-          "Specular IOR Level", "Specular Tint", "Sheen Weight", "Sheen Tint", "Sheen Roughness")
+          "Specular IOR Level", "Specular Tint", "Sheen Weight", "Sheen Tint", "Sheen Roughness",
+          "Coat Weight", "Coat Roughness", "Coat IOR", "Coat Tint")
 
 
 def to_blender(p) -> Vector:
