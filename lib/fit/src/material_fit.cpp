@@ -267,11 +267,12 @@ std::vector<FitParameters> sheenStartsFrom(const FittedMaterial& m, bool isotrop
   return sheenStarts;
 }
 
-// Fits ggx+sheen from the GGX candidate kept (result.candidates[ggx]), appends it to the
-// candidates when it converged and sets result.choiceReason. Returns whether the sheen term earns
-// its parameters by the options' rule, i.e. whether the appended candidate is the chosen one.
+// Fits ggx+sheen from the GGX candidate kept (result.candidates[ggx]) and appends it to the
+// candidates when it converged. Returns whether the sheen term earns its parameters by the
+// options' rule, i.e. whether the appended candidate is the chosen one; `reason` says why.
 bool addSheenCandidate(const Abrdf& table, const FitData& data, const FitData& scoutData,
-                       const FitOptions& options, std::size_t ggx, FitResult& result) {
+                       const FitOptions& options, std::size_t ggx, FitResult& result,
+                       std::string& reason) {
   const double ggxDeltaE = result.candidates[ggx].metrics.deltaE;
   const std::vector<FitParameters> sheenStarts =
       sheenStartsFrom(result.candidates[ggx].material, result.candidates[ggx].isotropicLobe);
@@ -279,7 +280,7 @@ bool addSheenCandidate(const Abrdf& table, const FitData& data, const FitData& s
   std::optional<CandidateFit> sheen = bestOf(table, data, scoutData, sheenStarts,
                                              options.maxIterations, sheenFailure, kMaxPolishedSheen);
   if (!sheen) {
-    result.choiceReason = "the ggx+sheen fit did not converge (" + sheenFailure + ")";
+    reason = "the ggx+sheen fit did not converge (" + sheenFailure + ")";
     return false;
   }
   result.candidates.push_back(*sheen);
@@ -290,11 +291,8 @@ bool addSheenCandidate(const Abrdf& table, const FitData& data, const FitData& s
                               fixed2(sheenDeltaE) + " (ggx+sheen)";
   const std::string rule =
       ruleText("ggx", options.sheenMaximumDeltaEFraction, options.sheenMinimumGainDeltaE);
-  if (earns) {
-    result.choiceReason = "the sheen term lowers " + figures + "; " + rule;
-  } else {
-    result.choiceReason = "the sheen term does not earn its 4 parameters, " + figures + "; " + rule;
-  }
+  reason = earns ? "the sheen term lowers " + figures + "; " + rule
+                 : "the sheen term does not earn its 4 parameters, " + figures + "; " + rule;
   return earns;
 }
 
@@ -418,22 +416,23 @@ FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOpti
           ? addIsotropicCandidate(table, data, scoutData, options, result, lobeReason)
           : 0;
   std::size_t chosen = ggx;
-  result.choiceReason = "sheen not tried";
+  std::string sheenReason = "sheen not tried";
 
   const double ggxDeltaE = result.candidates[ggx].metrics.deltaE;
   if (options.trySheen && ggxDeltaE < options.sheenMinimumGainDeltaE) {
     // The rule could not choose the sheen: skip its solves (most of the fit's time).
-    result.choiceReason = "its mean dE " + fixed2(ggxDeltaE) + " is already below the gain of " +
-                          fixed2(options.sheenMinimumGainDeltaE) +
-                          " a sheen term would have to bring; ggx+sheen not tried";
-  } else if (options.trySheen && addSheenCandidate(table, data, scoutData, options, ggx, result)) {
+    sheenReason = "its mean dE " + fixed2(ggxDeltaE) + " is already below the gain of " +
+                  fixed2(options.sheenMinimumGainDeltaE) +
+                  " a sheen term would have to bring; ggx+sheen not tried";
+  } else if (options.trySheen &&
+             addSheenCandidate(table, data, scoutData, options, ggx, result, sheenReason)) {
     chosen = result.candidates.size() - 1;
   }
   std::string coatReason = "coat not tried";
   if (options.tryCoat && addCoatCandidate(table, data, scoutData, options, chosen, result, coatReason))
     chosen = result.candidates.size() - 1;
   result.choiceReason = std::string(toString(result.candidates[chosen].model)) + ": " +
-                        result.choiceReason + "; " + coatReason + "; " + lobeReason;
+                        sheenReason + "; " + coatReason + "; " + lobeReason;
   const CandidateFit& chosenFit = result.candidates[chosen];
   result.material = chosenFit.material;
   result.sigmas = chosenFit.sigmas;

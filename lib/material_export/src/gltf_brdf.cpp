@@ -18,16 +18,18 @@ UnitVector halfVector(const UnitVector& l, const UnitVector& v) {
   return {x / n, y / n, z / n};
 }
 
-// glTF 2.0 Appendix B's isotropic D_GGX V_GGX (the clear coat's lobe), alpha = roughness^2.
-double isotropicGgx(const UnitVector& l, const UnitVector& v, double roughness) {
-  const UnitVector h = halfVector(l, v);
-  const double a2 = std::max(std::pow(roughness, 4), 1e-14);
-  const double denominator = h.z * h.z * (a2 - 1.0) + 1.0;
-  const double d = a2 / (std::numbers::pi * denominator * denominator);
-  const double lengthV = std::sqrt(v.z * v.z * (1.0 - a2) + a2);
-  const double lengthL = std::sqrt(l.z * l.z * (1.0 - a2) + a2);
-  const double visibility = 0.5 / (l.z * lengthV + v.z * lengthL);
-  return d * visibility;
+// KHR_materials_anisotropy's D_GGX_anisotropic V_GGX_anisotropic: alpha `at` along the unit
+// tangent t, `ab` along the bitangent b (both in the surface). With at = ab (any t, b) it is glTF
+// 2.0 Appendix B's isotropic D V, the clear coat's lobe.
+double ggxLobe(const UnitVector& l, const UnitVector& v, const UnitVector& h, const UnitVector& t,
+               const UnitVector& b, double at, double ab) {
+  const double a2 = at * ab;
+  const double fx = ab * dot(t, h), fy = at * dot(b, h), fz = a2 * h.z;
+  const double w2 = a2 / (fx * fx + fy * fy + fz * fz);
+  const double d = a2 * w2 * w2 / std::numbers::pi;
+  const double lengthV = std::sqrt(std::pow(at * dot(t, v), 2) + std::pow(ab * dot(b, v), 2) + v.z * v.z);
+  const double lengthL = std::sqrt(std::pow(at * dot(t, l), 2) + std::pow(ab * dot(b, l), 2) + l.z * l.z);
+  return d * 0.5 / (l.z * lengthV + v.z * lengthL);
 }
 
 }  // namespace
@@ -79,13 +81,7 @@ Rgb GltfBrdf::evaluate(const UnitVector& l, const UnitVector& v) const {
   const double alpha = g.roughnessFactor * g.roughnessFactor;
   const double s2 = g.anisotropyStrength * g.anisotropyStrength;
   const double at = std::max(alpha * (1.0 - s2) + s2, 1e-7), ab = std::max(alpha, 1e-7);
-  const double a2 = at * ab;
-  const double fx = ab * dot(t, h), fy = at * dot(b, h), fz = a2 * h.z;
-  const double w2 = a2 / (fx * fx + fy * fy + fz * fz);
-  const double d = a2 * w2 * w2 / std::numbers::pi;
-  const double lengthV = std::sqrt(std::pow(at * dot(t, v), 2) + std::pow(ab * dot(b, v), 2) + v.z * v.z);
-  const double lengthL = std::sqrt(std::pow(at * dot(t, l), 2) + std::pow(ab * dot(b, l), 2) + l.z * l.z);
-  const double visibility = 0.5 / (l.z * lengthV + v.z * lengthL);
+  const double lobe = ggxLobe(l, v, h, t, b, at, ab);
   const double iorF0 = std::pow((g.ior - 1.0) / (g.ior + 1.0), 2);
   const double weight = std::pow(1.0 - std::clamp(dot(v, h), 0.0, 1.0), 5.0);
 
@@ -99,13 +95,15 @@ Rgb GltfBrdf::evaluate(const UnitVector& l, const UnitVector& v) const {
   for (std::size_t c = 0; c < 3; ++c) {
     const double f0 = std::min(iorF0 * g.specularColorFactor[c], 1.0) * g.specularFactor;
     const double fresnel = f0 + (g.specularFactor - f0) * weight;
-    const double base = g.baseColorFactor[c] / std::numbers::pi * (1.0 - fresnel) + fresnel * d * visibility;
+    const double base = g.baseColorFactor[c] / std::numbers::pi * (1.0 - fresnel) + fresnel * lobe;
     out[c] = g.sheenColorFactor[c] * sheen + scaling * base;
   }
   if (g.hasClearcoat) {
-    const double coatFresnel = 0.04 + 0.96 * std::pow(1.0 - std::clamp(v.z, 0.0, 1.0), 5.0);
+    const double coatFresnel =
+        fit::kCoatF0 + (1.0 - fit::kCoatF0) * std::pow(1.0 - std::clamp(v.z, 0.0, 1.0), 5.0);
     const double share = g.clearcoatFactor * coatFresnel;
-    const double coat = isotropicGgx(l, v, g.clearcoatRoughnessFactor);
+    const double coatAlpha = std::max(std::pow(g.clearcoatRoughnessFactor, 2), 1e-7);
+    const double coat = ggxLobe(l, v, h, t, b, coatAlpha, coatAlpha);
     for (std::size_t c = 0; c < 3; ++c) out[c] = out[c] * (1.0 - share) + share * coat;
   }
   return out;

@@ -164,13 +164,15 @@ SheenPart sheenPartOf(const fit::FittedMaterial& m) {
   return p;
 }
 
-// The fit's diffuse and specular divided by `factor`; a factor of 0 (the stand-in takes the whole
-// blend, which the room allows only when there is no diffuse and no specular) leaves them 0.
+// The fit's diffuse, specular and sheen divided by `factor`: the rest of a blend whose other part
+// takes the share 1 - factor. A factor of 0 (that part takes the whole blend, which the room allows
+// only when there is nothing else) leaves them 0.
 fit::FittedMaterial scaledBy(fit::FittedMaterial m, double factor) {
   const auto divide = [factor](double v) { return factor > 0.0 ? v / factor : 0.0; };
   for (std::size_t c = 0; c < 3; ++c) {
     m.diffuseAlbedo[c] = divide(m.diffuseAlbedo[c]);
     m.specularF0[c] = divide(m.specularF0[c]);
+    m.sheenColour[c] = divide(m.sheenColour[c]);
   }
   m.specularF90 = divide(m.specularF90);
   return m;
@@ -251,9 +253,7 @@ double coatBlendWeight(const fit::FittedMaterial& m) {
 // The fit's coat: blendbsdf(c, the rest divided by (1 - c), a roughconductor of eta 1.5, k 0:
 // the exact Fresnel of the coat's dielectric, 0.04 at normal incidence, 1 at grazing).
 std::string coatedBsdf(const fit::FittedMaterial& m, double c, std::vector<ConversionLoss>& losses) {
-  fit::FittedMaterial inner = scaledBy(m, 1.0 - c);
-  for (std::size_t k = 0; k < 3; ++k)
-    inner.sheenColour[k] = c < 1.0 ? m.sheenColour[k] / (1.0 - c) : 0.0;
+  const fit::FittedMaterial inner = scaledBy(m, 1.0 - c);
   std::ostringstream x;
   x << "  <!-- slicecap_fit = blendbsdf weight c = " << num(c)
     << ": (1 - c) x the fit without its coat, divided by (1 - c),\n"
@@ -273,7 +273,7 @@ std::string coatedBsdf(const fit::FittedMaterial& m, double c, std::vector<Conve
                     "Mitsuba 3 has no layered coat: the coat is blended in with weight " + num(c) +
                         ", its Fresnel the exact one of IOR 1.5 at each microfacet (the fit's: "
                         "Schlick's at the view's angle to the normal), and the rest is not dimmed "
-                        "by it (the fit dims it by 1 - w Fc: " + num(1.0 - 0.04 * m.coatWeight) +
+                        "by it (the fit dims it by 1 - w Fc: " + num(1.0 - fit::kCoatF0 * m.coatWeight) +
                         " face on)"});
   if (c < m.coatWeight - 1e-6)
     losses.push_back({LossKind::CoatForm,
