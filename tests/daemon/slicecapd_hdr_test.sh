@@ -58,13 +58,16 @@ echo "slicecapd on an HDR recording: ok"
 
 # Live, on the camera model (a camera that applies a new exposure frames late, queues and drops
 # frames): hdr_levels = 2 switches the exposure with blocks of LED pairs, labels each frame with
-# its level, records it, and keeps the highlight that one exposure clips and rejects.
+# its level, records it, and keeps the peak bin that one exposure clips and rejects. What the peak
+# bin holds: the short level's reading when one of its frames there found its markers, else the
+# long level's clipped one, a lower bound (the short level, 1/16 of the metered exposure, puts the
+# paper at a few codes and locates only some of its frames: docs/method.md 9.3).
 model_sweep() {  # model_sweep LEVELS: the diagonal 75/75 sweep's session, status and recording
   local levels=$1
-  # 9 s, not 6: the camera model runs in real time, and on a loaded 2-core machine (the test
-  # suite's other job plus a fit) the daemon drops frames; at 6 s the HDR sweep, whose bins share
-  # their frames between two levels, once kept 15 bins to one exposure's 19.
-  write_model_config "model_material = $material" "model_rig = ideal" "model_sweep_seconds = 9" \
+  # The rig rests 12 s / 32 positions = 11 frames at each: more than a level's block of LED pairs
+  # (8 frames), so each position sees both levels even when the loaded 2-core machine (the test
+  # suite's other job) makes the daemon drop frames. The two peak positions are 2 of the 32.
+  write_model_config "model_material = $material" "model_rig = ideal" "model_sweep_seconds = 12" \
     "record_frames = true" "hdr_levels = $levels"
   rm -rf "$work/storage-model"
   start_daemon
@@ -98,7 +101,8 @@ for level in (0, 1):
 single, single_bins = peak(1)
 hdr, hdr_bins = peak(2)
 # One exposure metered on the paper clips the peak and rejects it (window_clipped): only the
-# diffuse part (~0.005 1/sr) is left. The short level holds it.
+# diffuse part (~0.005 1/sr) is left. HDR keeps the peak bin, at 2.4 1/sr or more (the long
+# level's clipped lower bound, or the short level's reading, ~20).
 assert single < 0.05, f"one exposure kept a peak of {single}: the check would see no difference"
 assert hdr > 0.3, f"the HDR sweep's largest bin reads {hdr} (one exposure: {single})"
 assert hdr_bins >= 0.8 * single_bins, f"HDR filled {hdr_bins} bins, one exposure {single_bins}; HDR frames {dict(kinds)}"

@@ -48,15 +48,46 @@ void exposeRawRow(int row, int widthPx, const RowExposure& exposure, const RawCo
 void exposeRgbRow(int widthPx, const RowExposure& exposure, const float (&gains)[3],
                   const std::vector<std::uint8_t>& encodeTable, SampleNoise& noise,
                   std::uint16_t* out) {
-  const float* ambient = exposure.ambient;
-  const float* lit = exposure.lit;
-  for (int i = 0; i < widthPx * 3; ++i) {
-    const std::size_t at = exposure.base + i;
-    const float signal = exposure.ambientScale * ambient[at] + exposure.ledScale * lit[at];
-    const float value = noise.added(signal) * gains[i % 3];
-    const float clamped = std::min(std::max(value, 0.0f), 1.0f);
-    out[at] = encodeTable[static_cast<std::size_t>(clamped * 65535.0f + 0.5f)];
+  // Two passes, so the arithmetic of the first vectorises (the daemon's frame loop pays this for
+  // every frame on `camera = model`, where a real camera's ISP works in parallel): the noisy,
+  // gained, clamped value as a table index, then the tone curve's lookup. The noise draws are
+  // the ones SampleNoise::added reads, in the same order, so the frames are unchanged.
+  const std::size_t count = std::size_t(widthPx) * 3;
+  thread_local std::vector<std::int32_t> indices;
+  thread_local std::vector<float> rowGains;  // the colour gain of each value of a row
+  indices.resize(count);
+  if (rowGains.size() != count || rowGains[0] != gains[0] || rowGains[1] != gains[1] ||
+      rowGains[2] != gains[2]) {
+    rowGains.resize(count);
+    for (std::size_t k = 0; k < count; ++k) rowGains[k] = gains[k % 3];
   }
+  const float ambientScale = exposure.ambientScale, ledScale = exposure.ledScale;
+  const float inverseFullWell = noise.inverseFullWell, readVariance = noise.readVariance;
+  std::size_t done = 0;
+  while (done < count) {
+    // The run of draws up to the table's end (it wraps to its start, as added() does).
+    const std::size_t run = std::min(count - done, kNoiseTableSize - noise.at);
+    const float* __restrict normals = noise.normals + noise.at;
+    const float* __restrict ambient = exposure.ambient + exposure.base + done;
+    const float* __restrict lit = exposure.lit + exposure.base + done;
+    const float* __restrict gain = rowGains.data() + done;
+    std::int32_t* __restrict index = indices.data() + done;
+    for (std::size_t i = 0; i < run; ++i) {
+      const float signal = ambientScale * ambient[i] + ledScale * lit[i];
+      // Clamps written as selects (maxss/minss), not std::max/min, which the compiler keeps
+      // as branches and so does not vectorise; the values are the same for every finite input.
+      const float shot = signal > 0.0f ? signal : 0.0f;
+      const float sigma = std::sqrt(shot * inverseFullWell + readVariance);
+      const float value = (signal + sigma * normals[i]) * gain[i];
+      const float positive = value > 0.0f ? value : 0.0f;
+      const float clamped = positive < 1.0f ? positive : 1.0f;
+      index[i] = static_cast<std::int32_t>(clamped * 65535.0f + 0.5f);
+    }
+    done += run;
+    noise.at = (noise.at + run) & (kNoiseTableSize - 1);
+  }
+  std::uint16_t* row = out + exposure.base;
+  for (std::size_t k = 0; k < count; ++k) row[k] = encodeTable[std::size_t(indices[k])];
 }
 
 Image decodedMosaic(const BayerFormat& format, int widthPx, int heightPx, double blackLevel16,
