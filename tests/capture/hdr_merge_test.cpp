@@ -201,5 +201,25 @@ TEST(HdrMerge, AzimuthBinsMergeHdrSamplesAndKeepTheMedianOtherwise) {
   EXPECT_NEAR(median[0].value[0], 2.0 / kIrradiance, 1e-9);  // the median of 1/16, 2, 2
 }
 
+TEST(HdrMerge, AzimuthBinsNameTheBinsClippedAtEveryExposure) {
+  AzimuthBins bins(SliceKind::Diagonal);
+  // Bin 6 (90 deg): clipped in its long frame only, the short one holds it.
+  bins.add(frameAt(16.0, 2.0, 90.0));
+  bins.add(frameAt(0.25, 2.0, 90.0));
+  // Bin 18 (270 deg): only a long frame, clipped; bin 12 (180 deg): clipped at both exposures.
+  bins.add(frameAt(16.0, 2.0, 270.0));
+  bins.add(frameAt(16.0, 100.0, 180.0));
+  bins.add(frameAt(4.0, 100.0, 180.0));
+  // Bin 3 (45 deg): dim, nothing clipped.
+  bins.add(frameAt(16.0, 0.01, 45.0));
+  EXPECT_EQ(bins.clippedBins(), (std::vector<int>{12, 18}));
+
+  AzimuthBins plainBins(SliceKind::Diagonal);
+  FrameSample clipped = frameAt(16.0, 100.0, 180.0);
+  clipped.hdr.reset();  // one exposure: no cells, so nothing to say (its gate rejects clipping)
+  plainBins.add(clipped);
+  EXPECT_TRUE(plainBins.clippedBins().empty());
+}
+
 }  // namespace
 }  // namespace slicecap::capture

@@ -108,6 +108,35 @@ TEST(DaemonCommands, StatusShowsTheRawFrameRecordingAndWhyItStopped) {
   EXPECT_THAT(r.out, HasSubstr("recording stopped: /s/x.png: No space left on device"));
 }
 
+TEST(DaemonCommands, StatusNamesTheHdrBinsClippedAtEveryExposure) {
+  const auto dir = test::freshTempDir();
+  LiveDaemon daemon(dir / "storage");
+  ASSERT_EQ(daemon.run({"session", "new", "steel", "--id", "steel"}).code, kExitOk);
+  ASSERT_EQ(daemon.run({"sweep", "start", "axial", "30", "30"}).code, kExitOk);
+  // Two exposures of bin 3 (45 deg), every window cell clipped in both; bin 5 has a cell clipped
+  // in its long frame only.
+  const auto hdrSample = [](int frame, double phiDeg, int level, bool clipped) {
+    capture::FrameSample s{frame, std::uint64_t(frame), {30, phiDeg}, {30, phiDeg + 15}, Rgb::gray(0.2)};
+    capture::HdrReading hdr;
+    hdr.exposureLevel = level;
+    for (int k = 0; k < capture::kHdrCellsPerSide * capture::kHdrCellsPerSide; ++k)
+      hdr.cells.push_back({Rgb::gray(0.5), Rgb::gray(1e-6), clipped ? 1.0 : 0.5, clipped});
+    hdr.irradiance = Rgb::gray(2.0);
+    hdr.irradianceWeight = 1.0;
+    s.hdr = std::move(hdr);
+    return s;
+  };
+  daemon.manager().acceptSample(hdrSample(0, 45.0, 0, true));
+  daemon.manager().acceptSample(hdrSample(1, 45.0, 1, true));
+  daemon.manager().acceptSample(hdrSample(2, 75.0, 0, true));
+  daemon.manager().acceptSample(hdrSample(3, 75.0, 1, false));
+  Result r = daemon.run({"status"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("clipped at every exposure, a lower bound (sweep over them again slower): 45 deg\n"));
+  r = daemon.run({"status", "--json"});
+  EXPECT_EQ(json::parse(r.out)["sweep"]["clipped_bins"], json::array({3}));
+}
+
 TEST(DaemonCommands, ASessionFromNewToExport) {
   const auto dir = test::freshTempDir();
   LiveDaemon daemon(dir / "storage");

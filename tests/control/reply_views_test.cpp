@@ -32,6 +32,7 @@ SweepView pausedSweep() {
   sweep.bins = std::vector<bool>(kBinsPerSlice, false);
   sweep.bins[3] = true;
   sweep.binsFilled = 1;
+  sweep.clippedBins = {3};
   sweep.samples = 9;
   sweep.acceptedThisRun = 2;
   sweep.rejected = {{"too_few_markers", 4}, {"elevation_off", 1}};
@@ -58,6 +59,12 @@ TEST(ReplyViews, SweepRoundTripsWithAndWithoutAPosedFrame) {
   const json written = toJson(sweep);
   EXPECT_EQ(toJson(sweepFromJson(written)), written);
   EXPECT_EQ(sweepFromJson(written).rejected.at("too_few_markers"), 4u);
+  EXPECT_EQ(sweepFromJson(written).clippedBins, std::vector<int>{3});
+  // No clipped bin (every sweep of one exposure, a daemon from before the field): no key.
+  json none = written;
+  none.erase("clipped_bins");
+  EXPECT_TRUE(sweepFromJson(none).clippedBins.empty());
+  EXPECT_EQ(toJson(sweepFromJson(none)), none);
   sweep.viewElevationErrorDeg.reset();
   sweep.pauseReason.reset();
   sweep.state = "capturing";

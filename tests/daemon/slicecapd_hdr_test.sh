@@ -106,6 +106,15 @@ hdr, hdr_bins = peak(2)
 assert single < 0.05, f"one exposure kept a peak of {single}: the check would see no difference"
 assert hdr > 0.3, f"the HDR sweep's largest bin reads {hdr} (one exposure: {single})"
 assert hdr_bins >= 0.8 * single_bins, f"HDR filled {hdr_bins} bins, one exposure {single_bins}; HDR frames {dict(kinds)}"
-print(f"camera model: one exposure peaks at {single:.4f} in {single_bins} bins, HDR at {hdr:.3f} in {hdr_bins} bins; frames {dict(kinds)}")
+# The status names the bins that rest on a reading clipped at every exposure: each bin that reads
+# the long level's clipped value (~2.4 1/sr, far above the diffuse ~0.005 and far below the
+# short level's ~20) is among them; one exposure rejects clipped windows and names none.
+rows = [r for r in csv.reader(open(f"{work}/live-2/live-slices.csv")) if r and not r[0].startswith("#")][1:]
+lower_bounds = {round(float(r[4]) / 15.0) % 24 for r in rows if 1.0 < float(r[5]) < 10.0}
+clipped = set(status["sweep"].get("clipped_bins", []))
+assert lower_bounds <= clipped, f"bins {sorted(lower_bounds - clipped)} read a clipped value, the status names {sorted(clipped)}"
+assert "clipped_bins" not in json.load(open(f"{work}/status-1.json"))["sweep"], "one exposure names clipped bins"
+print(f"camera model: one exposure peaks at {single:.4f} in {single_bins} bins, HDR at {hdr:.3f} in {hdr_bins} bins "
+      f"(clipped at every exposure: bins {sorted(clipped)}); frames {dict(kinds)}")
 PY
 echo "slicecapd HDR on the camera model: ok"

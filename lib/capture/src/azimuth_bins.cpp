@@ -70,6 +70,19 @@ std::vector<bool> AzimuthBins::filled() const {
   return out;
 }
 
+std::vector<int> AzimuthBins::clippedBins() const {
+  std::vector<int> out;
+  for (std::size_t b = 0; b < bins_.size(); ++b) {
+    const auto& bin = bins_[b];
+    if (bin.empty() || !bin.front().hdr) continue;
+    // The merge without the frames' distances from the bin centre: whether a cell is clipped in
+    // every frame does not depend on which frame gives a cell whose frames disagree.
+    const std::optional<HdrMerge> merged = mergeHdrBin(bin);
+    if (merged && merged->clippedCells > 0) out.push_back(static_cast<int>(b));
+  }
+  return out;
+}
+
 std::vector<SliceSample> AzimuthBins::combine() const {
   std::vector<SliceSample> out;
   for (std::size_t b = 0; b < bins_.size(); ++b) {

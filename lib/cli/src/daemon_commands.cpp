@@ -100,10 +100,19 @@ std::string isotropyText(const control::IsotropyView& isotropy) {
          " (" + isotropy.reason + ")";
 }
 
+// An HDR sweep's bins whose highlight clipped at every exposure, by their slice parameter.
+std::string clippedBinsLine(const control::SweepView& sweep) {
+  std::string line = "clipped at every exposure, a lower bound (sweep over them again slower):";
+  const double widthDeg = 360.0 / control::kBinsPerSlice;
+  for (const int bin : sweep.clippedBins) line += " " + std::to_string(int(std::lround(bin * widthDeg))) + " deg";
+  return line;
+}
+
 void printSweepProgress(std::ostream& out, const control::SweepView& sweep) {
   out << "sweep " << toString(sweep.slice) << ": " << sweep.state << "\n"
       << "  bins " << bar(sweep.bins) << " " << sweep.binsFilled << "/" << control::kBinsPerSlice
       << "\n";
+  if (!sweep.clippedBins.empty()) out << "  " << clippedBinsLine(sweep) << "\n";
   if (sweep.viewElevationErrorDeg) {
     char text[32];
     std::snprintf(text, sizeof text, "%+.1f", *sweep.viewElevationErrorDeg);
@@ -205,6 +214,7 @@ void printSweep(std::ostream& out, const json& reply) {
   out << "sweep " << toString(sweep.slice) << ": " << sweep.state << ", " << sweep.samples
       << " samples, bins " << bar(sweep.bins) << " " << sweep.binsFilled << "/"
       << control::kBinsPerSlice << "\n";
+  if (!sweep.clippedBins.empty()) out << "  " << clippedBinsLine(sweep) << "\n";
   if (sweep.pauseReason) out << "  " << *sweep.pauseReason << "\n";
 }
 

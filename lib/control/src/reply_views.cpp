@@ -135,6 +135,8 @@ json toJson(const SweepView& sweep) {
                  {"rejected", std::move(rejected)},
                  {"view_elevation_error_deg", nullptr}};
   if (sweep.pauseReason) object["pause_reason"] = *sweep.pauseReason;
+  // Only an HDR sweep's highlight gives any: the key is there when there is one.
+  if (!sweep.clippedBins.empty()) object["clipped_bins"] = sweep.clippedBins;
   if (sweep.viewElevationErrorDeg)
     object["view_elevation_error_deg"] = *sweep.viewElevationErrorDeg;
   return object;
@@ -146,6 +148,9 @@ SweepView sweepFromJson(const json& object) {
   sweep.state = field<std::string>(object, "state");
   sweep.bins = field<std::vector<bool>>(object, "bins");
   sweep.binsFilled = field<int>(object, "bins_filled");
+  // Absent from a daemon older than the field: none known.
+  sweep.clippedBins =
+      optionalField<std::vector<int>>(object, "clipped_bins").value_or(std::vector<int>{});
   sweep.samples = field<std::size_t>(object, "samples");
   sweep.acceptedThisRun = optionalField<std::size_t>(object, "accepted_this_run").value_or(0);
   sweep.rejected = optionalField<std::map<std::string, std::size_t>>(object, "rejected")

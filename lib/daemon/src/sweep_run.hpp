@@ -36,6 +36,7 @@ struct SweepRun {
     view.state = paused ? "paused" : "capturing";
     view.bins = store.bins(slice).filled();
     view.binsFilled = store.bins(slice).filledCount();
+    view.clippedBins = store.bins(slice).clippedBins();
     view.samples = store.sampleCount(slice);
     view.acceptedThisRun = acceptedThisRun;
     view.rejected = rejected;

@@ -36,6 +36,12 @@ class AzimuthBins {
   /// frames (elevations averaged, azimuths by circular mean): the sample sits at the measured
   /// angles, not at the bin centre.
   std::vector<SliceSample> combine() const;
+  /// \brief The bins of an HDR sweep whose merged value rests on a window cell clipped in every
+  /// frame of the bin, at every exposure (HdrMerge::clippedCells): the value may be far too low
+  /// (on a sharp highlight, its clipped reading, a lower bound), and only frames taken at a
+  /// shorter exposure there mend it. Ascending; empty for a sweep of one exposure, which rejects
+  /// a clipped window.
+  std::vector<int> clippedBins() const;
 
  private:
   SliceKind kind_;

@@ -67,6 +67,9 @@ struct SweepView {
   std::string state;  ///< "capturing", "paused", or (the reply to sweep.stop) "stopped"
   std::vector<bool> bins;
   int binsFilled = 0;
+  /// Bins (indices of `bins`) of an HDR sweep whose value rests on a cell clipped at every
+  /// exposure (AzimuthBins::clippedBins): a lower bound until a shorter exposure sees them.
+  std::vector<int> clippedBins;
   std::size_t samples = 0;
   std::size_t acceptedThisRun = 0;
   std::map<std::string, std::size_t> rejected;  ///< frames by reject reason
