@@ -214,6 +214,30 @@ TEST(HdrMerge, AzimuthBinsNameTheBinsClippedAtEveryExposure) {
   bins.add(frameAt(16.0, 0.01, 45.0));
   EXPECT_EQ(bins.clippedBins(), (std::vector<int>{12, 18}));
 
+  // Frames that disagree (a clipped reading brighter than an unclipped one: the lobe moved
+  // between them): the one nearest the bin centre gives the value, so it says whether the bin
+  // rests on a clipped cell, whichever frame came first.
+  const FrameSample clippedNear = frameAt(0.5, 3.0, 90.5), clearFar = frameAt(0.25, 1.0, 95.0);
+  const FrameSample clippedFar = frameAt(0.5, 3.0, 95.0), clearNear = frameAt(0.25, 1.0, 90.5);
+  ASSERT_TRUE(clippedNear.hdr->cells.front().clipped);
+  ASSERT_FALSE(clearFar.hdr->cells.front().clipped);
+  for (const bool clippedFirst : {true, false}) {
+    AzimuthBins near(SliceKind::Diagonal), far(SliceKind::Diagonal);
+    near.add(clippedFirst ? clippedNear : clearFar);
+    near.add(clippedFirst ? clearFar : clippedNear);
+    far.add(clippedFirst ? clippedFar : clearNear);
+    far.add(clippedFirst ? clearNear : clippedFar);
+    EXPECT_EQ(near.clippedBins(), std::vector<int>{6}) << "clipped frame first: " << clippedFirst;
+    EXPECT_TRUE(far.clippedBins().empty()) << "clipped frame first: " << clippedFirst;
+    EXPECT_NEAR(far.combine().at(0).value[0] * kIrradiance, 1.0, 1e-9);
+  }
+  // A sample added after an answer changes it (the answer is kept only until the bins change).
+  AzimuthBins growing(SliceKind::Diagonal);
+  growing.add(frameAt(16.0, 0.01, 48.0));
+  EXPECT_TRUE(growing.clippedBins().empty());
+  growing.add(frameAt(4.0, 100.0, 45.0));  // nearer the centre, clipped, brighter: it decides
+  EXPECT_EQ(growing.clippedBins(), std::vector<int>{3});
+
   AzimuthBins plainBins(SliceKind::Diagonal);
   FrameSample clipped = frameAt(16.0, 100.0, 180.0);
   clipped.hdr.reset();  // one exposure: no cells, so nothing to say (its gate rejects clipping)

@@ -51,11 +51,13 @@ int AzimuthBins::binOf(const FrameSample& sample) const {
 
 void AzimuthBins::add(const FrameSample& sample) {
   bins_[binOf(sample)].push_back(sample);
+  clippedCache_.reset();
 }
 
 void AzimuthBins::clear() {
   for (auto& bin : bins_)
     bin.clear();
+  clippedCache_.reset();
 }
 
 int AzimuthBins::filledCount() const {
@@ -70,16 +72,28 @@ std::vector<bool> AzimuthBins::filled() const {
   return out;
 }
 
+std::optional<HdrMerge> AzimuthBins::mergedHdr(std::size_t b) const {
+  const std::vector<FrameSample>& bin = bins_[b];
+  // Each frame's slice parameter from the bin's centre: where a cell's frames disagree, the one
+  // nearest the centre gives it (and whether it clipped there).
+  std::vector<double> offCentreDeg;
+  for (const FrameSample& s : bin)
+    offCentreDeg.push_back(wrapDeg360(sliceParameterDeg(kind_, {s.light, s.view, s.value}) -
+                                      double(b) * binWidthDeg_ + 180.0) -
+                           180.0);
+  return mergeHdrBin(bin, offCentreDeg);
+}
+
 std::vector<int> AzimuthBins::clippedBins() const {
+  // Kept until the bins change: the daemon asks at every status request, on its frame loop.
+  if (clippedCache_) return *clippedCache_;
   std::vector<int> out;
   for (std::size_t b = 0; b < bins_.size(); ++b) {
-    const auto& bin = bins_[b];
-    if (bin.empty() || !bin.front().hdr) continue;
-    // The merge without the frames' distances from the bin centre: whether a cell is clipped in
-    // every frame does not depend on which frame gives a cell whose frames disagree.
-    const std::optional<HdrMerge> merged = mergeHdrBin(bin);
+    if (bins_[b].empty() || !bins_[b].front().hdr) continue;
+    const std::optional<HdrMerge> merged = mergedHdr(b);
     if (merged && merged->clippedCells > 0) out.push_back(static_cast<int>(b));
   }
+  clippedCache_ = out;
   return out;
 }
 
@@ -101,13 +115,7 @@ std::vector<SliceSample> AzimuthBins::combine() const {
     const double n = double(bin.size());
     // An HDR sweep's bin merges its exposures per cell (hdr_merge.hpp); one exposure's frames
     // keep the median, robust to a blurred or occluded frame that passed the gate.
-    std::vector<double> offCentreDeg;
-    for (const FrameSample& s : bin)
-      offCentreDeg.push_back(
-          wrapDeg360(sliceParameterDeg(kind_, {s.light, s.view, s.value}) -
-                     double(b) * binWidthDeg_ + 180.0) -
-          180.0);
-    const std::optional<HdrMerge> merged = mergeHdrBin(bin, offCentreDeg);
+    const std::optional<HdrMerge> merged = mergedHdr(b);
     out.push_back({{lightTheta / n, circularMeanDeg(lightPhi)},
                    {viewTheta / n, circularMeanDeg(viewPhi)},
                    merged ? merged->value

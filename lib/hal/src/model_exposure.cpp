@@ -52,7 +52,8 @@ void exposeRgbRow(int widthPx, const RowExposure& exposure, const float (&gains)
   // every frame on `camera = model`, where a real camera's ISP works in parallel): the noisy,
   // gained, clamped value as a table index, then the tone curve's lookup. The noise draws are
   // the ones SampleNoise::added reads, in the same order, so the frames are unchanged.
-  const std::size_t count = std::size_t(widthPx) * 3;
+  const std::size_t count = std::size_t(std::max(widthPx, 0)) * 3;
+  if (count == 0) return;
   thread_local std::vector<std::int32_t> indices;
   thread_local std::vector<float> rowGains;  // the colour gain of each value of a row
   indices.resize(count);

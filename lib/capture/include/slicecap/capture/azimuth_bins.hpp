@@ -1,9 +1,11 @@
 // Binning a sweep's frames by the slice parameter (15 deg bins) and combining each bin robustly.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "slicecap/capture/frame_sample.hpp"
+#include "slicecap/capture/hdr_merge.hpp"
 #include "slicecap/core/slice.hpp"
 
 namespace slicecap::capture {
@@ -36,17 +38,22 @@ class AzimuthBins {
   /// frames (elevations averaged, azimuths by circular mean): the sample sits at the measured
   /// angles, not at the bin centre.
   std::vector<SliceSample> combine() const;
-  /// \brief The bins of an HDR sweep whose merged value rests on a window cell clipped in every
-  /// frame of the bin, at every exposure (HdrMerge::clippedCells): the value may be far too low
+  /// \brief The bins of an HDR sweep whose merged value rests on a clipped window cell
+  /// (HdrMerge::clippedCells, the merge combine() makes: a cell clipped in every frame, or whose
+  /// frames disagree and the one nearest the bin centre clipped): the value may be far too low
   /// (on a sharp highlight, its clipped reading, a lower bound), and only frames taken at a
   /// shorter exposure there mend it. Ascending; empty for a sweep of one exposure, which rejects
   /// a clipped window.
   std::vector<int> clippedBins() const;
 
  private:
+  /// The merge of bin b's HDR readings as combine() makes it (nullopt: not an HDR bin).
+  std::optional<HdrMerge> mergedHdr(std::size_t b) const;
+
   SliceKind kind_;
   double binWidthDeg_;
   std::vector<std::vector<FrameSample>> bins_;
+  mutable std::optional<std::vector<int>> clippedCache_;  // clippedBins() until add or clear
 };
 
 }  // namespace slicecap::capture
