@@ -3,9 +3,7 @@
 #pragma once
 
 #include <array>
-#include <bit>
 #include <cmath>
-#include <cstdint>
 #include <vector>
 
 #include "lobe_terms.hpp"
@@ -36,28 +34,10 @@ FitData makeFitData(const Abrdf& table);
 /// \brief Every `stride`-th pair of `data` (a quick first look at a start).
 FitData everyNthPair(const FitData& data, int stride);
 
-/// \brief The cube root of x: for 1e-300 < x < 1e300 a guess from the exponent bits (a third of
-/// the exponent, within ~4 %), then three Halley steps (each cubes the relative error: 4e-2, 6e-5,
-/// 2e-13, rounding), within 3 ulp of the correctly rounded root (tests/fit/fit_data_test.cpp) at
-/// half std::cbrt's cost: libm's cbrt, with its frexp and scalbn, took ~18 % of a fit's time
-/// (perf, bench/material_fit_bench). Elsewhere (0, denormals, overflow, infinities, NaN, x < 0,
-/// none of which the sRGB curve passes) std::cbrt itself.
-inline double cubeRoot(double x) {
-  if (!(x > 1e-300 && x < 1e300)) return std::cbrt(x);
-  std::uint64_t bits = std::bit_cast<std::uint64_t>(x);
-  bits = bits / 3 + 0x2A9F7893782DA1CEull;  // the exponent's bias divided by 3, put back
-  double y = std::bit_cast<double>(bits);
-  for (int step = 0; step < 3; ++step) {
-    const double y3 = y * y * y;
-    y *= (y3 + 2.0 * x) / (2.0 * y3 + x);
-  }
-  return y;
-}
-
-/// \brief x^(5/12) for x >= 0 as cbrt(x)^(5/4): the sRGB curve's power without pow(), which took a
-/// third of the fit's time.
+/// \brief x^(5/12) as cbrt(x)^(5/4): the sRGB curve's power without pow(), which took a third of
+/// the fit's time. Exact to rounding.
 inline double powFiveTwelfths(double x) {
-  const double c = cubeRoot(x);
+  const double c = std::cbrt(x);
   return c * std::sqrt(std::sqrt(c));
 }
 
