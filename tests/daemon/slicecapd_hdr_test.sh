@@ -86,8 +86,11 @@ python3 - "$work" <<'PY' || fail "the camera model's HDR sweep did not do what i
 import collections, csv, json, sys
 work = sys.argv[1]
 
+def slice_rows(levels):
+    return [r for r in csv.reader(open(f"{work}/live-{levels}/live-slices.csv")) if r and not r[0].startswith("#")][1:]
+
 def peak(levels):
-    rows = [r for r in csv.reader(open(f"{work}/live-{levels}/live-slices.csv")) if r and not r[0].startswith("#")][1:]
+    rows = slice_rows(levels)
     return max(float(r[5]) for r in rows), len(rows)
 
 status = json.load(open(f"{work}/status-2.json"))
@@ -109,8 +112,7 @@ assert hdr_bins >= 0.8 * single_bins, f"HDR filled {hdr_bins} bins, one exposure
 # The status names the bins that rest on a reading clipped at every exposure: each bin that reads
 # the long level's clipped value (~2.4 1/sr, far above the diffuse ~0.005 and far below the
 # short level's ~20) is among them; one exposure rejects clipped windows and names none.
-rows = [r for r in csv.reader(open(f"{work}/live-2/live-slices.csv")) if r and not r[0].startswith("#")][1:]
-lower_bounds = {round(float(r[4]) / 15.0) % 24 for r in rows if 1.0 < float(r[5]) < 10.0}
+lower_bounds = {round(float(r[4]) / 15.0) % 24 for r in slice_rows(2) if 1.0 < float(r[5]) < 10.0}
 clipped = set(status["sweep"].get("clipped_bins", []))
 assert lower_bounds <= clipped, f"bins {sorted(lower_bounds - clipped)} read a clipped value, the status names {sorted(clipped)}"
 assert "clipped_bins" not in json.load(open(f"{work}/status-1.json"))["sweep"], "one exposure names clipped bins"

@@ -75,11 +75,9 @@ void exposeRgbRow(int widthPx, const RowExposure& exposure, const float (&gains)
     std::int32_t* __restrict index = indices.data() + done;
     for (std::size_t i = 0; i < run; ++i) {
       const float signal = ambientScale * ambient[i] + ledScale * lit[i];
+      const float value = withNoise(signal, normals[i], inverseFullWell, readVariance) * gain[i];
       // Clamps written as selects (maxss/minss), not std::max/min, which the compiler keeps
       // as branches and so does not vectorise; the values are the same for every finite input.
-      const float shot = signal > 0.0f ? signal : 0.0f;
-      const float sigma = std::sqrt(shot * inverseFullWell + readVariance);
-      const float value = (signal + sigma * normals[i]) * gain[i];
       const float positive = value > 0.0f ? value : 0.0f;
       const float clamped = positive < 1.0f ? positive : 1.0f;
       index[i] = static_cast<std::int32_t>(clamped * 65535.0f + 0.5f);

@@ -22,8 +22,15 @@ const std::vector<float>& normalTable();
 /// The scene channel (0 R, 1 G, 2 B) a Bayer order puts at (row parity, column parity).
 std::array<std::array<int, 2>, 2> cfaColours(BayerOrder order);
 
-// The noise of one frame's samples: per value one shot-plus-read noise draw (the two are
-// independent Gaussians, so one draw of their summed variance), read from the table at a
+// One sample with its shot-plus-read noise (the two are independent Gaussians, so one standard
+// normal draw `normal` scaled by their summed variance). The clamp is a select, not std::max,
+// which the compiler keeps as a branch: exposeRgbRow's loop vectorises with it inlined.
+inline float withNoise(float signal, float normal, float inverseFullWell, float readVariance) {
+  const float shot = signal > 0.0f ? signal : 0.0f;
+  return signal + std::sqrt(shot * inverseFullWell + readVariance) * normal;
+}
+
+// The noise of one frame's samples: per value one withNoise draw, read from the table at a
 // position that runs on from sample to sample.
 struct SampleNoise {
   float inverseFullWell = 0.0f;
@@ -32,8 +39,7 @@ struct SampleNoise {
   std::size_t at = 0;
 
   float added(float signal) {
-    const float sigma = std::sqrt(std::max(signal, 0.0f) * inverseFullWell + readVariance);
-    const float value = signal + sigma * normals[at];
+    const float value = withNoise(signal, normals[at], inverseFullWell, readVariance);
     at = (at + 1) & (kNoiseTableSize - 1);
     return value;
   }
