@@ -84,6 +84,18 @@ void FramePipeline::setStandInAmbientFrames(std::vector<LocatedAmbientFrame> fra
       standIns.push_back({std::move(f.frame), f.pose});
 }
 
+std::optional<TimedPose> FramePipeline::latestLocation() const {
+  if (!state_->search.tracking()) return std::nullopt;
+  return state_->lastLocation;
+}
+
+void FramePipeline::trackFrom(const TimedPose& location) {
+  State& s = *state_;
+  if (s.search.tracking() && s.lastLocation && s.lastLocation->timestampUs >= location.timestampUs)
+    return;
+  s.locatedAt(location.pose, location.timestampUs);
+}
+
 std::vector<AmbientTerm> FramePipeline::ambientTermsFor(std::int64_t timeUs) const {
   return state_->ambientTerms(timeUs);
 }

@@ -60,6 +60,15 @@ struct FramePipeline::State {
   // Offline HDR: another level's located LED-off frames near the coming LED-on ones, in time order.
   std::vector<Ambient> standIns;
   std::uint64_t frameIndex = 0;
+  // The pose the search tracks from and the time of the frame it was located in (this
+  // pipeline's or, through FramePipeline::trackFrom, a longer level's).
+  std::optional<TimedPose> lastLocation;
+
+  // `pose`, located in the frame taken at `timestampUs`, guides the next frames' search.
+  void locatedAt(const vision::Pose& pose, std::int64_t timestampUs) {
+    search.located(pose);
+    lastLocation = TimedPose{pose, timestampUs};
+  }
 
   // The rows a sample of a `heightPx`-row frame reads, predicted from the latest pose with a
   // margin for the motion since; nullopt before the target was first located.
@@ -94,7 +103,7 @@ struct FramePipeline::State {
     if (static_cast<int>(corners.size()) < 4 * settings.minMarkers) return a;
     const auto estimate = estimatePlanarPose(corners, camera);
     if (!estimate || estimate->residualRmsPx > settings.maxPoseResidualPx) return a;
-    if (acquiring) search.located(estimate->pose);
+    if (acquiring) locatedAt(estimate->pose, frame.metadata.timestampUs);
     if (settings.poseAmbientFrames) a.pose = estimate->pose;
     return a;
   }

@@ -22,6 +22,9 @@ class LevelPipelines {
     pipelines_.emplace(kNoLevel, FramePipeline(target_, camera_, settings_));
   }
 
+  // The frame's pipeline; a shorter level's (level > 0) tracks from the longest level's latest
+  // location when it is more recent than its own (FramePipeline::trackFrom), as
+  // processRecording does offline.
   FramePipeline& forFrame(const hal::Frame& frame) {
     const int key = frame.metadata.exposureLevel.value_or(kNoLevel);
     auto found = pipelines_.find(key);
@@ -30,11 +33,16 @@ class LevelPipelines {
       if (key != kNoLevel) settings.hdr = true;
       found = pipelines_.emplace(key, FramePipeline(target_, camera_, settings)).first;
     }
+    if (key > kLongestLevel)
+      if (const auto longest = pipelines_.find(kLongestLevel); longest != pipelines_.end())
+        if (const std::optional<TimedPose> location = longest->second.latestLocation())
+          found->second.trackFrom(*location);
     return found->second;
   }
 
  private:
   static constexpr int kNoLevel = -1;
+  static constexpr int kLongestLevel = 0;
   vision::TargetGeometry target_;
   vision::CameraModel camera_;
   PipelineSettings settings_;

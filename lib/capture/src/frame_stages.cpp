@@ -71,7 +71,8 @@ std::optional<FrameOutcome> FramePipeline::State::locate(const hal::Frame& frame
     return rejected(RejectReason::TooFewMarkers, located.markerText + ", no pose", outcome);
   located.pose = estimate->pose;
   m.pose = located.pose;
-  if (estimate->residualRmsPx <= settings.maxPoseResidualPx) search.located(located.pose);
+  if (estimate->residualRmsPx <= settings.maxPoseResidualPx)
+    locatedAt(located.pose, frame.metadata.timestampUs);
   m.rowsOfInterest =
       rowsOfInterest(target, camera, located.pose, frame.image.height, kBlurRowMarginPx);
   if (ledStateOver(frame, *m.rowsOfInterest) != hal::LedExposure::State::On)

@@ -107,19 +107,45 @@ class StandInFeeder {
   std::map<std::size_t, hal::Frame> frames_;  // the current neighbours, by recording index
 };
 
+// The longest level's pipeline's latest location (FramePipeline::latestLocation) after its frame
+// taken at `frameTimeUs`.
+struct LocationAfter {
+  std::int64_t frameTimeUs = 0;
+  std::optional<TimedPose> location;
+};
+
+// What a shorter level's group takes from the longest level's (both empty for the longest level
+// or one exposure).
+struct FromLongestLevel {
+  // Its located LED-off frames, standing in for the shorter level's room light.
+  std::vector<LocatedOff> standIns;
+  // Its latest location after each of its frames, in time order: before each frame of a shorter
+  // level the pipeline tracks from the location after the longest level's last frame before it,
+  // which is what the live loop's pipelines, fed the frames in time order, hand on
+  // (frame_processor.cpp).
+  std::vector<LocationAfter> locations;
+
+  const std::optional<TimedPose>* locationBefore(std::int64_t timeUs) const {
+    const auto after = std::find_if(locations.begin(), locations.end(),
+                                    [&](const LocationAfter& l) { return l.frameTimeUs >= timeUs; });
+    return after == locations.begin() ? nullptr : &std::prev(after)->location;
+  }
+};
+
 // The frames `group` (indices into recording.frames, in time order) through one pipeline; their
-// outcomes go to result.outcomes at their indices. `standIns`: the longest level's located LED-off
-// frames, for a shorter level's group (empty for the longest level or one exposure).
+// outcomes go to result.outcomes at their indices. `longest`: what a shorter level's group takes
+// from the longest level's; `locations` (if set) gets this group's latest location after each
+// frame.
 void processGroup(const std::filesystem::path& directory, const io::Recording& recording,
                   const std::vector<std::size_t>& group, const PipelineSettings& offline,
-                  const FrameObserver& observer, const std::vector<LocatedOff>& standIns,
-                  RecordingResult& result) {
+                  const FrameObserver& observer, const FromLongestLevel& longest,
+                  RecordingResult& result, std::vector<LocationAfter>* locations) {
   FramePipeline pipeline(recording.target, recording.camera, offline);
   const auto readFrame = [&](std::size_t i) {
     return frameOf(io::readPng(io::framePath(directory, recording.frames[i])), recording,
                    recording.frames[i], i);
   };
-  StandInFeeder feeder(standIns, readFrame);
+  StandInFeeder feeder(longest.standIns, readFrame);
   if (!offline.offlineTwoSidedAmbient) {
     // As live, except that LED-on frames before the first LED-off one use that one.
     for (std::size_t i : group) {
@@ -155,6 +181,8 @@ void processGroup(const std::filesystem::path& directory, const io::Recording& r
       const hal::Frame frame =
           following && following->first == n ? following->second : readFrame(i);
       if (entry.ledOn) feeder.feed(pipeline, entry.timestampUs);
+      if (const std::optional<TimedPose>* location = longest.locationBefore(entry.timestampUs))
+        if (*location) pipeline.trackFrom(**location);
       outcome = pipeline.process(frame, result.slice);
       // An LED-on frame leaves the pipeline's LED-off frames as they were: its own term.
       if (observer)
@@ -167,6 +195,7 @@ void processGroup(const std::filesystem::path& directory, const io::Recording& r
       outcome.detail = error.what();
     }
     result.outcomes[i] = std::move(outcome);
+    if (locations) locations->push_back({entry.timestampUs, pipeline.latestLocation()});
   }
 }
 
@@ -265,12 +294,14 @@ RecordingResult processRecording(const std::filesystem::path& directory,
   result.outcomes.resize(recording.frames.size());
   // The longest level first: with LED-off frames located (offline, two-sided), they stand in for
   // the room light of the shorter levels' LED-on frames whose own LED-off frames were not.
-  processGroup(directory, recording, groups[0], offline, observer, {}, result);
-  const std::vector<LocatedOff> standIns = offline.poseAmbientFrames && groups.size() > 1
-                                               ? locatedOffFrames(recording, groups[0], result)
-                                               : std::vector<LocatedOff>{};
+  // Its locations guide the shorter levels' marker search (FramePipeline::trackFrom).
+  FromLongestLevel longest;
+  processGroup(directory, recording, groups[0], offline, observer, {}, result,
+               groups.size() > 1 ? &longest.locations : nullptr);
+  if (offline.poseAmbientFrames && groups.size() > 1)
+    longest.standIns = locatedOffFrames(recording, groups[0], result);
   for (std::size_t level = 1; level < groups.size(); ++level)
-    processGroup(directory, recording, groups[level], offline, observer, standIns, result);
+    processGroup(directory, recording, groups[level], offline, observer, longest, result, nullptr);
   binOutcomes(recording, result);
   return result;
 }

@@ -87,6 +87,12 @@ struct LocatedAmbientFrame {
   vision::Pose pose;
 };
 
+/// \brief A pose and the time of the frame it was located in (hal::FrameMetadata::timestampUs).
+struct TimedPose {
+  vision::Pose pose;
+  std::int64_t timestampUs = 0;
+};
+
 /// \brief Turns the frames of one sweep into outcomes; keeps the latest LED-off frame. Construct
 /// a new one per sweep.
 class FramePipeline {
@@ -126,6 +132,16 @@ class FramePipeline {
   /// LED-on frame's pixels would read other points after the hand moved (docs/method.md 9.3).
   /// An empty list ends the stand-ins.
   void setStandInAmbientFrames(std::vector<LocatedAmbientFrame> frames);
+  /// \brief The pose the marker search tracks from and when it was located; none while the
+  /// target is lost (never located, or not for MarkerDetectorSettings::trackingPatienceFrames).
+  std::optional<TimedPose> latestLocation() const;
+  /// \brief HDR: the longest exposure level's latest location, handed to a shorter level's
+  /// pipeline before each of its frames. The search tracks from it when it is more recent than
+  /// this pipeline's own (or this one has none). A short level's frames are too dark to
+  /// re-acquire a lost target in a frame's budget (its paper a few codes above black: whole-frame
+  /// passes find next to nothing), and its own latest pose is a level block old; around a fresh
+  /// pose the tracked pass, at the scale the markers' cells need, finds them (docs/method.md 9.3).
+  void trackFrom(const TimedPose& location);
 
  private:
   bool offOverSampleRows(const hal::Frame& frame) const;
