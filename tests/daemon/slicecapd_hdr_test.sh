@@ -83,7 +83,8 @@ model_sweep() {  # model_sweep LEVELS: the diagonal 75/75 sweep's session, statu
 }
 model_sweep 1
 model_sweep 2
-# The live loop's outcome of each recorded frame, as `--ambient previous` reproduces it.
+# The live loop's outcome of each recorded frame, as `--ambient previous` reproduces it (of the
+# frames recorded: the recorder drops frames when its queue is full).
 "$slicecap" process "$work/storage-model/live/recordings/diagonal-75-75" -o "$work/model-offline.csv" \
   --ambient previous --report "$work/model-report.json" >/dev/null 2>&1 ||
   fail "slicecap process of the camera model's HDR recording failed"
@@ -121,13 +122,14 @@ lower_bounds = {round(float(r[4]) / 15.0) % 24 for r in slice_rows(2) if 1.0 < f
 clipped = set(status["sweep"].get("clipped_bins", []))
 assert lower_bounds <= clipped, f"bins {sorted(lower_bounds - clipped)} read a clipped value, the status names {sorted(clipped)}"
 assert "clipped_bins" not in json.load(open(f"{work}/status-1.json"))["sweep"], "one exposure names clipped bins"
-# The short level's LED-on frames are located (searched around the long level's latest pose:
-# 0.59-0.84 of them in 30 sweeps); with a search of its own, a level block after its last pose,
-# some sweeps lost the target for most of the short level (0.07 of them located).
+# The short level does not lose the target: its LED-on frames are searched around the long level's
+# latest pose (a view found: 0.69-0.88 of them in 16 sweeps on an idle host); with a search of its
+# own, a level block after its last pose, a sweep could lose the target for most of its short
+# level (0.07; 0.43-0.79 otherwise). A guard against that, with room for a loaded CI host.
 outcomes = json.load(open(f"{work}/model-report.json"))["recordings"][0]["frames"]
 short_on = [o for f, o in zip(frames, outcomes) if f.get("exposure_level") == 1 and f["led_on"]]
 located = sum(1 for o in short_on if o.get("view"))
-assert located >= 0.5 * len(short_on), f"{located} of the short level's {len(short_on)} LED-on frames were located"
+assert located >= 0.4 * len(short_on), f"{located} of the short level's {len(short_on)} LED-on frames were located"
 print(f"camera model: one exposure peaks at {single:.4f} in {single_bins} bins, HDR at {hdr:.3f} in {hdr_bins} bins "
       f"(clipped at every exposure: bins {sorted(clipped)}); frames {dict(kinds)}; "
       f"short LED-on frames located: {located} of {len(short_on)}")

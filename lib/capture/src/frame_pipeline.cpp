@@ -89,11 +89,13 @@ std::optional<TimedPose> FramePipeline::latestLocation() const {
   return state_->lastLocation;
 }
 
+// Only a location newer than this pipeline's latest, tracked or given up: a pose its search
+// dropped after missing with it is not taken back.
 void FramePipeline::trackFrom(const TimedPose& location) {
   State& s = *state_;
-  if (s.search.tracking() && s.lastLocation && s.lastLocation->timestampUs >= location.timestampUs)
-    return;
-  s.locatedAt(location.pose, location.timestampUs);
+  if (s.lastLocation && s.lastLocation->timestampUs >= location.timestampUs) return;
+  s.search.trackFrom(location.pose);
+  s.lastLocation = location;
 }
 
 std::vector<AmbientTerm> FramePipeline::ambientTermsFor(std::int64_t timeUs) const {

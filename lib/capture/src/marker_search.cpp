@@ -313,9 +313,13 @@ MarkerSearch::MarkerSearch(const vision::TargetGeometry& target, const vision::C
 }
 
 void MarkerSearch::located(const vision::Pose& pose) {
+  trackFrom(pose);
+  nextAcquisition_ = 0;
+}
+
+void MarkerSearch::trackFrom(const vision::Pose& pose) {
   lastPose_ = pose;
   framesSinceLastPose_ = 0;
-  nextAcquisition_ = 0;
 }
 
 MarkerSearchResult MarkerSearch::search(const hal::Frame& frame, bool countsAsMiss) {

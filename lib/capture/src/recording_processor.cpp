@@ -165,6 +165,10 @@ void processGroup(const std::filesystem::path& directory, const io::Recording& r
     const io::RecordedFrame& entry = recording.frames[i];
     result.frameFiles[i] = entry.file;
     FrameOutcome outcome;
+    // Before the LED-off frame after it is read ahead and located (two-sided), as its own turn
+    // would be.
+    if (const std::optional<TimedPose>* location = longest.locationBefore(entry.timestampUs))
+      if (*location) pipeline.trackFrom(**location);
     try {
       if (offline.offlineTwoSidedAmbient && entry.ledOn && (!following || following->first < n)) {
         following.reset();
@@ -181,8 +185,6 @@ void processGroup(const std::filesystem::path& directory, const io::Recording& r
       const hal::Frame frame =
           following && following->first == n ? following->second : readFrame(i);
       if (entry.ledOn) feeder.feed(pipeline, entry.timestampUs);
-      if (const std::optional<TimedPose>* location = longest.locationBefore(entry.timestampUs))
-        if (*location) pipeline.trackFrom(**location);
       outcome = pipeline.process(frame, result.slice);
       // An LED-on frame leaves the pipeline's LED-off frames as they were: its own term.
       if (observer)

@@ -136,11 +136,14 @@ class FramePipeline {
   /// target is lost (never located, or not for MarkerDetectorSettings::trackingPatienceFrames).
   std::optional<TimedPose> latestLocation() const;
   /// \brief HDR: the longest exposure level's latest location, handed to a shorter level's
-  /// pipeline before each of its frames. The search tracks from it when it is more recent than
-  /// this pipeline's own (or this one has none). A short level's frames are too dark to
-  /// re-acquire a lost target in a frame's budget (its paper a few codes above black: whole-frame
-  /// passes find next to nothing), and its own latest pose is a level block old; around a fresh
-  /// pose the tracked pass, at the scale the markers' cells need, finds them (docs/method.md 9.3).
+  /// pipeline before each of its frames. The search tracks from it when it is newer than this
+  /// pipeline's latest location, tracked or dropped (or this one has none); the re-acquisition
+  /// passes go on where they were (MarkerSearch::trackFrom). A short level's frames are too dark
+  /// to re-acquire a lost target in a frame's budget (its paper a few codes above black: the
+  /// coarse passes miss it), and its own latest pose is a level block old; around a fresh pose
+  /// the tracked pass, at the scale the markers' cells need, finds them (docs/method.md 9.3). The
+  /// pose also predicts the rows the LED-state check reads, and while it is tracked the level's
+  /// LED-off frames do not search for the target.
   void trackFrom(const TimedPose& location);
 
  private:

@@ -59,6 +59,11 @@ class MarkerSearch {
   /// \brief The frame just searched gave `pose`, good enough to track from: the next frames are
   /// searched around it, and the re-acquisition passes start over when next needed.
   void located(const vision::Pose& pose);
+  /// \brief A pose another search located (a longer HDR exposure level's, more recent than this
+  /// search's own) guides the next frames as located() does, but the re-acquisition passes go on
+  /// from where they were: were it handed on before every frame, they would otherwise never get
+  /// past the first.
+  void trackFrom(const vision::Pose& pose);
   /// \brief True while a recent pose guides the search.
   bool tracking() const { return lastPose_.has_value(); }
   /// \brief The pose the search tracks from, if any.
