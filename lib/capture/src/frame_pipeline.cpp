@@ -85,17 +85,18 @@ void FramePipeline::setStandInAmbientFrames(std::vector<LocatedAmbientFrame> fra
 }
 
 std::optional<TimedPose> FramePipeline::latestLocation() const {
-  if (!state_->search.tracking()) return std::nullopt;
-  return state_->lastLocation;
+  const std::optional<vision::Pose>& pose = state_->search.lastPose();
+  if (!pose) return std::nullopt;
+  return TimedPose{*pose, *state_->lastLocatedUs};  // set wherever the search is given a pose
 }
 
 // Only a location newer than this pipeline's latest, tracked or given up: a pose its search
 // dropped after missing with it is not taken back.
 void FramePipeline::trackFrom(const TimedPose& location) {
   State& s = *state_;
-  if (s.lastLocation && s.lastLocation->timestampUs >= location.timestampUs) return;
+  if (s.lastLocatedUs && *s.lastLocatedUs >= location.timestampUs) return;
   s.search.trackFrom(location.pose);
-  s.lastLocation = location;
+  s.lastLocatedUs = location.timestampUs;
 }
 
 std::vector<AmbientTerm> FramePipeline::ambientTermsFor(std::int64_t timeUs) const {

@@ -60,14 +60,14 @@ struct FramePipeline::State {
   // Offline HDR: another level's located LED-off frames near the coming LED-on ones, in time order.
   std::vector<Ambient> standIns;
   std::uint64_t frameIndex = 0;
-  // The pose the search tracks from and the time of the frame it was located in (this
-  // pipeline's or, through FramePipeline::trackFrom, a longer level's).
-  std::optional<TimedPose> lastLocation;
+  // The time of the frame the search's latest pose was located in (this pipeline's or, through
+  // FramePipeline::trackFrom, a longer level's); kept when the search drops the pose.
+  std::optional<std::int64_t> lastLocatedUs;
 
   // `pose`, located in the frame taken at `timestampUs`, guides the next frames' search.
   void locatedAt(const vision::Pose& pose, std::int64_t timestampUs) {
     search.located(pose);
-    lastLocation = TimedPose{pose, timestampUs};
+    lastLocatedUs = timestampUs;
   }
 
   // The rows a sample of a `heightPx`-row frame reads, predicted from the latest pose with a

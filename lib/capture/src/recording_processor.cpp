@@ -125,10 +125,14 @@ struct FromLongestLevel {
   // (frame_processor.cpp).
   std::vector<LocationAfter> locations;
 
-  const std::optional<TimedPose>* locationBefore(std::int64_t timeUs) const {
-    const auto after = std::find_if(locations.begin(), locations.end(),
-                                    [&](const LocationAfter& l) { return l.frameTimeUs >= timeUs; });
-    return after == locations.begin() ? nullptr : &std::prev(after)->location;
+  // The location after its last frame taken before `timeUs`; none before its first frame or
+  // while it had lost the target.
+  std::optional<TimedPose> locationBefore(std::int64_t timeUs) const {
+    const auto after = std::partition_point(
+        locations.begin(), locations.end(),
+        [&](const LocationAfter& l) { return l.frameTimeUs < timeUs; });
+    if (after == locations.begin()) return std::nullopt;
+    return std::prev(after)->location;
   }
 };
 
@@ -167,8 +171,8 @@ void processGroup(const std::filesystem::path& directory, const io::Recording& r
     FrameOutcome outcome;
     // Before the LED-off frame after it is read ahead and located (two-sided), as its own turn
     // would be.
-    if (const std::optional<TimedPose>* location = longest.locationBefore(entry.timestampUs))
-      if (*location) pipeline.trackFrom(**location);
+    if (const std::optional<TimedPose> location = longest.locationBefore(entry.timestampUs))
+      pipeline.trackFrom(*location);
     try {
       if (offline.offlineTwoSidedAmbient && entry.ledOn && (!following || following->first < n)) {
         following.reset();
