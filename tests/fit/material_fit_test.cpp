@@ -121,9 +121,12 @@ TEST(MaterialFit, AnAnisotropicLobeThatEarnsItsParametersIsKept) {
 TEST(MaterialFit, VelvetChoosesTheSheenAndSaysWhy) {
   const Abrdf table = models::tabulate(*models::findMaterial("velvet-red"));
   const FitResult r = fitMaterial(table, "velvet.exr");
-  // ggx, its isotropic variant (velvet-red's GGX-only lobe is a stretched stand-in for the
-  // sheen), then ggx+sheen.
-  ASSERT_EQ(r.candidates.size(), 3u);
+  // ggx (a rough round lobe standing in for the sheen: no isotropic variant to try), then
+  // ggx+sheen. The GGX-only solve once stalled with its alphas on both bounds (2 and 0.002, RMSE
+  // 33.4 levels) and so also tried the round variant; holding bounds (bounded_solve.cpp) finds
+  // the round lobe, RMSE 7.0.
+  ASSERT_EQ(r.candidates.size(), 2u);
+  EXPECT_LT(r.candidates.front().metrics.rmse, 15.0);
   EXPECT_EQ(r.candidates.back().model, MaterialModel::GgxSheen);
   EXPECT_EQ(r.material.model, MaterialModel::GgxSheen);
   EXPECT_LT(r.metrics.deltaE, 0.5 * r.candidates.front().metrics.deltaE);

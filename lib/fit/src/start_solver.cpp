@@ -2,9 +2,6 @@
 // would cost Ceres 6561 block evaluations an iteration for nothing).
 #include "start_solver.hpp"
 
-#include <ceres/crs_matrix.h>
-#include <ceres/manifold.h>
-#include <ceres/problem.h>
 #include <ceres/solver.h>
 
 #include <cmath>
@@ -21,94 +18,46 @@ namespace {
 constexpr double kMinimumAlpha = 0.002, kMaximumAlpha = 2.0;
 constexpr double kMinimumSheenRoughness = 0.05, kMaximumSheenRoughness = 1.0;
 
-// The isotropic GGX block: 8 free directions of the 10 parameters. log alpha_t and log alpha_b
-// take the same step (they start equal, so they stay equal; their bounds are the same, so a
-// step clipped at a bound clips both alike) and the tangent none (a round lobe has no direction).
-class IsotropicLobeManifold final : public ceres::Manifold {
- public:
-  int AmbientSize() const override { return kGgxParameters; }
-  int TangentSize() const override { return kGgxParameters - 2; }
-  bool Plus(const double* x, const double* delta, double* xPlusDelta) const override {
-    for (int i = 0; i < kGgxParameters; ++i) xPlusDelta[i] = x[i];
-    for (int i = 0; i < 6; ++i) xPlusDelta[i] += delta[i];
-    xPlusDelta[6] += delta[6];
-    xPlusDelta[7] += delta[6];
-    xPlusDelta[9] += delta[7];
-    return true;
-  }
-  bool PlusJacobian(const double* /*x*/, double* jacobian) const override {
-    const int cols = TangentSize();
-    for (int i = 0; i < kGgxParameters * cols; ++i) jacobian[i] = 0.0;
-    for (int i = 0; i < 6; ++i) jacobian[i * cols + i] = 1.0;
-    jacobian[6 * cols + 6] = 1.0;
-    jacobian[7 * cols + 6] = 1.0;
-    jacobian[9 * cols + 7] = 1.0;
-    return true;
-  }
-  bool Minus(const double* y, const double* x, double* yMinusX) const override {
-    for (int i = 0; i < 6; ++i) yMinusX[i] = y[i] - x[i];
-    yMinusX[6] = 0.5 * ((y[6] - x[6]) + (y[7] - x[7]));
-    yMinusX[7] = y[9] - x[9];
-    return true;
-  }
-  bool MinusJacobian(const double* /*x*/, double* jacobian) const override {
-    const int cols = kGgxParameters;
-    for (int i = 0; i < TangentSize() * cols; ++i) jacobian[i] = 0.0;
-    for (int i = 0; i < 6; ++i) jacobian[i * cols + i] = 1.0;
-    jacobian[6 * cols + 6] = 0.5;
-    jacobian[6 * cols + 7] = 0.5;
-    jacobian[7 * cols + 9] = 1.0;
-    return true;
-  }
-};
-
-struct BuiltProblem {
-  std::unique_ptr<ceres::Problem> problem;
-  double* ggx;
-  double* sheen;
-  double* coat;
-};
-
 }  // namespace
 
-void boundGgxBlock(ceres::Problem& problem, double* ggx) {
-  for (int i = 0; i < 6; ++i) problem.SetParameterLowerBound(ggx, i, 0.0);
-  for (int i = 3; i < 6; ++i) problem.SetParameterUpperBound(ggx, i, 1.0);
-  problem.SetParameterLowerBound(ggx, 9, 0.0);
-  problem.SetParameterUpperBound(ggx, 9, 1.0);
-  for (int i = 6; i < 8; ++i) {
-    problem.SetParameterLowerBound(ggx, i, std::log(kMinimumAlpha));
-    problem.SetParameterUpperBound(ggx, i, std::log(kMaximumAlpha));
+BoundedBlock ggxBlock(double* ggx, bool isotropic) {
+  BoundedBlock block = unboundedBlock(ggx, kGgxParameters);
+  for (int i = 0; i < 6; ++i) block.lower[std::size_t(i)] = 0.0;
+  for (int i = 3; i < 6; ++i) block.upper[std::size_t(i)] = 1.0;
+  block.lower[9] = 0.0;
+  block.upper[9] = 1.0;
+  for (std::size_t i = 6; i < 8; ++i) {
+    block.lower[i] = std::log(kMinimumAlpha);
+    block.upper[i] = std::log(kMaximumAlpha);
   }
+  if (isotropic) {
+    // log alpha_t and log alpha_b take the same step (they start equal, so they stay equal; their
+    // bounds are the same, so a step clipped at a bound clips both alike) and the tangent none (a
+    // round lobe has no direction).
+    ggx[7] = ggx[6];
+    block.moves = {{0}, {1}, {2}, {3}, {4}, {5}, {6, 7}, {9}};
+  }
+  return block;
 }
 
 namespace {
 
-BuiltProblem buildProblem(const FitData& data, FitParameters& p) {
-  BuiltProblem built{std::make_unique<ceres::Problem>(), p.ggx.data(),
-                     p.withSheen ? p.sheen.data() : nullptr, p.withCoat ? p.coat.data() : nullptr};
-  ceres::Problem& problem = *built.problem;
-  std::vector<double*> blocks{built.ggx};
-  if (p.withSheen) blocks.push_back(built.sheen);
-  if (p.withCoat) blocks.push_back(built.coat);
-  problem.AddResidualBlock(new MaterialCost(data, p.withSheen, p.withCoat), nullptr, blocks);
-  boundGgxBlock(problem, built.ggx);
-  if (p.isotropic) {
-    p.ggx[7] = p.ggx[6];  // the manifold moves them together: they must start equal
-    problem.SetManifold(built.ggx, new IsotropicLobeManifold);
-  }
+std::vector<BoundedBlock> boundedBlocks(FitParameters& p) {
+  std::vector<BoundedBlock> blocks{ggxBlock(p.ggx.data(), p.isotropic)};
   if (p.withSheen) {
-    for (int i = 0; i < 3; ++i) problem.SetParameterLowerBound(built.sheen, i, 0.0);
-    problem.SetParameterLowerBound(built.sheen, 3, std::log(kMinimumSheenRoughness));
-    problem.SetParameterUpperBound(built.sheen, 3, std::log(kMaximumSheenRoughness));
+    BoundedBlock sheen = unboundedBlock(p.sheen.data(), kSheenParameters);
+    for (std::size_t i = 0; i < 3; ++i) sheen.lower[i] = 0.0;
+    sheen.lower[3] = std::log(kMinimumSheenRoughness);
+    sheen.upper[3] = std::log(kMaximumSheenRoughness);
+    blocks.push_back(std::move(sheen));
   }
   if (p.withCoat) {
-    problem.SetParameterLowerBound(built.coat, 0, 0.0);
-    problem.SetParameterUpperBound(built.coat, 0, 1.0);
-    problem.SetParameterLowerBound(built.coat, 1, std::log(kMinimumAlpha));
-    problem.SetParameterUpperBound(built.coat, 1, std::log(kMaximumAlpha));
+    BoundedBlock coat = unboundedBlock(p.coat.data(), kCoatParameters);
+    coat.lower = {0.0, std::log(kMinimumAlpha)};
+    coat.upper = {1.0, std::log(kMaximumAlpha)};
+    blocks.push_back(std::move(coat));
   }
-  return built;
+  return blocks;
 }
 
 }  // namespace
@@ -117,15 +66,13 @@ SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int
                             double functionTolerance, double initialTrustRegionRadius) {
   SolveOutcome outcome;
   outcome.parameters = start;
-  BuiltProblem built = buildProblem(data, outcome.parameters);
-  const ceres::Solver::Options options =
-      solverOptions(maxIterations, functionTolerance, initialTrustRegionRadius);
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, built.problem.get(), &summary);
-  outcome.cost = summary.final_cost;
-  outcome.iterations = static_cast<int>(summary.iterations.size());
-  outcome.converged =
-      summary.termination_type == ceres::CONVERGENCE && std::isfinite(summary.final_cost);
+  std::vector<BoundedBlock> blocks = boundedBlocks(outcome.parameters);
+  const MaterialCost cost(data, start.withSheen, start.withCoat);
+  const BoundedSolveSummary summary = solveHoldingBounds(
+      cost, blocks, solverOptions(maxIterations, functionTolerance, initialTrustRegionRadius));
+  outcome.cost = summary.cost;
+  outcome.iterations = summary.iterations;
+  outcome.converged = summary.converged;
   outcome.message = summary.message;
   return outcome;
 }
@@ -148,16 +95,28 @@ ceres::Solver::Options solverOptions(int maxIterations, double functionTolerance
 }
 
 Eigen::MatrixXd jacobianAt(const FitData& data, const FitParameters& parameters) {
-  FitParameters p = parameters;
-  p.isotropic = false;  // every parameter's column, the sigmas' indexing
-  BuiltProblem built = buildProblem(data, p);
-  ceres::CRSMatrix crs;
-  built.problem->Evaluate(ceres::Problem::EvaluateOptions(), nullptr, nullptr, nullptr, &crs);
-  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
-  for (int row = 0; row < crs.num_rows; ++row)
-    for (int k = crs.rows[static_cast<std::size_t>(row)];
-         k < crs.rows[static_cast<std::size_t>(row) + 1]; ++k)
-      jacobian(row, crs.cols[static_cast<std::size_t>(k)]) = crs.values[static_cast<std::size_t>(k)];
+  const MaterialCost cost(data, parameters.withSheen, parameters.withCoat);
+  std::vector<const double*> blocks{parameters.ggx.data()};
+  if (parameters.withSheen) blocks.push_back(parameters.sheen.data());
+  if (parameters.withCoat) blocks.push_back(parameters.coat.data());
+  const std::size_t rows = std::size_t(data.residualCount());
+  std::vector<std::vector<double>> perBlock;
+  std::vector<double*> pointers;
+  for (int size : cost.parameter_block_sizes()) {
+    perBlock.emplace_back(rows * std::size_t(size));
+    pointers.push_back(perBlock.back().data());
+  }
+  std::vector<double> residuals(rows);
+  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(Eigen::Index(rows), parameters.count());
+  if (!cost.Evaluate(blocks.data(), residuals.data(), pointers.data())) return jacobian;
+  Eigen::Index column = 0;
+  for (std::size_t b = 0; b < perBlock.size(); ++b) {
+    const std::size_t size = std::size_t(cost.parameter_block_sizes()[b]);
+    for (std::size_t row = 0; row < rows; ++row)
+      for (std::size_t i = 0; i < size; ++i)
+        jacobian(Eigen::Index(row), column + Eigen::Index(i)) = perBlock[b][row * size + i];
+    column += Eigen::Index(size);
+  }
   return jacobian;
 }
 

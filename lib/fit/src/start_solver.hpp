@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <ceres/solver.h>
 
+#include "bounded_solve.hpp"
 #include "fit_data.hpp"
 
 namespace slicecap::fit::detail {
@@ -46,9 +47,10 @@ SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int
                             double functionTolerance = 1e-7,
                             double initialTrustRegionRadius = 1e4);
 
-/// \brief Sets solveFromStart's bounds on a GGX parameter block `ggx` already in `problem` (the
-/// texture fit's tilted solve shares them).
-void boundGgxBlock(ceres::Problem& problem, double* ggx);
+/// \brief solveFromStart's bounds and directions of motion for a GGX parameter block `ggx` (the
+/// texture fit's tilted solve shares them). `isotropic`: the two log alphas move together (ggx[7]
+/// is set to ggx[6]) and the tangent stays.
+BoundedBlock ggxBlock(double* ggx, bool isotropic);
 
 /// \brief The options every fit's Levenberg-Marquardt solve runs with (one thread, silent).
 ceres::Solver::Options solverOptions(int maxIterations, double functionTolerance,

@@ -1,8 +1,6 @@
-// Ceres set-up of the tilted solve: one cost over all residuals, two parameter blocks.
+// The tilted solve: one cost over all residuals, two parameter blocks, bounds held as the table fit's.
 #include "tilted_solver.hpp"
 
-#include <ceres/problem.h>
-#include <ceres/solver.h>
 
 #include <algorithm>
 #include <cmath>
@@ -23,20 +21,14 @@ TiltedOutcome solveTiltedFromStart(const FitData& data, const TiltedParameters& 
   double* tilt = outcome.parameters.tilt.data();
   for (double& component : outcome.parameters.tilt)
     component = std::clamp(component, -kMaximumTiltComponent, kMaximumTiltComponent);
-  ceres::Problem problem;
-  problem.AddResidualBlock(new TiltedCost(data), nullptr, ggx, tilt);
-  boundGgxBlock(problem, ggx);
-  for (int i = 0; i < kTiltParameters; ++i) {
-    problem.SetParameterLowerBound(tilt, i, -kMaximumTiltComponent);
-    problem.SetParameterUpperBound(tilt, i, kMaximumTiltComponent);
-  }
-  const ceres::Solver::Options options =
-      solverOptions(maxIterations, functionTolerance, initialTrustRegionRadius);
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
-  outcome.cost = summary.final_cost;
-  outcome.converged =
-      summary.termination_type == ceres::CONVERGENCE && std::isfinite(summary.final_cost);
+  std::vector<BoundedBlock> blocks{ggxBlock(ggx, false), unboundedBlock(tilt, kTiltParameters)};
+  blocks[1].lower.assign(kTiltParameters, -kMaximumTiltComponent);
+  blocks[1].upper.assign(kTiltParameters, kMaximumTiltComponent);
+  const TiltedCost cost(data);
+  const BoundedSolveSummary summary = solveHoldingBounds(
+      cost, blocks, solverOptions(maxIterations, functionTolerance, initialTrustRegionRadius));
+  outcome.cost = summary.cost;
+  outcome.converged = summary.converged;
   return outcome;
 }
 
