@@ -205,6 +205,81 @@ TEST(BoundedSolve, ReturnsAtOnceWhenEveryDirectionStaysOnItsBound) {
   EXPECT_EQ(p.x(), Eigen::Vector3d::Zero());
 }
 
+TEST(BoundedSolve, ItsRoundsShareOneIterationBudget) {
+  const Eigen::MatrixXd a = someA();
+  const Eigen::VectorXd b = targetFor(a, {-0.4, 0.5, 1.6});
+  const Eigen::Vector3d expected = boxSolution(a, b, 0.0, 1.0);
+  const LinearCost cost(a, b);
+  int convergedWithin = 0;
+  for (int budget = 1; budget <= 8; ++budget) {
+    Problem p({0.5, 0.5, 0.5}, 0.0, 1.0);
+    ceres::Solver::Options options = someOptions();
+    options.max_num_iterations = budget;
+    const BoundedSolveSummary s = solveHoldingBounds(cost, p.blocks, options);
+    EXPECT_LE(s.iterations, budget) << s.rounds << " rounds";
+    if (s.converged) {
+      EXPECT_NEAR((p.x() - expected).norm(), 0.0, 1e-6) << "budget " << budget;
+      if (convergedWithin == 0) convergedWithin = budget;
+    }
+  }
+  EXPECT_GT(convergedWithin, 1);  // one iteration is not enough: the budget binds
+}
+
+// r_i = x1 exp(-x0 t_i) - y_i with y from x1 = 1.3, beyond x1's bound of 1: a nonlinear cost whose
+// solution has x1 on its bound and x0 at the one-dimensional optimum with x1 = 1.
+class DecayCost final : public ceres::CostFunction {
+ public:
+  DecayCost() {
+    set_num_residuals(kSamples);
+    mutable_parameter_block_sizes()->assign({2});
+  }
+  static double target(int i) { return 1.3 * std::exp(-0.7 * time(i)) + 0.02 * std::sin(3.0 * i); }
+  static double time(int i) { return 0.25 * i; }
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const double rate = parameters[0][0], amplitude = parameters[0][1];
+    for (int i = 0; i < kSamples; ++i) {
+      const double decay = std::exp(-rate * time(i));
+      residuals[i] = amplitude * decay - target(i);
+      if (jacobians && jacobians[0]) {
+        jacobians[0][2 * i] = -amplitude * time(i) * decay;
+        jacobians[0][2 * i + 1] = decay;
+      }
+    }
+    return true;
+  }
+  static constexpr int kSamples = 20;
+};
+
+// The rate minimising the cost with the amplitude at 1 (Newton on the one-dimensional cost).
+double bestRateAtAmplitudeOne() {
+  double rate = 0.5;
+  for (int step = 0; step < 50; ++step) {
+    double gradient = 0.0, curvature = 0.0;
+    for (int i = 0; i < DecayCost::kSamples; ++i) {
+      const double t = DecayCost::time(i), decay = std::exp(-rate * t);
+      const double r = decay - DecayCost::target(i);
+      gradient += r * (-t * decay);
+      curvature += t * t * decay * decay + r * t * t * decay;
+    }
+    rate -= gradient / curvature;
+  }
+  return rate;
+}
+
+TEST(BoundedSolve, OnANonlinearCostItHoldsTheBoundAndFindsTheRestsOptimum) {
+  const DecayCost cost;
+  std::array<double, 2> x{0.3, 0.6};
+  std::vector<BoundedBlock> blocks{unboundedBlock(x.data(), 2)};
+  blocks[0].lower = {0.0, 0.0};
+  blocks[0].upper = {5.0, 1.0};
+  const BoundedSolveSummary s = solveHoldingBounds(cost, blocks, someOptions());
+  EXPECT_TRUE(s.converged) << s.message;
+  EXPECT_DOUBLE_EQ(x[1], 1.0);
+  EXPECT_NEAR(x[0], bestRateAtAmplitudeOne(), 1e-6);
+  EXPECT_LT(s.iterations, 20) << s.rounds << " rounds";
+}
+
 TEST(BoundedSolve, RefusesBlocksThatDoNotMatchTheCost) {
   const LinearCost cost(someA(), targetFor(someA(), {0.1, 0.1, 0.1}));
   std::array<double, 3> values{};

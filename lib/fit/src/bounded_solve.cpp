@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -89,6 +90,14 @@ class Rounds {
 
   const std::vector<Direction>& directions() const { return directions_; }
 
+  // A start outside its box is moved onto it (Ceres would project it at its first iteration; a
+  // block held whole never reaches Ceres).
+  void projectIntoBounds() const {
+    for (BoundedBlock& b : blocks_)
+      for (int i = 0; i < b.size(); ++i)
+        b.values[i] = std::clamp(b.values[i], b.lower[std::size_t(i)], b.upper[std::size_t(i)]);
+  }
+
   // Which directions to hold at the current values: every one on a bound, but for the one whose
   // release the Gauss-Newton model likes best: its step (the free directions re-solved with it)
   // moves it inward and lowers the model by more than `tolerance` of the cost beyond what the free
@@ -128,15 +137,22 @@ class Rounds {
   }
 
   // The decrease of the Gauss-Newton model 1/2 |r + A d|^2 at its minimum over the directions
-  // `over` (the others 0); `lastStep` receives the step of the last of them.
+  // `over` (the others 0); `lastStep` receives the step of the last of them. The normal matrix is
+  // scaled to a unit diagonal first, as Ceres scales its Jacobian, so that a direction whose
+  // column is small beside the others' is not lost to the decomposition's rank threshold.
   static double modelDecrease(const Eigen::VectorXd& gradient, const Eigen::MatrixXd& normal,
                               const std::vector<int>& over, double* lastStep) {
     if (over.empty()) return 0.0;  // (Eigen's decompositions fail on an empty matrix)
-    const Eigen::VectorXd g = gradient(over);
-    const Eigen::VectorXd step =
-        -Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(normal(over, over)).solve(g);
-    if (lastStep != nullptr) *lastStep = step(step.size() - 1);
-    return -(g.dot(step) + 0.5 * step.dot(normal(over, over) * step));
+    Eigen::VectorXd scale(Eigen::Index(over.size()));
+    for (std::size_t k = 0; k < over.size(); ++k) {
+      const double diagonal = normal(over[k], over[k]);
+      scale(Eigen::Index(k)) = diagonal > 0.0 ? 1.0 / std::sqrt(diagonal) : 1.0;
+    }
+    const Eigen::VectorXd g = scale.cwiseProduct(gradient(over));
+    const Eigen::MatrixXd n = scale.asDiagonal() * normal(over, over) * scale.asDiagonal();
+    const Eigen::VectorXd step = -Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(n).solve(g);
+    if (lastStep != nullptr) *lastStep = step(step.size() - 1);  // the scale is positive: same sign
+    return -(g.dot(step) + 0.5 * step.dot(n * step));
   }
 
   // The residuals and their Jacobian over every direction at the current values.
@@ -216,7 +232,10 @@ class Rounds {
 };
 
 // Ends a solve when a free direction is on its bound after a step (it reached it, or the step
-// was cut back there), so that the next round holds it instead of crawling along it.
+// was cut back there), so that the next round holds it instead of crawling along it. (A direction
+// just let go can be cut back at the first step when the others are far from their solution; the
+// next round holds it again, and the last round runs without this stop, so such a loop costs
+// rounds, never the outcome.)
 class StopAtBound final : public ceres::IterationCallback {
  public:
   StopAtBound(const std::vector<BoundedBlock>& blocks, const std::vector<Direction>& directions,
@@ -276,21 +295,39 @@ BoundedSolveSummary solveHoldingBounds(const ceres::CostFunction& cost,
   // by holding the direction that reached it; the step is still projected onto the box.
   options.max_num_line_search_step_size_iterations = 0;
   BoundedSolveSummary outcome;
+  rounds.projectIntoBounds();
   std::vector<bool> held = rounds.held();
   while (true) {
     ceres::Problem::Options problemOptions;
     problemOptions.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problemOptions);
     if (!rounds.build(problem, held)) {
+      // Nothing free: a solution if no direction is worth letting go.
+      const std::vector<bool> next = rounds.held();
+      if (next != held) {
+        held = next;
+        continue;
+      }
       outcome.cost = rounds.costNow();
       outcome.converged = std::isfinite(outcome.cost);
       outcome.message = "every direction held at a bound";
       return outcome;
     }
+    const int remaining = iterationBudget - outcome.iterations;
+    if (remaining <= 0) {
+      outcome.converged = false;
+      outcome.message = "iteration limit reached after " + std::to_string(outcome.rounds) +
+                        " rounds of holding parameters on their bounds";
+      return outcome;
+    }
+    // The last round allowed runs as plain Ceres would (the step cut back at the bounds, no stop
+    // when a direction reaches one): it may crawl, but it ends as Ceres' own solve would, not as
+    // "not converged" for want of rounds.
+    const bool lastRound = outcome.rounds + 1 >= kMaximumRounds;
     ceres::Solver::Options roundOptions = options;
-    roundOptions.max_num_iterations = iterationBudget - outcome.iterations;
+    roundOptions.max_num_iterations = remaining;
     StopAtBound stop(blocks, rounds.directions(), held);
-    roundOptions.callbacks.push_back(&stop);
+    if (!lastRound) roundOptions.callbacks.push_back(&stop);
     ceres::Solver::Summary summary;
     ceres::Solve(roundOptions, &problem, &summary);
     ++outcome.rounds;
@@ -299,11 +336,9 @@ BoundedSolveSummary solveHoldingBounds(const ceres::CostFunction& cost,
     outcome.message = summary.message;
     outcome.converged =
         summary.termination_type == ceres::CONVERGENCE && std::isfinite(summary.final_cost);
-    if (!stop.landed() && !outcome.converged) return outcome;
+    if (!stop.landed() && (!outcome.converged || lastRound)) return outcome;
     const std::vector<bool> next = rounds.held();
-    if ((!stop.landed() && next == held) || outcome.rounds >= kMaximumRounds ||
-        outcome.iterations >= iterationBudget)
-      return outcome;
+    if (!stop.landed() && next == held) return outcome;
     held = next;
     // The next round starts from the trust region this one reached, never below the first one's
     // (a region shrunk by rejected steps would make the next round's steps too small to count).

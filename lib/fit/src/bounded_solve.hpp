@@ -45,10 +45,12 @@ struct BoundedSolveSummary {
 /// \brief Minimises 1/2 |r|^2 of `cost` over `blocks` (in the cost's block order) from their
 /// current values, which must lie within their bounds, and leaves the solution in them.
 /// `options` as for ceres::Solve; its max_num_iterations bounds all rounds together and its
-/// initial trust region the first. A direction resting on a bound is held while the gradient
-/// presses it outward (or inward by less than function_tolerance of the cost); a direction that
-/// reaches a bound during a solve ends that solve and is held from there. Never throws for a bad
-/// fit: see `converged`. Throws std::invalid_argument for blocks that do not match `cost`.
+/// initial trust region the first. A start outside its bounds is moved onto them. A direction
+/// resting on a bound is held unless the Gauss-Newton model says that letting it go moves it
+/// inward and lowers the cost by more than function_tolerance of it (one such direction is let go
+/// per round); a direction that reaches a bound during a solve ends that solve and is held from
+/// there. At most 12 rounds; the last runs as plain Ceres. Never throws for a bad fit: see
+/// `converged`. Throws std::invalid_argument for blocks that do not match `cost`.
 BoundedSolveSummary solveHoldingBounds(const ceres::CostFunction& cost,
                                        std::vector<BoundedBlock>& blocks,
                                        ceres::Solver::Options options);
