@@ -290,10 +290,12 @@ BoundedSolveSummary solveHoldingBounds(const ceres::CostFunction& cost,
   const double firstRadius = options.initial_trust_region_radius;
   options.update_state_every_iteration = true;
   // With bounds, Ceres' trust region follows every step with a projected Armijo line search
-  // (Kanzow et al.), which evaluates the Jacobian again at the step: ~3 evaluations an iteration
-  // instead of ~1.3. It is there to make progress along a bound, which the rounds here replace
-  // by holding the direction that reached it; the step is still projected onto the box.
-  options.max_num_line_search_step_size_iterations = 0;
+  // (Kanzow et al.). Kept: in a curved valley it turns a step the trust region would reject into
+  // a shorter accepted one (a measured table's GGX solve, rgl satin_white, converged in 17
+  // iterations with it and not in 200 without). Its default cubic interpolation evaluates the
+  // Jacobian at the trial step, two more an iteration (a Ward table's fit 0.25 -> 0.57 s); the
+  // quadratic one needs the cost alone there.
+  options.line_search_interpolation_type = ceres::QUADRATIC;
   BoundedSolveSummary outcome;
   rounds.projectIntoBounds();
   std::vector<bool> held = rounds.held();
