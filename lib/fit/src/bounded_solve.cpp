@@ -157,26 +157,20 @@ class Rounds {
 
   // The residuals and their Jacobian over every direction at the current values.
   bool linearise(Eigen::MatrixXd& a, Eigen::VectorXd& r) const {
-    const int rows = cost_.num_residuals();
     std::vector<const double*> parameters;
-    std::vector<std::vector<double>> jacobians;
-    std::vector<double*> jacobianPointers;
+    std::vector<Eigen::Index> firstColumn;
+    Eigen::Index columns = 0;
     for (BoundedBlock& b : blocks_) {
       parameters.push_back(b.values);
-      jacobians.emplace_back(std::size_t(rows) * std::size_t(b.size()));
-      jacobianPointers.push_back(jacobians.back().data());
+      firstColumn.push_back(columns);
+      columns += b.size();
     }
-    r.resize(rows);
-    if (!cost_.Evaluate(parameters.data(), r.data(), jacobianPointers.data()) || !r.allFinite())
-      return false;
-    a = Eigen::MatrixXd::Zero(rows, Eigen::Index(directions_.size()));
-    for (std::size_t k = 0; k < directions_.size(); ++k) {
-      const std::vector<double>& j = jacobians[directions_[k].block];
-      const std::size_t size = std::size_t(blocks_[directions_[k].block].size());
+    Eigen::MatrixXd jacobian;
+    if (!denseJacobian(cost_, parameters, r, jacobian) || !r.allFinite()) return false;
+    a = Eigen::MatrixXd::Zero(r.size(), Eigen::Index(directions_.size()));
+    for (std::size_t k = 0; k < directions_.size(); ++k)
       for (int i : *directions_[k].coordinates)
-        for (int row = 0; row < rows; ++row)
-          a(row, Eigen::Index(k)) += j[std::size_t(row) * size + std::size_t(i)];
-    }
+        a.col(Eigen::Index(k)) += jacobian.col(firstColumn[directions_[k].block] + i);
     return a.allFinite();
   }
 
@@ -263,6 +257,31 @@ class StopAtBound final : public ceres::IterationCallback {
 };
 
 }  // namespace
+
+bool denseJacobian(const ceres::CostFunction& cost, const std::vector<const double*>& parameters,
+                   Eigen::VectorXd& residuals, Eigen::MatrixXd& jacobian) {
+  const Eigen::Index rows = cost.num_residuals();
+  const auto& sizes = cost.parameter_block_sizes();
+  std::vector<std::vector<double>> perBlock;  // Ceres' layout: row-major, one array a block
+  std::vector<double*> pointers;
+  Eigen::Index columns = 0;
+  for (const auto size : sizes) {
+    perBlock.emplace_back(std::size_t(rows) * std::size_t(size));
+    pointers.push_back(perBlock.back().data());
+    columns += size;
+  }
+  residuals.resize(rows);
+  if (!cost.Evaluate(parameters.data(), residuals.data(), pointers.data())) return false;
+  jacobian.resize(rows, columns);
+  Eigen::Index column = 0;
+  for (std::size_t b = 0; b < perBlock.size(); ++b) {
+    jacobian.middleCols(column, sizes[b]) =
+        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            perBlock[b].data(), rows, sizes[b]);
+    column += sizes[b];
+  }
+  return true;
+}
 
 BoundedBlock unboundedBlock(double* values, int size) {
   BoundedBlock block;

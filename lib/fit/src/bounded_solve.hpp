@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
 #include <ceres/cost_function.h>
 #include <ceres/solver.h>
 
@@ -41,6 +42,13 @@ struct BoundedSolveSummary {
   int rounds = 0;          ///< solves run: 1 + the times the set of held directions changed
   std::string message;     ///< Ceres' account of the last solve
 };
+
+/// \brief Evaluates `cost` at `parameters` (one pointer a block, in the cost's order): its
+/// residuals, and its Jacobian as one dense matrix (residuals x every block's coordinates, the
+/// blocks side by side in that order). False when the cost's evaluation fails; the outputs are
+/// then unspecified.
+bool denseJacobian(const ceres::CostFunction& cost, const std::vector<const double*>& parameters,
+                   Eigen::VectorXd& residuals, Eigen::MatrixXd& jacobian);
 
 /// \brief Minimises 1/2 |r|^2 of `cost` over `blocks` (in the cost's block order) from their
 /// current values, which must lie within their bounds, and leaves the solution in them.

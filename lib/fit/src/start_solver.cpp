@@ -99,24 +99,10 @@ Eigen::MatrixXd jacobianAt(const FitData& data, const FitParameters& parameters)
   std::vector<const double*> blocks{parameters.ggx.data()};
   if (parameters.withSheen) blocks.push_back(parameters.sheen.data());
   if (parameters.withCoat) blocks.push_back(parameters.coat.data());
-  const std::size_t rows = std::size_t(data.residualCount());
-  std::vector<std::vector<double>> perBlock;
-  std::vector<double*> pointers;
-  for (int size : cost.parameter_block_sizes()) {
-    perBlock.emplace_back(rows * std::size_t(size));
-    pointers.push_back(perBlock.back().data());
-  }
-  std::vector<double> residuals(rows);
-  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(Eigen::Index(rows), parameters.count());
-  if (!cost.Evaluate(blocks.data(), residuals.data(), pointers.data())) return jacobian;
-  Eigen::Index column = 0;
-  for (std::size_t b = 0; b < perBlock.size(); ++b) {
-    const std::size_t size = std::size_t(cost.parameter_block_sizes()[b]);
-    for (std::size_t row = 0; row < rows; ++row)
-      for (std::size_t i = 0; i < size; ++i)
-        jacobian(Eigen::Index(row), column + Eigen::Index(i)) = perBlock[b][row * size + i];
-    column += Eigen::Index(size);
-  }
+  Eigen::VectorXd residuals;
+  Eigen::MatrixXd jacobian;
+  if (!denseJacobian(cost, blocks, residuals, jacobian))
+    return Eigen::MatrixXd::Zero(data.residualCount(), parameters.count());
   return jacobian;
 }
 

@@ -1,7 +1,6 @@
 // The tilted solve: one cost over all residuals, two parameter blocks, bounds held as the table fit's.
 #include "tilted_solver.hpp"
 
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -19,8 +18,6 @@ TiltedOutcome solveTiltedFromStart(const FitData& data, const TiltedParameters& 
   outcome.parameters = start;
   double* ggx = outcome.parameters.ggx.data();
   double* tilt = outcome.parameters.tilt.data();
-  for (double& component : outcome.parameters.tilt)
-    component = std::clamp(component, -kMaximumTiltComponent, kMaximumTiltComponent);
   std::vector<BoundedBlock> blocks{ggxBlock(ggx, false), unboundedBlock(tilt, kTiltParameters)};
   blocks[1].lower.assign(kTiltParameters, -kMaximumTiltComponent);
   blocks[1].upper.assign(kTiltParameters, kMaximumTiltComponent);
