@@ -7,9 +7,9 @@
 #include <numbers>
 #include <sstream>
 
+#include "candidate_search.hpp"
 #include "fit_data.hpp"
 #include "parameter_conversion.hpp"
-#include "parameter_sigmas.hpp"
 #include "slicecap/core/angles.hpp"
 #include "start_solver.hpp"
 #include "table_check.hpp"
@@ -20,6 +20,9 @@ namespace {
 using detail::FitData;
 using detail::FitParameters;
 using detail::SolveOutcome;
+using detail::bestOf;
+using detail::kScoutIterations;
+using detail::kScoutStride;
 
 // The start's lobe: elongated (3:1) so that each tangent start is a distinct basin.
 constexpr double kStartAlphaTangent = 0.3, kStartAlphaBitangent = 0.1;
@@ -71,90 +74,13 @@ FitParameters ggxStart(const Abrdf& table, const FitData& data, double tangentDe
 
 using detail::materialOf;
 
-// Each start is first scouted on a third of the pairs for a few iterations (the basin shows by
-// then; the tangent's basins are what the starts are for), then the most promising ones are
-// solved on every pair until converged. Scouting every start to convergence on all 6561 pairs
-// cost 4x the time for the same answers on the built-in materials.
-constexpr int kScoutStride = 3;
-constexpr int kScoutIterations = 8;
-// Scouts whose cost is within this factor of the best are solved in full too: at most two for the
-// GGX (the tangent's basins), one for the sheen (its starts differ in the specular, which the
-// scout has already settled; a second full solve doubled the velvet's time for the same answer).
-constexpr double kPolishCostFactor = 1.25;
+// How many of the most promising scouts are solved in full (candidate_search.hpp): two for
+// the GGX (the tangent's basins), one for the sheen and the coat.
 constexpr std::size_t kMaxPolishedGgx = 2, kMaxPolishedSheen = 1, kMaxPolishedCoat = 1;
 // Coat starts: a sharp coat (a lacquer), a glossy one and a broad one, all at full weight.
 constexpr std::array<double, 3> kCoatStartAlphas{0.03, 0.1, 0.3};
 // How much broader the base lobe starts when the coat takes its place.
 constexpr double kCoatSwapBroadening = 3.0;
-
-// Two scouts are in the same basin when their lobes agree in canonical form (alphas within 10 %,
-// tangent within 5 deg): polishing both would find the same minimum twice.
-bool sameBasin(const FitParameters& a, const FitParameters& b) {
-  const FittedMaterial ma = materialOf(a), mb = materialOf(b);
-  const auto near = [](double x, double y) { return std::abs(x / y - 1.0) < 0.1; };
-  // A round lobe (both nearly isotropic) has no tangent to tell the two apart by.
-  const bool round = ma.alphaTangent < 1.1 * ma.alphaBitangent &&
-                     mb.alphaTangent < 1.1 * mb.alphaBitangent;
-  return near(ma.alphaTangent, mb.alphaTangent) && near(ma.alphaBitangent, mb.alphaBitangent) &&
-         (round || std::abs(tangentDifferenceDeg(ma.tangentDeg, mb.tangentDeg)) < 5.0);
-}
-
-// The best converged full solve, as a candidate; nullopt when none converged (`failure` then says
-// how the best one ended) or, with `abandoned` given, when the best scout has dropped its coat
-// (weight 0: every start's coat faded away while scouting; *abandoned is then set, and the full
-// solve, which would end at the base without a coat, is not run).
-std::optional<CandidateFit> bestOf(const Abrdf& table, const FitData& data, const FitData& scoutData,
-                                   const std::vector<FitParameters>& starts, int maxIterations,
-                                   std::string& failure, std::size_t maxPolished = kMaxPolishedGgx,
-                                   bool* abandoned = nullptr) {
-  std::vector<SolveOutcome> scouts;
-  for (const FitParameters& start : starts)
-    scouts.push_back(detail::solveFromStart(scoutData, start, std::min(kScoutIterations, maxIterations)));
-  std::vector<std::size_t> order(scouts.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return scouts[a].cost < scouts[b].cost; });
-  if (abandoned != nullptr) {
-    const FitParameters& bestScout = scouts[order.front()].parameters;
-    *abandoned = bestScout.withCoat && bestScout.coat[0] <= 0.0;
-    if (*abandoned) return std::nullopt;
-  }
-  std::optional<SolveOutcome> best, bestUnconverged;
-  std::size_t bestStart = order.front();
-  int converged = 0;
-  for (std::size_t rank = 0; rank < order.size() && rank < maxPolished; ++rank) {
-    const std::size_t i = order[rank];
-    if (rank > 0 && !(scouts[i].cost <= kPolishCostFactor * scouts[order.front()].cost)) break;
-    if (rank > 0 && sameBasin(scouts[i].parameters, scouts[order.front()].parameters)) continue;
-    SolveOutcome outcome = detail::solveFromStart(data, scouts[i].parameters, maxIterations);
-    outcome.iterations += scouts[i].iterations;
-    if (!outcome.converged) {
-      if (!bestUnconverged || outcome.cost < bestUnconverged->cost) bestUnconverged = outcome;
-      continue;
-    }
-    ++converged;
-    if (!best || outcome.cost < best->cost) {
-      best = std::move(outcome);
-      bestStart = i;
-    }
-  }
-  if (!best) {
-    failure = bestUnconverged ? bestUnconverged->message : "no start";
-    return std::nullopt;
-  }
-  CandidateFit candidate;
-  candidate.material = materialOf(best->parameters);
-  candidate.model = candidate.material.model;
-  candidate.sigmas = detail::parameterSigmas(data, *best, candidate.material);
-  candidate.metrics = eval::compare(table, tabulate(candidate.material));
-  candidate.cost = best->cost;
-  candidate.iterations = best->iterations;
-  candidate.startsTried = static_cast<int>(starts.size());
-  candidate.solvesConverged = converged;
-  candidate.bestStartTangentDeg = radToDeg(starts[bestStart].ggx[8]);
-  candidate.isotropicLobe = starts[bestStart].isotropic;
-  return candidate;
-}
 
 std::string fixed2(double value) {
   std::ostringstream s;
@@ -172,7 +98,8 @@ CandidateFit fitGgx(const Abrdf& table, const std::string& name, const FitData& 
   for (double tangentDeg : options.startTangentsDeg)
     ggxStarts.push_back(ggxStart(table, data, tangentDeg));
   std::string failure;
-  std::optional<CandidateFit> ggx = bestOf(table, data, scoutData, ggxStarts, options.maxIterations, failure);
+  std::optional<CandidateFit> ggx =
+      bestOf(table, data, scoutData, ggxStarts, options.maxIterations, kMaxPolishedGgx, failure);
   if (!ggx) {
     throw FitError(name + ": the GGX fit did not converge from any of " +
                    std::to_string(ggxStarts.size()) + " starts within " +
@@ -219,7 +146,7 @@ std::size_t addIsotropicCandidate(const Abrdf& table, const FitData& data, const
   start.ggx[8] = 0.0;
   std::string failure;
   std::optional<CandidateFit> isotropic =
-      bestOf(table, data, scoutData, {start}, options.maxIterations, failure);
+      bestOf(table, data, scoutData, {start}, options.maxIterations, kMaxPolishedGgx, failure);
   if (!isotropic) {
     reason = "anisotropic lobe (the isotropic fit did not converge: " + failure + ")";
     return 0;
@@ -278,7 +205,7 @@ bool addSheenCandidate(const Abrdf& table, const FitData& data, const FitData& s
       sheenStartsFrom(result.candidates[ggx].material, result.candidates[ggx].isotropicLobe);
   std::string sheenFailure;
   std::optional<CandidateFit> sheen = bestOf(table, data, scoutData, sheenStarts,
-                                             options.maxIterations, sheenFailure, kMaxPolishedSheen);
+                                             options.maxIterations, kMaxPolishedSheen, sheenFailure);
   if (!sheen) {
     reason = "the ggx+sheen fit did not converge (" + sheenFailure + ")";
     return false;
@@ -363,15 +290,17 @@ bool addCoatCandidate(const Abrdf& table, const FitData& data, const FitData& sc
       freeLobe.alphaTangent > kRoundLobeRatio * freeLobe.alphaBitangent
           ? std::vector<double>{freeLobe.tangentDeg}
           : options.startTangentsDeg;
-  bool abandoned = false;
-  std::optional<CandidateFit> coat =
-      bestOf(table, data, scoutData, coatStartsFrom(baseFit, swapTangentsDeg),
-             options.maxIterations, failure, kMaxPolishedCoat, &abandoned);
-  if (abandoned) {
+  const std::vector<detail::Scout> scouts = detail::scoutStarts(
+      scoutData, coatStartsFrom(baseFit, swapTangentsDeg), options.maxIterations);
+  // Every start's coat faded away while scouting: the full solve would end at the base without a
+  // coat, so it is not run.
+  if (!scouts.empty() && scouts.front().outcome.parameters.coat[0] <= 0.0) {
     reason = "no coat: the best of the coat's starts has weight 0 after " +
              std::to_string(kScoutIterations) + " iterations on a third of the pairs";
     return false;
   }
+  std::optional<CandidateFit> coat = detail::polishBest(table, data, scouts, options.maxIterations,
+                                                       kMaxPolishedCoat, failure);
   if (!coat) {
     reason = "the " + baseName + "+coat fit did not converge (" + failure + ")";
     return false;
