@@ -1,10 +1,11 @@
 """The fit's clear coat rendered by the real consumers (scripts/consumer-check, section "coat"): one
-coated material, a rough blue dielectric under a glossy clear coat (LACQUER, as the one of
-python/tests/test_material_export.py), written as a fitted material, tabulated by `slicecap generate
-TRUTH.json`, fitted (`slicecap fit`, which must choose "ggx+coat") and exported; then rendered, in
-the scene of consumer_scene.py, by Mitsuba 3 (the --mitsuba snippet: the coat blended in,
-`coat-form`), three.js (the --gltf, KHR_materials_clearcoat) and Blender (Cycles, the --gltf through
-Blender's importer, which is also asked what it put on the Principled BSDF's Coat inputs).
+coated material, a rough blue dielectric under a glossy clear coat (LACQUER of lacquer.py, which
+python/tests/test_material_export.py checks too), written as a fitted material, tabulated by
+`slicecap generate TRUTH.json`, fitted (`slicecap fit`, which must choose "ggx+coat") and exported;
+then rendered, in the scene of consumer_scene.py, by Mitsuba 3 (the --mitsuba snippet: the coat
+blended in, `coat-form`), three.js (the --gltf, KHR_materials_clearcoat) and Blender (Cycles, the
+--gltf through Blender's importer, which is also asked what it put on the Principled BSDF's Coat
+inputs).
 
 Reference: as for every coated or sheened fit of the other sections (consumer_scene's
 mitsuba_reference), the fit tabulated on the 81 x 81 grid and rendered through the slicecap table
@@ -36,6 +37,7 @@ import consumer_scene as cs
 import mitsuba_fit_vs_table as mft
 import numpy as np
 import threejs_gltf
+from lacquer import LACQUER
 
 from slicecap import tabulate, write_abrdf_exr
 from slicecap.analytic_models import Term
@@ -44,15 +46,6 @@ from slicecap.image_metrics import delta_e_8bit, exposure_of
 from slicecap.png import write_png
 
 NAME = "lacquer"
-# The truth, written as `slicecap fit` writes a fitted material (material-fit.md, "The JSON").
-LACQUER = {
-    "format": "slicecap-material", "format_version": 1, "model": "ggx+coat",
-    "metrics": {"delta_e": 0.0},
-    "parameters": {name: {"value": value} for name, value in {
-        "diffuse_albedo": [0.05, 0.1, 0.3], "specular_f0": [0.04, 0.04, 0.04],
-        "specular_f90": 1.0, "alpha_tangent": 0.4, "alpha_bitangent": 0.4, "tangent_deg": 0.0,
-        "coat_weight": 0.6, "coat_alpha": 0.08}.items()},
-}
 TOLERANCE = {"mitsuba": 3.0, "threejs": 4.0, "blender": 8.0}
 # The coat's highlight at the truth's peak exposure against the exact truth: measured 0.54-0.90
 # (docs/results/2026-12-02-consumer-renders.md, 2026-12-03 coat section); a coat of the wrong

@@ -11,6 +11,7 @@ import pathlib
 import platform
 import shutil
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -18,24 +19,15 @@ from conftest import REPOSITORY, find_slicecap_cli
 from material_export_support import fitted_brdf, mitsuba_ratios, sheen_stand_in
 from mitsuba_support import render, sphere_scene, use_variant
 
+sys.path.insert(0, str(REPOSITORY / "python" / "checks"))
+from lacquer import LACQUER  # noqa: E402  (python/checks/lacquer.py: the coated truth)
+
 CONSUMERS = REPOSITORY / "tools" / "consumers"
 VALIDATOR = CONSUMERS / "node_modules" / "gltf-validator"
 
 # A brushed metal the model family matches (GGX from GGX), a velvet whose fit has a sheen term and
 # a lacquer whose fit has a clear coat (LACQUER, tabulated by `slicecap generate` from its JSON).
 MATERIALS = ("brushed-steel-30", "velvet-red", "lacquer")
-
-# A rough dielectric blue under a glossy clear coat, written as a fitted material is (the truth the
-# table is tabulated from; material-fit.md, "The JSON"). Its coat weight fits in the room Mitsuba's
-# blend leaves (1 - 0.3 - 0.04), so the snippet need not reduce it.
-LACQUER = {
-    "format": "slicecap-material", "format_version": 1, "model": "ggx+coat",
-    "metrics": {"delta_e": 0.0},
-    "parameters": {name: {"value": value} for name, value in {
-        "diffuse_albedo": [0.05, 0.1, 0.3], "specular_f0": [0.04, 0.04, 0.04],
-        "specular_f90": 1.0, "alpha_tangent": 0.4, "alpha_bitangent": 0.4, "tangent_deg": 0.0,
-        "coat_weight": 0.6, "coat_alpha": 0.08}.items()},
-}
 
 
 def generate(cli, name: str, table: pathlib.Path) -> None:
