@@ -2,7 +2,11 @@
 // nothing written.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
 #include <nlohmann/json.hpp>
 
 #include "../support/cli_runner.hpp"
@@ -79,6 +83,32 @@ TEST(FitCommand, ACoatedTableGetsACoatUnlessTold) {
   const auto misuse = test::runSlicecap(
       {"fit", (dir / "coated.json").string(), "--no-coat", "--gltf", (dir / "c.glb").string()});
   EXPECT_EQ(misuse.code, 2);
+}
+
+// The material and its exports replace their files as one: an export that cannot be written (its
+// folder missing, a full disk) costs neither an earlier fit at -o nor an earlier export.
+TEST(FitCommand, AnExportThatCannotBeWrittenKeepsEveryEarlierOutput) {
+  const auto dir = test::freshTempDir();
+  io::writeAbrdfExr(dir / "copper.exr", models::tabulate(*models::findMaterial("copper-ggx-15")));
+  std::ofstream(dir / "m.json") << "{\"old\": true}";
+  std::ofstream(dir / "m.mtlx") << "old mtlx";
+  const std::vector<std::string> unwritables{(dir / "missing" / "m.gltf").string(), "/dev/full"};
+  for (const std::string& unwritable : unwritables) {
+    const auto result = test::runSlicecap({"fit", (dir / "copper.exr").string(), "-o",
+                                           (dir / "m.json").string(), "--mtlx",
+                                           (dir / "m.mtlx").string(), "--gltf", unwritable});
+    EXPECT_EQ(result.code, 1) << unwritable;
+    EXPECT_NE(result.err.find(unwritable), std::string::npos) << result.err;
+    std::ifstream json(dir / "m.json");
+    EXPECT_EQ(nlohmann::json::parse(json)["old"], true) << unwritable;
+    std::ifstream mtlx(dir / "m.mtlx");
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(mtlx), {}), "old mtlx") << unwritable;
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(dir))
+      names.push_back(entry.path().filename().string());
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, (std::vector<std::string>{"copper.exr", "m.json", "m.mtlx"})) << unwritable;
+  }
 }
 
 TEST(FitCommand, BadIterationCountIsAUsageError) {

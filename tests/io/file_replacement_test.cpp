@@ -72,6 +72,40 @@ TEST(FileReplacement, AFullDiskIsAnErrorNamingTheTargetAndCostsNothing) {
   EXPECT_EQ(namesIn(dir), std::vector<std::string>{"big.bin"});
 }
 
+// Files replaced together: one that cannot be written keeps every target as it was, the ones
+// written before it too, and leaves no temporary.
+TEST(FileReplacement, FilesReplacedTogetherKeepAllWhenOneFails) {
+  const fs::path dir = test::freshTempDir();
+  std::ofstream(dir / "a.json") << "old a";
+  std::ofstream(dir / "c.xml") << "old c";
+  try {
+    replaceFilesTogether({{dir / "a.json", "new a"},
+                          {dir / "missing" / "b.gltf", "new b"},
+                          {dir / "c.xml", "new c"}});
+    ADD_FAILURE() << "the failed write was not noticed";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find((dir / "missing" / "b.gltf").string()), std::string::npos)
+        << e.what();
+  }
+  try {
+    const test::FileSizeLimit limit(1000);  // writes past 1000 bytes fail as on a full disk
+    replaceFilesTogether({{dir / "a.json", "new a"}, {dir / "c.xml", std::string(5000, 'x')}});
+    ADD_FAILURE() << "the full disk was not noticed";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find((dir / "c.xml").string() + ": write failed"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(contentsOf(dir / "a.json"), "old a");
+  EXPECT_EQ(contentsOf(dir / "c.xml"), "old c");
+  EXPECT_EQ(namesIn(dir), (std::vector<std::string>{"a.json", "c.xml"}));
+
+  replaceFilesTogether({{dir / "a.json", "new a"}, {dir / "c.xml", "new c"}});
+  EXPECT_EQ(contentsOf(dir / "a.json"), "new a");
+  EXPECT_EQ(contentsOf(dir / "c.xml"), "new c");
+  EXPECT_EQ(namesIn(dir), (std::vector<std::string>{"a.json", "c.xml"}));
+}
+
 TEST(FileReplacement, EveryWriterKeepsTheOldFileWhenTheDiskIsFull) {
   const fs::path dir = test::freshTempDir();
   // Contents that do not compress below the limit.

@@ -43,7 +43,9 @@ int exportExisting(const ParsedArgs& args, Streams& io) {
                      " is a fitted material: say what to export (--gltf, --mtlx, --mitsuba)");
   refuseClashingPaths({{"the input", input}}, exports.named());
   const fit::FittedMaterial material = material_export::readFittedMaterial(input);
-  writeMaterialExports(material, input.string(), exports, io);
+  const PreparedExports prepared = prepareMaterialExports(material, input.string(), exports);
+  io::replaceFilesTogether(prepared.files);
+  printExportReports(prepared, io);
   return 0;
 }
 
@@ -68,9 +70,16 @@ int run(const ParsedArgs& args, Streams& io) {
 
   const Abrdf table = io::readTable(input);
   const fit::FitResult result = fit::fitMaterial(table, input.string(), options);
-  fit::writeMaterialJson(output, fit::materialJson(result, input.string()));
-
+  // The material and its exports replace their files together: a failed export (a full disk, a
+  // folder that does not exist) must not have cost an earlier fit kept at the same -o.
   const fit::FittedMaterial& m = result.material;
+  const PreparedExports prepared = prepareMaterialExports(m, input.string(), exports);
+  std::vector<io::PendingFile> files{
+      {output, fit::materialJsonText(fit::materialJson(result, input.string()))}};
+  files.insert(files.end(), prepared.files.begin(), prepared.files.end());
+  io::replaceFilesTogether(files);
+
+
   io.out << std::fixed << std::setprecision(3) << "fitted " << toString(m.model) << ": alpha_t "
          << m.alphaTangent << ", alpha_b " << m.alphaBitangent << ", tangent "
          << std::setprecision(1) << m.tangentDeg << " deg; dE " << std::setprecision(2)
@@ -78,7 +87,7 @@ int run(const ParsedArgs& args, Streams& io) {
          << result.metrics.psnrDb << " dB\n"
          << "  " << result.choiceReason << "\n"
          << "wrote " << output.string() << "\n";
-  writeMaterialExports(m, input.string(), exports, io);
+  printExportReports(prepared, io);
   return 0;
 }
 

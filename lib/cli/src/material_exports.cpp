@@ -53,15 +53,32 @@ MaterialExportPaths materialExportPaths(const ParsedArgs& args) {
   return paths;
 }
 
-void writeMaterialExports(const fit::FittedMaterial& material, const std::string& source,
-                          const MaterialExportPaths& paths, Streams& io) {
-  if (paths.gltf)
-    printReport(*paths.gltf, material_export::writeGltf(*paths.gltf, material, source), io.out);
-  if (paths.mtlx)
-    printReport(*paths.mtlx, material_export::writeMtlx(*paths.mtlx, material, source), io.out);
-  if (paths.mitsuba)
-    printReport(*paths.mitsuba, material_export::writeMitsuba(*paths.mitsuba, material, source),
-                io.out);
+PreparedExports prepareMaterialExports(const fit::FittedMaterial& material,
+                                       const std::string& source, const MaterialExportPaths& paths) {
+  PreparedExports out;
+  const auto add = [&](const std::filesystem::path& path, std::string contents,
+                       material_export::ExportReport report) {
+    out.files.push_back({path, std::move(contents)});
+    out.reports.push_back(std::move(report));
+  };
+  if (paths.gltf) {
+    material_export::GltfAsset asset = material_export::gltfAsset(material, source);
+    add(*paths.gltf, material_export::gltfFileContents(asset, *paths.gltf), std::move(asset.report));
+  }
+  if (paths.mtlx) {
+    material_export::MtlxExport e = material_export::mtlxDocument(material, source);
+    add(*paths.mtlx, std::move(e.text), std::move(e.report));
+  }
+  if (paths.mitsuba) {
+    material_export::MitsubaExport e = material_export::mitsubaSnippet(material, source);
+    add(*paths.mitsuba, std::move(e.text), std::move(e.report));
+  }
+  return out;
+}
+
+void printExportReports(const PreparedExports& exports, Streams& io) {
+  for (std::size_t i = 0; i < exports.files.size(); ++i)
+    printReport(exports.files[i].target, exports.reports[i], io.out);
 }
 
 }  // namespace slicecap::cli

@@ -11,6 +11,8 @@
 #include "slicecap/cli/args.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/fit/fitted_material.hpp"
+#include "slicecap/io/file_replacement.hpp"
+#include "slicecap/material_export/conversion_loss.hpp"
 
 namespace slicecap::cli {
 
@@ -29,10 +31,17 @@ std::vector<OptionSpec> materialExportOptions();
 /// \brief The paths the command line asks for. Never throws.
 MaterialExportPaths materialExportPaths(const ParsedArgs& args);
 
-/// \brief Writes every asked-for export of `material` (whose origin `source` goes into the files)
-/// and prints, per file, "wrote PATH (FORMAT)" and each conversion loss on `io.out`. Throws
-/// io::IoError naming the path when a file cannot be written.
-void writeMaterialExports(const fit::FittedMaterial& material, const std::string& source,
-                          const MaterialExportPaths& paths, Streams& io);
+/// \brief Every asked-for export of `material` (whose origin `source` goes into the files), made
+/// in memory, not yet written: the files for io::replaceFilesTogether, with the other outputs of
+/// the command, so that a failed write leaves every one of them as it was. Never throws.
+struct PreparedExports {
+  std::vector<io::PendingFile> files;
+  std::vector<material_export::ExportReport> reports;  ///< one per file, in the same order
+};
+PreparedExports prepareMaterialExports(const fit::FittedMaterial& material,
+                                       const std::string& source, const MaterialExportPaths& paths);
+
+/// \brief Prints, per written export, "wrote PATH (FORMAT)" and each conversion loss on `io.out`.
+void printExportReports(const PreparedExports& exports, Streams& io);
 
 }  // namespace slicecap::cli

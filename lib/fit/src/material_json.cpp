@@ -107,8 +107,10 @@ json materialJson(const FitResult& result, const std::string& source) {
   };
 }
 
+std::string materialJsonText(const json& document) { return document.dump(2) + "\n"; }
+
 void writeMaterialJson(const std::filesystem::path& path, const json& document) {
-  io::writeStreamReplacing(path, [&](std::ostream& out) { out << document.dump(2) << "\n"; });
+  io::writeStreamReplacing(path, [&](std::ostream& out) { out << materialJsonText(document); });
 }
 
 }  // namespace slicecap::fit

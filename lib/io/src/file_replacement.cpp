@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <system_error>
 
@@ -53,21 +54,40 @@ void writeReplacing(const fs::path& target, const std::function<void(const fs::p
   file.commit();
 }
 
+namespace {
+
+// Writes `write`'s output to `writePath` and checks it reached the disk; errors name `target`.
+void writeStreamTo(const fs::path& target, const fs::path& writePath,
+                   const std::function<void(std::ostream&)>& write) {
+  errno = 0;
+  std::ofstream out(writePath, std::ios::binary | std::ios::trunc);
+  if (!out)
+    throw IoError(target.string() + ": cannot create" +
+                  (errno ? std::string(" (") + std::strerror(errno) + ")" : std::string()));
+  write(out);
+  // A full disk may only show when the buffer is written out: at the flush or the close.
+  out.flush();
+  out.close();
+  if (out.fail())
+    throw IoError(target.string() + ": write failed (" +
+                  (errno ? std::strerror(errno) : "disk full?") + ")");
+}
+
+}  // namespace
+
 void writeStreamReplacing(const fs::path& target, const std::function<void(std::ostream&)>& write) {
-  writeReplacing(target, [&](const fs::path& writePath) {
-    errno = 0;
-    std::ofstream out(writePath, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw IoError(target.string() + ": cannot create" +
-                    (errno ? std::string(" (") + std::strerror(errno) + ")" : std::string()));
-    write(out);
-    // A full disk may only show when the buffer is written out: at the flush or the close.
-    out.flush();
-    out.close();
-    if (out.fail())
-      throw IoError(target.string() + ": write failed (" +
-                    (errno ? std::strerror(errno) : "disk full?") + ")");
-  });
+  writeReplacing(target, [&](const fs::path& writePath) { writeStreamTo(target, writePath, write); });
+}
+
+void replaceFilesTogether(const std::vector<PendingFile>& files) {
+  // Every temporary stays until all are written: a ReplacementFile not committed removes its own.
+  std::vector<std::unique_ptr<ReplacementFile>> written;
+  for (const PendingFile& file : files) {
+    written.push_back(std::make_unique<ReplacementFile>(file.target));
+    writeStreamTo(file.target, written.back()->writePath(),
+                  [&](std::ostream& out) { out << file.contents; });
+  }
+  for (const std::unique_ptr<ReplacementFile>& file : written) file->commit();
 }
 
 }  // namespace slicecap::io

@@ -169,20 +169,20 @@ std::vector<std::uint8_t> glbBytes(const GltfAsset& asset) {
   return out;
 }
 
-ExportReport writeGltf(const std::filesystem::path& path, const fit::FittedMaterial& material,
-                       const std::string& source) {
-  const GltfAsset asset = gltfAsset(material, source);
+std::string gltfFileContents(const GltfAsset& asset, const std::filesystem::path& path) {
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  io::writeStreamReplacing(path, [&](std::ostream& out) {
-    if (extension == ".glb") {
-      const std::vector<std::uint8_t> bytes = glbBytes(asset);
-      out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    } else {
-      out << gltfText(asset);
-    }
-  });
+  if (extension != ".glb") return gltfText(asset);
+  const std::vector<std::uint8_t> bytes = glbBytes(asset);
+  return {bytes.begin(), bytes.end()};
+}
+
+ExportReport writeGltf(const std::filesystem::path& path, const fit::FittedMaterial& material,
+                       const std::string& source) {
+  const GltfAsset asset = gltfAsset(material, source);
+  const std::string contents = gltfFileContents(asset, path);
+  io::writeStreamReplacing(path, [&](std::ostream& out) { out << contents; });
   return asset.report;
 }
 

@@ -16,6 +16,9 @@ inline constexpr int kMaterialFormatVersion = 1;
 /// \brief The document of a fit of the table at `source`. Never throws.
 nlohmann::ordered_json materialJson(const FitResult& result, const std::string& source);
 
+/// \brief The file's text of `document` (what writeMaterialJson writes). Never throws.
+std::string materialJsonText(const nlohmann::ordered_json& document);
+
 /// \brief Writes `document` to `path` through a temporary renamed into place, so a failed write
 /// never leaves a partial file nor costs an old one. Throws io::IoError naming the path.
 void writeMaterialJson(const std::filesystem::path& path, const nlohmann::ordered_json& document);

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <functional>
 #include <ostream>
+#include <string>
+#include <vector>
 
 namespace slicecap::io {
 
@@ -49,5 +51,21 @@ void writeReplacing(const std::filesystem::path& target,
 /// IoError naming the target when it cannot be created; what `write` throws passes through.
 void writeStreamReplacing(const std::filesystem::path& target,
                           const std::function<void(std::ostream& out)>& write);
+
+/// \brief One file of replaceFilesTogether: where it goes and its whole contents.
+struct PendingFile {
+  std::filesystem::path target;
+  std::string contents;
+};
+
+/// \brief Replaces several files as one command's outputs (a fitted material and its exports,
+/// which may lie in different folders): every file is written to its own temporary
+/// (ReplacementFile) first, and only when all are written are they put in place, in order. A
+/// failure while writing (a full disk, a folder that does not exist, a target that is a
+/// directory) leaves every target as it was and no temporary behind. A rename failing after others
+/// succeeded, which needs the folder itself to change under us, leaves the earlier ones replaced.
+/// A target that is a device is written in place when its turn comes in the writing step. Throws
+/// IoError naming the target.
+void replaceFilesTogether(const std::vector<PendingFile>& files);
 
 }  // namespace slicecap::io

@@ -30,6 +30,10 @@ std::string gltfText(const GltfAsset& asset);
 /// \brief The .glb bytes (glTF 2.0 binary container: header, JSON chunk, BIN chunk).
 std::vector<std::uint8_t> glbBytes(const GltfAsset& asset);
 
+/// \brief The file `path` gets for `asset`: the .glb bytes when it ends in ".glb" (any case), else
+/// the .gltf text. Never throws.
+std::string gltfFileContents(const GltfAsset& asset, const std::filesystem::path& path);
+
 /// \brief Writes the asset to `path`, binary when it ends in ".glb" (any case), else .gltf text;
 /// replaced whole through a temporary. Returns what the conversion lost. Throws io::IoError naming
 /// the path when it cannot be written.
