@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
+#include <string>
 
 #include "../support/test_support.hpp"
 #include "slicecap/fit/material_json.hpp"
@@ -91,7 +93,28 @@ TEST(MaterialReader, RefusesWhatIsNotACompletedFit) {
   expectRefused(writeDocument(dir, d), "unknown model");
   d = good;
   d["format_version"] = "1";
-  expectRefused(writeDocument(dir, d), "malformed");
+  expectRefused(writeDocument(dir, d), "format_version \"1\"");
+  d = good;
+  d["format_version"] = 1.5;  // not version 1, though it truncates to it
+  expectRefused(writeDocument(dir, d), "format_version 1.5");
+  d = good;
+  d["metrics"]["delta_e"] = -5.0;
+  expectRefused(writeDocument(dir, d), "not a completed fit");
+}
+
+TEST(MaterialReader, RefusesADirectoryAndDeepNestingByName) {
+  const auto dir = test::freshTempDir();
+  std::filesystem::create_directory(dir / "folder.json");
+  expectRefused(dir / "folder.json", "is a directory");
+  // Deep enough that reading it recursively ran out of stack (a crash, not an error).
+  const std::size_t depth = 200000;
+  std::ofstream(dir / "deep.json") << std::string(depth, '[') << std::string(depth, ']');
+  expectRefused(dir / "deep.json", "nested deeper than");
+  nlohmann::ordered_json nested = fit::materialJson(sheenFit(), "t.exr");
+  nlohmann::json inner = 1;
+  for (int level = 0; level < 40; ++level) inner = nlohmann::json::array({inner});
+  nested["choice"] = inner;  // a field the reader does not use, nested past the limit
+  expectRefused(writeDocument(dir, nested), "nested deeper than");
 }
 
 fit::FitResult coatedSheenFit() {

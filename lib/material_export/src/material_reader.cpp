@@ -17,8 +17,9 @@ using json = nlohmann::json;
 
 class Reader {
  public:
-  Reader(std::filesystem::path path, json document)
-      : path_(std::move(path)), document_(std::move(document)) {}
+  // The document by reference: a copy of a deeply nested one recursed until the stack ran out.
+  Reader(std::filesystem::path path, const json& document)
+      : path_(std::move(path)), document_(document) {}
 
   [[noreturn]] void fail(const std::string& what) const {
     throw MaterialFileError(path_.string() + ": " + what);
@@ -60,14 +61,29 @@ class Reader {
 
  private:
   std::filesystem::path path_;
-  json document_;
+  const json& document_;
 };
 
+// A material file is 3 levels deep; nesting far beyond that is not one, and is refused while
+// parsing, before any recursion over it.
+constexpr int kMaxJsonDepth = 32;
+
 json parseFile(const std::filesystem::path& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error))
+    throw MaterialFileError(path.string() + ": is a directory, not a material file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw MaterialFileError(path.string() + ": cannot be read (no such file, or no permission)");
+  const json::parser_callback_t refuseDeepNesting = [&](int depth, json::parse_event_t event,
+                                                        json&) {
+    if ((event == json::parse_event_t::object_start || event == json::parse_event_t::array_start) &&
+        depth >= kMaxJsonDepth)
+      throw MaterialFileError(path.string() + ": nested deeper than " +
+                              std::to_string(kMaxJsonDepth) + " levels: not a slicecap material");
+    return true;
+  };
   try {
-    return json::parse(in);
+    return json::parse(in, refuseDeepNesting);
   } catch (const json::parse_error& e) {
     throw MaterialFileError(path.string() + ": not JSON (" + e.what() + ")");
   }
@@ -78,7 +94,10 @@ fit::FittedMaterial readMaterialDocument(const std::filesystem::path& path, cons
   if (!document.is_object() || document.value("format", "") != fit::kMaterialFormat)
     r.fail(std::string("not a slicecap material (\"format\" is not \"") + fit::kMaterialFormat +
            "\"): write one with slicecap fit TABLE -o MATERIAL.json");
-  if (document.value("format_version", 0) != fit::kMaterialFormatVersion)
+  // An integer: 1.5 is not version 1 (json::value would have truncated it to 1).
+  const json* version = document.contains("format_version") ? &document.at("format_version") : nullptr;
+  if (version == nullptr || !version->is_number_integer() ||
+      version->get<long long>() != fit::kMaterialFormatVersion)
     r.fail("format_version " + document.value("format_version", json()).dump() +
            " is not the one this build reads (" + std::to_string(fit::kMaterialFormatVersion) + ")");
   if (!document.contains("parameters") || !document.at("parameters").is_object())
@@ -87,8 +106,9 @@ fit::FittedMaterial readMaterialDocument(const std::filesystem::path& path, cons
   // fit that converged (or was edited), and an export would hide that.
   const json* metrics = document.contains("metrics") ? &document.at("metrics") : nullptr;
   if (metrics == nullptr || !metrics->is_object() || !metrics->contains("delta_e") ||
-      !metrics->at("delta_e").is_number() || !std::isfinite(metrics->at("delta_e").get<double>()))
-    r.fail("no finite \"metrics\".\"delta_e\": not a completed fit");
+      !metrics->at("delta_e").is_number() || !std::isfinite(metrics->at("delta_e").get<double>()) ||
+      metrics->at("delta_e").get<double>() < 0.0)
+    r.fail("no finite, non-negative \"metrics\".\"delta_e\": not a completed fit");
 
   const std::string model = document.value("model", "");
   fit::FittedMaterial m;
