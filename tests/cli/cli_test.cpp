@@ -45,6 +45,14 @@ TEST(Cli, BadUsageExitsWithTwo) {
   const Result r = run({"compare", "a.exr", "b.exr", "--colour"});
   EXPECT_EQ(r.code, kExitUsage);
   EXPECT_NE(r.err.find("unknown option --colour"), std::string::npos) << r.err;
+  // An option given twice: the parser kept the last, so a first -o or --gltf was silently dropped.
+  for (const std::vector<std::string>& twice :
+       {std::vector<std::string>{"fit", "t.exr", "-o", "a.json", "-o", "b.json"},
+        std::vector<std::string>{"fit", "t.exr", "-o", "a.json", "--gltf", "1.gltf", "--gltf=2.gltf"}}) {
+    const Result t = run(twice);
+    EXPECT_EQ(t.code, kExitUsage) << t.err;
+    EXPECT_NE(t.err.find("given twice"), std::string::npos) << t.err;
+  }
 }
 
 TEST(Cli, FailuresExitWithOneAndNameTheInput) {

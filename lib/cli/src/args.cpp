@@ -77,6 +77,10 @@ ParsedArgs parseArgs(const CommandSpec& spec, std::span<const std::string> args)
         throw UsageError(spec.name + ": option --" + option->name + " needs " + option->valueName);
       inlineValue = args[++i];
     }
+    // Given twice, one of the two would be dropped without a word (a second -o, a second
+    // --gltf never written): the user meant something the command would not do.
+    if (parsed.value(option->name))
+      throw UsageError(spec.name + ": option --" + option->name + " given twice");
     parsed.setValue(option->name, *inlineValue);
   }
   if (!parsed.helpRequested) {
