@@ -8,6 +8,9 @@
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "../support/file_size_limit.hpp"
 #include "../support/test_support.hpp"
@@ -159,6 +162,67 @@ TEST(BtfFiles, AResolutionThatIsNoWholeNumberInRangeIsNamed) {
       EXPECT_NE(std::string(e.what()).find("btf.json: field 'resolution'"), std::string::npos)
           << e.what();
     }
+  }
+}
+
+// The rest of btf.json a reader relies on: the window (the glTF plane's size; it was read after
+// the whole texture fit, unchecked: strings threw an unnamed type error, [0, 0] read past the
+// array, a reversed window gave a negative plane) and what the images hold.
+TEST(BtfFiles, AManifestWithABadWindowOrAnotherQuantityIsNamed) {
+  const auto dir = test::freshTempDir() / "btf";
+  std::filesystem::create_directories(dir);
+  const std::string good = R"("format": "slicecap-btf", "resolution": 2, "version": 1, )"
+                           R"("quantity": "brdf", "unit": "1/sr")";
+  for (const auto& [fields, problem] : std::vector<std::pair<std::string, std::string>>{
+           {good, "field 'window_mm'"},
+           {good + R"(, "window_mm": [0, 0])", "field 'window_mm'"},
+           {good + R"(, "window_mm": ["a", "b", "c", "d"])", "field 'window_mm'"},
+           {good + R"(, "window_mm": [20, 20, -20, -20])", "field 'window_mm'"},
+           {good + R"(, "window_mm": 40)", "field 'window_mm'"},
+           {R"("format": "slicecap-btf", "resolution": 2, "window_mm": [-20, -20, 20, 20], )"
+            R"("version": 7, "quantity": "brdf", "unit": "1/sr")",
+            "field 'version'"},
+           {R"("format": "slicecap-btf", "resolution": 2, "window_mm": [-20, -20, 20, 20], )"
+            R"("version": 1, "quantity": "radiance", "unit": "1/sr")",
+            "field 'quantity'"},
+           {R"("format": "slicecap-btf", "resolution": 2, "window_mm": [-20, -20, 20, 20], )"
+            R"("version": 1, "quantity": "brdf", "unit": "W")",
+            "field 'unit'"}}) {
+    std::ofstream(dir / kBtfManifest) << "{" << fields << "}";
+    try {
+      readBtfManifest(dir);
+      ADD_FAILURE() << fields << " was accepted";
+    } catch (const io::IoError& e) {
+      EXPECT_NE(std::string(e.what()).find("btf.json: " + problem), std::string::npos) << e.what();
+    }
+  }
+  std::ofstream(dir / kBtfManifest) << "{" << good << R"(, "window_mm": [-20, -10, 20, 30]})";
+  const BtfManifest manifest = readBtfManifest(dir);
+  EXPECT_EQ(manifest.resolution, 2);
+  EXPECT_DOUBLE_EQ(manifest.windowMm.yMinMm, -10.0);
+  EXPECT_DOUBLE_EQ(manifest.windowMm.heightMm(), 40.0);
+}
+
+// A manifest claiming more texels than the images hold was believed until 6561 images of that size
+// had been allocated (1024 texels: 41 GB, an allocation failure naming nothing).
+TEST(BtfFiles, AResolutionLargerThanTheImagesIsNamedBeforeAllocating) {
+  const auto dir = test::freshTempDir() / "btf";
+  BtfTexture texture(2);
+  for (std::size_t t = 0; t < 4; ++t)
+    texture.setTexel(t, models::tabulate(*models::makeLambert(Rgb::gray(0.2))));
+  writeBtfDirectory(dir, texture, averageTable(texture), {{-20, -20, 20, 20}, "B", "s"}, {}, 1);
+  std::ifstream in(dir / kBtfManifest);
+  nlohmann::json manifest = nlohmann::json::parse(in);
+  in.close();
+  manifest["resolution"] = 1024;
+  std::ofstream(dir / kBtfManifest) << manifest.dump();
+  try {
+    readBtfDirectory(dir);
+    ADD_FAILURE() << "a 1024-texel manifest over 2 x 2 images was accepted";
+  } catch (const io::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find(imagePath(0, 0).filename().string() + ": not 1024 x 1024"),
+              std::string::npos)
+        << e.what();
   }
 }
 

@@ -6,10 +6,12 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
 #include "../support/cli_runner.hpp"
+#include "../support/file_size_limit.hpp"
 #include "../support/test_support.hpp"
 #include "../support/tilted_table.hpp"
 #include "slicecap/btf/btf_files.hpp"
@@ -137,6 +139,43 @@ TEST_F(TextureFitCommand, RefusesTableExportOptionsAndATextureStore) {
   const auto fromStore = test::runSlicecap({"fit", store.string(), "-o", (root() / "m3").string()});
   EXPECT_EQ(fromStore.code, 1);
   EXPECT_NE(fromStore.err.find("slicecap btf"), std::string::npos) << fromStore.err;
+}
+
+// The maps, material.gltf and maps.json are one set: a write that fails part-way (a full disk) used
+// to leave new maps beside the previous maps.json and material.gltf.
+TEST_F(TextureFitCommand, AFailedWriteLeavesThePreviousMapsWhole) {
+  const auto maps = root() / "maps-kept";
+  ASSERT_EQ(test::runSlicecap({"fit", btf().string(), "-o", maps.string(), "--threads", "1"}).code, 0);
+  // Marked, so that a file the next run replaced would show.
+  for (const char* name : {"base_color.png", "maps.json", "material.gltf"})
+    std::ofstream(maps / name) << "previous " << name;
+  {
+    const test::FileSizeLimit limit(600);  // the PNGs fit, material.gltf does not: a full disk
+    const auto result =
+        test::runSlicecap({"fit", btf().string(), "-o", maps.string(), "--threads", "1"});
+    EXPECT_EQ(result.code, 1);
+    EXPECT_NE(result.err.find("material.gltf"), std::string::npos) << result.err;
+  }
+  for (const char* name : {"base_color.png", "maps.json", "material.gltf"}) {
+    std::ifstream in(maps / name);
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), std::string("previous ") + name);
+  }
+  for (const auto& entry : std::filesystem::directory_iterator(maps))
+    EXPECT_FALSE(entry.path().filename().string().starts_with(".")) << entry.path();
+}
+
+TEST_F(TextureFitCommand, RefusesTableOptionsAndAFileForTheMapsDirectory) {
+  const auto noSheen = test::runSlicecap(
+      {"fit", btf().string(), "-o", (root() / "m4").string(), "--no-sheen"});
+  EXPECT_EQ(noSheen.code, 2) << noSheen.err;
+  EXPECT_NE(noSheen.err.find("--no-sheen"), std::string::npos) << noSheen.err;
+  const auto file = root() / "a-file";
+  std::ofstream(file) << "kept";
+  const auto onFile = test::runSlicecap({"fit", btf().string(), "-o", file.string()});
+  EXPECT_EQ(onFile.code, 1) << onFile.err;
+  EXPECT_NE(onFile.err.find(file.string() + ": not a directory"), std::string::npos) << onFile.err;
+  std::ifstream in(file);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "kept");
 }
 
 }  // namespace

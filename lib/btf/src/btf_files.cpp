@@ -191,24 +191,75 @@ void writeBtfDirectory(const std::filesystem::path& directory, const BtfTexture&
                            [&](std::ostream& out) { out << manifest.dump(1) << "\n"; });
 }
 
-BtfTexture readBtfDirectory(const std::filesystem::path& directory) {
+namespace {
+
+// `field` of `manifest` must be the string `expected`.
+void requireString(const nlohmann::json& manifest, const std::filesystem::path& manifestPath,
+                   const char* field, const char* expected) {
+  if (!manifest.contains(field) || !manifest.at(field).is_string() ||
+      manifest.at(field).get<std::string>() != expected)
+    throw io::IoError(manifestPath.string() + ": field '" + field + "' is not \"" + expected + "\"");
+}
+
+// The image at `path` is resolution x resolution: checked before 6561 of them are allocated, so
+// that a manifest claiming a larger texture is named, not an allocation failure.
+void requireImageSize(const std::filesystem::path& path, int resolution) {
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i window = file.header().dataWindow();
+    if (window.max.x - window.min.x + 1 != resolution || window.max.y - window.min.y + 1 != resolution)
+      throw io::IoError(path.string() + ": not " + std::to_string(resolution) + " x " +
+                        std::to_string(resolution) + " as btf.json says");
+  } catch (const io::IoError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw io::IoError(path.string() + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+BtfManifest readBtfManifest(const std::filesystem::path& directory) {
   const std::filesystem::path manifestPath = directory / kBtfManifest;
   std::ifstream in(manifestPath);
   if (!in) throw io::IoError(manifestPath.string() + ": cannot open (not a BTF directory?)");
-  int resolution = 0;
+  BtfManifest out;
   try {
     const nlohmann::json manifest = nlohmann::json::parse(in);
-    if (manifest.value("format", "") != "slicecap-btf")
+    if (!manifest.is_object() || manifest.value("format", "") != "slicecap-btf")
       throw io::IoError(manifestPath.string() + ": field 'format' is not \"slicecap-btf\"");
     // Checked before get<int>(): of 1e300 it is undefined behaviour, of 2.5 quietly 2.
     const nlohmann::json& value = manifest.at("resolution");
     if (!value.is_number_integer() || value < 1 || value > 1024)
       throw io::IoError(manifestPath.string() + ": field 'resolution' is not a whole number of " +
                         "texels in 1..1024");
-    resolution = value.get<int>();
+    out.resolution = value.get<int>();
+    const auto isFinite = [](const nlohmann::json& v) {
+      return v.is_number() && std::isfinite(v.get<double>());
+    };
+    const nlohmann::json* window = manifest.contains("window_mm") ? &manifest.at("window_mm") : nullptr;
+    if (window == nullptr || !window->is_array() || window->size() != 4 ||
+        !std::all_of(window->begin(), window->end(), isFinite) ||
+        !((*window)[0].get<double>() < (*window)[2].get<double>() &&
+          (*window)[1].get<double>() < (*window)[3].get<double>()))
+      throw io::IoError(manifestPath.string() +
+                        ": field 'window_mm' is not [x_min, y_min, x_max, y_max] (mm, min < max)");
+    out.windowMm = {(*window)[0].get<double>(), (*window)[1].get<double>(),
+                    (*window)[2].get<double>(), (*window)[3].get<double>()};
+    if (!manifest.contains("version") || !manifest.at("version").is_number_integer() ||
+        manifest.at("version") != 1)
+      throw io::IoError(manifestPath.string() + ": field 'version' is not 1");
+    requireString(manifest, manifestPath, "quantity", "brdf");
+    requireString(manifest, manifestPath, "unit", "1/sr");
   } catch (const nlohmann::json::exception& e) {
     throw io::IoError(manifestPath.string() + ": " + e.what());
   }
+  return out;
+}
+
+BtfTexture readBtfDirectory(const std::filesystem::path& directory) {
+  const int resolution = readBtfManifest(directory).resolution;
+  requireImageSize(directory / imagePath(0, 0), resolution);
   BtfTexture texture(resolution);
   for (int light = 0; light < Abrdf::kDirections; ++light) {
     for (int view = 0; view < Abrdf::kDirections; ++view) {

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <ostream>
@@ -15,6 +14,7 @@
 #include "slicecap/fit/material_fit.hpp"
 #include "slicecap/fit/material_json.hpp"
 #include "slicecap/fit/texture_fit.hpp"
+#include "slicecap/io/file_set.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/material_export/textured_gltf.hpp"
 
@@ -48,15 +48,9 @@ void refuseOverlap(const std::filesystem::path& input, const std::filesystem::pa
                      input.string() + ": it would be written over");
 }
 
-// The window the texture covers, from btf.json (metres); a 0.04 m square when it does not say.
-std::pair<double, double> windowSizeM(const std::filesystem::path& directory) {
-  std::ifstream in(directory / btf::kBtfManifest);
-  const json manifest = json::parse(in, nullptr, false);
-  if (manifest.is_discarded() || !manifest.contains("window_mm")) return {0.04, 0.04};
-  const json& w = manifest["window_mm"];
-  return {(w[2].get<double>() - w[0].get<double>()) / 1000.0,
-          (w[3].get<double>() - w[1].get<double>()) / 1000.0};
-}
+// The file set of the maps in MAPS_DIR (io::replaceFileSet): its manifest lists them, and a
+// failed or interrupted write leaves the previous set whole.
+constexpr const char* kMapsFileSet = "svbrdf";
 
 // A row of texel tables straight from the half-float images: each image's row is contiguous.
 void readRow(const btf::BtfTexture& texture, int row, std::vector<Abrdf>& tables) {
@@ -140,8 +134,15 @@ int runTextureFit(const ParsedArgs& args, Streams& io) {
   if (args.value("gltf") || args.value("mtlx") || args.value("mitsuba"))
     throw UsageError("fit: " + input.string() + " is a BTF: its glTF is -o DIR/" +
                      material_export::kTexturedGltf + "; --gltf, --mtlx and --mitsuba apply to a table");
+  if (args.flag("no-sheen") || args.flag("no-coat"))
+    throw UsageError("fit: " + input.string() +
+                     " is a BTF: its texels are fitted without sheen or coat already; --no-sheen "
+                     "and --no-coat apply to a table");
   const std::filesystem::path output = args.required("output");
   refuseOverlap(input, output);
+  if (std::filesystem::exists(output) && !std::filesystem::is_directory(output))
+    throw io::IoError(output.string() + ": not a directory: the maps of " + input.string() +
+                      " go into a directory (-o MAPS_DIR)");
   fit::TextureFitOptions options;
   const double threads = args.number("threads", 0.0);
   if (!(threads >= 0.0 && threads <= 256.0) || threads != std::floor(threads))
@@ -152,6 +153,8 @@ int runTextureFit(const ParsedArgs& args, Streams& io) {
     throw UsageError("fit: --max-iterations must be a whole number from 1 to 10000");
   options.maxIterations = int(iterations);
 
+  // btf.json first, whole: a bad window is named before the minutes of the fit, not after.
+  const btf::BtfManifest manifest = btf::readBtfManifest(input);
   const btf::BtfTexture texture = btf::readBtfDirectory(input);
   const fit::TextureFitResult result = fit::fitTexture(
       texture.resolution(),
@@ -169,9 +172,17 @@ int runTextureFit(const ParsedArgs& args, Streams& io) {
                         ", ...); nothing written");
 
   const material_export::GltfTextureMaps maps = material_export::gltfTextureMaps(result);
-  const auto [widthM, heightM] = windowSizeM(input);
-  material_export::writeTexturedGltf(output, maps, widthM, heightM, input.string());
-  fit::writeMaterialJson(output / "maps.json", mapsJson(result, maps, input.string()));
+  const double widthM = manifest.windowMm.widthMm() / 1000.0;
+  const double heightM = manifest.windowMm.heightMm() / 1000.0;
+  // The maps, material.gltf and maps.json replace the previous ones as one set: a fit that fails
+  // while writing (a full disk) leaves the old set whole, never new maps beside an old maps.json.
+  std::vector<io::FileSetEntry> files =
+      material_export::texturedGltfFiles(maps, widthM, heightM, input.string());
+  const json mapsDocument = mapsJson(result, maps, input.string());
+  files.push_back({"maps.json", [&](const std::filesystem::path& path) {
+                     fit::writeMaterialJson(path, mapsDocument);
+                   }});
+  io::replaceFileSet(output, kMapsFileSet, files);
   io.out << std::fixed << std::setprecision(1) << "fitted " << result.fitted << " of "
          << result.texels.size() << " texels (diffuse + anisotropic GGX; " << result.multiStart
          << " needed the multi-start fit) on " << result.threads << " threads in "

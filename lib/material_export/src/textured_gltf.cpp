@@ -110,22 +110,20 @@ json texturedGltfDocument(const GltfTextureMaps& maps, double widthM, double hei
   };
 }
 
-void writeTexturedGltf(const std::filesystem::path& directory, const GltfTextureMaps& maps,
-                       double widthM, double heightM, const std::string& source) {
-  std::error_code error;
-  std::filesystem::create_directories(directory, error);
-  if (error)
-    throw io::IoError(directory.string() + ": cannot create the directory (" + error.message() + ")");
+std::vector<io::FileSetEntry> texturedGltfFiles(const GltfTextureMaps& maps, double widthM,
+                                                double heightM, const std::string& source) {
   const std::array<std::pair<const char*, const Image*>, 6> pngs = {{
       {kBaseColorPng, &maps.baseColor}, {kMetallicRoughnessPng, &maps.metallicRoughness},
       {kAnisotropyPng, &maps.anisotropy}, {kSpecularPng, &maps.specular},
       {kNormalPng, &maps.normal}, {kMaskPng, &maps.mask}}};
+  std::vector<io::FileSetEntry> files;
   for (const auto& [file, image] : pngs)
-    io::writeReplacing(directory / file,
-                       [&](const std::filesystem::path& path) { io::writePng(path, *image); });
-  const json document = texturedGltfDocument(maps, widthM, heightM, source);
-  io::writeStreamReplacing(directory / kTexturedGltf,
-                           [&](std::ostream& out) { out << document.dump(1) << "\n"; });
+    files.push_back({file, [image](const std::filesystem::path& path) { io::writePng(path, *image); }});
+  json document = texturedGltfDocument(maps, widthM, heightM, source);
+  files.push_back({kTexturedGltf, [document = std::move(document)](const std::filesystem::path& path) {
+                     io::writeStreamReplacing(path, [&](std::ostream& out) { out << document.dump(1) << "\n"; });
+                   }});
+  return files;
 }
 
 }  // namespace slicecap::material_export

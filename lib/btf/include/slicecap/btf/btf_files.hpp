@@ -44,9 +44,22 @@ void writeBtfDirectory(const std::filesystem::path& directory, const BtfTexture&
                        const Abrdf& average, const BtfDescription& description,
                        const io::ExrAttributes& averageAttributes = {}, int threads = 0);
 
-/// \brief Reads a directory written by writeBtfDirectory (its btf.json and all 6561 images).
-/// Throws io::IoError naming the file that is missing, of another size or not an image of the
-/// layout.
+/// \brief What a reader needs of btf.json.
+struct BtfManifest {
+  int resolution = 0;        ///< texels across the window
+  vision::RectMm windowMm;   ///< the window the texture covers (target frame)
+};
+
+/// \brief Reads and checks `directory`/btf.json: `format` "slicecap-btf", `resolution` a whole
+/// number in 1..1024, `window_mm` four finite numbers [x_min, y_min, x_max, y_max] with min < max,
+/// `version` 1, `quantity` "brdf" and `unit` "1/sr" (a table of another quantity would be fitted
+/// as a BRDF). Throws io::IoError naming the file and the field.
+BtfManifest readBtfManifest(const std::filesystem::path& directory);
+
+/// \brief Reads a directory written by writeBtfDirectory (its btf.json, checked by
+/// readBtfManifest, and all 6561 images; the first image's size is checked before the texture's
+/// memory is taken). Throws io::IoError naming the file that is missing, of another size or not
+/// an image of the layout.
 BtfTexture readBtfDirectory(const std::filesystem::path& directory);
 
 /// \brief The manifest's file name.

@@ -5,7 +5,9 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
+#include "slicecap/io/file_set.hpp"
 #include "slicecap/material_export/texture_maps.hpp"
 
 namespace slicecap::material_export {
@@ -26,9 +28,10 @@ inline constexpr const char* kTexturedGltf = "material.gltf";
 nlohmann::ordered_json texturedGltfDocument(const GltfTextureMaps& maps, double widthM,
                                             double heightM, const std::string& source);
 
-/// \brief Writes the six PNGs and material.gltf into `directory` (created if needed), each file
-/// through a temporary renamed into place. Throws io::IoError naming the file that failed.
-void writeTexturedGltf(const std::filesystem::path& directory, const GltfTextureMaps& maps,
-                       double widthM, double heightM, const std::string& source);
+/// \brief The six PNGs and material.gltf as members of a file set (io::replaceFileSet), for the
+/// caller to write with its own files as one. The entries refer to `maps`, which must outlive
+/// them. Never throws; each entry's writer throws io::IoError naming its file.
+std::vector<io::FileSetEntry> texturedGltfFiles(const GltfTextureMaps& maps, double widthM,
+                                                double heightM, const std::string& source);
 
 }  // namespace slicecap::material_export
