@@ -3,7 +3,7 @@
 # (a missing socket group, a socket path too long for sun_path, a missing recording); every
 # terminating signal a person or the system may send stops the daemon cleanly, in mid-sweep, with
 # the LED off and its socket file removed; SIGPIPE does not stop it; a start under umask 000 leaves
-# the socket 0660.
+# the socket 0660; and slicecap fails when its standard output cannot be written.
 # Usage: slicecapd_process_test.sh SLICECAP SLICECAPD
 set -euo pipefail
 slicecap=$1
@@ -38,6 +38,14 @@ check_refuses "a missing socket group" "group no-such-group-here does not exist"
 check_refuses "a socket path too long" "longer than 107 bytes" "socket = /tmp/$(printf 'x%.0s' {1..120}).sock"
 check_refuses "a missing recording" "$work/nowhere" "camera_recording = $work/nowhere"
 echo "--check-config refuses a missing group, a long socket path and a missing recording"
+
+# A standard output that cannot take what slicecap prints (a full disk) is a failure, not exit 0.
+if "$slicecap" --version >/dev/full 2>"$work/full.err"; then
+  fail "slicecap --version >/dev/full exited 0"
+fi
+grep -q "standard output: write failed" "$work/full.err" ||
+  fail "slicecap >/dev/full did not say why: $(cat "$work/full.err")"
+echo "a standard output that cannot be written is a failure"
 
 # A start under umask 000: the socket is the group's, not everybody's.
 saved_umask=$(umask)
