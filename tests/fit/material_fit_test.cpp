@@ -134,6 +134,25 @@ TEST(MaterialFit, VelvetChoosesTheSheenAndSaysWhy) {
   EXPECT_THAT(r.choiceReason, HasSubstr("ggx+sheen"));
 }
 
+// The sheen's start is relative to the GGX solution's brightness: with an absolute start colour
+// of 0.1 the same velvet at a hundredth of its brightness (a dark velvet) lost its sheen (ggx, dE
+// 3.46 against 1.15), since the start was far brighter than the lobe it should grow beside.
+TEST(MaterialFit, ADarkVelvetKeepsItsSheen) {
+  const Abrdf bright = models::tabulate(*models::findMaterial("velvet-green-20"));
+  Abrdf dark = bright;
+  for (int l = 0; l < Abrdf::kDirections; ++l)
+    for (int v = 0; v < Abrdf::kDirections; ++v)
+      for (int c = 0; c < 3; ++c) dark.channel(l, v, c) *= 0.01f;
+  const FitResult brightFit = fitMaterial(bright, "velvet.exr");
+  const FitResult darkFit = fitMaterial(dark, "dark-velvet.exr");
+  ASSERT_EQ(brightFit.material.model, MaterialModel::GgxSheen);
+  EXPECT_EQ(darkFit.material.model, MaterialModel::GgxSheen) << darkFit.choiceReason;
+  EXPECT_NEAR(darkFit.metrics.deltaE, brightFit.metrics.deltaE, 0.05);
+  EXPECT_NEAR(darkFit.material.sheenRoughness, brightFit.material.sheenRoughness, 0.01);
+  EXPECT_NEAR(darkFit.material.sheenColour[1], 0.01 * brightFit.material.sheenColour[1],
+              0.01 * 0.01 * brightFit.material.sheenColour[1]);
+}
+
 // A lacquered red: a rough red base (round GGX 0.35, dielectric f0) under a glossy clear coat,
 // glTF's layering (fitted_material.hpp).
 FittedMaterial lacqueredRed() {

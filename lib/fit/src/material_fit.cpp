@@ -32,7 +32,10 @@ constexpr double kStartAlphaTangent = 0.3, kStartAlphaBitangent = 0.1;
 // no built-in material's result and cost a third more time.)
 constexpr std::array<double, 1> kSheenStartRoughness{0.5};
 constexpr double kSheenOnlyStartRoughness = 0.5;
-constexpr double kSheenStartColour = 0.1;
+// The sheen's start colour, a fraction of the GGX solution's brightest reflectance (albedo or f0):
+// relative, so that a dark velvet starts as dim against its lobe as a bright one (an absolute 0.1
+// lost the sheen of velvet-green-20 at a hundredth of its brightness: dE 1.15 -> 3.46).
+constexpr double kSheenStartFraction = 0.17;
 
 double percentile(std::vector<double> values, double fraction) {
   const auto k = static_cast<std::size_t>(fraction * double(values.size() - 1));
@@ -174,11 +177,13 @@ std::size_t addIsotropicCandidate(const Abrdf& table, const FitData& data, const
 std::vector<FitParameters> sheenStartsFrom(const FittedMaterial& m, bool isotropic) {
   // From the GGX solution (raw, not canonical: the same basin) plus a sheen term.
   std::vector<FitParameters> sheenStarts;
+  const double startColour =
+      kSheenStartFraction * std::max(m.diffuseAlbedo.maxChannel(), m.specularF0.maxChannel());
   for (double roughness : kSheenStartRoughness) {
     FitParameters p = detail::ggxParametersOf(m);
     p.withSheen = true;
     p.isotropic = isotropic;
-    p.sheen = {kSheenStartColour, kSheenStartColour, kSheenStartColour, std::log(roughness)};
+    p.sheen = {startColour, startColour, startColour, std::log(roughness)};
     sheenStarts.push_back(p);
   }
   // The GGX solution itself with no sheen yet: the sheen candidate then starts no worse than
