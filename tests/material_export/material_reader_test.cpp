@@ -98,6 +98,12 @@ TEST(MaterialReader, RefusesWhatIsNotACompletedFit) {
   d["format_version"] = 1.5;  // not version 1, though it truncates to it
   expectRefused(writeDocument(dir, d), "format_version 1.5");
   d = good;
+  d["parameters"]["diffuse_albedo"]["value"][0] = 1e300;  // its table overflowed: "dE 0.00"
+  expectRefused(writeDocument(dir, d), "diffuse_albedo");
+  d = good;
+  d["parameters"]["sheen_colour"]["value"][2] = 1e30;
+  expectRefused(writeDocument(dir, d), "sheen_colour");
+  d = good;
   d["metrics"]["delta_e"] = -5.0;
   expectRefused(writeDocument(dir, d), "not a completed fit");
 }

@@ -122,7 +122,11 @@ fit::FittedMaterial readMaterialDocument(const std::filesystem::path& path, cons
     r.fail("unknown model \"" + model +
            "\" (expected \"ggx\", \"ggx+sheen\", \"ggx+coat\" or \"ggx+sheen+coat\")");
   const double inf = HUGE_VAL;
-  m.diffuseAlbedo = r.rgb("diffuse_albedo", 0.0, inf);
+  // Colours above 1 come from a table whose scale is off (raw counts: a 16-bit range fits to about
+  // 2e5); far above that, tabulating the material overflows float32 and every comparison of it
+  // reads dE 0 between two infinities.
+  const double maxColour = 1e6;
+  m.diffuseAlbedo = r.rgb("diffuse_albedo", 0.0, maxColour);
   m.specularF0 = r.rgb("specular_f0", 0.0, 1.0);
   m.specularF90 = r.scalar("specular_f90", 0.0, 1.0);
   // The fit bounds alphas to [0.002, 2]; anything <= 0 is no GGX lobe at all.
@@ -130,7 +134,7 @@ fit::FittedMaterial readMaterialDocument(const std::filesystem::path& path, cons
   m.alphaBitangent = r.scalar("alpha_bitangent", 1e-6, inf);
   m.tangentDeg = r.scalar("tangent_deg", -360.0, 360.0);
   if (fit::hasSheen(m.model)) {
-    m.sheenColour = r.rgb("sheen_colour", 0.0, inf);
+    m.sheenColour = r.rgb("sheen_colour", 0.0, maxColour);
     m.sheenRoughness = r.scalar("sheen_roughness", 1e-6, 1.0);
   }
   if (fit::hasCoat(m.model)) {
