@@ -21,8 +21,9 @@ from test_viewer import STEEL, VELVET, fit_document, page_data
 
 import slicecap
 from slicecap import viewer
-from slicecap.abrdf_exr import write_abrdf_exr
+from slicecap.abrdf_exr import SlicecapFileError, write_abrdf_exr
 from slicecap.grid import tabulate
+from slicecap.viewer_export import find_contents
 from slicecap.viewer_serve import make_server
 
 SESSION = "felt"
@@ -98,6 +99,16 @@ def test_maps_dir_given_as_the_directory_shows_its_maps(export, tmp_path):
     assert viewer.run([str(export["dir"] / "felt-maps"), "-o", str(output),
                        "--panel-size", PANEL]) == 0
     assert page_data(output.read_text(encoding="utf-8"))["maps"]["name"] == "felt-maps"
+
+
+def test_a_staging_folder_left_by_a_killed_texture_fit_is_not_a_maps_folder(tmp_path):
+    # io::replaceFileSet writes the set into .svbrdf-export.partial first; a fit killed before the
+    # swap leaves it, with a maps.json of a set that was never put in place.
+    staging = tmp_path / "maps" / ".svbrdf-export.partial"
+    staging.mkdir(parents=True)
+    (staging / "maps.json").write_text("{}")
+    with pytest.raises(SlicecapFileError, match="nothing to show"):
+        find_contents(tmp_path / "maps")
 
 
 def test_folder_of_slicecap_fit_shows_its_table_and_fit_by_name(tmp_path, capsys):

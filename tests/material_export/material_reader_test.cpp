@@ -101,8 +101,11 @@ TEST(MaterialReader, RefusesWhatIsNotACompletedFit) {
   d["parameters"]["diffuse_albedo"]["value"][0] = 1e300;  // its table overflowed: "dE 0.00"
   expectRefused(writeDocument(dir, d), "diffuse_albedo");
   d = good;
-  d["parameters"]["sheen_colour"]["value"][2] = 1e30;
+  d["parameters"]["sheen_colour"]["value"][2] = 1e31;
   expectRefused(writeDocument(dir, d), "sheen_colour");
+  d = good;
+  d["parameters"]["diffuse_albedo"]["value"][0] = 5e6;  // a raw-count table's fit: still read
+  EXPECT_DOUBLE_EQ(readFittedMaterial(writeDocument(dir, d)).diffuseAlbedo[0], 5e6);
   d = good;
   d["metrics"]["delta_e"] = -5.0;
   expectRefused(writeDocument(dir, d), "not a completed fit");

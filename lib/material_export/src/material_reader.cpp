@@ -122,10 +122,10 @@ fit::FittedMaterial readMaterialDocument(const std::filesystem::path& path, cons
     r.fail("unknown model \"" + model +
            "\" (expected \"ggx\", \"ggx+sheen\", \"ggx+coat\" or \"ggx+sheen+coat\")");
   const double inf = HUGE_VAL;
-  // Colours above 1 come from a table whose scale is off (raw counts: a 16-bit range fits to about
-  // 2e5); far above that, tabulating the material overflows float32 and every comparison of it
-  // reads dE 0 between two infinities.
-  const double maxColour = 1e6;
+  // Colours above 1 come from a table whose scale is off (raw counts); only near float32's range
+  // (3.4e38) does tabulating the material overflow, and every comparison of it read dE 0 between two
+  // infinities. A lobe's peak can multiply a colour by 1e6, hence the margin.
+  const double maxColour = 1e30;
   m.diffuseAlbedo = r.rgb("diffuse_albedo", 0.0, maxColour);
   m.specularF0 = r.rgb("specular_f0", 0.0, 1.0);
   m.specularF90 = r.scalar("specular_f90", 0.0, 1.0);

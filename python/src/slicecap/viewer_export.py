@@ -81,9 +81,12 @@ def _material_by_name(directory: str, table: str) -> str | None:
 
 
 def _maps_dirs(directory: str) -> list[str]:
+    # Not hidden folders: a texture fit killed before its swap leaves its staging folder
+    # (.svbrdf-export.partial, io::replaceFileSet) with a maps.json of a set never put in place.
     return sorted(
         os.path.join(directory, entry.name) for entry in os.scandir(directory)
-        if entry.is_dir() and os.path.isfile(os.path.join(entry.path, MAPS_MANIFEST)))
+        if not entry.name.startswith(".") and entry.is_dir()
+        and os.path.isfile(os.path.join(entry.path, MAPS_MANIFEST)))
 
 
 def find_contents(directory: StrPath) -> DirectoryContents:
