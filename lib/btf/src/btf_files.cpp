@@ -201,15 +201,19 @@ void requireString(const nlohmann::json& manifest, const std::filesystem::path& 
     throw io::IoError(manifestPath.string() + ": field '" + field + "' is not \"" + expected + "\"");
 }
 
+// The image at `path`, of data window `window`, is resolution x resolution, as btf.json says.
+void requireSize(const Imath::Box2i& window, const std::filesystem::path& path, int resolution) {
+  if (window.max.x - window.min.x + 1 != resolution || window.max.y - window.min.y + 1 != resolution)
+    throw io::IoError(path.string() + ": not " + std::to_string(resolution) + " x " +
+                      std::to_string(resolution) + " as btf.json says");
+}
+
 // The image at `path` is resolution x resolution: checked before 6561 of them are allocated, so
 // that a manifest claiming a larger texture is named, not an allocation failure.
 void requireImageSize(const std::filesystem::path& path, int resolution) {
   try {
     Imf::InputFile file(path.c_str());
-    const Imath::Box2i window = file.header().dataWindow();
-    if (window.max.x - window.min.x + 1 != resolution || window.max.y - window.min.y + 1 != resolution)
-      throw io::IoError(path.string() + ": not " + std::to_string(resolution) + " x " +
-                        std::to_string(resolution) + " as btf.json says");
+    requireSize(file.header().dataWindow(), path, resolution);
   } catch (const io::IoError&) {
     throw;
   } catch (const std::exception& e) {
@@ -267,10 +271,7 @@ BtfTexture readBtfDirectory(const std::filesystem::path& directory) {
       try {
         Imf::InputFile file(path.c_str());
         const Imath::Box2i window = file.header().dataWindow();
-        if (window.max.x - window.min.x + 1 != resolution ||
-            window.max.y - window.min.y + 1 != resolution)
-          throw io::IoError(path.string() + ": not " + std::to_string(resolution) + " x " +
-                            std::to_string(resolution) + " as btf.json says");
+        requireSize(window, path, resolution);
         for (const char* name : kChannels)
           if (!file.header().channels().findChannel(name))
             throw io::IoError(path.string() + ": no channel " + name);

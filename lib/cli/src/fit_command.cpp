@@ -79,7 +79,6 @@ int run(const ParsedArgs& args, Streams& io) {
   files.insert(files.end(), prepared.files.begin(), prepared.files.end());
   io::replaceFilesTogether(files);
 
-
   io.out << std::fixed << std::setprecision(3) << "fitted " << toString(m.model) << ": alpha_t "
          << m.alphaTangent << ", alpha_b " << m.alphaBitangent << ", tangent "
          << std::setprecision(1) << m.tangentDeg << " deg; dE " << std::setprecision(2)

@@ -64,8 +64,8 @@ class Reader {
   const json& document_;
 };
 
-// A material file is 3 levels deep; nesting far beyond that is not one, and is refused while
-// parsing, before any recursion over it.
+// A material file is 6 levels deep (the candidates' parameters' values); nesting far beyond that
+// is not one, and is refused while parsing, before any recursion over it.
 constexpr int kMaxJsonDepth = 32;
 
 json parseFile(const std::filesystem::path& path) {
