@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "journal_records.hpp"
+#include "slicecap/core/session_id.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/target_json.hpp"
 
@@ -70,14 +71,6 @@ SessionInfo readInfo(const std::filesystem::path& directory) {
 }
 
 }  // namespace
-
-bool isValidSessionId(const std::string& id) {
-  auto letterOrDigit = [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'); };
-  // Not starting with '-' or '_': an id is an argument of the CLI, where "-x" reads as an option.
-  return !id.empty() && id.size() <= 64 && letterOrDigit(id.front()) &&
-         std::all_of(id.begin(), id.end(),
-                     [&](char c) { return letterOrDigit(c) || c == '_' || c == '-'; });
-}
 
 SessionStore::SessionStore(std::filesystem::path directory, SessionInfo info, io::Journal journal)
     : directory_(std::move(directory)), info_(std::move(info)), journal_(std::move(journal)) {}

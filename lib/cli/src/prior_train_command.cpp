@@ -62,9 +62,9 @@ Command priorTrainCommand() {
   return {{"prior-train",
            "FOLDER -o PRIOR.bin [--components N] [--prefix TEXT]",
            "Train the reconstruction prior of `--method prior` from a folder of .f32 tables (e.g.\n"
-           "../shared/data/nbrdf-bonn81): PCA of log(f cos_i cos_v + 0.01 max) over every channel "
-           "of every\n"
-           "table. scripts/prior-train regenerates the shipped data/prior/prior.bin this way.",
+           "$SLICECAP_SHARED_DATA/nbrdf-bonn81, not part of slicecap): PCA of log(f cos_i cos_v +\n"
+           "0.01 max) over every channel of every table. scripts/prior-train regenerates the\n"
+           "shipped data/prior/prior.bin this way.",
            {{"output", 'o', "PRIOR.bin", "where to write the prior (required)"},
             {"components", 0, "N", "number of components kept (default 16)"},
             {"prefix", 0, "TEXT", "only tables whose file name starts with TEXT (e.g. merl_)"}},

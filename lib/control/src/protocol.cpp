@@ -5,7 +5,7 @@
 #include <array>
 #include <cmath>
 
-#include "slicecap/capture/session_store.hpp"
+#include "slicecap/core/session_id.hpp"
 #include "slicecap/core/error.hpp"
 #include "slicecap/methods/method_id.hpp"
 
@@ -78,7 +78,7 @@ std::optional<std::string> optionalText(const json& args, const char* name) {
 
 std::string sessionId(const json& args, const char* name) {
   const json& value = argument(args, name);
-  if (!value.is_string() || !capture::isValidSessionId(value.get<std::string>())) {
+  if (!value.is_string() || !isValidSessionId(value.get<std::string>())) {
     throw Refusal{ErrorCode::BadRequest,
                   std::string("argument \"") + name +
                       "\" must be 1-64 characters of a-z, 0-9, _ and -, starting with a letter "

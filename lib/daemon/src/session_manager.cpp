@@ -9,6 +9,7 @@
 #include "isotropy_cache.hpp"
 #include "next_step.hpp"
 #include "session_report.hpp"
+#include "slicecap/core/session_id.hpp"
 #include "slicecap/core/version.hpp"
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/io/file_set.hpp"
@@ -278,7 +279,7 @@ SessionManager::SessionManager(fs::path storageRoot, ReconstructFunction reconst
           std::move(isotropy))) {
   std::ifstream current(state_->currentFile());
   std::string id;
-  if (current >> id && capture::isValidSessionId(id) && state_->exists(id)) {
+  if (current >> id && isValidSessionId(id) && state_->exists(id)) {
     // A current session that cannot be read (a damaged session.json or journal record) must not
     // keep the daemon from starting, or no session at all could be captured: it stays on disk as
     // it is, and the status names it until another session is made current.

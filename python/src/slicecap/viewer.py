@@ -41,7 +41,7 @@ from slicecap.png import encode_png
 from slicecap.render import render_sphere_point_light
 from slicecap.viewer_export import find_contents
 from slicecap.viewer_maps_page import build_maps_page
-from slicecap.viewer_serve import LOOPBACK, make_server, page_url
+from slicecap.viewer_serve import LOOPBACK, make_server, page_url, serve_until_interrupted
 from slicecap.viewer_template import fill_template
 
 LAYOUT_SCALE = 4
@@ -314,13 +314,8 @@ def _serve(pages: list[Page], port: int) -> int:
               file=sys.stderr)
         return 1
     with server:
-        for path in served:
-            print(f"serving {page_url(server, path)}", flush=True)
-        print("Ctrl-C stops the server", flush=True)
-        try:
-            server.serve_forever()
-        except KeyboardInterrupt:
-            print("stopped", flush=True)
+        serve_until_interrupted(server, [page_url(server, path) for path in served])
+    print("stopped", flush=True)
     return 0
 
 

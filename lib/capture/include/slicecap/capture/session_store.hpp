@@ -120,7 +120,4 @@ class SessionStore {
   std::uint64_t nextSequence_ = 1;  ///< the "n" of the next record: records count their lines
 };
 
-/// \brief True for 1-64 characters of [a-z0-9_-], the first a letter or digit.
-bool isValidSessionId(const std::string& id);
-
 }  // namespace slicecap::capture
