@@ -3,6 +3,7 @@
 #include "slicecap/material_export/gltf_material.hpp"
 
 #include "slicecap/material_export/gltf_brdf.hpp"
+#include "slicecap/material_export/gltf_writer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -176,7 +177,7 @@ TEST(GltfBrdf, TheFitsCoatIsTheClearcoatExtensionExactly) {
   const GltfConversion g = toGltfMaterial(m);
   EXPECT_TRUE(g.losses.empty());
   EXPECT_TRUE(g.material.hasClearcoat);
-  const GltfBrdf brdf(g.material);
+  const GltfBrdf brdf(gltfMaterialJson(g.material));
   EXPECT_LT(worstRelativeDifference(
                 m, [&](V3 l, V3 v) { return brdf.evaluate({l.x, l.y, l.z}, {v.x, v.y, v.z}); }),
             1e-9);
@@ -184,7 +185,7 @@ TEST(GltfBrdf, TheFitsCoatIsTheClearcoatExtensionExactly) {
   // bright metal under it hides a 4 % coat face on; dE 0.52).
   GltfMaterial uncoated = g.material;
   uncoated.hasClearcoat = false;
-  EXPECT_GT(eval::compare(fit::tabulate(m), tabulate(GltfBrdf(uncoated))).deltaE, 0.3);
+  EXPECT_GT(eval::compare(fit::tabulate(m), tabulate(GltfBrdf(gltfMaterialJson(uncoated)))).deltaE, 0.3);
 }
 
 TEST(GltfMaterial, ACoatRougherThanTheExtensionReachesIsClampedAndReported) {
@@ -209,12 +210,10 @@ TEST(GltfBrdf, MetalMatchesTheFitAndTheSheenLossIsMeasured) {
   velvet.specularF90 = 0.0;
   velvet.sheenColour = Rgb{0.7, 0.15, 0.15};
   velvet.sheenRoughness = 0.3;
-  // glTF dims the base by the sheen's albedo: a real loss, kept small by the base colour's
-  // compensation (velvet-red: 1.67; 3.10 without it).
-  const double deltaE = gltfVersusFit(velvet).deltaE;
-  EXPECT_GT(deltaE, 0.5);
-  EXPECT_LT(deltaE, 2.0);
-  const GltfBrdf brdf(toGltfMaterial(velvet).material);
+  // glTF dims the base by the sheen's albedo and its visibility is Charlie's: a real loss that
+  // the base colour's raise does not remove (velvet-red by the specification: 2.52, issue 46).
+  EXPECT_GT(gltfVersusFit(velvet).deltaE, 0.5);
+  const GltfBrdf brdf(gltfMaterialJson(toGltfMaterial(velvet).material));
   for (double mu : {0.05, 0.5, 1.0}) {
     EXPECT_GT(brdf.sheenAlbedo(mu), 0.0);
     EXPECT_LT(brdf.sheenAlbedo(mu), 1.0);

@@ -1,8 +1,6 @@
 // The fit -> glTF factor mapping, and a loss for each thing the extensions cannot hold.
 #include "slicecap/material_export/gltf_material.hpp"
 
-#include "slicecap/material_export/gltf_brdf.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -84,45 +82,69 @@ void mapFresnel(const fit::FittedMaterial& m, GltfMaterial& g, Losses& losses) {
   }
 }
 
-// The diffuse: glTF's dielectric BRDF gives the diffuse the energy the specular leaves
-// (KHR_materials_specular: "the diffuse BRDF will take the remaining energy"); the fit's
-// Lambertian is not dimmed. Matching at normal incidence keeps the colour a person sees face on.
-// Needs g.specularFactor, so it runs after mapFresnel.
+// The diffuse: glTF's dielectric BRDF gives the diffuse the energy the specular leaves, and with
+// a coloured specular that is 1 - max_value(F) over the channels, the same in each
+// (KHR_materials_specular, "Implementation": dielectric_brdf = dielectric_fresnel specular_brdf +
+// (1 - max_value(dielectric_fresnel)) diffuse_brdf); the fit's Lambertian is not dimmed. Matching
+// at normal incidence, where F is f0, keeps the colour a person sees face on in every channel.
 void mapDiffuse(const fit::FittedMaterial& m, GltfMaterial& g, Losses& losses) {
   bool albedoClamped = false;
+  const double f0Max = m.specularF0.maxChannel();
   for (std::size_t c = 0; c < 3; ++c) {
-    const double f0 = m.specularF0[c];
-    double base = m.diffuseAlbedo[c] / std::max(1.0 - f0, kNegligible);
+    double base = m.diffuseAlbedo[c] / std::max(1.0 - f0Max, kNegligible);
     if (base > 1.0) {
       albedoClamped = true;
       base = 1.0;
     }
     g.baseColorFactor[c] = base;
   }
-  if (m.diffuseAlbedo.maxChannel() > kNegligible && m.specularF0.maxChannel() > kNegligible)
+  if (m.diffuseAlbedo.maxChannel() > kNegligible && f0Max > kNegligible)
     losses.push_back(
         {LossKind::DiffuseLayering,
-         "glTF dims the diffuse by the specular's Fresnel (1 - F); baseColorFactor is raised by "
-         "1 / (1 - f0) to match at normal incidence; toward grazing glTF's diffuse fades to "
-         "(1 - F90) = " + format(1.0 - g.specularFactor) + " x the fit's"});
+         "glTF dims the diffuse by the specular's Fresnel (1 - max_value(F)); baseColorFactor is "
+         "raised by 1 / (1 - max f0) = 1 / " + format(1.0 - f0Max) +
+             " to match at normal incidence; toward grazing glTF's diffuse fades to (1 - F90) = " +
+             format(1.0 - g.specularFactor) + " x the fit's"});
   if (albedoClamped)
     losses.push_back({LossKind::DiffuseLayering,
                       "diffuse albedo " + format(m.diffuseAlbedo.maxChannel()) +
                           " needs a baseColorFactor above 1: capped at 1"});
 }
 
+// The cosine-weighted mean over the hemisphere of E(mu), the directional albedo of the sheen lobe
+// D_charlie / (4 (n.l + n.v - n.l n.v)) of alpha = sheenRoughnessFactor^2 (midpoint rules).
+double sheenAlbedoMean(double sheenRoughnessFactor) {
+  const double pi = std::numbers::pi;
+  const double alpha = std::max(sheenRoughnessFactor * sheenRoughnessFactor, 1e-7);
+  constexpr int kMu = 64, kTheta = 32, kPhi = 64;
+  double mean = 0.0;
+  for (int i = 0; i < kMu; ++i) {
+    const double mu = (i + 0.5) / kMu, sinV = std::sqrt(1.0 - mu * mu);
+    double albedo = 0.0;
+    for (int t = 0; t < kTheta; ++t) {
+      const double theta = (t + 0.5) * (pi / 2) / kTheta;
+      const double cosL = std::cos(theta), sinL = std::sin(theta);
+      for (int p = 0; p < kPhi; ++p) {
+        const double phi = (p + 0.5) * 2 * pi / kPhi;
+        const double hx = sinL * std::cos(phi) + sinV, hy = sinL * std::sin(phi), hz = cosL + mu;
+        const double sin2h = 1.0 - hz * hz / (hx * hx + hy * hy + hz * hz);
+        const double d = (2.0 + 1.0 / alpha) * std::pow(std::max(sin2h, 0.0), 0.5 / alpha) / (2.0 * pi);
+        albedo += d / (4.0 * (cosL + mu - cosL * mu)) * cosL * sinL;
+      }
+    }
+    mean += 2.0 * mu * albedo * (pi / 2 / kTheta) * (2 * pi / kPhi) / kMu;
+  }
+  return mean;
+}
+
 // KHR_materials_sheen scales the base by 1 - max(sheen) E(cos), E the sheen's directional
 // albedo. Raising the base colour by that scaling at E's cosine-weighted mean over the
 // hemisphere almost halves the loss on velvet-red: dE 3.10 unscaled, 2.68 matched face on (where
 // E is smallest), 1.67 so (docs/material-export.md).
+// E is the exporter's own (sheenAlbedoMean), not the check's (gltf_brdf.cpp), so that the check
+// measures this choice instead of sharing it.
 void raiseBaseUnderSheen(GltfMaterial& g) {
-  const GltfBrdf brdf(g);
-  constexpr int kSteps = 64;
-  double meanAlbedo = 0.0;
-  for (int i = 0; i < kSteps; ++i) {
-    const double mu = (i + 0.5) / kSteps;
-    meanAlbedo += 2.0 * mu * brdf.sheenAlbedo(mu) / kSteps;
-  }
+  const double meanAlbedo = sheenAlbedoMean(g.sheenRoughnessFactor);
   const double scaling = 1.0 - g.sheenColorFactor.maxChannel() * meanAlbedo;
   if (scaling > kNegligible)
     for (std::size_t c = 0; c < 3; ++c)

@@ -24,29 +24,6 @@ using namespace gltf_buffer;
 
 json rgbJson(const Rgb& c) { return {c[0], c[1], c[2]}; }
 
-json materialJson(const GltfMaterial& g, json& extensionsUsed) {
-  json extensions = json::object();
-  extensions["KHR_materials_anisotropy"] = {{"anisotropyStrength", g.anisotropyStrength},
-                                            {"anisotropyRotation", g.anisotropyRotationRad}};
-  extensions["KHR_materials_specular"] = {{"specularFactor", g.specularFactor},
-                                          {"specularColorFactor", rgbJson(g.specularColorFactor)}};
-  extensions["KHR_materials_ior"] = {{"ior", g.ior}};
-  if (g.hasSheen)
-    extensions["KHR_materials_sheen"] = {{"sheenColorFactor", rgbJson(g.sheenColorFactor)},
-                                         {"sheenRoughnessFactor", g.sheenRoughnessFactor}};
-  if (g.hasClearcoat)
-    extensions["KHR_materials_clearcoat"] = {
-        {"clearcoatFactor", g.clearcoatFactor},
-        {"clearcoatRoughnessFactor", g.clearcoatRoughnessFactor}};
-  for (const auto& [name, value] : extensions.items()) extensionsUsed.push_back(name);
-  return {{"name", "slicecap-fit"},
-          {"pbrMetallicRoughness",
-           {{"baseColorFactor", {g.baseColorFactor[0], g.baseColorFactor[1], g.baseColorFactor[2], 1.0}},
-            {"metallicFactor", 0.0},
-            {"roughnessFactor", g.roughnessFactor}}},
-          {"extensions", extensions}};
-}
-
 json lossesJson(const ExportReport& report) {
   json losses = json::array();
   for (const ConversionLoss& loss : report.losses)
@@ -68,6 +45,28 @@ void appendLittleEndian32(std::vector<std::uint8_t>& out, std::uint32_t v) {
 }
 
 }  // namespace
+
+nlohmann::ordered_json gltfMaterialJson(const GltfMaterial& g) {
+  json extensions = json::object();
+  extensions["KHR_materials_anisotropy"] = {{"anisotropyStrength", g.anisotropyStrength},
+                                            {"anisotropyRotation", g.anisotropyRotationRad}};
+  extensions["KHR_materials_specular"] = {{"specularFactor", g.specularFactor},
+                                          {"specularColorFactor", rgbJson(g.specularColorFactor)}};
+  extensions["KHR_materials_ior"] = {{"ior", g.ior}};
+  if (g.hasSheen)
+    extensions["KHR_materials_sheen"] = {{"sheenColorFactor", rgbJson(g.sheenColorFactor)},
+                                         {"sheenRoughnessFactor", g.sheenRoughnessFactor}};
+  if (g.hasClearcoat)
+    extensions["KHR_materials_clearcoat"] = {
+        {"clearcoatFactor", g.clearcoatFactor},
+        {"clearcoatRoughnessFactor", g.clearcoatRoughnessFactor}};
+  return {{"name", "slicecap-fit"},
+          {"pbrMetallicRoughness",
+           {{"baseColorFactor", {g.baseColorFactor[0], g.baseColorFactor[1], g.baseColorFactor[2], 1.0}},
+            {"metallicFactor", 0.0},
+            {"roughnessFactor", g.roughnessFactor}}},
+          {"extensions", extensions}};
+}
 
 std::string base64(const std::vector<std::uint8_t>& bytes) {
   static constexpr char kAlphabet[] =
@@ -115,8 +114,9 @@ GltfAsset gltfAsset(const fit::FittedMaterial& material, const std::string& sour
                      {"translation", {x, 0.0, 0.0}}});
   }
 
+  json materialEntry = gltfMaterialJson(conversion.material);
   json extensionsUsed = json::array();
-  json materialEntry = materialJson(conversion.material, extensionsUsed);
+  for (const auto& [name, value] : materialEntry["extensions"].items()) extensionsUsed.push_back(name);
   asset.document = {
       {"asset",
        {{"version", "2.0"},

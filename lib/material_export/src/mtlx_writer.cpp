@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <ostream>
 #include <sstream>
 
@@ -173,25 +174,39 @@ void mapCoat(const fit::FittedMaterial& m, MtlxParameters& p, Losses& losses) {
                       "roughness " + num(p.openPbrRoughness) + "): specular_roughness 0"});
 }
 
-// The comment, and the tangent both surfaces share: the surface tangent turned about the normal.
+// The comment, and the tangent both surfaces share: cos(a) T + sin(a) B from the surface's own
+// tangent T and bitangent B, a = tangent_deg, normalised. Not rotate3d: the node is specified as a
+// counter-clockwise turn, but MaterialX's own GLSL, OSL and MDL code for it (1.39.5) turn the other
+// way (AcademySoftwareFoundation/MaterialX#2083), so a renderer built on them would put the lobe at
+// -tangent_deg. Products and a sum mean the same in every implementation.
 void writeHeaderAndTangent(std::ostream& x, const fit::FittedMaterial& m, const std::string& source) {
+  const double a = m.tangentDeg * std::numbers::pi / 180.0;
   x << "<?xml version=\"1.0\"?>\n"
     << "<!-- slicecap fit of " << detail::commentSafe(source) << " (docs/material-export.md).\n"
     << "     Primary material: slicecap_fit (OpenPBR Surface); alternative:\n"
-    << "     slicecap_fit_standard_surface. The fitted tangent is the surface tangent (the table's\n"
-    << "     azimuth-0 axis on the mesh) turned by " << num(m.tangentDeg)
-    << " deg about the normal. Fit: alpha_t " << num(m.alphaTangent) << ", alpha_b "
+    << "     slicecap_fit_standard_surface. The fitted tangent is cos(a) T + sin(a) B, normalised:\n"
+    << "     the surface tangent T (the table's azimuth-0 axis on the mesh) turned by a = "
+    << num(m.tangentDeg) << " deg\n"
+    << "     toward the bitangent B. Fit: alpha_t " << num(m.alphaTangent) << ", alpha_b "
     << num(m.alphaBitangent) << ". -->\n"
     << "<materialx version=\"1.39\" colorspace=\"lin_rec709\">\n"
     << "  <tangent name=\"surface_tangent\" type=\"vector3\">\n"
     << input("space", "string", "world") << "  </tangent>\n"
-    << "  <normal name=\"surface_normal\" type=\"vector3\">\n"
-    << input("space", "string", "world") << "  </normal>\n"
-    << "  <rotate3d name=\"fitted_tangent\" type=\"vector3\">\n"
-    << "    <input name=\"in\" type=\"vector3\" nodename=\"surface_tangent\" />\n"
-    << input("amount", "float", num(m.tangentDeg))
-    << "    <input name=\"axis\" type=\"vector3\" nodename=\"surface_normal\" />\n"
-    << "  </rotate3d>\n";
+    << "  <bitangent name=\"surface_bitangent\" type=\"vector3\">\n"
+    << input("space", "string", "world") << "  </bitangent>\n"
+    << "  <multiply name=\"tangent_share\" type=\"vector3\">\n"
+    << "    <input name=\"in1\" type=\"vector3\" nodename=\"surface_tangent\" />\n"
+    << input("in2", "float", num(std::cos(a))) << "  </multiply>\n"
+    << "  <multiply name=\"bitangent_share\" type=\"vector3\">\n"
+    << "    <input name=\"in1\" type=\"vector3\" nodename=\"surface_bitangent\" />\n"
+    << input("in2", "float", num(std::sin(a))) << "  </multiply>\n"
+    << "  <add name=\"turned_tangent\" type=\"vector3\">\n"
+    << "    <input name=\"in1\" type=\"vector3\" nodename=\"tangent_share\" />\n"
+    << "    <input name=\"in2\" type=\"vector3\" nodename=\"bitangent_share\" />\n"
+    << "  </add>\n"
+    << "  <normalize name=\"fitted_tangent\" type=\"vector3\">\n"
+    << "    <input name=\"in\" type=\"vector3\" nodename=\"turned_tangent\" />\n"
+    << "  </normalize>\n";
 }
 
 void writeOpenPbrMaterial(std::ostream& x, const fit::FittedMaterial& m, const MtlxParameters& p) {
@@ -228,14 +243,16 @@ void writeStandardSurfaceMaterial(std::ostream& x, const fit::FittedMaterial& m,
     << input("specular_roughness", "float", num(p.standardRoughness))
     << input("specular_IOR", "float", num(g.ior))
     << input("specular_anisotropy", "float", num(p.standardAnisotropy))
-    << input("specular_rotation", "float", num(m.tangentDeg / 360.0));
+    // specular_rotation stays 0: its graph turns the tangent with rotate3d (writeHeaderAndTangent).
+    << input("specular_rotation", "float", "0");
   if (p.sheen)
     x << input("sheen", "float", "1") << input("sheen_color", "color3", rgbText(g.sheenColorFactor))
       << input("sheen_roughness", "float", num(m.sheenRoughness));
   if (p.coat)
     x << input("coat", "float", num(m.coatWeight))
       << input("coat_roughness", "float", num(p.coatRoughness)) << input("coat_IOR", "float", "1.5");
-  x << "  </standard_surface>\n"
+  x << "    <input name=\"tangent\" type=\"vector3\" nodename=\"fitted_tangent\" />\n"
+    << "  </standard_surface>\n"
     << "  <surfacematerial name=\"slicecap_fit_standard_surface\" type=\"material\">\n"
     << "    <input name=\"surfaceshader\" type=\"surfaceshader\" "
        "nodename=\"slicecap_fit_standard_surface_shader\" />\n"

@@ -1,53 +1,87 @@
-// The BRDF a glTF renderer draws from the exported factors, evaluated as the specifications write
-// it, so that the glTF export's loss is a measured dE against the fitted material, not only words.
+// The BRDF a glTF renderer draws from a glTF material as written in the file, evaluated by the
+// specifications' formulas, so that the glTF export's loss is a measured dE against the fitted
+// material. It reads the material's JSON, not the exporter's factors, and shares no code with the
+// exporter's mapping: what the exporter assumes about glTF cannot hide here.
 #pragma once
 
 #include <array>
+#include <nlohmann/json.hpp>
 
 #include "slicecap/core/abrdf.hpp"
+#include "slicecap/core/error.hpp"
 #include "slicecap/core/grid.hpp"
 #include "slicecap/core/rgb.hpp"
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/fit/fitted_material.hpp"
-#include "slicecap/material_export/gltf_material.hpp"
 
 namespace slicecap::material_export {
 
-/// \brief glTF's BRDF of `GltfMaterial` in the frame tangent = x, bitangent = y, normal = z:
-///   f = f_sheen + s (diffuse (1 - F) + F D V),  s = min(1 - max(sheen) E(n.v), 1 - max(sheen) E(n.l))
-/// - D, V: KHR_materials_anisotropy's D_GGX_anisotropic and V_GGX_anisotropic (without the sample
-///   code's clamp of V to 1, a renderer's guard);
-/// - F: Schlick with F0 = F0(ior) specularFactor specularColorFactor, F90 = specularFactor
-///   (KHR_materials_specular + KHR_materials_ior), mixing the diffuse per channel as glTF 2.0
-///   Appendix B's fresnel_mix does;
-/// - sheen: KHR_materials_sheen's Charlie D (alpha = sheenRoughnessFactor^2) with the visibility
-///   1 / (4 (n.l + n.v - n.l n.v)), and its albedo scaling s with E, the sheen's directional albedo,
-///   integrated numerically (32 x 64 midpoint rule, tabulated at 33 cosines);
-/// - clear coat: KHR_materials_clearcoat's fresnel_coat, f -> f (1 - c Fc) + c Fc D V of an
-///   isotropic GGX of alpha clearcoatRoughnessFactor^2, Fc = 0.04 + 0.96 (1 - n.v)^5, c =
-///   clearcoatFactor.
+/// \brief A glTF material object GltfBrdf cannot read (a factor of the wrong type or length);
+/// the message names the field.
+class GltfMaterialError : public slicecap::Error {
+ public:
+  using Error::Error;
+};
+
+/// \brief The sheen visibility term: KHR_materials_sheen's "Charlie" one (its sample
+/// implementation) or the simpler Ashikhmin one the extension allows,
+/// 1 / (4 (n.l + n.v - n.l n.v)). The directional albedo E is integrated with the same term.
+enum class SheenVisibility { Charlie, Ashikhmin };
+
+/// \brief glTF's BRDF of one material object in the frame TANGENT = x, bitangent = y, normal = z,
+/// factors read from the JSON with the specifications' defaults where absent:
+/// - glTF 2.0 Appendix B: material = mix(dielectric_brdf, metal_brdf, metallic), metal_brdf =
+///   specular_brdf (baseColor + (1 - baseColor) (1 - v.h)^5), diffuse_brdf = baseColor / pi;
+/// - KHR_materials_specular + _ior: dielectric_fresnel = mix(min(F0(ior) specularColor, 1)
+///   specular, specular, (1 - v.h)^5), dielectric_brdf = dielectric_fresnel specular_brdf +
+///   (1 - max_value(dielectric_fresnel)) diffuse_brdf;
+/// - KHR_materials_anisotropy: specular_brdf = V D of its D_GGX_anisotropic and
+///   V_GGX_anisotropic, alpha_t = mix(roughness^2, 1, strength^2) along TANGENT turned by
+///   anisotropyRotation toward the bitangent, alpha_b = roughness^2 (without the sample code's
+///   clamp of V to 1, a renderer's guard);
+/// - KHR_materials_sheen: sheenColor D_charlie V_sheen + material min(1 - max3(sheenColor) E(n.v),
+///   1 - max3(sheenColor) E(n.l)), alpha_g = sheenRoughness^2, E the sheen's directional albedo
+///   integrated numerically (32 x 64 midpoint rule at 65 cosines);
+/// - KHR_materials_clearcoat: mix(sheen_material, V D of isotropic GGX(clearcoatRoughness^2),
+///   clearcoat (0.04 + 0.96 (1 - n.v)^5)).
 class GltfBrdf {
  public:
-  explicit GltfBrdf(const GltfMaterial& material);
+  /// \brief Throws GltfMaterialError naming the field when a factor has the wrong type or length.
+  explicit GltfBrdf(const nlohmann::ordered_json& material,
+                    SheenVisibility visibility = SheenVisibility::Charlie);
   /// \brief f_r in 1/sr for unit vectors toward the light and the viewer (z > 0).
   Rgb evaluate(const UnitVector& toLight, const UnitVector& toView) const;
-  /// \brief E(cos theta): the sheen lobe's directional albedo (without its colour); 0 without sheen.
+  /// \brief E(cos theta): the sheen's directional albedo (without its colour); 0 without sheen.
   double sheenAlbedo(double cosTheta) const;
 
  private:
   double sheenLobe(const UnitVector& l, const UnitVector& v) const;  // D V, without the colour
 
-  GltfMaterial material_;
-  static constexpr int kAlbedoSamples = 33;
-  std::array<double, kAlbedoSamples> sheenAlbedo_{};  // E at cos theta = i / 32
+  struct Factors {
+    Rgb baseColor = Rgb::gray(1.0);
+    double metallic = 1.0, roughness = 1.0;
+    double anisotropyStrength = 0.0, anisotropyRotationRad = 0.0;
+    double specular = 1.0;
+    Rgb specularColor = Rgb::gray(1.0);
+    double ior = 1.5;
+    Rgb sheenColor;
+    double sheenRoughness = 0.0;
+    double clearcoat = 0.0, clearcoatRoughness = 0.0;
+  };
+  Factors f_;
+  SheenVisibility visibility_;
+  static constexpr int kAlbedoSamples = 65;
+  std::array<double, kAlbedoSamples> sheenAlbedo_{};  // E at cos theta = i / 64
 };
 
 /// \brief The glTF BRDF on the Bonn grid (as fit::tabulate).
 Abrdf tabulate(const GltfBrdf& brdf);
 
-/// \brief How far what a glTF renderer draws is from the fit: the metrics of `slicecap compare`
-/// with the fitted material's table as the reference. Throws std::invalid_argument when the fitted
-/// material reflects nothing (eval::compare's reference).
-eval::Metrics gltfVersusFit(const fit::FittedMaterial& fitted);
+/// \brief How far what a glTF renderer draws is from the fit: the glTF material the export writes
+/// (gltfMaterialJson), evaluated by GltfBrdf, against the fitted material's table, with the
+/// metrics of `slicecap compare`. Throws std::invalid_argument when the fitted material reflects
+/// nothing (eval::compare's reference).
+eval::Metrics gltfVersusFit(const fit::FittedMaterial& fitted,
+                            SheenVisibility visibility = SheenVisibility::Charlie);
 
 }  // namespace slicecap::material_export

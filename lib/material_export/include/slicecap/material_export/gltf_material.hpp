@@ -47,7 +47,8 @@ struct GltfConversion {
 ///   "Implementation"), exactly the fit's Schlick f0/f90 when f0 <= f90 per channel; otherwise F0
 ///   is kept and F90 raised to max f0 (SpecularColourAtGrazing): glTF's F0 cannot exceed its F90.
 /// - The diffuse: glTF dims it by the specular's reflectance; baseColorFactor is raised by
-///   1 / (1 - f0) so that it matches at normal incidence (DiffuseLayering).
+///   1 / (1 - max f0) (the extension dims it by 1 - max_value(F) in every channel) so that it
+///   matches at normal incidence (DiffuseLayering).
 /// - Sheen: sheenRoughnessFactor = sqrt(sheen_roughness) (glTF's Charlie alpha is its square).
 /// - Coat: the fit's coat is KHR_materials_clearcoat's layering (IOR 1.5), so clearcoatFactor =
 ///   coat_weight and clearcoatRoughnessFactor = sqrt(coat_alpha), exact while coat_alpha <= 1

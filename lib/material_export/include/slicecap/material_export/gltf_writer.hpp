@@ -10,6 +10,7 @@
 
 #include "slicecap/fit/fitted_material.hpp"
 #include "slicecap/material_export/conversion_loss.hpp"
+#include "slicecap/material_export/gltf_material.hpp"
 
 namespace slicecap::material_export {
 
@@ -19,6 +20,10 @@ struct GltfAsset {
   std::vector<std::uint8_t> buffer;
   ExportReport report;
 };
+
+/// \brief The glTF material object of `material` ("slicecap-fit": pbrMetallicRoughness with
+/// metallicFactor 0 and the extensions it uses), as the asset writes it. Never throws.
+nlohmann::ordered_json gltfMaterialJson(const GltfMaterial& material);
 
 /// \brief The asset: a UV sphere and a cylinder side by side, both with the material
 /// "slicecap-fit"; `source` (the table or material file) goes into asset.extras. Never throws.
