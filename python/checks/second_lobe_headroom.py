@@ -40,7 +40,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from slicecap.fitted_material import has_coat, has_sheen, read_fitted_material
+from slicecap.fitted_material import (
+    charlie_visibility,
+    has_coat,
+    has_sheen,
+    read_fitted_material,
+    sheen_albedo,
+)
 from slicecap.grid import DIRECTION_COUNT, GRID_DIRECTIONS_DEG, to_unit_vectors
 
 ALPHA_BOUNDS = (0.002, 2.0)  # the C++ fit's (start_solver.cpp)
@@ -118,9 +124,12 @@ def sheen_lobe(g: Geometry, roughness: float) -> np.ndarray:
 LOG_PARAMETERS = (7, 8, 14, 18)
 
 
-def brdf(g: Geometry, p: np.ndarray, with_sheen: bool, coat: bool = False) -> np.ndarray:
+def brdf(g: Geometry, p: np.ndarray, with_sheen: bool | str, coat: bool = False) -> np.ndarray:
     """(6561, 3) BRDF values (1/sr) of the two-lobe model for the parameter vector p. With `coat`
-    the second lobe is a clear coat: grey f0 = p[10], f90 = 1 (p[11:14] unused)."""
+    the second lobe is a clear coat: grey f0 = p[10], f90 = 1 (p[11:14] unused). `with_sheen`:
+    False, True or "additive" (the sheen added on top), or "khr_materials_sheen" (a format-2 fit's
+    KHR_materials_sheen layering: Charlie visibility, both lobes and the diffuse scaled by
+    1 - max(sheen) E, as slicecap.fitted_material)."""
     w = g.fresnel_weight[:, None]
     f0_second = np.full(3, p[10]) if coat else p[10:13]
     f90_second = 1.0 if coat else p[13]
@@ -132,7 +141,13 @@ def brdf(g: Geometry, p: np.ndarray, with_sheen: bool, coat: bool = False) -> np
         + (f0_second + (f90_second - f0_second) * w) * second
     )
     if with_sheen:
-        value = value + p[15:18] * sheen_lobe(g, p[18])[:, None]
+        lobe = sheen_lobe(g, p[18])
+        if with_sheen == "khr_materials_sheen":
+            cos_l, cos_v = g.light[:, 2], g.view[:, 2]
+            lobe = lobe / g.sheen_visibility * charlie_visibility(cos_l, cos_v, p[18])
+            albedo = np.maximum(sheen_albedo(cos_l, p[18]), sheen_albedo(cos_v, p[18]))
+            value = value * (1.0 - np.max(p[15:18]) * albedo)[:, None]
+        value = value + p[15:18] * lobe[:, None]
     return value
 
 
@@ -154,7 +169,7 @@ class CoatedFitError(ValueError):
     """A fit with a clear coat given where this prototype needs a one-lobe fit."""
 
 
-def parameters_from_fit(fit_json: pathlib.Path) -> tuple[np.ndarray, bool]:
+def parameters_from_fit(fit_json: pathlib.Path) -> tuple[np.ndarray, bool | str]:
     """The one-lobe fit as a two-lobe vector whose second lobe is absent (f0 = f90 = 0).
     CoatedFitError for a fit with a clear coat (the module's docstring says why)."""
     m = read_fitted_material(fit_json)
@@ -162,7 +177,8 @@ def parameters_from_fit(fit_json: pathlib.Path) -> tuple[np.ndarray, bool]:
         raise CoatedFitError(
             f"{fit_json}: model {m.model} has a clear coat, a second lobe already; this prototype "
             "measures a second lobe over a fit without one (ggx or ggx+sheen)")
-    with_sheen = has_sheen(m.model)
+    # The sheen's form ("khr_materials_sheen" or "additive") when there is one: brdf's with_sheen.
+    with_sheen: bool | str = m.sheen_form if has_sheen(m.model) else False
     p = np.zeros(19 if with_sheen else 15)
     p[0:3] = m.diffuse_albedo
     p[3:6] = m.specular_f0
@@ -211,13 +227,13 @@ def internal_bounds(size: int) -> tuple[np.ndarray, np.ndarray]:
     return _map_log_parameters(lower, math.log), _map_log_parameters(upper, math.log)
 
 
-def residuals(g: Geometry, x: np.ndarray, with_sheen: bool, scale: np.ndarray,
+def residuals(g: Geometry, x: np.ndarray, with_sheen: bool | str, scale: np.ndarray,
               target: np.ndarray, coat: bool = False) -> np.ndarray:
     value = brdf(g, to_external(x), with_sheen, coat)
     return (255.0 * srgb_curve(value * scale[:, None]) - target).ravel()
 
 
-def levenberg_marquardt(g: Geometry, x0: np.ndarray, with_sheen: bool, scale: np.ndarray,
+def levenberg_marquardt(g: Geometry, x0: np.ndarray, with_sheen: bool | str, scale: np.ndarray,
                         target: np.ndarray, max_iterations: int,
                         coat: bool = False) -> tuple[np.ndarray, float, int]:
     """Bounded LM: a parameter on a bound whose gradient pushes it out is held for that step,
@@ -270,7 +286,7 @@ def levenberg_marquardt(g: Geometry, x0: np.ndarray, with_sheen: bool, scale: np
     return x, cost, iterations
 
 
-def tabulate(g: Geometry, p: np.ndarray, with_sheen: bool, coat: bool = False) -> np.ndarray:
+def tabulate(g: Geometry, p: np.ndarray, with_sheen: bool | str, coat: bool = False) -> np.ndarray:
     return brdf(g, p, with_sheen, coat).reshape(DIRECTION_COUNT, DIRECTION_COUNT, 3)
 
 

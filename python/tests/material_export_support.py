@@ -6,6 +6,22 @@ import re
 
 import numpy as np
 
+from slicecap.fitted_material import sheen_albedo
+from slicecap.grid import GRID_DIRECTIONS_DEG, to_unit_vectors
+
+
+def khr_sheen_rest_scaling(parameters: dict) -> float:
+    """What the Mitsuba snippet dims the diffuse + GGX of a khr_materials_sheen fit by
+    (docs/material-export.md, Mitsuba): KHR_materials_sheen's 1 - max(sheen) max(E(cos_l),
+    E(cos_v)) averaged over the 81 x 81 grid pairs with weight cos_l."""
+    colour = max(parameters["sheen_colour"]["value"])
+    roughness = parameters["sheen_roughness"]["value"]
+    cosines = to_unit_vectors(GRID_DIRECTIONS_DEG)[:, 2]
+    albedo = sheen_albedo(cosines, roughness)
+    pair = np.maximum(albedo[:, None], albedo[None, :])  # light x view
+    weight = np.repeat(cosines[:, None], len(cosines), axis=1)
+    return float(np.sum(weight * (1.0 - colour * pair)) / np.sum(weight))
+
 
 def fitted_brdf(parameters: dict, to_light: np.ndarray, to_view: np.ndarray) -> np.ndarray:
     """The fitted material's diffuse + GGX terms (no sheen) for unit vectors, z = normal."""
@@ -57,11 +73,12 @@ def sheen_stand_in(snippet: str):
 
 
 def mitsuba_ratios(mi, scene, parameters: dict, pairs=300, max_theta_deg=75.0, seed=7,
-                   extra=None):
+                   extra=None, rest_scale=1.0):
     """Mitsuba's BSDF of the snippet's sample shape (its eval / cos) over the fitted BRDF, per
     channel, at `pairs` random light/view pairs up to `max_theta_deg`, in world directions on the
     turned rectangle: a wrong tangent rotation shows as ratios far from 1. `extra(to_light,
-    to_view)`, when given, is added to the fitted BRDF (a term the snippet should also have)."""
+    to_view)`, when given, is added to the fitted BRDF (a term the snippet should also have), whose
+    diffuse + GGX is multiplied by `rest_scale`."""
     bsdf = scene.shapes()[0].bsdf()
     si = scene.ray_intersect(mi.Ray3f([0.01, 0.02, 1.0], [0.0, 0.0, -1.0]))
     rng = np.random.default_rng(seed)
@@ -73,7 +90,7 @@ def mitsuba_ratios(mi, scene, parameters: dict, pairs=300, max_theta_deg=75.0, s
             [np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)], 1)
         si.wi = si.to_local(mi.Vector3f(*to_view))
         value = np.array(bsdf.eval(mi.BSDFContext(), si, si.to_local(mi.Vector3f(*to_light))))
-        expected = fitted_brdf(parameters, to_light, to_view)
+        expected = rest_scale * fitted_brdf(parameters, to_light, to_view)
         if extra is not None:
             expected = expected + extra(to_light, to_view)
         ratios.append(value / to_light[2] / expected)

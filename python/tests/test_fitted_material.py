@@ -1,10 +1,13 @@
 """The clear coat of slicecap.fitted_material (models "ggx+coat", "ggx+sheen+coat"): glTF
 KHR_materials_clearcoat's layering checked against values worked out here from the formulas, not
 from the module's code; a coat of weight 0 is the base model; the reader refuses a missing or
-out-of-range coat parameter naming the file and the parameter."""
+out-of-range coat parameter naming the file and the parameter. The sheen of format version 2
+("khr_materials_sheen") against python/checks/gltf_spec_brdf.py, and version 1's additive sheen."""
 
 import json
 import math
+import pathlib
+import sys
 
 import numpy as np
 import pytest
@@ -16,7 +19,7 @@ from slicecap.fitted_material import MODELS, FittedMaterial, read_fitted_materia
 BASE = FittedMaterial("ggx", (0.2, 0.02, 0.02), (0.5, 0.1, 0.1), 0.8, 0.45, 0.2, 70.0)
 SHEEN_BASE = FittedMaterial(
     "ggx+sheen", (0.15, 0.01, 0.02), (0.02, 0.03, 0.04), 0.4, 0.3, 0.12, 37.0,
-    sheen_colour=(0.7, 0.15, 0.15), sheen_roughness=0.3,
+    sheen_colour=(0.7, 0.15, 0.15), sheen_roughness=0.3, sheen_form="additive",
 )
 
 
@@ -139,3 +142,51 @@ def test_the_reader_refuses_a_bad_coat_naming_file_and_field(tmp_path, model, ov
         read_fitted_material(path)
     assert str(error.value).startswith(f"{path}: not a completed slicecap fit: ")
     assert message in str(error.value), str(error.value)
+
+
+# ---- the sheen in KHR_materials_sheen's layering (format version 2's "khr_materials_sheen") ----
+
+KHR_VELVET = FittedMaterial("ggx+sheen", (0.12, 0.02, 0.03), (0.0, 0.0, 0.0), 0.0, 0.3, 0.3, 0.0,
+                            sheen_colour=(0.8, 0.2, 0.25), sheen_roughness=0.36)
+
+
+def test_the_khr_sheen_is_the_extensions_layering_by_the_specifications_evaluator():
+    """python/checks/gltf_spec_brdf.py, written from the Khronos texts alone, evaluates the glTF
+    material with the same factors (no specular, base colour = albedo, sheen colour, roughness
+    factor sqrt(r)): only the two quadratures of E differ."""
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "checks"))
+    from gltf_spec_brdf import gltf_brdf
+
+    gltf = {"pbrMetallicRoughness": {"baseColorFactor": [*KHR_VELVET.diffuse_albedo, 1.0],
+                                     "metallicFactor": 0.0, "roughnessFactor": 1.0},
+            "extensions": {"KHR_materials_specular": {"specularFactor": 0.0},
+                           "KHR_materials_sheen": {
+                               "sheenColorFactor": list(KHR_VELVET.sheen_colour),
+                               "sheenRoughnessFactor": math.sqrt(KHR_VELVET.sheen_roughness)}}}
+    lights = np.array([unit(t, p) for t in (0, 30, 60, 75) for p in (0, 90, 200)])
+    views = np.array([unit(t, p) for t in (15, 45, 75) for p in (10, 180, 300)])
+    light, view = (np.repeat(lights, len(views), 0), np.tile(views, (len(lights), 1)))
+    expected = gltf_brdf(gltf)(light, view)
+    np.testing.assert_allclose(KHR_VELVET.evaluate(light, view), expected, rtol=5e-3)
+    additive = FittedMaterial(**{**KHR_VELVET.__dict__, "sheen_form": "additive"})
+    assert np.max(np.abs(additive.evaluate(light, view) / expected - 1)) > 0.05
+
+
+def test_the_reader_takes_the_sheen_form_of_version_2_and_version_1s_additive_sheen(tmp_path):
+    path = tmp_path / "fit.json"
+    document = fit_json("ggx+sheen")
+    path.write_text(json.dumps(document))
+    assert read_fitted_material(path).sheen_form == "additive"
+    document |= {"format_version": 2, "sheen_form": "khr_materials_sheen"}
+    path.write_text(json.dumps(document))
+    assert read_fitted_material(path).sheen_form == "khr_materials_sheen"
+    for form, message in ((None, "\"sheen_form\" None"), ("charlie", "\"sheen_form\" 'charlie'")):
+        document["sheen_form"] = form
+        path.write_text(json.dumps(document))
+        with pytest.raises(SlicecapFileError, match=message):
+            read_fitted_material(path)
+    document["sheen_form"] = "khr_materials_sheen"
+    document["parameters"]["sheen_colour"]["value"] = [1.2, 0.1, 0.1]
+    path.write_text(json.dumps(document))
+    with pytest.raises(SlicecapFileError, match="sheen_colour must be in"):
+        read_fitted_material(path)

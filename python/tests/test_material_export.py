@@ -16,7 +16,12 @@ import sys
 import numpy as np
 import pytest
 from conftest import REPOSITORY, find_slicecap_cli
-from material_export_support import fitted_brdf, mitsuba_ratios, sheen_stand_in
+from material_export_support import (
+    fitted_brdf,
+    khr_sheen_rest_scaling,
+    mitsuba_ratios,
+    sheen_stand_in,
+)
 from mitsuba_support import render, sphere_scene, use_variant
 
 sys.path.insert(0, str(REPOSITORY / "python" / "checks"))
@@ -275,12 +280,19 @@ def test_mitsuba_evaluates_the_sheen_stand_in_as_exported(exports):
     stand_in = sheen_stand_in(files["mitsuba"].read_text())
     assert stand_in is not None
     scene = mi.load_file(str(files["mitsuba"]))
-    ratios = mitsuba_ratios(mi, scene, document["parameters"], extra=stand_in)
-    # Measured 2026-12-02: 1.000 at the median, 5th and 95th percentiles (velvet-red's fit has no
+    # A khr_materials_sheen fit's diffuse + GGX is dimmed by the extension's mean scaling.
+    assert document["sheen_form"] == "khr_materials_sheen"
+    rest = khr_sheen_rest_scaling(document["parameters"])
+    assert rest < 0.95
+    ratios = mitsuba_ratios(mi, scene, document["parameters"], extra=stand_in, rest_scale=rest)
+    # Measured 2026-12-02: 1.000 at the median, 5th and 95th percentiles (velvet-red's fit had no
     # specular, so only the diffuse and the stand-in); without the stand-in, medians 1.6-3.0.
+    # 2026-12-06, the khr form: velvet-red's fit has a broad lobe whose Fresnel falls from f0 0.29
+    # to f90 0, which the snippet's Fresnel cannot (specular-colour-at-grazing): 95th percentile
+    # up to 1.033.
     assert np.all(np.abs(np.median(ratios, axis=0) - 1) < 0.01), np.median(ratios, axis=0)
     assert np.all(np.percentile(ratios, 5, axis=0) > 0.97), np.percentile(ratios, 5, axis=0)
-    assert np.all(np.percentile(ratios, 95, axis=0) < 1.03), np.percentile(ratios, 95, axis=0)
+    assert np.all(np.percentile(ratios, 95, axis=0) < 1.05), np.percentile(ratios, 95, axis=0)
     without = mitsuba_ratios(mi, scene, document["parameters"])
     assert np.all(np.median(without, axis=0) > 1.3), np.median(without, axis=0)
 

@@ -32,7 +32,7 @@ from slicecap.render import render_sphere_point_light
 STEEL = FittedMaterial("ggx", (0.03, 0.03, 0.03), (0.56, 0.57, 0.58), 1.0, 0.4, 0.1, 120.0)
 VELVET = FittedMaterial(
     "ggx+sheen", (0.15, 0.01, 0.02), (0.02, 0.03, 0.04), 0.4, 0.3, 0.12, 37.0,
-    sheen_colour=(0.7, 0.15, 0.15), sheen_roughness=0.3,
+    sheen_colour=(0.7, 0.15, 0.15), sheen_roughness=0.3, sheen_form="additive",
 )
 # A rough anisotropic red base under a sharper coat, and the velvet under a rough half-weight coat:
 # the coat's lobe, its view-angle Fresnel and its dimming of everything beneath, sheen included.
@@ -43,12 +43,14 @@ COATED_STEEL = FittedMaterial(
 COATED_VELVET = FittedMaterial(
     "ggx+sheen+coat", (0.15, 0.01, 0.02), (0.02, 0.03, 0.04), 0.4, 0.3, 0.12, 37.0,
     sheen_colour=(0.7, 0.15, 0.15), sheen_roughness=0.3, coat_weight=0.5, coat_alpha=0.3,
+    sheen_form="additive",
 )
 
 
 def fit_document(material: FittedMaterial) -> dict:
     """A `slicecap fit` JSON as docs/material-fit.md describes it (the fields the viewer reads)."""
-    names = [n for n in FittedMaterial.__dataclass_fields__ if n != "model"]
+    # Written as format version 1, whose sheen is the additive one (the materials above).
+    names = [n for n in FittedMaterial.__dataclass_fields__ if n not in ("model", "sheen_form")]
     if not has_sheen(material.model):
         names = [n for n in names if not n.startswith("sheen")]
     if not has_coat(material.model):
@@ -317,7 +319,8 @@ def test_shader_port_would_see_a_wrong_tangent(page):
         ("brushed-steel-30", FittedMaterial("ggx", (0.03,) * 3, (0.56, 0.57, 0.58), 1.0, 0.1, 0.4,
                                             30.0)),
         ("velvet-red", FittedMaterial("ggx+sheen", (0.15, 0.01, 0.02), (0.0,) * 3, 0.0, 0.3, 0.3,
-                                      0.0, sheen_colour=(0.7, 0.15, 0.15), sheen_roughness=0.3)),
+                                      0.0, sheen_colour=(0.7, 0.15, 0.15), sheen_roughness=0.3,
+                                      sheen_form="additive")),
     ],
 )
 def test_numpy_model_matches_the_cpp_built_in_tables(tmp_path, name, material):
@@ -357,6 +360,23 @@ def test_numpy_coat_matches_slicecap_generate_of_its_json(tmp_path, material):
     subprocess.run([cli, "generate", fit, "-o", table], check=True, capture_output=True)
     reference = np.fromfile(table, dtype="<f4").reshape(81, 81, 3)
     np.testing.assert_allclose(tabulate(material.evaluate), reference, rtol=2e-5, atol=1e-7)
+
+
+@pytest.mark.parametrize("model", ["ggx+sheen", "ggx+sheen+coat"])
+def test_numpy_khr_sheen_matches_slicecap_generate_of_its_version_2_json(tmp_path, model):
+    """Format version 2's "khr_materials_sheen" form: the port's Charlie visibility and albedo
+    table tabulate to lib/fit's, and a version-1 file of the same parameters (additive) does not."""
+    cli = find_slicecap_cli()
+    material = FittedMaterial(**{**COATED_VELVET.__dict__, "model": model,
+                                 "sheen_form": "khr_materials_sheen"})
+    document = fit_document(material) | {"format_version": 2, "sheen_form": "khr_materials_sheen"}
+    fit, table = tmp_path / "khr.json", tmp_path / "khr.f32"
+    fit.write_text(json.dumps(document))
+    subprocess.run([cli, "generate", fit, "-o", table], check=True, capture_output=True)
+    reference = np.fromfile(table, dtype="<f4").reshape(81, 81, 3)
+    np.testing.assert_allclose(tabulate(material.evaluate), reference, rtol=2e-5, atol=1e-7)
+    additive = FittedMaterial(**{**material.__dict__, "sheen_form": "additive"})
+    assert np.max(np.abs(tabulate(additive.evaluate) / reference - 1)) > 0.01
 
 
 def test_cpp_fit_of_a_coated_table_reads_as_a_coat_and_reproduces_it(tmp_path):

@@ -1,6 +1,7 @@
 // The fit's hand-written Jacobian (lib/fit/src/material_cost.cpp): every parameter block layout
 // ({ggx}, {ggx, sheen}, {ggx, coat}, {ggx, sheen, coat}) against central finite differences of
-// the residuals. The Levenberg-Marquardt solve would still converge, only more slowly, with a
+// the residuals, the sheen in both of its forms (KHR_materials_sheen's layering, whose albedo
+// scaling moves the base's derivatives too, and the additive form of format version 1). The Levenberg-Marquardt solve would still converge, only more slowly, with a
 // wrong derivative, so the fit's tests alone would not show one.
 #include "material_cost.hpp"
 
@@ -35,6 +36,7 @@ FitData someData() {
 
 struct Layout {
   bool sheen, coat;
+  SheenForm form = SheenForm::Khr;
 };
 
 class MaterialCostJacobian : public ::testing::TestWithParam<Layout> {};
@@ -42,7 +44,7 @@ class MaterialCostJacobian : public ::testing::TestWithParam<Layout> {};
 TEST_P(MaterialCostJacobian, EqualsCentralDifferences) {
   const Layout layout = GetParam();
   const FitData data = someData();
-  const MaterialCost cost(data, layout.sheen, layout.coat);
+  const MaterialCost cost(data, layout.sheen, layout.coat, layout.form);
   // A point off the table's own parameters (non-zero residuals) and inside every bound.
   std::vector<std::vector<double>> blocks{
       {0.25, 0.12, 0.07, 0.18, 0.12, 0.09, std::log(0.35), std::log(0.2), 0.6, 0.7}};
@@ -81,7 +83,9 @@ TEST_P(MaterialCostJacobian, EqualsCentralDifferences) {
 
 INSTANTIATE_TEST_SUITE_P(EveryBlockLayout, MaterialCostJacobian,
                          ::testing::Values(Layout{false, false}, Layout{true, false},
-                                           Layout{false, true}, Layout{true, true}));
+                                           Layout{false, true}, Layout{true, true},
+                                           Layout{true, false, SheenForm::Additive},
+                                           Layout{true, true, SheenForm::Additive}));
 
 }  // namespace
 }  // namespace slicecap::fit::detail

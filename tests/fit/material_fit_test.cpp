@@ -122,21 +122,43 @@ TEST(MaterialFit, VelvetChoosesTheSheenAndSaysWhy) {
   const Abrdf table = models::tabulate(*models::findMaterial("velvet-red"));
   const FitResult r = fitMaterial(table, "velvet.exr");
   // ggx (a rough round lobe standing in for the sheen: no isotropic variant to try), then
-  // ggx+sheen. The GGX-only solve once stalled with its alphas on both bounds (2 and 0.002, RMSE
-  // 33.4 levels) and so also tried the round variant; holding bounds (bounded_solve.cpp) finds
-  // the round lobe, RMSE 7.0.
-  ASSERT_EQ(r.candidates.size(), 2u);
+  // ggx+sheen, then the coat on it (the khr form does not fit this additive table exactly, so
+  // the coat is tried). The GGX-only solve once stalled with its alphas on both bounds (2 and
+  // 0.002, RMSE 33.4 levels) and so also tried the round variant; holding bounds
+  // (bounded_solve.cpp) finds the round lobe, RMSE 7.0.
+  ASSERT_GE(r.candidates.size(), 2u);
   EXPECT_LT(r.candidates.front().metrics.rmse, 15.0);
-  EXPECT_EQ(r.candidates.back().model, MaterialModel::GgxSheen);
+  EXPECT_EQ(r.candidates[1].model, MaterialModel::GgxSheen);
   EXPECT_EQ(r.material.model, MaterialModel::GgxSheen);
+  EXPECT_EQ(r.material.sheenForm, SheenForm::Khr);
   EXPECT_LT(r.metrics.deltaE, 0.5 * r.candidates.front().metrics.deltaE);
   EXPECT_NEAR(r.material.sheenRoughness, 0.3, 0.03);
   EXPECT_THAT(r.choiceReason, HasSubstr("ggx+sheen"));
+  // The khr form's lobe stays within what glTF's anisotropy holds (alpha <= 1).
+  EXPECT_LE(r.material.alphaTangent, 1.0);
+}
+
+// velvet-red is models::makeSheen's additive sheen: fitted in that form (format version 1's) it
+// is exact; in KHR_materials_sheen's layering it is not (the extension dims the base toward
+// grazing, the table's base is not dimmed): the price of a fit a glTF viewer renders as fitted
+// (docs/results/2026-12-06-export-spec.md).
+TEST(MaterialFit, TheAdditiveSheenFormStillFitsTheAdditiveVelvetExactly) {
+  const Abrdf table = models::tabulate(*models::findMaterial("velvet-red"));
+  FitOptions options;
+  options.sheenForm = SheenForm::Additive;
+  const FitResult additive = fitMaterial(table, "velvet.exr", options);
+  EXPECT_EQ(additive.material.model, MaterialModel::GgxSheen);
+  EXPECT_EQ(additive.material.sheenForm, SheenForm::Additive);
+  EXPECT_LT(additive.metrics.deltaE, 0.05);
+  const FitResult khr = fitMaterial(table, "velvet.exr");
+  EXPECT_GT(khr.metrics.deltaE, additive.metrics.deltaE + 0.3);
 }
 
 // The sheen's start is relative to the GGX solution's brightness: with an absolute start colour
 // of 0.1 the same velvet at a hundredth of its brightness (a dark velvet) lost its sheen (ggx, dE
 // 3.46 against 1.15), since the start was far brighter than the lobe it should grow beside.
+// (The khr form is not scale-free: the extension dims the base by max(sheen colour) E, so a
+// hundredth of the colour dims it a hundredth as much; the two fits' dE and roughness differ.)
 TEST(MaterialFit, ADarkVelvetKeepsItsSheen) {
   const Abrdf bright = models::tabulate(*models::findMaterial("velvet-green-20"));
   Abrdf dark = bright;
@@ -147,10 +169,9 @@ TEST(MaterialFit, ADarkVelvetKeepsItsSheen) {
   const FitResult darkFit = fitMaterial(dark, "dark-velvet.exr");
   ASSERT_EQ(brightFit.material.model, MaterialModel::GgxSheen);
   EXPECT_EQ(darkFit.material.model, MaterialModel::GgxSheen) << darkFit.choiceReason;
-  EXPECT_NEAR(darkFit.metrics.deltaE, brightFit.metrics.deltaE, 0.05);
-  EXPECT_NEAR(darkFit.material.sheenRoughness, brightFit.material.sheenRoughness, 0.01);
+  EXPECT_LT(darkFit.metrics.deltaE, brightFit.metrics.deltaE + 0.05);
   EXPECT_NEAR(darkFit.material.sheenColour[1], 0.01 * brightFit.material.sheenColour[1],
-              0.01 * 0.01 * brightFit.material.sheenColour[1]);
+              0.15 * 0.01 * brightFit.material.sheenColour[1]);
 }
 
 // A lacquered red: a rough red base (round GGX 0.35, dielectric f0) under a glossy clear coat,

@@ -151,11 +151,21 @@ TEST(GltfMaterial, SheenRoughnessIsTheSquareRootOfTheCharlieExponentsR) {
   m.model = fit::MaterialModel::GgxSheen;
   m.sheenColour = Rgb{0.3, 0.1, 0.1};
   m.sheenRoughness = 0.36;
-  const GltfConversion g = toGltfMaterial(m);
-  EXPECT_TRUE(g.material.hasSheen);
-  EXPECT_NEAR(g.material.sheenRoughnessFactor, 0.6, 1e-12);
-  EXPECT_TRUE(std::any_of(g.losses.begin(), g.losses.end(),
-                          [](const ConversionLoss& l) { return l.kind == LossKind::SheenForm; }));
+  m.diffuseAlbedo = Rgb{0.3, 0.2, 0.1};
+  const auto sheenLoss = [](const ConversionLoss& l) { return l.kind == LossKind::SheenForm; };
+  // The khr form is the extension's own: its factors as fitted, the base colour not raised.
+  m.sheenForm = fit::SheenForm::Khr;
+  const GltfConversion khr = toGltfMaterial(m);
+  EXPECT_TRUE(khr.material.hasSheen);
+  EXPECT_NEAR(khr.material.sheenRoughnessFactor, 0.6, 1e-12);
+  EXPECT_DOUBLE_EQ(khr.material.sheenColorFactor[0], 0.3);
+  EXPECT_FALSE(std::any_of(khr.losses.begin(), khr.losses.end(), sheenLoss));
+  // The additive form (version 1) is not: a loss, and the base raised under the sheen.
+  m.sheenForm = fit::SheenForm::Additive;
+  const GltfConversion additive = toGltfMaterial(m);
+  EXPECT_NEAR(additive.material.sheenRoughnessFactor, 0.6, 1e-12);
+  EXPECT_TRUE(std::any_of(additive.losses.begin(), additive.losses.end(), sheenLoss));
+  EXPECT_GT(additive.material.baseColorFactor[0], khr.material.baseColorFactor[0]);
 }
 
 TEST(GltfMaterial, NoSpecularAtAllIsSpecularFactorZero) {
@@ -210,8 +220,14 @@ TEST(GltfBrdf, MetalMatchesTheFitAndTheSheenLossIsMeasured) {
   velvet.specularF90 = 0.0;
   velvet.sheenColour = Rgb{0.7, 0.15, 0.15};
   velvet.sheenRoughness = 0.3;
-  // glTF dims the base by the sheen's albedo and its visibility is Charlie's: a real loss that
-  // the base colour's raise does not remove (velvet-red by the specification: 2.52, issue 46).
+  // The khr form is the extension's layering: only the albedo E's two quadratures differ
+  // (the fit's table, the check's own integral) and the diffuse's Fresnel fading (none here).
+  velvet.sheenForm = fit::SheenForm::Khr;
+  EXPECT_LT(gltfVersusFit(velvet).deltaE, 0.05);
+  // The additive form (format version 1): glTF dims the base by the sheen's albedo and its
+  // visibility is Charlie's, a real loss that the base colour's raise does not remove
+  // (velvet-red by the specification: 2.52, issue 46).
+  velvet.sheenForm = fit::SheenForm::Additive;
   EXPECT_GT(gltfVersusFit(velvet).deltaE, 0.5);
   const GltfBrdf brdf(gltfMaterialJson(toGltfMaterial(velvet).material));
   for (double mu : {0.05, 0.5, 1.0}) {

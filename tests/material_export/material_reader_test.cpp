@@ -158,3 +158,49 @@ TEST(MaterialReader, RoundTripsACoatAndRefusesABadOne) {
 
 }  // namespace
 }  // namespace slicecap::material_export
+
+namespace slicecap::material_export {
+namespace {
+
+// Format version 2 says the sheen's form; version 1 (before "sheen_form") holds the additive
+// sheen and is still read and evaluated in it, so an old file's table does not change.
+TEST(MaterialReader, ReadsTheSheenFormOfVersionTwoAndVersionOnesAdditiveSheen) {
+  const auto dir = test::freshTempDir();
+  nlohmann::ordered_json d = fit::materialJson(sheenFit(), "t.exr");
+  ASSERT_EQ(d["format_version"], 2);
+  ASSERT_EQ(d["sheen_form"], "khr_materials_sheen");
+  EXPECT_EQ(readFittedMaterial(writeDocument(dir, d)).sheenForm, fit::SheenForm::Khr);
+  d["sheen_form"] = "additive";
+  EXPECT_EQ(readFittedMaterial(writeDocument(dir, d)).sheenForm, fit::SheenForm::Additive);
+
+  nlohmann::ordered_json v1 = fit::materialJson(sheenFit(), "t.exr");
+  v1["format_version"] = 1;
+  v1.erase("sheen_form");
+  const fit::FittedMaterial old = readFittedMaterial(writeDocument(dir, v1));
+  EXPECT_EQ(old.sheenForm, fit::SheenForm::Additive);
+  // Evaluated in its own form: the sheen added on top, the base not dimmed.
+  fit::FittedMaterial khr = old;
+  khr.sheenForm = fit::SheenForm::Khr;
+  const UnitVector l{0.0, 0.0, 1.0}, v{0.8, 0.0, 0.6};
+  EXPECT_GT(std::abs(old.evaluate(l, v)[0] - khr.evaluate(l, v)[0]), 1e-3);
+  // A version-1 sheen may be brighter than 1 (it was not bounded); the khr form's may not.
+  v1["parameters"]["sheen_colour"]["value"][0] = 1.5;
+  EXPECT_DOUBLE_EQ(readFittedMaterial(writeDocument(dir, v1)).sheenColour[0], 1.5);
+  d["sheen_form"] = "khr_materials_sheen";
+  d["parameters"]["sheen_colour"]["value"][0] = 1.5;
+  expectRefused(writeDocument(dir, d), "sheen_colour");
+}
+
+TEST(MaterialReader, RefusesAVersionTwoFileThatDoesNotSayItsSheenForm) {
+  const auto dir = test::freshTempDir();
+  nlohmann::ordered_json d = fit::materialJson(sheenFit(), "t.exr");
+  d.erase("sheen_form");
+  expectRefused(writeDocument(dir, d), "\"sheen_form\" is missing");
+  d["sheen_form"] = "charlie";
+  expectRefused(writeDocument(dir, d), "\"sheen_form\" is \"charlie\"");
+  d["format_version"] = 3;
+  expectRefused(writeDocument(dir, d), "format_version 3");
+}
+
+}  // namespace
+}  // namespace slicecap::material_export

@@ -3,14 +3,15 @@
 // (python/tests loads it in Mitsuba and compares its BSDF with the fit.)
 #include "slicecap/material_export/mitsuba_writer.hpp"
 
-#include "slicecap/material_export/mitsuba_sheen.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <regex>
 #include <sstream>
+
+#include "slicecap/fit/sheen_albedo.hpp"
+#include "slicecap/material_export/mitsuba_sheen.hpp"
 
 namespace slicecap::material_export {
 namespace {
@@ -77,6 +78,9 @@ fit::FittedMaterial velvet() {
   m.specularF90 = 0.05;
   m.sheenColour = Rgb{0.12, 0.25, 0.15};  // dim enough that the stand-in's scale is not bounded
   m.sheenRoughness = 0.3;
+  // Format version 1's additive sheen: the blend's arithmetic below is the fit's sum; the khr
+  // form's dimming has its own test.
+  m.sheenForm = fit::SheenForm::Additive;
   return m;
 }
 
@@ -88,7 +92,8 @@ bool hasLoss(const MitsubaExport& e, LossKind kind) {
 TEST(MitsubaWriter, SheenBecomesTheLeastSquaresGgxStandInAndTheRestStaysASum) {
   const fit::FittedMaterial m = velvet();
   const MitsubaExport e = mitsubaSnippet(m, "v.json");
-  const SheenApproximation a = approximateSheen(0.3, (1.0 - 0.08 - 0.03) / 0.25);
+  const SheenApproximation a =
+      approximateSheen(0.3, (1.0 - 0.08 - 0.03) / 0.25, fit::SheenForm::Additive);
   ASSERT_LT(a.scale, (1.0 - 0.08 - 0.03) / 0.25);
   // The stand-in: weight c x reflectance = the approximation's scale x the sheen colour.
   const double c = values(e.text, "weight").at(0);
@@ -110,6 +115,39 @@ TEST(MitsubaWriter, SheenBecomesTheLeastSquaresGgxStandInAndTheRestStaysASum) {
   const std::size_t at = said.find("rms mismatch ");
   ASSERT_NE(at, std::string::npos) << said;
   EXPECT_NEAR(std::stod(said.substr(at + 13)), a.relativeMismatch, 1e-5);
+}
+
+// KHR_materials_sheen's layering dims the base by 1 - s max(E(cos_l), E(cos_v)); a blend cannot
+// vary it with the directions, so the rest is dimmed by its radiance-weighted mean over the grid,
+// and the stand-in approximates the khr lobe (the Charlie visibility).
+TEST(MitsubaWriter, AKhrSheenDimsTheRestByTheMeanOfTheExtensionsScaling) {
+  fit::FittedMaterial m = velvet();
+  m.sheenForm = fit::SheenForm::Khr;
+  const MitsubaExport e = mitsubaSnippet(m, "v.json");
+  double sum = 0.0, weights = 0.0;
+  for (int i = 0; i < bonn::kDirectionCount; ++i)
+    for (int j = 0; j < bonn::kDirectionCount; ++j) {
+      const double cl = toUnitVector(bonn::direction(i)).z, cv = toUnitVector(bonn::direction(j)).z;
+      sum += cl * (1.0 - 0.25 * std::max(fit::sheenAlbedo(cl, 0.3), fit::sheenAlbedo(cv, 0.3)));
+      weights += cl;
+    }
+  const double scaling = sum / weights;
+  ASSERT_LT(scaling, 0.99);
+  const SheenApproximation a = approximateSheen(0.3, (1.0 - scaling * (0.08 + 0.03)) / 0.25,
+                                                fit::SheenForm::Khr);
+  const double c = values(e.text, "weight").at(0);
+  const auto reflectance = values(e.text, "specular_reflectance");
+  for (std::size_t k = 0; k < 3; ++k)
+    EXPECT_NEAR(c * reflectance.at(k), a.scale * m.sheenColour[k], 1e-5);
+  const double w = values(e.text, "weight", 1).at(0);
+  EXPECT_NEAR((1.0 - c) * (1.0 - w) * values(e.text, "reflectance").at(1), 0.08 * scaling, 1e-5);
+  EXPECT_NEAR((1.0 - c) * w, 0.05 * scaling, 1e-5);
+  EXPECT_TRUE(std::any_of(e.report.losses.begin(), e.report.losses.end(), [](const ConversionLoss& l) {
+    return l.kind == LossKind::SheenForm && l.detail.find("1 - s E") != std::string::npos;
+  }));
+  // The additive form's stand-in is another lobe (Ashikhmin's visibility).
+  EXPECT_NE(approximateSheen(0.3, 10.0, fit::SheenForm::Khr).scale,
+            approximateSheen(0.3, 10.0, fit::SheenForm::Additive).scale);
 }
 
 TEST(MitsubaWriter, SheenAloneGetsTheWholeBlendAndStaysFinite) {

@@ -20,6 +20,10 @@ std::string_view toString(MaterialModel model) {
   return "ggx";
 }
 
+std::string_view toString(SheenForm form) {
+  return form == SheenForm::Additive ? "additive" : "khr_materials_sheen";
+}
+
 bool hasSheen(MaterialModel model) {
   return model == MaterialModel::GgxSheen || model == MaterialModel::GgxSheenCoat;
 }
@@ -38,15 +42,24 @@ Rgb FittedMaterial::evaluate(const UnitVector& toLight, const UnitVector& toView
   const double t = degToRad(tangentDeg);
   const double specular =
       detail::ggxSpecular(g, alphaTangent, alphaBitangent, std::cos(t), std::sin(t));
-  const double sheen = hasSheen(model) ? detail::sheenLobe(g, sheenRoughness) : 0.0;
+  const bool withSheen = hasSheen(model);
+  const bool khr = withSheen && sheenForm == SheenForm::Khr;
+  const double sheen =
+      !withSheen ? 0.0
+      : khr      ? detail::khrSheenLobe(g, sheenRoughness)
+                 : detail::sheenLobe(g, sheenRoughness);
+  // KHR_materials_sheen's albedo scaling of everything under the sheen.
+  const double baseScaling =
+      khr ? 1.0 - sheenColour.maxChannel() * detail::khrSheenAlbedoMax(g, sheenRoughness) : 1.0;
   const bool coat = hasCoat(model);
   const double coatShare = coat ? coatWeight * g.coatFresnel : 0.0;
   const double coatLobe = coat ? detail::ggxSpecular(g, coatAlpha, coatAlpha, 1.0, 0.0) : 0.0;
   Rgb value;
   for (std::size_t c = 0; c < 3; ++c) {
     const double base =
-        diffuseAlbedo[c] / std::numbers::pi +
-        (specularF0[c] + (specularF90 - specularF0[c]) * g.fresnelWeight) * specular +
+        (diffuseAlbedo[c] / std::numbers::pi +
+         (specularF0[c] + (specularF90 - specularF0[c]) * g.fresnelWeight) * specular) *
+            baseScaling +
         sheenColour[c] * sheen;
     value[c] = base * (1.0 - coatShare) + coatShare * coatLobe;
   }

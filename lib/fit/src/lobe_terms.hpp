@@ -8,6 +8,7 @@
 
 #include "slicecap/core/grid.hpp"
 #include "slicecap/fit/fitted_material.hpp"
+#include "slicecap/fit/sheen_albedo.hpp"
 
 namespace slicecap::fit::detail {
 
@@ -67,6 +68,28 @@ T sheenLobe(const PairGeometry& g, const T& roughness) {
   const T inverse = 1.0 / roughness;
   return (2.0 + inverse) * exp(g.logSinSquaredHalf * (0.5 * inverse)) / (2.0 * std::numbers::pi) *
          g.sheenVisibility;
+}
+
+}  // namespace slicecap::fit::detail
+
+namespace slicecap::fit::detail {
+
+/// \brief KHR_materials_sheen's lobe D_charlie V_charlie (its "Charlie" visibility, alpha_g = r),
+/// without its colour.
+template <typename T>
+T khrSheenLobe(const PairGeometry& g, const T& roughness) {
+  using std::exp;
+  const T inverse = 1.0 / roughness;
+  return (2.0 + inverse) * exp(g.logSinSquaredHalf * (0.5 * inverse)) / (2.0 * std::numbers::pi) *
+         charlieVisibility(g.light.z, g.view.z, roughness);
+}
+
+/// \brief max(E(cos_v), E(cos_l)): 1 - s times it is the extension's
+/// min(1 - s E(VdotN), 1 - s E(LdotN)).
+template <typename T>
+T khrSheenAlbedoMax(const PairGeometry& g, const T& roughness) {
+  const T light = sheenAlbedo(g.light.z, roughness), view = sheenAlbedo(g.view.z, roughness);
+  return valueOf(light) > valueOf(view) ? light : view;
 }
 
 }  // namespace slicecap::fit::detail

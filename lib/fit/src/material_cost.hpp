@@ -9,7 +9,8 @@
 namespace slicecap::fit::detail {
 
 /// \brief All residuals of the fit in one cost: parameter blocks {ggx (10)}, then sheen (4) when
-/// `withSheen`, then coat (2) when `withCoat`, in that order.
+/// `withSheen`, then coat (2) when `withCoat`, in that order; the sheen joins the base as
+/// `sheenForm` says (FittedMaterial::evaluate's formula).
 ///
 /// Why not ceres::AutoDiffCostFunction over fitResiduals: with 9 or 13 Jet dimensions every
 /// operation of every pair and channel carries 13 derivatives, although 10 of the parameters are
@@ -18,7 +19,8 @@ namespace slicecap::fit::detail {
 /// iteration, which is what brings one table's fit under a second.
 class MaterialCost final : public ceres::CostFunction {
  public:
-  MaterialCost(const FitData& data, bool withSheen, bool withCoat = false);
+  MaterialCost(const FitData& data, bool withSheen, bool withCoat = false,
+               SheenForm sheenForm = SheenForm::Khr);
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
 
@@ -26,6 +28,7 @@ class MaterialCost final : public ceres::CostFunction {
   const FitData& data_;
   bool withSheen_;
   bool withCoat_;
+  SheenForm sheenForm_;
 };
 
 }  // namespace slicecap::fit::detail

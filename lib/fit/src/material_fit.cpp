@@ -174,14 +174,19 @@ std::size_t addIsotropicCandidate(const Abrdf& table, const FitData& data, const
 }
 
 // The sheen candidate's starts, all from the GGX solution `m`.
-std::vector<FitParameters> sheenStartsFrom(const FittedMaterial& m, bool isotropic) {
+std::vector<FitParameters> sheenStartsFrom(const FittedMaterial& m, bool isotropic,
+                                           SheenForm form) {
   // From the GGX solution (raw, not canonical: the same basin) plus a sheen term.
   std::vector<FitParameters> sheenStarts;
-  const double startColour =
+  double startColour =
       kSheenStartFraction * std::max(m.diffuseAlbedo.maxChannel(), m.specularF0.maxChannel());
+  if (form == SheenForm::Khr) startColour = std::min(startColour, 1.0);  // the colour's bound
   for (double roughness : kSheenStartRoughness) {
     FitParameters p = detail::ggxParametersOf(m);
     p.withSheen = true;
+    p.sheenForm = form;
+    if (form == SheenForm::Khr)  // inside the khr form's alpha bound (start_solver.cpp)
+      for (std::size_t i = 6; i < 8; ++i) p.ggx[i] = std::min(p.ggx[i], 0.0);
     p.isotropic = isotropic;
     p.sheen = {startColour, startColour, startColour, std::log(roughness)};
     sheenStarts.push_back(p);
@@ -207,7 +212,8 @@ bool addSheenCandidate(const Abrdf& table, const FitData& data, const FitData& s
                        std::string& reason) {
   const double ggxDeltaE = result.candidates[ggx].metrics.deltaE;
   const std::vector<FitParameters> sheenStarts =
-      sheenStartsFrom(result.candidates[ggx].material, result.candidates[ggx].isotropicLobe);
+      sheenStartsFrom(result.candidates[ggx].material, result.candidates[ggx].isotropicLobe,
+                      options.sheenForm);
   std::string sheenFailure;
   std::optional<CandidateFit> sheen = bestOf(table, data, scoutData, sheenStarts,
                                              options.maxIterations, kMaxPolishedSheen, sheenFailure);
@@ -367,6 +373,9 @@ FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOpti
     chosen = result.candidates.size() - 1;
   result.choiceReason = std::string(toString(result.candidates[chosen].model)) + ": " +
                         sheenReason + "; " + coatReason + "; " + lobeReason;
+  // Every candidate says the form its sheen (or a sheen added to it) takes: the JSON's one
+  // "sheen_form" holds for them all.
+  for (CandidateFit& c : result.candidates) c.material.sheenForm = options.sheenForm;
   const CandidateFit& chosenFit = result.candidates[chosen];
   result.material = chosenFit.material;
   result.sigmas = chosenFit.sigmas;

@@ -2,6 +2,7 @@
 #include "slicecap/fit/material_json.hpp"
 
 #include <ostream>
+#include <string>
 
 #include "slicecap/io/file_replacement.hpp"
 
@@ -50,7 +51,7 @@ json parametersJson(const FittedMaterial& m, const ParameterSigmas& s) {
   };
   if (hasSheen(m.model)) {
     p["sheen_colour"] = rgbParameter(m.sheenColour, s.sheenColour,
-                                     "Charlie sheen tint, linear RGB (multiplies D_sheen V)");
+                                     "Charlie sheen tint, linear RGB (multiplies D_sheen V); glTF sheenColorFactor, 0..1, in the khr_materials_sheen form");
     p["sheen_roughness"] = scalarParameter(m.sheenRoughness, s.sheenRoughness,
                                            "Charlie roughness r (lobe sin^(1/r) theta_h), 0..1");
   }
@@ -62,6 +63,26 @@ json parametersJson(const FittedMaterial& m, const ParameterSigmas& s) {
                                       "GGX alpha of the isotropic coat lobe (= clearcoatRoughness^2)");
   }
   return p;
+}
+
+// The form of every sheen in the file, the chosen material's and the candidates' (fitMaterial
+// fits them all in one form, FitOptions::sheenForm).
+SheenForm sheenFormOf(const FitResult& result) { return result.material.sheenForm; }
+
+std::string brdfConvention(SheenForm form) {
+  const std::string base =
+      "diffuse_albedo / pi + F_schlick(specular_f0, specular_f90, l.h) D_ggx "
+      "G2_smith_height_correlated / (4 cos_i cos_v)";
+  const std::string sheen =
+      form == SheenForm::Khr
+          ? "; with a sheen (sheen_form khr_materials_sheen, glTF KHR_materials_sheen's layering): "
+            "sheen_colour D_charlie V_charlie + base min(1 - s E(cos_v), 1 - s E(cos_i)), "
+            "s = max(sheen_colour), V_charlie the extension's Charlie visibility and E its "
+            "directional albedo, alpha_g = sheen_roughness"
+          : " [+ sheen_colour D_charlie / (4 (cos_i + cos_v - cos_i cos_v))] (sheen_form additive)";
+  return base + sheen +
+         "; with a coat, base (1 - w Fc) + w Fc D_ggx(coat_alpha) G2 / (4 cos_i cos_v), Fc = 0.04 "
+         "+ 0.96 (1 - cos_v)^5 (glTF KHR_materials_clearcoat, IOR 1.5), w = coat_weight";
 }
 
 }  // namespace
@@ -84,6 +105,7 @@ json materialJson(const FitResult& result, const std::string& source) {
       {"format_version", kMaterialFormatVersion},
       {"source", source},
       {"model", toString(result.material.model)},
+      {"sheen_form", toString(sheenFormOf(result))},
       {"choice", result.choiceReason},
       {"conventions",
        {{"frame", "z = surface normal, x = azimuth 0 of the Bonn grid (docs/method.md §1.2), azimuths "
@@ -92,11 +114,7 @@ json materialJson(const FitResult& result, const std::string& source) {
                     "glTF KHR_materials_anisotropy's anisotropy direction; the lobe repeats every "
                     "180 deg"},
         {"roughness", "alpha convention: alpha = perceptual roughness^2"},
-        {"brdf", "diffuse_albedo / pi + F_schlick(specular_f0, specular_f90, l.h) D_ggx G2_smith_height_"
-                 "correlated / (4 cos_i cos_v) [+ sheen_colour D_charlie / (4 (cos_i + cos_v - "
-                 "cos_i cos_v))]; with a coat, base (1 - w Fc) + w Fc D_ggx(coat_alpha) G2 / "
-                 "(4 cos_i cos_v), Fc = 0.04 + 0.96 (1 - cos_v)^5 (glTF KHR_materials_clearcoat, "
-                 "IOR 1.5), w = coat_weight"},
+        {"brdf", brdfConvention(sheenFormOf(result))},
         {"sigma", "one standard deviation from the Jacobian at the solution, treating the misfit "
                   "as noise; null where the table does not determine the parameter"}}},
       {"parameters", parametersJson(result.material, result.sigmas)},

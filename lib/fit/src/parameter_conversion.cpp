@@ -21,6 +21,7 @@ FittedMaterial materialOf(const FitParameters& p) {
   if (p.withSheen) {
     m.sheenColour = {p.sheen[0], p.sheen[1], p.sheen[2]};
     m.sheenRoughness = std::exp(p.sheen[3]);
+    m.sheenForm = p.sheenForm;
   }
   if (p.withCoat) {
     m.coatWeight = p.coat[0];
@@ -35,11 +36,12 @@ FitParameters ggxParametersOf(const FittedMaterial& m) {
            m.specularF0[0],    m.specularF0[1],    m.specularF0[2],
            std::log(m.alphaTangent), std::log(m.alphaBitangent), degToRad(m.tangentDeg),
            m.specularF90};
+  p.sheenForm = m.sheenForm;
   return p;
 }
 
 double rmseLevels(const FitData& data, const FitParameters& p) {
-  const MaterialCost cost(data, p.withSheen, p.withCoat);
+  const MaterialCost cost(data, p.withSheen, p.withCoat, p.sheenForm);
   std::vector<double> residuals(static_cast<std::size_t>(data.residualCount()));
   std::vector<const double*> blocks{p.ggx.data()};
   if (p.withSheen) blocks.push_back(p.sheen.data());

@@ -44,9 +44,18 @@ namespace {
 
 std::vector<BoundedBlock> boundedBlocks(FitParameters& p) {
   std::vector<BoundedBlock> blocks{ggxBlock(p.ggx.data(), p.isotropic)};
+  // A khr-form sheen fit is meant to be what a glTF viewer renders: its lobe stays within
+  // KHR_materials_anisotropy's reach (alpha <= 1). Without the bound velvet-red's fit spent a
+  // lobe of alpha 1.3 on its grazing sheen, which the export then had to clamp.
+  if (p.withSheen && p.sheenForm == SheenForm::Khr)
+    for (std::size_t i = 6; i < 8; ++i) blocks.front().upper[i] = 0.0;  // log 1
   if (p.withSheen) {
     BoundedBlock sheen = unboundedBlock(p.sheen.data(), kSheenParameters);
     for (std::size_t i = 0; i < 3; ++i) sheen.lower[i] = 0.0;
+    // KHR_materials_sheen's sheenColorFactor is at most 1 (and the base's scaling 1 - s E stays
+    // positive); the additive form has no such limit.
+    if (p.sheenForm == SheenForm::Khr)
+      for (std::size_t i = 0; i < 3; ++i) sheen.upper[i] = 1.0;
     sheen.lower[3] = std::log(kMinimumSheenRoughness);
     sheen.upper[3] = std::log(kMaximumSheenRoughness);
     blocks.push_back(std::move(sheen));
@@ -67,7 +76,7 @@ SolveOutcome solveFromStart(const FitData& data, const FitParameters& start, int
   SolveOutcome outcome;
   outcome.parameters = start;
   std::vector<BoundedBlock> blocks = boundedBlocks(outcome.parameters);
-  const MaterialCost cost(data, start.withSheen, start.withCoat);
+  const MaterialCost cost(data, start.withSheen, start.withCoat, start.sheenForm);
   const BoundedSolveSummary summary = solveHoldingBounds(
       cost, blocks, solverOptions(maxIterations, functionTolerance, initialTrustRegionRadius));
   outcome.cost = summary.cost;
@@ -95,7 +104,7 @@ ceres::Solver::Options solverOptions(int maxIterations, double functionTolerance
 }
 
 Eigen::MatrixXd jacobianAt(const FitData& data, const FitParameters& parameters) {
-  const MaterialCost cost(data, parameters.withSheen, parameters.withCoat);
+  const MaterialCost cost(data, parameters.withSheen, parameters.withCoat, parameters.sheenForm);
   std::vector<const double*> blocks{parameters.ggx.data()};
   if (parameters.withSheen) blocks.push_back(parameters.sheen.data());
   if (parameters.withCoat) blocks.push_back(parameters.coat.data());

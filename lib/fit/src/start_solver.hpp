@@ -23,6 +23,7 @@ struct FitParameters {
   bool withSheen = false;
   bool withCoat = false;
   bool isotropic = false;
+  SheenForm sheenForm = SheenForm::Khr;  ///< how the sheen block joins the base
   int count() const {
     return kGgxParameters + (withSheen ? kSheenParameters : 0) + (withCoat ? kCoatParameters : 0);
   }
@@ -38,7 +39,7 @@ struct SolveOutcome {
   std::string message;     ///< Ceres' own account of how it ended
 };
 
-/// \brief Solves from `start` (bounds: albedo and sheen >= 0, f0 and f90 in [0, 1], alphas in
+/// \brief Solves from `start` (bounds: albedo and sheen >= 0, sheen <= 1 in the khr form, f0 and f90 in [0, 1], alphas in
 /// [0.002, 2], sheen roughness in [0.05, 1], coat weight in [0, 1], coat alpha in [0.002, 2]). Converged: the cost's relative change in an
 /// iteration fell below `functionTolerance`. `initialTrustRegionRadius` is Levenberg-Marquardt's
 /// first step bound (Ceres' default 1e4: a start far from the solution). Never throws for a bad

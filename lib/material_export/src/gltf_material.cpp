@@ -151,7 +151,10 @@ void raiseBaseUnderSheen(GltfMaterial& g) {
       g.baseColorFactor[c] = std::min(g.baseColorFactor[c] / scaling, 1.0);
 }
 
-// The sheen of a GgxSheen fit; needs the base colour from mapDiffuse, which it raises.
+// The sheen of a fit with one. The khr form is the extension's own layering: its colour and
+// roughness are glTF's factors as they are (the fit bounds the colour to 1), the base colour
+// stays as mapDiffuse set it. The additive form (format version 1) is not the extension's: its
+// base colour is raised, which mapDiffuse set, as raiseBaseUnderSheen says.
 void mapSheen(const fit::FittedMaterial& m, GltfMaterial& g, Losses& losses) {
   g.hasSheen = true;
   bool sheenClamped = false;
@@ -161,16 +164,18 @@ void mapSheen(const fit::FittedMaterial& m, GltfMaterial& g, Losses& losses) {
   }
   // glTF's sheen D uses alpha = sheenRoughnessFactor^2 where the fit's lobe has exponent 1 / r.
   g.sheenRoughnessFactor = std::sqrt(m.sheenRoughness);
-  losses.push_back(
-      {LossKind::SheenForm,
-       "KHR_materials_sheen dims the base layer by the sheen's directional albedo (up to " +
-           format(g.sheenColorFactor.maxChannel()) +
-           " x its albedo) and leaves the visibility term to the renderer; the fit adds its "
-           "Charlie lobe on top with 1 / (4 (cos_i + cos_v - cos_i cos_v))"});
   if (sheenClamped)
     losses.push_back({LossKind::SheenForm,
                       "sheen colour " + format(m.sheenColour.maxChannel()) +
                           " above 1: sheenColorFactor capped at 1"});
+  if (m.sheenForm == fit::SheenForm::Khr) return;
+  losses.push_back(
+      {LossKind::SheenForm,
+       "KHR_materials_sheen dims the base layer by the sheen's directional albedo (up to " +
+           format(g.sheenColorFactor.maxChannel()) +
+           " x its albedo) and leaves the visibility term to the renderer; this fit (sheen_form "
+           "additive, format version 1) adds its Charlie lobe on top with 1 / (4 (cos_i + cos_v - "
+           "cos_i cos_v)): refit the table for the extension's layering"});
   raiseBaseUnderSheen(g);
 }
 

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "slicecap/fit/material_json.hpp"
+#include "slicecap/fit/sheen_albedo.hpp"
 
 namespace slicecap::material_export {
 namespace {
@@ -96,10 +97,14 @@ fit::FittedMaterial readMaterialDocument(const std::filesystem::path& path, cons
            "\"): write one with slicecap fit TABLE -o MATERIAL.json");
   // An integer: 1.5 is not version 1 (json::value would have truncated it to 1).
   const json* version = document.contains("format_version") ? &document.at("format_version") : nullptr;
-  if (version == nullptr || !version->is_number_integer() ||
-      version->get<long long>() != fit::kMaterialFormatVersion)
+  const long long versionNumber =
+      version != nullptr && version->is_number_integer() ? version->get<long long>() : -1;
+  if (versionNumber != fit::kMaterialFormatVersion &&
+      versionNumber != fit::kMaterialFormatVersionAdditiveSheen)
     r.fail("format_version " + document.value("format_version", json()).dump() +
-           " is not the one this build reads (" + std::to_string(fit::kMaterialFormatVersion) + ")");
+           " is not one this build reads (" +
+           std::to_string(fit::kMaterialFormatVersionAdditiveSheen) + " or " +
+           std::to_string(fit::kMaterialFormatVersion) + ")");
   if (!document.contains("parameters") || !document.at("parameters").is_object())
     r.fail("no \"parameters\": not a completed fit");
   // A completed fit always records how close it came; without that the file was not written by a
@@ -133,9 +138,29 @@ fit::FittedMaterial readMaterialDocument(const std::filesystem::path& path, cons
   m.alphaTangent = r.scalar("alpha_tangent", 1e-6, inf);
   m.alphaBitangent = r.scalar("alpha_bitangent", 1e-6, inf);
   m.tangentDeg = r.scalar("tangent_deg", -360.0, 360.0);
+  // Version 1 has no "sheen_form": its sheen is the additive one, and is evaluated so. Version 2
+  // says the form; a file that does not is refused rather than read in a form it may not hold.
+  m.sheenForm = fit::SheenForm::Additive;
+  if (versionNumber == fit::kMaterialFormatVersion) {
+    const std::string form =
+        document.contains("sheen_form") && document.at("sheen_form").is_string()
+            ? document.at("sheen_form").get<std::string>()
+            : std::string();
+    if (form == toString(fit::SheenForm::Khr)) {
+      m.sheenForm = fit::SheenForm::Khr;
+    } else if (form != toString(fit::SheenForm::Additive)) {
+      r.fail("\"sheen_form\" is " + (document.contains("sheen_form") ? document.at("sheen_form").dump()
+                                                                   : std::string("missing")) +
+             ", not \"" + std::string(toString(fit::SheenForm::Khr)) + "\" or \"" +
+             std::string(toString(fit::SheenForm::Additive)) + "\"");
+    }
+  }
   if (fit::hasSheen(m.model)) {
-    m.sheenColour = r.rgb("sheen_colour", 0.0, maxColour);
-    m.sheenRoughness = r.scalar("sheen_roughness", 1e-6, 1.0);
+    // KHR_materials_sheen's colour is at most 1 (the base's scaling 1 - s E stays positive).
+    const bool khr = m.sheenForm == fit::SheenForm::Khr;
+    m.sheenColour = r.rgb("sheen_colour", 0.0, khr ? 1.0 : maxColour);
+    // The khr form's albedo E is tabulated over the fit's own roughness range (sheen_albedo.hpp).
+    m.sheenRoughness = r.scalar("sheen_roughness", khr ? fit::kSheenAlbedoMinRoughness : 1e-6, 1.0);
   }
   if (fit::hasCoat(m.model)) {
     m.coatWeight = r.scalar("coat_weight", 0.0, 1.0);

@@ -25,13 +25,14 @@ struct Pair {
   double weight, charlie;
 };
 
-std::vector<Pair> gridPairs(double charlieRoughness) {
+std::vector<Pair> gridPairs(double charlieRoughness, fit::SheenForm form) {
   fit::FittedMaterial lobe;  // the sheen alone: no diffuse, no specular, colour 1
   lobe.model = fit::MaterialModel::GgxSheen;
   lobe.specularF0 = Rgb::gray(0.0);
   lobe.specularF90 = 0.0;
   lobe.sheenColour = Rgb::gray(1.0);
   lobe.sheenRoughness = charlieRoughness;
+  lobe.sheenForm = form;
   std::vector<Pair> out;
   out.reserve(bonn::kDirectionCount * bonn::kDirectionCount);
   for (int i = 0; i < bonn::kDirectionCount; ++i) {
@@ -74,8 +75,8 @@ double ggxStandInLobe(const UnitVector& toLight, const UnitVector& toView, doubl
   return d * smithG1(toLight.z, alpha) * smithG1(toView.z, alpha) / (4.0 * toLight.z * toView.z);
 }
 
-SheenApproximation approximateSheen(double charlieRoughness, double maxScale) {
-  const std::vector<Pair> pairs = gridPairs(charlieRoughness);
+SheenApproximation approximateSheen(double charlieRoughness, double maxScale, fit::SheenForm form) {
+  const std::vector<Pair> pairs = gridPairs(charlieRoughness, form);
   SheenApproximation best;
   constexpr int kSteps = 60;  // alpha 0.05, 0.10, ..., 3: beyond 3 the masking darkens it again
   for (int k = 1; k <= kSteps; ++k) {

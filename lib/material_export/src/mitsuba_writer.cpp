@@ -8,6 +8,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "slicecap/fit/sheen_albedo.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/material_export/mitsuba_sheen.hpp"
 #include "xml_text.hpp"
@@ -157,11 +158,42 @@ SheenPart sheenPartOf(const fit::FittedMaterial& m) {
   const double colourMax = m.sheenColour.maxChannel();
   if (colourMax <= kNegligible) return p;
   const double room = 1.0 - m.diffuseAlbedo.maxChannel() - m.specularF0.maxChannel();
-  p.approximation = approximateSheen(m.sheenRoughness, room / colourMax);
+  p.approximation = approximateSheen(m.sheenRoughness, room / colourMax, m.sheenForm);
   p.weight = std::min(1.0, p.approximation.scale * colourMax);
   if (p.weight <= kNegligible) return p;
   for (std::size_t c = 0; c < 3; ++c) p.reflectance[c] = m.sheenColour[c] / colourMax;
   return p;
+}
+
+// KHR_materials_sheen's dimming of the base, 1 - s max(E(cos_l), E(cos_v)) (the khr sheen
+// form), as one number: its mean over the 81 x 81 grid pairs weighted by cos(light) (the rendered
+// radiance, as the stand-in's own fit). A blend cannot make it depend on the directions.
+double meanSheenScaling(const fit::FittedMaterial& m) {
+  double sum = 0.0, weights = 0.0;
+  const double colourMax = m.sheenColour.maxChannel();
+  for (int i = 0; i < bonn::kDirectionCount; ++i) {
+    const UnitVector l = toUnitVector(bonn::direction(i));
+    for (int j = 0; j < bonn::kDirectionCount; ++j) {
+      const UnitVector v = toUnitVector(bonn::direction(j));
+      const double albedo = std::max(fit::sheenAlbedo(l.z, m.sheenRoughness),
+                                     fit::sheenAlbedo(v.z, m.sheenRoughness));
+      sum += l.z * (1.0 - colourMax * albedo);
+      weights += l.z;
+    }
+  }
+  return sum / weights;
+}
+
+// The khr form's base dimmed by meanSheenScaling; the additive form's as it is.
+fit::FittedMaterial baseUnderSheen(fit::FittedMaterial m) {
+  if (!fit::hasSheen(m.model) || m.sheenForm != fit::SheenForm::Khr) return m;
+  const double scaling = meanSheenScaling(m);
+  for (std::size_t c = 0; c < 3; ++c) {
+    m.diffuseAlbedo[c] *= scaling;
+    m.specularF0[c] *= scaling;
+  }
+  m.specularF90 *= scaling;
+  return m;
 }
 
 // The fit's diffuse, specular and sheen divided by `factor`: the rest of a blend whose other part
@@ -221,6 +253,12 @@ std::string sheenBsdf(const fit::FittedMaterial& m, const Blend& b, const SheenP
 std::string fitBsdf(const fit::FittedMaterial& fitted, const fit::FittedMaterial& m, double scale,
                     const std::string& indent, const std::string& idAttribute,
                     std::vector<ConversionLoss>& losses) {
+  if (fit::hasSheen(fitted.model) && fitted.sheenForm == fit::SheenForm::Khr &&
+      fitted.sheenColour.maxChannel() > kNegligible)
+    losses.push_back({LossKind::SheenForm,
+                      "Mitsuba 3 cannot dim the base by the sheen's directional albedo "
+                      "(KHR_materials_sheen's 1 - s E): the diffuse and specular are scaled by its "
+                      "mean over the grid, " + num(meanSheenScaling(fitted))});
   if (fit::hasSheen(m.model)) {
     const SheenPart sheen = sheenPartOf(m);
     if (sheen.weight > kNegligible) {
@@ -253,7 +291,8 @@ double coatBlendWeight(const fit::FittedMaterial& m) {
 // The fit's coat: blendbsdf(c, the rest divided by (1 - c), a roughconductor of eta 1.5, k 0:
 // the exact Fresnel of the coat's dielectric, 0.04 at normal incidence, 1 at grazing).
 std::string coatedBsdf(const fit::FittedMaterial& m, double c, std::vector<ConversionLoss>& losses) {
-  const fit::FittedMaterial inner = scaledBy(m, 1.0 - c);
+  // The khr sheen's dimming of the base first (with the fit's own sheen colour), then the blend's.
+  const fit::FittedMaterial inner = scaledBy(baseUnderSheen(m), 1.0 - c);
   std::ostringstream x;
   x << "  <!-- slicecap_fit = blendbsdf weight c = " << num(c)
     << ": (1 - c) x the fit without its coat, divided by (1 - c),\n"
@@ -293,7 +332,7 @@ MitsubaExport mitsubaSnippet(const fit::FittedMaterial& fitted, const std::strin
   if (fit::hasCoat(m.model) && m.coatWeight > kNegligible) {
     bsdf = coatedBsdf(m, coatBlendWeight(m), out.report.losses);
   } else {
-    bsdf = fitBsdf(m, m, 1.0, "  ", " id=\"slicecap_fit\"", out.report.losses);
+    bsdf = fitBsdf(m, baseUnderSheen(m), 1.0, "  ", " id=\"slicecap_fit\"", out.report.losses);
   }
   out.text = header(m, source) + bsdf + sampleShape(m);
   return out;

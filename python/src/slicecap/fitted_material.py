@@ -5,10 +5,18 @@ The evaluation is the reference the viewer's WebGL shader is tested against
 (python/tests/test_viewer.py), in the table's frame (z = normal, x = the Bonn grid's azimuth 0,
 the tangent at `tangent_deg` counter-clockwise from x):
 
-    base = diffuse / pi + Schlick F(l.h) D_ggx G2_smith / (4 cos_i cos_v)
-           [+ sheen D_charlie / (4 (cos_i + cos_v - cos_i cos_v))]
-    f_r  = base                                   (models "ggx", "ggx+sheen")
-    f_r  = base (1 - w Fc) + w Fc coat            (models "ggx+coat", "ggx+sheen+coat")
+    under = diffuse / pi + Schlick F(l.h) D_ggx G2_smith / (4 cos_i cos_v)
+    base  = under                                 (no sheen)
+    base  = sheen D_charlie V_charlie + under min(1 - s E(cos_v), 1 - s E(cos_i))
+                                                  (sheen_form "khr_materials_sheen", version 2)
+    base  = under + sheen D_charlie / (4 (cos_i + cos_v - cos_i cos_v))
+                                                  (sheen_form "additive", every version-1 file)
+    f_r   = base                                  (models "ggx", "ggx+sheen")
+    f_r   = base (1 - w Fc) + w Fc coat           (models "ggx+coat", "ggx+sheen+coat")
+
+The "khr_materials_sheen" form is glTF KHR_materials_sheen's layering: V_charlie its "Charlie"
+visibility, s the largest sheen channel, E the sheen's directional albedo, tabulated by the same
+quadrature as lib/fit sheen_albedo.cpp (sheen_albedo_table).
 
 with the clear coat layered as glTF's KHR_materials_clearcoat (coat IOR 1.5): w = coat_weight,
 Fc = 0.04 + 0.96 (1 - cos_v)^5 (the view's cosine with the normal, not l.h), and coat the
@@ -22,12 +30,16 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from slicecap.abrdf_exr import SlicecapFileError
 from slicecap.paths import StrPath
 
 FORMAT = "slicecap-material"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+# Version 1 has no "sheen_form": its sheen is the additive one.
+FORMAT_VERSIONS = (1, 2)
+SHEEN_FORMS = ("khr_materials_sheen", "additive")
 MODELS = ("ggx", "ggx+sheen", "ggx+coat", "ggx+sheen+coat")
 _RGB = ("diffuse_albedo", "specular_f0")
 _SCALARS = ("specular_f90", "alpha_tangent", "alpha_bitangent", "tangent_deg")
@@ -35,6 +47,95 @@ _SHEEN_RGB, _SHEEN_SCALAR = "sheen_colour", "sheen_roughness"
 _COAT_SCALARS = ("coat_weight", "coat_alpha")
 # KHR_materials_clearcoat's coat: IOR 1.5, so its Schlick f0 is ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
 COAT_F0 = 0.04
+
+
+# The albedo table's nodes (lib/fit sheen_albedo.hpp): cosines 0..1, roughness 0.05..1.
+SHEEN_ALBEDO_COSINES, SHEEN_ALBEDO_ROUGHNESSES = 33, 39
+SHEEN_ALBEDO_MIN_ROUGHNESS, SHEEN_ALBEDO_MAX_ROUGHNESS = 0.05, 1.0
+_sheen_albedo_table: np.ndarray | None = None
+
+
+def _charlie_l(x: ArrayLike, alpha: float) -> np.ndarray:
+    """KHR_materials_sheen's l(x, alpha_g) of the Charlie visibility."""
+    w = (1.0 - alpha) * (1.0 - alpha)
+
+    def mix(a: float, b: float) -> float:
+        return a + (b - a) * w
+
+    a, b, c = mix(21.5473, 25.3245), mix(3.82987, 3.32435), mix(0.19823, 0.16801)
+    d, e = mix(-1.97760, -1.27393), mix(-4.32054, -4.85967)
+    xs = np.asarray(x, dtype=np.float64)
+    power = np.where(xs > 0.0, np.exp(c * np.log(np.where(xs > 0.0, xs, 1.0))), 0.0)
+    return np.asarray(a / (1.0 + b * power) + d * xs + e)
+
+
+def charlie_lambda(cos_theta: ArrayLike, alpha: float) -> np.ndarray:
+    """KHR_materials_sheen's lambda_sheen(cos_theta, alpha_g)."""
+    cosines = np.asarray(cos_theta, dtype=np.float64)
+    low = np.abs(cosines) < 0.5
+    high = np.exp(2.0 * _charlie_l(0.5, alpha)
+                  - _charlie_l(np.where(low, 0.5, 1.0 - cosines), alpha))
+    return np.asarray(np.where(low, np.exp(_charlie_l(np.where(low, cosines, 0.25), alpha)), high))
+
+
+def charlie_visibility(cos_l: ArrayLike, cos_v: ArrayLike, alpha: float) -> np.ndarray:
+    """KHR_materials_sheen's sheen_visibility (the "Charlie" one)."""
+    cl, cv = np.asarray(cos_l, dtype=np.float64), np.asarray(cos_v, dtype=np.float64)
+    return 1.0 / ((1.0 + charlie_lambda(cv, alpha) + charlie_lambda(cl, alpha)) * (4.0 * cv * cl))
+
+
+def sheen_albedo_table() -> np.ndarray:
+    """(roughnesses, cosines) E(mu, r) = the hemisphere's integral of D_charlie V_charlie cos_l:
+    a midpoint rule over theta_l (64 steps) and phi (64 steps over [0, pi], doubled), mu floored
+    at 1e-3, as lib/fit sheen_albedo.cpp. Computed once."""
+    global _sheen_albedo_table
+    if _sheen_albedo_table is None:
+        steps = 64
+        theta = (np.arange(steps) + 0.5) * (math.pi / 2) / steps
+        phi = (np.arange(steps) + 0.5) * math.pi / steps
+        cos_l, sin_l = np.cos(theta)[:, None], np.sin(theta)[:, None]
+        table = np.zeros((SHEEN_ALBEDO_ROUGHNESSES, SHEEN_ALBEDO_COSINES))
+        step = ((SHEEN_ALBEDO_MAX_ROUGHNESS - SHEEN_ALBEDO_MIN_ROUGHNESS)
+                / (SHEEN_ALBEDO_ROUGHNESSES - 1))
+        for j in range(SHEEN_ALBEDO_ROUGHNESSES):
+            alpha = SHEEN_ALBEDO_MIN_ROUGHNESS + j * step
+            for i in range(SHEEN_ALBEDO_COSINES):
+                mu = max(i / (SHEEN_ALBEDO_COSINES - 1), 1e-3)
+                sin_v = math.sqrt(1.0 - mu * mu)
+                visibility = 1.0 / ((1.0 + charlie_lambda(mu, alpha)
+                                     + charlie_lambda(cos_l, alpha)) * (4.0 * mu * cos_l))
+                hx, hy, hz = sin_l * np.cos(phi) + sin_v, sin_l * np.sin(phi), cos_l + mu
+                cos_h = hz / np.sqrt(hx * hx + hy * hy + hz * hz)
+                sin2h = np.maximum(1.0 - cos_h * cos_h, 0.0)
+                d = (2.0 + 1.0 / alpha) * sin2h ** (0.5 / alpha) / (2.0 * math.pi)
+                total = np.sum(d * visibility * cos_l * sin_l)
+                table[j, i] = 2.0 * total * (math.pi / 2 / steps) * (math.pi / steps)
+        _sheen_albedo_table = table
+    return _sheen_albedo_table
+
+
+def sheen_albedo(cos_theta: ArrayLike, roughness: float) -> np.ndarray:
+    """E(cos_theta, r) from sheen_albedo_table: linear in the cosine, Catmull-Rom in r (held in
+    the table's range), as lib/fit sheen_albedo.hpp."""
+    table = sheen_albedo_table()
+    mu = np.clip(np.asarray(cos_theta, dtype=np.float64), 0.0, 1.0) * (SHEEN_ALBEDO_COSINES - 1)
+    i = np.minimum(mu.astype(int), SHEEN_ALBEDO_COSINES - 2)
+    f_mu = mu - i
+    step = ((SHEEN_ALBEDO_MAX_ROUGHNESS - SHEEN_ALBEDO_MIN_ROUGHNESS)
+            / (SHEEN_ALBEDO_ROUGHNESSES - 1))
+    at = min(max((roughness - SHEEN_ALBEDO_MIN_ROUGHNESS) / step, 0.0),
+             SHEEN_ALBEDO_ROUGHNESSES - 1.0)
+    j = min(int(at), SHEEN_ALBEDO_ROUGHNESSES - 2)
+    t = at - j
+
+    def node(k: int) -> np.ndarray:
+        row = table[min(max(k, 0), SHEEN_ALBEDO_ROUGHNESSES - 1)]
+        return row[i] * (1.0 - f_mu) + row[i + 1] * f_mu
+
+    p0, p1, p2, p3 = node(j - 1), node(j), node(j + 1), node(j + 2)
+    t2, t3 = t * t, t * t * t
+    return 0.5 * (2.0 * p1 + (p2 - p0) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2
+                  + (3.0 * p1 - p0 - 3.0 * p2 + p3) * t3)
 
 
 def has_sheen(model: str) -> bool:
@@ -84,6 +185,8 @@ class FittedMaterial:
     tangent_deg: float
     sheen_colour: tuple[float, float, float] = (0.0, 0.0, 0.0)
     sheen_roughness: float = 0.5
+    # How the sheen joins the base: "khr_materials_sheen" (version 2's fits) or "additive".
+    sheen_form: str = "khr_materials_sheen"
     # Read only for the "+coat" models; the defaults are what the other models leave unused.
     coat_weight: float = 0.0
     coat_alpha: float = 0.1
@@ -112,7 +215,14 @@ class FittedMaterial:
             inverse = 1.0 / self.sheen_roughness
             log_sin2 = np.log(np.maximum(1.0 - half[..., 2] ** 2, 1e-12))
             sheen = (2.0 + inverse) * np.exp(log_sin2 * 0.5 * inverse) / (2.0 * math.pi)
-            sheen = sheen / (4.0 * (cos_i + cos_v - cos_i * cos_v))
+            if self.sheen_form == "khr_materials_sheen":
+                sheen = sheen * charlie_visibility(cos_i, cos_v, self.sheen_roughness)
+                albedo = np.maximum(sheen_albedo(cos_i, self.sheen_roughness),
+                                    sheen_albedo(cos_v, self.sheen_roughness))
+                scaling = 1.0 - max(self.sheen_colour) * albedo
+                value = value * scaling[..., None]
+            else:
+                sheen = sheen / (4.0 * (cos_i + cos_v - cos_i * cos_v))
             value = value + np.asarray(self.sheen_colour) * sheen[..., None]
         if has_coat(self.model):
             # The coat's Fresnel takes the view's cosine, as KHR_materials_clearcoat: the layer
@@ -150,8 +260,15 @@ def parse_fitted_material(document: object, path: StrPath) -> FittedMaterial:
 
     if not isinstance(document, dict) or document.get("format") != FORMAT:
         raise refuse(f'"format" is not "{FORMAT}"')
-    if document.get("format_version") != FORMAT_VERSION:
-        raise refuse(f'"format_version" {document.get("format_version")!r} is not {FORMAT_VERSION}')
+    version = document.get("format_version")
+    if isinstance(version, bool) or version not in FORMAT_VERSIONS:
+        raise refuse(f'"format_version" {version!r} is not one of {FORMAT_VERSIONS}')
+    sheen_form = "additive"
+    if version == 2:
+        form = document.get("sheen_form")
+        if not isinstance(form, str) or form not in SHEEN_FORMS:
+            raise refuse(f'"sheen_form" {form!r} is not one of {", ".join(SHEEN_FORMS)}')
+        sheen_form = form
     model = document.get("model")
     if model not in MODELS:
         raise refuse(f'"model" {model!r} is not one of {", ".join(MODELS)}')
@@ -172,7 +289,8 @@ def parse_fitted_material(document: object, path: StrPath) -> FittedMaterial:
         values[name] = _number(path, name, entry["value"], count)
     # The ranges `slicecap fit` keeps to and its exports check (docs/material-export.md).
     ranges = {"diffuse_albedo": (0.0, math.inf), "specular_f0": (0.0, 1.0),
-              "specular_f90": (0.0, 1.0), _SHEEN_RGB: (0.0, math.inf),
+              "specular_f90": (0.0, 1.0),
+              _SHEEN_RGB: (0.0, 1.0 if sheen_form == "khr_materials_sheen" else math.inf),
               "coat_weight": (0.0, 1.0)}
     for name, (low, high) in ranges.items():
         if name in values:
@@ -188,7 +306,11 @@ def parse_fitted_material(document: object, path: StrPath) -> FittedMaterial:
     delta_e = metrics.get("delta_e") if isinstance(metrics, dict) else None
     if not isinstance(delta_e, (int, float)) or isinstance(delta_e, bool):
         raise refuse('no "metrics": {"delta_e": ...} (a fit that did not finish)')
-    return FittedMaterial(model=model, **values)
+    if (has_sheen(model) and sheen_form == "khr_materials_sheen"
+            and values[_SHEEN_SCALAR] < SHEEN_ALBEDO_MIN_ROUGHNESS):
+        raise refuse(f"parameter {_SHEEN_SCALAR} must be at least {SHEEN_ALBEDO_MIN_ROUGHNESS:g} "
+                     f"in the khr_materials_sheen form, got {values[_SHEEN_SCALAR]!r}")
+    return FittedMaterial(model=model, sheen_form=sheen_form, **values)
 
 
 def read_fit_document(path: StrPath) -> tuple[FittedMaterial, dict]:

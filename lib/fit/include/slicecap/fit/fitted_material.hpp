@@ -20,6 +20,20 @@ bool hasCoat(MaterialModel model);
 /// \brief The model with the given terms.
 MaterialModel modelWith(bool sheen, bool coat);
 
+/// \brief How a sheen joins the base (the JSON's "sheen_form").
+///
+/// Khr (what every fit makes since format version 2): glTF KHR_materials_sheen's layering, so that
+/// a viewer following the extension renders the fit: sheen_colour D_charlie V_charlie + base
+/// min(1 - s E(cos_v), 1 - s E(cos_l)), s the largest sheen channel, V_charlie the extension's
+/// "Charlie" visibility and E its directional albedo (sheen_albedo.hpp).
+/// Additive (format version 1): the sheen D_charlie / (4 (cos_i + cos_v - cos_i cos_v))
+/// (Ashikhmin's visibility) added on top of a base that is not dimmed; models::makeSheen's form.
+/// Files of version 1 hold it, and are still evaluated in it.
+enum class SheenForm { Khr, Additive };
+
+/// \brief "khr_materials_sheen" or "additive" (the JSON's spelling).
+std::string_view toString(SheenForm form);
+
 /// \brief The clear coat's Schlick reflectance at normal incidence: a dielectric of IOR 1.5, glTF
 /// KHR_materials_clearcoat's fixed coat IOR ((1.5 - 1) / (1.5 + 1))^2.
 inline constexpr double kCoatF0 = 0.04;
@@ -33,8 +47,8 @@ inline constexpr double kCoatF0 = 0.04;
 /// KHR_materials_specular "specular" factor) lets the lobe fade at grazing angles too, and f0 = f90
 /// = 0 removes it: without it no fit could describe a material with no specular (a velvet, a
 /// matte paint), whose Schlick edge would otherwise always reflect.
-/// Sheen: the "Charlie" distribution (Estevez and Kulla 2017) with the visibility
-/// 1 / (4 (cos_i + cos_v - cos_i cos_v)), as models::makeSheen; zero when the model has none.
+/// Sheen: the "Charlie" distribution (Estevez and Kulla 2017), joined to the terms above as
+/// `sheenForm` says (SheenForm); zero when the model has none.
 ///
 /// Clear coat (models ending in "+coat"): glTF KHR_materials_clearcoat's layering with its fixed
 /// IOR 1.5, so that the glTF export is the fitted material and not an approximation of it:
@@ -57,6 +71,7 @@ struct FittedMaterial {
   double tangentDeg = 0.0;     ///< tangent azimuth, deg, counter-clockwise from x
   Rgb sheenColour;             ///< sheen tint (zero for Ggx)
   double sheenRoughness = 0.5; ///< Charlie roughness r (exponent 1 / r); unused for Ggx
+  SheenForm sheenForm = SheenForm::Khr;  ///< how the sheen joins the base; unused for Ggx
   double coatWeight = 0.0;     ///< clear coat weight w, [0, 1] (glTF clearcoatFactor)
   double coatAlpha = 0.1;      ///< GGX alpha of the isotropic coat lobe (clearcoatRoughness^2)
 

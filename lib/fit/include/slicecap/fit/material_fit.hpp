@@ -32,6 +32,10 @@ struct FitOptions {
   /// perfect fit is not worth four more parameters).
   double sheenMaximumDeltaEFraction = 0.9;
   double sheenMinimumGainDeltaE = 0.1;
+  /// \brief The form the sheen candidate is fitted in: KHR_materials_sheen's layering (what a
+  /// glTF viewer renders, format version 2's default), or version 1's additive form (kept to
+  /// compare the two and to refit a version-1 material as it was).
+  SheenForm sheenForm = SheenForm::Khr;
   /// \brief Also fit the lobe isotropic (one alpha, no tangent) when the GGX fit's lobe is not
   /// round, and keep the anisotropic lobe only when it earns its two parameters by the rule below
   /// (as the sheen's). Why: a lobe narrower than the grid's 15 deg steps is seen at the mirror

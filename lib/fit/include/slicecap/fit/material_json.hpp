@@ -10,8 +10,12 @@
 namespace slicecap::fit {
 
 /// \brief Format name and version written in every file ("format", "format_version").
+/// Version 2 added "sheen_form" (the sheen in KHR_materials_sheen's layering); a version-1 file has
+/// none and holds the additive sheen (SheenForm::Additive).
 inline constexpr const char* kMaterialFormat = "slicecap-material";
-inline constexpr int kMaterialFormatVersion = 1;
+inline constexpr int kMaterialFormatVersion = 2;
+/// \brief The version before "sheen_form", still read (its sheen is SheenForm::Additive).
+inline constexpr int kMaterialFormatVersionAdditiveSheen = 1;
 
 /// \brief The document of a fit of the table at `source`. Never throws.
 nlohmann::ordered_json materialJson(const FitResult& result, const std::string& source);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "slicecap/core/grid.hpp"
+#include "slicecap/fit/fitted_material.hpp"
 
 namespace slicecap::material_export {
 
@@ -19,11 +20,13 @@ struct SheenApproximation {
 double ggxStandInLobe(const UnitVector& toLight, const UnitVector& toView, double alpha);
 
 /// \brief The least-squares stand-in for the fitted Charlie lobe of this roughness
-/// (fit::FittedMaterial's, colour 1) over every pair of the 81 Bonn directions, each residual
+/// (fit::FittedMaterial's in `form`: the khr form's lobe has the extension's Charlie visibility,
+/// the additive one Ashikhmin's; colour 1) over every pair of the 81 Bonn directions, each residual
 /// weighted by cos(light) (the rendered radiance): for each alpha in 0.05, 0.10, ..., 3 the best
 /// scale in [0, maxScale] (maxScale: how much reflectance the snippet has room for), and the alpha
 /// with the smallest mismatch. Never fails; with maxScale <= 0 the scale is 0 and the mismatch 1
 /// (the sheen left out).
-SheenApproximation approximateSheen(double charlieRoughness, double maxScale);
+SheenApproximation approximateSheen(double charlieRoughness, double maxScale,
+                                    fit::SheenForm form = fit::SheenForm::Khr);
 
 }  // namespace slicecap::material_export
