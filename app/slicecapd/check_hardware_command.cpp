@@ -51,16 +51,24 @@ void addModes(hwcheck::BackendInfo& info, const hal::CameraModes& modes) {
 // said when the camera delivers no RAW stream (the check's RAW item then stands as this).
 void describeRaw(hwcheck::BackendInfo& info, const DaemonConfig& config,
                  const hal::CameraModes* camera) {
+  // libcamera's listing says what the camera's validation grants, as configure negotiates it
+  // (a Pi 5's unpacked SRGGB16); other backends list names only.
   const auto& raw = camera ? camera->formats : std::vector<hal::OfferedFormat>{};
-  const hal::RawStreamChoice choice = hal::chooseRawStream(
-      raw, camera ? camera->proposedRawFormat : "", config.widthPx, config.heightPx);
+  const hal::RawStreamChoice choice =
+      camera && camera->validatedRaw
+          ? *camera->validatedRaw
+          : hal::chooseRawStream(raw, camera ? camera->proposedRawFormat : "", config.widthPx,
+                                 config.heightPx);
+  std::string validation;
+  for (const std::string& note : choice.notes) validation += "; " + note;
   if (!choice.format.empty() && config.cameraRaw == hal::RawCapture::Off) {
     info.rawFinding = "the camera offers RAW " + choice.format + " (" +
                       std::to_string(choice.modePx.first) + "x" + std::to_string(choice.modePx.second) +
-                      "), but camera_raw = off: frames are the ISP's processed output";
+                      validation + "), but camera_raw = off: frames are the ISP's processed output";
     info.rawAdvice = "set camera_raw = auto to measure linear light from the sensor";
   } else if (!choice.format.empty()) {
     info.rawFinding = "the camera offers RAW " + choice.format +
+                      (validation.empty() ? "" : " (" + validation.substr(2) + ")") +
                       ", but did not deliver it (see the camera item): frames are processed";
     info.rawAdvice = "frames are decoded through the measured response curve; with camera_raw = on "
                      "the configure error names the cause";
@@ -75,7 +83,7 @@ void describeRaw(hwcheck::BackendInfo& info, const DaemonConfig& config,
 void describeLibcameraBackend(hwcheck::BackendInfo& info, const DaemonConfig& config) {
   std::vector<hal::CameraModes> cameras;
   try {
-    cameras = hal::libcameraModes();
+    cameras = hal::libcameraModes(config.widthPx, config.heightPx);
   } catch (const hal::BackendNotBuilt& error) {
     info.cameras.push_back(error.what());
   } catch (const std::exception& error) {

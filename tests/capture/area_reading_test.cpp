@@ -1,6 +1,7 @@
 // Area readings: every pixel inside the projected area (less the inset) is averaged, and the
 // variance the noise model gives the mean is the variance the mean shows over noisy frames.
 #include "slicecap/capture/area_reading.hpp"
+#include "slicecap/hal/bayer_frame.hpp"
 
 #include <gtest/gtest.h>
 
@@ -55,6 +56,33 @@ TEST(AreaReading, AveragesThePixelsInsideTheProjectedAreaLessTheInset) {
   // Partly out of the image: not read.
   EXPECT_FALSE(
       readArea(frame, fromAbove(), smallCamera(), {{50.0, 0.0, 70.0, 10.0}, 0.0}, {}).inside);
+}
+
+TEST(AreaReading, ARawFramesBlackIsTakenOffAndItsNoiseBelowBlackCounts) {
+  // A decoded RAW frame stores black at hal::kDecodedBlack16: a dark area's pixels scatter
+  // either side of it, and the area's mean is the light, not the light plus the clipped half.
+  std::mt19937 rng(3);
+  const double level = 0.0003, sigma = 0.0026;  // 0.3 and 2.5 codes of a 10-bit sensor
+  std::normal_distribution<double> noise(level, sigma);
+  hal::Frame frame;
+  frame.encoding = PixelEncoding::Linear16;
+  frame.black16 = hal::kDecodedBlack16;
+  frame.image = {120, 90, 1, 16, {}};
+  for (int i = 0; i < 120 * 90; ++i)
+    frame.image.samples.push_back(static_cast<std::uint16_t>(
+        std::lround(hal::kDecodedBlack16 + noise(rng) * (65535.0 - hal::kDecodedBlack16))));
+  frame.metadata.exposureUs = 1.0;
+  const AreaReading r =
+      readArea(frame, fromAbove(), smallCamera(), {{-20.0, -15.0, 20.0, 15.0}, 0.0}, {});
+  ASSERT_TRUE(r.inside);
+  EXPECT_NEAR(r.mean[0], level, 3.0 * sigma / std::sqrt(double(r.pixels)));
+  // The same frame read through LinearView: negative below black, not 0.
+  const LinearView view(frame);
+  bool clipped = false;
+  int below = 0;
+  for (int x = 0; x < 120; ++x) below += view.linear(x, 45, 0, 0.98, &clipped) < 0.0;
+  EXPECT_GT(below, 30);
+  EXPECT_FALSE(clipped);
 }
 
 TEST(AreaReading, TheVarianceOfTheMeanIsTheOneNoisyFramesShow) {

@@ -18,6 +18,7 @@
 #include "slicecap/daemon/control_client.hpp"
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/daemon.hpp"
+#include "slicecap/hal/bayer_frame.hpp"
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/file_camera.hpp"
 #include "slicecap/hal/file_led.hpp"
@@ -141,6 +142,42 @@ TEST(FrameRecorder, RecordsTheSweepsDecodingAndRefusesToMixTwoCurves) {
   EXPECT_NE(recorder.status().error.find("one recording cannot hold both"), std::string::npos)
       << recorder.status().error;
   EXPECT_EQ(io::readRecording(dir).frames.size(), 2u);  // nothing recorded before is lost
+}
+
+TEST(FrameRecorder, ARawSweepsBlackIsRecordedAndReadBackWithItsFrames) {
+  const auto dir = test::freshTempDir() / "rec";
+  hal::Frame frame = smallFrame(1000, true);
+  frame.encoding = PixelEncoding::Linear16;
+  frame.black16 = hal::kDecodedBlack16;
+  frame.image = {32, 24, 3, 16, std::vector<std::uint16_t>(32 * 24 * 3, 4000)};  // below black
+  {
+    FrameRecorder recorder(dir, smallHeader(), 16);
+    recorder.setDecoding(io::RecordedDecoding::defaultFor(PixelEncoding::Linear16));
+    ASSERT_TRUE(recorder.offer(hal::Frame(frame)));
+  }
+  const io::Recording written = io::readRecording(dir);
+  ASSERT_TRUE(written.decoding);
+  EXPECT_EQ(written.decoding->black16, hal::kDecodedBlack16);
+  EXPECT_EQ(written.formatVersion, 3);  // a version 2 reader must not take the black for light
+  // The file camera gives the frames back with their black.
+  hal::SteadyClock clock;
+  hal::FileCamera camera(dir, clock);
+  hal::CameraConfig config{32, 24, PixelEncoding::Linear16, 1000.0, 1.0, 2};
+  const hal::ConfigResult configured = camera.configure(config);
+  ASSERT_NE(configured.status, hal::ConfigResult::Status::Invalid) << configured.reason;
+  camera.start();
+  const hal::CaptureResult read = camera.nextFrame(std::chrono::milliseconds(100));
+  ASSERT_TRUE(read.frame);
+  EXPECT_EQ(read.frame->black16, hal::kDecodedBlack16);
+  EXPECT_LT(hal::linear16Value(read.frame->image.at(0, 0, 0), read.frame->black16), 0.0);
+  // A later run whose frames are stored another way cannot continue it.
+  FrameRecorder recorder(dir, smallHeader(), 16);
+  frame.black16 = 0;
+  frame.metadata.timestampUs = 2000;
+  ASSERT_TRUE(recorder.offer(std::move(frame)));
+  ASSERT_TRUE(test::waitUntil([&] { return recorder.idle(); }));
+  EXPECT_NE(recorder.status().error.find("above a black of 4096"), std::string::npos)
+      << recorder.status().error;
 }
 
 // The daemon records a simulated sweep played by the file camera through the real pipeline.

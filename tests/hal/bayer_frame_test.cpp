@@ -2,6 +2,7 @@
 // tables (pixfmt-srggb10p, pixfmt-srggb12p): packing, CFA order, black level, binning, padded
 // strides and truncated buffers.
 #include "slicecap/hal/bayer_frame.hpp"
+#include "slicecap/hal/frame.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -19,10 +20,10 @@ using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 // The decoder's mapping of a code to 16-bit linear, written out: (code - black) over
-// (largest code - black), 65535 at the top, clipped at 0.
+// (largest code - black), from the stored black 4096 to 65535 at the top, clipped at 0.
 std::uint16_t linear(double code, double black, double largest) {
-  return static_cast<std::uint16_t>(
-      std::lround(std::clamp((code - black) * 65535.0 / (largest - black), 0.0, 65535.0)));
+  return static_cast<std::uint16_t>(std::lround(
+      std::clamp(4096.0 + (code - black) * (65535.0 - 4096.0) / (largest - black), 0.0, 65535.0)));
 }
 
 BayerFrameView view(BayerFormat format, int width, int height,
@@ -78,9 +79,9 @@ TEST(BayerFrame, UnpackedWordsAreLittleEndianAndEachColourHasItsOwnBlackLevel) {
   const Image image =
       decodeBayer(view({BayerOrder::Bggr, 12, BayerPacking::Unpacked16}, 2, 2, bytes, 4), black);
   EXPECT_EQ(image.at(0, 0, 0), linear(0x0ABC, 256, 4095));
-  const double green = 0.5 * ((0x0789 - 240) * 65535.0 / (4095 - 240) +
-                              (0x0456 - 272) * 65535.0 / (4095 - 272));
-  EXPECT_EQ(image.at(0, 0, 1), std::lround(green));
+  const double green = 0.5 * ((0x0789 - 240) * 61439.0 / (4095 - 240) +
+                              (0x0456 - 272) * 61439.0 / (4095 - 272));
+  EXPECT_EQ(image.at(0, 0, 1), std::lround(4096 + green));
   EXPECT_EQ(image.at(0, 0, 2), linear(0x0123, 200, 4095));
 }
 
@@ -105,8 +106,10 @@ TEST(BayerFrame, EveryOrderPutsTheColoursWhereItsNameSays) {
   }
 }
 
-TEST(BayerFrame, BelowBlackClipsToZeroAndOddEdgesAreDropped) {
-  // 3 x 3 RGGB unpacked 10-bit, every sample 60 (below the black of 64): one 0 pixel out.
+TEST(BayerFrame, BelowBlackIsKeptUnderTheStoredBlackAndOddEdgesAreDropped) {
+  // 3 x 3 RGGB unpacked 10-bit, every sample 60 (4 codes below the black of 64): one pixel out,
+  // below the stored black, read as negative light.
+  EXPECT_EQ(kDecodedBlack16, 4096);
   std::vector<std::uint8_t> bytes;
   for (int i = 0; i < 9; ++i) bytes.insert(bytes.end(), {60, 0});
   const Image image = decodeBayer(view({BayerOrder::Rggb, 10, BayerPacking::Unpacked16}, 3, 3,
@@ -114,7 +117,52 @@ TEST(BayerFrame, BelowBlackClipsToZeroAndOddEdgesAreDropped) {
                                   BayerBlackLevels::uniform(kDefaultBlackLevel16));
   ASSERT_EQ(image.width, 1);
   ASSERT_EQ(image.height, 1);
-  for (int c = 0; c < 3; ++c) EXPECT_EQ(image.at(0, 0, c), 0);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(image.at(0, 0, c), linear(60, 64, 1023));
+    EXPECT_NEAR(linear16Value(image.at(0, 0, c), kDecodedBlack16), -4.0 / (1023 - 64), 1e-5);
+  }
+  // Only a sample further below black than the stored black clips (a black level near the top).
+  const Image far = decodeBayer(view({BayerOrder::Rggb, 10, BayerPacking::Unpacked16}, 3, 3,
+                                     bytes, 6),
+                                BayerBlackLevels::uniform(900 * 64.0));
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(far.at(0, 0, c), 0);
+}
+
+// A dark frame (the LED off, the room dark): every sample at the black level plus 0.3 codes,
+// with 2.5 codes of read noise (a Pi sensor's at 10 bits). Read as linear light, each channel's
+// mean is the truth within its standard error; clipped at black per pixel, as the decoder did
+// before, the mean is a whole code too bright (about 0.4 x the read noise), which is 2-3 % of a
+// channel near 3 % of full scale once the LED-off frame is subtracted.
+TEST(BayerFrame, ADarkFramesMeanIsUnbiasedWhereClippingAtBlackWasNot) {
+  const int width = 512, height = 512;
+  const double black = 64.0, largest = 1023.0, level = 0.3, readNoise = 2.5;
+  std::mt19937 random(44);
+  std::normal_distribution<double> noise(black + level, readNoise);
+  std::vector<std::uint16_t> codes(std::size_t(width) * height);
+  for (std::uint16_t& code : codes)
+    code = static_cast<std::uint16_t>(std::clamp(std::lround(noise(random)), 0L, 1023L));
+  const BayerFormat format{BayerOrder::Rggb, 10, BayerPacking::Csi2Packed};
+  const std::vector<std::uint8_t> bytes = packBayer(format, width, height, codes);
+  const Image image = decodeBayer(view(format, width, height, bytes,
+                                       minimalBayerStrideBytes(format, width)),
+                                  BayerBlackLevels::uniform(black * 64.0));
+  const double truth = level / (largest - black);
+  for (int c = 0; c < 3; ++c) {
+    double sum = 0.0, sum2 = 0.0, clippedSum = 0.0;
+    const double n = double(image.width) * image.height;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) {
+        const double v = linear16Value(image.at(x, y, c), kDecodedBlack16);
+        sum += v;
+        sum2 += v * v;
+        clippedSum += std::max(v, 0.0);
+      }
+    const double mean = sum / n;
+    const double standardError = std::sqrt((sum2 / n - mean * mean) / n);
+    EXPECT_LT(std::abs(mean - truth), 3.0 * standardError)
+        << "channel " << c << ": mean " << mean << ", truth " << truth << ", SE " << standardError;
+    EXPECT_GT(clippedSum / n - truth, 20.0 * standardError) << "channel " << c;
+  }
 }
 
 TEST(BayerFrame, ATruncatedBufferNamesTheFormatPlaneAndBytes) {
@@ -174,7 +222,8 @@ TEST(BayerFrame, PackingRoundTripsThroughTheDecoderForEveryFormat) {
           };
           EXPECT_EQ(image.at(x, y, 0), linear(code(0, 1), 0, largest)) << bayerFormatName(format);
           EXPECT_EQ(image.at(x, y, 2), linear(code(1, 0), 0, largest)) << bayerFormatName(format);
-          EXPECT_NEAR(image.at(x, y, 1), (code(0, 0) + code(1, 1)) / 2 * 65535.0 / largest, 0.51);
+          EXPECT_NEAR(image.at(x, y, 1), 4096 + (code(0, 0) + code(1, 1)) / 2 * 61439.0 / largest,
+                      0.51);
         }
     }
 }
@@ -210,6 +259,23 @@ TEST(BayerFrame, ThePiFivesCompressedRawIsNamedWithTheFallback) {
                     HasSubstr("processed stream")));
   EXPECT_THAT(undecodableRawReason("SRGGB10_IPU3"),
               AllOf(HasSubstr("SRGGB10_IPU3"), HasSubstr("processed stream")));
+}
+
+TEST(BayerFrame, APackedFormatsUnpackedTwinIsOneTheDecoderReads) {
+  EXPECT_EQ(unpackedRawFormatName("SRGGB10_CSI2P"), "SRGGB10");
+  EXPECT_EQ(unpackedRawFormatName("SGBRG12_CSI2P"), "SGBRG12");
+  // The Pi 5's compressed formats: what its frontend writes uncompressed, 16-bit words.
+  EXPECT_EQ(unpackedRawFormatName("BGGR_PISP_COMP1"), "SBGGR16");
+  EXPECT_EQ(unpackedRawFormatName("RGGB_PISP_COMP1"), "SRGGB16");
+  for (const char* twin : {"SRGGB10", "SGBRG12", "SBGGR16", "SRGGB16"}) {
+    const std::optional<BayerFormat> format = bayerFormatFromLibcameraName(twin);
+    ASSERT_TRUE(format) << twin;
+    EXPECT_EQ(format->packing, BayerPacking::Unpacked16) << twin;
+  }
+  EXPECT_FALSE(unpackedRawFormatName("SRGGB10"));
+  EXPECT_FALSE(unpackedRawFormatName("SRGGB10_IPU3"));
+  EXPECT_FALSE(unpackedRawFormatName("MONO_PISP_COMP1"));
+  EXPECT_FALSE(unpackedRawFormatName("YUYV"));
 }
 
 TEST(BayerFrame, TheSensorModeIsTheOneWhoseBinnedSizeFitsTheRequest) {

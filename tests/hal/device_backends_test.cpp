@@ -62,7 +62,7 @@ TEST(DeviceBackends, ListingModesOfABackendNotBuiltNamesItsOption) {
                 HasSubstr("-DSLICECAP_WITH_V4L2=ON"));
   }
   if (!isBuilt(DeviceBackend::Libcamera)) {
-    EXPECT_THAT(openingFails([] { libcameraModes(); }), HasSubstr("-DSLICECAP_WITH_LIBCAMERA=ON"));
+    EXPECT_THAT(openingFails([] { libcameraModes(1280, 720); }), HasSubstr("-DSLICECAP_WITH_LIBCAMERA=ON"));
   }
 }
 

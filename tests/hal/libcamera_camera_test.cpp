@@ -3,6 +3,7 @@
 // two live managers would.
 #include "slicecap/hal/libcamera_camera.hpp"
 
+#include <libcamera/color_space.h>
 #include <libcamera/formats.h>
 
 #include <gmock/gmock.h>
@@ -58,10 +59,32 @@ TEST(LibcameraCamera, LibcamerasRawFormatNamesMapToTheDecodersFormats) {
     EXPECT_TRUE(isRawFormatName(format.toString())) << format.toString();
     EXPECT_EQ(bayerFormatFromLibcameraName(format.toString()), expected) << format.toString();
   }
+  // The RAW negotiation asks for formats by name (PixelFormat::fromString), among them the
+  // unpacked twins a Pi 5 grants.
+  for (const libcamera::PixelFormat& twin : {f::SRGGB10, f::SBGGR12, f::SRGGB16, f::SGRBG16})
+    EXPECT_EQ(libcamera::PixelFormat::fromString(twin.toString()), twin) << twin.toString();
+  EXPECT_EQ(libcamera::PixelFormat::fromString(*unpackedRawFormatName("SRGGB10_CSI2P")), f::SRGGB10);
   EXPECT_TRUE(isRawFormatName(f::SRGGB10_IPU3.toString()));
   EXPECT_FALSE(bayerFormatFromLibcameraName(f::SRGGB10_IPU3.toString()));
   for (const libcamera::PixelFormat& processed : {f::YUYV, f::YUV420, f::RGB888, f::XRGB8888})
     EXPECT_FALSE(isRawFormatName(processed.toString())) << processed.toString();
+}
+
+// The colour spaces libcamera's ColorSpace names (the same in 0.0.3 and the Raspberry Pi fork):
+// a YUV stream is decoded by its own matrix and range, an RGB or RAW one has none to give.
+TEST(LibcameraCamera, AStreamsColourSpaceGivesItsYuvMatrixAndRange) {
+  using C = libcamera::ColorSpace;
+  using E = YuvEncoding;
+  EXPECT_EQ(yuvEncodingOf(C::Rec709), (E{YcbcrMatrix::Rec709, YuvRange::Limited}));
+  EXPECT_EQ(yuvEncodingOf(C::Sycc), (E{YcbcrMatrix::Rec601, YuvRange::Full}));
+  EXPECT_EQ(yuvEncodingOf(C::Smpte170m), (E{YcbcrMatrix::Rec601, YuvRange::Limited}));
+  EXPECT_EQ(yuvEncodingOf(C::Rec2020), (E{YcbcrMatrix::Rec2020, YuvRange::Limited}));
+  // The Pi 5's "rec709_full" (libpisp's backend_default_config.json).
+  C fullRec709 = C::Rec709;
+  fullRec709.range = C::Range::Full;
+  EXPECT_EQ(yuvEncodingOf(fullRec709), (E{YcbcrMatrix::Rec709, YuvRange::Full}));
+  EXPECT_FALSE(yuvEncodingOf(C::Srgb));
+  EXPECT_FALSE(yuvEncodingOf(C::Raw));
 }
 
 }  // namespace

@@ -90,12 +90,14 @@ struct StandardNoise {
 
 StandardNoise standardNoise(const SensorModel& model, const Frame& frame) {
   const double signal = kAmbientRate * kExposureUs * 1e-6;
-  const double fullScale = frame.image.bitDepth == 16 ? 65535.0 : 255.0;
+  const auto linear = [&frame](std::uint16_t sample) {
+    return frame.image.bitDepth == 16 ? linear16Value(sample, frame.black16) : sample / 255.0;
+  };
   StandardNoise noise;
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x)
       for (int c = 0; c < 3; ++c)
-        noise.z.push_back((frame.image.at(x, y, c) / fullScale - signal) /
+        noise.z.push_back((linear(frame.image.at(x, y, c)) - signal) /
                           predictedSigma(model, signal, c));
   return noise;
 }

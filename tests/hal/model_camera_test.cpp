@@ -179,7 +179,8 @@ TEST(ModelCamera, ItsRawStreamIsLinearPerRowThroughTheBayerDecoder) {
     const double expected = 0.01 * (2.0 + 20.0 * truth->rowOnFraction[row]);
     // One 10-bit code above the black level of 64 is 1/959 of full scale.
     for (int c = 0; c < 3; ++c)
-      EXPECT_NEAR(frame.image.at(10, row, c) / 65535.0, expected, 0.51 / 959) << row << " " << c;
+      EXPECT_NEAR(linear16Value(frame.image.at(10, row, c), frame.black16), expected, 0.51 / 959)
+          << row << " " << c;
   }
   EXPECT_LT(frame.image.at(10, 0, 1), frame.image.at(10, 47, 1));
 }
@@ -194,7 +195,7 @@ TEST(ModelCamera, ItsNoisyRawStreamAveragesToTheLightWithTheBlackLevelTakenOff) 
     double sum = 0.0, sumSquares = 0.0;
     for (int y = 0; y < 48; ++y)
       for (int x = 0; x < 64; ++x) {
-        const double v = frame.image.at(x, y, c) / 65535.0;
+        const double v = linear16Value(frame.image.at(x, y, c), frame.black16);
         sum += v;
         sumSquares += v * v;
       }

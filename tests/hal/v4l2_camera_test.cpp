@@ -25,6 +25,30 @@ TEST(V4l2Camera, ADeviceThatIsNotAV4l2NodeIsRefused) {
                   AllOf(HasSubstr("/dev/null"), HasSubstr("not a V4L2 device"))));
 }
 
+// The colour fields as the V4L2 documentation defines them ("Colorspaces", "Defining
+// Colorspaces in V4L2"): a DEFAULT encoding or quantization is the colorspace's own.
+TEST(V4l2Camera, AYuvStreamIsDecodedByTheColourSpaceTheDriverReports) {
+  using E = YuvEncoding;
+  // uvcvideo's default (no colour matching descriptor): sRGB, so BT.601 limited.
+  EXPECT_EQ(yuvEncodingOfV4l2(V4L2_COLORSPACE_SRGB, 0, 0, nullptr),
+            (E{YcbcrMatrix::Rec601, YuvRange::Limited}));
+  EXPECT_EQ(yuvEncodingOfV4l2(V4L2_COLORSPACE_JPEG, 0, 0, nullptr),
+            (E{YcbcrMatrix::Rec601, YuvRange::Full}));
+  EXPECT_EQ(yuvEncodingOfV4l2(V4L2_COLORSPACE_REC709, 0, 0, nullptr),
+            (E{YcbcrMatrix::Rec709, YuvRange::Limited}));
+  EXPECT_EQ(yuvEncodingOfV4l2(V4L2_COLORSPACE_REC709, V4L2_YCBCR_ENC_709,
+                              V4L2_QUANTIZATION_FULL_RANGE, nullptr),
+            (E{YcbcrMatrix::Rec709, YuvRange::Full}));
+  EXPECT_EQ(yuvEncodingOfV4l2(V4L2_COLORSPACE_BT2020, 0, 0, nullptr),
+            (E{YcbcrMatrix::Rec2020, YuvRange::Limited}));
+  // Said, not guessed: no colorspace at all, or an encoding the decoder does not have.
+  std::string why;
+  EXPECT_FALSE(yuvEncodingOfV4l2(V4L2_COLORSPACE_DEFAULT, 0, 0, &why));
+  EXPECT_THAT(why, HasSubstr("no colorspace"));
+  EXPECT_FALSE(yuvEncodingOfV4l2(V4L2_COLORSPACE_SMPTE240M, 0, 0, &why));
+  EXPECT_THAT(why, HasSubstr("encoding"));
+}
+
 // The buffer flags as the kernel's documentation defines them (struct v4l2_buffer): which clock
 // the timestamp is on, and which moment of the frame it marks.
 TEST(V4l2Timestamp, StartOfExposureIsTheTimestampItself) {

@@ -134,6 +134,8 @@ TEST(Recording, ReaderNamesTheFieldThatIsWrong) {
       {"camera.width_px", [](auto& j) { j["camera"]["width_px"] = kMaxCameraSidePx + 1; }},
       {"format_version", [](auto& j) { j["format_version"] = 99; }},
       {"decoding", [](auto& j) { j["decoding"] = "gamma"; }},
+      // These frames are 8-bit: a black above 0 is a linear16 recording's only.
+      {"decoding_black16", [](auto& j) { j["decoding_black16"] = 4096; }},
       {"decoding_curve", [](auto& j) { j["decoding"] = "measured-curve"; }},
       {"decoding_curve.points",
        [](auto& j) {
@@ -184,6 +186,27 @@ TEST(Recording, DecodingRoundTripsAndIsImpliedByTheEncodingWhenAbsent) {
   EXPECT_EQ(RecordedDecoding::defaultFor(PixelEncoding::Srgb8).kind, RecordedDecoding::Kind::Srgb);
   EXPECT_FALSE(RecordedDecoding::defaultFor(PixelEncoding::Srgb8).toneCurve());
   EXPECT_EQ(RecordedDecoding::defaultFor(PixelEncoding::Linear16).toneCurve()->name(), "linear");
+}
+
+TEST(Recording, ALinearRecordingsBlackRoundTripsAtVersionThree) {
+  const auto dir = test::freshTempDir() / "rec";
+  Recording header = smallHeader(PixelEncoding::Linear16);
+  header.decoding = RecordedDecoding{RecordedDecoding::Kind::Linear, std::nullopt, 4096};
+  RecordingWriter writer(dir, header);
+  writer.append(gradient(3, 16, 0), {"", 0, true, 100.0, 1.0});
+  const nlohmann::json manifest = readJsonFile(dir / kRecordingManifest);
+  EXPECT_EQ(manifest["decoding_black16"], 4096);
+  EXPECT_EQ(manifest["format_version"], 3);
+  const Recording read = readRecording(dir);
+  EXPECT_EQ(read, writer.recording());
+  ASSERT_TRUE(read.decoding);
+  EXPECT_EQ(read.decoding->black16, 4096);
+  // Another black is another decoding; one past the top is refused, naming the field.
+  EXPECT_FALSE((RecordedDecoding{RecordedDecoding::Kind::Linear, std::nullopt, 0} == *read.decoding));
+  nlohmann::json edited = manifest;
+  edited["decoding_black16"] = 65535;
+  writeJsonFileAtomically(dir / kRecordingManifest, edited);
+  EXPECT_NE(readError(dir).find("decoding_black16"), std::string::npos) << readError(dir);
 }
 
 TEST(Recording, CameraMayComeFromACalibrationFileInsideTheRecording) {

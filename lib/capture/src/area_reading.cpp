@@ -135,7 +135,7 @@ PixelSums sumAreaPixels(const hal::Frame& frame, const std::vector<HalfPlane>& e
           step = (codes[std::uint16_t(std::min(code + 1, 255))] -
                   codes[std::uint16_t(std::max(code - 1, 0))]) / 2.0;
         } else {
-          v = raw / 65535.0, step = step16;
+          v = hal::linear16Value(raw, frame.black16), step = step16;
         }
         sums.sum[c] += v;
         sums.variance[c] += noise.pixelVariance(v, gain) + step * step / 12.0;

@@ -1,6 +1,7 @@
 // The marker corners of every frame of recordings, as views for the camera calibration.
 #include "slicecap/capture/camera_calibration.hpp"
 #include "slicecap/capture/marker_detector.hpp"
+#include "slicecap/hal/recorded_frame.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/io/recording.hpp"
@@ -42,7 +43,7 @@ std::vector<CalibrationView> calibrationViewsOf(
         ++*unreadable;
         continue;
       }
-      frame.encoding = recording.encoding;
+      hal::setRecordedEncoding(frame, recording);
       CalibrationView view;
       view.source = (directory / entry.file).string();
       for (const DetectedMarker& marker : detector.detect(frame)) {

@@ -34,7 +34,7 @@ double LinearView::linear(int x, int y, int c, double clipFraction, bool* clippe
     return codes_[raw];
   }
   if (raw >= clipFraction * 65535.0) *clipped = true;
-  return raw / 65535.0;
+  return hal::linear16Value(raw, frame_.black16);
 }
 
 Rgb LinearView::at(const Eigen::Vector2d& px, double clipFraction, bool* clipped) const {

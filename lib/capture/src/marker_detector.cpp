@@ -118,6 +118,13 @@ std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame,
   image_u8_t* gray = state_->gray;
   const int used = image.channels >= 3 ? 3 : 1;
   const bool linear = image.bitDepth == 16;
+  // A RAW frame's black sits above 0 (Frame::black16): taken off, and the span above it
+  // stretched back to 0..65535, so black is black to the detector.
+  const int black = linear ? frame.black16 : 0;
+  const auto aboveBlack = [black](int mean) {
+    return black == 0 ? mean
+                      : int(std::int64_t{std::max(0, mean - black)} * 65535 / (65535 - black));
+  };
   const std::uint16_t* in = image.samples.data();
   // Each pixel is put on the 8-bit curve before a bin is averaged, so a binned edge lies where
   // the full-resolution one does (averaging linear light first would move it toward the dark side).
@@ -126,7 +133,7 @@ std::vector<DetectedMarker> MarkerDetector::detect(const hal::Frame& frame,
     for (int c = 0; c < used; ++c)
       sum += px[c];
     const int mean = sum / used;
-    return linear ? int{state_->linearToGray[mean]} : mean;
+    return linear ? int{state_->linearToGray[std::size_t(aboveBlack(mean))]} : mean;
   };
   const int binPixels = binX * binY;
   for (int y = 0; y < grayHeight; ++y) {

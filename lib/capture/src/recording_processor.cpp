@@ -39,7 +39,7 @@ hal::Frame frameOf(Image image, const io::Recording& recording, const io::Record
                    std::uint64_t sequence) {
   hal::Frame frame;
   frame.image = std::move(image);
-  frame.encoding = recording.encoding;
+  hal::setRecordedEncoding(frame, recording);
   frame.metadata = hal::metadataOf(entry, sequence);
   return frame;
 }

@@ -65,9 +65,10 @@ decoding = auto
 // The sensor's RAW stream.
 constexpr const char* kCameraRawDefaults = R"(# The sensor's RAW (Bayer) stream, black level off and 2 x 2 binned into linear light (half the
 # sensor mode's size: a camera module 3 asked for 1280x720 delivers 1152x648; calibrate at that
-# size): auto takes it where the camera offers a format slicecap decodes (10/12-bit, packed or
-# not; a Pi 5's compressed RAW is not, and the processed stream is used), on requires it, off
-# never takes it (docs/real-sensors.md).
+# size): auto takes it where the camera's validation grants a format slicecap decodes (10/12/16-
+# bit, packed or not; a Pi 5 turns packed RAW into its lossy compressed format, so the unpacked
+# 16-bit one is asked for and taken; the processed stream only when none is granted), on
+# requires it, off never takes it (docs/real-sensors.md).
 camera_raw = auto
 )";
 // With camera = model: the virtual rig.

@@ -36,6 +36,12 @@ struct FrameRecorder::State {
       std::lock_guard lock(mutex);
       wanted = decoding;
     }
+    // A RAW sweep's frames hold their black above 0 (Frame::black16): the recording says so, or
+    // a reader would take it for light; and one recording holds one black.
+    if (first.encoding == PixelEncoding::Linear16) {
+      if (!wanted) wanted = io::RecordedDecoding::defaultFor(first.encoding);
+      wanted->black16 = first.black16;
+    }
     if (std::filesystem::exists(directory / io::kRecordingManifest)) {
       writer.emplace(io::RecordingWriter::resume(directory));
       const io::Recording& held = writer->recording();
@@ -45,12 +51,15 @@ struct FrameRecorder::State {
             " frames; the camera now delivers " + std::string(toString(first.encoding)));
       const io::RecordedDecoding heldDecoding =
           held.decoding.value_or(io::RecordedDecoding::defaultFor(held.encoding));
+      const auto black = [](const io::RecordedDecoding& d) {
+        return d.black16 != 0 ? " above a black of " + std::to_string(d.black16) : std::string();
+      };
       if (wanted && !(*wanted == heldDecoding))
         throw std::invalid_argument(
             directory.string() + " holds frames decoded as " + io::toString(heldDecoding.kind) +
-            (heldDecoding.curve ? " (an earlier bracket's curve)" : "") + "; this sweep run decodes as " +
-            io::toString(wanted->kind) +
-            (wanted->curve ? " (its own bracket's curve)" : "") +
+            (heldDecoding.curve ? " (an earlier bracket's curve)" : "") + black(heldDecoding) +
+            "; this sweep run decodes as " + io::toString(wanted->kind) +
+            (wanted->curve ? " (its own bracket's curve)" : "") + black(*wanted) +
             ": one recording cannot hold both (redo the sweep to record it whole)");
     } else {
       header.encoding = first.encoding;

@@ -142,6 +142,18 @@ std::string undecodableRawReason(std::string_view name) {
          "SRGGB10/12_CSI2P in any CFA order): the processed stream is used instead";
 }
 
+std::optional<std::string> unpackedRawFormatName(std::string_view name) {
+  if (const std::optional<BayerFormat> format = bayerFormatFromLibcameraName(name);
+      format && format->packing == BayerPacking::Csi2Packed)
+    return bayerFormatName({format->order, format->bitDepth, BayerPacking::Unpacked16});
+  // RGGB_PISP_COMP1 and the other orders (and MONO_PISP_COMP1, which slicecap does not take).
+  if (const auto pisp = name.find("_PISP_COMP"); pisp != std::string_view::npos)
+    for (BayerOrder order : kOrders)
+      if (name.substr(0, pisp) == orderName(order))
+        return bayerFormatName({order, 16, BayerPacking::Unpacked16});
+  return std::nullopt;
+}
+
 std::size_t minimalBayerStrideBytes(const BayerFormat& format, int widthPx) {
   const auto width = static_cast<std::size_t>(std::max(widthPx, 0));
   if (format.packing == BayerPacking::Unpacked16) return 2 * width;
@@ -197,6 +209,9 @@ struct ChannelLevels {
   std::array<double, 4> offset{}, range{};
 };
 
+// The decoded samples' span above kDecodedBlack16: the sensor's largest code lands on 65535.
+constexpr double kDecodedSpan = 65535.0 - kDecodedBlack16;
+
 ChannelLevels channelLevels(const BayerFormat& format, const BayerBlackLevels& black,
                             const std::string& name) {
   const double largest = double((1 << format.bitDepth) - 1);
@@ -212,12 +227,15 @@ ChannelLevels channelLevels(const BayerFormat& format, const BayerBlackLevels& b
   return levels;
 }
 
-// One output row of RGB pixels from the two unpacked mosaic rows under it.
+// One output row of RGB pixels from the two unpacked mosaic rows under it. A sample is stored
+// kDecodedBlack16 above its black: read noise below black is kept, not clipped (a pixel's mean
+// over many frames, or an area's over many pixels, stays unbiased in the dark). Only a sample
+// further below black than the pedestal (about 20 times a Pi sensor's read noise) clips at 0.
 void decodeCellRow(const std::vector<std::uint16_t> (&rows)[2],
                    const std::array<std::array<int, 2>, 2>& channels, const ChannelLevels& levels,
                    int widthPx, std::uint16_t* out) {
-  const auto toLinear = [](double value) {
-    return static_cast<std::uint16_t>(std::clamp(value, 0.0, 65535.0) + 0.5);
+  const auto toStored = [](double value) {
+    return static_cast<std::uint16_t>(std::clamp(value + kDecodedBlack16, 0.0, 65535.0) + 0.5);
   };
   for (int x = 0; x < widthPx; ++x) {
     double value[4] = {};
@@ -225,11 +243,11 @@ void decodeCellRow(const std::vector<std::uint16_t> (&rows)[2],
       for (int dx = 0; dx < 2; ++dx) {
         const int c = channels[dy][dx];
         // Multiplied before divided: the top code lands on 65535 exactly.
-        value[c] = (rows[dy][2 * x + dx] - levels.offset[c]) * 65535.0 / levels.range[c];
+        value[c] = (rows[dy][2 * x + dx] - levels.offset[c]) * kDecodedSpan / levels.range[c];
       }
-    out[3 * x + 0] = toLinear(value[kR]);
-    out[3 * x + 1] = toLinear(0.5 * (value[kGr] + value[kGb]));
-    out[3 * x + 2] = toLinear(value[kB]);
+    out[3 * x + 0] = toStored(value[kR]);
+    out[3 * x + 1] = toStored(0.5 * (value[kGr] + value[kGb]));
+    out[3 * x + 2] = toStored(value[kB]);
   }
 }
 

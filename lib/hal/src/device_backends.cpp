@@ -84,9 +84,10 @@ std::shared_ptr<Camera> openLibcameraCamera([[maybe_unused]] const std::string& 
 #endif
 }
 
-std::vector<CameraModes> libcameraModes() {
+std::vector<CameraModes> libcameraModes([[maybe_unused]] int wantedWidthPx,
+                                        [[maybe_unused]] int wantedHeightPx) {
 #if SLICECAP_HAS_LIBCAMERA
-  return listLibcameraModes();
+  return listLibcameraModes(wantedWidthPx, wantedHeightPx);
 #else
   throw BackendNotBuilt(DeviceBackend::Libcamera);
 #endif

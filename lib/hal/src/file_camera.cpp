@@ -129,7 +129,7 @@ CaptureResult FileCamera::nextFrame(std::chrono::milliseconds timeout) {
                 std::to_string(frame.image.bitDepth) + "-bit, where the recording says " +
                 std::to_string(k.widthPx) + " x " + std::to_string(k.heightPx) + " " +
                 std::string(toString(s.recording.encoding)) + " gray or RGB"};
-  frame.encoding = s.recording.encoding;
+  setRecordedEncoding(frame, s.recording);
   frame.metadata = metadataOf(entry, sequence, timestampUs - entry.timestampUs);
   return {CaptureResult::Status::Frame, std::move(frame), ""};
 }

@@ -6,6 +6,7 @@
 #include <sys/eventfd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <stdexcept>
@@ -15,6 +16,48 @@
 namespace slicecap::hal {
 
 using namespace libcamera_parts;
+
+namespace {
+
+/// Sets the ISP's adaptive processing off in `controls`, each control only where the camera
+/// lists it (`offered`); returns the names of those it lacks. The processed stream is measured
+/// through one response curve and a per-channel ratio to the white references in the same frame:
+/// processing that changes with the image, the frame before or the white balance found would
+/// change that ratio from frame to frame.
+/// - AwbEnable off, with explicit ColourGains (1, 1): AWB turned off without gains freezes
+///   whatever gains the IPA held (the Pi's Awb::disableAuto keeps its last, from its initialise
+///   at 4000 K or an earlier run), which differ from one process or camera to the next. Unity
+///   gains are the sensor's own channel balance, the same for every sweep; a per-channel gain
+///   cancels in the window / white ratio anyway, so a neutral balance would buy nothing but a
+///   scene-dependent setting. (The Pi's IPA derives the colour temperature for its colour matrix
+///   and lens shading tables from the gains, ipa_base.cpp/awb.cpp setManualGains; unity gives
+///   the same tables every sweep.)
+/// - Sharpness 0: "no sharpening" (the Pi's sharpen algorithm, range 0..16, default 1): an edge
+///   filter mixes the window with its neighbours.
+/// - NoiseReductionMode off (controls::draft, the same name in Debian 12's 0.0.3 and the
+///   Raspberry Pi fork): the Pi 5's denoise mode Off sets no temporal denoise (denoise.cpp
+///   prepare), which otherwise blends the previous frame (the LED off) into this one.
+std::vector<std::string> lockIspProcessing(libcamera::ControlList& controls,
+                                           const libcamera::ControlInfoMap& offered) {
+  std::vector<std::string> lacking;
+  const auto has = [&offered, &lacking](const libcamera::ControlId& id) {
+    if (offered.find(&id) != offered.end()) return true;
+    lacking.push_back(id.name());
+    return false;
+  };
+  if (has(libcamera::controls::AwbEnable)) controls.set(libcamera::controls::AwbEnable, false);
+  if (has(libcamera::controls::ColourGains)) {
+    const std::array<float, 2> unity{1.0f, 1.0f};  // red, blue
+    controls.set(libcamera::controls::ColourGains, libcamera::Span<const float, 2>(unity));
+  }
+  if (has(libcamera::controls::Sharpness)) controls.set(libcamera::controls::Sharpness, 0.0f);
+  if (has(libcamera::controls::draft::NoiseReductionMode))
+    controls.set(libcamera::controls::draft::NoiseReductionMode,
+                 static_cast<std::int32_t>(libcamera::controls::draft::NoiseReductionModeOff));
+  return lacking;
+}
+
+}  // namespace
 
 LibcameraCamera::LibcameraCamera(const std::string& cameraId) : state_(std::make_unique<State>()) {
   state_->manager = sharedCameraManager();
@@ -65,7 +108,14 @@ void LibcameraCamera::start() {
   // Locked for the whole sweep: the capture relates frames to each other and to the white
   // reference, which a drifting auto exposure or white balance would break.
   libcamera::ControlList controls;
-  controls.set(libcamera::controls::AwbEnable, false);
+  const std::vector<std::string> lacking = lockIspProcessing(controls, state_->camera->controls());
+  // RAW frames bypass the ISP: only the processed stream depends on these controls.
+  if (!lacking.empty() && !state_->bayer) {
+    std::string names;
+    for (const std::string& control : lacking) names += (names.empty() ? "" : ", ") + control;
+    warnOnce(state_->name() + " has no " + names +
+             " control: its processed frames keep what the camera does there");
+  }
   if (state_->config.exposureUs || state_->config.gain)
     setManualExposure(controls, state_->config.exposureUs, state_->config.gain);
   state_->camera->requestCompleted.connect(state_.get(), &State::onRequestCompleted);
@@ -165,6 +215,7 @@ CaptureResult LibcameraCamera::nextFrame(std::chrono::milliseconds timeout) {
   try {
     if (state_->bayer) {
       frame.image = decodeBayer(state_->mosaicOf(*buffer), state_->blackLevelsOf(reported));
+      frame.black16 = kDecodedBlack16;
     } else {
       frame.image = toImage(state_->viewOf(*buffer));
     }

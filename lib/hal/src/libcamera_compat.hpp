@@ -1,5 +1,10 @@
 // The few places where Debian 12's libcamera 0.0.3 and the Raspberry Pi OS fork (0.1 and later)
-// differ in API, kept here so the camera source compiles against both.
+// differ in API, kept here so the camera source compiles against both. Checked to be spelled the
+// same in both, so used directly (0.0.3's headers and the fork's v0.7.1+rpt20260429
+// control_ids_*.yaml, color_space.h, stream.h, pixel_format.h): controls::draft::NoiseReductionMode
+// and NoiseReductionModeOff (draft in both), controls::Sharpness (float), controls::ColourGains
+// (Span<const float, 2>), ColorSpace's YcbcrEncoding and Range, StreamConfiguration::colorSpace
+// (std::optional<ColorSpace>) and PixelFormat::fromString.
 #pragma once
 
 #include <libcamera/camera.h>

@@ -1,5 +1,7 @@
 // The libcamera camera's stream choice: the RAW stream where the camera offers one slicecap
 // decodes (and camera_raw allows it), else the processed stream in a format slicecap reads.
+#include <libcamera/color_space.h>
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -10,46 +12,65 @@ namespace slicecap::hal {
 
 using namespace libcamera_parts;
 
+RawValidator libcamera_parts::rawValidator(libcamera::CameraConfiguration& configuration,
+                                           int bufferCount) {
+  return [&configuration, bufferCount](const std::string& format, std::pair<int, int> modePx) {
+    libcamera::StreamConfiguration& stream = configuration.at(0);
+    const libcamera::PixelFormat pixelFormat = libcamera::PixelFormat::fromString(format);
+    if (!pixelFormat.isValid()) return RawValidation{true, format, modePx};
+    stream.pixelFormat = pixelFormat;
+    stream.size = libcamera::Size(unsigned(modePx.first), unsigned(modePx.second));
+    stream.bufferCount = static_cast<unsigned>(std::max(bufferCount, 2));
+    // No flips: a transform would also change the CFA order of the samples.
+    libcamera_compat::keepSensorOrientation(configuration);
+    if (configuration.validate() == libcamera::CameraConfiguration::Invalid)
+      return RawValidation{true, format, modePx};
+    return RawValidation{false, stream.pixelFormat.toString(),
+                         {int(stream.size.width), int(stream.size.height)}};
+  };
+}
+
 libcamera_parts::RawAttempt LibcameraCamera::State::tryRaw(const CameraConfig& wanted) {
   RawAttempt attempt;
   auto generated = libcamera_compat::generateConfiguration(*camera, libcamera::StreamRole::Raw);
   if (!generated || generated->empty()) return attempt;
-  libcamera::StreamConfiguration& stream = generated->at(0);
+  const libcamera::StreamConfiguration& stream = generated->at(0);
   // A pipeline without RAW (uvcvideo) answers the Raw role with its processed formats: then
   // no RAW is offered and nothing is said.
   const std::vector<OfferedFormat> offered = offeredFormatsOf(stream);
   if (std::none_of(offered.begin(), offered.end(), [](const OfferedFormat& f) { return f.raw; }))
     return attempt;
+  // Every request is validated and the format validation leaves is checked, on every Pi: a Pi 5
+  // turns the packed format libcamera proposes into its lossy compressed one, and grants the
+  // unpacked twin that negotiateRawStream asks for next (camera_modes.hpp).
   const RawStreamChoice choice =
-      chooseRawStream(offered, stream.pixelFormat.toString(), wanted.widthPx, wanted.heightPx);
+      negotiateRawStream(offered, stream.pixelFormat.toString(), wanted.widthPx,
+                         wanted.heightPx, rawValidator(*generated, wanted.bufferCount));
   if (choice.format.empty()) {
     attempt.reason = choice.reason;
     return attempt;
   }
-  // The offered PixelFormat whose name was chosen (the choice is made on names, shared with
-  // the hardware check).
-  libcamera::PixelFormat chosen;
-  for (const libcamera::PixelFormat& format : stream.formats().pixelformats())
-    if (format.toString() == choice.format) chosen = format;
-  const std::pair<int, int> mode = choice.modePx;
-  stream.pixelFormat = chosen;
-  stream.size = libcamera::Size(unsigned(mode.first), unsigned(mode.second));
-  stream.bufferCount = static_cast<unsigned>(std::max(wanted.bufferCount, 2));
-  // No flips: a transform would also change the CFA order of the samples.
-  libcamera_compat::keepSensorOrientation(*generated);
-  if (generated->validate() == libcamera::CameraConfiguration::Invalid) {
-    attempt.reason = "libcamera refused the RAW stream " + stream.toString() +
-                     ": the processed stream is used instead";
-    return attempt;
-  }
-  const std::string validated = stream.pixelFormat.toString();
-  attempt.format = bayerFormatFromLibcameraName(validated);
-  if (!attempt.format) {
-    attempt.reason = undecodableRawReason(validated);
-    return attempt;
-  }
+  // The last validation was the granted request: `generated` holds it.
+  attempt.format = bayerFormatFromLibcameraName(choice.format);
+  attempt.notes = choice.notes;
   attempt.configuration = std::move(generated);
   return attempt;
+}
+
+std::optional<YuvEncoding> yuvEncodingOf(const libcamera::ColorSpace& colorSpace) {
+  const YuvRange range =
+      colorSpace.range == libcamera::ColorSpace::Range::Full ? YuvRange::Full : YuvRange::Limited;
+  switch (colorSpace.ycbcrEncoding) {
+    case libcamera::ColorSpace::YcbcrEncoding::Rec601:
+      return YuvEncoding{YcbcrMatrix::Rec601, range};
+    case libcamera::ColorSpace::YcbcrEncoding::Rec709:
+      return YuvEncoding{YcbcrMatrix::Rec709, range};
+    case libcamera::ColorSpace::YcbcrEncoding::Rec2020:
+      return YuvEncoding{YcbcrMatrix::Rec2020, range};
+    case libcamera::ColorSpace::YcbcrEncoding::None:
+      break;
+  }
+  return std::nullopt;
 }
 
 namespace {
@@ -99,7 +120,15 @@ ConfigResult LibcameraCamera::configure(CameraConfig& config) {
     if (raw.configuration) {
       // A pipeline that validates a RAW-only configuration may still refuse to apply it.
       const int result = state_->camera->configure(raw.configuration.get());
-      if (result == 0) return configureRaw(config, std::move(raw.configuration), *raw.format);
+      if (result == 0) {
+        // What validation changed (a Pi 5's packed RAW replaced): said once and in the result.
+        for (const std::string& note : raw.notes) {
+          warnOnce(state_->name() + ": RAW " + note);
+          adjustments.push_back("RAW " + note);
+        }
+        return configureRaw(config, std::move(raw.configuration), *raw.format,
+                            std::move(adjustments));
+      }
       raw.reason = "libcamera could not apply the RAW stream " +
                    raw.configuration->at(0).toString() + " (" + std::strerror(-result) +
                    "): the processed stream is used instead";
@@ -126,7 +155,7 @@ ConfigResult LibcameraCamera::State::configureProcessed(CameraConfig& cameraConf
       firstReadableFormat(stream.formats().pixelformats());
   if (!chosen)
     return {ConfigResult::Status::Invalid,
-            name() + " offers none of YUYV, BGR888, RGB888, XRGB8888, YUV420"};
+            name() + " offers none of BGR888, RGB888, XRGB8888, YUYV, YUV420"};
   stream.pixelFormat = *chosen;
   stream.size = libcamera::Size(static_cast<unsigned>(cameraConfig.widthPx),
                                 static_cast<unsigned>(cameraConfig.heightPx));
@@ -147,11 +176,30 @@ ConfigResult LibcameraCamera::State::configureProcessed(CameraConfig& cameraConf
     return {ConfigResult::Status::Invalid,
             name() + " changed the format to " + stream.pixelFormat.toString() +
                 ", which slicecap cannot read"};
+  // A YUV stream is decoded by the colour space validation left in it; without one its matrix
+  // and range are unknown, and a wrong guess is far off (Rec.709 read as BT.601: a saturated
+  // red's R 233 of 255; full range read as limited: a grey at 200 as 214): refused, not guessed.
+  std::optional<YuvEncoding> streamYuv;
+  if (isYuv(*streamLayout)) {
+    streamYuv = stream.colorSpace ? yuvEncodingOf(*stream.colorSpace) : std::nullopt;
+    if (!streamYuv)
+      return {ConfigResult::Status::Invalid,
+              name() + " reports " +
+                  (stream.colorSpace ? "the colour space " + stream.colorSpace->toString() +
+                                           ", which has no YCbCr matrix,"
+                                     : std::string("no colour space")) +
+                  " for its " + stream.pixelFormat.toString() +
+                  " stream: its YCbCr matrix and range are unknown, and slicecap does not guess "
+                  "them (a camera that offers RGB, or RAW with camera_raw = auto, avoids it)"};
+    warnOnce(name() + ": its " + stream.pixelFormat.toString() + " stream is decoded as " +
+             toString(*streamYuv) + " (colour space " + stream.colorSpace->toString() + ")");
+  }
   if (const int result = camera->configure(configuration.get()); result != 0)
     fail("cannot apply the configuration " + stream.toString(), result);
 
   adoptProcessedStream(stream, cameraConfig, adjustments);
   layout = *streamLayout;
+  yuv = streamYuv;
   strideBytes = stream.stride;
   config = cameraConfig;
   configured = true;
@@ -160,9 +208,8 @@ ConfigResult LibcameraCamera::State::configureProcessed(CameraConfig& cameraConf
 
 ConfigResult LibcameraCamera::configureRaw(
     CameraConfig& config, std::unique_ptr<libcamera::CameraConfiguration> configuration,
-    const BayerFormat& format) {
+    const BayerFormat& format, std::vector<std::string> adjustments) {
   const libcamera::StreamConfiguration& stream = configuration->at(0);
-  std::vector<std::string> adjustments;
   const int width = int(stream.size.width) / 2, height = int(stream.size.height) / 2;
   if (width != config.widthPx || height != config.heightPx)
     adjustments.push_back("size " + std::to_string(config.widthPx) + "x" +

@@ -66,6 +66,7 @@ RawFrameView LibcameraCamera::State::viewOf(const libcamera::FrameBuffer& buffer
   const std::vector<std::span<const std::uint8_t>>& spans = planes.at(&buffer);
   RawFrameView raw;
   raw.layout = layout;
+  raw.yuv = yuv;
   raw.widthPx = config.widthPx;
   raw.heightPx = config.heightPx;
   raw.strideBytes[0] = strideBytes;

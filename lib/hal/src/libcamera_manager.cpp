@@ -73,6 +73,7 @@ std::vector<OfferedFormat> offeredFormatsOf(const libcamera::StreamConfiguration
 }  // namespace libcamera_parts
 
 using libcamera_parts::offeredFormatsOf;
+using libcamera_parts::rawValidator;
 using libcamera_parts::sharedCameraManager;
 
 std::vector<std::string> listLibcameraCameras() {
@@ -83,7 +84,7 @@ std::vector<std::string> listLibcameraCameras() {
   return ids;
 }
 
-std::vector<CameraModes> listLibcameraModes() {
+std::vector<CameraModes> listLibcameraModes(int wantedWidthPx, int wantedHeightPx) {
   const std::shared_ptr<libcamera::CameraManager> manager = sharedCameraManager();
   std::vector<CameraModes> cameras;
   for (const std::shared_ptr<libcamera::Camera>& camera : manager->cameras()) {
@@ -98,6 +99,12 @@ std::vector<CameraModes> listLibcameraModes() {
         if (format.raw) modes.formats.push_back(std::move(format));
       if (isRawFormatName(raw->at(0).pixelFormat.toString()))
         modes.proposedRawFormat = raw->at(0).pixelFormat.toString();
+      // What a sweep's configure would be granted (validation needs no acquire either).
+      if (std::any_of(modes.formats.begin(), modes.formats.end(),
+                      [](const OfferedFormat& format) { return format.raw; }))
+        modes.validatedRaw =
+            negotiateRawStream(modes.formats, modes.proposedRawFormat, wantedWidthPx,
+                               wantedHeightPx, rawValidator(*raw, 2));
     }
     if (auto video = libcamera_compat::generateConfiguration(*camera, libcamera::StreamRole::VideoRecording);
         video && !video->empty())

@@ -40,11 +40,15 @@ struct FormatChoice {
   RawLayout layout;
 };
 
-/// libcamera names formats by DRM fourcc (little-endian words): RGB888 is B,G,R in memory.
-inline const FormatChoice kFormats[] = {{libcamera::formats::YUYV, RawLayout::Yuyv},
-                                        {libcamera::formats::BGR888, RawLayout::Rgb24},
+/// The processed formats slicecap reads, best first: RGB before YUV, because an RGB stream is
+/// the ISP's R'G'B' itself (the Raspberry Pi pipelines give RGB streams the YUV colour space
+/// with YcbcrEncoding None and full range, pipeline_base.cpp validateColorSpaces), while a YUV
+/// one must be decoded by a matrix and range the camera has to report. libcamera names formats
+/// by DRM fourcc (little-endian words): RGB888 is B,G,R in memory.
+inline const FormatChoice kFormats[] = {{libcamera::formats::BGR888, RawLayout::Rgb24},
                                         {libcamera::formats::RGB888, RawLayout::Bgr24},
                                         {libcamera::formats::XRGB8888, RawLayout::Bgrx32},
+                                        {libcamera::formats::YUYV, RawLayout::Yuyv},
                                         {libcamera::formats::YUV420, RawLayout::Yuv420}};
 
 inline std::optional<RawLayout> layoutOf(const libcamera::PixelFormat& format) {
@@ -64,7 +68,13 @@ struct RawAttempt {
   std::unique_ptr<libcamera::CameraConfiguration> configuration;
   std::optional<BayerFormat> format;
   std::string reason;
+  std::vector<std::string> notes;  ///< what validation changed on the way (RawStreamChoice)
 };
+
+/// Validates `configuration`'s one stream as a RAW request (camera_modes.hpp's RawValidator):
+/// the format by libcamera's name, the mode, `bufferCount` buffers (2 at least), no flips.
+/// Borrows `configuration`, which holds the last request validated.
+RawValidator rawValidator(libcamera::CameraConfiguration& configuration, int bufferCount);
 
 struct Mapping {
   void* start = MAP_FAILED;
@@ -94,6 +104,7 @@ struct LibcameraCamera::State {
   std::map<const libcamera::FrameBuffer*, std::vector<std::span<const std::uint8_t>>> planes;
   CameraConfig config;
   RawLayout layout = RawLayout::Yuyv;
+  std::optional<YuvEncoding> yuv;    // a YUV stream's matrix and range (its colour space)
   std::optional<BayerFormat> bayer;  // RAW: frames are decoded mosaics of rawSize
   libcamera::Size rawSize;
   std::size_t strideBytes = 0;

@@ -256,9 +256,11 @@ struct ModelCamera::State {
     Frame frame = emptyFrame();
     std::vector<std::uint16_t> mosaic(raw ? values / 3 * 4 : 0);
     exposeRows(captured, *light, truth, frame, mosaic);
-    if (raw)
+    if (raw) {
       frame.image = model_exposure::decodedMosaic(*model.rawFormat, width, height,
                                                   model.rawBlackLevel16, mosaic);
+      frame.black16 = kDecodedBlack16;  // decodeBayer's, as a real camera's RAW frame
+    }
     fillMetadata(frame, captured, truth);
     truths[captured.sequence] = std::move(truth);
     while (truths.size() > 256) truths.erase(truths.begin());

@@ -2,7 +2,9 @@
 #include "slicecap/hal/raw_frame.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
+#include <utility>
 
 namespace slicecap::hal {
 namespace {
@@ -15,16 +17,45 @@ int planeHeight(RawLayout layout, int heightPx, int plane) {
 
 std::uint16_t clampByte(int value) { return static_cast<std::uint16_t>(std::clamp(value, 0, 255)); }
 
-/// BT.601 limited range (16-235 luma, 16-240 chroma), the default of UVC cameras and of
-/// libcamera's YUV outputs, in 8.8 fixed point.
-void yuvToRgb(int y, int u, int v, std::uint16_t* rgb) {
-  const int c = 298 * (y - 16);
-  const int d = u - 128;
-  const int e = v - 128;
-  rgb[0] = clampByte((c + 409 * e + 128) >> 8);
-  rgb[1] = clampByte((c - 100 * d - 208 * e + 128) >> 8);
-  rgb[2] = clampByte((c + 516 * d + 128) >> 8);
-}
+/// Y'CbCr to R'G'B' by the inverse of the matrix's equations (E'Y = Kr R' + Kg G' + Kb B',
+/// E'Pb = (B' - E'Y) / (2 (1 - Kb)), E'Pr = (R' - E'Y) / (2 (1 - Kr))), the range's offsets and
+/// scales folded in, in 16.16 fixed point (within 1/256 of a code of the exact value).
+class YuvDecoder {
+ public:
+  explicit YuvDecoder(YuvEncoding encoding) {
+    const auto [kr, kb] = lumaCoefficients(encoding.matrix);
+    const double kg = 1.0 - kr - kb;
+    const bool limited = encoding.range == YuvRange::Limited;
+    yOffset_ = limited ? 16 : 0;
+    const double yScale = limited ? 255.0 / 219.0 : 1.0;
+    const double cScale = limited ? 255.0 / 224.0 : 1.0;
+    const auto fixed = [](double v) { return static_cast<int>(std::lround(v * 65536.0)); };
+    y_ = fixed(yScale);
+    rv_ = fixed(cScale * 2.0 * (1.0 - kr));
+    bu_ = fixed(cScale * 2.0 * (1.0 - kb));
+    gu_ = fixed(cScale * 2.0 * (1.0 - kb) * kb / kg);
+    gv_ = fixed(cScale * 2.0 * (1.0 - kr) * kr / kg);
+  }
+
+  void operator()(int y, int u, int v, std::uint16_t* rgb) const {
+    const int luma = y_ * (y - yOffset_) + 32768;  // + one half: rounded, not truncated
+    const int d = u - 128, e = v - 128;
+    rgb[0] = clampByte((luma + rv_ * e) >> 16);
+    rgb[1] = clampByte((luma - gu_ * d - gv_ * e) >> 16);
+    rgb[2] = clampByte((luma + bu_ * d) >> 16);
+  }
+
+ private:
+  static std::pair<double, double> lumaCoefficients(YcbcrMatrix matrix) {
+    switch (matrix) {
+      case YcbcrMatrix::Rec601: return {0.299, 0.114};
+      case YcbcrMatrix::Rec709: return {0.2126, 0.0722};
+      case YcbcrMatrix::Rec2020: return {0.2627, 0.0593};
+    }
+    return {0.299, 0.114};
+  }
+  int yOffset_ = 16, y_ = 0, rv_ = 0, bu_ = 0, gu_ = 0, gv_ = 0;
+};
 
 void checkPlanes(const RawFrameView& raw) {
   if (raw.widthPx <= 0 || raw.heightPx <= 0)
@@ -46,6 +77,15 @@ void checkPlanes(const RawFrameView& raw) {
 }
 
 }  // namespace
+
+std::string toString(YuvEncoding encoding) {
+  const char* matrix = encoding.matrix == YcbcrMatrix::Rec601   ? "Rec.601"
+                       : encoding.matrix == YcbcrMatrix::Rec709 ? "Rec.709"
+                                                                : "Rec.2020";
+  return std::string(matrix) + (encoding.range == YuvRange::Full ? " full range" : " limited range");
+}
+
+bool isYuv(RawLayout layout) { return layout == RawLayout::Yuyv || layout == RawLayout::Yuv420; }
 
 PixelEncoding encodingOf(RawLayout layout) {
   return layout == RawLayout::Y16 ? PixelEncoding::Linear16 : PixelEncoding::Srgb8;
@@ -80,6 +120,10 @@ std::string_view toString(RawLayout layout) {
 
 Image toImage(const RawFrameView& raw) {
   checkPlanes(raw);
+  if (isYuv(raw.layout) && !raw.yuv)
+    throw RawFrameError(std::string(toString(raw.layout)) +
+                        " frame without its YCbCr matrix and range: not decoded by a guess");
+  const YuvDecoder yuvToRgb(raw.yuv.value_or(YuvEncoding{}));
   Image image;
   image.width = raw.widthPx;
   image.height = raw.heightPx;

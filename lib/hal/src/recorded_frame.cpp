@@ -27,6 +27,13 @@ FrameMetadata metadataOf(const io::RecordedFrame& entry, std::uint64_t sequence,
   return m;
 }
 
+void setRecordedEncoding(Frame& frame, const io::Recording& recording) {
+  frame.encoding = recording.encoding;
+  frame.black16 = recording.encoding == PixelEncoding::Linear16 && recording.decoding
+                      ? recording.decoding->black16
+                      : 0;
+}
+
 std::optional<io::RecordedLedExposure> recordedLedExposure(const FrameMetadata& metadata,
                                                            std::int64_t shiftUs) {
   if (!metadata.ledExposure) return std::nullopt;

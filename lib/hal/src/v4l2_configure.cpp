@@ -37,9 +37,10 @@ std::vector<FormatChoice> bayerFormats() {
 /// be part of every measured value.
 std::vector<FormatChoice> preferredFormats(PixelEncoding encoding, RawCapture raw) {
   if (raw == RawCapture::On) return bayerFormats();
-  std::vector<FormatChoice> formats = {{V4L2_PIX_FMT_YUYV, RawLayout::Yuyv},
-                                       {V4L2_PIX_FMT_RGB24, RawLayout::Rgb24},
+  // RGB before YUV: a YUV stream needs the driver's word on its matrix and range.
+  std::vector<FormatChoice> formats = {{V4L2_PIX_FMT_RGB24, RawLayout::Rgb24},
                                        {V4L2_PIX_FMT_BGR24, RawLayout::Bgr24},
+                                       {V4L2_PIX_FMT_YUYV, RawLayout::Yuyv},
                                        {V4L2_PIX_FMT_YUV420, RawLayout::Yuv420},
                                        {V4L2_PIX_FMT_GREY, RawLayout::Grey8}};
   const FormatChoice y16{V4L2_PIX_FMT_Y16, RawLayout::Y16};
@@ -175,6 +176,39 @@ void adoptSetGain(std::optional<std::int32_t> set, CameraConfig& config,
 
 }  // namespace
 
+std::optional<YuvEncoding> yuvEncodingOfV4l2(std::uint32_t colorspace, std::uint32_t ycbcrEncoding,
+                                             std::uint32_t quantization, std::string* why) {
+  const auto fail = [why](std::string text) {
+    if (why) *why = std::move(text);
+    return std::nullopt;
+  };
+  if (colorspace == V4L2_COLORSPACE_DEFAULT)
+    return fail("the driver reports no colorspace (V4L2_COLORSPACE_DEFAULT)");
+  if (ycbcrEncoding == V4L2_YCBCR_ENC_DEFAULT)
+    ycbcrEncoding = V4L2_MAP_YCBCR_ENC_DEFAULT(colorspace);
+  if (quantization == V4L2_QUANTIZATION_DEFAULT)
+    quantization = V4L2_MAP_QUANTIZATION_DEFAULT(false, colorspace, ycbcrEncoding);
+  YuvEncoding encoding;
+  switch (ycbcrEncoding) {
+    case V4L2_YCBCR_ENC_601:
+    case V4L2_YCBCR_ENC_XV601:
+      encoding.matrix = YcbcrMatrix::Rec601;
+      break;
+    case V4L2_YCBCR_ENC_709:
+    case V4L2_YCBCR_ENC_XV709:
+      encoding.matrix = YcbcrMatrix::Rec709;
+      break;
+    case V4L2_YCBCR_ENC_BT2020:
+      encoding.matrix = YcbcrMatrix::Rec2020;
+      break;
+    default:
+      return fail("its Y'CbCr encoding " + std::to_string(ycbcrEncoding) +
+                  " (v4l2_ycbcr_encoding) is not one slicecap decodes");
+  }
+  encoding.range = quantization == V4L2_QUANTIZATION_FULL_RANGE ? YuvRange::Full : YuvRange::Limited;
+  return encoding;
+}
+
 ConfigResult V4l2Camera::configure(CameraConfig& config) {
   if (state_->streaming) throw std::logic_error("V4l2Camera::configure while streaming");
   const std::vector<std::uint32_t> offered = offeredFormats(state_->fd);
@@ -189,8 +223,22 @@ ConfigResult V4l2Camera::configure(CameraConfig& config) {
     return {ConfigResult::Status::Invalid,
             "the driver replaced " + fourccText(chosen->fourcc) + " by " +
                 fourccText(format.fmt.pix.pixelformat)};
+  // A YUV stream is decoded by the colour space the driver reports, never by a guess.
+  std::optional<YuvEncoding> yuv;
+  if (isYuv(chosen->layout)) {
+    std::string why;
+    // The extended fields (ycbcr_enc, quantization) count only where the kernel marks them.
+    const bool extended = format.fmt.pix.priv == V4L2_PIX_FMT_PRIV_MAGIC;
+    yuv = yuvEncodingOfV4l2(format.fmt.pix.colorspace, extended ? format.fmt.pix.ycbcr_enc : 0,
+                            extended ? format.fmt.pix.quantization : 0, &why);
+    if (!yuv)
+      return {ConfigResult::Status::Invalid,
+              state_->device + ": " + fourccText(chosen->fourcc) + ": " + why +
+                  ": its YCbCr matrix and range are unknown, and slicecap does not guess them"};
+  }
   adoptGrantedFormat(*chosen, format, config, adjustments);
   state_->layout = chosen->layout;
+  state_->yuv = yuv;
   state_->bayer = chosen->bayer;
   state_->strideBytes = strideBytesOf(*chosen, format, config.widthPx);
   state_->imageBytes = format.fmt.pix.sizeimage;

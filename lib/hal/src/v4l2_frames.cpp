@@ -17,6 +17,7 @@ CaptureResult V4l2Camera::State::frameOf(const v4l2_buffer& buffer, bool exposed
   const MappedBuffer& mapped = buffers.at(buffer.index);
   RawFrameView raw;
   raw.layout = layout;
+  raw.yuv = yuv;
   raw.widthPx = config.widthPx;
   raw.heightPx = config.heightPx;
   const std::size_t used = buffer.bytesused != 0 ? buffer.bytesused : mapped.length;
@@ -47,6 +48,7 @@ CaptureResult V4l2Camera::State::frameOf(const v4l2_buffer& buffer, bool exposed
       mosaic.bytes = raw.planes[0];
       mosaic.strideBytes = strideBytes;
       frame.image = decodeBayer(mosaic, BayerBlackLevels::uniform(kDefaultBlackLevel16));
+      frame.black16 = kDecodedBlack16;
     } else {
       frame.image = toImage(raw);
     }

@@ -37,6 +37,7 @@ struct V4l2Camera::State {
   bool streaming = false;
   CameraConfig config;
   RawLayout layout = RawLayout::Yuyv;
+  std::optional<YuvEncoding> yuv;    // a YUV stream's matrix and range, as the driver says
   std::optional<BayerFormat> bayer;  // RAW: the mosaic is twice the frame's size
   std::size_t strideBytes = 0;
   std::size_t imageBytes = 0;

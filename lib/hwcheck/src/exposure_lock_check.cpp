@@ -17,7 +17,8 @@ double brightness(const hal::Frame& frame, const WhiteRows* whites) {
   // change in level even on a bent curve (sRGB: the nearest a curve can be without measuring).
   std::size_t n = 0;
   for (std::size_t i = 0; i < s.size(); i += 7, ++n)
-    sum += frame.encoding == PixelEncoding::Srgb8 ? codes[s[i]] : s[i] / 65535.0;
+    sum += frame.encoding == PixelEncoding::Srgb8 ? codes[s[i]]
+                                                  : hal::linear16Value(s[i], frame.black16);
   return n ? sum / double(n) : 0.0;
 }
 

@@ -23,7 +23,9 @@ PixelValue valueOf(const hal::Frame& frame, const capture::CodeTable& codes, int
                    int channel) {
   const std::size_t at = (std::size_t(row) * frame.image.width + col) * 3 + std::size_t(channel);
   const int code = frame.image.samples[at];
-  if (frame.encoding != PixelEncoding::Srgb8) return {code / 65535.0, 1.0 / (12.0 * 65535.0 * 65535.0)};
+  if (frame.encoding != PixelEncoding::Srgb8)
+    return {hal::linear16Value(std::uint16_t(code), frame.black16),
+            1.0 / (12.0 * 65535.0 * 65535.0)};
   const double below = codes[std::max(code - 1, 0)], above = codes[std::min(code + 1, 255)];
   const double step = (above - below) / (code > 0 && code < 255 ? 2.0 : 1.0);
   return {codes[code], step * step / 12.0};

@@ -77,7 +77,8 @@ double pixelSum(const hal::Frame& frame, const capture::CodeTable& codes, int ro
   const std::size_t at = (std::size_t(row) * frame.image.width + col) * 3;
   const auto& s = frame.image.samples;
   if (frame.encoding == PixelEncoding::Srgb8) return codes[s[at]] + codes[s[at + 1]] + codes[s[at + 2]];
-  return (double(s[at]) + s[at + 1] + s[at + 2]) / 65535.0;
+  return hal::linear16Value(s[at], frame.black16) + hal::linear16Value(s[at + 1], frame.black16) +
+         hal::linear16Value(s[at + 2], frame.black16);
 }
 }  // namespace
 

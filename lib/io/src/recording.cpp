@@ -21,7 +21,8 @@ std::optional<ToneCurve> RecordedDecoding::toneCurve() const {
 }
 
 bool operator==(const RecordedDecoding& a, const RecordedDecoding& b) {
-  if (a.kind != b.kind || a.curve.has_value() != b.curve.has_value()) return false;
+  if (a.kind != b.kind || a.curve.has_value() != b.curve.has_value() || a.black16 != b.black16)
+    return false;
   return !a.curve || (a.curve->name() == b.curve->name() && a.curve->points() == b.curve->points());
 }
 
@@ -85,13 +86,20 @@ RecordedLedExposure ledExposureFromJson(const json& value, const Location& at) {
   return e;
 }
 
+// The version a manifest is written at: the recording's, raised to what its fields need (a
+// decoding needs a reader that knows it, version 2; a decoding's black, version 3).
+int manifestVersion(const Recording& r) {
+  if (r.decoding && r.decoding->black16 != 0) return std::max(r.formatVersion, 3);
+  if (r.decoding) return std::max(r.formatVersion, 2);
+  return r.formatVersion;
+}
+
 json toJson(const Recording& r) {
   json frames = json::array();
   for (const RecordedFrame& f : r.frames)
     frames.push_back(frameToJson(f));
   json out = {{"format", kFormatName},
-              // A decoding needs a reader that knows it (version 2).
-              {"format_version", r.decoding ? std::max(r.formatVersion, 2) : r.formatVersion},
+              {"format_version", manifestVersion(r)},
               {"created_by", r.createdBy},
               {"camera", r.calibrationFile ? json{{"calibration_file", *r.calibrationFile}}
                                            : cameraToJson(r.camera)},
@@ -104,6 +112,7 @@ json toJson(const Recording& r) {
         points.push_back({linear, encoded});
       out["decoding_curve"] = {{"name", r.decoding->curve->name()}, {"points", points}};
     }
+    if (r.decoding->black16 != 0) out["decoding_black16"] = r.decoding->black16;
   }
   if (r.slice) {
     out["slice"] = {{"kind", std::string(toString(r.slice->id.kind))},
@@ -148,10 +157,13 @@ RecordedSlice sliceFromJson(const json& value, const Location& at) {
   return slice;
 }
 
-// `decoding` and, for a measured curve, `decoding_curve`: {name, points: [[linear, encoded]...]}.
+// `decoding` (absent: the encoding's default) and, for a measured curve, `decoding_curve`:
+// {name, points: [[linear, encoded]...]}; a linear16 recording's `decoding_black16`.
 RecordedDecoding decodingFromJson(const json& root, PixelEncoding encoding, const Location& at) {
   namespace f = json_fields;
-  const std::string text = f::string(root, "decoding", at);
+  const std::string text = root.contains("decoding")
+                               ? f::string(root, "decoding", at)
+                               : toString(RecordedDecoding::defaultFor(encoding).kind);
   RecordedDecoding decoding;
   if (text == "srgb") decoding.kind = RecordedDecoding::Kind::Srgb;
   else if (text == "measured-curve") decoding.kind = RecordedDecoding::Kind::MeasuredCurve;
@@ -159,6 +171,13 @@ RecordedDecoding decodingFromJson(const json& root, PixelEncoding encoding, cons
   else (at / "decoding").fail("expected \"srgb\", \"measured-curve\" or \"linear\", got \"" + text + "\"");
   if (encoding == PixelEncoding::Linear16 && decoding.kind != RecordedDecoding::Kind::Linear)
     (at / "decoding").fail("linear16 frames are linear, not \"" + text + "\"");
+  if (root.contains("decoding_black16")) {
+    if (encoding != PixelEncoding::Linear16)
+      (at / "decoding_black16").fail("only linear16 frames have a black above 0");
+    const std::int64_t black = f::integer(root, "decoding_black16", at);
+    if (black < 0 || black > 65534) (at / "decoding_black16").fail("expected 0..65534");
+    decoding.black16 = static_cast<std::uint16_t>(black);
+  }
   if (decoding.kind != RecordedDecoding::Kind::MeasuredCurve) return decoding;
   const Location curveAt = at / "decoding_curve";
   const json& curve = f::object(f::member(root, "decoding_curve", at), curveAt);
@@ -277,7 +296,8 @@ Recording readRecording(const std::filesystem::path& input) {
   if (!parsed)
     (at / "pixel_encoding").fail("expected \"srgb8\" or \"linear16\", got \"" + encoding + "\"");
   r.encoding = *parsed;
-  if (root.contains("decoding")) r.decoding = decodingFromJson(root, r.encoding, at);
+  if (root.contains("decoding") || root.contains("decoding_black16"))
+    r.decoding = decodingFromJson(root, r.encoding, at);
   if (root.contains("slice") && !root["slice"].is_null())
     r.slice = sliceFromJson(root["slice"], at / "slice");
   r.target = targetFromJson(f::member(root, "target", at), manifest.string(), "target");
@@ -302,6 +322,7 @@ RecordingWriter::RecordingWriter(std::filesystem::path directory, Recording head
     throw IoError(directory_.string() + ": cannot create directory (" + error.message() + ")");
   if (std::filesystem::exists(directory_ / kRecordingManifest))
     throw IoError(directory_.string() + ": already holds a recording; refusing to overwrite it");
+  recording_.formatVersion = manifestVersion(recording_);  // what a reader will read back
   writeRecordingManifest(directory_, recording_);
 }
 

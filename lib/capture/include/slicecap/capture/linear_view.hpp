@@ -31,8 +31,9 @@ class CodeTable {
   std::array<double, 256> linear_{};
 };
 
-/// \brief Reads a frame (8-bit through a tone curve, or 16-bit linear; gray or RGB) as linear
-/// values, 1 = full scale. Borrows the frame and the table: both must outlive the view.
+/// \brief Reads a frame (8-bit through a tone curve, or 16-bit linear above the frame's black16;
+/// gray or RGB) as linear values, 1 = full scale; a RAW frame's read noise below black reads
+/// negative. Borrows the frame and the table: both must outlive the view.
 class LinearView {
  public:
   /// \brief 8-bit samples decoded as sRGB.

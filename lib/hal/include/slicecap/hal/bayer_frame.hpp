@@ -82,6 +82,14 @@ bool isRawFormatName(std::string_view name);
 /// its orders, the Pi 5's default RAW) are a lossy proprietary coding: not decoded.
 std::string undecodableRawReason(std::string_view name);
 
+/// \brief The unpacked format (16-bit words) that holds the same samples as the packed RAW
+/// format `name`, which a pipeline that replaces packed RAW grants instead: "SRGGB10" for
+/// "SRGGB10_CSI2P" (the same bit depth, so libcamera's Raspberry Pi pipelines pick the same
+/// sensor mode), "SRGGB16" for the Pi 5's compressed "RGGB_PISP_COMP1" (what its frontend writes
+/// uncompressed). nullopt for a name that is not a packed RAW format (already unpacked, an
+/// unknown packing such as _IPU3, not RAW).
+std::optional<std::string> unpackedRawFormatName(std::string_view name);
+
 /// \brief The smallest stride a row of `widthPx` samples needs (CSI-2 rows end on a whole
 /// group: 5 bytes per 4 samples, 3 per 2).
 std::size_t minimalBayerStrideBytes(const BayerFormat& format, int widthPx);
@@ -92,13 +100,23 @@ std::size_t minimalBayerStrideBytes(const BayerFormat& format, int widthPx);
 std::optional<std::pair<int, int>> chooseBayerSize(const std::vector<std::pair<int, int>>& offered,
                                                    int wantedWidthPx, int wantedHeightPx);
 
+/// \brief The sample value a decoded RAW frame stores for the sensor's black (Frame::black16):
+/// 4096 of 65535, 1/16 of the range, about 20 times the read noise of a Pi camera's sensor
+/// (2-3 codes of 10 bits). Samples below black, the read noise of a dark pixel, are stored below
+/// it instead of clipped to 0, which biased the mean of a dark area upwards (by 0.4 times the
+/// read noise where the light is at black: the LED-off frames that are subtracted from every
+/// sample).
+inline constexpr std::uint16_t kDecodedBlack16 = 4096;
+
 /// \brief Decodes a mosaic into linear RGB at half its size (odd last rows or columns dropped):
 /// each sample has its colour's black level subtracted and is scaled so that black..the
-/// format's largest code maps to 0..65535; each 2 x 2 cell gives R, the mean of its two greens,
-/// B. Values below black clip to 0 (after the greens are averaged). Returns a 3-channel 16-bit
-/// Image (PixelEncoding::Linear16). Throws RawFrameError naming the format, the plane and the
-/// bytes when the buffer is shorter than its stride and height need, the stride is below a
-/// row's bytes, the mosaic is under 2 x 2, or a black level is not below the largest code.
+/// format's largest code maps to kDecodedBlack16..65535; each 2 x 2 cell gives R, the mean of
+/// its two greens, B. Below black, a value is kept down to kDecodedBlack16 under it (0 stored)
+/// and only clips beyond: the frame's black16 is kDecodedBlack16, and linear16Value() reads it.
+/// Returns a 3-channel 16-bit Image (PixelEncoding::Linear16). Throws RawFrameError naming the
+/// format, the plane and the bytes when the buffer is shorter than its stride and height need,
+/// the stride is below a row's bytes, the mosaic is under 2 x 2, or a black level is not below
+/// the largest code.
 Image decodeBayer(const BayerFrameView& raw, const BayerBlackLevels& black);
 
 /// \brief Packs a mosaic of codes (row-major, `widthPx` x `heightPx`, each < 2^bitDepth) into

@@ -45,8 +45,8 @@ void requireBuilt(DeviceBackend backend);
 
 /// \brief A LibcameraCamera with this id ("" for the first camera).
 std::shared_ptr<Camera> openLibcameraCamera(const std::string& cameraId);
-/// \brief listLibcameraModes().
-std::vector<CameraModes> libcameraModes();
+/// \brief listLibcameraModes(wantedWidthPx, wantedHeightPx).
+std::vector<CameraModes> libcameraModes(int wantedWidthPx, int wantedHeightPx);
 /// \brief A V4l2Camera on this device node.
 std::shared_ptr<Camera> openV4l2Camera(const std::filesystem::path& device);
 /// \brief listV4l2Modes(devicePath).

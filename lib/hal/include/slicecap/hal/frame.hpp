@@ -44,6 +44,17 @@ struct Frame {
   Image image;
   PixelEncoding encoding = PixelEncoding::Srgb8;
   FrameMetadata metadata;
+  /// Linear16 only: the sample value of no light. A RAW frame's decode (decodeBayer) keeps the
+  /// read noise below the sensor's black level above it (kDecodedBlack16), so a dark area's mean
+  /// is not biased by clipping; linear16Value() takes it off. 0 for every other frame (a V4L2
+  /// Y16 stream, a simulated or recorded one without it).
+  std::uint16_t black16 = 0;
 };
+
+/// \brief A Linear16 sample of a frame whose black is `black16` as linear light, 1 = full scale
+/// (65535): (sample - black16) / (65535 - black16), negative below black.
+inline double linear16Value(std::uint16_t sample, std::uint16_t black16) {
+  return (double(sample) - double(black16)) / (65535.0 - double(black16));
+}
 
 }  // namespace slicecap::hal

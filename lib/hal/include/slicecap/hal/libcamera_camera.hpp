@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,9 +11,11 @@
 #include "slicecap/hal/camera.hpp"
 #include "slicecap/hal/camera_modes.hpp"
 #include "slicecap/hal/camera_error.hpp"
+#include "slicecap/hal/raw_frame.hpp"
 
 namespace libcamera {
 class CameraConfiguration;
+class ColorSpace;
 }
 
 namespace slicecap::hal {
@@ -22,29 +25,45 @@ namespace slicecap::hal {
 std::vector<std::string> listLibcameraCameras();
 
 /// \brief Every camera libcamera finds with its RAW formats and sensor modes (the Raw role's
-/// formats and sizes) and its processed formats, for the hardware check. Needs no acquire.
-/// Throws CameraError if the manager cannot start.
-std::vector<CameraModes> listLibcameraModes();
+/// formats and sizes), the RAW stream its validation grants for `wantedWidthPx` x
+/// `wantedHeightPx` (CameraModes::validatedRaw, as configure negotiates it) and its processed
+/// formats, for the hardware check. Needs no acquire. Throws CameraError if the manager cannot
+/// start.
+std::vector<CameraModes> listLibcameraModes(int wantedWidthPx, int wantedHeightPx);
+
+/// \brief The YUV decode a libcamera stream's colour space (StreamConfiguration::colorSpace,
+/// as validate() leaves it) asks for: its YcbcrEncoding (Rec601, Rec709, Rec2020) and Range.
+/// nullopt for a colour space without a YCbCr encoding (YcbcrEncoding::None: RGB or RAW), which
+/// says nothing of how a YUV stream is coded. ColorSpace::Sycc is Rec.601 full range, Smpte170m
+/// Rec.601 limited, Rec709 Rec.709 limited (the Raspberry Pi's VideoRecording default).
+std::optional<YuvEncoding> yuvEncodingOf(const libcamera::ColorSpace& colorSpace);
 
 /// \brief One libcamera camera, acquired for the object's lifetime. Every instance in a process
 /// shares one libcamera::CameraManager (two alive at once abort the process); it is created with
 /// the first camera and stopped with the last.
 ///
-/// configure() asks for YUYV (else RGB/BGR888, XRGB8888, YUV420) at the requested size and
-/// reports libcamera's Adjusted changes; exposure and gain, when set, are locked through
-/// ExposureTime/AnalogueGain with AeEnable off; auto white balance is always off during capture.
+/// configure() asks for an RGB format (BGR888, RGB888, XRGB8888; else YUYV, YUV420) at the
+/// requested size and reports libcamera's Adjusted changes; a YUV stream is decoded by the
+/// colour space validation leaves in it (yuvEncodingOf), and one without a colour space is
+/// refused (Invalid, naming the camera and format) rather than decoded by a guess. Exposure
+/// and gain, when set, are locked through ExposureTime/AnalogueGain with AeEnable off; during
+/// capture auto white balance is off with unity ColourGains, Sharpness 0 and
+/// NoiseReductionMode off where the camera has those controls (the ones it lacks are said once).
 /// Frames carry the sensor timestamp and the ExposureTime x (AnalogueGain x DigitalGain) the
 /// request's metadata reports, and the start of row 0's exposure (SensorTimestamp -
 /// ExposureTime) where both are reported.
 ///
 /// RAW (CameraConfig::raw Auto or On): the camera's StreamRole::Raw stream alone, in a format
-/// decodeBayer reads (the one libcamera proposes when it can, e.g. SRGGB10_CSI2P on a Pi 4's
-/// IMX708), at the sensor mode whose 2 x 2 binned size best fits the request (chooseBayerSize:
-/// 2304 x 1296 for 1280 x 720, delivered as 1152 x 648), decoded with each frame's
-/// SensorBlackLevels (or kDefaultBlackLevel16, said once) into Linear16 frames; configure
-/// reports the size and encoding it changed. A RAW format slicecap does not decode (the Pi 5's
-/// PiSP compressed formats) is said once on stderr and in the ConfigResult, naming the camera
-/// and the format, and Auto falls back to the processed stream (On is Invalid).
+/// decodeBayer reads, negotiated through the camera's own validation (negotiateRawStream): the
+/// one libcamera proposes when validation keeps it (SRGGB10_CSI2P on a Pi 4's IMX708), else its
+/// unpacked twin (a Pi 5 replaces the packed request by its lossy RGGB_PISP_COMP1 and grants
+/// SRGGB10 as SRGGB16), at the sensor mode whose 2 x 2 binned size best fits the request
+/// (chooseBayerSize: 2304 x 1296 for 1280 x 720, delivered as 1152 x 648), decoded with each
+/// frame's SensorBlackLevels (or kDefaultBlackLevel16, said once) into Linear16 frames;
+/// configure reports the size and encoding it changed and what validation swapped. When
+/// validation grants no format slicecap decodes, that is said once on stderr and in the
+/// ConfigResult, naming the camera and each format asked for, and Auto falls back to the
+/// processed stream (On is Invalid).
 class LibcameraCamera final : public Camera {
  public:
   /// \brief Acquires the camera with this id, or the first one when `cameraId` is empty. Throws
@@ -68,10 +87,11 @@ class LibcameraCamera final : public Camera {
   struct State;
 
  private:
-  /// Takes a RAW configuration the camera has applied: the delivered size and encoding.
+  /// Takes a RAW configuration the camera has applied: the delivered size and encoding, said in
+  /// `adjustments` after those given.
   ConfigResult configureRaw(CameraConfig& config,
                             std::unique_ptr<libcamera::CameraConfiguration> configuration,
-                            const BayerFormat& format);
+                            const BayerFormat& format, std::vector<std::string> adjustments);
   std::unique_ptr<State> state_;
 };
 

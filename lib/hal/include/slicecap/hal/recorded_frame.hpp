@@ -15,6 +15,10 @@ namespace slicecap::hal {
 FrameMetadata metadataOf(const io::RecordedFrame& entry, std::uint64_t sequence,
                          std::int64_t shiftUs = 0);
 
+/// \brief Sets `frame`'s encoding and black16 to what `recording` says its frames hold (a RAW
+/// sweep's linear16 frames: the decoding's black16).
+void setRecordedEncoding(Frame& frame, const io::Recording& recording);
+
 /// \brief A frame's LED exposure as a recording keeps it, its times moved by `shiftUs`.
 std::optional<io::RecordedLedExposure> recordedLedExposure(const FrameMetadata& metadata,
                                                            std::int64_t shiftUs = 0);

@@ -2,12 +2,16 @@
 // manual exposure, gain and white balance.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
+#include <string>
 
 #include "slicecap/hal/camera.hpp"
 #include "slicecap/hal/camera_modes.hpp"
 #include "slicecap/hal/camera_error.hpp"
+#include "slicecap/hal/raw_frame.hpp"
 
 namespace slicecap::hal {
 
@@ -17,8 +21,20 @@ namespace slicecap::hal {
 /// the path when it cannot be opened or is not a capture device.
 CameraModes listV4l2Modes(const std::string& devicePath);
 
-/// \brief Uncompressed formats only (YUYV, RGB24, BGR24, GREY; Y16 when linear16 is asked for):
-/// a measurement cannot go through JPEG. Exposure is set through V4L2_CID_EXPOSURE_ABSOLUTE
+/// \brief The YUV decode a V4L2 format's colour fields ask for (v4l2_pix_format colorspace,
+/// ycbcr_enc, quantization, as VIDIOC_S_FMT returns them): a DEFAULT encoding or quantization is
+/// the colorspace's own (videodev2.h V4L2_MAP_YCBCR_ENC_DEFAULT and
+/// V4L2_MAP_QUANTIZATION_DEFAULT: sRGB and SMPTE 170M are BT.601 limited, JPEG BT.601 full,
+/// Rec.709 BT.709 limited). nullopt, with `why` saying which field, for a colorspace left at
+/// DEFAULT (a driver that says nothing) or an encoding slicecap does not decode (BT.2020
+/// constant luminance, SMPTE 240M, HSV).
+std::optional<YuvEncoding> yuvEncodingOfV4l2(std::uint32_t colorspace, std::uint32_t ycbcrEncoding,
+                                             std::uint32_t quantization, std::string* why);
+
+/// \brief Uncompressed formats only (RGB24, BGR24, YUYV, YUV420, GREY; Y16 first when linear16
+/// is asked for): a measurement cannot go through JPEG. RGB is taken before YUV; a YUV stream
+/// is decoded by the colour space the driver reports (yuvEncodingOfV4l2), and refused (Invalid,
+/// naming the device) when it reports none. Exposure is set through V4L2_CID_EXPOSURE_ABSOLUTE
 /// (100 us units) with auto exposure off; gain through V4L2_CID_GAIN in the device's own units;
 /// auto white balance is switched off when the device has it. What the device cannot do is
 /// reported as ConfigResult::Adjusted with the reason.

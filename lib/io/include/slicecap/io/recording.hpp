@@ -18,9 +18,11 @@
 
 namespace slicecap::io {
 
-/// \brief The version this build writes and the newest it reads. 2 added `decoding` (a version 1
-/// reader would decode a measured-curve recording as sRGB without a word).
-inline constexpr int kRecordingFormatVersion = 2;
+/// \brief The newest version this build reads. 2 added `decoding` (a version 1 reader would
+/// decode a measured-curve recording as sRGB without a word); 3 added `decoding_black16` (a
+/// version 2 reader would read a RAW sweep's frames, stored above a black of 4096, 1/16 of full
+/// scale too bright). A manifest is written at the least version its fields need.
+inline constexpr int kRecordingFormatVersion = 3;
 /// \brief The manifest's file name inside a recording directory.
 inline constexpr const char* kRecordingManifest = "recording.json";
 /// \brief An HDR sweep alternates at most this many exposure levels (frames[].exposure_level).
@@ -72,6 +74,9 @@ struct RecordedDecoding {
   };
   Kind kind = Kind::Srgb;
   std::optional<ToneCurve> curve{};  ///< set exactly when kind is MeasuredCurve
+  /// Linear only: the sample value of no light (hal::Frame::black16; a RAW sweep's frames keep
+  /// their read noise above hal::kDecodedBlack16). 0: black is 0.
+  std::uint16_t black16 = 0;
 
   /// \brief What a recording without `decoding` means: sRGB for srgb8, linear for linear16.
   static RecordedDecoding defaultFor(PixelEncoding encoding);
@@ -86,7 +91,9 @@ std::string toString(RecordedDecoding::Kind kind);
 
 /// \brief Everything recording.json holds.
 struct Recording {
-  int formatVersion = kRecordingFormatVersion;
+  /// As read; a new recording's is 2, raised on writing to what its fields need (3 with a
+  /// decoding's black16).
+  int formatVersion = 2;
   std::string createdBy;  ///< e.g. "slicecap simulate 0.1.0"
   vision::CameraModel camera;
   /// When set, recording.json refers to this calibration file (e.g. from `slicecap calibrate`;
