@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "slicecap/capture/frame_sample.hpp"
 #include "slicecap/capture/led_gate.hpp"
@@ -67,5 +68,31 @@ struct FrameOutcome {
 /// keep state across frames (tracking, the last LED-off frame) and are reset between sweeps by
 /// constructing a new one.
 using FrameProcessor = std::function<FrameOutcome(const hal::Frame& frame, const SliceId& slice)>;
+
+/// \brief A frame's outcome as the live loop gets it, with the metadata of the frame it is of:
+/// possibly a frame or two after that frame came (an LED-on frame waits for the LED-off frame
+/// after it, for its two-sided room-light term).
+struct SettledFrame {
+  hal::FrameMetadata metadata;
+  FrameOutcome outcome;
+};
+
+/// \brief The daemon's frame loop's seam: each call hands over the sweep's next frame and returns
+/// the outcomes it settled, in capture order (none, its own, or held frames' and its own).
+/// `frame` nullptr: the sweep's stream has ended; every frame still held is settled as it can be
+/// (an LED-on frame with the LED-off frame before it alone). Reset between sweeps by
+/// constructing a new one.
+using LiveFrameProcessor =
+    std::function<std::vector<SettledFrame>(const hal::Frame* frame, const SliceId& slice)>;
+
+/// \brief A LiveFrameProcessor that settles every frame at once through `processor` (a
+/// processor that needs no later frame: tests' stand-ins, a room without LED-off frames).
+inline LiveFrameProcessor settledAtOnce(FrameProcessor processor) {
+  return [processor = std::move(processor)](const hal::Frame* frame, const SliceId& slice) {
+    std::vector<SettledFrame> settled;
+    if (frame) settled.push_back({frame->metadata, processor(*frame, slice)});
+    return settled;
+  };
+}
 
 }  // namespace slicecap::capture
