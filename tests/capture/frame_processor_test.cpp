@@ -88,6 +88,26 @@ TEST(LiveFramePipeline, SettlesEachLedOnFrameWithTheLedOffFrameAfterItAsOfflineD
   EXPECT_GE(samples, 5);
 }
 
+TEST(LiveFramePipeline, EachSampleSaysTheRoomLightsShareOfTheLedAndHowMuchItChanged) {
+  // 1.5 W/m^2 of room light; the LED's 1 W/sr at 300 mm and 30 deg gives the references about
+  // 11.1 x cos 30 = 9.6 W/m^2: 0.156 of it. The simulated room is steady: the LED-off frames on
+  // both sides agree to within their noise.
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  const auto dir = simulated(slice, 12);
+  const RecordingResult offline = processRecording(dir);
+  int seen = 0;
+  for (const FrameOutcome& outcome : offline.outcomes) {
+    if (!outcome.sample) continue;
+    ++seen;
+    ASSERT_TRUE(outcome.measurement.roomToLed);
+    EXPECT_NEAR(*outcome.measurement.roomToLed, 0.156, 0.2 * 0.156);
+    if (outcome.measurement.roomChangeToLed) {
+      EXPECT_LT(*outcome.measurement.roomChangeToLed, 0.01);
+    }
+  }
+  EXPECT_GE(seen, 5);
+}
+
 TEST(LiveFramePipeline, DiffersFromTheOneSidedTermOnASpecularSweep) {
   // What the wait buys: the LED-off frame before alone (the old live loop, `--ambient previous`)
   // gives other samples where the room's reflection changes along the sweep.

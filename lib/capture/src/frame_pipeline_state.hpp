@@ -142,12 +142,20 @@ struct FramePipeline::State {
 
   // The window's radiance (its reading minus the room light) and the white references' (room
   // light subtracted, with their noise) of an LED-on frame at `pose`, or why it gives none.
+  // The room light's share of the references, summed over them (FrameOutcome::Measurement's
+  // roomToLed and roomChangeToLed).
+  struct RoomShare {
+    double room = 0.0, led = 0.0, change = 0.0;
+    bool twoSided = false;
+  };
+
   std::optional<frame_checks::GateFailure> readReferences(
       const hal::Frame& frame, const vision::Pose& pose, const std::vector<AmbientTerm>& roomLight,
       const AreaReading& window, Rgb* windowRadiance,
       std::vector<ReferenceObservation>* observations,
-      std::vector<ReferenceObservation>* unlit) const {
+      std::vector<ReferenceObservation>* unlit, RoomShare* share) const {
     *windowRadiance = window.mean - ambientAt(roomLight, windowArea, pose).mean;
+    share->twoSided = roomLight.size() == 2;
     for (const auto& reference : references) {
       AreaSpec spec = reference.area;
       spec.clipFraction = settings.clipFraction;
@@ -157,6 +165,18 @@ struct FramePipeline::State {
         return frame_checks::GateFailure{RejectReason::WindowClipped, "white reference saturated"};
       const AreaReading room = ambientAt(roomLight, reference.area, pose);
       const Rgb value = area.mean - room.mean;
+      for (int c = 0; c < 3; ++c) {
+        share->room += room.mean[c];
+        share->led += value[c];
+      }
+      if (share->twoSided) {
+        // Each LED-off frame alone, read as the term reads it.
+        std::vector<AmbientTerm> before{roomLight[0]}, after{roomLight[1]};
+        before[0].weight = after[0].weight = 1.0;
+        const Rgb apart = ambientAt(before, reference.area, pose).mean -
+                          ambientAt(after, reference.area, pose).mean;
+        for (int c = 0; c < 3; ++c) share->change += std::abs(apart[c]);
+      }
       Rgb sigma;
       for (int c = 0; c < 3; ++c)
         sigma[c] = std::sqrt(area.variance[c] + room.variance[c]);

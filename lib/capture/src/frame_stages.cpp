@@ -146,8 +146,13 @@ std::optional<FrameOutcome> FramePipeline::State::measure(const hal::Frame& fram
   Rgb windowRadiance;
   std::vector<ReferenceObservation> observations, unlit;
   LightFit fit;
+  RoomShare share;
   auto failure = readReferences(frame, located.pose, roomLight, window, &windowRadiance,
-                                &observations, &unlit);
+                                &observations, &unlit, &share);
+  if (!roomLight.empty() && share.led > 0.0) {
+    m.roomToLed = share.room / share.led;
+    if (share.twoSided) m.roomChangeToLed = share.change / share.led;
+  }
   double limit = 0.0;
   if (!failure) failure = fitLight(observations, unlit, *m.nominalLight, &fit, &limit);
   if (fit.converged) m.referenceDisagreement = fit.weightedResidualRms;

@@ -11,6 +11,7 @@
 
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/event_loop.hpp"
+#include "slicecap/daemon/room_light_watch.hpp"
 #include "slicecap/hal/led_timeline.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/target_json.hpp"
@@ -69,6 +70,9 @@ struct Daemon::State {
   // A live HDR sweep (hdr_levels > 1), from the end of the calibration to the sweep's stop.
   SweepHdr hdr{parts.hdrLevels};
 
+  // The room light the sweep run's samples saw (the status warns of a bright or flickering one).
+  RoomLightWatch roomLight;
+
   explicit State(DaemonParts p)
       : parts(std::move(p)),
         clock(parts.clock ? *parts.clock : steadyClock),
@@ -124,6 +128,7 @@ struct Daemon::State {
     // The last sweep's exposure line is not this one's, whatever happens below.
     calibration.reset();
     hdr.reset();
+    roomLight.reset();
     std::shared_ptr<hal::Camera> opened;
     try {
       opened = parts.cameraFor(slice);
@@ -277,6 +282,7 @@ struct Daemon::State {
     switch (outcome.kind) {
       case capture::FrameOutcome::Kind::Sample:
         manager.acceptSample(*outcome.sample);
+        roomLight.note(outcome.measurement);
         break;
       case capture::FrameOutcome::Kind::Rejected:
         manager.rejectFrame(outcome.rejectReason);
@@ -396,6 +402,10 @@ struct Daemon::State {
       if (!shown->warning.empty()) warnings.push_back(shown->warning);
     }
     calibration.describeDecoding(json, warnings);
+    if (nlohmann::json room = roomLight.summary(); !room.empty()) {
+      json["room_light"] = room;
+      for (std::string& warning : roomLight.warnings()) warnings.push_back(std::move(warning));
+    }
     if (!warnings.empty()) json["warnings"] = warnings;
   }
 

@@ -60,6 +60,13 @@ struct FrameOutcome {
     /// whenever the fit converged.
     std::optional<double> referenceDisagreement;
     std::optional<double> referenceDisagreementLimit;
+    /// \brief The room-light term over the white references as a fraction of their LED light
+    /// (the LED-on reading less the term), whenever the references were read with one.
+    std::optional<double> roomToLed;
+    /// \brief With a two-sided term: the two LED-off frames' readings of the white references
+    /// apart, as a fraction of their LED light. A flicker the frame duration does not hide shows
+    /// here (each frame saw it at another phase); a steady or hidden one leaves noise.
+    std::optional<double> roomChangeToLed;
   };
   Measurement measurement;
 };

@@ -1,0 +1,71 @@
+// The room light as the sweep's samples see it, and the status's warnings about it.
+#include "slicecap/daemon/room_light_watch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace slicecap::daemon {
+namespace {
+
+void keepLatest(std::deque<double>& values, double value) {
+  values.push_back(value);
+  while (values.size() > RoomLightWatch::kSamples) values.pop_front();
+}
+
+std::string percent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f %%", 100.0 * fraction);
+  return text;
+}
+
+}  // namespace
+
+void RoomLightWatch::reset() {
+  ratios_.clear();
+  changes_.clear();
+}
+
+void RoomLightWatch::note(const capture::FrameOutcome::Measurement& measurement) {
+  if (measurement.roomToLed && std::isfinite(*measurement.roomToLed))
+    keepLatest(ratios_, *measurement.roomToLed);
+  if (measurement.roomChangeToLed && std::isfinite(*measurement.roomChangeToLed))
+    keepLatest(changes_, *measurement.roomChangeToLed);
+}
+
+std::optional<double> RoomLightWatch::roomToLed() const {
+  if (ratios_.empty()) return std::nullopt;
+  std::vector<double> sorted(ratios_.begin(), ratios_.end());
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  return sorted[sorted.size() / 2];
+}
+
+std::optional<double> RoomLightWatch::roomChangeToLed() const {
+  if (changes_.empty()) return std::nullopt;
+  double sum = 0.0;
+  for (double c : changes_) sum += c * c;
+  return std::sqrt(sum / double(changes_.size()));
+}
+
+std::vector<std::string> RoomLightWatch::warnings() const {
+  std::vector<std::string> out;
+  if (const std::optional<double> ratio = roomToLed(); ratio && *ratio > kMaxRoomToLed)
+    out.push_back("room light: " + percent(*ratio) + " of the LED's light on the white references " +
+                  "(more than " + percent(kMaxRoomToLed) + "): dim the room or shade the target");
+  if (const std::optional<double> change = roomChangeToLed(); change && *change > kMaxRoomChangeToLed)
+    out.push_back("room light: it changes by " + percent(*change) + " of the LED's light between " +
+                  "the LED-off frames around a sample (more than " + percent(kMaxRoomChangeToLed) +
+                  "): a lamp flickers and the frame duration does not hide it; set mains_hz to " +
+                  "the room's mains (slicecapd --check-hardware measures the flicker), or switch " +
+                  "that lamp off");
+  return out;
+}
+
+nlohmann::json RoomLightWatch::summary() const {
+  nlohmann::json json = nlohmann::json::object();
+  if (const std::optional<double> ratio = roomToLed()) json["to_led"] = *ratio;
+  if (const std::optional<double> change = roomChangeToLed()) json["change_to_led"] = *change;
+  return json;
+}
+
+}  // namespace slicecap::daemon
