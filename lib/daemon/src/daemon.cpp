@@ -282,7 +282,6 @@ struct Daemon::State {
     switch (outcome.kind) {
       case capture::FrameOutcome::Kind::Sample:
         manager.acceptSample(*outcome.sample);
-        roomLight.note(outcome.measurement);
         break;
       case capture::FrameOutcome::Kind::Rejected:
         manager.rejectFrame(outcome.rejectReason);
@@ -290,6 +289,7 @@ struct Daemon::State {
       case capture::FrameOutcome::Kind::Ambient:
         break;
     }
+    roomLight.note(outcome);
     if (strobeRun) strobeRun->noteRows(outcome.measurement.rowsOfInterest);
   }
 

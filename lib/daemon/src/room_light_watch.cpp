@@ -26,11 +26,14 @@ void RoomLightWatch::reset() {
   changes_.clear();
 }
 
-void RoomLightWatch::note(const capture::FrameOutcome::Measurement& measurement) {
-  if (measurement.roomToLed && std::isfinite(*measurement.roomToLed))
-    keepLatest(ratios_, *measurement.roomToLed);
-  if (measurement.roomChangeToLed && std::isfinite(*measurement.roomChangeToLed))
-    keepLatest(changes_, *measurement.roomChangeToLed);
+void RoomLightWatch::note(const capture::FrameOutcome& outcome) {
+  const capture::FrameOutcome::Measurement& m = outcome.measurement;
+  if (outcome.kind == capture::FrameOutcome::Kind::Sample && m.roomToLed &&
+      std::isfinite(*m.roomToLed))
+    keepLatest(ratios_, *m.roomToLed);
+  if (outcome.kind == capture::FrameOutcome::Kind::Ambient && m.roomChange &&
+      std::isfinite(*m.roomChange))
+    keepLatest(changes_, *m.roomChange);
 }
 
 std::optional<double> RoomLightWatch::roomToLed() const {
@@ -40,11 +43,17 @@ std::optional<double> RoomLightWatch::roomToLed() const {
   return sorted[sorted.size() / 2];
 }
 
-std::optional<double> RoomLightWatch::roomChangeToLed() const {
+std::optional<double> RoomLightWatch::roomChange() const {
   if (changes_.empty()) return std::nullopt;
   double sum = 0.0;
   for (double c : changes_) sum += c * c;
   return std::sqrt(sum / double(changes_.size()));
+}
+
+std::optional<double> RoomLightWatch::roomChangeToLed() const {
+  const std::optional<double> change = roomChange(), ratio = roomToLed();
+  if (!change || !ratio) return std::nullopt;
+  return *change * *ratio;
 }
 
 std::vector<std::string> RoomLightWatch::warnings() const {
@@ -53,8 +62,8 @@ std::vector<std::string> RoomLightWatch::warnings() const {
     out.push_back("room light: " + percent(*ratio) + " of the LED's light on the white references " +
                   "(more than " + percent(kMaxRoomToLed) + "): dim the room or shade the target");
   if (const std::optional<double> change = roomChangeToLed(); change && *change > kMaxRoomChangeToLed)
-    out.push_back("room light: it changes by " + percent(*change) + " of the LED's light between " +
-                  "the LED-off frames around a sample (more than " + percent(kMaxRoomChangeToLed) +
+    out.push_back("room light: it changes by " + percent(*change) + " of the LED's light from " +
+                  "one LED-off frame to the next (more than " + percent(kMaxRoomChangeToLed) +
                   "): a lamp flickers and the frame duration does not hide it; set mains_hz to " +
                   "the room's mains (slicecapd --check-hardware measures the flicker), or switch " +
                   "that lamp off");
@@ -64,6 +73,7 @@ std::vector<std::string> RoomLightWatch::warnings() const {
 nlohmann::json RoomLightWatch::summary() const {
   nlohmann::json json = nlohmann::json::object();
   if (const std::optional<double> ratio = roomToLed()) json["to_led"] = *ratio;
+  if (const std::optional<double> change = roomChange()) json["change"] = *change;
   if (const std::optional<double> change = roomChangeToLed()) json["change_to_led"] = *change;
   return json;
 }

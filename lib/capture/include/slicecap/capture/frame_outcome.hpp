@@ -63,10 +63,12 @@ struct FrameOutcome {
     /// \brief The room-light term over the white references as a fraction of their LED light
     /// (the LED-on reading less the term), whenever the references were read with one.
     std::optional<double> roomToLed;
-    /// \brief With a two-sided term: the two LED-off frames' readings of the white references
-    /// apart, as a fraction of their LED light. A flicker the frame duration does not hide shows
-    /// here (each frame saw it at another phase); a steady or hidden one leaves noise.
-    std::optional<double> roomChangeToLed;
+    /// \brief An LED-off frame right after another (the next sequence number), both located:
+    /// their room light over the white references apart, as a fraction of it (the sum over the
+    /// references and channels of |difference| over the mean). A flicker the frame duration does
+    /// not hide shows here (the two frames saw it at phases a frame period apart); a steady one,
+    /// or one the frame duration hides, leaves noise.
+    std::optional<double> roomChange;
   };
   Measurement measurement;
 };
