@@ -36,18 +36,25 @@ void RoomLightWatch::note(const capture::FrameOutcome& outcome) {
     keepLatest(changes_, *m.roomChange);
 }
 
-std::optional<double> RoomLightWatch::roomToLed() const {
-  if (ratios_.empty()) return std::nullopt;
-  std::vector<double> sorted(ratios_.begin(), ratios_.end());
+namespace {
+
+// The median: a frame the light arm shades, or a pair straddling a jump of the hand, is one
+// outlier; a flicker the frame duration does not hide moves most pairs.
+std::optional<double> median(const std::deque<double>& values) {
+  if (values.empty()) return std::nullopt;
+  std::vector<double> sorted(values.begin(), values.end());
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
   return sorted[sorted.size() / 2];
 }
 
+}  // namespace
+
+std::optional<double> RoomLightWatch::roomToLed() const {
+  return median(ratios_);
+}
+
 std::optional<double> RoomLightWatch::roomChange() const {
-  if (changes_.empty()) return std::nullopt;
-  double sum = 0.0;
-  for (double c : changes_) sum += c * c;
-  return std::sqrt(sum / double(changes_.size()));
+  return median(changes_);
 }
 
 std::optional<double> RoomLightWatch::roomChangeToLed() const {

@@ -21,7 +21,7 @@ class RoomLightWatch {
   /// and any change between the LED-off and LED-on frames weigh on every sample.
   static constexpr double kMaxRoomToLed = 0.25;
   /// \brief The room light moving by more than this fraction of the LED's light from one LED-off
-  /// frame to the next (their RMS relative change times the room-to-LED ratio): a flicker the
+  /// frame to the next (their median relative change times the room-to-LED ratio): a flicker the
   /// frame duration does not hide, which the subtraction leaves in the samples (a 30 % flicker
   /// at 15 % of the LED gives ~5 % at 33.3 ms frames; hidden, noise).
   static constexpr double kMaxRoomChangeToLed = 0.02;
@@ -34,7 +34,7 @@ class RoomLightWatch {
   void note(const capture::FrameOutcome& outcome);
   /// \brief The latest samples' median room-to-LED ratio (none before the first sample).
   std::optional<double> roomToLed() const;
-  /// \brief The latest LED-off frames' RMS change, relative to the room light (none before
+  /// \brief The latest LED-off frames' median change, relative to the room light (none before
   /// two consecutive ones).
   std::optional<double> roomChange() const;
   /// \brief roomChange() x roomToLed(): the change as a fraction of the LED's light.
