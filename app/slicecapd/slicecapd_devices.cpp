@@ -10,6 +10,7 @@
 #include "slicecap/hal/file_camera.hpp"
 #include "slicecap/hal/file_led.hpp"
 #include "slicecap/hal/model_camera.hpp"
+#include "slicecap/hal/room_flicker.hpp"
 #include "slicecap/io/target_json.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
@@ -148,6 +149,8 @@ hal::SensorModel modelSensor(const DaemonConfig& config, ModelScene scene, bool 
   // model_raw: the model's sensor offers a RAW stream, taken as camera_raw says.
   if (!config.modelRaw.empty()) sensor.rawFormat = hal::bayerFormatFromLibcameraName(config.modelRaw);
   if (scene == ModelScene::Still) sensor.holdSceneUntilStrobe = false;
+  sensor.flickerHz = config.modelFlickerHz;
+  sensor.flickerDepth = config.modelFlickerDepth;
   sensor.realTime = modelRealTime;
   return sensor;
 }
@@ -162,6 +165,10 @@ void setModelCameras(CameraSources& sources, const DaemonConfig& config, hal::Cl
   rig.framesPerSlice = config.modelPositions;
   rig.sweepSeconds = config.modelSweepSeconds;
   rig.seed = static_cast<std::uint64_t>(config.modelSeed);
+  // model_room_light: the room's irradiance against the LED's face-on at the rig's distance
+  // (intensity / d^2, the rig's radiometry).
+  const double lightDistanceM = rig.lightDistanceMm / 1000.0;
+  rig.ambientIrradiance = config.modelRoomLight * rig.ledIntensityWPerSr / (lightDistanceM * lightDistanceM);
   auto renderer = std::make_shared<const sim::FrameRenderer>(
       cameraModel, target, sim::loadMaterial(config.modelMaterial), rig);
   const hal::SensorModel sensor = modelSensor(config, scene, modelRealTime);
@@ -211,6 +218,7 @@ hal::CameraConfig cameraConfigFrom(const DaemonConfig& config) {
   camera.gain = config.gain;
   camera.raw = config.cameraRaw;
   camera.readoutUs = config.readoutUs;
+  camera.frameDurationUs = hal::frameDurationUsForMains(config.mainsHz);
   return camera;
 }
 

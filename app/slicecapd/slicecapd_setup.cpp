@@ -235,6 +235,13 @@ void setFrameProcessing(daemon::DaemonParts& parts, const DaemonConfig& config,
   // Without alternation there is no LED-off frame to measure the room light with.
   pipelineSettings.requireAmbient = config.ledAlternate;
   pipelineSettings.noise = {config.sensorReadNoise, config.sensorFullWellElectrons};
+  // The offline default's room-light term (processRecording): each LED-on frame waits for the
+  // LED-off frame after it (capture::makeLiveFramePipeline) and takes the room light from both
+  // sides, each LED-off frame read at its own pose, so a session's recordings processed by
+  // `slicecap capture-offline` give the live samples. One side alone is biased along a sweep
+  // (a specular material's reflection of the room changes) and by a flicker the frame duration
+  // does not hide.
+  pipelineSettings.poseAmbientFrames = config.ledAlternate;
   // decoding (issue 27): a live camera's bracket is fitted against the slice's target and camera
   // model, and the sweep's pipeline then reads 8-bit frames through the measured curve; until
   // then (and without one) frames are read as sRGB.
@@ -244,7 +251,7 @@ void setFrameProcessing(daemon::DaemonParts& parts, const DaemonConfig& config,
     const Rig rig = rigFor(slice);
     capture::PipelineSettings settings = pipelineSettings;
     settings.toneCurve = curve;
-    return capture::makeFramePipeline(rig.target, rig.camera, settings, std::move(observer));
+    return capture::makeLiveFramePipeline(rig.target, rig.camera, settings, std::move(observer));
   };
   parts.newFrameProcessor = [decodingProcessor = parts.newDecodingFrameProcessor](
                                 const SliceId& slice, capture::FrameObserver observer) {

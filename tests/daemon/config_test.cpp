@@ -45,6 +45,10 @@ TEST(DaemonConfig, TheDocumentedDefaultsAreTheDefaults) {
   EXPECT_EQ(fromFile.sensorFullWellElectrons, defaults.sensorFullWellElectrons);
   EXPECT_EQ(fromFile.textureFramesPerBin, defaults.textureFramesPerBin);
   EXPECT_EQ(fromFile.hdrLevels, 1) << "one exposure unless asked";
+  EXPECT_EQ(fromFile.mainsHz, 0) << "the frame duration is the camera's unless asked";
+  EXPECT_EQ(fromFile.modelRoomLight, defaults.modelRoomLight);
+  EXPECT_EQ(fromFile.modelFlickerHz, defaults.modelFlickerHz);
+  EXPECT_EQ(fromFile.modelFlickerDepth, defaults.modelFlickerDepth);
   EXPECT_EQ(parse("").storage, defaults.storage) << "an empty file is the defaults";
 }
 
@@ -131,6 +135,39 @@ TEST(DaemonConfig, NamesTheLineAndKeyOfEveryMistake) {
             std::string::npos);
   EXPECT_EQ(error("hdr_levels = 1\nled_alternate = false\n"), "");
   EXPECT_THROW(readDaemonConfig("/nonexistent/slicecapd.conf"), ConfigError);
+}
+
+TEST(DaemonConfig, ReadsTheMainsFrequencyAndTheModelsRoomLight) {
+  const DaemonConfig c = parse(
+      "mains_hz = 60\n"
+      "model_room_light = 0.15\n"
+      "model_flicker_hz = 120\n"
+      "model_flicker_depth = 0.3\n");
+  EXPECT_EQ(c.mainsHz, 60);
+  EXPECT_EQ(c.modelRoomLight, 0.15);
+  EXPECT_EQ(c.modelFlickerHz, 120.0);
+  EXPECT_EQ(c.modelFlickerDepth, 0.3);
+  EXPECT_EQ(parse("mains_hz = 50\n").mainsHz, 50);
+  EXPECT_EQ(parse("mains_hz = 0\n").mainsHz, 0);
+  EXPECT_EQ(parse("model_flicker_hz = 0\n").modelFlickerHz, 0.0) << "0: steady room light";
+}
+
+TEST(DaemonConfig, RefusesAMainsFrequencyOtherThan50Or60Or0NamingLineKeyAndValue) {
+  // Any other value would pin frames to a flicker the room does not have: never a silent default.
+  for (const std::string bad : {"55", "50.0", "100", "", "fifty", "-50", "120"}) {
+    const std::string message = error("\nmains_hz = " + bad + "\n");
+    EXPECT_EQ(message, "slicecapd.conf:2: mains_hz: '" + bad +
+                           "' is not 50, 60 or 0 (the mains frequency of the room's lights in "
+                           "Hz; 0: do not pin the frame duration)")
+        << bad;
+  }
+  EXPECT_EQ(error("model_flicker_depth = 1.5\n"),
+            "slicecapd.conf:1: model_flicker_depth: '1.5' is not a flicker depth in 0..1");
+  EXPECT_EQ(error("model_flicker_hz = 0.5\n"),
+            "slicecapd.conf:1: model_flicker_hz: '0.5' is not a frequency in Hz, 0 or 1..1000");
+  EXPECT_EQ(error("model_room_light = -0.1\n"),
+            "slicecapd.conf:1: model_room_light: '-0.1' is not a fraction of the LED's "
+            "irradiance in 0..10");
 }
 
 }  // namespace

@@ -237,11 +237,12 @@ class DaemonOnFileCamera : public ::testing::Test {
     parts.cameraConfig = {32, 24, PixelEncoding::Srgb8, configuredExposureUs_, std::nullopt, 4};
     parts.led = std::make_unique<hal::FileLed>(ledLog_, clock_);
     parts.newFrameProcessor = [](const SliceId&, capture::FrameObserver observer) {
-      return [inner = standInPipeline(), observer](const hal::Frame& frame, const SliceId& slice) {
-        capture::FrameOutcome outcome = inner(frame, slice);
-        if (observer) observer(frame, outcome, {});
-        return outcome;
-      };
+      return capture::settledAtOnce(
+          [inner = standInPipeline(), observer](const hal::Frame& frame, const SliceId& slice) {
+            capture::FrameOutcome outcome = inner(frame, slice);
+            if (observer) observer(frame, outcome, {});
+            return outcome;
+          });
     };
     if (texture)
       parts.newTextureSink = [texture](const SliceId&, const std::filesystem::path&) {
@@ -259,7 +260,7 @@ class DaemonOnFileCamera : public ::testing::Test {
       };
       parts.newDecodingFrameProcessor = [](const SliceId&, capture::FrameObserver,
                                            const std::optional<ToneCurve>&) {
-        return standInPipeline();
+        return capture::settledAtOnce(standInPipeline());
       };
     }
     parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };

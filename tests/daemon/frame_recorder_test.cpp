@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <limits>
 #include <thread>
 
 #include "../support/test_support.hpp"
@@ -204,7 +205,14 @@ class DaemonRecordingFrames : public ::testing::Test {
     parts.cameraConfig = {1280, 720, PixelEncoding::Srgb8, std::nullopt, std::nullopt, 4};
     parts.led = std::make_unique<hal::FileLed>(dir_ / "led.log", clock_);
     parts.newFrameProcessor = [played](const SliceId&, capture::FrameObserver observer) {
-      return capture::makeFramePipeline(played.target, played.camera, {}, std::move(observer));
+      // As slicecapd's: two-sided room light, each LED-off frame located. The marker search as
+      // offline's, as long as a frame takes: the live loop's budget spreads a search over frames
+      // and moves the first pose of a sweep (0.2 deg here), which is not what this compares.
+      capture::PipelineSettings settings;
+      settings.poseAmbientFrames = true;
+      settings.detector.frameBudgetPx = std::numeric_limits<double>::infinity();
+      return capture::makeLiveFramePipeline(played.target, played.camera, settings,
+                                            std::move(observer));
     };
     parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };
     parts.recordingHeaderFor = [played](const SliceId&) {
@@ -269,13 +277,11 @@ TEST_F(DaemonRecordingFrames, ProcessingTheRecordingGivesTheLiveSweepsSamples) {
               io::readPng(io::framePath(original_, original.frames[i])).samples);
   }
 
-  // slicecap process's pipeline on the recording, in the live loop's one-sided ambient mode
-  // (`--ambient previous`; the offline default interpolates both sides and differs by design):
-  // the live sweep's samples, and at most the first LED-on frame more (offline it may take the
-  // next LED-off frame as its ambient; live it waits).
-  capture::PipelineSettings asLive;
-  asLive.offlineTwoSidedAmbient = false;
-  const capture::RecordingResult offline = capture::processRecording(recorded, asLive);
+  // slicecap process's default pipeline on the recording (two-sided room light, each LED-off
+  // frame at its own pose): the live sweep's samples exactly, every one of them. The live loop
+  // holds each LED-on frame until the LED-off frame after it arrives and makes the pipeline calls
+  // processRecording makes, in the same order.
+  const capture::RecordingResult offline = capture::processRecording(recorded);
   std::map<std::int64_t, capture::FrameSample> offlineSamples;
   for (const capture::FrameOutcome& outcome : offline.outcomes)
     if (outcome.sample) offlineSamples[outcome.sample->timestampUs] = *outcome.sample;
@@ -293,11 +299,10 @@ TEST_F(DaemonRecordingFrames, ProcessingTheRecordingGivesTheLiveSweepsSamples) {
       EXPECT_NEAR(match->second.light.phiDeg, sample.light.phiDeg, 1e-6);
     }
   }
+  // The first LED-on frame too (it waits for the LED-off frame after it) and the last ones (the
+  // stream's end settles them).
+  EXPECT_EQ(offlineSamples.size(), live);
   EXPECT_GE(live, 4u);
-  EXPECT_LE(offlineSamples.size() - live, 1u);
-  if (offlineSamples.size() > live) {
-    EXPECT_EQ(offlineSamples.begin()->first, original.frames.front().timestampUs);
-  }
 }
 
 }  // namespace

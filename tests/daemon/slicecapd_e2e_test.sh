@@ -2,9 +2,11 @@
 # slicecapd end to end on the file camera: the daemon plays a simulated eight-slice session, a
 # person's whole session is driven through the `slicecap` CLI, the daemon is killed with SIGKILL in
 # mid-sweep and restarted (no acknowledged sample may be lost; ExecStopPost's `--led-off` switches
-# the LED off), and the exported EXR's error against the material must be within 10 % of the
-# offline pipeline's (`slicecap capture-offline --ambient previous`: the live loop's one-sided
-# room-light term; the default two-sided one is better than live) on the same recordings. Texture
+# the LED off), and the exported EXR's error against the material must lie between the offline
+# pipeline's on the same recordings (`slicecap capture-offline`: its default two-sided room-light
+# term, which the live loop takes too, one LED block late, and an unlimited marker search) and the
+# old live loop's (`--ambient previous`: the LED-off frame before alone, the live search budget),
+# each with 10 % to spare. Texture
 # capture is on: its store survives the kill, the export carries it, and `slicecap btf` turns the
 # exported texture into a BTF with every texel reconstructed.
 # Usage: slicecapd_e2e_test.sh SLICECAP SLICECAPD [MATERIAL]
@@ -82,19 +84,24 @@ grep -q '"failed_texels": 0' "$work/btf/btf.json" || fail "texels failed: $(grep
   fail "the BTF directory is incomplete"
 echo "texture: $frames frames kept by the daemon, a 16 x 16 BTF reconstructed from the export"
 
-"$slicecap" capture-offline "$work/session" -o "$work/offline.exr" --ambient previous >/dev/null 2>&1
+"$slicecap" capture-offline "$work/session" -o "$work/offline.exr" >/dev/null 2>&1
+"$slicecap" capture-offline "$work/session" -o "$work/one-sided.exr" --ambient previous >/dev/null 2>&1
 "$slicecap" generate "$material" -o "$work/truth.exr" >/dev/null
 daemon_de=$(delta_e "$work/truth.exr" "$daemon_exr")
 offline_de=$(delta_e "$work/truth.exr" "$work/offline.exr")
-echo "dE against $material: daemon session $daemon_de, offline pipeline $offline_de"
+one_sided_de=$(delta_e "$work/truth.exr" "$work/one-sided.exr")
+echo "dE against $material: daemon session $daemon_de, offline pipeline $offline_de," \
+  "offline one-sided (the old live loop) $one_sided_de"
 # The prior's table of the first export is made afresh from all eight sweeps, not carried stale.
 [[ -f $work/desk/e2e-abrdf-prior.exr ]] || fail "the final export did not remake the prior table"
 cmp -s "$work/desk/e2e-abrdf-prior.exr" "$work/diagonal-only/e2e-abrdf-prior.exr" &&
   fail "the prior table was exported stale (the same as after the diagonal sweeps)"
 echo "prior (slicecap export --method prior): dE $(delta_e "$work/truth.exr" "$work/diagonal-only/e2e-abrdf-prior.exr")" \
   "from the diagonal sweeps, $(delta_e "$work/truth.exr" "$work/desk/e2e-abrdf-prior.exr") from all eight"
-awk -v d="$daemon_de" -v o="$offline_de" 'BEGIN { exit !(d <= 1.10 * o + 1e-9 && d >= 0.90 * o - 1e-9) }' ||
-  fail "the daemon's EXR (dE $daemon_de) is not within 10 % of the offline pipeline's (dE $offline_de)"
+awk -v d="$daemon_de" -v o="$offline_de" -v p="$one_sided_de" \
+  'BEGIN { exit !(d <= 1.10 * p + 1e-9 && d >= 0.90 * o - 1e-9) }' ||
+  fail "the daemon's EXR (dE $daemon_de) is not between the offline pipeline's (dE $offline_de) and" \
+    "the one-sided one's (dE $one_sided_de), 10 % either side"
 
 stop_daemon
 led_is_off || fail "the LED is not off after SIGTERM"

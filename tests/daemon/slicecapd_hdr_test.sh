@@ -2,8 +2,9 @@
 # slicecapd on an HDR recording (the file camera plays `slicecap simulate --hdr 2`: LED pairs
 # alternating a long and a short exposure, frames[].exposure_level): the daemon processes each
 # level in its own pipeline and the bins merge the levels per cell, so its session holds what
-# `slicecap process --ambient previous` (the live loop's one-sided room light) makes of the same
-# recording, bin for bin, and a sharp highlight that clips the long exposure is kept; a restart
+# `slicecap process` (the two-sided room light the live loop takes too, one LED block late) makes
+# of the same recording, bin for bin (to within the short level's room-light stand-ins, which only
+# offline has), and a sharp highlight that clips the long exposure is kept; a restart
 # (the bins rebuilt from the session journal) changes nothing. Then live on the camera model with
 # hdr_levels = 2 against one exposure.
 # Usage: slicecapd_hdr_test.sh SLICECAP SLICECAPD
@@ -32,8 +33,8 @@ start_daemon
 stop_daemon
 cmp -s "$work/desk/hdr-slices.csv" "$work/desk-restarted/hdr-slices.csv" ||
   fail "the slices after a restart differ from before: $(diff "$work/desk/hdr-slices.csv" "$work/desk-restarted/hdr-slices.csv" | head -4)"
-"$slicecap" process "$work/rec" -o "$work/offline.csv" --ambient previous >/dev/null 2>&1 ||
-  fail "slicecap process --ambient previous failed"
+"$slicecap" process "$work/rec" -o "$work/offline.csv" >/dev/null 2>&1 ||
+  fail "slicecap process failed"
 
 python3 - "$work/desk/hdr-slices.csv" "$work/offline.csv" "$work/rec/truth.json" <<'PY' || fail "the daemon's HDR bins differ from the offline pipeline's"
 import csv, json, sys
@@ -44,15 +45,20 @@ def bins(path):
 
 daemon, offline = bins(sys.argv[1]), bins(sys.argv[2])
 truth_peak = max(max(f["brdf"]) for f in json.load(open(sys.argv[3]))["frames"] if f.get("led_on", True))
-# The live loop has no LED-off frame before each level's first LED-on one: at most those two bins.
 assert len(daemon) >= 22, f"the daemon filled {len(daemon)} of 24 bins"
+# Offline, a short level's LED-on frame whose own LED-off frames were not located (a short
+# exposure's markers sit a few codes above black) takes its room light from the long level's located
+# ones at their poses (stand-ins); live it reads its own level's at its pixels. The bins agree to
+# within what that moves on this dark diffuse part (0.3-0.9 % here), not to the digit.
+largest = 0.0
 for k, value in daemon.items():
     assert k in offline, f"bin {k}: in the daemon's session, not offline"
     for a, b in zip(value, offline[k]):
-        assert abs(a - b) <= 1e-6 * max(abs(b), 1e-3), f"bin {k}: daemon {value}, offline {offline[k]}"
+        largest = max(largest, abs(a - b) / max(abs(b), 1e-3))
+        assert abs(a - b) <= 0.02 * max(abs(b), 1e-3), f"bin {k}: daemon {value}, offline {offline[k]}"
 peak = max(max(v) for v in daemon.values())
 assert peak >= 0.8 * truth_peak, f"the peak bin reads {peak:.3f} where the truth peaks at {truth_peak:.3f}"
-print(f"HDR: {len(daemon)} bins equal to process --ambient previous; peak {peak:.2f} (truth {truth_peak:.2f})")
+print(f"HDR: {len(daemon)} bins within {100 * largest:.2f} % of slicecap process's; peak {peak:.2f} (truth {truth_peak:.2f})")
 PY
 echo "slicecapd on an HDR recording: ok"
 
@@ -83,8 +89,8 @@ model_sweep() {  # model_sweep LEVELS: the diagonal 75/75 sweep's session, statu
 }
 model_sweep 1
 model_sweep 2
-# The live loop's outcome of each recorded frame, as `--ambient previous` reproduces it (of the
-# frames recorded: the recorder drops frames when its queue is full).
+# Which recorded frames the live loop's marker search locates, as `--ambient previous` reproduces
+# it (its frame budget; of the frames recorded: the recorder drops frames when its queue is full).
 "$slicecap" process "$work/storage-model/live/recordings/diagonal-75-75" -o "$work/model-offline.csv" \
   --ambient previous --report "$work/model-report.json" >/dev/null 2>&1 ||
   fail "slicecap process of the camera model's HDR recording failed"

@@ -154,7 +154,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     parts.cameraConfig.exposureUs = 8000.0;
     parts.led = std::make_unique<hal::FileLed>(root / "led.log", clock);
     parts.newFrameProcessor = [](const SliceId&, capture::FrameObserver) {
-      return standInPipeline();
+      return capture::settledAtOnce(standInPipeline());
     };
     parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };
     std::optional<Daemon> daemon;

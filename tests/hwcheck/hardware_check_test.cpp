@@ -16,6 +16,7 @@
 #include "slicecap/hal/led_timeline.hpp"
 #include "slicecap/hal/model_camera.hpp"
 #include "slicecap/hwcheck/response_check.hpp"
+#include "slicecap/hwcheck/white_rows.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
 
@@ -119,12 +120,79 @@ TEST(HardwareCheck, ReportsTheModelsConfiguredTimingAndCurve) {
   EXPECT_NEAR(*f.sensorReadNoise, sensor.readNoise * redGain, 0.2 * sensor.readNoise * redGain);
   EXPECT_NEAR(*f.sensorFullWellElectrons, sensor.fullWellElectrons / redGain,
               0.1 * sensor.fullWellElectrons / redGain);
-  ASSERT_EQ(report.configLines.size(), 4u);
+  ASSERT_EQ(report.configLines.size(), 5u);
   EXPECT_EQ(report.configLines[0].first, "sensor_read_noise");
   EXPECT_EQ(report.configLines[1].first, "sensor_full_well_electrons");
   EXPECT_EQ(report.configLines[2].first, "readout_us");
   EXPECT_EQ(report.configLines[3].first, "led_guard_us");
+  // The model's room light flickers at 100 Hz by default (a 50 Hz country's lamps).
+  EXPECT_EQ(report.configLines[4], (std::pair<std::string, std::string>{"mains_hz", "50"}));
   EXPECT_FALSE(rig.led.isOn()) << "the LED is left off";
+}
+
+// The room light over the white references as a fraction of the LED's, as the model's scene has
+// it (the ISP's colour gains weigh both alike).
+double sceneRoomToLed(const test::StillScene& scene, const hal::SensorModel& sensor) {
+  const WhiteRows whites =
+      whiteRowsOf(vision::defaultTarget(), vision::defaultSimulatedCamera(), test::stillPose());
+  const hal::SceneLight& light = scene.light();
+  double room = 0.0, led = 0.0;
+  for (std::size_t row = 0; row < whites.columnsByRow.size(); ++row)
+    for (int col : whites.columnsByRow[row])
+      for (int c = 0; c < 3; ++c) {
+        const std::size_t at = (row * std::size_t(light.widthPx) + std::size_t(col)) * 3 + c;
+        room += sensor.colourGains[c] * light.ambientRate[at];
+        led += sensor.colourGains[c] * light.ledRate[at];
+      }
+  return room / led;
+}
+
+TEST(HardwareCheck, MeasuresTheRoomLightsFlickerAndItsLevelAgainstTheLed) {
+  // Issue 44's room: 15 % of the LED face-on (the rig's 1 W/sr at 300 mm: 11.1 W/m^2), 100 Hz
+  // flicker 30 % deep. Goal: frequency within 1 Hz, depth and ratio within 20 %.
+  sim::RigParams bright = sim::RigParams::realistic();
+  bright.ambientIrradiance = 0.15 * bright.ledIntensityWPerSr / (0.3 * 0.3);
+  auto renderer = std::make_shared<sim::FrameRenderer>(vision::defaultSimulatedCamera(),
+                                                       vision::defaultTarget(),
+                                                       sim::loadMaterial("matte-paint"), bright);
+  auto scene = std::make_shared<test::StillScene>(renderer, test::stillPose(), test::stillLightMm());
+  hal::SensorModel sensor;
+  sensor.flickerHz = 100.0;
+  sensor.flickerDepth = 0.3;
+  ModelRig rig(sensor, scene);
+  const HardwareReport report = rig.run();
+  std::printf("%s\n", report.text().c_str());
+  const MeasuredFigures& f = report.figures;
+  ASSERT_TRUE(f.flickerHz && f.flickerDepth && f.roomToLed) << report.text();
+  const double truthRatio = sceneRoomToLed(*scene, sensor);
+  std::printf("flicker %.2f Hz (model 100), depth %.3f (model 0.3), room/LED %.3f (scene %.3f)\n",
+              *f.flickerHz, *f.flickerDepth, *f.roomToLed, truthRatio);
+  EXPECT_NEAR(*f.flickerHz, 100.0, 1.0);
+  EXPECT_NEAR(*f.flickerDepth, 0.3, 0.2 * 0.3);
+  EXPECT_NEAR(*f.roomToLed, truthRatio, 0.2 * truthRatio);
+  const CheckItem& room = item(report, "room light");
+  EXPECT_EQ(room.verdict, Verdict::Warn) << room.finding;
+  EXPECT_NE(room.advice.find("mains_hz = 50"), std::string::npos) << room.advice;
+}
+
+TEST(HardwareCheck, SaysWhenTheFrameDurationHidesTheFlicker) {
+  // mains_hz = 60: 33.3 ms frames are 4 periods of a 120 Hz flicker; every frame starts at the
+  // same phase, so the rows cannot show it, and the subtraction does not need them to.
+  hal::SensorModel sensor;
+  sensor.flickerHz = 120.0;
+  sensor.flickerDepth = 0.3;
+  ModelRig rig(sensor);
+  HardwareCheckOptions options;
+  options.captureSeconds = 0.5;
+  BackendInfo backend{{"model camera"}, Verdict::Warn, "none", ""};
+  hal::CameraConfig config;
+  config.frameDurationUs = 1e6 / 30.0;
+  const HardwareReport report = runHardwareCheck(*rig.camera, config, rig.led, rig.clock,
+                                                 vision::defaultTarget(),
+                                                 vision::defaultSimulatedCamera(), backend, options);
+  const CheckItem& room = item(report, "room light");
+  EXPECT_EQ(room.verdict, Verdict::Ok) << room.finding << " / " << room.advice;
+  EXPECT_NE(room.finding.find("no flicker measured"), std::string::npos) << room.finding;
 }
 
 TEST(HardwareCheck, TargetNotInViewIsAVerdictNamingTheCamera) {

@@ -142,11 +142,38 @@ struct FramePipeline::State {
 
   // The window's radiance (its reading minus the room light) and the white references' (room
   // light subtracted, with their noise) of an LED-on frame at `pose`, or why it gives none.
+  // The room light's share of the references, summed over them (FrameOutcome::Measurement's
+  // roomToLed).
+  struct RoomShare {
+    double room = 0.0, led = 0.0;
+  };
+
+  // Two located LED-off frames' room light over the white references, apart as a fraction of
+  // it (FrameOutcome::Measurement::roomChange); none when either is not located or nothing of
+  // the references is lit.
+  std::optional<double> roomChangeBetween(const Ambient& a, const Ambient& b) const {
+    if (!a.pose || !b.pose) return std::nullopt;
+    double apart = 0.0, level = 0.0;
+    for (const auto& reference : references) {
+      AreaSpec area = reference.area;
+      area.clipFraction = 2.0;
+      const AreaReading ra = readArea(a.frame, *a.pose, camera, area, settings.noise, *codes);
+      const AreaReading rb = readArea(b.frame, *b.pose, camera, area, settings.noise, *codes);
+      if (!ra.inside || !rb.inside) continue;
+      for (int c = 0; c < 3; ++c) {
+        apart += std::abs(ra.mean[c] - rb.mean[c]);
+        level += 0.5 * (ra.mean[c] + rb.mean[c]);
+      }
+    }
+    if (!(level > 0.0)) return std::nullopt;
+    return apart / level;
+  }
+
   std::optional<frame_checks::GateFailure> readReferences(
       const hal::Frame& frame, const vision::Pose& pose, const std::vector<AmbientTerm>& roomLight,
       const AreaReading& window, Rgb* windowRadiance,
       std::vector<ReferenceObservation>* observations,
-      std::vector<ReferenceObservation>* unlit) const {
+      std::vector<ReferenceObservation>* unlit, RoomShare* share) const {
     *windowRadiance = window.mean - ambientAt(roomLight, windowArea, pose).mean;
     for (const auto& reference : references) {
       AreaSpec spec = reference.area;
@@ -157,6 +184,10 @@ struct FramePipeline::State {
         return frame_checks::GateFailure{RejectReason::WindowClipped, "white reference saturated"};
       const AreaReading room = ambientAt(roomLight, reference.area, pose);
       const Rgb value = area.mean - room.mean;
+      for (int c = 0; c < 3; ++c) {
+        share->room += room.mean[c];
+        share->led += value[c];
+      }
       Rgb sigma;
       for (int c = 0; c < 3; ++c)
         sigma[c] = std::sqrt(area.variance[c] + room.variance[c]);

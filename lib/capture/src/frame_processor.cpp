@@ -1,5 +1,7 @@
 // A FramePipeline as the FrameProcessor the daemon and the offline commands call per frame; an
 // HDR sweep's frames go to one pipeline per exposure level.
+#include <algorithm>
+#include <deque>
 #include <map>
 #include <memory>
 
@@ -51,20 +53,93 @@ class LevelPipelines {
 
 }  // namespace
 
+namespace {
+
+// One frame through its level's pipeline, with what makeFramePipeline adds around it.
+FrameOutcome processed(LevelPipelines& pipelines, const FrameObserver& observer,
+                       const hal::Frame& frame, const SliceId& slice,
+                       const hal::Frame* following = nullptr) {
+  FramePipeline& pipeline = pipelines.forFrame(frame);
+  if (following) pipeline.setFollowingAmbientFrame(*following);
+  FrameOutcome outcome = pipeline.process(frame, slice);
+  if (outcome.sample && outcome.sample->hdr && frame.metadata.exposureLevel)
+    outcome.sample->hdr->exposureLevel = *frame.metadata.exposureLevel;
+  if (observer)
+    observer(frame, outcome,
+             frame.metadata.ledOn ? pipeline.ambientTermsFor(frame.metadata.timestampUs)
+                                  : std::vector<AmbientTerm>{});
+  return outcome;
+}
+
+// The LED-on frames waiting for the LED-off frame after them, per exposure level (an HDR
+// sweep's LED-on frame takes the LED-off frames of its own level), in arrival order.
+class HeldFrames {
+ public:
+  HeldFrames(const vision::TargetGeometry& target, const vision::CameraModel& camera,
+             const PipelineSettings& settings, FrameObserver observer)
+      : pipelines_(target, camera, settings),
+        observer_(std::move(observer)),
+        twoSided_(settings.requireAmbient) {}
+
+  std::vector<SettledFrame> take(const hal::Frame* frame, const SliceId& slice) {
+    std::vector<SettledFrame> settled;
+    if (!frame) {
+      // The stream ended: what is held settles one-sided, in capture order across levels.
+      std::vector<hal::Frame> rest;
+      for (auto& [level, frames] : held_)
+        for (hal::Frame& f : frames) rest.push_back(std::move(f));
+      held_.clear();
+      std::stable_sort(rest.begin(), rest.end(), [](const hal::Frame& a, const hal::Frame& b) {
+        return a.metadata.timestampUs < b.metadata.timestampUs;
+      });
+      for (const hal::Frame& f : rest) settle(f, slice, nullptr, settled);
+      return settled;
+    }
+    if (!twoSided_) {
+      settle(*frame, slice, nullptr, settled);
+      return settled;
+    }
+    std::deque<hal::Frame>& level = held_[frame->metadata.exposureLevel.value_or(-1)];
+    if (frame->metadata.ledOn) {
+      level.push_back(*frame);
+      return settled;
+    }
+    // The LED-off frame after the held ones: each takes it as its following room light.
+    while (!level.empty()) {
+      settle(level.front(), slice, frame, settled);
+      level.pop_front();
+    }
+    settle(*frame, slice, nullptr, settled);
+    return settled;
+  }
+
+ private:
+  void settle(const hal::Frame& frame, const SliceId& slice, const hal::Frame* following,
+              std::vector<SettledFrame>& settled) {
+    settled.push_back({frame.metadata, processed(pipelines_, observer_, frame, slice, following)});
+  }
+
+  LevelPipelines pipelines_;
+  FrameObserver observer_;
+  bool twoSided_;
+  std::map<int, std::deque<hal::Frame>> held_;
+};
+
+}  // namespace
+
+LiveFrameProcessor makeLiveFramePipeline(const vision::TargetGeometry& target,
+                                         const vision::CameraModel& camera,
+                                         const PipelineSettings& settings, FrameObserver observer) {
+  auto held = std::make_shared<HeldFrames>(target, camera, settings, std::move(observer));
+  return [held](const hal::Frame* frame, const SliceId& slice) { return held->take(frame, slice); };
+}
+
 FrameProcessor makeFramePipeline(const vision::TargetGeometry& target,
                                  const vision::CameraModel& camera,
                                  const PipelineSettings& settings, FrameObserver observer) {
   auto pipelines = std::make_shared<LevelPipelines>(target, camera, settings);
   return [pipelines, observer = std::move(observer)](const hal::Frame& frame, const SliceId& slice) {
-    FramePipeline& pipeline = pipelines->forFrame(frame);
-    FrameOutcome outcome = pipeline.process(frame, slice);
-    if (outcome.sample && outcome.sample->hdr && frame.metadata.exposureLevel)
-      outcome.sample->hdr->exposureLevel = *frame.metadata.exposureLevel;
-    if (observer)
-      observer(frame, outcome,
-               frame.metadata.ledOn ? pipeline.ambientTermsFor(frame.metadata.timestampUs)
-                                    : std::vector<AmbientTerm>{});
-    return outcome;
+    return processed(*pipelines, observer, frame, slice);
   };
 }
 

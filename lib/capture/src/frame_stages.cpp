@@ -26,6 +26,7 @@ std::optional<FrameOutcome> FramePipeline::State::screen(const hal::Frame& frame
   if (ledState == hal::LedExposure::State::Mixed && predictedRows)
     return rejected(RejectReason::LedTransition, ledTransitionDetail(*predictedRows));
   if (ledState != hal::LedExposure::State::Off) return std::nullopt;
+  std::optional<Ambient> previous = std::move(ambient);
   if (nextAmbient && nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs) {
     ambient = std::move(nextAmbient);  // already located by setFollowingAmbientFrame
     nextAmbient.reset();
@@ -35,6 +36,9 @@ std::optional<FrameOutcome> FramePipeline::State::screen(const hal::Frame& frame
   FrameOutcome outcome;
   outcome.kind = FrameOutcome::Kind::Ambient;
   outcome.measurement.pose = ambient->pose;  // offline: another level may borrow it
+  // Consecutive LED-off frames: how much the room light moved in one frame period.
+  if (previous && frame.metadata.sequence == previous->frame.metadata.sequence + 1)
+    outcome.measurement.roomChange = roomChangeBetween(*previous, *ambient);
   return outcome;
 }
 
@@ -146,8 +150,10 @@ std::optional<FrameOutcome> FramePipeline::State::measure(const hal::Frame& fram
   Rgb windowRadiance;
   std::vector<ReferenceObservation> observations, unlit;
   LightFit fit;
+  RoomShare share;
   auto failure = readReferences(frame, located.pose, roomLight, window, &windowRadiance,
-                                &observations, &unlit);
+                                &observations, &unlit, &share);
+  if (!roomLight.empty() && share.led > 0.0) m.roomToLed = share.room / share.led;
   double limit = 0.0;
   if (!failure) failure = fitLight(observations, unlit, *m.nominalLight, &fit, &limit);
   if (fit.converged) m.referenceDisagreement = fit.weightedResidualRms;

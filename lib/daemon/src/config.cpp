@@ -43,6 +43,15 @@ int wholeNumber(const std::string& value, int lo, int hi, const std::string& wha
   return number;
 }
 
+double numberIn(const std::string& value, double lo, double hi, const std::string& what) {
+  double number = 0.0;
+  const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), number);
+  if (value.empty() || ec != std::errc() || end != value.data() + value.size() ||
+      !(number >= lo && number <= hi))
+    throw std::invalid_argument("'" + value + "' is not " + what);
+  return number;
+}
+
 bool boolean(const std::string& value) {
   if (value == "true" || value == "yes" || value == "1") return true;
   if (value == "false" || value == "no" || value == "0") return false;
@@ -101,6 +110,15 @@ std::vector<SetterEntry> cameraSetters() {
      [](DaemonConfig& c, const std::string& v) {
        c.readoutUs = v.empty() ? std::nullopt
                                : std::optional(positiveNumber(v, "a positive readout time in us"));
+     }},
+    {"mains_hz",
+     [](DaemonConfig& c, const std::string& v) {
+       // Never a silent default: a frame duration pinned to the wrong flicker hides nothing.
+       if (v == "50" || v == "60" || v == "0")
+         c.mainsHz = std::stoi(v);
+       else
+         throw std::invalid_argument("'" + v + "' is not 50, 60 or 0 (the mains frequency of the " +
+                                     "room's lights in Hz; 0: do not pin the frame duration)");
      }},
   };
 }
@@ -169,6 +187,21 @@ std::vector<SetterEntry> modelCameraSetters() {
     {"model_seed",
      [](DaemonConfig& c, const std::string& v) {
        c.modelSeed = wholeNumber(v, 0, 1'000'000'000, "a seed");
+     }},
+    {"model_room_light",
+     [](DaemonConfig& c, const std::string& v) {
+       c.modelRoomLight = numberIn(v, 0.0, 10.0, "a fraction of the LED's irradiance in 0..10");
+     }},
+    {"model_flicker_hz",
+     [](DaemonConfig& c, const std::string& v) {
+       const double hz = numberIn(v, 0.0, 1000.0, "a frequency in Hz, 0 or 1..1000");
+       if (hz > 0.0 && hz < 1.0)
+         throw std::invalid_argument("'" + v + "' is not a frequency in Hz, 0 or 1..1000");
+       c.modelFlickerHz = hz;
+     }},
+    {"model_flicker_depth",
+     [](DaemonConfig& c, const std::string& v) {
+       c.modelFlickerDepth = numberIn(v, 0.0, 1.0, "a flicker depth in 0..1");
      }},
   };
 }

@@ -46,6 +46,12 @@ calibration =
 # measures it). Empty: the camera's line time where it reports one, else a whole frame period
 # (safe, but it rejects more frames as led_transition).
 readout_us =
+# The mains frequency of the room's lights in Hz: 50, 60, or 0 (not pinned). Lamps on AC mains
+# flicker at twice it (100 or 120 Hz). With 50 or 60 every frame lasts a whole number of flicker
+# periods (40 ms = 4 x 10 ms at 50 Hz, 25 fps; 33.3 ms = 4 x 8.33 ms at 60 Hz, 30 fps): each row of
+# an LED-off frame then saw the room light the same row of the LED-on frames saw, at any exposure,
+# and it subtracts out. `slicecapd --check-hardware` measures the flicker.
+mains_hz = 0
 # The frames' noise, which the white-reference test allows for (an 8-bit frame's references near
 # black disagree by noise alone): read noise as a fraction of full scale, and shot noise as the
 # electrons a full-scale value stands for at gain 1. `slicecapd --check-hardware` measures both;
@@ -76,7 +82,11 @@ constexpr const char* kModelCameraDefaults = R"(# With camera = model: the mater
 # hand-held jitter, blur, occlusion, room light; ideal: none), seconds per sweep, the positions the
 # hand rests at on the way round, the ISP's tone curve (imx708: the Pi camera module 3's tuning),
 # the seed of the rig's and the sensor's randomness, and the RAW format its sensor offers (empty:
-# none; SRGGB10_CSI2P: a Pi 4's camera module 3; taken as camera_raw says).
+# none; SRGGB10_CSI2P: a Pi 4's camera module 3; taken as camera_raw says). The room light: its
+# irradiance on the target as a fraction of the LED's face-on (0.1: a home's 100-150 lx against a
+# 3 W LED's ~1000 lx at 30 cm; an office's 500 lx is half the LED), its flicker frequency (100:
+# lamps on 50 Hz mains, 120 on 60 Hz, 0 steady) and depth ((max - min) / (max + min), IEEE 1789's
+# percent flicker / 100: 0.1 a filament lamp's; magnetic-ballast tubes, cheap LED drivers 0.3-1).
 model_material = satin-blue-45
 model_rig = realistic
 model_sweep_seconds = 8
@@ -84,6 +94,9 @@ model_positions = 32
 model_tone_curve = imx708
 model_seed = 7
 model_raw =
+model_room_light = 0.1
+model_flicker_hz = 100
+model_flicker_depth = 0.1
 )";
 // The LED.
 constexpr const char* kLedDefaults = R"(# LED: the GPIO chip and line that drive the LED driver (never an LED straight on a pin; see

@@ -11,6 +11,7 @@
 
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/event_loop.hpp"
+#include "slicecap/daemon/room_light_watch.hpp"
 #include "slicecap/hal/led_timeline.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/target_json.hpp"
@@ -43,7 +44,7 @@ struct Daemon::State {
   // The running sweep's devices; empty while nothing captures.
   std::shared_ptr<hal::Camera> camera;
   std::optional<SliceId> cameraSlice;
-  capture::FrameProcessor processor;
+  capture::LiveFrameProcessor processor;
   std::optional<int> watchedFd;
   std::optional<EventLoop::TimerId> pollTimer;
 
@@ -68,6 +69,9 @@ struct Daemon::State {
 
   // A live HDR sweep (hdr_levels > 1), from the end of the calibration to the sweep's stop.
   SweepHdr hdr{parts.hdrLevels};
+
+  // The room light the sweep run's samples saw (the status warns of a bright or flickering one).
+  RoomLightWatch roomLight;
 
   explicit State(DaemonParts p)
       : parts(std::move(p)),
@@ -124,6 +128,7 @@ struct Daemon::State {
     // The last sweep's exposure line is not this one's, whatever happens below.
     calibration.reset();
     hdr.reset();
+    roomLight.reset();
     std::shared_ptr<hal::Camera> opened;
     try {
       opened = parts.cameraFor(slice);
@@ -189,8 +194,12 @@ struct Daemon::State {
     if (!decided.warning.empty()) std::cerr << "slicecapd: " << decided.warning << "\n";
     calibration.noteDecodingWarning(decided.warning);
     std::string decodingWarning = decided.warning;
-    if (decided.decoding.kind == io::RecordedDecoding::Kind::MeasuredCurve)
+    if (decided.decoding.kind == io::RecordedDecoding::Kind::MeasuredCurve) {
+      // Frames the sRGB pipeline still holds settle there first (none, as the decision comes
+      // before any frame is processed; a held frame must never be lost silently).
+      settleHeld();
       processor = parts.newDecodingFrameProcessor(*cameraSlice, observer, decided.decoding.curve);
+    }
     if (const std::optional<std::filesystem::path> session = manager.sessionDirectory()) {
       try {
         std::filesystem::create_directories(*session / kDecodingFolder);
@@ -251,40 +260,25 @@ struct Daemon::State {
     return false;
   }
 
-  void pumpFrame() {
-    if (!camera || !cameraSlice) return;
-    hal::CaptureResult result = camera->nextFrame(std::chrono::milliseconds(0));
-    switch (result.status) {
-      case hal::CaptureResult::Status::Timeout:
-        return;
-      case hal::CaptureResult::Status::EndOfStream:
-        // A recording played to its end, or the virtual rig's operator went round.
-        manager.pauseSweep(camera->readyDescriptor() ? "the camera's stream has ended (" + camera->id() + ")"
-                                                     : std::string("the camera's recording has ended"));
-        reconcile();
-        return;
-      case hal::CaptureResult::Status::Error:
-        manager.pauseSweep("camera error: " + result.error);
-        reconcile();
-        return;
-      case hal::CaptureResult::Status::Frame:
-        break;
-    }
-    hal::Frame& frame = *result.frame;
-    if (calibrate(frame)) return;
-    if (camera->readyDescriptor()) hdr.start(camera->id(), calibration.lockedSetting());
-    strobe(frame);
-    capture::FrameOutcome outcome;
+  /// The frames the processor holds, settled as the stream ends (before the sweep pauses, so
+  /// their samples count).
+  void settleHeld() {
+    if (!processor || !cameraSlice) return;
+    std::vector<capture::SettledFrame> settled;
     try {
-      outcome = processor(frame, *cameraSlice);
+      settled = processor(nullptr, *cameraSlice);
     } catch (const std::exception& error) {
-      outcome.kind = capture::FrameOutcome::Kind::Rejected;
-      outcome.rejectReason = capture::RejectReason::BadFrame;
-      outcome.detail = error.what();
+      std::cerr << "slicecapd: settling the sweep's last frames: " << error.what() << "\n";
     }
+    for (const capture::SettledFrame& frame : settled) apply(frame);
+  }
+
+  /// One settled outcome into the session, the HDR cycle and the strobe's rows.
+  void apply(const capture::SettledFrame& settled) {
+    const capture::FrameOutcome& outcome = settled.outcome;
     if (outcome.viewElevationErrorDeg)
       manager.noteViewElevationErrorDeg(*outcome.viewElevationErrorDeg);
-    hdr.noteOutcome(frame, outcome);
+    hdr.noteOutcome(settled.metadata, outcome);
     switch (outcome.kind) {
       case capture::FrameOutcome::Kind::Sample:
         manager.acceptSample(*outcome.sample);
@@ -295,8 +289,48 @@ struct Daemon::State {
       case capture::FrameOutcome::Kind::Ambient:
         break;
     }
+    roomLight.note(outcome);
+    if (strobeRun) strobeRun->noteRows(outcome.measurement.rowsOfInterest);
+  }
+
+  void pumpFrame() {
+    if (!camera || !cameraSlice) return;
+    hal::CaptureResult result = camera->nextFrame(std::chrono::milliseconds(0));
+    switch (result.status) {
+      case hal::CaptureResult::Status::Timeout:
+        return;
+      case hal::CaptureResult::Status::EndOfStream:
+        // A recording played to its end, or the virtual rig's operator went round.
+        settleHeld();
+        manager.pauseSweep(camera->readyDescriptor() ? "the camera's stream has ended (" + camera->id() + ")"
+                                                     : std::string("the camera's recording has ended"));
+        reconcile();
+        return;
+      case hal::CaptureResult::Status::Error:
+        settleHeld();
+        manager.pauseSweep("camera error: " + result.error);
+        reconcile();
+        return;
+      case hal::CaptureResult::Status::Frame:
+        break;
+    }
+    hal::Frame& frame = *result.frame;
+    if (calibrate(frame)) return;
+    if (camera->readyDescriptor()) hdr.start(camera->id(), calibration.lockedSetting());
+    strobe(frame);
+    std::vector<capture::SettledFrame> settled;
+    try {
+      settled = processor(&frame, *cameraSlice);
+    } catch (const std::exception& error) {
+      capture::FrameOutcome outcome;
+      outcome.kind = capture::FrameOutcome::Kind::Rejected;
+      outcome.rejectReason = capture::RejectReason::BadFrame;
+      outcome.detail = error.what();
+      settled = {{frame.metadata, std::move(outcome)}};
+    }
+    for (const capture::SettledFrame& each : settled) apply(each);
     outputs.pauseOnTextureError();
-    scheduleSwitch(outcome);
+    scheduleSwitch();
     outputs.record(std::move(frame));
     reconcile();  // a storage error pauses the sweep, and the LED must go off at once
   }
@@ -320,10 +354,10 @@ struct Daemon::State {
     commanded->forgetBefore(clock.nowUs() - 5'000'000);
   }
 
-  /// After a live frame: the next switch, timed from what the frames showed.
-  void scheduleSwitch(const capture::FrameOutcome& outcome) {
+  /// After a live frame: the next switch, timed from what the frames showed (the rows of
+  /// interest of the outcomes settled so far, apply()).
+  void scheduleSwitch() {
     if (!strobeRun) return;
-    strobeRun->noteRows(outcome.measurement.rowsOfInterest);
     // A planned switch stays planned: frames queued behind a slow one arrive before its time,
     // and planning again at each would put it off for ever (the LED would never switch).
     if (scheduledSwitch) return;
@@ -368,6 +402,10 @@ struct Daemon::State {
       if (!shown->warning.empty()) warnings.push_back(shown->warning);
     }
     calibration.describeDecoding(json, warnings);
+    if (nlohmann::json room = roomLight.summary(); !room.empty()) {
+      json["room_light"] = room;
+      for (std::string& warning : roomLight.warnings()) warnings.push_back(std::move(warning));
+    }
     if (!warnings.empty()) json["warnings"] = warnings;
   }
 
@@ -385,6 +423,9 @@ struct Daemon::State {
                                  error.what() + " (nothing was redone)");
         }
       }
+      // A stop settles the LED-on frames still waiting for their LED-off frame first, as the
+      // stream's end does: their samples belong to the sweep being stopped.
+      if (std::holds_alternative<SweepStop>(request.command) && manager.capturing()) settleHeld();
       json = replyOrThrow(manager.handle(request.command));
     } catch (const RequestError&) {
       reconcile();

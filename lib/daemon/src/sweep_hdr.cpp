@@ -55,12 +55,12 @@ void SweepHdr::pairStarted(hal::Camera& camera) {
   cycle_.reset();
 }
 
-void SweepHdr::noteOutcome(const hal::Frame& frame, const capture::FrameOutcome& outcome) {
+void SweepHdr::noteOutcome(const hal::FrameMetadata& frame, const capture::FrameOutcome& outcome) {
   if (!cycle_ || !outcome.sample || !outcome.sample->hdr) return;
-  if (frame.metadata.exposureLevel != static_cast<int>(cycle_->levelsUs().size()) - 1) return;
+  if (frame.exposureLevel != static_cast<int>(cycle_->levelsUs().size()) - 1) return;
   const std::vector<capture::HdrCell>& cells = outcome.sample->hdr->cells;
   if (std::any_of(cells.begin(), cells.end(), [](const capture::HdrCell& c) { return c.clipped; }))
-    cycle_->shortestClipped(frame.metadata);
+    cycle_->shortestClipped(frame);
 }
 
 void SweepHdr::describe(nlohmann::json& status) const {

@@ -33,7 +33,7 @@ class SweepHdr {
   /// \brief The LED switched on: a new pair, which may switch the camera to the next level.
   void pairStarted(hal::Camera& camera);
   /// \brief After the pipeline: the shortest level's clipped window shortens it.
-  void noteOutcome(const hal::Frame& frame, const capture::FrameOutcome& outcome);
+  void noteOutcome(const hal::FrameMetadata& frame, const capture::FrameOutcome& outcome);
   /// \brief The status's "hdr" line, when hdr_levels asked for HDR.
   void describe(nlohmann::json& status) const;
 

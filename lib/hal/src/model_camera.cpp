@@ -45,6 +45,7 @@ bool SensorModel::isValid(std::string* error) const {
   if (!(autoExposureUs > 0.0 && autoExposureUs <= framePeriodUs))
     return fail("auto exposure " + std::to_string(autoExposureUs) + " us is outside (0, period]");
   if (!(autoGain >= 1.0 && autoGain <= maxGain)) return fail("auto gain is outside 1..max gain");
+  if (std::string why; !RoomFlicker{flickerHz, flickerDepth, 0.0}.isValid(&why)) return fail(why);
   if (rawFormat) {
     if (!bayerFormatFromLibcameraName(bayerFormatName(*rawFormat)))
       return fail("RAW format " + bayerFormatName(*rawFormat) + " is not one the decoder reads");
@@ -91,10 +92,17 @@ struct ModelCamera::State {
   std::vector<std::uint8_t> encodeTable;  // linear (1/65535 steps) -> 8-bit code
   std::map<std::uint64_t, FrameTruth> truths;
   int timerFd = -1;
+  RoomFlicker flicker;
+  double periodUs = 0.0;  // the frame period: the configured frame duration, else the model's
 
   State(std::shared_ptr<SceneSource> s, std::shared_ptr<const LedTimeline> l, Clock& c,
         SensorModel m)
       : scene(std::move(s)), led(std::move(l)), clock(c), model(std::move(m)), random(model.seed) {
+    periodUs = model.framePeriodUs;
+    // Its own generator, so the noise draws are those of a model without flicker.
+    std::mt19937_64 phaseRandom(model.seed ^ 0x6d61696e73ULL);
+    flicker = {model.flickerHz, model.flickerDepth,
+               std::uniform_real_distribution<double>(0.0, 1.0)(phaseRandom)};
     encodeTable.resize(65536);
     for (std::size_t i = 0; i < encodeTable.size(); ++i)
       encodeTable[i] = static_cast<std::uint8_t>(
@@ -102,7 +110,7 @@ struct ModelCamera::State {
   }
 
   std::int64_t readoutStartOf(std::uint64_t sequence) const {
-    return startUs + static_cast<std::int64_t>(std::llround(double(sequence) * model.framePeriodUs));
+    return startUs + static_cast<std::int64_t>(std::llround(double(sequence) * periodUs));
   }
 
   Captured planned(std::uint64_t sequence) const {
@@ -211,9 +219,11 @@ struct ModelCamera::State {
       const double rowStartUs = double(truth.row0StartUs) + row * lineUs;
       const double onS = led->onTimeUs(rowStartUs, rowStartUs + exposureUs) * 1e-6;
       truth.rowOnFraction[row] = static_cast<float>(exposureS > 0 ? onS / exposureS : 0.0);
+      const double roomFactor = flicker.meanFactor(rowStartUs, exposureUs);
+      truth.rowRoomFactor[row] = static_cast<float>(roomFactor);
       RowExposure e{light.ambientRate.data(), light.ledRate.data(),
-                    std::size_t(row) * config.widthPx * 3, float(captured.gain * exposureS),
-                    float(captured.gain * onS)};
+                    std::size_t(row) * config.widthPx * 3,
+                    float(captured.gain * exposureS * roomFactor), float(captured.gain * onS)};
       if (raw)
         model_exposure::exposeRawRow(row, config.widthPx, e, codes, noise, mosaic);
       else
@@ -253,6 +263,7 @@ struct ModelCamera::State {
     truth.exposureUs = captured.exposureUs;
     truth.gain = captured.gain;
     truth.rowOnFraction.resize(height);
+    truth.rowRoomFactor.resize(height);
     Frame frame = emptyFrame();
     std::vector<std::uint16_t> mosaic(raw ? values / 3 * 4 : 0);
     exposeRows(captured, *light, truth, frame, mosaic);
@@ -311,9 +322,23 @@ ConfigResult ModelCamera::configure(CameraConfig& config) {
     adjusted.push_back("buffer count set to 2");
     config.bufferCount = 2;
   }
-  if (config.exposureUs && *config.exposureUs > state_->model.framePeriodUs) {
+  state_->periodUs = state_->model.framePeriodUs;
+  if (config.frameDurationUs) {
+    // A sensor's frame is at least its rows' readout plus some blanking; the model's blanking
+    // is 1 ms.
+    const double shortestUs = config.heightPx * state_->model.lineTimeUs + 1000.0;
+    const double heldUs = std::clamp(*config.frameDurationUs, shortestUs, 1e6);
+    if (heldUs != *config.frameDurationUs) {
+      adjusted.push_back("frame duration set to " + std::to_string(heldUs) + " us (asked " +
+                         std::to_string(*config.frameDurationUs) + " us; this sensor mode's " +
+                         "range is " + std::to_string(shortestUs) + "..1000000 us)");
+      config.frameDurationUs = heldUs;
+    }
+    state_->periodUs = heldUs;
+  }
+  if (config.exposureUs && *config.exposureUs > state_->periodUs) {
     adjusted.push_back("exposure set to the frame period");
-    config.exposureUs = state_->model.framePeriodUs;
+    config.exposureUs = state_->periodUs;
   }
   state_->config = config;
   state_->configured = true;
@@ -376,7 +401,7 @@ ExposureLock ModelCamera::lockExposure(const ExposureSetting& wanted) {
   if (!s.running) throw std::logic_error("ModelCamera::lockExposure outside start..stop");
   s.catchUp(s.clock.nowUs());
   ExposureSetting setting;
-  setting.exposureUs = std::clamp(wanted.exposureUs, 1.0, s.model.framePeriodUs);
+  setting.exposureUs = std::clamp(wanted.exposureUs, 1.0, s.periodUs);
   setting.gain = std::clamp(wanted.gain.value_or(s.model.autoGain), 1.0, s.model.maxGain);
   const std::uint32_t index = s.locks.empty() ? 1 : s.locks.back().index + 1;
   s.locks.push_back({s.nextToStart + static_cast<std::uint64_t>(s.model.controlDelayFrames),
@@ -392,6 +417,14 @@ std::optional<FrameTruth> ModelCamera::truth(std::uint64_t sequence) const {
 
 std::uint64_t ModelCamera::framesDropped() const {
   return state_->dropped;
+}
+
+RoomFlicker ModelCamera::roomFlicker() const {
+  return state_->flicker;
+}
+
+double ModelCamera::framePeriodUs() const {
+  return state_->periodUs;
 }
 
 }  // namespace slicecap::hal

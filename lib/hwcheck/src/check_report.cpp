@@ -66,6 +66,9 @@ nlohmann::json HardwareReport::json() const {
   put("delivery_latency_us", figures.deliveryLatencyUs);
   put("curve_from_linear", figures.curveFromLinear);
   put("curve_from_srgb", figures.curveFromSrgb);
+  put("flicker_hz", figures.flickerHz);
+  put("flicker_depth", figures.flickerDepth);
+  put("room_to_led", figures.roomToLed);
   nlohmann::json config = nlohmann::json::object();
   for (const auto& [key, value] : configLines) config[key] = value;
   return {{"camera", cameraId}, {"cameras", cameras},          {"overall", toString(overall())},

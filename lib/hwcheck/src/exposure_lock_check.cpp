@@ -33,6 +33,10 @@ ExposureLockResult checkExposureLock(CheckRig& rig, const WhiteRows* whites, int
   result.fromUs = m0.exposureUs;
   // Half the exposure: a change the brightness shows clearly, without going dark.
   result.toUs = result.reportsExposure ? m0.exposureUs / 2.0 : 5000.0;
+  // White references clipped before the lock may stay clipped at half the exposure (a bright
+  // room adds to the LED, and the camera's own exposure need not leave them room): then the whole
+  // frame, mostly darker than they, shows the change.
+  if (whites && brightness(before->frame, whites) > 0.95) whites = nullptr;
   const double level0 = brightness(before->frame, whites);
   const std::int64_t lockUs = rig.clock().nowUs();
   const hal::ExposureLock lock =

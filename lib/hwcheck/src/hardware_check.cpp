@@ -12,6 +12,7 @@
 #include "slicecap/hwcheck/frame_timing.hpp"
 #include "slicecap/hwcheck/noise_check.hpp"
 #include "slicecap/hwcheck/response_check.hpp"
+#include "slicecap/hwcheck/room_light_check.hpp"
 #include "slicecap/hwcheck/white_rows.hpp"
 
 namespace slicecap::hwcheck {
@@ -187,6 +188,40 @@ void checkLedTiming(CheckRig& rig, HardwareReport& report, const FrameTiming& ti
   report.configLines.emplace_back("led_guard_us", formatted("%.0f", guardFor(*led.offsetUs, *led.residualUs)));
 }
 
+// The room light from LED-off frames: its flicker and its level against the LED's, at the
+// exposure the sweeps lock.
+void checkRoomLight(CheckRig& rig, HardwareReport& report, const FrameTiming& timing,
+                    const WhiteRows* whites, const ExposureLockResult& lock,
+                    const capture::CodeTable& codes, double brightExposureUs, int heightPx) {
+  if (!timing.hasTimestamps) {
+    report.items.push_back(skipped("room light", "the frames have no timestamps"));
+    return;
+  }
+  if (!whites) {
+    report.items.push_back(skipped("room light", "the target is not in view"));
+    return;
+  }
+  if (lock.refused) {
+    report.items.push_back(skipped("room light", "the exposure cannot be locked"));
+    return;
+  }
+  // The rows' spacing as the LED timing measured it, else the readout over the rows, else a
+  // frame period over them (a rolling shutter takes at most that).
+  const double lineTimeUs = report.figures.lineTimeUs  ? *report.figures.lineTimeUs
+                            : report.figures.readoutUs ? *report.figures.readoutUs / heightPx
+                                                       : timing.periodUs / heightPx;
+  const RoomLightResult room =
+      measureRoomLight(rig, *whites, codes, brightExposureUs, 1.0, lineTimeUs, timing.periodUs);
+  report.items.push_back(roomLightItem(room, report.cameraId));
+  report.figures.roomToLed = room.roomToLed;
+  if (room.flicker.hz) {
+    report.figures.flickerHz = room.flicker.hz;
+    report.figures.flickerDepth = room.flicker.depth;
+    if (const std::optional<int> mains = mainsOfFlicker(*room.flicker.hz))
+      report.configLines.emplace_back("mains_hz", std::to_string(*mains));
+  }
+}
+
 // Everything after the camera has started; throws what CheckRig throws.
 void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeometry& target,
                const vision::CameraModel& cameraModel, bool linearFrames,
@@ -208,6 +243,8 @@ void runChecks(CheckRig& rig, HardwareReport& report, const vision::TargetGeomet
              brightExposureUs);
   checkLedTiming(rig, report, timing, whitesPtr, codes ? *codes : capture::CodeTable::srgb(),
                  brightExposureUs, options);
+  checkRoomLight(rig, report, timing, whitesPtr, lock, codes ? *codes : capture::CodeTable::srgb(),
+                 brightExposureUs, frames.empty() ? 720 : frames.front().frame.image.height);
 }
 
 }  // namespace

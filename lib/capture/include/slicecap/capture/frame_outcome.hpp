@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "slicecap/capture/frame_sample.hpp"
 #include "slicecap/capture/led_gate.hpp"
@@ -59,6 +60,15 @@ struct FrameOutcome {
     /// whenever the fit converged.
     std::optional<double> referenceDisagreement;
     std::optional<double> referenceDisagreementLimit;
+    /// \brief The room-light term over the white references as a fraction of their LED light
+    /// (the LED-on reading less the term), whenever the references were read with one.
+    std::optional<double> roomToLed;
+    /// \brief An LED-off frame right after another (the next sequence number), both located:
+    /// their room light over the white references apart, as a fraction of it (the sum over the
+    /// references and channels of |difference| over the mean). A flicker the frame duration does
+    /// not hide shows here (the two frames saw it at phases a frame period apart); a steady one,
+    /// or one the frame duration hides, leaves noise.
+    std::optional<double> roomChange;
   };
   Measurement measurement;
 };
@@ -67,5 +77,31 @@ struct FrameOutcome {
 /// keep state across frames (tracking, the last LED-off frame) and are reset between sweeps by
 /// constructing a new one.
 using FrameProcessor = std::function<FrameOutcome(const hal::Frame& frame, const SliceId& slice)>;
+
+/// \brief A frame's outcome as the live loop gets it, with the metadata of the frame it is of:
+/// possibly a frame or two after that frame came (an LED-on frame waits for the LED-off frame
+/// after it, for its two-sided room-light term).
+struct SettledFrame {
+  hal::FrameMetadata metadata;
+  FrameOutcome outcome;
+};
+
+/// \brief The daemon's frame loop's seam: each call hands over the sweep's next frame and returns
+/// the outcomes it settled, in capture order (none, its own, or held frames' and its own).
+/// `frame` nullptr: the sweep's stream has ended; every frame still held is settled as it can be
+/// (an LED-on frame with the LED-off frame before it alone). Reset between sweeps by
+/// constructing a new one.
+using LiveFrameProcessor =
+    std::function<std::vector<SettledFrame>(const hal::Frame* frame, const SliceId& slice)>;
+
+/// \brief A LiveFrameProcessor that settles every frame at once through `processor` (a
+/// processor that needs no later frame: tests' stand-ins, a room without LED-off frames).
+inline LiveFrameProcessor settledAtOnce(FrameProcessor processor) {
+  return [processor = std::move(processor)](const hal::Frame* frame, const SliceId& slice) {
+    std::vector<SettledFrame> settled;
+    if (frame) settled.push_back({frame->metadata, processor(*frame, slice)});
+    return settled;
+  };
+}
 
 }  // namespace slicecap::capture

@@ -169,4 +169,19 @@ FrameProcessor makeFramePipeline(const vision::TargetGeometry& target,
                                  const PipelineSettings& settings = {},
                                  FrameObserver observer = {});
 
+/// \brief The live loop's pipeline with the offline default's two-sided room-light term
+/// (processRecording with offlineTwoSidedAmbient): each LED-on frame (FrameMetadata::ledOn) is
+/// held until the next frame labelled LED-off of its exposure level arrives, then processed with
+/// that frame as its following room light (FramePipeline::setFollowingAmbientFrame), then the
+/// LED-off frame; the same calls, in the same order, as processRecording makes on the recorded
+/// frames, so a recording of the sweep processed offline gives the same samples (with
+/// settings.poseAmbientFrames, which offline sets, and a frame budget the target is found in).
+/// A frame settles one LED block late (led_frames_per_state frames). At the stream's end (frame
+/// nullptr) the held frames settle with the LED-off frame before them alone, as offline.
+/// settings.requireAmbient false (no LED-off frames to wait for): every frame settles at once.
+LiveFrameProcessor makeLiveFramePipeline(const vision::TargetGeometry& target,
+                                         const vision::CameraModel& camera,
+                                         const PipelineSettings& settings = {},
+                                         FrameObserver observer = {});
+
 }  // namespace slicecap::capture

@@ -45,6 +45,10 @@ struct DaemonConfig {
   /// readout_us: the sensor's top-to-bottom readout time (slicecapd --check-hardware measures
   /// it); empty: the camera's line time where it says it, else a whole frame period.
   std::optional<double> readoutUs;
+  /// mains_hz = 50 | 60 | 0: the room lights' mains frequency; 50 or 60 pins every frame to a
+  /// whole number of their flicker periods (hal::frameDurationUsForMains), 0 leaves the camera's
+  /// own frame duration.
+  int mainsHz = 0;
   /// sensor_read_noise, sensor_full_well_electrons: the frames' noise as the white-reference
   /// test expects it (capture::SensorNoise; slicecapd --check-hardware measures both).
   double sensorReadNoise = 0.002;
@@ -67,6 +71,12 @@ struct DaemonConfig {
   /// model_raw: the RAW format the model's sensor offers (a libcamera name slicecap decodes, e.g.
   /// SRGGB10_CSI2P, a Pi 4's IMX708); empty = none, the model offers processed frames only.
   std::string modelRaw;
+  /// model_room_light: the room light's irradiance on the target as a fraction of the LED's,
+  /// face-on at the rig's light distance (the virtual rig's ambient irradiance follows from it).
+  double modelRoomLight = 0.10;
+  /// model_flicker_hz, model_flicker_depth: the room light's flicker (hal::SensorModel).
+  double modelFlickerHz = 100.0;
+  double modelFlickerDepth = 0.10;
 
   // LED.
   std::string ledChip = "gpiochip0";  ///< led_chip: the GPIO chip (name or /dev path)

@@ -48,8 +48,10 @@ struct DaemonParts {
   int hdrLevels = 1;
   /// A fresh per-frame pipeline for each sweep run of a slice (it keeps tracking state across
   /// frames; the file camera's recordings may each have their own camera and target). The
-  /// processor calls the observer (when set: texture capture) for every frame it processes.
-  std::function<capture::FrameProcessor(const SliceId&, capture::FrameObserver)> newFrameProcessor;
+  /// processor calls the observer (when set: texture capture) for every frame it processes. Its
+  /// outcomes may settle frames late (capture::makeLiveFramePipeline: an LED-on frame waits for
+  /// the LED-off frame after it); capture::settledAtOnce wraps a processor that needs no wait.
+  std::function<capture::LiveFrameProcessor(const SliceId&, capture::FrameObserver)> newFrameProcessor;
   /// slicecapd.conf `decoding` (docs/linear-light.md): how a live camera's 8-bit frames become
   /// linear light. Auto and measured-curve take a response bracket after the metering, when the
   /// two seams below are set; without them (or when the bracket cannot be fitted) the sweep
@@ -59,8 +61,8 @@ struct DaemonParts {
   std::function<BracketSubject(const SliceId&)> bracketSubjectFor;
   /// A sweep's pipeline decoding 8-bit frames through `curve` (nullopt: sRGB), called once the
   /// sweep's decoding is known (PipelineSettings::toneCurve). Empty: no bracket.
-  std::function<capture::FrameProcessor(const SliceId&, capture::FrameObserver,
-                                        const std::optional<ToneCurve>& curve)>
+  std::function<capture::LiveFrameProcessor(const SliceId&, capture::FrameObserver,
+                                            const std::optional<ToneCurve>& curve)>
       newDecodingFrameProcessor;
   /// Texture capture (texture_resolution): the texture of a slice's sweep, stored in
   /// <session>/texture (kTextureFolder). Throws (std::exception with a message) when it cannot

@@ -43,6 +43,11 @@ struct CameraConfig {
   /// The sensor's top-to-bottom readout time, when known (slicecapd.conf readout_us): a V4L2
   /// camera whose timestamps mark the end of a frame needs it to say when the frame began.
   std::optional<double> readoutUs{};
+  /// The frame duration to hold every frame at (slicecapd.conf mains_hz: a whole number of the
+  /// room light's flicker periods, hal::frameDurationUsForMains); nullopt: the camera's own. A
+  /// camera that cannot hold it says so in its ConfigResult (Adjusted, with the duration it runs
+  /// at written back here). libcamera: FrameDurationLimits = {this, this}.
+  std::optional<double> frameDurationUs{};
   /// Set by configure: the RAW format the frames are decoded from (libcamera's name, e.g.
   /// "SRGGB10_CSI2P"); empty when they come from the processed stream.
   std::string rawFormat{};

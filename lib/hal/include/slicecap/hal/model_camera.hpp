@@ -14,6 +14,7 @@
 #include "slicecap/hal/camera.hpp"
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/led_timeline.hpp"
+#include "slicecap/hal/room_flicker.hpp"
 
 namespace slicecap::hal {
 
@@ -58,6 +59,17 @@ struct SensorModel {
   double autoExposureUs = 15000.0;    ///< the camera's own exposure until one is locked
   double autoGain = 1.0;
   double maxGain = 16.0;
+  /// The room light's flicker (the scene's ambientRate is its mean): lamps on AC mains flicker at
+  /// twice the mains frequency, 100 Hz in a 50 Hz country (IEEE Std 1789-2015, section 1; Lehman
+  /// et al., "Proposing measures of flicker in the low frequencies for lighting applications",
+  /// 2011). Depth 0.10, IEEE 1789's "percent flicker" of 10 %: a filament lamp's 6-12 % at
+  /// 100/120 Hz (Lehman et al.), just above IEEE 1789's low-risk line for LED lighting at 100 Hz
+  /// (0.08 x 100 = 8 %); magnetic-ballast fluorescent tubes and cheap LED drivers reach 30-100 %.
+  /// Each row integrates it over its own exposure window, starting at its own time (the rolling
+  /// shutter): a short exposure shows bands, an exposure of whole flicker periods none. The phase
+  /// against the steady clock comes from `seed` (the mains does not know the camera).
+  double flickerHz = 100.0;
+  double flickerDepth = 0.10;
   /// A RAW stream the sensor offers (nullopt: none). With it and CameraConfig::raw Auto or On,
   /// the model is a sensor of twice the configured size in this Bayer format (a Pi 4's IMX708:
   /// SRGGB10_CSI2P): each scene pixel is a 2 x 2 cell whose R, two G and B samples see its
@@ -92,6 +104,8 @@ struct FrameTruth {
   double exposureUs = 0.0;
   double gain = 1.0;
   std::vector<float> rowOnFraction;  ///< the LED's share of each row's exposure, as it shone
+  /// The room light each row integrated, as a multiple of its mean (RoomFlicker::meanFactor).
+  std::vector<float> rowRoomFactor;
 };
 
 /// \brief The model camera. Frame k's row r is exposed over [k * period + r * lineTime -
@@ -110,7 +124,9 @@ class ModelCamera final : public Camera {
   ~ModelCamera() override;
 
   std::string id() const override;
-  /// \brief Adjusts the encoding to 8-bit sRGB (the ISP's output, whatever its real curve), or
+  /// \brief Holds CameraConfig::frameDurationUs as the frame period when set (adjusted up to the
+  /// rows' readout plus 1 ms when shorter, as a sensor's minimum frame length; 1 s at most).
+  /// Adjusts the encoding to 8-bit sRGB (the ISP's output, whatever its real curve), or
   /// to linear16 when the RAW stream is taken (SensorModel::rawFormat and CameraConfig::raw not
   /// Off; CameraConfig::rawFormat names it), and the buffer count to at least 2. Invalid when
   /// CameraConfig::raw is On and the model offers no RAW stream.
@@ -127,6 +143,11 @@ class ModelCamera final : public Camera {
   std::optional<FrameTruth> truth(std::uint64_t sequence) const;
   /// \brief Frames lost so far (no free buffer, or the link).
   std::uint64_t framesDropped() const;
+  /// \brief The room light's flicker as this camera sees it (its phase drawn from the seed).
+  RoomFlicker roomFlicker() const;
+  /// \brief The frame period frames are taken at (the configured frame duration, else the
+  /// model's).
+  double framePeriodUs() const;
 
  private:
   struct State;

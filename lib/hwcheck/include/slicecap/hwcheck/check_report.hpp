@@ -45,6 +45,9 @@ struct MeasuredFigures {
   /// The frames' noise (capture::SensorNoise): read noise, fraction of full scale; shot noise as
   /// electrons at full scale, gain 1.
   std::optional<double> sensorReadNoise, sensorFullWellElectrons;
+  /// The room light from LED-off frames: its flicker's frequency and depth ((max - min) / (max +
+  /// min) of the light), and its level over the white references as a fraction of the LED's.
+  std::optional<double> flickerHz, flickerDepth, roomToLed;
 };
 
 /// \brief The whole report.

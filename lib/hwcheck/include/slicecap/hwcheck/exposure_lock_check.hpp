@@ -24,7 +24,7 @@ struct ExposureLockResult {
 
 /// \brief Locks half the current exposure (the current gain) and watches up to `maxFrames`
 /// frames: their reported exposure and the brightness of the white references (`whites`; the
-/// whole frame when null). Throws what CheckRig throws (no frames, stream ended).
+/// whole frame when null, or when they are clipped before the lock). Throws what CheckRig throws (no frames, stream ended).
 ExposureLockResult checkExposureLock(CheckRig& rig, const WhiteRows* whites, int maxFrames = 15);
 
 CheckItem exposureLockItem(const ExposureLockResult& result, const std::string& cameraId);
