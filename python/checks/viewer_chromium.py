@@ -97,9 +97,10 @@ def erode(mask: np.ndarray, pixels: int) -> np.ndarray:
 
 def control_row(results, name, fit, albedo, crop, exposure, mask, tolerance) -> bool:
     """The negative control: the same screenshot against the fit with its tangent turned by
-    90 deg. For a fit with a specular lobe (f0 or f90 above 0.01) its dE must be above the
-    tolerance, or the check could not see a wrong frame; False then. A fit without one (a pure
-    sheen) has no tangent to turn and passes."""
+    90 deg. For a fit with an anisotropic specular lobe (f0 or f90 above 0.01, its two alphas
+    unequal) its dE must be above the tolerance, or the check could not see a wrong frame; False
+    then. A fit without one has no tangent to turn and passes: a pure sheen, or an isotropic lobe
+    (velvet-red's khr_materials_sheen fit: f0 0.14 at alphas 1 and 1), which turns into itself."""
     turned = dataclasses.replace(fit, tangent_deg=fit.tangent_deg + 90.0)
     light_az, light_el, yaw, pitch = VIEWS[0]
     image, _ = render_sphere_point_light(
@@ -107,10 +108,12 @@ def control_row(results, name, fit, albedo, crop, exposure, mask, tolerance) -> 
     metrics = compare(crop, to_8bit(image, 1.0 / exposure), erode(mask, 2))
     results.append({"material": name, "panel": "control: fit, tangent + 90 deg", **metrics})
     has_lobe = max(max(fit.specular_f0), fit.specular_f90) > 0.01
-    seen = metrics["delta_e"] > tolerance or not has_lobe
+    anisotropic = fit.alpha_tangent != fit.alpha_bitangent
+    seen = metrics["delta_e"] > tolerance or not (has_lobe and anisotropic)
     print(f"viewer {name:17s} control (tangent + 90 deg, must differ): mean dE "
           f"{metrics['delta_e']:.3f}, rel. RMSE {metrics['relative_rmse']:.4f}"
           f"{'' if has_lobe else ' (no specular lobe: no tangent to see)'}"
+          f"{'' if anisotropic or not has_lobe else ' (isotropic lobe: no tangent to see)'}"
           f"{'' if seen else '  NOT SEEN: the check is blind'}")
     return seen
 
@@ -138,11 +141,14 @@ def fit_document(material: FittedMaterial) -> dict:
     parameters = {}
     for name in FittedMaterial.__dataclass_fields__:
         value = getattr(material, name)
-        if name != "model":
+        if name not in ("model", "sheen_form"):
             parameters[name] = {"value": list(value) if isinstance(value, tuple) else value,
                                 "sigma": None, "unit": "-"}
-    return {"format": "slicecap-material", "format_version": 1, "source": "numpy",
-            "model": material.model, "parameters": parameters, "metrics": {"delta_e": 0.0}}
+    # Format version 2 with the material's own sheen form, so that the fit is its table (COATED's
+    # khr_materials_sheen sheen, under the coat, in the browser as the built-in fits' are).
+    return {"format": "slicecap-material", "format_version": 2,
+            "sheen_form": material.sheen_form, "source": "numpy", "model": material.model,
+            "parameters": parameters, "metrics": {"delta_e": 0.0}}
 
 
 def material_files(cli: str, name: str, out: str) -> tuple[str, str]:

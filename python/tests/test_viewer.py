@@ -20,11 +20,14 @@ from conftest import find_slicecap_cli
 from slicecap import viewer, viewer_scene
 from slicecap.abrdf_exr import write_abrdf_exr
 from slicecap.fitted_material import (
+    SHEEN_ALBEDO_MAX_ROUGHNESS,
+    SHEEN_ALBEDO_MIN_ROUGHNESS,
     FittedMaterial,
     ggx_lobe,
     has_coat,
     has_sheen,
     read_fitted_material,
+    sheen_albedo_table,
 )
 from slicecap.grid import GRID_DIRECTIONS_DEG, tabulate
 from slicecap.render import render_sphere_point_light
@@ -45,6 +48,9 @@ COATED_VELVET = FittedMaterial(
     sheen_colour=(0.7, 0.15, 0.15), sheen_roughness=0.3, coat_weight=0.5, coat_alpha=0.3,
     sheen_form="additive",
 )
+# The same two in KHR_materials_sheen's form (format version 2's fits).
+KHR_VELVET = dataclasses.replace(VELVET, sheen_form="khr_materials_sheen")
+KHR_COATED_VELVET = dataclasses.replace(COATED_VELVET, sheen_form="khr_materials_sheen")
 
 
 def fit_document(material: FittedMaterial) -> dict:
@@ -233,6 +239,13 @@ def _vec(*components):
     return np.array(components, dtype=np.float64).view(_Vec)
 
 
+class _Texel:
+    """A one-channel texel, read as .r."""
+
+    def __init__(self, value):
+        self.r = float(value)
+
+
 def _normalize(v):
     return (v / np.linalg.norm(v)).view(_Vec)
 
@@ -268,7 +281,12 @@ def glsl_function(page: str, name: str, uniforms: dict):
     namespace = {
         "vec2": _vec, "vec3": _vec, "normalize": _normalize, "cos": math.cos, "sin": math.sin,
         "sqrt": np.sqrt, "log": np.log, "exp": np.exp, "max": np.maximum, "dot": np.dot,
-        "clamp": np.clip, "PI": 3.14159265358979, **uniforms,
+        "clamp": np.clip, "pow": np.power, "floor": math.floor,
+        "mix": lambda a, b, t: a * (1.0 - t) + b * t,
+        # A sampler is its (rows, columns) array; ivec2(x, y) its column x, row y.
+        "ivec2": lambda x, y: (int(x), int(y)),
+        "texelFetch": lambda table, at, lod: _Texel(table[at[1], at[0]]),
+        "PI": 3.14159265358979, **uniforms,
     }
     exec("\n".join(lines), namespace)
     return namespace[name]
@@ -281,15 +299,23 @@ def shader_uniforms(material: FittedMaterial) -> dict:
         "m_f90": material.specular_f90, "m_alphaT": material.alpha_tangent,
         "m_alphaB": material.alpha_bitangent, "m_tangentRad": math.radians(material.tangent_deg),
         "m_sheen": 1 if has_sheen(material.model) else 0,
-        "m_sheenColour": np.array(material.sheen_colour),
+        "m_sheenColour": _vec(*material.sheen_colour),
         "m_sheenRoughness": material.sheen_roughness,
+        "m_sheenKhr": 1 if material.sheen_form == "khr_materials_sheen" else 0,
+        # The albedo table viewer.sheen_albedo_data embeds in the page (there as float32; here
+        # float64, so that the comparison is of the formulas alone).
+        "u_sheenAlbedo": sheen_albedo_table(),
+        "u_sheenAlbedoNodes": np.array(sheen_albedo_table().shape[::-1]).view(_Vec),
+        "u_sheenAlbedoRoughness": _vec(SHEEN_ALBEDO_MIN_ROUGHNESS, SHEEN_ALBEDO_MAX_ROUGHNESS),
         "m_coat": 1 if has_coat(material.model) else 0,
         "m_coatWeight": material.coat_weight, "m_coatAlpha": material.coat_alpha,
     }
 
 
-@pytest.mark.parametrize("material", [STEEL, VELVET, COATED_STEEL, COATED_VELVET],
-                         ids=["ggx", "ggx+sheen", "ggx+coat", "ggx+sheen+coat"])
+@pytest.mark.parametrize(
+    "material", [STEEL, VELVET, COATED_STEEL, COATED_VELVET, KHR_VELVET, KHR_COATED_VELVET],
+    ids=["ggx", "ggx+sheen", "ggx+coat", "ggx+sheen+coat", "ggx+sheen khr",
+         "ggx+sheen+coat khr"])
 def test_shader_brdf_is_the_fit_model(page, material):
     shader = glsl_function(page, "fittedBrdf", shader_uniforms(material))
     lights, views = random_pairs(200, seed=3)
@@ -309,6 +335,42 @@ def test_shader_port_would_see_a_wrong_tangent(page):
         [shader(_vec(*lt), _vec(*vw)) for lt, vw in zip(lights, views, strict=True)]
     )
     assert np.max(np.abs(got / STEEL.evaluate(lights, views) - 1)) > 0.1
+
+
+@pytest.mark.parametrize("material", [KHR_VELVET, VELVET], ids=["khr", "additive"])
+def test_shader_port_would_see_the_other_sheen_form(page, material):
+    """A shader drawing one sheen form for the other gives other values: the comparison above
+    tells the forms apart."""
+    uniforms = shader_uniforms(material)
+    uniforms["m_sheenKhr"] = 1 - uniforms["m_sheenKhr"]
+    shader = glsl_function(page, "fittedBrdf", uniforms)
+    lights, views = random_pairs(50, seed=5)
+    got = np.array(
+        [shader(_vec(*lt), _vec(*vw)) for lt, vw in zip(lights, views, strict=True)]
+    )
+    assert np.max(np.abs(got / material.evaluate(lights, views) - 1)) > 0.1
+
+
+def test_khr_sheen_page_carries_the_albedo_table(files, tmp_path, page):
+    """A version-2 khr_materials_sheen fit's page embeds lib/fit's E table for the shader's
+    scaling (float32) and says its form; a version-1 fit's (additive) carries none."""
+    fit = tmp_path / "khr.json"
+    fit.write_text(json.dumps(fit_document(KHR_VELVET)
+                              | {"format_version": 2, "sheen_form": "khr_materials_sheen"}))
+    output = tmp_path / "khr.html"
+    assert viewer.run([str(files["table"]), "--material", str(fit), "-o", str(output),
+                       "--panel-size", "64"]) == 0
+    text = output.read_text(encoding="utf-8")
+    albedo = page_data(text)["material"]["sheen_albedo"]
+    table = sheen_albedo_table()
+    assert (albedo["roughnesses"], albedo["cosines"]) == table.shape
+    assert (albedo["min_roughness"], albedo["max_roughness"]) == (
+        SHEEN_ALBEDO_MIN_ROUGHNESS, SHEEN_ALBEDO_MAX_ROUGHNESS)
+    embedded = np.frombuffer(base64.b64decode(albedo["base64"]), dtype="<f4").reshape(table.shape)
+    np.testing.assert_array_equal(embedded, table.astype(np.float32))
+    assert "<td>sheen_form</td><td>khr_materials_sheen</td>" in text
+    assert "sheen_albedo" not in page_data(page)["material"]
+    assert "<td>sheen_form</td><td>additive</td>" in page
 
 
 # ---- the numpy reference of lib/fit's model, against the C++ tables ----

@@ -25,7 +25,15 @@ from numpy.typing import ArrayLike
 
 from slicecap import viewer_scene
 from slicecap.abrdf_exr import SlicecapFileError
-from slicecap.fitted_material import FittedMaterial, has_coat, has_sheen, read_fit_document
+from slicecap.fitted_material import (
+    SHEEN_ALBEDO_MAX_ROUGHNESS,
+    SHEEN_ALBEDO_MIN_ROUGHNESS,
+    FittedMaterial,
+    has_coat,
+    has_sheen,
+    read_fit_document,
+    sheen_albedo_table,
+)
 from slicecap.grid import (
     DIRECTION_COUNT,
     GRID_DIRECTIONS_DEG,
@@ -109,6 +117,21 @@ def _base64_floats(values: ArrayLike) -> str:
     return base64.b64encode(np.asarray(values, dtype="<f4").tobytes()).decode("ascii")
 
 
+def sheen_albedo_data() -> dict:
+    """The sheen's directional albedo E (slicecap.fitted_material.sheen_albedo_table, lib/fit's
+    table) for the shader's khr_materials_sheen scaling: computed here, not in the page, so that
+    the page draws with the same E as the numpy model and lib/fit; row j = roughness node j
+    (uniform from min_roughness to max_roughness), column i = cosine i / (cosines - 1)."""
+    table = sheen_albedo_table()
+    return {
+        "base64": _base64_floats(table),
+        "cosines": int(table.shape[1]),
+        "roughnesses": int(table.shape[0]),
+        "min_roughness": SHEEN_ALBEDO_MIN_ROUGHNESS,
+        "max_roughness": SHEEN_ALBEDO_MAX_ROUGHNESS,
+    }
+
+
 def _material_rows(material: FittedMaterial, document: dict) -> str:
     def show(value: float | tuple[float, ...]) -> str:
         if isinstance(value, tuple):
@@ -123,6 +146,8 @@ def _material_rows(material: FittedMaterial, document: dict) -> str:
         names += ["coat_weight", "coat_alpha"]
     rows = [f"<tr><td>model</td><td>{html.escape(material.model)}</td></tr>"]
     rows += [f"<tr><td>{n}</td><td>{show(getattr(material, n))}</td></tr>" for n in names]
+    if has_sheen(material.model):
+        rows.append(f"<tr><td>sheen_form</td><td>{html.escape(material.sheen_form)}</td></tr>")
     metrics = document.get("metrics") or {}
     if isinstance(metrics.get("delta_e"), (int, float)):
         rows.append(f"<tr><td>fit vs table</td><td>dE {metrics['delta_e']:.2f}</td></tr>")
@@ -175,12 +200,15 @@ def build_page(
             if name != "model"
         }
         material_file = os.path.basename(os.fspath(material_path))
-        data["material"] = {
+        material_data: dict = {
             "name": material_file,
             "model": material.model,
             "parameters": parameters,
             "albedo_base64": _base64_floats(viewer_scene.directional_albedo(material.evaluate)),
         }
+        if has_sheen(material.model) and material.sheen_form == "khr_materials_sheen":
+            material_data["sheen_albedo"] = sheen_albedo_data()
+        data["material"] = material_data
         material_html = _material_rows(material, document)
         material_name = f"{material_file} ({material.model})"
     layout_uri = "data:image/png;base64," + base64.b64encode(

@@ -217,6 +217,18 @@
     gl.uniform1i(uniform("u_sheen"), terms.includes("sheen") ? 1 : 0);
     gl.uniform3fv(uniform("u_sheenColour"), p.sheen_colour || [0, 0, 0]);
     gl.uniform1f(uniform("u_sheenRoughness"), p.sheen_roughness || 0.5);
+    // The sheen's form (docs/material-fit.md): KHR_materials_sheen's, with the directional albedo
+    // table E its scaling of the rest reads (computed by slicecap.viewer as lib/fit does), or the
+    // additive one of format-version-1 fits, which come without the table.
+    const sheenAlbedo = fit.sheen_albedo;
+    gl.uniform1i(uniform("u_sheenKhr"), sheenAlbedo ? 1 : 0);
+    if (sheenAlbedo) {
+      texture(6, "u_sheenAlbedo", gl.R32F, sheenAlbedo.cosines, sheenAlbedo.roughnesses, gl.RED,
+              gl.FLOAT, floatsOf(sheenAlbedo.base64));
+      gl.uniform2i(uniform("u_sheenAlbedoNodes"), sheenAlbedo.cosines, sheenAlbedo.roughnesses);
+      gl.uniform2f(uniform("u_sheenAlbedoRoughness"), sheenAlbedo.min_roughness,
+                   sheenAlbedo.max_roughness);
+    }
     gl.uniform1i(uniform("u_coat"), terms.includes("coat") ? 1 : 0);
     gl.uniform1f(uniform("u_coatWeight"), p.coat_weight || 0);
     gl.uniform1f(uniform("u_coatAlpha"), p.coat_alpha || 0.1);
