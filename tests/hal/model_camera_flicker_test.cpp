@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "slicecap/hal/clock.hpp"
+#include "slicecap/hal/frame.hpp"
 #include "slicecap/hal/model_camera.hpp"
 
 namespace slicecap::hal {
@@ -70,13 +71,15 @@ struct RoomRig {
   }
 };
 
-// Each row's green, as a fraction of full scale.
+// Each row's green, as a fraction of full scale above the frame's black (a RAW frame's decode keeps
+// its black above 0: linear16Value takes it off).
 std::vector<double> rowValues(const Frame& frame) {
   std::vector<double> rows(frame.image.height);
   for (int y = 0; y < frame.image.height; ++y) {
     double sum = 0.0;
-    for (int x = 0; x < frame.image.width; ++x) sum += frame.image.at(x, y, 1);
-    rows[y] = sum / frame.image.width / 65535.0;
+    for (int x = 0; x < frame.image.width; ++x)
+      sum += linear16Value(frame.image.at(x, y, 1), frame.black16);
+    rows[y] = sum / frame.image.width;
   }
   return rows;
 }
