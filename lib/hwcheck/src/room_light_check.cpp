@@ -26,7 +26,10 @@ std::vector<double> rowLevelsOf(const hal::Frame& frame, const capture::CodeTabl
   for (int y = 0; y < image.height; ++y) {
     const std::uint16_t* row = image.samples.data() + std::size_t(y) * image.width * 3;
     double sum = 0.0;
-    for (int k = 0; k < image.width * 3; ++k) sum += linear ? row[k] / 65535.0 : codes[row[k]];
+    // A RAW frame's decode keeps its black above 0 (frame.black16): taken off, or the pedestal
+    // would read as steady room light and thin the flicker's depth.
+    for (int k = 0; k < image.width * 3; ++k)
+      sum += linear ? hal::linear16Value(row[k], frame.black16) : codes[row[k]];
     rows[std::size_t(y)] = sum / image.width;
   }
   return rows;
