@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <ostream>
+#include <string>
 #include <vector>
 
 #include "fit_data.hpp"
@@ -38,6 +40,15 @@ struct Layout {
   bool sheen, coat;
   SheenForm form = SheenForm::Khr;
 };
+
+// The layout's name. gtest would otherwise print the struct's bytes, padding included, into the
+// names ctest lists, which then differ between builds (x86-64 and aarch64 did).
+std::string layoutName(const Layout& l) {
+  const std::string sheen =
+      l.sheen ? (l.form == SheenForm::Khr ? "KhrSheen" : "AdditiveSheen") : "NoSheen";
+  return sheen + (l.coat ? "Coat" : "NoCoat");
+}
+void PrintTo(const Layout& l, std::ostream* os) { *os << layoutName(l); }
 
 class MaterialCostJacobian : public ::testing::TestWithParam<Layout> {};
 
@@ -85,7 +96,10 @@ INSTANTIATE_TEST_SUITE_P(EveryBlockLayout, MaterialCostJacobian,
                          ::testing::Values(Layout{false, false}, Layout{true, false},
                                            Layout{false, true}, Layout{true, true},
                                            Layout{true, false, SheenForm::Additive},
-                                           Layout{true, true, SheenForm::Additive}));
+                                           Layout{true, true, SheenForm::Additive}),
+                         [](const ::testing::TestParamInfo<Layout>& tested) {
+                           return layoutName(tested.param);
+                         });
 
 }  // namespace
 }  // namespace slicecap::fit::detail
