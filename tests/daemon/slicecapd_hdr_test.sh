@@ -110,9 +110,16 @@ assert status.get("hdr", "").startswith("HDR, 2 exposures"), f"the status does n
 assert "hdr" not in json.load(open(f"{work}/status-1.json")), "hdr_levels = 1 shows an HDR line"
 frames = json.load(open(f"{work}/recording-2.json"))["frames"]
 kinds = collections.Counter((f.get("exposure_level"), f["led_on"]) for f in frames)
+# The recorder leaves a frame out when its queue (4 frames) is full, as it must on a slow card, so
+# on a loaded host a recording can hold few frames of a kind (4 LED-off frames of level 0 in one of
+# three runs at a load average of 8). What the recording must show does not depend on the host:
+# every level in both LED states. How many: 5 or more when the recorder kept up (none left out at
+# the pause), else at least one.
+dropped = status.get("recording", {}).get("frames_dropped", 0)
+least = 5 if dropped == 0 else 1
 for level in (0, 1):
     for on in (True, False):
-        assert kinds[(level, on)] >= 5, f"the recording holds {kinds[(level, on)]} frames of level {level}, LED {'on' if on else 'off'}: {dict(kinds)}"
+        assert kinds[(level, on)] >= least, f"the recording holds {kinds[(level, on)]} frames of level {level}, LED {'on' if on else 'off'} ({dropped} left out by the recorder): {dict(kinds)}"
 single, single_bins = peak(1)
 hdr, hdr_bins = peak(2)
 # One exposure metered on the paper clips the peak and rejects it (window_clipped): only the
