@@ -47,16 +47,16 @@ class LiveDaemon {
     socket_ = socketDir_ / "s.sock";
     const int listenFd = daemon::openListenSocket({socket_, 0600, std::nullopt});
     server_ =
-        std::make_unique<daemon::ControlServer>(loop_, listenFd, [this](const daemon::Request& r) {
+        std::make_unique<daemon::ControlServer>(loop_, listenFd, [this](const control::Request& r) {
           json reply = daemon::replyOrThrow(manager_.handle(r.command));
           // As slicecapd's devices do when the camera cannot start: the sweep comes back paused.
-          if (!failingDevice_.empty() && (std::holds_alternative<daemon::SweepStart>(r.command) ||
-                                          std::holds_alternative<daemon::SweepRedo>(r.command))) {
+          if (!failingDevice_.empty() && (std::holds_alternative<control::SweepStart>(r.command) ||
+                                          std::holds_alternative<control::SweepRedo>(r.command))) {
             manager_.pauseSweep(failingDevice_);
             reply = manager_.status()["sweep"];
           }
           // What the daemon's frame loop adds to a status (record_frames), when a test sets it.
-          if (std::holds_alternative<daemon::Status>(r.command) && !statusExtra_.is_null())
+          if (std::holds_alternative<control::Status>(r.command) && !statusExtra_.is_null())
             reply.update(statusExtra_);
           return reply;
         });
