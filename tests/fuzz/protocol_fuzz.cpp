@@ -8,7 +8,7 @@
 #include "slicecap/control/protocol.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  using namespace slicecap::daemon;
+  namespace control = slicecap::control;
   const std::string_view line(reinterpret_cast<const char*>(data), size);
   const auto parsed = control::parseRequest(line);
   if (const auto* request = std::get_if<control::Request>(&parsed)) {

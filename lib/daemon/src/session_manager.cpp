@@ -42,22 +42,26 @@ const std::vector<SliceId>& sweepOrder() {
   return order;
 }
 
+namespace {
+
+// The storage folder, made if missing, before its lock is taken.
+const fs::path& preparedRoot(const fs::path& root) {
+  std::error_code error;
+  fs::create_directories(root, error);
+  if (error || !fs::is_directory(root))
+    throw io::IoError(root.string() + ": cannot use as session storage: " +
+                      (error ? error.message() : "not a folder"));
+  return root;
+}
+
+}  // namespace
+
 struct SessionManager::State {
   State(fs::path storageRoot, SessionExporter sessionExporter, IsotropyFunction isotropyTest)
       : root(std::move(storageRoot)),
         lock(preparedRoot(root)),
         exporter(std::move(sessionExporter)),
         isotropy(std::move(isotropyTest)) {}
-
-  // The storage folder, made if missing, before its lock is taken.
-  static const fs::path& preparedRoot(const fs::path& root) {
-    std::error_code error;
-    fs::create_directories(root, error);
-    if (error || !fs::is_directory(root))
-      throw io::IoError(root.string() + ": cannot use as session storage: " +
-                        (error ? error.message() : "not a folder"));
-    return root;
-  }
 
   fs::path root;
   StorageLock lock;
@@ -234,41 +238,46 @@ struct SessionManager::State {
 
   json run(const control::Status&) { return control::toJson(statusView()); }
 
-  json run(const control::Reconstruct& command) {
-    if (capturing()) throw conflict("a sweep is running: `slicecap sweep stop` first");
-    std::optional<capture::SessionStore> other;
-    capture::SessionStore& store = target(command.id, other);
-    const fs::path path = exporter.reconstruct(store, store.slices(), command.method).path;
-    return {{"session", store.info().id},
-            {"method", command.method},
-            {"samples", store.sampleCount()},
-            {"exr", path.string()}};
-  }
-
-  json run(const control::Export& command) {
-    std::optional<capture::SessionStore> other;
-    capture::SessionStore& store = target(command.id, other);
-    const fs::path directory =
-        command.directory.empty() ? store.directory() / "export" : fs::path(command.directory);
-    ExportConditions conditions;
-    if (capturing()) conditions.sweepRunning = sweep->slice;
-    conditions.capturingIntoSession = capturing() && session && &store == &*session;
-    return control::toJson(exporter.exportSession(store, directory, command.method, conditions));
-  }
-
-  control::StatusView statusView() const {
-    control::StatusView status;
-    if (session) {
-      status.session = statusSessionView(*session);
-      status.isotropy = isotropy.verdict(*session, samplesVersion, capturing());
-    }
-    if (sweep) status.sweep = sweep->view(*session);
-    status.next = nextStep(session ? &*session : nullptr, sweep ? &*sweep : nullptr,
-                           status.isotropy);
-    if (!lastError.empty()) status.error = lastError;
-    return status;
-  }
+  // The tables' commands and the status (below the class).
+  json run(const control::Reconstruct& command);
+  json run(const control::Export& command);
+  control::StatusView statusView() const;
 };
+
+json SessionManager::State::run(const control::Reconstruct& command) {
+  if (capturing()) throw conflict("a sweep is running: `slicecap sweep stop` first");
+  std::optional<capture::SessionStore> other;
+  capture::SessionStore& store = target(command.id, other);
+  const fs::path path = exporter.reconstruct(store, store.slices(), command.method).path;
+  return {{"session", store.info().id},
+          {"method", command.method},
+          {"samples", store.sampleCount()},
+          {"exr", path.string()}};
+}
+
+json SessionManager::State::run(const control::Export& command) {
+  std::optional<capture::SessionStore> other;
+  capture::SessionStore& store = target(command.id, other);
+  const fs::path directory =
+      command.directory.empty() ? store.directory() / "export" : fs::path(command.directory);
+  ExportConditions conditions;
+  if (capturing()) conditions.sweepRunning = sweep->slice;
+  conditions.capturingIntoSession = capturing() && session && &store == &*session;
+  return control::toJson(exporter.exportSession(store, directory, command.method, conditions));
+}
+
+control::StatusView SessionManager::State::statusView() const {
+  control::StatusView status;
+  if (session) {
+    status.session = statusSessionView(*session);
+    status.isotropy = isotropy.verdict(*session, samplesVersion, capturing());
+  }
+  if (sweep) status.sweep = sweep->view(*session);
+  status.next =
+      nextStep(session ? &*session : nullptr, sweep ? &*sweep : nullptr, status.isotropy);
+  if (!lastError.empty()) status.error = lastError;
+  return status;
+}
 
 SessionManager::SessionManager(fs::path storageRoot, ReconstructFunction reconstruct,
                                PreviewFunction preview, IsotropyFunction isotropy,

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "slicecap/control/reply_views.hpp"
-#include "slicecap/daemon/daemon.hpp"
+#include "slicecap/daemon/daemon_parts.hpp"
 #include "slicecap/daemon/exposure_meter.hpp"
 #include "slicecap/daemon/sweep_decoding.hpp"
 #include "slicecap/hal/camera.hpp"

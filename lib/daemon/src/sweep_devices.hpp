@@ -8,7 +8,7 @@
 #include <string>
 
 #include "slicecap/control/reply_views.hpp"
-#include "slicecap/daemon/daemon.hpp"
+#include "slicecap/daemon/daemon_parts.hpp"
 #include "slicecap/daemon/event_loop.hpp"
 #include "slicecap/daemon/room_light_watch.hpp"
 #include "slicecap/daemon/session_manager.hpp"

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "slicecap/daemon/daemon.hpp"
+#include "slicecap/daemon/daemon_parts.hpp"
 #include "slicecap/daemon/frame_recorder.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 #include "slicecap/daemon/sweep_decoding.hpp"

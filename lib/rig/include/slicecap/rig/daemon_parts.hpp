@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "slicecap/daemon/config.hpp"
-#include "slicecap/daemon/daemon.hpp"
+#include "slicecap/daemon/daemon_parts.hpp"
 #include "slicecap/hal/clock.hpp"
 
 namespace slicecap::rig {
