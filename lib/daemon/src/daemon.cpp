@@ -83,7 +83,7 @@ struct Daemon::State {
 
 Daemon::Daemon(DaemonParts parts, int listenFd) {
   if (!parts.rig || !parts.tables || !parts.led)
-    throw std::invalid_argument("DaemonParts without a rig, tables or LED");
+    throw std::logic_error("DaemonParts without a rig, tables or LED");
   state_ = std::make_unique<State>(std::move(parts));
   // A client that hangs up while a write is on its way must never end the daemon (the control
   // socket sends with MSG_NOSIGNAL; this covers every other write, and a `kill -PIPE`); a file

@@ -24,7 +24,8 @@ class Daemon {
  public:
   /// \brief Takes the listening socket (socket-activated or bound by the caller), switches the
   /// LED off and ignores SIGPIPE and SIGXFSZ in the whole process. Throws io::IoError if the
-  /// storage cannot be used, std::invalid_argument if `parts` lacks its rig, tables or LED.
+  /// storage cannot be used; std::logic_error if `parts` lacks its rig, tables or LED (a bug of
+  /// the caller's).
   Daemon(DaemonParts parts, int listenFd);
   ~Daemon();
   Daemon(const Daemon&) = delete;
