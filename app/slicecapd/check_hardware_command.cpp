@@ -17,7 +17,7 @@
 #include "slicecap/hwcheck/hardware_check.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/io/target_json.hpp"
-#include "slicecapd_devices.hpp"
+#include "slicecap/rig/configured_devices.hpp"
 
 namespace slicecap::slicecapd {
 namespace {
@@ -207,14 +207,14 @@ bool mayStart(const DaemonConfig& config, const CheckHardwareOptions& options, s
 // The camera of the configuration's first slice in `camera` and its rig in `rig`; a failed item in
 // `report` when they cannot be opened (`camera` stays as far as it got).
 void openCheckCamera(const DaemonConfig& config, hal::Clock& clock,
-                     const std::shared_ptr<hal::LedTimeline>& modelLight, const Rig& configured,
+                     const std::shared_ptr<hal::LedTimeline>& modelLight, const rig::Rig& configured,
                      bool simulated, const hwcheck::BackendInfo& backend,
                      hwcheck::HardwareReport& report, std::shared_ptr<hal::Camera>& camera,
-                     Rig& rig) {
+                     rig::Rig& rig) {
   try {
-    const CameraSources sources =
-        makeCameraSources(config, clock, modelLight, configured.target, configured.camera,
-                          ModelScene::Still, /*modelRealTime=*/!simulated);
+    const rig::CameraSources sources =
+        rig::makeCameraSources(config, clock, modelLight, configured.target, configured.camera,
+                               rig::ModelScene::Still, /*modelRealTime=*/!simulated);
     camera = sources.cameraFor(sources.firstSlice);
     rig = sources.rigFor(sources.firstSlice);
   } catch (const hal::BackendNotBuilt& error) {
@@ -237,7 +237,7 @@ std::unique_ptr<hal::Led> openCheckLed(const DaemonConfig& config, hal::Clock& c
                                        const hwcheck::BackendInfo& backend,
                                        hwcheck::HardwareReport& report) {
   try {
-    return openLed(config, clock, modelLight);
+    return rig::openLed(config, clock, modelLight);
   } catch (const hal::BackendNotBuilt& error) {
     report.cameraId = camera.id();
     report.cameras = backend.cameras;
@@ -290,19 +290,19 @@ int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& option
   hal::FakeClock simulatedClock(steadyClock.nowUs());
   const bool simulated = config.camera == DaemonConfig::CameraKind::Model;
   hal::Clock& clock = simulated ? static_cast<hal::Clock&>(simulatedClock) : steadyClock;
-  const Rig configured = configuredRig(config);
+  const rig::Rig configured = rig::configuredRig(config);
   auto modelLight = std::make_shared<hal::LedTimeline>();
   const hwcheck::BackendInfo backend = describeBackend(config);
 
   hwcheck::HardwareReport report;
   std::shared_ptr<hal::Camera> camera;
-  Rig rig = configured;
+  rig::Rig rig = configured;
   openCheckCamera(config, clock, modelLight, configured, simulated, backend, report, camera, rig);
   std::unique_ptr<hal::Led> led;
   if (camera) led = openCheckLed(config, clock, modelLight, *camera, backend, report);
   if (camera && led) {
     // The check locks the exposures it measures with itself: the sweep's setting is not one.
-    hal::CameraConfig cameraConfig = cameraConfigFrom(config);
+    hal::CameraConfig cameraConfig = rig::cameraConfigFrom(config);
     cameraConfig.exposureUs.reset();
     cameraConfig.gain.reset();
     hwcheck::HardwareCheckOptions checkOptions;

@@ -47,16 +47,16 @@ class LiveDaemon {
     socket_ = socketDir_ / "s.sock";
     const int listenFd = daemon::openListenSocket({socket_, 0600, std::nullopt});
     server_ =
-        std::make_unique<daemon::ControlServer>(loop_, listenFd, [this](const daemon::Request& r) {
+        std::make_unique<daemon::ControlServer>(loop_, listenFd, [this](const control::Request& r) {
           json reply = daemon::replyOrThrow(manager_.handle(r.command));
           // As slicecapd's devices do when the camera cannot start: the sweep comes back paused.
-          if (!failingDevice_.empty() && (std::holds_alternative<daemon::SweepStart>(r.command) ||
-                                          std::holds_alternative<daemon::SweepRedo>(r.command))) {
+          if (!failingDevice_.empty() && (std::holds_alternative<control::SweepStart>(r.command) ||
+                                          std::holds_alternative<control::SweepRedo>(r.command))) {
             manager_.pauseSweep(failingDevice_);
             reply = manager_.status()["sweep"];
           }
           // What the daemon's frame loop adds to a status (record_frames), when a test sets it.
-          if (std::holds_alternative<daemon::Status>(r.command) && !statusExtra_.is_null())
+          if (std::holds_alternative<control::Status>(r.command) && !statusExtra_.is_null())
             reply.update(statusExtra_);
           return reply;
         });
@@ -324,6 +324,29 @@ TEST(DaemonCommands, RefusesAWatchCountThatIsNoWholeNumberAndSaysWhyARequestIsTo
   const Result r = daemon.run({"session", "new", std::string(70000, 'x'), "--id", "big"});
   EXPECT_EQ(r.code, kExitFailure);
   EXPECT_THAT(r.err, HasSubstr("request longer than 65536 bytes"));
+}
+
+// The devices' fields a person acts on, each a line of its own (they were only in --json).
+TEST(DaemonCommands, StatusShowsTheHdrDecodingCameraFramesAndRoomLight) {
+  const auto dir = test::freshTempDir();
+  LiveDaemon daemon(dir / "storage");
+  daemon.setStatusExtra({{"hdr", "HDR, 2 exposures by LED pairs (8000 us, 500 us)"},
+                         {"decoding", {{"decoding", "measured-curve"}, {"note", "rms 0.004"}}},
+                         {"camera_frames",
+                          {{"delivered", 240},
+                           {"dropped", 3},
+                           {"led_pattern", "2 on, 2 off"},
+                           {"led_clean_fraction", 0.5},
+                           {"timing", "sensor timestamps"}}},
+                         {"room_light", {{"to_led", 0.1}, {"change", 0.4}, {"change_to_led", 0.04}}}});
+  const Result r = daemon.run({"status"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("hdr: HDR, 2 exposures by LED pairs (8000 us, 500 us)\n"));
+  EXPECT_THAT(r.out, HasSubstr("decoding: measured-curve (rms 0.004)\n"));
+  EXPECT_THAT(r.out, HasSubstr("camera: 240 frames, 3 dropped, LED 2 on, 2 off, 50.0 % with one "
+                               "LED state over the rows read (sensor timestamps)\n"));
+  EXPECT_THAT(r.out, HasSubstr("room light: 10.0 % of the LED's light, changing by 4.0 % of it "
+                               "between LED-off frames\n"));
 }
 
 TEST(DaemonCommands, StatusSaysWhetherTheAxialSweepsAreNeeded) {

@@ -129,6 +129,48 @@ TEST(ReplyViews, ADaemonStatusLineIsWrittenBackByteForByte) {
   EXPECT_EQ(toJson(statusFromJson(json::parse(line))).dump(), line);
 }
 
+// The devices' part of a status as slicecapd wrote it before StatusView held it (raw keys patched
+// in by the frame loop): read and written again byte for byte, so a client of either reads both.
+TEST(ReplyViews, TheDevicesStatusLineOfThePreviousDaemonIsWrittenBackByteForByte) {
+  const std::string line =
+      R"({"camera_frames":{"delivered":40,"dropped":1,"led_clean_fraction":0.75,"led_pattern":)"
+      R"("2 on, 2 off","timing":"sensor timestamps"},"decoding":{"decoding":"measured-curve",)"
+      R"("note":"fit rms 0.01"},"exposure":"camera x: metered 4000 us","hdr":"HDR, 2 exposures",)"
+      R"("next":"keep sweeping","recording":{"directory":"/s1/recordings/axial-30-30",)"
+      R"("frames_dropped":0,"frames_queued":1,"frames_written":20},"room_light":{"change":0.04,)"
+      R"("change_to_led":0.004,"to_led":0.1},"session":null,"sweep":null,"texture":)"
+      R"({"bins_filled":3,"damaged_frames_removed":0,"directory":"/s1/texture","frames_stored":5,)"
+      R"("resolution":64,"session_frames_stored":9,"stored_mb":1.5},"warnings":["room light"]})";
+  const StatusView read = statusFromJson(json::parse(line));
+  EXPECT_EQ(toJson(read).dump(), line);
+  ASSERT_TRUE(read.cameraFrames && read.decoding && read.roomLight && read.texture);
+  EXPECT_EQ(read.cameraFrames->dropped, 1u);
+  EXPECT_EQ(read.decoding->decoding, "measured-curve");
+  EXPECT_EQ(read.roomLight->changeToLed, 0.004);
+  EXPECT_EQ(read.texture->sessionFramesStored, 9u);
+  EXPECT_EQ(read.hdr, "HDR, 2 exposures");
+}
+
+// A room light without any figure yet is left out, as the daemon always did.
+TEST(ReplyViews, ARoomLightWithoutFiguresIsLeftOut) {
+  StatusView status;
+  status.roomLight = RoomLightView{};
+  EXPECT_FALSE(toJson(status).contains("room_light"));
+  status.roomLight->toLed = 0.2;
+  EXPECT_EQ(toJson(status)["room_light"], (json{{"to_led", 0.2}}));
+}
+
+// The stop's reply: the stopped sweep with its recording and texture beside its own keys.
+TEST(ReplyViews, SweepStopCarriesTheRecordingAndTheTexture) {
+  SweepStopView stop{pausedSweep(), RecordingView{"/s1/r", 3, 0, 0, std::nullopt}, std::nullopt};
+  const json written = toJson(stop);
+  EXPECT_EQ(written["recording"]["frames_written"], 3);
+  EXPECT_FALSE(written.contains("texture"));
+  json sweepOnly = written;
+  sweepOnly.erase("recording");
+  EXPECT_EQ(sweepOnly, toJson(pausedSweep()));
+}
+
 TEST(ReplyViews, AMissingFieldIsNamed) {
   json sweep = toJson(pausedSweep());
   sweep.erase("bins_filled");

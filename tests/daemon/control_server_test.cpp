@@ -18,7 +18,7 @@
 
 #include "../support/request_as_user.hpp"
 #include "../support/test_support.hpp"
-#include "slicecap/daemon/control_client.hpp"
+#include "slicecap/control/control_client.hpp"
 
 namespace slicecap::daemon {
 namespace {
@@ -52,14 +52,14 @@ void serve(const std::filesystem::path& socket, RequestHandler handler,
   serve(socket, std::move(handler), ServerLimits{}, [&](EventLoop&) { clients(); });
 }
 
-nlohmann::json echo(const Request& request) {
-  if (std::holds_alternative<SessionShow>(request.command)) {
-    const std::string& id = std::get<SessionShow>(request.command).id;
-    if (id == "missing") throw RequestError(ErrorCode::NotFound, "no session missing");
+nlohmann::json echo(const control::Request& request) {
+  if (std::holds_alternative<control::SessionShow>(request.command)) {
+    const std::string& id = std::get<control::SessionShow>(request.command).id;
+    if (id == "missing") throw RequestError(control::ErrorCode::NotFound, "no session missing");
     if (id == "bug") throw std::logic_error("a bug");
     return {{"id", id}};
   }
-  return {{"command", commandName(request.command)}};
+  return {{"command", control::commandName(request.command)}};
 }
 
 // A raw connection for sending arbitrary bytes.
@@ -84,11 +84,11 @@ nlohmann::json helloOnceTheServerHasRoom(const std::filesystem::path& socket) {
   const auto deadline = std::chrono::steady_clock::now() + 5s;
   while (true) {
     try {
-      ControlClient client(socket, 2s);
-      return client.call(Hello{});
-    } catch (const DaemonError& e) {
+      control::ControlClient client(socket, 2s);
+      return client.call(control::Hello{});
+    } catch (const control::DaemonError& e) {
       if (e.code() != "unavailable" || std::chrono::steady_clock::now() > deadline) throw;
-    } catch (const ConnectionError&) {
+    } catch (const control::ConnectionError&) {
       if (std::chrono::steady_clock::now() > deadline) throw;
     }
     std::this_thread::sleep_for(10ms);
@@ -110,19 +110,19 @@ TEST(ControlServer, AnswersRequestsAndRefusalsInOrder) {
   const test::SocketDir sockets;
   const auto socket = sockets / "ctl.sock";
   serve(socket, echo, [&] {
-    ControlClient client(socket);
-    EXPECT_EQ(client.call(Hello{})["command"], "hello");
-    EXPECT_EQ(client.call(SessionShow{"felt"})["id"], "felt");
+    control::ControlClient client(socket);
+    EXPECT_EQ(client.call(control::Hello{})["command"], "hello");
+    EXPECT_EQ(client.call(control::SessionShow{"felt"})["id"], "felt");
     try {
-      client.call(SessionShow{"missing"});
+      client.call(control::SessionShow{"missing"});
       ADD_FAILURE() << "expected a refusal";
-    } catch (const DaemonError& e) {
+    } catch (const control::DaemonError& e) {
       EXPECT_EQ(e.code(), "not_found");
       EXPECT_STREQ(e.what(), "no session missing");
     }
-    EXPECT_THROW(client.call(SessionShow{"bug"}), DaemonError)
+    EXPECT_THROW(client.call(control::SessionShow{"bug"}), control::DaemonError)
         << "a handler bug is answered as internal";
-    EXPECT_EQ(client.call(Status{})["command"], "status") << "and the server goes on";
+    EXPECT_EQ(client.call(control::Status{})["command"], "status") << "and the server goes on";
   });
 }
 
@@ -156,8 +156,8 @@ TEST(ControlServer, SurvivesTenThousandMalformedLines) {
     EXPECT_EQ(std::count(answers.begin(), answers.end(), '\n'), 10000);
     EXPECT_EQ(answers.find("\"ok\":true"), std::string::npos);
     ::close(fd);
-    ControlClient after(socket);
-    EXPECT_EQ(after.call(Hello{})["command"], "hello");
+    control::ControlClient after(socket);
+    EXPECT_EQ(after.call(control::Hello{})["command"], "hello");
   });
 }
 
@@ -169,10 +169,10 @@ TEST(ControlServer, ServesAHundredConcurrentClients) {
     std::vector<std::thread> clients;
     for (int c = 0; c < 100; ++c) {
       clients.emplace_back([&, c] {
-        ControlClient client(socket);
+        control::ControlClient client(socket);
         for (int r = 0; r < 20; ++r) {
           const std::string id = "c" + std::to_string(c) + "-" + std::to_string(r);
-          if (client.call(SessionShow{id})["id"] == id) ++answered;
+          if (client.call(control::SessionShow{id})["id"] == id) ++answered;
         }
       });
     }
@@ -188,7 +188,7 @@ TEST(ControlServer, RefusesAnOversizedLineAndKeepsTheConnection) {
   serve(socket, echo, [&] {
     const int fd = rawConnect(socket);
     const std::string huge =
-        std::string(kMaxRequestBytes * 3, 'x') + "\n" + encodeRequest({7, Hello{}}) + "\n";
+        std::string(control::kMaxRequestBytes * 3, 'x') + "\n" + control::encodeRequest({7, control::Hello{}}) + "\n";
     std::thread writer([&] { ::send(fd, huge.data(), huge.size(), MSG_NOSIGNAL); });
     const std::string answers = readLines(fd, 2);
     writer.join();
@@ -207,8 +207,8 @@ TEST(ControlServer, ForgetsClientsThatHangUpMidLine) {
       ::send(fd, "{\"v\":1,\"id\":", 12, MSG_NOSIGNAL);
       ::close(fd);
     }
-    ControlClient client(socket);
-    EXPECT_EQ(client.call(Hello{})["command"], "hello");
+    control::ControlClient client(socket);
+    EXPECT_EQ(client.call(control::Hello{})["command"], "hello");
   });
 }
 
@@ -251,7 +251,7 @@ TEST(ControlServer, AClientThatHangsUpBeforeItsAnswerIsClosedOnce) {
         ::close(mine);
       }
     });
-    const std::string request = encodeRequest({1, Hello{}}) + "\n";
+    const std::string request = control::encodeRequest({1, control::Hello{}}) + "\n";
     for (int i = 0; i < 3000 && closedUnderIt == 0; ++i) {
       const int fd = rawConnect(socket);
       ::send(fd, request.data(), request.size(), MSG_NOSIGNAL);
@@ -270,8 +270,8 @@ TEST(ControlServer, AClientWritingWithoutPauseDoesNotHoldUpTheOthers) {
   // piled up in memory.
   const test::SocketDir sockets;
   const auto socket = sockets / "ctl.sock";
-  const auto padded = [](const Request& request) {
-    return nlohmann::json{{"command", commandName(request.command)},
+  const auto padded = [](const control::Request& request) {
+    return nlohmann::json{{"command", control::commandName(request.command)},
                           {"pad", std::string(1000, 'x')}};
   };
   serve(socket, padded, [&] {
@@ -280,7 +280,7 @@ TEST(ControlServer, AClientWritingWithoutPauseDoesNotHoldUpTheOthers) {
     std::thread writer([&] {
       std::string burst;
       while (burst.size() < 65536)
-        burst += encodeRequest({1, Status{}}) + "\n";
+        burst += control::encodeRequest({1, control::Status{}}) + "\n";
       while (!stop) {
         if (::send(flooder, burst.data(), burst.size(), MSG_NOSIGNAL) < 0) {
           cutOff = true;
@@ -290,9 +290,9 @@ TEST(ControlServer, AClientWritingWithoutPauseDoesNotHoldUpTheOthers) {
     });
     std::this_thread::sleep_for(100ms);
     try {
-      ControlClient other(socket, 2s);
-      EXPECT_EQ(other.call(Hello{})["command"], "hello");
-    } catch (const ConnectionError& e) {
+      control::ControlClient other(socket, 2s);
+      EXPECT_EQ(other.call(control::Hello{})["command"], "hello");
+    } catch (const control::ConnectionError& e) {
       ADD_FAILURE() << e.what();
     }
     for (int k = 0; k < 200 && !cutOff; ++k)
@@ -314,7 +314,7 @@ TEST(ControlServer, ClientsThatHungUpHoldNoSlotWhenANewOneArrives) {
   limits.maxClients = 8;
   serve(socket, echo, limits, [&](EventLoop& loop) {
     std::vector<int> gone;
-    const std::string hello = encodeRequest({1, Hello{}}) + "\n";
+    const std::string hello = control::encodeRequest({1, control::Hello{}}) + "\n";
     for (std::size_t i = 0; i < limits.maxClients; ++i) {
       gone.push_back(rawConnect(socket));
       ::send(gone.back(), hello.data(), hello.size(), MSG_NOSIGNAL);
@@ -331,7 +331,7 @@ TEST(ControlServer, ClientsThatHungUpHoldNoSlotWhenANewOneArrives) {
     for (const int fd : gone)
       ::close(fd);
     release.set_value();
-    const std::string request = encodeRequest({2, Hello{}}) + "\n";
+    const std::string request = control::encodeRequest({2, control::Hello{}}) + "\n";
     ::send(late, request.data(), request.size(), MSG_NOSIGNAL);
     const std::string answer = readLines(late, 1);
     EXPECT_THAT(answer, ::testing::HasSubstr("\"id\":2,\"ok\":true")) << answer;
@@ -387,7 +387,7 @@ TEST(ControlServer, RefusesAPeerOutsideTheSocketsGroupEvenIfItCouldConnect) {
     ASSERT_EQ(::stat(socket.c_str(), &file), 0);
     const gid_t group = file.st_gid, nobody = 65534;
     ASSERT_NE(group, nobody);
-    const std::string hello = encodeRequest({3, Hello{}});
+    const std::string hello = control::encodeRequest({3, control::Hello{}});
     const std::string outsider = test::requestAsUser(socket, nobody, nobody, {}, hello);
     EXPECT_THAT(outsider, ::testing::HasSubstr("permission_denied")) << outsider;
     EXPECT_THAT(outsider, ::testing::HasSubstr("uid 65534")) << outsider;
@@ -440,7 +440,7 @@ TEST(ListenSocket, IsNeverReachableWithAWiderModeWhateverTheUmask) {
                           std::filesystem::directory_iterator()),
             1)
       << "the private folder it was bound in is gone";
-  ControlClient client(path, 1s);  // connectable where it was put
+  control::ControlClient client(path, 1s);  // connectable where it was put
 }
 
 TEST(ListenSocket, RemovesTheSocketFileItBoundButNotOneThatReplacedIt) {
@@ -497,9 +497,9 @@ TEST(ListenSocket, APathTooLongForASocketIsRefusedByNameOnBothSides) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr("longer than 107 bytes"));
   }
   try {
-    ControlClient client(dir / name, 1s);
+    control::ControlClient client(dir / name, 1s);
     ADD_FAILURE() << "the client connected to a path too long for a socket";
-  } catch (const ConnectionError& e) {
+  } catch (const control::ConnectionError& e) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr(name));
     EXPECT_THAT(e.what(), ::testing::HasSubstr("too long"));
   }

@@ -18,7 +18,7 @@
 
 #include "../support/request_as_user.hpp"
 #include "../support/test_support.hpp"
-#include "slicecap/daemon/control_client.hpp"
+#include "slicecap/control/control_client.hpp"
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/hal/camera_error.hpp"
 #include "slicecap/hal/clock.hpp"
@@ -94,13 +94,38 @@ class FakeTextureSink : public TextureSink {
       throw io::IoError("texture/axial-30-30/b00.tex: No space left on device");
     ++log_->samplesStored;
   }
-  json status() const override {
-    return {{"directory", "texture"}, {"resolution", 8}, {"bins_filled", 0},
-            {"frames_stored", log_->samplesStored}};
+  control::TextureProgressView status() const override {
+    control::TextureProgressView view;
+    view.directory = "texture";
+    view.resolution = 8;
+    view.framesStored = std::size_t(log_->samplesStored);
+    return view;
   }
 
  private:
   std::shared_ptr<TextureLog> log_;
+};
+
+// The sweep's texture through the fake sink; no recordings.
+class FakeOutputs : public SessionOutputs {
+ public:
+  explicit FakeOutputs(std::shared_ptr<TextureLog> log) : log_(std::move(log)) {}
+  std::optional<io::Recording> recordingHeader(const SliceId&) override { return std::nullopt; }
+  bool capturesTexture() const override { return true; }
+  std::unique_ptr<TextureSink> openTexture(const SliceId&, const std::filesystem::path&) override {
+    ++log_->opened;
+    if (log_->failToOpen) throw io::IoError(*log_->failToOpen);
+    return std::make_unique<FakeTextureSink>(log_);
+  }
+
+ private:
+  std::shared_ptr<TextureLog> log_;
+};
+
+// No export in these tests: the reconstruction is never asked for.
+class NoTables : public SessionTables {
+ public:
+  Abrdf reconstruct(const SliceSet&, const std::string&) override { return Abrdf(); }
 };
 
 // A live camera (it has a ready descriptor, so the daemon strobes the LED and meters the
@@ -215,6 +240,47 @@ class FakeLiveCamera : public hal::Camera {
 
 class DaemonOnFileCamera : public ::testing::Test {
  protected:
+  // The camera and stand-in pipeline the tests run with, as slicecapd's rig gives them.
+  class TestRig : public CaptureRig {
+   public:
+    TestRig(DaemonOnFileCamera& test, std::filesystem::path recording,
+            std::optional<std::uint64_t> failAtSequence)
+        : test_(test), recording_(std::move(recording)), failAtSequence_(failAtSequence) {}
+    std::shared_ptr<hal::Camera> camera(const SliceId&) override {
+      // One camera serves every slice, as in slicecapd.
+      if (test_.liveCamera_) {
+        if (!test_.liveCameraDevice_)
+          test_.liveCameraDevice_ = std::make_shared<FakeLiveCamera>(test_.liveCamera_);
+        return test_.liveCameraDevice_;
+      }
+      hal::FileCameraOptions options;
+      options.failAtSequence = failAtSequence_;
+      return std::make_shared<hal::FileCamera>(recording_, test_.clock_, options);
+    }
+    capture::LiveFrameProcessor pipeline(const SliceId&, capture::FrameObserver observer,
+                                         const std::optional<ToneCurve>&) override {
+      return capture::settledAtOnce(
+          [inner = standInPipeline(), observer](const hal::Frame& frame, const SliceId& slice) {
+            capture::FrameOutcome outcome = inner(frame, slice);
+            if (observer) observer(frame, outcome, {});
+            return outcome;
+          });
+    }
+    // With bracketing_ as slicecapd's rig gives it: a 32 x 24 camera over the default target
+    // (which the grey frames do not show); else none.
+    std::optional<BracketSubject> bracketSubject(const SliceId&) override {
+      if (!test_.bracketing_) return std::nullopt;
+      vision::CameraModel camera = vision::defaultSimulatedCamera();
+      camera.intrinsics = {32, 24, 30.0, 30.0, 15.5, 11.5};
+      return BracketSubject{vision::defaultTarget(), camera};
+    }
+
+   private:
+    DaemonOnFileCamera& test_;
+    std::filesystem::path recording_;
+    std::optional<std::uint64_t> failAtSequence_;
+  };
+
   void start(std::optional<std::uint64_t> failAtSequence = std::nullopt,
              std::shared_ptr<TextureLog> texture = nullptr) {
     dir_ = test::freshTempDir();
@@ -223,47 +289,11 @@ class DaemonOnFileCamera : public ::testing::Test {
     ledLog_ = dir_ / "led.log";
     DaemonParts parts;
     parts.storage = dir_ / "storage";
-    parts.cameraFor = [this, recording,
-                       failAtSequence](const SliceId&) -> std::shared_ptr<hal::Camera> {
-      // One camera serves every slice, as in slicecapd.
-      if (liveCamera_) {
-        if (!liveCameraDevice_) liveCameraDevice_ = std::make_shared<FakeLiveCamera>(liveCamera_);
-        return liveCameraDevice_;
-      }
-      hal::FileCameraOptions options;
-      options.failAtSequence = failAtSequence;
-      return std::make_shared<hal::FileCamera>(recording, clock_, options);
-    };
+    parts.rig = std::make_unique<TestRig>(*this, recording, failAtSequence);
     parts.cameraConfig = {32, 24, PixelEncoding::Srgb8, configuredExposureUs_, std::nullopt, 4};
     parts.led = std::make_unique<hal::FileLed>(ledLog_, clock_);
-    parts.newFrameProcessor = [](const SliceId&, capture::FrameObserver observer) {
-      return capture::settledAtOnce(
-          [inner = standInPipeline(), observer](const hal::Frame& frame, const SliceId& slice) {
-            capture::FrameOutcome outcome = inner(frame, slice);
-            if (observer) observer(frame, outcome, {});
-            return outcome;
-          });
-    };
-    if (texture)
-      parts.newTextureSink = [texture](const SliceId&, const std::filesystem::path&) {
-        ++texture->opened;
-        if (texture->failToOpen) throw io::IoError(*texture->failToOpen);
-        return std::make_unique<FakeTextureSink>(texture);
-      };
-    if (bracketing_) {
-      // The daemon's bracket seams, as slicecapd sets them: a 32 x 24 camera over the default
-      // target (which the grey frames do not show).
-      parts.bracketSubjectFor = [](const SliceId&) {
-        vision::CameraModel camera = vision::defaultSimulatedCamera();
-        camera.intrinsics = {32, 24, 30.0, 30.0, 15.5, 11.5};
-        return BracketSubject{vision::defaultTarget(), camera};
-      };
-      parts.newDecodingFrameProcessor = [](const SliceId&, capture::FrameObserver,
-                                           const std::optional<ToneCurve>&) {
-        return capture::settledAtOnce(standInPipeline());
-      };
-    }
-    parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };
+    if (texture) parts.outputs = std::make_unique<FakeOutputs>(texture);
+    parts.tables = std::make_unique<NoTables>();
     parts.clientLimits.socketGroup = socketGroup_;
     listening_.emplace(ListenSpec{socket_, 0600, std::nullopt, {}});
     daemon_ = std::make_unique<Daemon>(std::move(parts), listening_->fd());
@@ -305,22 +335,22 @@ class DaemonOnFileCamera : public ::testing::Test {
     }
   }
 
-  json call(const Command& command) { return ControlClient(socket_).call(command); }
+  json call(const control::Command& command) { return control::ControlClient(socket_).call(command); }
 
   json waitForPause() {
     for (int attempt = 0; attempt < 500; ++attempt) {
-      json status = call(Status{});
+      json status = call(control::Status{});
       if (!status["sweep"].is_null() && status["sweep"]["state"] == "paused") return status;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     ADD_FAILURE() << "the sweep never paused";
-    return call(Status{});
+    return call(control::Status{});
   }
 
   // A new session and a sweep of kAxial3030 until it pauses (the camera's frames run out).
   json sweepUntilPaused() {
-    call(SessionNew{"grey card", std::string("grey")});
-    call(SweepStart{kAxial3030});
+    call(control::SessionNew{"grey card", std::string("grey")});
+    call(control::SweepStart{kAxial3030});
     return waitForPause();
   }
 
@@ -329,7 +359,7 @@ class DaemonOnFileCamera : public ::testing::Test {
   hal::SteadyClock clock_;
   std::optional<double> configuredExposureUs_;
   std::shared_ptr<LiveCameraLog> liveCamera_;  // set: a live camera instead of the recording
-  bool bracketing_ = false;  // set the daemon's bracket seams
+  bool bracketing_ = false;  // the rig has a bracket subject
   std::shared_ptr<hal::Camera> liveCameraDevice_;
   test::SocketDir socketDir_;  // the socket path must fit sun_path
   std::filesystem::path dir_, socket_, ledLog_;
@@ -352,8 +382,8 @@ TEST_F(DaemonOnFileCamera, FramesBecomeSamplesAndTheLedGoesOffWhenTheRecordingEn
   EXPECT_FALSE(log.back().on);
   EXPECT_GE(std::count_if(log.begin(), log.end(), [](const hal::LedEvent& e) { return e.on; }),
             kFrames / 2);  // strobed with the frames
-  call(SweepStop{});
-  EXPECT_EQ(call(Status{})["session"]["samples"], kFrames / 2);
+  call(control::SweepStop{});
+  EXPECT_EQ(call(control::Status{})["session"]["samples"], kFrames / 2);
 }
 
 TEST_F(DaemonOnFileCamera, WhatTheCameraCouldNotDoAsConfiguredIsLogged) {
@@ -380,7 +410,7 @@ TEST_F(DaemonOnFileCamera, ACameraFailurePausesTheSweepAndKeepsEverySampleBefore
   EXPECT_EQ(status["sweep"]["samples"], 4);  // frames 0, 2, 4, 6 had the LED on
   EXPECT_FALSE(ledLog().back().on);
   // The daemon is still there: the status answers, and the sweep can go on.
-  call(SweepStart{kAxial3030});
+  call(control::SweepStart{kAxial3030});
   EXPECT_GE(waitForPause()["sweep"]["samples"].get<int>(), 4);
 }
 
@@ -391,7 +421,7 @@ TEST_F(DaemonOnFileCamera, TheTextureSeesEveryFrameOfTheSweepAndItsStatusIsShown
   EXPECT_EQ(texture->framesSeen, kFrames);
   EXPECT_EQ(texture->samplesStored, kFrames / 2);
   EXPECT_EQ(status["texture"]["frames_stored"], kFrames / 2);
-  EXPECT_EQ(call(SweepStop{})["texture"]["frames_stored"], kFrames / 2);
+  EXPECT_EQ(call(control::SweepStop{})["texture"]["frames_stored"], kFrames / 2);
   EXPECT_EQ(texture->opened, 1);
   // A redone sweep starts its texture afresh, as its samples: the slice's folder goes (whatever
   // the sink kept there), the other slices' stay, and a new sink indexes what is left.
@@ -400,7 +430,7 @@ TEST_F(DaemonOnFileCamera, TheTextureSeesEveryFrameOfTheSweepAndItsStatusIsShown
   std::filesystem::create_directories(folder / "axial-30-75");
   std::ofstream(folder / "axial-30-30" / "b00-00000001.tex") << "old sweep";
   texture->samplesStored = 0;
-  call(SweepRedo{kAxial3030});
+  call(control::SweepRedo{kAxial3030});
   EXPECT_FALSE(std::filesystem::exists(folder / "axial-30-30"));
   EXPECT_TRUE(std::filesystem::exists(folder / "axial-30-75"));
   waitForPause();
@@ -425,8 +455,8 @@ TEST_F(DaemonOnFileCamera, ATextureThatCannotBeOpenedPausesTheSweepWithTheReason
   auto texture = std::make_shared<TextureLog>();
   texture->failToOpen = "texture/texture.json: this session's texture has 64 texels across";
   start(std::nullopt, texture);
-  call(SessionNew{"grey card", std::string("grey")});
-  const json reply = call(SweepStart{kAxial3030});
+  call(control::SessionNew{"grey card", std::string("grey")});
+  const json reply = call(control::SweepStart{kAxial3030});
   EXPECT_EQ(reply["state"], "paused");
   EXPECT_THAT(reply["pause_reason"].get<std::string>(), HasSubstr("64 texels across"));
   const json status = waitForPause();
@@ -560,7 +590,7 @@ TEST_F(DaemonOnFileCamera, AFailureAtTheFirstLockStopsTheCameraAndTheSweepCanCon
   EXPECT_FALSE(liveCamera_->streaming);
   EXPECT_FALSE(status.contains("exposure")) << status.dump();
   EXPECT_FALSE(ledLog().back().on);
-  call(SweepStart{kAxial3030});  // continues the paused sweep: metered, then samples
+  call(control::SweepStart{kAxial3030});  // continues the paused sweep: metered, then samples
   status = waitForPause();
   EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(), HasSubstr("stream has ended"));
   EXPECT_THAT(status["exposure"].get<std::string>(), HasSubstr("exposure locked at"));
@@ -617,8 +647,8 @@ TEST_F(DaemonOnFileCamera, AConfiguredExposureIsNotMetered) {
 
 TEST_F(DaemonOnFileCamera, StoppingTheDaemonMidSweepLeavesTheLedOff) {
   start();
-  call(SessionNew{"grey card", std::string("grey")});
-  call(SweepStart{kAxial3030});
+  call(control::SessionNew{"grey card", std::string("grey")});
+  call(control::SweepStart{kAxial3030});
   daemon_->stop();
   thread_.join();
   daemon_.reset();
@@ -649,8 +679,8 @@ TEST_F(DaemonOnFileCamera, EachStopSignalSwitchesTheLedOffAndStopsCleanly) {
     liveCamera_->frames = 100'000'000;  // captures until the signal
     liveCameraDevice_.reset();
     start();
-    call(SessionNew{"grey card", std::string("grey")});
-    call(SweepStart{kAxial3030});
+    call(control::SessionNew{"grey card", std::string("grey")});
+    call(control::SweepStart{kAxial3030});
     ASSERT_TRUE(ledWentOn()) << "the sweep never switched the LED on";
     ASSERT_EQ(::kill(::getpid(), s), 0);
     EXPECT_TRUE(stoppedWithin(20)) << "signal " << s << " did not stop the daemon";
@@ -665,7 +695,7 @@ TEST_F(DaemonOnFileCamera, SigpipeIsIgnored) {
   ASSERT_EQ(::sigaction(SIGPIPE, nullptr, &action), 0);
   ASSERT_EQ(action.sa_handler, SIG_IGN) << "a client hanging up mid-write would end the daemon";
   ASSERT_EQ(::kill(::getpid(), SIGPIPE), 0);
-  EXPECT_EQ(call(Status{})["state"].is_null(), call(Status{})["state"].is_null())
+  EXPECT_EQ(call(control::Status{})["state"].is_null(), call(control::Status{})["state"].is_null())
       << "still answering";
   EXPECT_FALSE(stopped_);
 }
@@ -676,13 +706,13 @@ TEST_F(DaemonOnFileCamera, ExportsOnlyIntoTheStorageOrAFolderTheAskingUserOwns) 
   if (!test::canChangeUser()) GTEST_SKIP() << "needs root to run a client as another user";
   socketGroup_ = 0;  // the socket's group in slicecapd (ListenSocket::group)
   start();
-  call(SessionNew{"grey card", std::string("grey")});
+  call(control::SessionNew{"grey card", std::string("grey")});
   ASSERT_EQ(::chmod(socketDir_.path().c_str(), 0711), 0);
   ASSERT_EQ(::chmod(socket_.c_str(), 0660), 0);  // the group's (root's, here) as in slicecapd
   const uid_t nobody = 65534;
   const auto exportAs = [&](const std::filesystem::path& directory) {
     return test::requestAsUser(socket_, nobody, 0, {},
-                               encodeRequest({5, Export{std::nullopt, directory.string(), {}}}));
+                               control::encodeRequest({5, control::Export{std::nullopt, directory.string(), {}}}));
   };
   const std::filesystem::path roots = dir_ / "roots", theirs = dir_ / "theirs";
   std::filesystem::create_directories(roots);
@@ -705,8 +735,8 @@ TEST_F(DaemonOnFileCamera, ExportsOnlyIntoTheStorageOrAFolderTheAskingUserOwns) 
     EXPECT_THAT(reply, Not(HasSubstr("connect failed"))) << reply;
   }
   try {
-    call(Export{std::nullopt, (roots / "out").string(), {}});
-  } catch (const DaemonError& e) {
+    call(control::Export{std::nullopt, (roots / "out").string(), {}});
+  } catch (const control::DaemonError& e) {
     EXPECT_NE(e.code(), "permission_denied") << "root may export anywhere: " << e.what();
   }
 }

@@ -11,12 +11,13 @@
 #include <limits>
 #include <thread>
 
+#include "../support/daemon_fakes.hpp"
 #include "../support/test_support.hpp"
 #include "../support/wait_until.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/capture/recording_processor.hpp"
 #include "slicecap/capture/session_store.hpp"
-#include "slicecap/daemon/control_client.hpp"
+#include "slicecap/control/control_client.hpp"
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/daemon.hpp"
 #include "slicecap/hal/bayer_frame.hpp"
@@ -182,6 +183,25 @@ TEST(FrameRecorder, ARawSweepsBlackIsRecordedAndReadBackWithItsFrames) {
 }
 
 // The daemon records a simulated sweep played by the file camera through the real pipeline.
+// record_frames as slicecapd's outputs do it: the played recording's camera and target.
+class RecordingOutputs : public SessionOutputs {
+ public:
+  explicit RecordingOutputs(io::Recording played) : played_(std::move(played)) {}
+  std::optional<io::Recording> recordingHeader(const SliceId&) override {
+    io::Recording header;
+    header.camera = played_.camera;
+    header.target = played_.target;
+    return header;
+  }
+  bool capturesTexture() const override { return false; }
+  std::unique_ptr<TextureSink> openTexture(const SliceId&, const std::filesystem::path&) override {
+    return nullptr;
+  }
+
+ private:
+  io::Recording played_;
+};
+
 class DaemonRecordingFrames : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -199,28 +219,23 @@ class DaemonRecordingFrames : public ::testing::Test {
     socket_ = socketDir_ / "s.sock";
     DaemonParts parts;
     parts.storage = dir_ / "storage";
-    parts.cameraFor = [this](const SliceId&) {
-      return std::make_shared<hal::FileCamera>(original_, clock_);
-    };
+    parts.rig = std::make_unique<test::OneCameraRig>(
+        [this] { return std::make_shared<hal::FileCamera>(original_, clock_); },
+        [played](capture::FrameObserver observer) {
+          // As slicecapd's: two-sided room light, each LED-off frame located. The marker search
+          // as offline's, as long as a frame takes: the live loop's budget spreads a search over
+          // frames and moves the first pose of a sweep (0.2 deg here), which is not what this
+          // compares.
+          capture::PipelineSettings settings;
+          settings.poseAmbientFrames = true;
+          settings.detector.frameBudgetPx = std::numeric_limits<double>::infinity();
+          return capture::makeLiveFramePipeline(played.target, played.camera, settings,
+                                                std::move(observer));
+        });
     parts.cameraConfig = {1280, 720, PixelEncoding::Srgb8, std::nullopt, std::nullopt, 4};
     parts.led = std::make_unique<hal::FileLed>(dir_ / "led.log", clock_);
-    parts.newFrameProcessor = [played](const SliceId&, capture::FrameObserver observer) {
-      // As slicecapd's: two-sided room light, each LED-off frame located. The marker search as
-      // offline's, as long as a frame takes: the live loop's budget spreads a search over frames
-      // and moves the first pose of a sweep (0.2 deg here), which is not what this compares.
-      capture::PipelineSettings settings;
-      settings.poseAmbientFrames = true;
-      settings.detector.frameBudgetPx = std::numeric_limits<double>::infinity();
-      return capture::makeLiveFramePipeline(played.target, played.camera, settings,
-                                            std::move(observer));
-    };
-    parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };
-    parts.recordingHeaderFor = [played](const SliceId&) {
-      io::Recording header;
-      header.camera = played.camera;
-      header.target = played.target;
-      return header;
-    };
+    parts.tables = std::make_unique<test::EmptyTables>();
+    parts.outputs = std::make_unique<RecordingOutputs>(played);
     parts.recordQueueFrames = 64;  // this test wants every frame; the bound has its own test
     daemon_ =
         std::make_unique<Daemon>(std::move(parts), openListenSocket({socket_, 0600, std::nullopt}));
@@ -233,18 +248,18 @@ class DaemonRecordingFrames : public ::testing::Test {
     daemon_.reset();
   }
 
-  json call(const Command& command) { return ControlClient(socket_).call(command); }
+  json call(const control::Command& command) { return control::ControlClient(socket_).call(command); }
 
   // Until the recording has been played and every queued frame written.
   json waitForRecording() {
     for (int attempt = 0; attempt < 3000; ++attempt) {
-      json status = call(Status{});
+      json status = call(control::Status{});
       if (status["sweep"]["state"] == "paused" && status["recording"]["frames_queued"] == 0)
         return status;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     ADD_FAILURE() << "the sweep never finished recording";
-    return call(Status{});
+    return call(control::Status{});
   }
 
   hal::SteadyClock clock_;
@@ -255,13 +270,13 @@ class DaemonRecordingFrames : public ::testing::Test {
 };
 
 TEST_F(DaemonRecordingFrames, ProcessingTheRecordingGivesTheLiveSweepsSamples) {
-  call(SessionNew{"ward", std::string("rec")});
-  call(SweepStart{kAxial3030});
+  call(control::SessionNew{"ward", std::string("rec")});
+  call(control::SweepStart{kAxial3030});
   const json status = waitForRecording();
   EXPECT_EQ(status["recording"]["frames_dropped"], 0);
   EXPECT_EQ(status["recording"]["frames_written"], 12);
   EXPECT_FALSE(status["recording"].contains("error"));
-  const json stopped = call(SweepStop{});
+  const json stopped = call(control::SweepStop{});
   const auto recorded = std::filesystem::path(stopped["recording"]["directory"].get<std::string>());
   EXPECT_EQ(recorded, dir_ / "storage" / "rec" / "recordings" / "axial-30-30");
 

@@ -22,11 +22,12 @@ void noteBoth(RoomLightWatch& watch, double roomToLed, std::optional<double> cha
 TEST(RoomLightWatch, WarnsOfABrightRoomAndOfAFlickerTheFramesDoNotHide) {
   RoomLightWatch watch;
   EXPECT_TRUE(watch.warnings().empty());
-  EXPECT_TRUE(watch.summary().empty()) << "nothing before the first sample";
+  EXPECT_FALSE(watch.view().toLed || watch.view().change || watch.view().changeToLed)
+      << "nothing before the first sample";
   for (int i = 0; i < 10; ++i) noteBoth(watch, 0.1, 0.04);
   EXPECT_TRUE(watch.warnings().empty()) << "10 % of the LED, moving 4 % of itself: 0.4 % of the LED";
   EXPECT_NEAR(*watch.roomToLed(), 0.1, 1e-12);
-  EXPECT_NEAR(watch.summary()["change_to_led"].get<double>(), 0.004, 1e-12);
+  EXPECT_NEAR(watch.view().changeToLed.value_or(0.0), 0.004, 1e-12);
 
   // The room brightens to 40 % of the LED and its lamp flickers unhidden (15 % from frame to
   // frame: 6 % of the LED): the latest 32 count.

@@ -129,14 +129,14 @@ std::map<std::string, std::string> snapshot(const fs::path& folder) {
 using test::ok;
 
 void sweep(SessionManager& manager, double value, std::uint64_t firstFrame) {
-  ok(manager, SweepStart{kAxial3030});
+  ok(manager, control::SweepStart{kAxial3030});
   for (std::uint64_t k = 0; k < 24; ++k)
     ASSERT_TRUE(manager.acceptSample({std::int64_t(firstFrame + k) * 33000,
                                       firstFrame + k,
                                       {30, double(k) * 15.0},
                                       {30, double(k) * 15.0 + 15},
                                       Rgb::gray(value)}));
-  ok(manager, SweepStop{});
+  ok(manager, control::SweepStop{});
 }
 
 TEST(SessionExport, AFullDiskLeavesTheEarlierExportWhole) {
@@ -145,19 +145,19 @@ TEST(SessionExport, AFullDiskLeavesTheEarlierExportWhole) {
   if (!disk.mounted()) GTEST_SKIP() << "cannot mount a small tmpfs here (" << disk.why() << ")";
   const fs::path out = dir / "small" / "out";
   SessionManager manager(dir / "storage", meanTable, bigPreview);
-  ok(manager, SessionNew{"felt", std::string("felt")});
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
   sweep(manager, 0.25, 0);
-  ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  ok(manager, control::Export{std::nullopt, out.string(), std::string("b")});
   const auto before = snapshot(out);
   sweep(manager, 0.75, 100);
   disk.fill(dir / "small" / "filler", 50000);
-  auto reply = manager.handle(Export{std::nullopt, out.string(), std::string("b")});
-  ASSERT_TRUE(std::holds_alternative<ProtocolError>(reply)) << "the export did not fail";
-  EXPECT_EQ(std::get<ProtocolError>(reply).code, ErrorCode::StorageError);
+  auto reply = manager.handle(control::Export{std::nullopt, out.string(), std::string("b")});
+  ASSERT_TRUE(std::holds_alternative<control::ProtocolError>(reply)) << "the export did not fail";
+  EXPECT_EQ(std::get<control::ProtocolError>(reply).code, control::ErrorCode::StorageError);
   EXPECT_EQ(snapshot(out), before) << "the folder holds neither the old export nor the new one";
   // With room again, the new export goes in whole.
   fs::remove(dir / "small" / "filler");
-  ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  ok(manager, control::Export{std::nullopt, out.string(), std::string("b")});
   EXPECT_NE(snapshot(out), before);
 }
 
@@ -170,9 +170,9 @@ TEST(SessionExport, ALinkPlantedInTheFolderIsReplacedAndForeignTablesStay) {
   fs::create_symlink(dir / "victim", out / "felt-slices.csv");
   std::ofstream(out / "felt-abrdf-mine.exr") << "the person's own table";
   SessionManager manager(dir / "storage", meanTable);
-  ok(manager, SessionNew{"felt", std::string("felt")});
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
   sweep(manager, 0.25, 0);
-  ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  ok(manager, control::Export{std::nullopt, out.string(), std::string("b")});
   std::ifstream victim(dir / "victim");
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(victim), {}), "not the daemon's");
   EXPECT_FALSE(fs::is_symlink(out / "felt-summary.json"));
@@ -194,9 +194,9 @@ TEST(SessionExport, HoldsTheFirstTablesFittedMaterialExceptWhileASweepRuns) {
   const auto dir = test::freshTempDir();
   const fs::path out = dir / "out";
   SessionManager manager(dir / "storage", meanTable, {}, {}, oneFileMaterial);
-  ok(manager, SessionNew{"felt", std::string("felt")});
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
   sweep(manager, 0.25, 0);
-  const json reply = ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  const json reply = ok(manager, control::Export{std::nullopt, out.string(), std::string("b")});
   EXPECT_EQ(reply["material"], "fitted from felt-abrdf-b.exr");
   ASSERT_TRUE(fs::exists(out / "felt-material.json"));
   EXPECT_THAT(reply["files"].dump(), HasSubstr("felt-material.json"));
@@ -205,8 +205,8 @@ TEST(SessionExport, HoldsTheFirstTablesFittedMaterialExceptWhileASweepRuns) {
 
   // While a sweep runs, no fit (it would hold up the frames): said, and the earlier file goes as
   // a stale member of the set rather than stay beside newer tables.
-  ok(manager, SweepStart{kAxial3030});
-  const json during = ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  ok(manager, control::SweepStart{kAxial3030});
+  const json during = ok(manager, control::Export{std::nullopt, out.string(), std::string("b")});
   EXPECT_THAT(during["material"].get<std::string>(), HasSubstr("not fitted while sweep"));
   EXPECT_FALSE(fs::exists(out / "felt-material.json"));
 }
@@ -218,9 +218,9 @@ TEST(SessionExport, ATableThatCannotBeFittedIsAWarningNotAFailedExport) {
                          [](const Abrdf&, const std::string& name) -> ExportedMaterial {
                            throw std::runtime_error(name + ": the fit did not converge");
                          });
-  ok(manager, SessionNew{"felt", std::string("felt")});
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
   sweep(manager, 0.25, 0);
-  const json reply = ok(manager, Export{std::nullopt, out.string(), std::string("b")});
+  const json reply = ok(manager, control::Export{std::nullopt, out.string(), std::string("b")});
   EXPECT_TRUE(fs::exists(out / "felt-abrdf-b.exr"));
   EXPECT_FALSE(fs::exists(out / "felt-material.json"));
   EXPECT_THAT(reply["warnings"].dump(), HasSubstr("no fitted material: felt-abrdf-b.exr: the fit did not converge"));
@@ -230,10 +230,10 @@ TEST(SessionExport, WhatADamagedJournalSetAsideIsSaidWithTheExport) {
   const auto dir = test::freshTempDir();
   {
     SessionManager manager(dir / "storage", meanTable);
-    ok(manager, SessionNew{"felt", std::string("felt")});
+    ok(manager, control::SessionNew{"felt", std::string("felt")});
     sweep(manager, 0.25, 0);
-    ok(manager, SweepRedo{kAxial3030});
-    ok(manager, SweepStop{});
+    ok(manager, control::SweepRedo{kAxial3030});
+    ok(manager, control::SweepStop{});
   }
   // One flipped byte in the redo record.
   const fs::path journal = dir / "storage" / "felt" / "journal";
@@ -246,7 +246,7 @@ TEST(SessionExport, WhatADamagedJournalSetAsideIsSaidWithTheExport) {
   std::ofstream(journal, std::ios::binary | std::ios::trunc) << bytes;
 
   SessionManager manager(dir / "storage", meanTable);
-  const json shown = ok(manager, SessionShow{"felt"});
+  const json shown = ok(manager, control::SessionShow{"felt"});
   EXPECT_EQ(shown["samples"], 0) << "the redone sweep's samples came back";
   ASSERT_TRUE(shown.contains("journal_damage"));
   EXPECT_THAT(shown["journal_damage"][0]["message"].get<std::string>(),

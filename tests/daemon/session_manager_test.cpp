@@ -47,10 +47,10 @@ Abrdf meanOfSlices(const SliceSet& slices, const std::string& method) {
 
 using test::ok;
 
-ProtocolError refused(SessionManager& manager, const Command& command) {
+control::ProtocolError refused(SessionManager& manager, const control::Command& command) {
   auto reply = manager.handle(command);
-  if (auto* error = std::get_if<ProtocolError>(&reply)) return *error;
-  ADD_FAILURE() << commandName(command) << " was accepted: " << std::get<json>(reply).dump();
+  if (auto* error = std::get_if<control::ProtocolError>(&reply)) return *error;
+  ADD_FAILURE() << control::commandName(command) << " was accepted: " << std::get<json>(reply).dump();
   return {};
 }
 
@@ -58,8 +58,8 @@ ProtocolError refused(SessionManager& manager, const Command& command) {
 // bad_frame; the sweep goes on and keeps its other samples.
 TEST(SessionManager, ASampleTheJournalRefusesIsABadFrameNotAStoppedSweep) {
   SessionManager manager(test::freshTempDir(), meanOfSlices);
-  ok(manager, SessionNew{"brushed steel", std::string("steel")});
-  ok(manager, SweepStart{kDiagonal3030});
+  ok(manager, control::SessionNew{"brushed steel", std::string("steel")});
+  ok(manager, control::SweepStart{kDiagonal3030});
   EXPECT_TRUE(manager.acceptSample(test::hdrSampleAt(15.0, 2.0, 1.0, 0, 1)));
   capture::FrameSample broken = test::hdrSampleAt(30.0, 2.0, 1.0, 1, 2);
   broken.hdr->cells[3].radiance = Rgb{std::nan(""), 1.0, 1.0};
@@ -74,12 +74,12 @@ TEST(SessionManager, ASampleTheJournalRefusesIsABadFrameNotAStoppedSweep) {
 TEST(SessionManager, WalksAPersonThroughASweep) {
   SessionManager manager(test::freshTempDir(), meanOfSlices);
   EXPECT_EQ(manager.status()["next"], "slicecap session new MATERIAL");
-  const json session = ok(manager, SessionNew{"red felt", std::string("felt")});
+  const json session = ok(manager, control::SessionNew{"red felt", std::string("felt")});
   EXPECT_EQ(session["id"], "felt");
   EXPECT_EQ(manager.status()["next"], "slicecap sweep start diagonal 30 30");
   EXPECT_FALSE(manager.capturing());
 
-  ok(manager, SweepStart{kDiagonal3030});
+  ok(manager, control::SweepStart{kDiagonal3030});
   EXPECT_TRUE(manager.capturing());
   for (int k = 0; k < 10; ++k)
     EXPECT_TRUE(manager.acceptSample(sampleAt(k * 15.0, 0.5, k)));
@@ -96,7 +96,7 @@ TEST(SessionManager, WalksAPersonThroughASweep) {
   EXPECT_DOUBLE_EQ(status["sweep"]["view_elevation_error_deg"].get<double>(), -2.5);
   EXPECT_THAT(status["next"].get<std::string>(), HasSubstr("10 of 24 bins"));
 
-  const json stopped = ok(manager, SweepStop{});
+  const json stopped = ok(manager, control::SweepStop{});
   EXPECT_EQ(stopped["state"], "stopped");
   EXPECT_FALSE(manager.capturing());
   EXPECT_FALSE(manager.acceptSample(sampleAt(0, 0.5, 99)));  // no sweep: nothing stored
@@ -107,19 +107,19 @@ TEST(SessionManager, WalksAPersonThroughASweep) {
 
 TEST(SessionManager, RefusesWhatTheStateDoesNotAllow) {
   SessionManager manager(test::freshTempDir(), meanOfSlices);
-  EXPECT_EQ(refused(manager, SweepStart{kAxial3030}).code, ErrorCode::Conflict);
-  EXPECT_EQ(refused(manager, SessionShow{"nobody"}).code, ErrorCode::NotFound);
-  ok(manager, SessionNew{"felt", std::string("felt")});
-  EXPECT_EQ(refused(manager, SessionNew{"again", std::string("felt")}).code, ErrorCode::Conflict);
-  ok(manager, SweepStart{kAxial3030});
-  EXPECT_THAT(refused(manager, SweepStart{kAxial3075}).message, HasSubstr("axial 30/30"));
-  EXPECT_EQ(refused(manager, SessionNew{"other", std::nullopt}).code, ErrorCode::Conflict);
-  EXPECT_EQ(refused(manager, SessionDelete{"felt"}).code, ErrorCode::Conflict);
-  EXPECT_EQ(refused(manager, Reconstruct{std::nullopt, "b"}).code, ErrorCode::Conflict);
-  EXPECT_EQ(refused(manager, SweepRedo{kAxial3075}).code, ErrorCode::Conflict);
-  ok(manager, SweepStop{});
-  EXPECT_EQ(refused(manager, SweepStop{}).code, ErrorCode::Conflict);
-  ok(manager, SessionDelete{"felt"});
+  EXPECT_EQ(refused(manager, control::SweepStart{kAxial3030}).code, control::ErrorCode::Conflict);
+  EXPECT_EQ(refused(manager, control::SessionShow{"nobody"}).code, control::ErrorCode::NotFound);
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
+  EXPECT_EQ(refused(manager, control::SessionNew{"again", std::string("felt")}).code, control::ErrorCode::Conflict);
+  ok(manager, control::SweepStart{kAxial3030});
+  EXPECT_THAT(refused(manager, control::SweepStart{kAxial3075}).message, HasSubstr("axial 30/30"));
+  EXPECT_EQ(refused(manager, control::SessionNew{"other", std::nullopt}).code, control::ErrorCode::Conflict);
+  EXPECT_EQ(refused(manager, control::SessionDelete{"felt"}).code, control::ErrorCode::Conflict);
+  EXPECT_EQ(refused(manager, control::Reconstruct{std::nullopt, "b"}).code, control::ErrorCode::Conflict);
+  EXPECT_EQ(refused(manager, control::SweepRedo{kAxial3075}).code, control::ErrorCode::Conflict);
+  ok(manager, control::SweepStop{});
+  EXPECT_EQ(refused(manager, control::SweepStop{}).code, control::ErrorCode::Conflict);
+  ok(manager, control::SessionDelete{"felt"});
   EXPECT_TRUE(manager.status()["session"].is_null());
 }
 
@@ -127,8 +127,8 @@ TEST(SessionManager, AKilledDaemonComesBackToItsSweepWithEverySample) {
   const auto root = test::freshTempDir();
   {
     SessionManager manager(root, meanOfSlices);
-    ok(manager, SessionNew{"felt", std::string("felt")});
-    ok(manager, SweepStart{kAxial3030});
+    ok(manager, control::SessionNew{"felt", std::string("felt")});
+    ok(manager, control::SweepStart{kAxial3030});
     for (int k = 0; k < 7; ++k)
       ASSERT_TRUE(manager.acceptSample(sampleAt(k * 15.0, 0.5, k)));
     // No stop: the object goes away as a killed daemon's state would.
@@ -140,8 +140,8 @@ TEST(SessionManager, AKilledDaemonComesBackToItsSweepWithEverySample) {
   EXPECT_THAT(status["sweep"]["pause_reason"].get<std::string>(), HasSubstr("interrupted"));
   EXPECT_EQ(status["sweep"]["samples"], 7);
   EXPECT_FALSE(restarted.capturing());
-  EXPECT_EQ(refused(restarted, SweepStart{kAxial3075}).code, ErrorCode::Conflict);
-  ok(restarted, SweepStart{kAxial3030});
+  EXPECT_EQ(refused(restarted, control::SweepStart{kAxial3075}).code, control::ErrorCode::Conflict);
+  ok(restarted, control::SweepStart{kAxial3030});
   EXPECT_TRUE(restarted.capturing());
   EXPECT_TRUE(restarted.acceptSample(sampleAt(7 * 15.0, 0.5, 7)));
   EXPECT_EQ(restarted.status()["sweep"]["samples"], 8);
@@ -149,16 +149,16 @@ TEST(SessionManager, AKilledDaemonComesBackToItsSweepWithEverySample) {
 
 TEST(SessionManager, RedoDiscardsOnlyThatSlice) {
   SessionManager manager(test::freshTempDir(), meanOfSlices);
-  ok(manager, SessionNew{"felt", std::string("felt")});
-  ok(manager, SweepStart{kAxial3030});
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
+  ok(manager, control::SweepStart{kAxial3030});
   for (int k = 0; k < 5; ++k)
     manager.acceptSample(sampleAt(k * 15.0, 0.5, k));
-  ok(manager, SweepStop{});
-  ok(manager, SweepStart{kAxial3075});
+  ok(manager, control::SweepStop{});
+  ok(manager, control::SweepStart{kAxial3075});
   for (int k = 0; k < 3; ++k)
     manager.acceptSample(sampleAt(k * 15.0, 0.5, k));
-  ok(manager, SweepStop{});
-  const json redone = ok(manager, SweepRedo{kAxial3030});
+  ok(manager, control::SweepStop{});
+  const json redone = ok(manager, control::SweepRedo{kAxial3030});
   EXPECT_EQ(redone["samples"], 0);
   EXPECT_TRUE(manager.capturing());
   EXPECT_EQ(manager.status()["session"]["samples"], 3);
@@ -166,8 +166,8 @@ TEST(SessionManager, RedoDiscardsOnlyThatSlice) {
 
 TEST(SessionManager, ACameraFailurePausesTheSweepAndStartContinuesIt) {
   SessionManager manager(test::freshTempDir(), meanOfSlices);
-  ok(manager, SessionNew{"felt", std::string("felt")});
-  ok(manager, SweepStart{kAxial3030});
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
+  ok(manager, control::SweepStart{kAxial3030});
   manager.acceptSample(sampleAt(0, 0.5, 0));
   manager.pauseSweep("camera error: frame 12 failed");
   EXPECT_FALSE(manager.capturing());
@@ -175,7 +175,7 @@ TEST(SessionManager, ACameraFailurePausesTheSweepAndStartContinuesIt) {
   const json status = manager.status();
   EXPECT_EQ(status["sweep"]["state"], "paused");
   EXPECT_THAT(status["error"].get<std::string>(), HasSubstr("frame 12"));
-  ok(manager, SweepStart{kAxial3030});
+  ok(manager, control::SweepStart{kAxial3030});
   EXPECT_TRUE(manager.capturing());
   EXPECT_EQ(manager.status()["sweep"]["samples"], 1);
 }
@@ -185,8 +185,8 @@ TEST(SessionManager, AFullDiskPausesTheSweepAndKeepsWhatWasStored) {
   std::size_t stored = 0;
   {
     SessionManager manager(root, meanOfSlices);
-    ok(manager, SessionNew{"felt", std::string("felt")});
-    ok(manager, SweepStart{kAxial3030});
+    ok(manager, control::SessionNew{"felt", std::string("felt")});
+    ok(manager, control::SweepStart{kAxial3030});
     // A file size limit makes the journal's appends fail as a full disk would (EFBIG).
     const std::uintmax_t journalBytes = std::filesystem::file_size(root / "felt" / "journal");
     {
@@ -212,12 +212,12 @@ TEST(SessionManager, ASessionAFullDiskKeptFromBeingMadeCanBeMadeOnceThereIsSpace
   SessionManager manager(root, meanOfSlices);
   {
     const test::FileSizeLimit limit(10);  // session.json cannot be written
-    const ProtocolError error = refused(manager, SessionNew{"felt", std::string("felt")});
-    EXPECT_EQ(error.code, ErrorCode::StorageError);
+    const control::ProtocolError error = refused(manager, control::SessionNew{"felt", std::string("felt")});
+    EXPECT_EQ(error.code, control::ErrorCode::StorageError);
     EXPECT_THAT(error.message, HasSubstr("session.json"));
   }
   EXPECT_FALSE(std::filesystem::exists(root / "felt"));
-  EXPECT_EQ(ok(manager, SessionNew{"felt", std::string("felt")})["id"], "felt");
+  EXPECT_EQ(ok(manager, control::SessionNew{"felt", std::string("felt")})["id"], "felt");
 }
 
 TEST(SessionManager, ReconstructsAndExportsTheFilesADesktopNeeds) {
@@ -227,19 +227,19 @@ TEST(SessionManager, ReconstructsAndExportsTheFilesADesktopNeeds) {
     std::ofstream(png) << "png";
     ++previews;
   });
-  ok(manager, SessionNew{"felt", std::string("felt")});
-  EXPECT_EQ(refused(manager, Reconstruct{std::nullopt, "b"}).code, ErrorCode::Conflict);
-  ok(manager, SweepStart{kAxial3030});
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
+  EXPECT_EQ(refused(manager, control::Reconstruct{std::nullopt, "b"}).code, control::ErrorCode::Conflict);
+  ok(manager, control::SweepStart{kAxial3030});
   for (int k = 0; k < 24; ++k)
     manager.acceptSample(sampleAt(k * 15.0, 0.25, k));
-  ok(manager, SweepStop{});
-  EXPECT_THAT(refused(manager, Reconstruct{std::nullopt, "needs-more"}).message,
+  ok(manager, control::SweepStop{});
+  EXPECT_THAT(refused(manager, control::Reconstruct{std::nullopt, "needs-more"}).message,
               HasSubstr("missing slices"));
-  const json reconstructed = ok(manager, Reconstruct{std::nullopt, "b"});
+  const json reconstructed = ok(manager, control::Reconstruct{std::nullopt, "b"});
   const Abrdf table = io::readAbrdfExr(reconstructed["exr"].get<std::string>());
   EXPECT_FLOAT_EQ(table.at(3, 40).g(), 0.25);
 
-  const json exported = ok(manager, Export{std::nullopt, "", std::string("b")});
+  const json exported = ok(manager, control::Export{std::nullopt, "", std::string("b")});
   const std::filesystem::path directory = exported["directory"].get<std::string>();
   EXPECT_EQ(directory, root / "felt" / "export");
   EXPECT_EQ(exported["files"].size(), 4u);  // EXR, its preview, slices CSV, summary
@@ -253,10 +253,10 @@ TEST(SessionManager, ReconstructsAndExportsTheFilesADesktopNeeds) {
 
 // Sweeps all 24 bins of a slice with one value.
 void sweepFully(SessionManager& manager, const SliceId& slice, double value) {
-  ok(manager, SweepStart{slice});
+  ok(manager, control::SweepStart{slice});
   for (int k = 0; k < 24; ++k)
     ASSERT_TRUE(manager.acceptSample(sampleAt(k * 15.0, value, k)));
-  ok(manager, SweepStop{});
+  ok(manager, control::SweepStop{});
 }
 
 TEST(SessionManager, AsksForTheDiagonalSweepsFirstAndSaysWhenTheAxialOnesAreNotNeeded) {
@@ -270,7 +270,7 @@ TEST(SessionManager, AsksForTheDiagonalSweepsFirstAndSaysWhenTheAxialOnesAreNotN
     if (testFails) throw std::runtime_error("no prior file");
     return verdict;
   });
-  ok(manager, SessionNew{"felt", std::string("felt")});
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
   const std::vector<SliceId> diagonal{kDiagonal3030,
                                       {SliceKind::Diagonal, {75, 75}},
                                       {SliceKind::Diagonal, {30, 75}},
@@ -284,10 +284,10 @@ TEST(SessionManager, AsksForTheDiagonalSweepsFirstAndSaysWhenTheAxialOnesAreNotN
   }
   EXPECT_EQ(testsRun, 0);
   // The last diagonal sweep half done: the test runs, but "isotropic" needs 16 bins a slice.
-  ok(manager, SweepStart{diagonal.back()});
+  ok(manager, control::SweepStart{diagonal.back()});
   for (int k = 0; k < 12; ++k)
     ASSERT_TRUE(manager.acceptSample(sampleAt(k * 30.0, 0.5, k)));
-  ok(manager, SweepStop{});
+  ok(manager, control::SweepStop{});
   json status = manager.status();
   EXPECT_EQ(testsRun, 1);
   EXPECT_EQ(samplesSeen, 84u);
@@ -302,9 +302,9 @@ TEST(SessionManager, AsksForTheDiagonalSweepsFirstAndSaysWhenTheAxialOnesAreNotN
             "measure the axial sweeps): slicecap sweep start axial 30 30 measures them");
   // An anisotropic verdict stands on any coverage.
   verdict.isotropic = false;
-  ok(manager, SweepStart{diagonal.back()});
+  ok(manager, control::SweepStart{diagonal.back()});
   ASSERT_TRUE(manager.acceptSample(sampleAt(15.0, 0.5, 50)));
-  ok(manager, SweepStop{});
+  ok(manager, control::SweepStop{});
   EXPECT_EQ(manager.status()["isotropy"]["isotropic"], false);
   EXPECT_EQ(manager.status()["isotropy"]["informative"], true);
   verdict.isotropic = true;
@@ -322,11 +322,11 @@ TEST(SessionManager, AsksForTheDiagonalSweepsFirstAndSaysWhenTheAxialOnesAreNotN
 
   // New samples are tested anew; while a sweep captures, the answer from before it stands.
   verdict = {false, true, "anisotropy terms cut the GCV score to 0.1"};
-  ok(manager, SweepStart{kAxial3030});
+  ok(manager, control::SweepStart{kAxial3030});
   ASSERT_TRUE(manager.acceptSample(sampleAt(0, 0.5, 100)));
   EXPECT_EQ(manager.status()["isotropy"]["axial_sweeps_needed"], false);
   EXPECT_EQ(testsRun, 3);
-  ok(manager, SweepStop{});
+  ok(manager, control::SweepStop{});
   status = manager.status();
   EXPECT_EQ(testsRun, 4);
   EXPECT_EQ(status["isotropy"]["isotropic"], false);
@@ -335,8 +335,8 @@ TEST(SessionManager, AsksForTheDiagonalSweepsFirstAndSaysWhenTheAxialOnesAreNotN
 
   // A test that cannot run says why and asks for the axial sweeps.
   testFails = true;
-  ok(manager, SweepRedo{kAxial3030});
-  ok(manager, SweepStop{});
+  ok(manager, control::SweepRedo{kAxial3030});
+  ok(manager, control::SweepStop{});
   status = manager.status();
   EXPECT_THAT(status["isotropy"]["error"].get<std::string>(), HasSubstr("no prior file"));
   EXPECT_EQ(status["next"], "slicecap sweep start axial 30 30");
@@ -349,12 +349,12 @@ TEST(SessionManager, AsksForTheDiagonalSweepsFirstAndSaysWhenTheAxialOnesAreNotN
 TEST(SessionManager, ExportsTablesMadeFromTheSamplesAsTheyAreNow) {
   const auto root = test::freshTempDir();
   SessionManager manager(root, meanOfSlices);
-  ok(manager, SessionNew{"felt", std::string("felt")});
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
   sweepFully(manager, kDiagonal3030, 0.25);
-  ok(manager, Reconstruct{std::nullopt, "one-slice"});
+  ok(manager, control::Reconstruct{std::nullopt, "one-slice"});
 
   // Not all eight slices: the prior, which reads any subset, is the default.
-  json exported = ok(manager, Export{std::nullopt, "", std::nullopt});
+  json exported = ok(manager, control::Export{std::nullopt, "", std::nullopt});
   EXPECT_EQ(exported["method"], "prior");
   EXPECT_FALSE(exported.contains("warnings"));
   const std::filesystem::path directory = exported["directory"].get<std::string>();
@@ -363,7 +363,7 @@ TEST(SessionManager, ExportsTablesMadeFromTheSamplesAsTheyAreNow) {
 
   // A later sweep: the next export does not carry the tables made before it.
   sweepFully(manager, {SliceKind::Diagonal, {75, 75}}, 0.75);
-  exported = ok(manager, Export{std::nullopt, "", std::nullopt});
+  exported = ok(manager, control::Export{std::nullopt, "", std::nullopt});
   EXPECT_FLOAT_EQ(io::readAbrdfExr(directory / "felt-abrdf-prior.exr").at(3, 40).g(), 0.5);
   ASSERT_EQ(exported["warnings"].size(), 1u);
   EXPECT_THAT(exported["warnings"][0].get<std::string>(),
@@ -372,14 +372,14 @@ TEST(SessionManager, ExportsTablesMadeFromTheSamplesAsTheyAreNow) {
     EXPECT_THAT(file.get<std::string>(), Not(HasSubstr("one-slice")));
   EXPECT_FALSE(std::filesystem::exists(root / "felt" / "abrdf-one-slice.exr"));
   EXPECT_FALSE(std::filesystem::exists(directory / "felt-abrdf-one-slice.exr"));
-  EXPECT_FALSE(ok(manager, Export{std::nullopt, "", std::nullopt}).contains("warnings"));
+  EXPECT_FALSE(ok(manager, control::Export{std::nullopt, "", std::nullopt}).contains("warnings"));
 
   // The asked method; one that fails refuses the export and says what would work.
-  exported = ok(manager, Export{std::nullopt, "", std::string("a")});
+  exported = ok(manager, control::Export{std::nullopt, "", std::string("a")});
   EXPECT_EQ(exported["method"], "a");
   EXPECT_FLOAT_EQ(io::readAbrdfExr(directory / "felt-abrdf-a.exr").at(3, 40).g(), 0.5);
-  const ProtocolError failed =
-      refused(manager, Export{std::nullopt, "", std::string("needs-more")});
+  const control::ProtocolError failed =
+      refused(manager, control::Export{std::nullopt, "", std::string("needs-more")});
   EXPECT_THAT(failed.message, HasSubstr("missing slices"));
   EXPECT_THAT(failed.message, HasSubstr("--method prior"));
 
@@ -388,24 +388,24 @@ TEST(SessionManager, ExportsTablesMadeFromTheSamplesAsTheyAreNow) {
     if (slice.kind == SliceKind::Axial) sweepFully(manager, slice, 0.5);
   sweepFully(manager, {SliceKind::Diagonal, {30, 75}}, 0.5);
   sweepFully(manager, {SliceKind::Diagonal, {75, 30}}, 0.5);
-  EXPECT_EQ(ok(manager, Export{std::nullopt, "", std::nullopt})["method"], "b");
+  EXPECT_EQ(ok(manager, control::Export{std::nullopt, "", std::nullopt})["method"], "b");
 }
 
 TEST(SessionManager, AnExportFolderKeepsNoTableTheSamplesNoLongerGive) {
   const auto root = test::freshTempDir();
   const auto first = test::freshTempDir(), second = test::freshTempDir();
   SessionManager manager(root, meanOfSlices);
-  ok(manager, SessionNew{"felt", std::string("felt")});
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
   sweepFully(manager, kDiagonal3030, 0.25);
-  ok(manager, Export{std::nullopt, first.string(), std::string("one-slice")});
+  ok(manager, control::Export{std::nullopt, first.string(), std::string("one-slice")});
   ASSERT_TRUE(std::filesystem::exists(first / "felt-abrdf-one-slice.exr"));
   // A second slice: one-slice can no longer be made; an export elsewhere removes the session's
   // table, and the next export into the first folder must not leave that folder's copy there.
   sweepFully(manager, {SliceKind::Diagonal, {75, 75}}, 0.75);
   EXPECT_TRUE(
-      ok(manager, Export{std::nullopt, second.string(), std::nullopt}).contains("warnings"));
+      ok(manager, control::Export{std::nullopt, second.string(), std::nullopt}).contains("warnings"));
   ASSERT_FALSE(std::filesystem::exists(root / "felt" / "abrdf-one-slice.exr"));
-  ok(manager, Export{std::nullopt, first.string(), std::nullopt});
+  ok(manager, control::Export{std::nullopt, first.string(), std::nullopt});
   EXPECT_FALSE(std::filesystem::exists(first / "felt-abrdf-one-slice.exr"));
   EXPECT_TRUE(std::filesystem::exists(first / "felt-abrdf-prior.exr"));
   EXPECT_TRUE(std::filesystem::exists(first / "felt-slices.csv"));
@@ -415,7 +415,7 @@ TEST(SessionManager, RefusesASecondManagerOnTheSameStorage) {
   const auto root = test::freshTempDir();
   {
     SessionManager manager(root, meanOfSlices);
-    ok(manager, SessionNew{"felt", std::string("felt")});
+    ok(manager, control::SessionNew{"felt", std::string("felt")});
     try {
       SessionManager second(root, meanOfSlices);
       ADD_FAILURE() << "two managers on one storage folder";
@@ -425,7 +425,7 @@ TEST(SessionManager, RefusesASecondManagerOnTheSameStorage) {
   }
   SessionManager restarted(root, meanOfSlices);  // the lock went with the first
   EXPECT_EQ(restarted.status()["session"]["id"], "felt");
-  EXPECT_TRUE(ok(restarted, SessionList{})["sessions"].size() == 1u) << "the lock is no session";
+  EXPECT_TRUE(ok(restarted, control::SessionList{})["sessions"].size() == 1u) << "the lock is no session";
 }
 
 TEST(SessionManager, RefusesTheSessionIdOfItsCurrentFile) {
@@ -435,13 +435,13 @@ TEST(SessionManager, RefusesTheSessionIdOfItsCurrentFile) {
   const auto root = test::freshTempDir();
   {
     SessionManager manager(root, meanOfSlices);
-    const ProtocolError error = refused(manager, SessionNew{"felt", std::string("current")});
-    EXPECT_EQ(error.code, ErrorCode::BadRequest);
+    const control::ProtocolError error = refused(manager, control::SessionNew{"felt", std::string("current")});
+    EXPECT_EQ(error.code, control::ErrorCode::BadRequest);
     EXPECT_THAT(error.message, HasSubstr("session id 'current' is reserved"));
-    ok(manager, SessionNew{"felt", std::string("felt")});
-    EXPECT_EQ(refused(manager, SessionNew{"felt", std::string("current")}).code,
-              ErrorCode::BadRequest);
-    ok(manager, SweepStart{kAxial3030});
+    ok(manager, control::SessionNew{"felt", std::string("felt")});
+    EXPECT_EQ(refused(manager, control::SessionNew{"felt", std::string("current")}).code,
+              control::ErrorCode::BadRequest);
+    ok(manager, control::SweepStart{kAxial3030});
     ASSERT_TRUE(manager.acceptSample(sampleAt(0, 0.5, 0)));
   }
   SessionManager restarted(root, meanOfSlices);
@@ -455,8 +455,8 @@ TEST(SessionManager, ACurrentSessionThatCannotBeReadDoesNotKeepTheDaemonFromStar
   const auto root = test::freshTempDir();
   {
     SessionManager manager(root, meanOfSlices);
-    ok(manager, SessionNew{"felt", std::string("felt")});
-    ok(manager, SweepStart{kAxial3030});
+    ok(manager, control::SessionNew{"felt", std::string("felt")});
+    ok(manager, control::SweepStart{kAxial3030});
     ASSERT_TRUE(manager.acceptSample(sampleAt(0, 0.5, 0)));
   }
   std::ofstream(root / "felt" / "session.json") << "{\"format\": 1, \"id\": ";
@@ -467,8 +467,8 @@ TEST(SessionManager, ACurrentSessionThatCannotBeReadDoesNotKeepTheDaemonFromStar
     EXPECT_THAT(status["error"].get<std::string>(),
                 HasSubstr("the current session 'felt' cannot be opened: "));
     EXPECT_THAT(status["error"].get<std::string>(), HasSubstr("felt/session.json"));
-    EXPECT_EQ(refused(restarted, SessionResume{"felt"}).code, ErrorCode::StorageError);
-    ok(restarted, SessionNew{"grey card", std::string("grey")});
+    EXPECT_EQ(refused(restarted, control::SessionResume{"felt"}).code, control::ErrorCode::StorageError);
+    ok(restarted, control::SessionNew{"grey card", std::string("grey")});
     EXPECT_FALSE(restarted.status().contains("error"));
   }
   EXPECT_TRUE(std::filesystem::exists(root / "felt" / "journal")) << "nothing is removed";
@@ -476,13 +476,13 @@ TEST(SessionManager, ACurrentSessionThatCannotBeReadDoesNotKeepTheDaemonFromStar
 
 TEST(SessionManager, NamesTheSparsestSliceOnceEverySliceIsSwept) {
   SessionManager manager(test::freshTempDir(), meanOfSlices);
-  ok(manager, SessionNew{"felt", std::string("felt")});
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
   for (const SliceId& slice : sweepOrder()) {
     const int bins = slice == kAxial3075 ? 5 : 20;
-    ok(manager, SweepStart{slice});
+    ok(manager, control::SweepStart{slice});
     for (int k = 0; k < bins; ++k)
       ASSERT_TRUE(manager.acceptSample(sampleAt(k * 15.0, 0.5, k)));
-    ok(manager, SweepStop{});
+    ok(manager, control::SweepStop{});
   }
   EXPECT_EQ(manager.status()["next"],
             "every slice is swept: slicecap export felt -o DIR (the sparsest, axial 30/75, has 5 "
@@ -491,11 +491,11 @@ TEST(SessionManager, NamesTheSparsestSliceOnceEverySliceIsSwept) {
 
 TEST(SessionManager, AnErrorIsShownWithItsSweepOnly) {
   SessionManager manager(test::freshTempDir(), meanOfSlices);
-  ok(manager, SessionNew{"felt", std::string("felt")});
-  ok(manager, SweepStart{kAxial3030});
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
+  ok(manager, control::SweepStart{kAxial3030});
   manager.pauseSweep("the camera's recording has ended");
   EXPECT_EQ(manager.status()["error"], "the camera's recording has ended");
-  ok(manager, SweepStop{});
+  ok(manager, control::SweepStop{});
   EXPECT_FALSE(manager.status().contains("error"));
 }
 

@@ -23,8 +23,9 @@
 #include <string_view>
 #include <thread>
 
+#include "../support/daemon_fakes.hpp"
 #include "slicecap/daemon/daemon.hpp"
-#include "slicecap/daemon/protocol.hpp"
+#include "slicecap/control/protocol.hpp"
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/file_led.hpp"
 
@@ -91,10 +92,10 @@ capture::FrameProcessor standInPipeline() {
 // Whether a line may be sent: any line but an export into a folder outside the fuzz storage.
 bool safeToSend(std::string_view line, const fs::path& storage) {
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-  const auto parsed = daemon::parseRequest(line);
-  const auto* request = std::get_if<daemon::Request>(&parsed);
+  const auto parsed = control::parseRequest(line);
+  const auto* request = std::get_if<control::Request>(&parsed);
   if (!request) return true;
-  const auto* exporting = std::get_if<daemon::Export>(&request->command);
+  const auto* exporting = std::get_if<control::Export>(&request->command);
   if (!exporting || exporting->directory.empty()) return true;
   const std::string& directory = exporting->directory;
   return directory.rfind(storage.string() + "/", 0) == 0 &&
@@ -125,15 +126,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fs::create_directories(storage);
 
   // The session is opened and a sweep started before the fuzzed bytes, on the same connection.
-  std::string input = encodeRequest({-1, SessionNew{"fuzz", std::string("fuzz")}}) + "\n" +
-                      encodeRequest({-2, SweepStart{{SliceKind::Axial, {30, 30}}}}) + "\n";
+  std::string input =
+      control::encodeRequest({-1, control::SessionNew{"fuzz", std::string("fuzz")}}) + "\n" +
+      control::encodeRequest({-2, control::SweepStart{{SliceKind::Axial, {30, 30}}}}) + "\n";
   const std::string_view fuzzed(reinterpret_cast<const char*>(data), size);
   for (std::size_t start = 0; start < fuzzed.size();) {
     const std::size_t newline = fuzzed.find('\n', start);
     const std::size_t end = newline == std::string_view::npos ? fuzzed.size() : newline + 1;
     const std::string_view line = fuzzed.substr(start, end - start);
     // A line longer than the limit is refused unread, whatever it holds.
-    if (line.size() > kMaxRequestBytes ||
+    if (line.size() > control::kMaxRequestBytes ||
         safeToSend(line.substr(0, line.size() - (newline == std::string_view::npos ? 0 : 1)),
                    storage))
       input += line;
@@ -150,13 +152,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     DaemonParts parts;
     parts.storage = storage;
     auto camera = std::make_shared<FewFramesCamera>();
-    parts.cameraFor = [camera](const SliceId&) { return camera; };
+    parts.rig = std::make_unique<test::OneCameraRig>(
+        [camera] { return camera; },
+        [](capture::FrameObserver) { return capture::settledAtOnce(standInPipeline()); });
     parts.cameraConfig.exposureUs = 8000.0;
     parts.led = std::make_unique<hal::FileLed>(root / "led.log", clock);
-    parts.newFrameProcessor = [](const SliceId&, capture::FrameObserver) {
-      return capture::settledAtOnce(standInPipeline());
-    };
-    parts.reconstruct = [](const SliceSet&, const std::string&) { return Abrdf(); };
+    parts.tables = std::make_unique<test::EmptyTables>();
     std::optional<Daemon> daemon;
     try {
       daemon.emplace(std::move(parts), listening.fd());

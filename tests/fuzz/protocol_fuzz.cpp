@@ -5,20 +5,20 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "slicecap/daemon/protocol.hpp"
+#include "slicecap/control/protocol.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  using namespace slicecap::daemon;
+  namespace control = slicecap::control;
   const std::string_view line(reinterpret_cast<const char*>(data), size);
-  const auto parsed = parseRequest(line);
-  if (const auto* request = std::get_if<Request>(&parsed)) {
-    const auto again = parseRequest(encodeRequest(*request));
-    const auto* reparsed = std::get_if<Request>(&again);
+  const auto parsed = control::parseRequest(line);
+  if (const auto* request = std::get_if<control::Request>(&parsed)) {
+    const auto again = control::parseRequest(control::encodeRequest(*request));
+    const auto* reparsed = std::get_if<control::Request>(&again);
     if (reparsed == nullptr || reparsed->id != request->id ||
-        commandName(reparsed->command) != commandName(request->command))
+        control::commandName(reparsed->command) != control::commandName(request->command))
       std::abort();
   } else {
-    (void)encodeError(std::get<ProtocolError>(parsed));
+    (void)control::encodeError(std::get<control::ProtocolError>(parsed));
   }
   return 0;
 }

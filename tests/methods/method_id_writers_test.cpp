@@ -18,7 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-// What app/slicecapd/slicecapd_setup.cpp injects into the daemon.
+// What lib/rig's MethodTables::reconstruct gives the daemon.
 Abrdf slicecapdReconstruct(const SliceSet& slices, const std::string& method) {
   return runForSession(methodNamed(method), slices).table;
 }
@@ -36,24 +36,24 @@ class WritersAgree : public ::testing::Test {
     const SliceSet all =
         recon::extractSlices(models::tabulate(*models::findMaterial("brushed-steel-30")));
     ASSERT_TRUE(std::holds_alternative<json>(
-        manager_.handle(daemon::SessionNew{"steel", std::string("steel")})));
+        manager_.handle(control::SessionNew{"steel", std::string("steel")})));
     std::uint64_t frame = 0;
     for (const Slice& slice : all.slices()) {
       if (std::find(kinds.begin(), kinds.end(), slice.id.kind) == kinds.end()) continue;
-      ASSERT_TRUE(std::holds_alternative<json>(manager_.handle(daemon::SweepStart{slice.id})));
+      ASSERT_TRUE(std::holds_alternative<json>(manager_.handle(control::SweepStart{slice.id})));
       for (const SliceSample& s : slice.samples) {
         ++frame;
         ASSERT_TRUE(manager_.acceptSample(
             {std::int64_t(frame) * 33000, frame, s.light, s.view, s.value}));
       }
-      ASSERT_TRUE(std::holds_alternative<json>(manager_.handle(daemon::SweepStop{})));
+      ASSERT_TRUE(std::holds_alternative<json>(manager_.handle(control::SweepStop{})));
     }
   }
 
   // The daemon's export with `method` (its default without one): the table's attribute.
   std::string daemonWrites(const std::optional<std::string>& method) {
-    const auto reply = manager_.handle(daemon::Export{std::nullopt, exported_.string(), method});
-    if (const auto* error = std::get_if<daemon::ProtocolError>(&reply)) {
+    const auto reply = manager_.handle(control::Export{std::nullopt, exported_.string(), method});
+    if (const auto* error = std::get_if<control::ProtocolError>(&reply)) {
       ADD_FAILURE() << error->message;
       return "";
     }

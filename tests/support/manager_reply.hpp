@@ -11,10 +11,10 @@
 
 namespace slicecap::test {
 
-inline nlohmann::json ok(daemon::SessionManager& manager, const daemon::Command& command) {
+inline nlohmann::json ok(daemon::SessionManager& manager, const control::Command& command) {
   auto reply = manager.handle(command);
-  if (auto* error = std::get_if<daemon::ProtocolError>(&reply)) {
-    ADD_FAILURE() << daemon::commandName(command) << " refused: " << error->message;
+  if (auto* error = std::get_if<control::ProtocolError>(&reply)) {
+    ADD_FAILURE() << control::commandName(command) << " refused: " << error->message;
     return {};
   }
   return std::get<nlohmann::json>(reply);

@@ -18,6 +18,7 @@
 #include "slicecap/methods/method_id.hpp"
 #include "slicecap/io/file_set.hpp"
 #include "slicecap/io/io_error.hpp"
+#include "reply_text.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -56,99 +57,6 @@ SliceId sliceFrom(const ParsedArgs& args, std::size_t first) {
     return std::stoi(text);
   };
   return {*kind, {elevation(first + 1, "THETA_I"), elevation(first + 2, "THETA_V")}};
-}
-
-std::string bar(const std::vector<bool>& bins) {
-  std::string text = "[";
-  for (const bool filled : bins)
-    text += filled ? '#' : '.';
-  return text + "]";
-}
-
-std::string padded(std::string text, std::size_t width) {
-  if (text.size() < width) text.append(width - text.size(), ' ');
-  return text;
-}
-
-void printSession(std::ostream& out, const control::SessionView& session) {
-  out << "session " << session.id << " (" << session.material << "), " << session.samples
-      << " samples";
-  if (session.createdUtc) out << ", created " << *session.createdUtc;
-  out << "\n";
-  for (const control::SliceProgress& slice : session.slices) {
-    out << "  " << padded(toString(slice.slice), 16) << slice.binsFilled << "/"
-        << control::kBinsPerSlice << " bins, " << slice.samples << " samples";
-    if (slice.samplesSetAside > 0)
-      out << ", " << slice.samplesSetAside << " set aside (damaged journal)";
-    out << "\n";
-  }
-  // What the journal could not tell for sure, each naming the file and line: never only in --json.
-  for (const control::JournalDamageView& damage : session.journalDamage)
-    out << "journal damage: " << damage.message << "\n";
-}
-
-void printSessionReply(std::ostream& out, const json& reply) {
-  printSession(out, control::sessionFromJson(reply));
-}
-
-std::string isotropyText(const control::IsotropyView& isotropy) {
-  if (isotropy.error) return *isotropy.error;
-  return std::string(isotropy.isotropic == false ? "anisotropic, the axial sweeps are needed"
-                     : isotropy.axialSweepsNeeded
-                         ? "cannot tell yet, the axial sweeps are needed"
-                         : "isotropic, the axial sweeps are not needed") +
-         " (" + isotropy.reason + ")";
-}
-
-// An HDR sweep's bins whose highlight clipped at every exposure, by their slice parameter.
-std::string clippedBinsLine(const control::SweepView& sweep) {
-  std::string line = "clipped at every exposure, a lower bound (sweep over them again slower):";
-  const double widthDeg = 360.0 / control::kBinsPerSlice;
-  for (const int bin : sweep.clippedBins) line += " " + std::to_string(int(std::lround(bin * widthDeg))) + " deg";
-  return line;
-}
-
-void printSweepProgress(std::ostream& out, const control::SweepView& sweep) {
-  out << "sweep " << toString(sweep.slice) << ": " << sweep.state << "\n"
-      << "  bins " << bar(sweep.bins) << " " << sweep.binsFilled << "/" << control::kBinsPerSlice
-      << "\n";
-  if (!sweep.clippedBins.empty()) out << "  " << clippedBinsLine(sweep) << "\n";
-  if (sweep.viewElevationErrorDeg) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%+.1f", *sweep.viewElevationErrorDeg);
-    out << "  view elevation error " << text << " deg\n";
-  }
-  if (!sweep.rejected.empty()) {
-    out << "  rejected frames:";
-    for (const auto& [reason, count] : sweep.rejected)
-      out << " " << reason << " " << count;
-    out << "\n";
-  }
-}
-
-void printStatus(std::ostream& out, const json& reply) {
-  const control::StatusView status = control::statusFromJson(reply);
-  if (!status.session)
-    out << "no current session\n";
-  else
-    printSession(out, *status.session);
-  if (status.sweep) printSweepProgress(out, *status.sweep);
-  if (status.recording)
-    out << "  raw frames recorded: " << status.recording->framesWritten << " in "
-        << status.recording->directory << ", " << status.recording->framesDropped
-        << " dropped from the recording (writer behind)\n";
-  if (status.recording && status.recording->error) out << "  " << *status.recording->error << "\n";
-  if (status.texture)
-    out << "  texture " << status.texture->resolution << " x " << status.texture->resolution
-        << ": " << status.texture->binsFilled << "/" << control::kBinsPerSlice << " bins, "
-        << status.texture->framesStored << " frames kept in " << status.texture->directory
-        << "\n";
-  if (status.isotropy) out << "isotropy: " << isotropyText(*status.isotropy) << "\n";
-  if (status.error) out << "error: " << *status.error << "\n";
-  if (status.exposure) out << "exposure: " << *status.exposure << "\n";
-  for (const std::string& warning : status.warnings)
-    out << "warning: " << warning << "\n";
-  out << "next: " << status.next << "\n";
 }
 
 int finish(const ParsedArgs& args, Streams& io, const json& result,
@@ -391,8 +299,9 @@ Command statusCommand() {
   return {{"status",
            "[--watch [--interval S] [--count N]] [--socket PATH] [--json]",
            "What slicecapd is doing: the current session and its slices, the sweep's bins as a "
-           "bar of 24\ncells, the view elevation error now, rejected frames by reason, and what "
-           "to do next.\n--watch redraws it until Ctrl-C.",
+           "bar of 24\ncells, the view elevation error now, rejected frames by reason, the "
+           "camera's frames, exposure,\ndecoding and room light, and what to do next. --watch "
+           "redraws it until Ctrl-C.\n\n" + statusFieldsText(),
            {{"watch", 'w', "", "redraw continuously"},
             {"interval", 0, "S", "seconds between redraws (default 0.5)"},
             {"count", 0, "N", "stop after N redraws (default: until Ctrl-C)"},

@@ -196,10 +196,59 @@ RecordingView recordingFromJson(const json& object) {
           optionalField<std::string>(object, "error")};
 }
 
-TextureProgressView textureProgressFromJson(const json& object) {
-  return {field<int>(object, "resolution"), field<int>(object, "bins_filled"),
-          field<std::size_t>(object, "frames_stored"), field<std::string>(object, "directory")};
+json toJson(const TextureProgressView& texture) {
+  json object = {{"directory", texture.directory},
+                 {"resolution", texture.resolution},
+                 {"bins_filled", texture.binsFilled},
+                 {"frames_stored", texture.framesStored}};
+  if (texture.sessionFramesStored) object["session_frames_stored"] = *texture.sessionFramesStored;
+  if (texture.storedMb) object["stored_mb"] = *texture.storedMb;
+  if (texture.damagedFramesRemoved) object["damaged_frames_removed"] = *texture.damagedFramesRemoved;
+  return object;
 }
+
+TextureProgressView textureProgressFromJson(const json& object) {
+  TextureProgressView texture;
+  texture.resolution = field<int>(object, "resolution");
+  texture.binsFilled = field<int>(object, "bins_filled");
+  texture.framesStored = field<std::size_t>(object, "frames_stored");
+  texture.directory = field<std::string>(object, "directory");
+  texture.sessionFramesStored = optionalField<std::size_t>(object, "session_frames_stored");
+  texture.storedMb = optionalField<double>(object, "stored_mb");
+  texture.damagedFramesRemoved = optionalField<std::size_t>(object, "damaged_frames_removed");
+  return texture;
+}
+
+namespace {
+
+json toJson(const CameraFramesView& frames) {
+  return {{"delivered", frames.delivered},
+          {"dropped", frames.dropped},
+          {"led_pattern", frames.ledPattern},
+          {"led_clean_fraction", frames.ledCleanFraction},
+          {"timing", frames.timing}};
+}
+
+CameraFramesView cameraFramesFromJson(const json& object) {
+  return {field<std::uint64_t>(object, "delivered"), field<std::uint64_t>(object, "dropped"),
+          field<std::string>(object, "led_pattern"), field<double>(object, "led_clean_fraction"),
+          field<std::string>(object, "timing")};
+}
+
+json toJson(const RoomLightView& room) {
+  json object = json::object();
+  if (room.toLed) object["to_led"] = *room.toLed;
+  if (room.change) object["change"] = *room.change;
+  if (room.changeToLed) object["change_to_led"] = *room.changeToLed;
+  return object;
+}
+
+RoomLightView roomLightFromJson(const json& object) {
+  return {optionalField<double>(object, "to_led"), optionalField<double>(object, "change"),
+          optionalField<double>(object, "change_to_led")};
+}
+
+}  // namespace
 
 json toJson(const StatusView& status) {
   json object = {{"session", status.session ? toJson(*status.session) : json(nullptr)},
@@ -208,7 +257,15 @@ json toJson(const StatusView& status) {
   if (status.isotropy) object["isotropy"] = toJson(*status.isotropy);
   if (status.error) object["error"] = *status.error;
   if (status.recording) object["recording"] = toJson(*status.recording);
+  if (status.texture) object["texture"] = toJson(*status.texture);
   if (status.exposure) object["exposure"] = *status.exposure;
+  if (status.hdr) object["hdr"] = *status.hdr;
+  if (status.cameraFrames) object["camera_frames"] = toJson(*status.cameraFrames);
+  if (status.decoding)
+    object["decoding"] = {{"decoding", status.decoding->decoding}, {"note", status.decoding->note}};
+  // Written once a figure is known: a room light without any is left out.
+  if (status.roomLight && !toJson(*status.roomLight).empty())
+    object["room_light"] = toJson(*status.roomLight);
   if (!status.warnings.empty()) object["warnings"] = status.warnings;
   return object;
 }
@@ -227,8 +284,23 @@ StatusView statusFromJson(const json& object) {
   if (const auto texture = optionalField<json>(object, "texture"))
     status.texture = textureProgressFromJson(*texture);
   status.exposure = optionalField<std::string>(object, "exposure");
+  status.hdr = optionalField<std::string>(object, "hdr");
+  if (const auto frames = optionalField<json>(object, "camera_frames"))
+    status.cameraFrames = cameraFramesFromJson(*frames);
+  if (const auto decoding = optionalField<json>(object, "decoding"))
+    status.decoding = DecodingView{field<std::string>(*decoding, "decoding"),
+                                   field<std::string>(*decoding, "note")};
+  if (const auto room = optionalField<json>(object, "room_light"))
+    status.roomLight = roomLightFromJson(*room);
   status.warnings = stringsOf(object, "warnings");
   return status;
+}
+
+json toJson(const SweepStopView& stop) {
+  json object = toJson(stop.sweep);
+  if (stop.recording) object["recording"] = toJson(*stop.recording);
+  if (stop.texture) object["texture"] = toJson(*stop.texture);
+  return object;
 }
 
 json toJson(const SessionListEntry& entry) {

@@ -1,5 +1,6 @@
 // Parsing and checking slicecapd.conf.
 #include "slicecap/daemon/config.hpp"
+#include "slicecap/daemon/hdr_cycle.hpp"
 #include "slicecap/daemon/sweep_decoding.hpp"
 
 #include "slicecap/hal/bayer_frame.hpp"
@@ -99,7 +100,7 @@ std::vector<SetterEntry> cameraSetters() {
      }},
     {"hdr_levels",
      [](DaemonConfig& c, const std::string& v) {
-       c.hdrLevels = wholeNumber(v, 1, 3, "exposures an HDR sweep alternates (1: no HDR)");
+       c.hdrLevels = wholeNumber(v, 1, kMaxHdrLevels, "exposures an HDR sweep alternates (1: no HDR)");
      }},
     {"gain",
      [](DaemonConfig& c, const std::string& v) {

@@ -22,11 +22,11 @@ struct ControlServer::Client {
   std::string input;
   std::string output;
   bool discardingOversizedLine = false;
-  Peer peer;
+  control::Peer peer;
   std::chrono::steady_clock::time_point lastHeard = std::chrono::steady_clock::now();
 };
 
-bool peerMayConnect(const Peer& peer, const std::vector<std::uint32_t>& supplementaryGroups,
+bool peerMayConnect(const control::Peer& peer, const std::vector<std::uint32_t>& supplementaryGroups,
                     std::optional<std::uint32_t> socketGroup, std::uint32_t self) {
   if (peer.uid == 0 || peer.uid == self) return true;
   if (!socketGroup) return false;
@@ -57,8 +57,8 @@ ControlServer::~ControlServer() {
 
 namespace {
 
-void sayAndClose(int fd, ErrorCode code, const std::string& message) {
-  const std::string line = encodeError({code, message, std::nullopt}) + "\n";
+void sayAndClose(int fd, control::ErrorCode code, const std::string& message) {
+  const std::string line = control::encodeError({code, message, std::nullopt}) + "\n";
   [[maybe_unused]] const auto n = ::send(fd, line.data(), line.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
   ::close(fd);
 }
@@ -80,16 +80,16 @@ std::vector<std::uint32_t> supplementaryGroups(int fd) {
 // Who connected: the peer's credentials, checked against the socket's group. The file mode keeps
 // others out, but a client that connected while it was wider (or through a mode set by hand)
 // would otherwise stay.
-bool ControlServer::admit(int fd, Peer& peer) {
+bool ControlServer::admit(int fd, control::Peer& peer) {
   ucred credentials{};
   socklen_t length = sizeof credentials;
   if (::getsockopt(fd, SOL_SOCKET, SO_PEERCRED, &credentials, &length) != 0) {
-    sayAndClose(fd, ErrorCode::PermissionDenied, "cannot tell who is connecting");
+    sayAndClose(fd, control::ErrorCode::PermissionDenied, "cannot tell who is connecting");
     return false;
   }
   peer = {credentials.pid, credentials.uid, credentials.gid};
   if (peerMayConnect(peer, supplementaryGroups(fd), limits_.socketGroup, ::geteuid())) return true;
-  sayAndClose(fd, ErrorCode::PermissionDenied,
+  sayAndClose(fd, control::ErrorCode::PermissionDenied,
               "uid " + std::to_string(peer.uid) + " is not in the socket's group" +
                   (limits_.socketGroup ? " (gid " + std::to_string(*limits_.socketGroup) + ")"
                                        : std::string()));
@@ -100,13 +100,13 @@ void ControlServer::accept() {
   while (true) {
     const int fd = ::accept4(listenFd_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
     if (fd < 0) return;  // EAGAIN: all accepted; other errors: try again on the next event
-    Peer peer;
+    control::Peer peer;
     if (!admit(fd, peer)) continue;
     // Clients that hung up but whose hang-up the loop has not read yet (one read a wake-up) hold
     // no slot.
     if (clients_.size() >= limits_.maxClients) reapHungUp();
     if (clients_.size() >= limits_.maxClients) {
-      sayAndClose(fd, ErrorCode::Unavailable,
+      sayAndClose(fd, control::ErrorCode::Unavailable,
                   "too many clients (" + std::to_string(limits_.maxClients) + ")");
       continue;
     }
@@ -144,7 +144,7 @@ void ControlServer::closeIdle() {
     clients_.erase(fd);
     const auto ms = limits_.idleTimeout.count();
     sayAndClose(
-        fd, ErrorCode::Unavailable,
+        fd, control::ErrorCode::Unavailable,
         "connection closed after " +
             (ms % 1000 == 0 ? std::to_string(ms / 1000) + " s" : std::to_string(ms) + " ms") +
             " without a request (client_idle_timeout_s)");
@@ -174,12 +174,12 @@ void ControlServer::onClientEvent(int fd, std::uint32_t events) {
           handleLine(client, std::string_view(client.input).substr(start, newline - start));
         }
         client.input.erase(0, start);
-        if (client.input.size() > kMaxRequestBytes) {
+        if (client.input.size() > control::kMaxRequestBytes) {
           // Answer now and drop the line's remainder as it arrives: memory stays bounded.
           if (!client.discardingOversizedLine) {
             client.output +=
-                encodeError({ErrorCode::TooLarge,
-                             "request longer than " + std::to_string(kMaxRequestBytes) + " bytes",
+                control::encodeError({control::ErrorCode::TooLarge,
+                             "request longer than " + std::to_string(control::kMaxRequestBytes) + " bytes",
                              std::nullopt}) +
                 "\n";
           }
@@ -205,19 +205,19 @@ void ControlServer::onClientEvent(int fd, std::uint32_t events) {
 
 void ControlServer::handleLine(Client& client, std::string_view line) {
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-  auto parsed = parseRequest(line);
-  if (auto* error = std::get_if<ProtocolError>(&parsed)) {
-    client.output += encodeError(*error) + "\n";
+  auto parsed = control::parseRequest(line);
+  if (auto* error = std::get_if<control::ProtocolError>(&parsed)) {
+    client.output += control::encodeError(*error) + "\n";
     return;
   }
-  Request& request = std::get<Request>(parsed);
+  control::Request& request = std::get<control::Request>(parsed);
   request.peer = client.peer;
   try {
-    client.output += encodeResult(request.id, handler_(request)) + "\n";
+    client.output += control::encodeResult(request.id, handler_(request)) + "\n";
   } catch (const RequestError& e) {
-    client.output += encodeError({e.code(), e.what(), request.id}) + "\n";
+    client.output += control::encodeError({e.code(), e.what(), request.id}) + "\n";
   } catch (const std::exception& e) {
-    client.output += encodeError({ErrorCode::Internal, e.what(), request.id}) + "\n";
+    client.output += control::encodeError({control::ErrorCode::Internal, e.what(), request.id}) + "\n";
   }
 }
 

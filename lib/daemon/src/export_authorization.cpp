@@ -12,14 +12,14 @@
 
 namespace slicecap::daemon {
 
-void authorizeExport(const Export& command, const std::optional<Peer>& peer,
+void authorizeExport(const control::Export& command, const std::optional<control::Peer>& peer,
                      const std::filesystem::path& storageRoot) {
   namespace fs = std::filesystem;
   if (command.directory.empty()) return;
   const fs::path wanted(command.directory);
   for (const fs::path& part : wanted)
     if (part == "..")
-      throw RequestError(ErrorCode::BadRequest,
+      throw RequestError(control::ErrorCode::BadRequest,
                          "export directory " + command.directory + " must not contain '..'");
   std::error_code error;
   fs::path existing = wanted;
@@ -27,7 +27,7 @@ void authorizeExport(const Export& command, const std::optional<Peer>& peer,
     existing = existing.parent_path();
   const fs::path real = fs::canonical(existing, error);
   if (error)
-    throw RequestError(ErrorCode::BadRequest,
+    throw RequestError(control::ErrorCode::BadRequest,
                        "export directory " + command.directory + ": " + error.message());
   const fs::path storage = fs::weakly_canonical(storageRoot, error);
   const auto [storageEnd, realEnd] =
@@ -35,14 +35,14 @@ void authorizeExport(const Export& command, const std::optional<Peer>& peer,
   if (!error && storageEnd == storage.end()) return;  // the storage or a folder in it
   struct stat folder {};
   if (::stat(real.c_str(), &folder) != 0)
-    throw RequestError(ErrorCode::BadRequest,
+    throw RequestError(control::ErrorCode::BadRequest,
                        "export directory " + command.directory + ": " + std::strerror(errno));
   if (!peer)
     throw RequestError(
-        ErrorCode::PermissionDenied,
+        control::ErrorCode::PermissionDenied,
         "export into " + command.directory + " refused: the daemon cannot tell who asked");
   if (peer->uid == 0 || folder.st_uid == peer->uid) return;
-  throw RequestError(ErrorCode::PermissionDenied,
+  throw RequestError(control::ErrorCode::PermissionDenied,
                      "export into " + command.directory + " refused: " + real.string() +
                          " belongs to uid " + std::to_string(folder.st_uid) + ", not to uid " +
                          std::to_string(peer->uid) +

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "slicecap/daemon/protocol.hpp"
+#include "slicecap/control/protocol.hpp"
 
 namespace slicecap::daemon {
 
@@ -13,7 +13,7 @@ namespace slicecap::daemon {
 /// nearest folder that exists, links resolved, decides: the export creates the rest inside it.
 /// An empty directory (the session's own export folder) is always allowed. Throws RequestError:
 /// bad_request for '..' or an unreadable path, permission_denied otherwise.
-void authorizeExport(const Export& command, const std::optional<Peer>& peer,
+void authorizeExport(const control::Export& command, const std::optional<control::Peer>& peer,
                      const std::filesystem::path& storageRoot);
 
 }  // namespace slicecap::daemon

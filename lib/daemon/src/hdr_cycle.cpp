@@ -9,8 +9,9 @@ namespace slicecap::daemon {
 
 HdrCycle::HdrCycle(hal::ExposureSetting longest, HdrCycleParams params)
     : params_(params), gain_(longest.gain) {
-  if (params_.levels < 2 || params_.levels > 3)
-    throw std::invalid_argument("HDR: hdr_levels must be 2 or 3, not " + std::to_string(params_.levels));
+  if (params_.levels < 2 || params_.levels > kMaxHdrLevels)
+    throw std::invalid_argument("HDR: a cycle has 2 to " + std::to_string(kMaxHdrLevels) +
+                                " levels, not " + std::to_string(params_.levels));
   if (!(params_.stepRatio > 1.0) || params_.pairsPerLevel < 1 || !(params_.shortenOnClip > 1.0))
     throw std::invalid_argument("HDR: the cycle needs a step ratio and shortening above 1 and a pair per level");
   if (!(longest.exposureUs > params_.minExposureUs))

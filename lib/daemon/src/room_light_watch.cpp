@@ -77,12 +77,8 @@ std::vector<std::string> RoomLightWatch::warnings() const {
   return out;
 }
 
-nlohmann::json RoomLightWatch::summary() const {
-  nlohmann::json json = nlohmann::json::object();
-  if (const std::optional<double> ratio = roomToLed()) json["to_led"] = *ratio;
-  if (const std::optional<double> change = roomChange()) json["change"] = *change;
-  if (const std::optional<double> change = roomChangeToLed()) json["change_to_led"] = *change;
-  return json;
+control::RoomLightView RoomLightWatch::view() const {
+  return {roomToLed(), roomChange(), roomChangeToLed()};
 }
 
 }  // namespace slicecap::daemon

@@ -104,7 +104,7 @@ SessionTable SessionExporter::reconstruct(const capture::SessionStore& store,
                                           const SliceSet& slices,
                                           const std::string& method) const {
   if (slices.empty())
-    throw RequestError(ErrorCode::Conflict,
+    throw RequestError(control::ErrorCode::Conflict,
                        "session '" + store.info().id + "' has no samples to reconstruct from");
   Abrdf table;
   try {
@@ -114,7 +114,7 @@ SessionTable SessionExporter::reconstruct(const capture::SessionStore& store,
     if (methods::parseMethodName(method) != methods::MethodId::Prior)
       message += " (`--method " + methods::cliName(methods::MethodId::Prior) +
                  "` reconstructs from any subset of the slices)";
-    throw RequestError(ErrorCode::Conflict, message);
+    throw RequestError(control::ErrorCode::Conflict, message);
   }
   const fs::path path = store.directory() / (std::string(kTablePrefix) + method + ".exr");
   io::writeAbrdfExr(path, table,

@@ -24,11 +24,11 @@ using nlohmann::json;
 namespace fs = std::filesystem;
 
 RequestError conflict(const std::string& message) {
-  return RequestError(ErrorCode::Conflict, message);
+  return RequestError(control::ErrorCode::Conflict, message);
 }
 
 RequestError noSuchSession(const std::string& id) {
-  return RequestError(ErrorCode::NotFound, "no session '" + id + "'");
+  return RequestError(control::ErrorCode::NotFound, "no session '" + id + "'");
 }
 
 }  // namespace
@@ -42,22 +42,26 @@ const std::vector<SliceId>& sweepOrder() {
   return order;
 }
 
+namespace {
+
+// The storage folder, made if missing, before its lock is taken.
+const fs::path& preparedRoot(const fs::path& root) {
+  std::error_code error;
+  fs::create_directories(root, error);
+  if (error || !fs::is_directory(root))
+    throw io::IoError(root.string() + ": cannot use as session storage: " +
+                      (error ? error.message() : "not a folder"));
+  return root;
+}
+
+}  // namespace
+
 struct SessionManager::State {
   State(fs::path storageRoot, SessionExporter sessionExporter, IsotropyFunction isotropyTest)
       : root(std::move(storageRoot)),
         lock(preparedRoot(root)),
         exporter(std::move(sessionExporter)),
         isotropy(std::move(isotropyTest)) {}
-
-  // The storage folder, made if missing, before its lock is taken.
-  static const fs::path& preparedRoot(const fs::path& root) {
-    std::error_code error;
-    fs::create_directories(root, error);
-    if (error || !fs::is_directory(root))
-      throw io::IoError(root.string() + ": cannot use as session storage: " +
-                        (error ? error.message() : "not a folder"));
-    return root;
-  }
 
   fs::path root;
   StorageLock lock;
@@ -120,17 +124,17 @@ struct SessionManager::State {
   json sessionReply() const { return control::toJson(sessionView(*session)); }
   json sweepReply() const { return control::toJson(sweep->view(*session)); }
 
-  json run(const Hello&) {
-    return {{"daemon", "slicecapd"}, {"version", kVersion}, {"protocol", kProtocolVersion}};
+  json run(const control::Hello&) {
+    return {{"daemon", "slicecapd"}, {"version", kVersion}, {"protocol", control::kProtocolVersion}};
   }
 
-  json run(const SessionNew& command) {
+  json run(const control::SessionNew& command) {
     requireNoSweep("start a new session");
     const std::string id = command.id.value_or(newSessionId());
     // <root>/current names the current session: a session folder of that name could never be
     // made current (nor could any other after it, the file's place being taken).
     if (id == currentFile().filename())
-      throw RequestError(ErrorCode::BadRequest,
+      throw RequestError(control::ErrorCode::BadRequest,
                          "session id '" + id +
                              "' is reserved (the storage folder's file naming "
                              "the current session): choose another");
@@ -152,7 +156,7 @@ struct SessionManager::State {
     return sessionReply();
   }
 
-  json run(const SessionList&) {
+  json run(const control::SessionList&) {
     json sessions = json::array();
     for (const capture::SessionInfo& info : capture::SessionStore::list(root)) {
       control::SessionListEntry entry{info.id, info.material, info.createdUtc,
@@ -163,14 +167,14 @@ struct SessionManager::State {
     return {{"sessions", std::move(sessions)}};
   }
 
-  json run(const SessionShow& command) {
+  json run(const control::SessionShow& command) {
     std::optional<capture::SessionStore> other;
     control::SessionView shown = sessionView(target(command.id, other));
     shown.current = !other.has_value();
     return control::toJson(shown);
   }
 
-  json run(const SessionResume& command) {
+  json run(const control::SessionResume& command) {
     if (session && session->info().id == command.id) return sessionReply();
     requireNoSweep("switch sessions");
     if (!exists(command.id)) throw noSuchSession(command.id);
@@ -178,7 +182,7 @@ struct SessionManager::State {
     return sessionReply();
   }
 
-  json run(const SessionDelete& command) {
+  json run(const control::SessionDelete& command) {
     const bool isCurrent = session && session->info().id == command.id;
     if (isCurrent) requireNoSweep("delete the current session");
     if (!exists(command.id)) throw noSuchSession(command.id);
@@ -191,7 +195,7 @@ struct SessionManager::State {
     return {{"deleted", command.id}};
   }
 
-  json run(const SweepStart& command) {
+  json run(const control::SweepStart& command) {
     capture::SessionStore& store = current();
     if (sweep) {
       if (sweep->slice == command.slice && sweep->paused) {
@@ -208,7 +212,7 @@ struct SessionManager::State {
     return sweepReply();
   }
 
-  json run(const SweepStop&) {
+  json run(const control::SweepStop&) {
     capture::SessionStore& store = current();
     if (!sweep) throw conflict("no sweep is running");
     store.recordSweepStopped(sweep->slice);
@@ -219,7 +223,7 @@ struct SessionManager::State {
     return control::toJson(stopped);
   }
 
-  json run(const SweepRedo& command) {
+  json run(const control::SweepRedo& command) {
     capture::SessionStore& store = current();
     if (sweep && sweep->slice != command.slice)
       throw conflict("sweep " + toString(sweep->slice) +
@@ -232,43 +236,48 @@ struct SessionManager::State {
     return sweepReply();
   }
 
-  json run(const Status&) { return control::toJson(statusView()); }
+  json run(const control::Status&) { return control::toJson(statusView()); }
 
-  json run(const Reconstruct& command) {
-    if (capturing()) throw conflict("a sweep is running: `slicecap sweep stop` first");
-    std::optional<capture::SessionStore> other;
-    capture::SessionStore& store = target(command.id, other);
-    const fs::path path = exporter.reconstruct(store, store.slices(), command.method).path;
-    return {{"session", store.info().id},
-            {"method", command.method},
-            {"samples", store.sampleCount()},
-            {"exr", path.string()}};
-  }
-
-  json run(const Export& command) {
-    std::optional<capture::SessionStore> other;
-    capture::SessionStore& store = target(command.id, other);
-    const fs::path directory =
-        command.directory.empty() ? store.directory() / "export" : fs::path(command.directory);
-    ExportConditions conditions;
-    if (capturing()) conditions.sweepRunning = sweep->slice;
-    conditions.capturingIntoSession = capturing() && session && &store == &*session;
-    return control::toJson(exporter.exportSession(store, directory, command.method, conditions));
-  }
-
-  control::StatusView statusView() const {
-    control::StatusView status;
-    if (session) {
-      status.session = statusSessionView(*session);
-      status.isotropy = isotropy.verdict(*session, samplesVersion, capturing());
-    }
-    if (sweep) status.sweep = sweep->view(*session);
-    status.next = nextStep(session ? &*session : nullptr, sweep ? &*sweep : nullptr,
-                           status.isotropy);
-    if (!lastError.empty()) status.error = lastError;
-    return status;
-  }
+  // The tables' commands and the status (below the class).
+  json run(const control::Reconstruct& command);
+  json run(const control::Export& command);
+  control::StatusView statusView() const;
 };
+
+json SessionManager::State::run(const control::Reconstruct& command) {
+  if (capturing()) throw conflict("a sweep is running: `slicecap sweep stop` first");
+  std::optional<capture::SessionStore> other;
+  capture::SessionStore& store = target(command.id, other);
+  const fs::path path = exporter.reconstruct(store, store.slices(), command.method).path;
+  return {{"session", store.info().id},
+          {"method", command.method},
+          {"samples", store.sampleCount()},
+          {"exr", path.string()}};
+}
+
+json SessionManager::State::run(const control::Export& command) {
+  std::optional<capture::SessionStore> other;
+  capture::SessionStore& store = target(command.id, other);
+  const fs::path directory =
+      command.directory.empty() ? store.directory() / "export" : fs::path(command.directory);
+  ExportConditions conditions;
+  if (capturing()) conditions.sweepRunning = sweep->slice;
+  conditions.capturingIntoSession = capturing() && session && &store == &*session;
+  return control::toJson(exporter.exportSession(store, directory, command.method, conditions));
+}
+
+control::StatusView SessionManager::State::statusView() const {
+  control::StatusView status;
+  if (session) {
+    status.session = statusSessionView(*session);
+    status.isotropy = isotropy.verdict(*session, samplesVersion, capturing());
+  }
+  if (sweep) status.sweep = sweep->view(*session);
+  status.next =
+      nextStep(session ? &*session : nullptr, sweep ? &*sweep : nullptr, status.isotropy);
+  if (!lastError.empty()) status.error = lastError;
+  return status;
+}
 
 SessionManager::SessionManager(fs::path storageRoot, ReconstructFunction reconstruct,
                                PreviewFunction preview, IsotropyFunction isotropy,
@@ -298,15 +307,15 @@ SessionManager::SessionManager(fs::path storageRoot, ReconstructFunction reconst
 
 SessionManager::~SessionManager() = default;
 
-std::variant<json, ProtocolError> SessionManager::handle(const Command& command) {
+std::variant<json, control::ProtocolError> SessionManager::handle(const control::Command& command) {
   try {
     return std::visit([this](const auto& c) { return state_->run(c); }, command);
   } catch (const RequestError& refusal) {
-    return ProtocolError{refusal.code(), refusal.what(), std::nullopt};
+    return control::ProtocolError{refusal.code(), refusal.what(), std::nullopt};
   } catch (const io::IoError& error) {
-    return ProtocolError{ErrorCode::StorageError, error.what(), std::nullopt};
+    return control::ProtocolError{control::ErrorCode::StorageError, error.what(), std::nullopt};
   } catch (const std::exception& error) {
-    return ProtocolError{ErrorCode::Internal, error.what(), std::nullopt};
+    return control::ProtocolError{control::ErrorCode::Internal, error.what(), std::nullopt};
   }
 }
 
@@ -361,8 +370,8 @@ void SessionManager::pauseSweep(const std::string& reason) {
   state_->lastError = reason;
 }
 
-json replyOrThrow(std::variant<json, ProtocolError> reply) {
-  if (auto* error = std::get_if<ProtocolError>(&reply))
+json replyOrThrow(std::variant<json, control::ProtocolError> reply) {
+  if (auto* error = std::get_if<control::ProtocolError>(&reply))
     throw RequestError(error->code, error->message);
   return std::move(std::get<json>(reply));
 }
@@ -370,6 +379,10 @@ json replyOrThrow(std::variant<json, ProtocolError> reply) {
 std::optional<control::SweepView> SessionManager::sweepView() const {
   if (!state_->sweep) return std::nullopt;
   return state_->sweep->view(*state_->session);
+}
+
+control::StatusView SessionManager::statusView() const {
+  return state_->statusView();
 }
 
 json SessionManager::status() const {

@@ -10,6 +10,7 @@ void SweepCalibration::reset() {
   exposureNote_.clear();
   exposureUnlocked_ = false;
   bracket_.reset();
+  subject_.reset();
   decoding_.reset();
   decodingWarning_.clear();
   locksAccepted_ = 0;
@@ -84,7 +85,8 @@ std::optional<SweepDecoding> SweepCalibration::decide(hal::Camera& camera, const
   const auto fallBack = [&](const std::string& why) {
     return decodingWithoutBracket(frame.encoding, parts_.decoding, id, why);
   };
-  if (!parts_.bracketSubjectFor || !parts_.newDecodingFrameProcessor)
+  subject_ = parts_.rig->bracketSubject(slice);
+  if (!subject_)
     return fallBack("this daemon was started without the target and pipeline a response "
                     "bracket needs (decoding = " + toString(parts_.decoding) + ")");
   if (exposureUnlocked_ || !lockedSetting_)
@@ -95,7 +97,7 @@ std::optional<SweepDecoding> SweepCalibration::decide(hal::Camera& camera, const
   const hal::ExposureLock lock = camera.lockExposure(bracket_->firstSetting());
   if (!lock.locked) {
     bracket_->refused(lock.reason);
-    return finishBracket(slice, id);
+    return finishBracket(id);
   }
   bracket_->accepted();
   ++locksAccepted_;
@@ -104,8 +106,7 @@ std::optional<SweepDecoding> SweepCalibration::decide(hal::Camera& camera, const
 }
 
 std::optional<SweepDecoding> SweepCalibration::bracketFrame(hal::Camera& camera,
-                                                            const hal::Frame& frame,
-                                                            const SliceId& slice) {
+                                                            const hal::Frame& frame) {
   parts_.led->set(true);
   const ResponseBracket::Step step = bracket_->onFrame(frame);
   if (step.kind == ResponseBracket::Step::Kind::Lock) {
@@ -117,37 +118,34 @@ std::optional<SweepDecoding> SweepCalibration::bracketFrame(hal::Camera& camera,
       ++locksAccepted_;
     }
   } else if (step.kind == ResponseBracket::Step::Kind::Done) {
-    return finishBracket(slice, camera.id());
+    return finishBracket(camera.id());
   }
   return std::nullopt;
 }
 
-SweepDecoding SweepCalibration::finishBracket(const SliceId& slice, const std::string& cameraId) {
+SweepDecoding SweepCalibration::finishBracket(const std::string& cameraId) {
   ResponseBracket done = std::move(*bracket_);
   bracket_.reset();
   // The fit reads the frames' poses and codes: about a second on a Pi, once a sweep run.
   return decodingFromBracket(std::move(done.frames()), done.failure(),
-                             parts_.bracketSubjectFor(slice), cameraId);
+                             *subject_, cameraId);
 }
 
-void SweepCalibration::describeExposure(nlohmann::json& status,
-                                        std::vector<std::string>& warnings) const {
+void SweepCalibration::describeExposure(control::StatusView& status) const {
   // The last sweep start's: a camera that could not lock is a warning, shown once.
   if (exposureUnlocked_)
-    warnings.push_back(exposureNote_);
+    status.warnings.push_back(exposureNote_);
   else if (!exposureNote_.empty())
-    status["exposure"] = exposureNote_;
+    status.exposure = exposureNote_;
 }
 
-void SweepCalibration::describeDecoding(nlohmann::json& status,
-                                        std::vector<std::string>& warnings) const {
+void SweepCalibration::describeDecoding(control::StatusView& status) const {
   if (decoding_)
-    status["decoding"] = {{"decoding", io::toString(decoding_->decoding.kind)},
-                          {"note", decoding_->note}};
+    status.decoding = control::DecodingView{io::toString(decoding_->decoding.kind), decoding_->note};
   else if (bracket_)
-    status["decoding"] = {{"decoding", "measuring"},
-                          {"note", "taking the response bracket with the LED on"}};
-  if (!decodingWarning_.empty()) warnings.push_back(decodingWarning_);
+    status.decoding =
+        control::DecodingView{"measuring", "taking the response bracket with the LED on"};
+  if (!decodingWarning_.empty()) status.warnings.push_back(decodingWarning_);
 }
 
 }  // namespace slicecap::daemon

@@ -3,12 +3,12 @@
 #pragma once
 
 #include <cstdint>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "slicecap/daemon/daemon.hpp"
+#include "slicecap/control/reply_views.hpp"
+#include "slicecap/daemon/daemon_parts.hpp"
 #include "slicecap/daemon/exposure_meter.hpp"
 #include "slicecap/daemon/sweep_decoding.hpp"
 #include "slicecap/hal/camera.hpp"
@@ -52,21 +52,20 @@ class SweepCalibration {
                                       const SliceId& slice);
   /// \brief One frame of the bracket: kept or skipped, never processed; the LED stays on. The
   /// decoding once the bracket is done.
-  std::optional<SweepDecoding> bracketFrame(hal::Camera& camera, const hal::Frame& frame,
-                                            const SliceId& slice);
+  std::optional<SweepDecoding> bracketFrame(hal::Camera& camera, const hal::Frame& frame);
   /// \brief The warning the status shows until the next sweep start.
   void noteDecodingWarning(std::string warning) { decodingWarning_ = std::move(warning); }
   /// \brief The decoding the sweep's frames are read through from now on.
   void adopt(SweepDecoding decided) { decoding_ = std::move(decided); }
 
   /// \brief The status's "exposure" (or, when the camera could not lock, a warning).
-  void describeExposure(nlohmann::json& status, std::vector<std::string>& warnings) const;
+  void describeExposure(control::StatusView& status) const;
   /// \brief The status's "decoding" and the decoding's warning.
-  void describeDecoding(nlohmann::json& status, std::vector<std::string>& warnings) const;
+  void describeDecoding(control::StatusView& status) const;
 
  private:
   void leaveExposureToCamera(const std::string& cameraId, const std::string& reason);
-  SweepDecoding finishBracket(const SliceId& slice, const std::string& cameraId);
+  SweepDecoding finishBracket(const std::string& cameraId);
 
   const DaemonParts& parts_;
   std::optional<ExposureMeter> meter_;
@@ -76,6 +75,7 @@ class SweepCalibration {
   std::uint32_t locksAccepted_ = 0;  // the camera's locks since it started
   std::optional<hal::ExposureSetting> lockedSetting_;  // the sweep's exposure, once known
   std::optional<ResponseBracket> bracket_;
+  std::optional<BracketSubject> subject_;  // what the bracket is fitted against
   std::optional<SweepDecoding> decoding_;
   std::string decodingWarning_;  // shown by every status until the next sweep start
 };

@@ -19,13 +19,20 @@ void SweepHdr::stop() {
 
 void SweepHdr::start(const std::string& cameraId, const std::optional<hal::ExposureSetting>& locked) {
   if (levels_ < 2 || started()) return;
-  try {
-    if (!locked) throw std::invalid_argument("the sweep's exposure is not locked");
-    cycle_.emplace(*locked, HdrCycleParams{.levels = levels_});
-    note_ = cycle_->summary();
-  } catch (const std::invalid_argument& error) {
-    note_ = "hdr_levels = " + std::to_string(levels_) + " not used: " + error.what() +
+  const auto oneExposure = [this](const std::string& why) {
+    note_ = "hdr_levels = " + std::to_string(levels_) + " not used: " + why +
             "; the sweep takes one exposure";
+  };
+  if (!locked) {
+    oneExposure("the sweep's exposure is not locked");
+  } else {
+    try {
+      cycle_.emplace(*locked, HdrCycleParams{.levels = levels_});
+      note_ = cycle_->summary();
+    } catch (const std::invalid_argument& error) {
+      // A locked exposure too short to divide (HdrCycle names it).
+      oneExposure(error.what());
+    }
   }
   std::cerr << "slicecapd: camera " << cameraId << ": " << note_ << "\n";
 }
@@ -63,11 +70,11 @@ void SweepHdr::noteOutcome(const hal::FrameMetadata& frame, const capture::Frame
     cycle_->shortestClipped(frame);
 }
 
-void SweepHdr::describe(nlohmann::json& status) const {
+void SweepHdr::describe(control::StatusView& status) const {
   if (cycle_)
-    status["hdr"] = cycle_->summary();
+    status.hdr = cycle_->summary();
   else if (!note_.empty())
-    status["hdr"] = note_;
+    status.hdr = note_;
 }
 
 }  // namespace slicecap::daemon

@@ -2,12 +2,12 @@
 // exposure switched with the LED pairs, the shortest level shortened where it clips, the status.
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
 #include "slicecap/daemon/hdr_cycle.hpp"
 #include "slicecap/capture/frame_outcome.hpp"
+#include "slicecap/control/reply_views.hpp"
 #include "slicecap/hal/camera.hpp"
 
 namespace slicecap::daemon {
@@ -35,7 +35,7 @@ class SweepHdr {
   /// \brief After the pipeline: the shortest level's clipped window shortens it.
   void noteOutcome(const hal::FrameMetadata& frame, const capture::FrameOutcome& outcome);
   /// \brief The status's "hdr" line, when hdr_levels asked for HDR.
-  void describe(nlohmann::json& status) const;
+  void describe(control::StatusView& status) const;
 
  private:
   int levels_;

@@ -18,9 +18,9 @@ void SweepOutputs::closeTexture() {
 
 void SweepOutputs::openTexture(const SliceId& slice) {
   const std::optional<fs::path> session = manager_.sessionDirectory();
-  if (!parts_.newTextureSink || !session) return;
+  if (!capturesTexture() || !session) return;
   try {
-    texture_ = parts_.newTextureSink(slice, *session);
+    texture_ = parts_.outputs->openTexture(slice, *session);
     textureSlice_ = slice;
   } catch (const std::exception& error) {
     manager_.pauseSweep(std::string("texture capture: ") + error.what());
@@ -43,8 +43,12 @@ void SweepOutputs::discardTexture(const SliceId& redone) {
   io::discardFolderDurably(*session / kTextureFolder / folderName(redone));
 }
 
+bool SweepOutputs::capturesTexture() const {
+  return parts_.outputs && parts_.outputs->capturesTexture();
+}
+
 capture::FrameObserver SweepOutputs::textureObserver() {
-  if (!parts_.newTextureSink) return nullptr;
+  if (!capturesTexture()) return nullptr;
   return [this](const hal::Frame& frame, const capture::FrameOutcome& outcome,
                 const std::vector<capture::AmbientTerm>& ambient) {
     if (!texture_ || !textureError_.empty()) return;
@@ -76,14 +80,15 @@ void SweepOutputs::reconcileRecorder(const std::optional<SliceId>& cameraSlice) 
     recorderSlice_.reset();
   }
   std::erase_if(retiredRecorders_, [](const auto& retired) { return retired->idle(); });
-  if (recorder_ || !cameraSlice || !parts_.recordingHeaderFor) return;
-  if (const std::optional<fs::path> session = manager_.sessionDirectory()) {
-    io::Recording header = parts_.recordingHeaderFor(*cameraSlice);
-    header.slice = io::RecordedSlice{*cameraSlice, kAxialOffsetDeg};
-    recorder_ = std::make_unique<FrameRecorder>(recordingDirectory(*session, *cameraSlice),
-                                                std::move(header), parts_.recordQueueFrames);
-    recorderSlice_ = cameraSlice;
-  }
+  if (recorder_ || !cameraSlice || !parts_.outputs) return;
+  const std::optional<fs::path> session = manager_.sessionDirectory();
+  if (!session) return;
+  std::optional<io::Recording> header = parts_.outputs->recordingHeader(*cameraSlice);
+  if (!header) return;  // record_frames is off
+  header->slice = io::RecordedSlice{*cameraSlice, kAxialOffsetDeg};
+  recorder_ = std::make_unique<FrameRecorder>(recordingDirectory(*session, *cameraSlice),
+                                              std::move(*header), parts_.recordQueueFrames);
+  recorderSlice_ = cameraSlice;
 }
 
 void SweepOutputs::discardRecording(const SliceId& redone) {
@@ -107,9 +112,11 @@ void SweepOutputs::setDecoding(const io::RecordedDecoding& decoding) {
 }
 
 void SweepOutputs::recordBracket(SweepDecoding& decided, const SliceId& slice) {
-  if (decided.bracketFrames.empty() || !parts_.recordingHeaderFor) return;
+  if (decided.bracketFrames.empty() || !parts_.outputs) return;
   const std::optional<fs::path> session = manager_.sessionDirectory();
   if (!session) return;
+  std::optional<io::Recording> header = parts_.outputs->recordingHeader(slice);
+  if (!header) return;  // record_frames is off
   const fs::path folder = *session / kBracketFolder / folderName(slice);
   fs::path directory;
   for (int run = 1;; ++run) {
@@ -117,26 +124,28 @@ void SweepOutputs::recordBracket(SweepDecoding& decided, const SliceId& slice) {
     std::error_code ignored;
     if (!fs::exists(directory, ignored)) break;
   }
-  io::Recording header = parts_.recordingHeaderFor(slice);
-  header.slice.reset();
-  header.createdBy += " (response bracket)";
-  header.decoding = decided.decoding;
-  auto writer = std::make_unique<FrameRecorder>(directory, std::move(header),
+  header->slice.reset();
+  header->createdBy += " (response bracket)";
+  header->decoding = decided.decoding;
+  auto writer = std::make_unique<FrameRecorder>(directory, std::move(*header),
                                                 decided.bracketFrames.size());
   writer->setDecoding(decided.decoding);
   for (hal::Frame& frame : decided.bracketFrames) writer->offer(std::move(frame));
   retiredRecorders_.push_back(std::move(writer));  // writes on its thread, then is dropped
 }
 
-void SweepOutputs::describe(nlohmann::json& reply) const {
-  if (recorder_) {
-    const RecorderStatus s = recorder_->status();
-    control::RecordingView recording{s.directory.string(), s.framesWritten, s.framesQueued,
-                                     s.framesDropped, std::nullopt};
-    if (!s.error.empty()) recording.error = "recording stopped: " + s.error;
-    reply["recording"] = control::toJson(recording);
-  }
-  if (texture_) reply["texture"] = texture_->status();
+std::optional<control::RecordingView> SweepOutputs::recordingView() const {
+  if (!recorder_) return std::nullopt;
+  const RecorderStatus s = recorder_->status();
+  control::RecordingView recording{s.directory.string(), s.framesWritten, s.framesQueued,
+                                   s.framesDropped, std::nullopt};
+  if (!s.error.empty()) recording.error = "recording stopped: " + s.error;
+  return recording;
+}
+
+std::optional<control::TextureProgressView> SweepOutputs::textureView() const {
+  if (!texture_) return std::nullopt;
+  return texture_->status();
 }
 
 }  // namespace slicecap::daemon

@@ -4,16 +4,16 @@
 
 #include <filesystem>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "slicecap/daemon/daemon.hpp"
+#include "slicecap/daemon/daemon_parts.hpp"
 #include "slicecap/daemon/frame_recorder.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 #include "slicecap/daemon/sweep_decoding.hpp"
 #include "slicecap/daemon/texture_sink.hpp"
+#include "slicecap/control/reply_views.hpp"
 
 namespace slicecap::daemon {
 
@@ -52,10 +52,13 @@ class SweepOutputs {
   /// \brief A response bracket's frames, recorded under <session>/brackets/<slice>/run-N.
   void recordBracket(SweepDecoding& decided, const SliceId& slice);
 
-  /// \brief Adds "recording" and "texture" to a status or sweep.stop reply.
-  void describe(nlohmann::json& reply) const;
+  /// \brief The recording of the swept slice, for the status and the stop's reply.
+  std::optional<control::RecordingView> recordingView() const;
+  /// \brief The texture of the swept slice, for the status and the stop's reply.
+  std::optional<control::TextureProgressView> textureView() const;
 
  private:
+  bool capturesTexture() const;
   void closeTexture();
   void openTexture(const SliceId& slice);
   static std::filesystem::path recordingDirectory(const std::filesystem::path& session,

@@ -13,11 +13,8 @@
 
 namespace slicecap::cli {
 
-/// \brief Bad usage: an unknown option, a missing value, a wrong number of arguments. Exit code 2.
-class UsageError : public slicecap::Error {
- public:
-  using slicecap::Error::Error;
-};
+/// \brief Bad usage (slicecap::UsageError, lib/core): exit code 2.
+using slicecap::UsageError;
 
 /// \brief One option: `--name VALUE` (valueName set) or a flag `--name`; `shortName` e.g. 'o'.
 struct OptionSpec {

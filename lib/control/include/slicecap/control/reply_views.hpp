@@ -3,10 +3,10 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -96,17 +96,45 @@ struct RecordingView {
   std::optional<std::string> error;
 };
 
-/// \brief The texture capture's progress as the CLI shows it (the daemon's texture store writes
-/// these fields among others).
+/// \brief A sweep's texture capture (texture_resolution), in the status and the stop's reply:
+/// the slice's progress, and what the session's texture store holds (lib/btf's store fills all).
 struct TextureProgressView {
   int resolution = 0;
   int binsFilled = 0;
   std::size_t framesStored = 0;
   std::string directory;
+  std::optional<std::size_t> sessionFramesStored;  ///< every slice's frames in the store
+  std::optional<double> storedMb;                  ///< the store's size on disk
+  std::optional<std::size_t> damagedFramesRemoved;  ///< by the store's recovery when it opened
+};
+
+/// \brief A live camera's frames in the sweep run (or the last one), as the LED strobe counted
+/// them: "camera_frames".
+struct CameraFramesView {
+  std::uint64_t delivered = 0;
+  std::uint64_t dropped = 0;  ///< sequence gaps: frames the camera lost
+  std::string ledPattern;     ///< the strobe's pattern, e.g. "on on off off"
+  /// Frames with one LED state over their rows of interest, of those judged (0 before any).
+  double ledCleanFraction = 0.0;
+  std::string timing;  ///< how the frames' exposure times are known, in words
+};
+
+/// \brief How the sweep run's 8-bit frames become linear light (docs/linear-light.md):
+/// "decoding" is "linear", "srgb", "measured-curve", ... or "measuring" while the bracket runs.
+struct DecodingView {
+  std::string decoding;
+  std::string note;  ///< the fit's summary, or why this decoding
+};
+
+/// \brief The room light the sweep run's samples saw (each figure once it is known).
+struct RoomLightView {
+  std::optional<double> toLed;        ///< median room-to-LED ratio on the white references
+  std::optional<double> change;       ///< median change between LED-off frames, relative
+  std::optional<double> changeToLed;  ///< change x toLed: as a fraction of the LED's light
 };
 
 /// \brief What `status` answers. The session manager fills session, sweep, next, isotropy and
-/// error; the daemon adds the devices' parts.
+/// error; the daemon's sweep devices fill the rest. statusFields() says what each key means.
 struct StatusView {
   std::optional<SessionView> session;
   std::optional<SweepView> sweep;
@@ -116,7 +144,28 @@ struct StatusView {
   std::optional<RecordingView> recording;
   std::optional<TextureProgressView> texture;
   std::optional<std::string> exposure;
+  std::optional<std::string> hdr;
+  std::optional<CameraFramesView> cameraFrames;
+  std::optional<DecodingView> decoding;
+  std::optional<RoomLightView> roomLight;
   std::vector<std::string> warnings;
+};
+
+/// \brief One key of the status reply ("camera_frames.dropped" for a key inside an object) and
+/// what it holds, for `slicecap status --help` and docs/reference/protocol.md.
+struct ReplyField {
+  std::string key;
+  std::string meaning;
+};
+/// \brief Every key toJson(StatusView) can write, with the device objects' keys inside them, in
+/// the reply's order of reading (a test holds it equal to what toJson writes).
+const std::vector<ReplyField>& statusFields();
+
+/// \brief The reply to `sweep.stop`: the stopped sweep with what it kept besides its samples.
+struct SweepStopView {
+  SweepView sweep;
+  std::optional<RecordingView> recording;
+  std::optional<TextureProgressView> texture;
 };
 
 /// \brief One session of `session.list`: "damaged" replaces created/material's meaning when the
@@ -151,7 +200,9 @@ nlohmann::json toJson(const SessionView& session);
 nlohmann::json toJson(const SweepView& sweep);
 nlohmann::json toJson(const IsotropyView& isotropy);
 nlohmann::json toJson(const RecordingView& recording);
+nlohmann::json toJson(const TextureProgressView& texture);
 nlohmann::json toJson(const StatusView& status);
+nlohmann::json toJson(const SweepStopView& stop);
 nlohmann::json toJson(const SessionListEntry& entry);
 nlohmann::json toJson(const ExportView& reply);
 

@@ -15,4 +15,11 @@ class Error : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// \brief Bad usage of a program's command line (`slicecap`, `slicecapd`): an unknown option, a
+/// missing value, a wrong number of arguments. The programs print it with their usage and exit 2.
+class UsageError : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace slicecap

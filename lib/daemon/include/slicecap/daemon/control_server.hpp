@@ -15,24 +15,24 @@
 
 #include "slicecap/core/error.hpp"
 #include "slicecap/daemon/event_loop.hpp"
-#include "slicecap/daemon/protocol.hpp"
+#include "slicecap/control/protocol.hpp"
 
 namespace slicecap::daemon {
 
 /// \brief Thrown by a request handler to refuse a request with a code; the server replies with it.
 class RequestError : public slicecap::Error {
  public:
-  RequestError(ErrorCode code, const std::string& message)
+  RequestError(control::ErrorCode code, const std::string& message)
       : slicecap::Error(message), code_(code) {}
-  ErrorCode code() const { return code_; }
+  control::ErrorCode code() const { return code_; }
 
  private:
-  ErrorCode code_;
+  control::ErrorCode code_;
 };
 
 /// \brief Answers one request: returns the result, or throws RequestError (any other exception is
 /// answered as `internal`, and the daemon stays up).
-using RequestHandler = std::function<nlohmann::json(const Request&)>;
+using RequestHandler = std::function<nlohmann::json(const control::Request&)>;
 
 /// \brief Limits that keep one client from starving the others or the camera.
 struct ServerLimits {
@@ -48,7 +48,7 @@ struct ServerLimits {
 
 /// \brief Whether a peer (SO_PEERCRED's uid and gid, SO_PEERGROUPS' supplementary groups) may use
 /// the socket: root, the daemon's own uid (`self`), and members of the socket's group.
-bool peerMayConnect(const Peer& peer, const std::vector<std::uint32_t>& supplementaryGroups,
+bool peerMayConnect(const control::Peer& peer, const std::vector<std::uint32_t>& supplementaryGroups,
                     std::optional<std::uint32_t> socketGroup, std::uint32_t self);
 
 /// \brief Where the socket comes from.
@@ -110,7 +110,7 @@ class ControlServer {
  private:
   struct Client;
   void accept();
-  bool admit(int fd, Peer& peer);
+  bool admit(int fd, control::Peer& peer);
   void reapHungUp();
   void closeIdle();
   void onClientEvent(int fd, std::uint32_t events);

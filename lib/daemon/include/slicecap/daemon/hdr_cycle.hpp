@@ -12,10 +12,14 @@
 
 namespace slicecap::daemon {
 
+/// \brief The most exposures an HDR sweep alternates: slicecapd.conf's hdr_levels is read in
+/// 1..kMaxHdrLevels (readDaemonConfig, the one place a value from outside is checked; 1: no HDR).
+inline constexpr int kMaxHdrLevels = 3;
+
 /// \brief How the cycle starts and adapts. The longest level is the sweep's locked exposure (the
 /// metering's, or exposure_us); each shorter one starts `stepRatio` below the one before.
 struct HdrCycleParams {
-  int levels = 2;  ///< 2 or 3 (slicecapd.conf hdr_levels)
+  int levels = 2;  ///< 2..kMaxHdrLevels (slicecapd.conf hdr_levels above 1)
   /// 8-bit frames keep ~6 bits of a value 16 times below the level that holds it: the merge's
   /// noise weights then still prefer the longer level wherever it is not clipped.
   double stepRatio = 16.0;
@@ -33,8 +37,9 @@ struct HdrCycleParams {
 /// \brief The cycle of one sweep run. Single-threaded (the daemon's event loop).
 class HdrCycle {
  public:
-  /// \brief Throws std::invalid_argument for levels outside 2..3, a step ratio <= 1, a pair count
-  /// < 1 or a longest exposure not above minExposureUs.
+  /// \brief Throws std::invalid_argument for levels outside 2..kMaxHdrLevels (a caller's error:
+  /// the configuration refuses those), a step ratio <= 1, a pair count < 1 or a longest exposure
+  /// not above minExposureUs.
   HdrCycle(hal::ExposureSetting longest, HdrCycleParams params = {});
 
   /// \brief Each level's exposure now, longest (level 0) first, microseconds.

@@ -7,9 +7,8 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "slicecap/capture/frame_outcome.hpp"
+#include "slicecap/control/reply_views.hpp"
 
 namespace slicecap::daemon {
 
@@ -41,8 +40,8 @@ class RoomLightWatch {
   std::optional<double> roomChangeToLed() const;
   /// \brief A sentence for each figure beyond its limit, naming it and what to do.
   std::vector<std::string> warnings() const;
-  /// \brief The status's "room_light" object ({} before the first sample).
-  nlohmann::json summary() const;
+  /// \brief The status's "room_light" figures (none before the first sample).
+  control::RoomLightView view() const;
 
  private:
   std::deque<double> ratios_, changes_;

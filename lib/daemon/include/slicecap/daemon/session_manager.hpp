@@ -15,7 +15,7 @@
 #include "slicecap/capture/session_store.hpp"
 #include "slicecap/control/reply_views.hpp"
 #include "slicecap/core/abrdf.hpp"
-#include "slicecap/daemon/protocol.hpp"
+#include "slicecap/control/protocol.hpp"
 #include "slicecap/daemon/session_exporter.hpp"
 
 namespace slicecap::daemon {
@@ -49,7 +49,7 @@ class SessionManager {
 
   /// \brief Carries out one command. Never throws: refusals and failures come back as a
   /// ProtocolError with a message for the person at the other end.
-  std::variant<nlohmann::json, ProtocolError> handle(const Command& command);
+  std::variant<nlohmann::json, control::ProtocolError> handle(const control::Command& command);
 
   /// \brief True while a sweep runs and is not paused: the frame loop wants frames and strobes
   /// the LED; otherwise the LED stays off.
@@ -73,7 +73,10 @@ class SessionManager {
   /// \brief The sweep (running or paused), as its replies show it.
   std::optional<control::SweepView> sweepView() const;
 
-  /// \brief What `slicecap status` shows (also the reply to the status command).
+  /// \brief The session manager's part of the status: session, sweep, isotropy, error, next
+  /// (the daemon's sweep devices add theirs).
+  control::StatusView statusView() const;
+  /// \brief toJson(statusView()): the reply to the status command of a daemon without devices.
   nlohmann::json status() const;
 
  private:
@@ -83,7 +86,7 @@ class SessionManager {
 
 /// \brief A SessionManager reply as a ControlServer handler returns it: the JSON, or a thrown
 /// RequestError carrying the refusal's code and message.
-nlohmann::json replyOrThrow(std::variant<nlohmann::json, ProtocolError> reply);
+nlohmann::json replyOrThrow(std::variant<nlohmann::json, control::ProtocolError> reply);
 
 /// \brief The eight slices in the order a person sweeps them: the diagonal ones first, equal
 /// elevations first (30/30, 75/75, 30/75, 75/30), then the axial ones (30/30, 30/75, 75/30,

@@ -1,12 +1,12 @@
 // The daemon's texture capture behind an interface: lib/daemon decides when a sweep's frames go to
-// a texture; how frames become stored texels (lib/btf) is wired in by slicecapd.
+// a texture; how frames become stored texels is lib/rig's StoreTextureSink (over lib/btf).
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <vector>
 
 #include "slicecap/capture/frame_outcome.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
+#include "slicecap/control/reply_views.hpp"
 #include "slicecap/hal/frame.hpp"
 
 namespace slicecap::daemon {
@@ -24,9 +24,8 @@ class TextureSink {
   /// cannot be stored (the daemon then pauses the sweep; the window samples are not affected).
   virtual void add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
                    const std::vector<capture::AmbientTerm>& ambient) = 0;
-  /// \brief What `slicecap status` shows: at least "directory", "resolution", "bins_filled" and
-  /// "frames_stored" of the slice.
-  virtual nlohmann::json status() const = 0;
+  /// \brief What the status shows of the slice's texture (the store's figures where it has them).
+  virtual control::TextureProgressView status() const = 0;
 };
 
 }  // namespace slicecap::daemon

@@ -1,5 +1,5 @@
 // slicecapd's devices from its configuration: the camera factory and the LED, shared by the
-// daemon and `--check-hardware` so that both open exactly the same camera.
+// daemon (daemon_parts.hpp) and `--check-hardware` so that both open exactly the same camera.
 #pragma once
 
 #include <filesystem>
@@ -20,7 +20,7 @@
 #include "slicecap/vision/camera_model.hpp"
 #include "slicecap/vision/target.hpp"
 
-namespace slicecap::slicecapd {
+namespace slicecap::rig {
 
 /// The recordings a file camera plays, by slice.
 using RecordingsBySlice = std::map<SliceId, std::pair<std::filesystem::path, io::Recording>>;
@@ -79,4 +79,4 @@ std::vector<std::string> backendsNotBuilt(const daemon::DaemonConfig& config);
 std::unique_ptr<hal::Led> openLed(const daemon::DaemonConfig& config, hal::Clock& clock,
                                   std::shared_ptr<hal::LedTimeline> modelLight = nullptr);
 
-}  // namespace slicecap::slicecapd
+}  // namespace slicecap::rig

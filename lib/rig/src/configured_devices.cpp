@@ -1,5 +1,5 @@
 // The camera factory and the LED from slicecapd's configuration.
-#include "slicecapd_devices.hpp"
+#include "slicecap/rig/configured_devices.hpp"
 
 #include <cmath>
 #include <optional>
@@ -16,7 +16,7 @@
 #include "slicecap/sim/renderer.hpp"
 #include "slicecap/sim/rig_scene.hpp"
 
-namespace slicecap::slicecapd {
+namespace slicecap::rig {
 namespace {
 
 namespace fs = std::filesystem;
@@ -288,4 +288,4 @@ std::unique_ptr<hal::Led> openLed(const DaemonConfig& config, hal::Clock& clock,
   return hal::openGpiodLed(hal::GpioLineSpec{config.ledChip, config.ledLine, config.ledActiveLow});
 }
 
-}  // namespace slicecap::slicecapd
+}  // namespace slicecap::rig

@@ -1,0 +1,54 @@
+// What each key of the status reply holds: `slicecap status --help` prints it, scripts/gen-reference
+// copies it into docs/reference/protocol.md, and tests/control/status_fields_test.cpp holds it equal
+// to the keys toJson(StatusView) writes (reply_views.cpp), so a field cannot go undocumented.
+#include "slicecap/control/reply_views.hpp"
+
+namespace slicecap::control {
+
+const std::vector<ReplyField>& statusFields() {
+  static const std::vector<ReplyField> fields{
+      {"session", "the current session as session.show gives it, without created, directory and "
+                  "the journal's recovery figures (null: none)"},
+      {"sweep", "the sweep being captured or paused, as the sweep commands give it (null: none)"},
+      {"next", "what to do next: a slicecap command or a sentence"},
+      {"isotropy", "the isotropy test once the four diagonal sweeps are complete: isotropic, "
+                   "informative, axial_sweeps_needed, reason (or error)"},
+      {"error", "why the sweep last paused or the session's storage last failed (cleared when a "
+                "sweep starts or stops)"},
+      {"recording", "record_frames: the sweep's raw-frame recording"},
+      {"recording.directory", "where its frames are written"},
+      {"recording.frames_written", "frames written so far"},
+      {"recording.frames_queued", "frames waiting for the writer"},
+      {"recording.frames_dropped", "frames left out of the recording (the writer was behind)"},
+      {"recording.error", "why the recording stopped (the sweep goes on)"},
+      {"texture", "texture_resolution: the sweep's texture capture"},
+      {"texture.directory", "the session's texture folder"},
+      {"texture.resolution", "texels along the window's side"},
+      {"texture.bins_filled", "azimuth bins of the slice with a texture frame"},
+      {"texture.frames_stored", "texture frames of the slice kept"},
+      {"texture.session_frames_stored", "texture frames of every slice kept"},
+      {"texture.stored_mb", "the texture folder's size in MB"},
+      {"texture.damaged_frames_removed", "damaged frames the store removed when it opened"},
+      {"exposure", "the sweep start's exposure metering: what it locked, or that it runs"},
+      {"hdr", "hdr_levels > 1: the live HDR cycle's exposures, or why the sweep takes one"},
+      {"camera_frames", "a live camera: its frames in the sweep run (or the last one)"},
+      {"camera_frames.delivered", "frames the camera delivered"},
+      {"camera_frames.dropped", "frames it lost (gaps in its sequence numbers)"},
+      {"camera_frames.led_pattern", "the LED strobe's pattern"},
+      {"camera_frames.led_clean_fraction",
+       "frames with one LED state over their rows of interest, of those judged"},
+      {"camera_frames.timing", "how the frames' exposure times are known"},
+      {"decoding", "how the sweep run's frames become linear light (docs/linear-light.md)"},
+      {"decoding.decoding", "linear, srgb, measured-curve, ... or measuring (the bracket runs)"},
+      {"decoding.note", "the response fit's summary, or why this decoding"},
+      {"room_light", "the room light the sweep run's samples saw, each figure once known"},
+      {"room_light.to_led", "its median ratio to the LED's light on the white references"},
+      {"room_light.change", "its median change from one LED-off frame to the next, relative"},
+      {"room_light.change_to_led", "change x to_led: the change as a fraction of the LED's light"},
+      {"warnings", "what the configuration, the camera, the strobe, the decoding or the room light "
+                   "does wrong for a real capture, each naming what to do"},
+  };
+  return fields;
+}
+
+}  // namespace slicecap::control

@@ -1,0 +1,35 @@
+// What a sweep keeps besides its samples, as slicecapd.conf asks.
+#include "configured_outputs.hpp"
+
+#include "store_texture_sink.hpp"
+
+namespace slicecap::rig {
+
+ConfiguredSessionOutputs::ConfiguredSessionOutputs(const daemon::DaemonConfig& config,
+                                                   std::function<Rig(const SliceId&)> rigFor,
+                                                   std::string createdBy)
+    : recordFrames_(config.recordFrames),
+      textureResolution_(config.textureResolution),
+      textureFramesPerBin_(config.textureFramesPerBin),
+      rigFor_(std::move(rigFor)),
+      createdBy_(std::move(createdBy)) {}
+
+std::optional<io::Recording> ConfiguredSessionOutputs::recordingHeader(const SliceId& slice) {
+  if (!recordFrames_) return std::nullopt;
+  const Rig rig = rigFor_(slice);
+  io::Recording header;
+  header.createdBy = createdBy_;
+  header.camera = rig.camera;
+  header.target = rig.target;
+  return header;
+}
+
+std::unique_ptr<daemon::TextureSink> ConfiguredSessionOutputs::openTexture(
+    const SliceId& slice, const std::filesystem::path& session) {
+  const Rig rig = rigFor_(slice);
+  return std::make_unique<StoreTextureSink>(
+      session / daemon::kTextureFolder, slice, rig.camera,
+      btf::TextureStoreLayout{textureResolution_, rig.target.window, textureFramesPerBin_});
+}
+
+}  // namespace slicecap::rig

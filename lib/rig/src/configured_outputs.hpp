@@ -1,0 +1,34 @@
+// The daemon's SessionOutputs from slicecapd.conf: record_frames' recording header and
+// texture_resolution's texture store.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "slicecap/daemon/session_outputs.hpp"
+#include "slicecap/rig/configured_devices.hpp"
+
+namespace slicecap::rig {
+
+/// \brief What the configuration keeps of a sweep besides its samples.
+class ConfiguredSessionOutputs final : public daemon::SessionOutputs {
+ public:
+  /// \brief `rigFor`: each slice's target and camera model (CameraSources::rigFor); `createdBy`:
+  /// the recordings' creator ("slicecapd 1.2 (model camera)").
+  ConfiguredSessionOutputs(const daemon::DaemonConfig& config, std::function<Rig(const SliceId&)> rigFor,
+                           std::string createdBy);
+
+  std::optional<io::Recording> recordingHeader(const SliceId& slice) override;
+  bool capturesTexture() const override { return textureResolution_ > 0; }
+  std::unique_ptr<daemon::TextureSink> openTexture(const SliceId& slice,
+                                                   const std::filesystem::path& session) override;
+
+ private:
+  bool recordFrames_;
+  int textureResolution_;
+  int textureFramesPerBin_;
+  std::function<Rig(const SliceId&)> rigFor_;
+  std::string createdBy_;
+};
+
+}  // namespace slicecap::rig

@@ -1,0 +1,29 @@
+// The daemon's TextureSink on lib/btf's texture store in the session's folder.
+#pragma once
+
+#include <filesystem>
+
+#include "slicecap/btf/texture_capture.hpp"
+#include "slicecap/daemon/texture_sink.hpp"
+#include "slicecap/vision/camera_model.hpp"
+
+namespace slicecap::rig {
+
+/// \brief One slice's texture in a session's texture store (btf::TextureSweep). What opening the
+/// store mended after a crash is logged (the journal under systemd).
+class StoreTextureSink final : public daemon::TextureSink {
+ public:
+  /// \brief Throws what btf::TextureSweep throws (io::IoError naming the folder, or a store of
+  /// another layout).
+  StoreTextureSink(const std::filesystem::path& directory, const SliceId& slice,
+                   const vision::CameraModel& camera, const btf::TextureStoreLayout& layout);
+
+  void add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
+           const std::vector<capture::AmbientTerm>& ambient) override;
+  control::TextureProgressView status() const override;
+
+ private:
+  btf::TextureSweep sweep_;
+};
+
+}  // namespace slicecap::rig

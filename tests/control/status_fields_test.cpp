@@ -1,0 +1,60 @@
+// The status reply's documented keys (statusFields: `slicecap status --help`, the protocol
+// reference) are exactly the keys toJson(StatusView) writes when every field is set: a new field
+// without a line, or a line for a key no longer written, fails here.
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+
+#include "slicecap/control/reply_views.hpp"
+
+namespace slicecap::control {
+namespace {
+
+using nlohmann::json;
+
+// Every field of the status set, each optional figure too.
+StatusView everyField() {
+  StatusView status;
+  status.session = SessionView{};
+  status.sweep = SweepView{};
+  status.next = "next";
+  status.isotropy = IsotropyView{};
+  status.error = "error";
+  status.recording = RecordingView{"dir", 1, 2, 3, "stopped"};
+  TextureProgressView texture;
+  texture.sessionFramesStored = 1;
+  texture.storedMb = 0.5;
+  texture.damagedFramesRemoved = 0;
+  status.texture = texture;
+  status.exposure = "exposure";
+  status.hdr = "hdr";
+  status.cameraFrames = CameraFramesView{};
+  status.decoding = DecodingView{"srgb", "note"};
+  status.roomLight = RoomLightView{0.1, 0.2, 0.02};
+  status.warnings = {"warning"};
+  return status;
+}
+
+TEST(StatusFields, AreExactlyTheKeysTheStatusWrites) {
+  std::set<std::string> documented, parents;
+  for (const ReplyField& field : statusFields()) {
+    EXPECT_TRUE(documented.insert(field.key).second) << field.key << " is documented twice";
+    EXPECT_FALSE(field.meaning.empty()) << field.key;
+    if (const auto dot = field.key.find('.'); dot != std::string::npos)
+      parents.insert(field.key.substr(0, dot));
+  }
+  // The keys written: each top-level key, and inside the objects whose keys are documented
+  // one by one, each of theirs.
+  const json status = toJson(everyField());
+  std::set<std::string> written;
+  for (const auto& [key, value] : status.items()) {
+    written.insert(key);
+    if (parents.count(key))
+      for (const auto& [inner, ignored] : value.items()) written.insert(key + "." + inner);
+  }
+  EXPECT_EQ(documented, written);
+}
+
+}  // namespace
+}  // namespace slicecap::control
