@@ -3,6 +3,7 @@
 #include <libcamera/control_ids.h>
 
 #include <algorithm>
+#include <array>
 #include <iostream>
 #include <set>
 
@@ -57,6 +58,12 @@ void setManualExposure(libcamera::ControlList& controls, std::optional<double> e
     controls.set(libcamera::controls::ExposureTime,
                  static_cast<std::int32_t>(std::clamp(*exposureUs, 1.0, 2147483647.0)));
   if (gain) controls.set(libcamera::controls::AnalogueGain, static_cast<float>(*gain));
+}
+
+void setFrameDuration(libcamera::ControlList& controls, std::int64_t durationUs) {
+  const std::array<std::int64_t, 2> limits{durationUs, durationUs};
+  controls.set(libcamera::controls::FrameDurationLimits,
+               libcamera::Span<const std::int64_t, 2>(limits));
 }
 
 std::vector<OfferedFormat> offeredFormatsOf(const libcamera::StreamConfiguration& stream) {
