@@ -3,6 +3,7 @@
 #include "slicecapd_setup.hpp"
 
 #include "check_hardware_command.hpp"
+#include "rpi_tuning_setup.hpp"
 #include "slicecapd_devices.hpp"
 
 #include <grp.h>
@@ -210,6 +211,9 @@ std::vector<std::string> startProblems(const DaemonConfig& config) {
     check([&] {
       io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
     });
+  if (config.camera == DaemonConfig::CameraKind::Libcamera &&
+      config.tuningFile.kind == hal::TuningFileSetting::Kind::Path)
+    check([&] { hal::validateTuningFile(config.tuningFile.path, std::nullopt); });
   std::error_code error;
   if (fs::exists(config.storage, error) && !fs::is_directory(config.storage, error))
     problems.push_back("storage: " + config.storage.string() + " is not a folder");
@@ -299,6 +303,9 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   // Before the camera: libcamera starts its threads in the camera's constructor, and a SIGTERM
   // that reached one of them would end the process without stopping the sweep cleanly.
   daemon::blockSignalsInThisAndLaterThreads(daemon::stopSignals());
+  // Before the camera opens: libcamera reads the tuning file when its camera manager starts.
+  if (const std::string tuning = applyRpiTuningFile(config); !tuning.empty())
+    err << "slicecapd: " << tuning << "\n";
   static hal::SteadyClock clock;
   daemon::DaemonParts parts;
   parts.storage = config.storage;

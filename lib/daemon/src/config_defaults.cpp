@@ -76,6 +76,14 @@ constexpr const char* kCameraRawDefaults = R"(# The sensor's RAW (Bayer) stream,
 # 16-bit one is asked for and taken; the processed stream only when none is granted), on
 # requires it, off never takes it (docs/real-sensors.md).
 camera_raw = auto
+# The Raspberry Pi tuning file of the processed path (camera_raw = off, or no RAW granted):
+# auto sets slicecap's own for the camera module 3 (IMX708; /usr/share/slicecap/tuning/, for the
+# Pi 4's or the Pi 5's ISP) with contrast enhancement, adaptive lens shading, the colour matrix
+# and temporal denoise off, so one measured response curve holds for every frame; other sensors
+# keep their own. off: the camera's own tuning file. A path: that file, checked at start-up (a
+# file that cannot be read or is not a tuning file stops slicecapd, naming it). RAW frames
+# bypass the ISP: no tuning file is set for them (docs/real-sensors.md).
+tuning_file = auto
 )";
 // With camera = model: the virtual rig.
 constexpr const char* kModelCameraDefaults = R"(# With camera = model: the material (any `slicecap simulate --material`), the rig (realistic:

@@ -1,6 +1,7 @@
 // libcamera's one CameraManager per process, the camera list and modes, and the helpers the
 // camera's files share (formats offered, manual exposure controls, warnings said once).
 #include <libcamera/control_ids.h>
+#include <libcamera/property_ids.h>
 
 #include <algorithm>
 #include <array>
@@ -97,6 +98,7 @@ std::vector<CameraModes> listLibcameraModes(int wantedWidthPx, int wantedHeightP
   for (const std::shared_ptr<libcamera::Camera>& camera : manager->cameras()) {
     CameraModes modes;
     modes.id = "libcamera: " + camera->id();
+    modes.sensorModel = camera->properties().get(libcamera::properties::Model).value_or("");
     // generateConfiguration needs no acquire: a camera another process holds still lists.
     // The Raw role lists the sensor's RAW formats and modes; the processed formats come from
     // the role the sweep uses without RAW.
