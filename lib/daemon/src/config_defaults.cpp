@@ -63,8 +63,10 @@ sensor_full_well_electrons = 8000
 # black references measures the camera's response curve, and every frame of the sweep is decoded
 # through it; a camera delivering linear 16-bit frames needs none. Hold the target still and in
 # view meanwhile. A bracket that cannot be fitted (target not in view, clipping, a camera that
-# cannot lock or report its exposure) falls back to sRGB, with a warning in `slicecap status`
-# naming the camera. measured-curve: the same. srgb: no bracket; frames decoded as sRGB (only for
+# cannot lock or report its exposure), or a curve that does not fit it (RMS residual above 4 %: a
+# camera whose ISP changes its curve per frame, as a Pi's adaptive contrast does), falls back to
+# sRGB, with a warning in `slicecap status` naming the camera and the figure. measured-curve: the
+# same. srgb: no bracket; frames decoded as sRGB (only for
 # a camera known to encode sRGB).
 decoding = auto
 )";
