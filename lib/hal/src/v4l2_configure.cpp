@@ -184,12 +184,13 @@ std::vector<std::string> pinFrameInterval(int fd, const std::string& device, Cam
                                           std::string& granted) {
   if (!config.frameDurationUs) return {};
   const double wantedUs = *config.frameDurationUs;
+  const auto us = [](double value) { return std::to_string(std::llround(value)) + " us"; };
   v4l2_streamparm parm{};
   parm.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   if (retryIoctl(fd, VIDIOC_G_PARM, &parm) != 0 ||
       (parm.parm.capture.capability & V4L2_CAP_TIMEPERFRAME) == 0) {
     config.frameDurationUs.reset();
-    return {"frame duration " + std::to_string(wantedUs) + " us not pinned: " + device +
+    return {"frame duration " + us(wantedUs) + " not pinned: " + device +
             " sets no frame interval (V4L2_CAP_TIMEPERFRAME)"};
   }
   const TimePerFrame wanted = timePerFrameOf(wantedUs);
@@ -197,7 +198,7 @@ std::vector<std::string> pinFrameInterval(int fd, const std::string& device, Cam
   parm.parm.capture.timeperframe.denominator = wanted.denominator;
   if (retryIoctl(fd, VIDIOC_S_PARM, &parm) != 0) {
     config.frameDurationUs.reset();
-    return {"frame duration " + std::to_string(wantedUs) + " us not pinned: " + device +
+    return {"frame duration " + us(wantedUs) + " not pinned: " + device +
             " refused the frame interval (" + std::strerror(errno) + ")"};
   }
   // S_PARM writes back the interval the driver chose (a UVC camera: its nearest listed one).
@@ -207,8 +208,8 @@ std::vector<std::string> pinFrameInterval(int fd, const std::string& device, Cam
   granted = "frame interval " + std::to_string(parm.parm.capture.timeperframe.numerator) + "/" +
             std::to_string(parm.parm.capture.timeperframe.denominator) + " s";
   if (grantedUs && std::abs(*grantedUs - wantedUs) <= 1.0) return {};
-  return {"frame duration " + std::to_string(wantedUs) + " us -> " +
-          (grantedUs ? std::to_string(*grantedUs) + " us" : std::string("unknown")) + " (" +
+  return {"frame duration " + us(wantedUs) + " -> " +
+          (grantedUs ? us(*grantedUs) : std::string("unknown")) + " (" +
           device + "'s nearest frame interval)"};
 }
 
