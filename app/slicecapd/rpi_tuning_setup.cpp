@@ -36,12 +36,12 @@ const hal::CameraModes* configuredCamera(const std::vector<hal::CameraModes>& ca
 }  // namespace
 
 std::string applyRpiTuningFile(const DaemonConfig& config) {
-  if (config.camera != DaemonConfig::CameraKind::Libcamera) return "";
   const hal::TuningFileSetting& setting = config.tuningFile;
-  if (setting.kind == hal::TuningFileSetting::Kind::Off) return "tuning_file = off";
   const std::optional<hal::PiIsp> isp = boardIsp();
-  // A file named in the configuration is checked whether or not this sweep will use it.
+  // A file named in the configuration is checked whether or not this camera will use it.
   if (setting.kind == hal::TuningFileSetting::Kind::Path) hal::validateTuningFile(setting.path, isp);
+  if (config.camera != DaemonConfig::CameraKind::Libcamera) return "";
+  if (setting.kind == hal::TuningFileSetting::Kind::Off) return "tuning_file = off";
   if (const char* already = std::getenv(kTuningVariable); already && *already)
     return std::string("tuning_file: ") + kTuningVariable + " is already set (" + already +
            ") and is left as it is";

@@ -8,9 +8,10 @@
 
 namespace slicecap::slicecapd {
 
-/// \brief With camera = libcamera: checks a configured tuning file, asks the camera (through a
-/// CameraManager started and stopped here, before the daemon's own) whether RAW will be granted
-/// and which sensor it is, and sets LIBCAMERA_RPI_TUNING_FILE to the chosen file. The Pi's IPA
+/// \brief Checks a tuning file named in the configuration (whatever the camera), then, with
+/// camera = libcamera, asks the camera (through a CameraManager started and stopped here, before
+/// the daemon's own) whether RAW will be granted and which sensor it is, and sets
+/// LIBCAMERA_RPI_TUNING_FILE to the chosen file. The Pi's IPA
 /// reads that variable when the next CameraManager matches the camera (Raspberry Pi's libcamera
 /// fork: pipeline_base.cpp CameraData::loadIPA -> ipa_proxy.cpp ipaConfigurationFile, reached
 /// from the pipeline handler's match() in CameraManager::start), so it must be set before the

@@ -211,8 +211,8 @@ std::vector<std::string> startProblems(const DaemonConfig& config) {
     check([&] {
       io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
     });
-  if (config.camera == DaemonConfig::CameraKind::Libcamera &&
-      config.tuningFile.kind == hal::TuningFileSetting::Kind::Path)
+  // A named tuning file is checked whatever the camera: bad input is said, not kept for later.
+  if (config.tuningFile.kind == hal::TuningFileSetting::Kind::Path)
     check([&] { hal::validateTuningFile(config.tuningFile.path, std::nullopt); });
   std::error_code error;
   if (fs::exists(config.storage, error) && !fs::is_directory(config.storage, error))
