@@ -3,6 +3,7 @@
 #include "slicecapd_setup.hpp"
 
 #include "check_hardware_command.hpp"
+#include "rpi_tuning_setup.hpp"
 
 #include <filesystem>
 #include <optional>
@@ -97,6 +98,9 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   // Before the camera: libcamera starts its threads in the camera's constructor, and a SIGTERM
   // that reached one of them would end the process without stopping the sweep cleanly.
   daemon::blockSignalsInThisAndLaterThreads(daemon::stopSignals());
+  // Before the camera opens: libcamera reads the tuning file when its camera manager starts.
+  if (const std::string tuning = applyRpiTuningFile(config); !tuning.empty())
+    err << "slicecapd: " << tuning << "\n";
   static hal::SteadyClock clock;  // the cameras' clock: it outlives them
   daemon::DaemonParts parts = rig::daemonPartsFrom(config, clock, std::move(warnings));
 

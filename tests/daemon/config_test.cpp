@@ -38,6 +38,7 @@ TEST(DaemonConfig, TheDocumentedDefaultsAreTheDefaults) {
   EXPECT_EQ(fromFile.clientIdleTimeoutS, 300);
   EXPECT_FALSE(fromFile.exposureUs.has_value());
   EXPECT_EQ(fromFile.cameraRaw, defaults.cameraRaw);
+  EXPECT_EQ(fromFile.tuningFile.kind, hal::TuningFileSetting::Kind::Auto);
   EXPECT_EQ(fromFile.cameraRaw, hal::RawCapture::Auto);
   EXPECT_EQ(fromFile.modelRaw, "") << "the model offers no RAW stream unless asked";
   EXPECT_EQ(fromFile.textureResolution, 0) << "no texture unless asked";
@@ -168,6 +169,15 @@ TEST(DaemonConfig, RefusesAMainsFrequencyOtherThan50Or60Or0NamingLineKeyAndValue
   EXPECT_EQ(error("model_room_light = -0.1\n"),
             "slicecapd.conf:1: model_room_light: '-0.1' is not a fraction of the LED's "
             "irradiance in 0..10");
+}
+
+TEST(DaemonConfig, ReadsTheTuningFileAsAutoOffOrAPathAndRefusesNothing) {
+  EXPECT_EQ(parse("tuning_file = off\n").tuningFile.kind, hal::TuningFileSetting::Kind::Off);
+  const DaemonConfig path = parse("tuning_file = /etc/slicecap/imx708.json\n");
+  EXPECT_EQ(path.tuningFile.kind, hal::TuningFileSetting::Kind::Path);
+  EXPECT_EQ(path.tuningFile.path, std::filesystem::path("/etc/slicecap/imx708.json"));
+  EXPECT_EQ(error("tuning_file =\n"),
+            "slicecapd.conf:1: tuning_file: '' is not auto, off or a tuning file's path");
 }
 
 }  // namespace

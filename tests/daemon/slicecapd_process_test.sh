@@ -37,7 +37,12 @@ check_refuses() {
 check_refuses "a missing socket group" "group no-such-group-here does not exist" "socket_group = no-such-group-here"
 check_refuses "a socket path too long" "longer than 107 bytes" "socket = /tmp/$(printf 'x%.0s' {1..120}).sock"
 check_refuses "a missing recording" "$work/nowhere" "camera_recording = $work/nowhere"
-echo "--check-config refuses a missing group, a long socket path and a missing recording"
+printf '{"version": 2.0, "target": "pisp",' >"$work/broken-tuning.json"
+check_refuses "a tuning file that is not JSON" "tuning_file $work/broken-tuning.json: is not valid JSON" \
+  "tuning_file = $work/broken-tuning.json"
+check_refuses "a tuning file that cannot be read" "tuning_file $work/no-tuning.json: cannot be read" \
+  "tuning_file = $work/no-tuning.json"
+echo "--check-config refuses a missing group, a long socket path, a missing recording and a bad tuning file"
 
 # A standard output that cannot take what slicecap prints (a full disk) is a failure, not exit 0.
 if "$slicecap" --version >/dev/full 2>"$work/full.err"; then

@@ -238,6 +238,8 @@ ResponseFit fitResponse(const std::vector<hal::Frame>& bracket, const vision::Ta
     fit = fitResponseCurve(measured.observations, params, measured.source);
   }
   fit.framesWithOwnPose = measured.framesWithOwnPose;
+  // A curve that does not fit is refused, not used (issue 44).
+  checkResponseResidual(fit, params, measured.source);
   return fit;
 }
 

@@ -60,7 +60,23 @@ bool ResponseFitParams::isValid(std::string* error) const {
   if (minExposures < 2) return fail("min exposures must be at least 2");
   if (!(smoothness >= 0.0) || !std::isfinite(smoothness)) return fail("smoothness is negative");
   if (minMarkers < 1) return fail("min markers must be at least 1");
+  if (!(maxRmsLogResidual > 0.0)) return fail("the largest RMS residual must be positive");
   return true;
+}
+
+void checkResponseResidual(const ResponseFit& fit, const ResponseFitParams& params,
+                           const std::string& source) {
+  if (fit.rmsLogResidual <= params.maxRmsLogResidual) return;
+  char figures[128];
+  std::snprintf(figures, sizeof figures, "RMS residual %.1f %%, above the %.1f %% allowed",
+                100.0 * fit.rmsLogResidual, 100.0 * params.maxRmsLogResidual);
+  throw ResponseCurveMisfit(
+      source + ": the measured response curve does not fit its bracket (" + figures +
+          "): the camera's processing changes its curve from frame to frame (adaptive "
+          "contrast: a Raspberry Pi's rpi.contrast ce_enable), so no one curve decodes its "
+          "frames. Use RAW (camera_raw = auto or on), slicecap's tuning file (tuning_file = "
+          "auto, a camera module 3), or a camera whose processing is fixed",
+      fit.rmsLogResidual, params.maxRmsLogResidual);
 }
 
 std::string ResponseFit::summary() const {

@@ -150,6 +150,14 @@ std::vector<SetterEntry> sensorSetters() {
        if (!raw) throw std::invalid_argument("'" + v + "' is not auto, on or off");
        c.cameraRaw = *raw;
      }},
+    {"tuning_file",
+     [](DaemonConfig& c, const std::string& v) {
+       // A path is read and checked at start-up (slicecapd), where a bad file is refused.
+       const std::optional<hal::TuningFileSetting> setting = hal::parseTuningFileSetting(v);
+       if (!setting)
+         throw std::invalid_argument("'' is not auto, off or a tuning file's path");
+       c.tuningFile = *setting;
+     }},
   };
 }
 

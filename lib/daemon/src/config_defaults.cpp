@@ -63,8 +63,10 @@ sensor_full_well_electrons = 8000
 # black references measures the camera's response curve, and every frame of the sweep is decoded
 # through it; a camera delivering linear 16-bit frames needs none. Hold the target still and in
 # view meanwhile. A bracket that cannot be fitted (target not in view, clipping, a camera that
-# cannot lock or report its exposure) falls back to sRGB, with a warning in `slicecap status`
-# naming the camera. measured-curve: the same. srgb: no bracket; frames decoded as sRGB (only for
+# cannot lock or report its exposure), or a curve that does not fit it (RMS residual above 4 %: a
+# camera whose ISP changes its curve per frame, as a Pi's adaptive contrast does), falls back to
+# sRGB, with a warning in `slicecap status` naming the camera and the figure. measured-curve: the
+# same. srgb: no bracket; frames decoded as sRGB (only for
 # a camera known to encode sRGB).
 decoding = auto
 )";
@@ -76,6 +78,14 @@ constexpr const char* kCameraRawDefaults = R"(# The sensor's RAW (Bayer) stream,
 # 16-bit one is asked for and taken; the processed stream only when none is granted), on
 # requires it, off never takes it (docs/real-sensors.md).
 camera_raw = auto
+# The Raspberry Pi tuning file of the processed path (camera_raw = off, or no RAW granted):
+# auto sets slicecap's own for the camera module 3 (IMX708; /usr/share/slicecap/tuning/, for the
+# Pi 4's or the Pi 5's ISP) with contrast enhancement, adaptive lens shading, the colour matrix
+# and temporal denoise off, so one measured response curve holds for every frame; other sensors
+# keep their own. off: the camera's own tuning file. A path: that file, checked at start-up (a
+# file that cannot be read or is not a tuning file stops slicecapd, naming it). RAW frames
+# bypass the ISP: no tuning file is set for them (docs/real-sensors.md).
+tuning_file = auto
 )";
 // With camera = model: the virtual rig.
 constexpr const char* kModelCameraDefaults = R"(# With camera = model: the material (any `slicecap simulate --material`), the rig (realistic:

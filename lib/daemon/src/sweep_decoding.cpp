@@ -1,6 +1,7 @@
 // A sweep's decoding: the bracket's steps, its fit, and the stated fallbacks.
 #include "slicecap/daemon/sweep_decoding.hpp"
 
+#include <cstdio>
 #include <stdexcept>
 
 namespace slicecap::daemon {
@@ -127,6 +128,18 @@ SweepDecoding decodingFromBracket(std::vector<hal::Frame> bracket, const std::st
     out.decoding.kind = io::RecordedDecoding::Kind::MeasuredCurve;
     out.decoding.curve = fit.curve;
     out.note = "measured curve: " + fit.summary();
+  } catch (const capture::ResponseCurveMisfit& misfit) {
+    // Refused for its residual: the same fallback as a bracket that could not be fitted, said
+    // with the figure and what to change, not the advice about the target's view.
+    char figure[96];
+    std::snprintf(figure, sizeof figure, "RMS residual %.1f %% > %.1f %%",
+                  100.0 * misfit.rmsLogResidual(), 100.0 * misfit.limit());
+    out.decoding.kind = io::RecordedDecoding::Kind::Srgb;
+    out.note = std::string("8-bit frames read through the sRGB curve (fallback: the measured "
+                           "curve was refused, ") + figure + ")";
+    out.warning = std::string("the measured response curve was refused: ") + misfit.what() +
+                  "; this sweep decodes its 8-bit frames as sRGB (the fallback), which this "
+                  "camera does not encode either (ratios of unlike levels are off by up to ~25 %)";
   } catch (const capture::ResponseFitError& error) {
     out.decoding.kind = io::RecordedDecoding::Kind::Srgb;
     out.note = "8-bit frames read through the sRGB curve (fallback: the bracket could not be fitted)";

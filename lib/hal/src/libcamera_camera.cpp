@@ -118,6 +118,7 @@ void LibcameraCamera::start() {
   }
   if (state_->config.exposureUs || state_->config.gain)
     setManualExposure(controls, state_->config.exposureUs, state_->config.gain);
+  if (state_->frameDurationLimitsUs) setFrameDuration(controls, *state_->frameDurationLimitsUs);
   state_->camera->requestCompleted.connect(state_.get(), &State::onRequestCompleted);
   if (const int result = state_->camera->start(&controls); result != 0) {
     state_->camera->requestCompleted.disconnect(state_.get());
@@ -140,9 +141,14 @@ ExposureLock LibcameraCamera::lockExposure(const ExposureSetting& wanted) {
   const auto exposureInfo = info.find(&libcamera::controls::ExposureTime);
   if (exposureInfo == info.end())
     return {std::nullopt, state_->name() + " has no ExposureTime control"};
-  const double exposureUs =
+  double exposureUs =
       std::clamp<double>(wanted.exposureUs, exposureInfo->second.min().get<std::int32_t>(),
                          exposureInfo->second.max().get<std::int32_t>());
+  // Inside the pinned frame: the Pi's IPA would clamp it anyway (frame_timing.hpp), and the lock
+  // must say what the frames will carry.
+  const ExposureInFrame inFrame = clampExposureToFrame(exposureUs, state_->config.frameDurationUs);
+  if (inFrame.note) warnOnce(state_->name() + ": " + *inFrame.note);
+  exposureUs = inFrame.exposureUs;
   // Nothing asked: the camera's default analogue gain where it says one, else unity.
   double gain = wanted.gain.value_or(1.0);
   if (const auto it = info.find(&libcamera::controls::AnalogueGain); it != info.end()) {
@@ -200,6 +206,10 @@ CaptureResult LibcameraCamera::nextFrame(std::chrono::milliseconds timeout) {
       if (state.lockedExposure)
         setManualExposure(request->controls(), state.lockedExposure->exposureUs,
                           state.lockedExposure->gain);
+      // On every request, as the locked exposure is: a pipeline that takes controls per request
+      // keeps the frame pinned whichever request it runs.
+      if (state.frameDurationLimitsUs)
+        setFrameDuration(request->controls(), *state.frameDurationLimitsUs);
       state.locksCarried[request] = state.locks;
       if (state.streaming) state.camera->queueRequest(request);
     }

@@ -108,9 +108,52 @@ void adoptProcessedStream(const libcamera::StreamConfiguration& stream, CameraCo
   }
 }
 
+/// `result` with `notes` added to what was adjusted (an Invalid result stays as it is).
+ConfigResult withNotes(ConfigResult result, const std::vector<std::string>& notes) {
+  if (result.status == ConfigResult::Status::Invalid || notes.empty()) return result;
+  std::vector<std::string> all;
+  if (!result.reason.empty()) all.push_back(result.reason);
+  all.insert(all.end(), notes.begin(), notes.end());
+  return ConfigResult::fromAdjustments(all);
+}
+
 }  // namespace
 
+std::vector<std::string> LibcameraCamera::State::pinFrameDuration(CameraConfig& cameraConfig) {
+  frameDurationLimitsUs.reset();
+  std::optional<FrameDurationRange> listed;
+  const libcamera::ControlInfoMap& offered = camera->controls();
+  if (const auto info = offered.find(&libcamera::controls::FrameDurationLimits);
+      info != offered.end() &&
+      info->second.min().type() == libcamera::ControlTypeInteger64 &&
+      info->second.max().type() == libcamera::ControlTypeInteger64)
+    listed = FrameDurationRange{info->second.min().get<std::int64_t>(),
+                                info->second.max().get<std::int64_t>()};
+  FrameDurationPlan plan = planFrameDuration(cameraConfig.frameDurationUs, listed);
+  frameDurationLimitsUs = plan.limitsUs;
+  // What the frames will run at, as far as the camera says; a camera that cannot pin it runs
+  // at its own duration, unknown here.
+  if (cameraConfig.frameDurationUs) cameraConfig.frameDurationUs = plan.grantedUs;
+  if (cameraConfig.exposureUs) {
+    const ExposureInFrame inFrame =
+        clampExposureToFrame(*cameraConfig.exposureUs, cameraConfig.frameDurationUs);
+    cameraConfig.exposureUs = inFrame.exposureUs;
+    if (inFrame.note) plan.notes.push_back(*inFrame.note);
+  }
+  for (const std::string& note : plan.notes) warnOnce(name() + ": " + note);
+  config.frameDurationUs = cameraConfig.frameDurationUs;
+  config.exposureUs = cameraConfig.exposureUs;
+  return plan.notes;
+}
+
 ConfigResult LibcameraCamera::configure(CameraConfig& config) {
+  ConfigResult result = configureStream(config);
+  if (result.status == ConfigResult::Status::Invalid) return result;
+  // After the stream is applied: the Pi's IPA lists the sensor mode's frame durations then.
+  return withNotes(std::move(result), state_->pinFrameDuration(config));
+}
+
+ConfigResult LibcameraCamera::configureStream(CameraConfig& config) {
   if (state_->streaming) throw std::logic_error("LibcameraCamera::configure while streaming");
   config.rawFormat.clear();
   state_->bayer.reset();

@@ -3,6 +3,7 @@
 #include <libcamera/control_ids.h>
 
 #include <cerrno>
+#include <cstdlib>
 
 #include "libcamera_compat.hpp"
 #include "libcamera_state.hpp"
@@ -115,6 +116,14 @@ void LibcameraCamera::State::describeFrame(Frame& frame, const libcamera::Reques
       double(reported.get(libcamera::controls::AnalogueGain)
                  .value_or(static_cast<float>(known ? known->gain.value_or(1.0) : 1.0))) *
       double(reported.get(libcamera::controls::DigitalGain).value_or(1.0f));
+  // The duration the frame ran at (the Pi's IPA reports FrameDuration with every frame): a
+  // pinned one the sensor did not hold leaves the room light's flicker in the subtraction.
+  if (const auto durationUs = reported.get(libcamera::controls::FrameDuration);
+      durationUs && frameDurationLimitsUs && std::abs(*durationUs - *frameDurationLimitsUs) > 1)
+    warnOnce(name() + " runs frames of " + std::to_string(*durationUs) + " us, not the " +
+             std::to_string(*frameDurationLimitsUs) +
+             " us pinned by mains_hz (FrameDurationLimits): the room light's flicker is not "
+             "hidden");
   // Row 0 began exposing one exposure before its readout; only where the pipeline says both
   // (a timestamp without a reported exposure, as uvcvideo's, marks nothing known).
   if (const auto exposureUs = reported.get(libcamera::controls::ExposureTime);

@@ -1,8 +1,10 @@
 // libcamera's one CameraManager per process, the camera list and modes, and the helpers the
 // camera's files share (formats offered, manual exposure controls, warnings said once).
 #include <libcamera/control_ids.h>
+#include <libcamera/property_ids.h>
 
 #include <algorithm>
+#include <array>
 #include <iostream>
 #include <set>
 
@@ -59,6 +61,12 @@ void setManualExposure(libcamera::ControlList& controls, std::optional<double> e
   if (gain) controls.set(libcamera::controls::AnalogueGain, static_cast<float>(*gain));
 }
 
+void setFrameDuration(libcamera::ControlList& controls, std::int64_t durationUs) {
+  const std::array<std::int64_t, 2> limits{durationUs, durationUs};
+  controls.set(libcamera::controls::FrameDurationLimits,
+               libcamera::Span<const std::int64_t, 2>(limits));
+}
+
 std::vector<OfferedFormat> offeredFormatsOf(const libcamera::StreamConfiguration& stream) {
   std::vector<OfferedFormat> offered;
   for (const libcamera::PixelFormat& format : stream.formats().pixelformats()) {
@@ -90,6 +98,7 @@ std::vector<CameraModes> listLibcameraModes(int wantedWidthPx, int wantedHeightP
   for (const std::shared_ptr<libcamera::Camera>& camera : manager->cameras()) {
     CameraModes modes;
     modes.id = "libcamera: " + camera->id();
+    modes.sensorModel = camera->properties().get(libcamera::properties::Model).value_or("");
     // generateConfiguration needs no acquire: a camera another process holds still lists.
     // The Raw role lists the sensor's RAW formats and modes; the processed formats come from
     // the role the sweep uses without RAW.

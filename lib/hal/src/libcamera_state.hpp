@@ -25,6 +25,7 @@
 
 #include "slicecap/hal/bayer_frame.hpp"
 #include "slicecap/hal/camera_modes.hpp"
+#include "slicecap/hal/frame_timing.hpp"
 #include "slicecap/hal/libcamera_camera.hpp"
 #include "slicecap/hal/raw_frame.hpp"
 
@@ -86,6 +87,11 @@ struct Mapping {
 void setManualExposure(libcamera::ControlList& controls, std::optional<double> exposureUs,
                        std::optional<double> gain);
 
+// FrameDurationLimits = {durationUs, durationUs} (microseconds, int64_t in Debian 12's 0.0.3 and
+// the Raspberry Pi fork alike): the Pi's IPA takes it from the start controls and any request
+// (ipa_base.cpp applyControls -> applyFrameDurations) and holds it until told otherwise.
+void setFrameDuration(libcamera::ControlList& controls, std::int64_t durationUs);
+
 // A stream configuration's formats with their discrete sizes (a RAW format's sizes are the
 // sensor's modes: picamera2's Picamera2.sensor_modes reads them the same way, from the Raw role).
 std::vector<OfferedFormat> offeredFormatsOf(const libcamera::StreamConfiguration& stream);
@@ -112,6 +118,9 @@ struct LibcameraCamera::State {
   bool streaming = false;
   std::optional<std::uint32_t> firstSequence;
   std::optional<ExposureSetting> lockedExposure;  // set on every request queued from then on
+  // FrameDurationLimits = {this, this} at start and on every request (mains_hz); nullopt: the
+  // camera's own frame duration (not pinned, or the camera lacks the control).
+  std::optional<std::int64_t> frameDurationLimitsUs;
   // Locks since start(), and how many of them each request carried when it was last queued: the
   // requests queued before a lock return frames taken under the setting before it.
   std::uint32_t locks = 0;
@@ -149,6 +158,11 @@ struct LibcameraCamera::State {
   /// result naming the camera when it offers no such stream or cannot deliver it; CameraError
   /// when it cannot apply one it validated.
   ConfigResult configureProcessed(CameraConfig& cameraConfig, std::vector<std::string> adjustments);
+  /// After a stream is configured: the pinned frame duration planned against the range the
+  /// camera now lists for FrameDurationLimits (the Pi's IPA sets it per sensor mode at configure,
+  /// ipa_base.cpp), written back into `cameraConfig` with the exposure clamped inside it; returns
+  /// what changed, for the configuration result.
+  std::vector<std::string> pinFrameDuration(CameraConfig& cameraConfig);
   /// The RAW mosaic in `buffer` (configured RAW only).
   BayerFrameView mosaicOf(const libcamera::FrameBuffer& buffer) const;
   /// The frame's own black levels (SensorBlackLevels, which the Pi's IPA reports with every

@@ -2,8 +2,11 @@
 // uncompressed formats slicecap reads, the size the driver grants, and the locked controls.
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
+#include <iostream>
 #include <stdexcept>
 
+#include "slicecap/hal/frame_timing.hpp"
 #include "v4l2_state.hpp"
 
 namespace slicecap::hal {
@@ -174,6 +177,42 @@ void adoptSetGain(std::optional<std::int32_t> set, CameraConfig& config,
   }
 }
 
+/// The pinned frame duration as the device's frame interval (VIDIOC_S_PARM timeperframe, where
+/// it lists V4L2_CAP_TIMEPERFRAME), read back: `config.frameDurationUs` becomes what the driver
+/// granted, or nullopt where it cannot set one. Returns what changed; `granted` says what it runs.
+std::vector<std::string> pinFrameInterval(int fd, const std::string& device, CameraConfig& config,
+                                          std::string& granted) {
+  if (!config.frameDurationUs) return {};
+  const double wantedUs = *config.frameDurationUs;
+  const auto us = [](double value) { return std::to_string(std::llround(value)) + " us"; };
+  v4l2_streamparm parm{};
+  parm.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  if (retryIoctl(fd, VIDIOC_G_PARM, &parm) != 0 ||
+      (parm.parm.capture.capability & V4L2_CAP_TIMEPERFRAME) == 0) {
+    config.frameDurationUs.reset();
+    return {"frame duration " + us(wantedUs) + " not pinned: " + device +
+            " sets no frame interval (V4L2_CAP_TIMEPERFRAME)"};
+  }
+  const TimePerFrame wanted = timePerFrameOf(wantedUs);
+  parm.parm.capture.timeperframe.numerator = wanted.numerator;
+  parm.parm.capture.timeperframe.denominator = wanted.denominator;
+  if (retryIoctl(fd, VIDIOC_S_PARM, &parm) != 0) {
+    config.frameDurationUs.reset();
+    return {"frame duration " + us(wantedUs) + " not pinned: " + device +
+            " refused the frame interval (" + std::strerror(errno) + ")"};
+  }
+  // S_PARM writes back the interval the driver chose (a UVC camera: its nearest listed one).
+  const std::optional<double> grantedUs = frameDurationUsOf(
+      {parm.parm.capture.timeperframe.numerator, parm.parm.capture.timeperframe.denominator});
+  config.frameDurationUs = grantedUs;
+  granted = "frame interval " + std::to_string(parm.parm.capture.timeperframe.numerator) + "/" +
+            std::to_string(parm.parm.capture.timeperframe.denominator) + " s";
+  if (grantedUs && std::abs(*grantedUs - wantedUs) <= 1.0) return {};
+  return {"frame duration " + us(wantedUs) + " -> " +
+          (grantedUs ? us(*grantedUs) : std::string("unknown")) + " (" +
+          device + "'s nearest frame interval)"};
+}
+
 }  // namespace
 
 std::optional<YuvEncoding> yuvEncodingOfV4l2(std::uint32_t colorspace, std::uint32_t ycbcrEncoding,
@@ -243,10 +282,20 @@ ConfigResult V4l2Camera::configure(CameraConfig& config) {
   state_->strideBytes = strideBytesOf(*chosen, format, config.widthPx);
   state_->imageBytes = format.fmt.pix.sizeimage;
 
+  // The frame interval first: the exposure is held inside it.
+  std::string timing;
+  for (std::string& note : pinFrameInterval(state_->fd, state_->device, config, timing))
+    adjustments.push_back(std::move(note));
+  if (config.mainsHz) state_->setPowerLineFrequency(*config.mainsHz, timing);
+  if (!timing.empty()) std::cerr << "slicecap: " << state_->device << ": " << timing << " (read back)\n";
   // Locked white balance and gain control, then exposure: a sweep's frames must be comparable.
   state_->setControl(V4L2_CID_AUTO_WHITE_BALANCE, 0);
-  if (config.exposureUs)
+  if (config.exposureUs) {
+    const ExposureInFrame inFrame = clampExposureToFrame(*config.exposureUs, config.frameDurationUs);
+    if (inFrame.note) adjustments.push_back(*inFrame.note);
+    config.exposureUs = inFrame.exposureUs;
     adoptSetExposure(state_->setManualExposureUs(*config.exposureUs), config, adjustments);
+  }
   if (config.gain) adoptSetGain(state_->setManualGain(*config.gain), config, adjustments);
   config.bufferCount = std::max(config.bufferCount, 2);
   state_->config = config;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "slicecap/hal/frame_timing.hpp"
 #include "v4l2_state.hpp"
 
 namespace slicecap::hal {
@@ -81,6 +82,16 @@ std::optional<std::int32_t> V4l2Camera::State::setManualGain(double wanted) cons
   return setRangedControl(V4L2_CID_GAIN, wanted);
 }
 
+void V4l2Camera::State::setPowerLineFrequency(int mainsHz, std::string& said) const {
+  if (!queryControl(V4L2_CID_POWER_LINE_FREQUENCY)) return;
+  setControl(V4L2_CID_POWER_LINE_FREQUENCY, powerLineFrequencyMenuValue(mainsHz));
+  const std::optional<std::int32_t> readBack = getControl(V4L2_CID_POWER_LINE_FREQUENCY);
+  static constexpr const char* kNames[] = {"disabled", "50 Hz", "60 Hz", "auto"};
+  said += std::string(said.empty() ? "" : ", ") + "power line frequency " +
+          (readBack && *readBack >= 0 && *readBack <= 3 ? kNames[*readBack]
+                                                         : std::string("unreadable"));
+}
+
 ExposureLock V4l2Camera::lockExposure(const ExposureSetting& wanted) {
   if (!state_->streaming) throw std::logic_error("V4l2Camera::lockExposure before start");
   // A lock the device refuses halfway (e.g. the gain after the exposure) is undone: a fixed
@@ -91,7 +102,10 @@ ExposureLock V4l2Camera::lockExposure(const ExposureSetting& wanted) {
       state_->setControl(id, value);
     return {std::nullopt, reason};
   };
-  const std::optional<double> exposureUs = state_->setManualExposureUs(wanted.exposureUs);
+  // Inside the pinned frame interval: a sensor cannot expose longer than its frame.
+  const double inFrameUs =
+      clampExposureToFrame(wanted.exposureUs, state_->config.frameDurationUs).exposureUs;
+  const std::optional<double> exposureUs = state_->setManualExposureUs(inFrameUs);
   if (!exposureUs) return refuse(state_->device + " has no manual exposure");
   // Auto gain off too, or it would undo the metering; a camera without a gain control is unity.
   double gain = 1.0;

@@ -78,6 +78,9 @@ struct V4l2Camera::State {
   /// Auto gain off and the gain set (the device's own units), clamped to its range; returns the
   /// gain set, or nullopt when the device lacks the control or refuses it.
   std::optional<std::int32_t> setManualGain(double wanted) const;
+  /// V4L2_CID_POWER_LINE_FREQUENCY for the mains (a UVC camera's anti-flicker: 50 / 60 Hz, or
+  /// disabled for 0) where the device has the control; what it reads back is added to `said`.
+  void setPowerLineFrequency(int mainsHz, std::string& said) const;
   void releaseBuffers();
 
   /// The frame in the dequeued `buffer`, decoded (RAW) or converted, with its metadata; an Error

@@ -219,6 +219,7 @@ hal::CameraConfig cameraConfigFrom(const DaemonConfig& config) {
   camera.raw = config.cameraRaw;
   camera.readoutUs = config.readoutUs;
   camera.frameDurationUs = hal::frameDurationUsForMains(config.mainsHz);
+  camera.mainsHz = config.mainsHz;
   return camera;
 }
 

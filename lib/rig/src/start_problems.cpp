@@ -3,8 +3,10 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 
 #include "slicecap/daemon/control_server.hpp"
+#include "slicecap/hal/rpi_tuning.hpp"
 #include "slicecap/io/target_json.hpp"
 #include "slicecap/rig/configured_devices.hpp"
 #include "slicecap/rig/daemon_parts.hpp"
@@ -41,6 +43,9 @@ std::vector<std::string> startProblems(const DaemonConfig& config) {
     check([&] {
       io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
     });
+  // A named tuning file is checked whatever the camera: bad input is said, not kept for later.
+  if (config.tuningFile.kind == hal::TuningFileSetting::Kind::Path)
+    check([&] { hal::validateTuningFile(config.tuningFile.path, std::nullopt); });
   std::error_code error;
   if (fs::exists(config.storage, error) && !fs::is_directory(config.storage, error))
     problems.push_back("storage: " + config.storage.string() + " is not a folder");

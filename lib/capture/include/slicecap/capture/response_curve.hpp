@@ -66,6 +66,12 @@ struct ResponseFitParams {
   /// between knots. A real curve's own curvature costs a few units x this, far below the chi-square
   /// of ~1000 observations. docs/linear-light.md gives the figures at x0.1 and x10.
   double smoothness = 300.0;
+  /// The largest RMS residual (in ln(linear), ResponseFit::rmsLogResidual) a curve may leave
+  /// and be used. One curve fits every frame of a camera whose processing is fixed; a curve the
+  /// ISP changes from frame to frame (adaptive contrast) leaves residuals no smooth curve
+  /// removes, and decoding through it would be off by as much. The figures:
+  /// docs/results/2026-12-06-response-gate.md.
+  double maxRmsLogResidual = 0.04;
   MarkerDetectorSettings detector;
   int minMarkers = 4;
   double maxPoseResidualPx = 1.5;
@@ -110,6 +116,25 @@ class ResponseFitError : public slicecap::Error {
   using slicecap::Error::Error;
 };
 
+/// \brief A fitted curve refused for its residual (above ResponseFitParams::maxRmsLogResidual):
+/// the camera's processing does not follow one curve. The message names the camera, the figure,
+/// the limit and the likely cause; the figures are kept for the status.
+class ResponseCurveMisfit : public ResponseFitError {
+ public:
+  ResponseCurveMisfit(const std::string& message, double rmsLogResidual, double limit)
+      : ResponseFitError(message), rmsLogResidual_(rmsLogResidual), limit_(limit) {}
+  double rmsLogResidual() const { return rmsLogResidual_; }
+  double limit() const { return limit_; }
+
+ private:
+  double rmsLogResidual_, limit_;
+};
+
+/// \brief Throws ResponseCurveMisfit naming `source` when `fit` leaves a larger RMS residual
+/// than params.maxRmsLogResidual; fitResponse calls it on its final curve.
+void checkResponseResidual(const ResponseFit& fit, const ResponseFitParams& params,
+                           const std::string& source);
+
 /// \brief Fits the response to observations (already measured): unknowns ln(linear) at every
 /// code between the lowest and the highest observed and ln(irradiance) per area; each
 /// observation says ln decode(code) - ln E_area = ln exposure (Debevec and Malik's least
@@ -148,7 +173,9 @@ BracketObservations measureBracket(const std::vector<hal::Frame>& bracket,
 /// patch's albedo. One curve for all channels (an ISP's gamma is the same on each; the colour
 /// gains come before it and fall into the areas' irradiances). Throws ResponseFitError naming
 /// params.cameraName and the frames: no frames or not 8-bit, target not found in any frame, too
-/// few exposures, every area clipped or black, a fit that is not increasing.
+/// few exposures, every area clipped or black, a fit that is not increasing; and
+/// ResponseCurveMisfit (a ResponseFitError) when the final curve's residual is above
+/// params.maxRmsLogResidual (checkResponseResidual).
 ResponseFit fitResponse(const std::vector<hal::Frame>& bracket, const vision::TargetGeometry& target,
                         const vision::CameraModel& camera, const ResponseFitParams& params = {});
 

@@ -11,6 +11,7 @@
 
 #include "slicecap/core/error.hpp"
 #include "slicecap/hal/camera.hpp"
+#include "slicecap/hal/rpi_tuning.hpp"
 
 namespace slicecap::daemon {
 
@@ -59,6 +60,9 @@ struct DaemonConfig {
   /// camera_raw = auto | on | off: the RAW (Bayer) stream, decoded to linear light, where the
   /// camera offers a format slicecap decodes (hal::RawCapture).
   hal::RawCapture cameraRaw = hal::RawCapture::Auto;
+  /// tuning_file = auto | off | PATH: the Raspberry Pi tuning file the processed path runs with
+  /// (hal::chooseTuningFile; set as LIBCAMERA_RPI_TUNING_FILE before libcamera starts).
+  hal::TuningFileSetting tuningFile{};
 
   // camera = model: the virtual rig in front of a camera model that behaves like a Pi camera
   // (hal::ModelCamera): a material, the rig's imperfections, the sweep's pace, the ISP's curve.

@@ -46,8 +46,13 @@ struct CameraConfig {
   /// The frame duration to hold every frame at (slicecapd.conf mains_hz: a whole number of the
   /// room light's flicker periods, hal::frameDurationUsForMains); nullopt: the camera's own. A
   /// camera that cannot hold it says so in its ConfigResult (Adjusted, with the duration it runs
-  /// at written back here). libcamera: FrameDurationLimits = {this, this}.
+  /// at written back here). libcamera: FrameDurationLimits = {this, this}; V4L2: the frame
+  /// interval (VIDIOC_S_PARM). An exposure longer than it is clamped to it and said
+  /// (hal::clampExposureToFrame).
   std::optional<double> frameDurationUs{};
+  /// The room lights' mains frequency (slicecapd.conf mains_hz: 50, 60, or 0 for none); nullopt:
+  /// not said. V4L2 sets V4L2_CID_POWER_LINE_FREQUENCY from it where the device has the control.
+  std::optional<int> mainsHz{};
   /// Set by configure: the RAW format the frames are decoded from (libcamera's name, e.g.
   /// "SRGGB10_CSI2P"); empty when they come from the processed stream.
   std::string rawFormat{};

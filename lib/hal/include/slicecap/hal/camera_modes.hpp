@@ -47,6 +47,8 @@ struct CameraModes {
   /// (negotiateRawStream; libcamera). nullopt where the backend lists names only (V4L2, the
   /// model): chooseRawStream on `formats` stands for it.
   std::optional<RawStreamChoice> validatedRaw;
+  /// The sensor's model (libcamera's properties::Model, e.g. "imx708"); empty where unknown.
+  std::string sensorModel{};
 };
 
 /// \brief The RAW stream the libcamera backend asks for first for `wantedWidthPx` x

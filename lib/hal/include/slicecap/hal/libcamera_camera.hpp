@@ -53,6 +53,14 @@ std::optional<YuvEncoding> yuvEncodingOf(const libcamera::ColorSpace& colorSpace
 /// request's metadata reports, and the start of row 0's exposure (SensorTimestamp -
 /// ExposureTime) where both are reported.
 ///
+/// A pinned frame duration (CameraConfig::frameDurationUs, mains_hz) is sent as
+/// FrameDurationLimits = {d, d} in the start controls and on every request, where the camera
+/// lists the control, clamped into the range it lists after configure (planFrameDuration); the
+/// duration granted is written back (nullopt where the camera lacks the control) and any change
+/// said in the ConfigResult and once on stderr. An exposure longer than the frame, at configure
+/// or in lockExposure, is clamped to it and said (clampExposureToFrame); a frame whose reported
+/// FrameDuration is not the one pinned is said once.
+///
 /// RAW (CameraConfig::raw Auto or On): the camera's StreamRole::Raw stream alone, in a format
 /// decodeBayer reads, negotiated through the camera's own validation (negotiateRawStream): the
 /// one libcamera proposes when validation keeps it (SRGGB10_CSI2P on a Pi 4's IMX708), else its
@@ -87,6 +95,9 @@ class LibcameraCamera final : public Camera {
   struct State;
 
  private:
+  /// The stream: RAW where negotiated, else the processed one (configure adds the frame
+  /// duration after it).
+  ConfigResult configureStream(CameraConfig& config);
   /// Takes a RAW configuration the camera has applied: the delivered size and encoding, said in
   /// `adjustments` after those given.
   ConfigResult configureRaw(CameraConfig& config,

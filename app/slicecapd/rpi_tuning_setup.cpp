@@ -1,0 +1,71 @@
+// Sets LIBCAMERA_RPI_TUNING_FILE for the processed path before the daemon's camera opens.
+#include "rpi_tuning_setup.hpp"
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "slicecap/hal/device_backends.hpp"
+#include "slicecap/hal/rpi_tuning.hpp"
+
+namespace slicecap::slicecapd {
+
+using daemon::DaemonConfig;
+
+namespace {
+
+constexpr const char* kTuningVariable = "LIBCAMERA_RPI_TUNING_FILE";
+
+/// The board's ISP from its device tree; nullopt off a Raspberry Pi (or without a device tree).
+std::optional<hal::PiIsp> boardIsp() {
+  std::ifstream in("/proc/device-tree/compatible", std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream text;
+  text << in.rdbuf();
+  return hal::piIspOfCompatible(text.str());
+}
+
+/// The configured camera among those libcamera lists (its id, or the first).
+const hal::CameraModes* configuredCamera(const std::vector<hal::CameraModes>& cameras,
+                                         const std::string& cameraId) {
+  for (const hal::CameraModes& camera : cameras)
+    if (cameraId.empty() || camera.id == "libcamera: " + cameraId) return &camera;
+  return nullptr;
+}
+
+}  // namespace
+
+std::string applyRpiTuningFile(const DaemonConfig& config) {
+  const hal::TuningFileSetting& setting = config.tuningFile;
+  const std::optional<hal::PiIsp> isp = boardIsp();
+  // A file named in the configuration is checked whether or not this camera will use it.
+  if (setting.kind == hal::TuningFileSetting::Kind::Path) hal::validateTuningFile(setting.path, isp);
+  if (config.camera != DaemonConfig::CameraKind::Libcamera) return "";
+  if (setting.kind == hal::TuningFileSetting::Kind::Off) return "tuning_file = off";
+  if (const char* already = std::getenv(kTuningVariable); already && *already)
+    return std::string("tuning_file: ") + kTuningVariable + " is already set (" + already +
+           ") and is left as it is";
+  if (!isp && setting.kind == hal::TuningFileSetting::Kind::Auto)
+    return "tuning_file = auto: not a Raspberry Pi, the camera's own tuning";
+
+  hal::TuningInputs inputs;
+  inputs.raw = config.cameraRaw;
+  inputs.isp = isp;
+  inputs.tuningDir = hal::slicecapTuningDir();
+  // The probe's manager is gone when this returns: the daemon's camera starts a new one, which
+  // reads the variable (two managers alive at once abort the process).
+  const std::vector<hal::CameraModes> cameras =
+      hal::libcameraModes(config.widthPx, config.heightPx);
+  if (const hal::CameraModes* camera = configuredCamera(cameras, config.cameraDevice)) {
+    inputs.sensorModel = camera->sensorModel;
+    inputs.rawGranted = camera->validatedRaw && !camera->validatedRaw->format.empty();
+  }
+  const hal::TuningChoice choice = hal::chooseTuningFile(setting, inputs);
+  if (choice.file) {
+    hal::validateTuningFile(*choice.file, isp);
+    ::setenv(kTuningVariable, choice.file->c_str(), 1);
+  }
+  return choice.reason;
+}
+
+}  // namespace slicecap::slicecapd
