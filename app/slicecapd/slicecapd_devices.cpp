@@ -153,7 +153,7 @@ hal::SensorModel modelSensor(const DaemonConfig& config, ModelScene scene, bool 
   sensor.flickerDepth = config.modelFlickerDepth;
   sensor.pipeline = *hal::parseModelPipeline(config.modelPipeline);  // checked when read
   sensor.isp.adaptiveContrast = config.modelAdaptiveContrast;
-  if (config.modelColourMatrix == "identity") sensor.isp.colourMatrix = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  if (config.modelColourMatrix == "imx708") sensor.isp.colourMatrix = hal::kImx708ColourMatrix;
   if (config.modelStream == "rec709")
     sensor.isp.yuvStream = hal::YuvEncoding{hal::YcbcrMatrix::Rec709, hal::YuvRange::Limited};
   if (config.modelStream == "sycc")

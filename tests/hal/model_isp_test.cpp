@@ -157,7 +157,7 @@ TEST(ModelIspStage, AdaptiveContrastGivesTheSameLightOtherCodesAfterADarkerFrame
 
 TEST(ModelIspStage, TheColourMatrixMixesASaturatedRedAndClipsItsGreen) {
   ModelIsp isp = fixedModelIsp();
-  isp.colourMatrix = ModelIsp{}.colourMatrix;
+  isp.colourMatrix = kImx708ColourMatrix;
   model_isp::IspStage stage(isp, ModelPipeline::Vc4, ToneCurve::linear(), {});
   Image red;
   red.width = red.height = 2;

@@ -90,7 +90,8 @@ constexpr const char* kModelCameraDefaults = R"(# With camera = model: the mater
 # The Pi it stands for (pisp: a Pi 5, whose validation turns packed RAW into its lossy compressed
 # format, so slicecap asks again for the unpacked one; vc4: a Pi 4), and its ISP as the Pi's
 # tuning files set it (docs/real-sensors.md): the tone curve stretched per frame from the
-# histogram (rpi.contrast ce_enable), the colour matrix (imx708: the tuning's at 4640 K; identity),
+# histogram (rpi.contrast ce_enable), the colour matrix (imx708: the tuning's at 4640 K, which
+# over-saturates here: the model's sensor has no crosstalk for it to undo; identity),
 # the stream (rgb, what slicecap takes on a Pi; rec709: YUV420 Rec.709 limited, a Pi's video
 # stream; sycc: YUV420 full range), the Pi 5's temporal denoise (the previous frame's weight where
 # a pixel moved less than its noise; 0 off; no effect on vc4), the timestamps' jitter, and which
@@ -108,7 +109,7 @@ model_flicker_hz = 100
 model_flicker_depth = 0.1
 model_pipeline = pisp
 model_adaptive_contrast = true
-model_colour_matrix = imx708
+model_colour_matrix = identity
 model_stream = rgb
 model_temporal_denoise = 0.5
 model_timestamp_jitter_us = 20

@@ -85,7 +85,7 @@ struct DaemonConfig {
   /// (the previous output's weight on a Pi 5; 0 off), model_timestamp_jitter_us, model_lock_counting
   /// = request | truth.
   bool modelAdaptiveContrast = true;
-  std::string modelColourMatrix = "imx708";
+  std::string modelColourMatrix = "identity";
   std::string modelStream = "rgb";
   double modelTemporalDenoise = 0.5;
   double modelTimestampJitterUs = 20.0;

@@ -40,6 +40,11 @@ RawValidation validateRawLikePi(ModelPipeline pipeline, const BayerFormat& senso
 RawStreamChoice negotiateModelRaw(ModelPipeline pipeline, const BayerFormat& sensor, int widthPx,
                                   int heightPx);
 
+/// \brief rpi.ccm of the IMX708 tuning at 4640 K (the same in the pisp and vc4 files); its rows
+/// sum to 1, so greys stay grey while saturated colours mix (a red's green goes negative).
+inline constexpr std::array<double, 9> kImx708ColourMatrix{
+    1.52972, -0.35168, -0.17804, -0.28309, 1.67098, -0.38788, 0.01695, -0.57209, 1.55515};
+
 /// \brief The ISP's processing of the model's processed stream, in the Pi ISP's order: colour
 /// gains, the colour matrix, temporal denoise (a Pi 5), the tone curve with its adaptive stretch,
 /// then the output format. Identity / off values give the model's earlier fixed pipeline.
@@ -51,10 +56,12 @@ struct ModelIsp {
   /// to 95 % by at most 2000/65536), from the statistics of the frame before.
   bool adaptiveContrast = true;
   /// rpi.ccm: the colour matrix on linear RGB after the colour gains, row-major (R' = m0 R + m1 G
-  /// + m2 B, ...). The IMX708 tuning's matrix at 4640 K (the same in the pisp and vc4 files);
-  /// its rows sum to 1, so greys stay grey while saturated colours mix.
-  std::array<double, 9> colourMatrix{1.52972,  -0.35168, -0.17804, -0.28309, 1.67098,
-                                     -0.38788, 0.01695,  -0.57209, 1.55515};
+  /// + m2 B, ...). The identity by default: the model's sensor sees the scene in the scene's own
+  /// primaries, without the crosstalk between its colour filters that a Pi's matrix undoes, so
+  /// the tuning's matrix (kImx708ColourMatrix) would over-saturate what a Pi merely corrects: a
+  /// session of satin-blue-45 read dE 42 with it, its green clipped to 0. Set it to see that
+  /// effect, an upper bound on a real sensor's.
+  std::array<double, 9> colourMatrix{1, 0, 0, 0, 1, 0, 0, 0, 1};
   /// The processed stream's YCbCr encoding, or nullopt for an RGB stream. slicecap's libcamera
   /// backend asks for an RGB format where one is offered, and a Pi's ISP offers RGB888 and
   /// XRGB8888, so the default is RGB; a YUV420 stream is what a Pi's VideoRecording role proposes
