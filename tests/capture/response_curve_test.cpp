@@ -152,6 +152,10 @@ TEST(ResponseCurve, RecoversTheModelCamerasCurveAndDecodesTheWindowAgainstTheWhi
     SCOPED_TRACE(truth.name());
     hal::SensorModel model;
     model.tone = truth;
+    // One curve to recover: a Pi's adaptive contrast re-stretches it per frame and its colour
+    // matrix mixes the channels, and the fit then misses by 37 % (RMS residual 6.2 %) with the
+    // IMX708 tuning: the processed path needs them off (issue 44), which this test assumes.
+    model.isp = hal::fixedModelIsp();
     test::BracketRig rig(setup.scene, model);
     const double meteredUs = rig.meteredExposureUs();
     const std::vector<hal::Frame> bracket = rig.take(BracketPlan{}.settings({meteredUs, 1.0}));

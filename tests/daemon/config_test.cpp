@@ -180,5 +180,38 @@ TEST(DaemonConfig, ReadsTheTuningFileAsAutoOffOrAPathAndRefusesNothing) {
             "slicecapd.conf:1: tuning_file: '' is not auto, off or a tuning file's path");
 }
 
+TEST(DaemonConfig, ReadsTheModelsPiAndIspAndRefusesAnythingElseNamingLineKeyAndValue) {
+  const DaemonConfig c = parse(
+      "model_pipeline = vc4\n"
+      "model_adaptive_contrast = false\n"
+      "model_colour_matrix = imx708\n"
+      "model_stream = rec709\n"
+      "model_temporal_denoise = 0\n"
+      "model_timestamp_jitter_us = 0\n"
+      "model_lock_counting = truth\n");
+  EXPECT_EQ(c.modelPipeline, "vc4");
+  EXPECT_FALSE(c.modelAdaptiveContrast);
+  EXPECT_EQ(c.modelColourMatrix, "imx708");
+  EXPECT_EQ(c.modelStream, "rec709");
+  EXPECT_EQ(c.modelTemporalDenoise, 0.0);
+  EXPECT_EQ(c.modelTimestampJitterUs, 0.0);
+  EXPECT_FALSE(c.modelLocksCountedByRequest);
+  const DaemonConfig defaults = parse("");
+  EXPECT_EQ(defaults.modelPipeline, "pisp");
+  EXPECT_TRUE(defaults.modelAdaptiveContrast);
+  EXPECT_TRUE(defaults.modelLocksCountedByRequest);
+  EXPECT_EQ(error("model_pipeline = pi5\n"),
+            "slicecapd.conf:1: model_pipeline: 'pi5' is not vc4 or pisp");
+  EXPECT_EQ(error("model_stream = yuv\n"),
+            "slicecapd.conf:1: model_stream: 'yuv' is not rgb, rec709 or sycc");
+  EXPECT_EQ(error("model_colour_matrix = srgb\n"),
+            "slicecapd.conf:1: model_colour_matrix: 'srgb' is not imx708 or identity");
+  EXPECT_EQ(error("model_temporal_denoise = 1\n"),
+            "slicecapd.conf:1: model_temporal_denoise: '1' is not a weight of the previous frame "
+            "in 0..0.95");
+  EXPECT_EQ(error("model_lock_counting = sensor\n"),
+            "slicecapd.conf:1: model_lock_counting: 'sensor' is not request or truth");
+}
+
 }  // namespace
 }  // namespace slicecap::daemon

@@ -61,7 +61,13 @@ BracketRun runBracket(test::BracketRig& rig, double meteredUs, bool refuseSecond
 
 TEST(SweepDecoding, TheBracketOnTheCameraModelRecoversItsCurveWithinTwoPercent) {
   auto scene = std::make_shared<test::StillScene>(renderer(), test::stillPose(), test::stillLightMm());
-  test::BracketRig rig(scene, {});  // the IMX708's tuning curve, colour gains, noise
+  // The IMX708's tuning curve, colour gains, noise, and one curve for the bracket to recover:
+  // with a Pi's adaptive contrast (the model's default) the curve changes from frame to frame
+  // and the fit misses by far more than 2 % (issue 44; refusing such a fit is the response
+  // gate's work), so this test takes the fixed ISP.
+  hal::SensorModel model;
+  model.isp = hal::fixedModelIsp();
+  test::BracketRig rig(scene, model);
   const double meteredUs = rig.meteredExposureUs();
   const BracketRun run = runBracket(rig, meteredUs);
   const SweepDecoding& d = run.decoding;

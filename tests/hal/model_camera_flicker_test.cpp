@@ -42,6 +42,7 @@ SensorModel flickeringModel(double depth) {
   model.holdSceneUntilStrobe = false;
   model.flickerHz = 100.0;
   model.flickerDepth = depth;
+  model.isp = fixedModelIsp();  // timestamps on the frame grid: the test reads them
   return model;
 }
 

@@ -36,7 +36,7 @@ class GreyScene final : public SceneSource {
   std::shared_ptr<SceneLight> light_;
 };
 
-// Noise large against the 8-bit step (7 codes), a linear tone curve and unit gains, so that a
+// Noise large against the 8-bit step (7 codes), a linear tone curve, unit gains and no ISP, so that a
 // processed sample is the noisy linear value; `raw`: the IMX708's 10-bit RAW stream instead.
 SensorModel noisyModel(bool raw) {
   SensorModel model;
@@ -46,6 +46,9 @@ SensorModel noisyModel(bool raw) {
   model.colourGains = {1.0, 1.0, 1.0};
   model.readNoise = 0.02;
   model.fullWellElectrons = 1000.0;
+  // No colour matrix (it mixes the channels' noise: R's variance x 2.5 with the IMX708's, G and
+  // R anti-correlated), no stretch, no temporal denoise: the sensor's noise is under test.
+  model.isp = fixedModelIsp();
   if (raw) model.rawFormat = BayerFormat{BayerOrder::Rggb, 10, BayerPacking::Csi2Packed};
   return model;
 }

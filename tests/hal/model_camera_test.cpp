@@ -38,6 +38,10 @@ SensorModel quietModel() {
   model.fullWellElectrons = 0.0;
   model.colourGains = {1.0, 1.0, 1.0};
   model.holdSceneUntilStrobe = false;
+  // The sensor's own timing and response: an ISP that does nothing beyond the gains and the
+  // curve, timestamps on the frame grid, locks counted when the sensor took them
+  // (model_isp_test.cpp tests the Pi's ISP, jitter and libcamera's count).
+  model.isp = fixedModelIsp();
   return model;
 }
 
@@ -157,7 +161,7 @@ TEST(ModelCamera, TheIspCurveAndColourGainsAreNotSrgb) {
 
 SensorModel rawModel() {
   SensorModel model = quietModel();
-  model.rawFormat = BayerFormat{BayerOrder::Rggb, 10, BayerPacking::Csi2Packed};  // a Pi 4's IMX708
+  model.rawFormat = BayerFormat{BayerOrder::Rggb, 10, BayerPacking::Csi2Packed};  // the IMX708
   model.colourGains = {1.9, 1.0, 1.6};  // the ISP's: the RAW stream never sees them
   return model;
 }
@@ -224,7 +228,7 @@ TEST(ModelCamera, RawIsTakenOnlyWhereOfferedAndAskedFor) {
   config.raw = RawCapture::Auto;
   EXPECT_EQ(withRaw.configure(config).status, ConfigResult::Status::Adjusted);
   EXPECT_EQ(config.encoding, PixelEncoding::Linear16);
-  EXPECT_EQ(config.rawFormat, "SRGGB10_CSI2P");
+  EXPECT_EQ(config.rawFormat, "SRGGB16");  // a Pi 5 (the default) grants the unpacked twin
   config.raw = RawCapture::Off;
   withRaw.configure(config);
   EXPECT_EQ(config.encoding, PixelEncoding::Srgb8);

@@ -4,6 +4,7 @@
 #include "slicecap/daemon/sweep_decoding.hpp"
 
 #include "slicecap/hal/bayer_frame.hpp"
+#include "slicecap/hal/model_isp.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -211,6 +212,39 @@ std::vector<SetterEntry> modelCameraSetters() {
     {"model_flicker_depth",
      [](DaemonConfig& c, const std::string& v) {
        c.modelFlickerDepth = numberIn(v, 0.0, 1.0, "a flicker depth in 0..1");
+     }},
+    {"model_pipeline",
+     [](DaemonConfig& c, const std::string& v) {
+       if (!hal::parseModelPipeline(v)) throw std::invalid_argument("'" + v + "' is not vc4 or pisp");
+       c.modelPipeline = v;
+     }},
+    {"model_adaptive_contrast",
+     [](DaemonConfig& c, const std::string& v) { c.modelAdaptiveContrast = boolean(v); }},
+    {"model_colour_matrix",
+     [](DaemonConfig& c, const std::string& v) {
+       if (v != "imx708" && v != "identity")
+         throw std::invalid_argument("'" + v + "' is not imx708 or identity");
+       c.modelColourMatrix = v;
+     }},
+    {"model_stream",
+     [](DaemonConfig& c, const std::string& v) {
+       if (v != "rgb" && v != "rec709" && v != "sycc")
+         throw std::invalid_argument("'" + v + "' is not rgb, rec709 or sycc");
+       c.modelStream = v;
+     }},
+    {"model_temporal_denoise",
+     [](DaemonConfig& c, const std::string& v) {
+       c.modelTemporalDenoise = numberIn(v, 0.0, 0.95, "a weight of the previous frame in 0..0.95");
+     }},
+    {"model_timestamp_jitter_us",
+     [](DaemonConfig& c, const std::string& v) {
+       c.modelTimestampJitterUs = numberIn(v, 0.0, 1000.0, "microseconds in 0..1000");
+     }},
+    {"model_lock_counting",
+     [](DaemonConfig& c, const std::string& v) {
+       if (v != "request" && v != "truth")
+         throw std::invalid_argument("'" + v + "' is not request or truth");
+       c.modelLocksCountedByRequest = v == "request";
      }},
   };
 }

@@ -97,6 +97,16 @@ constexpr const char* kModelCameraDefaults = R"(# With camera = model: the mater
 # 3 W LED's ~1000 lx at 30 cm; an office's 500 lx is half the LED), its flicker frequency (100:
 # lamps on 50 Hz mains, 120 on 60 Hz, 0 steady) and depth ((max - min) / (max + min), IEEE 1789's
 # percent flicker / 100: 0.1 a filament lamp's; magnetic-ballast tubes, cheap LED drivers 0.3-1).
+# The Pi it stands for (pisp: a Pi 5, whose validation turns packed RAW into its lossy compressed
+# format, so slicecap asks again for the unpacked one; vc4: a Pi 4), and its ISP as the Pi's
+# tuning files set it (docs/real-sensors.md): the tone curve stretched per frame from the
+# histogram (rpi.contrast ce_enable), the colour matrix (imx708: the tuning's at 4640 K, which
+# over-saturates here: the model's sensor has no crosstalk for it to undo; identity),
+# the stream (rgb, what slicecap takes on a Pi; rec709: YUV420 Rec.709 limited, a Pi's video
+# stream; sycc: YUV420 full range), the Pi 5's temporal denoise (the previous frame's weight where
+# a pixel moved less than its noise; 0 off; no effect on vc4), the timestamps' jitter, and which
+# frames count an exposure lock (request: those whose request carried it, as libcamera counts;
+# truth: those the sensor took with it).
 model_material = satin-blue-45
 model_rig = realistic
 model_sweep_seconds = 8
@@ -107,6 +117,13 @@ model_raw =
 model_room_light = 0.1
 model_flicker_hz = 100
 model_flicker_depth = 0.1
+model_pipeline = pisp
+model_adaptive_contrast = true
+model_colour_matrix = identity
+model_stream = rgb
+model_temporal_denoise = 0.5
+model_timestamp_jitter_us = 20
+model_lock_counting = request
 )";
 // The LED.
 constexpr const char* kLedDefaults = R"(# LED: the GPIO chip and line that drive the LED driver (never an LED straight on a pin; see

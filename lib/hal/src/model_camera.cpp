@@ -1,12 +1,11 @@
 // The model camera: frame timing, buffer starvation, late controls, rolling shutter against the
-// LED's light, noise, colour gains and the tone curve.
+// LED's light, noise and colour gains; the ISP beyond them is model_isp_stage's.
 #include "slicecap/hal/model_camera.hpp"
 
 #include <sys/timerfd.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -16,6 +15,7 @@
 #include <stdexcept>
 
 #include "model_exposure.hpp"
+#include "slicecap/hal/model_isp_stage.hpp"
 
 namespace slicecap::hal {
 
@@ -23,43 +23,11 @@ using model_exposure::RawCodes;
 using model_exposure::RowExposure;
 using model_exposure::SampleNoise;
 
-bool SensorModel::isValid(std::string* error) const {
-  const auto fail = [error](const std::string& why) {
-    if (error) *error = why;
-    return false;
-  };
-  if (!(framePeriodUs >= 1000.0 && framePeriodUs <= 1e6))
-    return fail("frame period " + std::to_string(framePeriodUs) + " us is outside 1000..1e6");
-  if (!(lineTimeUs >= 0.0 && lineTimeUs <= framePeriodUs))
-    return fail("line time " + std::to_string(lineTimeUs) + " us is outside 0..the frame period");
-  if (!(deliveryLatencyUs >= 0.0 && deliveryLatencyUs <= 1e6))
-    return fail("delivery latency " + std::to_string(deliveryLatencyUs) + " us is outside 0..1e6");
-  if (controlDelayFrames < 0 || controlDelayFrames > 64)
-    return fail("control delay of " + std::to_string(controlDelayFrames) + " frames is outside 0..64");
-  if (!(dropProbability >= 0.0 && dropProbability < 1.0))
-    return fail("drop probability " + std::to_string(dropProbability) + " is outside [0, 1)");
-  for (double g : colourGains)
-    if (!(g > 0.0 && g < 16.0)) return fail("a colour gain is outside (0, 16)");
-  if (!(readNoise >= 0.0 && readNoise < 0.5)) return fail("read noise is outside [0, 0.5)");
-  if (!(fullWellElectrons >= 0.0)) return fail("full well is negative");
-  if (!(autoExposureUs > 0.0 && autoExposureUs <= framePeriodUs))
-    return fail("auto exposure " + std::to_string(autoExposureUs) + " us is outside (0, period]");
-  if (!(autoGain >= 1.0 && autoGain <= maxGain)) return fail("auto gain is outside 1..max gain");
-  if (std::string why; !RoomFlicker{flickerHz, flickerDepth, 0.0}.isValid(&why)) return fail(why);
-  if (rawFormat) {
-    if (!bayerFormatFromLibcameraName(bayerFormatName(*rawFormat)))
-      return fail("RAW format " + bayerFormatName(*rawFormat) + " is not one the decoder reads");
-    const double largest16 = std::ldexp(double((1 << rawFormat->bitDepth) - 1), 16 - rawFormat->bitDepth);
-    if (!(rawBlackLevel16 >= 0.0 && rawBlackLevel16 < largest16))
-      return fail("RAW black level " + std::to_string(rawBlackLevel16) + " is outside 0..full scale");
-  }
-  return true;
-}
-
 namespace {
 
 struct Lock {
   std::uint64_t fromSequence = 0;
+  std::uint64_t reportedFromSequence = 0;  // the first frame whose request carried it
   ExposureSetting setting;
   std::uint32_t index = 0;
 };
@@ -70,6 +38,7 @@ struct Captured {
   double exposureUs = 0.0;
   double gain = 1.0;
   std::uint32_t locks = 0;
+  std::uint32_t reportedLocks = 0;  // as libcamera counts them: the request carried them
   std::int64_t deliveryUs = 0;
 };
 
@@ -82,6 +51,7 @@ struct ModelCamera::State {
   SensorModel model;
   CameraConfig config;
   bool raw = false;  // delivering the RAW stream, decoded
+  std::optional<BayerFormat> grantedRaw;  // the RAW format validation granted
   bool configured = false, running = false, ended = false;
   std::int64_t startUs = 0;
   std::uint64_t nextToStart = 0;  // the next frame whose readout has not been decided
@@ -89,7 +59,8 @@ struct ModelCamera::State {
   std::vector<Lock> locks;
   std::uint64_t dropped = 0;
   std::mt19937_64 random;
-  std::vector<std::uint8_t> encodeTable;  // linear (1/65535 steps) -> 8-bit code
+  std::mt19937_64 jitterRandom{model.seed ^ 0x6a6974746572ULL};  // apart from the noise's
+  std::optional<model_isp::IspStage> isp;
   std::map<std::uint64_t, FrameTruth> truths;
   int timerFd = -1;
   RoomFlicker flicker;
@@ -103,10 +74,6 @@ struct ModelCamera::State {
     std::mt19937_64 phaseRandom(model.seed ^ 0x6d61696e73ULL);
     flicker = {model.flickerHz, model.flickerDepth,
                std::uniform_real_distribution<double>(0.0, 1.0)(phaseRandom)};
-    encodeTable.resize(65536);
-    for (std::size_t i = 0; i < encodeTable.size(); ++i)
-      encodeTable[i] = static_cast<std::uint8_t>(
-          std::lround(255.0 * model.tone.encode(double(i) / 65535.0)));
   }
 
   std::int64_t readoutStartOf(std::uint64_t sequence) const {
@@ -125,6 +92,8 @@ struct ModelCamera::State {
         frame.gain = lock.setting.gain.value_or(model.autoGain);
         frame.locks = lock.index;
       }
+    for (const Lock& lock : locks)
+      if (lock.reportedFromSequence <= sequence) frame.reportedLocks = lock.index;
     frame.deliveryUs = frame.readoutStartUs +
                        static_cast<std::int64_t>(config.heightPx * model.lineTimeUs +
                                                  model.deliveryLatencyUs);
@@ -187,32 +156,18 @@ struct ModelCamera::State {
     return frame;
   }
 
-  // RAW: the sensor's codes, twice the size, offset by the black level.
-  RawCodes rawCodes() const {
-    RawCodes codes;
-    codes.largestCode = raw ? (1 << model.rawFormat->bitDepth) - 1 : 0;
-    codes.blackCode =
-        raw ? float(std::ldexp(model.rawBlackLevel16, model.rawFormat->bitDepth - 16)) : 0.0f;
-    codes.codeRange = float(codes.largestCode) - codes.blackCode;
-    codes.colours = model_exposure::cfaColours(raw ? model.rawFormat->order : BayerOrder::Rggb);
-    return codes;
-  }
-
   // Every row over its own exposure window (the rolling shutter) against the LED's light, into
   // `frame`'s samples or, for RAW, `mosaic`; the rows' LED-on fractions into `truth`.
   void exposeRows(const Captured& captured, const SceneLight& light, FrameTruth& truth,
                   Frame& frame, std::vector<std::uint16_t>& mosaic) {
     const double lineUs = model.lineTimeUs, exposureUs = captured.exposureUs;
-    const RawCodes codes = rawCodes();
+    const RawCodes codes =
+        raw ? model_exposure::rawCodesOf(*model.rawFormat, model.rawBlackLevel16) : RawCodes{};
     const double exposureS = exposureUs * 1e-6;
-    SampleNoise noise;
-    noise.inverseFullWell =
-        model.fullWellElectrons > 0 ? float(1.0 / model.fullWellElectrons) : 0.0f;
-    noise.readVariance = float(model.readNoise * model.readNoise);
+    SampleNoise noise = model_exposure::sampleNoise(model.fullWellElectrons, model.readNoise);
     const float gains[3] = {float(model.colourGains[0]), float(model.colourGains[1]),
                             float(model.colourGains[2])};
     std::uint16_t* out = frame.image.samples.data();
-    noise.normals = model_exposure::normalTable().data();
     noise.at = std::uniform_int_distribution<std::size_t>(
         0, model_exposure::kNoiseTableSize - 1)(random);
     for (int row = 0; row < config.heightPx; ++row) {
@@ -227,18 +182,22 @@ struct ModelCamera::State {
       if (raw)
         model_exposure::exposeRawRow(row, config.widthPx, e, codes, noise, mosaic);
       else
-        model_exposure::exposeRgbRow(config.widthPx, e, gains, encodeTable, noise, out);
+        model_exposure::exposeRgbRow(config.widthPx, e, gains, noise, out);
     }
   }
 
-  void fillMetadata(Frame& frame, const Captured& captured, const FrameTruth& truth) const {
+  void fillMetadata(Frame& frame, const Captured& captured, const FrameTruth& truth) {
+    // The timestamp as the receiver's interrupt took it (ModelIsp::timestampJitterUs); row 0's
+    // start follows from it as libcamera's does (SensorTimestamp - ExposureTime).
+    const std::int64_t jitter = model_isp::timestampJitterUs(model.isp, jitterRandom);
     frame.metadata.sequence = captured.sequence;
-    frame.metadata.timestampUs = captured.readoutStartUs;
+    frame.metadata.timestampUs = captured.readoutStartUs + jitter;
     frame.metadata.exposureUs = model.reportsExposure ? captured.exposureUs : 0.0;
     frame.metadata.gain = model.reportsExposure ? captured.gain : 1.0;
-    frame.metadata.exposureLocks = captured.locks;
+    frame.metadata.exposureLocks =
+        model.isp.locksCountedByRequest ? captured.reportedLocks : captured.locks;
     frame.metadata.ledOn = false;  // the camera cannot know: whoever drives the LED says
-    if (model.reportsExposure) frame.metadata.exposureStartUs = truth.row0StartUs;
+    if (model.reportsExposure) frame.metadata.exposureStartUs = truth.row0StartUs + jitter;
     if (model.reportsLineTime) frame.metadata.lineTimeUs = model.lineTimeUs;
   }
 
@@ -268,9 +227,12 @@ struct ModelCamera::State {
     std::vector<std::uint16_t> mosaic(raw ? values / 3 * 4 : 0);
     exposeRows(captured, *light, truth, frame, mosaic);
     if (raw) {
-      frame.image = model_exposure::decodedMosaic(*model.rawFormat, width, height,
+      model_isp::toGrantedDepth(*model.rawFormat, *grantedRaw, mosaic);
+      frame.image = model_exposure::decodedMosaic(*grantedRaw, width, height,
                                                   model.rawBlackLevel16, mosaic);
       frame.black16 = kDecodedBlack16;  // decodeBayer's, as a real camera's RAW frame
+    } else {
+      isp->process(frame.image);
     }
     fillMetadata(frame, captured, truth);
     truths[captured.sequence] = std::move(truth);
@@ -306,12 +268,14 @@ std::string ModelCamera::id() const {
 ConfigResult ModelCamera::configure(CameraConfig& config) {
   if (state_->running) throw std::logic_error("ModelCamera::configure while running");
   std::vector<std::string> adjusted;
-  const std::optional<BayerFormat>& rawFormat = state_->model.rawFormat;
-  if (config.raw == RawCapture::On && !rawFormat)
-    return {ConfigResult::Status::Invalid,
-            id() + ": camera_raw = on, but the model offers no RAW stream"};
-  state_->raw = rawFormat && config.raw != RawCapture::Off;
-  config.rawFormat = state_->raw ? bayerFormatName(*rawFormat) : std::string();
+  const model_isp::RawStream rawStream = model_isp::rawStreamFor(
+      state_->model.pipeline, state_->model.rawFormat, config.raw, config.widthPx, config.heightPx);
+  if (!rawStream.refusal.empty())
+    return {ConfigResult::Status::Invalid, id() + ": " + rawStream.refusal};
+  adjusted = rawStream.notes;
+  state_->grantedRaw = rawStream.granted;
+  state_->raw = state_->grantedRaw.has_value();
+  config.rawFormat = state_->raw ? bayerFormatName(*state_->grantedRaw) : std::string();
   const PixelEncoding delivered = state_->raw ? PixelEncoding::Linear16 : PixelEncoding::Srgb8;
   if (config.encoding != delivered) {
     adjusted.push_back(state_->raw ? "encoding set to linear16 (RAW " + config.rawFormat + ")"
@@ -341,6 +305,7 @@ ConfigResult ModelCamera::configure(CameraConfig& config) {
     config.exposureUs = state_->periodUs;
   }
   state_->config = config;
+  state_->isp.emplace(state_->model);
   state_->configured = true;
   return ConfigResult::fromAdjustments(adjusted);
 }
@@ -404,8 +369,13 @@ ExposureLock ModelCamera::lockExposure(const ExposureSetting& wanted) {
   setting.exposureUs = std::clamp(wanted.exposureUs, 1.0, s.periodUs);
   setting.gain = std::clamp(wanted.gain.value_or(s.model.autoGain), 1.0, s.model.maxGain);
   const std::uint32_t index = s.locks.empty() ? 1 : s.locks.back().index + 1;
+  // libcamera puts the control in the next request queued: behind the requests the camera
+  // already holds (the buffers the application does not), each filled by the next frame.
+  const std::size_t queued =
+      static_cast<std::size_t>(s.config.bufferCount) - std::min(s.pending.size(),
+                                                                std::size_t(s.config.bufferCount));
   s.locks.push_back({s.nextToStart + static_cast<std::uint64_t>(s.model.controlDelayFrames),
-                     setting, index});
+                     s.nextToStart + queued, setting, index});
   return {setting, ""};
 }
 

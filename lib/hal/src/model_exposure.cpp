@@ -26,6 +26,23 @@ std::array<std::array<int, 2>, 2> cfaColours(BayerOrder order) {
   return {{{0, 1}, {1, 2}}};
 }
 
+RawCodes rawCodesOf(const BayerFormat& format, double blackLevel16) {
+  RawCodes codes;
+  codes.largestCode = (1 << format.bitDepth) - 1;
+  codes.blackCode = float(std::ldexp(blackLevel16, format.bitDepth - 16));
+  codes.codeRange = float(codes.largestCode) - codes.blackCode;
+  codes.colours = cfaColours(format.order);
+  return codes;
+}
+
+SampleNoise sampleNoise(double fullWellElectrons, double readNoise) {
+  SampleNoise noise;
+  noise.inverseFullWell = fullWellElectrons > 0 ? float(1.0 / fullWellElectrons) : 0.0f;
+  noise.readVariance = float(readNoise * readNoise);
+  noise.normals = normalTable().data();
+  return noise;
+}
+
 // Mosaic rows 2 row and 2 row + 1 are this scene row's cells (read out together, as a sensor's
 // 2 x 2 binned mode reads them).
 void exposeRawRow(int row, int widthPx, const RowExposure& exposure, const RawCodes& raw,
@@ -46,17 +63,13 @@ void exposeRawRow(int row, int widthPx, const RowExposure& exposure, const RawCo
 }
 
 void exposeRgbRow(int widthPx, const RowExposure& exposure, const float (&gains)[3],
-                  const std::vector<std::uint8_t>& encodeTable, SampleNoise& noise,
-                  std::uint16_t* out) {
-  // Two passes, so the arithmetic of the first vectorises (the daemon's frame loop pays this for
-  // every frame on `camera = model`, where a real camera's ISP works in parallel): the noisy,
-  // gained, clamped value as a table index, then the tone curve's lookup. The noise draws are
-  // the ones SampleNoise::added reads, in the same order, so the frames are unchanged.
+                  SampleNoise& noise, std::uint16_t* out) {
+  // Written to vectorise (the daemon's frame loop pays this for every frame on `camera = model`,
+  // where a real camera's ISP works in parallel): the noisy, gained, clamped value in 1/65535
+  // steps. The noise draws are the ones SampleNoise::added reads, in the same order.
   const std::size_t count = std::size_t(std::max(widthPx, 0)) * 3;
   if (count == 0) return;
-  thread_local std::vector<std::int32_t> indices;
   thread_local std::vector<float> rowGains;  // the colour gain of each value of a row
-  indices.resize(count);
   if (rowGains.size() != count || rowGains[0] != gains[0] || rowGains[1] != gains[1] ||
       rowGains[2] != gains[2]) {
     rowGains.resize(count);
@@ -72,7 +85,7 @@ void exposeRgbRow(int widthPx, const RowExposure& exposure, const float (&gains)
     const float* __restrict ambient = exposure.ambient + exposure.base + done;
     const float* __restrict lit = exposure.lit + exposure.base + done;
     const float* __restrict gain = rowGains.data() + done;
-    std::int32_t* __restrict index = indices.data() + done;
+    std::uint16_t* __restrict linear = out + exposure.base + done;
     for (std::size_t i = 0; i < run; ++i) {
       const float signal = ambientScale * ambient[i] + ledScale * lit[i];
       const float value = withNoise(signal, normals[i], inverseFullWell, readVariance) * gain[i];
@@ -80,13 +93,11 @@ void exposeRgbRow(int widthPx, const RowExposure& exposure, const float (&gains)
       // as branches and so does not vectorise; the values are the same for every finite input.
       const float positive = value > 0.0f ? value : 0.0f;
       const float clamped = positive < 1.0f ? positive : 1.0f;
-      index[i] = static_cast<std::int32_t>(clamped * 65535.0f + 0.5f);
+      linear[i] = static_cast<std::uint16_t>(clamped * 65535.0f + 0.5f);
     }
     done += run;
     noise.at = (noise.at + run) & (kNoiseTableSize - 1);
   }
-  std::uint16_t* row = out + exposure.base;
-  for (std::size_t k = 0; k < count; ++k) row[k] = encodeTable[std::size_t(indices[k])];
 }
 
 Image decodedMosaic(const BayerFormat& format, int widthPx, int heightPx, double blackLevel16,

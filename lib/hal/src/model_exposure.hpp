@@ -53,6 +53,13 @@ struct RawCodes {
   std::array<std::array<int, 2>, 2> colours{};  // the scene channel of each cell of the mosaic
 };
 
+// The RAW codes of a sensor in `format` whose black level is `blackLevel16` on the 16-bit scale.
+RawCodes rawCodesOf(const BayerFormat& format, double blackLevel16);
+
+// A frame's noise (shot: electrons at full scale, 0 none; read: fraction of full scale), its
+// draws from the table at position 0 (the caller sets `at`).
+SampleNoise sampleNoise(double fullWellElectrons, double readNoise);
+
 // One row of the scene as exposed: the light's rates and the row's exposure to each.
 struct RowExposure {
   const float* ambient = nullptr;
@@ -65,11 +72,10 @@ struct RowExposure {
 void exposeRawRow(int row, int widthPx, const RowExposure& exposure, const RawCodes& raw,
                   SampleNoise& noise, std::vector<std::uint16_t>& mosaic);
 
-// The row's values through the ISP's colour gains and the tone curve (`encodeTable`: linear in
-// 1/65535 steps to the 8-bit code) into `out`, at the row's place.
+// The row's values through the ISP's colour gains, clamped to full scale, as linear 0..65535
+// into `out` at the row's place (model_isp::IspStage takes them from there).
 void exposeRgbRow(int widthPx, const RowExposure& exposure, const float (&gains)[3],
-                  const std::vector<std::uint8_t>& encodeTable, SampleNoise& noise,
-                  std::uint16_t* out);
+                  SampleNoise& noise, std::uint16_t* out);
 
 // The mosaic (2 widthPx x 2 heightPx codes) through the bytes a sensor sends and the decoder a
 // real camera's frames go through. Throws what decodeBayer throws.

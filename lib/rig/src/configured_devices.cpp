@@ -139,7 +139,7 @@ void followDeliveredSize(CameraSources& sources) {
   };
 }
 
-// camera = model's sensor: the configured tone curve, RAW stream and seed.
+// camera = model's sensor: the configured tone curve, RAW stream, seed, room light, Pi and ISP.
 hal::SensorModel modelSensor(const DaemonConfig& config, ModelScene scene, bool modelRealTime) {
   hal::SensorModel sensor;
   sensor.seed = static_cast<std::uint64_t>(config.modelSeed);
@@ -151,6 +151,16 @@ hal::SensorModel modelSensor(const DaemonConfig& config, ModelScene scene, bool 
   if (scene == ModelScene::Still) sensor.holdSceneUntilStrobe = false;
   sensor.flickerHz = config.modelFlickerHz;
   sensor.flickerDepth = config.modelFlickerDepth;
+  sensor.pipeline = *hal::parseModelPipeline(config.modelPipeline);  // checked when read
+  sensor.isp.adaptiveContrast = config.modelAdaptiveContrast;
+  if (config.modelColourMatrix == "imx708") sensor.isp.colourMatrix = hal::kImx708ColourMatrix;
+  if (config.modelStream == "rec709")
+    sensor.isp.yuvStream = hal::YuvEncoding{hal::YcbcrMatrix::Rec709, hal::YuvRange::Limited};
+  if (config.modelStream == "sycc")
+    sensor.isp.yuvStream = hal::YuvEncoding{hal::YcbcrMatrix::Rec601, hal::YuvRange::Full};
+  sensor.isp.temporalDenoiseWeight = config.modelTemporalDenoise;
+  sensor.isp.timestampJitterUs = config.modelTimestampJitterUs;
+  sensor.isp.locksCountedByRequest = config.modelLocksCountedByRequest;
   sensor.realTime = modelRealTime;
   return sensor;
 }

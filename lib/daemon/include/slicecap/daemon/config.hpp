@@ -81,6 +81,19 @@ struct DaemonConfig {
   /// model_flicker_hz, model_flicker_depth: the room light's flicker (hal::SensorModel).
   double modelFlickerHz = 100.0;
   double modelFlickerDepth = 0.10;
+  /// model_pipeline = vc4 | pisp: the Pi whose validation the RAW request meets (hal::ModelPipeline).
+  std::string modelPipeline = "pisp";
+  /// The ISP of the processed stream and the frames' metadata (hal::ModelIsp), as a Pi's:
+  /// model_adaptive_contrast (rpi.contrast ce_enable), model_colour_matrix = imx708 | identity
+  /// (rpi.ccm), model_stream = rgb | rec709 | sycc (the stream's YCbCr coding), model_temporal_denoise
+  /// (the previous output's weight on a Pi 5; 0 off), model_timestamp_jitter_us, model_lock_counting
+  /// = request | truth.
+  bool modelAdaptiveContrast = true;
+  std::string modelColourMatrix = "identity";
+  std::string modelStream = "rgb";
+  double modelTemporalDenoise = 0.5;
+  double modelTimestampJitterUs = 20.0;
+  bool modelLocksCountedByRequest = true;
 
   // LED.
   std::string ledChip = "gpiochip0";  ///< led_chip: the GPIO chip (name or /dev path)

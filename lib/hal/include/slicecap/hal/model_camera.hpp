@@ -14,6 +14,7 @@
 #include "slicecap/hal/camera.hpp"
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/led_timeline.hpp"
+#include "slicecap/hal/model_isp.hpp"
 #include "slicecap/hal/room_flicker.hpp"
 
 namespace slicecap::hal {
@@ -77,6 +78,16 @@ struct SensorModel {
   /// level and quantised to the format's codes; the bytes are packed as the sensor packs them and
   /// decoded by decodeBayer, so frames are Linear16 at the configured size.
   std::optional<BayerFormat> rawFormat;
+  /// The Pi whose pipeline validates the streams: a RAW request is negotiated through
+  /// negotiateRawStream against validateRawLikePi, so on PiSp the packed format becomes
+  /// <ORDER>_PISP_COMP1 and the unpacked twin is granted as 16-bit words (the sensor's codes in
+  /// their top bits). PiSp by default: a Pi 5 is the board sold now, and the one whose
+  /// validation a RAW request must survive twice.
+  ModelPipeline pipeline = ModelPipeline::PiSp;
+  /// The processed stream's ISP beyond the colour gains and the tone curve, and what the frames'
+  /// metadata say as libcamera says it (timestamp jitter, lock counting); fixedModelIsp() for the
+  /// earlier fixed pipeline.
+  ModelIsp isp;
   /// The sensor's black level on the 16-bit scale, as libcamera reports it (SensorBlackLevels):
   /// 4096, 64 at 10 bits, the IMX708's tuning.
   double rawBlackLevel16 = kDefaultBlackLevel16;
@@ -128,8 +139,10 @@ class ModelCamera final : public Camera {
   /// rows' readout plus 1 ms when shorter, as a sensor's minimum frame length; 1 s at most).
   /// Adjusts the encoding to 8-bit sRGB (the ISP's output, whatever its real curve), or
   /// to linear16 when the RAW stream is taken (SensorModel::rawFormat and CameraConfig::raw not
-  /// Off; CameraConfig::rawFormat names it), and the buffer count to at least 2. Invalid when
-  /// CameraConfig::raw is On and the model offers no RAW stream.
+  /// Off, negotiated with the pipeline's validation; CameraConfig::rawFormat names the format
+  /// granted, and what validation did to the requests before it is said as an adjustment), and
+  /// the buffer count to at least 2. Invalid when CameraConfig::raw is On and no decodable RAW
+  /// format is granted (the reason names each request and what it became).
   ConfigResult configure(CameraConfig& config) override;
   void start() override;
   void stop() override;
