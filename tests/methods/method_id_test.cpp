@@ -16,7 +16,7 @@ using ::testing::HasSubstr;
 
 const std::vector<MethodId> kAll{MethodId::B,       MethodId::A,       MethodId::Uniform,
                                  MethodId::AGamma,  MethodId::UniformGamma, MethodId::Halfway,
-                                 MethodId::Prior};
+                                 MethodId::Prior,   MethodId::BCells};
 
 SliceSet slicesOf(std::initializer_list<SliceId> ids) {
   SliceSet slices;
@@ -49,7 +49,7 @@ TEST(MethodId, NamesReadBackAndAnUnknownOneListsTheKnown) {
     EXPECT_EQ(methodNamed(cliName(id)), id);
   }
   EXPECT_EQ(parseMethodName("B"), std::nullopt);
-  EXPECT_EQ(methodNames(), "b, a, uniform, a-gamma, uniform-gamma, halfway, prior");
+  EXPECT_EQ(methodNames(), "b, a, uniform, a-gamma, uniform-gamma, halfway, prior, b-cells");
   try {
     methodNamed("nosuch");
     FAIL() << "an unknown name was accepted";

@@ -12,6 +12,7 @@
 #include "path_clash.hpp"
 #include "pipeline_options.hpp"
 #include "slicecap/capture/recording_processor.hpp"
+#include "slicecap/capture/window_cells.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/methods/method_fallback.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
@@ -71,8 +72,7 @@ Processed processAll(const std::vector<std::filesystem::path>& recordings,
   Processed processed;
   for (std::size_t k = 0; k < recordings.size(); ++k) {
     capture::RecordingResult result = capture::processRecording(recordings[k], read[k], settings);
-    for (const SliceSample& sample : result.bins.combine())
-      processed.slices.add(result.slice, sample);
+    capture::addSweepSlices(processed.slices, result.slice, result.bins);
     const int samples = static_cast<int>(
         std::count_if(result.outcomes.begin(), result.outcomes.end(),
                       [](const auto& o) { return o.kind == capture::FrameOutcome::Kind::Sample; }));
@@ -141,6 +141,7 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   const auto reportPath = args.value("report");
   std::vector<NamedPath> outputs = {{"-o", output}};
   if (const auto csv = args.value("slices")) outputs.push_back({"--slices", *csv});
+  if (const auto csv = args.value("cell-slices")) outputs.push_back({"--cell-slices", *csv});
   if (reportPath) outputs.push_back({"--report", *reportPath});
   refuseClashingPaths(recordingInputs(recordings), outputs);
   const Processed processed = processAll(recordings, settings, io, reportPath ? &report : nullptr);
@@ -148,6 +149,7 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   refuseNoSamples(processed, reportPath, output, io);
   const SliceSet& slices = processed.slices;
   if (const auto csv = args.value("slices")) io::writeSliceCsv(*csv, slices);
+  if (const auto csv = args.value("cell-slices")) io::writeSliceCsv(*csv, slices.cellReading());
   methods::MethodOptions options;
   options.isotropic = args.flag("isotropic");
   const methods::MethodRun result = methods::runMethodOrPrior(method, slices, options);
@@ -192,7 +194,9 @@ Command captureOfflineCommand() {
       {"method", 0, "NAME",
        "reconstruction method (default " + methods::cliName(methods::MethodId::B) + ")"},
       {"isotropic", 0, "", "use the diagonal slices only"},
-      {"slices", 0, "FILE", "also write the slice CSV"}};
+      {"slices", 0, "FILE", "also write the slice CSV"},
+      {"cell-slices", 0, "FILE",
+       "also write the slice CSV valued from the window cells (what b-cells reads)"}};
   for (auto& o : pipelineOptions())
     options.push_back(o);
   return {{"capture-offline", "SESSION_DIR -o OUT.exr [--method b] [options]",

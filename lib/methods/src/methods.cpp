@@ -16,13 +16,13 @@
 namespace slicecap::methods {
 namespace {
 
-MethodRun runMethodB(const SliceSet& slices, const MethodOptions& options) {
+MethodRun runMethodBAs(MethodId id, const SliceSet& slices, const MethodOptions& options) {
   recon::MethodBParams params;
   params.isotropic = options.isotropic;
   params.torusRule = options.torusRule;
   recon::MethodBReport report;
   MethodRun run{recon::reconstructMethodB(slices, params, &report),
-                exrMethodValue(MethodId::B, options.isotropic),
+                exrMethodValue(id, options.isotropic),
                 {},
                 {},
                 {}};
@@ -39,6 +39,27 @@ MethodRun runMethodB(const SliceSet& slices, const MethodOptions& options) {
   }
   if (!report.allConverged())
     run.warnings.push_back("some lobe fits did not converge; their closed form was used");
+  return run;
+}
+
+MethodRun runMethodB(const SliceSet& slices, const MethodOptions& options) {
+  return runMethodBAs(MethodId::B, slices, options);
+}
+
+// Method B on each bin's value from the window cells nearest the bin centre (docs/method.md §9);
+// a slice without cell samples (a CSV, a journal from before cells) keeps its window centres.
+MethodRun runMethodBCells(const SliceSet& slices, const MethodOptions& options) {
+  MethodRun run = runMethodBAs(MethodId::BCells, slices.cellReading(), options);
+  std::size_t fromCells = 0;
+  for (const Slice& s : slices.slices())
+    fromCells += s.cellSamples.empty() ? 0 : 1;
+  run.details["slices_from_cells"] = fromCells;
+  run.lines.push_back(std::to_string(fromCells) + " of " + std::to_string(slices.slices().size()) +
+                      " slices valued from the window cells nearest each bin centre");
+  if (fromCells < slices.slices().size())
+    run.warnings.push_back(std::to_string(slices.slices().size() - fromCells) +
+                           " slices have no window cells (a slice CSV, or frames recorded "
+                           "before cells were kept): their window centres are used");
   return run;
 }
 
@@ -219,6 +240,11 @@ const std::vector<Method>& reconstructionMethods() {
             "learned prior (issue 10): PCA of measured tables fitted at the samples' actual "
             "angles, half-vector anisotropy, measured slices kept; any subset of slices",
             runPrior),
+      entry(MethodId::BCells,
+            "Method B on slice values from the window cells nearest each bin centre in angle\n"
+            "(docs/method.md section 9): a peak the window centre missed is read where a cell saw "
+            "it",
+            runMethodBCells),
   };
   return methods;
 }

@@ -12,7 +12,9 @@
 namespace slicecap::methods {
 
 /// \brief Every reconstruction method, in the order --help lists them.
-enum class MethodId { B, A, Uniform, AGamma, UniformGamma, Halfway, Prior };
+/// B reads each bin's window-centre reading, as the paper does; BCells is Method B on each bin's
+/// value from the window cells nearest the bin centre in angle (Slice::cellSamples).
+enum class MethodId { B, A, Uniform, AGamma, UniformGamma, Halfway, Prior, BCells };
 
 /// \brief Which samples a method reconstructs from.
 enum class SliceSubset {
