@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <set>
 #include <string>
@@ -18,6 +19,7 @@
 #include "../support/test_support.hpp"
 #include "slicecap/capture/planar_pose.hpp"
 #include "slicecap/capture/recording_processor.hpp"
+#include "slicecap/capture/session_store.hpp"
 #include "slicecap/capture/window_cells.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/png_image.hpp"
@@ -133,6 +135,25 @@ TEST(FramePipeline, EachWindowCellIsASampleAtItsOwnDirections) {
     ++checked;
   }
   EXPECT_EQ(checked, 2);
+  // What the cells cost the journal per sample (docs/reliability.md states it): the records with
+  // cells against the same samples without.
+  const auto root = test::freshTempDir();
+  std::uintmax_t withCells = 0, without = 0;
+  for (bool keepCells : {true, false}) {
+    const std::string id = keepCells ? "cells" : "centres";
+    SessionStore store = SessionStore::create(root, id, "m");
+    for (const FrameOutcome& o : result.outcomes)
+      if (o.sample) {
+        FrameSample sample = *o.sample;
+        if (!keepCells) sample.cells.reset();
+        store.recordSample(slice, sample);
+      }
+    (keepCells ? withCells : without) = std::filesystem::file_size(root / id / "journal");
+  }
+  const double perSample = double(withCells - without) / checked;
+  std::cout << "journal: " << perSample << " bytes of cells per sample, " << double(without) / checked
+            << " without\n";
+  EXPECT_LT(perSample, 6000.0);
 }
 
 TEST(FramePipeline, GateCountsElevationOffTooFewMarkersAndBadFrames) {
