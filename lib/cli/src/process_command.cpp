@@ -117,6 +117,7 @@ int runProcess(const ParsedArgs& args, Streams& io) {
   const auto reportPath = args.value("report");
   std::vector<NamedPath> outputs = {{"-o", output}};
   if (reportPath) outputs.push_back({"--report", *reportPath});
+  if (const auto csv = args.value("cell-slices")) outputs.push_back({"--cell-slices", *csv});
   refuseClashingPaths(recordingInputs(recordings), outputs);
   const Processed processed =
       processAll(recordings, pipelineSettingsOf(args), io, reportPath ? &report : nullptr);
@@ -124,6 +125,7 @@ int runProcess(const ParsedArgs& args, Streams& io) {
   refuseNoSamples(processed, reportPath, output, io);
   const SliceSet& slices = processed.slices;
   io::writeSliceCsv(output, slices);
+  if (const auto csv = args.value("cell-slices")) io::writeSliceCsv(*csv, slices.cellReading());
   io.out << "wrote " << slices.sampleCount() << " samples in " << slices.slices().size()
          << " slices to " << output.string() << "\n";
   return 0;
@@ -167,7 +169,10 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
 }  // namespace
 
 Command processCommand() {
-  std::vector<OptionSpec> options = {{"output", 'o', "SLICES.csv", "the slice CSV (required)"}};
+  std::vector<OptionSpec> options = {
+      {"output", 'o', "SLICES.csv", "the slice CSV (required)"},
+      {"cell-slices", 0, "FILE",
+       "also write the slice CSV valued from the window cells (docs/method.md 9.4)"}};
   for (auto& o : pipelineOptions())
     options.push_back(o);
   return {{"process", "RECORDING... -o SLICES.csv [--report report.json] [options]",
