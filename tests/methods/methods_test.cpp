@@ -107,5 +107,21 @@ TEST(Methods, BCellsReadsTheCellSamplesAndWithoutThemIsMethodB) {
             b.table.at(40, 60).g());
 }
 
+// prior-cells is the prior on the cells' reading: on the centres where there are no cells.
+TEST(Methods, PriorCellsReadsTheCellSamplesAndWithoutThemIsThePrior) {
+  const SliceSet& slices = brushedSteelSlices();
+  const MethodRun prior = findMethod(MethodId::Prior).run(slices, {});
+  const MethodRun plain = findMethod(MethodId::PriorCells).run(slices, {});
+  EXPECT_EQ(plain.exrMethodName, "prior-cells");
+  EXPECT_EQ(plain.table.at(40, 60).g(), prior.table.at(40, 60).g());
+  EXPECT_THAT(plain.warnings.back(), HasSubstr("8 slices have no window cells"));
+  SliceSet withCells = slices;
+  for (const Slice& slice : slices.slices())
+    for (const SliceSample& sample : slice.samples)
+      withCells.addCellSample(slice.id, {sample.light, sample.view, sample.value * 2.0});
+  EXPECT_GT(findMethod(MethodId::PriorCells).run(withCells, {}).table.at(40, 60).g(),
+            1.5 * prior.table.at(40, 60).g());
+}
+
 }  // namespace
 }  // namespace slicecap::methods

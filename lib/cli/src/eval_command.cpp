@@ -31,9 +31,11 @@ using methods::MethodRun;
 std::vector<const Method*> parseMethods(const std::string& list) {
   std::vector<const Method*> methods;
   if (list == "all") {
-    // eval's captures are ideal slices, which have no window cells: b-cells would repeat b.
+    // eval's captures are ideal slices, which have no window cells: b-cells and prior-cells
+    // would repeat b and prior.
     for (const Method& m : methods::reconstructionMethods())
-      if (m.id != methods::MethodId::BCells) methods.push_back(&m);
+      if (m.id != methods::MethodId::BCells && m.id != methods::MethodId::PriorCells)
+        methods.push_back(&m);
     return methods;
   }
   std::stringstream stream(list);

@@ -48,8 +48,8 @@ MethodRun runMethodB(const SliceSet& slices, const MethodOptions& options) {
 
 // Method B on each bin's value from the window cells nearest the bin centre (docs/method.md §9);
 // a slice without cell samples (a CSV, a journal from before cells) keeps its window centres.
-MethodRun runMethodBCells(const SliceSet& slices, const MethodOptions& options) {
-  MethodRun run = runMethodBAs(MethodId::BCells, slices.cellReading(), options);
+// What a run on the cells' reading says about it: how many slices had cells.
+void sayCellReading(const SliceSet& slices, MethodRun& run) {
   std::size_t fromCells = 0;
   for (const Slice& s : slices.slices())
     fromCells += s.cellSamples.empty() ? 0 : 1;
@@ -60,6 +60,11 @@ MethodRun runMethodBCells(const SliceSet& slices, const MethodOptions& options) 
     run.warnings.push_back(std::to_string(slices.slices().size() - fromCells) +
                            " slices have no window cells (a slice CSV, or frames recorded "
                            "before cells were kept): their window centres are used");
+}
+
+MethodRun runMethodBCells(const SliceSet& slices, const MethodOptions& options) {
+  MethodRun run = runMethodBAs(MethodId::BCells, slices.cellReading(), options);
+  sayCellReading(slices, run);
   return run;
 }
 
@@ -165,12 +170,12 @@ MethodRun runHalfway(const SliceSet& slices, const MethodOptions& options) {
   return run;
 }
 
-MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
+MethodRun runPriorAs(MethodId id, const SliceSet& slices, const MethodOptions& options) {
   prior::PriorParams params;
   params.isotropicOnly = options.isotropic;
   prior::PriorReport report;
   MethodRun run{prior::reconstructWithPrior(slices, prior::defaultPriorModel(), params, &report),
-                exrMethodValue(MethodId::Prior, options.isotropic),
+                exrMethodValue(id, options.isotropic),
                 {},
                 {},
                 {}};
@@ -196,6 +201,17 @@ MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
   if (report.measuredPairs.size() < kMeasuredPairs.size())
     run.warnings.push_back("only " + std::to_string(report.measuredPairs.size()) +
                            " elevation pairs measured; the others come from the prior alone");
+  return run;
+}
+
+MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
+  return runPriorAs(MethodId::Prior, slices, options);
+}
+
+// The prior fitted to each bin's value from the window cells (docs/method.md §9.4).
+MethodRun runPriorCells(const SliceSet& slices, const MethodOptions& options) {
+  MethodRun run = runPriorAs(MethodId::PriorCells, slices.cellReading(), options);
+  sayCellReading(slices, run);
   return run;
 }
 
@@ -245,6 +261,10 @@ const std::vector<Method>& reconstructionMethods() {
             "(docs/method.md section 9): a peak the window centre missed is read where a cell saw "
             "it",
             runMethodBCells),
+      entry(MethodId::PriorCells,
+            "the learned prior on slice values from the window cells nearest each bin centre "
+            "(docs/method.md\nsection 9)",
+            runPriorCells),
   };
   return methods;
 }

@@ -12,9 +12,10 @@
 namespace slicecap::methods {
 
 /// \brief Every reconstruction method, in the order --help lists them.
-/// B reads each bin's window-centre reading, as the paper does; BCells is Method B on each bin's
-/// value from the window cells nearest the bin centre in angle (Slice::cellSamples).
-enum class MethodId { B, A, Uniform, AGamma, UniformGamma, Halfway, Prior, BCells };
+/// B and Prior read each bin's window-centre reading, as the paper does; BCells and PriorCells are
+/// the same methods on each bin's value from the window cells nearest the bin centre in angle
+/// (Slice::cellSamples, docs/method.md §9.4).
+enum class MethodId { B, A, Uniform, AGamma, UniformGamma, Halfway, Prior, BCells, PriorCells };
 
 /// \brief Which samples a method reconstructs from.
 enum class SliceSubset {
