@@ -34,8 +34,7 @@ std::vector<const Method*> parseMethods(const std::string& list) {
     // eval's captures are ideal slices, which have no window cells: b-cells and prior-cells
     // would repeat b and prior.
     for (const Method& m : methods::reconstructionMethods())
-      if (m.id != methods::MethodId::BCells && m.id != methods::MethodId::PriorCells)
-        methods.push_back(&m);
+      if (!methods::readsCellSamples(m.id)) methods.push_back(&m);
     return methods;
   }
   std::stringstream stream(list);

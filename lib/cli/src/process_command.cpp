@@ -155,13 +155,17 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   methods::MethodOptions options;
   options.isotropic = args.flag("isotropic");
   const methods::MethodRun result = methods::runMethodOrPrior(method, slices, options);
+  // A method on the cells' reading read its samples, not the window centres.
+  const std::size_t samples = methods::readsCellSamples(method.id)
+                                  ? slices.cellReading().sampleCount()
+                                  : slices.sampleCount();
   io::writeAbrdfExr(output, result.table,
                     {{"method", result.exrMethodName},
                      {"source", session.filename().string()},
-                     {"samples", std::to_string(slices.sampleCount())}});
+                     {"samples", std::to_string(samples)}});
   for (const std::string& warning : result.warnings)
     io.err << "warning: " << warning << "\n";
-  io.out << "reconstructed " << slices.sampleCount() << " samples in " << slices.slices().size()
+  io.out << "reconstructed " << samples << " samples in " << slices.slices().size()
          << " slices with method " << result.exrMethodName << "; wrote " << output.string() << "\n";
   return 0;
 }

@@ -63,6 +63,7 @@ void sayCellReading(const SliceSet& slices, MethodRun& run) {
 }
 
 MethodRun runMethodBCells(const SliceSet& slices, const MethodOptions& options) {
+  static_assert(readsCellSamples(MethodId::BCells));
   MethodRun run = runMethodBAs(MethodId::BCells, slices.cellReading(), options);
   sayCellReading(slices, run);
   return run;

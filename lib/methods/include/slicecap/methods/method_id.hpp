@@ -39,6 +39,12 @@ struct MethodInfo {
   SliceSubset reads;
 };
 
+/// \brief Whether `id` reads the slices' values from the window cells (SliceSet::cellReading):
+/// b-cells and prior-cells.
+constexpr bool readsCellSamples(MethodId id) {
+  return id == MethodId::BCells || id == MethodId::PriorCells;
+}
+
 /// \brief The table, one entry per MethodId in enum order.
 std::span<const MethodInfo> methodTable();
 
