@@ -151,8 +151,8 @@ TEST(FramePipeline, EachWindowCellIsASampleAtItsOwnDirections) {
     (keepCells ? withCells : without) = std::filesystem::file_size(root / id / "journal");
   }
   const double perSample = double(withCells - without) / checked;
-  std::cout << "journal: " << perSample << " bytes of cells per sample, " << double(without) / checked
-            << " without\n";
+  std::cout << "journal: " << perSample << " bytes of cells per sample, "
+            << double(without) / checked << " without\n";
   EXPECT_LT(perSample, 6000.0);
 }
 

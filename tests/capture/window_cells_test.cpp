@@ -87,7 +87,7 @@ TEST(WindowCells, ASliceValueComesFromTheCellNearestTheBinCentre) {
   ASSERT_EQ(fromCells.size(), 1u);
   EXPECT_NEAR(fromCells[0].value.r(), 4.8, 1e-9);
   EXPECT_NEAR(fromCells[0].view.phiDeg, 89.96, 0.01);
-  // With a wider pool the centres' cells at 88 and 92 join in: the tolerance is what keeps them out.
+  // With a wider pool the centres' cells at 88 and 92 join in: the tolerance keeps them out.
   EXPECT_LT(sliceFromCells(bins, kDiagonal7575, {5.0}).front().value.r(), 4.0);
 }
 

@@ -50,7 +50,8 @@ TEST(MethodId, NamesReadBackAndAnUnknownOneListsTheKnown) {
     EXPECT_EQ(methodNamed(cliName(id)), id);
   }
   EXPECT_EQ(parseMethodName("B"), std::nullopt);
-  EXPECT_EQ(methodNames(), "b, a, uniform, a-gamma, uniform-gamma, halfway, prior, b-cells, prior-cells");
+  EXPECT_EQ(methodNames(),
+            "b, a, uniform, a-gamma, uniform-gamma, halfway, prior, b-cells, prior-cells");
   try {
     methodNamed("nosuch");
     FAIL() << "an unknown name was accepted";

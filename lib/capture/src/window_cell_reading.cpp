@@ -57,7 +57,8 @@ std::optional<WindowCells> FramePipeline::State::readWindowCells(
   out.lightMm = {toLight.x * distanceMm, toLight.y * distanceMm, toLight.z * distanceMm};
   const Eigen::Vector3d cameraCentre = pose.cameraCentreMm();
   out.cameraMm = {cameraCentre.x(), cameraCentre.y(), cameraCentre.z()};
-  const double cellW = (out.gridMm[2] - out.gridMm[0]) / n, cellH = (out.gridMm[3] - out.gridMm[1]) / n;
+  const double cellW = (out.gridMm[2] - out.gridMm[0]) / n;
+  const double cellH = (out.gridMm[3] - out.gridMm[1]) / n;
   for (int k = 0; k < n * n; ++k) {
     const double x0 = out.gridMm[0] + (k % n) * cellW, y0 = out.gridMm[1] + (k / n) * cellH;
     const AreaSpec spec{{x0, y0, x0 + cellW, y0 + cellH}, 0.0, settings.clipFraction};
