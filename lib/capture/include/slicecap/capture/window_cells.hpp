@@ -28,9 +28,9 @@ double cellPrecision(double value);
 struct CellSliceRule {
   /// \brief Cells whose directions lie within this of the nearest cell's (sqrt of the squared
   /// light and view angles) read the same BRDF value up to the lobe's change over this much, and
-  /// are averaged with it (inverse-variance weights) against noise. A quarter of the spacing of
-  /// neighbouring cells on the default target (about 2 x 0.95 deg: 5 mm at 300 mm for both the
-  /// light and the view), so one frame's neighbouring cells are never pooled.
+  /// are averaged with it (inverse-variance weights) against noise. Under half the distance of
+  /// neighbouring cells on the default target (~1.1-1.3 deg: 4-5 mm at 300 mm turns the light and
+  /// the view by 0.8-0.9 deg each), so one frame's neighbouring cells are never pooled.
   double poolToleranceDeg = 0.5;
 };
 
