@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <set>
 #include <string>
@@ -18,6 +19,8 @@
 #include "../support/test_support.hpp"
 #include "slicecap/capture/planar_pose.hpp"
 #include "slicecap/capture/recording_processor.hpp"
+#include "slicecap/capture/session_store.hpp"
+#include "slicecap/capture/window_cells.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/io/recording.hpp"
@@ -87,6 +90,70 @@ TEST(FramePipeline, IdealSweepMatchesTruthInViewAnglesAndBrdf) {
     EXPECT_EQ(samples, 4);
     EXPECT_EQ(result.bins.filledCount(), 4);
   }
+}
+
+// Every cell of the window is a sample at its own directions: toward the true camera and LED
+// from the cell's centre, with the material's BRDF there (the point-light model's irradiance at
+// the cell, not at the window centre). The cells are spread over the window, so their directions
+// differ from the centre's by degrees: a cell read at the centre's directions would miss by that.
+TEST(FramePipeline, EachWindowCellIsASampleAtItsOwnDirections) {
+  const SliceId slice{SliceKind::Diagonal, {75, 75}};
+  sim::RigParams rig = sim::RigParams::ideal();
+  rig.encoding = PixelEncoding::Linear16;
+  rig.ambientIrradiance = 0.0;
+  const auto dir = simulate(slice, rig, 4);
+  const RecordingResult result = processRecording(dir);
+  const sim::SweepTruth truth = sim::readTruth(dir);
+  const auto material = sim::loadMaterial(kMaterial);
+  int checked = 0;
+  for (std::size_t i = 0; i < truth.frames.size(); ++i) {
+    const sim::FrameTruth& t = truth.frames[i];
+    if (!t.ledOn) continue;
+    const FrameOutcome& o = result.outcomes[i];
+    ASSERT_EQ(o.kind, FrameOutcome::Kind::Sample) << o.rejectReason << ": " << o.detail;
+    ASSERT_TRUE(o.sample->cells);
+    const WindowCells& cells = *o.sample->cells;
+    ASSERT_EQ(cells.cellsPerSide, PipelineSettings{}.windowCellsPerSide);
+    ASSERT_EQ(cells.cells.size(), std::size_t(cells.cellsPerSide * cells.cellsPerSide));
+    const Eigen::Vector3d camera = t.pose.cameraCentreMm();
+    double spreadDeg = 0.0;
+    for (std::size_t k = 0; k < cells.cells.size(); ++k) {
+      SCOPED_TRACE("frame " + std::to_string(i) + " cell " + std::to_string(k));
+      const CellSample& cell = cells.cells[k];
+      const auto [x, y] = cellCentreMm(cells, int(k));
+      const Eigen::Vector3d point{x, y, 0.0};
+      EXPECT_FALSE(cell.clipped);
+      EXPECT_LT(angleBetweenDeg(cell.view, vision::directionFrom(point, camera)), 0.2);
+      EXPECT_LT(angleBetweenDeg(cell.light, vision::directionFrom(point, t.lightMm)), 0.2);
+      spreadDeg = std::max(spreadDeg, angleBetweenDeg(cell.view, o.sample->view));
+      const Rgb truthHere =
+          material->evaluate(toUnitVector(cell.light), toUnitVector(cell.view));
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(cell.value[c], truthHere[c], 0.04 * truthHere[c] + 1e-4) << "channel " << c;
+    }
+    EXPECT_GT(spreadDeg, 2.0);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 2);
+  // What the cells cost the journal per sample (docs/reliability.md states it): the records with
+  // cells against the same samples without.
+  const auto root = test::freshTempDir();
+  std::uintmax_t withCells = 0, without = 0;
+  for (bool keepCells : {true, false}) {
+    const std::string id = keepCells ? "cells" : "centres";
+    SessionStore store = SessionStore::create(root, id, "m");
+    for (const FrameOutcome& o : result.outcomes)
+      if (o.sample) {
+        FrameSample sample = *o.sample;
+        if (!keepCells) sample.cells.reset();
+        store.recordSample(slice, sample);
+      }
+    (keepCells ? withCells : without) = std::filesystem::file_size(root / id / "journal");
+  }
+  const double perSample = double(withCells - without) / checked;
+  std::cout << "journal: " << perSample << " bytes of cells per sample, "
+            << double(without) / checked << " without\n";
+  EXPECT_LT(perSample, 6000.0);
 }
 
 TEST(FramePipeline, GateCountsElevationOffTooFewMarkersAndBadFrames) {

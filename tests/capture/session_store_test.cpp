@@ -17,6 +17,7 @@
 #include "../support/kill_dash_nine.hpp"
 #include "../support/sweep_sample.hpp"
 #include "../support/test_support.hpp"
+#include "slicecap/capture/window_cells.hpp"
 #include "slicecap/io/io_error.hpp"
 
 namespace slicecap::capture {
@@ -364,6 +365,109 @@ TEST(SessionStore, AnHdrReadingThatWouldNotReplayIsRefusedAndNothingWritten) {
   const SessionStore store = SessionStore::open(root, "s");
   EXPECT_EQ(store.sampleCount(), 1u);
   EXPECT_TRUE(store.damage().empty());
+}
+
+// A sample at sampleAt's angles with a 3 x 3 window of cells (values at cellPrecision, as the
+// pipeline keeps them), the middle one clipped.
+FrameSample sampleWithCells(double parameterDeg, std::uint64_t frame) {
+  FrameSample s = sampleAt(parameterDeg, 0.5, frame);
+  WindowCells cells;
+  cells.cellsPerSide = 3;
+  cells.gridMm = {-16.5, -16.25, 16.5, 16.75};
+  cells.lightMm = {12.5, -210.25, 190.125};
+  cells.cameraMm = {-120.0 / 7.0, 250.0 / 3.0, 260.0 / 11.0};
+  for (int k = 0; k < 9; ++k)
+    cells.cells.push_back({{},
+                           {},
+                           Rgb{cellPrecision(0.1 + k / 7.0), cellPrecision(0.2 / (k + 1)), 0.0},
+                           Rgb::gray(cellPrecision(1e-5 * (k + 1) / 3.0)),
+                           k == 4});
+  placeCellDirections(cells);
+  s.cells = std::move(cells);
+  return s;
+}
+
+// The window's cells replay with the same bits (directions recomputed from the same geometry),
+// and the session's slices carry the cell reading after reopening as before.
+TEST(SessionStore, WindowCellsReplayBitIdentical) {
+  const auto root = test::freshTempDir();
+  const FrameSample recorded = sampleWithCells(45.0, 7);
+  SliceSet before;
+  {
+    SessionStore store = SessionStore::create(root, "s", "m");
+    store.recordSample(kAxial3030, recorded);
+    before = store.slices();
+  }
+  ASSERT_TRUE(before.hasCellSamples());
+  const SessionStore store = SessionStore::open(root, "s");
+  EXPECT_TRUE(store.damage().empty());
+  const std::vector<FrameSample>& bin = store.bins(kAxial3030).samplesIn(3);
+  ASSERT_EQ(bin.size(), 1u);
+  ASSERT_TRUE(bin[0].cells);
+  const WindowCells& a = *recorded.cells;
+  const WindowCells& b = *bin[0].cells;
+  EXPECT_EQ(b.cellsPerSide, 3);
+  EXPECT_EQ(b.gridMm, a.gridMm);
+  EXPECT_EQ(b.lightMm, a.lightMm);
+  EXPECT_EQ(b.cameraMm, a.cameraMm);
+  ASSERT_EQ(b.cells.size(), a.cells.size());
+  for (std::size_t k = 0; k < a.cells.size(); ++k) {
+    const std::string cell = "cell " + std::to_string(k);
+    expectBitIdentical(b.cells[k].value, a.cells[k].value, cell + " value");
+    expectBitIdentical(b.cells[k].variance, a.cells[k].variance, cell + " variance");
+    EXPECT_EQ(bitsOf(b.cells[k].light.thetaDeg), bitsOf(a.cells[k].light.thetaDeg)) << cell;
+    EXPECT_EQ(bitsOf(b.cells[k].view.phiDeg), bitsOf(a.cells[k].view.phiDeg)) << cell;
+    EXPECT_EQ(b.cells[k].clipped, a.cells[k].clipped) << cell;
+  }
+  const SliceSet after = store.slices();
+  ASSERT_EQ(after.slices().size(), 1u);
+  ASSERT_EQ(after.slices()[0].cellSamples.size(), before.slices()[0].cellSamples.size());
+  for (std::size_t k = 0; k < after.slices()[0].cellSamples.size(); ++k)
+    expectBitIdentical(after.slices()[0].cellSamples[k].value,
+                       before.slices()[0].cellSamples[k].value, "cell sample");
+}
+
+// A session written before cells (format 1, samples without "cells") still opens, its samples
+// the window centres alone.
+TEST(SessionStore, AFormatOneSessionWithoutCellsStillOpens) {
+  const auto root = test::freshTempDir();
+  std::filesystem::create_directories(root / "old");
+  std::ofstream(root / "old" / "session.json")
+      << R"({"format":1,"id":"old","material":"m","created":"2026-11-23T14:05:00Z"})";
+  io::Journal::open(root / "old" / "journal", nullptr)
+      .append(R"({"frame":3,"light":[30.0,45.0],"n":1,"rgb":[0.5,0.5,0.5],)"
+              R"("slice":{"kind":"axial","theta_i":30,"theta_v":30},"t":"sample","ts":99000,)"
+              R"("view":[30.0,60.0]})");
+  const SessionStore store = SessionStore::open(root, "old");
+  EXPECT_TRUE(store.damage().empty());
+  EXPECT_EQ(store.sampleCount(), 1u);
+  EXPECT_FALSE(store.bins(kAxial3030).samplesIn(3).at(0).cells);
+  EXPECT_FALSE(store.slices().hasCellSamples());
+  // A format this version does not know is refused, naming the file and what it reads.
+  std::ofstream(root / "old" / "session.json")
+      << R"({"format":3,"id":"old","material":"m","created":"2026-11-23T14:05:00Z"})";
+  try {
+    SessionStore::open(root, "old");
+    FAIL() << "format 3 opened";
+  } catch (const io::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("expected 1 to 2"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SessionStore, CellsThatWouldNotReplayAreRefusedAndNothingWritten) {
+  const auto root = test::freshTempDir();
+  SessionStore store = SessionStore::create(root, "s", "m");
+  FrameSample bad = sampleWithCells(30.0, 2);
+  bad.cells->cells[5].variance[2] = -1e-6;
+  try {
+    store.recordSample(kAxial3030, bad);
+    FAIL() << "a negative variance was recorded";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("cells.values[5][5] (variance b)"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(store.sampleCount(), 0u);
+  EXPECT_TRUE(journalRecords(root / "s" / "journal").empty());
 }
 
 }  // namespace

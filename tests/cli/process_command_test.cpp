@@ -48,6 +48,17 @@ TEST(ProcessCommand, WritesSlicesReportAndSummary) {
       EXPECT_TRUE(frame["detection"].is_object()) << frame.dump();
     }
 
+  // The cells' reading of the same frames: each bin's value from the cell nearest its centre, at
+  // that cell's own directions, the irradiance read at the cell: Lambertian everywhere again.
+  const auto cellsCsv = (dir / "cells.csv").string();
+  ASSERT_EQ(run({"process", recording, "-o", csv, "--cell-slices", cellsCsv}).code, kExitOk);
+  const Slice* cells = io::readSliceCsv(cellsCsv).find({SliceKind::Diagonal, {30, 30}});
+  ASSERT_NE(cells, nullptr);
+  ASSERT_GE(cells->samples.size(), 3u);
+  for (const SliceSample& s : cells->samples)
+    EXPECT_NEAR(s.value[0], 0.5 / M_PI, 0.03 * 0.5 / M_PI);
+  EXPECT_EQ(run({"process", recording, "-o", csv, "--cell-slices", csv}).code, kExitUsage);
+
   // The same slice twice, a directory without a recording: usage error / failure naming it.
   EXPECT_EQ(run({"process", recording, recording, "-o", csv}).code, kExitUsage);
   EXPECT_EQ(run({"process", recording, "-o", csv, "--ambient", "sideways"}).code, kExitUsage);

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+
 #include "slicecap/core/abrdf.hpp"
 
 namespace slicecap {
@@ -43,6 +45,27 @@ TEST(SliceSet, GroupsSamplesBySliceInIdOrder) {
   EXPECT_EQ(d->samples.size(), 2u);
   EXPECT_EQ(d->samples[1].value, Rgb::gray(3)) << "capture order is kept";
   EXPECT_EQ(set.find({SliceKind::Axial, {75, 75}}), nullptr);
+}
+
+// A capture's second reading of a slice (its window cells'): kept apart from the samples, read
+// instead of them by cellReading, and only for a slice that has samples.
+TEST(SliceSet, CellSamplesAreASecondReadingOfASliceWithSamples) {
+  SliceSet set;
+  const SliceId axial{SliceKind::Axial, {30, 30}}, diagonal{SliceKind::Diagonal, {75, 75}};
+  set.add(axial, {{30, 0}, {30, 15}, Rgb::gray(2)});
+  set.add(diagonal, {{75, 0}, {75, 0}, Rgb::gray(1)});
+  EXPECT_THROW(set.addCellSample({SliceKind::Axial, {75, 75}}, {{75, 0}, {75, 15}, Rgb::gray(4)}),
+               std::invalid_argument);
+  EXPECT_FALSE(set.hasCellSamples());
+  set.addCellSample(axial, {{30, 1}, {30, 16}, Rgb::gray(5)});
+  set.addCellSample(axial, {{30, 14}, {30, 29}, Rgb::gray(6)});
+  EXPECT_TRUE(set.hasCellSamples());
+  EXPECT_EQ(set.sampleCount(), 2u) << "cell samples are not the slices' samples";
+  const SliceSet reading = set.cellReading();
+  EXPECT_EQ(reading.find(axial)->samples.size(), 2u);
+  EXPECT_EQ(reading.find(axial)->samples[1].value, Rgb::gray(6));
+  EXPECT_EQ(reading.find(diagonal)->samples[0].value, Rgb::gray(1)) << "no cells: the samples";
+  EXPECT_FALSE(reading.hasCellSamples());
 }
 
 TEST(Abrdf, StoresLightMajorRgb) {

@@ -46,6 +46,9 @@ TEST(MethodFallback, AMissingSliceIsReconstructedWithThePriorAndSaidSo) {
   EXPECT_THAT(run.warnings.front(), HasSubstr("method b needs every measured slice"));
   EXPECT_THAT(run.warnings.front(), HasSubstr("slicecap sweep start diagonal 30 75"));
   EXPECT_EQ(run.details["method_requested"], "b");
+  // The cells' reading falls back to the prior on the cells' reading.
+  EXPECT_EQ(runMethodOrPrior(findMethod(MethodId::BCells), slices, {}).exrMethodName,
+            "prior-cells");
   // A method that reads any subset runs as asked.
   EXPECT_EQ(runMethodOrPrior(findMethod(MethodId::Prior), slices, {}).details.count(
                 "method_requested"),

@@ -16,7 +16,8 @@ using ::testing::HasSubstr;
 
 const std::vector<MethodId> kAll{MethodId::B,       MethodId::A,       MethodId::Uniform,
                                  MethodId::AGamma,  MethodId::UniformGamma, MethodId::Halfway,
-                                 MethodId::Prior};
+                                 MethodId::Prior,   MethodId::BCells,
+                                 MethodId::PriorCells};
 
 SliceSet slicesOf(std::initializer_list<SliceId> ids) {
   SliceSet slices;
@@ -49,7 +50,8 @@ TEST(MethodId, NamesReadBackAndAnUnknownOneListsTheKnown) {
     EXPECT_EQ(methodNamed(cliName(id)), id);
   }
   EXPECT_EQ(parseMethodName("B"), std::nullopt);
-  EXPECT_EQ(methodNames(), "b, a, uniform, a-gamma, uniform-gamma, halfway, prior");
+  EXPECT_EQ(methodNames(),
+            "b, a, uniform, a-gamma, uniform-gamma, halfway, prior, b-cells, prior-cells");
   try {
     methodNamed("nosuch");
     FAIL() << "an unknown name was accepted";
@@ -66,6 +68,8 @@ TEST(MethodId, EachFormHasTheValueTheFileFormatDocuments) {
   EXPECT_EQ(exrMethodValue(MethodId::Halfway, true), "halfway-isotropic");
   EXPECT_EQ(exrMethodValue(MethodId::Prior, false), "prior");
   EXPECT_EQ(exrMethodValue(MethodId::Prior, true), "prior-isotropic");
+  EXPECT_EQ(exrMethodValue(MethodId::BCells, false), "B-cells");
+  EXPECT_EQ(exrMethodValue(MethodId::PriorCells, true), "prior-cells-isotropic");
   // The uniform baseline has no isotropic form: it ignores --isotropic.
   EXPECT_EQ(exrMethodValue(MethodId::Uniform, true), "uniform-RBF");
   EXPECT_EQ(exrMethodValue(MethodId::UniformGamma, false), "uniform-RBF-gamma");

@@ -82,5 +82,46 @@ TEST(Methods, ASessionsRunTakesTheFormItsSlicesGive) {
   EXPECT_GT(byHand.at(20, 40).r(), 0.0f);
 }
 
+// b-cells is Method B on each slice's cell samples; a set without them (a slice CSV, ideal
+// slices) gives Method B's table on the window centres, the paper's figures unchanged, and says so.
+TEST(Methods, BCellsReadsTheCellSamplesAndWithoutThemIsMethodB) {
+  const SliceSet& slices = brushedSteelSlices();
+  const MethodRun b = findMethod(MethodId::B).run(slices, {});
+  const MethodRun plain = findMethod(MethodId::BCells).run(slices, {});
+  EXPECT_EQ(plain.exrMethodName, "B-cells");
+  ASSERT_EQ(plain.warnings.size(), 1u);
+  EXPECT_THAT(plain.warnings[0], HasSubstr("8 slices have no window cells"));
+  for (int light = 0; light < 81; light += 7)
+    for (int view = 0; view < 81; view += 5)
+      EXPECT_EQ(plain.table.at(light, view).g(), b.table.at(light, view).g());
+  // Cell samples twice the centres' on every slice: b-cells reads them, b does not.
+  SliceSet withCells = slices;
+  for (const Slice& slice : slices.slices())
+    for (const SliceSample& sample : slice.samples)
+      withCells.addCellSample(slice.id, {sample.light, sample.view, sample.value * 2.0});
+  const MethodRun cells = findMethod(MethodId::BCells).run(withCells, {});
+  EXPECT_TRUE(cells.warnings.empty());
+  EXPECT_NEAR(cells.table.at(40, 60).g(), 2.0 * b.table.at(40, 60).g(),
+              1e-3 * b.table.at(40, 60).g());
+  EXPECT_EQ(findMethod(MethodId::B).run(withCells, {}).table.at(40, 60).g(),
+            b.table.at(40, 60).g());
+}
+
+// prior-cells is the prior on the cells' reading: on the centres where there are no cells.
+TEST(Methods, PriorCellsReadsTheCellSamplesAndWithoutThemIsThePrior) {
+  const SliceSet& slices = brushedSteelSlices();
+  const MethodRun prior = findMethod(MethodId::Prior).run(slices, {});
+  const MethodRun plain = findMethod(MethodId::PriorCells).run(slices, {});
+  EXPECT_EQ(plain.exrMethodName, "prior-cells");
+  EXPECT_EQ(plain.table.at(40, 60).g(), prior.table.at(40, 60).g());
+  EXPECT_THAT(plain.warnings.back(), HasSubstr("8 slices have no window cells"));
+  SliceSet withCells = slices;
+  for (const Slice& slice : slices.slices())
+    for (const SliceSample& sample : slice.samples)
+      withCells.addCellSample(slice.id, {sample.light, sample.view, sample.value * 2.0});
+  EXPECT_GT(findMethod(MethodId::PriorCells).run(withCells, {}).table.at(40, 60).g(),
+            1.5 * prior.table.at(40, 60).g());
+}
+
 }  // namespace
 }  // namespace slicecap::methods

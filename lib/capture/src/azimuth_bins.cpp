@@ -99,29 +99,32 @@ std::vector<int> AzimuthBins::clippedBins() const {
 
 std::vector<SliceSample> AzimuthBins::combine() const {
   std::vector<SliceSample> out;
-  for (std::size_t b = 0; b < bins_.size(); ++b) {
-    const auto& bin = bins_[b];
-    if (bin.empty()) continue;
-    std::vector<double> channel[3], lightPhi, viewPhi;
-    double lightTheta = 0.0, viewTheta = 0.0;
-    for (const FrameSample& s : bin) {
-      for (std::size_t c = 0; c < 3; ++c)
-        channel[c].push_back(s.value[c]);
-      lightTheta += s.light.thetaDeg;
-      viewTheta += s.view.thetaDeg;
-      lightPhi.push_back(s.light.phiDeg);
-      viewPhi.push_back(s.view.phiDeg);
-    }
-    const double n = double(bin.size());
-    // An HDR sweep's bin merges its exposures per cell (hdr_merge.hpp); one exposure's frames
-    // keep the median, robust to a blurred or occluded frame that passed the gate.
-    const std::optional<HdrMerge> merged = mergedHdr(b);
-    out.push_back({{lightTheta / n, circularMeanDeg(lightPhi)},
-                   {viewTheta / n, circularMeanDeg(viewPhi)},
-                   merged ? merged->value
-                          : Rgb{median(channel[0]), median(channel[1]), median(channel[2])}});
-  }
+  for (int b = 0; b < binCount(); ++b)
+    if (std::optional<SliceSample> sample = combineBin(b)) out.push_back(*sample);
   return out;
+}
+
+std::optional<SliceSample> AzimuthBins::combineBin(int b) const {
+  const auto& bin = bins_[static_cast<std::size_t>(b)];
+  if (bin.empty()) return std::nullopt;
+  std::vector<double> channel[3], lightPhi, viewPhi;
+  double lightTheta = 0.0, viewTheta = 0.0;
+  for (const FrameSample& s : bin) {
+    for (std::size_t c = 0; c < 3; ++c)
+      channel[c].push_back(s.value[c]);
+    lightTheta += s.light.thetaDeg;
+    viewTheta += s.view.thetaDeg;
+    lightPhi.push_back(s.light.phiDeg);
+    viewPhi.push_back(s.view.phiDeg);
+  }
+  const double n = double(bin.size());
+  // An HDR sweep's bin merges its exposures per cell (hdr_merge.hpp); one exposure's frames
+  // keep the median, robust to a blurred or occluded frame that passed the gate.
+  const std::optional<HdrMerge> merged = mergedHdr(static_cast<std::size_t>(b));
+  return SliceSample{{lightTheta / n, circularMeanDeg(lightPhi)},
+                     {viewTheta / n, circularMeanDeg(viewPhi)},
+                     merged ? merged->value
+                            : Rgb{median(channel[0]), median(channel[1]), median(channel[2])}};
 }
 
 }  // namespace slicecap::capture

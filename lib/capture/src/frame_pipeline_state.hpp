@@ -273,6 +273,13 @@ struct FramePipeline::State {
     return cells;
   }
 
+  // The whole window as settings.windowCellsPerSide^2 cells at their own directions
+  // (window_cell_reading.cpp); nullopt without cells or when the window centre does not project.
+  std::optional<WindowCells> readWindowCells(const hal::Frame& frame, const vision::Pose& pose,
+                                             const std::vector<AmbientTerm>& roomLight,
+                                             const PointLight& light,
+                                             const Direction& sampleLight) const;
+
   // The stages of process(), in order; each returns the frame's outcome when the frame ends there.
   std::optional<FrameOutcome> screen(const hal::Frame& frame);
   std::optional<FrameOutcome> locate(const hal::Frame& frame, FrameOutcome& outcome,

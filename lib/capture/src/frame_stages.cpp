@@ -169,6 +169,7 @@ std::optional<FrameOutcome> FramePipeline::State::measure(const hal::Frame& fram
                                                                              : *m.nominalLight;
   for (int c = 0; c < 3; ++c)
     sample.value[c] = irradiance[c] > 0 ? std::max(0.0, windowRadiance[c]) / irradiance[c] : 0.0;
+  sample.cells = readWindowCells(frame, located.pose, roomLight, fit.light, sample.light);
   if (settings.hdr) {
     // The references' SNR^2 stands for the irradiance's inverse relative variance: a short
     // exposure's dark references give a noisier fit, and weigh less in the bin's irradiance.

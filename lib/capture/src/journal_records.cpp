@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "slicecap/capture/window_cells.hpp"
 #include "slicecap/io/recording.hpp"
 
 namespace slicecap::capture::journal_records {
@@ -147,6 +148,110 @@ void requireValidHdr(const HdrReading& hdr) {
   if (hdr.irradianceWeight < 0)
     throw std::invalid_argument("hdr.irradiance_weight: expected >= 0, got " +
                                 text(hdr.irradianceWeight));
+}
+
+// Window cells: arrays per cell as for HDR cells (64 cells make most of the record), clipped as
+// 0 or 1.
+json cellsJson(const WindowCells& cells) {
+  json values = json::array();
+  for (const CellSample& c : cells.cells)
+    values.push_back(json::array({c.value[0], c.value[1], c.value[2], c.variance[0],
+                                  c.variance[1], c.variance[2], c.clipped ? 1 : 0}));
+  return {{"n", cells.cellsPerSide},
+          {"grid_mm", cells.gridMm},
+          {"light_mm", cells.lightMm},
+          {"camera_mm", cells.cameraMm},
+          {"values", std::move(values)}};
+}
+
+namespace {
+
+template <std::size_t N>
+std::array<double, N> numbers(const json& parent, const std::string& key) {
+  const std::string name = "cells." + key;
+  if (!parent.contains(key)) throw std::invalid_argument(name + ": missing");
+  const json& j = parent.at(key);
+  if (!j.is_array() || j.size() != N)
+    throw std::invalid_argument(name + ": expected " + std::to_string(N) + " numbers, got " +
+                                j.dump());
+  std::array<double, N> out{};
+  for (std::size_t k = 0; k < N; ++k)
+    out[k] = number(j[k], name + "[" + std::to_string(k) + "]");
+  return out;
+}
+
+std::string cellValueField(std::size_t cell, std::size_t field) {
+  static constexpr std::array<const char*, 7> kFields = {
+      "value r", "value g", "value b", "variance r", "variance g", "variance b", "clipped"};
+  return "cells.values[" + std::to_string(cell) + "][" + std::to_string(field) + "] (" +
+         kFields[field] + ")";
+}
+
+}  // namespace
+
+WindowCells cellsFrom(const json& j) {
+  if (!j.is_object()) throw std::invalid_argument("cells: expected an object, got " + j.dump());
+  WindowCells cells;
+  if (!j.contains("n")) throw std::invalid_argument("cells.n: missing");
+  try {
+    cells.cellsPerSide = wholeNumber(j, "n", 1, kMaxCellsPerSide);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("cells.") + e.what());
+  }
+  cells.gridMm = numbers<4>(j, "grid_mm");
+  cells.lightMm = numbers<3>(j, "light_mm");
+  cells.cameraMm = numbers<3>(j, "camera_mm");
+  if (!j.contains("values")) throw std::invalid_argument("cells.values: missing");
+  const json& values = j.at("values");
+  const std::size_t count = std::size_t(cells.cellsPerSide) * std::size_t(cells.cellsPerSide);
+  if (!values.is_array() || values.size() != count)
+    throw std::invalid_argument("cells.values: expected " + std::to_string(count) +
+                                " cells, got " + values.dump().substr(0, 80));
+  for (std::size_t k = 0; k < count; ++k) {
+    const json& v = values[k];
+    if (!v.is_array() || v.size() != 7)
+      throw std::invalid_argument("cells.values[" + std::to_string(k) +
+                                  "]: expected [r, g, b, variance r, g, b, clipped], got " +
+                                  v.dump());
+    CellSample cell;
+    for (std::size_t c = 0; c < 3; ++c) {
+      cell.value[c] = number(v[c], cellValueField(k, c));
+      cell.variance[c] = number(v[3 + c], cellValueField(k, 3 + c));
+    }
+    if (!(v[6] == 0 || v[6] == 1))
+      throw std::invalid_argument(cellValueField(k, 6) + ": expected 0 or 1, got " + v[6].dump());
+    cell.clipped = v[6] == 1;
+    cells.cells.push_back(cell);
+  }
+  requireValidCells(cells);
+  placeCellDirections(cells);
+  return cells;
+}
+
+void requireValidCells(const WindowCells& cells) {
+  const int n = cells.cellsPerSide;
+  if (n < 1 || n > kMaxCellsPerSide)
+    throw std::invalid_argument("cells.n: expected 1.." + std::to_string(kMaxCellsPerSide) +
+                                ", got " + std::to_string(n));
+  if (cells.cells.size() != std::size_t(n) * std::size_t(n))
+    throw std::invalid_argument("cells.values: expected " + std::to_string(n * n) +
+                                " cells, got " + std::to_string(cells.cells.size()));
+  for (std::size_t k = 0; k < 4; ++k)
+    requireFinite(cells.gridMm[k], "cells.grid_mm[" + std::to_string(k) + "]");
+  for (std::size_t k = 0; k < 3; ++k) {
+    requireFinite(cells.lightMm[k], "cells.light_mm[" + std::to_string(k) + "]");
+    requireFinite(cells.cameraMm[k], "cells.camera_mm[" + std::to_string(k) + "]");
+  }
+  if (!(cells.lightMm[2] > 0.0) || !(cells.cameraMm[2] > 0.0))
+    throw std::invalid_argument("cells: light_mm and camera_mm must lie above the target (z > 0)");
+  for (std::size_t k = 0; k < cells.cells.size(); ++k)
+    for (std::size_t c = 0; c < 3; ++c) {
+      requireFinite(cells.cells[k].value[c], cellValueField(k, c));
+      requireFinite(cells.cells[k].variance[c], cellValueField(k, 3 + c));
+      if (cells.cells[k].variance[c] < 0)
+        throw std::invalid_argument(cellValueField(k, 3 + c) + ": expected a variance >= 0, got " +
+                                    text(cells.cells[k].variance[c]));
+    }
 }
 
 }  // namespace slicecap::capture::journal_records

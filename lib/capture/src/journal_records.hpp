@@ -62,6 +62,24 @@ HdrReading hdrFrom(const nlohmann::json& j);
 /// weight >= 0.
 void requireValidHdr(const HdrReading& hdr);
 
+/// \brief A sample's window cells as the sample record's "cells" object (docs/reliability.md):
+/// {"n", "grid_mm": [x0, y0, x1, y1], "light_mm": [x, y, z], "camera_mm": [x, y, z], "values":
+/// [[r, g, b, var r, var g, var b, clipped 0|1], ...]}. The directions are not written: replay
+/// recomputes them from the geometry (placeCellDirections), the same doubles giving the same
+/// directions; values and variances are kept at cellPrecision and written in their short form.
+nlohmann::json cellsJson(const WindowCells& cells);
+
+/// \brief The cells of cellsJson, checked by requireValidCells, directions placed. Throws
+/// std::invalid_argument naming the field (e.g. "cells.values[4][3]: expected a number").
+WindowCells cellsFrom(const nlohmann::json& j);
+
+/// \brief Throws std::invalid_argument naming the field unless the cells would replay: 1 to
+/// kMaxCellsPerSide per side and that many squared cells, every number finite, variances >= 0,
+/// the light and the camera above the target.
+void requireValidCells(const WindowCells& cells);
+
+inline constexpr int kMaxCellsPerSide = 32;
+
 /// \brief A cell's level is a fraction of full scale as exposed: at most 1 but for rounding (the
 /// mean per unit exposure times the exposure); a level beyond this is no reading.
 inline constexpr double kHdrMaxCellLevel = 2.0;

@@ -43,6 +43,8 @@ FrameSample sampleFrom(const json& j) {
                      {view.at(0).get<double>(), view.at(1).get<double>()},
                      {rgb.at(0).get<double>(), rgb.at(1).get<double>(), rgb.at(2).get<double>()}};
   if (j.contains("hdr")) sample.hdr = hdrFrom(j.at("hdr"));
+  // The window's cells (session format 2); absent from older records, which stay centres only.
+  if (j.contains("cells")) sample.cells = cellsFrom(j.at("cells"));
   return sample;
 }
 

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "journal_records.hpp"
+#include "slicecap/capture/window_cells.hpp"
 #include "slicecap/core/session_id.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/target_json.hpp"
@@ -23,7 +24,10 @@ namespace {
 
 using nlohmann::json;
 using namespace journal_records;
-constexpr int kFormatVersion = 1;
+// 2: sample records may hold the window's cells ("cells"); a version that ignores them would
+// read the session's samples as window centres alone. Format 1 sessions (no cells) still open.
+constexpr int kFormatVersion = 2;
+constexpr int kOldestFormatVersion = 1;
 
 // A sweep is of an axial or a diagonal slice: a point "slice" has no azimuth bins, and a journal
 // record of it would not replay (the session would no longer open). Refused before anything is
@@ -56,9 +60,12 @@ SessionInfo readInfo(const std::filesystem::path& directory) {
   const json j = io::parseJson(std::string(std::istreambuf_iterator<char>(in), {}), file.string());
   if (!j.is_object()) throw io::IoError(file.string() + ": not a JSON object");
   try {
-    if (!j.at("format").is_number_integer() || j.at("format") != kFormatVersion) {
-      throw io::IoError(file.string() + ": field \"format\" is " + j.at("format").dump() +
-                        ", expected 1");
+    const json& format = j.at("format");
+    if (!format.is_number_integer() || format.get<std::int64_t>() < kOldestFormatVersion ||
+        format.get<std::int64_t>() > kFormatVersion) {
+      throw io::IoError(file.string() + ": field \"format\" is " + format.dump() + ", expected " +
+                        std::to_string(kOldestFormatVersion) + " to " +
+                        std::to_string(kFormatVersion));
     }
     static_cast<void>(j.at("id").get<std::string>());  // required: else not a session
     return {directory.filename().string(),
@@ -215,6 +222,15 @@ void SessionStore::recordSample(const SliceId& slice, const FrameSample& s) {
     }
     record["hdr"] = hdrJson(*s.hdr);
   }
+  if (s.cells) {
+    try {
+      requireValidCells(*s.cells);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("sample of frame " + std::to_string(s.frameIndex) + " of " +
+                                  toString(slice) + ": " + e.what() + "; nothing written");
+    }
+    record["cells"] = cellsJson(*s.cells);
+  }
   append(std::move(record));
   // durable first: only then does the sample count
   binsFor(slice).add(s);
@@ -255,10 +271,8 @@ std::size_t SessionStore::sampleCount(const SliceId& slice) const {
 
 SliceSet SessionStore::slices() const {
   SliceSet set;
-  for (const auto& [slice, bins] : bins_) {
-    for (const SliceSample& sample : bins.combine())
-      set.add(slice, sample);
-  }
+  for (const auto& [slice, bins] : bins_)
+    addSweepSlices(set, slice, bins);
   return set;
 }
 

@@ -31,8 +31,10 @@ using methods::MethodRun;
 std::vector<const Method*> parseMethods(const std::string& list) {
   std::vector<const Method*> methods;
   if (list == "all") {
+    // eval's captures are ideal slices, which have no window cells: b-cells and prior-cells
+    // would repeat b and prior.
     for (const Method& m : methods::reconstructionMethods())
-      methods.push_back(&m);
+      if (!methods::readsCellSamples(m.id)) methods.push_back(&m);
     return methods;
   }
   std::stringstream stream(list);

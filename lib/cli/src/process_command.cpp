@@ -12,6 +12,7 @@
 #include "path_clash.hpp"
 #include "pipeline_options.hpp"
 #include "slicecap/capture/recording_processor.hpp"
+#include "slicecap/capture/window_cells.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/methods/method_fallback.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
@@ -71,8 +72,7 @@ Processed processAll(const std::vector<std::filesystem::path>& recordings,
   Processed processed;
   for (std::size_t k = 0; k < recordings.size(); ++k) {
     capture::RecordingResult result = capture::processRecording(recordings[k], read[k], settings);
-    for (const SliceSample& sample : result.bins.combine())
-      processed.slices.add(result.slice, sample);
+    capture::addSweepSlices(processed.slices, result.slice, result.bins);
     const int samples = static_cast<int>(
         std::count_if(result.outcomes.begin(), result.outcomes.end(),
                       [](const auto& o) { return o.kind == capture::FrameOutcome::Kind::Sample; }));
@@ -117,6 +117,7 @@ int runProcess(const ParsedArgs& args, Streams& io) {
   const auto reportPath = args.value("report");
   std::vector<NamedPath> outputs = {{"-o", output}};
   if (reportPath) outputs.push_back({"--report", *reportPath});
+  if (const auto csv = args.value("cell-slices")) outputs.push_back({"--cell-slices", *csv});
   refuseClashingPaths(recordingInputs(recordings), outputs);
   const Processed processed =
       processAll(recordings, pipelineSettingsOf(args), io, reportPath ? &report : nullptr);
@@ -124,6 +125,7 @@ int runProcess(const ParsedArgs& args, Streams& io) {
   refuseNoSamples(processed, reportPath, output, io);
   const SliceSet& slices = processed.slices;
   io::writeSliceCsv(output, slices);
+  if (const auto csv = args.value("cell-slices")) io::writeSliceCsv(*csv, slices.cellReading());
   io.out << "wrote " << slices.sampleCount() << " samples in " << slices.slices().size()
          << " slices to " << output.string() << "\n";
   return 0;
@@ -141,6 +143,7 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   const auto reportPath = args.value("report");
   std::vector<NamedPath> outputs = {{"-o", output}};
   if (const auto csv = args.value("slices")) outputs.push_back({"--slices", *csv});
+  if (const auto csv = args.value("cell-slices")) outputs.push_back({"--cell-slices", *csv});
   if (reportPath) outputs.push_back({"--report", *reportPath});
   refuseClashingPaths(recordingInputs(recordings), outputs);
   const Processed processed = processAll(recordings, settings, io, reportPath ? &report : nullptr);
@@ -148,16 +151,21 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   refuseNoSamples(processed, reportPath, output, io);
   const SliceSet& slices = processed.slices;
   if (const auto csv = args.value("slices")) io::writeSliceCsv(*csv, slices);
+  if (const auto csv = args.value("cell-slices")) io::writeSliceCsv(*csv, slices.cellReading());
   methods::MethodOptions options;
   options.isotropic = args.flag("isotropic");
   const methods::MethodRun result = methods::runMethodOrPrior(method, slices, options);
+  // A method on the cells' reading read its samples, not the window centres.
+  const std::size_t samples = methods::readsCellSamples(method.id)
+                                  ? slices.cellReading().sampleCount()
+                                  : slices.sampleCount();
   io::writeAbrdfExr(output, result.table,
                     {{"method", result.exrMethodName},
                      {"source", session.filename().string()},
-                     {"samples", std::to_string(slices.sampleCount())}});
+                     {"samples", std::to_string(samples)}});
   for (const std::string& warning : result.warnings)
     io.err << "warning: " << warning << "\n";
-  io.out << "reconstructed " << slices.sampleCount() << " samples in " << slices.slices().size()
+  io.out << "reconstructed " << samples << " samples in " << slices.slices().size()
          << " slices with method " << result.exrMethodName << "; wrote " << output.string() << "\n";
   return 0;
 }
@@ -165,7 +173,10 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
 }  // namespace
 
 Command processCommand() {
-  std::vector<OptionSpec> options = {{"output", 'o', "SLICES.csv", "the slice CSV (required)"}};
+  std::vector<OptionSpec> options = {
+      {"output", 'o', "SLICES.csv", "the slice CSV (required)"},
+      {"cell-slices", 0, "FILE",
+       "also write the slice CSV valued from the window cells (docs/method.md 9.4)"}};
   for (auto& o : pipelineOptions())
     options.push_back(o);
   return {{"process", "RECORDING... -o SLICES.csv [--report report.json] [options]",
@@ -192,7 +203,9 @@ Command captureOfflineCommand() {
       {"method", 0, "NAME",
        "reconstruction method (default " + methods::cliName(methods::MethodId::B) + ")"},
       {"isotropic", 0, "", "use the diagonal slices only"},
-      {"slices", 0, "FILE", "also write the slice CSV"}};
+      {"slices", 0, "FILE", "also write the slice CSV"},
+      {"cell-slices", 0, "FILE",
+       "also write the slice CSV valued from the window cells (what b-cells reads)"}};
   for (auto& o : pipelineOptions())
     options.push_back(o);
   return {{"capture-offline", "SESSION_DIR -o OUT.exr [--method b] [options]",

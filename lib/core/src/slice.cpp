@@ -57,6 +57,27 @@ void SliceSet::add(const SliceId& id, const SliceSample& sample) {
   it->samples.push_back(sample);
 }
 
+void SliceSet::addCellSample(const SliceId& id, const SliceSample& sample) {
+  auto it = std::lower_bound(slices_.begin(), slices_.end(), id,
+                             [](const Slice& s, const SliceId& key) { return s.id < key; });
+  if (it == slices_.end() || it->id != id)
+    throw std::invalid_argument("slice " + toString(id) +
+                                ": a cell sample for a slice without samples");
+  it->cellSamples.push_back(sample);
+}
+
+bool SliceSet::hasCellSamples() const {
+  return std::any_of(slices_.begin(), slices_.end(),
+                     [](const Slice& s) { return !s.cellSamples.empty(); });
+}
+
+SliceSet SliceSet::cellReading() const {
+  SliceSet out;
+  for (const Slice& s : slices_)
+    out.slices_.push_back({s.id, s.cellSamples.empty() ? s.samples : s.cellSamples, {}});
+  return out;
+}
+
 const Slice* SliceSet::find(const SliceId& id) const {
   auto it = std::lower_bound(slices_.begin(), slices_.end(), id,
                              [](const Slice& s, const SliceId& key) { return s.id < key; });

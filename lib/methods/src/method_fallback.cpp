@@ -46,7 +46,9 @@ MethodRun runMethodOrPrior(const Method& method, const SliceSet& slices,
                 "from them with --isotropic; else sweep the axial ones, or use --method prior");
   MethodRun run;
   try {
-    run = findMethod(MethodId::Prior).run(slices, options);
+    // The cells' reading stays the cells' (b-cells falls back to prior-cells).
+    run = findMethod(readsCellSamples(method.id) ? MethodId::PriorCells : MethodId::Prior)
+              .run(slices, options);
   } catch (const std::exception& error) {
     throw recon::ReconstructionError(lacks + "\n(and the prior, which reads any subset, failed: " +
                                      error.what() + ")");

@@ -11,7 +11,7 @@ namespace {
 
 // In MethodId's order (methodInfo indexes it). The EXR names are those
 // docs/reference/file-formats.md documents and `slicecap reconstruct` has always written.
-constexpr std::array<MethodInfo, 7> kTable{{
+constexpr std::array<MethodInfo, 9> kTable{{
     {MethodId::B, "b", "B", "B-isotropic", SliceSubset::EveryMeasuredSlice},
     {MethodId::A, "a", "A", "A-isotropic", SliceSubset::EveryMeasuredSlice},
     {MethodId::Uniform, "uniform", "uniform-RBF", "", SliceSubset::PointSamples},
@@ -21,6 +21,9 @@ constexpr std::array<MethodInfo, 7> kTable{{
     {MethodId::Halfway, "halfway", "halfway", "halfway-isotropic",
      SliceSubset::EveryMeasuredSlice},
     {MethodId::Prior, "prior", "prior", "prior-isotropic", SliceSubset::AnySubset},
+    {MethodId::BCells, "b-cells", "B-cells", "B-cells-isotropic", SliceSubset::EveryMeasuredSlice},
+    {MethodId::PriorCells, "prior-cells", "prior-cells", "prior-cells-isotropic",
+     SliceSubset::AnySubset},
 }};
 
 }  // namespace

@@ -16,13 +16,13 @@
 namespace slicecap::methods {
 namespace {
 
-MethodRun runMethodB(const SliceSet& slices, const MethodOptions& options) {
+MethodRun runMethodBAs(MethodId id, const SliceSet& slices, const MethodOptions& options) {
   recon::MethodBParams params;
   params.isotropic = options.isotropic;
   params.torusRule = options.torusRule;
   recon::MethodBReport report;
   MethodRun run{recon::reconstructMethodB(slices, params, &report),
-                exrMethodValue(MethodId::B, options.isotropic),
+                exrMethodValue(id, options.isotropic),
                 {},
                 {},
                 {}};
@@ -39,6 +39,33 @@ MethodRun runMethodB(const SliceSet& slices, const MethodOptions& options) {
   }
   if (!report.allConverged())
     run.warnings.push_back("some lobe fits did not converge; their closed form was used");
+  return run;
+}
+
+MethodRun runMethodB(const SliceSet& slices, const MethodOptions& options) {
+  return runMethodBAs(MethodId::B, slices, options);
+}
+
+// Method B on each bin's value from the window cells nearest the bin centre (docs/method.md §9);
+// a slice without cell samples (a CSV, a journal from before cells) keeps its window centres.
+// What a run on the cells' reading says about it: how many slices had cells.
+void sayCellReading(const SliceSet& slices, MethodRun& run) {
+  std::size_t fromCells = 0;
+  for (const Slice& s : slices.slices())
+    fromCells += s.cellSamples.empty() ? 0 : 1;
+  run.details["slices_from_cells"] = fromCells;
+  run.lines.push_back(std::to_string(fromCells) + " of " + std::to_string(slices.slices().size()) +
+                      " slices valued from the window cells nearest each bin centre");
+  if (fromCells < slices.slices().size())
+    run.warnings.push_back(std::to_string(slices.slices().size() - fromCells) +
+                           " slices have no window cells (a slice CSV, or frames recorded "
+                           "before cells were kept): their window centres are used");
+}
+
+MethodRun runMethodBCells(const SliceSet& slices, const MethodOptions& options) {
+  static_assert(readsCellSamples(MethodId::BCells));
+  MethodRun run = runMethodBAs(MethodId::BCells, slices.cellReading(), options);
+  sayCellReading(slices, run);
   return run;
 }
 
@@ -144,12 +171,12 @@ MethodRun runHalfway(const SliceSet& slices, const MethodOptions& options) {
   return run;
 }
 
-MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
+MethodRun runPriorAs(MethodId id, const SliceSet& slices, const MethodOptions& options) {
   prior::PriorParams params;
   params.isotropicOnly = options.isotropic;
   prior::PriorReport report;
   MethodRun run{prior::reconstructWithPrior(slices, prior::defaultPriorModel(), params, &report),
-                exrMethodValue(MethodId::Prior, options.isotropic),
+                exrMethodValue(id, options.isotropic),
                 {},
                 {},
                 {}};
@@ -175,6 +202,17 @@ MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
   if (report.measuredPairs.size() < kMeasuredPairs.size())
     run.warnings.push_back("only " + std::to_string(report.measuredPairs.size()) +
                            " elevation pairs measured; the others come from the prior alone");
+  return run;
+}
+
+MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
+  return runPriorAs(MethodId::Prior, slices, options);
+}
+
+// The prior fitted to each bin's value from the window cells (docs/method.md §9.4).
+MethodRun runPriorCells(const SliceSet& slices, const MethodOptions& options) {
+  MethodRun run = runPriorAs(MethodId::PriorCells, slices.cellReading(), options);
+  sayCellReading(slices, run);
   return run;
 }
 
@@ -219,6 +257,15 @@ const std::vector<Method>& reconstructionMethods() {
             "learned prior (issue 10): PCA of measured tables fitted at the samples' actual "
             "angles, half-vector anisotropy, measured slices kept; any subset of slices",
             runPrior),
+      entry(MethodId::BCells,
+            "Method B on slice values from the window cells nearest each bin centre in angle\n"
+            "(docs/method.md section 9): a peak the window centre missed is read where a cell saw "
+            "it",
+            runMethodBCells),
+      entry(MethodId::PriorCells,
+            "the learned prior on slice values from the window cells nearest each bin centre "
+            "(docs/method.md\nsection 9)",
+            runPriorCells),
   };
   return methods;
 }

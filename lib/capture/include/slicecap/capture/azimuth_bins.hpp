@@ -19,6 +19,8 @@ class AzimuthBins {
   explicit AzimuthBins(SliceKind kind, double binWidthDeg = 15.0);
 
   int binCount() const { return static_cast<int>(bins_.size()); }
+  SliceKind kind() const { return kind_; }
+  double binWidthDeg() const { return binWidthDeg_; }
   /// \brief The bin a slice parameter falls in.
   int binOf(double parameterDeg) const;
   /// \brief The bin of a sample's slice parameter.
@@ -38,6 +40,8 @@ class AzimuthBins {
   /// frames (elevations averaged, azimuths by circular mean): the sample sits at the measured
   /// angles, not at the bin centre.
   std::vector<SliceSample> combine() const;
+  /// \brief combine()'s sample of bin `bin`; nullopt for an empty bin.
+  std::optional<SliceSample> combineBin(int bin) const;
   /// \brief The bins of an HDR sweep whose merged value rests on a clipped window cell
   /// (HdrMerge::clippedCells, the merge combine() makes: a cell clipped in every frame, or whose
   /// frames disagree and the one nearest the bin centre clipped): the value may be far too low

@@ -44,6 +44,18 @@ struct PipelineSettings {
   /// \brief Side of the square of the window whose pixels are averaged, as a fraction of the
   /// window.
   double windowSampleFraction = 0.2;
+  /// \brief Each accepted frame's whole window is also read as this many cells per side, each a
+  /// sample at its own light and view directions (FrameSample::cells; 0: none). 8 on the default
+  /// target (40 mm window, 33-38 mm read): cells 4-5 mm apart, 0.8-0.9 deg of view and of light
+  /// direction at 300 mm; at 75/75 the half vector tilts ~3 deg from cell to cell, ~0.8 deg of
+  /// the slice parameter (3.7 deg of tilt per degree), about the 0.6-0.75 deg width of a sharp
+  /// metal's peak. At 75 deg, where the window is foreshortened to ~34 px, a cell is still
+  /// ~3.5 px deep, more than the 2.5 px of blur the gate lets through. 16-20 x 3.5-16 px a cell:
+  /// ~60-250 px averaged, noise well below the point-light model's 5 % margin.
+  int windowCellsPerSide = 8;
+  /// \brief The cells' grid leaves out the window's pixels this close to its outline, at the
+  /// frame's pose (as referenceInsetPx does for the references).
+  double windowCellInsetPx = 3.0;
   /// \brief The measured light direction replaces the nominal one when its sigma is below this.
   double measuredLightMaxSigmaDeg = 0.5;
   double nominalLightDistanceMm = 300.0;  ///< start of the point-light fit

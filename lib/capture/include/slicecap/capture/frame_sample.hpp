@@ -1,6 +1,7 @@
 // One accepted frame's measurement for the slice being swept.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -30,6 +31,29 @@ struct HdrReading {
 /// \brief The window's sample square is read in this many cells per side in HDR sweeps.
 inline constexpr int kHdrCellsPerSide = 6;
 
+/// \brief One cell of the window in one frame: a BRDF sample at the cell's own light and view
+/// directions (docs/method.md §9, "Window cells").
+struct CellSample {
+  Direction light;      ///< toward the LED from the cell's centre (target frame, degrees)
+  Direction view;       ///< toward the camera from the cell's centre
+  Rgb value;            ///< linear BRDF, 1/sr: the room light subtracted, / the irradiance there
+  Rgb variance;         ///< of `value`, from the noise model (the irradiance taken as exact)
+  bool clipped = false;  ///< a pixel channel at or above the clip fraction, or out of the image
+};
+
+/// \brief The whole window of one frame read as cellsPerSide x cellsPerSide cells, with the
+/// geometry their directions come from: what the journal stores (the directions are recomputed
+/// from it, window_cells.hpp placeCellDirections, so a replayed sample has the same cells).
+struct WindowCells {
+  int cellsPerSide = 0;
+  /// \brief The read part of the window on the target, mm {xMin, yMin, xMax, yMax}: the window
+  /// inset by PipelineSettings::windowCellInsetPx at this frame's pose.
+  std::array<double, 4> gridMm{};
+  std::array<double, 3> lightMm{};   ///< the LED, target frame (mm; origin the window centre)
+  std::array<double, 3> cameraMm{};  ///< the camera centre, target frame
+  std::vector<CellSample> cells;     ///< cellsPerSide^2, row by row (+y rows, +x within a row)
+};
+
 /// \brief What one frame contributes: the BRDF of the window at the frame's actual light and view
 /// directions (target frame, degrees), with where it came from.
 struct FrameSample {
@@ -39,6 +63,9 @@ struct FrameSample {
   Direction view;                ///< direction to the camera from the window centre
   Rgb value;                     ///< linear BRDF, 1/sr (HDR: this frame alone, clipped or not)
   std::optional<HdrReading> hdr{};  ///< HDR sweeps only (PipelineSettings::hdr)
+  /// \brief The whole window as cells at their own directions (PipelineSettings::
+  /// windowCellsPerSide > 0; none in journals written before them). `value` stays the centre's.
+  std::optional<WindowCells> cells{};
 };
 
 }  // namespace slicecap::capture

@@ -71,7 +71,8 @@ class SessionStore {
   bool damaged(const SliceId& slice) const { return damagedSlices_.count(slice) > 0; }
 
   /// \brief Stores one accepted sample of a slice (durable when this returns), with its HDR
-  /// reading when it has one (replayed bit-identical). Here and in recordSweepStarted and redo, a
+  /// reading and its window cells when it has them (replayed bit-identical; cells that would not
+  /// replay are refused as an HDR reading is). Here and in recordSweepStarted and redo, a
   /// point slice (no sweep) is std::invalid_argument, nothing written; so is an HDR reading that
   /// would not replay (not kHdrCellsPerSide^2 cells, a number not finite, a variance below 0, a
   /// level out of range), the message naming the frame and the field.
@@ -87,7 +88,9 @@ class SessionStore {
   const AzimuthBins& bins(const SliceId& slice) const;
   std::size_t sampleCount() const;
   std::size_t sampleCount(const SliceId& slice) const;
-  /// \brief Every slice combined bin by bin (AzimuthBins::combine), ready for reconstruction.
+  /// \brief Every slice combined bin by bin (AzimuthBins::combine), ready for reconstruction,
+  /// with each slice's values from its window cells as cell samples (addSweepSlices) when its
+  /// samples carry cells.
   SliceSet slices() const;
 
  private:

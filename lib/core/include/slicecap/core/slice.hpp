@@ -78,6 +78,11 @@ AzimuthPair slicePoint(SliceKind kind, double parameterDeg);
 struct Slice {
   SliceId id;
   std::vector<SliceSample> samples;
+  /// \brief A capture's other reading of the same slice: each bin's value taken from the window
+  /// cells nearest the bin centre in angle (lib/capture window_cells.hpp, docs/method.md §9),
+  /// which a method may read instead of `samples` (b-cells). Empty when the samples have no
+  /// cells (a slice CSV, ideal slices of a table, a journal written before cells).
+  std::vector<SliceSample> cellSamples{};
 };
 
 /// \brief The slices of one material (up to 8 in a full capture; any subset is representable).
@@ -86,6 +91,15 @@ class SliceSet {
  public:
   /// \brief Appends a sample to the slice `id`, creating the slice on first use.
   void add(const SliceId& id, const SliceSample& sample);
+  /// \brief Appends a sample to the cell samples of the slice `id` (Slice::cellSamples). The
+  /// slice must have samples already (std::invalid_argument naming it otherwise): a cell reading
+  /// comes from frames, whose window centres are samples too.
+  void addCellSample(const SliceId& id, const SliceSample& sample);
+  /// \brief True when some slice has cell samples.
+  bool hasCellSamples() const;
+  /// \brief The set with each slice's cell samples as its samples where it has any (its own
+  /// samples elsewhere), and no cell samples.
+  SliceSet cellReading() const;
   /// \brief The slice with this id, or nullptr when it has no samples.
   const Slice* find(const SliceId& id) const;
   const std::vector<Slice>& slices() const { return slices_; }

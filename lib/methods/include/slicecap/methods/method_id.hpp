@@ -12,7 +12,10 @@
 namespace slicecap::methods {
 
 /// \brief Every reconstruction method, in the order --help lists them.
-enum class MethodId { B, A, Uniform, AGamma, UniformGamma, Halfway, Prior };
+/// B and Prior read each bin's window-centre reading, as the paper does; BCells and PriorCells are
+/// the same methods on each bin's value from the window cells nearest the bin centre in angle
+/// (Slice::cellSamples, docs/method.md §9.4).
+enum class MethodId { B, A, Uniform, AGamma, UniformGamma, Halfway, Prior, BCells, PriorCells };
 
 /// \brief Which samples a method reconstructs from.
 enum class SliceSubset {
@@ -35,6 +38,12 @@ struct MethodInfo {
   std::string_view isotropicExrName;
   SliceSubset reads;
 };
+
+/// \brief Whether `id` reads the slices' values from the window cells (SliceSet::cellReading):
+/// b-cells and prior-cells.
+constexpr bool readsCellSamples(MethodId id) {
+  return id == MethodId::BCells || id == MethodId::PriorCells;
+}
 
 /// \brief The table, one entry per MethodId in enum order.
 std::span<const MethodInfo> methodTable();

@@ -1,0 +1,54 @@
+// The window read as cells, each a sample at its own directions (docs/method.md §9, "Window
+// cells"), and a slice whose bin values come from the cells nearest each bin centre.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "slicecap/capture/azimuth_bins.hpp"
+#include "slicecap/capture/frame_sample.hpp"
+#include "slicecap/core/slice.hpp"
+
+namespace slicecap::capture {
+
+/// \brief The centre of cell `index` (row by row) of `cells`' grid on the target plane, mm.
+std::array<double, 2> cellCentreMm(const WindowCells& cells, int index);
+
+/// \brief Sets every cell's light and view direction from the geometry: toward cells.lightMm and
+/// cells.cameraMm from the cell's centre. Throws std::invalid_argument when the cell count is
+/// not cellsPerSide^2 or the light or the camera is not above the target plane.
+void placeCellDirections(WindowCells& cells);
+
+/// \brief `value` rounded to float precision (about 7 significant digits) and back: a cell's
+/// value and variance are kept so, the journal writes them in their shortest form (half the
+/// digits of a double) and a replayed sample holds the same doubles.
+double cellPrecision(double value);
+
+/// \brief How a slice's bin values are taken from the cells (sliceFromCells).
+struct CellSliceRule {
+  /// \brief Cells whose directions lie within this of the nearest cell's (sqrt of the squared
+  /// light and view angles) read the same BRDF value up to the lobe's change over this much, and
+  /// are averaged with it (inverse-variance weights) against noise. Under half the distance of
+  /// neighbouring cells on the default target (~1.1-1.3 deg: 4-5 mm at 300 mm turns the light and
+  /// the view by 0.8-0.9 deg each), so one frame's neighbouring cells are never pooled.
+  double poolToleranceDeg = 0.5;
+};
+
+/// \brief One sample per bin of a sweep of slice `id` from the cells of its frames: every
+/// unclipped cell is binned by its own slice parameter; in each bin, the cell nearest in angle to
+/// the bin centre's nominal light and view directions (the slice's elevations, slicePoint's
+/// azimuths; distance sqrt(light angle^2 + view angle^2)) and the cells within
+/// rule.poolToleranceDeg of it give the value, at their mean directions: a bin no frame's centre
+/// fell in is filled when a neighbouring frame's cells reach it. A bin where no unclipped cell
+/// falls (an HDR peak clipped in every frame; frames from a journal written before cells) keeps
+/// AzimuthBins::combine's sample. Ascending by bin. Throws
+/// std::invalid_argument for a point slice.
+std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& id,
+                                        const CellSliceRule& rule = {});
+
+/// \brief Adds the sweep's window-centre samples (AzimuthBins::combine) to `set` as slice `id`'s
+/// samples, and its samples from the cells (sliceFromCells) as the slice's cell samples, when any
+/// frame carries cells.
+void addSweepSlices(SliceSet& set, const SliceId& id, const AzimuthBins& bins);
+
+}  // namespace slicecap::capture

@@ -1,0 +1,92 @@
+// A slice's bin values from the window cells nearest each bin centre in angle (docs/method.md
+// §9, "The slice value from the cells").
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+#include "slicecap/capture/window_cells.hpp"
+#include "slicecap/core/grid.hpp"
+
+namespace slicecap::capture {
+namespace {
+
+// Distance of a cell from a pair of directions: the light's and the view's angles together.
+double distanceDeg(const CellSample& cell, const Direction& light, const Direction& view) {
+  return std::hypot(angleBetweenDeg(cell.light, light), angleBetweenDeg(cell.view, view));
+}
+
+// The inverse-variance weighted mean of `cells`, at their weighted mean directions. One weight
+// per cell (its channels' mean variance), so a cell's colour is kept.
+SliceSample pooled(const std::vector<const CellSample*>& cells) {
+  Rgb value;
+  UnitVector light{0, 0, 0}, view{0, 0, 0};
+  double total = 0.0;
+  for (const CellSample* c : cells) {
+    // A noise-free reading (variance 0) must not divide by zero: its weight is large and finite.
+    const double w = 1.0 / std::max(c->variance.mean(), 1e-30);
+    value += w * c->value;
+    const UnitVector l = toUnitVector(c->light), v = toUnitVector(c->view);
+    light = {light.x + w * l.x, light.y + w * l.y, light.z + w * l.z};
+    view = {view.x + w * v.x, view.y + w * v.y, view.z + w * v.z};
+    total += w;
+  }
+  return {toDirection(light), toDirection(view), value * (1.0 / total)};
+}
+
+}  // namespace
+
+std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& id,
+                                        const CellSliceRule& rule) {
+  if (id.kind == SliceKind::Point)
+    throw std::invalid_argument("slice " + toString(id) + ": a point slice has no bins");
+  // Every usable cell of the sweep, in the bin of its own slice parameter.
+  std::vector<std::vector<const CellSample*>> cellsOfBin(std::size_t(bins.binCount()));
+  for (int b = 0; b < bins.binCount(); ++b)
+    for (const FrameSample& frame : bins.samplesIn(b)) {
+      if (!frame.cells) continue;
+      for (const CellSample& cell : frame.cells->cells) {
+        if (cell.clipped || !std::isfinite(cell.value.mean())) continue;
+        const double parameter = sliceParameterDeg(id.kind, {cell.light, cell.view, cell.value});
+        cellsOfBin[std::size_t(bins.binOf(parameter))].push_back(&cell);
+      }
+    }
+  std::vector<SliceSample> out;
+  for (int b = 0; b < bins.binCount(); ++b) {
+    const std::vector<const CellSample*>& cells = cellsOfBin[std::size_t(b)];
+    if (cells.empty()) {
+      // No usable cell of any frame falls here: the window centres (a peak clipped in every
+      // frame keeps the HDR merge's lower bound; frames from before cells keep their median).
+      if (std::optional<SliceSample> centre = bins.combineBin(b)) out.push_back(*centre);
+      continue;
+    }
+    const AzimuthPair azimuths = slicePoint(id.kind, b * bins.binWidthDeg());
+    const Direction light{double(id.elevations.thetaIDeg), azimuths.phiIDeg};
+    const Direction view{double(id.elevations.thetaVDeg), azimuths.phiVDeg};
+    const CellSample* nearest = nullptr;
+    double best = std::numeric_limits<double>::infinity();
+    for (const CellSample* c : cells)
+      if (const double d = distanceDeg(*c, light, view); d < best) best = d, nearest = c;
+    std::vector<const CellSample*> pool;
+    for (const CellSample* c : cells)
+      if (distanceDeg(*c, nearest->light, nearest->view) <= rule.poolToleranceDeg)
+        pool.push_back(c);
+    out.push_back(pooled(pool));
+  }
+  return out;
+}
+
+void addSweepSlices(SliceSet& set, const SliceId& id, const AzimuthBins& bins) {
+  bool anyCells = false;
+  for (int b = 0; b < bins.binCount() && !anyCells; ++b)
+    for (const FrameSample& frame : bins.samplesIn(b))
+      anyCells = anyCells || frame.cells.has_value();
+  for (const SliceSample& sample : bins.combine())
+    set.add(id, sample);
+  if (!anyCells) return;
+  for (const SliceSample& sample : sliceFromCells(bins, id))
+    set.addCellSample(id, sample);
+}
+
+}  // namespace slicecap::capture
