@@ -1,0 +1,120 @@
+// The bins of a sweep to pass again: left empty, or next to a lobe no window's cell reached.
+#include "slicecap/capture/pass_again.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <stdexcept>
+
+namespace slicecap::capture {
+namespace {
+
+const SliceId kDiagonal7575{SliceKind::Diagonal, {75, 75}};
+
+// A value along the slice parameter (deg): a diffuse floor and lobes.
+using Profile = std::function<double(double)>;
+
+double lobe(double parameterDeg, double centreDeg, double sigmaDeg) {
+  const double d = parameterDeg - centreDeg;
+  return 10.0 * std::exp(-d * d / (2.0 * sigmaDeg * sigmaDeg));
+}
+
+// A 75/75 diagonal frame at slice parameter `centreDeg` whose window holds 9 cells from 3.2 deg
+// before to 3.2 deg after it (0.8 deg apart, as on the default target), valued by `profile`.
+FrameSample frameAt(double centreDeg, const Profile& profile, std::uint64_t index) {
+  auto point = [](double p) {
+    const AzimuthPair a = slicePoint(SliceKind::Diagonal, p);
+    return std::pair{Direction{75, a.phiIDeg}, Direction{75, a.phiVDeg}};
+  };
+  const auto [light, view] = point(centreDeg);
+  FrameSample s{std::int64_t(index) * 33000, index, light, view, Rgb::gray(profile(centreDeg))};
+  WindowCells cells;
+  cells.cellsPerSide = 3;  // the rule reads the cells' directions, not the grid
+  for (int k = -4; k <= 4; ++k) {
+    const auto [cellLight, cellView] = point(centreDeg + 0.8 * k);
+    cells.cells.push_back(
+        {cellLight, cellView, Rgb::gray(profile(centreDeg + 0.8 * k)), Rgb::gray(1e-4), false});
+  }
+  s.cells = std::move(cells);
+  return s;
+}
+
+// Frames every 3 deg over [fromDeg, toDeg] except those whose centre lies in a skipped range.
+AzimuthBins sweep(const Profile& profile, double fromDeg, double toDeg,
+                  const std::vector<std::pair<double, double>>& skipped) {
+  AzimuthBins bins(SliceKind::Diagonal);
+  std::uint64_t index = 0;
+  for (double p = fromDeg; p <= toDeg; p += 3.0) {
+    bool skip = false;
+    for (const auto& [a, b] : skipped) skip = skip || (p > a && p < b);
+    if (!skip) bins.add(frameAt(p, profile, ++index));
+  }
+  return bins;
+}
+
+std::vector<std::pair<double, PassAgainReason>> named(const std::vector<PassAgainBin>& bins) {
+  std::vector<std::pair<double, PassAgainReason>> out;
+  for (const PassAgainBin& b : bins) {
+    EXPECT_EQ(b.slice, kDiagonal7575);
+    EXPECT_DOUBLE_EQ(b.azimuthDeg, 15.0 * b.bin);
+    out.emplace_back(b.azimuthDeg, b.reason);
+  }
+  return out;
+}
+
+TEST(PassAgain, NamesEmptyBinsAndAPeakTheCellsRiseTowardButNoneReached) {
+  // Two sharp lobes (sigma 1.5 deg): at 180 the frames pass over it, at 90 they skip 86-94 deg,
+  // so the nearest cells are 2.8 deg of the parameter (~3.8 deg of light and view) short of it
+  // on either side, and still rising. No frame between 198 and 243: bins 210 and 225 empty.
+  const Profile sharp = [](double p) { return 0.1 + lobe(p, 90, 1.5) + lobe(p, 180, 1.5); };
+  const AzimuthBins bins = sweep(sharp, 0, 357, {{86, 94}, {198, 243}});
+  using R = PassAgainReason;
+  const std::vector<std::pair<double, R>> expected{
+      {90, R::PeakNotReached}, {210, R::Empty}, {225, R::Empty}};
+  EXPECT_EQ(named(binsToPassAgain(bins, kDiagonal7575, SweepProgress::Finished)), expected);
+  // The gap is what names it: with the centre counted as reached 5 deg away it is not named.
+  PassAgainRule lenient;
+  lenient.reachedWithinDeg = 5.0;
+  EXPECT_EQ(binsToPassAgain(bins, kDiagonal7575, SweepProgress::Finished, lenient).size(), 2u);
+  EXPECT_EQ(toString(R::PeakNotReached), "peak_not_reached");
+  EXPECT_EQ(toString(R::Empty), "empty");
+}
+
+TEST(PassAgain, ABroadLobeWithTheSameGapIsNotAMissedPeak) {
+  // sigma 15 deg: over the last two cell steps before the gap it changes by a few per cent.
+  const Profile broad = [](double p) { return 0.1 + lobe(p, 90, 15); };
+  const AzimuthBins bins = sweep(broad, 0, 357, {{86, 94}});
+  EXPECT_TRUE(binsToPassAgain(bins, kDiagonal7575, SweepProgress::Finished).empty());
+}
+
+TEST(PassAgain, WhileTheSweepRunsTheBinsAheadOfItAreNotYetMissed) {
+  // Swept from 0 to 180 so far, skipping 50-70: bin 60 is a gap behind the sweep, 195-345 lie
+  // ahead of it.
+  const Profile flat = [](double) { return 0.1; };
+  const AzimuthBins bins = sweep(flat, 0, 180, {{50, 70}});
+  using R = PassAgainReason;
+  EXPECT_EQ(named(binsToPassAgain(bins, kDiagonal7575, SweepProgress::Running)),
+            (std::vector<std::pair<double, R>>{{60, R::Empty}}));
+  EXPECT_EQ(binsToPassAgain(bins, kDiagonal7575, SweepProgress::Finished).size(), 12u);
+  EXPECT_TRUE(binsToPassAgain(AzimuthBins(SliceKind::Diagonal), kDiagonal7575,
+                              SweepProgress::Finished)
+                  .empty());
+  EXPECT_THROW(binsToPassAgain(bins, SliceId{SliceKind::Point, {0, 0}}, SweepProgress::Running),
+               std::invalid_argument);
+}
+
+TEST(PassAgain, ACellInTheBinIsEnoughToFillIt) {
+  // No frame's centre in bin 60 (52.5-67.5), but the frame at 70.5 has cells down to 67.3 deg:
+  // the slice value reads them, so the bin is not empty.
+  const Profile flat = [](double) { return 0.1; };
+  AzimuthBins bins(SliceKind::Diagonal);
+  bins.add(frameAt(49, flat, 1));
+  bins.add(frameAt(70.5, flat, 2));
+  const std::vector<PassAgainBin> out = binsToPassAgain(bins, kDiagonal7575, SweepProgress::Finished);
+  for (const PassAgainBin& b : out) EXPECT_NE(b.bin, 4);
+  EXPECT_TRUE(bins.samplesIn(4).empty());
+}
+
+}  // namespace
+}  // namespace slicecap::capture
