@@ -92,6 +92,29 @@ TEST(ReplyViews, StatusRoundTrips) {
   const json written = toJson(status);
   EXPECT_TRUE(written["isotropy"]["isotropic"].is_null());
   EXPECT_EQ(toJson(statusFromJson(written)), written);
+  EXPECT_FALSE(written.contains("pass_again"));  // none to pass again: the key is left out
+}
+
+TEST(ReplyViews, TheBinsToPassAgainRoundTrip) {
+  StatusView status;
+  status.next = "keep sweeping";
+  const SliceId diagonal{SliceKind::Diagonal, {75, 75}}, axial{SliceKind::Axial, {30, 30}};
+  status.passAgain = {{axial, 210.0, "empty"}, {diagonal, 90.0, "peak_not_reached"}};
+  const json written = toJson(status);
+  ASSERT_EQ(written["pass_again"].size(), 2u);
+  EXPECT_EQ(written["pass_again"][1]["slice"]["name"], toString(diagonal));
+  EXPECT_EQ(written["pass_again"][1]["azimuth_deg"], 90.0);
+  EXPECT_EQ(written["pass_again"][1]["reason"], "peak_not_reached");
+  const StatusView read = statusFromJson(written);
+  ASSERT_EQ(read.passAgain.size(), 2u);
+  EXPECT_EQ(read.passAgain[0].slice, axial);
+  EXPECT_EQ(read.passAgain[0].azimuthDeg, 210.0);
+  EXPECT_EQ(read.passAgain[0].reason, "empty");
+  EXPECT_EQ(read.passAgain[1].slice, diagonal);
+  EXPECT_EQ(toJson(read), written);
+  json unreadable = written;
+  unreadable["pass_again"][0].erase("reason");
+  EXPECT_THROW(statusFromJson(unreadable), ReplyError);
 }
 
 TEST(ReplyViews, IsotropyErrorKeepsOnlyTheErrorAndTheAdvice) {

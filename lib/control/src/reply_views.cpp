@@ -51,6 +51,11 @@ JournalDamageView journalDamageFromJson(const json& object) {
           field<std::size_t>(object, "samples_lost")};
 }
 
+PassAgainView passAgainFromJson(const json& object) {
+  return {sliceFromJson(field<json>(object, "slice")), field<double>(object, "azimuth_deg"),
+          field<std::string>(object, "reason")};
+}
+
 }  // namespace
 
 json sliceJson(const SliceId& slice) {
@@ -255,6 +260,14 @@ json toJson(const StatusView& status) {
                  {"sweep", status.sweep ? toJson(*status.sweep) : json(nullptr)},
                  {"next", status.next}};
   if (status.isotropy) object["isotropy"] = toJson(*status.isotropy);
+  if (!status.passAgain.empty()) {
+    json bins = json::array();
+    for (const PassAgainView& bin : status.passAgain)
+      bins.push_back({{"slice", sliceJson(bin.slice)},
+                      {"azimuth_deg", bin.azimuthDeg},
+                      {"reason", bin.reason}});
+    object["pass_again"] = std::move(bins);
+  }
   if (status.error) object["error"] = *status.error;
   if (status.recording) object["recording"] = toJson(*status.recording);
   if (status.texture) object["texture"] = toJson(*status.texture);
@@ -278,6 +291,9 @@ StatusView statusFromJson(const json& object) {
   status.next = field<std::string>(object, "next");
   if (const auto isotropy = optionalField<json>(object, "isotropy"))
     status.isotropy = isotropyFromJson(*isotropy);
+  // Optional: a daemon from before it does not send it.
+  for (const json& bin : optionalField<json>(object, "pass_again").value_or(json::array()))
+    status.passAgain.push_back(passAgainFromJson(bin));
   status.error = optionalField<std::string>(object, "error");
   if (const auto recording = optionalField<json>(object, "recording"))
     status.recording = recordingFromJson(*recording);

@@ -13,6 +13,14 @@ const std::vector<ReplyField>& statusFields() {
       {"next", "what to do next: a slicecap command or a sentence"},
       {"isotropy", "the isotropy test once the four diagonal sweeps are complete: isotropic, "
                    "informative, axial_sweeps_needed, reason (or error)"},
+      {"pass_again", "the bins of the session's swept slices to pass over again, slowly: left "
+                     "empty, or next to a peak the window cells rise toward but none reached "
+                     "(docs/method.md 9.5); while a sweep runs, the empty bins still ahead of it "
+                     "are not named (absent: none)"},
+      {"pass_again.slice", "the slice, as a sweep's slice (name, kind, theta_i, theta_v)"},
+      {"pass_again.azimuth_deg", "the bin centre's slice parameter: light azimuth on an axial "
+                                 "slice, view azimuth on a diagonal one"},
+      {"pass_again.reason", "empty, or peak_not_reached"},
       {"error", "why the sweep last paused or the session's storage last failed (cleared when a "
                 "sweep starts or stops)"},
       {"recording", "record_frames: the sweep's raw-frame recording"},

@@ -133,13 +133,22 @@ struct RoomLightView {
   std::optional<double> changeToLed;  ///< change x toLed: as a fraction of the LED's light
 };
 
-/// \brief What `status` answers. The session manager fills session, sweep, next, isotropy and
-/// error; the daemon's sweep devices fill the rest. statusFields() says what each key means.
+/// \brief A bin of a swept slice to pass over again, slowly (capture::binsToPassAgain): "slice"
+/// (as a sweep's), "azimuth_deg" (the bin centre's slice parameter) and "reason".
+struct PassAgainView {
+  SliceId slice;
+  double azimuthDeg = 0.0;
+  std::string reason;  ///< "empty" or "peak_not_reached"
+};
+
+/// \brief What `status` answers. The session manager fills session, sweep, next, isotropy,
+/// pass_again and error; the daemon's sweep devices fill the rest. statusFields() says what each key means.
 struct StatusView {
   std::optional<SessionView> session;
   std::optional<SweepView> sweep;
   std::string next;
   std::optional<IsotropyView> isotropy;
+  std::vector<PassAgainView> passAgain;  ///< the session's slices, sweep order, ascending bins
   std::optional<std::string> error;
   std::optional<RecordingView> recording;
   std::optional<TextureProgressView> texture;
