@@ -105,6 +105,30 @@ TEST(SessionManager, WalksAPersonThroughASweep) {
   EXPECT_EQ(manager.status()["next"], "slicecap sweep start diagonal 75 75");
 }
 
+TEST(SessionManager, NamesTheBinsToPassAgainDuringAndAfterASweep) {
+  SessionManager manager(test::freshTempDir(), meanOfSlices);
+  ok(manager, control::SessionNew{"felt", std::string("felt")});
+  ok(manager, control::SweepStart{kAxial3030});
+  for (int k = 0; k < 10; ++k) {
+    if (k == 4) continue;  // a bin the hand went over too fast
+    ASSERT_TRUE(manager.acceptSample(sampleAt(k * 15.0, 0.5, k)));
+  }
+  json status = manager.status();
+  // While it runs: the gap at 60 deg it left behind, not the bins from 150 deg still ahead.
+  ASSERT_EQ(status["pass_again"].size(), 1u);
+  EXPECT_EQ(status["pass_again"][0]["slice"]["name"], toString(kAxial3030));
+  EXPECT_EQ(status["pass_again"][0]["azimuth_deg"], 60.0);
+  EXPECT_EQ(status["pass_again"][0]["reason"], "empty");
+  EXPECT_THAT(status["next"].get<std::string>(),
+              testing::EndsWith("9 of 24 bins filled; pass again slowly over 60 deg (empty)"));
+  ok(manager, control::SweepStop{});
+  status = manager.status();
+  EXPECT_EQ(status["pass_again"].size(), 15u) << "60 deg, and 150-345 deg never swept";
+  EXPECT_THAT(status["next"].get<std::string>(),
+              testing::EndsWith("; to pass again slowly: `slicecap sweep start axial 30 30` over "
+                                "60 deg (empty)"));
+}
+
 TEST(SessionManager, RefusesWhatTheStateDoesNotAllow) {
   SessionManager manager(test::freshTempDir(), meanOfSlices);
   EXPECT_EQ(refused(manager, control::SweepStart{kAxial3030}).code, control::ErrorCode::Conflict);
@@ -299,7 +323,10 @@ TEST(SessionManager, AsksForTheDiagonalSweepsFirstAndSaysWhenTheAxialOnesAreNotN
   EXPECT_EQ(status["next"],
             "cannot tell yet whether the axial sweeps are needed (no anisotropy seen, but too few "
             "bins to rule it out: diagonal 75/30 has 12 of 24 (16 needed); sweep it again or "
-            "measure the axial sweeps): slicecap sweep start axial 30 30 measures them");
+            "measure the axial sweeps): slicecap sweep start axial 30 30 measures them; to pass "
+            "again slowly: `slicecap sweep start diagonal 75 30` over 30 deg (empty), 60 deg "
+            "(empty), 90 deg (empty), 120 deg (empty), 150 deg (empty), 180 deg (empty), 210 deg "
+            "(empty), 240 deg (empty), 270 deg (empty), 300 deg (empty), 330 deg (empty)");
   // An anisotropic verdict stands on any coverage.
   verdict.isotropic = false;
   ok(manager, control::SweepStart{diagonal.back()});

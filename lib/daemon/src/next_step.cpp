@@ -1,7 +1,10 @@
 // The status's next step: keep sweeping, the next slice in sweep order, or export.
 #include "next_step.hpp"
 
+#include <cmath>
+
 #include "session_report.hpp"
+#include "slicecap/capture/pass_again.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 
 namespace slicecap::daemon {
@@ -48,21 +51,79 @@ std::string axialStep(const SliceId& axial, const std::string& exportCommand,
   return startCommand(axial);
 }
 
+// "90 deg (peak not reached), 165-345 deg (empty)": the bins of `slice` to pass again, a run
+// of neighbouring bins with one reason as a range (a half-swept slice has a dozen empty bins).
+std::string azimuthsOf(const SliceId& slice, const std::vector<control::PassAgainView>& bins) {
+  constexpr double kBinWidthDeg = 360.0 / kBinsPerSlice;
+  std::vector<const control::PassAgainView*> of;
+  for (const control::PassAgainView& bin : bins)
+    if (bin.slice == slice) of.push_back(&bin);
+  std::string out;
+  for (std::size_t k = 0; k < of.size();) {
+    std::size_t last = k;
+    while (last + 1 < of.size() && of[last + 1]->reason == of[k]->reason &&
+           std::abs(of[last + 1]->azimuthDeg - of[last]->azimuthDeg - kBinWidthDeg) < 1e-6)
+      ++last;
+    out += (out.empty() ? "" : ", ") + std::to_string(std::lround(of[k]->azimuthDeg));
+    if (last > k) out += "-" + std::to_string(std::lround(of[last]->azimuthDeg));
+    out += std::string(" deg (") + (of[k]->reason == "empty" ? "empty" : "peak not reached") + ")";
+    k = last + 1;
+  }
+  return out;
+}
+
+// The hint's tail naming the bins to pass again: the sweep's own while one runs; else the first
+// slice in sweep order with a peak not reached, else with a gap. After a sweep only what the hand
+// skipped is named (capture::SweepProgress::Running: the longest stretch of empty bins is the
+// part not swept, which the sparsest slice's hint speaks of), or a half sweep would list a dozen
+// bins after every slice; the status's pass_again lists them all.
+std::string passAgainHint(const capture::SessionStore& session, const SweepRun* sweep) {
+  auto skipped = [&](const SliceId& slice) {
+    std::vector<control::PassAgainView> out;
+    for (const capture::PassAgainBin& bin : capture::binsToPassAgain(
+             session.bins(slice), slice, capture::SweepProgress::Running))
+      out.push_back({bin.slice, bin.azimuthDeg, toString(bin.reason)});
+    return out;
+  };
+  if (sweep) {
+    const std::string azimuths = azimuthsOf(sweep->slice, skipped(sweep->slice));
+    return azimuths.empty() ? "" : "; pass again slowly over " + azimuths;
+  }
+  std::optional<SliceId> withGap;
+  for (const SliceId& slice : sweepOrder()) {
+    const std::vector<control::PassAgainView> bins = skipped(slice);
+    for (const control::PassAgainView& bin : bins)
+      if (bin.reason != "empty")
+        return "; to pass again slowly: `" + startCommand(slice) + "` over " +
+               azimuthsOf(slice, bins);
+    if (!withGap && !bins.empty()) withGap = slice;
+  }
+  if (!withGap) return "";
+  return "; to pass again slowly: `" + startCommand(*withGap) + "` over " +
+         azimuthsOf(*withGap, skipped(*withGap));
+}
+
+std::string stepWithoutPassAgain(const capture::SessionStore& session,
+                                 const std::optional<control::IsotropyView>& isotropy) {
+  const std::string exportCommand = "slicecap export " + session.info().id + " -o DIR";
+  // A slice with samples counts as swept: a hand-held sweep seldom fills all 24 bins, and a
+  // hint that waits for them never moves on. The sparsest slice is named at the end.
+  for (const SliceId& slice : sweepOrder()) {
+    if (session.sampleCount(slice) > 0) continue;
+    if (slice.kind == SliceKind::Diagonal) return startCommand(slice);
+    return axialStep(slice, exportCommand, isotropy);
+  }
+  return exportStep(session, exportCommand);
+}
+
 }  // namespace
 
 std::string nextStep(const capture::SessionStore* session, const SweepRun* sweep,
                      const std::optional<control::IsotropyView>& isotropy) {
   if (!session) return "slicecap session new MATERIAL";
-  if (sweep) return sweepStep(*session, *sweep);
-  const std::string exportCommand = "slicecap export " + session->info().id + " -o DIR";
-  // A slice with samples counts as swept: a hand-held sweep seldom fills all 24 bins, and a
-  // hint that waits for them never moves on. The sparsest slice is named at the end.
-  for (const SliceId& slice : sweepOrder()) {
-    if (session->sampleCount(slice) > 0) continue;
-    if (slice.kind == SliceKind::Diagonal) return startCommand(slice);
-    return axialStep(slice, exportCommand, isotropy);
-  }
-  return exportStep(*session, exportCommand);
+  const std::string step =
+      sweep ? sweepStep(*session, *sweep) : stepWithoutPassAgain(*session, isotropy);
+  return step + passAgainHint(*session, sweep);
 }
 
 }  // namespace slicecap::daemon

@@ -11,7 +11,10 @@
 namespace slicecap::daemon {
 
 /// \brief The next step for the current session (none: start one), its sweep if any, and the
-/// isotropy test's verdict on it if there is one.
+/// isotropy test's verdict on it if there is one. When bins are to be passed again
+/// (capture::binsToPassAgain) the step ends by naming them: the sweep's own while it runs, else
+/// one slice's (the first in sweep order with a peak not reached, else with a gap the hand left)
+/// and the command that continues it.
 std::string nextStep(const capture::SessionStore* session, const SweepRun* sweep,
                      const std::optional<control::IsotropyView>& isotropy);
 

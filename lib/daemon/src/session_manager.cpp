@@ -271,6 +271,7 @@ control::StatusView SessionManager::State::statusView() const {
   if (session) {
     status.session = statusSessionView(*session);
     status.isotropy = isotropy.verdict(*session, samplesVersion, capturing());
+    status.passAgain = passAgainView(*session, sweep ? std::optional(sweep->slice) : std::nullopt);
   }
   if (sweep) status.sweep = sweep->view(*session);
   status.next =

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <ctime>
 
+#include "slicecap/capture/pass_again.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 
 namespace slicecap::daemon {
@@ -50,6 +51,21 @@ control::SessionView sessionView(const capture::SessionStore& store) {
   session.corruptJournalLines.assign(store.recovery().corruptLines.begin(),
                                      store.recovery().corruptLines.end());
   return session;
+}
+
+std::vector<control::PassAgainView> passAgainView(const capture::SessionStore& store,
+                                                  const std::optional<SliceId>& sweeping) {
+  // Every status request reads each swept slice's cells afresh (a few ten thousand per slice):
+  // milliseconds, against the frame interval's tens.
+  std::vector<control::PassAgainView> out;
+  for (const SliceId& slice : sweepOrder()) {
+    const auto progress = slice == sweeping ? capture::SweepProgress::Running
+                                            : capture::SweepProgress::Finished;
+    for (const capture::PassAgainBin& bin :
+         capture::binsToPassAgain(store.bins(slice), slice, progress))
+      out.push_back({bin.slice, bin.azimuthDeg, toString(bin.reason)});
+  }
+  return out;
 }
 
 std::string startCommand(const SliceId& slice) {
