@@ -40,6 +40,16 @@ TEST(ProcessCommand, WritesSlicesReportAndSummary) {
   nlohmann::json j;
   std::ifstream(report) >> j;
   EXPECT_EQ(j["recordings"][0]["frames"].size(), 6u);
+  // The bins to pass again: a Lambertian surface has no peak to miss, so only empty bins, none
+  // of them one a frame filled (the 3 filled bins' cells reach a neighbour at most).
+  const nlohmann::json& passAgain = j["recordings"][0]["pass_again"];
+  EXPECT_GE(passAgain.size(), 15u);
+  EXPECT_LE(passAgain.size(), 21u);
+  for (const auto& bin : passAgain) {
+    EXPECT_EQ(bin["reason"], "empty");
+    EXPECT_DOUBLE_EQ(bin["azimuth_deg"].get<double>(), 15.0 * bin["bin"].get<int>());
+    EXPECT_TRUE(j["recordings"][0]["bins"][bin["bin"].get<int>()]["frames"].empty()) << bin;
+  }
   EXPECT_EQ(j["recordings"][0]["frames"][1]["outcome"], "ambient");
   // The first frame has no earlier pose: the whole frame was searched.
   EXPECT_EQ(j["recordings"][0]["frames"][0]["detection"]["tracked"], false);

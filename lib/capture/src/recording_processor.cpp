@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "slicecap/capture/pass_again.hpp"
 #include "slicecap/hal/recorded_frame.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/png_image.hpp"
@@ -361,6 +362,14 @@ nlohmann::json RecordingResult::toJson() const {
       used.push_back(s.frameIndex);
     binList.push_back({{"bin", b}, {"frames", used}});
   }
+  // The bins to pass again had the recording been a live sweep (docs/method.md §9.5).
+  nlohmann::json passAgain = nlohmann::json::array();
+  const std::vector<PassAgainBin> toPassAgain =
+      slice.kind == SliceKind::Point ? std::vector<PassAgainBin>{}
+                                     : binsToPassAgain(bins, slice, SweepProgress::Finished);
+  for (const PassAgainBin& bin : toPassAgain)
+    passAgain.push_back({{"bin", bin.bin}, {"azimuth_deg", bin.azimuthDeg},
+                         {"reason", toString(bin.reason)}});
   return {{"recording", directory.string()},
           {"slice", toString(slice)},
           {"decoding", decoding},
@@ -371,7 +380,8 @@ nlohmann::json RecordingResult::toJson() const {
                              : "not subtracted: the recording has no LED-off frame"},
           {"rejections", rejectionsJson()},
           {"frames", frames},
-          {"bins", binList}};
+          {"bins", binList},
+          {"pass_again", passAgain}};
 }
 
 }  // namespace slicecap::capture

@@ -124,6 +124,18 @@ void printStatus(std::ostream& out, const json& reply) {
         << ": " << status.texture->binsFilled << "/" << control::kBinsPerSlice << " bins, "
         << status.texture->framesStored << " frames kept in " << status.texture->directory
         << "\n";
+  // The bins to pass again, one line a slice: "pass again slowly, diagonal 75/75: 90 deg (peak
+  // not reached), 210 deg (empty)".
+  for (std::size_t k = 0; k < status.passAgain.size();) {
+    const SliceId slice = status.passAgain[k].slice;
+    out << "pass again slowly, " << toString(slice) << ":";
+    for (const char* separator = " "; k < status.passAgain.size() &&
+                                      status.passAgain[k].slice == slice;
+         ++k, separator = ", ")
+      out << separator << std::lround(status.passAgain[k].azimuthDeg) << " deg ("
+          << (status.passAgain[k].reason == "empty" ? "empty" : "peak not reached") << ")";
+    out << "\n";
+  }
   if (status.isotropy) out << "isotropy: " << isotropyText(*status.isotropy) << "\n";
   if (status.error) out << "error: " << *status.error << "\n";
   if (status.exposure) out << "exposure: " << *status.exposure << "\n";
