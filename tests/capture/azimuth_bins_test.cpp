@@ -53,5 +53,17 @@ TEST(AzimuthBins, EvenCountsTakeTheMiddleMean) {
   EXPECT_EQ(bins.filledCount(), 0);
 }
 
+TEST(AzimuthBins, AVersionChangesWithTheBinsAndIsNoOtherBinsOwn) {
+  AzimuthBins bins(SliceKind::Axial), other(SliceKind::Axial);
+  const std::uint64_t fresh = bins.version();
+  EXPECT_NE(other.version(), fresh);
+  bins.add(FrameSample{0, 0, {30, 0}, {30, 15}, Rgb::gray(0.5)});
+  const std::uint64_t added = bins.version();
+  EXPECT_NE(added, fresh);
+  bins.clear();
+  EXPECT_NE(bins.version(), added);
+  EXPECT_NE(bins.version(), fresh) << "emptied again, but not the same bins as at first";
+}
+
 }  // namespace
 }  // namespace slicecap::capture

@@ -121,12 +121,19 @@ TEST(SessionManager, NamesTheBinsToPassAgainDuringAndAfterASweep) {
   EXPECT_EQ(status["pass_again"][0]["reason"], "empty");
   EXPECT_THAT(status["next"].get<std::string>(),
               testing::EndsWith("9 of 24 bins filled; pass again slowly over 60 deg (empty)"));
+  // The answer is kept between requests, and worked out again once the bins change.
+  EXPECT_EQ(manager.status()["pass_again"], status["pass_again"]);
+  ASSERT_TRUE(manager.acceptSample(sampleAt(60.0, 0.5, 4)));
+  EXPECT_FALSE(manager.status().contains("pass_again")) << "the gap filled";
+  ASSERT_TRUE(manager.acceptSample(sampleAt(150.0, 0.5, 10)));
+  ASSERT_TRUE(manager.acceptSample(sampleAt(180.0, 0.5, 12)));
+  EXPECT_EQ(manager.status()["pass_again"].size(), 1u) << "165 deg, passed over";
   ok(manager, control::SweepStop{});
   status = manager.status();
-  EXPECT_EQ(status["pass_again"].size(), 15u) << "60 deg, and 150-345 deg never swept";
+  EXPECT_EQ(status["pass_again"].size(), 12u) << "165 deg, and the 11 bins of 195-345 deg";
   EXPECT_THAT(status["next"].get<std::string>(),
               testing::EndsWith("; to pass again slowly: `slicecap sweep start axial 30 30` over "
-                                "60 deg (empty)"));
+                                "165 deg (empty)"));
 }
 
 TEST(SessionManager, RefusesWhatTheStateDoesNotAllow) {

@@ -2,6 +2,7 @@
 #include "slicecap/capture/azimuth_bins.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 
@@ -28,10 +29,16 @@ double circularMeanDeg(const std::vector<double>& azimuthsDeg) {
   return wrapDeg360(radToDeg(std::atan2(y, x)));
 }
 
+// The next AzimuthBins::version(): one counter for every instance, so two bins never share one.
+std::uint64_t nextVersion() {
+  static std::atomic<std::uint64_t> counter{0};
+  return ++counter;
+}
+
 }  // namespace
 
 AzimuthBins::AzimuthBins(SliceKind kind, double binWidthDeg)
-    : kind_(kind), binWidthDeg_(binWidthDeg) {
+    : kind_(kind), binWidthDeg_(binWidthDeg), version_(nextVersion()) {
   const double count = 360.0 / binWidthDeg;
   if (!std::isfinite(count) || count < 1.0 || std::abs(count - std::round(count)) > 1e-9) {
     throw std::invalid_argument("azimuth bin width must divide 360 deg");
@@ -51,12 +58,14 @@ int AzimuthBins::binOf(const FrameSample& sample) const {
 
 void AzimuthBins::add(const FrameSample& sample) {
   bins_[binOf(sample)].push_back(sample);
+  version_ = nextVersion();
   clippedCache_.reset();
 }
 
 void AzimuthBins::clear() {
   for (auto& bin : bins_)
     bin.clear();
+  version_ = nextVersion();
   clippedCache_.reset();
 }
 

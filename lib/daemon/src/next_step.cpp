@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "session_report.hpp"
-#include "slicecap/capture/pass_again.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 
 namespace slicecap::daemon {
@@ -77,11 +76,12 @@ std::string azimuthsOf(const SliceId& slice, const std::vector<control::PassAgai
 // skipped is named (capture::SweepProgress::Running: the longest stretch of empty bins is the
 // part not swept, which the sparsest slice's hint speaks of), or a half sweep would list a dozen
 // bins after every slice; the status's pass_again lists them all.
-std::string passAgainHint(const capture::SessionStore& session, const SweepRun* sweep) {
+std::string passAgainHint(const capture::SessionStore& session, const SweepRun* sweep,
+                          PassAgainCache& cache) {
   auto skipped = [&](const SliceId& slice) {
     std::vector<control::PassAgainView> out;
-    for (const capture::PassAgainBin& bin : capture::binsToPassAgain(
-             session.bins(slice), slice, capture::SweepProgress::Running))
+    for (const capture::PassAgainBin& bin :
+         cache.bins(session, slice, capture::SweepProgress::Running))
       out.push_back({bin.slice, bin.azimuthDeg, toString(bin.reason)});
     return out;
   };
@@ -119,11 +119,12 @@ std::string stepWithoutPassAgain(const capture::SessionStore& session,
 }  // namespace
 
 std::string nextStep(const capture::SessionStore* session, const SweepRun* sweep,
-                     const std::optional<control::IsotropyView>& isotropy) {
+                     const std::optional<control::IsotropyView>& isotropy,
+                     PassAgainCache& cache) {
   if (!session) return "slicecap session new MATERIAL";
   const std::string step =
       sweep ? sweepStep(*session, *sweep) : stepWithoutPassAgain(*session, isotropy);
-  return step + passAgainHint(*session, sweep);
+  return step + passAgainHint(*session, sweep, cache);
 }
 
 }  // namespace slicecap::daemon

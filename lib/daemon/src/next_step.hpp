@@ -6,6 +6,7 @@
 
 #include "slicecap/capture/session_store.hpp"
 #include "slicecap/control/reply_views.hpp"
+#include "session_report.hpp"
 #include "sweep_run.hpp"
 
 namespace slicecap::daemon {
@@ -15,7 +16,9 @@ namespace slicecap::daemon {
 /// (capture::binsToPassAgain) the step ends by naming them: the sweep's own while it runs, else
 /// one slice's (the first in sweep order with a peak not reached, else with a gap the hand left)
 /// and the command that continues it.
+/// `cache` keeps the bins to pass again between calls.
 std::string nextStep(const capture::SessionStore* session, const SweepRun* sweep,
-                     const std::optional<control::IsotropyView>& isotropy);
+                     const std::optional<control::IsotropyView>& isotropy,
+                     PassAgainCache& cache);
 
 }  // namespace slicecap::daemon

@@ -71,6 +71,7 @@ struct SessionManager::State {
   std::optional<SweepRun> sweep;
   std::string lastError;
   std::uint64_t samplesVersion = 0;  // bumped whenever a session's samples may have changed
+  mutable PassAgainCache passAgain;  // the status is const, its cells' reading kept
 
   fs::path currentFile() const { return root / "current"; }
 
@@ -271,11 +272,12 @@ control::StatusView SessionManager::State::statusView() const {
   if (session) {
     status.session = statusSessionView(*session);
     status.isotropy = isotropy.verdict(*session, samplesVersion, capturing());
-    status.passAgain = passAgainView(*session, sweep ? std::optional(sweep->slice) : std::nullopt);
+    status.passAgain =
+        passAgainView(*session, sweep ? std::optional(sweep->slice) : std::nullopt, passAgain);
   }
   if (sweep) status.sweep = sweep->view(*session);
-  status.next =
-      nextStep(session ? &*session : nullptr, sweep ? &*sweep : nullptr, status.isotropy);
+  status.next = nextStep(session ? &*session : nullptr, sweep ? &*sweep : nullptr,
+                         status.isotropy, passAgain);
   if (!lastError.empty()) status.error = lastError;
   return status;
 }

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <ctime>
 
-#include "slicecap/capture/pass_again.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 
 namespace slicecap::daemon {
@@ -53,16 +52,24 @@ control::SessionView sessionView(const capture::SessionStore& store) {
   return session;
 }
 
+const std::vector<capture::PassAgainBin>& PassAgainCache::bins(const capture::SessionStore& store,
+                                                               const SliceId& slice,
+                                                               capture::SweepProgress progress) {
+  const capture::AzimuthBins& bins = store.bins(slice);
+  Kept& kept = kept_[{slice, progress}];
+  if (kept.version != bins.version())
+    kept = {bins.version(), capture::binsToPassAgain(bins, slice, progress)};
+  return kept.bins;
+}
+
 std::vector<control::PassAgainView> passAgainView(const capture::SessionStore& store,
-                                                  const std::optional<SliceId>& sweeping) {
-  // Every status request reads each swept slice's cells afresh (a few ten thousand per slice):
-  // milliseconds, against the frame interval's tens.
+                                                  const std::optional<SliceId>& sweeping,
+                                                  PassAgainCache& cache) {
   std::vector<control::PassAgainView> out;
   for (const SliceId& slice : sweepOrder()) {
     const auto progress = slice == sweeping ? capture::SweepProgress::Running
                                             : capture::SweepProgress::Finished;
-    for (const capture::PassAgainBin& bin :
-         capture::binsToPassAgain(store.bins(slice), slice, progress))
+    for (const capture::PassAgainBin& bin : cache.bins(store, slice, progress))
       out.push_back({bin.slice, bin.azimuthDeg, toString(bin.reason)});
   }
   return out;

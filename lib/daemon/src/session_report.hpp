@@ -1,10 +1,14 @@
 // A session's state as the replies show it (control::SessionView), made from its store.
 #pragma once
 
+#include <cstdint>
+#include <map>
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
+#include "slicecap/capture/pass_again.hpp"
 #include "slicecap/capture/session_store.hpp"
 #include "slicecap/control/reply_views.hpp"
 
@@ -15,11 +19,29 @@ control::SessionView sessionView(const capture::SessionStore& store);
 /// \brief The session as the status shows it: without its folder, creation time and the
 /// journal's recovery figures.
 control::SessionView statusSessionView(const capture::SessionStore& store);
+/// \brief capture::binsToPassAgain of a session's slices, kept while a slice's bins stay the
+/// same (AzimuthBins::version): it reads every cell of the slice (~10 ms for 300 frames of 64
+/// cells on a desktop core), and the status is asked for on the frame loop, often during a sweep.
+class PassAgainCache {
+ public:
+  const std::vector<capture::PassAgainBin>& bins(const capture::SessionStore& store,
+                                                 const SliceId& slice,
+                                                 capture::SweepProgress progress);
+
+ private:
+  struct Kept {
+    std::uint64_t version = 0;
+    std::vector<capture::PassAgainBin> bins;
+  };
+  std::map<std::pair<SliceId, capture::SweepProgress>, Kept> kept_;
+};
+
 /// \brief The bins of the session's swept slices to pass again (capture::binsToPassAgain), in
 /// sweep order: `sweeping`'s slice as a sweep still under way (its empty bins ahead of it are not
 /// named), every other slice with samples as finished.
 std::vector<control::PassAgainView> passAgainView(const capture::SessionStore& store,
-                                                  const std::optional<SliceId>& sweeping);
+                                                  const std::optional<SliceId>& sweeping,
+                                                  PassAgainCache& cache);
 /// \brief The command that starts (or continues) a slice's sweep, for the hints.
 std::string startCommand(const SliceId& slice);
 /// \brief The time now in UTC, formatted by strftime's `format`.

@@ -1,6 +1,7 @@
 // Binning a sweep's frames by the slice parameter (15 deg bins) and combining each bin robustly.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -25,6 +26,10 @@ class AzimuthBins {
   int binOf(double parameterDeg) const;
   /// \brief The bin of a sample's slice parameter.
   int binOf(const FrameSample& sample) const;
+
+  /// \brief Changes whenever the bins do (add, clear), unique across every AzimuthBins of the
+  /// process: what is worked out from the bins can be kept while it stays the same.
+  std::uint64_t version() const { return version_; }
 
   void add(const FrameSample& sample);
   /// \brief Removes every sample (a redone sweep).
@@ -57,6 +62,7 @@ class AzimuthBins {
   SliceKind kind_;
   double binWidthDeg_;
   std::vector<std::vector<FrameSample>> bins_;
+  std::uint64_t version_;
   mutable std::optional<std::vector<int>> clippedCache_;  // clippedBins() until add or clear
 };
 
