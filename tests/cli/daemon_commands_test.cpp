@@ -133,6 +133,9 @@ TEST(DaemonCommands, StatusNamesTheHdrBinsClippedAtEveryExposure) {
   Result r = daemon.run({"status"});
   ASSERT_EQ(r.code, kExitOk) << r.err;
   EXPECT_THAT(r.out, HasSubstr("clipped at every exposure, a lower bound (sweep over them again slower): 45 deg\n"));
+  // Bin 4 (60 deg) between the two is a gap the sweep left: a bin to pass again.
+  EXPECT_THAT(r.out, HasSubstr("pass again slowly, axial 30/30: 60 deg (empty)\n"));
+  EXPECT_THAT(r.out, HasSubstr("; pass again slowly over 60 deg (empty)\n"));
   r = daemon.run({"status", "--json"});
   EXPECT_EQ(json::parse(r.out)["sweep"]["clipped_bins"], json::array({3}));
 }
