@@ -76,12 +76,15 @@ bool peakNotReached(const std::vector<std::vector<const CellSample*>>& cells, in
   if (!(nearestDeg > rule.reachedWithinDeg)) return false;
   // The flank may lie partly in a neighbouring bin: the cells behind the edge are taken there too.
   Group edge, behind;
-  for (const int k : {(b + n - 1) % n, b, (b + 1) % n})
+  for (const int offset : {-1, 0, 1}) {
+    const int k = (b + offset + n) % n;
+    if (offset != 0 && (k == b || (offset == 1 && k == (b + n - 1) % n))) continue;  // under 3 bins: each once
     for (const CellSample* c : cells[std::size_t(k)]) {
       const double beyond = distance(c) - nearestDeg;
       if (beyond <= rule.edgeBandDeg) edge.add(*c);
       else if (beyond >= rule.farFromDeg && beyond <= rule.farToDeg) behind.add(*c);
     }
+  }
   if (edge.count == 0 || behind.count == 0) return false;
   const double rise = edge.mean() - behind.mean();
   return edge.mean() >= rule.riseFactor * behind.mean() &&
