@@ -6,25 +6,11 @@
 #include <limits>
 #include <stdexcept>
 
+#include "slicecap/capture/window_cells.hpp"
 #include "slicecap/core/grid.hpp"
 
 namespace slicecap::capture {
 namespace {
-
-// Every usable cell of the sweep in the bin of its own slice parameter: sliceFromCells' binning.
-std::vector<std::vector<const CellSample*>> cellsByBin(const AzimuthBins& bins, SliceKind kind) {
-  std::vector<std::vector<const CellSample*>> out(std::size_t(bins.binCount()));
-  for (int b = 0; b < bins.binCount(); ++b)
-    for (const FrameSample& frame : bins.samplesIn(b)) {
-      if (!frame.cells) continue;
-      for (const CellSample& cell : frame.cells->cells) {
-        if (cell.clipped || !std::isfinite(cell.value.mean())) continue;
-        const double parameter = sliceParameterDeg(kind, {cell.light, cell.view, cell.value});
-        out[std::size_t(bins.binOf(parameter))].push_back(&cell);
-      }
-    }
-  return out;
-}
 
 // While a sweep runs, its longest run of empty bins (going round) is still ahead of it: the
 // bins of that run, to be left out. Ties: the first run found.
@@ -102,7 +88,7 @@ std::vector<PassAgainBin> binsToPassAgain(const AzimuthBins& bins, const SliceId
   if (id.kind == SliceKind::Point)
     throw std::invalid_argument("slice " + toString(id) + ": a point slice has no bins");
   if (bins.filledCount() == 0) return {};
-  const std::vector<std::vector<const CellSample*>> cells = cellsByBin(bins, id.kind);
+  const std::vector<std::vector<const CellSample*>> cells = usableCellsByBin(bins, id.kind);
   std::vector<bool> empty;
   for (int b = 0; b < bins.binCount(); ++b)
     empty.push_back(bins.samplesIn(b).empty() && cells[std::size_t(b)].empty());

@@ -37,21 +37,26 @@ SliceSample pooled(const std::vector<const CellSample*>& cells) {
 
 }  // namespace
 
-std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& id,
-                                        const CellSliceRule& rule) {
-  if (id.kind == SliceKind::Point)
-    throw std::invalid_argument("slice " + toString(id) + ": a point slice has no bins");
-  // Every usable cell of the sweep, in the bin of its own slice parameter.
-  std::vector<std::vector<const CellSample*>> cellsOfBin(std::size_t(bins.binCount()));
+std::vector<std::vector<const CellSample*>> usableCellsByBin(const AzimuthBins& bins,
+                                                             SliceKind kind) {
+  std::vector<std::vector<const CellSample*>> out(std::size_t(bins.binCount()));
   for (int b = 0; b < bins.binCount(); ++b)
     for (const FrameSample& frame : bins.samplesIn(b)) {
       if (!frame.cells) continue;
       for (const CellSample& cell : frame.cells->cells) {
         if (cell.clipped || !std::isfinite(cell.value.mean())) continue;
-        const double parameter = sliceParameterDeg(id.kind, {cell.light, cell.view, cell.value});
-        cellsOfBin[std::size_t(bins.binOf(parameter))].push_back(&cell);
+        const double parameter = sliceParameterDeg(kind, {cell.light, cell.view, cell.value});
+        out[std::size_t(bins.binOf(parameter))].push_back(&cell);
       }
     }
+  return out;
+}
+
+std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& id,
+                                        const CellSliceRule& rule) {
+  if (id.kind == SliceKind::Point)
+    throw std::invalid_argument("slice " + toString(id) + ": a point slice has no bins");
+  const std::vector<std::vector<const CellSample*>> cellsOfBin = usableCellsByBin(bins, id.kind);
   std::vector<SliceSample> out;
   for (int b = 0; b < bins.binCount(); ++b) {
     const std::vector<const CellSample*>& cells = cellsOfBin[std::size_t(b)];

@@ -34,6 +34,12 @@ struct CellSliceRule {
   double poolToleranceDeg = 0.5;
 };
 
+/// \brief Every usable cell of the sweep's frames (not clipped, a finite value) in the bin of its
+/// own slice parameter for a slice of `kind`, indexed by bin: the binning sliceFromCells and
+/// binsToPassAgain share. The pointers refer into `bins`.
+std::vector<std::vector<const CellSample*>> usableCellsByBin(const AzimuthBins& bins,
+                                                             SliceKind kind);
+
 /// \brief One sample per bin of a sweep of slice `id` from the cells of its frames: every
 /// unclipped cell is binned by its own slice parameter; in each bin, the cell nearest in angle to
 /// the bin centre's nominal light and view directions (the slice's elevations, slicePoint's
