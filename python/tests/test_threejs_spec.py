@@ -68,3 +68,13 @@ def test_the_sheen_albedo_is_the_fits_own(tmp_path):
                                          f"spec.sheenAlbedo({ALPHA_NODE!r}))));"))
     cosines = np.linspace(0.0, 1.0, SHEEN_ALBEDO_COSINES)
     np.testing.assert_allclose(albedo, sheen_albedo(cosines, ALPHA_NODE), rtol=1e-5)
+
+
+def test_the_parts_can_be_made_one_at_a_time(tmp_path):
+    """For the split by cause (python/checks/threejs_render_split.py): only the named part's
+    lines change."""
+    chunks = run_node(tmp_path, "console.log(JSON.stringify(spec.specificationChunks("
+                                "THREE.ShaderChunk, THREE.REVISION, ['multiscatter'])));")
+    assert "V_Neubelt( dotNV, dotNL );" in chunks["lights_physical_pars_fragment"]
+    assert "diffuseBRDF * ( 1.0 - F );" in chunks["lights_physical_pars_fragment"]
+    assert "multiScatteringCompensation = vec3( 1.0 );" in chunks["lights_fragment_begin"]

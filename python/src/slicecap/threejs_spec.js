@@ -54,33 +54,38 @@ float slicecapSheenAlbedoAt( const in float cosTheta ) {
 }
 `;
 
-// [chunk, the line as three.js 0.187 has it, what it becomes]
+// [part, chunk, the line as three.js 0.187 has it, what it becomes]; the parts are named as
+// python/checks/threejs_brdf.py's DEVIATIONS.
 const REPLACEMENTS = [
-  ['lights_physical_pars_fragment', 'vec3 BRDF_Sheen(', CHARLIE_GLSL + 'vec3 BRDF_Sheen('],
-  ['lights_physical_pars_fragment', 'float V = V_Neubelt( dotNV, dotNL );',
+  ['visibility', 'lights_physical_pars_fragment', 'vec3 BRDF_Sheen(', CHARLIE_GLSL + 'vec3 BRDF_Sheen('],
+  ['visibility', 'lights_physical_pars_fragment', 'float V = V_Neubelt( dotNV, dotNL );',
    'float V = V_Charlie( dotNV, dotNL, sheenRoughness );'],
-  ['lights_physical_pars_fragment',
+  ['sheen_albedo', 'lights_physical_pars_fragment',
    'float sheenAlbedoV = IBLSheenBRDF( geometryNormal, geometryViewDir, material.sheenRoughness );',
    'float sheenAlbedoV = slicecapSheenAlbedoAt( dot( geometryNormal, geometryViewDir ) );'],
-  ['lights_physical_pars_fragment',
+  ['sheen_albedo', 'lights_physical_pars_fragment',
    'float sheenAlbedoL = IBLSheenBRDF( geometryNormal, directLight.direction, material.sheenRoughness );',
    'float sheenAlbedoL = slicecapSheenAlbedoAt( dot( geometryNormal, directLight.direction ) );'],
-  ['lights_physical_pars_fragment',
+  ['diffuse_dimming', 'lights_physical_pars_fragment',
    'reflectedLight.directDiffuse += irradiance * diffuseBRDF * ( 1.0 - F );',
    'reflectedLight.directDiffuse += irradiance * diffuseBRDF * ( 1.0 - max3( F ) );'],
-  ['lights_fragment_begin',
+  ['multiscatter', 'lights_fragment_begin',
    'material.multiScatteringCompensation = 1.0 + material.specularColorBlended * ( 1.0 / EssMs - 1.0 );',
    'material.multiScatteringCompensation = vec3( 1.0 );'],
 ];
 
-/// The two chunks with the replacements made. Throws an Error naming the chunk and the line when
-/// a line is not in it exactly once.
-export function specificationChunks(shaderChunk, revision = '') {
+export const PARTS = ['visibility', 'sheen_albedo', 'diffuse_dimming', 'multiscatter'];
+
+/// The two chunks with the replacements made (of `parts` only, for measuring each one's share; the
+/// charlie visibility's functions come with 'visibility'). Throws an Error naming the chunk and the
+/// line when a line is not in it exactly once.
+export function specificationChunks(shaderChunk, revision = '', parts = PARTS) {
   const chunks = {
     lights_physical_pars_fragment: shaderChunk.lights_physical_pars_fragment,
     lights_fragment_begin: shaderChunk.lights_fragment_begin,
   };
-  for (const [name, from, to] of REPLACEMENTS) {
+  for (const [part, name, from, to] of REPLACEMENTS) {
+    if (!parts.includes(part)) continue;
     const text = chunks[name];
     const at = text.indexOf(from);
     if (at < 0 || text.indexOf(from, at + 1) >= 0) {
@@ -128,10 +133,10 @@ export function sheenAlbedo(alphaG) {
 }
 
 /// Makes a MeshPhysicalMaterial draw its direct light by the specification (the four changes
-/// above). `three` is the three.js module (its ShaderChunk and REVISION). Throws as
-/// specificationChunks, before any render.
-export function drawBySpecification(material, three) {
-  const chunks = specificationChunks(three.ShaderChunk, three.REVISION);
+/// above, or those of `parts`). `three` is the three.js module (its ShaderChunk and REVISION).
+/// Throws as specificationChunks, before any render.
+export function drawBySpecification(material, three, parts = PARTS) {
+  const chunks = specificationChunks(three.ShaderChunk, three.REVISION, parts);
   material.onBeforeCompile = (shader) => {
     const roughness = Math.min(Math.max(material.sheenRoughness ?? 0, 1e-4), 1);
     shader.uniforms.slicecapSheenAlbedo = { value: sheenAlbedo(roughness * roughness) };
@@ -139,6 +144,6 @@ export function drawBySpecification(material, three) {
       .replace('#include <lights_physical_pars_fragment>', chunks.lights_physical_pars_fragment)
       .replace('#include <lights_fragment_begin>', chunks.lights_fragment_begin);
   };
-  material.customProgramCacheKey = () => 'slicecap-gltf-specification';
+  material.customProgramCacheKey = () => 'slicecap-gltf-specification:' + parts.join(',');
   material.needsUpdate = true;
 }
