@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <string>
 
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/material_export/gltf_brdf.hpp"
