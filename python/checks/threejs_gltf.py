@@ -5,6 +5,16 @@ network) and renders its sphere in the scene of consumer_scene.py; the pixels ar
 Mitsuba's render of the same fit (section "mitsuba", whose folder this reads): mean CIE76 dE over
 the lit pixels, within --tolerance.
 
+Each material is rendered twice: by stock three.js, and with slicecap's threejs_spec.js, which
+makes three.js draw the direct light by the glTF specification (Charlie sheen visibility, the
+sheen's own albedo scaling, 1 - max_value(F) under the specular, no multiple-scattering
+compensation; docs/material-export.md). Both must be within --tolerance. A fit with a sheen is
+also compared with its exact render (exact_fit_render.py: the fit's BRDF at each pixel centre, as
+three.js shades): rendered by the specification it must be within --sheen-goal of it (issue 46:
+the velvets within 1.0); Mitsuba's tabulated fit, the reference above, carries the 81 x 81 grid's
+interpolation (1.56 from the exact render on velvet-green-20), which no renderer of the fit gets
+under. Stock three.js's figures are reported (a known three.js deviation), not asserted.
+
 Usage: threejs_gltf.py --mitsuba-out DIR --out DIR [--three tools/consumers/node_modules/three]
 """
 
@@ -21,10 +31,14 @@ import threading
 
 import consumer_scene as cs
 import numpy as np
+from exact_fit_render import render_exact
 
+from slicecap.fitted_material import read_fitted_material
 from slicecap.png import write_png
 
 PAGE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "threejs_page.html")
+SPEC_MODULE = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "src",
+                           "slicecap", "threejs_spec.js")
 # As python/checks/viewer_chromium.py: SwiftShader WebGL, headless, one device pixel per CSS one.
 CHROMIUM_FLAGS = [
     "--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
@@ -34,7 +48,8 @@ CHROMIUM_FLAGS = [
 
 
 class _Handler(http.server.SimpleHTTPRequestHandler):
-    """/page.html, /three/... (node_modules/three), /m/NAME/model.gltf and /m/NAME/view.json."""
+    """/page.html, /slicecap/threejs_spec.js, /three/... (node_modules/three), /m/NAME/model.gltf
+    and /m/NAME/view.json."""
 
     def __init__(self, *args, three, files, **kwargs):
         self.three, self.files = three, files
@@ -44,6 +59,8 @@ class _Handler(http.server.SimpleHTTPRequestHandler):
         path = path.split("?", 1)[0]
         if path == "/page.html":
             return PAGE
+        if path == "/slicecap/threejs_spec.js":
+            return os.path.abspath(SPEC_MODULE)
         if path.startswith("/three/") and ".." not in path:
             return os.path.join(self.three, path[len("/three/"):])
         return self.files.get(path, "/nonexistent")
@@ -81,6 +98,9 @@ def run(argv) -> int:
     parser.add_argument("--chromium", default="chromium")
     # From the measurement (docs/results/2026-12-02-consumer-renders.md): at most 2.84, brass.
     parser.add_argument("--tolerance", type=float, default=4.0, help="max mean dE (default 4)")
+    # Issue 46's goal for the velvets, asserted for the render by the specification only.
+    parser.add_argument("--sheen-goal", type=float, default=1.0,
+                        help="max mean dE of a sheen fit drawn by the specification (default 1)")
     args = parser.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.mitsuba_out, "mitsuba-results.json"), encoding="utf-8") as file:
@@ -99,22 +119,40 @@ def run(argv) -> int:
             with open(view_path, "w", encoding="utf-8") as file:
                 json.dump(view, file)
             files[f"/m/{name}/model.gltf"], files[f"/m/{name}/view.json"] = gltf, view_path
-            url = f"http://127.0.0.1:{server.server_address[1]}/page.html?m={name}"
-            image, material = render(args.chromium, os.path.abspath(
-                os.path.join(args.out, "chromium-profile")), url, view["size_px"])
-            write_png(os.path.join(args.out, f"{name}-threejs.png"), image)
-            row = {"material": name, "three": version, "loaded_material": material,
-                   **cs.judge(args.mitsuba_out, m, image, args.tolerance)}
-            rows.append(row)
-            print(f"threejs {name:18s} {cs.describe(row)}; loaded {material}"
-                  f"{'' if row['ok'] else '  FAIL'}", flush=True)
+            fit = read_fitted_material(os.path.join(args.mitsuba_out, f"{name}.json"))
+            exact = None
+            if "sheen" in fit.model:
+                exact = cs.encode(render_exact(fit.evaluate, gltf, m["view"]), m["exposure"])
+            for drawn, query in (("stock", ""), ("specification", "&spec=1")):
+                url = f"http://127.0.0.1:{server.server_address[1]}/page.html?m={name}{query}"
+                image, material = render(args.chromium, os.path.abspath(
+                    os.path.join(args.out, "chromium-profile")), url, view["size_px"])
+                suffix = "" if drawn == "stock" else "-spec"
+                write_png(os.path.join(args.out, f"{name}-threejs{suffix}.png"), image)
+                row = {"material": name, "three": version, "drawn": drawn,
+                       "loaded_material": material,
+                       **cs.judge(args.mitsuba_out, m, image, args.tolerance)}
+                exact_note = ""
+                if exact is not None:
+                    row["delta_e_vs_exact_fit"] = cs.compare_8bit(
+                        exact, image, cs.lit_mask(exact) | cs.lit_mask(image))["delta_e"]
+                    exact_note = f"; vs the exact fit {row['delta_e_vs_exact_fit']:.2f}"
+                    if drawn == "specification":
+                        row["ok"] = row["ok"] and row["delta_e_vs_exact_fit"] <= args.sheen_goal
+                rows.append(row)
+                print(f"threejs {name:18s} {drawn:13s} {cs.describe(row)}{exact_note}; loaded "
+                      f"{material}{'' if row['ok'] else '  FAIL'}", flush=True)
     finally:
         server.shutdown()
     with open(os.path.join(args.out, "threejs-results.json"), "w", encoding="utf-8") as file:
         json.dump(rows, file, indent=1)
-    failed = [r["material"] for r in rows if not r["ok"]]
-    print(f"threejs {version}: worst mean dE {max(r['delta_e'] for r in rows):.2f} (tolerance "
-          f"{args.tolerance:g}); {'FAIL: ' + ', '.join(failed) if failed else 'ok'}")
+    failed = [f"{r['material']} ({r['drawn']})" for r in rows if not r["ok"]]
+    for drawn in ("stock", "specification"):
+        worst = max(r["delta_e"] for r in rows if r["drawn"] == drawn)
+        print(f"threejs {version} {drawn}: worst mean dE {worst:.2f}")
+    verdict = "FAIL: " + ", ".join(failed) if failed else "ok"
+    print(f"threejs {version}: tolerance {args.tolerance:g}, a sheen by the specification within "
+          f"{args.sheen_goal:g} of the exact fit; {verdict}")
     return 1 if failed else 0
 
 

@@ -327,8 +327,10 @@ def test_the_lacquer_is_fitted_with_its_coat_and_mitsuba_keeps_it(exports):
 def test_gltf_carries_its_measured_distance_from_the_fit(exports):
     document = json.loads(exports["brushed-steel-30"]["gltf"].read_text())
     versus = document["asset"]["extras"]["slicecap_gltf_versus_fit"]
-    # GGX from GGX: the glTF lobe is the fitted one; only the diffuse's Fresnel fading differs
-    # (measured dE 0.01, 2026-12-02).
-    assert versus["delta_e"] < 0.05
+    # GGX from GGX: the glTF lobe is the fitted one. Steel's f0 is a little coloured (0.56 / 0.57
+    # / 0.58), so it goes out as the metal blend (material-export.md): 0.06 by the specification,
+    # where the dielectric form is 0.01 by it and 0.06 read per channel (2026-12-06).
+    assert document["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] > 0.9
+    assert versus["delta_e"] < 0.1
     losses = {loss["kind"] for loss in document["asset"]["extras"]["slicecap_conversion_losses"]}
     assert "diffuse-layering" in losses

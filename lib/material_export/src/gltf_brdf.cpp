@@ -9,6 +9,7 @@
 #include <numbers>
 #include <string>
 
+#include "slicecap/material_export/gltf_form.hpp"
 #include "slicecap/material_export/gltf_material.hpp"
 #include "slicecap/material_export/gltf_writer.hpp"
 
@@ -91,7 +92,8 @@ double lambdaSheen(double cosTheta, double alphaG) {
 
 }  // namespace
 
-GltfBrdf::GltfBrdf(const json& material, SheenVisibility visibility) : visibility_(visibility) {
+GltfBrdf::GltfBrdf(const json& material, SheenVisibility visibility, DiffuseDimming dimming)
+    : visibility_(visibility), dimming_(dimming) {
   const std::string where = "material";
   const json* pbr = member(material, "pbrMetallicRoughness");
   const json* extensions = member(material, "extensions");
@@ -189,8 +191,9 @@ Rgb GltfBrdf::evaluate(const UnitVector& l, const UnitVector& v) const {
   Rgb out;
   for (std::size_t c = 0; c < 3; ++c) {
     const double diffuse = f_.baseColor[c] / kPi;
-    const double dielectric =
-        dielectricFresnel[c] * specularBrdf + (1.0 - dielectricFresnelMax) * diffuse;
+    const double dimmedBy =
+        dimming_ == DiffuseDimming::MaxValue ? dielectricFresnelMax : dielectricFresnel[c];
+    const double dielectric = dielectricFresnel[c] * specularBrdf + (1.0 - dimmedBy) * diffuse;
     const double metal =
         specularBrdf * (f_.baseColor[c] + (1.0 - f_.baseColor[c]) * fresnelW);
     const double material = mix(dielectric, metal, f_.metallic);
@@ -205,7 +208,7 @@ Abrdf tabulate(const GltfBrdf& brdf) {
 }
 
 eval::Metrics gltfVersusFit(const fit::FittedMaterial& fitted, SheenVisibility visibility) {
-  const GltfBrdf brdf(gltfMaterialJson(toGltfMaterial(fitted).material), visibility);
+  const GltfBrdf brdf(gltfMaterialJson(chooseGltfForm(fitted).material), visibility);
   return eval::compare(fit::tabulate(fitted), tabulate(brdf));
 }
 

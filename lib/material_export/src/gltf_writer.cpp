@@ -12,6 +12,7 @@
 #include "slicecap/core/version.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/material_export/gltf_brdf.hpp"
+#include "slicecap/material_export/gltf_form.hpp"
 #include "slicecap/material_export/gltf_material.hpp"
 #include "slicecap/material_export/preview_mesh.hpp"
 
@@ -63,7 +64,7 @@ nlohmann::ordered_json gltfMaterialJson(const GltfMaterial& g) {
   return {{"name", "slicecap-fit"},
           {"pbrMetallicRoughness",
            {{"baseColorFactor", {g.baseColorFactor[0], g.baseColorFactor[1], g.baseColorFactor[2], 1.0}},
-            {"metallicFactor", 0.0},
+            {"metallicFactor", g.metallicFactor},
             {"roughnessFactor", g.roughnessFactor}}},
           {"extensions", extensions}};
 }
@@ -87,7 +88,7 @@ std::string base64(const std::vector<std::uint8_t>& bytes) {
 }
 
 GltfAsset gltfAsset(const fit::FittedMaterial& material, const std::string& source) {
-  const GltfConversion conversion = toGltfMaterial(material);
+  const GltfConversion conversion = chooseGltfForm(material);
   GltfAsset asset;
   asset.report = {"glTF 2.0", conversion.losses, std::nullopt};
   try {

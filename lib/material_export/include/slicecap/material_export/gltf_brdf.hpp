@@ -28,6 +28,12 @@ class GltfMaterialError : public slicecap::Error {
 /// 1 / (4 (n.l + n.v - n.l n.v)). The directional albedo E is integrated with the same term.
 enum class SheenVisibility { Charlie, Ashikhmin };
 
+/// \brief How the diffuse is dimmed under the dielectric specular: KHR_materials_specular's
+/// `1 - max_value(dielectric_fresnel)` in every channel, or each channel by its own `1 - F`, as
+/// three.js 0.187 draws it (RE_Direct_Physical in lights_physical_pars_fragment.glsl.js), which
+/// the specification does not allow: a reading to measure what such a renderer shows.
+enum class DiffuseDimming { MaxValue, PerChannel };
+
 /// \brief glTF's BRDF of one material object in the frame TANGENT = x, bitangent = y, normal = z,
 /// factors read from the JSON with the specifications' defaults where absent:
 /// - glTF 2.0 Appendix B: material = mix(dielectric_brdf, metal_brdf, metallic), metal_brdf =
@@ -48,7 +54,8 @@ class GltfBrdf {
  public:
   /// \brief Throws GltfMaterialError naming the field when a factor has the wrong type or length.
   explicit GltfBrdf(const nlohmann::ordered_json& material,
-                    SheenVisibility visibility = SheenVisibility::Charlie);
+                    SheenVisibility visibility = SheenVisibility::Charlie,
+                    DiffuseDimming dimming = DiffuseDimming::MaxValue);
   /// \brief f_r in 1/sr for unit vectors toward the light and the viewer (z > 0).
   Rgb evaluate(const UnitVector& toLight, const UnitVector& toView) const;
   /// \brief E(cos theta): the sheen's directional albedo (without its colour); 0 without sheen.
@@ -70,6 +77,7 @@ class GltfBrdf {
   };
   Factors f_;
   SheenVisibility visibility_;
+  DiffuseDimming dimming_;
   static constexpr int kAlbedoSamples = 65;
   std::array<double, kAlbedoSamples> sheenAlbedo_{};  // E at cos theta = i / 64
 };

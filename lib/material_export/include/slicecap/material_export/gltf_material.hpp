@@ -14,7 +14,8 @@ namespace slicecap::material_export {
 /// \brief glTF material factors (no textures), in the spelling of the glTF JSON.
 struct GltfMaterial {
   Rgb baseColorFactor;               ///< pbrMetallicRoughness.baseColorFactor (alpha 1)
-  double roughnessFactor = 1.0;      ///< pbrMetallicRoughness.roughnessFactor; metallicFactor is 0
+  double metallicFactor = 0.0;       ///< pbrMetallicRoughness.metallicFactor (0 but in chooseGltfForm's metal blend)
+  double roughnessFactor = 1.0;      ///< pbrMetallicRoughness.roughnessFactor
   double anisotropyStrength = 0.0;   ///< KHR_materials_anisotropy
   double anisotropyRotationRad = 0;  ///< KHR_materials_anisotropy, counter-clockwise from TANGENT
   double specularFactor = 1.0;       ///< KHR_materials_specular (the dielectric F90)
