@@ -253,6 +253,36 @@ RoomLightView roomLightFromJson(const json& object) {
           optionalField<double>(object, "change_to_led")};
 }
 
+json toJson(const DecodingCheckView& check) {
+  json object = json::object();
+  if (check.blackReading) object["black_reading"] = *check.blackReading;
+  if (check.blackReadingStep) object["black_reading_step"] = *check.blackReadingStep;
+  if (check.blackReadingStepSigmas)
+    object["black_reading_step_sigmas"] = *check.blackReadingStepSigmas;
+  if (check.windowAtBlackChannel) object["window_at_black_channel"] = *check.windowAtBlackChannel;
+  if (check.windowAtBlack) object["window_at_black"] = *check.windowAtBlack;
+  return object;
+}
+
+DecodingCheckView decodingCheckFromJson(const json& object) {
+  return {optionalField<double>(object, "black_reading"),
+          optionalField<double>(object, "black_reading_step"),
+          optionalField<double>(object, "black_reading_step_sigmas"),
+          optionalField<std::string>(object, "window_at_black_channel"),
+          optionalField<double>(object, "window_at_black")};
+}
+
+json toJson(const TuningFileView& tuning) {
+  json object = {{"setting", tuning.setting}, {"reason", tuning.reason}};
+  object["file"] = tuning.file ? json(*tuning.file) : json(nullptr);
+  return object;
+}
+
+TuningFileView tuningFileFromJson(const json& object) {
+  return {field<std::string>(object, "setting"), optionalField<std::string>(object, "file"),
+          field<std::string>(object, "reason")};
+}
+
 }  // namespace
 
 json toJson(const StatusView& status) {
@@ -279,6 +309,9 @@ json toJson(const StatusView& status) {
   // Written once a figure is known: a room light without any is left out.
   if (status.roomLight && !toJson(*status.roomLight).empty())
     object["room_light"] = toJson(*status.roomLight);
+  if (status.decodingCheck && !toJson(*status.decodingCheck).empty())
+    object["decoding_check"] = toJson(*status.decodingCheck);
+  if (status.tuningFile) object["tuning_file"] = toJson(*status.tuningFile);
   if (!status.warnings.empty()) object["warnings"] = status.warnings;
   return object;
 }
@@ -308,6 +341,10 @@ StatusView statusFromJson(const json& object) {
                                    field<std::string>(*decoding, "note")};
   if (const auto room = optionalField<json>(object, "room_light"))
     status.roomLight = roomLightFromJson(*room);
+  if (const auto check = optionalField<json>(object, "decoding_check"))
+    status.decodingCheck = decodingCheckFromJson(*check);
+  if (const auto tuning = optionalField<json>(object, "tuning_file"))
+    status.tuningFile = tuningFileFromJson(*tuning);
   status.warnings = stringsOf(object, "warnings");
   return status;
 }
