@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 
 #include "../support/bracket_rig.hpp"
 #include "slicecap/capture/area_reading.hpp"
@@ -99,6 +101,89 @@ TEST(AreaReadingOnTheModel, ADarkWindowLessItsLedOffFrameReadsAsTheSceneIs) {
   // 8-bit codes and 24 x 24-point means of shot and read noise; the plain means' bias is larger.
   EXPECT_LT(worst, 0.015);
   EXPECT_GT(worstPlain, 2 * worst);
+}
+
+}  // namespace
+}  // namespace slicecap::capture
+
+namespace slicecap::capture {
+namespace {
+
+// The figures behind DecodingWatch's black-reading step (scripts/decoding-check-figures): the
+// still rig with satin-blue-45, the LED in blocks of 3 frames on, 3 off, each LED-on frame's
+// black patch over the white strip (each less the latest LED-off frame's), and the relative step
+// from one LED-on frame to the next; their mean and its standard errors, with the model's
+// adaptive contrast off and on (fixed ISP otherwise). Not run unless asked: it takes seconds.
+TEST(DecodingCheckFigures, BlackReadingStepWithAndWithoutAdaptiveContrast) {
+  if (!std::getenv("SLICECAP_DECODING_CHECK_FIGURES"))
+    GTEST_SKIP() << "SLICECAP_DECODING_CHECK_FIGURES not set (scripts/decoding-check-figures sets it)";
+  const auto renderer = std::make_shared<sim::FrameRenderer>(
+      vision::defaultSimulatedCamera(), vision::defaultTarget(), sim::loadMaterial("satin-blue-45"),
+      sim::RigParams::ideal());
+  const auto scene =
+      std::make_shared<test::StillScene>(renderer, test::stillPose(), test::stillLightMm());
+  const vision::TargetGeometry& target = renderer->target();
+  vision::RectMm black{}, white{};
+  for (const vision::Patch& p : target.patches)
+    if (p.kind == vision::PatchKind::Black) black = p.rect;
+  const vision::PointMm w = target.patches.front().rect.centre();  // white-left
+  white = {w.xMm - 3, w.yMm - 8, w.xMm + 3, w.yMm + 8};
+  for (const bool adaptive : {false, true}) {
+    hal::SensorModel model;
+    model.isp = hal::fixedModelIsp();
+    model.isp.adaptiveContrast = adaptive;
+    const double exposureUs = test::BracketRig(scene, model).meteredExposureUs();
+    model.realTime = false;
+    hal::FakeClock clock{1'000'000};
+    const auto led = std::make_shared<hal::LedTimeline>(true);
+    // Switches every 3 frame periods, half-way between frames' readouts; each frame classed by
+    // its truth (every row lit, every row dark, or mixed).
+    for (int k = 3; k < 400; k += 3)
+      led->record(1'000'000 + std::int64_t((k + 0.93) * model.framePeriodUs), (k / 3) % 2 == 0);
+    hal::ModelCamera camera(scene, led, clock, model);
+    hal::CameraConfig config;
+    camera.configure(config);
+    camera.start();
+    ASSERT_TRUE(camera.lockExposure({exposureUs, 1.0}).locked);
+    const CodeTable codes(model.tone);
+    const auto read = [&](const hal::Frame& f, const vision::RectMm& r) {
+      return readArea(f, test::stillPose(), vision::defaultSimulatedCamera(), {r, 0.0, 2.0}, {},
+                      codes).mean.mean();
+    };
+    std::optional<double> offBlack, offWhite, lastReading;
+    std::optional<std::uint64_t> lastSequence;
+    std::vector<double> steps;
+    int lit = 0, dark = 0, mixed = 0;
+    for (int n = 0; n < 390 && steps.size() < 48; ++n) {
+      const hal::CaptureResult result = camera.nextFrame(std::chrono::milliseconds(1000));
+      if (!result.frame || result.frame->metadata.exposureLocks < 1) continue;
+      const hal::Frame& f = *result.frame;
+      const std::optional<hal::FrameTruth> truth = camera.truth(f.metadata.sequence);
+      ASSERT_TRUE(truth);
+      const auto [lo, hi] = std::minmax_element(truth->rowOnFraction.begin(), truth->rowOnFraction.end());
+      if (*hi < 1e-3) {
+        ++dark;
+        offBlack = read(f, black), offWhite = read(f, white);
+      } else if (*lo > 1.0 - 1e-3 && offBlack) {
+        ++lit;
+        const double reading = (read(f, black) - *offBlack) / (read(f, white) - *offWhite);
+        if (lastSequence && f.metadata.sequence == *lastSequence + 1)
+          steps.push_back(reading / *lastReading - 1.0);
+        lastReading = reading, lastSequence = f.metadata.sequence;
+      } else {
+        ++mixed;
+      }
+    }
+    ASSERT_GE(steps.size(), 8u) << lit << " lit, " << dark << " dark, " << mixed << " mixed";
+    double sum = 0.0, sumSquares = 0.0;
+    for (double s : steps) sum += s, sumSquares += s * s;
+    const double n = double(steps.size()), mean = sum / n;
+    const double sd = std::sqrt(std::max(0.0, (sumSquares - n * mean * mean) / (n - 1)));
+    std::printf("[ decoding check ] adaptive contrast %s: %zu steps, mean %+.3f %%, %.1f standard "
+                "errors, spread %.3f %% (%d lit, %d dark, %d mixed frames)\n",
+                adaptive ? "on " : "off", steps.size(), 100 * mean, std::abs(mean) / (sd / std::sqrt(n)),
+                100 * sd, lit, dark, mixed);
+  }
 }
 
 }  // namespace
