@@ -1,31 +1,16 @@
-// The replies' JSON, written and read in this one file (docs/reference/protocol.md).
+// The replies' JSON, written and read here and, for the status's decoding check and tuning file,
+// in decoding_views.cpp (docs/reference/protocol.md).
 #include "slicecap/control/reply_views.hpp"
+
+#include "decoding_views.hpp"
+#include "reply_fields.hpp"
 
 namespace slicecap::control {
 namespace {
 
 using nlohmann::json;
-
-// The field `key` of `object` as T; ReplyError naming the field when it is missing or mistyped.
-template <typename T>
-T field(const json& object, const char* key) {
-  if (!object.is_object() || !object.contains(key))
-    throw ReplyError("slicecapd's reply has no \"" + std::string(key) + "\"");
-  try {
-    return object.at(key).get<T>();
-  } catch (const json::exception&) {
-    throw ReplyError("slicecapd's reply has an unreadable \"" + std::string(key) +
-                     "\": " + object.at(key).dump());
-  }
-}
-
-// The field if it is there and not null.
-template <typename T>
-std::optional<T> optionalField(const json& object, const char* key) {
-  if (!object.is_object() || !object.contains(key) || object.at(key).is_null())
-    return std::nullopt;
-  return field<T>(object, key);
-}
+using reply_fields::field;
+using reply_fields::optionalField;
 
 std::vector<std::string> stringsOf(const json& object, const char* key) {
   return optionalField<std::vector<std::string>>(object, key).value_or(std::vector<std::string>{});
@@ -251,36 +236,6 @@ json toJson(const RoomLightView& room) {
 RoomLightView roomLightFromJson(const json& object) {
   return {optionalField<double>(object, "to_led"), optionalField<double>(object, "change"),
           optionalField<double>(object, "change_to_led")};
-}
-
-json toJson(const DecodingCheckView& check) {
-  json object = json::object();
-  if (check.blackReading) object["black_reading"] = *check.blackReading;
-  if (check.blackReadingStep) object["black_reading_step"] = *check.blackReadingStep;
-  if (check.blackReadingStepSigmas)
-    object["black_reading_step_sigmas"] = *check.blackReadingStepSigmas;
-  if (check.windowAtBlackChannel) object["window_at_black_channel"] = *check.windowAtBlackChannel;
-  if (check.windowAtBlack) object["window_at_black"] = *check.windowAtBlack;
-  return object;
-}
-
-DecodingCheckView decodingCheckFromJson(const json& object) {
-  return {optionalField<double>(object, "black_reading"),
-          optionalField<double>(object, "black_reading_step"),
-          optionalField<double>(object, "black_reading_step_sigmas"),
-          optionalField<std::string>(object, "window_at_black_channel"),
-          optionalField<double>(object, "window_at_black")};
-}
-
-json toJson(const TuningFileView& tuning) {
-  json object = {{"setting", tuning.setting}, {"reason", tuning.reason}};
-  object["file"] = tuning.file ? json(*tuning.file) : json(nullptr);
-  return object;
-}
-
-TuningFileView tuningFileFromJson(const json& object) {
-  return {field<std::string>(object, "setting"), optionalField<std::string>(object, "file"),
-          field<std::string>(object, "reason")};
 }
 
 }  // namespace
