@@ -33,20 +33,33 @@ const hal::CameraModes* configuredCamera(const std::vector<hal::CameraModes>& ca
   return nullptr;
 }
 
+std::string settingText(const hal::TuningFileSetting& setting) {
+  switch (setting.kind) {
+    case hal::TuningFileSetting::Kind::Auto: return "auto";
+    case hal::TuningFileSetting::Kind::Off: return "off";
+    case hal::TuningFileSetting::Kind::Path: return setting.path.string();
+  }
+  return "auto";
+}
+
 }  // namespace
 
-std::string applyRpiTuningFile(const DaemonConfig& config) {
+std::optional<control::TuningFileView> applyRpiTuningFile(const DaemonConfig& config) {
   const hal::TuningFileSetting& setting = config.tuningFile;
+  const auto chosen = [&](std::optional<std::string> file, std::string reason) {
+    return control::TuningFileView{settingText(setting), std::move(file), std::move(reason)};
+  };
   const std::optional<hal::PiIsp> isp = boardIsp();
   // A file named in the configuration is checked whether or not this camera will use it.
   if (setting.kind == hal::TuningFileSetting::Kind::Path) hal::validateTuningFile(setting.path, isp);
-  if (config.camera != DaemonConfig::CameraKind::Libcamera) return "";
-  if (setting.kind == hal::TuningFileSetting::Kind::Off) return "tuning_file = off";
+  if (config.camera != DaemonConfig::CameraKind::Libcamera) return std::nullopt;
+  if (setting.kind == hal::TuningFileSetting::Kind::Off)
+    return chosen(std::nullopt, "tuning_file = off: the camera's own tuning");
   if (const char* already = std::getenv(kTuningVariable); already && *already)
-    return std::string("tuning_file: ") + kTuningVariable + " is already set (" + already +
-           ") and is left as it is";
+    return chosen(already, std::string("tuning_file: ") + kTuningVariable + " is already set (" +
+                               already + ") and is left as it is");
   if (!isp && setting.kind == hal::TuningFileSetting::Kind::Auto)
-    return "tuning_file = auto: not a Raspberry Pi, the camera's own tuning";
+    return chosen(std::nullopt, "tuning_file = auto: not a Raspberry Pi, the camera's own tuning");
 
   hal::TuningInputs inputs;
   inputs.raw = config.cameraRaw;
@@ -65,7 +78,8 @@ std::string applyRpiTuningFile(const DaemonConfig& config) {
     hal::validateTuningFile(*choice.file, isp);
     ::setenv(kTuningVariable, choice.file->c_str(), 1);
   }
-  return choice.reason;
+  return chosen(choice.file ? std::optional<std::string>(choice.file->string()) : std::nullopt,
+                choice.reason);
 }
 
 }  // namespace slicecap::slicecapd

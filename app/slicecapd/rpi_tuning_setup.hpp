@@ -2,8 +2,10 @@
 // starts (slicecapd.conf tuning_file; hal::chooseTuningFile decides, this applies it).
 #pragma once
 
+#include <optional>
 #include <string>
 
+#include "slicecap/control/reply_views.hpp"
 #include "slicecap/daemon/config.hpp"
 
 namespace slicecap::slicecapd {
@@ -15,9 +17,9 @@ namespace slicecap::slicecapd {
 /// reads that variable when the next CameraManager matches the camera (Raspberry Pi's libcamera
 /// fork: pipeline_base.cpp CameraData::loadIPA -> ipa_proxy.cpp ipaConfigurationFile, reached
 /// from the pipeline handler's match() in CameraManager::start), so it must be set before the
-/// daemon's camera opens, and a camera opened before it keeps the file it had. Returns the line
-/// to log (empty for other cameras). Throws hal::CameraError naming the file when it cannot be
+/// daemon's camera opens, and a camera opened before it keeps the file it had. Returns what was
+/// chosen and why, for the log and every status (nullopt for other cameras). Throws hal::CameraError naming the file when it cannot be
 /// read or is not a tuning file for this Pi's ISP.
-std::string applyRpiTuningFile(const daemon::DaemonConfig& config);
+std::optional<control::TuningFileView> applyRpiTuningFile(const daemon::DaemonConfig& config);
 
 }  // namespace slicecap::slicecapd

@@ -99,10 +99,11 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   // that reached one of them would end the process without stopping the sweep cleanly.
   daemon::blockSignalsInThisAndLaterThreads(daemon::stopSignals());
   // Before the camera opens: libcamera reads the tuning file when its camera manager starts.
-  if (const std::string tuning = applyRpiTuningFile(config); !tuning.empty())
-    err << "slicecapd: " << tuning << "\n";
+  const std::optional<control::TuningFileView> tuning = applyRpiTuningFile(config);
+  if (tuning) err << "slicecapd: " << tuning->reason << "\n";
   static hal::SteadyClock clock;  // the cameras' clock: it outlives them
   daemon::DaemonParts parts = rig::daemonPartsFrom(config, clock, std::move(warnings));
+  parts.tuningFile = tuning;
 
   // Outlives the daemon: its socket file is removed when the daemon has stopped (not systemd's).
   const daemon::ListenSocket listening(

@@ -125,5 +125,57 @@ TEST(AreaReading, ANoiseFreeEightBitFrameKeepsItsQuantisationInTheVariance) {
   }
 }
 
+double srgbDecoded(std::uint16_t code) {
+  const double s = code / 255.0;
+  return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+}
+
+TEST(AreaReading, AnEightBitAreaClippedAtBlackReadsItsLightNotItsClippedPixels) {
+  // A processed frame cannot go below black: a dark area's noisy pixels arrive clipped at code 0,
+  // and their plain mean reads about 0.4 sigma too bright where the light is at black (an LED-off
+  // frame, subtracted from every sample; issue 44). The area's mean is the light's.
+  const double sigma = 0.004;
+  const vision::RectMm rect{-20.0, -15.0, 20.0, 15.0};  // 80 x 60 px
+  for (const double level : {0.0, 0.002, 0.006}) {
+    SCOPED_TRACE(level);
+    std::mt19937 rng(11);
+    const hal::Frame frame = flatFrame(level, sigma, PixelEncoding::Srgb8, rng);
+    const AreaReading r = readArea(frame, fromAbove(), smallCamera(), {rect, 0.0}, {});
+    ASSERT_TRUE(r.inside);
+    double plain = 0.0;
+    for (std::uint16_t code : frame.image.samples) plain += srgbDecoded(code);
+    plain /= double(frame.image.samples.size());
+    const double standardError = sigma / std::sqrt(double(r.pixels));
+    EXPECT_NEAR(r.mean[0], level, 4.0 * standardError) << "plain mean " << plain;
+    EXPECT_GT(r.atBlack[0], 0.0);
+    if (level == 0.0) {
+      EXPECT_GT(plain - level, 20.0 * standardError);  // what was read before
+    }
+  }
+}
+
+TEST(AreaReading, AnEightBitAreaOfDarkAndBrightPartsKeepsItsPlainMean) {
+  // Half the area at black, half lit: not one clipped Gaussian, so its plain mean stands.
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.004);
+  hal::Frame frame;
+  frame.encoding = PixelEncoding::Srgb8;
+  frame.image = {120, 90, 1, 8, {}};
+  for (int i = 0; i < 120 * 90; ++i) {
+    const double v = std::clamp((i % 120 < 60 ? 0.0 : 0.3) + noise(rng), 0.0, 1.0);
+    const double s = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
+    frame.image.samples.push_back(static_cast<std::uint16_t>(std::lround(s * 255.0)));
+  }
+  frame.metadata.exposureUs = 1.0;
+  const AreaReading r =
+      readArea(frame, fromAbove(), smallCamera(), {{-20.0, -15.0, 20.0, 15.0}, 0.0}, {});
+  ASSERT_TRUE(r.inside);
+  double plain = 0.0;
+  int n = 0;
+  for (int y = 0; y < 90; ++y)
+    for (int x = 20; x < 100; ++x) plain += srgbDecoded(frame.image.at(x, y, 0)), ++n;
+  EXPECT_NEAR(r.mean[0], plain / n, 0.01 * plain / n);
+}
+
 }  // namespace
 }  // namespace slicecap::capture

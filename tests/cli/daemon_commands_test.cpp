@@ -330,7 +330,7 @@ TEST(DaemonCommands, RefusesAWatchCountThatIsNoWholeNumberAndSaysWhyARequestIsTo
 }
 
 // The devices' fields a person acts on, each a line of its own (they were only in --json).
-TEST(DaemonCommands, StatusShowsTheHdrDecodingCameraFramesAndRoomLight) {
+TEST(DaemonCommands, StatusShowsTheHdrDecodingCameraFramesRoomLightAndDecodingCheck) {
   const auto dir = test::freshTempDir();
   LiveDaemon daemon(dir / "storage");
   daemon.setStatusExtra({{"hdr", "HDR, 2 exposures by LED pairs (8000 us, 500 us)"},
@@ -341,7 +341,17 @@ TEST(DaemonCommands, StatusShowsTheHdrDecodingCameraFramesAndRoomLight) {
                            {"led_pattern", "2 on, 2 off"},
                            {"led_clean_fraction", 0.5},
                            {"timing", "sensor timestamps"}}},
-                         {"room_light", {{"to_led", 0.1}, {"change", 0.4}, {"change_to_led", 0.04}}}});
+                         {"room_light", {{"to_led", 0.1}, {"change", 0.4}, {"change_to_led", 0.04}}},
+                         {"decoding_check",
+                          {{"black_reading", 1.012},
+                           {"black_reading_step", 0.031},
+                           {"black_reading_step_sigmas", 6.5},
+                           {"window_at_black_channel", "G"},
+                           {"window_at_black", 0.97}}},
+                         {"tuning_file",
+                          {{"setting", "auto"},
+                           {"file", "/usr/share/slicecap/tuning/slicecap-imx708-pisp.json"},
+                           {"reason", "the processed path on a Pi 5"}}}});
   const Result r = daemon.run({"status"});
   ASSERT_EQ(r.code, kExitOk) << r.err;
   EXPECT_THAT(r.out, HasSubstr("hdr: HDR, 2 exposures by LED pairs (8000 us, 500 us)\n"));
@@ -350,6 +360,11 @@ TEST(DaemonCommands, StatusShowsTheHdrDecodingCameraFramesAndRoomLight) {
                                "LED state over the rows read (sensor timestamps)\n"));
   EXPECT_THAT(r.out, HasSubstr("room light: 10.0 % of the LED's light, changing by 4.0 % of it "
                                "between LED-off frames\n"));
+  EXPECT_THAT(r.out, HasSubstr("decoding check: black patch reads 1.012 of its albedo, stepping "
+                               "3.1 % from a frame to the next (6.5 standard errors), window G "
+                               "97.0 % at code 0\n"));
+  EXPECT_THAT(r.out, HasSubstr("tuning file: /usr/share/slicecap/tuning/slicecap-imx708-pisp.json "
+                               "(tuning_file = auto: the processed path on a Pi 5)\n"));
 }
 
 TEST(DaemonCommands, StatusSaysWhetherTheAxialSweepsAreNeeded) {

@@ -183,6 +183,28 @@ TEST(ReplyViews, ARoomLightWithoutFiguresIsLeftOut) {
   EXPECT_EQ(toJson(status)["room_light"], (json{{"to_led", 0.2}}));
 }
 
+// The decoding check and the tuning file are read back as written; a check without figures is
+// left out, and a camera's own tuning is a null file.
+TEST(ReplyViews, TheDecodingCheckAndTheTuningFileAreReadBackAsWritten) {
+  StatusView status;
+  status.decodingCheck = DecodingCheckView{};
+  status.tuningFile = TuningFileView{"off", std::nullopt, "tuning_file = off"};
+  json written = toJson(status);
+  EXPECT_FALSE(written.contains("decoding_check"));
+  EXPECT_TRUE(written["tuning_file"]["file"].is_null());
+  status.decodingCheck = DecodingCheckView{0.98, 0.031, 6.5, "G", 0.97};
+  status.tuningFile->file = "/usr/share/slicecap/tuning/slicecap-imx708-pisp.json";
+  written = toJson(status);
+  EXPECT_EQ(written["decoding_check"]["window_at_black_channel"], "G");
+  const StatusView read = statusFromJson(written);
+  ASSERT_TRUE(read.decodingCheck && read.tuningFile);
+  EXPECT_EQ(read.decodingCheck->blackReadingStep, 0.031);
+  EXPECT_EQ(read.decodingCheck->blackReadingStepSigmas, 6.5);
+  EXPECT_EQ(read.decodingCheck->windowAtBlack, 0.97);
+  EXPECT_EQ(read.tuningFile->file, status.tuningFile->file);
+  EXPECT_EQ(toJson(read), written);
+}
+
 // The stop's reply: the stopped sweep with its recording and texture beside its own keys.
 TEST(ReplyViews, SweepStopCarriesTheRecordingAndTheTexture) {
   SweepStopView stop{pausedSweep(), RecordingView{"/s1/r", 3, 0, 0, std::nullopt}, std::nullopt};

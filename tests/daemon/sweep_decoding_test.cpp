@@ -10,6 +10,8 @@
 
 #include "../support/bracket_rig.hpp"
 #include "../support/curve_error.hpp"
+#include "../support/test_support.hpp"
+#include "slicecap/io/target_json.hpp"
 #include "slicecap/sim/material.hpp"
 
 namespace slicecap::daemon {
@@ -140,6 +142,27 @@ TEST(DecodingMode, NamesAndRefusesValues) {
   } catch (const std::invalid_argument& error) {
     EXPECT_NE(std::string(error.what()).find("'raw'"), std::string::npos);
   }
+}
+
+// A sweep run's decoding check is added to its decoding record, and the session's export reads
+// each recorded warning back with the slice it came from; a record without a check adds none.
+TEST(SweepDecoding, TheDecodingChecksWarningsAreKeptInTheSessionAndReadBack) {
+  const std::filesystem::path session = test::freshTempDir();
+  std::filesystem::create_directories(session / kDecodingFolder);
+  SweepDecoding decided;
+  decided.note = "measured curve";
+  const std::filesystem::path checked = session / kDecodingFolder / "axial-30-30.json";
+  io::writeJsonFileAtomically(checked, toJson(decided, "model"));
+  io::writeJsonFileAtomically(session / kDecodingFolder / "axial-30-75.json", toJson(decided, "model"));
+  recordDecodingCheck(checked, control::DecodingCheckView{1.01, 0.05, 6.0, "G", 0.97},
+                      {"decoding: 97.0 % of the window's G pixels are at code 0"});
+  const nlohmann::json record = io::readJsonFile(checked);
+  EXPECT_EQ(record["note"], "measured curve") << "the record keeps what it said";
+  EXPECT_EQ(record["check"]["window_at_black_channel"], "G");
+  const std::vector<std::string> warnings = recordedDecodingWarnings(session);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], "sweep axial-30-30: decoding: 97.0 % of the window's G pixels are at code 0");
+  EXPECT_THROW(recordDecodingCheck(session / "missing.json", {}, {}), std::exception);
 }
 
 }  // namespace

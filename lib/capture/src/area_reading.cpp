@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "censored_mean.hpp"
+
 namespace slicecap::capture {
 namespace {
 
@@ -107,6 +109,8 @@ inline std::pair<int, int> rowRun(const std::vector<HalfPlane>& edges, int y, in
 struct PixelSums {
   std::array<double, 3> sum{}, variance{};
   int count = 0;
+  /// 8-bit frames: what the pixels say about a clip at black (censored_mean.hpp).
+  std::array<ClippedPixels, 3> clipped{};
 };
 
 PixelSums sumAreaPixels(const hal::Frame& frame, const std::vector<HalfPlane>& edges,
@@ -118,6 +122,10 @@ PixelSums sumAreaPixels(const hal::Frame& frame, const std::vector<HalfPlane>& e
   const double clipRaw = area.clipFraction * fullScale;
   const double step16 = 1.0 / 65535.0;
   PixelSums sums;
+  for (ClippedPixels& c : sums.clipped) {
+    c.zeroTop = 0.5 * (codes[0] + codes[1]);
+    c.noiseSigma = std::sqrt(noise.pixelVariance(0.0, gain));
+  }
   const int y0 = std::max(0, static_cast<int>(std::ceil(extent.minY)));
   const int y1 = std::min(im.height - 1, static_cast<int>(std::floor(extent.maxY)));
   for (int y = y0; y <= y1; ++y) {
@@ -139,6 +147,13 @@ PixelSums sumAreaPixels(const hal::Frame& frame, const std::vector<HalfPlane>& e
         }
         sums.sum[c] += v;
         sums.variance[c] += noise.pixelVariance(v, gain) + step * step / 12.0;
+        if (srgb) {
+          ClippedPixels& clip = sums.clipped[c];
+          ++clip.count;
+          clip.atZero += raw == 0;
+          clip.sum += v;
+          clip.sumSquares += v * v;
+        }
       }
     }
   }
@@ -152,7 +167,8 @@ void storeMeanAndVariance(const PixelSums& sums, const hal::Frame& frame, const 
   const double scale = frame.metadata.exposureUs * frame.metadata.gain;
   const double perUnit = scale > 0 ? 1.0 / scale : 1.0;
   for (int c = 0; c < 3; ++c) {
-    const double mean = sums.sum[c] / count;
+    // An 8-bit frame's pixels near black came clipped at 0: the mean of the light they saw.
+    const double mean = unclippedMean(sums.clipped[c]).value_or(sums.sum[c] / count);
     // What noise too small to dither leaves of the quantisation in a mean: a bias that does not
     // shrink with the pixel count.
     const double step = quantisationStep(frame.encoding, mean);
@@ -161,6 +177,7 @@ void storeMeanAndVariance(const PixelSums& sums, const hal::Frame& frame, const 
         step / std::numbers::pi * std::exp(-2.0 * std::numbers::pi * std::numbers::pi * sigma2 /
                                            (step * step));
     reading.mean[c] = mean * perUnit;
+    reading.atBlack[c] = double(sums.clipped[c].atZero) / count;
     reading.variance[c] =
         (sums.variance[c] / (double(count) * count) + bias * bias) * perUnit * perUnit;
   }

@@ -31,6 +31,10 @@ FramePipeline::FramePipeline(vision::TargetGeometry target, vision::CameraModel 
   // outline are left out (referenceInsetPx) so blur or a slightly wrong pose does not mix in the
   // window or a marker.
   for (const auto& patch : state_->target.patches) {
+    if (patch.kind == vision::PatchKind::Black && !state_->black)
+      state_->black = State::Reference{AreaSpec{patch.rect, settings.referenceInsetPx},
+                                       {patch.rect.centre().xMm, patch.rect.centre().yMm},
+                                       patch.albedo};
     if (patch.kind != vision::PatchKind::White) continue;
     const vision::RectMm& r = patch.rect;
     const int nx = r.widthMm() > 2 * r.heightMm() ? 4 : (r.widthMm() * 2 < r.heightMm() ? 1 : 2);

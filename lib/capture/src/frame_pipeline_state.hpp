@@ -49,6 +49,8 @@ struct FramePipeline::State {
     Rgb albedo;
   };
   std::vector<Reference> references;
+  // The black patch (the first of the target's), read as a check on the decoding.
+  std::optional<Reference> black;
   // An LED-off frame and, when located, its own pose: the camera moved between it and the LED-on
   // frame, so the same target points sit at other pixels.
   struct Ambient {
@@ -288,6 +290,10 @@ struct FramePipeline::State {
                                         FrameOutcome& outcome, const Located& located) const;
   std::optional<frame_checks::GateFailure> roomLightFor(const hal::Frame& frame,
                                                         std::vector<AmbientTerm>& terms) const;
+  // FrameOutcome::Measurement::blackReading of an LED-on frame at `pose` (frame_stages.cpp).
+  std::optional<double> blackReadingOf(const hal::Frame& frame, const vision::Pose& pose,
+                                       const std::vector<AmbientTerm>& roomLight,
+                                       const PointLight& light) const;
   std::optional<FrameOutcome> measure(const hal::Frame& frame, FrameOutcome& outcome,
                                       const Located& located, FrameSample& sample);
 

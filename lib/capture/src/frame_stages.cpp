@@ -133,6 +133,25 @@ std::optional<GateFailure> FramePipeline::State::roomLightFor(
   return std::nullopt;
 }
 
+// The black patch's LED light against what the fitted light and its albedo say it should be:
+// pi L / (E albedo), the channels' mean. Only a sample frame's: the light fit holds.
+std::optional<double> FramePipeline::State::blackReadingOf(const hal::Frame& frame,
+                                                           const vision::Pose& pose,
+                                                           const std::vector<AmbientTerm>& roomLight,
+                                                           const PointLight& light) const {
+  if (!black) return std::nullopt;
+  const AreaReading area = readArea(frame, pose, camera, black->area, settings.noise, *codes);
+  if (!area.inside) return std::nullopt;
+  const Rgb radiance = area.mean - ambientAt(roomLight, black->area, pose).mean;
+  const Rgb irradiance = light.irradianceAt({black->centre.x(), black->centre.y(), 0.0});
+  double sum = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    if (!(irradiance[c] > 0.0) || !(black->albedo[c] > 0.0)) return std::nullopt;
+    sum += std::numbers::pi * radiance[c] / (irradiance[c] * black->albedo[c]);
+  }
+  return sum / 3.0;
+}
+
 // Stage 4: the window against the white references: the window's reading, the room light, the
 // light fitted to the references (the occlusion gate), the sample, and for HDR sweeps its cells.
 std::optional<FrameOutcome> FramePipeline::State::measure(const hal::Frame& frame,
@@ -170,6 +189,8 @@ std::optional<FrameOutcome> FramePipeline::State::measure(const hal::Frame& fram
   for (int c = 0; c < 3; ++c)
     sample.value[c] = irradiance[c] > 0 ? std::max(0.0, windowRadiance[c]) / irradiance[c] : 0.0;
   sample.cells = readWindowCells(frame, located.pose, roomLight, fit.light, sample.light);
+  m.blackReading = blackReadingOf(frame, located.pose, roomLight, fit.light);
+  if (frame.encoding == PixelEncoding::Srgb8) m.windowAtBlack = window.atBlack;
   if (settings.hdr) {
     // The references' SNR^2 stands for the irradiance's inverse relative variance: a short
     // exposure's dark references give a noisier fit, and weigh less in the bin's irradiance.

@@ -93,6 +93,31 @@ std::string roomLightLine(const control::RoomLightView& room) {
   return line;
 }
 
+std::string decodingCheckLine(const control::DecodingCheckView& check) {
+  char figure[64];
+  std::string line = "decoding check:";
+  if (check.blackReading) {
+    std::snprintf(figure, sizeof figure, " black patch reads %.3f of its albedo", *check.blackReading);
+    line += figure;
+  }
+  if (check.blackReadingStep) {
+    std::snprintf(figure, sizeof figure, " (%.1f standard errors)",
+                  check.blackReadingStepSigmas.value_or(0.0));
+    line += std::string(check.blackReading ? "," : "") + " stepping " +
+            percent(*check.blackReadingStep) + " from a frame to the next" + figure;
+  }
+  if (check.windowAtBlack && check.windowAtBlackChannel)
+    line += std::string(check.blackReading || check.blackReadingStep ? "," : "") + " window " +
+            *check.windowAtBlackChannel + " " + percent(*check.windowAtBlack) + " at code 0";
+  return line;
+}
+
+std::string tuningFileLine(const control::TuningFileView& tuning) {
+  return "tuning file: " + (tuning.file ? *tuning.file : std::string("the camera's own")) +
+         " (tuning_file = " + tuning.setting + (tuning.reason.empty() ? "" : ": " + tuning.reason) +
+         ")";
+}
+
 }  // namespace
 
 void printSessionReply(std::ostream& out, const json& reply) {
@@ -144,6 +169,8 @@ void printStatus(std::ostream& out, const json& reply) {
     out << "decoding: " << status.decoding->decoding << " (" << status.decoding->note << ")\n";
   if (status.cameraFrames) out << cameraFramesLine(*status.cameraFrames) << "\n";
   if (status.roomLight) out << roomLightLine(*status.roomLight) << "\n";
+  if (status.decodingCheck) out << decodingCheckLine(*status.decodingCheck) << "\n";
+  if (status.tuningFile) out << tuningFileLine(*status.tuningFile) << "\n";
   for (const std::string& warning : status.warnings)
     out << "warning: " << warning << "\n";
   out << "next: " << status.next << "\n";

@@ -1,31 +1,16 @@
-// The replies' JSON, written and read in this one file (docs/reference/protocol.md).
+// The replies' JSON, written and read here and, for the status's decoding check and tuning file,
+// in decoding_views.cpp (docs/reference/protocol.md).
 #include "slicecap/control/reply_views.hpp"
+
+#include "decoding_views.hpp"
+#include "reply_fields.hpp"
 
 namespace slicecap::control {
 namespace {
 
 using nlohmann::json;
-
-// The field `key` of `object` as T; ReplyError naming the field when it is missing or mistyped.
-template <typename T>
-T field(const json& object, const char* key) {
-  if (!object.is_object() || !object.contains(key))
-    throw ReplyError("slicecapd's reply has no \"" + std::string(key) + "\"");
-  try {
-    return object.at(key).get<T>();
-  } catch (const json::exception&) {
-    throw ReplyError("slicecapd's reply has an unreadable \"" + std::string(key) +
-                     "\": " + object.at(key).dump());
-  }
-}
-
-// The field if it is there and not null.
-template <typename T>
-std::optional<T> optionalField(const json& object, const char* key) {
-  if (!object.is_object() || !object.contains(key) || object.at(key).is_null())
-    return std::nullopt;
-  return field<T>(object, key);
-}
+using reply_fields::field;
+using reply_fields::optionalField;
 
 std::vector<std::string> stringsOf(const json& object, const char* key) {
   return optionalField<std::vector<std::string>>(object, key).value_or(std::vector<std::string>{});
@@ -279,6 +264,9 @@ json toJson(const StatusView& status) {
   // Written once a figure is known: a room light without any is left out.
   if (status.roomLight && !toJson(*status.roomLight).empty())
     object["room_light"] = toJson(*status.roomLight);
+  if (status.decodingCheck && !toJson(*status.decodingCheck).empty())
+    object["decoding_check"] = toJson(*status.decodingCheck);
+  if (status.tuningFile) object["tuning_file"] = toJson(*status.tuningFile);
   if (!status.warnings.empty()) object["warnings"] = status.warnings;
   return object;
 }
@@ -308,6 +296,10 @@ StatusView statusFromJson(const json& object) {
                                    field<std::string>(*decoding, "note")};
   if (const auto room = optionalField<json>(object, "room_light"))
     status.roomLight = roomLightFromJson(*room);
+  if (const auto check = optionalField<json>(object, "decoding_check"))
+    status.decodingCheck = decodingCheckFromJson(*check);
+  if (const auto tuning = optionalField<json>(object, "tuning_file"))
+    status.tuningFile = tuningFileFromJson(*tuning);
   status.warnings = stringsOf(object, "warnings");
   return status;
 }

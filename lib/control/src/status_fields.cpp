@@ -53,8 +53,24 @@ const std::vector<ReplyField>& statusFields() {
       {"room_light.to_led", "its median ratio to the LED's light on the white references"},
       {"room_light.change", "its median change from one LED-off frame to the next, relative"},
       {"room_light.change_to_led", "change x to_led: the change as a fraction of the LED's light"},
-      {"warnings", "what the configuration, the camera, the strobe, the decoding or the room light "
-                   "does wrong for a real capture, each naming what to do"},
+      {"decoding_check", "whether the sweep run's 8-bit frames decode alike and stay above black, "
+                         "each figure once known (docs/linear-light.md)"},
+      {"decoding_check.black_reading",
+       "median of the black patch read against the white references (1: decoded right)"},
+      {"decoding_check.black_reading_step",
+       "its mean step from a sample to the next frame's, relative: a tone curve stretched per "
+       "frame steps it one way"},
+      {"decoding_check.black_reading_step_sigmas", "that mean in its standard errors"},
+      {"decoding_check.window_at_black_channel", "the window's channel with most pixels at code 0"},
+      {"decoding_check.window_at_black",
+       "that channel's median fraction of pixels at code 0 (near 1: a colour matrix took it below "
+       "black)"},
+      {"tuning_file", "the Raspberry Pi tuning file chosen for the camera (libcamera cameras)"},
+      {"tuning_file.setting", "tuning_file in slicecapd.conf: auto, off or a path"},
+      {"tuning_file.file", "the file the camera's IPA reads; null: the camera's own"},
+      {"tuning_file.reason", "why that file"},
+      {"warnings", "what the configuration, the camera, the strobe, the decoding, its checks or the "
+                   "room light does wrong for a real capture, each naming what to do"},
   };
   return fields;
 }

@@ -10,6 +10,7 @@
 #include "slicecap/core/version.hpp"
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/session_manager.hpp"
+#include "slicecap/daemon/sweep_decoding.hpp"
 #include "slicecap/daemon/texture_sink.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/file_set.hpp"
@@ -183,6 +184,9 @@ control::ExportView SessionExporter::exportSession(const capture::SessionStore& 
   // What the journal could not tell for sure goes with every export of the session.
   for (const capture::JournalDamage& damage : store.damage())
     reply.warnings.push_back(damage.message);
+  // And what the sweeps' decoding checks found: samples a processed stream may have spoilt.
+  for (std::string& warning : recordedDecodingWarnings(store.directory()))
+    reply.warnings.push_back(std::move(warning));
   addTexture(store, slices, conditions, reply);
   return reply;
 }

@@ -2,7 +2,10 @@
 #include "slicecap/daemon/sweep_decoding.hpp"
 
 #include <cstdio>
+#include <algorithm>
 #include <stdexcept>
+
+#include "slicecap/io/target_json.hpp"
 
 namespace slicecap::daemon {
 namespace {
@@ -44,6 +47,42 @@ nlohmann::json toJson(const SweepDecoding& d, const std::string& cameraId) {
     json["curve"] = {{"name", d.decoding.curve->name()}, {"points", points}};
   }
   return json;
+}
+
+void recordDecodingCheck(const std::filesystem::path& file, const control::DecodingCheckView& figures,
+                         const std::vector<std::string>& warnings) {
+  nlohmann::json record = io::readJsonFile(file);
+  nlohmann::json check = nlohmann::json::object();
+  if (figures.blackReading) check["black_reading"] = *figures.blackReading;
+  if (figures.blackReadingStep) check["black_reading_step"] = *figures.blackReadingStep;
+  if (figures.blackReadingStepSigmas)
+    check["black_reading_step_sigmas"] = *figures.blackReadingStepSigmas;
+  if (figures.windowAtBlackChannel) check["window_at_black_channel"] = *figures.windowAtBlackChannel;
+  if (figures.windowAtBlack) check["window_at_black"] = *figures.windowAtBlack;
+  check["warnings"] = warnings;
+  record["check"] = std::move(check);
+  io::writeJsonFileAtomically(file, record);
+}
+
+std::vector<std::string> recordedDecodingWarnings(const std::filesystem::path& session) {
+  std::vector<std::filesystem::path> files;
+  std::error_code error;
+  for (std::filesystem::directory_iterator it(session / kDecodingFolder, error), end;
+       !error && it != end; it.increment(error))
+    if (it->path().extension() == ".json") files.push_back(it->path());
+  std::sort(files.begin(), files.end());
+  std::vector<std::string> out;
+  for (const std::filesystem::path& file : files) {
+    try {
+      const nlohmann::json record = io::readJsonFile(file);
+      if (!record.contains("check") || !record["check"].contains("warnings")) continue;
+      for (const nlohmann::json& warning : record["check"]["warnings"])
+        out.push_back("sweep " + file.stem().string() + ": " + warning.get<std::string>());
+    } catch (const std::exception& e) {
+      out.push_back("the decoding record " + file.string() + " could not be read: " + e.what());
+    }
+  }
+  return out;
 }
 
 ResponseBracket::ResponseBracket(const hal::ExposureSetting& metered, std::uint32_t locks,

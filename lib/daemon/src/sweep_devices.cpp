@@ -59,6 +59,7 @@ void SweepDevices::reconcile() {
 }
 
 void SweepDevices::stopCamera() {
+  recordDecodingCheck();
   strobe_.stop();
   hdr_.stop();
   if (watchedFd_) loop_.unwatch(*watchedFd_);
@@ -104,6 +105,7 @@ void SweepDevices::startCamera(const SliceId& slice) {
   calibration_.reset();
   hdr_.reset();
   roomLight_.reset();
+  decodingCheck_.reset();
   std::shared_ptr<hal::Camera> opened;
   if (!openCamera(slice, opened)) {
     ledOff();
@@ -162,6 +164,13 @@ void SweepDevices::describe(control::StatusView& status) const {
     status.roomLight = room;
     for (std::string& warning : roomLight_.warnings()) status.warnings.push_back(std::move(warning));
   }
+  if (const control::DecodingCheckView check = decodingCheck_.view();
+      check.blackReading || check.windowAtBlack) {
+    status.decodingCheck = check;
+    for (std::string& warning : decodingCheck_.warnings())
+      status.warnings.push_back(std::move(warning));
+  }
+  status.tuningFile = parts_.tuningFile;
 }
 
 }  // namespace slicecap::daemon

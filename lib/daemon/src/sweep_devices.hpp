@@ -10,6 +10,7 @@
 #include "slicecap/control/reply_views.hpp"
 #include "slicecap/daemon/daemon_parts.hpp"
 #include "slicecap/daemon/event_loop.hpp"
+#include "slicecap/daemon/decoding_watch.hpp"
 #include "slicecap/daemon/room_light_watch.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 #include "slicecap/hal/led_timeline.hpp"
@@ -67,6 +68,8 @@ class SweepDevices {
   bool calibrate(const hal::Frame& frame);
   void applyDecoding(SweepDecoding decided);
   void recordDecoding(const SweepDecoding& decided, std::string& warning) const;
+  /// The sweep run's decoding check into its decoding record, as the run stops (logged on failure).
+  void recordDecodingCheck() const noexcept;
   void strobe(hal::Frame& frame);
   void apply(const capture::SettledFrame& settled);
 
@@ -94,6 +97,7 @@ class SweepDevices {
   SweepHdr hdr_;
   // The room light the sweep run's samples saw (the status warns of a bright or flickering one).
   RoomLightWatch roomLight_;
+  DecodingWatch decodingCheck_;
 };
 
 }  // namespace slicecap::daemon

@@ -114,6 +114,22 @@ void SweepDevices::recordDecoding(const SweepDecoding& decided, std::string& war
   }
 }
 
+void SweepDevices::recordDecodingCheck() const noexcept {
+  if (!cameraSlice_) return;
+  const control::DecodingCheckView figures = decodingCheck_.view();
+  if (!figures.blackReading && !figures.windowAtBlack) return;
+  try {
+    const std::optional<std::filesystem::path> session = manager_.sessionDirectory();
+    const std::filesystem::path file =
+        session ? *session / kDecodingFolder / (folderName(*cameraSlice_) + ".json")
+                : std::filesystem::path();
+    if (session && std::filesystem::exists(file))
+      daemon::recordDecodingCheck(file, figures, decodingCheck_.warnings());
+  } catch (const std::exception& error) {
+    std::cerr << "slicecapd: recording the sweep's decoding check: " << error.what() << "\n";
+  }
+}
+
 /// A recorded frame says whether the LED was on, and the LED follows it (its log then shows
 /// what a live run would have done). A live frame is labelled by the strobe from the LED's
 /// timeline over its rows (a frame queued ahead was exposed frames before it arrives).
@@ -154,6 +170,7 @@ void SweepDevices::apply(const capture::SettledFrame& settled) {
       break;
   }
   roomLight_.note(outcome);
+  decodingCheck_.note(outcome, settled.metadata.sequence);
   strobe_.noteRows(outcome.measurement.rowsOfInterest);
 }
 

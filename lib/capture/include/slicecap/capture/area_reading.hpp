@@ -37,6 +37,10 @@ struct AreaReading {
   int pixels = 0;
   bool inside = false;   ///< the whole area lies in the image and holds at least one pixel
   bool clipped = false;  ///< a pixel channel of it at or above the clip fraction of full scale
+  /// \brief 8-bit frames: per channel, the fraction of the pixels at code 0 (black or below it,
+  /// as the camera's processing clips them); 0 for linear 16-bit frames, which keep what is below
+  /// black.
+  Rgb atBlack;
 };
 
 /// \brief Where and how to read an area.
@@ -54,7 +58,9 @@ struct AreaSpec {
 /// (step^2 / 12) over the pixel count squared, plus the quantisation bias that noise too small to
 /// dither leaves in a mean (at most step / pi * exp(-2 pi^2 sigma^2 / step^2) for Gaussian noise
 /// sigma), so a noise-free 8-bit frame is not taken for exact. 8-bit codes are decoded through
-/// `codes` (sRGB, or the curve measured at sweep start).
+/// `codes` (sRGB, or the curve measured at sweep start). Where an 8-bit area's pixels near black
+/// came clipped at code 0 (an ISP's output cannot go below black) and their spread is one
+/// Gaussian's, the mean is that Gaussian's (censored_mean.hpp), not the clipped pixels'.
 AreaReading readArea(const hal::Frame& frame, const vision::Pose& pose,
                      const vision::CameraModel& camera, const AreaSpec& area,
                      const SensorNoise& noise, const CodeTable& codes = CodeTable::srgb());

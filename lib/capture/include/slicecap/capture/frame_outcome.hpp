@@ -69,6 +69,16 @@ struct FrameOutcome {
     /// not hide shows here (the two frames saw it at phases a frame period apart); a steady one,
     /// or one the frame duration hides, leaves noise.
     std::optional<double> roomChange;
+    /// \brief The black patch as the frame's decoding reads it against the white references: its
+    /// LED light over the fitted light's irradiance there, times pi, over its albedo, averaged
+    /// over the channels (1 when the decoding is right), whenever a sample was taken and the
+    /// patch is in view. Under one tone curve it stays put from frame to frame; a curve stretched
+    /// per frame (adaptive contrast) moves it (the daemon's decoding watch).
+    std::optional<double> blackReading;
+    /// \brief An 8-bit sample frame's window: per channel, the fraction of its pixels at code 0.
+    /// About half at most where the light is at black and noise spreads it; nearly all when the
+    /// camera's processing took the light below black (a colour matrix mixing the channels).
+    std::optional<Rgb> windowAtBlack;
   };
   Measurement measurement;
 };

@@ -133,6 +133,31 @@ struct RoomLightView {
   std::optional<double> changeToLed;  ///< change x toLed: as a fraction of the LED's light
 };
 
+/// \brief Whether the sweep run's 8-bit frames decode the same way from frame to frame and stay
+/// above black (daemon::DecodingWatch; docs/linear-light.md, "Checks on the decoding"): each
+/// figure once known.
+struct DecodingCheckView {
+  /// Median of the black patch's reading against the white references (1: decoded right).
+  std::optional<double> blackReading;
+  /// Mean step of that reading from a sample to the next frame's, relative and signed, and that
+  /// mean in its standard errors: a tone curve the camera stretches per frame from the frame
+  /// before (adaptive contrast) steps it one way every LED block, noise either way.
+  std::optional<double> blackReadingStep;
+  std::optional<double> blackReadingStepSigmas;
+  /// The window's channel with the most pixels at code 0 ("R", "G", "B") and its median fraction
+  /// over the latest samples: nearly all where a colour matrix took the light below black.
+  std::optional<std::string> windowAtBlackChannel;
+  std::optional<double> windowAtBlack;
+};
+
+/// \brief The Raspberry Pi tuning file slicecapd chose for its camera (docs/real-sensors.md, "The
+/// processed path's tuning file"): "tuning_file".
+struct TuningFileView {
+  std::string setting;              ///< "auto", "off" or the configured path
+  std::optional<std::string> file;  ///< the file the camera's IPA reads; none: its own
+  std::string reason;               ///< why, in words
+};
+
 /// \brief A bin of a swept slice to pass over again, slowly (capture::binsToPassAgain): "slice"
 /// (as a sweep's), "azimuth_deg" (the bin centre's slice parameter) and "reason".
 struct PassAgainView {
@@ -157,6 +182,8 @@ struct StatusView {
   std::optional<CameraFramesView> cameraFrames;
   std::optional<DecodingView> decoding;
   std::optional<RoomLightView> roomLight;
+  std::optional<DecodingCheckView> decodingCheck;
+  std::optional<TuningFileView> tuningFile;
   std::vector<std::string> warnings;
 };
 

@@ -6,9 +6,11 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "slicecap/control/reply_views.hpp"
 #include "slicecap/daemon/capture_rig.hpp"
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/exposure_meter.hpp"
@@ -59,6 +61,9 @@ struct DaemonParts {
   DecodingMode decoding = DecodingMode::Auto;
   /// Frames waiting for the recorder's writer at most; more are dropped from the recording.
   std::size_t recordQueueFrames = 4;
+  /// The Raspberry Pi tuning file chosen before the camera opened (libcamera cameras; none for
+  /// the others): every status shows it.
+  std::optional<control::TuningFileView> tuningFile;
   /// What the configuration still does wrong for a real capture (configWarnings): every status
   /// shows them, as does what the camera last adjusted of its configuration.
   std::vector<std::string> warnings;

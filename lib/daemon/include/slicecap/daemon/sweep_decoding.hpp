@@ -4,12 +4,14 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "slicecap/capture/response_curve.hpp"
+#include "slicecap/control/reply_views.hpp"
 #include "slicecap/hal/camera.hpp"
 #include "slicecap/hal/frame.hpp"
 #include "slicecap/io/recording.hpp"
@@ -54,6 +56,16 @@ struct SweepDecoding {
 
 /// \brief The session's record of a sweep run's decoding: kind, note, warning, curve points.
 nlohmann::json toJson(const SweepDecoding& decoding, const std::string& cameraId);
+
+/// \brief Adds a sweep run's decoding check (DecodingWatch: its figures and warnings) to that
+/// run's record `file` (<session>/decoding/<slice>.json) as "check", so the session keeps what the
+/// status said. Throws io::IoError naming the file when it cannot be read or written.
+void recordDecodingCheck(const std::filesystem::path& file, const control::DecodingCheckView& figures,
+                         const std::vector<std::string>& warnings);
+
+/// \brief Every warning of a "check" in <session>/decoding/*.json, each led by its slice's
+/// folder name (for the session's export); a record that cannot be read is said as such.
+std::vector<std::string> recordedDecodingWarnings(const std::filesystem::path& session);
 
 /// \brief The bracket at sweep start: locks each setting of a BracketPlan in turn, keeps the first
 /// frame taken under each lock, then locks the metered setting again and skips frames until it

@@ -1,0 +1,42 @@
+// The status's decoding check and tuning file as JSON.
+#include "decoding_views.hpp"
+
+#include "reply_fields.hpp"
+
+namespace slicecap::control {
+
+using nlohmann::json;
+using reply_fields::field;
+using reply_fields::optionalField;
+
+json toJson(const DecodingCheckView& check) {
+  json object = json::object();
+  if (check.blackReading) object["black_reading"] = *check.blackReading;
+  if (check.blackReadingStep) object["black_reading_step"] = *check.blackReadingStep;
+  if (check.blackReadingStepSigmas)
+    object["black_reading_step_sigmas"] = *check.blackReadingStepSigmas;
+  if (check.windowAtBlackChannel) object["window_at_black_channel"] = *check.windowAtBlackChannel;
+  if (check.windowAtBlack) object["window_at_black"] = *check.windowAtBlack;
+  return object;
+}
+
+DecodingCheckView decodingCheckFromJson(const json& object) {
+  return {optionalField<double>(object, "black_reading"),
+          optionalField<double>(object, "black_reading_step"),
+          optionalField<double>(object, "black_reading_step_sigmas"),
+          optionalField<std::string>(object, "window_at_black_channel"),
+          optionalField<double>(object, "window_at_black")};
+}
+
+json toJson(const TuningFileView& tuning) {
+  json object = {{"setting", tuning.setting}, {"reason", tuning.reason}};
+  object["file"] = tuning.file ? json(*tuning.file) : json(nullptr);
+  return object;
+}
+
+TuningFileView tuningFileFromJson(const json& object) {
+  return {field<std::string>(object, "setting"), optionalField<std::string>(object, "file"),
+          field<std::string>(object, "reason")};
+}
+
+}  // namespace slicecap::control

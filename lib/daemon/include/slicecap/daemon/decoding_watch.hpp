@@ -1,0 +1,63 @@
+// What a sweep's samples say about the decoding of a processed (8-bit) stream, for `slicecap
+// status`: whether its tone curve stays the same from frame to frame, and whether its colour
+// processing takes a channel below black.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "slicecap/capture/frame_outcome.hpp"
+#include "slicecap/control/reply_views.hpp"
+
+namespace slicecap::daemon {
+
+/// \brief The latest samples' black-patch readings (FrameOutcome::Measurement::blackReading) and
+/// the window's pixels at code 0 (windowAtBlack), and the warnings they call for: a decoding no
+/// measured curve can be trusted with. Measured on the camera model (docs/results/
+/// 2026-12-06-real-sensors-goals.md, "The decoding checks").
+class DecodingWatch {
+ public:
+  /// \brief The black patch's reading stepping by more than this, on average, from a sample to
+  /// the sample of the next frame (relative, signed: the mean over the latest pairs), and that
+  /// mean more than kMinStepSigmas of its standard errors from 0: the camera stretches its tone
+  /// curve per frame (a Raspberry Pi's rpi.contrast ce_enable) from the frame before, so the
+  /// first LED-on frame after an LED-off one (a dark frame's stretch) and the next (a lit
+  /// frame's) read the black against the whites differently every time, which one measured curve
+  /// cannot decode. Noise steps either way and averages out; the view moving steps both ways too.
+  static constexpr double kMaxBlackReadingStep = 0.01;
+  static constexpr double kMinStepSigmas = 4.0;
+  /// \brief More than this fraction of a window channel's pixels at code 0 (median over the
+  /// latest samples): light below black. Noise where the light is at black leaves about half at
+  /// 0 (a little more: code 0 also holds the light below half-way to code 1); a colour matrix
+  /// that mixes the channels takes a saturated colour's weak channel negative and the ISP clips
+  /// it. On an RGB stream nearly all its pixels are then at 0; a YUV420 stream's shared chroma
+  /// spreads them over codes 0..3, and the camera model's processed-isp sweeps read 46-73 %.
+  static constexpr double kMaxWindowAtBlack = 0.6;
+  /// \brief The figures of this many latest samples count.
+  static constexpr std::size_t kSamples = 32;
+  /// \brief A figure needs this many samples before it warns.
+  static constexpr std::size_t kMinSamples = 8;
+
+  /// \brief A new sweep run: nothing seen yet.
+  void reset();
+  /// \brief A settled outcome of the frame numbered `sequence` (FrameMetadata::sequence): a
+  /// sample's black reading and window channels at code 0.
+  void note(const capture::FrameOutcome& outcome, std::uint64_t sequence);
+  /// \brief The status's "decoding_check" figures (none before the first sample).
+  control::DecodingCheckView view() const;
+  /// \brief A sentence for each figure beyond its limit, naming it, the limit and what to do;
+  /// only for 8-bit frames (a RAW stream's figures are noise).
+  std::vector<std::string> warnings() const;
+
+ private:
+  std::deque<double> readings_, steps_;
+  std::optional<std::uint64_t> lastSequence_;  ///< the frame of readings_.back()
+  std::array<std::deque<double>, 3> atBlack_;
+  bool eightBit_ = false;
+};
+
+}  // namespace slicecap::daemon

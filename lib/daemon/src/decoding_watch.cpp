@@ -1,0 +1,119 @@
+// The processed stream's decoding as the sweep's samples see it, and the status's warnings.
+#include "slicecap/daemon/decoding_watch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace slicecap::daemon {
+namespace {
+
+void keepLatest(std::deque<double>& values, double value) {
+  values.push_back(value);
+  while (values.size() > DecodingWatch::kSamples) values.pop_front();
+}
+
+std::optional<double> median(const std::deque<double>& values) {
+  if (values.empty()) return std::nullopt;
+  std::vector<double> sorted(values.begin(), values.end());
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  return sorted[sorted.size() / 2];
+}
+
+// The mean of `values` and that mean in its standard errors (none for fewer than 2).
+std::optional<std::pair<double, double>> meanAndSigmas(const std::deque<double>& values) {
+  if (values.size() < 2) return std::nullopt;
+  double sum = 0.0, sumSquares = 0.0;
+  for (double v : values) sum += v, sumSquares += v * v;
+  const double n = double(values.size()), mean = sum / n;
+  const double variance = std::max(0.0, (sumSquares - n * mean * mean) / (n - 1.0));
+  const double standardError = std::sqrt(variance / n);
+  return std::pair{mean, standardError > 0.0 ? std::abs(mean) / standardError : 0.0};
+}
+
+std::string percent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f %%", 100.0 * fraction);
+  return text;
+}
+
+constexpr const char* kChannelNames[3] = {"R", "G", "B"};
+
+}  // namespace
+
+void DecodingWatch::reset() {
+  readings_.clear();
+  steps_.clear();
+  for (auto& channel : atBlack_) channel.clear();
+  lastSequence_.reset();
+  eightBit_ = false;
+}
+
+void DecodingWatch::note(const capture::FrameOutcome& outcome, std::uint64_t sequence) {
+  if (outcome.kind != capture::FrameOutcome::Kind::Sample) return;
+  const capture::FrameOutcome::Measurement& m = outcome.measurement;
+  if (m.blackReading && std::isfinite(*m.blackReading)) {
+    // Samples of consecutive frames only (an LED block's, a frame period apart): the pose, the
+    // light and the exposure barely move between them, a curve stretched from the frame before
+    // (an LED-off frame's for the first, an LED-on frame's for the next) does. Farther apart,
+    // the hand's motion moves the reading through the curve's own small errors.
+    if (!readings_.empty() && lastSequence_ && sequence == *lastSequence_ + 1 &&
+        std::abs(readings_.back()) > 0.0)
+      keepLatest(steps_, *m.blackReading / readings_.back() - 1.0);
+    keepLatest(readings_, *m.blackReading);
+    lastSequence_ = sequence;
+  }
+  if (m.windowAtBlack) {
+    eightBit_ = true;
+    for (int c = 0; c < 3; ++c) keepLatest(atBlack_[c], (*m.windowAtBlack)[c]);
+  }
+}
+
+control::DecodingCheckView DecodingWatch::view() const {
+  control::DecodingCheckView view;
+  view.blackReading = median(readings_);
+  if (const auto step = meanAndSigmas(steps_)) {
+    view.blackReadingStep = step->first;
+    view.blackReadingStepSigmas = step->second;
+  }
+  for (int c = 0; c < 3; ++c)
+    if (const std::optional<double> fraction = median(atBlack_[c]);
+        fraction && (!view.windowAtBlack || *fraction > *view.windowAtBlack)) {
+      view.windowAtBlack = fraction;
+      view.windowAtBlackChannel = kChannelNames[c];
+    }
+  return view;
+}
+
+std::vector<std::string> DecodingWatch::warnings() const {
+  std::vector<std::string> out;
+  if (!eightBit_) return out;
+  const control::DecodingCheckView figures = view();
+  if (steps_.size() >= kMinSamples && figures.blackReadingStep && figures.blackReadingStepSigmas &&
+      std::abs(*figures.blackReadingStep) > kMaxBlackReadingStep &&
+      *figures.blackReadingStepSigmas > kMinStepSigmas) {
+    char sigmas[32];
+    std::snprintf(sigmas, sizeof sigmas, "%.1f", *figures.blackReadingStepSigmas);
+    out.push_back("decoding: the black patch's reading against the white references steps by " +
+                  percent(*figures.blackReadingStep) + " on average from a frame to the next (" +
+                  sigmas + " standard errors; more than " + percent(kMaxBlackReadingStep) +
+                  " is a curve, not noise): the camera's tone curve changes from frame to frame "
+                  "(adaptive contrast: a Raspberry Pi's rpi.contrast ce_enable), so no measured "
+                  "curve decodes its frames and this sweep's samples cannot be trusted. Use RAW "
+                  "(camera_raw = auto or on), slicecap's tuning file (tuning_file = auto), or a "
+                  "camera whose processing is fixed");
+  }
+  if (atBlack_[0].size() >= kMinSamples && figures.windowAtBlack &&
+      *figures.windowAtBlack > kMaxWindowAtBlack)
+    out.push_back("decoding: " + percent(*figures.windowAtBlack) + " of the window's " +
+                  *figures.windowAtBlackChannel +
+                  " pixels are at code 0 with the LED on (more than " + percent(kMaxWindowAtBlack) +
+                  "; noise at black leaves about half): the camera's colour processing takes "
+                  "that channel below black (a colour matrix mixing the channels, a Raspberry "
+                  "Pi's rpi.ccm), so this sweep's samples cannot be trusted. Use RAW (camera_raw "
+                  "= auto or on) or slicecap's tuning file (tuning_file = auto: an identity "
+                  "matrix)");
+  return out;
+}
+
+}  // namespace slicecap::daemon

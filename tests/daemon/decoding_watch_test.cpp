@@ -1,0 +1,92 @@
+// DecodingWatch: the status's warnings of a tone curve that changes from frame to frame and of a
+// window channel taken below black, from the latest samples' figures.
+#include "slicecap/daemon/decoding_watch.hpp"
+
+#include <gtest/gtest.h>
+
+namespace slicecap::daemon {
+namespace {
+
+capture::FrameOutcome sample(std::optional<double> blackReading, std::optional<Rgb> windowAtBlack) {
+  capture::FrameOutcome outcome;
+  outcome.kind = capture::FrameOutcome::Kind::Sample;
+  outcome.measurement.blackReading = blackReading;
+  outcome.measurement.windowAtBlack = windowAtBlack;
+  return outcome;
+}
+
+// One LED block of "2 on, 2 off": the samples of its two LED-on frames (consecutive frames),
+// then two LED-off frames the watch does not see.
+std::uint64_t nextSequence = 100;
+void noteBlock(DecodingWatch& watch, double first, double second, std::optional<Rgb> atBlack) {
+  watch.note(sample(first, atBlack), nextSequence);
+  watch.note(sample(second, atBlack), nextSequence + 1);
+  nextSequence += 4;
+}
+
+TEST(DecodingWatch, WarnsOfACurveThatStepsEveryBlockAndOfAChannelBelowBlack) {
+  DecodingWatch watch;
+  EXPECT_FALSE(watch.view().blackReading || watch.view().windowAtBlack)
+      << "nothing before the first sample";
+  // One curve: the black reads the same within noise, stepping either way; the window's dark red
+  // at black with noise (about half its pixels at code 0).
+  for (int i = 0; i < 20; ++i)
+    noteBlock(watch, 1.05, 1.05 * (i % 2 ? 1.03 : 0.97), Rgb{0.52, 0.02, 0.0});
+  EXPECT_TRUE(watch.warnings().empty()) << watch.warnings().front();
+  EXPECT_NEAR(*watch.view().blackReading, 1.05, 0.05 * 1.05);
+  EXPECT_NEAR(*watch.view().blackReadingStep, 0.0, 0.01);
+  EXPECT_EQ(watch.view().windowAtBlackChannel.value_or(""), "R");
+
+  // A curve stretched from the frame before: the second frame of every block reads the black
+  // 2 % higher than the first, within noise; and a colour matrix takes the window's green below
+  // black in nearly every pixel. The latest 32 count.
+  for (int i = 0; i < 32; ++i)
+    noteBlock(watch, 1.0, 1.02 * (i % 3 ? 1.004 : 0.995), Rgb{0.3, i == 3 ? 0.1 : 0.97, 0.0});
+  const std::vector<std::string> warnings = watch.warnings();
+  ASSERT_EQ(warnings.size(), 2u);
+  EXPECT_NEAR(*watch.view().blackReadingStep, 0.02, 0.005);
+  EXPECT_GT(*watch.view().blackReadingStepSigmas, DecodingWatch::kMinStepSigmas);
+  EXPECT_NE(warnings[0].find("adaptive contrast"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("camera_raw"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[1].find("97.0 % of the window's G pixels"), std::string::npos) << warnings[1];
+  EXPECT_NE(warnings[1].find("colour matrix"), std::string::npos) << warnings[1];
+
+  watch.reset();
+  EXPECT_FALSE(watch.view().blackReading) << "a new sweep run starts afresh";
+}
+
+TEST(DecodingWatch, ASmallStepWithinItsNoiseIsNotACurve) {
+  // 2 % steps one way but the noise ten times that: not told apart from the noise.
+  DecodingWatch watch;
+  for (int i = 0; i < 32; ++i) noteBlock(watch, 1.0, 1.02 + (i % 2 ? 0.2 : -0.2), std::nullopt);
+  ASSERT_TRUE(watch.view().blackReadingStepSigmas);
+  EXPECT_LT(*watch.view().blackReadingStepSigmas, DecodingWatch::kMinStepSigmas);
+  EXPECT_TRUE(watch.warnings().empty());
+}
+
+TEST(DecodingWatch, ALinearStreamIsNotWarnedAbout) {
+  // RAW frames carry no window-at-black figure: their black reading's steps are not a curve's.
+  DecodingWatch watch;
+  for (int i = 0; i < 32; ++i) noteBlock(watch, 1.0, 1.05, std::nullopt);
+  EXPECT_TRUE(watch.warnings().empty());
+  EXPECT_TRUE(watch.view().blackReadingStep);
+}
+
+TEST(DecodingWatch, OnlySamplesOfConsecutiveFramesAreCompared) {
+  // Frames apart (dropped, or another LED block's): the hand moved between them, not the curve.
+  DecodingWatch watch;
+  for (std::uint64_t i = 0; i < 40; ++i)
+    watch.note(sample(i % 2 ? 1.0 : 1.2, Rgb{0.5, 0.5, 0.5}), 10 + 2 * i);
+  EXPECT_FALSE(watch.view().blackReadingStep);
+  EXPECT_TRUE(watch.warnings().empty());
+}
+
+TEST(DecodingWatch, AFewSamplesDoNotWarn) {
+  DecodingWatch watch;
+  for (std::size_t i = 0; i + 1 < DecodingWatch::kMinSamples / 2; ++i)
+    noteBlock(watch, 1.0, 1.5, Rgb{1.0, 1.0, 1.0});
+  EXPECT_TRUE(watch.warnings().empty());
+}
+
+}  // namespace
+}  // namespace slicecap::daemon
