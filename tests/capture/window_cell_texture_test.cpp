@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <functional>
+#include <random>
 
 #include "slicecap/capture/window_cells.hpp"
 #include "slicecap/core/grid.hpp"
@@ -36,7 +37,7 @@ Rgb times(const Rgb& a, const Rgb& b) { return {a[0] * b[0], a[1] * b[1], a[2] *
 // the view turning together) cells of neighbouring frames meet at the same directions in every
 // bin; on a diagonal one (turning apart) in a quarter of them.
 AzimuthBins sweep(const CellValue& valueAt, SliceKind kind = SliceKind::Diagonal,
-                  double elevationDeg = 75.0) {
+                  double elevationDeg = 75.0, double noiseSigma = 0.0) {
   AzimuthBins bins(kind);
   for (int f = 0; f < 120; ++f) {
     const AzimuthPair azimuths = slicePoint(kind, 3.0 * f + 1.0);
@@ -52,7 +53,9 @@ AzimuthBins sweep(const CellValue& valueAt, SliceKind kind = SliceKind::Diagonal
     for (int k = 0; k < kSide * kSide; ++k) {
       CellSample& cell = cells.cells[std::size_t(k)];
       cell.value = valueAt(k, toUnitVector(cell.light), toUnitVector(cell.view));
-      cell.variance = times(cell.value, cell.value) * 1e-4;  // 1 % noise, as a bright cell's
+      // 1 % noise, as a bright cell's; or the noise of a dim exposure, the same in every cell.
+      cell.variance = noiseSigma > 0.0 ? Rgb::gray(noiseSigma * noiseSigma)
+                                       : times(cell.value, cell.value) * 1e-4;
       mean += cell.value * (1.0 / (kSide * kSide));
     }
     FrameSample sample{f * 33000, std::uint64_t(f), light, view, mean};
@@ -88,6 +91,26 @@ TEST(WindowCellTexture, ASharpLobeOnAPlainMaterialIsReadAsItIs) {
   ASSERT_EQ(read.size(), raw.size());
   for (std::size_t b = 0; b < raw.size(); ++b)
     EXPECT_EQ(read[b].value, raw[b].value);
+}
+
+TEST(WindowCellTexture, CellsInTheNoiseAreNotTakenForTexture) {
+  // One exposure metered for the sharp Ward's peak: away from it the cells read a few noise
+  // sigma either side of the dim diffuse, clamped at 0 as the pipeline clamps them. Their
+  // ratios to the frame's mean scatter by orders of magnitude; they are no reading of a spot.
+  std::mt19937 random(7);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  const AzimuthBins noisy = sweep(
+      [&](int, const UnitVector& l, const UnitVector& v) {
+        Rgb value = kSharpWard->evaluate(l, v);
+        for (std::size_t c = 0; c < 3; ++c) value[c] = std::max(0.0, value[c] + noise(random));
+        return value;
+      },
+      SliceKind::Diagonal, 75.0, 0.02);
+  const CellTexture texture = cellTextureOf(noisy);
+  EXPECT_EQ(texture.action, CellTextureAction::AsRead) << texture.describe();
+  CellTextureRule everyFrame;
+  everyFrame.minCellSnr = 0.0;  // what the noise alone reads as
+  EXPECT_GT(cellTextureOf(noisy, everyFrame).spreadPercent, everyFrame.textureSpreadPercent);
 }
 
 TEST(WindowCellTexture, AnAlbedoPatternIsFoundAndDividedOut) {

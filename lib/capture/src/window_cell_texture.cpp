@@ -2,6 +2,7 @@
 #include "slicecap/capture/window_cell_texture.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -26,30 +27,40 @@ bool usable(const CellSample& cell) {
 }
 
 // One frame's cells as the measurement reads them: log(cell / the frame's mean of cells) per
-// position and channel, and that mean.
+// position and channel, that mean, and which channels hold a signal in every cell.
 struct FrameRatios {
   std::vector<Rgb> logRatio;
   Rgb mean;
+  std::array<bool, 3> measured{};
 };
 
-// A frame whose every cell is usable and whose mean is positive in every channel; nullopt for
-// any other.
-std::optional<FrameRatios> ratiosOf(const WindowCells& window, std::size_t positions) {
+// A frame whose every cell is usable and whose mean is positive in some channel; nullopt for any
+// other. A channel counts only where every cell reads minCellSnr sigma above zero: a cell in the
+// noise (clamped at 0 when the room light's subtraction overshoots) is no reading of its spot,
+// and a single-exposure sweep metered for a metal's peak leaves most frames there.
+std::optional<FrameRatios> ratiosOf(const WindowCells& window, std::size_t positions,
+                                    double minCellSnr) {
   if (window.cells.size() != positions) return std::nullopt;
   FrameRatios out;
+  out.measured = {true, true, true};
   for (const CellSample& cell : window.cells) {
     if (!usable(cell)) return std::nullopt;
     out.mean += cell.value;
+    for (std::size_t c = 0; c < 3; ++c)
+      if (!(cell.value[c] >= minCellSnr * std::sqrt(cell.variance[c]))) out.measured[c] = false;
   }
   out.mean *= 1.0 / double(positions);
-  if (!(out.mean.minChannel() > 0.0)) return std::nullopt;
+  for (std::size_t c = 0; c < 3; ++c) out.measured[c] = out.measured[c] && out.mean[c] > 0.0;
+  if (!(out.measured[0] || out.measured[1] || out.measured[2])) return std::nullopt;
   out.logRatio.resize(positions);
   for (std::size_t k = 0; k < positions; ++k)
     for (std::size_t c = 0; c < 3; ++c)
-      // A cell read at 0 (the room light's subtraction clamps there) is far below its mean,
-      // not infinitely: floored at a thousandth of it.
+      // Floored at a thousandth of the mean: a cell read at 0 (a rule with minCellSnr 0) is far
+      // below its mean, not infinitely.
       out.logRatio[k][c] =
-          std::log(std::max(window.cells[k].value[c], 1e-3 * out.mean[c]) / out.mean[c]);
+          out.measured[c]
+              ? std::log(std::max(window.cells[k].value[c], 1e-3 * out.mean[c]) / out.mean[c])
+              : 0.0;
   return out;
 }
 
@@ -153,27 +164,36 @@ CellTexture cellTextureOf(const AzimuthBins& bins, const CellTextureRule& rule) 
     for (const FrameSample& frame : bins.samplesIn(b)) {
       if (!frame.cells) continue;
       if (positions == 0) positions = frame.cells->cells.size();
-      if (std::optional<FrameRatios> ratios = ratiosOf(*frame.cells, positions))
+      if (std::optional<FrameRatios> ratios = ratiosOf(*frame.cells, positions, rule.minCellSnr))
         frames.push_back(std::move(*ratios));
     }
   CellTexture out;
   out.framesUsed = int(frames.size());
-  if (out.framesUsed < std::max(rule.minFrames, 1)) {
+  // A channel with too few measured frames says nothing: its factors stay 1, out of the spread.
+  std::array<std::vector<std::size_t>, 3> framesOf;
+  for (std::size_t f = 0; f < frames.size(); ++f)
+    for (std::size_t c = 0; c < 3; ++c)
+      if (frames[f].measured[c]) framesOf[c].push_back(f);
+  const std::size_t enough = std::size_t(std::max(rule.minFrames, 1));
+  std::size_t channels = 0;
+  for (std::size_t c = 0; c < 3; ++c) channels += framesOf[c].size() >= enough ? 1 : 0;
+  if (channels == 0) {
     if (rule.forced == CellTextureAction::WindowCentres) out.action = *rule.forced;
     return out;
   }
-  out.albedoFactors.resize(positions);
-  std::vector<Rgb> logFactors(positions);
+  out.albedoFactors.assign(positions, Rgb::gray(1.0));
   double squares = 0.0;
-  std::vector<double> column(frames.size());
+  std::vector<double> column;
   for (std::size_t k = 0; k < positions; ++k)
     for (std::size_t c = 0; c < 3; ++c) {
-      for (std::size_t f = 0; f < frames.size(); ++f) column[f] = frames[f].logRatio[k][c];
-      logFactors[k][c] = median(column);
-      out.albedoFactors[k][c] = std::exp(logFactors[k][c]);
-      squares += logFactors[k][c] * logFactors[k][c];
+      if (framesOf[c].size() < enough) continue;
+      column.clear();
+      for (std::size_t f : framesOf[c]) column.push_back(frames[f].logRatio[k][c]);
+      const double logFactor = median(column);
+      out.albedoFactors[k][c] = std::exp(logFactor);
+      squares += logFactor * logFactor;
     }
-  out.spreadPercent = 100.0 * std::sqrt(squares / double(3 * positions));
+  out.spreadPercent = 100.0 * std::sqrt(squares / double(channels * positions));
   measureUnexplained(bins, positions, rule, out);
   if (rule.forced)
     out.action = *rule.forced;

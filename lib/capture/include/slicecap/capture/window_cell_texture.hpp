@@ -29,10 +29,12 @@ std::optional<CellTextureAction> parseCellTextureAction(std::string_view text);
 
 /// \brief What a sweep's cells say of the material's texture (cellTextureOf).
 struct CellTexture {
-  /// \brief Frames whose every cell was usable (not clipped, finite), the ones measured.
+  /// \brief Frames whose every cell was usable (not clipped, finite) with some channel clear of
+  /// the noise in every cell (CellTextureRule::minCellSnr), the ones measured.
   int framesUsed = 0;
   /// \brief Each cell position's albedo factor, row by row, per channel: the median over the
-  /// frames of the cell's value over its frame's mean of cells. Empty when too few frames.
+  /// frames of the cell's value over its frame's mean of cells (1 in a channel with too few
+  /// frames measured). Empty when too few frames.
   std::vector<Rgb> albedoFactors;
   /// \brief How far the factors are from 1: the root mean square of their logarithms over the
   /// positions and channels, x 100 (about the spread in percent).
@@ -58,8 +60,15 @@ struct CellTextureRule {
   /// \brief When set, this action whatever the cells show (the measurement still made and
   /// reported; AlbedoNormalised without factors, too few frames, reads the cells as read).
   std::optional<CellTextureAction> forced;
-  /// \brief Frames needed before anything is decided (fewer: the cells as read).
+  /// \brief Frames needed in a channel before it says anything (no channel with as many: the
+  /// cells as read).
   int minFrames = 8;
+  /// \brief A frame's channel is measured only where every cell reads this many standard
+  /// deviations of its noise above zero: a cell in the noise (clamped at 0 where the room
+  /// light's subtraction overshoots) is no reading of its spot. A single-exposure sweep metered
+  /// for a metal's peak leaves most of its frames there, and read them as texture (spread up to
+  /// 5 x on brushed-aluminium's diagonal 75/75) before this.
+  double minCellSnr = 5.0;
   /// \brief Texture when spreadPercent exceeds this: plain sharp metals measure 1-3 %, the woven
   /// 63-73 % (docs/results/2026-12-06-window-cells.md).
   double textureSpreadPercent = 10.0;
