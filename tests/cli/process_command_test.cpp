@@ -50,6 +50,11 @@ TEST(ProcessCommand, WritesSlicesReportAndSummary) {
     EXPECT_DOUBLE_EQ(bin["azimuth_deg"].get<double>(), 15.0 * bin["bin"].get<int>());
     EXPECT_TRUE(j["recordings"][0]["bins"][bin["bin"].get<int>()]["frames"].empty()) << bin;
   }
+  // Too few frames (3) to tell texture: the cells as read, said in the report and on stderr.
+  EXPECT_EQ(j["recordings"][0]["cell_texture"]["action"], "as read");
+  EXPECT_EQ(j["recordings"][0]["cell_texture"]["frames_used"], 3);
+  EXPECT_NE(r.err.find("cells: as read (texture not measured: 3 frames)"), std::string::npos)
+      << r.err;
   EXPECT_EQ(j["recordings"][0]["frames"][1]["outcome"], "ambient");
   // The first frame has no earlier pose: the whole frame was searched.
   EXPECT_EQ(j["recordings"][0]["frames"][0]["detection"]["tracked"], false);
@@ -68,6 +73,9 @@ TEST(ProcessCommand, WritesSlicesReportAndSummary) {
   for (const SliceSample& s : cells->samples)
     EXPECT_NEAR(s.value[0], 0.5 / M_PI, 0.03 * 0.5 / M_PI);
   EXPECT_EQ(run({"process", recording, "-o", csv, "--cell-slices", csv}).code, kExitUsage);
+  const Result badTexture = run({"process", recording, "-o", csv, "--cell-texture", "mean"});
+  EXPECT_EQ(badTexture.code, kExitUsage);
+  EXPECT_NE(badTexture.err.find("--cell-texture: 'mean'"), std::string::npos) << badTexture.err;
 
   // The same slice twice, a directory without a recording: usage error / failure naming it.
   EXPECT_EQ(run({"process", recording, recording, "-o", csv}).code, kExitUsage);

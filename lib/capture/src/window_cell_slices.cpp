@@ -82,16 +82,27 @@ std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& 
   return out;
 }
 
-void addSweepSlices(SliceSet& set, const SliceId& id, const AzimuthBins& bins) {
+CellTexture addSweepSlices(SliceSet& set, const SliceId& id, const AzimuthBins& bins,
+                           const CellTextureRule& rule) {
   bool anyCells = false;
   for (int b = 0; b < bins.binCount() && !anyCells; ++b)
     for (const FrameSample& frame : bins.samplesIn(b))
       anyCells = anyCells || frame.cells.has_value();
   for (const SliceSample& sample : bins.combine())
     set.add(id, sample);
-  if (!anyCells) return;
-  for (const SliceSample& sample : sliceFromCells(bins, id))
+  if (!anyCells) return {};
+  const CellTexture texture = cellTextureOf(bins, rule);
+  // Texture the factors do not explain: no cell samples, so the slice's cells' reading is
+  // its window centres' (SliceSet::cellReading), the window mean the paper's Method B reads.
+  if (texture.action == CellTextureAction::WindowCentres) return texture;
+  const bool normalise = texture.action == CellTextureAction::AlbedoNormalised &&
+                         !texture.albedoFactors.empty();
+  const std::vector<SliceSample> samples =
+      normalise ? sliceFromCells(withCellsNormalised(bins, texture.albedoFactors), id)
+                : sliceFromCells(bins, id);
+  for (const SliceSample& sample : samples)
     set.addCellSample(id, sample);
+  return texture;
 }
 
 }  // namespace slicecap::capture

@@ -63,9 +63,10 @@ int run(const ParsedArgs& args, Streams& io) {
   const std::string name = args.positional[0];
   if (endsInJson(name)) return tabulateFittedMaterial(name, args.required("output"), io);
   std::shared_ptr<const models::ReflectanceModel> model = models::findMaterial(name);
-  // A model specification (ward:..., ggx:..., lambert:...), as simulate takes it: the truth of
-  // a simulated capture of a material that is not built in.
-  if (!model && name.find(':') != std::string::npos && !name.starts_with("woven")) {
+  // A model specification (ward:..., ggx:..., lambert:..., woven[:...]), as simulate takes it:
+  // the truth of a simulated capture of a material that is not built in (a patterned one's is
+  // the window's area mean, sim::PatternedMaterial's evaluate).
+  if (!model && (name.find(':') != std::string::npos || name == "woven")) {
     try {
       model = sim::loadMaterial(name);
     } catch (const sim::MaterialError& e) {
@@ -89,7 +90,8 @@ Command generateCommand() {
            "Tabulate a built-in analytic material (Ward, anisotropic GGX, Blinn-Phong, Lambert, "
            "sheen) on\n"
            "the Bonn 81 x 81 grid: ground truth for simulated captures. MATERIAL may also be a\n"
-           "model specification as simulate takes it (ward:..., ggx:..., lambert:...).\n"
+           "model specification as simulate takes it (ward:..., ggx:..., lambert:...;\n"
+           "woven[:...]: its window's area mean, what a capture's window mean reads).\n"
            "MATERIAL.json (written by `slicecap fit`): the fitted material's table, as the fit\n"
            "computed its own dE; a file that is not a completed fit is refused, naming it.",
            {{"output", 'o', "OUT", "where to write the table (.exr or .f32)"},

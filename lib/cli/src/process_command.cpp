@@ -57,6 +57,29 @@ std::string noSampleReason(const capture::RecordingResult& result) {
   return text;
 }
 
+// The report's "cell_texture" of a recording: what its cells showed and what was done.
+nlohmann::json cellTextureJson(const capture::CellTexture& texture) {
+  return {{"action", std::string(capture::toString(texture.action))},
+          {"frames_used", texture.framesUsed},
+          {"spread_percent", texture.spreadPercent},
+          {"unexplained_percent", texture.unexplainedPercent},
+          {"matched_pairs", texture.matchedPairs},
+          {"bins_matched", texture.binsMatched},
+          {"bins_with_cells", texture.binsWithCells},
+          {"summary", texture.describe()}};
+}
+
+// --cell-texture: auto (the rule decides), or the action it names.
+capture::CellTextureRule cellTextureRuleOf(const ParsedArgs& args) {
+  capture::CellTextureRule rule;
+  const std::string mode = args.value("cell-texture").value_or("auto");
+  if (mode == "auto") return rule;
+  rule.forced = capture::parseCellTextureAction(mode);
+  if (!rule.forced)
+    throw UsageError("--cell-texture: '" + mode + "' is not auto, as-read, normalise or centres");
+  return rule;
+}
+
 // What the recordings gave: the slices (each recording one slice) and, per recording that gave
 // no sample, why (noSampleReason).
 struct Processed {
@@ -66,13 +89,15 @@ struct Processed {
 
 // Reads and checks every recording (readRecordings), then runs each, printing its summary.
 Processed processAll(const std::vector<std::filesystem::path>& recordings,
-                     const capture::PipelineSettings& settings, Streams& io,
+                     const capture::PipelineSettings& settings,
+                     const capture::CellTextureRule& textureRule, Streams& io,
                      nlohmann::json* report) {
   const std::vector<io::Recording> read = readRecordings(recordings);
   Processed processed;
   for (std::size_t k = 0; k < recordings.size(); ++k) {
     capture::RecordingResult result = capture::processRecording(recordings[k], read[k], settings);
-    capture::addSweepSlices(processed.slices, result.slice, result.bins);
+    const capture::CellTexture texture =
+        capture::addSweepSlices(processed.slices, result.slice, result.bins, textureRule);
     const int samples = static_cast<int>(
         std::count_if(result.outcomes.begin(), result.outcomes.end(),
                       [](const auto& o) { return o.kind == capture::FrameOutcome::Kind::Sample; }));
@@ -84,8 +109,13 @@ Processed processAll(const std::vector<std::filesystem::path>& recordings,
     if (!result.roomLightSubtracted)
       io.err << "; room light not subtracted: the LED is on in every frame";
     io.err << "\n";
+    if (texture.framesUsed > 0) io.err << "  " << texture.describe() << "\n";
     if (result.bins.filledCount() == 0) processed.withoutSamples.push_back(noSampleReason(result));
-    if (report) (*report)["recordings"].push_back(result.toJson());
+    if (report) {
+      nlohmann::json entry = result.toJson();
+      if (texture.framesUsed > 0) entry["cell_texture"] = cellTextureJson(texture);
+      (*report)["recordings"].push_back(std::move(entry));
+    }
   }
   return processed;
 }
@@ -120,7 +150,8 @@ int runProcess(const ParsedArgs& args, Streams& io) {
   if (const auto csv = args.value("cell-slices")) outputs.push_back({"--cell-slices", *csv});
   refuseClashingPaths(recordingInputs(recordings), outputs);
   const Processed processed =
-      processAll(recordings, pipelineSettingsOf(args), io, reportPath ? &report : nullptr);
+      processAll(recordings, pipelineSettingsOf(args), cellTextureRuleOf(args), io,
+                 reportPath ? &report : nullptr);
   if (reportPath) writeReport(*reportPath, report);
   refuseNoSamples(processed, reportPath, output, io);
   const SliceSet& slices = processed.slices;
@@ -136,6 +167,7 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   const std::filesystem::path output = args.required("output");
   // Bad options are usage errors before the session is even looked at.
   const capture::PipelineSettings settings = pipelineSettingsOf(args);
+  const capture::CellTextureRule textureRule = cellTextureRuleOf(args);
   const methods::Method& method = methods::findMethod(
       args.value("method").value_or(methods::cliName(methods::MethodId::B)));
   const std::vector<std::filesystem::path> recordings = sessionRecordings(session);
@@ -146,7 +178,8 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   if (const auto csv = args.value("cell-slices")) outputs.push_back({"--cell-slices", *csv});
   if (reportPath) outputs.push_back({"--report", *reportPath});
   refuseClashingPaths(recordingInputs(recordings), outputs);
-  const Processed processed = processAll(recordings, settings, io, reportPath ? &report : nullptr);
+  const Processed processed =
+      processAll(recordings, settings, textureRule, io, reportPath ? &report : nullptr);
   if (reportPath) writeReport(*reportPath, report);
   refuseNoSamples(processed, reportPath, output, io);
   const SliceSet& slices = processed.slices;
@@ -176,7 +209,10 @@ Command processCommand() {
   std::vector<OptionSpec> options = {
       {"output", 'o', "SLICES.csv", "the slice CSV (required)"},
       {"cell-slices", 0, "FILE",
-       "also write the slice CSV valued from the window cells (docs/method.md 9.4)"}};
+       "also write the slice CSV valued from the window cells (docs/method.md 9.4)"},
+      {"cell-texture", 0, "MODE",
+       "the cells' reading of a textured window: auto (default), as-read, normalise or centres "
+       "(docs/method.md 9.4)"}};
   for (auto& o : pipelineOptions())
     options.push_back(o);
   return {{"process", "RECORDING... -o SLICES.csv [--report report.json] [options]",
@@ -205,7 +241,10 @@ Command captureOfflineCommand() {
       {"isotropic", 0, "", "use the diagonal slices only"},
       {"slices", 0, "FILE", "also write the slice CSV"},
       {"cell-slices", 0, "FILE",
-       "also write the slice CSV valued from the window cells (what b-cells reads)"}};
+       "also write the slice CSV valued from the window cells (what b-cells reads)"},
+      {"cell-texture", 0, "MODE",
+       "the cells' reading of a textured window: auto (default), as-read, normalise or centres "
+       "(docs/method.md 9.4)"}};
   for (auto& o : pipelineOptions())
     options.push_back(o);
   return {{"capture-offline", "SESSION_DIR -o OUT.exr [--method b] [options]",

@@ -7,6 +7,7 @@
 
 #include "slicecap/capture/azimuth_bins.hpp"
 #include "slicecap/capture/frame_sample.hpp"
+#include "slicecap/capture/window_cell_texture.hpp"
 #include "slicecap/core/slice.hpp"
 
 namespace slicecap::capture {
@@ -53,8 +54,11 @@ std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& 
                                         const CellSliceRule& rule = {});
 
 /// \brief Adds the sweep's window-centre samples (AzimuthBins::combine) to `set` as slice `id`'s
-/// samples, and its samples from the cells (sliceFromCells) as the slice's cell samples, when any
-/// frame carries cells.
-void addSweepSlices(SliceSet& set, const SliceId& id, const AzimuthBins& bins);
+/// samples and, when any frame carries cells, its samples from the cells (sliceFromCells) as the
+/// slice's cell samples, as the sweep's texture says (cellTextureOf under `rule`): the cells as
+/// read, each divided by its albedo factor, or none (the cells' reading of the slice is then the
+/// window centres'). Returns the texture found (framesUsed 0 when no frame carries cells).
+CellTexture addSweepSlices(SliceSet& set, const SliceId& id, const AzimuthBins& bins,
+                           const CellTextureRule& rule = {});
 
 }  // namespace slicecap::capture
