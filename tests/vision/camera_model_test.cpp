@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "slicecap/vision/camera_model.hpp"
+#include "slicecap/vision/vision_error.hpp"
 
 namespace slicecap::vision {
 namespace {
@@ -32,11 +33,11 @@ TEST(CameraModelScaledTo, AnotherAspectRatioIsRefusedNamingBothSizes) {
   try {
     (void)camera.scaledTo(1456, 1088);  // an IMX296's 4:3-ish mode: another crop
     FAIL() << "no error";
-  } catch (const std::invalid_argument& error) {
+  } catch (const vision::VisionError& error) {
     EXPECT_NE(std::string(error.what()).find("1280x720"), std::string::npos) << error.what();
     EXPECT_NE(std::string(error.what()).find("1456x1088"), std::string::npos) << error.what();
   }
-  EXPECT_THROW((void)camera.scaledTo(0, 648), std::invalid_argument);
+  EXPECT_THROW((void)camera.scaledTo(0, 648), vision::VisionError);
 }
 
 }  // namespace

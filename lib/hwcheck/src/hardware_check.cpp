@@ -14,6 +14,7 @@
 #include "slicecap/hwcheck/response_check.hpp"
 #include "slicecap/hwcheck/room_light_check.hpp"
 #include "slicecap/hwcheck/white_rows.hpp"
+#include "slicecap/vision/vision_error.hpp"
 
 namespace slicecap::hwcheck {
 namespace {
@@ -32,7 +33,7 @@ std::optional<vision::CameraModel> cameraModelFor(const vision::CameraModel& cal
   if (k.widthPx == configured.widthPx && k.heightPx == configured.heightPx) return calibrated;
   try {
     return calibrated.scaledTo(configured.widthPx, configured.heightPx);
-  } catch (const std::invalid_argument&) {
+  } catch (const vision::VisionError&) {
     report.items.push_back(
         {"camera", Verdict::Fail,
          id + " delivers " + std::to_string(configured.widthPx) + " x " +

@@ -15,6 +15,7 @@
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
 #include "slicecap/sim/rig_scene.hpp"
+#include "slicecap/vision/vision_error.hpp"
 
 namespace slicecap::rig {
 namespace {
@@ -130,7 +131,7 @@ void followDeliveredSize(CameraSources& sources) {
     if (*delivered && (at.widthPx != (*delivered)->first || at.heightPx != (*delivered)->second)) {
       try {
         rig.camera = rig.camera.scaledTo((*delivered)->first, (*delivered)->second);
-      } catch (const std::invalid_argument&) {
+      } catch (const vision::VisionError&) {
         // Another crop than the calibration's: left as it is, the pipeline rejects the frames
         // as bad_frame naming both sizes, as before a camera could change its size.
       }
