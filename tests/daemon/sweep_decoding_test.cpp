@@ -10,6 +10,7 @@
 
 #include "../support/bracket_rig.hpp"
 #include "../support/curve_error.hpp"
+#include "slicecap/daemon/config.hpp"
 #include "slicecap/sim/material.hpp"
 
 namespace slicecap::daemon {
@@ -137,7 +138,7 @@ TEST(DecodingMode, NamesAndRefusesValues) {
   try {
     decodingModeFromString("raw");
     FAIL() << "no error";
-  } catch (const std::invalid_argument& error) {
+  } catch (const daemon::ConfigError& error) {
     EXPECT_NE(std::string(error.what()).find("'raw'"), std::string::npos);
   }
 }

@@ -12,6 +12,7 @@
 #include "slicecap/hal/model_camera.hpp"
 #include "slicecap/hal/room_flicker.hpp"
 #include "slicecap/io/target_json.hpp"
+#include "slicecap/rig/rig_error.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
 #include "slicecap/sim/rig_scene.hpp"
@@ -32,7 +33,7 @@ const std::pair<fs::path, io::Recording>& recordingFor(const RecordingsBySlice& 
                                                        const SliceId& slice) {
   const auto found = recordings.find(slice);
   if (found == recordings.end())
-    throw std::runtime_error(configured.string() + ": no recording of slice " + toString(slice));
+    throw RigError(configured.string() + ": no recording of slice " + toString(slice));
   return found->second;
 }
 
@@ -65,10 +66,10 @@ RecordingsBySlice findRecordings(const fs::path& configured) {
     std::error_code error;
     for (const fs::directory_entry& entry : fs::directory_iterator(configured, error))
       if (fs::exists(entry.path() / io::kRecordingManifest)) add(entry.path());
-    if (error) throw std::runtime_error(configured.string() + ": " + error.message());
+    if (error) throw RigError(configured.string() + ": " + error.message());
   }
   if (found.empty())
-    throw std::runtime_error(configured.string() + ": no recording of a slice to play");
+    throw RigError(configured.string() + ": no recording of a slice to play");
   return found;
 }
 
