@@ -16,7 +16,7 @@
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
 #include "slicecap/sim/rig_scene.hpp"
-#include "slicecap/vision/vision_error.hpp"
+#include "slicecap/vision/camera_scaling.hpp"
 
 namespace slicecap::rig {
 namespace {
@@ -129,13 +129,11 @@ void followDeliveredSize(CameraSources& sources) {
   sources.rigFor = [inner = std::move(sources.rigFor), delivered](const SliceId& slice) {
     Rig rig = inner(slice);
     const vision::CameraIntrinsics& at = rig.camera.intrinsics;
-    if (*delivered && (at.widthPx != (*delivered)->first || at.heightPx != (*delivered)->second)) {
-      try {
-        rig.camera = rig.camera.scaledTo((*delivered)->first, (*delivered)->second);
-      } catch (const vision::VisionError&) {
-        // Another crop than the calibration's: left as it is, the pipeline rejects the frames
-        // as bad_frame naming both sizes, as before a camera could change its size.
-      }
+    // Another crop than the calibration's is left as it is: the pipeline rejects the frames as
+    // bad_frame naming both sizes, as before a camera could change its size.
+    if (*delivered && (at.widthPx != (*delivered)->first || at.heightPx != (*delivered)->second) &&
+        !vision::scalingProblem(rig.camera, (*delivered)->first, (*delivered)->second)) {
+      rig.camera = rig.camera.scaledTo((*delivered)->first, (*delivered)->second);
     }
     return rig;
   };
