@@ -5,6 +5,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "slicecap/btf/btf_error.hpp"
+
 namespace slicecap::btf {
 namespace {
 
@@ -19,7 +21,7 @@ TEST(BtfReconstruction, AMethodThatDoesNotSolveTexelsIsNamed) {
     try {
       reconstructBtf(grid, {}, params);
       ADD_FAILURE() << methods::cliName(id) << " was accepted";
-    } catch (const std::invalid_argument& error) {
+    } catch (const btf::BtfError& error) {
       EXPECT_THAT(error.what(), HasSubstr("method " + methods::cliName(id) +
                                           " does not reconstruct texels (b, a or prior do)"));
     }

@@ -14,6 +14,7 @@
 
 #include "../support/file_size_limit.hpp"
 #include "../support/test_support.hpp"
+#include "slicecap/btf/btf_error.hpp"
 #include "slicecap/btf/btf_files.hpp"
 #include "slicecap/btf/slice_texture.hpp"
 #include "slicecap/btf/texture_grid.hpp"
@@ -33,8 +34,8 @@ TEST(TextureGrid, TexelsTileTheWindowRowZeroAtTheTop) {
   EXPECT_EQ(grid.texelCentreMm(3, 3), Eigen::Vector3d(15.0, -7.5, 0.0));
   EXPECT_EQ(grid.pointMm(4, 4), Eigen::Vector3d(20.0, -10.0, 0.0));
   EXPECT_EQ(grid.index(1, 2), 9u);
-  EXPECT_THROW(TextureGrid(0, {-1, -1, 1, 1}), std::invalid_argument);
-  EXPECT_THROW(TextureGrid(8, {1, -1, 1, 1}), std::invalid_argument);
+  EXPECT_THROW(TextureGrid(0, {-1, -1, 1, 1}), btf::BtfError);
+  EXPECT_THROW(TextureGrid(8, {1, -1, 1, 1}), btf::BtfError);
 }
 
 TextureFrame frameAt(double parameterDeg, float value, std::size_t texels = 2) {
@@ -75,8 +76,8 @@ TEST(SliceTextureBins, TexelsNoFrameSawStayNaNAndOthersIgnoreTheGaps) {
   EXPECT_FLOAT_EQ(bin.texels[0], 4.f);
   EXPECT_FLOAT_EQ(bin.texels[1], 5.f);
   EXPECT_TRUE(std::isnan(bin.texels[3]));
-  EXPECT_THROW(bins.add(frameAt(0.0, 1.f, 3)), std::invalid_argument);
-  EXPECT_THROW(SliceTextureBins({SliceKind::Axial, {30, 30}}, 2, 0), std::invalid_argument);
+  EXPECT_THROW(bins.add(frameAt(0.0, 1.f, 3)), btf::BtfError);
+  EXPECT_THROW(SliceTextureBins({SliceKind::Axial, {30, 30}}, 2, 0), btf::BtfError);
 }
 
 TEST(BtfTexture, StoresTexelTablesInHalfFloatsImageByImage) {
@@ -98,7 +99,7 @@ TEST(BtfTexture, StoresTexelTablesInHalfFloatsImageByImage) {
     for (int view : {0, 47, 80})
       for (std::size_t i = 0; i < 27; ++i)
         EXPECT_EQ(byRow.image(light, view)[i], texture.image(light, view)[i]);
-  EXPECT_THROW(byRow.setRow(0, std::vector<Abrdf>(2)), std::invalid_argument);
+  EXPECT_THROW(byRow.setRow(0, std::vector<Abrdf>(2)), btf::BtfError);
   // The mean over 9 texels, one of them the table.
   EXPECT_NEAR(averageTable(texture).channel(10, 20, 1), back.channel(10, 20, 1) / 9.0, 1e-6);
 }

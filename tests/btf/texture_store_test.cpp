@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../support/test_support.hpp"
+#include "slicecap/btf/btf_error.hpp"
 #include "slicecap/btf/texture_capture.hpp"
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/file_camera.hpp"
@@ -82,7 +83,7 @@ TEST(TextureStore, KeepsTheSameFramesAsTheInMemoryBinsAndCombinesThemAlike) {
     }
   }
   EXPECT_THROW(store.add(kAxial, TextureFrame{0.0, {}, {}, std::vector<float>(3, 1.0f)}),
-               std::invalid_argument);
+               btf::BtfError);
 }
 
 TEST(TextureStore, ReopeningGivesEveryStoredFrameBackAndNumbersOnFromThere) {
@@ -119,7 +120,7 @@ TEST(TextureStore, AnotherResolutionForTheSameSessionIsRefusedNamingTheManifest)
   EXPECT_THROW(TextureStore::open(test::freshTempDir()), io::IoError);
   TextureStoreLayout bad = kLayout;
   bad.framesPerBin = 0;
-  EXPECT_THROW(TextureStore::openOrCreate(test::freshTempDir() / "t", bad), std::invalid_argument);
+  EXPECT_THROW(TextureStore::openOrCreate(test::freshTempDir() / "t", bad), btf::BtfError);
 }
 
 TEST(TextureStore, AnUnknownTexelEncodingOrQuantityIsRefusedNamingTheFileAndField) {

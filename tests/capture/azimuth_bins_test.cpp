@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "slicecap/capture/capture_error.hpp"
+
 namespace slicecap::capture {
 namespace {
 
@@ -19,7 +21,7 @@ TEST(AzimuthBins, CentresBinsOnTheIdealSamplePositions) {
   EXPECT_EQ(bins.binOf(352.6), 0) << "wraps: the last half bin belongs to bin 0";
   EXPECT_EQ(bins.binOf(352.4), 23);
   EXPECT_EQ(bins.binOf(-15.0), 23);
-  EXPECT_THROW(AzimuthBins(SliceKind::Axial, 7.0), std::invalid_argument);
+  EXPECT_THROW(AzimuthBins(SliceKind::Axial, 7.0), capture::CaptureError);
 }
 
 TEST(AzimuthBins, AxialSlicesBinByTheLightAzimuth) {

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <random>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/core/angles.hpp"
 
 namespace slicecap::capture {
@@ -108,17 +109,17 @@ TEST(LightModel, OneCornerPatchWouldMissTheWindowByTensOfPercent) {
 
 TEST(LightModel, RejectsUnusableObservations) {
   const std::vector<ReferenceObservation> few(4, {{1, 2, 0}, Rgb::gray(1), kAlbedo});
-  EXPECT_THROW(fitPointLight(few), std::invalid_argument);
+  EXPECT_THROW(fitPointLight(few), capture::CaptureError);
   std::vector<ReferenceObservation> line;
   for (int i = 0; i < 10; ++i)
     line.push_back({{double(i), 2.0 * i, 0}, Rgb::gray(1), kAlbedo});
-  EXPECT_THROW(fitPointLight(line), std::invalid_argument);
+  EXPECT_THROW(fitPointLight(line), capture::CaptureError);
   std::vector<ReferenceObservation> dark = observe(ledAt(30, 0, 300), 0.0, 1);
   dark[3].radiance = Rgb(0, 1, 1);
-  EXPECT_THROW(fitPointLight(dark), std::invalid_argument);
+  EXPECT_THROW(fitPointLight(dark), capture::CaptureError);
   LightFitParams below;
   below.initialPositionMm.z = -5;
-  EXPECT_THROW(fitPointLight(observe(ledAt(30, 0, 300), 0.0, 1), below), std::invalid_argument);
+  EXPECT_THROW(fitPointLight(observe(ledAt(30, 0, 300), 0.0, 1), below), capture::CaptureError);
 }
 
 }  // namespace

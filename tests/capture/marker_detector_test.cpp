@@ -9,6 +9,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
@@ -126,13 +127,13 @@ TEST(MarkerDetector, RefusesADecimationOutsideItsRange) {
   for (const float decimation : {0.5f, 16.5f, 360.0f, std::nanf("")}) {
     SCOPED_TRACE(decimation);
     EXPECT_THROW(MarkerDetector(MarkerDetectorSettings{.decimation = decimation}),
-                 std::invalid_argument);
+                 capture::CaptureError);
   }
   for (const float decimation : {kMinDecimation, 2.0f, kMaxDecimation})
     EXPECT_NO_THROW(MarkerDetector(MarkerDetectorSettings{.decimation = decimation}));
   EXPECT_THROW(FramePipeline(vision::defaultTarget(), vision::defaultSimulatedCamera(),
                              PipelineSettings{.detector = {.decimation = 360.0f}}),
-               std::invalid_argument);
+               capture::CaptureError);
 }
 
 TEST(MarkerDetector, FindsNothingInAnImageTooSmallForTheLibrary) {

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
 #include "slicecap/sim/rig.hpp"
@@ -174,7 +175,7 @@ TEST(MarkerSearch, AnUnlimitedBudgetSearchesEveryPassInOneFrameAndDefersNothing)
 TEST(MarkerSearch, RefusesABudgetThatIsNotPositive) {
   for (const double budget : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN()}) {
     SCOPED_TRACE(budget);
-    EXPECT_THROW(makeSearch(budget), std::invalid_argument);
+    EXPECT_THROW(makeSearch(budget), capture::CaptureError);
   }
 }
 

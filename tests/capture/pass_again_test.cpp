@@ -7,6 +7,8 @@
 #include <functional>
 #include <stdexcept>
 
+#include "slicecap/capture/capture_error.hpp"
+
 namespace slicecap::capture {
 namespace {
 
@@ -101,7 +103,7 @@ TEST(PassAgain, WhileTheSweepRunsTheBinsAheadOfItAreNotYetMissed) {
                               SweepProgress::Finished)
                   .empty());
   EXPECT_THROW(binsToPassAgain(bins, SliceId{SliceKind::Point, {0, 0}}, SweepProgress::Running),
-               std::invalid_argument);
+               capture::CaptureError);
 }
 
 TEST(PassAgain, ACellInTheBinIsEnoughToFillIt) {

@@ -17,6 +17,7 @@
 #include "../support/kill_dash_nine.hpp"
 #include "../support/sweep_sample.hpp"
 #include "../support/test_support.hpp"
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/window_cells.hpp"
 #include "slicecap/io/io_error.hpp"
 
@@ -75,7 +76,7 @@ TEST(SessionStore, CreatesListsReopensAndRemoves) {
   SessionStore::remove(root, "leather");
   EXPECT_EQ(SessionStore::list(root).size(), 1u);
   EXPECT_THROW(SessionStore::open(root, "leather"), io::IoError);
-  EXPECT_THROW(SessionStore::create(root, "../escape", "x"), std::invalid_argument);
+  EXPECT_THROW(SessionStore::create(root, "../escape", "x"), capture::CaptureError);
 }
 
 // A session is its folder: a copy (a backup) or a renamed folder is listed and opened under its
@@ -110,9 +111,9 @@ TEST(SessionStore, APointSliceIsRefusedAndTheSessionStillOpens) {
   {
     SessionStore store = SessionStore::create(root, "s", "m");
     store.recordSample(kAxial3030, sampleAt(30.0, 0.5));
-    EXPECT_THROW(store.recordSweepStarted(point), std::invalid_argument);
-    EXPECT_THROW(store.recordSample(point, sampleAt(45.0, 0.7)), std::invalid_argument);
-    EXPECT_THROW(store.redo(point), std::invalid_argument);
+    EXPECT_THROW(store.recordSweepStarted(point), capture::CaptureError);
+    EXPECT_THROW(store.recordSample(point, sampleAt(45.0, 0.7)), capture::CaptureError);
+    EXPECT_THROW(store.redo(point), capture::CaptureError);
     EXPECT_EQ(store.sampleCount(), 1u);
     EXPECT_FALSE(store.activeSweep().has_value());
   }
@@ -354,7 +355,7 @@ TEST(SessionStore, AnHdrReadingThatWouldNotReplayIsRefusedAndNothingWritten) {
     try {
       store.recordSample(kAxial3030, bad);
       FAIL() << "a NaN radiance was recorded";
-    } catch (const std::invalid_argument& e) {
+    } catch (const capture::CaptureError& e) {
       EXPECT_NE(std::string(e.what()).find("frame 2"), std::string::npos) << e.what();
       EXPECT_NE(std::string(e.what()).find("hdr.cells[4][1] (radiance g)"), std::string::npos)
           << e.what();
@@ -462,7 +463,7 @@ TEST(SessionStore, CellsThatWouldNotReplayAreRefusedAndNothingWritten) {
   try {
     store.recordSample(kAxial3030, bad);
     FAIL() << "a negative variance was recorded";
-  } catch (const std::invalid_argument& e) {
+  } catch (const capture::CaptureError& e) {
     EXPECT_NE(std::string(e.what()).find("cells.values[5][5] (variance b)"), std::string::npos)
         << e.what();
   }

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "slicecap/capture/capture_error.hpp"
+
 namespace slicecap::capture {
 namespace {
 
@@ -36,7 +38,7 @@ TEST(WindowCells, DirectionsFromTheCellCentreToTheLightAndTheCamera) {
   EXPECT_NEAR(cells.cells[1].view.thetaDeg, 43.5708, 1e-4);
   EXPECT_NEAR(cells.cells[1].view.phiDeg, 3.0128, 1e-4);
   cells.cells.resize(3);
-  EXPECT_THROW(placeCellDirections(cells), std::invalid_argument);
+  EXPECT_THROW(placeCellDirections(cells), capture::CaptureError);
 }
 
 TEST(WindowCells, ValuesAreKeptAtFloatPrecision) {
@@ -110,7 +112,7 @@ TEST(WindowCells, ABinOfClippedCellsOrFramesWithoutCellsKeepsItsCentres) {
   ASSERT_EQ(fromCells.size(), 2u);
   EXPECT_NEAR(fromCells[0].value.r(), 0.25, 1e-12);  // bin 2 (30 deg): the old frame's centre
   EXPECT_NEAR(fromCells[1].value.r(), 0.3, 1e-12);   // bin 6: the centre, its cell clipped
-  EXPECT_THROW(sliceFromCells(bins, {SliceKind::Point, {75, 75}}), std::invalid_argument);
+  EXPECT_THROW(sliceFromCells(bins, {SliceKind::Point, {75, 75}}), capture::CaptureError);
 }
 
 TEST(WindowCells, ASweepsSlicesCarryCellSamplesOnlyWhenItsFramesHaveCells) {

@@ -8,6 +8,8 @@
 #include <limits>
 #include <numeric>
 
+#include "slicecap/core/core_error.hpp"
+
 namespace slicecap {
 namespace {
 
@@ -52,8 +54,8 @@ TEST(GridInterpolation, IsLinearInAzimuthAndElevation) {
 TEST(GridInterpolation, ClampsAboveTheLastRingAndRejectsBadDirections) {
   const Abrdf table = indexTable();
   EXPECT_EQ(evaluate(table, {85, 30}, {0, 0}), evaluate(table, {75, 30}, {0, 0}));
-  EXPECT_THROW(directionTaps({-1, 0}), std::invalid_argument);
-  EXPECT_THROW(directionTaps({std::numeric_limits<double>::quiet_NaN(), 0}), std::invalid_argument);
+  EXPECT_THROW(directionTaps({-1, 0}), slicecap::CoreError);
+  EXPECT_THROW(directionTaps({std::numeric_limits<double>::quiet_NaN(), 0}), slicecap::CoreError);
 }
 
 TEST(GridInterpolation, WeightsAlwaysSumToOne) {

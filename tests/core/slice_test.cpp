@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "slicecap/core/abrdf.hpp"
+#include "slicecap/core/core_error.hpp"
 
 namespace slicecap {
 namespace {
@@ -55,7 +56,7 @@ TEST(SliceSet, CellSamplesAreASecondReadingOfASliceWithSamples) {
   set.add(axial, {{30, 0}, {30, 15}, Rgb::gray(2)});
   set.add(diagonal, {{75, 0}, {75, 0}, Rgb::gray(1)});
   EXPECT_THROW(set.addCellSample({SliceKind::Axial, {75, 75}}, {{75, 0}, {75, 15}, Rgb::gray(4)}),
-               std::invalid_argument);
+               slicecap::CoreError);
   EXPECT_FALSE(set.hasCellSamples());
   set.addCellSample(axial, {{30, 1}, {30, 16}, Rgb::gray(5)});
   set.addCellSample(axial, {{30, 14}, {30, 29}, Rgb::gray(6)});

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "slicecap/core/core_error.hpp"
+
 namespace slicecap {
 namespace {
 
@@ -45,12 +47,12 @@ TEST(ToneCurve, RefusesACurveThatDoesNotRiseNamingThePoint) {
   try {
     ToneCurve("measured", {{0.0, 0.0}, {0.5, 0.6}, {0.6, 0.6}, {1.0, 1.0}});
     FAIL() << "a flat segment was accepted";
-  } catch (const std::invalid_argument& error) {
+  } catch (const slicecap::CoreError& error) {
     EXPECT_NE(std::string(error.what()).find("'measured'"), std::string::npos) << error.what();
     EXPECT_NE(std::string(error.what()).find("point 2"), std::string::npos) << error.what();
   }
-  EXPECT_THROW(ToneCurve("x", {{0.0, 0.1}, {1.0, 1.0}}), std::invalid_argument);
-  EXPECT_THROW(ToneCurve("x", {{0.0, 0.0}, {0.9, 1.0}}), std::invalid_argument);
+  EXPECT_THROW(ToneCurve("x", {{0.0, 0.1}, {1.0, 1.0}}), slicecap::CoreError);
+  EXPECT_THROW(ToneCurve("x", {{0.0, 0.0}, {0.9, 1.0}}), slicecap::CoreError);
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include "../support/request_as_user.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/control/control_client.hpp"
+#include "slicecap/daemon/slicecapd_error.hpp"
 
 namespace slicecap::daemon {
 namespace {
@@ -472,14 +473,14 @@ TEST(ListenSocket, RemovesTheSocketFileItBoundButNotOneThatReplacedIt) {
 TEST(ListenSocket, ReplacesAStaleSocketButNotALiveOneOrAFile) {
   const test::SocketDir dir;
   const int first = openListenSocket({dir / "a.sock", 0660, std::nullopt});
-  EXPECT_THROW(openListenSocket({dir / "a.sock", 0660, std::nullopt}), std::runtime_error)
+  EXPECT_THROW(openListenSocket({dir / "a.sock", 0660, std::nullopt}), daemon::SlicecapdError)
       << "live";
   ::close(first);  // the file stays behind, as after a crash
   const int second = openListenSocket({dir / "a.sock", 0660, std::nullopt});
   EXPECT_GE(second, 0);
   ::close(second);
   std::ofstream(dir / "file.sock") << "not a socket";
-  EXPECT_THROW(openListenSocket({dir / "file.sock", 0660, std::nullopt}), std::runtime_error);
+  EXPECT_THROW(openListenSocket({dir / "file.sock", 0660, std::nullopt}), daemon::SlicecapdError);
   EXPECT_EQ(
       std::filesystem::status(dir / "a.sock").permissions() & std::filesystem::perms::others_all,
       std::filesystem::perms::none);
@@ -492,7 +493,7 @@ TEST(ListenSocket, APathTooLongForASocketIsRefusedByNameOnBothSides) {
   try {
     openListenSocket({dir / name, 0660, std::nullopt});
     ADD_FAILURE() << "a " << (dir / name).native().size() << "-byte socket path was accepted";
-  } catch (const std::runtime_error& e) {
+  } catch (const daemon::SlicecapdError& e) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr(name));
     EXPECT_THAT(e.what(), ::testing::HasSubstr("longer than 107 bytes"));
   }

@@ -6,6 +6,8 @@
 
 #include <stdexcept>
 
+#include "slicecap/daemon/slicecapd_error.hpp"
+
 namespace slicecap::daemon {
 namespace {
 
@@ -75,18 +77,32 @@ TEST(HdrCycle, TheShortestLevelShortensWhereItsOwnFramesClipButNotForOlderOnes) 
 }
 
 TEST(HdrCycle, RefusesParametersItCannotRun) {
-  EXPECT_THROW(HdrCycle({3200.0, std::nullopt}, {.levels = 1}), std::invalid_argument);
-  EXPECT_THROW(HdrCycle({3200.0, std::nullopt}, {.levels = 4}), std::invalid_argument);
+  EXPECT_THROW(HdrCycle({3200.0, std::nullopt}, {.levels = 1}), daemon::SlicecapdError);
+  EXPECT_THROW(HdrCycle({3200.0, std::nullopt}, {.levels = 4}), daemon::SlicecapdError);
   EXPECT_THROW(HdrCycle({3200.0, std::nullopt}, {.levels = 2, .stepRatio = 1.0}),
-               std::invalid_argument);
+               daemon::SlicecapdError);
   EXPECT_THROW(HdrCycle({3200.0, std::nullopt}, {.levels = 2, .pairsPerLevel = 0}),
-               std::invalid_argument);
+               daemon::SlicecapdError);
   try {
     HdrCycle({15.0, std::nullopt}, {.levels = 2});
     FAIL() << "no room below 15 us";
-  } catch (const std::invalid_argument& error) {
+  } catch (const daemon::SlicecapdError& error) {
     EXPECT_NE(std::string(error.what()).find("no room for a shorter level"), std::string::npos);
   }
+}
+
+// A sweep asks before it starts a cycle (no exception as a jump): the same reason, and none for
+// a cycle that runs.
+TEST(HdrCycle, RefusalSaysWhatTheConstructorWouldThrow) {
+  const std::optional<std::string> why = HdrCycle::refusal({15.0, std::nullopt}, {.levels = 2});
+  ASSERT_TRUE(why.has_value());
+  try {
+    HdrCycle({15.0, std::nullopt}, {.levels = 2});
+    FAIL() << "no room below 15 us";
+  } catch (const daemon::SlicecapdError& error) {
+    EXPECT_EQ(*why, error.what());
+  }
+  EXPECT_EQ(HdrCycle::refusal({3200.0, std::nullopt}, {.levels = 3}), std::nullopt);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "../support/curve_error.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/io/target_json.hpp"
+#include "slicecap/daemon/config.hpp"
 #include "slicecap/sim/material.hpp"
 
 namespace slicecap::daemon {
@@ -139,7 +140,7 @@ TEST(DecodingMode, NamesAndRefusesValues) {
   try {
     decodingModeFromString("raw");
     FAIL() << "no error";
-  } catch (const std::invalid_argument& error) {
+  } catch (const daemon::ConfigError& error) {
     EXPECT_NE(std::string(error.what()).find("'raw'"), std::string::npos);
   }
 }

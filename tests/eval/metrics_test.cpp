@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "slicecap/eval/eval_error.hpp"
 #include "slicecap/models/reflectance_model.hpp"
 
 namespace slicecap::eval {
@@ -81,7 +82,7 @@ TEST(Metrics, PeakRatioShowsAHighlightLostToClipping) {
 }
 
 TEST(Metrics, RejectsABlackReference) {
-  EXPECT_THROW(compare(Abrdf(), Abrdf()), std::invalid_argument);
+  EXPECT_THROW(compare(Abrdf(), Abrdf()), eval::EvalError);
 }
 
 }  // namespace

@@ -15,6 +15,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "slicecap/fit/argument_error.hpp"
+
 namespace slicecap::fit::detail {
 namespace {
 
@@ -284,10 +286,10 @@ TEST(BoundedSolve, RefusesBlocksThatDoNotMatchTheCost) {
   const LinearCost cost(someA(), targetFor(someA(), {0.1, 0.1, 0.1}));
   std::array<double, 3> values{};
   std::vector<BoundedBlock> one{unboundedBlock(values.data(), 3)};
-  EXPECT_THROW(solveHoldingBounds(cost, one, someOptions()), std::invalid_argument);
+  EXPECT_THROW(solveHoldingBounds(cost, one, someOptions()), fit::FitArgumentError);
   std::vector<BoundedBlock> wrongSize{unboundedBlock(values.data(), 1),
                                       unboundedBlock(values.data() + 1, 1)};
-  EXPECT_THROW(solveHoldingBounds(cost, wrongSize, someOptions()), std::invalid_argument);
+  EXPECT_THROW(solveHoldingBounds(cost, wrongSize, someOptions()), fit::FitArgumentError);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "slicecap/eval/metrics.hpp"
+#include "slicecap/fit/argument_error.hpp"
 #include "slicecap/fit/texture_fit.hpp"
 
 namespace slicecap::fit {
@@ -110,10 +111,10 @@ TEST(TextureFit, PassesOnARowThatCannotBeRead) {
 
 TEST(TextureFit, RefusesBadOptions) {
   const std::vector<Abrdf> tables = truthTables();
-  EXPECT_THROW(fitTexture(0, readerOf(tables)), std::invalid_argument);
-  EXPECT_THROW(fitTexture(kSize, readerOf(tables), {.threads = 0}), std::invalid_argument);
+  EXPECT_THROW(fitTexture(0, readerOf(tables)), fit::FitArgumentError);
+  EXPECT_THROW(fitTexture(kSize, readerOf(tables), {.threads = 0}), fit::FitArgumentError);
   // A stride that is a multiple of 3 would see a third of the view directions only.
-  EXPECT_THROW(fitTexture(kSize, readerOf(tables), {.pairStride = 3}), std::invalid_argument);
+  EXPECT_THROW(fitTexture(kSize, readerOf(tables), {.pairStride = 3}), fit::FitArgumentError);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "slicecap/hal/clock.hpp"
+#include "slicecap/hal/hal_error.hpp"
 
 namespace slicecap::hal {
 namespace {
@@ -43,7 +44,7 @@ TEST(LedTimeline, KeepsOnlyRealChangesAndRefusesGoingBack) {
   timeline.record(20, true);
   timeline.record(30, true);
   EXPECT_EQ(timeline.size(), 1u);
-  EXPECT_THROW(timeline.record(5, false), std::invalid_argument);
+  EXPECT_THROW(timeline.record(5, false), hal::HalError);
 }
 
 TEST(LedTimeline, ForgettingTheOldKeepsTheStateAfterIt) {

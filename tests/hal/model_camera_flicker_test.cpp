@@ -8,6 +8,7 @@
 
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/frame.hpp"
+#include "slicecap/hal/hal_error.hpp"
 #include "slicecap/hal/model_camera.hpp"
 
 namespace slicecap::hal {
@@ -155,7 +156,7 @@ TEST(ModelCameraFlicker, RefusesAFlickerOutOfRangeNamingIt) {
     ModelCamera camera(std::make_shared<RoomOnlyScene>(4, 4, 1), std::make_shared<LedTimeline>(),
                        clock, model);
     FAIL();
-  } catch (const std::invalid_argument& error) {
+  } catch (const hal::HalError& error) {
     EXPECT_NE(std::string(error.what()).find("flicker depth"), std::string::npos) << error.what();
   }
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "slicecap/hal/clock.hpp"
+#include "slicecap/hal/hal_error.hpp"
 
 namespace slicecap::hal {
 namespace {
@@ -294,7 +295,7 @@ TEST(ModelCamera, RefusesAnInvalidModelNamingTheField) {
     ModelCamera camera(std::make_shared<FlatScene>(4, 4, 1, 1), std::make_shared<LedTimeline>(),
                        clock, model);
     FAIL();
-  } catch (const std::invalid_argument& error) {
+  } catch (const hal::HalError& error) {
     EXPECT_NE(std::string(error.what()).find("line time"), std::string::npos);
   }
 }

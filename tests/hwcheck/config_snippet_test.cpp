@@ -6,6 +6,7 @@
 
 #include "../support/test_support.hpp"
 #include "slicecap/hwcheck/hardware_check.hpp"
+#include "slicecap/hwcheck/hardware_check_error.hpp"
 #include "slicecap/hwcheck/response_check.hpp"
 
 namespace slicecap::hwcheck {
@@ -31,7 +32,7 @@ TEST(ConfigSnippet, WritesOnceAndReplacesOnlyWhenAsked) {
   try {
     writeConfigFile(path, "readout_us = 1\n", false);
     FAIL() << "an existing file was replaced";
-  } catch (const std::runtime_error& error) {
+  } catch (const hwcheck::HardwareCheckError& error) {
     EXPECT_NE(std::string(error.what()).find("measured.conf exists"), std::string::npos) << error.what();
   }
   EXPECT_EQ(slurp(path), "readout_us = 28800\n");
@@ -40,7 +41,7 @@ TEST(ConfigSnippet, WritesOnceAndReplacesOnlyWhenAsked) {
   std::size_t files = 0;
   for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir)) ++files;
   EXPECT_EQ(files, 1u) << "no temporary file left behind";
-  EXPECT_THROW(writeConfigFile((dir / "missing" / "x.conf").string(), "", false), std::runtime_error);
+  EXPECT_THROW(writeConfigFile((dir / "missing" / "x.conf").string(), "", false), hwcheck::HardwareCheckError);
 }
 
 TEST(ConfigSnippet, ReportSnippetParsesAsKeyValueLines) {

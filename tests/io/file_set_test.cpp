@@ -105,9 +105,9 @@ TEST(FileSet, AFailedWriteLeavesTheOldSetWhole) {
                                {"s-b", [](const fs::path&) { throw std::runtime_error("no"); }}}),
                std::runtime_error);
   EXPECT_EQ(snapshot(folder), before);
-  EXPECT_THROW(replaceFileSet(folder, "s", {text("../s-a", "x")}), std::invalid_argument);
+  EXPECT_THROW(replaceFileSet(folder, "s", {text("../s-a", "x")}), io::IoError);
   EXPECT_THROW(replaceFileSet(folder, "s", {text("s-a", "x"), text("s-a", "y")}),
-               std::invalid_argument);
+               io::IoError);
 }
 
 TEST(FileSet, AFullDiskLeavesTheOldSetWhole) {

@@ -37,7 +37,7 @@ TEST(Journal, KeepsRecordsAcrossReopens) {
   journal.append("fourth");
   EXPECT_EQ(reopen(path),
             (std::vector<std::string>{"{\"sample\":1}", "", "caf\xc3\xa9", "fourth"}));
-  EXPECT_THROW(journal.append("two\nlines"), std::invalid_argument);
+  EXPECT_THROW(journal.append("two\nlines"), io::IoError);
 }
 
 TEST(Journal, CutsATornTailAndSkipsCorruptLines) {

@@ -105,9 +105,9 @@ TEST(Recording, WriterRefusesToOverwriteARecordingAndRejectsBadFrames) {
   const auto dir = test::freshTempDir() / "rec";
   RecordingWriter writer(dir, smallHeader(PixelEncoding::Srgb8));
   EXPECT_THROW(RecordingWriter(dir, smallHeader(PixelEncoding::Srgb8)), IoError);
-  EXPECT_THROW(writer.append(gradient(3, 16, 0), {"", 0, true, 1.0, 1.0}), std::invalid_argument);
+  EXPECT_THROW(writer.append(gradient(3, 16, 0), {"", 0, true, 1.0, 1.0}), io::IoError);
   writer.append(gradient(3, 8, 0), {"", 10, true, 1.0, 1.0});
-  EXPECT_THROW(writer.append(gradient(3, 8, 0), {"", 10, true, 1.0, 1.0}), std::invalid_argument);
+  EXPECT_THROW(writer.append(gradient(3, 8, 0), {"", 10, true, 1.0, 1.0}), io::IoError);
   // What was captured before the bad frame is still there.
   EXPECT_EQ(readRecording(dir).frames.size(), 1u);
 }

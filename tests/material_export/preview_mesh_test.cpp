@@ -7,6 +7,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "slicecap/material_export/material_export_error.hpp"
+
 namespace slicecap::material_export {
 namespace {
 
@@ -69,9 +71,9 @@ TEST(PreviewMesh, SphereFrontTangentIsEastAndBitangentUp) {
 }
 
 TEST(PreviewMesh, BadSizesThrow) {
-  EXPECT_THROW(uvSphere(0.0, 16, 8), std::invalid_argument);
-  EXPECT_THROW(uvSphere(1.0, 2, 8), std::invalid_argument);
-  EXPECT_THROW(cylinder(1.0, -1.0, 16), std::invalid_argument);
+  EXPECT_THROW(uvSphere(0.0, 16, 8), material_export::MaterialExportError);
+  EXPECT_THROW(uvSphere(1.0, 2, 8), material_export::MaterialExportError);
+  EXPECT_THROW(cylinder(1.0, -1.0, 16), material_export::MaterialExportError);
 }
 
 }  // namespace

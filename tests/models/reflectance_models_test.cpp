@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "slicecap/models/model_error.hpp"
+
 namespace slicecap::models {
 namespace {
 
@@ -87,8 +89,8 @@ TEST(Models, GgxConservesEnergyAtNormalIncidence) {
 }
 
 TEST(Models, RejectsNonPositiveRoughness) {
-  EXPECT_THROW(makeWard({0, 0, 0}, {1, 1, 1}, 0.0, 0.1), std::invalid_argument);
-  EXPECT_THROW(makeAnisotropicGgx({0, 0, 0}, {1, 1, 1}, 0.1, -1.0), std::invalid_argument);
+  EXPECT_THROW(makeWard({0, 0, 0}, {1, 1, 1}, 0.0, 0.1), models::ModelError);
+  EXPECT_THROW(makeAnisotropicGgx({0, 0, 0}, {1, 1, 1}, 0.1, -1.0), models::ModelError);
   EXPECT_EQ(findMaterial("no-such-material"), nullptr);
 }
 

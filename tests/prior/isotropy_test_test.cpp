@@ -12,6 +12,7 @@
 #include "slicecap/core/angles.hpp"
 #include "slicecap/models/reflectance_model.hpp"
 #include "slicecap/prior/prior_location.hpp"
+#include "slicecap/prior/prior_model.hpp"
 #include "slicecap/recon/slice_extraction.hpp"
 
 namespace slicecap::prior {
@@ -56,7 +57,7 @@ TEST(IsotropyTest, EqualElevationDiagonalSlicesCannotTell) {
 }
 
 TEST(IsotropyTest, NeedsSlices) {
-  EXPECT_THROW(testIsotropy(SliceSet{}), std::invalid_argument);
+  EXPECT_THROW(testIsotropy(SliceSet{}), prior::PriorError);
 }
 
 // A diagonal slice whose value repeats every half turn but is not mirror symmetric:

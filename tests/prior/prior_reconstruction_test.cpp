@@ -122,7 +122,7 @@ TEST(PriorReconstruction, TwoMeasuredPairsUseTheirOwnRidge) {
   EXPECT_EQ(apart(fourSweeps, otherFewPairsRidge), 0.0);
   PriorParams bad;
   bad.fewPairsRidge = 0.0;
-  EXPECT_THROW(reconstructWithPrior(twoSweeps, defaultPriorModel(), bad), std::invalid_argument);
+  EXPECT_THROW(reconstructWithPrior(twoSweeps, defaultPriorModel(), bad), prior::PriorError);
 }
 
 TEST(PriorReconstruction, TwoDiagonalSweepsOfAMeasuredTableSuffice) {
@@ -253,7 +253,7 @@ TEST(PriorReconstructor, GivesReconstructWithPriorsTablesToTheBit) {
   }
   PriorParams bad;
   bad.ridge = -1.0;
-  EXPECT_THROW(PriorReconstructor(model, bad), std::invalid_argument);
+  EXPECT_THROW(PriorReconstructor(model, bad), prior::PriorError);
 }
 
 TEST(PriorReconstruction, NoSamplesOrBadParamsAreErrors) {
@@ -262,12 +262,12 @@ TEST(PriorReconstruction, NoSamplesOrBadParamsAreErrors) {
   bad.ridge = -1.0;
   const Abrdf truth = models::tabulate(*models::findMaterial("blue-plastic"));
   EXPECT_THROW(reconstructWithPrior(recon::extractSlices(truth), defaultPriorModel(), bad),
-               std::invalid_argument);
+               prior::PriorError);
   PriorParams badRange;
   badRange.blendFromLog = 2.0;
   badRange.blendToLog = 1.0;
   EXPECT_THROW(reconstructWithPrior(recon::extractSlices(truth), defaultPriorModel(), badRange),
-               std::invalid_argument);
+               prior::PriorError);
 }
 
 TEST(PriorReconstruction, NearDiffuseMaterialsLeanOnMethodB) {

@@ -9,6 +9,7 @@
 #include "../support/test_support.hpp"
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/models/reflectance_model.hpp"
+#include "slicecap/recon/argument_error.hpp"
 #include "slicecap/recon/errors.hpp"
 #include "slicecap/recon/measured_subspaces.hpp"
 #include "slicecap/recon/slice_extraction.hpp"
@@ -88,10 +89,10 @@ TEST(HalfwayMethod, RejectsInvalidParams) {
   const SliceSet slices = extractSlices(tableOf("matte-paint"));
   HalfwayParams params;
   params.neighbours = 0;
-  EXPECT_THROW(reconstructHalfway(slices, params), std::invalid_argument);
+  EXPECT_THROW(reconstructHalfway(slices, params), recon::ReconArgumentError);
   params = {};
   params.differenceWeight = -1.0;
-  EXPECT_THROW(reconstructHalfway(slices, params), std::invalid_argument);
+  EXPECT_THROW(reconstructHalfway(slices, params), recon::ReconArgumentError);
 }
 
 }  // namespace

@@ -7,6 +7,8 @@
 #include <numbers>
 #include <random>
 
+#include "slicecap/recon/argument_error.hpp"
+
 namespace slicecap::recon {
 namespace {
 
@@ -81,18 +83,18 @@ TEST(LobeFit, FitsRisingCurvesWithNegativeExponents) {
 }
 
 TEST(LobeFit, RejectsUnusableInput) {
-  EXPECT_THROW(fitElevationLobe(std::vector<ElevationSample>{}), std::invalid_argument);
+  EXPECT_THROW(fitElevationLobe(std::vector<ElevationSample>{}), recon::ReconArgumentError);
   EXPECT_THROW(fitElevationLobe(std::vector<ElevationSample>{{30, 1}, {30, 2}}),
-               std::invalid_argument);
+               recon::ReconArgumentError);
   EXPECT_THROW(fitElevationLobe(std::vector<ElevationSample>{{30, 1}, {90, 2}}),
-               std::invalid_argument);
+               recon::ReconArgumentError);
   EXPECT_THROW(fitElevationLobe(std::vector<ElevationSample>{{30, NAN}, {75, 2}}),
-               std::invalid_argument);
+               recon::ReconArgumentError);
   // A non-finite value is named as such, not as an angle out of range.
   try {
     fitElevationLobe(std::vector<ElevationSample>{{30, 1}, {75, INFINITY}});
     ADD_FAILURE() << "an infinite sample was fitted";
-  } catch (const std::invalid_argument& e) {
+  } catch (const recon::ReconArgumentError& e) {
     EXPECT_NE(std::string(e.what()).find("sample value is not finite (inf)"), std::string::npos)
         << e.what();
   }
@@ -101,7 +103,7 @@ TEST(LobeFit, RejectsUnusableInput) {
   std::string why;
   EXPECT_FALSE(bad.isValid(&why));
   EXPECT_THROW(fitElevationLobe(std::vector<ElevationSample>{{30, 1}, {75, 2}}, bad),
-               std::invalid_argument);
+               recon::ReconArgumentError);
 }
 
 TEST(LobeFit, ClampsDarkMeansBeforeTakingLogarithms) {

@@ -8,6 +8,7 @@
 #include "../support/test_support.hpp"
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/models/reflectance_model.hpp"
+#include "slicecap/recon/argument_error.hpp"
 #include "slicecap/recon/errors.hpp"
 #include "slicecap/recon/measured_subspaces.hpp"
 #include "slicecap/recon/slice_extraction.hpp"
@@ -56,7 +57,7 @@ TEST(MethodA, SharedSystemKeepsTheMeasuredSubspacesAndIsExactForConstantsAtAnyGa
   EXPECT_LT(eval::compare(glossy, reconstructMethodA(glossySlices, gamma)).rmse,
             eval::compare(glossy, reconstructMethodA(glossySlices)).rmse);
   gamma.rbf.valueGamma = 0.0;
-  EXPECT_THROW(reconstructMethodA(glossySlices, gamma), std::invalid_argument);
+  EXPECT_THROW(reconstructMethodA(glossySlices, gamma), recon::ReconArgumentError);
   EXPECT_DOUBLE_EQ(fromInterpolatedValue(toInterpolatedValue(0.3, 2.2), 2.2), 0.3);
   EXPECT_EQ(toInterpolatedValue(-1.0, 2.2), 0.0) << "negatives clipped";
 }

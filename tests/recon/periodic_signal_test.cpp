@@ -7,6 +7,8 @@
 #include <limits>
 #include <random>
 
+#include "slicecap/recon/argument_error.hpp"
+
 namespace slicecap::recon {
 namespace {
 
@@ -73,9 +75,9 @@ TEST(PeriodicSignal, SingleSampleIsConstant) {
 }
 
 TEST(PeriodicSignal, RejectsEmptyAndNonFiniteInput) {
-  EXPECT_THROW(PeriodicSignal(std::vector<SignalPoint>{}), std::invalid_argument);
+  EXPECT_THROW(PeriodicSignal(std::vector<SignalPoint>{}), recon::ReconArgumentError);
   const std::vector<SignalPoint> nan{{0, Rgb(std::numeric_limits<double>::quiet_NaN(), 0, 0)}};
-  EXPECT_THROW((PeriodicSignal(nan)), std::invalid_argument);
+  EXPECT_THROW((PeriodicSignal(nan)), recon::ReconArgumentError);
 }
 
 }  // namespace

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <random>
 
+#include "slicecap/recon/argument_error.hpp"
+
 namespace slicecap::recon {
 namespace {
 
@@ -137,16 +139,16 @@ TEST(RbfInterpolant, ShapeScaleMultipliesTheMedianDistance) {
   params.shapeScale = 2.5;
   EXPECT_NEAR(RbfInterpolant(points, params).shapeRad(), 0.25, 1e-12);
   params.shapeScale = 0.0;
-  EXPECT_THROW(RbfInterpolant(points, params), std::invalid_argument);
+  EXPECT_THROW(RbfInterpolant(points, params), recon::ReconArgumentError);
 }
 
 TEST(RbfInterpolant, RejectsInputsThatGiveNoInterpolant) {
-  EXPECT_THROW(RbfInterpolant({}), std::invalid_argument);
-  EXPECT_THROW(RbfInterpolant({{0, 0, 0, 0}, {0, 0, 0, 0}}), std::invalid_argument);
-  EXPECT_THROW(RbfInterpolant({{0, 0, 0, NAN}}), std::invalid_argument);
-  EXPECT_THROW(RbfInterpolant(randomPoints(3, 6), {-1.0}), std::invalid_argument);
+  EXPECT_THROW(RbfInterpolant({}), recon::ReconArgumentError);
+  EXPECT_THROW(RbfInterpolant({{0, 0, 0, 0}, {0, 0, 0, 0}}), recon::ReconArgumentError);
+  EXPECT_THROW(RbfInterpolant({{0, 0, 0, NAN}}), recon::ReconArgumentError);
+  EXPECT_THROW(RbfInterpolant(randomPoints(3, 6), {-1.0}), recon::ReconArgumentError);
   const RbfInterpolant rbf(randomPoints(3, 7));
-  EXPECT_THROW(rbf.coefficients(Eigen::MatrixXd::Zero(4, 1)), std::invalid_argument);
+  EXPECT_THROW(rbf.coefficients(Eigen::MatrixXd::Zero(4, 1)), recon::ReconArgumentError);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "slicecap/models/reflectance_model.hpp"
+#include "slicecap/recon/argument_error.hpp"
 
 namespace slicecap::recon {
 namespace {
@@ -99,7 +100,7 @@ TEST(SliceExtraction, RejectsAStepThatDoesNotDivide360) {
   std::string why;
   EXPECT_FALSE(params.isValid(&why));
   EXPECT_FALSE(why.empty());
-  EXPECT_THROW(extractSlices(indexTable(), params), std::invalid_argument);
+  EXPECT_THROW(extractSlices(indexTable(), params), recon::ReconArgumentError);
   params.stepDeg = 0.0;
   EXPECT_FALSE(params.isValid(nullptr));
 }

@@ -7,6 +7,8 @@
 #include <random>
 #include <stdexcept>
 
+#include "slicecap/recon/argument_error.hpp"
+
 namespace slicecap::recon {
 namespace {
 
@@ -56,8 +58,8 @@ TEST(Subspace, ElevationBlendsRefuseBlocksOfDifferentLines) {
   std::mt19937 rng(3);
   const Subspace a = randomBlock({30, 30}, rng);
   const Subspace b = randomBlock({75, 75}, rng);
-  EXPECT_THROW(Subspace::blendAtViewElevation(a, b, 0.5, 45), std::invalid_argument);
-  EXPECT_THROW(Subspace::blendAtLightElevation(a, b, 0.5, 45), std::invalid_argument);
+  EXPECT_THROW(Subspace::blendAtViewElevation(a, b, 0.5, 45), recon::ReconArgumentError);
+  EXPECT_THROW(Subspace::blendAtLightElevation(a, b, 0.5, 45), recon::ReconArgumentError);
 }
 
 }  // namespace

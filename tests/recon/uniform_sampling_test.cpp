@@ -8,6 +8,7 @@
 #include <set>
 
 #include "slicecap/models/reflectance_model.hpp"
+#include "slicecap/recon/argument_error.hpp"
 
 namespace slicecap::recon {
 namespace {
@@ -69,9 +70,9 @@ TEST(UniformSampling, SamplesEveryLightViewPairAtTheTablesValue) {
 }
 
 TEST(UniformSampling, RejectsCountsOutsideTheGrid) {
-  EXPECT_THROW(farthestPointDirections(0), std::invalid_argument);
-  EXPECT_THROW(farthestPointDirections(82), std::invalid_argument);
-  EXPECT_THROW(extractUniformSamples(Abrdf(), -1), std::invalid_argument);
+  EXPECT_THROW(farthestPointDirections(0), recon::ReconArgumentError);
+  EXPECT_THROW(farthestPointDirections(82), recon::ReconArgumentError);
+  EXPECT_THROW(extractUniformSamples(Abrdf(), -1), recon::ReconArgumentError);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "../support/material_table.hpp"
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/render/canvas.hpp"
+#include "slicecap/render/render_error.hpp"
 
 namespace slicecap::render {
 namespace {
@@ -26,8 +27,8 @@ TEST(Render, LayoutShowsThePapersEncodingInLightRowsAndViewColumns) {
   const Colour got = layout.at(view * pixels + 5, light * pixels + 4);
   const std::size_t o = (std::size_t(light) * 81 + view) * 3;
   EXPECT_EQ(got, (Colour{encoded[o], encoded[o + 1], encoded[o + 2]}));
-  EXPECT_THROW(layoutImage(table, 0.0), std::invalid_argument);
-  EXPECT_THROW(layoutImage(table, peak, 0), std::invalid_argument);
+  EXPECT_THROW(layoutImage(table, 0.0), render::RenderError);
+  EXPECT_THROW(layoutImage(table, peak, 0), render::RenderError);
 }
 
 TEST(Render, DifferenceOfEqualTablesIsBlackAndScalesByTheGain) {

@@ -6,6 +6,7 @@
 #include "../support/material_table.hpp"
 #include "slicecap/render/canvas.hpp"
 #include "slicecap/render/layout_image.hpp"
+#include "slicecap/render/render_error.hpp"
 
 namespace slicecap::render {
 namespace {
@@ -19,10 +20,10 @@ TEST(Render, SheetsHaveAPanelPerReconstructionAndRejectABlackReference) {
   const Canvas narrow = evaluationSheet("satin", truth, {"reference"}, one);
   const Canvas wide = evaluationSheet("satin", truth, {"reference"}, two);
   EXPECT_GT(wide.width(), narrow.width());
-  EXPECT_THROW(evaluationSheet("black", Abrdf{}, {}, one), std::invalid_argument);
-  EXPECT_THROW(evaluationSheet("satin", truth, {}, {{"x", nullptr, {}}}), std::invalid_argument);
+  EXPECT_THROW(evaluationSheet("black", Abrdf{}, {}, one), render::RenderError);
+  EXPECT_THROW(evaluationSheet("satin", truth, {}, {{"x", nullptr, {}}}), render::RenderError);
   EXPECT_GT(previewSheet("satin", {"line"}, truth).width(), layoutSide(3));
-  EXPECT_THROW(previewSheet("black", {}, Abrdf{}), std::invalid_argument);
+  EXPECT_THROW(previewSheet("black", {}, Abrdf{}), render::RenderError);
 }
 
 

@@ -7,6 +7,7 @@
 
 #include "../support/material_table.hpp"
 #include "slicecap/render/canvas.hpp"
+#include "slicecap/render/render_error.hpp"
 
 namespace slicecap::render {
 namespace {
@@ -21,7 +22,7 @@ TEST(Render, ALambertianSphereLitFromTheViewerIsBrightestInTheMiddle) {
   EXPECT_EQ(sphere.at(0, 0), kSheetBackground) << "outside the disc";
   // Symmetric under a quarter turn for an isotropic material lit along the axis.
   EXPECT_EQ(sphere.at(30, 20), sphere.at(20, 30));
-  EXPECT_THROW(renderSphere(tableOf("matte-paint"), {0.0, 0.0}, 4, 1.0), std::invalid_argument);
+  EXPECT_THROW(renderSphere(tableOf("matte-paint"), {0.0, 0.0}, 4, 1.0), render::RenderError);
 }
 
 }  // namespace

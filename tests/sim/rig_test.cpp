@@ -7,6 +7,7 @@
 
 #include "slicecap/core/angles.hpp"
 #include "slicecap/sim/rig.hpp"
+#include "slicecap/sim/sim_error.hpp"
 #include "slicecap/sim/simulate.hpp"
 
 namespace slicecap::sim {
@@ -51,7 +52,7 @@ TEST(RigPlan, AnHdrBracketsLedPairsShareTheirNominalPosition) {
     EXPECT_DOUBLE_EQ(bracket[k].sliceParameterDeg, single[same].sliceParameterDeg) << k;
     EXPECT_EQ(bracket[k].ledOn, single[same].ledOn) << k;
   }
-  EXPECT_THROW(planSweep(slice, 15.0, rig, camera, target, 4), std::invalid_argument);
+  EXPECT_THROW(planSweep(slice, 15.0, rig, camera, target, 4), sim::SimError);
 }
 
 TEST(RigPlan, IdealSweepsFollowTheirSliceExactly) {
@@ -148,7 +149,7 @@ TEST(RigPlan, PlansAreReproducibleAndBadParametersAreNamed) {
   EXPECT_NE(error.find("occlusion"), std::string::npos) << error;
   EXPECT_THROW(planSweep({SliceKind::Axial, {30, 30}}, 15.0, bad, vision::defaultSimulatedCamera(),
                          vision::defaultTarget()),
-               std::invalid_argument);
+               sim::SimError);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "slicecap/core/abrdf.hpp"
+#include "slicecap/core/core_error.hpp"
 #include "slicecap/core/grid_interpolation.hpp"
 
 namespace slicecap::vectors {
@@ -74,7 +75,7 @@ inline std::vector<Case> cases() {
   return all;
 }
 
-// Directions `evaluate` must reject (std::invalid_argument); NaN cannot be written in JSON.
+// Directions `evaluate` must reject (slicecap::CoreError); NaN cannot be written in JSON.
 inline std::vector<Case> invalidCases() {
   return {{"negative-elevation", {-1, 0}, {30, 0}}, {"negative-elevation", {30, 0}, {-0.5, 90}}};
 }

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <set>
 
+#include "slicecap/core/core_error.hpp"
+
 namespace slicecap::vectors {
 namespace {
 
@@ -60,7 +62,7 @@ TEST(GridInterpolationVectors, CommittedFileIsWhatTheGeneratorWrites) {
 TEST(GridInterpolationVectors, InvalidCasesAreRejected) {
   const Abrdf table = hashTable();
   for (const Case& c : invalidCases())
-    EXPECT_THROW(evaluate(table, c.light, c.view), std::invalid_argument) << c.kind;
+    EXPECT_THROW(evaluate(table, c.light, c.view), slicecap::CoreError) << c.kind;
 }
 
 TEST(GridInterpolationVectors, CoverEveryKindOfCase) {

@@ -4,6 +4,8 @@
 #include <stdexcept>
 
 #include "slicecap/vision/camera_model.hpp"
+#include "slicecap/vision/camera_scaling.hpp"
+#include "slicecap/vision/vision_error.hpp"
 
 namespace slicecap::vision {
 namespace {
@@ -32,11 +34,26 @@ TEST(CameraModelScaledTo, AnotherAspectRatioIsRefusedNamingBothSizes) {
   try {
     (void)camera.scaledTo(1456, 1088);  // an IMX296's 4:3-ish mode: another crop
     FAIL() << "no error";
-  } catch (const std::invalid_argument& error) {
+  } catch (const vision::VisionError& error) {
     EXPECT_NE(std::string(error.what()).find("1280x720"), std::string::npos) << error.what();
     EXPECT_NE(std::string(error.what()).find("1456x1088"), std::string::npos) << error.what();
   }
-  EXPECT_THROW((void)camera.scaledTo(0, 648), std::invalid_argument);
+  EXPECT_THROW((void)camera.scaledTo(0, 648), vision::VisionError);
+}
+
+// A caller with a way on asks first (no exception as a jump): the same text scaledTo throws.
+TEST(CameraModelScaledTo, ScalingProblemIsWhatScaledToWouldThrow) {
+  const CameraModel camera = defaultSimulatedCamera();
+  EXPECT_EQ(scalingProblem(camera, 1152, 648), std::nullopt);
+  const std::optional<std::string> problem = scalingProblem(camera, 1456, 1088);
+  ASSERT_TRUE(problem.has_value());
+  try {
+    (void)camera.scaledTo(1456, 1088);
+    FAIL() << "no error";
+  } catch (const vision::VisionError& error) {
+    EXPECT_EQ(*problem, error.what());
+  }
+  EXPECT_TRUE(scalingProblem(camera, 0, 648).has_value());
 }
 
 }  // namespace

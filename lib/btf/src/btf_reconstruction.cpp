@@ -10,6 +10,7 @@
 #include <optional>
 #include <thread>
 
+#include "slicecap/btf/btf_error.hpp"
 #include "slicecap/recon/errors.hpp"
 #include "slicecap/recon/measured_subspaces.hpp"
 #include "slicecap/recon/method_a.hpp"
@@ -142,12 +143,12 @@ BtfTexture reconstructBtf(const TextureGrid& grid, const std::vector<SliceTextur
                           const BtfReconstructionParams& params, BtfReconstructionReport* report) {
   std::string error;
   if (std::find(kTexelMethods.begin(), kTexelMethods.end(), params.method) == kTexelMethods.end())
-    throw std::invalid_argument("method " + methods::cliName(params.method) +
-                                " does not reconstruct texels (b, a or prior do)");
-  if (!params.methodB.fit.isValid(&error)) throw std::invalid_argument("Method B: " + error);
+    throw BtfError("method " + methods::cliName(params.method) +
+                   " does not reconstruct texels (b, a or prior do)");
+  if (!params.methodB.fit.isValid(&error)) throw BtfError("Method B: " + error);
   if (params.method == methods::MethodId::Prior) {
-    if (!params.priorModel) throw std::invalid_argument("the prior method needs a prior model");
-    if (!params.prior.isValid(&error)) throw std::invalid_argument("prior: " + error);
+    if (!params.priorModel) throw BtfError("the prior method needs a prior model");
+    if (!params.prior.isValid(&error)) throw BtfError("prior: " + error);
   }
   const auto started = std::chrono::steady_clock::now();
   BtfTexture out(grid.resolution());

@@ -6,12 +6,14 @@
 #include <stdexcept>
 #include <string>
 
+#include "slicecap/btf/btf_error.hpp"
+
 namespace slicecap::btf {
 
 BtfTexture::BtfTexture(int resolution) : resolution_(resolution) {
   if (resolution < 1 || resolution > 1024)
-    throw std::invalid_argument("BTF resolution must be 1 to 1024 texels across, not " +
-                                std::to_string(resolution));
+    throw BtfError("BTF resolution must be 1 to 1024 texels across, not " +
+                   std::to_string(resolution));
   halves_.assign(std::size_t(Abrdf::kDirections) * Abrdf::kDirections * texelCount() * 3, 0);
 }
 
@@ -27,8 +29,8 @@ void BtfTexture::setTexel(std::size_t texel, const Abrdf& table) {
 
 void BtfTexture::setRow(int row, std::span<const Abrdf> tables) {
   if (tables.size() != std::size_t(resolution_))
-    throw std::invalid_argument("BtfTexture::setRow: " + std::to_string(tables.size()) +
-                                " tables for a row of " + std::to_string(resolution_));
+    throw BtfError("BtfTexture::setRow: " + std::to_string(tables.size()) +
+                   " tables for a row of " + std::to_string(resolution_));
   const std::size_t pairs = std::size_t(Abrdf::kDirections) * Abrdf::kDirections;
   for (std::size_t pair = 0; pair < pairs; ++pair) {
     std::uint16_t* out = &halves_[(pair * texelCount() + std::size_t(row) * resolution_) * 3];

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "slicecap/btf/btf_error.hpp"
 #include "slicecap/core/angles.hpp"
 
 namespace slicecap::btf {
@@ -44,8 +45,8 @@ TextureBin combineBinFrames(std::span<const TextureFrame> frames, std::size_t te
   if (frames.empty()) return bin;
   for (const TextureFrame& f : frames)
     if (f.texels.size() != texelCount * 3)
-      throw std::invalid_argument("texture bin: a frame of " + std::to_string(f.texels.size()) +
-                                  " values, expected " + std::to_string(texelCount * 3));
+      throw BtfError("texture bin: a frame of " + std::to_string(f.texels.size()) +
+                     " values, expected " + std::to_string(texelCount * 3));
   bin.frames = static_cast<int>(frames.size());
   for (const TextureFrame& f : frames) {
     bin.cameraMm += f.cameraMm / static_cast<double>(frames.size());
@@ -76,16 +77,16 @@ SliceTextureBins::SliceTextureBins(SliceId slice, std::size_t texelCount, int fr
       binWidthDeg_(binWidthDeg),
       bins_(slice.kind, binWidthDeg) {
   if (framesPerBin < 1)
-    throw std::invalid_argument("texture bins: frames per bin must be at least 1, not " +
-                                std::to_string(framesPerBin));
-  if (texelCount == 0) throw std::invalid_argument("texture bins: no texels");
+    throw BtfError("texture bins: frames per bin must be at least 1, not " +
+                   std::to_string(framesPerBin));
+  if (texelCount == 0) throw BtfError("texture bins: no texels");
   frames_.resize(static_cast<std::size_t>(bins_.binCount()));
 }
 
 void SliceTextureBins::add(TextureFrame frame) {
   if (frame.texels.size() != texelCount_ * 3)
-    throw std::invalid_argument("texture bins: a frame of " + std::to_string(frame.texels.size()) +
-                                " values, expected " + std::to_string(texelCount_ * 3));
+    throw BtfError("texture bins: a frame of " + std::to_string(frame.texels.size()) +
+                   " values, expected " + std::to_string(texelCount_ * 3));
   const int binIndex = bins_.binOf(frame.sliceParameterDeg);
   std::vector<TextureFrame>& bin = frames_[static_cast<std::size_t>(binIndex)];
   std::vector<double> kept;

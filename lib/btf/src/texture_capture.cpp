@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "slicecap/btf/btf_error.hpp"
 #include "slicecap/capture/recording_processor.hpp"
 #include "slicecap/core/angles.hpp"
+#include "slicecap/core/core_error.hpp"
 #include "slicecap/io/recording.hpp"
 
 namespace slicecap::btf {
@@ -26,7 +28,7 @@ TextureFrame textureFrameOf(const TextureGrid& grid, const vision::CameraModel& 
                             const RectifyParams& params) {
   const std::optional<double> parameterDeg = textureSliceParameterDeg(outcome, kind);
   if (!parameterDeg)
-    throw std::invalid_argument("texture: only an accepted sample with its pose and light fit");
+    throw BtfError("texture: only an accepted sample with its pose and light fit");
   const auto& m = outcome.measurement;
   const UnitVector toLight = toUnitVector(outcome.sample->light);
   const auto& p = m.fittedLight->positionMm;
@@ -43,17 +45,17 @@ TextureCapture::TextureCapture(const vision::CameraModel& camera, const vision::
                                const TextureCaptureParams& params)
     : grid_(params.resolution, window), camera_(camera), params_(params) {
   std::string error;
-  if (!camera_.isValid(&error)) throw std::invalid_argument("texture capture: camera: " + error);
+  if (!camera_.isValid(&error)) throw BtfError("texture capture: camera: " + error);
   if (params.framesPerBin < 1)
-    throw std::invalid_argument("texture capture: frames per bin must be at least 1");
+    throw BtfError("texture capture: frames per bin must be at least 1");
 }
 
 void TextureCapture::startSlice(const SliceId& slice, std::optional<ToneCurve> toneCurve) {
   finishSlice();
   for (const SliceTexture& done : slices_)
     if (done.slice == slice)
-      throw std::invalid_argument("texture capture: slice " + toString(slice) +
-                                  " was already captured");
+      throw BtfError("texture capture: slice " + toString(slice) +
+                     " was already captured");
   active_.emplace(slice, grid_.texelCount(), params_.framesPerBin);
   activeRectify_ = params_.rectify;
   if (toneCurve) activeRectify_.toneCurve = std::move(toneCurve);
@@ -91,7 +93,7 @@ TextureSweep::TextureSweep(const std::filesystem::path& directory, const SliceId
       grid_(store_.grid()),
       rectify_(rectify) {
   std::string error;
-  if (!camera_.isValid(&error)) throw std::invalid_argument("texture capture: camera: " + error);
+  if (!camera_.isValid(&error)) throw BtfError("texture capture: camera: " + error);
 }
 
 bool TextureSweep::add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
@@ -106,7 +108,7 @@ SessionTexture captureRecordings(const std::vector<std::filesystem::path>& recor
                                  const capture::PipelineSettings& settings,
                                  const TextureCaptureParams& params,
                                  const std::function<void(const std::string&)>& log) {
-  if (recordings.empty()) throw std::invalid_argument("texture capture: no recordings");
+  if (recordings.empty()) throw BtfError("texture capture: no recordings");
   const io::Recording first = io::readRecording(recordings.front());
   SessionTexture session{TextureCapture(first.camera, first.target.window, params), {}};
   for (const std::filesystem::path& directory : recordings) {
@@ -114,12 +116,12 @@ SessionTexture captureRecordings(const std::vector<std::filesystem::path>& recor
     if (header.camera.intrinsics.widthPx != first.camera.intrinsics.widthPx ||
         header.camera.intrinsics.heightPx != first.camera.intrinsics.heightPx ||
         !(header.target.window == first.target.window))
-      throw std::invalid_argument(directory.string() + ": another camera size or window than " +
-                                  recordings.front().string() +
-                                  " (one texture needs one target and camera)");
+      throw BtfError(directory.string() + ": another camera size or window than " +
+                     recordings.front().string() +
+                     " (one texture needs one target and camera)");
     if (!header.slice)
-      throw std::invalid_argument(directory.string() +
-                                  ": recording.json has no slice (a calibration recording?)");
+      throw BtfError(directory.string() +
+                     ": recording.json has no slice (a calibration recording?)");
     try {
       // Rectified through the same decoding as processRecording reads the sweep with.
       session.texture.startSlice(
@@ -128,8 +130,10 @@ SessionTexture captureRecordings(const std::vector<std::filesystem::path>& recor
               ? settings.toneCurve
               : header.decoding.value_or(io::RecordedDecoding::defaultFor(header.encoding))
                     .toneCurve());
-    } catch (const std::invalid_argument& error) {
-      throw std::invalid_argument(directory.string() + ": " + error.what());
+    } catch (const BtfError& error) {
+      throw BtfError(directory.string() + ": " + error.what());
+    } catch (const CoreError& error) {  // the recording's tone curve
+      throw BtfError(directory.string() + ": " + error.what());
     }
     const capture::RecordingResult result =
         capture::processRecording(directory, settings,

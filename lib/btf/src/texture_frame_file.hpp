@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "slicecap/btf/btf_error.hpp"
 #include "slicecap/btf/texture_store.hpp"
 
 namespace slicecap::btf::frame_file {
@@ -36,8 +37,8 @@ static_assert(sizeof(FrameHeader) == 80 && offsetof(FrameHeader, sequence) == 16
 
 // A frame file whose content is wrong (torn by a power cut, damaged, not a frame): unlike a file
 // that cannot be opened, it can never become readable, so mending the store removes it.
-struct BadFrame : std::runtime_error {
-  using std::runtime_error::runtime_error;
+struct BadFrame : BtfError {
+  using BtfError::BtfError;
 };
 
 /// \brief The size of a frame file of `resolution`^2 texels.

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "slicecap/btf/btf_error.hpp"
 #include "slicecap/core/version.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/target_json.hpp"
@@ -78,8 +79,8 @@ TextureStoreLayout readLayout(const fs::path& manifest) {
 void checkLayout(const TextureStoreLayout& layout) {
   TextureGrid(layout.resolution, layout.windowMm);  // throws for a bad resolution or window
   if (layout.framesPerBin < 1 || layout.framesPerBin > 64)
-    throw std::invalid_argument("texture store: frames per bin must be in 1..64, not " +
-                                std::to_string(layout.framesPerBin));
+    throw BtfError("texture store: frames per bin must be in 1..64, not " +
+                   std::to_string(layout.framesPerBin));
 }
 
 }  // namespace slicecap::btf::manifest

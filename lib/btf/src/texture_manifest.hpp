@@ -17,7 +17,7 @@ nlohmann::json layoutJson(const TextureStoreLayout& layout);
 /// one this version reads.
 TextureStoreLayout readLayout(const std::filesystem::path& manifest);
 
-/// \brief Throws std::invalid_argument for a resolution, window or frames per bin out of range.
+/// \brief Throws BtfError for a resolution, window or frames per bin out of range.
 void checkLayout(const TextureStoreLayout& layout);
 
 }  // namespace slicecap::btf::manifest

@@ -14,6 +14,7 @@
 #include <system_error>
 #include <utility>
 
+#include "slicecap/btf/btf_error.hpp"
 #include "slicecap/capture/azimuth_bins.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/journal.hpp"
@@ -73,7 +74,7 @@ TextureStore TextureStore::open(const fs::path& directory, StoreAccess access) {
   TextureStoreLayout layout = readLayout(manifest);
   try {
     checkLayout(layout);
-  } catch (const std::invalid_argument& e) {
+  } catch (const BtfError& e) {
     throw io::IoError(manifest.string() + ": " + e.what());
   }
   TextureStore store(directory, layout, access);
@@ -195,11 +196,11 @@ bool TextureStore::add(const SliceId& slice, const TextureFrame& frame) {
   if (access_ != StoreAccess::Mend)
     throw std::logic_error("texture store: " + directory_.string() + " was opened read-only");
   if (slice.kind != SliceKind::Axial && slice.kind != SliceKind::Diagonal)
-    throw std::invalid_argument("texture store: only axial and diagonal slices have a texture");
+    throw BtfError("texture store: only axial and diagonal slices have a texture");
   const std::size_t values = grid().texelCount() * 3;
   if (frame.texels.size() != values)
-    throw std::invalid_argument("texture store: a frame of " + std::to_string(frame.texels.size()) +
-                                " values, expected " + std::to_string(values));
+    throw BtfError("texture store: a frame of " + std::to_string(frame.texels.size()) +
+                   " values, expected " + std::to_string(values));
   const auto where = placeOf(slice, frame.sliceParameterDeg);
   if (!where) return false;
   const fs::path folder = directory_ / folderName(slice);

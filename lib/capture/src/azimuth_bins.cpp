@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/hdr_merge.hpp"
 #include "slicecap/core/angles.hpp"
 
@@ -41,7 +42,7 @@ AzimuthBins::AzimuthBins(SliceKind kind, double binWidthDeg)
     : kind_(kind), binWidthDeg_(binWidthDeg), version_(nextVersion()) {
   const double count = 360.0 / binWidthDeg;
   if (!std::isfinite(count) || count < 1.0 || std::abs(count - std::round(count)) > 1e-9) {
-    throw std::invalid_argument("azimuth bin width must divide 360 deg");
+    throw CaptureError("azimuth bin width must divide 360 deg");
   }
   bins_.resize(static_cast<std::size_t>(std::lround(count)));
 }

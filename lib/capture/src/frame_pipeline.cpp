@@ -9,6 +9,7 @@
 
 #include "frame_checks.hpp"
 #include "frame_pipeline_state.hpp"
+#include "slicecap/capture/capture_error.hpp"
 
 namespace slicecap::capture {
 
@@ -19,10 +20,10 @@ FramePipeline::FramePipeline(vision::TargetGeometry target, vision::CameraModel 
     : state_(std::make_unique<State>(std::move(target), std::move(camera), settings)) {
   std::string error;
   if (!state_->camera.isValid(&error))
-    throw std::invalid_argument("capture pipeline: camera: " + error);
+    throw CaptureError("capture pipeline: camera: " + error);
   if (const auto problem = vision::findTargetProblem(state_->target))
-    throw std::invalid_argument("capture pipeline: target: " + *problem);
-  if (!settings.noise.isValid(&error)) throw std::invalid_argument("capture pipeline: " + error);
+    throw CaptureError("capture pipeline: target: " + *problem);
+  if (!settings.noise.isValid(&error)) throw CaptureError("capture pipeline: " + error);
   const vision::RectMm& w = state_->target.window;
   const double half = settings.windowSampleFraction * std::min(w.widthMm(), w.heightMm()) / 2.0;
   const vision::PointMm c = w.centre();
@@ -50,7 +51,7 @@ FramePipeline::FramePipeline(vision::TargetGeometry target, vision::CameraModel 
       }
   }
   if (state_->references.size() < 5)
-    throw std::invalid_argument("capture pipeline: target: fewer than 5 white reference areas");
+    throw CaptureError("capture pipeline: target: fewer than 5 white reference areas");
 }
 
 FramePipeline::~FramePipeline() = default;

@@ -13,6 +13,7 @@
 
 #include "frame_checks.hpp"
 #include "slicecap/capture/area_reading.hpp"
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/capture/light_model.hpp"
 #include "slicecap/capture/linear_view.hpp"
@@ -219,7 +220,7 @@ struct FramePipeline::State {
                                    toLight.z * settings.nominalLightDistanceMm};
     try {
       *fit = fitPointLight(observations, fitParams);
-    } catch (const std::invalid_argument& error) {
+    } catch (const CaptureError& error) {
       return frame_checks::GateFailure{RejectReason::WindowOccluded, error.what()};
     }
     if (!fit->converged)

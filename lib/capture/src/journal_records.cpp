@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/window_cells.hpp"
 #include "slicecap/io/recording.hpp"
 
@@ -34,26 +35,26 @@ std::string cellField(std::size_t cell, std::size_t field) {
 }
 
 const json& member(const json& hdr, const std::string& key) {
-  if (!hdr.contains(key)) throw std::invalid_argument("hdr." + key + ": missing");
+  if (!hdr.contains(key)) throw CaptureError("hdr." + key + ": missing");
   return hdr.at(key);
 }
 
 double number(const json& value, const std::string& name) {
   if (!value.is_number())
-    throw std::invalid_argument(name + ": expected a number, got " + value.dump());
+    throw CaptureError(name + ": expected a number, got " + value.dump());
   return value.get<double>();
 }
 
 void requireFinite(double value, const std::string& name) {
   if (!std::isfinite(value))
-    throw std::invalid_argument(name + ": expected a finite number, got " + text(value));
+    throw CaptureError(name + ": expected a finite number, got " + text(value));
 }
 
 HdrCell cellFrom(const json& j, std::size_t k) {
   if (!j.is_array() || j.size() != kCellFields.size())
-    throw std::invalid_argument("hdr.cells[" + std::to_string(k) +
-                                "]: expected [r, g, b, variance r, g, b, level, clipped], got " +
-                                j.dump());
+    throw CaptureError("hdr.cells[" + std::to_string(k) +
+                       "]: expected [r, g, b, variance r, g, b, level, clipped], got " +
+                       j.dump());
   HdrCell cell;
   for (std::size_t c = 0; c < 3; ++c) {
     cell.radiance[c] = number(j[c], cellField(k, c));
@@ -61,8 +62,8 @@ HdrCell cellFrom(const json& j, std::size_t k) {
   }
   cell.level = number(j[6], cellField(k, 6));
   if (!j[kClippedField].is_boolean())
-    throw std::invalid_argument(cellField(k, kClippedField) + ": expected true or false, got " +
-                                j[kClippedField].dump());
+    throw CaptureError(cellField(k, kClippedField) + ": expected true or false, got " +
+                       j[kClippedField].dump());
   cell.clipped = j[kClippedField].get<bool>();
   return cell;
 }
@@ -77,7 +78,7 @@ json sliceJson(const SliceId& s) {
 
 SliceId sliceFrom(const json& j) {
   const auto kind = parseSliceKind(j.at("kind").get<std::string>());
-  if (!kind) throw std::invalid_argument("unknown slice kind");
+  if (!kind) throw CaptureError("unknown slice kind");
   return {*kind, {wholeNumber(j, "theta_i", 0, 89), wholeNumber(j, "theta_v", 0, 89)}};
 }
 
@@ -95,24 +96,24 @@ json hdrJson(const HdrReading& hdr) {
 }
 
 HdrReading hdrFrom(const json& j) {
-  if (!j.is_object()) throw std::invalid_argument("hdr: expected an object, got " + j.dump());
+  if (!j.is_object()) throw CaptureError("hdr: expected an object, got " + j.dump());
   HdrReading hdr;
   static_cast<void>(member(j, "exposure_level"));
   try {
     hdr.exposureLevel = wholeNumber(j, "exposure_level", 0, io::kMaxExposureLevels - 1);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string("hdr.") + e.what());
+  } catch (const CaptureError& e) {
+    throw CaptureError(std::string("hdr.") + e.what());
   }
   const json& cells = member(j, "cells");
   if (!cells.is_array() || cells.size() != kCellCount)
-    throw std::invalid_argument(
+    throw CaptureError(
         "hdr.cells: expected an array of " + std::to_string(kCellCount) + " cells, got " +
         (cells.is_array() ? std::to_string(cells.size()) + " cells" : cells.dump()));
   for (std::size_t k = 0; k < cells.size(); ++k)
     hdr.cells.push_back(cellFrom(cells[k], k));
   const json& irradiance = member(j, "irradiance");
   if (!irradiance.is_array() || irradiance.size() != 3)
-    throw std::invalid_argument("hdr.irradiance: expected [r, g, b], got " + irradiance.dump());
+    throw CaptureError("hdr.irradiance: expected [r, g, b], got " + irradiance.dump());
   for (std::size_t c = 0; c < 3; ++c)
     hdr.irradiance[c] = number(irradiance[c], "hdr.irradiance[" + std::to_string(c) + "]");
   hdr.irradianceWeight = number(member(j, "irradiance_weight"), "hdr.irradiance_weight");
@@ -122,32 +123,32 @@ HdrReading hdrFrom(const json& j) {
 
 void requireValidHdr(const HdrReading& hdr) {
   if (hdr.exposureLevel < 0 || hdr.exposureLevel >= io::kMaxExposureLevels)
-    throw std::invalid_argument("hdr.exposure_level: expected 0.." +
-                                std::to_string(io::kMaxExposureLevels - 1) + ", got " +
-                                std::to_string(hdr.exposureLevel));
+    throw CaptureError("hdr.exposure_level: expected 0.." +
+                       std::to_string(io::kMaxExposureLevels - 1) + ", got " +
+                       std::to_string(hdr.exposureLevel));
   if (hdr.cells.size() != kCellCount)
-    throw std::invalid_argument("hdr.cells: expected " + std::to_string(kCellCount) +
-                                " cells, got " + std::to_string(hdr.cells.size()));
+    throw CaptureError("hdr.cells: expected " + std::to_string(kCellCount) +
+                       " cells, got " + std::to_string(hdr.cells.size()));
   for (std::size_t k = 0; k < hdr.cells.size(); ++k) {
     const HdrCell& cell = hdr.cells[k];
     for (std::size_t c = 0; c < 3; ++c) {
       requireFinite(cell.radiance[c], cellField(k, c));
       requireFinite(cell.variance[c], cellField(k, 3 + c));
       if (cell.variance[c] < 0)
-        throw std::invalid_argument(cellField(k, 3 + c) + ": expected a variance >= 0, got " +
-                                    text(cell.variance[c]));
+        throw CaptureError(cellField(k, 3 + c) + ": expected a variance >= 0, got " +
+                           text(cell.variance[c]));
     }
     requireFinite(cell.level, cellField(k, 6));
     if (cell.level < 0 || cell.level > kHdrMaxCellLevel)
-      throw std::invalid_argument(cellField(k, 6) + ": expected a fraction of full scale in 0.." +
-                                  text(kHdrMaxCellLevel) + ", got " + text(cell.level));
+      throw CaptureError(cellField(k, 6) + ": expected a fraction of full scale in 0.." +
+                         text(kHdrMaxCellLevel) + ", got " + text(cell.level));
   }
   for (std::size_t c = 0; c < 3; ++c)
     requireFinite(hdr.irradiance[c], "hdr.irradiance[" + std::to_string(c) + "]");
   requireFinite(hdr.irradianceWeight, "hdr.irradiance_weight");
   if (hdr.irradianceWeight < 0)
-    throw std::invalid_argument("hdr.irradiance_weight: expected >= 0, got " +
-                                text(hdr.irradianceWeight));
+    throw CaptureError("hdr.irradiance_weight: expected >= 0, got " +
+                       text(hdr.irradianceWeight));
 }
 
 // Window cells: arrays per cell as for HDR cells (64 cells make most of the record), clipped as
@@ -169,11 +170,11 @@ namespace {
 template <std::size_t N>
 std::array<double, N> numbers(const json& parent, const std::string& key) {
   const std::string name = "cells." + key;
-  if (!parent.contains(key)) throw std::invalid_argument(name + ": missing");
+  if (!parent.contains(key)) throw CaptureError(name + ": missing");
   const json& j = parent.at(key);
   if (!j.is_array() || j.size() != N)
-    throw std::invalid_argument(name + ": expected " + std::to_string(N) + " numbers, got " +
-                                j.dump());
+    throw CaptureError(name + ": expected " + std::to_string(N) + " numbers, got " +
+                       j.dump());
   std::array<double, N> out{};
   for (std::size_t k = 0; k < N; ++k)
     out[k] = number(j[k], name + "[" + std::to_string(k) + "]");
@@ -190,36 +191,36 @@ std::string cellValueField(std::size_t cell, std::size_t field) {
 }  // namespace
 
 WindowCells cellsFrom(const json& j) {
-  if (!j.is_object()) throw std::invalid_argument("cells: expected an object, got " + j.dump());
+  if (!j.is_object()) throw CaptureError("cells: expected an object, got " + j.dump());
   WindowCells cells;
-  if (!j.contains("n")) throw std::invalid_argument("cells.n: missing");
+  if (!j.contains("n")) throw CaptureError("cells.n: missing");
   try {
     cells.cellsPerSide = wholeNumber(j, "n", 1, kMaxCellsPerSide);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string("cells.") + e.what());
+  } catch (const CaptureError& e) {
+    throw CaptureError(std::string("cells.") + e.what());
   }
   cells.gridMm = numbers<4>(j, "grid_mm");
   cells.lightMm = numbers<3>(j, "light_mm");
   cells.cameraMm = numbers<3>(j, "camera_mm");
-  if (!j.contains("values")) throw std::invalid_argument("cells.values: missing");
+  if (!j.contains("values")) throw CaptureError("cells.values: missing");
   const json& values = j.at("values");
   const std::size_t count = std::size_t(cells.cellsPerSide) * std::size_t(cells.cellsPerSide);
   if (!values.is_array() || values.size() != count)
-    throw std::invalid_argument("cells.values: expected " + std::to_string(count) +
-                                " cells, got " + values.dump().substr(0, 80));
+    throw CaptureError("cells.values: expected " + std::to_string(count) +
+                       " cells, got " + values.dump().substr(0, 80));
   for (std::size_t k = 0; k < count; ++k) {
     const json& v = values[k];
     if (!v.is_array() || v.size() != 7)
-      throw std::invalid_argument("cells.values[" + std::to_string(k) +
-                                  "]: expected [r, g, b, variance r, g, b, clipped], got " +
-                                  v.dump());
+      throw CaptureError("cells.values[" + std::to_string(k) +
+                         "]: expected [r, g, b, variance r, g, b, clipped], got " +
+                         v.dump());
     CellSample cell;
     for (std::size_t c = 0; c < 3; ++c) {
       cell.value[c] = number(v[c], cellValueField(k, c));
       cell.variance[c] = number(v[3 + c], cellValueField(k, 3 + c));
     }
     if (!(v[6] == 0 || v[6] == 1))
-      throw std::invalid_argument(cellValueField(k, 6) + ": expected 0 or 1, got " + v[6].dump());
+      throw CaptureError(cellValueField(k, 6) + ": expected 0 or 1, got " + v[6].dump());
     cell.clipped = v[6] == 1;
     cells.cells.push_back(cell);
   }
@@ -231,11 +232,11 @@ WindowCells cellsFrom(const json& j) {
 void requireValidCells(const WindowCells& cells) {
   const int n = cells.cellsPerSide;
   if (n < 1 || n > kMaxCellsPerSide)
-    throw std::invalid_argument("cells.n: expected 1.." + std::to_string(kMaxCellsPerSide) +
-                                ", got " + std::to_string(n));
+    throw CaptureError("cells.n: expected 1.." + std::to_string(kMaxCellsPerSide) +
+                       ", got " + std::to_string(n));
   if (cells.cells.size() != std::size_t(n) * std::size_t(n))
-    throw std::invalid_argument("cells.values: expected " + std::to_string(n * n) +
-                                " cells, got " + std::to_string(cells.cells.size()));
+    throw CaptureError("cells.values: expected " + std::to_string(n * n) +
+                       " cells, got " + std::to_string(cells.cells.size()));
   for (std::size_t k = 0; k < 4; ++k)
     requireFinite(cells.gridMm[k], "cells.grid_mm[" + std::to_string(k) + "]");
   for (std::size_t k = 0; k < 3; ++k) {
@@ -243,14 +244,14 @@ void requireValidCells(const WindowCells& cells) {
     requireFinite(cells.cameraMm[k], "cells.camera_mm[" + std::to_string(k) + "]");
   }
   if (!(cells.lightMm[2] > 0.0) || !(cells.cameraMm[2] > 0.0))
-    throw std::invalid_argument("cells: light_mm and camera_mm must lie above the target (z > 0)");
+    throw CaptureError("cells: light_mm and camera_mm must lie above the target (z > 0)");
   for (std::size_t k = 0; k < cells.cells.size(); ++k)
     for (std::size_t c = 0; c < 3; ++c) {
       requireFinite(cells.cells[k].value[c], cellValueField(k, c));
       requireFinite(cells.cells[k].variance[c], cellValueField(k, 3 + c));
       if (cells.cells[k].variance[c] < 0)
-        throw std::invalid_argument(cellValueField(k, 3 + c) + ": expected a variance >= 0, got " +
-                                    text(cells.cells[k].variance[c]));
+        throw CaptureError(cellValueField(k, 3 + c) + ": expected a variance >= 0, got " +
+                           text(cells.cells[k].variance[c]));
     }
 }
 

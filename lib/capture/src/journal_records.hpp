@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/frame_sample.hpp"
 #include "slicecap/core/slice.hpp"
 
@@ -24,7 +25,7 @@ nlohmann::json sliceJson(const SliceId& s);
 
 /// \brief A whole number in lo..hi. nlohmann's get<int>() of 1e300 is undefined behaviour and its
 /// get<std::uint64_t>() of -1 wraps round, so a damaged record would not be named. Throws
-/// std::invalid_argument naming the key, nlohmann::json::exception when it is missing.
+/// CaptureError naming the key, nlohmann::json::exception when it is missing.
 template <typename T>
 T wholeNumber(const nlohmann::json& parent, const std::string& key, T lo, T hi) {
   const nlohmann::json& value = parent.at(key);
@@ -35,8 +36,8 @@ T wholeNumber(const nlohmann::json& parent, const std::string& key, T lo, T hi) 
     return static_cast<T>(value.get<std::uint64_t>());
   if (value.is_number_integer() && !value.is_number_unsigned() && within(value.get<std::int64_t>()))
     return static_cast<T>(value.get<std::int64_t>());
-  throw std::invalid_argument(key + ": expected a whole number in " + std::to_string(lo) + ".." +
-                              std::to_string(hi) + ", got " + value.dump());
+  throw CaptureError(key + ": expected a whole number in " + std::to_string(lo) + ".." +
+                     std::to_string(hi) + ", got " + value.dump());
 }
 
 template <typename T>
@@ -44,7 +45,7 @@ T wholeNumber(const nlohmann::json& parent, const std::string& key) {
   return wholeNumber(parent, key, std::numeric_limits<T>::min(), std::numeric_limits<T>::max());
 }
 
-/// \brief The slice of sliceJson. Throws std::invalid_argument or nlohmann::json::exception.
+/// \brief The slice of sliceJson. Throws CaptureError or nlohmann::json::exception.
 SliceId sliceFrom(const nlohmann::json& j);
 
 /// \brief An HDR sample's reading as the sample record's "hdr" object (docs/reliability.md):
@@ -52,11 +53,11 @@ SliceId sliceFrom(const nlohmann::json& j);
 /// "irradiance_weight"}. Doubles are written in their shortest form that reads back bit-identical.
 nlohmann::json hdrJson(const HdrReading& hdr);
 
-/// \brief The reading of hdrJson, checked by requireValidHdr. Throws std::invalid_argument naming
+/// \brief The reading of hdrJson, checked by requireValidHdr. Throws CaptureError naming
 /// the field (e.g. "hdr.cells[4][3]: expected a number, got null").
 HdrReading hdrFrom(const nlohmann::json& j);
 
-/// \brief Throws std::invalid_argument naming the field unless the reading is one an HDR sweep
+/// \brief Throws CaptureError naming the field unless the reading is one an HDR sweep
 /// makes: kHdrCellsPerSide^2 cells, every number finite, variances >= 0, cell levels within
 /// 0..kHdrMaxCellLevel, an exposure level within 0..io::kMaxExposureLevels - 1, an irradiance
 /// weight >= 0.
@@ -70,10 +71,10 @@ void requireValidHdr(const HdrReading& hdr);
 nlohmann::json cellsJson(const WindowCells& cells);
 
 /// \brief The cells of cellsJson, checked by requireValidCells, directions placed. Throws
-/// std::invalid_argument naming the field (e.g. "cells.values[4][3]: expected a number").
+/// CaptureError naming the field (e.g. "cells.values[4][3]: expected a number").
 WindowCells cellsFrom(const nlohmann::json& j);
 
-/// \brief Throws std::invalid_argument naming the field unless the cells would replay: 1 to
+/// \brief Throws CaptureError naming the field unless the cells would replay: 1 to
 /// kMaxCellsPerSide per side and that many squared cells, every number finite, variances >= 0,
 /// the light and the camera above the target.
 void requireValidCells(const WindowCells& cells);

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/core/angles.hpp"
 
 namespace slicecap::capture {
@@ -85,16 +86,16 @@ double directionSigmaDeg(ceres::Problem& problem, const double* position,
   return radToDeg(std::sqrt(across) / distance);
 }
 
-// Throws std::invalid_argument unless there are 5 or more observations with positive, finite
+// Throws CaptureError unless there are 5 or more observations with positive, finite
 // radiance and positive albedo, spread in both directions on the plane.
 void checkObservations(std::span<const ReferenceObservation> observations) {
   if (observations.size() < 5)
-    throw std::invalid_argument("light fit: needs at least 5 reference observations");
+    throw CaptureError("light fit: needs at least 5 reference observations");
   double meanX = 0.0, meanY = 0.0;
   for (const ReferenceObservation& o : observations) {
     for (std::size_t c = 0; c < 3; ++c) {
       if (!(o.radiance[c] > 0.0) || !(o.albedo[c] > 0.0) || !std::isfinite(o.radiance[c])) {
-        throw std::invalid_argument(
+        throw CaptureError(
             "light fit: reference radiance and albedo must be positive and finite");
       }
     }
@@ -109,7 +110,7 @@ void checkObservations(std::span<const ReferenceObservation> observations) {
     sxy += (o.point.x - meanX) * (o.point.y - meanY);
   }
   if (sxx * syy - sxy * sxy < 1e-6 * (sxx + syy) * (sxx + syy)) {
-    throw std::invalid_argument("light fit: the reference observations lie on one line");
+    throw CaptureError("light fit: the reference observations lie on one line");
   }
 }
 
@@ -234,7 +235,7 @@ bool LightFitParams::isValid(std::string* error) const {
 LightFit fitPointLight(std::span<const ReferenceObservation> observations,
                        const LightFitParams& params) {
   std::string error;
-  if (!params.isValid(&error)) throw std::invalid_argument("light fit: " + error);
+  if (!params.isValid(&error)) throw CaptureError("light fit: " + error);
   checkObservations(observations);
   const bool weighted = std::all_of(observations.begin(), observations.end(), [](const auto& o) {
     return o.sigma.minChannel() > 0.0 && std::isfinite(o.sigma.maxChannel());

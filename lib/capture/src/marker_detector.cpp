@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "slicecap/capture/capture_error.hpp"
+
 namespace slicecap::capture {
 
 struct MarkerDetector::State {
@@ -68,13 +70,13 @@ MarkerDetector::MarkerDetector(MarkerDetectorSettings settings)
     std::ostringstream message;
     message << "marker detector: decimation " << settings.decimation << " is outside "
             << kMinDecimation << ".." << kMaxDecimation;
-    throw std::invalid_argument(message.str());
+    throw CaptureError(message.str());
   }
   if (!(settings.frameBudgetPx > 0.0)) {
     std::ostringstream message;
     message << "marker detector: frame budget " << settings.frameBudgetPx
             << " px is not positive";
-    throw std::invalid_argument(message.str());
+    throw CaptureError(message.str());
   }
   state_->settings = settings;
   state_->family = tag36h11_create();

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/vision/tag_family.hpp"
 
 namespace slicecap::capture {
@@ -287,7 +288,7 @@ MarkerSearch::MarkerSearch(const vision::TargetGeometry& target, const vision::C
     std::ostringstream message;
     message << "marker search: tracking patience " << settings.trackingPatienceFrames
             << " frames is negative";
-    throw std::invalid_argument(message.str());
+    throw CaptureError(message.str());
   }
   // Re-acquisition: binning 4 x 1 first (it finds the tags of a 30 deg view and, unlike the
   // library's decimation, of a 75 deg one, foreshortened along the image's y: measured 15 and 11

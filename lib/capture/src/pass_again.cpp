@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/window_cells.hpp"
 #include "slicecap/core/grid.hpp"
 
@@ -86,7 +87,7 @@ std::string toString(PassAgainReason reason) {
 std::vector<PassAgainBin> binsToPassAgain(const AzimuthBins& bins, const SliceId& id,
                                           SweepProgress progress, const PassAgainRule& rule) {
   if (id.kind == SliceKind::Point)
-    throw std::invalid_argument("slice " + toString(id) + ": a point slice has no bins");
+    throw CaptureError("slice " + toString(id) + ": a point slice has no bins");
   if (bins.filledCount() == 0) return {};
   const std::vector<std::vector<const CellSample*>> cells = usableCellsByBin(bins, id.kind);
   std::vector<bool> empty;

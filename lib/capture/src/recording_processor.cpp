@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/pass_again.hpp"
 #include "slicecap/hal/recorded_frame.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -268,13 +269,13 @@ void binOutcomes(const io::Recording& recording, RecordingResult& result) {
 
 SliceId sliceOfRecording(const std::filesystem::path& directory, const io::Recording& recording) {
   if (!recording.slice)
-    throw std::invalid_argument(directory.string() +
-                                ": recording.json has no slice (a calibration recording?)");
+    throw CaptureError(directory.string() +
+                       ": recording.json has no slice (a calibration recording?)");
   // A sweep is of an axial or a diagonal slice; a point sample falls in no azimuth bin.
   if (recording.slice->id.kind == SliceKind::Point)
-    throw std::invalid_argument(directory.string() +
-                                ": recording.json: slice kind \"point\" is no sweep (expected "
-                                "\"axial\" or \"diagonal\")");
+    throw CaptureError(directory.string() +
+                       ": recording.json: slice kind \"point\" is no sweep (expected "
+                       "\"axial\" or \"diagonal\")");
   return recording.slice->id;
 }
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/linear_view.hpp"
 #include "slicecap/capture/planar_pose.hpp"
 
@@ -197,7 +198,7 @@ BracketObservations measureBracket(const std::vector<hal::Frame>& bracket,
                                    const vision::CameraModel& camera,
                                    const ResponseFitParams& params) {
   std::string why;
-  if (!params.isValid(&why)) throw std::invalid_argument(why);
+  if (!params.isValid(&why)) throw CaptureError(why);
   const std::string source = params.cameraName + ", " + framesText(bracket);
   checkBracketFrames(bracket, camera, params, source);
   const std::vector<Area> areas = referenceAreas(target, params);

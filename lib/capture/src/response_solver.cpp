@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <map>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/response_curve.hpp"
 
 namespace slicecap::capture {
@@ -278,7 +279,7 @@ ToneCurve tabulateCurve(const KnotGrid& grid, const Eigen::VectorXd& x) {
 ResponseFit fitResponseCurve(const std::vector<ResponseObservation>& observations,
                              const ResponseFitParams& params, const std::string& source) {
   std::string why;
-  if (!params.isValid(&why)) throw std::invalid_argument(why);
+  if (!params.isValid(&why)) throw CaptureError(why);
   ResponseFit fit;
   const std::vector<const ResponseObservation*> used =
       usableObservations(observations, params, fit);

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "journal_records.hpp"
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/session_store.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/target_json.hpp"
@@ -214,7 +215,7 @@ void SessionStore::apply(const json& j, std::size_t line) {
     } else if (type == "stop") {
       if (activeSweep_ == slice) activeSweep_.reset();
     } else {
-      throw std::invalid_argument("unknown record type \"" + type + "\"");
+      throw CaptureError("unknown record type \"" + type + "\"");
     }
   } catch (const std::exception& e) {
     throw io::IoError(where + ": " + e.what());

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "journal_records.hpp"
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/window_cells.hpp"
 #include "slicecap/core/session_id.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -34,8 +35,8 @@ constexpr int kOldestFormatVersion = 1;
 // written.
 void requireSweepSlice(const SliceId& slice) {
   if (slice.kind == SliceKind::Point)
-    throw std::invalid_argument("slice " + toString(slice) +
-                                ": a sweep is of an axial or a diagonal slice");
+    throw CaptureError("slice " + toString(slice) +
+                       ": a sweep is of an axial or a diagonal slice");
 }
 
 std::string utcNow() {
@@ -84,7 +85,7 @@ SessionStore::SessionStore(std::filesystem::path directory, SessionInfo info, io
 
 SessionStore SessionStore::create(const std::filesystem::path& root, const std::string& id,
                                   const std::string& material) {
-  if (!isValidSessionId(id)) throw std::invalid_argument("invalid session id '" + id + "'");
+  if (!isValidSessionId(id)) throw CaptureError("invalid session id '" + id + "'");
   const std::filesystem::path directory = root / id;
   std::error_code error;
   std::filesystem::create_directories(root, error);
@@ -106,7 +107,7 @@ SessionStore SessionStore::create(const std::filesystem::path& root, const std::
 }
 
 SessionStore SessionStore::open(const std::filesystem::path& root, const std::string& id) {
-  if (!isValidSessionId(id)) throw std::invalid_argument("invalid session id '" + id + "'");
+  if (!isValidSessionId(id)) throw CaptureError("invalid session id '" + id + "'");
   const std::filesystem::path directory = root / id;
   if (!std::filesystem::is_directory(directory))
     throw io::IoError(directory.string() + ": no such session");
@@ -172,7 +173,7 @@ std::vector<SessionInfo> SessionStore::list(const std::filesystem::path& root) {
 }
 
 void SessionStore::remove(const std::filesystem::path& root, const std::string& id) {
-  if (!isValidSessionId(id)) throw std::invalid_argument("invalid session id '" + id + "'");
+  if (!isValidSessionId(id)) throw CaptureError("invalid session id '" + id + "'");
   const std::filesystem::path directory = root / id;
   if (!std::filesystem::is_directory(directory))
     throw io::IoError(directory.string() + ": no such session");
@@ -216,18 +217,18 @@ void SessionStore::recordSample(const SliceId& slice, const FrameSample& s) {
   if (s.hdr) {
     try {
       requireValidHdr(*s.hdr);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument("sample of frame " + std::to_string(s.frameIndex) + " of " +
-                                  toString(slice) + ": " + e.what() + "; nothing written");
+    } catch (const CaptureError& e) {
+      throw CaptureError("sample of frame " + std::to_string(s.frameIndex) + " of " +
+                         toString(slice) + ": " + e.what() + "; nothing written");
     }
     record["hdr"] = hdrJson(*s.hdr);
   }
   if (s.cells) {
     try {
       requireValidCells(*s.cells);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument("sample of frame " + std::to_string(s.frameIndex) + " of " +
-                                  toString(slice) + ": " + e.what() + "; nothing written");
+    } catch (const CaptureError& e) {
+      throw CaptureError("sample of frame " + std::to_string(s.frameIndex) + " of " +
+                         toString(slice) + ": " + e.what() + "; nothing written");
     }
     record["cells"] = cellsJson(*s.cells);
   }

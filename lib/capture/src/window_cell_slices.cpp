@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/window_cells.hpp"
 #include "slicecap/core/grid.hpp"
 
@@ -55,7 +56,7 @@ std::vector<std::vector<const CellSample*>> usableCellsByBin(const AzimuthBins& 
 std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& id,
                                         const CellSliceRule& rule) {
   if (id.kind == SliceKind::Point)
-    throw std::invalid_argument("slice " + toString(id) + ": a point slice has no bins");
+    throw CaptureError("slice " + toString(id) + ": a point slice has no bins");
   const std::vector<std::vector<const CellSample*>> cellsOfBin = usableCellsByBin(bins, id.kind);
   std::vector<SliceSample> out;
   for (int b = 0; b < bins.binCount(); ++b) {

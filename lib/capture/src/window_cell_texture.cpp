@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/core/grid.hpp"
 
 namespace slicecap::capture {
@@ -213,7 +214,7 @@ AzimuthBins withCellsNormalised(const AzimuthBins& bins, const std::vector<Rgb>&
     for (FrameSample frame : bins.samplesIn(b)) {
       if (frame.cells) {
         if (frame.cells->cells.size() != factors.size())
-          throw std::invalid_argument("window cells: a frame of " +
+          throw CaptureError("window cells: a frame of " +
                                       std::to_string(frame.cells->cells.size()) + " cells for " +
                                       std::to_string(factors.size()) + " albedo factors");
         for (std::size_t k = 0; k < factors.size(); ++k)

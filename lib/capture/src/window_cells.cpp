@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/core/grid.hpp"
 
 namespace slicecap::capture {
@@ -19,10 +20,10 @@ std::array<double, 2> cellCentreMm(const WindowCells& cells, int index) {
 void placeCellDirections(WindowCells& cells) {
   const int n = cells.cellsPerSide;
   if (n < 1 || cells.cells.size() != std::size_t(n) * std::size_t(n))
-    throw std::invalid_argument("window cells: " + std::to_string(cells.cells.size()) +
-                                " cells for " + std::to_string(n) + " per side");
+    throw CaptureError("window cells: " + std::to_string(cells.cells.size()) +
+                       " cells for " + std::to_string(n) + " per side");
   if (!(cells.lightMm[2] > 0.0) || !(cells.cameraMm[2] > 0.0))
-    throw std::invalid_argument("window cells: the light and the camera must be above the target");
+    throw CaptureError("window cells: the light and the camera must be above the target");
   for (int k = 0; k < n * n; ++k) {
     const auto [x, y] = cellCentreMm(cells, k);
     CellSample& cell = cells.cells[std::size_t(k)];

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "slicecap/cli/args.hpp"
+#include "slicecap/cli/command_error.hpp"
 #include "slicecap/io/table_file.hpp"
 #include "slicecap/models/reflectance_model.hpp"
 
@@ -43,9 +44,9 @@ std::vector<MaterialSource> resolveMaterials(const std::vector<std::string>& arg
     if (argument.rfind("builtin:", 0) == 0) {
       if (argument != "builtin:anisotropic" && argument != "builtin:isotropic" &&
           argument != "builtin:all") {
-        throw std::runtime_error(argument +
-                                 ": not a material group (builtin:anisotropic, builtin:isotropic, "
-                                 "builtin:all)");
+        throw CommandError(argument +
+                           ": not a material group (builtin:anisotropic, builtin:isotropic, "
+                           "builtin:all)");
       }
     } else if (std::filesystem::is_directory(path)) {
       std::vector<std::filesystem::path> files;
@@ -53,7 +54,7 @@ std::vector<MaterialSource> resolveMaterials(const std::vector<std::string>& arg
         if (entry.is_regular_file() && isTableFile(entry.path())) files.push_back(entry.path());
       }
       if (files.empty())
-        throw std::runtime_error(argument + ": folder holds no .exr or .f32 table");
+        throw CommandError(argument + ": folder holds no .exr or .f32 table");
       std::sort(files.begin(), files.end());
       for (const auto& file : files)
         sources.push_back(fromFile(file));
@@ -62,9 +63,9 @@ std::vector<MaterialSource> resolveMaterials(const std::vector<std::string>& arg
     } else if (const auto model = models::findMaterial(argument)) {
       sources.push_back(fromModel({argument, model}));
     } else {
-      throw std::runtime_error(argument +
-                               ": no such file, folder or built-in material (see slicecap "
-                               "generate --list)");
+      throw CommandError(argument +
+                         ": no such file, folder or built-in material (see slicecap "
+                         "generate --list)");
     }
   }
   // Rows, means and sheets (NAME.png) are by name: one material twice would count twice in the

@@ -19,7 +19,7 @@ struct MaterialSource {
 
 /// \brief Each argument is a table file (.exr, .f32), a folder (its .exr and .f32 files, sorted
 /// by name), a built-in material name, or builtin:anisotropic, builtin:isotropic, builtin:all.
-/// Throws std::runtime_error naming an argument that is none of these, and UsageError naming a
+/// Throws CommandError naming an argument that is none of these, and UsageError naming a
 /// material that two arguments give (the same name twice), before anything runs.
 std::vector<MaterialSource> resolveMaterials(const std::vector<std::string>& arguments);
 

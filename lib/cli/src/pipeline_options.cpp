@@ -24,7 +24,7 @@ capture::PipelineSettings pipelineSettingsOf(const ParsedArgs& args) {
   if (!(settings.elevationToleranceDeg > 0) || !(settings.maxPoseResidualPx > 0) ||
       settings.minMarkers < 2)
     throw UsageError("--elevation-tolerance and --max-residual must be > 0, --min-markers >= 2");
-  // The detector refuses (std::invalid_argument) what the library would crash on; as an option
+  // The detector refuses (capture::CaptureError) what the library would crash on; as an option
   // that is bad usage, said here with the range.
   const float decimation = settings.detector.decimation;
   if (!(decimation >= capture::kMinDecimation && decimation <= capture::kMaxDecimation))

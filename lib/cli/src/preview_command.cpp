@@ -6,6 +6,7 @@
 #include "eval_materials.hpp"
 #include "path_clash.hpp"
 #include "slicecap/cli/command.hpp"
+#include "slicecap/cli/command_error.hpp"
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/png_image.hpp"
@@ -41,7 +42,7 @@ int run(const ParsedArgs& args, Streams& io) {
                 maximum);
   lines.push_back(line);
   if (!(maximum > 0.0))
-    throw std::runtime_error(source.origin + ": the table has no positive value to show");
+    throw CommandError(source.origin + ": the table has no positive value to show");
   io::writePng(output, render::previewSheet(source.name, lines, table).toPng());
   io.out << "wrote " << output.string() << "\n";
   return 0;

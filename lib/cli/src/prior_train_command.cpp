@@ -6,6 +6,7 @@
 
 #include "path_clash.hpp"
 #include "slicecap/cli/command.hpp"
+#include "slicecap/cli/command_error.hpp"
 #include "slicecap/io/table_file.hpp"
 #include "slicecap/prior/prior_model.hpp"
 
@@ -20,7 +21,7 @@ int run(const ParsedArgs& args, Streams& io) {
   const std::filesystem::path folder = args.positional[0];
   const std::string prefix = args.value("prefix").value_or("");
   if (!std::filesystem::is_directory(folder))
-    throw std::runtime_error(folder.string() + ": not a folder");
+    throw CommandError(folder.string() + ": not a folder");
   std::vector<std::filesystem::path> files;
   for (const auto& entry : std::filesystem::directory_iterator(folder)) {
     const std::string name = entry.path().filename().string();
@@ -29,8 +30,8 @@ int run(const ParsedArgs& args, Streams& io) {
   }
   std::sort(files.begin(), files.end());
   if (files.empty())
-    throw std::runtime_error(folder.string() + ": no .f32 tables" +
-                             (prefix.empty() ? "" : " starting with '" + prefix + "'"));
+    throw CommandError(folder.string() + ": no .f32 tables" +
+                       (prefix.empty() ? "" : " starting with '" + prefix + "'"));
   const std::filesystem::path output = args.required("output");
   std::vector<NamedPath> inputs;
   for (const auto& f : files)

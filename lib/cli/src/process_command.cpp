@@ -14,6 +14,7 @@
 #include "slicecap/capture/recording_processor.hpp"
 #include "slicecap/capture/window_cells.hpp"
 #include "slicecap/cli/command.hpp"
+#include "slicecap/cli/command_error.hpp"
 #include "slicecap/methods/method_fallback.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/file_replacement.hpp"
@@ -130,7 +131,7 @@ void refuseNoSamples(const Processed& processed, const std::optional<std::string
     for (const std::string& reason : processed.withoutSamples)
       message += "\n  " + reason;
     if (reportPath) message += "\n  (every frame's reason is in " + *reportPath + ")";
-    throw std::runtime_error(message);
+    throw CommandError(message);
   }
   for (const std::string& reason : processed.withoutSamples)
     io.err << "warning: no sample from " << reason << "\n";

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "slicecap/core/angles.hpp"
+#include "slicecap/core/core_error.hpp"
 
 namespace slicecap {
 
@@ -17,7 +18,7 @@ UnitVector toUnitVector(const Direction& direction) {
 
 Direction toDirection(const UnitVector& v) {
   const double length = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
-  if (!(length > 0.0)) throw std::invalid_argument("toDirection: zero-length vector");
+  if (!(length > 0.0)) throw CoreError("toDirection: zero-length vector");
   const double z = std::clamp(v.z / length, -1.0, 1.0);
   const double thetaDeg = radToDeg(std::acos(z));
   const double phiDeg =
@@ -42,7 +43,7 @@ std::optional<int> ringOfElevation(double thetaDeg) {
 const Ring& ringAt(int thetaDeg) {
   const auto ring = ringOfElevation(thetaDeg);
   if (!ring) {
-    throw std::invalid_argument("no Bonn ring at elevation " + std::to_string(thetaDeg) + " deg");
+    throw CoreError("no Bonn ring at elevation " + std::to_string(thetaDeg) + " deg");
   }
   return kRings[*ring];
 }
@@ -76,8 +77,8 @@ const std::array<double, kDirectionCount>& cosines() {
 int indexOf(const Direction& d) {
   const auto ringNumber = ringOfElevation(d.thetaDeg);
   auto fail = [&] {
-    return std::invalid_argument("direction (theta " + std::to_string(d.thetaDeg) + ", phi " +
-                                 std::to_string(d.phiDeg) + ") deg is not on the Bonn grid");
+    return CoreError("direction (theta " + std::to_string(d.thetaDeg) + ", phi " +
+                     std::to_string(d.phiDeg) + ") deg is not on the Bonn grid");
   };
   if (!ringNumber) throw fail();
   const Ring& ring = kRings[*ringNumber];

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "slicecap/core/angles.hpp"
+#include "slicecap/core/core_error.hpp"
 
 namespace slicecap {
 
@@ -21,9 +22,9 @@ std::array<DirectionTap, 2> ringAzimuthTaps(const Ring& ring, double phiDeg) {
 std::vector<DirectionTap> directionTaps(const Direction& direction) {
   if (!std::isfinite(direction.thetaDeg) || !std::isfinite(direction.phiDeg) ||
       direction.thetaDeg < 0.0) {
-    throw std::invalid_argument("direction (theta " + std::to_string(direction.thetaDeg) +
-                                ", phi " + std::to_string(direction.phiDeg) +
-                                ") deg is not on the upper hemisphere");
+    throw CoreError("direction (theta " + std::to_string(direction.thetaDeg) +
+                    ", phi " + std::to_string(direction.phiDeg) +
+                    ") deg is not on the upper hemisphere");
   }
   const auto& rings = bonn::kRings;
   int upper = 1;

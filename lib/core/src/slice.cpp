@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "slicecap/core/angles.hpp"
+#include "slicecap/core/core_error.hpp"
 
 namespace slicecap {
 
@@ -38,12 +39,12 @@ std::string folderName(const SliceId& id) {
 }
 
 double sliceParameterDeg(SliceKind kind, const SliceSample& sample) {
-  if (kind == SliceKind::Point) throw std::invalid_argument("a point sample lies on no slice");
+  if (kind == SliceKind::Point) throw CoreError("a point sample lies on no slice");
   return wrapDeg360(kind == SliceKind::Axial ? sample.light.phiDeg : sample.view.phiDeg);
 }
 
 AzimuthPair slicePoint(SliceKind kind, double parameterDeg) {
-  if (kind == SliceKind::Point) throw std::invalid_argument("a point sample lies on no slice");
+  if (kind == SliceKind::Point) throw CoreError("a point sample lies on no slice");
   if (kind == SliceKind::Axial) {
     return {wrapDeg360(parameterDeg), wrapDeg360(parameterDeg + kAxialOffsetDeg)};
   }
@@ -61,8 +62,8 @@ void SliceSet::addCellSample(const SliceId& id, const SliceSample& sample) {
   auto it = std::lower_bound(slices_.begin(), slices_.end(), id,
                              [](const Slice& s, const SliceId& key) { return s.id < key; });
   if (it == slices_.end() || it->id != id)
-    throw std::invalid_argument("slice " + toString(id) +
-                                ": a cell sample for a slice without samples");
+    throw CoreError("slice " + toString(id) +
+                    ": a cell sample for a slice without samples");
   it->cellSamples.push_back(sample);
 }
 

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "slicecap/core/core_error.hpp"
+
 namespace slicecap {
 namespace {
 
@@ -35,7 +37,7 @@ double srgbEncode(double linear) {
 ToneCurve::ToneCurve(std::string name, std::vector<std::pair<double, double>> points)
     : name_(std::move(name)), points_(std::move(points)) {
   const auto fail = [this](const std::string& why) {
-    throw std::invalid_argument("tone curve '" + name_ + "': " + why);
+    throw CoreError("tone curve '" + name_ + "': " + why);
   };
   if (points_.size() < 2) fail("needs at least two points");
   if (points_.front() != std::pair<double, double>{0.0, 0.0})

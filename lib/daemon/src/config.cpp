@@ -31,7 +31,7 @@ double positiveNumber(const std::string& value, const std::string& what) {
   const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), number);
   if (ec != std::errc() || end != value.data() + value.size() || !std::isfinite(number) ||
       number <= 0.0) {
-    throw std::invalid_argument("'" + value + "' is not " + what);
+    throw ConfigError("'" + value + "' is not " + what);
   }
   return number;
 }
@@ -40,8 +40,8 @@ int wholeNumber(const std::string& value, int lo, int hi, const std::string& wha
   int number = 0;
   const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), number);
   if (ec != std::errc() || end != value.data() + value.size() || number < lo || number > hi)
-    throw std::invalid_argument("'" + value + "' is not a whole number in " + std::to_string(lo) +
-                                ".." + std::to_string(hi) + " (" + what + ")");
+    throw ConfigError("'" + value + "' is not a whole number in " + std::to_string(lo) +
+                      ".." + std::to_string(hi) + " (" + what + ")");
   return number;
 }
 
@@ -50,14 +50,14 @@ double numberIn(const std::string& value, double lo, double hi, const std::strin
   const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), number);
   if (value.empty() || ec != std::errc() || end != value.data() + value.size() ||
       !(number >= lo && number <= hi))
-    throw std::invalid_argument("'" + value + "' is not " + what);
+    throw ConfigError("'" + value + "' is not " + what);
   return number;
 }
 
 bool boolean(const std::string& value) {
   if (value == "true" || value == "yes" || value == "1") return true;
   if (value == "false" || value == "no" || value == "0") return false;
-  throw std::invalid_argument("'" + value + "' is not true or false");
+  throw ConfigError("'" + value + "' is not true or false");
 }
 
 using Setter = std::function<void(DaemonConfig&, const std::string&)>;
@@ -78,18 +78,18 @@ std::vector<SetterEntry> cameraSetters() {
        else if (v == "model")
          c.camera = DaemonConfig::CameraKind::Model;
        else
-         throw std::invalid_argument("'" + v + "' is not libcamera, v4l2, file or model");
+         throw ConfigError("'" + v + "' is not libcamera, v4l2, file or model");
      }},
     {"camera_device", [](DaemonConfig& c, const std::string& v) { c.cameraDevice = v; }},
     {"camera_recording", [](DaemonConfig& c, const std::string& v) { c.recording = v; }},
     {"resolution",
      [](DaemonConfig& c, const std::string& v) {
        const auto x = v.find('x');
-       if (x == std::string::npos) throw std::invalid_argument("'" + v + "' is not WIDTHxHEIGHT");
+       if (x == std::string::npos) throw ConfigError("'" + v + "' is not WIDTHxHEIGHT");
        const double w = positiveNumber(v.substr(0, x), "a width"),
                     h = positiveNumber(v.substr(x + 1), "a height");
        if (w != std::floor(w) || h != std::floor(h) || w > 8192 || h > 8192 || w < 64 || h < 64) {
-         throw std::invalid_argument("'" + v + "' must be whole pixels between 64 and 8192");
+         throw ConfigError("'" + v + "' must be whole pixels between 64 and 8192");
        }
        c.widthPx = int(w);
        c.heightPx = int(h);
@@ -119,8 +119,8 @@ std::vector<SetterEntry> cameraSetters() {
        if (v == "50" || v == "60" || v == "0")
          c.mainsHz = std::stoi(v);
        else
-         throw std::invalid_argument("'" + v + "' is not 50, 60 or 0 (the mains frequency of the " +
-                                     "room's lights in Hz; 0: do not pin the frame duration)");
+         throw ConfigError("'" + v + "' is not 50, 60 or 0 (the mains frequency of the " +
+                           "room's lights in Hz; 0: do not pin the frame duration)");
      }},
   };
 }
@@ -133,7 +133,7 @@ std::vector<SetterEntry> sensorSetters() {
        char* end = nullptr;
        const double noise = std::strtod(v.c_str(), &end);
        if (v.empty() || *end != '\0' || !(noise >= 0 && noise < 0.5))
-         throw std::invalid_argument("'" + v + "' is not a read noise in 0..0.5 of full scale");
+         throw ConfigError("'" + v + "' is not a read noise in 0..0.5 of full scale");
        c.sensorReadNoise = noise;
      }},
     {"sensor_full_well_electrons",
@@ -148,7 +148,7 @@ std::vector<SetterEntry> sensorSetters() {
     {"camera_raw",
      [](DaemonConfig& c, const std::string& v) {
        const std::optional<hal::RawCapture> raw = hal::parseRawCapture(v);
-       if (!raw) throw std::invalid_argument("'" + v + "' is not auto, on or off");
+       if (!raw) throw ConfigError("'" + v + "' is not auto, on or off");
        c.cameraRaw = *raw;
      }},
     {"tuning_file",
@@ -156,7 +156,7 @@ std::vector<SetterEntry> sensorSetters() {
        // A path is read and checked at start-up (slicecapd), where a bad file is refused.
        const std::optional<hal::TuningFileSetting> setting = hal::parseTuningFileSetting(v);
        if (!setting)
-         throw std::invalid_argument("'' is not auto, off or a tuning file's path");
+         throw ConfigError("'' is not auto, off or a tuning file's path");
        c.tuningFile = *setting;
      }},
   };
@@ -168,16 +168,16 @@ std::vector<SetterEntry> modelCameraSetters() {
     {"model_raw",
      [](DaemonConfig& c, const std::string& v) {
        if (!v.empty() && !hal::bayerFormatFromLibcameraName(v))
-         throw std::invalid_argument("'" + v + "' is not a RAW format slicecap decodes (" +
-                                     "SRGGB10_CSI2P, SBGGR12, ...: S + the CFA order + 10, 12 " +
-                                     "or 16 bits, _CSI2P for 10 or 12 packed)");
+         throw ConfigError("'" + v + "' is not a RAW format slicecap decodes (" +
+                           "SRGGB10_CSI2P, SBGGR12, ...: S + the CFA order + 10, 12 " +
+                           "or 16 bits, _CSI2P for 10 or 12 packed)");
        c.modelRaw = v;
      }},
     {"model_material", [](DaemonConfig& c, const std::string& v) { c.modelMaterial = v; }},
     {"model_rig",
      [](DaemonConfig& c, const std::string& v) {
        if (v != "realistic" && v != "ideal")
-         throw std::invalid_argument("'" + v + "' is not realistic or ideal");
+         throw ConfigError("'" + v + "' is not realistic or ideal");
        c.modelRealistic = v == "realistic";
      }},
     {"model_sweep_seconds",
@@ -191,7 +191,7 @@ std::vector<SetterEntry> modelCameraSetters() {
     {"model_tone_curve",
      [](DaemonConfig& c, const std::string& v) {
        if (v != "imx708" && v != "srgb" && v != "linear")
-         throw std::invalid_argument("'" + v + "' is not imx708, srgb or linear");
+         throw ConfigError("'" + v + "' is not imx708, srgb or linear");
        c.modelToneCurve = v;
      }},
     {"model_seed",
@@ -206,7 +206,7 @@ std::vector<SetterEntry> modelCameraSetters() {
      [](DaemonConfig& c, const std::string& v) {
        const double hz = numberIn(v, 0.0, 1000.0, "a frequency in Hz, 0 or 1..1000");
        if (hz > 0.0 && hz < 1.0)
-         throw std::invalid_argument("'" + v + "' is not a frequency in Hz, 0 or 1..1000");
+         throw ConfigError("'" + v + "' is not a frequency in Hz, 0 or 1..1000");
        c.modelFlickerHz = hz;
      }},
     {"model_flicker_depth",
@@ -215,7 +215,7 @@ std::vector<SetterEntry> modelCameraSetters() {
      }},
     {"model_pipeline",
      [](DaemonConfig& c, const std::string& v) {
-       if (!hal::parseModelPipeline(v)) throw std::invalid_argument("'" + v + "' is not vc4 or pisp");
+       if (!hal::parseModelPipeline(v)) throw ConfigError("'" + v + "' is not vc4 or pisp");
        c.modelPipeline = v;
      }},
     {"model_adaptive_contrast",
@@ -223,13 +223,13 @@ std::vector<SetterEntry> modelCameraSetters() {
     {"model_colour_matrix",
      [](DaemonConfig& c, const std::string& v) {
        if (v != "imx708" && v != "identity")
-         throw std::invalid_argument("'" + v + "' is not imx708 or identity");
+         throw ConfigError("'" + v + "' is not imx708 or identity");
        c.modelColourMatrix = v;
      }},
     {"model_stream",
      [](DaemonConfig& c, const std::string& v) {
        if (v != "rgb" && v != "rec709" && v != "sycc")
-         throw std::invalid_argument("'" + v + "' is not rgb, rec709 or sycc");
+         throw ConfigError("'" + v + "' is not rgb, rec709 or sycc");
        c.modelStream = v;
      }},
     {"model_temporal_denoise",
@@ -243,7 +243,7 @@ std::vector<SetterEntry> modelCameraSetters() {
     {"model_lock_counting",
      [](DaemonConfig& c, const std::string& v) {
        if (v != "request" && v != "truth")
-         throw std::invalid_argument("'" + v + "' is not request or truth");
+         throw ConfigError("'" + v + "' is not request or truth");
        c.modelLocksCountedByRequest = v == "request";
      }},
   };
@@ -266,7 +266,7 @@ std::vector<SetterEntry> ledSetters() {
        char* end = nullptr;
        const double guard = std::strtod(v.c_str(), &end);
        if (v.empty() || *end != '\0' || !(guard >= 0 && guard <= 10000))
-         throw std::invalid_argument("'" + v + "' is not a number of microseconds in 0..10000");
+         throw ConfigError("'" + v + "' is not a number of microseconds in 0..10000");
        c.ledGuardUs = guard;
      }},
     {"led_log", [](DaemonConfig& c, const std::string& v) { c.ledLog = v; }},
@@ -328,7 +328,7 @@ DaemonConfig parseDaemonConfig(std::istream& in, const std::string& sourceName) 
     if (!seen.insert(key).second) throw ConfigError(where + key + ": set twice");
     try {
       setter->second(config, value);
-    } catch (const std::invalid_argument& e) {
+    } catch (const ConfigError& e) {
       throw ConfigError(where + key + ": " + e.what());
     }
   }

@@ -9,6 +9,8 @@
 #include <optional>
 #include <thread>
 
+#include "slicecap/daemon/slicecapd_error.hpp"
+
 namespace slicecap::daemon {
 
 struct FrameRecorder::State {
@@ -46,7 +48,7 @@ struct FrameRecorder::State {
       writer.emplace(io::RecordingWriter::resume(directory));
       const io::Recording& held = writer->recording();
       if (held.encoding != first.encoding)
-        throw std::invalid_argument(
+        throw SlicecapdError(
             directory.string() + " holds " + std::string(toString(held.encoding)) +
             " frames; the camera now delivers " + std::string(toString(first.encoding)));
       const io::RecordedDecoding heldDecoding =
@@ -55,7 +57,7 @@ struct FrameRecorder::State {
         return d.black16 != 0 ? " above a black of " + std::to_string(d.black16) : std::string();
       };
       if (wanted && !(*wanted == heldDecoding))
-        throw std::invalid_argument(
+        throw SlicecapdError(
             directory.string() + " holds frames decoded as " + io::toString(heldDecoding.kind) +
             (heldDecoding.curve ? " (an earlier bracket's curve)" : "") + black(heldDecoding) +
             "; this sweep run decodes as " + io::toString(wanted->kind) +

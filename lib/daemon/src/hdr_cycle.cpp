@@ -5,18 +5,26 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "slicecap/daemon/slicecapd_error.hpp"
+
 namespace slicecap::daemon {
+
+std::optional<std::string> HdrCycle::refusal(const hal::ExposureSetting& longest,
+                                             const HdrCycleParams& params) {
+  if (params.levels < 2 || params.levels > kMaxHdrLevels)
+    return "HDR: a cycle has 2 to " + std::to_string(kMaxHdrLevels) + " levels, not " +
+           std::to_string(params.levels);
+  if (!(params.stepRatio > 1.0) || params.pairsPerLevel < 1 || !(params.shortenOnClip > 1.0))
+    return "HDR: the cycle needs a step ratio and shortening above 1 and a pair per level";
+  if (!(longest.exposureUs > params.minExposureUs))
+    return "HDR: the sweep's exposure (" + std::to_string(longest.exposureUs) +
+           " us) leaves no room for a shorter level";
+  return std::nullopt;
+}
 
 HdrCycle::HdrCycle(hal::ExposureSetting longest, HdrCycleParams params)
     : params_(params), gain_(longest.gain) {
-  if (params_.levels < 2 || params_.levels > kMaxHdrLevels)
-    throw std::invalid_argument("HDR: a cycle has 2 to " + std::to_string(kMaxHdrLevels) +
-                                " levels, not " + std::to_string(params_.levels));
-  if (!(params_.stepRatio > 1.0) || params_.pairsPerLevel < 1 || !(params_.shortenOnClip > 1.0))
-    throw std::invalid_argument("HDR: the cycle needs a step ratio and shortening above 1 and a pair per level");
-  if (!(longest.exposureUs > params_.minExposureUs))
-    throw std::invalid_argument("HDR: the sweep's exposure (" + std::to_string(longest.exposureUs) +
-                                " us) leaves no room for a shorter level");
+  if (const std::optional<std::string> why = refusal(longest, params_)) throw SlicecapdError(*why);
   double exposureUs = longest.exposureUs;
   for (int k = 0; k < params_.levels; ++k) {
     levelsUs_.push_back(exposureUs);

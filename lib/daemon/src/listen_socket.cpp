@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 #include <sys/un.h>
 #include "sd_daemon.hpp"
+#include "slicecap/daemon/slicecapd_error.hpp"
 #include <unistd.h>
 
 #include <cerrno>
@@ -18,16 +19,16 @@
 namespace slicecap::daemon {
 namespace {
 
-std::runtime_error socketError(const std::filesystem::path& path, const std::string& what) {
-  return std::runtime_error(path.string() + ": " + what + ": " + std::strerror(errno));
+SlicecapdError socketError(const std::filesystem::path& path, const std::string& what) {
+  return SlicecapdError(path.string() + ": " + what + ": " + std::strerror(errno));
 }
 
 sockaddr_un socketAddress(const std::filesystem::path& path) {
   sockaddr_un address{};
   address.sun_family = AF_UNIX;
   if (path.native().size() >= sizeof address.sun_path)
-    throw std::runtime_error(path.string() + ": socket path longer than " +
-                             std::to_string(sizeof address.sun_path - 1) + " bytes");
+    throw SlicecapdError(path.string() + ": socket path longer than " +
+                         std::to_string(sizeof address.sun_path - 1) + " bytes");
   std::strcpy(address.sun_path, path.c_str());
   return address;
 }
@@ -63,20 +64,20 @@ void refuseOccupiedPath(const std::filesystem::path& path) {
   struct stat existing {};
   if (::lstat(path.c_str(), &existing) == 0) {
     if (!S_ISSOCK(existing.st_mode))
-      throw std::runtime_error(path.string() + ": exists and is not a socket");
+      throw SlicecapdError(path.string() + ": exists and is not a socket");
     if (socketIsLive(address))
-      throw std::runtime_error(path.string() + ": another daemon is listening there");
+      throw SlicecapdError(path.string() + ": another daemon is listening there");
     // A stale one: the rename below replaces it.
   }
 }
 
 // A listening socket bound as `bound` in `privateFolder`, given the mode and group of `spec`
 // there, then renamed to `spec.path`; on failure the descriptor, the node and the folder are
-// removed and std::runtime_error names the path.
+// removed and SlicecapdError names the path.
 int listenFromPrivateFolder(const ListenSpec& spec, const std::string& privateFolder,
                             const std::filesystem::path& bound) {
   int fd = -1;
-  const auto fail = [&](std::runtime_error error) {
+  const auto fail = [&](SlicecapdError error) {
     if (fd >= 0) ::close(fd);
     fd = -1;
     ::unlink(bound.c_str());
@@ -95,8 +96,8 @@ int listenFromPrivateFolder(const ListenSpec& spec, const std::string& privateFo
   if (spec.group) {
     const struct group* g = ::getgrnam(spec.group->c_str());
     if (!g)
-      throw fail(std::runtime_error(spec.path.string() + ": socket_group " + *spec.group +
-                                    " does not exist"));
+      throw fail(SlicecapdError(spec.path.string() + ": socket_group " + *spec.group +
+                                " does not exist"));
     if (::chown(bound.c_str(), uid_t(-1), g->gr_gid) != 0)
       throw fail(socketError(spec.path, "cannot give the socket to group " + *spec.group));
   }
@@ -129,7 +130,7 @@ ListenSocket::ListenSocket(const ListenSpec& spec) {
     group_ = passedSocketGroup(fd_);
     return;
   }
-  if (const auto problem = socketPathProblem(spec.path)) throw std::runtime_error(*problem);
+  if (const auto problem = socketPathProblem(spec.path)) throw SlicecapdError(*problem);
   refuseOccupiedPath(spec.path);
   // Bound where only this uid can reach it (mkdtemp makes a 0700 folder, whatever the umask), given
   // its mode and group there, then renamed into place: a chmod after binding at the path itself

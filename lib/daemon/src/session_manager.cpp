@@ -9,6 +9,7 @@
 #include "isotropy_cache.hpp"
 #include "next_step.hpp"
 #include "session_report.hpp"
+#include "slicecap/capture/capture_error.hpp"
 #include "slicecap/core/session_id.hpp"
 #include "slicecap/core/version.hpp"
 #include "slicecap/daemon/control_server.hpp"
@@ -348,7 +349,7 @@ bool SessionManager::acceptSample(const capture::FrameSample& sample) {
                          startCommand(state_->sweep->slice) + "` continues");
     state_->lastError = error.what();
     return false;
-  } catch (const std::invalid_argument& error) {
+  } catch (const capture::CaptureError& error) {
     // A sample the journal could not replay (an HDR reading that is not finite, say): that frame
     // is lost, counted as bad_frame and logged; the sweep and its other samples go on.
     std::cerr << "slicecapd: a sample was not recorded: " << error.what() << "\n";

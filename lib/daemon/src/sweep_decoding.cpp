@@ -6,6 +6,8 @@
 #include <stdexcept>
 
 #include "slicecap/io/target_json.hpp"
+#include "slicecap/daemon/config.hpp"
+#include "slicecap/daemon/slicecapd_error.hpp"
 
 namespace slicecap::daemon {
 namespace {
@@ -32,7 +34,7 @@ DecodingMode decodingModeFromString(const std::string& value) {
   if (value == "auto") return DecodingMode::Auto;
   if (value == "measured-curve") return DecodingMode::MeasuredCurve;
   if (value == "srgb") return DecodingMode::Srgb;
-  throw std::invalid_argument("'" + value + "' is not auto, measured-curve or srgb");
+  throw ConfigError("'" + value + "' is not auto, measured-curve or srgb");
 }
 
 nlohmann::json toJson(const SweepDecoding& d, const std::string& cameraId) {
@@ -89,7 +91,7 @@ ResponseBracket::ResponseBracket(const hal::ExposureSetting& metered, std::uint3
                                  capture::BracketPlan plan, double maxExposureUs, double maxGain)
     : settings_(plan.settings(metered, maxExposureUs, maxGain)), locks_(locks) {
   std::string why;
-  if (!plan.isValid(&why)) throw std::invalid_argument("bracket plan: " + why);
+  if (!plan.isValid(&why)) throw SlicecapdError("bracket plan: " + why);
   settings_.push_back(metered);
 }
 

@@ -3,7 +3,8 @@
 
 #include <algorithm>
 #include <iostream>
-#include <stdexcept>
+#include <optional>
+#include <string>
 
 namespace slicecap::daemon {
 
@@ -25,14 +26,12 @@ void SweepHdr::start(const std::string& cameraId, const std::optional<hal::Expos
   };
   if (!locked) {
     oneExposure("the sweep's exposure is not locked");
+  } else if (const std::optional<std::string> why =
+                 HdrCycle::refusal(*locked, HdrCycleParams{.levels = levels_})) {
+    oneExposure(*why);  // a locked exposure too short to divide (HdrCycle names it)
   } else {
-    try {
-      cycle_.emplace(*locked, HdrCycleParams{.levels = levels_});
-      note_ = cycle_->summary();
-    } catch (const std::invalid_argument& error) {
-      // A locked exposure too short to divide (HdrCycle names it).
-      oneExposure(error.what());
-    }
+    cycle_.emplace(*locked, HdrCycleParams{.levels = levels_});
+    note_ = cycle_->summary();
   }
   std::cerr << "slicecapd: camera " << cameraId << ": " << note_ << "\n";
 }

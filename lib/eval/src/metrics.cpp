@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "slicecap/core/grid.hpp"
+#include "slicecap/eval/eval_error.hpp"
 
 namespace slicecap::eval {
 namespace {
@@ -78,7 +79,7 @@ std::array<unsigned char, Abrdf::kValueCount> encodePaper8Bit(const Abrdf& table
 
 Metrics compare(const Abrdf& reference, const Abrdf& test) {
   const double referenceMax = cosWeightedMaximum(reference);
-  if (!(referenceMax > 0.0)) throw std::invalid_argument("reference table has no positive value");
+  if (!(referenceMax > 0.0)) throw EvalError("reference table has no positive value");
   const auto ref8 = encodePaper8Bit(reference, referenceMax);
   const auto test8 = encodePaper8Bit(test, referenceMax);
 

@@ -14,6 +14,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "slicecap/fit/argument_error.hpp"
+
 namespace slicecap::fit::detail {
 namespace {
 
@@ -297,13 +299,13 @@ BoundedSolveSummary solveHoldingBounds(const ceres::CostFunction& cost,
                                        ceres::Solver::Options options) {
   const auto& sizes = cost.parameter_block_sizes();
   if (sizes.size() != blocks.size())
-    throw std::invalid_argument("solveHoldingBounds: the cost has " + std::to_string(sizes.size()) +
-                                " parameter blocks, " + std::to_string(blocks.size()) + " given");
+    throw FitArgumentError("solveHoldingBounds: the cost has " + std::to_string(sizes.size()) +
+                           " parameter blocks, " + std::to_string(blocks.size()) + " given");
   for (std::size_t b = 0; b < blocks.size(); ++b)
     if (blocks[b].size() != sizes[b] || blocks[b].upper.size() != blocks[b].lower.size() ||
         blocks[b].values == nullptr)
-      throw std::invalid_argument("solveHoldingBounds: block " + std::to_string(b) +
-                                  " does not match the cost's size " + std::to_string(sizes[b]));
+      throw FitArgumentError("solveHoldingBounds: block " + std::to_string(b) +
+                             " does not match the cost's size " + std::to_string(sizes[b]));
   const Rounds rounds(cost, blocks, options.function_tolerance);
   const int iterationBudget = options.max_num_iterations;
   const double firstRadius = options.initial_trust_region_radius;

@@ -58,7 +58,7 @@ bool denseJacobian(const ceres::CostFunction& cost, const std::vector<const doub
 /// inward and lowers the cost by more than function_tolerance of it (one such direction is let go
 /// per round); a direction that reaches a bound during a solve ends that solve and is held from
 /// there. At most 12 rounds; the last runs as plain Ceres. Never throws for a bad fit: see
-/// `converged`. Throws std::invalid_argument for blocks that do not match `cost`.
+/// `converged`. Throws FitArgumentError for blocks that do not match `cost`.
 BoundedSolveSummary solveHoldingBounds(const ceres::CostFunction& cost,
                                        std::vector<BoundedBlock>& blocks,
                                        ceres::Solver::Options options);

@@ -13,6 +13,7 @@
 #include "slicecap/core/angles.hpp"
 #include "start_solver.hpp"
 #include "table_check.hpp"
+#include "slicecap/fit/argument_error.hpp"
 
 namespace slicecap::fit {
 namespace {
@@ -343,7 +344,7 @@ bool addCoatCandidate(const Abrdf& table, const FitData& data, const FitData& sc
 FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOptions& options) {
   detail::requireBrdf(table, name);
   if (options.startTangentsDeg.empty() || options.maxIterations < 1)
-    throw std::invalid_argument("fitMaterial: needs at least one start and one iteration");
+    throw FitArgumentError("fitMaterial: needs at least one start and one iteration");
   const FitData data = detail::makeFitData(table);
   const FitData scoutData = detail::everyNthPair(data, kScoutStride);
 

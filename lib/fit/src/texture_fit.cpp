@@ -14,6 +14,7 @@
 
 #include "parameter_conversion.hpp"
 #include "slicecap/eval/metrics.hpp"
+#include "slicecap/fit/argument_error.hpp"
 #include "slicecap/fit/material_fit.hpp"
 #include "texel_data.hpp"
 #include "tilted_solver.hpp"
@@ -98,9 +99,9 @@ class TextureFitter {
     std::vector<Abrdf> tables;
     readRow_(row, tables);
     if (tables.size() != std::size_t(resolution_))
-      throw std::runtime_error("fitTexture: row " + std::to_string(row) + " has " +
-                               std::to_string(tables.size()) + " texels, not " +
-                               std::to_string(resolution_));
+      throw FitArgumentError("fitTexture: row " + std::to_string(row) + " has " +
+                             std::to_string(tables.size()) + " texels, not " +
+                             std::to_string(resolution_));
     std::optional<WarmStart> warm = startOfRow(row);
     for (int x = 0; x < resolution_ && !abort_; ++x) {
       TexelFit& out = result_.texels[std::size_t(row) * std::size_t(resolution_) + std::size_t(x)];
@@ -259,11 +260,11 @@ std::string_view toString(TexelStatus status) {
 
 TextureFitResult fitTexture(int resolution, const TexelRowReader& readRow,
                             const TextureFitOptions& options) {
-  if (resolution < 1) throw std::invalid_argument("fitTexture: resolution must be at least 1");
+  if (resolution < 1) throw FitArgumentError("fitTexture: resolution must be at least 1");
   if (options.threads < 1 || options.maxIterations < 1 || options.pairStride < 1 ||
       options.pairStride % 3 == 0 || !(options.warmAcceptFactor >= 1.0) ||
       !(options.warmTrustRegionRadius > 0.0))
-    throw std::invalid_argument(
+    throw FitArgumentError(
         "fitTexture: threads, iterations and pair stride must be >= 1 (the stride not a multiple "
         "of 3, which would see a third of the view directions), the accept factor >= 1");
   TextureFitter fitter(resolution, readRow, options);

@@ -8,6 +8,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "slicecap/hal/hal_error.hpp"
+
 namespace slicecap::hal {
 namespace {
 
@@ -280,15 +282,15 @@ Image decodeBayer(const BayerFrameView& raw, const BayerBlackLevels& black) {
 std::vector<std::uint8_t> packBayer(const BayerFormat& format, int widthPx, int heightPx,
                                     std::span<const std::uint16_t> codes, std::size_t strideBytes) {
   if (!isValidFormat(format))
-    throw std::invalid_argument("packBayer: " + bayerFormatName(format) + " is not a valid format");
+    throw HalError("packBayer: " + bayerFormatName(format) + " is not a valid format");
   if (widthPx <= 0 || heightPx <= 0 || codes.size() != std::size_t(widthPx) * heightPx)
-    throw std::invalid_argument("packBayer: " + std::to_string(codes.size()) + " codes for " +
-                                std::to_string(widthPx) + " x " + std::to_string(heightPx));
+    throw HalError("packBayer: " + std::to_string(codes.size()) + " codes for " +
+                   std::to_string(widthPx) + " x " + std::to_string(heightPx));
   const std::size_t minimal = minimalBayerStrideBytes(format, widthPx);
   if (strideBytes == 0) strideBytes = minimal;
   if (strideBytes < minimal)
-    throw std::invalid_argument("packBayer: stride " + std::to_string(strideBytes) +
-                                " below the minimal " + std::to_string(minimal));
+    throw HalError("packBayer: stride " + std::to_string(strideBytes) +
+                   " below the minimal " + std::to_string(minimal));
   std::vector<std::uint8_t> bytes(strideBytes * std::size_t(heightPx), 0);
   for (int y = 0; y < heightPx; ++y) {
     std::uint8_t* row = bytes.data() + std::size_t(y) * strideBytes;

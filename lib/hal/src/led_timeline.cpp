@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "slicecap/hal/hal_error.hpp"
+
 namespace slicecap::hal {
 
 const char* toString(LedExposure::State state) {
@@ -61,9 +63,9 @@ double LedExposure::onFraction(int row) const {
 void LedTimeline::record(std::int64_t timeUs, bool on) {
   std::lock_guard lock(mutex_);
   if (!changes_.empty() && timeUs < changes_.back().timeUs)
-    throw std::invalid_argument("LED timeline: a switch at " + std::to_string(timeUs) +
-                                " us is before the last one at " +
-                                std::to_string(changes_.back().timeUs) + " us");
+    throw HalError("LED timeline: a switch at " + std::to_string(timeUs) +
+                   " us is before the last one at " +
+                   std::to_string(changes_.back().timeUs) + " us");
   const bool current = changes_.empty() ? initiallyOn_ : changes_.back().on;
   if (current == on) return;
   changes_.push_back({timeUs, on});
@@ -144,7 +146,7 @@ TimelineLed::TimelineLed(std::unique_ptr<Led> inner, const Clock& clock,
       clock_(clock),
       timeline_(std::move(timeline)),
       switchDelayUs_(switchDelayUs) {
-  if (!inner_ || !timeline_) throw std::invalid_argument("TimelineLed needs an LED and a timeline");
+  if (!inner_ || !timeline_) throw HalError("TimelineLed needs an LED and a timeline");
 }
 
 void TimelineLed::set(bool on) {

@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "model_exposure.hpp"
+#include "slicecap/hal/hal_error.hpp"
 #include "slicecap/hal/model_isp_stage.hpp"
 
 namespace slicecap::hal {
@@ -247,13 +248,13 @@ ModelCamera::ModelCamera(std::shared_ptr<SceneSource> scene,
                          std::shared_ptr<const LedTimeline> ledLight, Clock& clock,
                          SensorModel model) {
   std::string why;
-  if (!scene || !ledLight) throw std::invalid_argument("model camera: needs a scene and an LED");
-  if (!model.isValid(&why)) throw std::invalid_argument("model camera: " + why);
+  if (!scene || !ledLight) throw HalError("model camera: needs a scene and an LED");
+  if (!model.isValid(&why)) throw HalError("model camera: " + why);
   state_ = std::make_unique<State>(std::move(scene), std::move(ledLight), clock, std::move(model));
   if (state_->model.realTime) {
     state_->timerFd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
     if (state_->timerFd < 0)
-      throw std::runtime_error("model camera: timerfd_create: " + std::string(std::strerror(errno)));
+      throw HalError("model camera: timerfd_create: " + std::string(std::strerror(errno)));
   }
 }
 

@@ -3,6 +3,8 @@
 
 #include <stdexcept>
 
+#include "slicecap/hwcheck/hardware_check_error.hpp"
+
 namespace slicecap::hwcheck {
 
 CheckRig::CheckRig(hal::Camera& camera, hal::Led& led, hal::Clock& clock)
@@ -30,11 +32,11 @@ std::optional<SeenFrame> CheckRig::next(std::chrono::milliseconds timeout) {
     case hal::CaptureResult::Status::Timeout:
       return std::nullopt;
     case hal::CaptureResult::Status::EndOfStream:
-      throw std::runtime_error(camera_.id() + ": the camera's stream ended during the check");
+      throw HardwareCheckError(camera_.id() + ": the camera's stream ended during the check");
     case hal::CaptureResult::Status::Error:
       break;
   }
-  throw std::runtime_error(camera_.id() + ": " + result.error);
+  throw HardwareCheckError(camera_.id() + ": " + result.error);
 }
 
 std::vector<SeenFrame> CheckRig::collect(std::int64_t durationUs) {
@@ -44,7 +46,7 @@ std::vector<SeenFrame> CheckRig::collect(std::int64_t durationUs) {
     std::optional<SeenFrame> seen = next(std::chrono::milliseconds(1000));
     if (!seen) {
       if (!frames.empty() && clock_.nowUs() >= endUs) break;
-      throw std::runtime_error(camera_.id() + ": no frame for a second");
+      throw HardwareCheckError(camera_.id() + ": no frame for a second");
     }
     frames.push_back(std::move(*seen));
   }
@@ -61,14 +63,14 @@ SeenFrame CheckRig::lockAndWait(const hal::ExposureSetting& setting, int maxFram
                                 std::vector<SeenFrame>* before) {
   const hal::ExposureLock locked = lock(setting);
   if (!locked.locked)
-    throw std::runtime_error(camera_.id() + " refused an exposure lock: " + locked.reason);
+    throw HardwareCheckError(camera_.id() + " refused an exposure lock: " + locked.reason);
   for (int n = 0; n < maxFrames; ++n) {
     std::optional<SeenFrame> seen = next(std::chrono::milliseconds(1000));
-    if (!seen) throw std::runtime_error(camera_.id() + ": no frame for a second");
+    if (!seen) throw HardwareCheckError(camera_.id() + ": no frame for a second");
     if (seen->frame.metadata.exposureLocks >= locks_) return std::move(*seen);
     if (before) before->push_back(std::move(*seen));
   }
-  throw std::runtime_error(camera_.id() + ": no frame was taken under the exposure lock within " +
+  throw HardwareCheckError(camera_.id() + ": no frame was taken under the exposure lock within " +
                            std::to_string(maxFrames) + " frames");
 }
 

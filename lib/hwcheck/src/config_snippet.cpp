@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "slicecap/hwcheck/hardware_check.hpp"
+#include "slicecap/hwcheck/hardware_check_error.hpp"
 
 namespace slicecap::hwcheck {
 
@@ -27,12 +28,12 @@ void writeConfigFile(const std::string& path, const std::string& text, bool over
   std::string temp = (folder / ("." + target.filename().string() + ".XXXXXX")).string();
   const int fd = ::mkstemp(temp.data());
   if (fd < 0)
-    throw std::runtime_error(path + ": cannot create a file in " + folder.string() + ": " +
+    throw HardwareCheckError(path + ": cannot create a file in " + folder.string() + ": " +
                              std::strerror(errno));
   const auto fail = [&](const std::string& what) {
     const int saved = errno;
     ::unlink(temp.c_str());
-    throw std::runtime_error(path + ": " + what + ": " + std::strerror(saved));
+    throw HardwareCheckError(path + ": " + what + ": " + std::strerror(saved));
   };
   std::size_t written = 0;
   while (written < text.size()) {
@@ -57,7 +58,7 @@ void writeConfigFile(const std::string& path, const std::string& text, bool over
   if (::link(temp.c_str(), path.c_str()) != 0) {
     if (errno == EEXIST) {
       ::unlink(temp.c_str());
-      throw std::runtime_error(path + " exists: not overwritten (pass --overwrite, or choose "
+      throw HardwareCheckError(path + " exists: not overwritten (pass --overwrite, or choose "
                                "another file and merge its lines into slicecapd.conf)");
     }
     fail("cannot create");

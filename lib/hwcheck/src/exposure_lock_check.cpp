@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <numeric>
 
+#include "slicecap/hwcheck/hardware_check_error.hpp"
+
 namespace slicecap::hwcheck {
 namespace {
 
@@ -27,7 +29,7 @@ double brightness(const hal::Frame& frame, const WhiteRows* whites) {
 ExposureLockResult checkExposureLock(CheckRig& rig, const WhiteRows* whites, int maxFrames) {
   ExposureLockResult result;
   const std::optional<SeenFrame> before = rig.next(std::chrono::milliseconds(1000));
-  if (!before) throw std::runtime_error(rig.camera().id() + ": no frame for a second");
+  if (!before) throw HardwareCheckError(rig.camera().id() + ": no frame for a second");
   const hal::FrameMetadata& m0 = before->frame.metadata;
   result.reportsExposure = m0.exposureUs > 0.0;
   result.fromUs = m0.exposureUs;
@@ -54,7 +56,7 @@ ExposureLockResult checkExposureLock(CheckRig& rig, const WhiteRows* whites, int
   std::optional<std::uint64_t> firstAfterLock;
   for (int n = 0; n < maxFrames; ++n) {
     const std::optional<SeenFrame> seen = rig.next(std::chrono::milliseconds(1000));
-    if (!seen) throw std::runtime_error(rig.camera().id() + ": no frame for a second");
+    if (!seen) throw HardwareCheckError(rig.camera().id() + ": no frame for a second");
     const hal::FrameMetadata& m = seen->frame.metadata;
     if (m.timestampUs <= lockUs) continue;  // started before the lock: cannot have it
     if (!firstAfterLock) firstAfterLock = m.sequence;

@@ -14,6 +14,7 @@
 #include "slicecap/hwcheck/response_check.hpp"
 #include "slicecap/hwcheck/room_light_check.hpp"
 #include "slicecap/hwcheck/white_rows.hpp"
+#include "slicecap/vision/camera_scaling.hpp"
 
 namespace slicecap::hwcheck {
 namespace {
@@ -30,9 +31,7 @@ std::optional<vision::CameraModel> cameraModelFor(const vision::CameraModel& cal
                                                   const std::string& id, HardwareReport& report) {
   const vision::CameraIntrinsics& k = calibrated.intrinsics;
   if (k.widthPx == configured.widthPx && k.heightPx == configured.heightPx) return calibrated;
-  try {
-    return calibrated.scaledTo(configured.widthPx, configured.heightPx);
-  } catch (const std::invalid_argument&) {
+  if (vision::scalingProblem(calibrated, configured.widthPx, configured.heightPx)) {
     report.items.push_back(
         {"camera", Verdict::Fail,
          id + " delivers " + std::to_string(configured.widthPx) + " x " +
@@ -42,6 +41,7 @@ std::optional<vision::CameraModel> cameraModelFor(const vision::CameraModel& cal
              std::to_string(configured.widthPx) + " x " + std::to_string(configured.heightPx)});
     return std::nullopt;
   }
+  return calibrated.scaledTo(configured.widthPx, configured.heightPx);
 }
 
 // RAW is the best a camera can give: linear light with no ISP curve to measure.

@@ -7,6 +7,8 @@
 #include <map>
 #include <numeric>
 
+#include "slicecap/hwcheck/hardware_check_error.hpp"
+
 namespace slicecap::hwcheck {
 namespace {
 
@@ -33,9 +35,9 @@ std::vector<SeenFrame> settledFrames(CheckRig& rig, int count, double periodUs) 
   std::vector<SeenFrame> frames;
   for (int n = 0; int(frames.size()) < count; ++n) {
     if (n > 10 * count + 10)
-      throw std::runtime_error(rig.camera().id() + ": no settled frames after an LED switch");
+      throw HardwareCheckError(rig.camera().id() + ": no settled frames after an LED switch");
     std::optional<SeenFrame> seen = rig.next(std::chrono::milliseconds(1000));
-    if (!seen) throw std::runtime_error(rig.camera().id() + ": no frame for a second");
+    if (!seen) throw HardwareCheckError(rig.camera().id() + ": no frame for a second");
     if (double(seen->frame.metadata.timestampUs - switchedUs) > 2.0 * periodUs)
       frames.push_back(std::move(*seen));
   }
@@ -93,14 +95,14 @@ SeenFrame firstFrameAtExposure(CheckRig& rig, double exposureUs, double gain) {
   if (rig.lock({exposureUs, gain}).locked) {
     for (int n = 0; n < 20 && !first; ++n) {
       std::optional<SeenFrame> seen = rig.next(std::chrono::milliseconds(1000));
-      if (!seen) throw std::runtime_error(rig.camera().id() + ": no frame for a second");
+      if (!seen) throw HardwareCheckError(rig.camera().id() + ": no frame for a second");
       if (seen->frame.metadata.exposureLocks >= rig.locksMade()) first = std::move(seen);
     }
     if (!first)
-      throw std::runtime_error(rig.camera().id() + ": no frame taken under the exposure lock");
+      throw HardwareCheckError(rig.camera().id() + ": no frame taken under the exposure lock");
   } else {
     first = rig.next(std::chrono::milliseconds(1000));
-    if (!first) throw std::runtime_error(rig.camera().id() + ": no frame for a second");
+    if (!first) throw HardwareCheckError(rig.camera().id() + ": no frame for a second");
   }
   return std::move(*first);
 }
@@ -155,7 +157,7 @@ class SwitchPasses {
     }
     while (last_.frame.metadata.sequence < planned.back().frame + 3) {
       std::optional<SeenFrame> seen = rig_.next(std::chrono::milliseconds(1000));
-      if (!seen) throw std::runtime_error(rig_.camera().id() + ": no frame for a second");
+      if (!seen) throw HardwareCheckError(rig_.camera().id() + ": no frame for a second");
       keep(std::move(*seen));
     }
     for (const Planned& p : planned) recordTransition(p);

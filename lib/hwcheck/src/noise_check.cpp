@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "slicecap/hwcheck/hardware_check_error.hpp"
+
 namespace slicecap::hwcheck {
 namespace {
 
@@ -116,7 +118,7 @@ NoiseResult measureSensorNoise(CheckRig& rig, const WhiteRows& whites, const cap
   for (double exposureUs : exposuresUs) {
     SeenFrame first = rig.lockAndWait({exposureUs, std::nullopt});
     std::optional<SeenFrame> second = rig.next(std::chrono::milliseconds(1000));
-    if (!second) throw std::runtime_error(rig.camera().id() + ": no frame for a second");
+    if (!second) throw HardwareCheckError(rig.camera().id() + ": no frame for a second");
     pairs.emplace_back(std::move(first.frame), std::move(second->frame));
   }
   // The channels differ: an ISP's white balance gains scale red's and blue's noise, a binned RAW

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "slicecap/hwcheck/hardware_check_error.hpp"
+
 namespace slicecap::hwcheck {
 
 double curveDistance(const ToneCurve& a, const ToneCurve& b, double lowCode, double highCode,
@@ -50,7 +52,7 @@ ResponseCheck checkResponse(CheckRig& rig, const vision::TargetGeometry& target,
   // ISP curves), by the sRGB curve since the camera's own is not known yet; the bracket's 128 x
   // range forgives an error of a stop or two.
   std::optional<SeenFrame> frame = rig.next(std::chrono::milliseconds(1000));
-  if (!frame) throw std::runtime_error(rig.camera().id() + ": no frame for a second");
+  if (!frame) throw HardwareCheckError(rig.camera().id() + ": no frame for a second");
   double exposureUs = frame->frame.metadata.exposureUs > 0 ? frame->frame.metadata.exposureUs : 10000.0;
   const ToneCurve srgb = ToneCurve::srgb();
   for (int step = 0; step < 4; ++step) {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "formatted.hpp"
+#include "slicecap/hwcheck/hardware_check_error.hpp"
 
 namespace slicecap::hwcheck {
 namespace {
@@ -161,7 +162,7 @@ std::vector<hal::Frame> framesAfterSwitch(CheckRig& rig, std::int64_t switchUs, 
   int skippedUntimed = 0;
   for (int seen = 0; int(frames.size()) < count && seen < count + 20; ++seen) {
     std::optional<SeenFrame> next = rig.next(std::chrono::milliseconds(1000));
-    if (!next) throw std::runtime_error(rig.camera().id() + ": no frame for a second");
+    if (!next) throw HardwareCheckError(rig.camera().id() + ": no frame for a second");
     const hal::FrameMetadata& m = next->frame.metadata;
     if (m.exposureStartUs) {
       if (*m.exposureStartUs <= switchUs + 1000) continue;  // the LED's guard and more

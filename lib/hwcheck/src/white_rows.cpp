@@ -8,6 +8,7 @@
 
 #include "slicecap/capture/marker_detector.hpp"
 #include "slicecap/capture/planar_pose.hpp"
+#include "slicecap/hwcheck/hardware_check_error.hpp"
 
 namespace slicecap::hwcheck {
 
@@ -67,11 +68,11 @@ namespace {
 void checkSize(const WhiteRows& rows, const hal::Frame& frame) {
   if (frame.image.width != rows.widthPx || frame.image.height != rows.heightPx ||
       frame.image.channels != 3)
-    throw std::invalid_argument("white rows: the frame is " + std::to_string(frame.image.width) +
-                                " x " + std::to_string(frame.image.height) + " x " +
-                                std::to_string(frame.image.channels) + ", the rows are for " +
-                                std::to_string(rows.widthPx) + " x " +
-                                std::to_string(rows.heightPx) + " RGB");
+    throw HardwareCheckError("white rows: the frame is " + std::to_string(frame.image.width) +
+                             " x " + std::to_string(frame.image.height) + " x " +
+                             std::to_string(frame.image.channels) + ", the rows are for " +
+                             std::to_string(rows.widthPx) + " x " +
+                             std::to_string(rows.heightPx) + " RGB");
 }
 double pixelSum(const hal::Frame& frame, const capture::CodeTable& codes, int row, int col) {
   const std::size_t at = (std::size_t(row) * frame.image.width + col) * 3;

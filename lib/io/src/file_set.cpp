@@ -153,15 +153,15 @@ void removeStaging(int directory, const std::string& name, const fs::path& shown
   ::unlinkat(directory, name.c_str(), AT_REMOVEDIR);
 }
 
-// The entries' names: member names, not the manifest's, none twice. std::invalid_argument naming
+// The entries' names: member names, not the manifest's, none twice. IoError naming
 // the set and the name otherwise.
 std::set<std::string> checkedNames(const std::string& set, const std::string& manifest,
                                    const std::vector<FileSetEntry>& entries) {
   std::set<std::string> names;
   for (const FileSetEntry& entry : entries)
     if (!isMemberName(entry.name) || entry.name == manifest || !names.insert(entry.name).second)
-      throw std::invalid_argument("file set " + set + ": bad or repeated name '" + entry.name +
-                                  "'");
+      throw IoError("file set " + set + ": bad or repeated name '" + entry.name +
+                    "'");
   return names;
 }
 

@@ -177,7 +177,7 @@ Journal Journal::openLines(const std::filesystem::path& path, std::vector<Journa
 
 void Journal::append(std::string_view record) {
   if (record.find('\n') != std::string_view::npos)
-    throw std::invalid_argument("journal record contains a newline");
+    throw IoError("journal record contains a newline");
   const std::string line = hex8(crc32(record)) + " " + std::string(record) + "\n";
   if (!writeAll(fd_, line.data(), line.size()) || ::fdatasync(fd_) != 0) {
     const IoError error = systemError(path_, "cannot append to journal");

@@ -1,10 +1,12 @@
 // recording.json: reading with field-level validation, atomic writing, frame-by-frame appends.
+#include "slicecap/io/io_error.hpp"
 #include "slicecap/io/recording.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 
 #include "json_fields.hpp"
+#include "slicecap/core/core_error.hpp"
 #include "slicecap/io/png_image.hpp"
 #include "slicecap/io/target_json.hpp"
 
@@ -192,7 +194,7 @@ RecordedDecoding decodingFromJson(const json& root, PixelEncoding encoding, cons
   }
   try {
     decoding.curve = ToneCurve(name, std::move(values));
-  } catch (const std::invalid_argument& error) {
+  } catch (const CoreError& error) {
     (curveAt / "points").fail(error.what());
   }
   return decoding;
@@ -315,7 +317,7 @@ void writeRecordingManifest(const std::filesystem::path& directory, const Record
 RecordingWriter::RecordingWriter(std::filesystem::path directory, Recording header)
     : directory_(std::move(directory)), recording_(std::move(header)) {
   if (!recording_.frames.empty())
-    throw std::invalid_argument("RecordingWriter: the header must not list frames yet");
+    throw IoError("RecordingWriter: the header must not list frames yet");
   std::error_code error;
   std::filesystem::create_directories(directory_, error);
   if (error)
@@ -338,12 +340,12 @@ const RecordedFrame& RecordingWriter::append(const Image& image, RecordedFrame f
   if (!image.isValid() || image.width != k.widthPx || image.height != k.heightPx ||
       (image.channels != 1 && image.channels != 3) ||
       image.bitDepth != bitDepthOf(recording_.encoding))
-    throw std::invalid_argument(
+    throw IoError(
         "RecordingWriter: frame " + std::to_string(recording_.frames.size()) + " is not a " +
         std::to_string(k.widthPx) + " x " + std::to_string(k.heightPx) + " gray or RGB image of " +
         std::string(toString(recording_.encoding)));
   if (!recording_.frames.empty() && frame.timestampUs <= recording_.frames.back().timestampUs)
-    throw std::invalid_argument("RecordingWriter: timestamps must increase");
+    throw IoError("RecordingWriter: timestamps must increase");
   char name[32];
   std::snprintf(name, sizeof name, "frame-%05zu.png", recording_.frames.size());
   frame.file = name;

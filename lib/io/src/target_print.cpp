@@ -257,7 +257,7 @@ void writeTargetPdf(const std::filesystem::path& path, const vision::TargetGeome
 
 Image renderTargetImage(const vision::TargetGeometry& target, double dpi) {
   if (!(dpi >= 50.0 && dpi <= 2400.0))
-    throw std::invalid_argument("dpi must be 50 to 2400, not " + formatMm(dpi));
+    throw IoError("dpi must be 50 to 2400, not " + formatMm(dpi));
   const double pixelsPerMm = dpi / 25.4;
   const vision::TargetRaster raster =
       vision::rasterizeTarget(vision::TargetSurface(target), target.sheet, pixelsPerMm, 4);

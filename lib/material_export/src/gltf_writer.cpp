@@ -10,6 +10,7 @@
 
 #include "gltf_buffer.hpp"
 #include "slicecap/core/version.hpp"
+#include "slicecap/eval/eval_error.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/material_export/gltf_brdf.hpp"
 #include "slicecap/material_export/gltf_form.hpp"
@@ -93,7 +94,7 @@ GltfAsset gltfAsset(const fit::FittedMaterial& material, const std::string& sour
   asset.report = {"glTF 2.0", conversion.losses, std::nullopt};
   try {
     asset.report.measured = gltfVersusFit(material);
-  } catch (const std::invalid_argument&) {
+  } catch (const eval::EvalError&) {
     // A material that reflects nothing has no table to compare against: nothing to measure.
   }
 

@@ -6,6 +6,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "slicecap/material_export/material_export_error.hpp"
+
 namespace slicecap::material_export {
 namespace {
 
@@ -40,7 +42,7 @@ void addGrid(PreviewMesh& mesh, std::uint32_t first, int columns, int rows, bool
 
 PreviewMesh uvSphere(double radius, int segments, int rings) {
   if (!(radius > 0.0) || segments < 3 || rings < 2)
-    throw std::invalid_argument("uvSphere: needs radius > 0, segments >= 3, rings >= 2");
+    throw MaterialExportError("uvSphere: needs radius > 0, segments >= 3, rings >= 2");
   PreviewMesh mesh;
   mesh.name = "sphere";
   const double pi = std::numbers::pi;
@@ -68,7 +70,7 @@ PreviewMesh uvSphere(double radius, int segments, int rings) {
 
 PreviewMesh cylinder(double radius, double height, int segments) {
   if (!(radius > 0.0) || !(height > 0.0) || segments < 3)
-    throw std::invalid_argument("cylinder: needs radius > 0, height > 0, segments >= 3");
+    throw MaterialExportError("cylinder: needs radius > 0, height > 0, segments >= 3");
   PreviewMesh mesh;
   mesh.name = "cylinder";
   const double pi = std::numbers::pi;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "slicecap/core/angles.hpp"
+#include "slicecap/models/model_error.hpp"
 #include "slicecap/models/reflectance_model.hpp"
 
 namespace slicecap::models {
@@ -37,7 +38,7 @@ struct TangentFrame {
 
 void requirePositive(double value, const char* what) {
   if (!(value > 0.0) || !std::isfinite(value))
-    throw std::invalid_argument(std::string(what) + " must be positive");
+    throw ModelError(std::string(what) + " must be positive");
 }
 
 class Lambert final : public ReflectanceModel {

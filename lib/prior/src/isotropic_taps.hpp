@@ -15,7 +15,7 @@ namespace slicecap::prior {
 /// tables only: MERL, isotropic RGL, Nielsen), so turning the sample changes nothing they model,
 /// while reading them at the sample's unturned azimuths blends entries at phi_v - phi_i +- one ring
 /// step (up to 16 taps), which smears a highlight by a whole bin whenever the sample falls between
-/// grid azimuths. Throws std::invalid_argument as tableTaps (a direction off the hemisphere).
+/// grid azimuths. Throws slicecap::CoreError as tableTaps (a direction off the hemisphere).
 std::vector<TableTap> isotropicTableTaps(const Direction& light, const Direction& view);
 
 }  // namespace slicecap::prior

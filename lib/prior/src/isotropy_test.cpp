@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "slicecap/core/angles.hpp"
+#include "slicecap/prior/prior_model.hpp"
 #include "slicecap/prior/prior_reconstruction.hpp"
 #include "slicecap/recon/periodic_signal.hpp"
 
@@ -136,7 +137,7 @@ bool IsotropyParams::isValid(std::string* error) const {
 
 IsotropyVerdict testIsotropy(const SliceSet& slices, const IsotropyParams& params) {
   std::string error;
-  if (!params.isValid(&error)) throw std::invalid_argument("isotropy test: " + error);
+  if (!params.isValid(&error)) throw PriorError("isotropy test: " + error);
   const double floor = logFloor(slices, params);
 
   IsotropyVerdict verdict;
@@ -149,7 +150,7 @@ IsotropyVerdict testIsotropy(const SliceSet& slices, const IsotropyParams& param
     double& worst = slice.id.kind == SliceKind::Axial ? verdict.axialScore : verdict.diagonalScore;
     worst = std::max(worst, score.score);
   }
-  if (!anyUsable) throw std::invalid_argument("isotropy test: no slice has two or more samples");
+  if (!anyUsable) throw PriorError("isotropy test: no slice has two or more samples");
   verdict.informative =
       std::any_of(slices.slices().begin(), slices.slices().end(), [](const Slice& s) {
         return s.id.kind == SliceKind::Axial ||

@@ -14,6 +14,7 @@
 #include "prior_samples.hpp"
 #include "residual_field.hpp"
 #include "slicecap/core/grid.hpp"
+#include "slicecap/prior/prior_model.hpp"
 #include "slicecap/recon/errors.hpp"
 #include "slicecap/recon/method_b.hpp"
 
@@ -215,17 +216,17 @@ bool PriorParams::isValid(std::string* error) const {
 Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
                            const PriorParams& params, PriorReport* report) {
   std::string error;
-  if (!params.isValid(&error)) throw std::invalid_argument("prior reconstruction: " + error);
+  if (!params.isValid(&error)) throw PriorError("prior reconstruction: " + error);
   return reconstruct(slices, model, params, report, nullptr);
 }
 
 PriorReconstructor::PriorReconstructor(const PriorModel& model, const PriorParams& params)
     : model_(&model), params_(params) {
   std::string error;
-  if (!params.isValid(&error)) throw std::invalid_argument("prior reconstruction: " + error);
+  if (!params.isValid(&error)) throw PriorError("prior reconstruction: " + error);
   const int k = model.components();
   if (model.basis.size() != std::size_t(k) * kEntries)
-    throw std::invalid_argument("prior reconstruction: the basis must hold components x 6561");
+    throw PriorError("prior reconstruction: the basis must hold components x 6561");
   basisByEntry_.resize(model.basis.size());
   for (int j = 0; j < k; ++j) {
     const float* component = model.component(j);

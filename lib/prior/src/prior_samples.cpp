@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "isotropic_taps.hpp"
+#include "slicecap/core/core_error.hpp"
 #include "slicecap/core/grid.hpp"
 #include "slicecap/recon/errors.hpp"
 
@@ -40,7 +41,7 @@ std::vector<SampleRow> gatherSampleRows(const SliceSet& slices, bool readAtMeasu
       SampleRow row{{}, {}, {}, {}, &slice.id, sliceParameterDeg(slice.id.kind, s)};
       try {
         readDirections(row, s, readAtMeasuredAngles);
-      } catch (const std::invalid_argument& e) {
+      } catch (const CoreError& e) {
         throw recon::ReconstructionError("slice " + toString(slice.id) + ": " + e.what());
       }
       // The cos weighting the table's entries carry, read through the same taps: the sample is

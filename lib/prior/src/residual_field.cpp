@@ -5,6 +5,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "slicecap/prior/prior_model.hpp"
 #include "slicecap/recon/slice_sum.hpp"
 #include "slicecap/recon/subspace.hpp"
 
@@ -63,7 +64,7 @@ std::optional<Subspace> alongLine(const std::map<int, Subspace>& known, int targ
 
 void addResidualField(const SliceResiduals& residuals, Eigen::Ref<Eigen::MatrixXf> logTable) {
   if (logTable.rows() != 81 * 81 || logTable.cols() != 3)
-    throw std::invalid_argument("residual field: the log table must be 6561 x 3");
+    throw PriorError("residual field: the log table must be 6561 x 3");
   std::map<ElevationPair, std::optional<PeriodicSignal>[2]> signals;
   for (const auto& [id, points] : residuals) {
     if (points.empty()) continue;

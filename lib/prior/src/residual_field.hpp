@@ -21,7 +21,7 @@ using SliceResiduals = std::map<SliceId, std::vector<recon::SignalPoint>>;
 /// the azimuthal structure they show stays. At other pairs it is carried as Method B carries
 /// subspaces: along the view elevation first, then along the light elevation, resampled along the
 /// varying azimuth, linear in elevation between measured ones and held beyond them. Entries of
-/// pairs no residual reaches are left as they are. Throws std::invalid_argument when `logTable`
+/// pairs no residual reaches are left as they are. Throws PriorError when `logTable`
 /// is not kFeatureCount x 3.
 void addResidualField(const SliceResiduals& residuals, Eigen::Ref<Eigen::MatrixXf> logTable);
 

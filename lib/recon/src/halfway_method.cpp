@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "slicecap/recon/argument_error.hpp"
 #include "slicecap/recon/measured_subspaces.hpp"
 #include "slicecap/recon/rbf_interpolant.hpp"
 
@@ -69,7 +70,7 @@ bool HalfwayParams::isValid(std::string* error) const {
 HalfwaySystem::HalfwaySystem(const HalfwayParams& params)
     : params_(params), centres_(measuredEntries()), others_(unmeasuredEntries()) {
   std::string error;
-  if (!params.isValid(&error)) throw std::invalid_argument("halfway method: " + error);
+  if (!params.isValid(&error)) throw ReconArgumentError("halfway method: " + error);
   std::vector<HalfwayAngles> centreAngles;
   for (const TableEntry& e : centres_) {
     centreAngles.push_back(halfwayAngles(e, params.isotropic));
@@ -102,8 +103,8 @@ HalfwaySystem::HalfwaySystem(const HalfwayParams& params)
 
 Abrdf HalfwaySystem::interpolate(const std::vector<Subspace>& measured) const {
   if (measured.size() != kMeasuredPairs.size()) {
-    throw std::invalid_argument("halfway method needs the " +
-                                std::to_string(kMeasuredPairs.size()) + " measured subspaces");
+    throw ReconArgumentError("halfway method needs the " +
+                             std::to_string(kMeasuredPairs.size()) + " measured subspaces");
   }
   Abrdf table;
   std::vector<Rgb> values;
@@ -111,7 +112,7 @@ Abrdf HalfwaySystem::interpolate(const std::vector<Subspace>& measured) const {
   for (std::size_t s = 0; s < measured.size(); ++s) {
     const Subspace& subspace = measured[s];
     if (subspace.elevations() != kMeasuredPairs[s])
-      throw std::invalid_argument("halfway method: subspaces out of the measured-pair order");
+      throw ReconArgumentError("halfway method: subspaces out of the measured-pair order");
     for (int p = 0; p < subspace.lightRing().count; ++p) {
       for (int q = 0; q < subspace.viewRing().count; ++q)
         values.push_back(subspace.at(p, q));
@@ -180,7 +181,7 @@ std::optional<double> axialVariation(const SliceSet& slices) {
 Abrdf reconstructHalfway(const SliceSet& slices, const HalfwayParams& params,
                          HalfwayReport* report) {
   std::string error;
-  if (!params.isValid(&error)) throw std::invalid_argument("halfway method: " + error);
+  if (!params.isValid(&error)) throw ReconArgumentError("halfway method: " + error);
   HalfwayReport local;
   HalfwayReport& out = report ? *report : local;
   out = {};

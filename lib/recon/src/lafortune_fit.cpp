@@ -12,6 +12,7 @@
 #include <string>
 
 #include "slicecap/core/angles.hpp"
+#include "slicecap/recon/argument_error.hpp"
 #include "slicecap/recon/lobe_cost.hpp"
 
 namespace slicecap::recon {
@@ -48,7 +49,7 @@ LobeCost::LobeCost(std::span<const ElevationSample> samples, double minimumValue
     values_.push_back(std::max(s.value, minimumValue));
   }
   if (groupOfElevation.size() < 2)
-    throw std::invalid_argument("lobe fit: needs samples at two distinct elevations");
+    throw ReconArgumentError("lobe fit: needs samples at two distinct elevations");
   logCosLow_ = std::log(std::cos(degToRad(groupOfElevation.begin()->first)));
   logCosSpan_ = std::log(std::cos(degToRad(groupOfElevation.rbegin()->first))) - logCosLow_;
   groups_.resize(sums.size());
@@ -112,16 +113,16 @@ bool LobeFitParams::isValid(std::string* error) const {
 LobeFitResult fitElevationLobe(std::span<const ElevationSample> samples,
                                const LobeFitParams& params) {
   std::string error;
-  if (!params.isValid(&error)) throw std::invalid_argument("lobe fit: " + error);
+  if (!params.isValid(&error)) throw ReconArgumentError("lobe fit: " + error);
   double meanValue = 0.0;
   for (const ElevationSample& s : samples) {
     // Said apart: a slice value too large for the sums (e.g. 1e300) overflows to inf here.
     if (!std::isfinite(s.value))
-      throw std::invalid_argument("lobe fit: a sample value is not finite (" +
-                                  std::to_string(s.value) +
-                                  "): a slice value is too large or not a number");
+      throw ReconArgumentError("lobe fit: a sample value is not finite (" +
+                               std::to_string(s.value) +
+                               "): a slice value is too large or not a number");
     if (!std::isfinite(s.thetaDeg) || s.thetaDeg < 0.0 || s.thetaDeg >= 90.0) {
-      throw std::invalid_argument("lobe fit: sample outside 0 <= theta < 90 deg or not finite");
+      throw ReconArgumentError("lobe fit: sample outside 0 <= theta < 90 deg or not finite");
     }
     meanValue += std::max(s.value, params.minimumValue) / double(samples.size());
   }

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "slicecap/recon/argument_error.hpp"
 #include "slicecap/recon/errors.hpp"
 #include "slicecap/recon/measured_subspaces.hpp"
 
@@ -71,8 +72,8 @@ Eigen::MatrixXf MethodASystem::interpolateOthers(const Eigen::MatrixXd& centreVa
 
 Abrdf MethodASystem::interpolate(const std::vector<Subspace>& measured, double valueGamma) const {
   if (measured.size() != kMeasuredPairs.size()) {
-    throw std::invalid_argument("Method A needs the " + std::to_string(kMeasuredPairs.size()) +
-                                " measured subspaces");
+    throw ReconArgumentError("Method A needs the " + std::to_string(kMeasuredPairs.size()) +
+                             " measured subspaces");
   }
   Abrdf table;
   Eigen::MatrixXd values(static_cast<Eigen::Index>(centres_.size()), 3);
@@ -80,7 +81,7 @@ Abrdf MethodASystem::interpolate(const std::vector<Subspace>& measured, double v
   for (std::size_t k = 0; k < measured.size(); ++k) {
     const Subspace& s = measured[k];
     if (s.elevations() != kMeasuredPairs[k])
-      throw std::invalid_argument("Method A: subspaces out of the measured-pair order");
+      throw ReconArgumentError("Method A: subspaces out of the measured-pair order");
     for (int p = 0; p < s.lightRing().count; ++p) {
       for (int q = 0; q < s.viewRing().count; ++q, ++row) {
         for (int c = 0; c < 3; ++c)
@@ -113,7 +114,7 @@ std::size_t MethodASystem::memoryBytes() const {
 
 const MethodASystem& sharedMethodASystem(OnionFrame frame, const RbfParams& rbf) {
   std::string error;
-  if (!rbf.isValid(&error)) throw std::invalid_argument(error);
+  if (!rbf.isValid(&error)) throw ReconArgumentError(error);
   static std::mutex mutex;
   // valueGamma is applied around the system, so systems differing only in it are one.
   using Key = std::tuple<OnionFrame, double, double, RbfKernel, RbfPolynomial>;
@@ -127,7 +128,7 @@ const MethodASystem& sharedMethodASystem(OnionFrame frame, const RbfParams& rbf)
 
 Abrdf reconstructMethodA(const SliceSet& slices, const MethodAParams& params) {
   std::string error;
-  if (!params.isValid(&error)) throw std::invalid_argument("Method A: " + error);
+  if (!params.isValid(&error)) throw ReconArgumentError("Method A: " + error);
   const std::vector<Subspace> measured =
       reconstructMeasuredSubspaces(slices, params.isotropic, params.torusRule, "Method A");
   return sharedMethodASystem(params.frame, params.rbf).interpolate(measured, params.rbf.valueGamma);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 
+#include "slicecap/recon/argument_error.hpp"
 #include "slicecap/recon/elevation_correction.hpp"
 #include "slicecap/recon/errors.hpp"
 #include "slicecap/recon/measured_subspaces.hpp"
@@ -157,7 +158,7 @@ bool atNominalElevations(const SliceSet& slices) {
 Abrdf reconstructMethodB(const SliceSet& slices, const MethodBParams& params,
                          MethodBReport* report) {
   std::string error;
-  if (!params.fit.isValid(&error)) throw std::invalid_argument("Method B: " + error);
+  if (!params.fit.isValid(&error)) throw ReconArgumentError("Method B: " + error);
   if (atNominalElevations(slices)) return reconstructAtNominalElevations(slices, params, report);
   // The slice-sum reads a slice as a signal of its azimuth alone, so samples taken a degree or two
   // off their pair's elevations are first moved to them: along a fitted elevation lobe for a

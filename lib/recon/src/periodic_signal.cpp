@@ -6,18 +6,19 @@
 #include <stdexcept>
 
 #include "slicecap/core/angles.hpp"
+#include "slicecap/recon/argument_error.hpp"
 
 namespace slicecap::recon {
 
 PeriodicSignal::PeriodicSignal(std::span<const SignalPoint> points) {
-  if (points.empty()) throw std::invalid_argument("periodic signal: no samples");
+  if (points.empty()) throw ReconArgumentError("periodic signal: no samples");
   std::vector<SignalPoint> sorted;
   sorted.reserve(points.size());
   for (const SignalPoint& p : points) {
     bool finite = std::isfinite(p.positionDeg);
     for (std::size_t c = 0; c < 3; ++c)
       finite = finite && std::isfinite(p.value[c]);
-    if (!finite) throw std::invalid_argument("periodic signal: non-finite sample");
+    if (!finite) throw ReconArgumentError("periodic signal: non-finite sample");
     sorted.push_back({wrapDeg360(p.positionDeg), p.value});
   }
   std::sort(sorted.begin(), sorted.end(), [](const SignalPoint& a, const SignalPoint& b) {

@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "slicecap/recon/argument_error.hpp"
+
 namespace slicecap::recon {
 namespace {
 
@@ -66,18 +68,18 @@ double medianNearestNeighbourDistance(std::span<const FeaturePoint> points) {
 RbfInterpolant::RbfInterpolant(std::vector<FeaturePoint> centres, const RbfParams& params)
     : centres_(std::move(centres)), kernel_(params.kernel), polynomial_(params.polynomial) {
   std::string error;
-  if (!params.isValid(&error)) throw std::invalid_argument(error);
-  if (centres_.empty()) throw std::invalid_argument("RBF interpolation needs at least one centre");
+  if (!params.isValid(&error)) throw ReconArgumentError(error);
+  if (centres_.empty()) throw ReconArgumentError("RBF interpolation needs at least one centre");
   const std::size_t n = centres_.size();
   for (const FeaturePoint& c : centres_) {
     if (!std::all_of(c.begin(), c.end(), [](double x) { return std::isfinite(x); }))
-      throw std::invalid_argument("RBF centre with a non-finite coordinate");
+      throw ReconArgumentError("RBF centre with a non-finite coordinate");
   }
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t j = i + 1; j < n; ++j) {
       if (squaredDistance(centres_[i], centres_[j]) < 1e-18) {
-        throw std::invalid_argument("RBF centres " + std::to_string(i) + " and " +
-                                    std::to_string(j) + " coincide");
+        throw ReconArgumentError("RBF centres " + std::to_string(i) + " and " +
+                                 std::to_string(j) + " coincide");
       }
     }
   }
@@ -116,8 +118,8 @@ double RbfInterpolant::kernel(const FeaturePoint& a, const FeaturePoint& b) cons
 Eigen::MatrixXd RbfInterpolant::coefficients(const Eigen::MatrixXd& values) const {
   const auto n = static_cast<Eigen::Index>(centres_.size());
   if (values.rows() != n) {
-    throw std::invalid_argument("RBF values have " + std::to_string(values.rows()) + " rows for " +
-                                std::to_string(n) + " centres");
+    throw ReconArgumentError("RBF values have " + std::to_string(values.rows()) + " rows for " +
+                             std::to_string(n) + " centres");
   }
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n + polynomialTerms(), values.cols());
   rhs.topRows(n) = values;

@@ -5,13 +5,14 @@
 #include <cmath>
 #include <map>
 
+#include "slicecap/recon/argument_error.hpp"
 #include "slicecap/recon/errors.hpp"
 
 namespace slicecap::recon {
 
 Abrdf reconstructScattered(const SliceSet& samples, const ScatteredRbfParams& params) {
   std::string error;
-  if (!params.rbf.isValid(&error)) throw std::invalid_argument("scattered RBF: " + error);
+  if (!params.rbf.isValid(&error)) throw ReconArgumentError("scattered RBF: " + error);
   if (samples.empty()) throw ReconstructionError("scattered RBF: no samples");
   // Average samples whose features coincide (to 1e-9 rad): a repeated frame is one centre.
   struct Accumulated {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "slicecap/core/grid_interpolation.hpp"
+#include "slicecap/recon/argument_error.hpp"
 
 namespace slicecap::recon {
 namespace {
@@ -61,7 +62,7 @@ int samplesPerSlice(ElevationPair pair, const ExtractionParams& params) {
 
 SliceSet extractSlices(const Abrdf& table, const ExtractionParams& params) {
   std::string error;
-  if (!params.isValid(&error)) throw std::invalid_argument(error);
+  if (!params.isValid(&error)) throw ReconArgumentError(error);
   SliceSet slices;
   for (ElevationPair pair : kMeasuredPairs) {
     const int count = samplesPerSlice(pair, params);

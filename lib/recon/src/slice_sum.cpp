@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "slicecap/core/angles.hpp"
+#include "slicecap/recon/argument_error.hpp"
 #include "slicecap/recon/errors.hpp"
 
 namespace slicecap::recon {
@@ -35,7 +36,7 @@ PeriodicSignal toSignal(const Slice& slice) {
     points.push_back({sliceParameterDeg(slice.id.kind, s), s.value});
   try {
     return PeriodicSignal(points);
-  } catch (const std::invalid_argument& e) {
+  } catch (const ReconArgumentError& e) {
     throw ReconstructionError("slice " + toString(slice.id) + ": " + e.what());
   }
 }

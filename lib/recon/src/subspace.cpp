@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "slicecap/recon/argument_error.hpp"
+
 namespace slicecap::recon {
 
 Subspace::Subspace(ElevationPair elevations)
@@ -103,7 +105,7 @@ Subspace resampledBlend(const Subspace& low, const Subspace& high, double t, Ele
 
 std::vector<Rgb> resampleRing(const std::vector<Rgb>& values, const Ring& to) {
   const int from = static_cast<int>(values.size());
-  if (from == 0) throw std::invalid_argument("resampleRing: empty ring");
+  if (from == 0) throw ReconArgumentError("resampleRing: empty ring");
   std::vector<Rgb> out(to.count);
   resampleInto(
       from, to, ringTaps(from, to), [&](int j) { return values[j]; },
@@ -136,7 +138,7 @@ Subspace Subspace::resampledToLightElevation(int thetaIDeg) const {
 Subspace Subspace::blendAtViewElevation(const Subspace& low, const Subspace& high, double t,
                                         int thetaVDeg) {
   if (low.elevations_.thetaIDeg != high.elevations_.thetaIDeg) {
-    throw std::invalid_argument("Subspace::blendAtViewElevation: blocks of different lights");
+    throw ReconArgumentError("Subspace::blendAtViewElevation: blocks of different lights");
   }
   return resampledBlend<true>(low, high, t, {low.elevations_.thetaIDeg, thetaVDeg});
 }
@@ -144,7 +146,7 @@ Subspace Subspace::blendAtViewElevation(const Subspace& low, const Subspace& hig
 Subspace Subspace::blendAtLightElevation(const Subspace& low, const Subspace& high, double t,
                                          int thetaIDeg) {
   if (low.elevations_.thetaVDeg != high.elevations_.thetaVDeg) {
-    throw std::invalid_argument("Subspace::blendAtLightElevation: blocks of different views");
+    throw ReconArgumentError("Subspace::blendAtLightElevation: blocks of different views");
   }
   return resampledBlend<false>(low, high, t, {thetaIDeg, low.elevations_.thetaVDeg});
 }
@@ -157,7 +159,7 @@ Subspace& Subspace::scale(double factor) {
 
 Subspace Subspace::blend(const Subspace& a, const Subspace& b, double t) {
   if (a.elevations_ != b.elevations_) {
-    throw std::invalid_argument("Subspace::blend: blocks of different elevations");
+    throw ReconArgumentError("Subspace::blend: blocks of different elevations");
   }
   Subspace out(a.elevations_);
   for (std::size_t i = 0; i < out.values_.size(); ++i)

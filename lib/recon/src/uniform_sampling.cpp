@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "slicecap/recon/argument_error.hpp"
+
 namespace slicecap::recon {
 namespace {
 
@@ -33,8 +35,8 @@ constexpr std::array<std::array<int, 2>, 14> kPublishedOrder{{{0, 0},
 
 void requireCount(int count) {
   if (count < 1 || count > bonn::kDirectionCount) {
-    throw std::invalid_argument("uniform sampling needs 1 to 81 directions, got " +
-                                std::to_string(count));
+    throw ReconArgumentError("uniform sampling needs 1 to 81 directions, got " +
+                             std::to_string(count));
   }
 }
 

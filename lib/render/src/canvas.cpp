@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "bitmap_font.hpp"
+#include "slicecap/render/render_error.hpp"
 
 namespace slicecap::render {
 
@@ -12,7 +13,7 @@ Canvas::Canvas(int width, int height, Colour fill)
     : width_(width),
       height_(height),
       pixels_(std::size_t(std::max(width, 0)) * std::size_t(std::max(height, 0)), fill) {
-  if (width <= 0 || height <= 0) throw std::invalid_argument("canvas size must be positive");
+  if (width <= 0 || height <= 0) throw RenderError("canvas size must be positive");
 }
 
 Colour Canvas::at(int x, int y) const {

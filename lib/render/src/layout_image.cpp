@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "slicecap/eval/metrics.hpp"
+#include "slicecap/render/render_error.hpp"
 
 namespace slicecap::render {
 namespace {
@@ -18,8 +19,8 @@ int offsetOf(int directionIndex, int pixelsPerEntry) {
 }
 
 void checkArguments(double referenceMax, int pixelsPerEntry) {
-  if (pixelsPerEntry < 1) throw std::invalid_argument("layout: pixels per entry must be >= 1");
-  if (!(referenceMax > 0.0)) throw std::invalid_argument("layout: reference maximum must be > 0");
+  if (pixelsPerEntry < 1) throw RenderError("layout: pixels per entry must be >= 1");
+  if (!(referenceMax > 0.0)) throw RenderError("layout: reference maximum must be > 0");
 }
 
 // Draws every entry with colour(light, view) and the ring lines between the blocks.

@@ -7,6 +7,7 @@
 
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/render/layout_image.hpp"
+#include "slicecap/render/render_error.hpp"
 #include "slicecap/render/sphere_render.hpp"
 
 namespace slicecap::render {
@@ -19,7 +20,7 @@ constexpr int kHeadingScale = 2;
 
 double positiveMaximum(const Abrdf& table) {
   const double maximum = eval::cosWeightedMaximum(table);
-  if (!(maximum > 0.0)) throw std::invalid_argument("the table has no positive value to show");
+  if (!(maximum > 0.0)) throw RenderError("the table has no positive value to show");
   return maximum;
 }
 
@@ -48,7 +49,7 @@ Canvas evaluationSheet(const std::string& heading, const Abrdf& reference,
   std::size_t textLines = referenceLines.size() + 1;
   for (const SheetPanel& p : panels) {
     if (!p.table)
-      throw std::invalid_argument("evaluation sheet: panel '" + p.title + "' has no table");
+      throw RenderError("evaluation sheet: panel '" + p.title + "' has no table");
     textLines = std::max(textLines, p.lines.size() + 1);
   }
   const int column = side + kMargin;

@@ -7,6 +7,7 @@
 
 #include "slicecap/core/grid_interpolation.hpp"
 #include "slicecap/eval/metrics.hpp"
+#include "slicecap/render/render_error.hpp"
 
 namespace slicecap::render {
 namespace {
@@ -44,8 +45,8 @@ Rgb shade(const Abrdf& table, const Vec3& n, const Vec3& light, const Vec3& view
 }  // namespace
 
 Canvas renderSphere(const Abrdf& table, const Direction& light, int size, double whiteLevel) {
-  if (size < 8) throw std::invalid_argument("sphere: size must be at least 8 pixels");
-  if (!(whiteLevel > 0.0)) throw std::invalid_argument("sphere: white level must be positive");
+  if (size < 8) throw RenderError("sphere: size must be at least 8 pixels");
+  if (!(whiteLevel > 0.0)) throw RenderError("sphere: white level must be positive");
   const UnitVector lightVector = toUnitVector(light);
   const Vec3 toLight{lightVector.x, lightVector.y, lightVector.z};
   const Vec3 toViewer{0.0, 0.0, 1.0};

@@ -12,9 +12,11 @@
 #include "slicecap/hal/model_camera.hpp"
 #include "slicecap/hal/room_flicker.hpp"
 #include "slicecap/io/target_json.hpp"
+#include "slicecap/rig/rig_error.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
 #include "slicecap/sim/rig_scene.hpp"
+#include "slicecap/vision/camera_scaling.hpp"
 
 namespace slicecap::rig {
 namespace {
@@ -31,7 +33,7 @@ const std::pair<fs::path, io::Recording>& recordingFor(const RecordingsBySlice& 
                                                        const SliceId& slice) {
   const auto found = recordings.find(slice);
   if (found == recordings.end())
-    throw std::runtime_error(configured.string() + ": no recording of slice " + toString(slice));
+    throw RigError(configured.string() + ": no recording of slice " + toString(slice));
   return found->second;
 }
 
@@ -64,10 +66,10 @@ RecordingsBySlice findRecordings(const fs::path& configured) {
     std::error_code error;
     for (const fs::directory_entry& entry : fs::directory_iterator(configured, error))
       if (fs::exists(entry.path() / io::kRecordingManifest)) add(entry.path());
-    if (error) throw std::runtime_error(configured.string() + ": " + error.message());
+    if (error) throw RigError(configured.string() + ": " + error.message());
   }
   if (found.empty())
-    throw std::runtime_error(configured.string() + ": no recording of a slice to play");
+    throw RigError(configured.string() + ": no recording of a slice to play");
   return found;
 }
 
@@ -127,13 +129,11 @@ void followDeliveredSize(CameraSources& sources) {
   sources.rigFor = [inner = std::move(sources.rigFor), delivered](const SliceId& slice) {
     Rig rig = inner(slice);
     const vision::CameraIntrinsics& at = rig.camera.intrinsics;
-    if (*delivered && (at.widthPx != (*delivered)->first || at.heightPx != (*delivered)->second)) {
-      try {
-        rig.camera = rig.camera.scaledTo((*delivered)->first, (*delivered)->second);
-      } catch (const std::invalid_argument&) {
-        // Another crop than the calibration's: left as it is, the pipeline rejects the frames
-        // as bad_frame naming both sizes, as before a camera could change its size.
-      }
+    // Another crop than the calibration's is left as it is: the pipeline rejects the frames as
+    // bad_frame naming both sizes, as before a camera could change its size.
+    if (*delivered && (at.widthPx != (*delivered)->first || at.heightPx != (*delivered)->second) &&
+        !vision::scalingProblem(rig.camera, (*delivered)->first, (*delivered)->second)) {
+      rig.camera = rig.camera.scaledTo((*delivered)->first, (*delivered)->second);
     }
     return rig;
   };

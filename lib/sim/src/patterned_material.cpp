@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "slicecap/sim/sim_error.hpp"
+
 namespace slicecap::sim {
 namespace {
 
@@ -47,8 +49,8 @@ Rgb PatternedMaterial::evaluateAt(double xMm, double yMm, const UnitVector& toLi
 
 std::shared_ptr<const PatternedMaterial> makeWovenMaterial(double cellMm) {
   if (!(cellMm >= 0.5 && cellMm <= 100.0))
-    throw std::invalid_argument("woven material: cell must be 0.5 to 100 mm, not " +
-                                std::to_string(cellMm));
+    throw SimError("woven material: cell must be 0.5 to 100 mm, not " +
+                   std::to_string(cellMm));
   return std::make_shared<WovenMaterial>(cellMm);
 }
 

@@ -11,6 +11,7 @@
 
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/sim/patterned_material.hpp"
+#include "slicecap/sim/sim_error.hpp"
 #include "slicecap/vision/target_surface.hpp"
 #include "window_grid.hpp"
 
@@ -147,11 +148,11 @@ FrameRenderer::FrameRenderer(vision::CameraModel camera, vision::TargetGeometry 
       rig_(rig),
       settings_(settings) {
   std::string error;
-  if (!camera_.isValid(&error)) throw std::invalid_argument("camera: " + error);
-  if (!material_) throw std::invalid_argument("FrameRenderer: no material");
+  if (!camera_.isValid(&error)) throw SimError("camera: " + error);
+  if (!material_) throw SimError("FrameRenderer: no material");
   pattern_ = dynamic_cast<const PatternedMaterial*>(material_.get());
   if (settings_.brdfGridNodes < 3 || settings_.brdfGridNodes % 2 == 0)
-    throw std::invalid_argument("FrameRenderer: the BRDF grid needs an odd node count >= 3");
+    throw SimError("FrameRenderer: the BRDF grid needs an odd node count >= 3");
   const int width = camera_.intrinsics.widthPx, height = camera_.intrinsics.heightPx;
   rays_.resize(std::size_t(width) * height * 2);
   const vision::CameraIntrinsics& k = camera_.intrinsics;
@@ -303,7 +304,7 @@ void FrameRenderer::accumulateRow(const PoseState& state, const FrameScene& scen
 template <typename RowSink>
 void FrameRenderer::renderRows(const FrameScene& scene, RowSink&& sink) const {
   if (scene.exposurePoses.empty())
-    throw std::invalid_argument("FrameRenderer: a scene needs a pose");
+    throw SimError("FrameRenderer: a scene needs a pose");
   const double scale = pixelScale(scene) / static_cast<double>(scene.exposurePoses.size());
   std::vector<PoseState> states;
   for (const vision::Pose& pose : scene.exposurePoses)

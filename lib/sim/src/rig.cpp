@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "slicecap/core/angles.hpp"
+#include "slicecap/sim/sim_error.hpp"
 
 namespace slicecap::sim {
 namespace {
@@ -263,8 +264,8 @@ std::vector<FramePlan> planSweep(const SliceId& slice, double alphaDeg, const Ri
                                  const vision::TargetGeometry& target, int bracketLevels) {
   std::string error;
   if (bracketLevels < 1 || bracketLevels > 3)
-    throw std::invalid_argument("rig parameters: bracket levels must be 1..3");
-  if (!params.isValid(&error)) throw std::invalid_argument("rig parameters: " + error);
+    throw SimError("rig parameters: bracket levels must be 1..3");
+  if (!params.isValid(&error)) throw SimError("rig parameters: " + error);
   SweepDraws draws = sweepDraws(slice, params);
   const int n = params.framesPerSlice * bracketLevels;
   std::vector<FramePlan> plans;

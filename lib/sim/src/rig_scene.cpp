@@ -4,14 +4,16 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "slicecap/sim/sim_error.hpp"
+
 namespace slicecap::sim {
 
 RigScene::RigScene(std::shared_ptr<const FrameRenderer> renderer, const SliceId& slice,
                    const RigParams& rig, double holdSeconds)
     : renderer_(std::move(renderer)), slice_(slice), holdUs_(std::max(0.0, holdSeconds) * 1e6) {
   std::string why;
-  if (!renderer_) throw std::invalid_argument("rig scene: no renderer");
-  if (!rig.isValid(&why)) throw std::invalid_argument("rig scene: " + why);
+  if (!renderer_) throw SimError("rig scene: no renderer");
+  if (!rig.isValid(&why)) throw SimError("rig scene: " + why);
   plans_ = planSweep(slice, kAxialOffsetDeg, rig, renderer_->camera(), renderer_->target());
   dwellUs_ = rig.sweepSeconds * 1e6 / double(plans_.size());
 }

@@ -6,6 +6,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "slicecap/vision/camera_scaling.hpp"
+#include "slicecap/vision/vision_error.hpp"
+
 namespace slicecap::vision {
 namespace {
 
@@ -96,17 +99,25 @@ Eigen::Vector2d CameraModel::normalisedOf(const Eigen::Vector2d& pixel) const {
                     (pixel.y() - intrinsics.cyPx) / intrinsics.fyPx});
 }
 
-CameraModel CameraModel::scaledTo(int widthPx, int heightPx) const {
-  const CameraIntrinsics& from = intrinsics;
+std::optional<std::string> scalingProblem(const CameraModel& camera, int widthPx, int heightPx) {
+  const CameraIntrinsics& from = camera.intrinsics;
   const auto size = [](int w, int h) { return std::to_string(w) + "x" + std::to_string(h); };
   if (widthPx <= 0 || heightPx <= 0)
-    throw std::invalid_argument("camera model: cannot scale to " + size(widthPx, heightPx));
+    return "camera model: cannot scale to " + size(widthPx, heightPx);
   const double sx = double(widthPx) / from.widthPx, sy = double(heightPx) / from.heightPx;
   if (std::abs(sx / sy - 1.0) > 0.01)
-    throw std::invalid_argument("camera model: a " + size(from.widthPx, from.heightPx) +
-                                " calibration does not scale to " + size(widthPx, heightPx) +
-                                " frames (another aspect ratio: another crop of the sensor); "
-                                "calibrate the camera at " + size(widthPx, heightPx));
+    return "camera model: a " + size(from.widthPx, from.heightPx) +
+           " calibration does not scale to " + size(widthPx, heightPx) +
+           " frames (another aspect ratio: another crop of the sensor); "
+           "calibrate the camera at " + size(widthPx, heightPx);
+  return std::nullopt;
+}
+
+CameraModel CameraModel::scaledTo(int widthPx, int heightPx) const {
+  if (const std::optional<std::string> problem = scalingProblem(*this, widthPx, heightPx))
+    throw VisionError(*problem);
+  const CameraIntrinsics& from = intrinsics;
+  const double sx = double(widthPx) / from.widthPx, sy = double(heightPx) / from.heightPx;
   CameraModel scaled = *this;
   // Pixel centres at integer coordinates: the image's edge (-0.5) maps to the new edge.
   scaled.intrinsics = {widthPx,

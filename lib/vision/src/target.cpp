@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "slicecap/vision/tag_family.hpp"
+#include "slicecap/vision/vision_error.hpp"
 
 namespace slicecap::vision {
 namespace {
@@ -109,7 +110,7 @@ bool TargetParams::isValid(std::string* error) const {
 
 TargetGeometry buildTarget(const TargetParams& p) {
   std::string error;
-  if (!p.isValid(&error)) throw std::invalid_argument(error);
+  if (!p.isValid(&error)) throw VisionError(error);
   TargetGeometry target;
   const double w = p.windowMm / 2;
   const double band = w + p.bandMm;

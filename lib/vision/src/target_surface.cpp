@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "slicecap/vision/vision_error.hpp"
+
 namespace slicecap::vision {
 
 TargetSurface::TargetSurface(TargetGeometry target) : target_(std::move(target)) {
@@ -46,9 +48,9 @@ SurfacePoint TargetSurface::at(double xMm, double yMm) const {
 TargetRaster rasterizeTarget(const TargetSurface& surface, const RectMm& area, double pixelsPerMm,
                              int supersample) {
   if (!(pixelsPerMm > 0.0) || supersample < 1)
-    throw std::invalid_argument("rasterizeTarget: density and supersampling must be positive");
+    throw VisionError("rasterizeTarget: density and supersampling must be positive");
   if (!(area.widthMm() > 0.0 && area.heightMm() > 0.0))
-    throw std::invalid_argument("rasterizeTarget: empty area");
+    throw VisionError("rasterizeTarget: empty area");
   TargetRaster raster;
   raster.area = area;
   raster.pixelsPerMm = pixelsPerMm;

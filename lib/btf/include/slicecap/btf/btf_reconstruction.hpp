@@ -59,7 +59,7 @@ SliceSet texelSlices(const TextureGrid& grid, const std::vector<SliceTexture>& s
                      int row);
 
 /// \brief Every texel reconstructed. Rows of texels are shared out among the threads.
-/// Throws std::invalid_argument for a method not in kTexelMethods, invalid Method B or prior
+/// Throws BtfError for a method not in kTexelMethods, invalid Method B or prior
 /// options, or MethodId::Prior without a model.
 BtfTexture reconstructBtf(const TextureGrid& grid, const std::vector<SliceTexture>& slices,
                           const BtfReconstructionParams& params = {},

@@ -16,7 +16,7 @@ namespace slicecap::btf {
 /// writing. Memory: 6561 x N^2 x 6 bytes (N = 128: 645 MB; N = 64: 161 MB).
 class BtfTexture {
  public:
-  /// \brief Zero images; throws std::invalid_argument unless 1 <= resolution <= 1024.
+  /// \brief Zero images; throws BtfError unless 1 <= resolution <= 1024.
   explicit BtfTexture(int resolution);
 
   int resolution() const { return resolution_; }
@@ -26,7 +26,7 @@ class BtfTexture {
   void setTexel(std::size_t texel, const Abrdf& table);
   /// \brief Stores a row of texels' tables (one per column) at once: each image's row is written
   /// contiguously, where texel by texel every value would be a cache miss 6561 images apart.
-  /// Thread-safe for distinct rows. Throws std::invalid_argument unless there is a table per
+  /// Thread-safe for distinct rows. Throws BtfError unless there is a table per
   /// column.
   void setRow(int row, std::span<const Abrdf> tables);
   /// \brief One texel's table, back in float.

@@ -49,7 +49,7 @@ std::optional<std::size_t> keepSlot(std::span<const double> keptParametersDeg, d
 
 /// \brief A bin's frames combined: per texel and channel the median of the finite values (NaN
 /// where no frame saw the texel), at the frames' mean camera and LED positions. Every frame must
-/// hold texelCount x 3 values (std::invalid_argument otherwise); no frames give an empty bin.
+/// hold texelCount x 3 values (BtfError otherwise); no frames give an empty bin.
 TextureBin combineBinFrames(std::span<const TextureFrame> frames, std::size_t texelCount);
 
 /// \brief The active sweep's bins. Each bin keeps at most `framesPerBin` frames, those whose
@@ -57,12 +57,12 @@ TextureBin combineBinFrames(std::span<const TextureFrame> frames, std::size_t te
 /// bounded by bins x framesPerBin x texels x 3 floats however long the sweep.
 class SliceTextureBins {
  public:
-  /// \brief Throws std::invalid_argument for framesPerBin < 1, no texels, or a bin width that
+  /// \brief Throws BtfError for framesPerBin < 1, no texels, or a bin width that
   /// does not divide 360.
   SliceTextureBins(SliceId slice, std::size_t texelCount, int framesPerBin = 5,
                    double binWidthDeg = 15.0);
 
-  /// \brief Adds a frame (texels must hold texelCount x 3 values; std::invalid_argument
+  /// \brief Adds a frame (texels must hold texelCount x 3 values; BtfError
   /// otherwise). A full bin keeps the frames nearest its centre.
   void add(TextureFrame frame);
   /// \brief Per bin the per-texel median of its frames (robust to a frame the gate let through

@@ -33,7 +33,7 @@ std::optional<double> textureSliceParameterDeg(const capture::FrameOutcome& outc
                                                SliceKind kind);
 
 /// \brief An accepted frame's texture (textureSliceParameterDeg must have given a parameter;
-/// std::invalid_argument otherwise): its window rectified on `grid` with the room-light term
+/// BtfError otherwise): its window rectified on `grid` with the room-light term
 /// `ambient`, and the camera and LED positions that give every texel its own directions (the LED
 /// where the sample's light direction points, at the light fit's distance).
 TextureFrame textureFrameOf(const TextureGrid& grid, const vision::CameraModel& camera,
@@ -46,13 +46,13 @@ TextureFrame textureFrameOf(const TextureGrid& grid, const vision::CameraModel& 
 /// bytes each; 8 sweeps at N = 128: 9.4 million floats, 37.7 MB).
 class TextureCapture {
  public:
-  /// \brief Throws std::invalid_argument for a bad resolution or camera.
+  /// \brief Throws BtfError for a bad resolution or camera.
   TextureCapture(const vision::CameraModel& camera, const vision::RectMm& window,
                  const TextureCaptureParams& params = {});
 
   /// \brief Starts a sweep (finishing the previous one); its 8-bit frames are decoded through
   /// `toneCurve` when given (the sweep's measured response, as its pipeline reads them), else as
-  /// params.rectify says. Throws std::invalid_argument when the slice was already captured.
+  /// params.rectify says. Throws BtfError when the slice was already captured.
   void startSlice(const SliceId& slice, std::optional<ToneCurve> toneCurve = std::nullopt);
   /// \brief One frame of the active sweep: an accepted sample (with its pose and light fit) is
   /// rectified and binned; anything else is ignored. `ambient` is the room-light term the
@@ -87,7 +87,7 @@ class TextureCapture {
 class TextureSweep {
  public:
   /// \brief Opens (or creates) the store in `directory`; throws as TextureStore::openOrCreate, and
-  /// std::invalid_argument for a bad camera.
+  /// BtfError for a bad camera.
   TextureSweep(const std::filesystem::path& directory, const SliceId& slice,
                const vision::CameraModel& camera, const TextureStoreLayout& layout,
                const RectifyParams& rectify = {});
@@ -116,7 +116,7 @@ struct SessionTexture {
 
 /// \brief Runs every recording (one slice each) through the capture pipeline and the texture
 /// capture. The camera and window come from the first recording; a recording with another
-/// camera size or window, or a slice given twice, throws std::invalid_argument naming it. I/O
+/// camera size or window, or a slice given twice, throws BtfError naming it. I/O
 /// errors throw io::IoError naming the file. `log` (if set) gets one line per recording.
 SessionTexture captureRecordings(const std::vector<std::filesystem::path>& recordings,
                                  const capture::PipelineSettings& settings,

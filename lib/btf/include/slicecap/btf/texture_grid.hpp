@@ -13,7 +13,7 @@ namespace slicecap::btf {
 /// texture image shows the target as seen from above with x right and y up.
 class TextureGrid {
  public:
-  /// \brief Throws std::invalid_argument unless 1 <= resolution <= 1024 and the window is a
+  /// \brief Throws BtfError unless 1 <= resolution <= 1024 and the window is a
   /// rectangle.
   TextureGrid(int resolution, const vision::RectMm& window);
 

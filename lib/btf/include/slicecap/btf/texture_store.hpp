@@ -46,7 +46,7 @@ class TextureStore {
  public:
   /// \brief Opens the store in `directory`, creating it with `layout` if there is none; an
   /// existing store with another resolution, window or frames per bin is an IoError (one session
-  /// has one texture). std::invalid_argument for an invalid layout.
+  /// has one texture). BtfError for an invalid layout.
   static TextureStore openOrCreate(const std::filesystem::path& directory,
                                    const TextureStoreLayout& layout);
   /// \brief Opens an existing store. Mend (the daemon's) removes what a crash left (see
@@ -65,7 +65,7 @@ class TextureStore {
   /// rectifying a frame, as most frames of a long sweep are not kept.
   bool wouldKeep(const SliceId& slice, double parameterDeg) const;
   /// \brief Stores the frame if its bin keeps it (durable when this returns) and deletes the
-  /// frame it replaces; returns whether it was kept. std::invalid_argument for a frame of another
+  /// frame it replaces; returns whether it was kept. BtfError for a frame of another
   /// texel count.
   bool add(const SliceId& slice, const TextureFrame& frame);
   /// \brief Deletes every frame of the slice (a redone sweep), durably (io::discardFolderDurably);

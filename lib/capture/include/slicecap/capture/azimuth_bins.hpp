@@ -16,7 +16,7 @@ namespace slicecap::capture {
 /// an axial slice and the view azimuth on a diagonal one (sliceParameterDeg).
 class AzimuthBins {
  public:
-  /// \brief `binWidthDeg` must divide 360 (std::invalid_argument otherwise); 15 deg gives 24 bins.
+  /// \brief `binWidthDeg` must divide 360 (CaptureError otherwise); 15 deg gives 24 bins.
   explicit AzimuthBins(SliceKind kind, double binWidthDeg = 15.0);
 
   int binCount() const { return static_cast<int>(bins_.size()); }

@@ -109,7 +109,7 @@ struct TimedPose {
 /// a new one per sweep.
 class FramePipeline {
  public:
-  /// \brief Throws std::invalid_argument naming the problem for an invalid camera or target.
+  /// \brief Throws CaptureError naming the problem for an invalid camera or target.
   FramePipeline(vision::TargetGeometry target, vision::CameraModel camera,
                 PipelineSettings settings = {});
   ~FramePipeline();

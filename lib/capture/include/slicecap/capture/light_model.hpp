@@ -77,7 +77,7 @@ struct LightFitParams {
 /// \brief Fits the light's position (the monospectral mean of the channels drives the geometry,
 /// with relative residuals, plus the weak prior) and then each channel's intensity (linear least
 /// squares at that position). Needs at least 5 observations not all on one line, with positive
-/// radiance and albedo; throws std::invalid_argument otherwise. A fit that does not converge is
+/// radiance and albedo; throws CaptureError otherwise. A fit that does not converge is
 /// returned with converged = false.
 LightFit fitPointLight(std::span<const ReferenceObservation> observations,
                        const LightFitParams& params = {});

@@ -92,7 +92,7 @@ double detectionWorkPx(int width, int height, const DetectionScale& scale);
 /// blur the buffer it is given). Not thread-safe; one per frame loop.
 class MarkerDetector {
  public:
-  /// \brief Throws std::invalid_argument naming the value when settings.decimation is outside
+  /// \brief Throws CaptureError naming the value when settings.decimation is outside
   /// kMinDecimation..kMaxDecimation (or not a number).
   explicit MarkerDetector(MarkerDetectorSettings settings = {});
   ~MarkerDetector();

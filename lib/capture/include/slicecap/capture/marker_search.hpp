@@ -45,7 +45,7 @@ struct MarkerSearchResult {
 /// target is found again within a bounded number of frames. Not thread-safe; one per frame loop.
 class MarkerSearch {
  public:
-  /// \brief Throws std::invalid_argument as MarkerDetector does, or naming a budget that is not
+  /// \brief Throws CaptureError as MarkerDetector does, or naming a budget that is not
   /// positive.
   MarkerSearch(const vision::TargetGeometry& target, const vision::CameraModel& camera,
                MarkerDetectorSettings settings, int minMarkers);

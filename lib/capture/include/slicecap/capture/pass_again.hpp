@@ -69,7 +69,7 @@ struct PassAgainRule {
 ///   bin and its two neighbours within rule.edgeBandDeg of the nearest are at least
 ///   rule.riseFactor times, and rule.noiseSigmas standard deviations above, those
 ///   rule.farFromDeg-rule.farToDeg farther out. Only frames that carry cells can show this.
-/// Throws std::invalid_argument for a point slice.
+/// Throws CaptureError for a point slice.
 std::vector<PassAgainBin> binsToPassAgain(const AzimuthBins& bins, const SliceId& id,
                                           SweepProgress progress, const PassAgainRule& rule = {});
 

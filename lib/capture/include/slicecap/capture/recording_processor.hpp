@@ -48,7 +48,7 @@ struct RecordingResult {
 /// last alone after it). A recording without any LED-off frame is processed without a room-light
 /// term (settings.requireAmbient is not applied) and says so (roomLightSubtracted). A frame whose PNG is missing,
 /// corrupt or of the wrong size is a "bad_frame" rejection naming the file. Throws io::IoError
-/// for a bad recording.json (naming the field) and std::invalid_argument for a recording without
+/// for a bad recording.json (naming the field) and CaptureError for a recording without
 /// a slice (e.g. a calibration recording) or with a point one, naming the directory.
 /// An HDR recording (frames[].exposure_level) is processed level by level: each level's frames
 /// through their own pipeline with PipelineSettings::hdr, so an LED-on frame's room light comes
@@ -66,7 +66,7 @@ RecordingResult processRecording(const std::filesystem::path& directory,
                                  const PipelineSettings& settings = {},
                                  const FrameObserver& observer = {});
 
-/// \brief The slice `recording` (read from `directory`) holds; std::invalid_argument naming the
+/// \brief The slice `recording` (read from `directory`) holds; CaptureError naming the
 /// directory when it holds none (e.g. a calibration recording) or a point "slice".
 SliceId sliceOfRecording(const std::filesystem::path& directory, const io::Recording& recording);
 

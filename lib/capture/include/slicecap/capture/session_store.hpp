@@ -45,7 +45,7 @@ struct JournalDamage {
 class SessionStore {
  public:
   /// \brief Creates <root>/<id>; IoError if it exists or cannot be made. `id` must be a valid
-  /// session id (std::invalid_argument otherwise: it names a directory).
+  /// session id (CaptureError otherwise: it names a directory).
   static SessionStore create(const std::filesystem::path& root, const std::string& id,
                              const std::string& material);
   /// \brief Opens an existing session and replays its journal.
@@ -73,7 +73,7 @@ class SessionStore {
   /// \brief Stores one accepted sample of a slice (durable when this returns), with its HDR
   /// reading and its window cells when it has them (replayed bit-identical; cells that would not
   /// replay are refused as an HDR reading is). Here and in recordSweepStarted and redo, a
-  /// point slice (no sweep) is std::invalid_argument, nothing written; so is an HDR reading that
+  /// point slice (no sweep) is CaptureError, nothing written; so is an HDR reading that
   /// would not replay (not kHdrCellsPerSide^2 cells, a number not finite, a variance below 0, a
   /// level out of range), the message naming the frame and the field.
   void recordSample(const SliceId& slice, const FrameSample& sample);

@@ -16,7 +16,7 @@ namespace slicecap::capture {
 std::array<double, 2> cellCentreMm(const WindowCells& cells, int index);
 
 /// \brief Sets every cell's light and view direction from the geometry: toward cells.lightMm and
-/// cells.cameraMm from the cell's centre. Throws std::invalid_argument when the cell count is
+/// cells.cameraMm from the cell's centre. Throws CaptureError when the cell count is
 /// not cellsPerSide^2 or the light or the camera is not above the target plane.
 void placeCellDirections(WindowCells& cells);
 
@@ -49,7 +49,7 @@ std::vector<std::vector<const CellSample*>> usableCellsByBin(const AzimuthBins& 
 /// fell in is filled when a neighbouring frame's cells reach it. A bin where no unclipped cell
 /// falls (an HDR peak clipped in every frame; frames from a journal written before cells) keeps
 /// AzimuthBins::combine's sample. Ascending by bin. Throws
-/// std::invalid_argument for a point slice.
+/// CaptureError for a point slice.
 std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& id,
                                         const CellSliceRule& rule = {});
 

@@ -22,7 +22,7 @@ struct UnitVector {
 UnitVector toUnitVector(const Direction& direction);
 
 /// \brief The direction of a vector with z >= 0 (it need not be normalised; zero length throws
-/// std::invalid_argument). Azimuth in [0, 360).
+/// CoreError). Azimuth in [0, 360).
 Direction toDirection(const UnitVector& vector);
 
 /// \brief The angle between two directions, degrees in [0, 180].
@@ -54,7 +54,7 @@ inline constexpr std::array<Ring, kRingCount> kRings{{
 /// \brief The ring with this exact elevation (0, 15, ..., 75), or nullopt for any other value.
 std::optional<int> ringOfElevation(double thetaDeg);
 
-/// \brief The ring at this elevation; throws std::invalid_argument if there is none.
+/// \brief The ring at this elevation; throws CoreError if there is none.
 const Ring& ringAt(int thetaDeg);
 
 /// \brief Ring number (0..5) of a direction index; throws std::out_of_range outside 0..80.
@@ -67,7 +67,7 @@ Direction direction(int directionIndex);
 /// and of the prior's log map).
 const std::array<double, kDirectionCount>& cosines();
 
-/// \brief The index of a grid direction; throws std::invalid_argument when (theta, phi) is not on
+/// \brief The index of a grid direction; throws CoreError when (theta, phi) is not on
 /// the grid (to within 1e-6 deg; the azimuth is wrapped first, and ignored at the pole).
 int indexOf(const Direction& direction);
 

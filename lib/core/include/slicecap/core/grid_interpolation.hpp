@@ -22,7 +22,7 @@ std::array<DirectionTap, 2> ringAzimuthTaps(const Ring& ring, double phiDeg);
 
 /// \brief Up to four taps for a direction: periodic linear in azimuth on the two rings around its
 /// elevation, linear in elevation between them. Elevations above 75 deg take the 75 deg ring (no
-/// extrapolation toward the horizon); negative ones are an error (std::invalid_argument), as are
+/// extrapolation toward the horizon); negative ones are an error (CoreError), as are
 /// non-finite angles. Zero-weight taps are dropped; weights sum to 1.
 std::vector<DirectionTap> directionTaps(const Direction& direction);
 

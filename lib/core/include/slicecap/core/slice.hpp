@@ -67,11 +67,11 @@ struct AzimuthPair {
 
 /// \brief The slice parameter of a sample: its light azimuth on an axial slice, its view azimuth on
 /// a diagonal slice (docs/method.md §2.1), in [0, 360). Point samples have none (throws
-/// std::invalid_argument).
+/// CoreError).
 double sliceParameterDeg(SliceKind kind, const SliceSample& sample);
 
 /// \brief The point of the slice line at a parameter: axial (x, x + 15), diagonal (360 - x, x),
-/// both wrapped to [0, 360). Point samples lie on no line (std::invalid_argument).
+/// both wrapped to [0, 360). Point samples lie on no line (CoreError).
 AzimuthPair slicePoint(SliceKind kind, double parameterDeg);
 
 /// \brief One slice: its identity and its samples in capture order.
@@ -92,7 +92,7 @@ class SliceSet {
   /// \brief Appends a sample to the slice `id`, creating the slice on first use.
   void add(const SliceId& id, const SliceSample& sample);
   /// \brief Appends a sample to the cell samples of the slice `id` (Slice::cellSamples). The
-  /// slice must have samples already (std::invalid_argument naming it otherwise): a cell reading
+  /// slice must have samples already (CoreError naming it otherwise): a cell reading
   /// comes from frames, whose window centres are samples too.
   void addCellSample(const SliceId& id, const SliceSample& sample);
   /// \brief True when some slice has cell samples.

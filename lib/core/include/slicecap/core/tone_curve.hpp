@@ -14,7 +14,7 @@ namespace slicecap {
 class ToneCurve {
  public:
   /// \brief Points (linear, encoded) from (0, 0) to (1, 1), both coordinates strictly increasing.
-  /// Throws std::invalid_argument naming the curve and the point that breaks this.
+  /// Throws CoreError naming the curve and the point that breaks this.
   ToneCurve(std::string name, std::vector<std::pair<double, double>> points);
 
   /// \brief The sRGB transfer curve (IEC 61966-2-1), tabulated finely enough that its error is

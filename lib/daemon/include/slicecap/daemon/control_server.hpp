@@ -71,7 +71,7 @@ std::optional<std::string> socketPathProblem(const std::filesystem::path& path);
 /// Closing it removes the socket file it bound (if it is still there), never systemd's.
 class ListenSocket {
  public:
-  /// \brief Throws std::runtime_error naming the path.
+  /// \brief Throws SlicecapdError naming the path.
   explicit ListenSocket(const ListenSpec& spec);
   ~ListenSocket();
   ListenSocket(const ListenSocket&) = delete;
@@ -93,7 +93,7 @@ class ListenSocket {
 };
 
 /// \brief A ListenSocket's descriptor, for a caller that closes it itself (the socket file stays).
-/// Throws std::runtime_error naming the path.
+/// Throws SlicecapdError naming the path.
 int openListenSocket(const ListenSpec& spec, bool* fromSystemd = nullptr);
 
 /// \brief Serves a listening socket on an event loop: any number of clients, request lines of at

@@ -37,10 +37,15 @@ struct HdrCycleParams {
 /// \brief The cycle of one sweep run. Single-threaded (the daemon's event loop).
 class HdrCycle {
  public:
-  /// \brief Throws std::invalid_argument for levels outside 2..kMaxHdrLevels (a caller's error:
-  /// the configuration refuses those), a step ratio <= 1, a pair count < 1 or a longest exposure
-  /// not above minExposureUs.
+  /// \brief Throws SlicecapdError with refusal()'s text when refusal() names one.
   HdrCycle(hal::ExposureSetting longest, HdrCycleParams params = {});
+
+  /// \brief Why no cycle can start from `longest` with `params`, or nullopt: levels outside
+  /// 2..kMaxHdrLevels (a caller's error: the configuration refuses those), a step ratio <= 1, a
+  /// pair count < 1 or a longest exposure not above minExposureUs (a sweep then takes one
+  /// exposure, SweepHdr::start).
+  static std::optional<std::string> refusal(const hal::ExposureSetting& longest,
+                                            const HdrCycleParams& params);
 
   /// \brief Each level's exposure now, longest (level 0) first, microseconds.
   const std::vector<double>& levelsUs() const { return levelsUs_; }

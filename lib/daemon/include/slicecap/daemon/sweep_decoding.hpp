@@ -33,7 +33,7 @@ enum class DecodingMode { Auto, MeasuredCurve, Srgb };
 
 /// \brief "auto", "measured-curve", "srgb".
 std::string toString(DecodingMode mode);
-/// \brief The mode a configuration value names. Throws std::invalid_argument naming the value.
+/// \brief The mode a configuration value names. Throws ConfigError naming the value.
 DecodingMode decodingModeFromString(const std::string& value);
 
 /// \brief What the bracket is fitted against: the target in view and the camera's model.

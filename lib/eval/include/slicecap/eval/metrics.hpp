@@ -30,7 +30,7 @@ std::array<unsigned char, Abrdf::kValueCount> encodePaper8Bit(const Abrdf& table
 /// \brief The largest cos(theta_i)-weighted value of a table over all 6561 x 3.
 double cosWeightedMaximum(const Abrdf& table);
 
-/// \brief All metrics of `test` against `reference`. Throws std::invalid_argument when the
+/// \brief All metrics of `test` against `reference`. Throws EvalError when the
 /// reference has no positive value (nothing to normalise by).
 Metrics compare(const Abrdf& reference, const Abrdf& test);
 

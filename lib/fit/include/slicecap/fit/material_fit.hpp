@@ -104,7 +104,7 @@ struct FitResult {
 /// Throws FitError naming `name` when the table holds a negative or non-finite value or no
 /// positive one (not a BRDF), or when no full GGX solve converged within maxIterations (a sheen or
 /// coat candidate that does not converge is only left out, and choiceReason says so);
-/// std::invalid_argument for options with no start or fewer than one iteration.
+/// FitArgumentError for options with no start or fewer than one iteration.
 FitResult fitMaterial(const Abrdf& table, const std::string& name, const FitOptions& options = {});
 
 }  // namespace slicecap::fit

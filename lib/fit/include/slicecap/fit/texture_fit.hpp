@@ -93,7 +93,7 @@ struct TextureFitResult {
 /// warm-started from its left neighbour. A texel that cannot be fitted is named in its
 /// TexelFit::problem, never given a default material; the next texel then starts from the last
 /// good solution. A texel whose specular lobe is too weak to locate gets a flat normal and
-/// TiltStatus::NoLobe (its other parameters refitted flat). Throws std::invalid_argument for
+/// TiltStatus::NoLobe (its other parameters refitted flat). Throws FitArgumentError for
 /// resolution < 1 or options out of range; exceptions of `readRow` (e.g. io::IoError) pass through.
 TextureFitResult fitTexture(int resolution, const TexelRowReader& readRow,
                             const TextureFitOptions& options = {});

@@ -121,7 +121,7 @@ Image decodeBayer(const BayerFrameView& raw, const BayerBlackLevels& black);
 
 /// \brief Packs a mosaic of codes (row-major, `widthPx` x `heightPx`, each < 2^bitDepth) into
 /// the format's bytes with `strideBytes` per row (0: the minimal stride; padding is zero): what
-/// a sensor writes, for the camera model. Throws std::invalid_argument on a size mismatch or a
+/// a sensor writes, for the camera model. Throws HalError on a size mismatch or a
 /// stride below the minimal one.
 std::vector<std::uint8_t> packBayer(const BayerFormat& format, int widthPx, int heightPx,
                                     std::span<const std::uint16_t> codes,

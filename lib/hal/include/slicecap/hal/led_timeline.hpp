@@ -20,7 +20,7 @@ class LedTimeline {
  public:
   explicit LedTimeline(bool initiallyOn = false) : initiallyOn_(initiallyOn) {}
   /// \brief From `timeUs` on the LED is `on`. A switch to the state it already has is not kept.
-  /// Throws std::invalid_argument when `timeUs` is before the last switch recorded.
+  /// Throws HalError when `timeUs` is before the last switch recorded.
   void record(std::int64_t timeUs, bool on);
   bool stateAt(std::int64_t timeUs) const;
   /// \brief Microseconds of [startUs, endUs) with the LED on.

@@ -129,7 +129,7 @@ struct FrameTruth {
 class ModelCamera final : public Camera {
  public:
   /// \brief `ledLight`: the timeline of the light itself (a TimelineLed with the LED's own
-  /// delay). Throws std::invalid_argument for an invalid model.
+  /// delay). Throws HalError for an invalid model.
   ModelCamera(std::shared_ptr<SceneSource> scene, std::shared_ptr<const LedTimeline> ledLight,
               Clock& clock, SensorModel model = {});
   ~ModelCamera() override;

@@ -36,17 +36,17 @@ class CheckRig {
   bool ledOn() const { return ledOn_; }
 
   /// \brief The next frame, waiting at most `timeout`; nullopt on a timeout. Throws
-  /// std::runtime_error naming the camera when the stream ended or failed.
+  /// HardwareCheckError naming the camera when the stream ended or failed.
   std::optional<SeenFrame> next(std::chrono::milliseconds timeout);
   /// \brief Frames for `durationUs` of the clock (at least one; a timeout of a second without a
-  /// frame throws std::runtime_error naming the camera).
+  /// frame throws HardwareCheckError naming the camera).
   std::vector<SeenFrame> collect(std::int64_t durationUs);
   /// \brief Camera::lockExposure, counted (frames say how many locks they were taken under).
   /// Throws what the camera throws.
   hal::ExposureLock lock(const hal::ExposureSetting& setting);
   /// \brief Locks `setting` and returns the first frame taken under that lock (its
   /// exposureLocks counts it), with the frames before it in `before` when given. Throws
-  /// std::runtime_error naming the camera when the lock is refused or no such frame comes
+  /// HardwareCheckError naming the camera when the lock is refused or no such frame comes
   /// within `maxFrames`.
   SeenFrame lockAndWait(const hal::ExposureSetting& setting, int maxFrames = 20,
                         std::vector<SeenFrame>* before = nullptr);

@@ -47,7 +47,7 @@ double guardFor(double offsetUs, double residualUs);
 
 /// \brief Writes `text` to `path` atomically (a temporary file in the same folder, flushed, then
 /// linked or renamed into place). An existing `path` is kept unless `overwrite`. Throws
-/// std::runtime_error naming the path: it exists, the folder is not writable, the disk is full.
+/// HardwareCheckError naming the path: it exists, the folder is not writable, the disk is full.
 void writeConfigFile(const std::string& path, const std::string& text, bool overwrite);
 
 }  // namespace slicecap::hwcheck

@@ -27,7 +27,7 @@ struct WhiteRows {
   int firstRow = -1, lastRow = -1;             ///< rows holding any (-1: none)
 
   /// \brief Per row, the mean of R+G+B decoded through `codes` over its white pixels (0 where
-  /// the row has none). Throws std::invalid_argument when the frame's size differs.
+  /// the row has none). Throws HardwareCheckError when the frame's size differs.
   std::vector<double> rowMeans(const hal::Frame& frame, const capture::CodeTable& codes) const;
   /// \brief The mean over every white pixel (R+G+B decoded), same throws.
   double mean(const hal::Frame& frame, const capture::CodeTable& codes) const;

@@ -51,7 +51,7 @@ class Journal {
   Journal& operator=(const Journal&) = delete;
   ~Journal();
 
-  /// \brief Appends one record (it may not contain a newline: std::invalid_argument) and syncs it.
+  /// \brief Appends one record (it may not contain a newline: IoError) and syncs it.
   /// Throws IoError naming the path when the write or sync fails (e.g. disk full); the journal is
   /// then cut back to its previous length, so every record before stays valid.
   void append(std::string_view record);

@@ -137,7 +137,7 @@ class RecordingWriter {
 
   /// \brief Appends a frame: `image` must match the camera's size, have 1 or 3 channels and the
   /// encoding's bit depth; `frame.file` is set to frame-NNNNN.png. Throws IoError naming the file,
-  /// or std::invalid_argument for an image of the wrong shape or a timestamp that does not
+  /// or IoError for an image of the wrong shape or a timestamp that does not
   /// increase.
   const RecordedFrame& append(const Image& image, RecordedFrame frame);
 

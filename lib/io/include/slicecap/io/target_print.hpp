@@ -24,7 +24,7 @@ void writeTargetPdf(const std::filesystem::path& path, const vision::TargetGeome
 
 /// \brief The sheet alone as an 8-bit gray image at `dpi`: ink 0, paper 255, box-filtered edges,
 /// the window's outline mid-grey. Pixel (i, j) covers x in sheet.xMin + [i, i + 1) * 25.4 / dpi
-/// and y in sheet.yMax - [j, j + 1) * 25.4 / dpi. Throws std::invalid_argument for dpi outside
+/// and y in sheet.yMax - [j, j + 1) * 25.4 / dpi. Throws IoError for dpi outside
 /// 50..2400.
 Image renderTargetImage(const vision::TargetGeometry& target, double dpi);
 

@@ -87,7 +87,7 @@ Abrdf tabulate(const GltfBrdf& brdf);
 
 /// \brief How far what a glTF renderer draws is from the fit: the glTF material the export writes
 /// (gltfMaterialJson), evaluated by GltfBrdf, against the fitted material's table, with the
-/// metrics of `slicecap compare`. Throws std::invalid_argument when the fitted material reflects
+/// metrics of `slicecap compare`. Throws MaterialExportError when the fitted material reflects
 /// nothing (eval::compare's reference).
 eval::Metrics gltfVersusFit(const fit::FittedMaterial& fitted,
                             SheenVisibility visibility = SheenVisibility::Charlie);

@@ -22,11 +22,11 @@ struct PreviewMesh {
 
 /// \brief A UV sphere of `radius` centred on the origin: tangent along the parallels (increasing
 /// longitude, eastward), bitangent toward the +y pole, so the fitted tangent angle turns from east
-/// toward north. Throws std::invalid_argument when radius <= 0, segments < 3 or rings < 2.
+/// toward north. Throws MaterialExportError when radius <= 0, segments < 3 or rings < 2.
 PreviewMesh uvSphere(double radius, int segments, int rings);
 
 /// \brief A closed cylinder along y (a brushed rod): on the side, tangent around the circumference
-/// and bitangent along +y; on the caps, tangent +x. Throws std::invalid_argument when radius or
+/// and bitangent along +y; on the caps, tangent +x. Throws MaterialExportError when radius or
 /// height <= 0 or segments < 3.
 PreviewMesh cylinder(double radius, double height, int segments);
 

@@ -61,7 +61,7 @@ struct IsotropyVerdict {
 /// phi_v - phi_i = 2x only through its cosine: s(x) = s(x + 180) (half turn) and s(x) = s(-x)
 /// (mirror); its axial slice is constant. Each diagonal slice is scored by the RMS log difference
 /// of its samples to their half-turn and mirror partners (read by periodic linear interpolation);
-/// each axial slice by the RMS log spread about its mean. Throws std::invalid_argument when the
+/// each axial slice by the RMS log spread about its mean. Throws PriorError when the
 /// set has no diagonal and no axial slice with two or more samples, or for invalid params.
 IsotropyVerdict testIsotropy(const SliceSet& slices, const IsotropyParams& params = {});
 

@@ -69,7 +69,7 @@ struct PriorReport {
 /// \brief The 81 x 81 table from any slices: every sample counts at its actual light and view
 /// directions (tableTaps), so jittered, missing, extra and partial slices are fine. Throws
 /// recon::ReconstructionError when there are no samples or a sample lies off the hemisphere
-/// (naming its slice), std::invalid_argument for invalid params. Negative results are clipped to 0.
+/// (naming its slice), PriorError for invalid params. Negative results are clipped to 0.
 Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
                            const PriorParams& params = {}, PriorReport* report = nullptr);
 
@@ -81,7 +81,7 @@ Abrdf reconstructWithPrior(const SliceSet& slices, const PriorModel& model,
 /// the model must outlive it. `reconstruct` is const and may run on many threads at once.
 class PriorReconstructor {
  public:
-  /// \brief Throws std::invalid_argument for invalid params or a basis of the wrong size.
+  /// \brief Throws PriorError for invalid params or a basis of the wrong size.
   explicit PriorReconstructor(const PriorModel& model, const PriorParams& params = {});
   /// \brief As reconstructWithPrior(slices, model, params, report).
   Abrdf reconstruct(const SliceSet& slices, PriorReport* report = nullptr) const;

@@ -45,13 +45,13 @@ struct HalfwayParams {
 /// angle) and their inverse-distance weights. Built once per options (~20 ms CPU here), ~150 kB.
 class HalfwaySystem {
  public:
-  /// \brief Throws std::invalid_argument for invalid params.
+  /// \brief Throws ReconArgumentError for invalid params.
   explicit HalfwaySystem(const HalfwayParams& params);
 
   /// \brief The full table from the four measured subspaces (kMeasuredPairs order): their values
   /// are kept; every other entry is a diffuse floor (each channel's 2nd percentile of the measured
   /// values) plus the weighted specular remainder of its neighbours (averaged as v^(1/gamma)),
-  /// moved by the foreshortening ratio. Throws std::invalid_argument when the subspaces are not the
+  /// moved by the foreshortening ratio. Throws ReconArgumentError when the subspaces are not the
   /// measured pairs in order.
   Abrdf interpolate(const std::vector<Subspace>& measured) const;
 
@@ -70,7 +70,7 @@ class HalfwaySystem {
 };
 
 /// \brief The system for these options (the torus rule and threshold aside), built on first use
-/// and kept for the life of the process (thread-safe). Throws std::invalid_argument for invalid
+/// and kept for the life of the process (thread-safe). Throws ReconArgumentError for invalid
 /// params.
 const HalfwaySystem& sharedHalfwaySystem(const HalfwayParams& params);
 
@@ -93,7 +93,7 @@ struct HalfwayReport {
 /// Method B extrapolates, from the halfway neighbours; an anisotropic capture borrows every
 /// unmeasured entry, because its highlight moves with the elevations and Method B's scalar blends
 /// cannot move it. Throws ReconstructionError naming every missing slice,
-/// std::invalid_argument for invalid params.
+/// ReconArgumentError for invalid params.
 Abrdf reconstructHalfway(const SliceSet& slices, const HalfwayParams& params = {},
                          HalfwayReport* report = nullptr);
 

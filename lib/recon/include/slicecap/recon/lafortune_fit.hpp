@@ -47,7 +47,7 @@ struct LobeFitParams {
 /// elevation (LobeCost), by Ceres' TinySolver (Levenberg-Marquardt
 /// from the paper's constant start: k = the samples' mean, n = initialN). Needs samples at two or
 /// more distinct elevations below 90 deg
-/// Needs samples at two or more distinct elevations below 90 deg; throws std::invalid_argument
+/// Needs samples at two or more distinct elevations below 90 deg; throws ReconArgumentError
 /// otherwise or for non-finite input. A non-converged fit is returned with converged = false.
 LobeFitResult fitElevationLobe(std::span<const ElevationSample> samples,
                                const LobeFitParams& params = {});

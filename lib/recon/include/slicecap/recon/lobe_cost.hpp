@@ -29,7 +29,7 @@ namespace slicecap::recon {
 /// docs/method.md §4.2 asks before logarithms.
 class LobeCost final : public ceres::CostFunction {
  public:
-  /// \brief Needs samples at two or more distinct elevations (std::invalid_argument otherwise).
+  /// \brief Needs samples at two or more distinct elevations (ReconArgumentError otherwise).
   LobeCost(std::span<const ElevationSample> samples, double minimumValue);
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;

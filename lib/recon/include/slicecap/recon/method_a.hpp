@@ -54,12 +54,12 @@ struct MethodAParams {
 /// shared tables), below 0.2 of a step of the paper's 8-bit encoding.
 class MethodASystem {
  public:
-  /// \brief Throws std::invalid_argument for invalid RBF options.
+  /// \brief Throws ReconArgumentError for invalid RBF options.
   explicit MethodASystem(OnionFrame frame = OnionFrame::ViewRelative, const RbfParams& rbf = {});
 
   /// \brief The full table from the four measured subspaces (kMeasuredPairs order): their values
   /// are kept, every other entry is interpolated (as v^(1/valueGamma), RbfParams), negatives are
-  /// clipped to 0. Throws std::invalid_argument when the subspaces are not the measured pairs in
+  /// clipped to 0. Throws ReconArgumentError when the subspaces are not the measured pairs in
   /// that order, ReconstructionError when the interpolant is not finite (RBF options for which
   /// the system is singular in floating point).
   Abrdf interpolate(const std::vector<Subspace>& measured, double valueGamma = 1.0) const;
@@ -83,13 +83,13 @@ class MethodASystem {
 };
 
 /// \brief The system for these options, built on first use and kept for the life of the process
-/// (thread-safe). Throws std::invalid_argument for invalid RBF options.
+/// (thread-safe). Throws ReconArgumentError for invalid RBF options.
 const MethodASystem& sharedMethodASystem(OnionFrame frame = OnionFrame::ViewRelative,
                                          const RbfParams& rbf = {});
 
 /// \brief The 81 x 81 table from the 8 slices (4 diagonal ones when isotropic), with the shared
 /// system of the params. Throws ReconstructionError naming every missing slice,
-/// std::invalid_argument for invalid params.
+/// ReconArgumentError for invalid params.
 Abrdf reconstructMethodA(const SliceSet& slices, const MethodAParams& params = {});
 
 }  // namespace slicecap::recon

@@ -19,7 +19,7 @@ struct SignalPoint {
 /// points that share a position are averaged. Between neighbours (cyclically) the value is linear.
 class PeriodicSignal {
  public:
-  /// \brief Throws std::invalid_argument when `points` is empty or holds a non-finite number.
+  /// \brief Throws ReconArgumentError when `points` is empty or holds a non-finite number.
   explicit PeriodicSignal(std::span<const SignalPoint> points);
 
   /// \brief The interpolated value at any position (wrapped first).

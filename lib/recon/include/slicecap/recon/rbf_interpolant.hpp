@@ -64,7 +64,7 @@ int polynomialTerms(RbfPolynomial polynomial);
 /// row of kernel values.
 class RbfInterpolant {
  public:
-  /// \brief Factors the system. Throws std::invalid_argument for no centres, a non-finite
+  /// \brief Factors the system. Throws ReconArgumentError for no centres, a non-finite
   /// coordinate, invalid params, or two centres closer than 1e-9 (the system would be singular).
   explicit RbfInterpolant(std::vector<FeaturePoint> centres, const RbfParams& params = {});
 
@@ -80,7 +80,7 @@ class RbfInterpolant {
 
   /// \brief Coefficients, (n + m) x k: the n centre weights, then the m polynomial coefficients
   /// (constant first, then the four linear ones), for values n x k
-  /// (one column per channel, material or pixel). Throws std::invalid_argument when values does
+  /// (one column per channel, material or pixel). Throws ReconArgumentError when values does
   /// not have n rows.
   Eigen::MatrixXd coefficients(const Eigen::MatrixXd& values) const;
 

@@ -19,7 +19,7 @@ struct ScatteredRbfParams {
 /// point samples of `sample --uniform`, or slice samples) at its own light and view directions.
 /// Samples at the same directions are averaged first. Negatives are clipped to 0. Throws
 /// ReconstructionError for an empty set, a non-finite sample or an interpolant that is not
-/// finite (params for which the system is singular in floating point), std::invalid_argument
+/// finite (params for which the system is singular in floating point), ReconArgumentError
 /// for invalid params.
 Abrdf reconstructScattered(const SliceSet& samples, const ScatteredRbfParams& params = {});
 

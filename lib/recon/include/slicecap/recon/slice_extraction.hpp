@@ -25,12 +25,12 @@ struct GridWeight {
 
 /// \brief The grid entries, with non-zero weights summing to 1, that make up the table's value at
 /// ring elevations and any azimuths (up to 4; 2 when one azimuth is on its ring). The same weights
-/// serve every pixel of a texture. Throws std::invalid_argument when an elevation is not a ring.
+/// serve every pixel of a texture. Throws slicecap::CoreError when an elevation is not a ring.
 std::vector<GridWeight> lookupWeights(ElevationPair elevations, const AzimuthPair& azimuths,
                                       AzimuthLookup lookup = AzimuthLookup::Linear);
 
 /// \brief The table's value at ring elevations and any azimuths: along each ring the lookup rule
-/// applies (at most two grid values per ring, four in all). Throws std::invalid_argument when an
+/// applies (at most two grid values per ring, four in all). Throws slicecap::CoreError when an
 /// elevation is not a Bonn ring.
 Rgb sampleTable(const Abrdf& table, ElevationPair elevations, const AzimuthPair& azimuths,
                 AzimuthLookup lookup = AzimuthLookup::Linear);
@@ -51,7 +51,7 @@ int samplesPerSlice(ElevationPair pair, const ExtractionParams& params);
 
 /// \brief The 8 (or 4) ideal slices of a table at the measured pairs. Sample k of a slice sits at
 /// parameter k * step: axial at (phi_i, phi_v) = (x, x + 15), diagonal at (360 - x, x).
-/// Throws std::invalid_argument for invalid params.
+/// Throws ReconArgumentError for invalid params.
 SliceSet extractSlices(const Abrdf& table, const ExtractionParams& params = {});
 
 }  // namespace slicecap::recon

@@ -14,7 +14,7 @@ namespace slicecap::recon {
 /// \brief S[p][q] = A[ring(theta_i)[p], ring(theta_v)[q]]: p indexes phi_i, q indexes phi_v.
 class Subspace {
  public:
-  /// \brief A zero block; throws std::invalid_argument when an elevation is not a Bonn ring.
+  /// \brief A zero block; throws slicecap::CoreError when an elevation is not a Bonn ring.
   explicit Subspace(ElevationPair elevations);
 
   /// \brief The block of a full table.
@@ -42,7 +42,7 @@ class Subspace {
   /// \brief (1 - t) low + t high of two blocks of one light elevation, each first resampled to
   /// `thetaVDeg` as resampledToViewElevation does: blend(low', high', t) in one pass, without the
   /// two resampled blocks (this is most of the work of an elevation interpolation). Throws
-  /// std::invalid_argument when the two light elevations differ.
+  /// ReconArgumentError when the two light elevations differ.
   static Subspace blendAtViewElevation(const Subspace& low, const Subspace& high, double t,
                                        int thetaVDeg);
   /// \brief Likewise of two blocks of one view elevation, resampled to `thetaIDeg` along phi_i.
@@ -51,7 +51,7 @@ class Subspace {
 
   /// \brief Every value multiplied by `factor`.
   Subspace& scale(double factor);
-  /// \brief (1 - t) a + t b of two blocks of the same shape; throws std::invalid_argument
+  /// \brief (1 - t) a + t b of two blocks of the same shape; throws ReconArgumentError
   /// otherwise.
   static Subspace blend(const Subspace& a, const Subspace& b, double t);
 

@@ -15,13 +15,13 @@ inline constexpr int kUniformBaselineDirections = 13;
 /// on their unit vectors, starting from the pole, in selection order. The first 14 are docs/method.md
 /// §6.3's published order (its ties fell by rounding), so 13 gives its list: (0,0), (30,30),
 /// (30,270), (45,140), (45,200), (45,340), (60,54), (60,252), (60,288), (75,0), (75,105),
-/// (75,165), (75,225); later ties go to the lower index. Throws std::invalid_argument unless
+/// (75,165), (75,225); later ties go to the lower index. Throws ReconArgumentError unless
 /// 1 <= count <= 81.
 std::vector<int> farthestPointDirections(int count);
 
 /// \brief The uniform capture of a table: every pair of the `count` directions as light and as
 /// view, `count`^2 point samples (SliceKind::Point) with the table's exact values. Throws
-/// std::invalid_argument unless 1 <= count <= 81.
+/// ReconArgumentError unless 1 <= count <= 81.
 SliceSet extractUniformSamples(const Abrdf& table, int count = kUniformBaselineDirections);
 
 }  // namespace slicecap::recon

@@ -14,7 +14,7 @@ int layoutSide(int pixelsPerEntry);
 /// in the Bonn order, so the 36 (theta_i, theta_v) subspaces are the blocks between the ring
 /// lines. Each entry shows the paper's 8-bit encoding (times cos theta_i, divided by
 /// `referenceMax`, clipped, sRGB), which is exactly what the metrics compare. Throws
-/// std::invalid_argument for pixelsPerEntry < 1 or a referenceMax that is not positive.
+/// RenderError for pixelsPerEntry < 1 or a referenceMax that is not positive.
 Canvas layoutImage(const Abrdf& table, double referenceMax, int pixelsPerEntry = 3);
 
 /// \brief |reference - test| of the two 8-bit encodings, per channel, times `gain` (the paper's

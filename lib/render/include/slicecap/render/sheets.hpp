@@ -21,7 +21,7 @@ struct SheetPanel {
 /// \brief The evaluation sheet: a heading, then the reference and every reconstruction in the
 /// 81 x 81 layout (paper's Fig. 1, encoded against the reference's maximum), each reconstruction
 /// above its x10 difference to the reference, and the panel's lines under it. Throws
-/// std::invalid_argument for a reference without a positive value or a panel without a table.
+/// RenderError for a reference without a positive value or a panel without a table.
 Canvas evaluationSheet(const std::string& heading, const Abrdf& reference,
                        const std::vector<std::string>& referenceLines,
                        const std::vector<SheetPanel>& panels);
@@ -34,7 +34,7 @@ inline const std::vector<Direction>& previewLights() {
 }
 
 /// \brief The preview: a heading and lines of text, the table in the 81 x 81 layout (normalised
-/// to its own maximum) and spheres lit from previewLights(). Throws std::invalid_argument for a
+/// to its own maximum) and spheres lit from previewLights(). Throws RenderError for a
 /// table without a positive value.
 Canvas previewSheet(const std::string& heading, const std::vector<std::string>& lines,
                     const Abrdf& table);

@@ -13,7 +13,7 @@ namespace slicecap::render {
 /// viewing axis, phi counter-clockwise from the picture's right). Each pixel shows f_r(l, v)
 /// cos(theta_i) from the table (linear interpolation on the grid; elevations above 75 deg use the
 /// 75 deg ring), divided by `whiteLevel`, clipped and sRGB-encoded; 2 x 2 samples a pixel.
-/// Unlit surface is black, the background kSheetBackground. Throws std::invalid_argument for a
+/// Unlit surface is black, the background kSheetBackground. Throws RenderError for a
 /// size below 8 or a whiteLevel that is not positive.
 Canvas renderSphere(const Abrdf& table, const Direction& light, int size, double whiteLevel);
 

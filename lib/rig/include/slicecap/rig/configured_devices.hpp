@@ -26,7 +26,7 @@ namespace slicecap::rig {
 using RecordingsBySlice = std::map<SliceId, std::pair<std::filesystem::path, io::Recording>>;
 
 /// \brief The configured recording itself, or those of a session folder (as `slicecap simulate
-/// --session` writes). Throws std::runtime_error naming the folder when none is found.
+/// --session` writes). Throws RigError naming the folder when none is found.
 RecordingsBySlice findRecordings(const std::filesystem::path& configured);
 
 /// \brief The target and camera model of a slice's sweep.

@@ -24,7 +24,7 @@ class PatternedMaterial : public models::ReflectanceModel {
 
 /// \brief A plain weave of square cells of `cellMm` (a cell corner at the window centre): warp
 /// cells, (i + j) even, are a blue anisotropic Ward satin with its tangent along x; weft cells a
-/// red one along y. The window mean is their average. Throws std::invalid_argument unless
+/// red one along y. The window mean is their average. Throws SimError unless
 /// 0.5 <= cellMm <= 100.
 std::shared_ptr<const PatternedMaterial> makeWovenMaterial(double cellMm = 10.0);
 

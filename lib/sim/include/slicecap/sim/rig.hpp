@@ -104,7 +104,7 @@ struct FramePlan {
 /// randomness comes from params.seed and the slice, so a plan is reproducible. `bracketLevels`
 /// (1..3, an HDR sweep's exposure levels) takes each position with that many consecutive LED
 /// pairs (framesPerSlice x bracketLevels frames), each drawing its own hand-held imperfections.
-/// Throws std::invalid_argument for invalid parameters.
+/// Throws SimError for invalid parameters.
 std::vector<FramePlan> planSweep(const SliceId& slice, double alphaDeg, const RigParams& params,
                                  const vision::CameraModel& camera,
                                  const vision::TargetGeometry& target, int bracketLevels = 1);

@@ -22,7 +22,7 @@ namespace slicecap::sim {
 /// position.
 class RigScene final : public hal::SceneSource {
  public:
-  /// \brief Throws std::invalid_argument for invalid rig parameters.
+  /// \brief Throws SimError for invalid rig parameters.
   RigScene(std::shared_ptr<const FrameRenderer> renderer, const SliceId& slice,
            const RigParams& rig, double holdSeconds = 0.0);
   std::string id() const override;

@@ -65,7 +65,7 @@ std::vector<double> chooseHdrLevelsUs(const MeteredRadiance& metered, const RigP
 /// \brief Renders one sweep into `directory` (which must not hold a recording yet): the
 /// recording (recording.json + PNG frames) and truth.json. `progress` (if set) is called after
 /// each frame with (done, total). Returns the truth. Throws io::IoError naming a path, or
-/// std::invalid_argument for bad rig parameters.
+/// SimError for bad rig parameters.
 SweepTruth simulateSweep(const std::filesystem::path& directory, const io::RecordedSlice& slice,
                          const FrameRenderer& renderer, const SweepSetup& setup,
                          const std::function<void(int, int)>& progress = {});

@@ -58,7 +58,7 @@ struct CameraModel {
   /// field of view (e.g. a RAW stream 2 x 2 binned from the sensor mode the processed stream was
   /// scaled from): focal lengths and principal point scaled, pixel centres kept at integer
   /// coordinates, distortion unchanged (it acts on normalised coordinates). Throws
-  /// std::invalid_argument naming both sizes when the aspect ratios differ by more than 1 %
+  /// VisionError naming both sizes when the aspect ratios differ by more than 1 %
   /// (another crop of the sensor: calibrate at that size instead).
   CameraModel scaledTo(int widthPx, int heightPx) const;
 };

@@ -92,7 +92,7 @@ struct TargetParams {
 /// \brief The target of these parameters: the window centred at the origin, a white band around
 /// it (four side strips and three corner squares are the white reference patches; the fourth,
 /// bottom-left corner holds the black patch), a square ring of tags outside the band (ids going
-/// counter-clockwise from the bottom-left corner), a paper margin. Throws std::invalid_argument
+/// counter-clockwise from the bottom-left corner), a paper margin. Throws VisionError
 /// when !params.isValid().
 TargetGeometry buildTarget(const TargetParams& params);
 

@@ -51,7 +51,7 @@ struct TargetRaster {
 };
 
 /// \brief Rasterises `area` at `pixelsPerMm` with `supersample` x `supersample` point samples a
-/// pixel. Throws std::invalid_argument for a non-positive density or an empty area.
+/// pixel. Throws VisionError for a non-positive density or an empty area.
 TargetRaster rasterizeTarget(const TargetSurface& surface, const RectMm& area, double pixelsPerMm,
                              int supersample = 4);
 
