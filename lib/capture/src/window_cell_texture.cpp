@@ -215,8 +215,8 @@ AzimuthBins withCellsNormalised(const AzimuthBins& bins, const std::vector<Rgb>&
       if (frame.cells) {
         if (frame.cells->cells.size() != factors.size())
           throw CaptureError("window cells: a frame of " +
-                                      std::to_string(frame.cells->cells.size()) + " cells for " +
-                                      std::to_string(factors.size()) + " albedo factors");
+                             std::to_string(frame.cells->cells.size()) + " cells for " +
+                             std::to_string(factors.size()) + " albedo factors");
         for (std::size_t k = 0; k < factors.size(); ++k)
           for (std::size_t c = 0; c < 3; ++c) {
             frame.cells->cells[k].value[c] /= factors[k][c];
