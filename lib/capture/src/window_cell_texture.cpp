@@ -228,4 +228,11 @@ AzimuthBins withCellsNormalised(const AzimuthBins& bins, const std::vector<Rgb>&
   return out;
 }
 
+std::optional<AzimuthBins> cellsAsJudged(const AzimuthBins& bins, const CellTexture& texture) {
+  if (texture.action == CellTextureAction::WindowCentres) return std::nullopt;
+  if (texture.action == CellTextureAction::AlbedoNormalised && !texture.albedoFactors.empty())
+    return withCellsNormalised(bins, texture.albedoFactors);
+  return bins;
+}
+
 }  // namespace slicecap::capture

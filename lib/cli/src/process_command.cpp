@@ -113,7 +113,7 @@ Processed processAll(const std::vector<std::filesystem::path>& recordings,
     if (texture.framesUsed > 0) io.err << "  " << texture.describe() << "\n";
     if (result.bins.filledCount() == 0) processed.withoutSamples.push_back(noSampleReason(result));
     if (report) {
-      nlohmann::json entry = result.toJson();
+      nlohmann::json entry = result.toJson(texture);
       if (texture.framesUsed > 0) entry["cell_texture"] = cellTextureJson(texture);
       (*report)["recordings"].push_back(std::move(entry));
     }

@@ -97,4 +97,11 @@ CellTexture cellTextureOf(const AzimuthBins& bins, const CellTextureRule& rule =
 /// std::invalid_argument when a frame's cell count is not factors.size().
 AzimuthBins withCellsNormalised(const AzimuthBins& bins, const std::vector<Rgb>& factors);
 
+/// \brief The sweep's frames with their cells as `texture` (cellTextureOf of these bins) says
+/// they are read: a copy of `bins` (AsRead, or AlbedoNormalised without factors), the copy
+/// divided by the albedo factors (AlbedoNormalised), or nullopt (WindowCentres: the cells are
+/// no evidence of angular detail). What the slice's cell samples (addSweepSlices) and the bins
+/// to pass again (binsToPassAgain) both read, so the two never disagree on a sweep.
+std::optional<AzimuthBins> cellsAsJudged(const AzimuthBins& bins, const CellTexture& texture);
+
 }  // namespace slicecap::capture
