@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
@@ -156,6 +157,17 @@ std::string CellTexture::describe() const {
                   name.c_str(), spreadPercent, unexplainedPercent, long(matchedPairs), binsMatched,
                   binsWithCells);
   return text;
+}
+
+nlohmann::json toJson(const CellTexture& texture) {
+  return {{"action", std::string(toString(texture.action))},
+          {"frames_used", texture.framesUsed},
+          {"spread_percent", texture.spreadPercent},
+          {"unexplained_percent", texture.unexplainedPercent},
+          {"matched_pairs", texture.matchedPairs},
+          {"bins_matched", texture.binsMatched},
+          {"bins_with_cells", texture.binsWithCells},
+          {"summary", texture.describe()}};
 }
 
 CellTexture cellTextureOf(const AzimuthBins& bins, const CellTextureRule& rule) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -54,6 +55,10 @@ struct CellTexture {
   /// 10 % over 176 cell pairs in 3 of 24 bins)".
   std::string describe() const;
 };
+
+/// \brief A report's "cell_texture": the verdict, the figures it rests on and describe()'s line
+/// (`process --report` per recording, the daemon export's summary per slice).
+nlohmann::json toJson(const CellTexture& texture);
 
 /// \brief When the cells' differences are texture, and when a factor explains them.
 struct CellTextureRule {
