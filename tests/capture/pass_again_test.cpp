@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <stdexcept>
@@ -23,8 +24,11 @@ double lobe(double parameterDeg, double centreDeg, double sigmaDeg) {
 }
 
 // A 75/75 diagonal frame at slice parameter `centreDeg` whose window holds 9 cells from 3.2 deg
-// before to 3.2 deg after it (0.8 deg apart, as on the default target), valued by `profile`.
-FrameSample frameAt(double centreDeg, const Profile& profile, std::uint64_t index) {
+// before to 3.2 deg after it (0.8 deg apart, as on the default target), valued by `profile`
+// times the material's albedo at the cell's spot, `print` (cells -4 to 4; plain: 1).
+using Print = std::function<double(int)>;
+FrameSample frameAt(double centreDeg, const Profile& profile, std::uint64_t index,
+                    const Print& print = [](int) { return 1.0; }) {
   auto point = [](double p) {
     const AzimuthPair a = slicePoint(SliceKind::Diagonal, p);
     return std::pair{Direction{75, a.phiIDeg}, Direction{75, a.phiVDeg}};
@@ -36,7 +40,8 @@ FrameSample frameAt(double centreDeg, const Profile& profile, std::uint64_t inde
   for (int k = -4; k <= 4; ++k) {
     const auto [cellLight, cellView] = point(centreDeg + 0.8 * k);
     cells.cells.push_back(
-        {cellLight, cellView, Rgb::gray(profile(centreDeg + 0.8 * k)), Rgb::gray(1e-4), false});
+        {cellLight, cellView, Rgb::gray(profile(centreDeg + 0.8 * k) * print(k)), Rgb::gray(1e-4),
+         false});
   }
   s.cells = std::move(cells);
   return s;
@@ -44,13 +49,14 @@ FrameSample frameAt(double centreDeg, const Profile& profile, std::uint64_t inde
 
 // Frames every 3 deg over [fromDeg, toDeg] except those whose centre lies in a skipped range.
 AzimuthBins sweep(const Profile& profile, double fromDeg, double toDeg,
-                  const std::vector<std::pair<double, double>>& skipped) {
+                  const std::vector<std::pair<double, double>>& skipped,
+                  const Print& print = [](int) { return 1.0; }) {
   AzimuthBins bins(SliceKind::Diagonal);
   std::uint64_t index = 0;
   for (double p = fromDeg; p <= toDeg; p += 3.0) {
     bool skip = false;
     for (const auto& [a, b] : skipped) skip = skip || (p > a && p < b);
-    if (!skip) bins.add(frameAt(p, profile, ++index));
+    if (!skip) bins.add(frameAt(p, profile, ++index, print));
   }
   return bins;
 }
@@ -75,12 +81,43 @@ TEST(PassAgain, NamesEmptyBinsAndAPeakTheCellsRiseTowardButNoneReached) {
   const std::vector<std::pair<double, R>> expected{
       {90, R::PeakNotReached}, {210, R::Empty}, {225, R::Empty}};
   EXPECT_EQ(named(binsToPassAgain(bins, kDiagonal7575, SweepProgress::Finished)), expected);
+  // A plain material: the texture verdict reads its cells as they are, and the peak is named.
+  const CellTexture texture = cellTextureOf(bins);
+  EXPECT_EQ(texture.action, CellTextureAction::AsRead) << texture.describe();
+  EXPECT_EQ(named(binsToPassAgain(bins, kDiagonal7575, SweepProgress::Finished, {}, texture)),
+            expected);
   // The gap is what names it: with the centre counted as reached 5 deg away it is not named.
   PassAgainRule lenient;
   lenient.reachedWithinDeg = 5.0;
   EXPECT_EQ(binsToPassAgain(bins, kDiagonal7575, SweepProgress::Finished, lenient).size(), 2u);
   EXPECT_EQ(toString(R::PeakNotReached), "peak_not_reached");
   EXPECT_EQ(toString(R::Empty), "empty");
+}
+
+TEST(PassAgain, AThreadsColourAtTheWindowsEdgeIsNoMissedPeak) {
+  // A plain diffuse material under a weave whose bright thread lies under the window's two
+  // outer cells (3 x the others). Before the 86-94 gap the edge cells read 3 x those behind
+  // them, a sharp peak's rise when read as they are; but it is the same in every frame, so
+  // the texture verdict divides it out or drops the cells, and no peak is named.
+  const Profile flat = [](double) { return 1.0; };
+  const AzimuthBins bins = sweep(flat, 0, 357, {{86, 94}, {198, 243}},
+                                 [](int k) { return std::abs(k) == 4 ? 3.0 : 1.0; });
+  using R = PassAgainReason;
+  const std::vector<std::pair<double, R>> empties{{210, R::Empty}, {225, R::Empty}};
+  const std::vector<std::pair<double, R>> asRead =
+      named(binsToPassAgain(bins, kDiagonal7575, SweepProgress::Finished));
+  EXPECT_NE(std::find(asRead.begin(), asRead.end(), std::pair{90.0, R::PeakNotReached}),
+            asRead.end());
+  const CellTexture texture = cellTextureOf(bins);
+  EXPECT_NE(texture.action, CellTextureAction::AsRead) << texture.describe();
+  EXPECT_EQ(named(binsToPassAgain(bins, kDiagonal7575, SweepProgress::Finished, {}, texture)),
+            empties)
+      << texture.describe();
+  // Window centres: no cell is evidence of a missed peak; the empty bins are still named.
+  CellTexture centres = texture;
+  centres.action = CellTextureAction::WindowCentres;
+  EXPECT_EQ(named(binsToPassAgain(bins, kDiagonal7575, SweepProgress::Finished, {}, centres)),
+            empties);
 }
 
 TEST(PassAgain, ABroadLobeWithTheSameGapIsNotAMissedPeak) {

@@ -9,6 +9,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -17,6 +18,7 @@
 #include "../support/manager_reply.hpp"
 #include "../support/small_disk.hpp"
 #include "../support/test_support.hpp"
+#include "slicecap/capture/window_cells.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 #include "slicecap/daemon/texture_sink.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -88,6 +90,56 @@ TEST(SessionExporter, SkipsTheTextureWhileASweepCapturesIntoIt) {
   EXPECT_TRUE(reply.textureFiles.empty());
   ASSERT_TRUE(reply.textureSkipped);
   EXPECT_NE(reply.textureSkipped->find("axial 30/30"), std::string::npos) << *reply.textureSkipped;
+}
+
+std::array<double, 3> pointAt(const Direction& d, double distanceMm) {
+  const UnitVector u = toUnitVector(d);
+  return {distanceMm * u.x, distanceMm * u.y, distanceMm * u.z};
+}
+
+TEST(SessionExporter, TheSummarySaysHowEachSlicesCellsWereRead) {
+  // A plain material under a print: the window's four cells read 1.6, 1, 1, 0.4 x the same
+  // value in every frame, the texture the export's reading judges.
+  const auto dir = test::freshTempDir();
+  capture::SessionStore store = capture::SessionStore::create(dir / "storage", "felt", "felt");
+  store.recordSweepStarted(kAxial3030);
+  const std::array<double, 4> print{1.6, 1.0, 1.0, 0.4};
+  for (std::uint64_t k = 0; k < 24; ++k) {
+    const Direction light{30, double(k) * 15.0}, view{30, double(k) * 15.0 + 180};
+    capture::FrameSample sample{std::int64_t(k) * 33000, k, light, view, Rgb::gray(0.5)};
+    capture::WindowCells cells;
+    cells.cellsPerSide = 2;
+    cells.gridMm = {-20, -20, 20, 20};
+    cells.lightMm = pointAt(light, 300);
+    cells.cameraMm = pointAt(view, 300);
+    cells.cells.resize(4);
+    capture::placeCellDirections(cells);
+    for (std::size_t c = 0; c < 4; ++c) {
+      cells.cells[c].value = Rgb::gray(0.5 * print[c]);
+      cells.cells[c].variance = Rgb::gray(1e-6);
+    }
+    sample.cells = std::move(cells);
+    store.recordSample(kAxial3030, sample);
+  }
+  store.recordSweepStopped(kAxial3030);
+  const SessionExporter exporter(grayTable);
+  exporter.exportSession(store, dir / "out", std::string("b"), {});
+  std::ifstream file(dir / "out" / "felt-summary.json");
+  const json summary = json::parse(file);
+  const capture::CellTexture judged = capture::cellTextureOf(store.bins(kAxial3030));
+  EXPECT_NE(judged.action, capture::CellTextureAction::AsRead) << judged.describe();
+  ASSERT_TRUE(summary.contains("cell_texture")) << summary.dump(2);
+  const json& verdict = summary["cell_texture"][toString(kAxial3030)];
+  EXPECT_EQ(verdict["action"], std::string(capture::toString(judged.action)));
+  EXPECT_EQ(verdict["summary"], judged.describe());
+  // A slice without cells has no verdict to report.
+  const json plain = [&] {
+    const capture::SessionStore other = sweptSession(dir / "plain");
+    exporter.exportSession(other, dir / "plain-out", std::string("b"), {});
+    std::ifstream plainFile(dir / "plain-out" / "felt-summary.json");
+    return json::parse(plainFile);
+  }();
+  EXPECT_EQ(plain["cell_texture"], json::object());
 }
 
 // A table of the mean sample value: a new sweep changes every byte of it.

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "slicecap/capture/capture_error.hpp"
@@ -85,11 +86,18 @@ std::string toString(PassAgainReason reason) {
 }
 
 std::vector<PassAgainBin> binsToPassAgain(const AzimuthBins& bins, const SliceId& id,
-                                          SweepProgress progress, const PassAgainRule& rule) {
+                                          SweepProgress progress, const PassAgainRule& rule,
+                                          const CellTexture& texture) {
   if (id.kind == SliceKind::Point)
     throw CaptureError("slice " + toString(id) + ": a point slice has no bins");
   if (bins.filledCount() == 0) return {};
+  // Emptiness by the cells as read (dividing by a factor leaves a usable cell usable); the peak
+  // test by the cells as the texture verdict reads them, none for window centres.
   const std::vector<std::vector<const CellSample*>> cells = usableCellsByBin(bins, id.kind);
+  const std::optional<AzimuthBins> judged = cellsAsJudged(bins, texture);
+  const std::vector<std::vector<const CellSample*>> evidence =
+      judged ? usableCellsByBin(*judged, id.kind)
+             : std::vector<std::vector<const CellSample*>>(cells.size());
   std::vector<bool> empty;
   for (int b = 0; b < bins.binCount(); ++b)
     empty.push_back(bins.samplesIn(b).empty() && cells[std::size_t(b)].empty());
@@ -101,8 +109,8 @@ std::vector<PassAgainBin> binsToPassAgain(const AzimuthBins& bins, const SliceId
     const double azimuthDeg = b * bins.binWidthDeg();
     if (empty[std::size_t(b)]) {
       if (!ahead[std::size_t(b)]) out.push_back({id, b, azimuthDeg, PassAgainReason::Empty});
-    } else if (!cells[std::size_t(b)].empty() &&
-               peakNotReached(cells, b, id, bins.binWidthDeg(), rule)) {
+    } else if (!evidence[std::size_t(b)].empty() &&
+               peakNotReached(evidence, b, id, bins.binWidthDeg(), rule)) {
       out.push_back({id, b, azimuthDeg, PassAgainReason::PeakNotReached});
     }
   }

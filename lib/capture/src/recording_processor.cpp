@@ -321,7 +321,7 @@ nlohmann::json RecordingResult::rejectionsJson() const {
   return out;
 }
 
-nlohmann::json RecordingResult::toJson() const {
+nlohmann::json RecordingResult::toJson(const CellTexture& texture) const {
   nlohmann::json frames = nlohmann::json::array();
   for (std::size_t i = 0; i < outcomes.size(); ++i) {
     const FrameOutcome& o = outcomes[i];
@@ -367,7 +367,7 @@ nlohmann::json RecordingResult::toJson() const {
   nlohmann::json passAgain = nlohmann::json::array();
   const std::vector<PassAgainBin> toPassAgain =
       slice.kind == SliceKind::Point ? std::vector<PassAgainBin>{}
-                                     : binsToPassAgain(bins, slice, SweepProgress::Finished);
+                                     : binsToPassAgain(bins, slice, SweepProgress::Finished, {}, texture);
   for (const PassAgainBin& bin : toPassAgain)
     passAgain.push_back({{"bin", bin.bin}, {"azimuth_deg", bin.azimuthDeg},
                          {"reason", toString(bin.reason)}});

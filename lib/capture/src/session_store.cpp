@@ -270,10 +270,12 @@ std::size_t SessionStore::sampleCount(const SliceId& slice) const {
   return count;
 }
 
-SliceSet SessionStore::slices() const {
+SliceSet SessionStore::slices(std::map<SliceId, CellTexture>* verdicts) const {
   SliceSet set;
-  for (const auto& [slice, bins] : bins_)
-    addSweepSlices(set, slice, bins);
+  for (const auto& [slice, bins] : bins_) {
+    CellTexture texture = addSweepSlices(set, slice, bins);
+    if (verdicts && texture.framesUsed > 0) (*verdicts)[slice] = std::move(texture);
+  }
   return set;
 }
 

@@ -95,13 +95,9 @@ CellTexture addSweepSlices(SliceSet& set, const SliceId& id, const AzimuthBins& 
   const CellTexture texture = cellTextureOf(bins, rule);
   // Texture the factors do not explain: no cell samples, so the slice's cells' reading is
   // its window centres' (SliceSet::cellReading), the window mean the paper's Method B reads.
-  if (texture.action == CellTextureAction::WindowCentres) return texture;
-  const bool normalise = texture.action == CellTextureAction::AlbedoNormalised &&
-                         !texture.albedoFactors.empty();
-  const std::vector<SliceSample> samples =
-      normalise ? sliceFromCells(withCellsNormalised(bins, texture.albedoFactors), id)
-                : sliceFromCells(bins, id);
-  for (const SliceSample& sample : samples)
+  const std::optional<AzimuthBins> cells = cellsAsJudged(bins, texture);
+  if (!cells) return texture;
+  for (const SliceSample& sample : sliceFromCells(*cells, id))
     set.addCellSample(id, sample);
   return texture;
 }

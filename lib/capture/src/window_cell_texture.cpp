@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
@@ -158,6 +159,17 @@ std::string CellTexture::describe() const {
   return text;
 }
 
+nlohmann::json toJson(const CellTexture& texture) {
+  return {{"action", std::string(toString(texture.action))},
+          {"frames_used", texture.framesUsed},
+          {"spread_percent", texture.spreadPercent},
+          {"unexplained_percent", texture.unexplainedPercent},
+          {"matched_pairs", texture.matchedPairs},
+          {"bins_matched", texture.binsMatched},
+          {"bins_with_cells", texture.binsWithCells},
+          {"summary", texture.describe()}};
+}
+
 CellTexture cellTextureOf(const AzimuthBins& bins, const CellTextureRule& rule) {
   std::size_t positions = 0;
   std::vector<FrameRatios> frames;
@@ -226,6 +238,13 @@ AzimuthBins withCellsNormalised(const AzimuthBins& bins, const std::vector<Rgb>&
       out.add(frame);
     }
   return out;
+}
+
+std::optional<AzimuthBins> cellsAsJudged(const AzimuthBins& bins, const CellTexture& texture) {
+  if (texture.action == CellTextureAction::WindowCentres) return std::nullopt;
+  if (texture.action == CellTextureAction::AlbedoNormalised && !texture.albedoFactors.empty())
+    return withCellsNormalised(bins, texture.albedoFactors);
+  return bins;
 }
 
 }  // namespace slicecap::capture

@@ -58,18 +58,6 @@ std::string noSampleReason(const capture::RecordingResult& result) {
   return text;
 }
 
-// The report's "cell_texture" of a recording: what its cells showed and what was done.
-nlohmann::json cellTextureJson(const capture::CellTexture& texture) {
-  return {{"action", std::string(capture::toString(texture.action))},
-          {"frames_used", texture.framesUsed},
-          {"spread_percent", texture.spreadPercent},
-          {"unexplained_percent", texture.unexplainedPercent},
-          {"matched_pairs", texture.matchedPairs},
-          {"bins_matched", texture.binsMatched},
-          {"bins_with_cells", texture.binsWithCells},
-          {"summary", texture.describe()}};
-}
-
 // --cell-texture: auto (the rule decides), or the action it names.
 capture::CellTextureRule cellTextureRuleOf(const ParsedArgs& args) {
   capture::CellTextureRule rule;
@@ -113,8 +101,8 @@ Processed processAll(const std::vector<std::filesystem::path>& recordings,
     if (texture.framesUsed > 0) io.err << "  " << texture.describe() << "\n";
     if (result.bins.filledCount() == 0) processed.withoutSamples.push_back(noSampleReason(result));
     if (report) {
-      nlohmann::json entry = result.toJson();
-      if (texture.framesUsed > 0) entry["cell_texture"] = cellTextureJson(texture);
+      nlohmann::json entry = result.toJson(texture);
+      if (texture.framesUsed > 0) entry["cell_texture"] = capture::toJson(texture);
       (*report)["recordings"].push_back(std::move(entry));
     }
   }

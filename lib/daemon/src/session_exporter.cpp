@@ -3,6 +3,7 @@
 #include "slicecap/daemon/session_exporter.hpp"
 
 #include <algorithm>
+#include <map>
 #include <sstream>
 #include <system_error>
 
@@ -130,7 +131,8 @@ control::ExportView SessionExporter::exportSession(const capture::SessionStore& 
                                                    const std::optional<std::string>& method,
                                                    const ExportConditions& conditions) const {
   // One reading of the samples serves every table, the CSV and the texture's slices.
-  const SliceSet slices = store.slices();
+  std::map<SliceId, capture::CellTexture> verdicts;
+  const SliceSet slices = store.slices(&verdicts);
   const std::string& id = store.info().id;
   control::ExportView reply;
   reply.session = id;
@@ -176,6 +178,10 @@ control::ExportView SessionExporter::exportSession(const capture::SessionStore& 
   nlohmann::json summary = control::toJson(sessionView(store));
   summary["exported"] = utcNow("%Y-%m-%dT%H:%M:%SZ");
   summary["slicecap_version"] = kVersion;
+  // How each slice's window cells were read (docs/method.md §9.4): the rule the export applied.
+  summary["cell_texture"] = nlohmann::json::object();
+  for (const auto& [slice, texture] : verdicts)
+    summary["cell_texture"][toString(slice)] = capture::toJson(texture);
   entries.push_back({id + "-summary.json", [&summary](const fs::path& path) {
                        io::writeFileAtomically(path, summary.dump(2) + "\n");
                      }});

@@ -57,8 +57,15 @@ const std::vector<capture::PassAgainBin>& PassAgainCache::bins(const capture::Se
                                                                capture::SweepProgress progress) {
   const capture::AzimuthBins& bins = store.bins(slice);
   Kept& kept = kept_[{slice, progress}];
+  // A finished slice's bins change no more: its texture is judged once, and its cells read as
+  // the verdict says. A sweep under way is read as it is (the verdict needs the whole sweep,
+  // and judging it on every frame would cost the frame loop).
   if (kept.version != bins.version())
-    kept = {bins.version(), capture::binsToPassAgain(bins, slice, progress)};
+    kept = {bins.version(),
+            capture::binsToPassAgain(bins, slice, progress, {},
+                                     progress == capture::SweepProgress::Finished
+                                         ? capture::cellTextureOf(bins)
+                                         : capture::CellTexture{})};
   return kept.bins;
 }
 

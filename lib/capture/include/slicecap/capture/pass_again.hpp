@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "slicecap/capture/azimuth_bins.hpp"
+#include "slicecap/capture/window_cell_texture.hpp"
 #include "slicecap/core/slice.hpp"
 
 namespace slicecap::capture {
@@ -69,8 +70,14 @@ struct PassAgainRule {
 ///   bin and its two neighbours within rule.edgeBandDeg of the nearest are at least
 ///   rule.riseFactor times, and rule.noiseSigmas standard deviations above, those
 ///   rule.farFromDeg-rule.farToDeg farther out. Only frames that carry cells can show this.
+///   The cells are read as the sweep's `texture` verdict (cellTextureOf of these bins) says
+///   (cellsAsJudged): as read, divided by the albedo factors, or, for WindowCentres, not at
+///   all (a thread's colour is no missed peak; empty bins are still named). The default
+///   verdict (none measured) reads them as they are. The caller judges the texture, once a
+///   sweep: the verdict is not made here, where the status asks on every new frame.
 /// Throws CaptureError for a point slice.
 std::vector<PassAgainBin> binsToPassAgain(const AzimuthBins& bins, const SliceId& id,
-                                          SweepProgress progress, const PassAgainRule& rule = {});
+                                          SweepProgress progress, const PassAgainRule& rule = {},
+                                          const CellTexture& texture = {});
 
 }  // namespace slicecap::capture

@@ -11,6 +11,7 @@
 #include "slicecap/capture/azimuth_bins.hpp"
 #include "slicecap/capture/frame_outcome.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
+#include "slicecap/capture/window_cell_texture.hpp"
 #include "slicecap/core/slice.hpp"
 #include "slicecap/io/recording.hpp"
 
@@ -35,8 +36,9 @@ struct RecordingResult {
   int exposureLevels = 1;
   /// \brief How 8-bit frames were decoded: "srgb", or the curve's name ("measured", "linear").
   std::string decoding = "srgb";
-  /// \brief The report's entry: per frame the pose, light, gate outcome; per bin its frames.
-  nlohmann::json toJson() const;
+  /// \brief The report's entry: per frame the pose, light, gate outcome; per bin its frames;
+  /// the bins to pass again, their cells read as `texture` (the sweep's verdict) says.
+  nlohmann::json toJson(const CellTexture& texture = {}) const;
   /// \brief The rejections as {"reason name": count}.
   nlohmann::json rejectionsJson() const;
 };

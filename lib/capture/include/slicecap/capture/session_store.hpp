@@ -13,6 +13,7 @@
 
 #include "slicecap/capture/azimuth_bins.hpp"
 #include "slicecap/capture/frame_sample.hpp"
+#include "slicecap/capture/window_cell_texture.hpp"
 #include "slicecap/core/slice.hpp"
 #include "slicecap/io/journal.hpp"
 
@@ -90,8 +91,9 @@ class SessionStore {
   std::size_t sampleCount(const SliceId& slice) const;
   /// \brief Every slice combined bin by bin (AzimuthBins::combine), ready for reconstruction,
   /// with each slice's values from its window cells as cell samples (addSweepSlices) when its
-  /// samples carry cells.
-  SliceSet slices() const;
+  /// samples carry cells. With `verdicts`, each such slice's texture verdict (what
+  /// addSweepSlices returns) goes into it, for the reports that say how its cells were read.
+  SliceSet slices(std::map<SliceId, CellTexture>* verdicts = nullptr) const;
 
  private:
   SessionStore(std::filesystem::path directory, SessionInfo info, io::Journal journal);

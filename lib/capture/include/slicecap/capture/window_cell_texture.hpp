@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -55,6 +56,10 @@ struct CellTexture {
   std::string describe() const;
 };
 
+/// \brief A report's "cell_texture": the verdict, the figures it rests on and describe()'s line
+/// (`process --report` per recording, the daemon export's summary per slice).
+nlohmann::json toJson(const CellTexture& texture);
+
 /// \brief When the cells' differences are texture, and when a factor explains them.
 struct CellTextureRule {
   /// \brief When set, this action whatever the cells show (the measurement still made and
@@ -96,5 +101,12 @@ CellTexture cellTextureOf(const AzimuthBins& bins, const CellTextureRule& rule =
 /// position, as CellTexture::albedoFactors), variances by their squares. Throws
 /// std::invalid_argument when a frame's cell count is not factors.size().
 AzimuthBins withCellsNormalised(const AzimuthBins& bins, const std::vector<Rgb>& factors);
+
+/// \brief The sweep's frames with their cells as `texture` (cellTextureOf of these bins) says
+/// they are read: a copy of `bins` (AsRead, or AlbedoNormalised without factors), the copy
+/// divided by the albedo factors (AlbedoNormalised), or nullopt (WindowCentres: the cells are
+/// no evidence of angular detail). What the slice's cell samples (addSweepSlices) and the bins
+/// to pass again (binsToPassAgain) both read, so the two never disagree on a sweep.
+std::optional<AzimuthBins> cellsAsJudged(const AzimuthBins& bins, const CellTexture& texture);
 
 }  // namespace slicecap::capture
