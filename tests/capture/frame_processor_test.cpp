@@ -11,6 +11,7 @@
 
 #include "../support/test_support.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
+#include "slicecap/capture/led_gate.hpp"
 #include "slicecap/capture/recording_processor.hpp"
 #include "slicecap/core/tone_curve.hpp"
 #include "slicecap/io/png_image.hpp"
@@ -168,6 +169,56 @@ TEST(LiveFramePipeline, WithoutRoomLightToWaitForEveryFrameSettlesAtOnce) {
   const hal::Frame first = frameOf(dir, recording, 0);
   ASSERT_TRUE(first.metadata.ledOn);
   EXPECT_EQ(live(&first, slice).size(), 1u);
+}
+
+TEST(FramePipeline, AnLedOffFrameLitWhereItShowsTheTargetIsNotRoomLight) {
+  // After dropped frames the target can be far from the latest pose: the LED was off over the
+  // rows that pose predicts, and on where this frame shows the references. Kept as room light it
+  // carries the LED's light into the samples (a status read 303 % of the LED's with no room light).
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  const auto dir = simulated(slice, 12);
+  const io::Recording recording = io::readRecording(dir);
+  std::size_t on = 0;
+  while (on + 1 < recording.frames.size() &&
+         !(recording.frames[on].ledOn && !recording.frames[on + 1].ledOn))
+    ++on;
+  ASSERT_LT(on + 1, recording.frames.size());
+  PipelineSettings settings;
+  settings.poseAmbientFrames = true;  // as slicecapd's: each LED-off frame read at its own pose
+  settings.detector.frameBudgetPx = std::numeric_limits<double>::infinity();
+  FramePipeline pipeline(recording.target, recording.camera, settings);
+  const hal::Frame lit = frameOf(dir, recording, on);
+  const FrameOutcome first = pipeline.process(lit, slice);
+  ASSERT_TRUE(first.measurement.pose) << first.detail;
+  hal::Frame dark = frameOf(dir, recording, on + 1);
+  const int height = dark.image.height;
+  const std::size_t rowValues = std::size_t(dark.image.width) * dark.image.channels;
+  // The rows the pipeline predicts from that pose (its 10 % margin): the LED came on just after
+  // their exposure, while the hand moved the target an eighth of the frame down. The pixels stay
+  // the LED-off frame's (the LED's step through the markers would hide them from the detector):
+  // the gate reads the LED's timeline, which says the rows below the prediction were lit.
+  const RowSpan predicted =
+      rowsOfInterest(recording.target, recording.camera, *first.measurement.pose, height, 0.1 * height);
+  ASSERT_LT(predicted.last, height - 1);
+  const int shiftPx = height / 8;
+  std::vector<std::uint16_t> moved(dark.image.samples.size(), 0);
+  for (int y = shiftPx; y < height; ++y) {
+    std::copy_n(dark.image.samples.begin() + std::ptrdiff_t((y - shiftPx) * rowValues), rowValues,
+                moved.begin() + std::ptrdiff_t(y * rowValues));
+  }
+  dark.image.samples = std::move(moved);
+  hal::LedExposure exposure;
+  exposure.lineTimeUs = 10.0;
+  exposure.exposureUs = 100.0;
+  exposure.changes = {{std::int64_t(10 * predicted.last + 101), true}};
+  dark.metadata.ledExposure = exposure;
+  ASSERT_EQ(hal::LedExposure::State::Off, exposure.stateOver(predicted.first, predicted.last));
+
+  const FrameOutcome outcome = pipeline.process(dark, slice);
+  EXPECT_EQ(outcome.kind, FrameOutcome::Kind::Rejected)
+      << "kept as room light, located: " << bool(outcome.measurement.pose) << " predicted "
+      << predicted.first << ".." << predicted.last << " of " << height;
+  EXPECT_EQ(outcome.rejectReason, RejectReason::LedTransition);
 }
 
 }  // namespace

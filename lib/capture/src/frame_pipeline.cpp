@@ -62,7 +62,8 @@ FramePipeline& FramePipeline::operator=(FramePipeline&&) noexcept = default;
 // where the LED-on frame's are, or not in its encoding.
 void FramePipeline::setAmbientFrame(const hal::Frame& frame) {
   if (badFrameDetail(frame, state_->camera.intrinsics) || !offOverSampleRows(frame)) return;
-  state_->ambient = state_->makeAmbient(frame, false);
+  State::Ambient ambient = state_->makeAmbient(frame, false);
+  if (!state_->litOwnRows(ambient)) state_->ambient = std::move(ambient);
 }
 
 void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
@@ -70,7 +71,8 @@ void FramePipeline::setFollowingAmbientFrame(const hal::Frame& frame) {
   if (badFrameDetail(frame, s.camera.intrinsics) || !offOverSampleRows(frame)) return;
   if (s.nextAmbient && s.nextAmbient->frame.metadata.timestampUs == frame.metadata.timestampUs)
     return;
-  s.nextAmbient = s.makeAmbient(frame, false);
+  State::Ambient ambient = s.makeAmbient(frame, false);
+  if (!s.litOwnRows(ambient)) s.nextAmbient = std::move(ambient);
 }
 
 // An LED-off frame offered as room light (offline) is one only if the LED was off over the rows

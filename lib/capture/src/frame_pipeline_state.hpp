@@ -111,6 +111,18 @@ struct FramePipeline::State {
     return a;
   }
 
+  // The rows an LED-off frame located at its own pose shows the window and references in, when
+  // the LED was not off over all of them: the frame would be read there as room light carrying
+  // the LED's. The rows were judged from the latest pose before it was located; after dropped
+  // frames (the camera moved further than kRowMarginFraction covers) they can be elsewhere.
+  std::optional<RowSpan> litOwnRows(const Ambient& a) const {
+    if (!a.pose) return std::nullopt;
+    const RowSpan rows =
+        rowsOfInterest(target, camera, *a.pose, a.frame.image.height, kBlurRowMarginPx);
+    if (ledStateOver(a.frame, rows) == hal::LedExposure::State::Off) return std::nullopt;
+    return rows;
+  }
+
   // The room light's radiance over a target area for an LED-on frame at `pose`, from its
   // ambient terms (zero for none), and its variance: each LED-off frame read at its own pose
   // when located, else at the LED-on frame's pixels.

@@ -33,6 +33,10 @@ std::optional<FrameOutcome> FramePipeline::State::screen(const hal::Frame& frame
   } else {
     ambient = makeAmbient(frame, true);
   }
+  if (const std::optional<RowSpan> lit = litOwnRows(*ambient)) {
+    ambient = std::move(previous);
+    return rejected(RejectReason::LedTransition, ledTransitionDetail(*lit));
+  }
   FrameOutcome outcome;
   outcome.kind = FrameOutcome::Kind::Ambient;
   outcome.measurement.pose = ambient->pose;  // offline: another level may borrow it
