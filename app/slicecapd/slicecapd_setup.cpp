@@ -2,8 +2,6 @@
 // lib/rig builds from it (or run a one-shot mode).
 #include "slicecapd_setup.hpp"
 
-#include "check_hardware_command.hpp"
-#include "rpi_tuning_setup.hpp"
 
 #include <filesystem>
 #include <optional>
@@ -17,8 +15,10 @@
 #include "slicecap/daemon/daemon.hpp"
 #include "slicecap/daemon/event_loop.hpp"
 #include "slicecap/hal/clock.hpp"
+#include "slicecap/rig/check_hardware.hpp"
 #include "slicecap/rig/configured_devices.hpp"
 #include "slicecap/rig/daemon_parts.hpp"
+#include "slicecap/rig/rpi_tuning_setup.hpp"
 
 namespace slicecap::slicecapd {
 namespace {
@@ -44,7 +44,7 @@ struct Options {
   fs::path config = "/etc/slicecap/slicecapd.conf";
   bool printConfig = false, checkConfig = false, ledOff = false, version = false, help = false;
   bool checkHardware = false;
-  CheckHardwareOptions hardware;
+  rig::CheckHardwareOptions hardware;
 };
 
 Options parseOptions(std::span<const std::string> args) {
@@ -99,7 +99,7 @@ int serve(const DaemonConfig& config, std::vector<std::string> warnings, std::os
   // that reached one of them would end the process without stopping the sweep cleanly.
   daemon::blockSignalsInThisAndLaterThreads(daemon::stopSignals());
   // Before the camera opens: libcamera reads the tuning file when its camera manager starts.
-  const std::optional<control::TuningFileView> tuning = applyRpiTuningFile(config);
+  const std::optional<control::TuningFileView> tuning = rig::applyRpiTuningFile(config);
   if (tuning) err << "slicecapd: " << tuning->reason << "\n";
   static hal::SteadyClock clock;  // the cameras' clock: it outlives them
   daemon::DaemonParts parts = rig::daemonPartsFrom(config, clock, std::move(warnings));
@@ -155,7 +155,7 @@ int run(std::span<const std::string> args, std::ostream& out, std::ostream& err)
       out << options.config.string() << ": ok\n";
       return 0;
     }
-    if (options.checkHardware) return checkHardware(config, options.hardware, out, err);
+    if (options.checkHardware) return rig::checkHardware(config, options.hardware, out, err);
     if (options.ledOff) {
       hal::SteadyClock clock;
       rig::openLed(config, clock)->set(false);

@@ -8,7 +8,7 @@
 #include "slicecap/control/reply_views.hpp"
 #include "slicecap/daemon/config.hpp"
 
-namespace slicecap::slicecapd {
+namespace slicecap::rig {
 
 /// \brief Checks a tuning file named in the configuration (whatever the camera), then, with
 /// camera = libcamera, asks the camera (through a CameraManager started and stopped here, before
@@ -22,4 +22,4 @@ namespace slicecap::slicecapd {
 /// read or is not a tuning file for this Pi's ISP.
 std::optional<control::TuningFileView> applyRpiTuningFile(const daemon::DaemonConfig& config);
 
-}  // namespace slicecap::slicecapd
+}  // namespace slicecap::rig

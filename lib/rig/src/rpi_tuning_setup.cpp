@@ -1,5 +1,5 @@
 // Sets LIBCAMERA_RPI_TUNING_FILE for the processed path before the daemon's camera opens.
-#include "rpi_tuning_setup.hpp"
+#include "slicecap/rig/rpi_tuning_setup.hpp"
 
 #include <cstdlib>
 #include <fstream>
@@ -8,7 +8,7 @@
 #include "slicecap/hal/device_backends.hpp"
 #include "slicecap/hal/rpi_tuning.hpp"
 
-namespace slicecap::slicecapd {
+namespace slicecap::rig {
 
 using daemon::DaemonConfig;
 
@@ -82,4 +82,4 @@ std::optional<control::TuningFileView> applyRpiTuningFile(const DaemonConfig& co
                 choice.reason);
 }
 
-}  // namespace slicecap::slicecapd
+}  // namespace slicecap::rig

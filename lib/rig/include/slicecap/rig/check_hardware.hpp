@@ -7,8 +7,9 @@
 #include <string>
 
 #include "slicecap/daemon/config.hpp"
+#include "slicecap/hwcheck/hardware_check.hpp"
 
-namespace slicecap::slicecapd {
+namespace slicecap::rig {
 
 struct CheckHardwareOptions {
   double seconds = 2.0;                    ///< --seconds: the frame timing's capture
@@ -17,10 +18,14 @@ struct CheckHardwareOptions {
   bool json = false;                       ///< --json
 };
 
+/// \brief What the configured camera backend offers (its cameras' modes) and what the RAW
+/// setting will do with the camera the sweep opens, for the report's camera and RAW items.
+hwcheck::BackendInfo describeBackend(const daemon::DaemonConfig& config);
+
 /// \brief Runs the check. Returns 0 when every item is ok or warn, 1 when an item failed (the
 /// report says which and what to do), the daemon is running, or the configuration could not
 /// be written (the message names the file).
 int checkHardware(const daemon::DaemonConfig& config, const CheckHardwareOptions& options,
                   std::ostream& out, std::ostream& err);
 
-}  // namespace slicecap::slicecapd
+}  // namespace slicecap::rig
