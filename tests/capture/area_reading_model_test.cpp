@@ -18,36 +18,37 @@
 namespace slicecap::capture {
 namespace {
 
-// The scene's LED light over an area, at the pixel centres inside it (as readArea takes them).
-Rgb ledLight(const hal::SceneLight& light, const vision::RectMm& rect) {
+// Calls `at(x, y)` with each of an area's 24 x 24 sample points, rounded to the pixel whose centre
+// it falls on (as readArea takes them), on the still rig.
+template <typename At>
+void forEachAreaPixel(const vision::RectMm& rect, At at) {
   const vision::CameraModel camera = vision::defaultSimulatedCamera();
   const vision::Pose pose = test::stillPose();
-  Rgb sum;
   for (int j = 0; j < 24; ++j)
     for (int i = 0; i < 24; ++i) {
       const auto px = camera.project(pose.toCamera({rect.xMinMm + (i + 0.5) * rect.widthMm() / 24,
                                                     rect.yMinMm + (j + 0.5) * rect.heightMm() / 24,
                                                     0.0}));
-      const std::size_t at =
-          (std::size_t(std::lround(px->y())) * light.widthPx + std::size_t(std::lround(px->x()))) * 3;
-      for (int c = 0; c < 3; ++c) sum[c] += light.ledRate[at + c];
+      at(int(std::lround(px->x())), int(std::lround(px->y())));
     }
+}
+
+// The scene's LED light over an area.
+Rgb ledLight(const hal::SceneLight& light, const vision::RectMm& rect) {
+  Rgb sum;
+  forEachAreaPixel(rect, [&](int x, int y) {
+    const std::size_t at = (std::size_t(y) * light.widthPx + std::size_t(x)) * 3;
+    for (int c = 0; c < 3; ++c) sum[c] += light.ledRate[at + c];
+  });
   return sum;
 }
 
 // The plain mean of an area's decoded 8-bit pixels (what readArea took before).
 Rgb plainMean(const hal::Frame& frame, const vision::RectMm& rect, const CodeTable& codes) {
-  const vision::CameraModel camera = vision::defaultSimulatedCamera();
-  const vision::Pose pose = test::stillPose();
   Rgb sum;
-  for (int j = 0; j < 24; ++j)
-    for (int i = 0; i < 24; ++i) {
-      const auto px = camera.project(pose.toCamera({rect.xMinMm + (i + 0.5) * rect.widthMm() / 24,
-                                                    rect.yMinMm + (j + 0.5) * rect.heightMm() / 24,
-                                                    0.0}));
-      for (int c = 0; c < 3; ++c)
-        sum[c] += codes[frame.image.at(int(std::lround(px->x())), int(std::lround(px->y())), c)];
-    }
+  forEachAreaPixel(rect, [&](int x, int y) {
+    for (int c = 0; c < 3; ++c) sum[c] += codes[frame.image.at(x, y, c)];
+  });
   return sum * (1.0 / (24 * 24));
 }
 

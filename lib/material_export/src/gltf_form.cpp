@@ -10,6 +10,7 @@
 #include "slicecap/eval/metrics.hpp"
 #include "slicecap/material_export/gltf_brdf.hpp"
 #include "slicecap/material_export/gltf_writer.hpp"
+#include "loss_text.hpp"
 
 namespace slicecap::material_export {
 namespace {
@@ -17,12 +18,7 @@ namespace {
 // Below this a channel difference or an albedo is none (the fit's bounds reach exactly 0).
 constexpr double kNegligible = 1e-6;
 
-std::string format(double v) {
-  std::ostringstream s;
-  s.precision(3);
-  s << v;
-  return s.str();
-}
+std::string format(double v) { return detail::lossFigure(v); }
 
 std::string format(const Rgb& c) { return format(c[0]) + "/" + format(c[1]) + "/" + format(c[2]); }
 

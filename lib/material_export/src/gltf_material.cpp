@@ -6,6 +6,8 @@
 #include <numbers>
 #include <sstream>
 
+#include "loss_text.hpp"
+
 namespace slicecap::material_export {
 namespace {
 
@@ -21,12 +23,7 @@ constexpr double kMaxIorF0 = 0.9;
 // Below this an F0 or f90 is no specular at all (the fit's bounds reach exactly 0).
 constexpr double kNegligible = 1e-6;
 
-std::string format(double v) {
-  std::ostringstream s;
-  s.precision(3);
-  s << v;
-  return s.str();
-}
+std::string format(double v) { return detail::lossFigure(v); }
 
 using Losses = std::vector<ConversionLoss>;
 
