@@ -247,9 +247,8 @@ struct ModelCamera::State {
 ModelCamera::ModelCamera(std::shared_ptr<SceneSource> scene,
                          std::shared_ptr<const LedTimeline> ledLight, Clock& clock,
                          SensorModel model) {
-  std::string why;
   if (!scene || !ledLight) throw HalError("model camera: needs a scene and an LED");
-  if (!model.isValid(&why)) throw HalError("model camera: " + why);
+  if (std::string why; !model.isValid(&why)) throw HalError("model camera: " + why);
   state_ = std::make_unique<State>(std::move(scene), std::move(ledLight), clock, std::move(model));
   if (state_->model.realTime) {
     state_->timerFd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
