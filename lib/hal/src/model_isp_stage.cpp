@@ -110,14 +110,21 @@ void IspStage::mixColours(std::vector<std::uint16_t>& samples) const {
 // the LED lights by less than its noise is blended with the other LED state.
 void IspStage::denoiseTemporally(std::vector<std::uint16_t>& samples) {
   if (previous_.size() == samples.size()) {
+    // |now - before| <= deviation * sigma(now), squared: sigma^2 = 65535 now / fullWell +
+    // 65535^2 readVariance is linear in `now`, so the test needs no square root or division, and
+    // the loop has no branch (a blend weight of 0 where the pixel moved). Two thirds of a
+    // hardware check's time on the model went to the per-sample sqrt and divide before.
     const float weight = float(isp_.temporalDenoiseWeight);
-    const float deviation = float(isp_.temporalDenoiseDeviation);
+    const float deviation2 = float(isp_.temporalDenoiseDeviation * isp_.temporalDenoiseDeviation);
+    const float perLevel = deviation2 * 65535.0f * noise_.inverseFullWell;
+    const float floor = deviation2 * 65535.0f * 65535.0f * noise_.readVariance;
+    std::uint16_t* __restrict out = samples.data();
+    const std::uint16_t* __restrict before = previous_.data();
     for (std::size_t i = 0; i < samples.size(); ++i) {
-      const float now = samples[i], before = previous_[i];
-      const float sigma = 65535.0f * std::sqrt(now / 65535.0f * noise_.inverseFullWell +
-                                               noise_.readVariance);
-      if (std::abs(now - before) <= deviation * sigma)
-        samples[i] = static_cast<std::uint16_t>(now + weight * (before - now) + 0.5f);
+      const float now = out[i], difference = float(before[i]) - now;
+      const bool still = difference * difference <= perLevel * now + floor;
+      // `now` is a whole number: unblended, the conversion gives it back unchanged.
+      out[i] = static_cast<std::uint16_t>(now + (still ? weight * difference + 0.5f : 0.0f));
     }
   }
   previous_ = samples;
