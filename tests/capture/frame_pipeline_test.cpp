@@ -505,6 +505,49 @@ TEST(FramePipeline, TheLiveProcessorSearchesAShortLevelsFrameAroundTheLongLevels
   EXPECT_EQ(outcome.kind, FrameOutcome::Kind::Sample) << outcome.detail;
 }
 
+// A short level's cell darker than its noise: most of its pixels at code 0 (the processed
+// stream cannot go below black). The area's censored mean (censored_mean.cpp) then reads it
+// below 0, as the light's best estimate may be; the cell's level (how exposed it was) must still
+// be a level, not a negative fraction: the journal checks it, and refused the whole sample as a
+// bad frame (seen in a daemon HDR session on the camera model under load).
+TEST(FramePipeline, AnHdrCellBelowItsNoiseIsRecordedAsDark) {
+  const DarkHdrFrames& f = darkHdrFrames();
+  const SliceId slice{SliceKind::Diagonal, {75, 75}};
+  const std::vector<hal::Frame> frames = f.sequence();
+  const std::optional<TimedPose> location = longLevelLocation(f, frames);
+  ASSERT_TRUE(location) << "the long frame was not located";
+  hal::Frame dark = frames.back();
+  ASSERT_EQ(dark.encoding, PixelEncoding::Srgb8) << "the case under test: the processed stream";
+  // The window's image: 1 pixel in 8 at code 1 (a light of about -1.2 sigma), the rest at 0.
+  const vision::RectMm& w = f.target.window;
+  double minX = dark.image.width, minY = dark.image.height, maxX = 0.0, maxY = 0.0;
+  for (const double x : {w.xMinMm, w.xMaxMm})
+    for (const double y : {w.yMinMm, w.yMaxMm}) {
+      const std::optional<Eigen::Vector2d> px = f.camera.project(f.truth.toCamera({x, y, 0.0}));
+      ASSERT_TRUE(px);
+      minX = std::min(minX, px->x()), maxX = std::max(maxX, px->x());
+      minY = std::min(minY, px->y()), maxY = std::max(maxY, px->y());
+    }
+  int count = 0;
+  for (int y = int(minY) + 2; y < int(maxY) - 2; ++y)
+    for (int x = int(minX) + 2; x < int(maxX) - 2; ++x)
+      for (int c = 0; c < 3; ++c) dark.image.at(x, y, c) = (++count % 8 == 0) ? 1 : 0;
+
+  FramePipeline tracked(f.target, f.camera, hdrWithoutRoomLight());
+  tracked.trackFrom(*location);
+  const FrameOutcome outcome = tracked.process(dark, slice);
+  ASSERT_EQ(outcome.kind, FrameOutcome::Kind::Sample) << outcome.detail;
+  ASSERT_TRUE(outcome.sample && outcome.sample->hdr);
+  bool belowZero = false;
+  for (const HdrCell& cell : outcome.sample->hdr->cells) {
+    belowZero = belowZero || cell.radiance.maxChannel() < 0.0;
+    EXPECT_GE(cell.level, 0.0);
+  }
+  EXPECT_TRUE(belowZero) << "the case under test: a cell read below 0";
+  SessionStore store = SessionStore::create(test::freshTempDir(), "dark-cell", "test");
+  EXPECT_NO_THROW(store.recordSample(slice, *outcome.sample));
+}
+
 // processRecording does the same, level by level: the short level's frames are searched around
 // the long level's location before each. As live (`--ambient previous`, the live loop's budget)
 // the short frame needs it; offline without a budget the whole-frame passes find this still frame

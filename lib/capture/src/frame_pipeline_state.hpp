@@ -281,7 +281,9 @@ struct FramePipeline::State {
         cell.radiance = area.mean - room.mean;
         for (int c = 0; c < 3; ++c)
           cell.variance[c] = area.variance[c] + room.variance[c];
-        cell.level = area.mean.maxChannel() * scale;
+        // A cell darker than its noise can read below 0 (the censored mean of an area mostly at
+        // code 0, or RAW below its black level); as exposed it was at 0 of full scale.
+        cell.level = std::max(0.0, area.mean.maxChannel()) * scale;
         cell.clipped = area.clipped || !area.inside;
         cells.push_back(cell);
       }
