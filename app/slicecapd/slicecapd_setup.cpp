@@ -18,6 +18,7 @@
 #include "slicecap/rig/check_hardware.hpp"
 #include "slicecap/rig/configured_devices.hpp"
 #include "slicecap/rig/daemon_parts.hpp"
+#include "slicecap/rig/device_description.hpp"
 #include "slicecap/rig/rpi_tuning_setup.hpp"
 
 namespace slicecap::slicecapd {
@@ -158,7 +159,7 @@ int run(std::span<const std::string> args, std::ostream& out, std::ostream& err)
     if (options.checkHardware) return rig::checkHardware(config, options.hardware, out, err);
     if (options.ledOff) {
       hal::SteadyClock clock;
-      rig::openLed(config, clock)->set(false);
+      rig::openLed(rig::describeLed(config), clock)->set(false);
       return 0;
     }
     return serve(config, std::move(warnings), err);

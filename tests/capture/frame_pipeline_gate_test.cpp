@@ -3,6 +3,7 @@
 // for an occluder; the light arm over the references still is.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <numbers>
 #include <string>
@@ -10,6 +11,8 @@
 #include "../support/test_support.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
 #include "slicecap/capture/recording_processor.hpp"
+#include "slicecap/io/png_image.hpp"
+#include "slicecap/io/recording.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/simulate.hpp"
 
@@ -42,6 +45,14 @@ std::filesystem::path simulate(const std::string& material, const SliceId& slice
                                     setup.rig);
   sim::simulateSweep(dir, {slice, kAxialOffsetDeg}, renderer, setup);
   return dir;
+}
+
+hal::Frame frameAt(const std::filesystem::path& dir, const io::Recording& recording,
+                   std::size_t index) {
+  const io::RecordedFrame& entry = recording.frames[index];
+  hal::Frame frame{io::readPng(io::framePath(dir, entry)), recording.encoding, {}};
+  frame.metadata = {index, entry.timestampUs, entry.exposureUs, entry.gain, entry.ledOn};
+  return frame;
 }
 
 // The white paper's linear level (1 = full scale) at the window centre in an LED-on frame: the
@@ -120,6 +131,28 @@ TEST(FramePipelineGate, TheLightArmOverTheWhiteReferencesIsStillCaught) {
     }
     EXPECT_GE(located, 3) << "too few frames reached the gate: the test shows nothing";
   }
+}
+
+TEST(FramePipelineGate, ReferencesTheLightFitCannotUseAreRejectedWithTheFitsReason) {
+  // The ideal rig's frames, read against a target whose white references are all one wide strip
+  // of the white band under the window (still white paper in the frames): its quarters lie on one
+  // line, so the fit is refused, and the frame is rejected saying why.
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  const auto dir = simulate("satin-red-90", slice, sim::RigParams::ideal(), 2);
+  const io::Recording recording = io::readRecording(dir);
+  vision::TargetGeometry target = recording.target;
+  const vision::RectMm& window = recording.target.window;
+  const vision::RectMm strip{window.xMinMm + 2.0, window.yMinMm - 9.0, window.xMaxMm + 10.0,
+                             window.yMinMm - 3.0};
+  for (vision::Patch& patch : target.patches)
+    if (patch.kind == vision::PatchKind::White) patch.rect = strip;
+  FramePipeline pipeline(target, recording.camera);
+  pipeline.setAmbientFrame(frameAt(dir, recording, 1));
+  const FrameOutcome outcome = pipeline.process(frameAt(dir, recording, 0), slice);
+  EXPECT_EQ(outcome.rejectReason, RejectReason::WindowOccluded);
+  EXPECT_NE(outcome.detail.find("light fit: the reference observations lie on one line"),
+            std::string::npos)
+      << outcome.detail;
 }
 
 }  // namespace

@@ -122,5 +122,27 @@ TEST(LightModel, RejectsUnusableObservations) {
   EXPECT_THROW(fitPointLight(observe(ledAt(30, 0, 300), 0.0, 1), below), capture::CaptureError);
 }
 
+TEST(LightModel, SaysWhyObservationsCannotBeFittedBeforeFitting) {
+  EXPECT_EQ(lightFitProblem(observe(ledAt(30, 0, 300), 0.0, 1)), std::nullopt);
+  const std::vector<ReferenceObservation> few(4, {{1, 2, 0}, Rgb::gray(1), kAlbedo});
+  EXPECT_EQ(lightFitProblem(few), "light fit: needs at least 5 reference observations");
+  std::vector<ReferenceObservation> line;
+  for (int i = 0; i < 10; ++i)
+    line.push_back({{double(i), 2.0 * i, 0}, Rgb::gray(1), kAlbedo});
+  EXPECT_EQ(lightFitProblem(line), "light fit: the reference observations lie on one line");
+  LightFitParams below;
+  below.initialPositionMm.z = -5;
+  const auto problem = lightFitProblem(observe(ledAt(30, 0, 300), 0.0, 1), below);
+  ASSERT_TRUE(problem.has_value());
+  EXPECT_NE(problem->find("above the target"), std::string::npos) << *problem;
+  // The fit refuses with the same words.
+  try {
+    fitPointLight(line);
+    ADD_FAILURE() << "a line of observations was fitted";
+  } catch (const capture::CaptureError& error) {
+    EXPECT_EQ(std::string(error.what()), *lightFitProblem(line));
+  }
+}
+
 }  // namespace
 }  // namespace slicecap::capture

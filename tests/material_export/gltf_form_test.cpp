@@ -106,5 +106,17 @@ TEST(GltfForm, TheFileCarriesTheChosenFormAndItsMeasuredDeltaE) {
   EXPECT_LE(asset.report.measured->deltaE, kGltfSpecGoalDeltaE);
 }
 
+TEST(GltfForm, AMaterialThatReflectsNothingIsWrittenWithoutMeasuredFigures) {
+  fit::FittedMaterial black = copper();
+  black.diffuseAlbedo = Rgb::gray(0.0);
+  black.specularF0 = Rgb::gray(0.0);
+  black.specularF90 = 0.0;
+  EXPECT_FALSE(gltfVersusFitExists(black));
+  EXPECT_TRUE(gltfVersusFitExists(copper()));
+  const GltfAsset asset = gltfAsset(black, "black.json");
+  EXPECT_FALSE(asset.report.measured.has_value());
+  EXPECT_TRUE(asset.document.contains("materials"));
+}
+
 }  // namespace
 }  // namespace slicecap::material_export

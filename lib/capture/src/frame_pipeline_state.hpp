@@ -230,11 +230,9 @@ struct FramePipeline::State {
     fitParams.initialPositionMm = {toLight.x * settings.nominalLightDistanceMm,
                                    toLight.y * settings.nominalLightDistanceMm,
                                    toLight.z * settings.nominalLightDistanceMm};
-    try {
-      *fit = fitPointLight(observations, fitParams);
-    } catch (const CaptureError& error) {
-      return frame_checks::GateFailure{RejectReason::WindowOccluded, error.what()};
-    }
+    if (const std::optional<std::string> problem = lightFitProblem(observations, fitParams))
+      return frame_checks::GateFailure{RejectReason::WindowOccluded, *problem};
+    *fit = fitPointLight(observations, fitParams);
     if (!fit->converged)
       return frame_checks::GateFailure{RejectReason::WindowOccluded, "light fit: " + fit->message};
     *limit = settings.maxReferenceResidual +

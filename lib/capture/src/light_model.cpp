@@ -7,7 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <stdexcept>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "slicecap/capture/capture_error.hpp"
@@ -86,18 +87,15 @@ double directionSigmaDeg(ceres::Problem& problem, const double* position,
   return radToDeg(std::sqrt(across) / distance);
 }
 
-// Throws CaptureError unless there are 5 or more observations with positive, finite
-// radiance and positive albedo, spread in both directions on the plane.
-void checkObservations(std::span<const ReferenceObservation> observations) {
-  if (observations.size() < 5)
-    throw CaptureError("light fit: needs at least 5 reference observations");
+// Why the observations cannot fix a light, or nullopt when there are 5 or more with positive,
+// finite radiance and positive albedo, spread in both directions on the plane.
+std::optional<std::string> observationsProblem(std::span<const ReferenceObservation> observations) {
+  if (observations.size() < 5) return "light fit: needs at least 5 reference observations";
   double meanX = 0.0, meanY = 0.0;
   for (const ReferenceObservation& o : observations) {
     for (std::size_t c = 0; c < 3; ++c) {
-      if (!(o.radiance[c] > 0.0) || !(o.albedo[c] > 0.0) || !std::isfinite(o.radiance[c])) {
-        throw CaptureError(
-            "light fit: reference radiance and albedo must be positive and finite");
-      }
+      if (!(o.radiance[c] > 0.0) || !(o.albedo[c] > 0.0) || !std::isfinite(o.radiance[c]))
+        return "light fit: reference radiance and albedo must be positive and finite";
     }
     meanX += o.point.x / double(observations.size());
     meanY += o.point.y / double(observations.size());
@@ -109,9 +107,9 @@ void checkObservations(std::span<const ReferenceObservation> observations) {
     syy += (o.point.y - meanY) * (o.point.y - meanY);
     sxy += (o.point.x - meanX) * (o.point.y - meanY);
   }
-  if (sxx * syy - sxy * sxy < 1e-6 * (sxx + syy) * (sxx + syy)) {
-    throw CaptureError("light fit: the reference observations lie on one line");
-  }
+  if (sxx * syy - sxy * sxy < 1e-6 * (sxx + syy) * (sxx + syy))
+    return "light fit: the reference observations lie on one line";
+  return std::nullopt;
 }
 
 // With every observation's noise known, each counts by its inverse relative sigma (of the
@@ -232,11 +230,17 @@ bool LightFitParams::isValid(std::string* error) const {
   return true;
 }
 
+std::optional<std::string> lightFitProblem(std::span<const ReferenceObservation> observations,
+                                           const LightFitParams& params) {
+  std::string error;
+  if (!params.isValid(&error)) return "light fit: " + error;
+  return observationsProblem(observations);
+}
+
 LightFit fitPointLight(std::span<const ReferenceObservation> observations,
                        const LightFitParams& params) {
-  std::string error;
-  if (!params.isValid(&error)) throw CaptureError("light fit: " + error);
-  checkObservations(observations);
+  if (const std::optional<std::string> problem = lightFitProblem(observations, params))
+    throw CaptureError(*problem);
   const bool weighted = std::all_of(observations.begin(), observations.end(), [](const auto& o) {
     return o.sigma.minChannel() > 0.0 && std::isfinite(o.sigma.maxChannel());
   });

@@ -77,6 +77,8 @@ std::array<unsigned char, Abrdf::kValueCount> encodePaper8Bit(const Abrdf& table
   return out;
 }
 
+bool canCompareAgainst(const Abrdf& reference) { return cosWeightedMaximum(reference) > 0.0; }
+
 Metrics compare(const Abrdf& reference, const Abrdf& test) {
   const double referenceMax = cosWeightedMaximum(reference);
   if (!(referenceMax > 0.0)) throw EvalError("reference table has no positive value");

@@ -143,4 +143,11 @@ std::vector<std::string> describeModes(const CameraModes& modes) {
   return lines;
 }
 
+const CameraModes* findLibcameraCamera(const std::vector<CameraModes>& cameras,
+                                       const std::string& cameraId) {
+  for (const CameraModes& camera : cameras)
+    if (cameraId.empty() || camera.id == "libcamera: " + cameraId) return &camera;
+  return nullptr;
+}
+
 }  // namespace slicecap::hal

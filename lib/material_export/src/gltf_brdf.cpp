@@ -207,6 +207,10 @@ Abrdf tabulate(const GltfBrdf& brdf) {
   return tabulateOnGrid([&brdf](const UnitVector& l, const UnitVector& v) { return brdf.evaluate(l, v); });
 }
 
+bool gltfVersusFitExists(const fit::FittedMaterial& fitted) {
+  return eval::canCompareAgainst(fit::tabulate(fitted));
+}
+
 eval::Metrics gltfVersusFit(const fit::FittedMaterial& fitted, SheenVisibility visibility) {
   const GltfBrdf brdf(gltfMaterialJson(chooseGltfForm(fitted).material), visibility);
   return eval::compare(fit::tabulate(fitted), tabulate(brdf));

@@ -10,7 +10,6 @@
 
 #include "gltf_buffer.hpp"
 #include "slicecap/core/version.hpp"
-#include "slicecap/eval/eval_error.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/material_export/gltf_brdf.hpp"
 #include "slicecap/material_export/gltf_form.hpp"
@@ -92,11 +91,8 @@ GltfAsset gltfAsset(const fit::FittedMaterial& material, const std::string& sour
   const GltfConversion conversion = chooseGltfForm(material);
   GltfAsset asset;
   asset.report = {"glTF 2.0", conversion.losses, std::nullopt};
-  try {
-    asset.report.measured = gltfVersusFit(material);
-  } catch (const eval::EvalError&) {
-    // A material that reflects nothing has no table to compare against: nothing to measure.
-  }
+  // A material that reflects nothing has no table to compare against: nothing to measure.
+  if (gltfVersusFitExists(material)) asset.report.measured = gltfVersusFit(material);
 
   BufferBuilder buffer;
   json meshes = json::array(), nodes = json::array();

@@ -13,9 +13,8 @@
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/device_backends.hpp"
 #include "slicecap/hwcheck/hardware_check.hpp"
-#include "slicecap/io/recording.hpp"
-#include "slicecap/io/target_json.hpp"
 #include "slicecap/rig/configured_devices.hpp"
+#include "slicecap/rig/device_description.hpp"
 
 namespace slicecap::rig {
 namespace {
@@ -39,21 +38,6 @@ bool daemonAnswers(const fs::path& socketPath) {
   const bool connected = ::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
   ::close(fd);
   return connected;
-}
-
-// The camera the configuration asks for, to name it when it cannot be opened.
-std::string configuredCamera(const DaemonConfig& config) {
-  switch (config.camera) {
-    case DaemonConfig::CameraKind::Libcamera:
-      return "libcamera " + (config.cameraDevice.empty() ? std::string("(the first camera)") : config.cameraDevice);
-    case DaemonConfig::CameraKind::V4l2:
-      return "v4l2 " + (config.cameraDevice.empty() ? std::string("/dev/video0") : config.cameraDevice);
-    case DaemonConfig::CameraKind::Model:
-      return "model camera";
-    case DaemonConfig::CameraKind::File:
-      return "file camera " + config.recording.string();
-  }
-  return "camera";
 }
 
 // A backend this slicecapd was built without: rebuilding is the remedy, not the wiring.
@@ -82,25 +66,23 @@ bool mayStart(const DaemonConfig& config, const CheckHardwareOptions& options, s
   return true;
 }
 
-// The camera of the configuration's first slice in `camera` and its rig in `rig`; a failed item in
+// The described camera of its first slice in `camera` and its rig in `rig`; a failed item in
 // `report` when they cannot be opened (`camera` stays as far as it got).
-void openCheckCamera(const DaemonConfig& config, hal::Clock& clock,
-                     const std::shared_ptr<hal::LedTimeline>& modelLight, const Rig& configured,
-                     bool simulated, const hwcheck::BackendInfo& backend,
-                     hwcheck::HardwareReport& report, std::shared_ptr<hal::Camera>& camera,
-                     Rig& rig) {
+void openCheckCamera(const DeviceDescription& devices, hal::Clock& clock,
+                     const std::shared_ptr<hal::LedTimeline>& modelLight, bool simulated,
+                     const hwcheck::BackendInfo& backend, hwcheck::HardwareReport& report,
+                     std::shared_ptr<hal::Camera>& camera, Rig& rig) {
   try {
-    const CameraSources sources =
-        makeCameraSources(config, clock, modelLight, configured.target, configured.camera,
-                               ModelScene::Still, /*modelRealTime=*/!simulated);
+    const CameraSources sources = makeCameraSources(devices, clock, modelLight, ModelScene::Still,
+                                                    /*modelRealTime=*/!simulated);
     camera = sources.cameraFor(sources.firstSlice);
     rig = sources.rigFor(sources.firstSlice);
   } catch (const hal::BackendNotBuilt& error) {
-    report.cameraId = configuredCamera(config);
+    report.cameraId = devices.cameraName;
     report.cameras = backend.cameras;
     report.items.push_back({"camera", hwcheck::Verdict::Fail, error.what(), notBuiltAdvice(error)});
   } catch (const std::exception& error) {
-    report.cameraId = configuredCamera(config);
+    report.cameraId = devices.cameraName;
     report.cameras = backend.cameras;
     report.items.push_back({"camera", hwcheck::Verdict::Fail, std::string("no camera: ") + error.what(),
                             "connect the camera and check camera and camera_device in the "
@@ -108,14 +90,14 @@ void openCheckCamera(const DaemonConfig& config, hal::Clock& clock,
   }
 }
 
-// The configured LED; null, with a failed item in `report`, when it cannot be opened.
-std::unique_ptr<hal::Led> openCheckLed(const DaemonConfig& config, hal::Clock& clock,
+// The described LED; null, with a failed item in `report`, when it cannot be opened.
+std::unique_ptr<hal::Led> openCheckLed(const LedDescription& description, hal::Clock& clock,
                                        const std::shared_ptr<hal::LedTimeline>& modelLight,
                                        const hal::Camera& camera,
                                        const hwcheck::BackendInfo& backend,
                                        hwcheck::HardwareReport& report) {
   try {
-    return openLed(config, clock, modelLight);
+    return openLed(description, clock, modelLight);
   } catch (const hal::BackendNotBuilt& error) {
     report.cameraId = camera.id();
     report.cameras = backend.cameras;
@@ -168,19 +150,19 @@ int checkHardware(const DaemonConfig& config, const CheckHardwareOptions& option
   hal::FakeClock simulatedClock(steadyClock.nowUs());
   const bool simulated = config.camera == DaemonConfig::CameraKind::Model;
   hal::Clock& clock = simulated ? static_cast<hal::Clock&>(simulatedClock) : steadyClock;
-  const Rig configured = configuredRig(config);
+  const DeviceDescription devices = describeDevices(config);
   auto modelLight = std::make_shared<hal::LedTimeline>();
   const hwcheck::BackendInfo backend = describeBackend(config);
 
   hwcheck::HardwareReport report;
   std::shared_ptr<hal::Camera> camera;
-  Rig rig = configured;
-  openCheckCamera(config, clock, modelLight, configured, simulated, backend, report, camera, rig);
+  Rig rig = devices.rig;
+  openCheckCamera(devices, clock, modelLight, simulated, backend, report, camera, rig);
   std::unique_ptr<hal::Led> led;
-  if (camera) led = openCheckLed(config, clock, modelLight, *camera, backend, report);
+  if (camera) led = openCheckLed(devices.led, clock, modelLight, *camera, backend, report);
   if (camera && led) {
     // The check locks the exposures it measures with itself: the sweep's setting is not one.
-    hal::CameraConfig cameraConfig = cameraConfigFrom(config);
+    hal::CameraConfig cameraConfig = devices.cameraConfig;
     cameraConfig.exposureUs.reset();
     cameraConfig.gain.reset();
     hwcheck::HardwareCheckOptions checkOptions;

@@ -1,17 +1,14 @@
-// The camera factory and the LED from slicecapd's configuration.
+// The camera factory and the LED from their description (device_description.hpp).
 #include "slicecap/rig/configured_devices.hpp"
 
 #include <cmath>
 #include <optional>
-#include <stdexcept>
+#include <variant>
 
-#include "slicecap/hal/bayer_frame.hpp"
 #include "slicecap/hal/device_backends.hpp"
 #include "slicecap/hal/file_camera.hpp"
 #include "slicecap/hal/file_led.hpp"
 #include "slicecap/hal/model_camera.hpp"
-#include "slicecap/hal/room_flicker.hpp"
-#include "slicecap/io/target_json.hpp"
 #include "slicecap/rig/rig_error.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
@@ -139,50 +136,18 @@ void followDeliveredSize(CameraSources& sources) {
   };
 }
 
-// camera = model's sensor: the configured tone curve, RAW stream, seed, room light, Pi and ISP.
-hal::SensorModel modelSensor(const DaemonConfig& config, ModelScene scene, bool modelRealTime) {
-  hal::SensorModel sensor;
-  sensor.seed = static_cast<std::uint64_t>(config.modelSeed);
-  sensor.tone = config.modelToneCurve == "srgb"     ? ToneCurve::srgb()
-                : config.modelToneCurve == "linear" ? ToneCurve::linear()
-                                                    : ToneCurve::imx708Tuning();
-  // model_raw: the model's sensor offers a RAW stream, taken as camera_raw says.
-  if (!config.modelRaw.empty()) sensor.rawFormat = hal::bayerFormatFromLibcameraName(config.modelRaw);
-  if (scene == ModelScene::Still) sensor.holdSceneUntilStrobe = false;
-  sensor.flickerHz = config.modelFlickerHz;
-  sensor.flickerDepth = config.modelFlickerDepth;
-  sensor.pipeline = *hal::parseModelPipeline(config.modelPipeline);  // checked when read
-  sensor.isp.adaptiveContrast = config.modelAdaptiveContrast;
-  if (config.modelColourMatrix == "imx708") sensor.isp.colourMatrix = hal::kImx708ColourMatrix;
-  if (config.modelStream == "rec709")
-    sensor.isp.yuvStream = hal::YuvEncoding{hal::YcbcrMatrix::Rec709, hal::YuvRange::Limited};
-  if (config.modelStream == "sycc")
-    sensor.isp.yuvStream = hal::YuvEncoding{hal::YcbcrMatrix::Rec601, hal::YuvRange::Full};
-  sensor.isp.temporalDenoiseWeight = config.modelTemporalDenoise;
-  sensor.isp.timestampJitterUs = config.modelTimestampJitterUs;
-  sensor.isp.locksCountedByRequest = config.modelLocksCountedByRequest;
-  sensor.realTime = modelRealTime;
-  return sensor;
-}
-
 // camera = model: a model camera per slice in front of the virtual rig.
-void setModelCameras(CameraSources& sources, const DaemonConfig& config, hal::Clock& clock,
-                     const std::shared_ptr<hal::LedTimeline>& modelLight,
-                     const vision::TargetGeometry& target, const vision::CameraModel& cameraModel,
-                     ModelScene scene, bool modelRealTime) {
+void setModelCameras(CameraSources& sources, const ModelCameraDescription& model,
+                     hal::Clock& clock, const std::shared_ptr<hal::LedTimeline>& modelLight,
+                     const Rig& configured, ModelScene scene, bool modelRealTime) {
   // One renderer for every sweep (building it takes about half a second).
-  sim::RigParams rig = config.modelRealistic ? sim::RigParams::realistic() : sim::RigParams::ideal();
-  rig.framesPerSlice = config.modelPositions;
-  rig.sweepSeconds = config.modelSweepSeconds;
-  rig.seed = static_cast<std::uint64_t>(config.modelSeed);
-  // model_room_light: the room's irradiance against the LED's face-on at the rig's distance
-  // (intensity / d^2, the rig's radiometry).
-  const double lightDistanceM = rig.lightDistanceMm / 1000.0;
-  rig.ambientIrradiance = config.modelRoomLight * rig.ledIntensityWPerSr / (lightDistanceM * lightDistanceM);
   auto renderer = std::make_shared<const sim::FrameRenderer>(
-      cameraModel, target, sim::loadMaterial(config.modelMaterial), rig);
-  const hal::SensorModel sensor = modelSensor(config, scene, modelRealTime);
-  sources.cameraFor = [renderer, rig, sensor, modelLight, &clock, scene](const SliceId& slice) {
+      configured.camera, configured.target, sim::loadMaterial(model.materialSpec), model.rig);
+  hal::SensorModel sensor = model.sensor;
+  if (scene == ModelScene::Still) sensor.holdSceneUntilStrobe = false;
+  sensor.realTime = modelRealTime;
+  sources.cameraFor = [renderer, rig = model.rig, sensor, modelLight, &clock,
+                       scene](const SliceId& slice) {
     std::shared_ptr<hal::SceneSource> source = std::make_shared<sim::RigScene>(renderer, slice, rig);
     if (scene == ModelScene::Still) source = std::make_shared<StillScene>(std::move(source));
     return std::make_shared<hal::ModelCamera>(std::move(source), modelLight, clock, sensor);
@@ -191,9 +156,9 @@ void setModelCameras(CameraSources& sources, const DaemonConfig& config, hal::Cl
 }
 
 // camera = file: each slice's recording, played at its recorded rate, with its own rig.
-void setFileCameras(CameraSources& sources, const DaemonConfig& config, hal::Clock& clock) {
-  auto recordings = std::make_shared<const RecordingsBySlice>(findRecordings(config.recording));
-  const fs::path configured = config.recording;
+void setFileCameras(CameraSources& sources, const FileCameraDescription& file, hal::Clock& clock) {
+  auto recordings = std::make_shared<const RecordingsBySlice>(findRecordings(file.recording));
+  const fs::path configured = file.recording;
   sources.firstSlice = recordings->begin()->first;
   sources.cameraFor = [recordings, configured, &clock](const SliceId& slice) {
     hal::FileCameraOptions options;
@@ -211,59 +176,26 @@ void setFileCameras(CameraSources& sources, const DaemonConfig& config, hal::Clo
 
 }  // namespace
 
-Rig configuredRig(const DaemonConfig& config) {
-  Rig rig{config.target == "default" ? vision::defaultTarget() : io::readTargetJson(config.target),
-          vision::defaultSimulatedCamera()};
-  if (!config.calibration.empty())
-    rig.camera =
-        io::cameraFromJson(io::readJsonFile(config.calibration), config.calibration.string(), "");
-  return rig;
-}
-
-hal::CameraConfig cameraConfigFrom(const DaemonConfig& config) {
-  hal::CameraConfig camera;
-  camera.widthPx = config.widthPx;
-  camera.heightPx = config.heightPx;
-  camera.exposureUs = config.exposureUs;
-  camera.gain = config.gain;
-  camera.raw = config.cameraRaw;
-  camera.readoutUs = config.readoutUs;
-  camera.frameDurationUs = hal::frameDurationUsForMains(config.mainsHz);
-  camera.mainsHz = config.mainsHz;
-  return camera;
-}
-
-CameraSources makeCameraSources(const DaemonConfig& config, hal::Clock& clock,
-                                std::shared_ptr<hal::LedTimeline> modelLight,
-                                const vision::TargetGeometry& target,
-                                const vision::CameraModel& cameraModel, ModelScene scene,
+CameraSources makeCameraSources(const DeviceDescription& devices, hal::Clock& clock,
+                                std::shared_ptr<hal::LedTimeline> modelLight, ModelScene scene,
                                 bool modelRealTime) {
   CameraSources sources;
   sources.firstSlice = SliceId{SliceKind::Diagonal, {30, 30}};
-  switch (config.camera) {
-    case DaemonConfig::CameraKind::Libcamera: {
-      // Through the factory: a build without libcamera throws BackendNotBuilt naming the option.
-      std::shared_ptr<hal::Camera> camera = hal::openLibcameraCamera(config.cameraDevice);
-      sources.cameraFor = [camera](const SliceId&) { return camera; };
-      sources.kind = "libcamera";
-      break;
-    }
-    case DaemonConfig::CameraKind::V4l2: {
-      std::shared_ptr<hal::Camera> camera = hal::openV4l2Camera(
-          config.cameraDevice.empty() ? std::string("/dev/video0") : config.cameraDevice);
-      sources.cameraFor = [camera](const SliceId&) { return camera; };
-      sources.kind = "v4l2";
-      break;
-    }
-    case DaemonConfig::CameraKind::Model:
-      setModelCameras(sources, config, clock, modelLight, target, cameraModel, scene,
-                      modelRealTime);
-      break;
-    case DaemonConfig::CameraKind::File:
-      setFileCameras(sources, config, clock);
-      break;
+  if (const auto* model = std::get_if<ModelCameraDescription>(&devices.camera))
+    setModelCameras(sources, *model, clock, modelLight, devices.rig, scene, modelRealTime);
+  if (const auto* live = std::get_if<LiveCameraDescription>(&devices.camera)) {
+    // One camera, whatever the slice. Through the factory: a build without the backend throws
+    // BackendNotBuilt naming the option.
+    std::shared_ptr<hal::Camera> camera = live->backend == hal::DeviceBackend::V4l2
+                                              ? hal::openV4l2Camera(live->device)
+                                              : hal::openLibcameraCamera(live->device);
+    sources.cameraFor = [camera](const SliceId&) { return camera; };
+    sources.kind = hal::backendName(live->backend);
   }
-  if (!sources.rigFor) sources.rigFor = [=](const SliceId&) { return Rig{target, cameraModel}; };
+  if (const auto* file = std::get_if<FileCameraDescription>(&devices.camera))
+    setFileCameras(sources, *file, clock);
+  if (!sources.rigFor)
+    sources.rigFor = [configured = devices.rig](const SliceId&) { return configured; };
   followDeliveredSize(sources);
   return sources;
 }
@@ -283,20 +215,17 @@ std::vector<std::string> backendsNotBuilt(const DaemonConfig& config) {
   return missing;
 }
 
-std::unique_ptr<hal::Led> openLed(const DaemonConfig& config, hal::Clock& clock,
+std::unique_ptr<hal::Led> openLed(const LedDescription& led, hal::Clock& clock,
                                   std::shared_ptr<hal::LedTimeline> modelLight) {
-  if (config.camera == DaemonConfig::CameraKind::File ||
-      config.camera == DaemonConfig::CameraKind::Model) {
-    const fs::path log = config.ledLog.empty() ? config.storage / "led.log" : config.ledLog;
-    fs::create_directories(log.parent_path());
-    std::unique_ptr<hal::Led> led = std::make_unique<hal::FileLed>(log, clock);
-    // camera = model: the model camera sees the light itself, a little after each switch (the
-    // GPIO call and the LED driver), on its own timeline.
-    if (config.camera == DaemonConfig::CameraKind::Model && modelLight)
-      led = std::make_unique<hal::TimelineLed>(std::move(led), clock, modelLight, kModelLedDelayUs);
-    return led;
-  }
-  return hal::openGpiodLed(hal::GpioLineSpec{config.ledChip, config.ledLine, config.ledActiveLow});
+  if (!led.log) return hal::openGpiodLed(led.gpio);
+  fs::create_directories(led.log->parent_path());
+  std::unique_ptr<hal::Led> fileLed = std::make_unique<hal::FileLed>(*led.log, clock);
+  // camera = model: the model camera sees the light itself, a little after each switch (the
+  // GPIO call and the LED driver), on its own timeline.
+  if (led.seenByModel && modelLight)
+    fileLed = std::make_unique<hal::TimelineLed>(std::move(fileLed), clock, modelLight,
+                                                 kModelLedDelayUs);
+  return fileLed;
 }
 
 }  // namespace slicecap::rig

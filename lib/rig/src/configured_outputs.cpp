@@ -5,12 +5,16 @@
 
 namespace slicecap::rig {
 
-ConfiguredSessionOutputs::ConfiguredSessionOutputs(const daemon::DaemonConfig& config,
+OutputSettings outputSettingsFrom(const daemon::DaemonConfig& config) {
+  return {config.recordFrames, config.textureResolution, config.textureFramesPerBin};
+}
+
+ConfiguredSessionOutputs::ConfiguredSessionOutputs(const OutputSettings& settings,
                                                    std::function<Rig(const SliceId&)> rigFor,
                                                    std::string createdBy)
-    : recordFrames_(config.recordFrames),
-      textureResolution_(config.textureResolution),
-      textureFramesPerBin_(config.textureFramesPerBin),
+    : recordFrames_(settings.recordFrames),
+      textureResolution_(settings.textureResolution),
+      textureFramesPerBin_(settings.textureFramesPerBin),
       rigFor_(std::move(rigFor)),
       createdBy_(std::move(createdBy)) {}
 

@@ -10,12 +10,23 @@
 
 namespace slicecap::rig {
 
+/// \brief What slicecapd.conf asks a sweep to keep: record_frames, texture_resolution,
+/// texture_frames_per_bin.
+struct OutputSettings {
+  bool recordFrames = false;
+  int textureResolution = 0;
+  int textureFramesPerBin = 0;
+};
+
+/// \brief The configuration's OutputSettings.
+OutputSettings outputSettingsFrom(const daemon::DaemonConfig& config);
+
 /// \brief What the configuration keeps of a sweep besides its samples.
 class ConfiguredSessionOutputs final : public daemon::SessionOutputs {
  public:
   /// \brief `rigFor`: each slice's target and camera model (CameraSources::rigFor); `createdBy`:
   /// the recordings' creator ("slicecapd 1.2 (model camera)").
-  ConfiguredSessionOutputs(const daemon::DaemonConfig& config, std::function<Rig(const SliceId&)> rigFor,
+  ConfiguredSessionOutputs(const OutputSettings& settings, std::function<Rig(const SliceId&)> rigFor,
                            std::string createdBy);
 
   std::optional<io::Recording> recordingHeader(const SliceId& slice) override;

@@ -2,34 +2,26 @@
 // a sweep keeps, and the session's tables.
 #include "slicecap/rig/daemon_parts.hpp"
 
+#include <memory>
+#include <string>
+#include <variant>
+
 #include "configured_capture_rig.hpp"
 #include "configured_outputs.hpp"
 #include "method_tables.hpp"
 #include "slicecap/core/version.hpp"
 #include "slicecap/rig/configured_devices.hpp"
+#include "slicecap/rig/device_description.hpp"
 
 namespace slicecap::rig {
 namespace {
 
 using daemon::DaemonConfig;
 
-// The LED and how the strobe drives it, and what the camera is asked for.
-void setLedAndCamera(daemon::DaemonParts& parts, const DaemonConfig& config, hal::Clock& clock,
-                     const std::shared_ptr<hal::LedTimeline>& modelLight) {
-  parts.led = openLed(config, clock, modelLight);
-  parts.ledAlternate = config.ledAlternate;
-  parts.hdrLevels = config.hdrLevels;
-  parts.strobe.framesPerState = config.ledFramesPerState;
-  parts.strobe.guardUs = config.ledGuardUs;
-  parts.strobe.readoutUs = config.readoutUs;
-  parts.cameraConfig = cameraConfigFrom(config);
-}
-
 // What the recordings say made them: the daemon, and which simulated camera.
-std::string recordingsCreator(const DaemonConfig& config, const CameraSources& sources) {
+std::string recordingsCreator(const DeviceDescription& devices, const CameraSources& sources) {
   std::string createdBy = std::string("slicecapd ") + kVersion;
-  if (config.camera == DaemonConfig::CameraKind::Model ||
-      config.camera == DaemonConfig::CameraKind::File)
+  if (!std::holds_alternative<LiveCameraDescription>(devices.camera))
     createdBy += " (" + sources.kind + ")";
   return createdBy;
 }
@@ -41,18 +33,28 @@ daemon::DaemonParts daemonPartsFrom(const DaemonConfig& config, hal::Clock& cloc
   daemon::DaemonParts parts;
   parts.storage = config.storage;
   parts.clock = &clock;
+  parts.warnings = std::move(warnings);
+  // How the strobe drives the LED.
+  parts.ledAlternate = config.ledAlternate;
+  parts.hdrLevels = config.hdrLevels;
+  parts.strobe.framesPerState = config.ledFramesPerState;
+  parts.strobe.guardUs = config.ledGuardUs;
+  parts.strobe.readoutUs = config.readoutUs;
+  // What the sweeps read and keep: settings, read before the devices.
+  const capture::PipelineSettings pipeline = pipelineSettingsFrom(config);
+  const OutputSettings outputs = outputSettingsFrom(config);
+
+  // The devices, described once and opened from the description.
+  const DeviceDescription devices = describeDevices(config);
   // camera = model: the LED's light as the model camera sees it.
   auto modelLight = std::make_shared<hal::LedTimeline>();
-  setLedAndCamera(parts, config, clock, modelLight);
-  parts.warnings = std::move(warnings);
-  parts.decoding = daemon::decodingModeFromString(config.decoding);
-
-  const Rig configured = configuredRig(config);
-  CameraSources sources = makeCameraSources(config, clock, modelLight, configured.target,
-                                            configured.camera, ModelScene::Sweep);
-  parts.outputs = std::make_unique<ConfiguredSessionOutputs>(config, sources.rigFor,
-                                                             recordingsCreator(config, sources));
-  parts.rig = std::make_unique<ConfiguredCaptureRig>(std::move(sources), pipelineSettingsFrom(config));
+  parts.led = openLed(devices.led, clock, modelLight);
+  parts.cameraConfig = devices.cameraConfig;
+  parts.decoding = devices.decoding;
+  CameraSources sources = makeCameraSources(devices, clock, modelLight, ModelScene::Sweep);
+  parts.outputs = std::make_unique<ConfiguredSessionOutputs>(outputs, sources.rigFor,
+                                                             recordingsCreator(devices, sources));
+  parts.rig = std::make_unique<ConfiguredCaptureRig>(std::move(sources), pipeline);
   parts.tables = std::make_unique<MethodTables>();
   return parts;
 }

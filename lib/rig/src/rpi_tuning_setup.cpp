@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "slicecap/hal/camera_modes.hpp"
 #include "slicecap/hal/device_backends.hpp"
 #include "slicecap/hal/rpi_tuning.hpp"
 
@@ -23,14 +24,6 @@ std::optional<hal::PiIsp> boardIsp() {
   std::ostringstream text;
   text << in.rdbuf();
   return hal::piIspOfCompatible(text.str());
-}
-
-/// The configured camera among those libcamera lists (its id, or the first).
-const hal::CameraModes* configuredCamera(const std::vector<hal::CameraModes>& cameras,
-                                         const std::string& cameraId) {
-  for (const hal::CameraModes& camera : cameras)
-    if (cameraId.empty() || camera.id == "libcamera: " + cameraId) return &camera;
-  return nullptr;
 }
 
 std::string settingText(const hal::TuningFileSetting& setting) {
@@ -69,7 +62,7 @@ std::optional<control::TuningFileView> applyRpiTuningFile(const DaemonConfig& co
   // reads the variable (two managers alive at once abort the process).
   const std::vector<hal::CameraModes> cameras =
       hal::libcameraModes(config.widthPx, config.heightPx);
-  if (const hal::CameraModes* camera = configuredCamera(cameras, config.cameraDevice)) {
+  if (const hal::CameraModes* camera = hal::findLibcameraCamera(cameras, config.cameraDevice)) {
     inputs.sensorModel = camera->sensorModel;
     inputs.rawGranted = camera->validatedRaw && !camera->validatedRaw->format.empty();
   }

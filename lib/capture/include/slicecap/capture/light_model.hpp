@@ -2,6 +2,7 @@
 // irradiance it gives anywhere on the target.
 #pragma once
 
+#include <optional>
 #include <span>
 #include <string>
 
@@ -74,10 +75,17 @@ struct LightFitParams {
   bool isValid(std::string* error) const;
 };
 
+/// \brief Why `observations` and `params` cannot give a fit ("light fit: ..."), or nullopt when
+/// they can: at least 5 observations not all on one line, with positive, finite radiance and
+/// positive albedo, and valid params. A frame's references may fail it (an arm over them): the
+/// pipeline asks this first and rejects the frame with the answer.
+std::optional<std::string> lightFitProblem(std::span<const ReferenceObservation> observations,
+                                           const LightFitParams& params = {});
+
 /// \brief Fits the light's position (the monospectral mean of the channels drives the geometry,
 /// with relative residuals, plus the weak prior) and then each channel's intensity (linear least
-/// squares at that position). Needs at least 5 observations not all on one line, with positive
-/// radiance and albedo; throws CaptureError otherwise. A fit that does not converge is
+/// squares at that position). Throws CaptureError with lightFitProblem's answer when there is
+/// one (ask it first where observations may be unusable). A fit that does not converge is
 /// returned with converged = false.
 LightFit fitPointLight(std::span<const ReferenceObservation> observations,
                        const LightFitParams& params = {});

@@ -30,8 +30,12 @@ std::array<unsigned char, Abrdf::kValueCount> encodePaper8Bit(const Abrdf& table
 /// \brief The largest cos(theta_i)-weighted value of a table over all 6561 x 3.
 double cosWeightedMaximum(const Abrdf& table);
 
-/// \brief All metrics of `test` against `reference`. Throws EvalError when the
-/// reference has no positive value (nothing to normalise by).
+/// \brief Whether `reference` can be compared against: it has a positive cos-weighted value to
+/// normalise by (a material that reflects nothing has none).
+bool canCompareAgainst(const Abrdf& reference);
+
+/// \brief All metrics of `test` against `reference`. Throws EvalError unless
+/// canCompareAgainst(reference) (nothing to normalise by): ask it first where that can be.
 Metrics compare(const Abrdf& reference, const Abrdf& test);
 
 /// \brief sRGB OETF (linear [0, 1] -> encoded [0, 1]) and its inverse.

@@ -93,4 +93,9 @@ std::vector<std::string> describeModes(const CameraModes& modes);
 /// \brief An OfferedFormat named `name` with these sizes; raw and decodable from the name.
 OfferedFormat offeredFormat(std::string name, std::vector<std::pair<int, int>> sizesPx);
 
+/// \brief Among libcameraModes' cameras, the one `cameraId` names (camera_device; empty: the
+/// first, as libcamera opens it); nullptr when none.
+const CameraModes* findLibcameraCamera(const std::vector<CameraModes>& cameras,
+                                       const std::string& cameraId);
+
 }  // namespace slicecap::hal

@@ -87,9 +87,13 @@ Abrdf tabulate(const GltfBrdf& brdf);
 
 /// \brief How far what a glTF renderer draws is from the fit: the glTF material the export writes
 /// (gltfMaterialJson), evaluated by GltfBrdf, against the fitted material's table, with the
-/// metrics of `slicecap compare`. Throws MaterialExportError when the fitted material reflects
-/// nothing (eval::compare's reference).
+/// metrics of `slicecap compare`. Throws eval::EvalError when the fitted material reflects
+/// nothing (eval::compare's reference): gltfVersusFitExists says so first.
 eval::Metrics gltfVersusFit(const fit::FittedMaterial& fitted,
                             SheenVisibility visibility = SheenVisibility::Charlie);
+
+/// \brief Whether gltfVersusFit has figures for `fitted`: false for a material that reflects
+/// nothing (no table to compare against).
+bool gltfVersusFitExists(const fit::FittedMaterial& fitted);
 
 }  // namespace slicecap::material_export

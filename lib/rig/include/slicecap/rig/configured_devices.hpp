@@ -1,5 +1,6 @@
-// slicecapd's devices from its configuration: the camera factory and the LED, shared by the
-// daemon (daemon_parts.hpp) and `--check-hardware` so that both open exactly the same camera.
+// slicecapd's devices from their description (device_description.hpp): the camera factory and
+// the LED, shared by the daemon (daemon_parts.hpp) and `--check-hardware` so that both open
+// exactly the same camera.
 #pragma once
 
 #include <filesystem>
@@ -17,8 +18,7 @@
 #include "slicecap/hal/led.hpp"
 #include "slicecap/hal/led_timeline.hpp"
 #include "slicecap/io/recording.hpp"
-#include "slicecap/vision/camera_model.hpp"
-#include "slicecap/vision/target.hpp"
+#include "slicecap/rig/device_description.hpp"
 
 namespace slicecap::rig {
 
@@ -28,21 +28,6 @@ using RecordingsBySlice = std::map<SliceId, std::pair<std::filesystem::path, io:
 /// \brief The configured recording itself, or those of a session folder (as `slicecap simulate
 /// --session` writes). Throws RigError naming the folder when none is found.
 RecordingsBySlice findRecordings(const std::filesystem::path& configured);
-
-/// \brief The target and camera model of a slice's sweep.
-struct Rig {
-  vision::TargetGeometry target;
-  vision::CameraModel camera;
-};
-
-/// \brief The configured target (`target`: default or a target JSON) and camera model
-/// (`calibration`, else the default camera module 3 at 1280 x 720). Throws io::IoError naming the
-/// file that cannot be read.
-Rig configuredRig(const daemon::DaemonConfig& config);
-
-/// \brief What the daemon and the check ask of the camera: size, exposure and gain when set,
-/// RAW, readout time.
-hal::CameraConfig cameraConfigFrom(const daemon::DaemonConfig& config);
 
 /// \brief What the configuration's camera setting builds.
 struct CameraSources {
@@ -58,25 +43,23 @@ enum class ModelScene {
   Still,  ///< the target held still under the camera at the sweep's first position (the check)
 };
 
-/// \brief The camera factory of `config`. camera = model shares `modelLight` (the LED's light,
+/// \brief The camera factory of `devices`. camera = model shares `modelLight` (the LED's light,
 /// which openLed records) and `clock`, which must outlive every camera; with `modelRealTime`
 /// false the model runs on `clock` as a FakeClock that its frames advance (as fast as it
-/// renders). Throws what the backends throw when a file the configuration names cannot be read
+/// renders). Throws what the backends throw when a file the description names cannot be read
 /// (a recording, a material) or a device cannot be opened.
-CameraSources makeCameraSources(const daemon::DaemonConfig& config, hal::Clock& clock,
-                                std::shared_ptr<hal::LedTimeline> modelLight,
-                                const vision::TargetGeometry& target,
-                                const vision::CameraModel& cameraModel, ModelScene scene,
+CameraSources makeCameraSources(const DeviceDescription& devices, hal::Clock& clock,
+                                std::shared_ptr<hal::LedTimeline> modelLight, ModelScene scene,
                                 bool modelRealTime = true);
 
 /// \brief The devices `config` asks for that this build does not have (SLICECAP_WITH_*): one
 /// line each, "camera = libcamera: libcamera: not in this build (...)"; empty when none.
 std::vector<std::string> backendsNotBuilt(const daemon::DaemonConfig& config);
 
-/// \brief The configured LED: the GPIO line, or with camera = file or model a file LED (its log)
-/// which for the model also records its light on `modelLight` a little after each switch.
-/// Throws hal::DeviceError (or the GPIO's error) naming the chip, line or file.
-std::unique_ptr<hal::Led> openLed(const daemon::DaemonConfig& config, hal::Clock& clock,
+/// \brief The described LED: the GPIO line, or its file LED (its log) which for the model also
+/// records its light on `modelLight` a little after each switch. Throws hal::DeviceError (or the
+/// GPIO's error) naming the chip, line or file.
+std::unique_ptr<hal::Led> openLed(const LedDescription& led, hal::Clock& clock,
                                   std::shared_ptr<hal::LedTimeline> modelLight = nullptr);
 
 }  // namespace slicecap::rig
