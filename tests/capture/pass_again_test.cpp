@@ -8,6 +8,7 @@
 #include <functional>
 #include <stdexcept>
 
+#include "../support/window_cells_sweep.hpp"
 #include "slicecap/capture/capture_error.hpp"
 
 namespace slicecap::capture {
@@ -15,49 +16,17 @@ namespace {
 
 const SliceId kDiagonal7575{SliceKind::Diagonal, {75, 75}};
 
-// A value along the slice parameter (deg): a diffuse floor and lobes.
-using Profile = std::function<double(double)>;
+using test::lobe;
+using test::Print;
+using test::Profile;
 
-double lobe(double parameterDeg, double centreDeg, double sigmaDeg) {
-  const double d = parameterDeg - centreDeg;
-  return 10.0 * std::exp(-d * d / (2.0 * sigmaDeg * sigmaDeg));
-}
-
-// A 75/75 diagonal frame at slice parameter `centreDeg` whose window holds 9 cells from 3.2 deg
-// before to 3.2 deg after it (0.8 deg apart, as on the default target), valued by `profile`
-// times the material's albedo at the cell's spot, `print` (cells -4 to 4; plain: 1).
-using Print = std::function<double(int)>;
-FrameSample frameAt(double centreDeg, const Profile& profile, std::uint64_t index,
-                    const Print& print = [](int) { return 1.0; }) {
-  auto point = [](double p) {
-    const AzimuthPair a = slicePoint(SliceKind::Diagonal, p);
-    return std::pair{Direction{75, a.phiIDeg}, Direction{75, a.phiVDeg}};
-  };
-  const auto [light, view] = point(centreDeg);
-  FrameSample s{std::int64_t(index) * 33000, index, light, view, Rgb::gray(profile(centreDeg))};
-  WindowCells cells;
-  cells.cellsPerSide = 3;  // the rule reads the cells' directions, not the grid
-  for (int k = -4; k <= 4; ++k) {
-    const auto [cellLight, cellView] = point(centreDeg + 0.8 * k);
-    cells.cells.push_back(
-        {cellLight, cellView, Rgb::gray(profile(centreDeg + 0.8 * k) * print(k)), Rgb::gray(1e-4),
-         false});
-  }
-  s.cells = std::move(cells);
-  return s;
-}
-
-// Frames every 3 deg over [fromDeg, toDeg] except those whose centre lies in a skipped range.
+// The frames of test::diagonalSweep in their bins.
 AzimuthBins sweep(const Profile& profile, double fromDeg, double toDeg,
                   const std::vector<std::pair<double, double>>& skipped,
                   const Print& print = [](int) { return 1.0; }) {
   AzimuthBins bins(SliceKind::Diagonal);
-  std::uint64_t index = 0;
-  for (double p = fromDeg; p <= toDeg; p += 3.0) {
-    bool skip = false;
-    for (const auto& [a, b] : skipped) skip = skip || (p > a && p < b);
-    if (!skip) bins.add(frameAt(p, profile, ++index, print));
-  }
+  for (const FrameSample& frame : test::diagonalSweep(profile, fromDeg, toDeg, skipped, print))
+    bins.add(frame);
   return bins;
 }
 
@@ -120,6 +89,37 @@ TEST(PassAgain, AThreadsColourAtTheWindowsEdgeIsNoMissedPeak) {
             empties);
 }
 
+TEST(PassAgain, WhileATexturedSweepRunsAThreadsColourIsNoMissedPeak) {
+  // The woven window of the test above, swept from 0 to 180 deg so far past the 86-94 gap, its
+  // frames judged as they come: the running sweep's cells are read as its verdict says, as a
+  // finished one's are, and the edge cells' thread is not named a peak the sweep missed.
+  const Profile flat = [](double) { return 1.0; };
+  const Print thread = [](int k) { return std::abs(k) == 4 ? 3.0 : 1.0; };
+  AzimuthBins bins(SliceKind::Diagonal);
+  RunningCellTexture running;
+  int judgements = 0;
+  for (const FrameSample& frame : test::diagonalSweep(flat, 0, 180, {{86, 94}}, thread)) {
+    bins.add(frame);
+    const std::size_t before = running.framesJudged();
+    running.of(bins);
+    judgements += running.framesJudged() != before ? 1 : 0;
+  }
+  const CellTexture& texture = running.of(bins);
+  EXPECT_NE(texture.action, CellTextureAction::AsRead) << texture.describe();
+  const std::pair<double, PassAgainReason> thread90{90.0, PassAgainReason::PeakNotReached};
+  const auto asRead = named(binsToPassAgain(bins, kDiagonal7575, SweepProgress::Running));
+  EXPECT_NE(std::find(asRead.begin(), asRead.end(), thread90), asRead.end());
+  EXPECT_TRUE(binsToPassAgain(bins, kDiagonal7575, SweepProgress::Running, {}, texture).empty())
+      << texture.describe();
+  // Judged again as the frames grow by a quarter, not on each of the 58 frames: the verdict is
+  // never older than the last fifth of them.
+  EXPECT_GT(1.25 * double(running.framesJudged()), 58.0);
+  EXPECT_LT(judgements, 20);
+  // The slice redone: the verdict is judged again from its new frames, none yet.
+  EXPECT_EQ(running.of(AzimuthBins(SliceKind::Diagonal)).framesUsed, 0);
+  EXPECT_EQ(running.framesJudged(), 0u);
+}
+
 TEST(PassAgain, ABroadLobeWithTheSameGapIsNotAMissedPeak) {
   // sigma 15 deg: over the last two cell steps before the gap it changes by a few per cent.
   const Profile broad = [](double p) { return 0.1 + lobe(p, 90, 15); };
@@ -148,8 +148,8 @@ TEST(PassAgain, ACellInTheBinIsEnoughToFillIt) {
   // the slice value reads them, so the bin is not empty.
   const Profile flat = [](double) { return 0.1; };
   AzimuthBins bins(SliceKind::Diagonal);
-  bins.add(frameAt(49, flat, 1));
-  bins.add(frameAt(70.5, flat, 2));
+  bins.add(test::diagonalFrameAt(49, flat, 1));
+  bins.add(test::diagonalFrameAt(70.5, flat, 2));
   const std::vector<PassAgainBin> out = binsToPassAgain(bins, kDiagonal7575, SweepProgress::Finished);
   for (const PassAgainBin& b : out) EXPECT_NE(b.bin, 4);
   EXPECT_TRUE(bins.samplesIn(4).empty());

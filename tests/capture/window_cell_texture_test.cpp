@@ -3,6 +3,7 @@
 // by a factor, gives the window centres' reading.
 #include "slicecap/capture/window_cell_texture.hpp"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,6 +16,8 @@
 
 namespace slicecap::capture {
 namespace {
+
+using ::testing::HasSubstr;
 
 constexpr int kSide = 8;
 const SliceId kDiagonal7575{SliceKind::Diagonal, {75, 75}};
@@ -82,6 +85,7 @@ TEST(WindowCellTexture, ASharpLobeOnAPlainMaterialIsReadAsItIs) {
   EXPECT_EQ(texture.framesUsed, 120);
   EXPECT_EQ(texture.action, CellTextureAction::AsRead) << texture.describe();
   EXPECT_LT(texture.spreadPercent, CellTextureRule{}.textureSpreadPercent / 2);
+  EXPECT_THAT(verdictReason(texture), HasSubstr("within the 10 % of a plain material"));
   // The cells' reading is sliceFromCells' own: the lobe the cells caught is not flattened.
   SliceSet set;
   addSweepSlices(set, kDiagonal7575, bins);
@@ -123,6 +127,7 @@ TEST(WindowCellTexture, AnAlbedoPatternIsFoundAndDividedOut) {
   EXPECT_EQ(texture.action, CellTextureAction::AlbedoNormalised) << texture.describe();
   EXPECT_GT(texture.spreadPercent, 20.0);
   EXPECT_EQ(texture.binsMatched, 24);
+  EXPECT_THAT(verdictReason(texture), HasSubstr("that the albedo factors explain"));
   ASSERT_EQ(texture.albedoFactors.size(), std::size_t(kSide * kSide));
   for (int k = 0; k < kSide * kSide; ++k)
     for (std::size_t c = 0; c < 3; ++c)
@@ -157,6 +162,10 @@ TEST(WindowCellTexture, SpotsThatDifferInTheirLobesGiveTheWindowCentres) {
   EXPECT_EQ(texture.action, CellTextureAction::WindowCentres) << texture.describe();
   EXPECT_GE(texture.binsMatched, texture.binsWithCells / 2);  // not a lack of evidence
   EXPECT_GT(texture.unexplainedPercent, CellTextureRule{}.unexplainedPercent);
+  EXPECT_THAT(verdictReason(texture),
+              HasSubstr("that the albedo factors do not explain: " +
+                        std::to_string(int(std::lround(texture.unexplainedPercent))) +
+                        " % left, under 5 % needed"));
   SliceSet set;
   addSweepSlices(set, kAxial3030, bins);
   const std::vector<SliceSample> centres = bins.combine();
@@ -177,6 +186,9 @@ TEST(WindowCellTexture, AFactorShownInFewBinsGivesTheWindowCentres) {
   EXPECT_LT(texture.unexplainedPercent, CellTextureRule{}.unexplainedPercent);
   EXPECT_LT(texture.binsMatched, texture.binsWithCells / 2);
   EXPECT_EQ(texture.action, CellTextureAction::WindowCentres) << texture.describe();
+  EXPECT_THAT(verdictReason(texture),
+              HasSubstr("shown in " + std::to_string(texture.binsMatched) + " of " +
+                        std::to_string(texture.binsWithCells) + " bins only, 50 % needed"));
 }
 
 TEST(WindowCellTexture, TooFewFramesOrAForcedActionAreSaid) {
@@ -190,11 +202,13 @@ TEST(WindowCellTexture, TooFewFramesOrAForcedActionAreSaid) {
   EXPECT_EQ(none.action, CellTextureAction::AsRead);
   EXPECT_TRUE(none.albedoFactors.empty());
   EXPECT_NE(none.describe().find("5 frames"), std::string::npos) << none.describe();
+  EXPECT_THAT(verdictReason(none), HasSubstr("5 frames with every cell clear of the noise, 8 needed"));
   CellTextureRule forced;
   forced.forced = CellTextureAction::AsRead;
   const CellTexture kept = cellTextureOf(full, forced);
   EXPECT_EQ(kept.action, CellTextureAction::AsRead);
   EXPECT_GT(kept.spreadPercent, 20.0);  // still measured and reported
+  EXPECT_THAT(verdictReason(kept, forced), HasSubstr("set by the command line"));
   EXPECT_EQ(parseCellTextureAction("centres"), CellTextureAction::WindowCentres);
   EXPECT_EQ(parseCellTextureAction("mean"), std::nullopt);
 }

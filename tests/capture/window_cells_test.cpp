@@ -93,6 +93,29 @@ TEST(WindowCells, ASliceValueComesFromTheCellNearestTheBinCentre) {
   EXPECT_LT(sliceFromCells(bins, kDiagonal7575, {5.0}).front().value.r(), 4.0);
 }
 
+TEST(WindowCells, CellsCanGiveASamplePerStretchOfTheSliceNotPerBin) {
+  // A lobe narrower than a bin: frames at 84 and 96 deg, their cells from 83 to 97, all in bin 6
+  // (82.5-97.5). Per bin the reading is the cell nearest 90 deg, the lobe's top as a one-bin
+  // spike; every 3 deg of the cells' own view azimuth it keeps the flanks.
+  AzimuthBins bins(SliceKind::Diagonal);
+  bins.add(frameWithCells(84.0, 0.2, {{83.0, 0.1}, {84.0, 0.2}, {86.0, 1.0}, {88.4, 3.0}}, 1));
+  bins.add(frameWithCells(96.0, 0.2, {{89.9, 5.0}, {92.0, 2.0}, {95.5, 0.4}, {97.0, 0.15}}, 2));
+  EXPECT_EQ(sliceFromCells(bins, kDiagonal7575).size(), 1u);
+  CellSliceRule every3;
+  every3.pointsEveryDeg = 3.0;
+  const std::vector<SliceSample> fromCells = sliceFromCells(bins, kDiagonal7575, every3);
+  // By 3 deg, each stretch read as a bin is, from the cell nearest its centre: [81, 84) 83;
+  // [84, 87) 86; [87, 90) 88.4 (3, not pooled with the 5 at 89.9: 1.5 deg apart); [90, 93) 92;
+  // [93, 96) 95.5; [96, 99) 97.
+  ASSERT_EQ(fromCells.size(), 6u);
+  const double expectedPhiDeg[] = {83.0, 86.0, 88.4, 92.0, 95.5, 97.0};
+  for (std::size_t k = 0; k < fromCells.size(); ++k)
+    EXPECT_NEAR(fromCells[k].view.phiDeg, expectedPhiDeg[k], 1e-9) << k;
+  EXPECT_NEAR(fromCells[2].value.r(), 3.0, 1e-12);
+  every3.pointsEveryDeg = -1.0;
+  EXPECT_THROW(sliceFromCells(bins, kDiagonal7575, every3), capture::CaptureError);
+}
+
 TEST(WindowCells, ACellFillsABinNoWindowCentreFellIn) {
   AzimuthBins bins(SliceKind::Diagonal);
   bins.add(frameWithCells(95.0, 0.5, {{95.0, 0.5}, {103.0, 0.7}}, 1));

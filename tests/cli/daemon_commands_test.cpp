@@ -22,6 +22,7 @@ namespace {
 
 using nlohmann::json;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 struct Result {
   int code;
@@ -106,6 +107,27 @@ TEST(DaemonCommands, StatusShowsTheRawFrameRecordingAndWhyItStopped) {
   ASSERT_EQ(r.code, kExitOk) << r.err;
   EXPECT_THAT(r.out, HasSubstr("raw frames recorded: 40 in /s/recordings/axial-30-30, 3 dropped"));
   EXPECT_THAT(r.out, HasSubstr("recording stopped: /s/x.png: No space left on device"));
+}
+
+TEST(DaemonCommands, StatusSaysWhichFinishedSweepsCellsAreNotReadAsTheyAre) {
+  const auto dir = test::freshTempDir();
+  LiveDaemon daemon(dir / "storage");
+  const auto slice = [](const char* kind, int thetaDeg) {
+    return json{{"name", std::string(kind) + " " + std::to_string(thetaDeg) + "/" +
+                             std::to_string(thetaDeg)},
+                {"kind", kind}, {"theta_i", thetaDeg}, {"theta_v", thetaDeg}};
+  };
+  daemon.setStatusExtra(
+      {{"cell_texture",
+        {{{"slice", slice("diagonal", 30)}, {"action", "as read"}, {"spread_percent", 2.0},
+          {"reason", "spread 2 %, within the 10 % of a plain material"}},
+         {{"slice", slice("diagonal", 75)}, {"action", "window centres"}, {"spread_percent", 64.0},
+          {"reason", "texture (spread 64 % over 10 %) that the albedo factors do not explain"}}}}});
+  const Result r = daemon.run({"status"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("cells, diagonal 75/75: window centres (texture (spread 64 % over "
+                               "10 %) that the albedo factors do not explain)\n"));
+  EXPECT_THAT(r.out, Not(HasSubstr("cells, diagonal 30/30")));  // a plain sweep says nothing
 }
 
 TEST(DaemonCommands, StatusNamesTheHdrBinsClippedAtEveryExposure) {

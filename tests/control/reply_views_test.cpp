@@ -117,6 +117,32 @@ TEST(ReplyViews, TheBinsToPassAgainRoundTrip) {
   EXPECT_THROW(statusFromJson(unreadable), ReplyError);
 }
 
+TEST(ReplyViews, TheFinishedSweepsTextureVerdictsRoundTrip) {
+  StatusView status;
+  status.next = "keep sweeping";
+  const SliceId diagonal{SliceKind::Diagonal, {75, 75}}, axial{SliceKind::Axial, {30, 30}};
+  status.cellTextures = {
+      {axial, "as read", std::nullopt, "texture not measured: 3 frames ..., 8 needed"},
+      {diagonal, "window centres", 64.0, "texture (spread 64 % over 10 %) ..."}};
+  const json written = toJson(status);
+  ASSERT_EQ(written["cell_texture"].size(), 2u);
+  EXPECT_EQ(written["cell_texture"][0]["spread_percent"], nullptr);
+  EXPECT_EQ(written["cell_texture"][1]["slice"]["name"], toString(diagonal));
+  EXPECT_EQ(written["cell_texture"][1]["action"], "window centres");
+  EXPECT_EQ(written["cell_texture"][1]["spread_percent"], 64.0);
+  const StatusView read = statusFromJson(written);
+  ASSERT_EQ(read.cellTextures.size(), 2u);
+  EXPECT_EQ(read.cellTextures[0].slice, axial);
+  EXPECT_EQ(read.cellTextures[0].spreadPercent, std::nullopt);
+  EXPECT_EQ(read.cellTextures[1].spreadPercent, 64.0);
+  EXPECT_EQ(read.cellTextures[1].reason, status.cellTextures[1].reason);
+  EXPECT_EQ(toJson(read), written);
+  EXPECT_FALSE(toJson(StatusView{}).contains("cell_texture"));  // none: the key is left out
+  json unreadable = written;
+  unreadable["cell_texture"][1].erase("action");
+  EXPECT_THROW(statusFromJson(unreadable), ReplyError);
+}
+
 TEST(ReplyViews, IsotropyErrorKeepsOnlyTheErrorAndTheAdvice) {
   const IsotropyView failed{"isotropy test: no prior", std::nullopt, true, true, ""};
   const json written = toJson(failed);

@@ -21,6 +21,8 @@ StatusView everyField() {
   status.next = "next";
   status.isotropy = IsotropyView{};
   status.passAgain = {PassAgainView{{SliceKind::Diagonal, {75, 75}}, 90.0, "peak_not_reached"}};
+  status.cellTextures = {CellTextureView{{SliceKind::Diagonal, {75, 75}}, "window centres", 64.0,
+                                         "reason"}};
   status.error = "error";
   status.recording = RecordingView{"dir", 1, 2, 3, "stopped"};
   TextureProgressView texture;

@@ -11,6 +11,7 @@
 #include "../support/manager_reply.hpp"
 #include "../support/sweep_sample.hpp"
 #include "../support/test_support.hpp"
+#include "../support/window_cells_sweep.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/slice_csv.hpp"
@@ -134,6 +135,52 @@ TEST(SessionManager, NamesTheBinsToPassAgainDuringAndAfterASweep) {
   EXPECT_THAT(status["next"].get<std::string>(),
               testing::EndsWith("; to pass again slowly: `slicecap sweep start axial 30 30` over "
                                 "165 deg (empty)"));
+}
+
+TEST(SessionManager, JudgesTheWindowsTextureWhileASweepRunsAndShowsTheVerdictOnceItStops) {
+  // A plain material under a weave whose bright thread lies under the window's edge cells on the
+  // side ahead of the sweep (3 x the others): read as they are, the cells before the 86-94 deg
+  // gap rise toward 90 deg like a sharp peak's. The running sweep's texture is judged as its
+  // frames come, so it is not named.
+  const SliceId diagonal7575{SliceKind::Diagonal, {75, 75}};
+  const test::Profile flat = [](double) { return 1.0; };
+  // The thread: the window's cells that, in the last frame before the gap (84 deg), lie within
+  // 1.2 deg of the nearest to the 90 deg bin centre's directions (the rule's distance).
+  const capture::FrameSample probe =
+      test::placedDiagonalFrameAt(84, flat, 0, [](int, int) { return 1.0; });
+  const AzimuthPair centre = slicePoint(SliceKind::Diagonal, 90);
+  std::array<double, 64> distanceDeg{};
+  for (std::size_t k = 0; k < 64; ++k) {
+    const capture::CellSample& cell = probe.cells->cells[k];
+    distanceDeg[k] = std::hypot(angleBetweenDeg(cell.light, {75, centre.phiIDeg}),
+                                angleBetweenDeg(cell.view, {75, centre.phiVDeg}));
+  }
+  const double nearestDeg = *std::min_element(distanceDeg.begin(), distanceDeg.end());
+  const auto thread = [&](int i, int j) {
+    return distanceDeg[std::size_t(8 * i + j)] <= nearestDeg + 1.2 ? 3.0 : 1.0;
+  };
+  SessionManager manager(test::freshTempDir(), meanOfSlices);
+  ok(manager, control::SessionNew{"woven", std::string("woven")});
+  ok(manager, control::SweepStart{diagonal7575});
+  std::uint64_t index = 0;
+  for (double p = 0; p <= 180; p += 3.0) {
+    if (p > 86 && p < 94) continue;
+    const capture::FrameSample frame = test::placedDiagonalFrameAt(p, flat, ++index, thread);
+    ASSERT_TRUE(manager.acceptSample(frame));
+    for (const control::PassAgainView& bin : manager.statusView().passAgain)
+      EXPECT_NE(bin.reason, "peak_not_reached") << bin.azimuthDeg << " deg, frame " << index;
+  }
+  EXPECT_TRUE(manager.statusView().cellTextures.empty()) << "the running sweep's is not final";
+  ok(manager, control::SweepStop{});
+  const control::StatusView status = manager.statusView();
+  ASSERT_EQ(status.cellTextures.size(), 1u);
+  const control::CellTextureView& verdict = status.cellTextures.front();
+  EXPECT_EQ(verdict.slice, diagonal7575);
+  EXPECT_NE(verdict.action, "as read");
+  ASSERT_TRUE(verdict.spreadPercent);
+  EXPECT_GT(*verdict.spreadPercent, 10.0);
+  EXPECT_THAT(verdict.reason, HasSubstr("texture (spread"));
+  EXPECT_EQ(manager.status()["cell_texture"][0]["action"], verdict.action);
 }
 
 TEST(SessionManager, RefusesWhatTheStateDoesNotAllow) {

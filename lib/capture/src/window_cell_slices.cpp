@@ -2,6 +2,7 @@
 // §9, "The slice value from the cells").
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <vector>
@@ -36,6 +37,28 @@ SliceSample pooled(const std::vector<const CellSample*>& cells) {
   return {toDirection(light), toDirection(view), value * (1.0 / total)};
 }
 
+// The slice parameter a cell's own directions give.
+double parameterOf(SliceKind kind, const CellSample& cell) {
+  return sliceParameterDeg(kind, {cell.light, cell.view, cell.value});
+}
+
+// The cell of `cells` nearest in angle to the slice's nominal directions at parameter
+// `parameterDeg`, pooled with every cell within `toleranceDeg` of it.
+SliceSample nearestAndPooled(const std::vector<const CellSample*>& cells, const SliceId& id,
+                             double parameterDeg, double toleranceDeg) {
+  const AzimuthPair azimuths = slicePoint(id.kind, parameterDeg);
+  const Direction light{double(id.elevations.thetaIDeg), azimuths.phiIDeg};
+  const Direction view{double(id.elevations.thetaVDeg), azimuths.phiVDeg};
+  const CellSample* nearest = nullptr;
+  double best = std::numeric_limits<double>::infinity();
+  for (const CellSample* c : cells)
+    if (const double d = distanceDeg(*c, light, view); d < best) best = d, nearest = c;
+  std::vector<const CellSample*> pool;
+  for (const CellSample* c : cells)
+    if (distanceDeg(*c, nearest->light, nearest->view) <= toleranceDeg) pool.push_back(c);
+  return pooled(pool);
+}
+
 }  // namespace
 
 std::vector<std::vector<const CellSample*>> usableCellsByBin(const AzimuthBins& bins,
@@ -57,6 +80,9 @@ std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& 
                                         const CellSliceRule& rule) {
   if (id.kind == SliceKind::Point)
     throw CaptureError("slice " + toString(id) + ": a point slice has no bins");
+  if (!(rule.pointsEveryDeg >= 0.0) || !std::isfinite(rule.pointsEveryDeg))
+    throw CaptureError("slice " + toString(id) + ": cells' points every " +
+                       std::to_string(rule.pointsEveryDeg) + " deg: not a stretch of the slice");
   const std::vector<std::vector<const CellSample*>> cellsOfBin = usableCellsByBin(bins, id.kind);
   std::vector<SliceSample> out;
   for (int b = 0; b < bins.binCount(); ++b) {
@@ -67,24 +93,25 @@ std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& 
       if (std::optional<SliceSample> centre = bins.combineBin(b)) out.push_back(*centre);
       continue;
     }
-    const AzimuthPair azimuths = slicePoint(id.kind, b * bins.binWidthDeg());
-    const Direction light{double(id.elevations.thetaIDeg), azimuths.phiIDeg};
-    const Direction view{double(id.elevations.thetaVDeg), azimuths.phiVDeg};
-    const CellSample* nearest = nullptr;
-    double best = std::numeric_limits<double>::infinity();
-    for (const CellSample* c : cells)
-      if (const double d = distanceDeg(*c, light, view); d < best) best = d, nearest = c;
-    std::vector<const CellSample*> pool;
-    for (const CellSample* c : cells)
-      if (distanceDeg(*c, nearest->light, nearest->view) <= rule.poolToleranceDeg)
-        pool.push_back(c);
-    out.push_back(pooled(pool));
+    if (rule.pointsEveryDeg > 0.0) {
+      // Stretches of the cells' own parameter, in order: a lobe's flanks as well as its top. Each
+      // read as a bin is (nearestAndPooled), at its centre's nominal directions, so a sharp peak
+      // is not averaged with the flank beside it.
+      std::map<long, std::vector<const CellSample*>> stretches;
+      for (const CellSample* c : cells)
+        stretches[long(std::floor(parameterOf(id.kind, *c) / rule.pointsEveryDeg))].push_back(c);
+      for (const auto& [stretch, group] : stretches)
+        out.push_back(nearestAndPooled(group, id, (double(stretch) + 0.5) * rule.pointsEveryDeg,
+                                       rule.poolToleranceDeg));
+      continue;
+    }
+    out.push_back(nearestAndPooled(cells, id, b * bins.binWidthDeg(), rule.poolToleranceDeg));
   }
   return out;
 }
 
 CellTexture addSweepSlices(SliceSet& set, const SliceId& id, const AzimuthBins& bins,
-                           const CellTextureRule& rule) {
+                           const CellTextureRule& rule, const CellSliceRule& sliceRule) {
   bool anyCells = false;
   for (int b = 0; b < bins.binCount() && !anyCells; ++b)
     for (const FrameSample& frame : bins.samplesIn(b))
@@ -97,7 +124,7 @@ CellTexture addSweepSlices(SliceSet& set, const SliceId& id, const AzimuthBins& 
   // its window centres' (SliceSet::cellReading), the window mean the paper's Method B reads.
   const std::optional<AzimuthBins> cells = cellsAsJudged(bins, texture);
   if (!cells) return texture;
-  for (const SliceSample& sample : sliceFromCells(*cells, id))
+  for (const SliceSample& sample : sliceFromCells(*cells, id, sliceRule))
     set.addCellSample(id, sample);
   return texture;
 }

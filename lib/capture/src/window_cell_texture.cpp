@@ -159,6 +159,43 @@ std::string CellTexture::describe() const {
   return text;
 }
 
+std::string verdictReason(const CellTexture& texture, const CellTextureRule& rule) {
+  char text[240];
+  if (rule.forced)
+    std::snprintf(text, sizeof text, "set by the command line, whatever the cells show");
+  else if (texture.albedoFactors.empty())
+    std::snprintf(text, sizeof text,
+                  "texture not measured: %d frames with every cell clear of the noise, %d needed",
+                  texture.framesUsed, rule.minFrames);
+  else if (texture.action == CellTextureAction::AsRead)
+    std::snprintf(text, sizeof text, "spread %.0f %%, within the %.0f %% of a plain material",
+                  texture.spreadPercent, rule.textureSpreadPercent);
+  else if (texture.matchedPairs == 0)
+    std::snprintf(text, sizeof text,
+                  "texture (spread %.0f %% over %.0f %%), and no two cells of different spots at "
+                  "the same directions to show a factor explains it",
+                  texture.spreadPercent, rule.textureSpreadPercent);
+  else if (texture.unexplainedPercent >= rule.unexplainedPercent)
+    std::snprintf(text, sizeof text,
+                  "texture (spread %.0f %% over %.0f %%) that the albedo factors do not explain: "
+                  "%.0f %% left, under %.0f %% needed",
+                  texture.spreadPercent, rule.textureSpreadPercent, texture.unexplainedPercent,
+                  rule.unexplainedPercent);
+  else if (texture.action == CellTextureAction::WindowCentres)
+    std::snprintf(text, sizeof text,
+                  "texture (spread %.0f %% over %.0f %%) whose factors are shown in %d of %d bins "
+                  "only, %.0f %% needed",
+                  texture.spreadPercent, rule.textureSpreadPercent, texture.binsMatched,
+                  texture.binsWithCells, 100.0 * rule.matchedBinsFraction);
+  else
+    std::snprintf(text, sizeof text,
+                  "texture (spread %.0f %% over %.0f %%) that the albedo factors explain: %.0f %% "
+                  "left over %ld cell pairs in %d of %d bins",
+                  texture.spreadPercent, rule.textureSpreadPercent, texture.unexplainedPercent,
+                  long(texture.matchedPairs), texture.binsMatched, texture.binsWithCells);
+  return text;
+}
+
 nlohmann::json toJson(const CellTexture& texture) {
   return {{"action", std::string(toString(texture.action))},
           {"frames_used", texture.framesUsed},

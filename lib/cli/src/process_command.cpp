@@ -1,5 +1,7 @@
 // `slicecap process` (recordings -> slice CSV) and `slicecap capture-offline` (session -> EXR).
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -58,15 +60,29 @@ std::string noSampleReason(const capture::RecordingResult& result) {
   return text;
 }
 
-// --cell-texture: auto (the rule decides), or the action it names.
-capture::CellTextureRule cellTextureRuleOf(const ParsedArgs& args) {
-  capture::CellTextureRule rule;
+// How the window cells are read: --cell-texture (auto: the rule decides, or the action it names)
+// and --cell-points-every (one sample per bin, or per that many degrees).
+struct CellRules {
+  capture::CellTextureRule texture;
+  capture::CellSliceRule slices;
+};
+
+CellRules cellRulesOf(const ParsedArgs& args) {
+  CellRules rules;
   const std::string mode = args.value("cell-texture").value_or("auto");
-  if (mode == "auto") return rule;
-  rule.forced = capture::parseCellTextureAction(mode);
-  if (!rule.forced)
-    throw UsageError("--cell-texture: '" + mode + "' is not auto, as-read, normalise or centres");
-  return rule;
+  if (mode != "auto") {
+    rules.texture.forced = capture::parseCellTextureAction(mode);
+    if (!rules.texture.forced)
+      throw UsageError("--cell-texture: '" + mode + "' is not auto, as-read, normalise or centres");
+  }
+  if (const auto every = args.value("cell-points-every")) {
+    char* end = nullptr;
+    rules.slices.pointsEveryDeg = std::strtod(every->c_str(), &end);
+    if (end == every->c_str() || *end != '\0' || !(rules.slices.pointsEveryDeg > 0.0) ||
+        !std::isfinite(rules.slices.pointsEveryDeg))
+      throw UsageError("--cell-points-every: '" + *every + "' is not a positive number of degrees");
+  }
+  return rules;
 }
 
 // What the recordings gave: the slices (each recording one slice) and, per recording that gave
@@ -79,14 +95,15 @@ struct Processed {
 // Reads and checks every recording (readRecordings), then runs each, printing its summary.
 Processed processAll(const std::vector<std::filesystem::path>& recordings,
                      const capture::PipelineSettings& settings,
-                     const capture::CellTextureRule& textureRule, Streams& io,
+                     const CellRules& cellRules, Streams& io,
                      nlohmann::json* report) {
   const std::vector<io::Recording> read = readRecordings(recordings);
   Processed processed;
   for (std::size_t k = 0; k < recordings.size(); ++k) {
     capture::RecordingResult result = capture::processRecording(recordings[k], read[k], settings);
     const capture::CellTexture texture =
-        capture::addSweepSlices(processed.slices, result.slice, result.bins, textureRule);
+        capture::addSweepSlices(processed.slices, result.slice, result.bins, cellRules.texture,
+                                cellRules.slices);
     const int samples = static_cast<int>(
         std::count_if(result.outcomes.begin(), result.outcomes.end(),
                       [](const auto& o) { return o.kind == capture::FrameOutcome::Kind::Sample; }));
@@ -139,7 +156,7 @@ int runProcess(const ParsedArgs& args, Streams& io) {
   if (const auto csv = args.value("cell-slices")) outputs.push_back({"--cell-slices", *csv});
   refuseClashingPaths(recordingInputs(recordings), outputs);
   const Processed processed =
-      processAll(recordings, pipelineSettingsOf(args), cellTextureRuleOf(args), io,
+      processAll(recordings, pipelineSettingsOf(args), cellRulesOf(args), io,
                  reportPath ? &report : nullptr);
   if (reportPath) writeReport(*reportPath, report);
   refuseNoSamples(processed, reportPath, output, io);
@@ -156,7 +173,7 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   const std::filesystem::path output = args.required("output");
   // Bad options are usage errors before the session is even looked at.
   const capture::PipelineSettings settings = pipelineSettingsOf(args);
-  const capture::CellTextureRule textureRule = cellTextureRuleOf(args);
+  const CellRules cellRules = cellRulesOf(args);
   const methods::Method& method = methods::findMethod(
       args.value("method").value_or(methods::cliName(methods::MethodId::B)));
   const std::vector<std::filesystem::path> recordings = sessionRecordings(session);
@@ -168,7 +185,7 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   if (reportPath) outputs.push_back({"--report", *reportPath});
   refuseClashingPaths(recordingInputs(recordings), outputs);
   const Processed processed =
-      processAll(recordings, settings, textureRule, io, reportPath ? &report : nullptr);
+      processAll(recordings, settings, cellRules, io, reportPath ? &report : nullptr);
   if (reportPath) writeReport(*reportPath, report);
   refuseNoSamples(processed, reportPath, output, io);
   const SliceSet& slices = processed.slices;
@@ -201,6 +218,9 @@ Command processCommand() {
        "also write the slice CSV valued from the window cells (docs/method.md 9.4)"},
       {"cell-texture", 0, "MODE",
        "the cells' reading of a textured window: auto (default), as-read, normalise or centres "
+       "(docs/method.md 9.4)"},
+      {"cell-points-every", 0, "DEG",
+       "the cells' reading: one sample per DEG of each slice's parameter, not one per bin "
        "(docs/method.md 9.4)"}};
   for (auto& o : pipelineOptions())
     options.push_back(o);
@@ -233,6 +253,9 @@ Command captureOfflineCommand() {
        "also write the slice CSV valued from the window cells (what b-cells reads)"},
       {"cell-texture", 0, "MODE",
        "the cells' reading of a textured window: auto (default), as-read, normalise or centres "
+       "(docs/method.md 9.4)"},
+      {"cell-points-every", 0, "DEG",
+       "the cells' reading: one sample per DEG of each slice's parameter, not one per bin "
        "(docs/method.md 9.4)"}};
   for (auto& o : pipelineOptions())
     options.push_back(o);

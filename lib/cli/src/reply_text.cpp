@@ -161,6 +161,12 @@ void printStatus(std::ostream& out, const json& reply) {
           << (status.passAgain[k].reason == "empty" ? "empty" : "peak not reached") << ")";
     out << "\n";
   }
+  // A finished sweep whose window cells are not read as they are (texture): what its export's
+  // cell slices and bins to pass again read instead, and why. Plain sweeps say nothing.
+  for (const control::CellTextureView& cells : status.cellTextures)
+    if (cells.action != "as read")
+      out << "cells, " << toString(cells.slice) << ": " << cells.action << " (" << cells.reason
+          << ")\n";
   if (status.isotropy) out << "isotropy: " << isotropyText(*status.isotropy) << "\n";
   if (status.error) out << "error: " << *status.error << "\n";
   if (status.exposure) out << "exposure: " << *status.exposure << "\n";

@@ -41,6 +41,11 @@ PassAgainView passAgainFromJson(const json& object) {
           field<std::string>(object, "reason")};
 }
 
+CellTextureView cellTextureFromJson(const json& object) {
+  return {sliceFromJson(field<json>(object, "slice")), field<std::string>(object, "action"),
+          optionalField<double>(object, "spread_percent"), field<std::string>(object, "reason")};
+}
+
 }  // namespace
 
 json sliceJson(const SliceId& slice) {
@@ -253,6 +258,12 @@ json toJson(const StatusView& status) {
                       {"reason", bin.reason}});
     object["pass_again"] = std::move(bins);
   }
+  for (const CellTextureView& cells : status.cellTextures)
+    object["cell_texture"].push_back(
+        {{"slice", sliceJson(cells.slice)},
+         {"action", cells.action},
+         {"spread_percent", cells.spreadPercent ? json(*cells.spreadPercent) : json(nullptr)},
+         {"reason", cells.reason}});
   if (status.error) object["error"] = *status.error;
   if (status.recording) object["recording"] = toJson(*status.recording);
   if (status.texture) object["texture"] = toJson(*status.texture);
@@ -282,6 +293,8 @@ StatusView statusFromJson(const json& object) {
   // Optional: a daemon from before it does not send it.
   for (const json& bin : optionalField<json>(object, "pass_again").value_or(json::array()))
     status.passAgain.push_back(passAgainFromJson(bin));
+  for (const json& cells : optionalField<json>(object, "cell_texture").value_or(json::array()))
+    status.cellTextures.push_back(cellTextureFromJson(cells));
   status.error = optionalField<std::string>(object, "error");
   if (const auto recording = optionalField<json>(object, "recording"))
     status.recording = recordingFromJson(*recording);

@@ -21,6 +21,15 @@ const std::vector<ReplyField>& statusFields() {
       {"pass_again.azimuth_deg", "the bin centre's slice parameter: light azimuth on an axial "
                                  "slice, view azimuth on a diagonal one"},
       {"pass_again.reason", "empty, or peak_not_reached"},
+      {"cell_texture", "the texture verdict of each finished sweep whose frames carry window "
+                       "cells: how the export's cell slices and the bins to pass again read them "
+                       "(docs/method.md 9.4; absent: none)"},
+      {"cell_texture.slice", "the slice, as a sweep's slice (name, kind, theta_i, theta_v)"},
+      {"cell_texture.action", "as read (no texture), albedo-normalised (each cell divided by its "
+                              "spot's albedo factor) or window centres (the cells not used)"},
+      {"cell_texture.spread_percent", "how far the cells' albedo factors are from 1, about in "
+                                      "percent (null: too few frames clear of the noise)"},
+      {"cell_texture.reason", "why that action, with the figures the rule compared"},
       {"error", "why the sweep last paused or the session's storage last failed (cleared when a "
                 "sweep starts or stops)"},
       {"recording", "record_frames: the sweep's raw-frame recording"},

@@ -273,8 +273,9 @@ control::StatusView SessionManager::State::statusView() const {
   if (session) {
     status.session = statusSessionView(*session);
     status.isotropy = isotropy.verdict(*session, samplesVersion, capturing());
-    status.passAgain =
-        passAgainView(*session, sweep ? std::optional(sweep->slice) : std::nullopt, passAgain);
+    const auto sweeping = sweep ? std::optional(sweep->slice) : std::nullopt;
+    status.passAgain = passAgainView(*session, sweeping, passAgain);
+    status.cellTextures = cellTextureView(*session, sweeping, passAgain);
   }
   if (sweep) status.sweep = sweep->view(*session);
   status.next = nextStep(session ? &*session : nullptr, sweep ? &*sweep : nullptr,

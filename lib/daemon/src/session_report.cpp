@@ -29,6 +29,15 @@ std::vector<control::JournalDamageView> journalDamage(const capture::SessionStor
   return damage;
 }
 
+// Whether any frame of the slice carries window cells: a session captured without them has no
+// texture to judge, and its slices no verdict to show.
+bool hasWindowCells(const capture::AzimuthBins& bins) {
+  for (int b = 0; b < bins.binCount(); ++b)
+    for (const capture::FrameSample& frame : bins.samplesIn(b))
+      if (frame.cells) return true;
+  return false;
+}
+
 }  // namespace
 
 control::SessionView statusSessionView(const capture::SessionStore& store) {
@@ -52,21 +61,52 @@ control::SessionView sessionView(const capture::SessionStore& store) {
   return session;
 }
 
+PassAgainCache::Kept& PassAgainCache::kept(const capture::SessionStore& store,
+                                           const SliceId& slice,
+                                           capture::SweepProgress progress) {
+  const capture::AzimuthBins& bins = store.bins(slice);
+  Kept& kept = kept_[{slice, progress}];
+  if (kept.version == bins.version()) return kept;
+  // A finished slice's bins change no more: its texture is judged once. A sweep under way is
+  // judged again as its frames grow, so a textured window's thread is not named a missed peak
+  // while it runs (judging it on every frame would cost the frame loop).
+  if (progress == capture::SweepProgress::Finished) {
+    running_.erase(slice);
+    kept.texture = capture::cellTextureOf(bins);
+  } else {
+    kept.texture = running_[slice].of(bins);
+  }
+  kept.bins = capture::binsToPassAgain(bins, slice, progress, {}, kept.texture);
+  kept.version = bins.version();
+  return kept;
+}
+
 const std::vector<capture::PassAgainBin>& PassAgainCache::bins(const capture::SessionStore& store,
                                                                const SliceId& slice,
                                                                capture::SweepProgress progress) {
-  const capture::AzimuthBins& bins = store.bins(slice);
-  Kept& kept = kept_[{slice, progress}];
-  // A finished slice's bins change no more: its texture is judged once, and its cells read as
-  // the verdict says. A sweep under way is read as it is (the verdict needs the whole sweep,
-  // and judging it on every frame would cost the frame loop).
-  if (kept.version != bins.version())
-    kept = {bins.version(),
-            capture::binsToPassAgain(bins, slice, progress, {},
-                                     progress == capture::SweepProgress::Finished
-                                         ? capture::cellTextureOf(bins)
-                                         : capture::CellTexture{})};
-  return kept.bins;
+  return kept(store, slice, progress).bins;
+}
+
+const capture::CellTexture& PassAgainCache::texture(const capture::SessionStore& store,
+                                                    const SliceId& slice,
+                                                    capture::SweepProgress progress) {
+  return kept(store, slice, progress).texture;
+}
+
+std::vector<control::CellTextureView> cellTextureView(const capture::SessionStore& store,
+                                                      const std::optional<SliceId>& sweeping,
+                                                      PassAgainCache& cache) {
+  std::vector<control::CellTextureView> out;
+  for (const SliceId& slice : sweepOrder()) {
+    if (slice == sweeping || !hasWindowCells(store.bins(slice))) continue;
+    const capture::CellTexture& texture =
+        cache.texture(store, slice, capture::SweepProgress::Finished);
+    std::optional<double> spread;
+    if (!texture.albedoFactors.empty()) spread = texture.spreadPercent;
+    out.push_back({slice, std::string(toString(texture.action)), spread,
+                   capture::verdictReason(texture)});
+  }
+  return out;
 }
 
 std::vector<control::PassAgainView> passAgainView(const capture::SessionStore& store,

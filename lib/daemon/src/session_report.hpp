@@ -22,19 +22,34 @@ control::SessionView statusSessionView(const capture::SessionStore& store);
 /// \brief capture::binsToPassAgain of a session's slices, kept while a slice's bins stay the
 /// same (AzimuthBins::version): it reads every cell of the slice (~10 ms for 300 frames of 64
 /// cells on a desktop core), and the status is asked for on the frame loop, often during a sweep.
+/// The cells are read as the slice's texture verdict says (capture::cellsAsJudged): a finished
+/// slice judged once, the running sweep as its frames grow (capture::RunningCellTexture).
 class PassAgainCache {
  public:
   const std::vector<capture::PassAgainBin>& bins(const capture::SessionStore& store,
                                                  const SliceId& slice,
                                                  capture::SweepProgress progress);
+  /// \brief The texture verdict bins() read the slice's cells with (judged here if not yet).
+  const capture::CellTexture& texture(const capture::SessionStore& store, const SliceId& slice,
+                                      capture::SweepProgress progress);
 
  private:
   struct Kept {
     std::uint64_t version = 0;
+    capture::CellTexture texture;
     std::vector<capture::PassAgainBin> bins;
   };
+  Kept& kept(const capture::SessionStore& store, const SliceId& slice,
+             capture::SweepProgress progress);
   std::map<std::pair<SliceId, capture::SweepProgress>, Kept> kept_;
+  std::map<SliceId, capture::RunningCellTexture> running_;
 };
+
+/// \brief The texture verdicts of the session's finished sweeps whose frames carry window cells
+/// (the running sweep's is still being judged), in sweep order: the status's "cell_texture".
+std::vector<control::CellTextureView> cellTextureView(const capture::SessionStore& store,
+                                                      const std::optional<SliceId>& sweeping,
+                                                      PassAgainCache& cache);
 
 /// \brief The bins of the session's swept slices to pass again (capture::binsToPassAgain), in
 /// sweep order: `sweeping`'s slice as a sweep still under way (its empty bins ahead of it are not

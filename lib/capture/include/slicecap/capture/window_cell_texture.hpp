@@ -2,6 +2,7 @@
 // directions (docs/method.md §9.4, "Textured materials").
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>
 #include <optional>
@@ -89,6 +90,12 @@ struct CellTextureRule {
   double matchedBinsFraction = 0.5;
 };
 
+/// \brief Why `texture` (cellTextureOf with `rule`) got its action, in words for a person: the
+/// figures the rule compared with its thresholds, e.g. "texture (spread 64 % over the 10 % of a
+/// plain material) that the albedo factors do not explain: 10 % left, under 5 % needed" (the
+/// status's "cell_texture.reason").
+std::string verdictReason(const CellTexture& texture, const CellTextureRule& rule = {});
+
 /// \brief The sweep's texture as its cells show it. Each cell position sees the same spot of
 /// the material in every frame (the window is fixed on the target), while its directions move
 /// with the frame: a ratio to the frame's mean of cells that stays put over the frames is the
@@ -108,5 +115,31 @@ AzimuthBins withCellsNormalised(const AzimuthBins& bins, const std::vector<Rgb>&
 /// no evidence of angular detail). What the slice's cell samples (addSweepSlices) and the bins
 /// to pass again (binsToPassAgain) both read, so the two never disagree on a sweep.
 std::optional<AzimuthBins> cellsAsJudged(const AzimuthBins& bins, const CellTexture& texture);
+
+/// \brief A sweep still under way judged as its frames come (docs/method.md §9.5): the live
+/// bins to pass again read its cells as this verdict says, so a textured window's thread is not
+/// named a missed peak while the sweep runs. cellTextureOf reads every cell of the sweep (~10 ms
+/// for 300 frames of 64 cells on a desktop core) and the status asks on every frame, so the
+/// sweep is judged again only once its frames with cells have grown by `regrowth` since the
+/// verdict kept (each frame while there are few): the cost over a sweep is a few full
+/// judgements, and the verdict is never older than the last fifth or so of its frames.
+class RunningCellTexture {
+ public:
+  explicit RunningCellTexture(CellTextureRule rule = {}, double regrowth = 1.25);
+  /// \brief The verdict for `bins`, the running sweep's frames so far: judged again when their
+  /// frames with cells reach `regrowth` x those of the kept verdict, or fall below them (the
+  /// slice redone). With fewer than the rule's minFrames frames with cells no verdict can be
+  /// made and the action is WindowCentres (the cells not read): the first frames of a textured
+  /// sweep would otherwise name its thread a missed peak. Never throws.
+  const CellTexture& of(const AzimuthBins& bins);
+  /// \brief The frames with cells the kept verdict was judged on.
+  std::size_t framesJudged() const { return framesJudged_; }
+
+ private:
+  CellTextureRule rule_;
+  double regrowth_;
+  std::size_t framesJudged_ = 0;
+  CellTexture texture_;
+};
 
 }  // namespace slicecap::capture

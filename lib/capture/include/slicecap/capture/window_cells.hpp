@@ -33,6 +33,12 @@ struct CellSliceRule {
   /// neighbouring cells on the default target (~1.1-1.3 deg: 4-5 mm at 300 mm turns the light and
   /// the view by 0.8-0.9 deg each), so one frame's neighbouring cells are never pooled.
   double poolToleranceDeg = 0.5;
+  /// \brief 0: one sample per bin, as above. Over 0: one sample per this many degrees of the
+  /// slice parameter instead, each from the cells whose own parameter falls in that stretch,
+  /// read as a bin is (the cell nearest the stretch centre's nominal directions, pooled within
+  /// poolToleranceDeg): a lobe narrower than a bin is then read on its flanks too, not as a
+  /// one-bin spike at the bin centre (docs/method.md §9.4; results/2026-12-06-window-cells.md).
+  double pointsEveryDeg = 0.0;
 };
 
 /// \brief Every usable cell of the sweep's frames (not clipped, a finite value) in the bin of its
@@ -48,8 +54,9 @@ std::vector<std::vector<const CellSample*>> usableCellsByBin(const AzimuthBins& 
 /// rule.poolToleranceDeg of it give the value, at their mean directions: a bin no frame's centre
 /// fell in is filled when a neighbouring frame's cells reach it. A bin where no unclipped cell
 /// falls (an HDR peak clipped in every frame; frames from a journal written before cells) keeps
-/// AzimuthBins::combine's sample. Ascending by bin. Throws
-/// CaptureError for a point slice.
+/// AzimuthBins::combine's sample. With rule.pointsEveryDeg over 0, each bin's cells give one
+/// sample per that stretch of their own parameter instead (CellSliceRule). Ascending by bin.
+/// Throws CaptureError for a point slice or a pointsEveryDeg that is negative or not finite.
 std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& id,
                                         const CellSliceRule& rule = {});
 
@@ -59,6 +66,7 @@ std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& 
 /// read, each divided by its albedo factor, or none (the cells' reading of the slice is then the
 /// window centres'). Returns the texture found (framesUsed 0 when no frame carries cells).
 CellTexture addSweepSlices(SliceSet& set, const SliceId& id, const AzimuthBins& bins,
-                           const CellTextureRule& rule = {});
+                           const CellTextureRule& rule = {},
+                           const CellSliceRule& sliceRule = {});
 
 }  // namespace slicecap::capture

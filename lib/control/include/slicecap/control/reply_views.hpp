@@ -166,14 +166,28 @@ struct PassAgainView {
   std::string reason;  ///< "empty" or "peak_not_reached"
 };
 
+/// \brief The texture verdict of a finished sweep's window cells (capture::cellTextureOf;
+/// docs/method.md §9.4): how the export's cell slices and the bins to pass again read them.
+/// "cell_texture" in the status: "slice" (as a sweep's), "action", "spread_percent", "reason".
+struct CellTextureView {
+  SliceId slice;
+  std::string action;  ///< "as read", "albedo-normalised" or "window centres"
+  /// How far the cells' albedo factors are from 1, about in percent; none: too few frames with
+  /// every cell clear of the noise to measure it.
+  std::optional<double> spreadPercent;
+  std::string reason;  ///< why that action, with the figures the rule compared
+};
+
 /// \brief What `status` answers. The session manager fills session, sweep, next, isotropy,
-/// pass_again and error; the daemon's sweep devices fill the rest. statusFields() says what each key means.
+/// pass_again, cell_texture and error; the daemon's sweep devices fill the rest. statusFields() says what each key means.
 struct StatusView {
   std::optional<SessionView> session;
   std::optional<SweepView> sweep;
   std::string next;
   std::optional<IsotropyView> isotropy;
   std::vector<PassAgainView> passAgain;  ///< the session's slices, sweep order, ascending bins
+  /// The session's finished sweeps with window cells, sweep order (the running one is left out).
+  std::vector<CellTextureView> cellTextures;
   std::optional<std::string> error;
   std::optional<RecordingView> recording;
   std::optional<TextureProgressView> texture;
