@@ -249,6 +249,15 @@ void movingSweep(double roomLight, double drop) {
           e2 += (s.value[k] - t[k]) * (s.value[k] - t[k]), t2 += t[k] * t[k];
         }
         vectorErrors.push_back(std::sqrt(e2 / t2));
+        if (std::getenv("SLICECAP_ROOM_LIGHT_FLOOR_SAMPLES")) {
+          // How far apart the camera was at the two LED-off frames (0: one frame, or one place).
+          const auto terms = pipeline.ambientTermsFor(on.metadata.timestampUs, o.measurement.pose);
+          double apartMm = 0.0;
+          if (terms.size() == 2 && terms[0].pose && terms[1].pose)
+            apartMm = (terms[0].pose->cameraCentreMm() - terms[1].pose->cameraCentreMm()).norm();
+          std::printf("[ sample ] LED-off frames %.1f mm apart: error %.2f %%\n", apartMm,
+                      100 * vectorErrors.back());
+        }
       }
       held.clear();
       pipeline.process(f, slice);
