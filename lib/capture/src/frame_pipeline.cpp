@@ -106,8 +106,9 @@ void FramePipeline::trackFrom(const TimedPose& location) {
   s.lastLocatedUs = location.timestampUs;
 }
 
-std::vector<AmbientTerm> FramePipeline::ambientTermsFor(std::int64_t timeUs) const {
-  return state_->ambientTerms(timeUs);
+std::vector<AmbientTerm> FramePipeline::ambientTermsFor(
+    std::int64_t timeUs, const std::optional<vision::Pose>& pose) const {
+  return state_->ambientTerms(timeUs, pose);
 }
 
 FrameOutcome FramePipeline::process(const hal::Frame& frame, const SliceId& slice) {

@@ -19,6 +19,7 @@
 #include "slicecap/capture/linear_view.hpp"
 #include "slicecap/capture/marker_search.hpp"
 #include "slicecap/capture/planar_pose.hpp"
+#include "room_light_weight.hpp"
 
 namespace slicecap::capture {
 
@@ -302,6 +303,7 @@ struct FramePipeline::State {
   std::optional<FrameOutcome> checkView(const hal::Frame& frame, const SliceId& slice,
                                         FrameOutcome& outcome, const Located& located) const;
   std::optional<frame_checks::GateFailure> roomLightFor(const hal::Frame& frame,
+                                                        const vision::Pose& pose,
                                                         std::vector<AmbientTerm>& terms) const;
   // FrameOutcome::Measurement::blackReading of an LED-on frame at `pose` (frame_stages.cpp).
   std::optional<double> blackReadingOf(const hal::Frame& frame, const vision::Pose& pose,
@@ -310,12 +312,15 @@ struct FramePipeline::State {
   std::optional<FrameOutcome> measure(const hal::Frame& frame, FrameOutcome& outcome,
                                       const Located& located, FrameSample& sample);
 
-  // The LED-off frames on both sides of `timeUs`, weighted linearly in time, when the following
-  // one is known (offline), else the one there is; another level's stand-ins when these are
-  // missing or not located and there are any (setStandInAmbientFrames).
-  std::vector<AmbientTerm> ambientTerms(std::int64_t timeUs) const {
+  // The LED-off frames on both sides of `timeUs`, weighted linearly where the LED-on frame was
+  // taken (`pose`, when located; bracketingTerms), when the following one is known (offline),
+  // else the one there is; another level's stand-ins when these are missing or not located and
+  // there are any (setStandInAmbientFrames).
+  std::vector<AmbientTerm> ambientTerms(std::int64_t timeUs,
+                                        const std::optional<vision::Pose>& pose) const {
     std::vector<AmbientTerm> own = bracketingTerms(ambient ? &*ambient : nullptr,
-                                                   nextAmbient ? &*nextAmbient : nullptr, timeUs);
+                                                   nextAmbient ? &*nextAmbient : nullptr, timeUs,
+                                                   pose);
     const bool ownLocated =
         !own.empty() &&
         std::all_of(own.begin(), own.end(), [](const AmbientTerm& t) { return t.pose; });
@@ -324,22 +329,29 @@ struct FramePipeline::State {
       return a.frame.metadata.timestampUs > timeUs;
     });
     return bracketingTerms(after == standIns.begin() ? nullptr : &*std::prev(after),
-                           after == standIns.end() ? nullptr : &*after, timeUs);
+                           after == standIns.end() ? nullptr : &*after, timeUs, pose);
   }
 
-  // `before` and `after` (either may be missing) as the terms of a frame at `timeUs`: linear in
-  // time between them when `after` is later, else the one there is (`before` first).
+  // `before` and `after` (either may be missing) as the terms of a frame at `timeUs`: linear
+  // between them when `after` is later, else the one there is (`before` first). The room and the
+  // target stand still while the camera moves, so what an LED-off frame saw of the room light
+  // (the window's reflection of a lamp above all) follows where the camera was, not when: the
+  // weight is the LED-on frame's camera centre projected on the segment between theirs, when all
+  // three are located and theirs are apart (room_light_weight.hpp); else linear in time. A hand
+  // that pauses, jerks or whose frames were dropped moves unevenly in time, and a reflection
+  // the view passes through in a few frames is then interpolated at the wrong place.
   static std::vector<AmbientTerm> bracketingTerms(const Ambient* before, const Ambient* after,
-                                                  std::int64_t timeUs) {
+                                                  std::int64_t timeUs,
+                                                  const std::optional<vision::Pose>& pose) {
     const auto term = [](const Ambient& a, double weight) {
       return AmbientTerm{&a.frame, a.pose, weight};
     };
     if (!before && !after) return {};
     if (!before) return {term(*after, 1.0)};
     if (!after || after->frame.metadata.timestampUs <= timeUs) return {term(*before, 1.0)};
-    const double t0 = static_cast<double>(before->frame.metadata.timestampUs);
-    const double t1 = static_cast<double>(after->frame.metadata.timestampUs);
-    const double w = std::clamp((static_cast<double>(timeUs) - t0) / (t1 - t0), 0.0, 1.0);
+    const double w = roomLightWeight(
+        {before->frame.metadata.timestampUs, before->pose},
+        {after->frame.metadata.timestampUs, after->pose}, {timeUs, pose});
     return {term(*before, 1.0 - w), term(*after, w)};
   }
 };

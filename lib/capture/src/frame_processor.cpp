@@ -66,8 +66,9 @@ FrameOutcome processed(LevelPipelines& pipelines, const FrameObserver& observer,
     outcome.sample->hdr->exposureLevel = *frame.metadata.exposureLevel;
   if (observer)
     observer(frame, outcome,
-             frame.metadata.ledOn ? pipeline.ambientTermsFor(frame.metadata.timestampUs)
-                                  : std::vector<AmbientTerm>{});
+             frame.metadata.ledOn
+                 ? pipeline.ambientTermsFor(frame.metadata.timestampUs, outcome.measurement.pose)
+                 : std::vector<AmbientTerm>{});
   return outcome;
 }
 

@@ -124,9 +124,9 @@ std::optional<FrameOutcome> FramePipeline::State::checkView(const hal::Frame& fr
 // exposure x gain; a frame whose camera reported none is read as it is, which matches another such
 // frame only (the same locked exposure assumed).
 std::optional<GateFailure> FramePipeline::State::roomLightFor(
-    const hal::Frame& frame, std::vector<AmbientTerm>& terms) const {
+    const hal::Frame& frame, const vision::Pose& pose, std::vector<AmbientTerm>& terms) const {
   if (!settings.requireAmbient) return std::nullopt;
-  terms = ambientTerms(frame.metadata.timestampUs);
+  terms = ambientTerms(frame.metadata.timestampUs, pose);
   if (terms.empty()) return GateFailure{RejectReason::NoAmbientFrame, "no LED-off frame yet"};
   for (const AmbientTerm& term : terms)
     if (exposureKnown(*term.frame) != exposureKnown(frame))
@@ -168,7 +168,7 @@ std::optional<FrameOutcome> FramePipeline::State::measure(const hal::Frame& fram
     return rejected(failure->reason, std::move(failure->detail), outcome);
   // The same room-light term for the window and every reference, found once.
   std::vector<AmbientTerm> roomLight;
-  if (auto failure = roomLightFor(frame, roomLight))
+  if (auto failure = roomLightFor(frame, located.pose, roomLight))
     return rejected(failure->reason, std::move(failure->detail), outcome);
   Rgb windowRadiance;
   std::vector<ReferenceObservation> observations, unlit;

@@ -195,7 +195,8 @@ void processGroup(const std::filesystem::path& directory, const io::Recording& r
       // An LED-on frame leaves the pipeline's LED-off frames as they were: its own term.
       if (observer)
         observer(frame, outcome,
-                 entry.ledOn ? pipeline.ambientTermsFor(frame.metadata.timestampUs)
+                 entry.ledOn ? pipeline.ambientTermsFor(frame.metadata.timestampUs,
+                                                        outcome.measurement.pose)
                              : std::vector<AmbientTerm>{});
     } catch (const io::IoError& error) {
       outcome.kind = FrameOutcome::Kind::Rejected;

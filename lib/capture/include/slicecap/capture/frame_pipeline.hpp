@@ -125,20 +125,24 @@ class FramePipeline {
   /// "bad_frame" is ignored, here and by setFollowingAmbientFrame.
   void setAmbientFrame(const hal::Frame& frame);
   /// \brief Offline use: the LED-off frame that follows the coming LED-on frame(s). Their ambient
-  /// term is then interpolated in time between the LED-off frames on both sides (on a specular
-  /// material the room light's reflection changes along the sweep: one side alone is biased by
-  /// half a step). When that frame's turn comes, process() reuses it. The live loop does not call
-  /// this and keeps the one-sided estimate, so every frame's outcome is known when it arrives.
+  /// term is then interpolated between the LED-off frames on both sides (ambientTermsFor; on a
+  /// specular material the room light's reflection changes along the sweep: one side alone is
+  /// biased by half a step). When that frame's turn comes, process() reuses it. The live loop
+  /// does not call this and keeps the one-sided estimate, so every frame's outcome is known when
+  /// it arrives.
   void setFollowingAmbientFrame(const hal::Frame& frame);
-  /// \brief The room-light term the pipeline uses for an LED-on frame taken at `timeUs`: the
-  /// LED-off frame before it and, once setFollowingAmbientFrame gave one (offline), the one after,
-  /// weighted linearly in time. Empty when there is no LED-off frame. The pointers stay valid until
-  /// the next process() or set*AmbientFrame() call.
-  std::vector<AmbientTerm> ambientTermsFor(std::int64_t timeUs) const;
+  /// \brief The room-light term the pipeline uses for an LED-on frame taken at `timeUs` and
+  /// located at `pose` (FrameOutcome::Measurement::pose; none when it was not): the LED-off frame
+  /// before it and, once setFollowingAmbientFrame gave one (offline), the one after, weighted
+  /// linearly where the camera was between them (its centre projected between theirs) when all
+  /// three are located and theirs are apart, else in time. Empty when there is no LED-off frame.
+  /// The pointers stay valid until the next process() or set*AmbientFrame() call.
+  std::vector<AmbientTerm> ambientTermsFor(
+      std::int64_t timeUs, const std::optional<vision::Pose>& pose = std::nullopt) const;
   /// \brief Offline HDR: the located LED-off frames of another (longer) exposure level nearest the
   /// coming LED-on frames in time, in time order. An LED-on frame whose own room-light term has
   /// no LED-off frame, or one that was not located (a short exposure's markers sit a few codes
-  /// above black), takes its room light from these instead, weighted linearly in time: every
+  /// above black), takes its room light from these instead, weighted as its own: every
   /// frame is read per unit of exposure x gain, so another level's LED-off frames measure the
   /// same room light, and read at their own poses they read the same target points, where the
   /// LED-on frame's pixels would read other points after the hand moved (docs/method.md 9.3).

@@ -46,9 +46,10 @@ struct RecordingResult {
 /// \brief Runs `directory` (a recording with a slice) through a FramePipeline, decoding 8-bit
 /// frames as the recording's `decoding` says unless settings.toneCurve is set. Each LED-on
 /// frame's ambient term comes from the LED-off frames before and after it, each sampled at its own
-/// pose, interpolated in time (the first LED-off frame alone for the LED-on frames before it, the
-/// last alone after it). A recording without any LED-off frame is processed without a room-light
-/// term (settings.requireAmbient is not applied) and says so (roomLightSubtracted). A frame whose PNG is missing,
+/// pose, interpolated where the camera was (FramePipeline::ambientTermsFor; the first LED-off
+/// frame alone for the LED-on frames before it, the last alone after it). A recording without
+/// any LED-off frame is processed without a room-light term (settings.requireAmbient is not
+/// applied) and says so (roomLightSubtracted). A frame whose PNG is missing,
 /// corrupt or of the wrong size is a "bad_frame" rejection naming the file. Throws io::IoError
 /// for a bad recording.json (naming the field) and CaptureError for a recording without
 /// a slice (e.g. a calibration recording) or with a point one, naming the directory.
