@@ -45,6 +45,7 @@ void DecodingWatch::reset() {
   readings_.clear();
   steps_.clear();
   for (auto& channel : atBlack_) channel.clear();
+  for (auto& channel : unlit_) channel.clear();
   lastSequence_.reset();
   eightBit_ = false;
 }
@@ -67,6 +68,8 @@ void DecodingWatch::note(const capture::FrameOutcome& outcome, std::uint64_t seq
     eightBit_ = true;
     for (int c = 0; c < 3; ++c) keepLatest(atBlack_[c], (*m.windowAtBlack)[c]);
   }
+  if (m.windowLight)
+    for (int c = 0; c < 3; ++c) keepLatest(unlit_[c], (*m.windowLight)[c] <= 0.0 ? 1.0 : 0.0);
 }
 
 control::DecodingCheckView DecodingWatch::view() const {
@@ -82,6 +85,16 @@ control::DecodingCheckView DecodingWatch::view() const {
       view.windowAtBlack = fraction;
       view.windowAtBlackChannel = kChannelNames[c];
     }
+  for (int c = 0; c < 3; ++c) {
+    if (unlit_[c].empty()) continue;
+    double sum = 0.0;
+    for (double v : unlit_[c]) sum += v;
+    const double fraction = sum / double(unlit_[c].size());
+    if (!view.windowUnlit || fraction > *view.windowUnlit) {
+      view.windowUnlit = fraction;
+      view.windowUnlitChannel = kChannelNames[c];
+    }
+  }
   return view;
 }
 
@@ -113,7 +126,22 @@ std::vector<std::string> DecodingWatch::warnings() const {
                   "Pi's rpi.ccm), so this sweep's samples cannot be trusted. Use RAW (camera_raw "
                   "= auto or on) or slicecap's tuning file (tuning_file = auto: an identity "
                   "matrix)");
+  if (std::optional<std::string> refused = refusal()) out.push_back(std::move(*refused));
   return out;
+}
+
+std::optional<std::string> DecodingWatch::refusal() const {
+  if (!eightBit_ || unlit_[0].size() < kMinSamples) return std::nullopt;
+  const control::DecodingCheckView figures = view();
+  if (!figures.windowUnlit || !(*figures.windowUnlit > kMaxWindowUnlit)) return std::nullopt;
+  return "decoding broken: the window's " + *figures.windowUnlitChannel +
+         " light from the LED is at or below 0 in " + percent(*figures.windowUnlit) +
+         " of the latest " + std::to_string(unlit_[0].size()) +
+         " samples (more than " + percent(kMaxWindowUnlit) +
+         "; the LED only adds light): the camera's processing lost that channel below black (a "
+         "colour matrix mixing the channels, a Raspberry Pi's rpi.ccm), and no decoding brings it "
+         "back. Use RAW (camera_raw = auto or on) or slicecap's tuning file (tuning_file = auto: "
+         "an identity matrix), then redo the slice";
 }
 
 }  // namespace slicecap::daemon

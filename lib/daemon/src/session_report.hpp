@@ -42,6 +42,9 @@ class PassAgainCache {
 std::vector<control::PassAgainView> passAgainView(const capture::SessionStore& store,
                                                   const std::optional<SliceId>& sweeping,
                                                   PassAgainCache& cache);
+/// \brief One sentence for each refused sweep of the session (SessionStore::refusals), for the
+/// export: the slice, the samples set aside and why.
+std::vector<std::string> refusalWarnings(const capture::SessionStore& store);
 /// \brief The command that starts (or continues) a slice's sweep, for the hints.
 std::string startCommand(const SliceId& slice);
 /// \brief The time now in UTC, formatted by strftime's `format`.

@@ -46,6 +46,7 @@ daemon::DaemonParts daemonPartsFrom(const DaemonConfig& config, hal::Clock& cloc
   setLedAndCamera(parts, config, clock, modelLight);
   parts.warnings = std::move(warnings);
   parts.decoding = daemon::decodingModeFromString(config.decoding);
+  parts.refuseBrokenDecoding = config.refuseBrokenDecoding;
 
   const Rig configured = configuredRig(config);
   CameraSources sources = makeCameraSources(config, clock, modelLight, configured.target,

@@ -37,6 +37,16 @@ class DecodingWatch {
   /// it. On an RGB stream nearly all its pixels are then at 0; a YUV420 stream's shared chroma
   /// spreads them over codes 0..3, and the camera model's processed-isp sweeps read 46-73 %.
   static constexpr double kMaxWindowAtBlack = 0.6;
+  /// \brief More than this fraction of the latest samples with a window channel's LED light
+  /// (FrameOutcome::Measurement::windowLight) at or below 0: the decoding lost the channel, and
+  /// the sweep is refused. The LED only adds light, so a channel it lights reads above 0 in
+  /// nearly every sample (a dark channel 2 standard errors above 0 falls at or below 0 in 2 % of
+  /// them) and one it truly left dark in half; more than half is light the decoding took below
+  /// black. A colour matrix that mixes the channels (a Raspberry Pi's rpi.ccm) clips a saturated
+  /// colour's weak channel at black, and the window's LED-on frames read it where the LED-off
+  /// frames read the dark, whatever the stream spreads over codes 0..3 (a YUV420 stream's shared
+  /// chroma): the sample's channel is 0 however much light the material reflects.
+  static constexpr double kMaxWindowUnlit = 0.5;
   /// \brief The figures of this many latest samples count.
   static constexpr std::size_t kSamples = 32;
   /// \brief A figure needs this many samples before it warns.
@@ -52,11 +62,16 @@ class DecodingWatch {
   /// \brief A sentence for each figure beyond its limit, naming it, the limit and what to do;
   /// only for 8-bit frames (a RAW stream's figures are noise).
   std::vector<std::string> warnings() const;
+  /// \brief Why the sweep run's samples must not be used: its decoding is shown broken (a window
+  /// channel unlit by the LED in more than kMaxWindowUnlit of at least kMinSamples samples), with
+  /// the figure, the limit and what to do; nullopt otherwise and for a linear 16-bit stream.
+  std::optional<std::string> refusal() const;
 
  private:
   std::deque<double> readings_, steps_;
   std::optional<std::uint64_t> lastSequence_;  ///< the frame of readings_.back()
   std::array<std::deque<double>, 3> atBlack_;
+  std::array<std::deque<double>, 3> unlit_;  ///< 1 where the sample's channel was at or below 0
   bool eightBit_ = false;
 };
 
