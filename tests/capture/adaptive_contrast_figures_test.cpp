@@ -17,6 +17,7 @@
 
 #include "../support/bracket_rig.hpp"
 #include "slicecap/capture/area_reading.hpp"
+#include "slicecap/hal/model_isp_stage.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/vision/camera_model.hpp"
 
@@ -57,6 +58,32 @@ TEST(AdaptiveContrastFigures, StepsFromAnLedOffFramesStretchToAnLedOnFrames) {
   const vision::RectMm white{w.xMm - 3, w.yMm - 8, w.xMm + 3, w.yMm + 8};
   const vision::PointMm c = target.window.centre();
   const vision::RectMm window{c.xMm - 8, c.yMm - 8, c.xMm + 8, c.yMm + 8};
+  {
+    // The stretch each frame's histogram gives (hal::model_isp::stretchFromHistogram, as the
+    // model's ISP takes it: Rec.709 luminance of the linear values after the colour gains,
+    // without noise), at the metered exposure with the LED on and off, and across the bracket.
+    hal::SensorModel model;
+    model.isp = hal::fixedModelIsp();
+    const double meteredUs = test::BracketRig(scene, model).meteredExposureUs();
+    const hal::SceneLight& light = scene->light();
+    for (const double factor : {0.0, 1.0 / 32, 1.0 / 8, 1.0 / 2, 1.0, 2.0, 4.0}) {
+      std::array<std::uint32_t, 256> histogram{};
+      for (std::size_t i = 0; i + 2 < light.ledRate.size(); i += 3) {
+        double rgb[3];
+        for (int ch = 0; ch < 3; ++ch)
+          rgb[ch] = std::min(1.0, (light.ledRate[i + ch] * factor + light.ambientRate[i + ch]) *
+                                      meteredUs * 1e-6 * model.colourGains[ch]) * 65535.0;
+        const auto y = std::uint32_t(54 * rgb[0] + 183 * rgb[1] + 19 * rgb[2]) >> 16;
+        ++histogram[std::min<std::uint32_t>(255u, y)];
+      }
+      std::string points;
+      for (const auto& [in, out] : hal::model_isp::stretchFromHistogram(histogram))
+        points += " (" + std::to_string(int(std::lround(in))) + ", " +
+                  std::to_string(int(std::lround(out))) + ")";
+      std::printf("[ stretch figures ] LED light x%-6.4g of the metered exposure: stretch%s\n",
+                  factor, points.c_str());
+    }
+  }
   for (const bool adaptive : {false, true}) {
     hal::SensorModel model;
     model.isp = hal::fixedModelIsp();
@@ -98,16 +125,16 @@ TEST(AdaptiveContrastFigures, StepsFromAnLedOffFramesStretchToAnLedOnFrames) {
         continue;
       }
       if (!(*lo > 1.0 - 1e-3) || !off) continue;
-      const Reading led{now.white - off->white, now.black - off->black, now.window - off->window};
+      const Reading lit{now.white - off->white, now.black - off->black, now.window - off->window};
       if (last && lastSequence && f.metadata.sequence == *lastSequence + 1) {
-        whiteStep.values.push_back(led.white.mean() / last->white.mean() - 1.0);
-        blackStep.values.push_back(led.black.mean() / last->black.mean() - 1.0);
-        ratioStep.values.push_back((led.black.mean() / led.white.mean()) /
+        whiteStep.values.push_back(lit.white.mean() / last->white.mean() - 1.0);
+        blackStep.values.push_back(lit.black.mean() / last->black.mean() - 1.0);
+        ratioStep.values.push_back((lit.black.mean() / lit.white.mean()) /
                                        (last->black.mean() / last->white.mean()) - 1.0);
         for (int ch = 0; ch < 3; ++ch)
-          windowStep[ch].values.push_back(led.window[ch] / last->window[ch] - 1.0);
+          windowStep[ch].values.push_back(lit.window[ch] / last->window[ch] - 1.0);
       }
-      last = led, lastSequence = f.metadata.sequence;
+      last = lit, lastSequence = f.metadata.sequence;
     }
     ASSERT_GE(whiteStep.values.size(), 8u);
     const char* isp = adaptive ? "stretch on: " : "stretch off:";

@@ -135,11 +135,13 @@ TEST(DecodingWatch, ADarkChannelTheLedLightsIsNotRefused) {
 TEST(DecodingWatch, ALinearStreamOrAFewSamplesAreNotRefused) {
   DecodingWatch linear, few;
   for (std::uint64_t i = 0; i < 32; ++i) linear.note(lightSample({0.02, -0.01, 0.3}, false), 10 + i);
-  for (std::uint64_t i = 0; i + 1 < DecodingWatch::kMinSamples; ++i)
+  for (std::uint64_t i = 0; i + 1 < DecodingWatch::kMinRefusalSamples; ++i)
     few.note(lightSample({0.02, -0.01, 0.3}), 10 + i);
   EXPECT_FALSE(linear.refusal()) << "a RAW stream keeps what is below black";
   EXPECT_FALSE(few.refusal());
   EXPECT_DOUBLE_EQ(*few.view().windowUnlit, 1.0);
+  few.note(lightSample({0.02, -0.01, 0.3}), 100);
+  EXPECT_TRUE(few.refusal()) << DecodingWatch::kMinRefusalSamples << " samples are judged";
 }
 
 }  // namespace

@@ -131,7 +131,7 @@ std::vector<std::string> DecodingWatch::warnings() const {
 }
 
 std::optional<std::string> DecodingWatch::refusal() const {
-  if (!eightBit_ || unlit_[0].size() < kMinSamples) return std::nullopt;
+  if (!eightBit_ || unlit_[0].size() < kMinRefusalSamples) return std::nullopt;
   const control::DecodingCheckView figures = view();
   if (!figures.windowUnlit || !(*figures.windowUnlit > kMaxWindowUnlit)) return std::nullopt;
   return "decoding broken: the window's " + *figures.windowUnlitChannel +

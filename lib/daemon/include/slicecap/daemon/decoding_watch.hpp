@@ -47,6 +47,11 @@ class DecodingWatch {
   /// frames read the dark, whatever the stream spreads over codes 0..3 (a YUV420 stream's shared
   /// chroma): the sample's channel is 0 however much light the material reflects.
   static constexpr double kMaxWindowUnlit = 0.5;
+  /// \brief The refusal needs this many samples in the run: more than half of 4 is 3 at or below
+  /// 0, which a channel the LED lights 2 standard errors above 0 gives once in 20000 runs (4 p^3,
+  /// p = 0.023). A run whose frames were mostly dropped (a loaded machine: 5 samples a sweep) is
+  /// still judged; fewer samples than this are not.
+  static constexpr std::size_t kMinRefusalSamples = 4;
   /// \brief The figures of this many latest samples count.
   static constexpr std::size_t kSamples = 32;
   /// \brief A figure needs this many samples before it warns.
@@ -63,7 +68,7 @@ class DecodingWatch {
   /// only for 8-bit frames (a RAW stream's figures are noise).
   std::vector<std::string> warnings() const;
   /// \brief Why the sweep run's samples must not be used: its decoding is shown broken (a window
-  /// channel unlit by the LED in more than kMaxWindowUnlit of at least kMinSamples samples), with
+  /// channel unlit by the LED in more than kMaxWindowUnlit of at least kMinRefusalSamples), with
   /// the figure, the limit and what to do; nullopt otherwise and for a linear 16-bit stream.
   std::optional<std::string> refusal() const;
 
