@@ -92,8 +92,15 @@ TEST(AdaptiveContrastFigures, StepsFromAnLedOffFramesStretchToAnLedOnFrames) {
     model.realTime = false;
     hal::FakeClock clock{1'000'000};
     const auto led = std::make_shared<hal::LedTimeline>(true);
+    // The LED switches in the gap between one frame's last row and the next frame's first
+    // (phase: a fraction of the frame period; SLICECAP_STRETCH_PHASE tries others), so that
+    // every frame is lit or dark over all its rows and the first LED-on frame of a block follows
+    // a dark frame, whose stretch it carries.
+    const char* phaseText = std::getenv("SLICECAP_STRETCH_PHASE");
+    const double phase = phaseText ? std::atof(phaseText) : 0.93;
     for (int k = 3; k < 600; k += 3)
-      led->record(1'000'000 + std::int64_t((k + 0.93) * model.framePeriodUs), (k / 3) % 2 == 0);
+      led->record(1'000'000 + std::int64_t((k + phase) * model.framePeriodUs), (k / 3) % 2 == 0);
+    int litFrames = 0, dark = 0, mixed = 0;
     hal::ModelCamera camera(scene, led, clock, model);
     hal::CameraConfig config;
     camera.configure(config);
@@ -121,10 +128,13 @@ TEST(AdaptiveContrastFigures, StepsFromAnLedOffFramesStretchToAnLedOnFrames) {
           std::minmax_element(truth->rowOnFraction.begin(), truth->rowOnFraction.end());
       const Reading now{read(f, white), read(f, black), read(f, window)};
       if (*hi < 1e-3) {
+        ++dark;
         off = now;
         continue;
       }
+      if (!(*lo > 1.0 - 1e-3)) ++mixed;
       if (!(*lo > 1.0 - 1e-3) || !off) continue;
+      ++litFrames;
       const Reading lit{now.white - off->white, now.black - off->black, now.window - off->window};
       if (last && lastSequence && f.metadata.sequence == *lastSequence + 1) {
         whiteStep.values.push_back(lit.white.mean() / last->white.mean() - 1.0);
@@ -138,6 +148,8 @@ TEST(AdaptiveContrastFigures, StepsFromAnLedOffFramesStretchToAnLedOnFrames) {
     }
     ASSERT_GE(whiteStep.values.size(), 8u);
     const char* isp = adaptive ? "stretch on: " : "stretch off:";
+    std::printf("[ stretch figures ] %s LED switching at phase %.2f: %d lit, %d dark, %d mixed frames\n",
+                isp, phase, litFrames, dark, mixed);
     for (const Steps& s : {whiteStep, blackStep, ratioStep, windowStep[0], windowStep[1], windowStep[2]})
       printSteps(isp, s);
   }

@@ -195,7 +195,7 @@ TEST(ReplyViews, TheDecodingCheckAndTheTuningFileAreReadBackAsWritten) {
   json written = toJson(status);
   EXPECT_FALSE(written.contains("decoding_check"));
   EXPECT_TRUE(written["tuning_file"]["file"].is_null());
-  status.decodingCheck = DecodingCheckView{0.98, 0.031, 6.5, "G", 0.97, "G", 0.75};
+  status.decodingCheck = DecodingCheckView{0.98, 0.031, 6.5, "G", 0.97, "G", 0.75, "R", -0.013, 9.0};
   status.tuningFile->file = "/usr/share/slicecap/tuning/slicecap-imx708-pisp.json";
   written = toJson(status);
   EXPECT_EQ(written["decoding_check"]["window_at_black_channel"], "G");

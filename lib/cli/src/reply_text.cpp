@@ -115,6 +115,12 @@ std::string decodingCheckLine(const control::DecodingCheckView& check) {
   if (check.windowUnlit && check.windowUnlitChannel)
     line += std::string(line.back() == ':' ? "" : ",") + " window " + *check.windowUnlitChannel +
             " unlit by the LED in " + percent(*check.windowUnlit) + " of the samples";
+  if (check.windowStep && check.windowStepChannel) {
+    std::snprintf(figure, sizeof figure, " (%.1f standard errors)",
+                  check.windowStepSigmas.value_or(0.0));
+    line += std::string(line.back() == ':' ? "" : ",") + " window " + *check.windowStepChannel +
+            " stepping " + percent(*check.windowStep) + " from a frame to the next" + figure;
+  }
   return line;
 }
 

@@ -19,6 +19,9 @@ json toJson(const DecodingCheckView& check) {
   if (check.windowAtBlack) object["window_at_black"] = *check.windowAtBlack;
   if (check.windowUnlitChannel) object["window_unlit_channel"] = *check.windowUnlitChannel;
   if (check.windowUnlit) object["window_unlit"] = *check.windowUnlit;
+  if (check.windowStepChannel) object["window_step_channel"] = *check.windowStepChannel;
+  if (check.windowStep) object["window_step"] = *check.windowStep;
+  if (check.windowStepSigmas) object["window_step_sigmas"] = *check.windowStepSigmas;
   return object;
 }
 
@@ -29,7 +32,10 @@ DecodingCheckView decodingCheckFromJson(const json& object) {
           optionalField<std::string>(object, "window_at_black_channel"),
           optionalField<double>(object, "window_at_black"),
           optionalField<std::string>(object, "window_unlit_channel"),
-          optionalField<double>(object, "window_unlit")};
+          optionalField<double>(object, "window_unlit"),
+          optionalField<std::string>(object, "window_step_channel"),
+          optionalField<double>(object, "window_step"),
+          optionalField<double>(object, "window_step_sigmas")};
 }
 
 json toJson(const TuningFileView& tuning) {

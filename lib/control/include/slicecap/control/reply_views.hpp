@@ -157,6 +157,13 @@ struct DecodingCheckView {
   /// taking it below black), and the sweep is refused.
   std::optional<std::string> windowUnlitChannel;
   std::optional<double> windowUnlit;
+  /// The window channel whose light over the white references' (the sample's value) steps most
+  /// from a sample to the next frame's, in standard errors, that mean relative step and its
+  /// standard errors: a tone curve stretched per frame from the frame before moves a dark
+  /// channel against the whites one way every LED block; one curve leaves noise.
+  std::optional<std::string> windowStepChannel;
+  std::optional<double> windowStep;
+  std::optional<double> windowStepSigmas;
 };
 
 /// \brief The Raspberry Pi tuning file slicecapd chose for its camera (docs/real-sensors.md, "The

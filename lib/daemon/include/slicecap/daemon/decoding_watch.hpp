@@ -30,6 +30,17 @@ class DecodingWatch {
   /// cannot decode. Noise steps either way and averages out; the view moving steps both ways too.
   static constexpr double kMaxBlackReadingStep = 0.01;
   static constexpr double kMinStepSigmas = 4.0;
+  /// \brief A window channel's light over the white references' (the sample's value, before its
+  /// clip at 0) stepping by more than this, on average, from a sample to the next frame's, and
+  /// more than kMinStepSigmas of its standard errors from 0: the same per-frame stretch, seen where
+  /// it does the harm. rpi.contrast keeps the histogram's median as a fixed point and stretches
+  /// above it, so a channel between the 1 % point and the median is read through an LED-off
+  /// frame's stretch in the block's first LED-on frame and through the identity in the next: a
+  /// dark channel moves against the whites by about a percent, one way every block (the camera
+  /// model: 1.3 % in red with the stretch, under 0.1 % without, on the still rig). The black
+  /// patch sits below the 1 % point, where every stretch is the identity, which is why its step
+  /// does not see it.
+  static constexpr double kMaxWindowStep = 0.005;
   /// \brief More than this fraction of a window channel's pixels at code 0 (median over the
   /// latest samples): light below black. Noise where the light is at black leaves about half at
   /// 0 (a little more: code 0 also holds the light below half-way to code 1); a colour matrix
@@ -77,6 +88,9 @@ class DecodingWatch {
   std::optional<std::uint64_t> lastSequence_;  ///< the frame of readings_.back()
   std::array<std::deque<double>, 3> atBlack_;
   std::array<std::deque<double>, 3> unlit_;  ///< 1 where the sample's channel was at or below 0
+  std::array<std::deque<double>, 3> windowSteps_;
+  std::optional<Rgb> lastWindowLight_;  ///< the window light of the frame lastWindowSequence_
+  std::optional<std::uint64_t> lastWindowSequence_;
   bool eightBit_ = false;
 };
 
