@@ -4,8 +4,9 @@
 // frame that follows another (consecutive frames, the pose and the light unchanged) the relative
 // step, from the first to the second, of: the white reference's LED light per unit exposure, the
 // black patch's, the window's per channel, and the black patch over the white. The stretch of an
-// LED-on frame comes from the frame before: the first LED-on frame of a block carries an LED-off
-// frame's stretch, the second an LED-on frame's. Not run unless asked: it takes seconds.
+// LED-on frame comes from the frame before: the first LED-on frame of a block carries the stretch
+// of the frame read out across the LED's switch, the second an LED-on frame's. Not run unless
+// asked: it takes half a minute.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -92,12 +93,13 @@ TEST(AdaptiveContrastFigures, StepsFromAnLedOffFramesStretchToAnLedOnFrames) {
     model.realTime = false;
     hal::FakeClock clock{1'000'000};
     const auto led = std::make_shared<hal::LedTimeline>(true);
-    // The LED switches in the gap between one frame's last row and the next frame's first
-    // (phase: a fraction of the frame period; SLICECAP_STRETCH_PHASE tries others), so that
-    // every frame is lit or dark over all its rows and the first LED-on frame of a block follows
-    // a dark frame, whose stretch it carries.
+    // Where in the frame period the LED switches (SLICECAP_STRETCH_PHASE; 0.5 by default) decides
+    // what the first LED-on frame of a block follows: the frame read out across the switch, lit
+    // over few of its rows at 0.5 (a dark frame's stretch, as the daemon's strobe leaves it: the
+    // frame before a block is dark over the rows of interest) or over most at 0.93 (the phase of
+    // DecodingCheckFigures: nearly a lit frame's stretch).
     const char* phaseText = std::getenv("SLICECAP_STRETCH_PHASE");
-    const double phase = phaseText ? std::atof(phaseText) : 0.93;
+    const double phase = phaseText ? std::atof(phaseText) : 0.5;
     for (int k = 3; k < 600; k += 3)
       led->record(1'000'000 + std::int64_t((k + phase) * model.framePeriodUs), (k / 3) % 2 == 0);
     int litFrames = 0, dark = 0, mixed = 0;
