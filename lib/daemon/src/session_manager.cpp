@@ -376,24 +376,8 @@ void SessionManager::pauseSweep(const std::string& reason) {
 
 void SessionManager::refuseSweep(const SliceId& slice, const std::string& reason) {
   if (!state_->session) return;
-  const std::string what = "sweep " + toString(slice) + " refused";
-  try {
-    state_->session->refuse(slice, reason);
-    ++state_->samplesVersion;
-    state_->lastError = what + ", its samples set aside (kept in the session, used by no table): " +
-                        reason;
-  } catch (const std::exception& error) {
-    std::cerr << "slicecapd: " << what << ", but the refusal was not recorded: " << error.what()
-              << "\n";
-    state_->lastError = what + " (" + reason + "), but the refusal could not be recorded (" +
-                        error.what() + "): its samples still count";
-  }
-}
-
-json replyOrThrow(std::variant<json, control::ProtocolError> reply) {
-  if (auto* error = std::get_if<control::ProtocolError>(&reply))
-    throw RequestError(error->code, error->message);
-  return std::move(std::get<json>(reply));
+  state_->lastError = refuseSlice(*state_->session, slice, reason);
+  ++state_->samplesVersion;
 }
 
 std::optional<control::SweepView> SessionManager::sweepView() const {

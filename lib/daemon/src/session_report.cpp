@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <ctime>
+#include <iostream>
 
 #include "slicecap/daemon/session_manager.hpp"
 
@@ -84,6 +85,19 @@ std::vector<control::PassAgainView> passAgainView(const capture::SessionStore& s
       out.push_back({bin.slice, bin.azimuthDeg, toString(bin.reason)});
   }
   return out;
+}
+
+std::string refuseSlice(capture::SessionStore& store, const SliceId& slice, const std::string& reason) {
+  const std::string what = "sweep " + toString(slice) + " refused";
+  try {
+    store.refuse(slice, reason);
+    return what + ", its samples set aside (kept in the session, used by no table): " + reason;
+  } catch (const std::exception& error) {
+    std::cerr << "slicecapd: " << what << ", but the refusal was not recorded: " << error.what()
+              << "\n";
+    return what + " (" + reason + "), but the refusal could not be recorded (" + error.what() +
+           "): its samples still count";
+  }
 }
 
 std::vector<std::string> refusalWarnings(const capture::SessionStore& store) {

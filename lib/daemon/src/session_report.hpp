@@ -42,6 +42,9 @@ class PassAgainCache {
 std::vector<control::PassAgainView> passAgainView(const capture::SessionStore& store,
                                                   const std::optional<SliceId>& sweeping,
                                                   PassAgainCache& cache);
+/// \brief Refuses `slice`'s samples so far in `store` (SessionStore::refuse) and says so for the
+/// status's error; a refusal that cannot be journaled is logged and said (the samples then count).
+std::string refuseSlice(capture::SessionStore& store, const SliceId& slice, const std::string& reason);
 /// \brief One sentence for each refused sweep of the session (SessionStore::refusals), for the
 /// export: the slice, the samples set aside and why.
 std::vector<std::string> refusalWarnings(const capture::SessionStore& store);
