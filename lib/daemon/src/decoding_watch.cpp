@@ -175,7 +175,7 @@ std::optional<std::string> DecodingWatch::refusal() const {
          "; the LED only adds light): the camera's processing lost that channel below black (a "
          "colour matrix mixing the channels, a Raspberry Pi's rpi.ccm), and no decoding brings it "
          "back. Use RAW (camera_raw = auto or on) or slicecap's tuning file (tuning_file = auto: "
-         "an identity matrix), then redo the slice";
+         "an identity matrix), then sweep the slice again";
 }
 
 }  // namespace slicecap::daemon
