@@ -138,6 +138,38 @@ TEST(SessionStore, RedoDiscardsOnlyThatSliceAndPersists) {
   EXPECT_DOUBLE_EQ(store.slices().find(kAxial3030)->samples[0].value.r(), 3.0);
 }
 
+// A sweep refused for its decoding: its slice's samples so far stay in the journal but no table
+// uses them, the reason is kept, later samples count again, and a redo ends the refusal.
+TEST(SessionStore, ARefusedSweepsSamplesAreSetAsideKeptAndSaidAfterReopening) {
+  const auto root = test::freshTempDir();
+  {
+    SessionStore store = SessionStore::create(root, "s", "m");
+    store.recordSample(kAxial3030, sampleAt(0, 1));
+    store.recordSample(kAxial3030, sampleAt(30, 2));
+    store.recordSample(kDiagonal7575, sampleAt(0, 5));
+    store.refuse(kAxial3030, "decoding broken: the window's G ...");
+    EXPECT_EQ(store.sampleCount(kAxial3030), 0u);
+    EXPECT_EQ(store.setAsideCount(kAxial3030), 2u);
+    EXPECT_THROW(store.refuse(SliceId{SliceKind::Point, {30, 30}}, "x"), capture::CaptureError);
+    store.recordSample(kAxial3030, sampleAt(45, 3));  // the slice swept again: counts
+  }
+  SessionStore store = SessionStore::open(root, "s");
+  EXPECT_EQ(store.sampleCount(kAxial3030), 1u);
+  EXPECT_EQ(store.setAsideCount(kAxial3030), 2u);
+  EXPECT_EQ(store.sampleCount(kDiagonal7575), 1u);
+  EXPECT_FALSE(store.damaged(kAxial3030)) << "a refusal is no doubt about the journal";
+  EXPECT_TRUE(store.damage().empty());
+  ASSERT_EQ(store.refusals().size(), 1u);
+  EXPECT_EQ(store.refusals()[0].slice, kAxial3030);
+  EXPECT_EQ(store.refusals()[0].samplesSetAside, 2u);
+  EXPECT_EQ(store.refusals()[0].reason, "decoding broken: the window's G ...");
+  ASSERT_EQ(store.slices().find(kAxial3030)->samples.size(), 1u);
+  EXPECT_DOUBLE_EQ(store.slices().find(kAxial3030)->samples[0].value.r(), 3.0);
+  store.redo(kAxial3030);
+  EXPECT_TRUE(store.refusals().empty());
+  EXPECT_TRUE(SessionStore::open(root, "s").refusals().empty());
+}
+
 TEST(SessionStore, ResumesAfterKillDashNineWithEveryAcknowledgedSample) {
   const auto root = test::freshTempDir();
   SessionStore::create(root, "s", "m");

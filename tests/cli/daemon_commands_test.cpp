@@ -337,6 +337,40 @@ TEST(DaemonCommands, ExportReplacesALinkPlantedInDirAndSaysWhatTheJournalSetAsid
               HasSubstr("felt  damaged: " + description.string()));
 }
 
+// A sweep refused for its decoding (what the daemon's decoding watch asks for as a run ends):
+// its samples are set aside, the status says why under the slice and as the error, and the export
+// says so, with nothing counted left, in its refusal; a later sample of the slice counts again.
+TEST(DaemonCommands, ARefusedSweepIsSaidByTheStatusAndTheExport) {
+  const auto dir = test::freshTempDir();
+  const auto desk = dir / "desk";
+  std::filesystem::create_directories(desk);
+  LiveDaemon daemon(dir / "storage");
+  ASSERT_EQ(daemon.run({"session", "new", "felt", "--id", "felt"}).code, kExitOk);
+  ASSERT_EQ(daemon.run({"sweep", "start", "axial", "30", "30"}).code, kExitOk);
+  for (int k = 0; k < 3; ++k)
+    daemon.manager().acceptSample(
+        {k, std::uint64_t(k), {30, k * 15.0}, {30, k * 15.0 + 15}, Rgb::gray(0.2)});
+  ASSERT_EQ(daemon.run({"sweep", "stop"}).code, kExitOk);
+  const SliceId slice{SliceKind::Axial, {30, 30}};
+  daemon.manager().refuseSweep(slice, "decoding broken: the window's G ...");
+  const Result status = daemon.run({"status"});
+  EXPECT_THAT(status.out, HasSubstr("0 samples, 3 set aside (sweep refused)")) << status.out;
+  EXPECT_THAT(status.out, HasSubstr("    refused: decoding broken: the window's G ...")) << status.out;
+  EXPECT_THAT(status.out, HasSubstr("sweep axial 30/30 refused, its samples set aside")) << status.out;
+  const Result exported = daemon.run({"export", "felt", "-o", desk.string()});
+  EXPECT_NE(exported.code, kExitOk);
+  EXPECT_THAT(exported.err, HasSubstr("no samples to reconstruct from; sweep axial 30/30 refused: "
+                                      "its 3 samples are set aside"))
+      << exported.err;
+  ASSERT_EQ(daemon.run({"sweep", "start", "axial", "30", "30"}).code, kExitOk);
+  daemon.manager().acceptSample({9, 9, {30, 0.0}, {30, 15.0}, Rgb::gray(0.2)});
+  ASSERT_EQ(daemon.run({"sweep", "stop"}).code, kExitOk);
+  const Result again = daemon.run({"export", "felt", "-o", desk.string()});
+  ASSERT_EQ(again.code, kExitOk) << again.err;
+  EXPECT_THAT(again.err, HasSubstr("warning: sweep axial 30/30 refused: its 3 samples are set aside"))
+      << again.err;
+}
+
 TEST(DaemonCommands, RefusesAWatchCountThatIsNoWholeNumberAndSaysWhyARequestIsTooLong) {
   const auto dir = test::freshTempDir();
   LiveDaemon daemon(dir / "storage");

@@ -35,7 +35,7 @@ StatusView everyField() {
   status.cameraFrames = CameraFramesView{};
   status.decoding = DecodingView{"srgb", "note"};
   status.roomLight = RoomLightView{0.1, 0.2, 0.02};
-  status.decodingCheck = DecodingCheckView{1.02, 0.01, 2.0, "G", 0.5};
+  status.decodingCheck = DecodingCheckView{1.02, 0.01, 2.0, "G", 0.5, "G", 0.6, "R", 0.01, 5.0};
   status.tuningFile = TuningFileView{"auto", "/usr/share/slicecap/tuning/x.json", "processed path"};
   status.warnings = {"warning"};
   return status;

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace slicecap::daemon {
 namespace {
 
@@ -86,6 +88,60 @@ TEST(DecodingWatch, AFewSamplesDoNotWarn) {
   for (std::size_t i = 0; i + 1 < DecodingWatch::kMinSamples / 2; ++i)
     noteBlock(watch, 1.0, 1.5, Rgb{1.0, 1.0, 1.0});
   EXPECT_TRUE(watch.warnings().empty());
+}
+
+// A sample whose window channels carry `light` (its LED light; 8-bit when `eightBit`).
+capture::FrameOutcome lightSample(const Rgb& light, bool eightBit = true) {
+  capture::FrameOutcome outcome = sample(std::nullopt, eightBit ? std::optional<Rgb>(Rgb{0.4, 0.5, 0.0})
+                                                               : std::nullopt);
+  outcome.measurement.windowLight = light;
+  return outcome;
+}
+
+TEST(DecodingWatch, RefusesASweepWhoseWindowChannelTheLedDoesNotLight) {
+  // Green at or below 0 in 20 of 32 samples (the LED only adds light): refused, naming it.
+  DecodingWatch watch;
+  for (std::uint64_t i = 0; i < 32; ++i)
+    watch.note(lightSample({0.02, i % 8 < 5 ? -0.001 * double(i % 3) : 0.001, 0.3}), 10 + i);
+  ASSERT_TRUE(watch.view().windowUnlit);
+  EXPECT_EQ(*watch.view().windowUnlitChannel, "G");
+  EXPECT_DOUBLE_EQ(*watch.view().windowUnlit, 20.0 / 32.0);
+  const std::optional<std::string> refusal = watch.refusal();
+  ASSERT_TRUE(refusal);
+  EXPECT_NE(refusal->find("G light from the LED is at or below 0 in 62.5 %"), std::string::npos)
+      << *refusal;
+  EXPECT_NE(refusal->find("tuning_file = auto"), std::string::npos) << *refusal;
+  const std::vector<std::string> warnings = watch.warnings();
+  EXPECT_NE(std::find(warnings.begin(), warnings.end(), *refusal), warnings.end())
+      << "the status warns of it while the sweep runs";
+  watch.reset();
+  EXPECT_FALSE(watch.refusal()) << "a new sweep run starts afresh";
+}
+
+TEST(DecodingWatch, ADarkChannelTheLedLightsIsNotRefused) {
+  // A dark channel read above 0 in most samples, noise taking it to or below 0 in a few (8 of
+  // 32); and a channel at 0 in exactly half of them: not more than half.
+  DecodingWatch dark, half;
+  for (std::uint64_t i = 0; i < 32; ++i) {
+    dark.note(lightSample({i % 4 == 0 ? -0.0005 : 0.002, 0.01, 0.3}), 10 + i);
+    half.note(lightSample({0.02, i % 2 ? 0.0 : 0.0004, 0.3}), 10 + i);
+  }
+  EXPECT_DOUBLE_EQ(*dark.view().windowUnlit, 0.25);
+  EXPECT_FALSE(dark.refusal());
+  EXPECT_DOUBLE_EQ(*half.view().windowUnlit, 0.5);
+  EXPECT_FALSE(half.refusal());
+}
+
+TEST(DecodingWatch, ALinearStreamOrAFewSamplesAreNotRefused) {
+  DecodingWatch linear, few;
+  for (std::uint64_t i = 0; i < 32; ++i) linear.note(lightSample({0.02, -0.01, 0.3}, false), 10 + i);
+  for (std::uint64_t i = 0; i + 1 < DecodingWatch::kMinRefusalSamples; ++i)
+    few.note(lightSample({0.02, -0.01, 0.3}), 10 + i);
+  EXPECT_FALSE(linear.refusal()) << "a RAW stream keeps what is below black";
+  EXPECT_FALSE(few.refusal());
+  EXPECT_DOUBLE_EQ(*few.view().windowUnlit, 1.0);
+  few.note(lightSample({0.02, -0.01, 0.3}), 100);
+  EXPECT_TRUE(few.refusal()) << DecodingWatch::kMinRefusalSamples << " samples are judged";
 }
 
 }  // namespace

@@ -190,8 +190,11 @@ std::optional<FrameOutcome> FramePipeline::State::measure(const hal::Frame& fram
   sample.view = *m.view;
   sample.light = m.measuredLightSigmaDeg < settings.measuredLightMaxSigmaDeg ? *m.measuredLight
                                                                              : *m.nominalLight;
+  Rgb windowLight;
   for (int c = 0; c < 3; ++c)
-    sample.value[c] = irradiance[c] > 0 ? std::max(0.0, windowRadiance[c]) / irradiance[c] : 0.0;
+    windowLight[c] = irradiance[c] > 0 ? windowRadiance[c] / irradiance[c] : 0.0;
+  for (int c = 0; c < 3; ++c) sample.value[c] = std::max(0.0, windowLight[c]);
+  m.windowLight = windowLight;
   sample.cells = readWindowCells(frame, located.pose, roomLight, fit.light, sample.light);
   m.blackReading = blackReadingOf(frame, located.pose, roomLight, fit.light);
   if (frame.encoding == PixelEncoding::Srgb8) m.windowAtBlack = window.atBlack;

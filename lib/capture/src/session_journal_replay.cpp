@@ -138,7 +138,7 @@ void SessionStore::judgeUnusableRecord(std::size_t line, const std::string& reas
   } else if (type == "start" || type == "stop") {
     damage_.push_back({line, reason + ": skipped (it changes no samples)", {}, 0, 0});
   } else {
-    setAside(line, reason, type == "redo" ? slice : std::nullopt);
+    setAside(line, reason, type == "redo" || type == "refuse" ? slice : std::nullopt);
   }
 }
 
@@ -163,7 +163,7 @@ void SessionStore::judgeDamagedRecord(std::size_t line, const std::string& where
                        0});
   } else {
     setAside(line, where + ": damaged record (checksum mismatch) that may have been a redo",
-             type == "redo" ? slice : std::nullopt);
+             type == "redo" || type == "refuse" ? slice : std::nullopt);
   }
 }
 
@@ -210,6 +210,9 @@ void SessionStore::apply(const json& j, std::size_t line) {
     } else if (type == "redo") {
       binsFor(slice).clear();
       damagedSlices_.erase(slice);  // what was set aside would be discarded now anyway
+      forgetRefusals(slice);
+    } else if (type == "refuse") {
+      applyRefusal(slice, j.at("reason").get<std::string>());
     } else if (type == "start") {
       activeSweep_ = slice;
     } else if (type == "stop") {

@@ -253,6 +253,24 @@ void SessionStore::redo(const SliceId& slice) {
   append(json{{"t", "redo"}, {"slice", sliceJson(slice)}});
   binsFor(slice).clear();
   damagedSlices_.erase(slice);
+  forgetRefusals(slice);
+}
+
+void SessionStore::refuse(const SliceId& slice, const std::string& reason) {
+  requireSweepSlice(slice);
+  append(json{{"t", "refuse"}, {"slice", sliceJson(slice)}, {"reason", reason}});
+  applyRefusal(slice, reason);
+}
+
+void SessionStore::applyRefusal(const SliceId& slice, std::string reason) {
+  const std::size_t count = sampleCount(slice);
+  setAside_[slice] += count;
+  binsFor(slice).clear();
+  refusals_.push_back({slice, std::move(reason), count});
+}
+
+void SessionStore::forgetRefusals(const SliceId& slice) {
+  std::erase_if(refusals_, [&](const SweepRefusal& r) { return r.slice == slice; });
 }
 
 std::size_t SessionStore::sampleCount() const {

@@ -34,8 +34,11 @@ void printSession(std::ostream& out, const control::SessionView& session) {
     out << "  " << padded(toString(slice.slice), 16) << slice.binsFilled << "/"
         << control::kBinsPerSlice << " bins, " << slice.samples << " samples";
     if (slice.samplesSetAside > 0)
-      out << ", " << slice.samplesSetAside << " set aside (damaged journal)";
+      out << ", " << slice.samplesSetAside << " set aside ("
+          << (slice.refused ? "sweep refused" : "damaged journal") << ")";
     out << "\n";
+    // A refused sweep's reason names what to change: never only in --json.
+    if (slice.refused) out << "    refused: " << *slice.refused << "\n";
   }
   // What the journal could not tell for sure, each naming the file and line: never only in --json.
   for (const control::JournalDamageView& damage : session.journalDamage)
@@ -109,6 +112,15 @@ std::string decodingCheckLine(const control::DecodingCheckView& check) {
   if (check.windowAtBlack && check.windowAtBlackChannel)
     line += std::string(check.blackReading || check.blackReadingStep ? "," : "") + " window " +
             *check.windowAtBlackChannel + " " + percent(*check.windowAtBlack) + " at code 0";
+  if (check.windowUnlit && check.windowUnlitChannel)
+    line += std::string(line.back() == ':' ? "" : ",") + " window " + *check.windowUnlitChannel +
+            " unlit by the LED in " + percent(*check.windowUnlit) + " of the samples";
+  if (check.windowStep && check.windowStepChannel) {
+    std::snprintf(figure, sizeof figure, " (%.1f standard errors)",
+                  check.windowStepSigmas.value_or(0.0));
+    line += std::string(line.back() == ':' ? "" : ",") + " window " + *check.windowStepChannel +
+            " stepping " + percent(*check.windowStep) + " from a frame to the next" + figure;
+  }
   return line;
 }
 

@@ -17,6 +17,11 @@ json toJson(const DecodingCheckView& check) {
     object["black_reading_step_sigmas"] = *check.blackReadingStepSigmas;
   if (check.windowAtBlackChannel) object["window_at_black_channel"] = *check.windowAtBlackChannel;
   if (check.windowAtBlack) object["window_at_black"] = *check.windowAtBlack;
+  if (check.windowUnlitChannel) object["window_unlit_channel"] = *check.windowUnlitChannel;
+  if (check.windowUnlit) object["window_unlit"] = *check.windowUnlit;
+  if (check.windowStepChannel) object["window_step_channel"] = *check.windowStepChannel;
+  if (check.windowStep) object["window_step"] = *check.windowStep;
+  if (check.windowStepSigmas) object["window_step_sigmas"] = *check.windowStepSigmas;
   return object;
 }
 
@@ -25,7 +30,12 @@ DecodingCheckView decodingCheckFromJson(const json& object) {
           optionalField<double>(object, "black_reading_step"),
           optionalField<double>(object, "black_reading_step_sigmas"),
           optionalField<std::string>(object, "window_at_black_channel"),
-          optionalField<double>(object, "window_at_black")};
+          optionalField<double>(object, "window_at_black"),
+          optionalField<std::string>(object, "window_unlit_channel"),
+          optionalField<double>(object, "window_unlit"),
+          optionalField<std::string>(object, "window_step_channel"),
+          optionalField<double>(object, "window_step"),
+          optionalField<double>(object, "window_step_sigmas")};
 }
 
 json toJson(const TuningFileView& tuning) {

@@ -26,7 +26,8 @@ SliceProgress sliceProgressFromJson(const json& object) {
   return {sliceFromJson(object), field<std::size_t>(object, "samples"),
           field<int>(object, "bins_filled"),
           optionalField<std::size_t>(object, "samples_set_aside").value_or(0),
-          optionalField<bool>(object, "damaged").value_or(false)};
+          optionalField<bool>(object, "damaged").value_or(false),
+          optionalField<std::string>(object, "refused")};
 }
 
 JournalDamageView journalDamageFromJson(const json& object) {
@@ -61,6 +62,7 @@ json toJson(const SliceProgress& slice) {
   entry["bins_filled"] = slice.binsFilled;
   if (slice.samplesSetAside > 0) entry["samples_set_aside"] = slice.samplesSetAside;
   if (slice.damaged) entry["damaged"] = true;
+  if (slice.refused) entry["refused"] = *slice.refused;
   return entry;
 }
 

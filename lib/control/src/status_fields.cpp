@@ -74,6 +74,17 @@ const std::vector<ReplyField>& statusFields() {
       {"decoding_check.window_at_black",
        "that channel's median fraction of pixels at code 0 (near 1: a colour matrix took it below "
        "black)"},
+      {"decoding_check.window_unlit_channel",
+       "the window's channel whose LED light (window less room light) is most often at or below 0"},
+      {"decoding_check.window_unlit",
+       "that channel's fraction of the latest samples at or below 0 (above 0.5: the decoding lost "
+       "the channel and the sweep is refused, docs/real-sensors.md)"},
+      {"decoding_check.window_step_channel",
+       "the window's channel whose light over the white references steps most from a sample to "
+       "the next frame's"},
+      {"decoding_check.window_step",
+       "its mean step, relative and signed: a tone curve stretched per frame steps it one way"},
+      {"decoding_check.window_step_sigmas", "that mean in its standard errors"},
       {"tuning_file", "the Raspberry Pi tuning file chosen for the camera (libcamera cameras)"},
       {"tuning_file.setting", "tuning_file in slicecapd.conf: auto, off or a path"},
       {"tuning_file.file", "the file the camera's IPA reads; null: the camera's own"},

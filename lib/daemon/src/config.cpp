@@ -145,6 +145,8 @@ std::vector<SetterEntry> sensorSetters() {
        decodingModeFromString(v);  // throws naming the value
        c.decoding = v;
      }},
+    {"refuse_broken_decoding",
+     [](DaemonConfig& c, const std::string& v) { c.refuseBrokenDecoding = boolean(v); }},
     {"camera_raw",
      [](DaemonConfig& c, const std::string& v) {
        const std::optional<hal::RawCapture> raw = hal::parseRawCapture(v);

@@ -8,6 +8,7 @@
 namespace slicecap::daemon {
 namespace {
 
+using nlohmann::json;
 using control::ErrorCode;
 
 // A redone sweep's texture starts afresh, as its samples: discarded before the redo is journaled.
@@ -19,6 +20,16 @@ void discardTexture(const control::SweepRedo& redo, SweepDevices& devices) {
                                                     error.what() + " (nothing was redone)");
   }
 }
+
+}  // namespace
+
+json replyOrThrow(std::variant<json, control::ProtocolError> reply) {
+  if (auto* error = std::get_if<control::ProtocolError>(&reply))
+    throw RequestError(error->code, error->message);
+  return std::move(std::get<json>(reply));
+}
+
+namespace {
 
 // The session manager's reply to a command; a refusal leaves the devices in line before it goes.
 nlohmann::json managerReply(const control::Command& command, SessionManager& manager,

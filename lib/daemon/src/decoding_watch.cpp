@@ -45,6 +45,10 @@ void DecodingWatch::reset() {
   readings_.clear();
   steps_.clear();
   for (auto& channel : atBlack_) channel.clear();
+  for (auto& channel : unlit_) channel.clear();
+  for (auto& channel : windowSteps_) channel.clear();
+  lastWindowLight_.reset();
+  lastWindowSequence_.reset();
   lastSequence_.reset();
   eightBit_ = false;
 }
@@ -67,6 +71,16 @@ void DecodingWatch::note(const capture::FrameOutcome& outcome, std::uint64_t seq
     eightBit_ = true;
     for (int c = 0; c < 3; ++c) keepLatest(atBlack_[c], (*m.windowAtBlack)[c]);
   }
+  if (m.windowLight) {
+    for (int c = 0; c < 3; ++c) keepLatest(unlit_[c], (*m.windowLight)[c] <= 0.0 ? 1.0 : 0.0);
+    // As the black reading: consecutive frames only, a channel the LED lights in both.
+    if (lastWindowLight_ && lastWindowSequence_ && sequence == *lastWindowSequence_ + 1)
+      for (int c = 0; c < 3; ++c)
+        if ((*lastWindowLight_)[c] > 0.0 && (*m.windowLight)[c] > 0.0)
+          keepLatest(windowSteps_[c], (*m.windowLight)[c] / (*lastWindowLight_)[c] - 1.0);
+    lastWindowLight_ = *m.windowLight;
+    lastWindowSequence_ = sequence;
+  }
 }
 
 control::DecodingCheckView DecodingWatch::view() const {
@@ -81,6 +95,23 @@ control::DecodingCheckView DecodingWatch::view() const {
         fraction && (!view.windowAtBlack || *fraction > *view.windowAtBlack)) {
       view.windowAtBlack = fraction;
       view.windowAtBlackChannel = kChannelNames[c];
+    }
+  for (int c = 0; c < 3; ++c) {
+    if (unlit_[c].empty()) continue;
+    double sum = 0.0;
+    for (double v : unlit_[c]) sum += v;
+    const double fraction = sum / double(unlit_[c].size());
+    if (!view.windowUnlit || fraction > *view.windowUnlit) {
+      view.windowUnlit = fraction;
+      view.windowUnlitChannel = kChannelNames[c];
+    }
+  }
+  for (int c = 0; c < 3; ++c)
+    if (const auto step = meanAndSigmas(windowSteps_[c]);
+        step && (!view.windowStepSigmas || step->second > *view.windowStepSigmas)) {
+      view.windowStep = step->first;
+      view.windowStepSigmas = step->second;
+      view.windowStepChannel = kChannelNames[c];
     }
   return view;
 }
@@ -103,6 +134,22 @@ std::vector<std::string> DecodingWatch::warnings() const {
                   "(camera_raw = auto or on), slicecap's tuning file (tuning_file = auto), or a "
                   "camera whose processing is fixed");
   }
+  std::size_t windowSteps = 0;
+  for (const auto& channel : windowSteps_) windowSteps = std::max(windowSteps, channel.size());
+  if (windowSteps >= kMinSamples && figures.windowStep && figures.windowStepSigmas &&
+      std::abs(*figures.windowStep) > kMaxWindowStep && *figures.windowStepSigmas > kMinStepSigmas) {
+    char sigmas[32];
+    std::snprintf(sigmas, sizeof sigmas, "%.1f", *figures.windowStepSigmas);
+    out.push_back("decoding: the window's " + *figures.windowStepChannel +
+                  " light against the white references steps by " + percent(*figures.windowStep) +
+                  " on average from a frame to the next (" + sigmas +
+                  " standard errors; more than " + percent(kMaxWindowStep) +
+                  " is a curve, not noise): the camera stretches its tone curve from frame to frame "
+                  "(adaptive contrast: a Raspberry Pi's rpi.contrast ce_enable), which moves the "
+                  "window's dark channels against the whites, so this sweep's samples cannot be "
+                  "trusted. Use RAW (camera_raw = auto or on), slicecap's tuning file (tuning_file "
+                  "= auto), or a camera whose processing is fixed");
+  }
   if (atBlack_[0].size() >= kMinSamples && figures.windowAtBlack &&
       *figures.windowAtBlack > kMaxWindowAtBlack)
     out.push_back("decoding: " + percent(*figures.windowAtBlack) + " of the window's " +
@@ -113,7 +160,22 @@ std::vector<std::string> DecodingWatch::warnings() const {
                   "Pi's rpi.ccm), so this sweep's samples cannot be trusted. Use RAW (camera_raw "
                   "= auto or on) or slicecap's tuning file (tuning_file = auto: an identity "
                   "matrix)");
+  if (std::optional<std::string> refused = refusal()) out.push_back(std::move(*refused));
   return out;
+}
+
+std::optional<std::string> DecodingWatch::refusal() const {
+  if (!eightBit_ || unlit_[0].size() < kMinRefusalSamples) return std::nullopt;
+  const control::DecodingCheckView figures = view();
+  if (!figures.windowUnlit || !(*figures.windowUnlit > kMaxWindowUnlit)) return std::nullopt;
+  return "decoding broken: the window's " + *figures.windowUnlitChannel +
+         " light from the LED is at or below 0 in " + percent(*figures.windowUnlit) +
+         " of the latest " + std::to_string(unlit_[0].size()) +
+         " samples (more than " + percent(kMaxWindowUnlit) +
+         "; the LED only adds light): the camera's processing lost that channel below black (a "
+         "colour matrix mixing the channels, a Raspberry Pi's rpi.ccm), and no decoding brings it "
+         "back. Use RAW (camera_raw = auto or on) or slicecap's tuning file (tuning_file = auto: "
+         "an identity matrix), then sweep the slice again";
 }
 
 }  // namespace slicecap::daemon

@@ -105,9 +105,11 @@ SessionExporter::SessionExporter(ReconstructFunction reconstruct, PreviewFunctio
 SessionTable SessionExporter::reconstruct(const capture::SessionStore& store,
                                           const SliceSet& slices,
                                           const std::string& method) const {
-  if (slices.empty())
-    throw RequestError(control::ErrorCode::Conflict,
-                       "session '" + store.info().id + "' has no samples to reconstruct from");
+  if (slices.empty()) {
+    std::string message = "session '" + store.info().id + "' has no samples to reconstruct from";
+    for (const std::string& refusal : refusalWarnings(store)) message += "; " + refusal;
+    throw RequestError(control::ErrorCode::Conflict, message);
+  }
   Abrdf table;
   try {
     table = reconstruct_(slices, method);
@@ -193,6 +195,7 @@ control::ExportView SessionExporter::exportSession(const capture::SessionStore& 
   // And what the sweeps' decoding checks found: samples a processed stream may have spoilt.
   for (std::string& warning : recordedDecodingWarnings(store.directory()))
     reply.warnings.push_back(std::move(warning));
+  for (const std::string& refusal : refusalWarnings(store)) reply.warnings.push_back(refusal);
   addTexture(store, slices, conditions, reply);
   return reply;
 }

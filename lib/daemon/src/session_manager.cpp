@@ -375,10 +375,10 @@ void SessionManager::pauseSweep(const std::string& reason) {
   state_->lastError = reason;
 }
 
-json replyOrThrow(std::variant<json, control::ProtocolError> reply) {
-  if (auto* error = std::get_if<control::ProtocolError>(&reply))
-    throw RequestError(error->code, error->message);
-  return std::move(std::get<json>(reply));
+void SessionManager::refuseSweep(const SliceId& slice, const std::string& reason) {
+  if (!state_->session) return;
+  state_->lastError = refuseSlice(*state_->session, slice, reason);
+  ++state_->samplesVersion;
 }
 
 std::optional<control::SweepView> SessionManager::sweepView() const {

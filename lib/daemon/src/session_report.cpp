@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <ctime>
+#include <iostream>
 
 #include "slicecap/daemon/session_manager.hpp"
 
@@ -11,9 +12,13 @@ namespace {
 
 std::vector<control::SliceProgress> sliceProgress(const capture::SessionStore& store) {
   std::vector<control::SliceProgress> slices;
-  for (const SliceId& slice : sweepOrder())
+  for (const SliceId& slice : sweepOrder()) {
+    std::optional<std::string> refused;  // the slice's latest refusal
+    for (const capture::SweepRefusal& refusal : store.refusals())
+      if (refusal.slice == slice) refused = refusal.reason;
     slices.push_back({slice, store.sampleCount(slice), store.bins(slice).filledCount(),
-                      store.setAsideCount(slice), store.damaged(slice)});
+                      store.setAsideCount(slice), store.damaged(slice), std::move(refused)});
+  }
   return slices;
 }
 
@@ -119,6 +124,29 @@ std::vector<control::PassAgainView> passAgainView(const capture::SessionStore& s
     for (const capture::PassAgainBin& bin : cache.bins(store, slice, progress))
       out.push_back({bin.slice, bin.azimuthDeg, toString(bin.reason)});
   }
+  return out;
+}
+
+std::string refuseSlice(capture::SessionStore& store, const SliceId& slice, const std::string& reason) {
+  const std::string what = "sweep " + toString(slice) + " refused";
+  try {
+    store.refuse(slice, reason);
+    return what + ", its samples set aside (kept in the session, used by no table): " + reason;
+  } catch (const std::exception& error) {
+    std::cerr << "slicecapd: " << what << ", but the refusal was not recorded: " << error.what()
+              << "\n";
+    return what + " (" + reason + "), but the refusal could not be recorded (" + error.what() +
+           "): its samples still count";
+  }
+}
+
+std::vector<std::string> refusalWarnings(const capture::SessionStore& store) {
+  std::vector<std::string> out;
+  for (const capture::SweepRefusal& refusal : store.refusals())
+    out.push_back("sweep " + toString(refusal.slice) + " refused: its " +
+                  std::to_string(refusal.samplesSetAside) +
+                  " samples are set aside (kept in the session's journal, used by no table or "
+                  "export): " + refusal.reason);
   return out;
 }
 

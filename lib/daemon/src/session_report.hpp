@@ -57,6 +57,12 @@ std::vector<control::CellTextureView> cellTextureView(const capture::SessionStor
 std::vector<control::PassAgainView> passAgainView(const capture::SessionStore& store,
                                                   const std::optional<SliceId>& sweeping,
                                                   PassAgainCache& cache);
+/// \brief Refuses `slice`'s samples so far in `store` (SessionStore::refuse) and says so for the
+/// status's error; a refusal that cannot be journaled is logged and said (the samples then count).
+std::string refuseSlice(capture::SessionStore& store, const SliceId& slice, const std::string& reason);
+/// \brief One sentence for each refused sweep of the session (SessionStore::refusals), for the
+/// export: the slice, the samples set aside and why.
+std::vector<std::string> refusalWarnings(const capture::SessionStore& store);
 /// \brief The command that starts (or continues) a slice's sweep, for the hints.
 std::string startCommand(const SliceId& slice);
 /// \brief The time now in UTC, formatted by strftime's `format`.

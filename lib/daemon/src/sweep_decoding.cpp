@@ -61,6 +61,11 @@ void recordDecodingCheck(const std::filesystem::path& file, const control::Decod
     check["black_reading_step_sigmas"] = *figures.blackReadingStepSigmas;
   if (figures.windowAtBlackChannel) check["window_at_black_channel"] = *figures.windowAtBlackChannel;
   if (figures.windowAtBlack) check["window_at_black"] = *figures.windowAtBlack;
+  if (figures.windowUnlitChannel) check["window_unlit_channel"] = *figures.windowUnlitChannel;
+  if (figures.windowUnlit) check["window_unlit"] = *figures.windowUnlit;
+  if (figures.windowStepChannel) check["window_step_channel"] = *figures.windowStepChannel;
+  if (figures.windowStep) check["window_step"] = *figures.windowStep;
+  if (figures.windowStepSigmas) check["window_step_sigmas"] = *figures.windowStepSigmas;
   check["warnings"] = warnings;
   record["check"] = std::move(check);
   io::writeJsonFileAtomically(file, record);

@@ -60,6 +60,7 @@ void SweepDevices::reconcile() {
 
 void SweepDevices::stopCamera() {
   recordDecodingCheck();
+  refuseBrokenDecoding();
   strobe_.stop();
   hdr_.stop();
   if (watchedFd_) loop_.unwatch(*watchedFd_);
@@ -165,7 +166,7 @@ void SweepDevices::describe(control::StatusView& status) const {
     for (std::string& warning : roomLight_.warnings()) status.warnings.push_back(std::move(warning));
   }
   if (const control::DecodingCheckView check = decodingCheck_.view();
-      check.blackReading || check.windowAtBlack) {
+      check.blackReading || check.windowAtBlack || check.windowUnlit) {
     status.decodingCheck = check;
     for (std::string& warning : decodingCheck_.warnings())
       status.warnings.push_back(std::move(warning));

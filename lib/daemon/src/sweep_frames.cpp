@@ -117,7 +117,7 @@ void SweepDevices::recordDecoding(const SweepDecoding& decided, std::string& war
 void SweepDevices::recordDecodingCheck() const noexcept {
   if (!cameraSlice_) return;
   const control::DecodingCheckView figures = decodingCheck_.view();
-  if (!figures.blackReading && !figures.windowAtBlack) return;
+  if (!figures.blackReading && !figures.windowAtBlack && !figures.windowUnlit) return;
   try {
     const std::optional<std::filesystem::path> session = manager_.sessionDirectory();
     const std::filesystem::path file =
@@ -128,6 +128,15 @@ void SweepDevices::recordDecodingCheck() const noexcept {
   } catch (const std::exception& error) {
     std::cerr << "slicecapd: recording the sweep's decoding check: " << error.what() << "\n";
   }
+}
+
+void SweepDevices::refuseBrokenDecoding() {
+  if (!cameraSlice_ || !parts_.refuseBrokenDecoding) return;
+  const std::optional<std::string> reason = decodingCheck_.refusal();
+  if (!reason) return;
+  std::cerr << "slicecapd: sweep " << toString(*cameraSlice_) << " refused: " << *reason << "\n";
+  // Once a run: stopCamera clears cameraSlice_, and a new run resets the watch.
+  manager_.refuseSweep(*cameraSlice_, *reason);
 }
 
 /// A recorded frame says whether the LED was on, and the LED follows it (its log then shows

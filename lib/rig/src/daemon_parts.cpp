@@ -51,6 +51,7 @@ daemon::DaemonParts daemonPartsFrom(const DaemonConfig& config, hal::Clock& cloc
   parts.led = openLed(devices.led, clock, modelLight);
   parts.cameraConfig = devices.cameraConfig;
   parts.decoding = devices.decoding;
+  parts.refuseBrokenDecoding = config.refuseBrokenDecoding;
   CameraSources sources = makeCameraSources(devices, clock, modelLight, ModelScene::Sweep);
   parts.outputs = std::make_unique<ConfiguredSessionOutputs>(outputs, sources.rigFor,
                                                              recordingsCreator(devices, sources));

@@ -79,6 +79,11 @@ struct FrameOutcome {
     /// About half at most where the light is at black and noise spreads it; nearly all when the
     /// camera's processing took the light below black (a colour matrix mixing the channels).
     std::optional<Rgb> windowAtBlack;
+    /// \brief A sample's window light from the LED per channel (the window less the room light,
+    /// over the fitted light's irradiance): the sample's value before it is held at 0. The LED
+    /// only adds light, so a channel at or below 0 in most of a sweep's samples is a decoding
+    /// that lost it (a colour matrix taking it below black; the daemon's decoding watch).
+    std::optional<Rgb> windowLight;
   };
   Measurement measurement;
 };

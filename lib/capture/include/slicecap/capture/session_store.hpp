@@ -39,6 +39,14 @@ struct JournalDamage {
   std::size_t samplesLost = 0;          ///< samples in records that could not be read
 };
 
+/// \brief A sweep refused for a decoding shown broken (the daemon's decoding watch): the slice,
+/// why, and how many of its samples that set aside (in the journal, not counted).
+struct SweepRefusal {
+  SliceId slice;
+  std::string reason;
+  std::size_t samplesSetAside = 0;
+};
+
 /// \brief One session directory: `session.json` (written atomically) and `journal` (one record per
 /// accepted sample, sweep start/stop and redo, each on disk before the call returns). Opening
 /// replays the journal, so a daemon killed mid-sweep resumes with every acknowledged sample. Errors
@@ -81,7 +89,14 @@ class SessionStore {
   void recordSweepStarted(const SliceId& slice);
   void recordSweepStopped(const SliceId& slice);
   /// \brief Discards every sample of the slice so far (durable); later samples count again.
+  /// Forgets the slice's refusals (their samples are discarded too).
   void redo(const SliceId& slice);
+  /// \brief Refuses the slice's samples so far for `reason` (durable): they stay in the journal
+  /// but are set aside, so no table, fit or export uses them; later samples count again. A
+  /// point slice is CaptureError, nothing written.
+  void refuse(const SliceId& slice, const std::string& reason);
+  /// \brief The refusals since each slice's last redo, in journal order.
+  const std::vector<SweepRefusal>& refusals() const { return refusals_; }
 
   /// \brief The sweep that was started and not stopped (after a crash: the one to resume).
   std::optional<SliceId> activeSweep() const { return activeSweep_; }
@@ -110,6 +125,8 @@ class SessionStore {
                           const std::optional<SliceId>& slice);
   void apply(const nlohmann::json& record, std::size_t line);
   void setAside(std::size_t line, std::string what, std::optional<SliceId> slice);
+  void applyRefusal(const SliceId& slice, std::string reason);
+  void forgetRefusals(const SliceId& slice);
   void append(nlohmann::json record);  // numbers it ("n") and makes it durable
   AzimuthBins& binsFor(const SliceId& slice);
 
@@ -122,6 +139,7 @@ class SessionStore {
   std::vector<JournalDamage> damage_;
   std::map<SliceId, std::size_t> setAside_;
   std::set<SliceId> damagedSlices_;
+  std::vector<SweepRefusal> refusals_;
   std::uint64_t nextSequence_ = 1;  ///< the "n" of the next record: records count their lines
 };
 

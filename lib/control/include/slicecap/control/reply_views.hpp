@@ -26,13 +26,16 @@ class ReplyError : public slicecap::Error {
 inline constexpr int kBinsPerSlice = 24;
 
 /// \brief One slice of a session: "name", "kind", "theta_i", "theta_v", "samples", "bins_filled",
-/// and "samples_set_aside" / "damaged" only when there are any.
+/// and "samples_set_aside" / "damaged" / "refused" only when there are any.
 struct SliceProgress {
   SliceId slice;
   std::size_t samples = 0;
   int binsFilled = 0;
   std::size_t samplesSetAside = 0;
   bool damaged = false;
+  /// Why a sweep of the slice was refused (its decoding shown broken; the samples it had then are
+  /// set aside, kept in the session, used by no table), until the slice is redone.
+  std::optional<std::string> refused;
 };
 
 /// \brief What replaying a session's journal could not tell for sure (the message names the
@@ -148,6 +151,19 @@ struct DecodingCheckView {
   /// over the latest samples: nearly all where a colour matrix took the light below black.
   std::optional<std::string> windowAtBlackChannel;
   std::optional<double> windowAtBlack;
+  /// The window's channel the LED lights least often ("R", "G", "B") and the fraction of the
+  /// latest samples in which its LED light is at or below 0 (window less room light): the LED
+  /// only adds light, so more than half is a decoding that lost the channel (a colour matrix
+  /// taking it below black), and the sweep is refused.
+  std::optional<std::string> windowUnlitChannel;
+  std::optional<double> windowUnlit;
+  /// The window channel whose light over the white references' (the sample's value) steps most
+  /// from a sample to the next frame's, in standard errors, that mean relative step and its
+  /// standard errors: a tone curve stretched per frame from the frame before moves a dark
+  /// channel against the whites one way every LED block; one curve leaves noise.
+  std::optional<std::string> windowStepChannel;
+  std::optional<double> windowStep;
+  std::optional<double> windowStepSigmas;
 };
 
 /// \brief The Raspberry Pi tuning file slicecapd chose for its camera (docs/real-sensors.md, "The

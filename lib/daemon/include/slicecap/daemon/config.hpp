@@ -57,6 +57,10 @@ struct DaemonConfig {
   /// decoding = auto | measured-curve | srgb: how 8-bit live frames become linear light
   /// (daemon::DecodingMode; docs/linear-light.md "In the daemon").
   std::string decoding = "auto";
+  /// refuse_broken_decoding: a sweep run whose 8-bit decoding is shown broken (a window channel
+  /// the LED does not light, DecodingWatch::refusal) has its slice's samples set aside as it
+  /// ends; false: only warned about (docs/real-sensors.md, "Refused sweeps").
+  bool refuseBrokenDecoding = true;
   /// camera_raw = auto | on | off: the RAW (Bayer) stream, decoded to linear light, where the
   /// camera offers a format slicecap decodes (hal::RawCapture).
   hal::RawCapture cameraRaw = hal::RawCapture::Auto;

@@ -59,6 +59,9 @@ struct DaemonParts {
   /// rig has a bracket subject; without one (or when the bracket cannot be fitted) the sweep
   /// decodes as sRGB and every status says so, naming the camera.
   DecodingMode decoding = DecodingMode::Auto;
+  /// slicecapd.conf refuse_broken_decoding: a sweep run whose decoding the DecodingWatch shows
+  /// broken has its slice's samples set aside as it ends (SessionManager::refuseSweep).
+  bool refuseBrokenDecoding = true;
   /// Frames waiting for the recorder's writer at most; more are dropped from the recording.
   std::size_t recordQueueFrames = 4;
   /// The Raspberry Pi tuning file chosen before the camera opened (libcamera cameras; none for

@@ -30,6 +30,17 @@ class DecodingWatch {
   /// cannot decode. Noise steps either way and averages out; the view moving steps both ways too.
   static constexpr double kMaxBlackReadingStep = 0.01;
   static constexpr double kMinStepSigmas = 4.0;
+  /// \brief A window channel's light over the white references' (the sample's value, before its
+  /// clip at 0) stepping by more than this, on average, from a sample to the next frame's, and
+  /// more than kMinStepSigmas of its standard errors from 0: the same per-frame stretch, seen where
+  /// it does the harm. rpi.contrast keeps the histogram's median as a fixed point and stretches
+  /// above it, so a channel between the 1 % point and the median is read through an LED-off
+  /// frame's stretch in the block's first LED-on frame and through the identity in the next: a
+  /// dark channel moves against the whites by about a percent, one way every block (the camera
+  /// model: 1.3 % in red with the stretch, under 0.1 % without, on the still rig). The black
+  /// patch sits below the 1 % point, where every stretch is the identity, which is why its step
+  /// does not see it.
+  static constexpr double kMaxWindowStep = 0.005;
   /// \brief More than this fraction of a window channel's pixels at code 0 (median over the
   /// latest samples): light below black. Noise where the light is at black leaves about half at
   /// 0 (a little more: code 0 also holds the light below half-way to code 1); a colour matrix
@@ -37,6 +48,21 @@ class DecodingWatch {
   /// it. On an RGB stream nearly all its pixels are then at 0; a YUV420 stream's shared chroma
   /// spreads them over codes 0..3, and the camera model's processed-isp sweeps read 46-73 %.
   static constexpr double kMaxWindowAtBlack = 0.6;
+  /// \brief More than this fraction of the latest samples with a window channel's LED light
+  /// (FrameOutcome::Measurement::windowLight) at or below 0: the decoding lost the channel, and
+  /// the sweep is refused. The LED only adds light, so a channel it lights reads above 0 in
+  /// nearly every sample (a dark channel 2 standard errors above 0 falls at or below 0 in 2 % of
+  /// them) and one it truly left dark in half; more than half is light the decoding took below
+  /// black. A colour matrix that mixes the channels (a Raspberry Pi's rpi.ccm) clips a saturated
+  /// colour's weak channel at black, and the window's LED-on frames read it where the LED-off
+  /// frames read the dark, whatever the stream spreads over codes 0..3 (a YUV420 stream's shared
+  /// chroma): the sample's channel is 0 however much light the material reflects.
+  static constexpr double kMaxWindowUnlit = 0.5;
+  /// \brief The refusal needs this many samples in the run: more than half of 4 is 3 at or below
+  /// 0, which a channel the LED lights 2 standard errors above 0 gives once in 20000 runs (4 p^3,
+  /// p = 0.023). A run whose frames were mostly dropped (a loaded machine: 5 samples a sweep) is
+  /// still judged; fewer samples than this are not.
+  static constexpr std::size_t kMinRefusalSamples = 4;
   /// \brief The figures of this many latest samples count.
   static constexpr std::size_t kSamples = 32;
   /// \brief A figure needs this many samples before it warns.
@@ -52,11 +78,19 @@ class DecodingWatch {
   /// \brief A sentence for each figure beyond its limit, naming it, the limit and what to do;
   /// only for 8-bit frames (a RAW stream's figures are noise).
   std::vector<std::string> warnings() const;
+  /// \brief Why the sweep run's samples must not be used: its decoding is shown broken (a window
+  /// channel unlit by the LED in more than kMaxWindowUnlit of at least kMinRefusalSamples), with
+  /// the figure, the limit and what to do; nullopt otherwise and for a linear 16-bit stream.
+  std::optional<std::string> refusal() const;
 
  private:
   std::deque<double> readings_, steps_;
   std::optional<std::uint64_t> lastSequence_;  ///< the frame of readings_.back()
   std::array<std::deque<double>, 3> atBlack_;
+  std::array<std::deque<double>, 3> unlit_;  ///< 1 where the sample's channel was at or below 0
+  std::array<std::deque<double>, 3> windowSteps_;
+  std::optional<Rgb> lastWindowLight_;  ///< the window light of the frame lastWindowSequence_
+  std::optional<std::uint64_t> lastWindowSequence_;
   bool eightBit_ = false;
 };
 

@@ -69,6 +69,11 @@ class SessionManager {
   void noteViewElevationErrorDeg(double errorDeg);
   /// \brief The camera or LED failed: the sweep pauses (samples kept) with the reason shown.
   void pauseSweep(const std::string& reason);
+  /// \brief A sweep run of `slice` whose decoding was shown broken (DecodingWatch::refusal): the
+  /// current session sets the slice's samples so far aside (capture::SessionStore::refuse: kept in
+  /// its journal, used by no table or export) and the status's error and the slice say why. A
+  /// storage failure is logged and shown as the error; the samples then still count.
+  void refuseSweep(const SliceId& slice, const std::string& reason);
 
   /// \brief The sweep (running or paused), as its replies show it.
   std::optional<control::SweepView> sweepView() const;
