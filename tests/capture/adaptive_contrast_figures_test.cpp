@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "../support/bracket_rig.hpp"
+#include "../support/strobed_still_rig.hpp"
 #include "slicecap/capture/area_reading.hpp"
 #include "slicecap/hal/model_isp_stage.hpp"
 #include "slicecap/sim/material.hpp"
@@ -46,17 +47,11 @@ void printSteps(const char* isp, const Steps& steps) {
 TEST(AdaptiveContrastFigures, StepsFromAnLedOffFramesStretchToAnLedOnFrames) {
   if (!std::getenv("SLICECAP_DECODING_CHECK_FIGURES"))
     GTEST_SKIP() << "SLICECAP_DECODING_CHECK_FIGURES not set (scripts/decoding-check-figures sets it)";
-  const auto renderer = std::make_shared<sim::FrameRenderer>(
-      vision::defaultSimulatedCamera(), vision::defaultTarget(), sim::loadMaterial("satin-blue-45"),
-      sim::RigParams::ideal());
-  const auto scene =
-      std::make_shared<test::StillScene>(renderer, test::stillPose(), test::stillLightMm());
-  const vision::TargetGeometry& target = renderer->target();
-  vision::RectMm black{};
-  for (const vision::Patch& p : target.patches)
-    if (p.kind == vision::PatchKind::Black) black = p.rect;
-  const vision::PointMm w = target.patches.front().rect.centre();  // white-left
-  const vision::RectMm white{w.xMm - 3, w.yMm - 8, w.xMm + 3, w.yMm + 8};
+  const test::StillSatinRig rig;
+  const std::shared_ptr<test::StillScene>& scene = rig.scene;
+  const vision::TargetGeometry& target = rig.target;
+  const vision::RectMm& black = rig.black;
+  const vision::RectMm& white = rig.white;
   const vision::PointMm c = target.window.centre();
   const vision::RectMm window{c.xMm - 8, c.yMm - 8, c.xMm + 8, c.yMm + 8};
   {
@@ -86,13 +81,6 @@ TEST(AdaptiveContrastFigures, StepsFromAnLedOffFramesStretchToAnLedOnFrames) {
     }
   }
   for (const bool adaptive : {false, true}) {
-    hal::SensorModel model;
-    model.isp = hal::fixedModelIsp();
-    model.isp.adaptiveContrast = adaptive;
-    const double exposureUs = test::BracketRig(scene, model).meteredExposureUs();
-    model.realTime = false;
-    hal::FakeClock clock{1'000'000};
-    const auto led = std::make_shared<hal::LedTimeline>(true);
     // Where in the frame period the LED switches (SLICECAP_STRETCH_PHASE; 0.5 by default) decides
     // what the first LED-on frame of a block follows: the frame read out across the switch, lit
     // over few of its rows at 0.5 (a dark frame's stretch, as the daemon's strobe leaves it: the
@@ -100,14 +88,11 @@ TEST(AdaptiveContrastFigures, StepsFromAnLedOffFramesStretchToAnLedOnFrames) {
     // DecodingCheckFigures: nearly a lit frame's stretch).
     const char* phaseText = std::getenv("SLICECAP_STRETCH_PHASE");
     const double phase = phaseText ? std::atof(phaseText) : 0.5;
-    for (int k = 3; k < 600; k += 3)
-      led->record(1'000'000 + std::int64_t((k + phase) * model.framePeriodUs), (k / 3) % 2 == 0);
     int litFrames = 0, dark = 0, mixed = 0;
-    hal::ModelCamera camera(scene, led, clock, model);
-    hal::CameraConfig config;
-    camera.configure(config);
-    camera.start();
-    ASSERT_TRUE(camera.lockExposure({exposureUs, 1.0}).locked);
+    test::StrobedStillCamera strobed(scene, adaptive, phase, 200);
+    ASSERT_TRUE(strobed.locked);
+    hal::ModelCamera& camera = *strobed.camera;
+    const hal::SensorModel& model = strobed.model;
     const CodeTable codes(model.tone);
     const auto read = [&](const hal::Frame& f, const vision::RectMm& r) {
       return readArea(f, test::stillPose(), vision::defaultSimulatedCamera(), {r, 0.0, 2.0}, {},

@@ -11,6 +11,7 @@
 #include <cstdlib>
 
 #include "../support/bracket_rig.hpp"
+#include "../support/strobed_still_rig.hpp"
 #include "slicecap/capture/area_reading.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/vision/camera_model.hpp"
@@ -118,34 +119,16 @@ namespace {
 TEST(DecodingCheckFigures, BlackReadingStepWithAndWithoutAdaptiveContrast) {
   if (!std::getenv("SLICECAP_DECODING_CHECK_FIGURES"))
     GTEST_SKIP() << "SLICECAP_DECODING_CHECK_FIGURES not set (scripts/decoding-check-figures sets it)";
-  const auto renderer = std::make_shared<sim::FrameRenderer>(
-      vision::defaultSimulatedCamera(), vision::defaultTarget(), sim::loadMaterial("satin-blue-45"),
-      sim::RigParams::ideal());
-  const auto scene =
-      std::make_shared<test::StillScene>(renderer, test::stillPose(), test::stillLightMm());
-  const vision::TargetGeometry& target = renderer->target();
-  vision::RectMm black{}, white{};
-  for (const vision::Patch& p : target.patches)
-    if (p.kind == vision::PatchKind::Black) black = p.rect;
-  const vision::PointMm w = target.patches.front().rect.centre();  // white-left
-  white = {w.xMm - 3, w.yMm - 8, w.xMm + 3, w.yMm + 8};
+  const test::StillSatinRig rig;
+  const vision::RectMm& black = rig.black;
+  const vision::RectMm& white = rig.white;
   for (const bool adaptive : {false, true}) {
-    hal::SensorModel model;
-    model.isp = hal::fixedModelIsp();
-    model.isp.adaptiveContrast = adaptive;
-    const double exposureUs = test::BracketRig(scene, model).meteredExposureUs();
-    model.realTime = false;
-    hal::FakeClock clock{1'000'000};
-    const auto led = std::make_shared<hal::LedTimeline>(true);
-    // Switches every 3 frame periods, half-way between frames' readouts; each frame classed by
-    // its truth (every row lit, every row dark, or mixed).
-    for (int k = 3; k < 400; k += 3)
-      led->record(1'000'000 + std::int64_t((k + 0.93) * model.framePeriodUs), (k / 3) % 2 == 0);
-    hal::ModelCamera camera(scene, led, clock, model);
-    hal::CameraConfig config;
-    camera.configure(config);
-    camera.start();
-    ASSERT_TRUE(camera.lockExposure({exposureUs, 1.0}).locked);
+    // Switches half-way between frames' readouts; each frame classed by its truth (every row
+    // lit, every row dark, or mixed).
+    test::StrobedStillCamera strobed(rig.scene, adaptive, 0.93, 134);
+    ASSERT_TRUE(strobed.locked);
+    hal::ModelCamera& camera = *strobed.camera;
+    const hal::SensorModel& model = strobed.model;
     const CodeTable codes(model.tone);
     const auto read = [&](const hal::Frame& f, const vision::RectMm& r) {
       return readArea(f, test::stillPose(), vision::defaultSimulatedCamera(), {r, 0.0, 2.0}, {},

@@ -38,6 +38,94 @@ double rmsOf(const std::vector<double>& v) {
   return v.empty() ? 0.0 : std::sqrt(sum / double(v.size()));
 }
 
+// Each sample's relative error per channel and as an RGB vector, against the material at the
+// sample's own directions.
+struct SampleErrors {
+  std::vector<double> rel[3], vector;
+  void add(const FrameSample& s, const models::ReflectanceModel& material) {
+    const Rgb t = material.evaluate(toUnitVector(s.light), toUnitVector(s.view));
+    double e2 = 0.0, t2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      rel[k].push_back(s.value[k] / t[k] - 1.0);
+      e2 += (s.value[k] - t[k]) * (s.value[k] - t[k]), t2 += t[k] * t[k];
+    }
+    vector.push_back(std::sqrt(e2 / t2));
+  }
+};
+
+// The model's RAW stream (SRGGB10, the default sensor noise) with the room's 100 Hz flicker 30 %
+// deep where there is room light, a share `drop` of its frames lost.
+hal::SensorModel rawSensor(double roomLight, double drop) {
+  hal::SensorModel model;
+  model.rawFormat = hal::BayerFormat{hal::BayerOrder::Rggb, 10, hal::BayerPacking::Csi2Packed};
+  model.holdSceneUntilStrobe = false;
+  model.flickerHz = 100.0;
+  model.flickerDepth = roomLight > 0 ? 0.3 : 0.0;
+  model.dropProbability = drop;
+  return model;
+}
+
+constexpr double kFramePeriodUs = 40000.0;  // mains_hz = 50
+
+// `scene` through the model camera at `exposureUs`, 40 ms frames, the LED 2 frames on and 2 off.
+struct StrobedRawCamera {
+  hal::FakeClock clock{1'000'000};
+  std::shared_ptr<hal::LedTimeline> led = std::make_shared<hal::LedTimeline>(true);
+  std::unique_ptr<hal::ModelCamera> camera;
+  StrobedRawCamera(std::shared_ptr<hal::SceneSource> scene, hal::SensorModel model,
+                   double exposureUs) {
+    model.realTime = false;
+    for (int k = 2; k < 2000; k += 2)
+      led->record(1'000'000 + std::int64_t((k + 0.97) * kFramePeriodUs), (k / 2) % 2 == 0);
+    camera = std::make_unique<hal::ModelCamera>(std::move(scene), led, clock, model);
+    hal::CameraConfig config;
+    config.frameDurationUs = kFramePeriodUs;
+    config.raw = hal::RawCapture::On;
+    camera->configure(config);
+    camera->start();
+    EXPECT_TRUE(camera->lockExposure({exposureUs, 1.0}).locked);
+  }
+};
+
+PipelineSettings floorSettings(const hal::SensorModel& model) {
+  PipelineSettings settings;
+  settings.noise = {model.readNoise, model.fullWellElectrons};
+  settings.poseAmbientFrames = true;
+  settings.windowCellsPerSide = 0;
+  return settings;
+}
+
+// The camera's frames through `pipeline` as the live loop pairs them: each fully lit frame
+// waits for the next fully dark one, then is processed with it as its following LED-off frame;
+// `onSample(lit frame, outcome)` for each sample, until `done()` or the stream ends.
+template <typename OnSample, typename Done>
+void strobedSamples(hal::ModelCamera& camera, FramePipeline& pipeline, const SliceId& slice,
+                    OnSample onSample, Done done) {
+  std::vector<hal::Frame> held;
+  for (int n = 0; n < 4000 && !done(); ++n) {
+    hal::CaptureResult r = camera.nextFrame(std::chrono::milliseconds(1000));
+    if (r.status == hal::CaptureResult::Status::EndOfStream) break;
+    if (!r.frame || r.frame->metadata.exposureLocks < 1) continue;
+    hal::Frame f = std::move(*r.frame);
+    const auto truth = camera.truth(f.metadata.sequence);
+    const auto [lo, hi] =
+        std::minmax_element(truth->rowOnFraction.begin(), truth->rowOnFraction.end());
+    if (*hi < 1e-3) {
+      f.metadata.ledOn = false;
+      for (const hal::Frame& on : held) {
+        pipeline.setFollowingAmbientFrame(f);
+        const FrameOutcome o = pipeline.process(on, slice);
+        if (o.kind == FrameOutcome::Kind::Sample) onSample(on, o);
+      }
+      held.clear();
+      pipeline.process(f, slice);
+    } else if (*lo > 1.0 - 1e-3) {
+      f.metadata.ledOn = true;
+      held.push_back(std::move(f));
+    }
+  }
+}
+
 struct Spread {
   Rgb measuredRms, expectedRms;  // relative, per channel
   double medianVectorError = 0.0;
@@ -58,29 +146,10 @@ Spread measure(const SliceId& slice, double roomLight, int wanted) {
       sim::planSweep(slice, kAxialOffsetDeg, rig, cameraModel, renderer->target()).front();
   const vision::Pose pose = plan.exposurePoses.front();
   const auto scene = std::make_shared<test::StillScene>(renderer, pose, plan.lightMm);
-  hal::SensorModel model;
-  model.rawFormat = hal::BayerFormat{hal::BayerOrder::Rggb, 10, hal::BayerPacking::Csi2Packed};
-  model.holdSceneUntilStrobe = false;
-  model.flickerHz = 100.0;
-  model.flickerDepth = roomLight > 0 ? 0.3 : 0.0;
+  const hal::SensorModel model = rawSensor(roomLight, 0.0);
   const double exposureUs = test::BracketRig(scene, model).meteredExposureUs();
-  model.realTime = false;
-  hal::FakeClock clock{1'000'000};
-  const double periodUs = 40000.0;
-  const auto led = std::make_shared<hal::LedTimeline>(true);
-  for (int k = 2; k < 2000; k += 2)
-    led->record(1'000'000 + std::int64_t((k + 0.97) * periodUs), (k / 2) % 2 == 0);
-  hal::ModelCamera camera(scene, led, clock, model);
-  hal::CameraConfig config;
-  config.frameDurationUs = periodUs;
-  config.raw = hal::RawCapture::On;
-  camera.configure(config);
-  camera.start();
-  EXPECT_TRUE(camera.lockExposure({exposureUs, 1.0}).locked);
-  PipelineSettings settings;
-  settings.noise = {model.readNoise, model.fullWellElectrons};
-  settings.poseAmbientFrames = true;
-  settings.windowCellsPerSide = 0;
+  StrobedRawCamera strobed(scene, model, exposureUs);
+  const PipelineSettings settings = floorSettings(model);
   FramePipeline pipeline(renderer->target(), cameraModel, settings);
 
   // The sensor's noise on the window's LED light, from the scene's light and the pixel count.
@@ -96,42 +165,18 @@ Spread measure(const SliceId& slice, double roomLight, int wanted) {
       renderer->windowPoint(lit, {0, 0, 0}).expectedLinear * (exposureUs * 1e-6) - room;
 
   Spread spread;
-  std::vector<double> rel[3], vectorErrors;
-  std::vector<hal::Frame> held;
+  SampleErrors errors;
   int pixels = 0;
-  for (int n = 0; n < 4000 && spread.samples < wanted; ++n) {
-    hal::CaptureResult r = camera.nextFrame(std::chrono::milliseconds(1000));
-    if (!r.frame || r.frame->metadata.exposureLocks < 1) continue;
-    hal::Frame f = std::move(*r.frame);
-    const auto truth = camera.truth(f.metadata.sequence);
-    const auto [lo, hi] =
-        std::minmax_element(truth->rowOnFraction.begin(), truth->rowOnFraction.end());
-    if (*hi < 1e-3) {
-      f.metadata.ledOn = false;
-      for (const hal::Frame& on : held) {
-        pipeline.setFollowingAmbientFrame(f);
-        const FrameOutcome o = pipeline.process(on, slice);
-        if (o.kind != FrameOutcome::Kind::Sample) continue;
-        const FrameSample& s = *o.sample;
-        const Rgb t = material->evaluate(toUnitVector(s.light), toUnitVector(s.view));
-        double e2 = 0.0, t2 = 0.0;
-        for (int k = 0; k < 3; ++k) {
-          rel[k].push_back(s.value[k] / t[k] - 1.0);
-          e2 += (s.value[k] - t[k]) * (s.value[k] - t[k]), t2 += t[k] * t[k];
-        }
-        vectorErrors.push_back(std::sqrt(e2 / t2));
+  strobedSamples(
+      *strobed.camera, pipeline, slice,
+      [&](const hal::Frame& on, const FrameOutcome& o) {
+        errors.add(*o.sample, *material);
         ++spread.samples;
         if (!pixels)
           pixels = readArea(on, pose, cameraModel, windowSpec, settings.noise,
                             CodeTable::srgb()).pixels;
-      }
-      held.clear();
-      pipeline.process(f, slice);
-    } else if (*lo > 1.0 - 1e-3) {
-      f.metadata.ledOn = true;
-      held.push_back(std::move(f));
-    }
-  }
+      },
+      [&] { return spread.samples >= wanted; });
   const double read2 = model.readNoise * model.readNoise;
   double vectorVariance = 0.0, ledNorm2 = 0.0;
   for (int k = 0; k < 3; ++k) {
@@ -140,11 +185,11 @@ Spread measure(const SliceId& slice, double roomLight, int wanted) {
     const double on = (read2 + (room[k] + ledLight[k]) / model.fullWellElectrons) / cells;
     const double off = (read2 + room[k] / model.fullWellElectrons) / cells;
     const double variance = (on + 5.0 / 9.0 * off) / std::max(pixels, 1);
-    spread.measuredRms[k] = rmsOf(rel[k]);
+    spread.measuredRms[k] = rmsOf(errors.rel[k]);
     spread.expectedRms[k] = std::sqrt(variance) / ledLight[k];
     vectorVariance += variance, ledNorm2 += ledLight[k] * ledLight[k];
   }
-  spread.medianVectorError = medianOf(vectorErrors);
+  spread.medianVectorError = medianOf(errors.vector);
   spread.expectedVectorRms = std::sqrt(vectorVariance / ledNorm2);
   std::printf("[ %s room %.2f ] exposure %.0f us, window %d px, LED light %.4f %.4f %.4f, room "
               "light %.4f %.4f %.4f of full scale\n",
@@ -195,82 +240,36 @@ void movingSweep(double roomLight, double drop) {
       std::make_shared<sim::FrameRenderer>(cameraModel, vision::defaultTarget(), material, rig);
   const SliceId slice{SliceKind::Axial, {75, 30}};
   const auto scene = std::make_shared<sim::RigScene>(renderer, slice, rig);
-  hal::SensorModel model;
-  model.rawFormat = hal::BayerFormat{hal::BayerOrder::Rggb, 10, hal::BayerPacking::Csi2Packed};
-  model.holdSceneUntilStrobe = false;
-  model.flickerHz = 100.0;
-  model.flickerDepth = roomLight > 0 ? 0.3 : 0.0;
-  model.dropProbability = drop;
+  const hal::SensorModel model = rawSensor(roomLight, drop);
   const sim::FramePlan& first = scene->plans().front();
   const double exposureUs =
       test::BracketRig(std::make_shared<test::StillScene>(renderer, first.exposurePoses.front(),
                                                           first.lightMm),
                        model)
           .meteredExposureUs();
-  model.realTime = false;
-  hal::FakeClock clock{1'000'000};
-  const double periodUs = 40000.0;
-  const auto led = std::make_shared<hal::LedTimeline>(true);
-  for (int k = 2; k < 2000; k += 2)
-    led->record(1'000'000 + std::int64_t((k + 0.97) * periodUs), (k / 2) % 2 == 0);
-  hal::ModelCamera camera(scene, led, clock, model);
-  hal::CameraConfig config;
-  config.frameDurationUs = periodUs;
-  config.raw = hal::RawCapture::On;
-  camera.configure(config);
-  camera.start();
-  ASSERT_TRUE(camera.lockExposure({exposureUs, 1.0}).locked);
-  PipelineSettings settings;
-  settings.noise = {model.readNoise, model.fullWellElectrons};
-  settings.poseAmbientFrames = true;
-  settings.windowCellsPerSide = 0;
-  FramePipeline pipeline(renderer->target(), cameraModel, settings);
-  std::vector<double> rel[3], vectorErrors;
-  std::vector<hal::Frame> held;
-  for (int n = 0; n < 4000; ++n) {
-    hal::CaptureResult r = camera.nextFrame(std::chrono::milliseconds(1000));
-    if (r.status == hal::CaptureResult::Status::EndOfStream) break;
-    if (!r.frame || r.frame->metadata.exposureLocks < 1) continue;
-    hal::Frame f = std::move(*r.frame);
-    const auto truth = camera.truth(f.metadata.sequence);
-    const auto [lo, hi] =
-        std::minmax_element(truth->rowOnFraction.begin(), truth->rowOnFraction.end());
-    if (*hi < 1e-3) {
-      f.metadata.ledOn = false;
-      for (const hal::Frame& on : held) {
-        pipeline.setFollowingAmbientFrame(f);
-        const FrameOutcome o = pipeline.process(on, slice);
-        if (o.kind != FrameOutcome::Kind::Sample) continue;
-        const FrameSample& s = *o.sample;
-        const Rgb t = material->evaluate(toUnitVector(s.light), toUnitVector(s.view));
-        double e2 = 0.0, t2 = 0.0;
-        for (int k = 0; k < 3; ++k) {
-          rel[k].push_back(s.value[k] / t[k] - 1.0);
-          e2 += (s.value[k] - t[k]) * (s.value[k] - t[k]), t2 += t[k] * t[k];
-        }
-        vectorErrors.push_back(std::sqrt(e2 / t2));
-        if (std::getenv("SLICECAP_ROOM_LIGHT_FLOOR_SAMPLES")) {
-          // How far apart the camera was at the two LED-off frames (0: one frame, or one place).
-          const auto terms = pipeline.ambientTermsFor(on.metadata.timestampUs, o.measurement.pose);
-          double apartMm = 0.0;
-          if (terms.size() == 2 && terms[0].pose && terms[1].pose)
-            apartMm = (terms[0].pose->cameraCentreMm() - terms[1].pose->cameraCentreMm()).norm();
-          std::printf("[ sample ] LED-off frames %.1f mm apart: error %.2f %%\n", apartMm,
-                      100 * vectorErrors.back());
-        }
-      }
-      held.clear();
-      pipeline.process(f, slice);
-    } else if (*lo > 1.0 - 1e-3) {
-      f.metadata.ledOn = true;
-      held.push_back(std::move(f));
-    }
-  }
+  StrobedRawCamera strobed(scene, model, exposureUs);
+  FramePipeline pipeline(renderer->target(), cameraModel, floorSettings(model));
+  SampleErrors errors;
+  strobedSamples(
+      *strobed.camera, pipeline, slice,
+      [&](const hal::Frame& on, const FrameOutcome& o) {
+        errors.add(*o.sample, *material);
+        if (!std::getenv("SLICECAP_ROOM_LIGHT_FLOOR_SAMPLES")) return;
+        // How far apart the camera was at the two LED-off frames (0: one frame, or one place).
+        const auto terms = pipeline.ambientTermsFor(on.metadata.timestampUs, o.measurement.pose);
+        double apartMm = 0.0;
+        if (terms.size() == 2 && terms[0].pose && terms[1].pose)
+          apartMm = (terms[0].pose->cameraCentreMm() - terms[1].pose->cameraCentreMm()).norm();
+        std::printf("[ sample ] LED-off frames %.1f mm apart: error %.2f %%\n", apartMm,
+                    100 * errors.vector.back());
+      },
+      [] { return false; });
   std::printf("[ moving %s room %.2f, %.0f %% of frames dropped ] median signed R/G/B %+.2f/%+.2f/"
               "%+.2f %%, median vector error %.2f %% (%zu samples, %llu frames dropped)\n",
-              toString(slice).c_str(), roomLight, 100 * drop, 100 * medianOf(rel[0]),
-              100 * medianOf(rel[1]), 100 * medianOf(rel[2]), 100 * medianOf(vectorErrors),
-              vectorErrors.size(), static_cast<unsigned long long>(camera.framesDropped()));
+              toString(slice).c_str(), roomLight, 100 * drop, 100 * medianOf(errors.rel[0]),
+              100 * medianOf(errors.rel[1]), 100 * medianOf(errors.rel[2]),
+              100 * medianOf(errors.vector), errors.vector.size(),
+              static_cast<unsigned long long>(strobed.camera->framesDropped()));
 }
 
 TEST(RoomLightFloor, TheMovingRigWithAndWithoutDroppedFrames) {
