@@ -170,6 +170,35 @@ TEST(SessionStore, ARefusedSweepsSamplesAreSetAsideKeptAndSaidAfterReopening) {
   EXPECT_TRUE(SessionStore::open(root, "s").refusals().empty());
 }
 
+// A version before the `refuse` record reads it as damage and sets aside every slice's samples
+// before it: a session is marked format 3 with its first refusal, which such a version (it reads
+// 1 to 2) refuses to open, naming the file (as AFormatOneSessionWithoutCellsStillOpens shows of a
+// format this version does not know); a session without a refusal stays format 2.
+TEST(SessionStore, ASessionWithARefusalIsMarkedAFormatOlderVersionsRefuse) {
+  const auto root = test::freshTempDir();
+  const auto formatOf = [&](const std::string& id) {
+    std::ifstream in(root / id / "session.json");
+    const std::string text{std::istreambuf_iterator<char>(in), {}};
+    const std::size_t at = text.find("\"format\": ");
+    return at == std::string::npos ? std::string("?") : text.substr(at + 10, 1);
+  };
+  {
+    SessionStore plain = SessionStore::create(root, "plain", "m");
+    plain.recordSample(kAxial3030, sampleAt(0, 1));
+    SessionStore refused = SessionStore::create(root, "refused", "m");
+    refused.recordSample(kAxial3030, sampleAt(0, 1));
+    EXPECT_EQ(formatOf("refused"), "2");
+    refused.refuse(kAxial3030, "decoding broken");
+  }
+  EXPECT_EQ(formatOf("plain"), "2");
+  EXPECT_EQ(formatOf("refused"), "3");
+  SessionStore reopened = SessionStore::open(root, "refused");
+  EXPECT_EQ(reopened.info().material, "m");
+  EXPECT_EQ(reopened.refusals().size(), 1u);
+  reopened.redo(kAxial3030);
+  EXPECT_EQ(formatOf("refused"), "3") << "the journal still holds the record";
+}
+
 TEST(SessionStore, ResumesAfterKillDashNineWithEveryAcknowledgedSample) {
   const auto root = test::freshTempDir();
   SessionStore::create(root, "s", "m");
@@ -478,12 +507,12 @@ TEST(SessionStore, AFormatOneSessionWithoutCellsStillOpens) {
   EXPECT_FALSE(store.slices().hasCellSamples());
   // A format this version does not know is refused, naming the file and what it reads.
   std::ofstream(root / "old" / "session.json")
-      << R"({"format":3,"id":"old","material":"m","created":"2026-11-23T14:05:00Z"})";
+      << R"({"format":4,"id":"old","material":"m","created":"2026-11-23T14:05:00Z"})";
   try {
     SessionStore::open(root, "old");
-    FAIL() << "format 3 opened";
+    FAIL() << "format 4 opened";
   } catch (const io::IoError& e) {
-    EXPECT_NE(std::string(e.what()).find("expected 1 to 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("expected 1 to 3"), std::string::npos) << e.what();
   }
 }
 

@@ -76,6 +76,12 @@ TEST(ProcessCommand, WritesSlicesReportAndSummary) {
   const Result badTexture = run({"process", recording, "-o", csv, "--cell-texture", "mean"});
   EXPECT_EQ(badTexture.code, kExitUsage);
   EXPECT_NE(badTexture.err.find("--cell-texture: 'mean'"), std::string::npos) << badTexture.err;
+  for (const char* every : {"1e-20", "0", "16", "nan", "3deg"}) {
+    const Result badEvery = run({"process", recording, "-o", csv, "--cell-points-every", every});
+    EXPECT_EQ(badEvery.code, kExitUsage) << every;
+    EXPECT_NE(badEvery.err.find("--cell-points-every: '" + std::string(every) + "'"),
+              std::string::npos) << badEvery.err;
+  }
 
   // The same slice twice, a directory without a recording: usage error / failure naming it.
   EXPECT_EQ(run({"process", recording, recording, "-o", csv}).code, kExitUsage);

@@ -132,6 +132,23 @@ TEST(DecodingWatch, ADarkChannelTheLedLightsIsNotRefused) {
   EXPECT_FALSE(half.refusal());
 }
 
+// An 8-bit HDR sweep: its short level is exposed for the highlight, so a dark channel sits in
+// the noise of black there (at or below 0 in about half its samples, or all); the longest level,
+// metered on the target, reads it lit. Two levels alternating: not refused.
+TEST(DecodingWatch, AnHdrSweepsShortLevelInTheDarkIsNotADecodingLost) {
+  DecodingWatch watch;
+  for (std::uint64_t i = 0; i < 32; ++i) {
+    capture::FrameOutcome outcome = lightSample({0.02, i % 2 ? -0.0004 : 0.01, 0.3});
+    outcome.sample.emplace();
+    outcome.sample->hdr.emplace();
+    outcome.sample->hdr->exposureLevel = int(i % 2);
+    watch.note(outcome, 10 + i);
+  }
+  EXPECT_FALSE(watch.refusal()) << *watch.refusal();
+  ASSERT_TRUE(watch.view().windowUnlit);
+  EXPECT_DOUBLE_EQ(*watch.view().windowUnlit, 0.0) << "the longest level's samples alone";
+}
+
 TEST(DecodingWatch, ALinearStreamOrAFewSamplesAreNotRefused) {
   DecodingWatch linear, few;
   for (std::uint64_t i = 0; i < 32; ++i) linear.note(lightSample({0.02, -0.01, 0.3}, false), 10 + i);

@@ -27,8 +27,23 @@ using nlohmann::json;
 using namespace journal_records;
 // 2: sample records may hold the window's cells ("cells"); a version that ignores them would
 // read the session's samples as window centres alone. Format 1 sessions (no cells) still open.
-constexpr int kFormatVersion = 2;
+// 3: the journal may hold a `refuse` record. A version before it reads that record as damage and
+// sets aside every slice's samples before it, not the refused slice's alone, so a session is
+// marked 3 when its first refusal is written, and such a version refuses to open it, naming the
+// file; a session without a refusal stays 2, readable by those versions.
+constexpr int kFormatVersion = 3;
+constexpr int kNewSessionFormatVersion = 2;
 constexpr int kOldestFormatVersion = 1;
+constexpr int kRefusalFormatVersion = 3;
+
+void writeDescription(const std::filesystem::path& directory, const SessionInfo& info, int format) {
+  io::writeFileAtomically(directory / "session.json",
+                          json{{"format", format},
+                               {"id", info.id},
+                               {"material", info.material},
+                               {"created", info.createdUtc}}
+                              .dump(2, ' ', false, json::error_handler_t::replace));
+}
 
 // A sweep is of an axial or a diagonal slice: a point "slice" has no azimuth bins, and a journal
 // record of it would not replay (the session would no longer open). Refused before anything is
@@ -97,12 +112,7 @@ SessionStore SessionStore::create(const std::filesystem::path& root, const std::
   // the journal was lost, which opening says.
   io::Journal journal = io::Journal::open(directory / kJournal, nullptr);
   SessionInfo info{id, material, utcNow(), {}};
-  io::writeFileAtomically(directory / "session.json",
-                          json{{"format", kFormatVersion},
-                               {"id", id},
-                               {"material", material},
-                               {"created", info.createdUtc}}
-                              .dump(2, ' ', false, json::error_handler_t::replace));
+  writeDescription(directory, info, kNewSessionFormatVersion);
   return SessionStore(directory, std::move(info), std::move(journal));
 }
 
@@ -258,6 +268,8 @@ void SessionStore::redo(const SliceId& slice) {
 
 void SessionStore::refuse(const SliceId& slice, const std::string& reason) {
   requireSweepSlice(slice);
+  // The description first: a session marked 3 without the record is still read right.
+  if (refusals_.empty()) writeDescription(directory_, info_, kRefusalFormatVersion);
   append(json{{"t", "refuse"}, {"slice", sliceJson(slice)}, {"reason", reason}});
   applyRefusal(slice, reason);
 }

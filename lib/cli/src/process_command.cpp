@@ -78,9 +78,11 @@ CellRules cellRulesOf(const ParsedArgs& args) {
   if (const auto every = args.value("cell-points-every")) {
     char* end = nullptr;
     rules.slices.pointsEveryDeg = std::strtod(every->c_str(), &end);
-    if (end == every->c_str() || *end != '\0' || !(rules.slices.pointsEveryDeg > 0.0) ||
-        !std::isfinite(rules.slices.pointsEveryDeg))
-      throw UsageError("--cell-points-every: '" + *every + "' is not a positive number of degrees");
+    // From a tenth of a degree (finer than the cells' own directions are known) to a bin's 15.
+    if (end == every->c_str() || *end != '\0' || !(rules.slices.pointsEveryDeg >= 0.1) ||
+        !(rules.slices.pointsEveryDeg <= 15.0))
+      throw UsageError("--cell-points-every: '" + *every +
+                       "' is not a number of degrees from 0.1 to 15 (a bin)");
   }
   return rules;
 }

@@ -71,8 +71,13 @@ void DecodingWatch::note(const capture::FrameOutcome& outcome, std::uint64_t seq
     eightBit_ = true;
     for (int c = 0; c < 3; ++c) keepLatest(atBlack_[c], (*m.windowAtBlack)[c]);
   }
+  // An HDR sweep's shorter levels leave a dark channel in the noise of black by design (they are
+  // exposed for the highlight): only the longest level, metered on the target, says whether the
+  // decoding lost a channel the LED lights.
+  const bool shortLevel = outcome.sample && outcome.sample->hdr && outcome.sample->hdr->exposureLevel > 0;
   if (m.windowLight) {
-    for (int c = 0; c < 3; ++c) keepLatest(unlit_[c], (*m.windowLight)[c] <= 0.0 ? 1.0 : 0.0);
+    if (!shortLevel)
+      for (int c = 0; c < 3; ++c) keepLatest(unlit_[c], (*m.windowLight)[c] <= 0.0 ? 1.0 : 0.0);
     // As the black reading: consecutive frames only, a channel the LED lights in both.
     if (lastWindowLight_ && lastWindowSequence_ && sequence == *lastWindowSequence_ + 1)
       for (int c = 0; c < 3; ++c)
