@@ -95,8 +95,7 @@ TEST(AdaptiveContrastFigures, StepsFromAnLedOffFramesStretchToAnLedOnFrames) {
     const hal::SensorModel& model = strobed.model;
     const CodeTable codes(model.tone);
     const auto read = [&](const hal::Frame& f, const vision::RectMm& r) {
-      return readArea(f, test::stillPose(), vision::defaultSimulatedCamera(), {r, 0.0, 2.0}, {},
-                      codes).mean;
+      return test::stillAreaMean(f, r, codes);
     };
     struct Reading {
       Rgb white, black, window;

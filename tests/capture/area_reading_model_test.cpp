@@ -81,8 +81,7 @@ TEST(AreaReadingOnTheModel, ADarkWindowLessItsLedOffFrameReadsAsTheSceneIs) {
   const vision::RectMm white{w.xMm - 3, w.yMm - 8, w.xMm + 3, w.yMm + 8};
   const CodeTable codes(model.tone);
   const auto read = [&](const hal::Frame& frame, const vision::RectMm& rect) {
-    return readArea(frame, test::stillPose(), vision::defaultSimulatedCamera(), {rect, 0.0, 2.0},
-                    {}, codes).mean * frame.metadata.exposureUs;
+    return test::stillAreaMean(frame, rect, codes) * frame.metadata.exposureUs;
   };
   const Rgb truthWindow = ledLight(scene->light(), window), truthWhite = ledLight(scene->light(), white);
   const Rgb windowOn = read(lit, window), windowOff = read(*dark, window);
@@ -131,8 +130,7 @@ TEST(DecodingCheckFigures, BlackReadingStepWithAndWithoutAdaptiveContrast) {
     const hal::SensorModel& model = strobed.model;
     const CodeTable codes(model.tone);
     const auto read = [&](const hal::Frame& f, const vision::RectMm& r) {
-      return readArea(f, test::stillPose(), vision::defaultSimulatedCamera(), {r, 0.0, 2.0}, {},
-                      codes).mean.mean();
+      return test::stillAreaMean(f, r, codes).mean();
     };
     std::optional<double> offBlack, offWhite, lastReading;
     std::optional<std::uint64_t> lastSequence;

@@ -7,11 +7,21 @@
 #include <memory>
 
 #include "bracket_rig.hpp"
+#include "slicecap/capture/area_reading.hpp"
 #include "slicecap/hal/model_isp_stage.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/vision/camera_model.hpp"
 
 namespace slicecap::test {
+
+/// \brief An area of a frame of the still rig (stillPose, the default camera), per unit exposure:
+/// the area's mean as the pipeline reads it, without a clip limit or a noise model.
+inline Rgb stillAreaMean(const hal::Frame& frame, const vision::RectMm& rect,
+                         const capture::CodeTable& codes) {
+  return capture::readArea(frame, stillPose(), vision::defaultSimulatedCamera(), {rect, 0.0, 2.0},
+                           {}, codes)
+      .mean;
+}
 
 /// \brief The still rig over satin-blue-45, and the areas the figures read on its target.
 struct StillSatinRig {
