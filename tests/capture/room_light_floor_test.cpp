@@ -21,6 +21,7 @@
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/rig.hpp"
 #include "slicecap/sim/rig_scene.hpp"
+#include "slicecap/sim/room_light.hpp"
 #include "slicecap/vision/camera_model.hpp"
 
 namespace slicecap::capture {
@@ -136,8 +137,7 @@ struct Spread {
 Spread measure(const SliceId& slice, double roomLight, int wanted) {
   sim::RigParams rig = sim::RigParams::steady();
   rig.framesPerSlice = 32;
-  const double d = rig.lightDistanceMm / 1000.0;
-  rig.ambientIrradiance = roomLight * rig.ledIntensityWPerSr / (d * d);
+  rig.ambientIrradiance = sim::roomIrradianceFor(rig, roomLight);
   const auto material = sim::loadMaterial("satin-blue-45");
   const vision::CameraModel cameraModel = vision::defaultSimulatedCamera();
   const auto renderer =
@@ -232,8 +232,7 @@ void movingSweep(double roomLight, double drop) {
   sim::RigParams rig = sim::RigParams::steady();
   rig.framesPerSlice = 32;  // slicecapd's model_positions and model_sweep_seconds
   rig.sweepSeconds = 8;
-  const double d = rig.lightDistanceMm / 1000.0;
-  rig.ambientIrradiance = roomLight * rig.ledIntensityWPerSr / (d * d);
+  rig.ambientIrradiance = sim::roomIrradianceFor(rig, roomLight);
   const auto material = sim::loadMaterial("satin-blue-45");
   const vision::CameraModel cameraModel = vision::defaultSimulatedCamera();
   const auto renderer =

@@ -13,6 +13,7 @@
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
 #include "slicecap/sim/rig.hpp"
+#include "slicecap/sim/room_light.hpp"
 #include "slicecap/vision/camera_model.hpp"
 
 namespace slicecap::capture {
@@ -75,8 +76,7 @@ hal::Frame renderedFrame(const sim::FrameRenderer& renderer, const std::vector<f
 TEST(RoomLightWeight, ASampleBetweenTwoPositionsTakesTheRoomLightOfItsOwn) {
   sim::RigParams rig = sim::RigParams::steady();
   rig.framesPerSlice = 32;
-  const double lightDistanceM = rig.lightDistanceMm / 1000.0;
-  rig.ambientIrradiance = 0.15 * rig.ledIntensityWPerSr / (lightDistanceM * lightDistanceM);
+  rig.ambientIrradiance = sim::roomIrradianceFor(rig, 0.15);
   const auto material = sim::loadMaterial("satin-blue-45");
   const vision::CameraModel camera = vision::defaultSimulatedCamera();
   const sim::FrameRenderer renderer(camera, vision::defaultTarget(), material, rig);

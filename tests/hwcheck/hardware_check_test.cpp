@@ -19,6 +19,7 @@
 #include "slicecap/hwcheck/white_rows.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
+#include "slicecap/sim/room_light.hpp"
 
 namespace slicecap::hwcheck {
 namespace {
@@ -160,7 +161,7 @@ TEST(HardwareCheck, MeasuresTheRoomLightsFlickerAndItsLevelAgainstTheLed) {
   // Issue 44's room: 15 % of the LED face-on (the rig's 1 W/sr at 300 mm: 11.1 W/m^2), 100 Hz
   // flicker 30 % deep. Goal: frequency within 1 Hz, depth and ratio within 20 %.
   sim::RigParams bright = sim::RigParams::realistic();
-  bright.ambientIrradiance = 0.15 * bright.ledIntensityWPerSr / (0.3 * 0.3);
+  bright.ambientIrradiance = sim::roomIrradianceFor(bright, 0.15);
   auto renderer = std::make_shared<sim::FrameRenderer>(vision::defaultSimulatedCamera(),
                                                        vision::defaultTarget(),
                                                        sim::loadMaterial("matte-paint"), bright);

@@ -10,6 +10,7 @@
 #include "slicecap/hal/model_isp.hpp"
 #include "slicecap/hal/room_flicker.hpp"
 #include "slicecap/io/target_json.hpp"
+#include "slicecap/sim/room_light.hpp"
 
 namespace slicecap::rig {
 namespace {
@@ -44,11 +45,8 @@ sim::RigParams modelRig(const DaemonConfig& config) {
   rig.framesPerSlice = config.modelPositions;
   rig.sweepSeconds = config.modelSweepSeconds;
   rig.seed = static_cast<std::uint64_t>(config.modelSeed);
-  // model_room_light: the room's irradiance against the LED's face-on at the rig's distance
-  // (intensity / d^2, the rig's radiometry).
-  const double lightDistanceM = rig.lightDistanceMm / 1000.0;
-  rig.ambientIrradiance =
-      config.modelRoomLight * rig.ledIntensityWPerSr / (lightDistanceM * lightDistanceM);
+  // model_room_light: the room's irradiance against the LED's face-on at the rig's distance.
+  rig.ambientIrradiance = sim::roomIrradianceFor(rig, config.modelRoomLight);
   return rig;
 }
 
