@@ -211,6 +211,16 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   return 0;
 }
 
+// How both commands read the window's cells (cellRulesOf).
+std::vector<OptionSpec> cellRuleOptions() {
+  return {{"cell-texture", 0, "MODE",
+           "the cells' reading of a textured window: auto (default), as-read, normalise or "
+           "centres (docs/method.md 9.4)"},
+          {"cell-points-every", 0, "DEG",
+           "the cells' reading: one sample per DEG (0.1 to 15) of each slice's parameter, not one "
+           "per bin (docs/method.md 9.4)"}};
+}
+
 }  // namespace
 
 Command processCommand() {
@@ -218,12 +228,8 @@ Command processCommand() {
       {"output", 'o', "SLICES.csv", "the slice CSV (required)"},
       {"cell-slices", 0, "FILE",
        "also write the slice CSV valued from the window cells (docs/method.md 9.4)"},
-      {"cell-texture", 0, "MODE",
-       "the cells' reading of a textured window: auto (default), as-read, normalise or centres "
-       "(docs/method.md 9.4)"},
-      {"cell-points-every", 0, "DEG",
-       "the cells' reading: one sample per DEG of each slice's parameter, not one per bin "
-       "(docs/method.md 9.4)"}};
+};
+  for (auto& o : cellRuleOptions()) options.push_back(o);
   for (auto& o : pipelineOptions())
     options.push_back(o);
   return {{"process", "RECORDING... -o SLICES.csv [--report report.json] [options]",
@@ -234,10 +240,10 @@ Command processCommand() {
            "window_occluded, pose_residual, no_ambient_frame, bad_frame; with --ambient previous,\n"
            "as live, also detection_deferred), the window's BRDF\n"
            "(the room light subtracted: the LED-off frames before and after, each at its own\n"
-           "pose, interpolated in time; divided by the fitted irradiance), 15 deg azimuth bins\n"
-           "combined by median (an HDR recording's levels merged per cell instead, with the room\n"
-           "light of each level: docs/method.md 9.3). One recording per slice; its slice comes\n"
-           "from recording.json.\n"
+           "pose, interpolated where the camera was; divided by the fitted irradiance), 15 deg\n"
+           "azimuth bins combined by median (an HDR recording's levels merged per cell instead,\n"
+           "with the room light of each level: docs/method.md 9.3). One recording per slice; its\n"
+           "slice comes from recording.json.\n"
            "Prints per slice the bins filled and the rejections by reason on stderr; no sample\n"
            "from any recording is a failure naming them (the report is still written).",
            options, 1, 64},
@@ -253,12 +259,8 @@ Command captureOfflineCommand() {
       {"slices", 0, "FILE", "also write the slice CSV"},
       {"cell-slices", 0, "FILE",
        "also write the slice CSV valued from the window cells (what b-cells reads)"},
-      {"cell-texture", 0, "MODE",
-       "the cells' reading of a textured window: auto (default), as-read, normalise or centres "
-       "(docs/method.md 9.4)"},
-      {"cell-points-every", 0, "DEG",
-       "the cells' reading: one sample per DEG of each slice's parameter, not one per bin "
-       "(docs/method.md 9.4)"}};
+};
+  for (auto& o : cellRuleOptions()) options.push_back(o);
   for (auto& o : pipelineOptions())
     options.push_back(o);
   return {{"capture-offline", "SESSION_DIR -o OUT.exr [--method b] [options]",
