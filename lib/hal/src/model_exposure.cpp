@@ -1,6 +1,7 @@
 // The model camera's exposure of one scene row: noisy samples to RAW codes or to 8-bit codes.
 #include "model_exposure.hpp"
 
+#include <cstring>
 #include <random>
 
 namespace slicecap::hal::model_exposure {
@@ -14,6 +15,30 @@ const std::vector<float>& normalTable() {
     return values;
   }();
   return table;
+}
+
+const float* sigmaTable(float inverseFullWell, float readVariance) {
+  struct Table {
+    float inverseFullWell = -1.0f, readVariance = -1.0f;
+    std::vector<float> sigmas;
+  };
+  thread_local Table table;
+  if (table.inverseFullWell != inverseFullWell || table.readVariance != readVariance) {
+    table.sigmas.resize(kSigmaLevels);
+    table.sigmas[0] = exactSigma(0.0f, inverseFullWell, readVariance);
+    for (std::size_t level = 1; level < kSigmaLevels; ++level) {
+      // Level k >= 1 spans [2^(e0 + m), 2^(e0 + m) (1 + 2^-9)) with m = (k - 1) / 2^9 in steps
+      // of 2^-9 of the octave: its middle signal.
+      const double start = std::ldexp(1.0 + double((level - 1) & ((1u << kSigmaMantissaBits) - 1)) /
+                                                (1u << kSigmaMantissaBits),
+                                      kSigmaLowestExponent + int((level - 1) >> kSigmaMantissaBits));
+      const double middle = start * (1.0 + 0.5 / (1u << kSigmaMantissaBits));
+      table.sigmas[level] = float(std::sqrt(middle * inverseFullWell + double(readVariance)));
+    }
+    table.inverseFullWell = inverseFullWell;
+    table.readVariance = readVariance;
+  }
+  return table.sigmas.data();
 }
 
 std::array<std::array<int, 2>, 2> cfaColours(BayerOrder order) {
@@ -40,6 +65,7 @@ SampleNoise sampleNoise(double fullWellElectrons, double readNoise) {
   noise.inverseFullWell = fullWellElectrons > 0 ? float(1.0 / fullWellElectrons) : 0.0f;
   noise.readVariance = float(readNoise * readNoise);
   noise.normals = normalTable().data();
+  noise.sigmas = sigmaTable(noise.inverseFullWell, noise.readVariance);
   return noise;
 }
 
@@ -64,19 +90,24 @@ void exposeRawRow(int row, int widthPx, const RowExposure& exposure, const RawCo
 
 void exposeRgbRow(int widthPx, const RowExposure& exposure, const float (&gains)[3],
                   SampleNoise& noise, std::uint16_t* out) {
-  // Written to vectorise (the daemon's frame loop pays this for every frame on `camera = model`,
-  // where a real camera's ISP works in parallel): the noisy, gained, clamped value in 1/65535
-  // steps. The noise draws are the ones SampleNoise::added reads, in the same order.
+  // The daemon's frame loop pays this for every frame on `camera = model` (a real camera's ISP
+  // works in parallel), and the tests under qemu pay it per floating-point operation and element
+  // (qemu emulates each, vector or not, by a call into its soft-float library): 4 a value here,
+  // where the square root per sample, the NaN-careful clamps and the float-to-integer conversion
+  // made about 15 (GCC 12, -O2). The deviation is a table look-up (no vector gather on NEON or
+  // SSE2, so the loop is scalar: as fast natively as the vectorised one with its square roots).
+  // The noisy, gained, clamped value in 1/65535 steps; the noise draws are the ones
+  // SampleNoise::added reads, in the same order, scaled by the same deviation.
   const std::size_t count = std::size_t(std::max(widthPx, 0)) * 3;
   if (count == 0) return;
-  thread_local std::vector<float> rowGains;  // the colour gain of each value of a row
-  if (rowGains.size() != count || rowGains[0] != gains[0] || rowGains[1] != gains[1] ||
-      rowGains[2] != gains[2]) {
+  thread_local std::vector<float> rowGains;  // the colour gain of each value of a row, x 65535
+  if (rowGains.size() != count || rowGains[0] != gains[0] * 65535.0f ||
+      rowGains[1] != gains[1] * 65535.0f || rowGains[2] != gains[2] * 65535.0f) {
     rowGains.resize(count);
-    for (std::size_t k = 0; k < count; ++k) rowGains[k] = gains[k % 3];
+    for (std::size_t k = 0; k < count; ++k) rowGains[k] = gains[k % 3] * 65535.0f;
   }
   const float ambientScale = exposure.ambientScale, ledScale = exposure.ledScale;
-  const float inverseFullWell = noise.inverseFullWell, readVariance = noise.readVariance;
+  const float* __restrict sigmas = noise.sigmas;
   std::size_t done = 0;
   while (done < count) {
     // The run of draws up to the table's end (it wraps to its start, as added() does).
@@ -88,12 +119,22 @@ void exposeRgbRow(int widthPx, const RowExposure& exposure, const float (&gains)
     std::uint16_t* __restrict linear = out + exposure.base + done;
     for (std::size_t i = 0; i < run; ++i) {
       const float signal = ambientScale * ambient[i] + ledScale * lit[i];
-      const float value = withNoise(signal, normals[i], inverseFullWell, readVariance) * gain[i];
-      // Clamps written as selects (maxss/minss), not std::max/min, which the compiler keeps
-      // as branches and so does not vectorise; the values are the same for every finite input.
-      const float positive = value > 0.0f ? value : 0.0f;
-      const float clamped = positive < 1.0f ? positive : 1.0f;
-      linear[i] = static_cast<std::uint16_t>(clamped * 65535.0f + 0.5f);
+      const float value = signal + sigmas[sigmaLevel(signal)] * normals[i];
+      // Gained, in 1/65535 steps, rounded to the nearest whole step by adding 1.5 x 2^23 (a float
+      // of that size has no fraction bits: the sum's low bits are the rounded code) instead of a
+      // float-to-integer conversion, which qemu emulates with a change of rounding mode around
+      // it; clamped as an integer: a positive float's bits grow with it, so every sum above the
+      // code 65535's (and a NaN) reads 65535, and a sum below the magic number (a negative code,
+      // or a negative float, whose bits are negative) reads 0. Exact for |code| < 2^22; halves
+      // round to even where they rounded up before (one code at exact ties only).
+      constexpr float kMagic = 12582912.0f;  // 1.5 x 2^23
+      constexpr std::int32_t kMagicBits = 0x4B400000;
+      const float sum = value * gain[i] + kMagic;
+      std::int32_t bits;
+      std::memcpy(&bits, &sum, sizeof bits);
+      const std::int32_t low = bits > kMagicBits ? bits : kMagicBits;
+      const std::int32_t code = (low < kMagicBits + 65535 ? low : kMagicBits + 65535) - kMagicBits;
+      linear[i] = static_cast<std::uint16_t>(code);
     }
     done += run;
     noise.at = (noise.at + run) & (kNoiseTableSize - 1);
