@@ -57,6 +57,7 @@ TEST(DaemonConfig, ReadsEveryKind) {
   const DaemonConfig c = parse(
       "camera = file  # plays a simulated session\n"
       "camera_recording = /srv/sim/felt\n"
+      "camera_recording_speed = 4\n"
       "resolution = 1920x1080\n"
       "exposure_us = 8000\n"
       "led_active_low = yes\n"
@@ -77,6 +78,7 @@ TEST(DaemonConfig, ReadsEveryKind) {
   EXPECT_EQ(c.cameraRaw, hal::RawCapture::Off);
   EXPECT_EQ(c.modelRaw, "SBGGR12_CSI2P");
   EXPECT_EQ(c.recording, "/srv/sim/felt");
+  EXPECT_EQ(c.recordingSpeed, 4.0);
   EXPECT_EQ(c.widthPx, 1920);
   EXPECT_EQ(c.exposureUs, 8000.0);
   EXPECT_TRUE(c.ledActiveLow);
@@ -113,6 +115,8 @@ TEST(DaemonConfig, NamesTheLineAndKeyOfEveryMistake) {
   EXPECT_EQ(error("resolution = 640\n"), "slicecapd.conf:1: resolution: '640' is not WIDTHxHEIGHT");
   EXPECT_NE(error("resolution = 99999x10\n").find("between 64 and 8192"), std::string::npos);
   EXPECT_EQ(error("gain = -2\n"), "slicecapd.conf:1: gain: '-2' is not a positive gain");
+  EXPECT_EQ(error("camera_recording_speed = 0\n"),
+            "slicecapd.conf:1: camera_recording_speed: '0' is not a positive speed (1: as recorded)");
   EXPECT_EQ(error("led_alternate = maybe\n"),
             "slicecapd.conf:1: led_alternate: 'maybe' is not true or false");
   EXPECT_EQ(error("storage = /a\nstorage = /b\n"), "slicecapd.conf:2: storage: set twice");

@@ -20,7 +20,10 @@ source "$(dirname "${BASH_SOURCE[0]}")/../../scripts/slicecapd-session.sh"
 trap 'session_cleanup; rm -rf "$work"' EXIT
 
 "$slicecap" simulate --material "$material" --session "$work/session" --frames 32 --seed 7 >/dev/null
-write_config "$work/session" "texture_resolution = 16"
+# The session's recordings at 4 x their recorded pace: the same frames, their LED states and
+# timestamps (a recorded frame says whether the LED was on), without 72 of the 96 s a person's
+# eight 12 s sweeps would wait on the clock. Slow enough that the kill below lands mid-sweep.
+write_config "$work/session" "texture_resolution = 16" "camera_recording_speed = 4"
 
 start_daemon
 led_is_off || fail "the LED is not off after the start"

@@ -20,7 +20,8 @@ trap 'session_cleanup; rm -rf "$work"' EXIT
 material="ward:diffuse=0.02,specular=0.9,ax=0.04,ay=0.3,tangent=0"
 "$slicecap" simulate --material "$material" --slice diagonal --theta-i 75 --theta-v 75 --hdr 2 \
   --steady --seed 3 -o "$work/rec" >/dev/null 2>&1 || fail "simulate --hdr 2 failed"
-write_config "$work/rec"
+# At 4 x the recorded pace: the same frames and timestamps, 3 s of waiting instead of 12.
+write_config "$work/rec" "camera_recording_speed = 4"
 start_daemon
 "$slicecap" session new "hdr" --id hdr >/dev/null
 sweep "diagonal 75 75"

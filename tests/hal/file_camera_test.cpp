@@ -110,6 +110,28 @@ TEST(FileCamera, PacedPlaybackWaitsOnTheClockAndTimesOut) {
   EXPECT_EQ(clock.nowUs(), 500 + 40'000);
 }
 
+TEST(FileCamera, PlayedFasterItsFramesComeSoonerWithTheirRecordedTimestamps) {
+  FakeClock clock(500);
+  FileCameraOptions options;
+  options.paced = true;
+  options.speed = 4.0;
+  FileCamera camera(threeFrameRecording(), clock, options);
+  CameraConfig config;
+  config.widthPx = 8;
+  config.heightPx = 6;
+  camera.configure(config);
+  camera.start();
+  const CaptureResult first = camera.nextFrame(0ms);
+  ASSERT_EQ(first.status, CaptureResult::Status::Frame);
+  // 40 ms of the recording are 10 ms of the clock: a 5 ms wait times out, a 10 ms one gets it,
+  // and its timestamp is still the recorded one, 40 ms after the first's.
+  EXPECT_EQ(camera.nextFrame(5ms).status, CaptureResult::Status::Timeout);
+  const CaptureResult second = camera.nextFrame(10ms);
+  ASSERT_EQ(second.status, CaptureResult::Status::Frame);
+  EXPECT_EQ(clock.nowUs(), 500 + 10'000);
+  EXPECT_EQ(second.frame->metadata.timestampUs - first.frame->metadata.timestampUs, 40'000);
+}
+
 TEST(FileCamera, LoopsWithIncreasingTimestampsAndReportsBadFramesAsErrors) {
   FakeClock clock;
   const auto dir = threeFrameRecording();

@@ -82,6 +82,10 @@ std::vector<SetterEntry> cameraSetters() {
      }},
     {"camera_device", [](DaemonConfig& c, const std::string& v) { c.cameraDevice = v; }},
     {"camera_recording", [](DaemonConfig& c, const std::string& v) { c.recording = v; }},
+    {"camera_recording_speed",
+     [](DaemonConfig& c, const std::string& v) {
+       c.recordingSpeed = positiveNumber(v, "a positive speed (1: as recorded)");
+     }},
     {"resolution",
      [](DaemonConfig& c, const std::string& v) {
        const auto x = v.find('x');

@@ -23,6 +23,9 @@ camera = libcamera
 camera_device =
 # With camera = file: the recording or simulated session folder to play.
 camera_recording =
+# With camera = file: how many times faster than recorded its frames come (the same frames, with
+# their recorded timestamps; the tests play a simulated session at 4 to wait less).
+camera_recording_speed = 1
 # Frame size in pixels.
 resolution = 1280x720
 # Locked exposure (microseconds) and gain (the camera's own units: V4L2's gain control, libcamera's

@@ -99,7 +99,9 @@ CaptureResult FileCamera::nextFrame(std::chrono::milliseconds timeout) {
   const std::int64_t span = frames.back().timestampUs - frames.front().timestampUs + s.periodUs;
   const std::int64_t timestampUs = entry.timestampUs + static_cast<std::int64_t>(pass) * span;
   if (s.options.paced) {
-    const std::int64_t dueUs = s.startUs + (timestampUs - frames.front().timestampUs);
+    const std::int64_t dueUs =
+        s.startUs + static_cast<std::int64_t>(double(timestampUs - frames.front().timestampUs) /
+                                              s.options.speed);
     const std::int64_t deadlineUs = s.clock.nowUs() + timeout.count() * 1000;
     if (dueUs > deadlineUs) {
       s.clock.sleepUntilUs(deadlineUs);

@@ -160,9 +160,10 @@ void setFileCameras(CameraSources& sources, const FileCameraDescription& file, h
   auto recordings = std::make_shared<const RecordingsBySlice>(findRecordings(file.recording));
   const fs::path configured = file.recording;
   sources.firstSlice = recordings->begin()->first;
-  sources.cameraFor = [recordings, configured, &clock](const SliceId& slice) {
+  sources.cameraFor = [recordings, configured, speed = file.speed, &clock](const SliceId& slice) {
     hal::FileCameraOptions options;
-    options.paced = true;  // frames at their recorded rate, as a live camera delivers them
+    options.paced = true;  // frames at their recorded rate (or `speed` x it), as a live camera delivers them
+    options.speed = speed;
     return std::make_shared<hal::FileCamera>(recordingFor(*recordings, configured, slice).first,
                                              clock, options);
   };

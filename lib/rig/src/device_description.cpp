@@ -65,7 +65,7 @@ std::pair<CameraDescription, std::string> describeCamera(const DaemonConfig& con
       return {ModelCameraDescription{modelRig(config), config.modelMaterial, modelSensor(config)},
               "model camera"};
     case DaemonConfig::CameraKind::File:
-      return {FileCameraDescription{config.recording}, "file camera " + config.recording.string()};
+      return {FileCameraDescription{config.recording, config.recordingSpeed}, "file camera " + config.recording.string()};
   }
   return {LiveCameraDescription{}, "camera"};
 }

@@ -33,6 +33,7 @@ struct DaemonConfig {
   std::string cameraDevice;  ///< camera_device: libcamera id or /dev/videoN; empty = first found
   std::filesystem::path
       recording;       ///< camera_recording: for camera = file, a recording or session folder
+  double recordingSpeed = 1.0;  ///< camera_recording_speed: the recording played this x faster
   int widthPx = 1280;  ///< resolution = WIDTHxHEIGHT
   int heightPx = 720;
   /// exposure_us: locked exposure; empty = metered at each sweep start, then locked

@@ -16,6 +16,9 @@ struct FileCameraOptions {
   /// Deliver each frame no earlier than its recorded time after start() (on the clock), as a live
   /// camera would; false: as fast as asked.
   bool paced = false;
+  /// With paced: the recording's time runs this many times faster than the clock (1: as
+  /// recorded). The frames and their timestamps are the recorded ones whatever the speed.
+  double speed = 1.0;
   /// Start over after the last frame; timestamps keep increasing by the recording's frame period.
   bool loop = false;
   /// Fault injection for tests: the frame of this sequence number comes back as an Error.

@@ -44,6 +44,7 @@ struct ModelCameraDescription {
 /// \brief camera = file: the recording, or a session folder of them (read when the camera opens).
 struct FileCameraDescription {
   std::filesystem::path recording;
+  double speed = 1.0;  ///< the recording's time against the clock's (camera_recording_speed)
 };
 
 using CameraDescription =
