@@ -127,8 +127,8 @@ class RunningCellTexture {
  public:
   explicit RunningCellTexture(CellTextureRule rule = {}, double regrowth = 1.25);
   /// \brief The verdict for `bins`, the running sweep's frames so far: judged again when their
-  /// frames with cells reach `regrowth` x those of the kept verdict, or fall below them (the
-  /// slice redone). With fewer than the rule's minFrames frames with cells no verdict can be
+  /// frames with cells reach `regrowth` x those of the kept verdict, or when they are another
+  /// run's (AzimuthBins::run: the slice redone, or other bins), however many frames it has. With fewer than the rule's minFrames frames with cells no verdict can be
   /// made and the action is WindowCentres (the cells not read): the first frames of a textured
   /// sweep would otherwise name its thread a missed peak. Never throws.
   const CellTexture& of(const AzimuthBins& bins);
@@ -139,6 +139,7 @@ class RunningCellTexture {
   CellTextureRule rule_;
   double regrowth_;
   std::size_t framesJudged_ = 0;
+  std::optional<std::uint64_t> runJudged_;  // AzimuthBins::run() of the kept verdict
   CellTexture texture_;
 };
 
