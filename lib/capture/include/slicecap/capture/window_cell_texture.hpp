@@ -34,6 +34,9 @@ struct CellTexture {
   /// \brief Frames whose every cell was usable (not clipped, finite) with some channel clear of
   /// the noise in every cell (CellTextureRule::minCellSnr), the ones measured.
   int framesUsed = 0;
+  /// \brief The most frames any one channel was measured in (under the rule's minFrames in
+  /// every channel: no factors).
+  int framesInBestChannel = 0;
   /// \brief Each cell position's albedo factor, row by row, per channel: the median over the
   /// frames of the cell's value over its frame's mean of cells (1 in a channel with too few
   /// frames measured). Empty when too few frames.
