@@ -120,6 +120,32 @@ TEST(PassAgain, WhileATexturedSweepRunsAThreadsColourIsNoMissedPeak) {
   EXPECT_EQ(running.framesJudged(), 0u);
 }
 
+TEST(PassAgain, ARedoneSweepIsJudgedAfreshThoughItsFramesRegrewUnasked) {
+  // The woven sweep judged, then redone on a plain window with no verdict asked while its frames
+  // came back to as many as before (fewer than a quarter more): the kept verdict is the old
+  // run's, and the new run's is its own.
+  const Profile flat = [](double) { return 1.0; };
+  const Print thread = [](int k) { return std::abs(k) == 4 ? 3.0 : 1.0; };
+  AzimuthBins bins(SliceKind::Diagonal);
+  for (const FrameSample& frame : test::diagonalSweep(flat, 0, 180, {{86, 94}}, thread))
+    bins.add(frame);
+  RunningCellTexture running;
+  ASSERT_NE(running.of(bins).action, CellTextureAction::AsRead);
+  const std::size_t judged = running.framesJudged();
+  bins.clear();
+  for (const FrameSample& frame : test::diagonalSweep(flat, 0, 180, {{86, 94}}))
+    bins.add(frame);
+  const CellTexture& redone = running.of(bins);
+  EXPECT_EQ(running.framesJudged(), judged);
+  EXPECT_EQ(redone.action, CellTextureAction::AsRead) << redone.describe();
+  // Adding frames keeps the run; clearing starts another.
+  const std::uint64_t run = bins.run();
+  bins.add(test::diagonalSweep(flat, 200, 203, {}).front());
+  EXPECT_EQ(bins.run(), run);
+  bins.clear();
+  EXPECT_NE(bins.run(), run);
+}
+
 TEST(PassAgain, ABroadLobeWithTheSameGapIsNotAMissedPeak) {
   // sigma 15 deg: over the last two cell steps before the gap it changes by a few per cent.
   const Profile broad = [](double p) { return 0.1 + lobe(p, 90, 15); };

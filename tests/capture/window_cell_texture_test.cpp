@@ -191,6 +191,41 @@ TEST(WindowCellTexture, AFactorShownInFewBinsGivesTheWindowCentres) {
                         std::to_string(texture.binsWithCells) + " bins only, 50 % needed"));
 }
 
+TEST(WindowCellTexture, EveryReasonIsTrueAtItsThresholds) {
+  // Verdicts made by hand at the edges of the rule's thresholds: each reason's figures must be
+  // on the side of the threshold the verdict says, as printed.
+  const CellTextureRule rule;
+  CellTexture split;  // 9 frames each clear in some channel, but no channel in 8 of them
+  split.framesUsed = 9;
+  split.framesInBestChannel = 5;
+  EXPECT_THAT(verdictReason(split), HasSubstr(": 5 frames with every cell clear of the noise in "
+                                              "a channel, 8 needed"));
+  CellTexture plain;
+  plain.albedoFactors.assign(64, Rgb::gray(1.0));
+  plain.spreadPercent = 9.7;
+  EXPECT_THAT(verdictReason(plain), HasSubstr("spread 9.7 %, within the 10 %"));
+  CellTexture lone = plain;
+  lone.spreadPercent = 10.3;
+  lone.action = CellTextureAction::WindowCentres;
+  EXPECT_THAT(verdictReason(lone), HasSubstr("(spread 10.3 % over 10 %), and no two cells"));
+  CellTexture unexplained = lone;
+  unexplained.matchedPairs = 40;
+  unexplained.unexplainedPercent = 5.2;
+  EXPECT_THAT(verdictReason(unexplained), HasSubstr("do not explain: 5.2 % left, under 5 % needed"));
+  CellTexture few = unexplained;
+  few.unexplainedPercent = 4.8;
+  few.binsMatched = 11;
+  few.binsWithCells = 23;
+  EXPECT_THAT(verdictReason(few), HasSubstr("shown in 11 of 23 bins only, 50 % needed"));
+  CellTexture explained = few;
+  explained.binsMatched = 12;
+  explained.action = CellTextureAction::AlbedoNormalised;
+  EXPECT_THAT(verdictReason(explained), HasSubstr("explain: 4.8 % left over 40 cell pairs in 12 of 23"));
+  explained.unexplainedPercent = 4.996;  // not "5 % left" beside "under 5 %"
+  EXPECT_THAT(verdictReason(explained), HasSubstr("explain: 4.996 % left"));
+  EXPECT_THAT(verdictReason(explained, rule), HasSubstr("(spread 10.3 % over 10 %)"));
+}
+
 TEST(WindowCellTexture, TooFewFramesOrAForcedActionAreSaid) {
   AzimuthBins few(SliceKind::Diagonal);
   const AzimuthBins full = sweep([](int k, const UnitVector& l, const UnitVector& v) {
@@ -202,7 +237,8 @@ TEST(WindowCellTexture, TooFewFramesOrAForcedActionAreSaid) {
   EXPECT_EQ(none.action, CellTextureAction::AsRead);
   EXPECT_TRUE(none.albedoFactors.empty());
   EXPECT_NE(none.describe().find("5 frames"), std::string::npos) << none.describe();
-  EXPECT_THAT(verdictReason(none), HasSubstr("5 frames with every cell clear of the noise, 8 needed"));
+  EXPECT_THAT(verdictReason(none),
+              HasSubstr("5 frames with every cell clear of the noise in a channel, 8 needed"));
   CellTextureRule forced;
   forced.forced = CellTextureAction::AsRead;
   const CellTexture kept = cellTextureOf(full, forced);

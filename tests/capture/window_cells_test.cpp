@@ -160,5 +160,28 @@ TEST(WindowCells, ASweepsSlicesCarryCellSamplesOnlyWhenItsFramesHaveCells) {
   EXPECT_TRUE(set.hasCellSamples());
 }
 
+TEST(WindowCells, EveryUsableCellIsAPointInItsFramesGroup) {
+  // Frame 1: two usable cells and a clipped one; frame 2: one cell; an old frame without cells in
+  // a bin no cell reaches keeps its centre, a group of one with no noise.
+  AzimuthBins bins(SliceKind::Diagonal);
+  bins.add(frameWithCells(88.0, 0.1, {{88.0, 0.1}, {89.9, 5.0, false, 4e-4}, {90.05, 9.0, true}}, 1));
+  bins.add(frameWithCells(92.0, 0.2, {{92.0, 0.2}}, 2));
+  bins.add(FrameSample{0, 3, {75, 330}, {75, 30}, Rgb::gray(0.25)});
+  const std::vector<FrameCellPoints> groups = cellPointsByFrame(bins, SliceKind::Diagonal);
+  ASSERT_EQ(groups.size(), 3u);
+  ASSERT_EQ(groups[0].size(), 2u);
+  EXPECT_NEAR(groups[0][1].sample.value.r(), 5.0, 1e-12);
+  EXPECT_NEAR(groups[0][1].variance.r(), 4e-4, 1e-12);
+  EXPECT_EQ(groups[1].size(), 1u);
+  ASSERT_EQ(groups[2].size(), 1u);
+  EXPECT_NEAR(groups[2][0].sample.value.r(), 0.25, 1e-12);
+  EXPECT_EQ(groups[2][0].variance.r(), 0.0);
+  // A sweep's slice carries them, and its cells' reading keeps them.
+  SliceSet set;
+  addSweepSlices(set, kDiagonal7575, bins);
+  EXPECT_EQ(set.find(kDiagonal7575)->cellFrames.size(), 3u);
+  EXPECT_TRUE(set.cellReading().hasCellFrames());
+}
+
 }  // namespace
 }  // namespace slicecap::capture

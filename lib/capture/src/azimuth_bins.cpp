@@ -30,7 +30,8 @@ double circularMeanDeg(const std::vector<double>& azimuthsDeg) {
   return wrapDeg360(radToDeg(std::atan2(y, x)));
 }
 
-// The next AzimuthBins::version(): one counter for every instance, so two bins never share one.
+// The next AzimuthBins::version() or run(): one counter for every instance, so two bins never
+// share one.
 std::uint64_t nextVersion() {
   static std::atomic<std::uint64_t> counter{0};
   return ++counter;
@@ -39,7 +40,7 @@ std::uint64_t nextVersion() {
 }  // namespace
 
 AzimuthBins::AzimuthBins(SliceKind kind, double binWidthDeg)
-    : kind_(kind), binWidthDeg_(binWidthDeg), version_(nextVersion()) {
+    : kind_(kind), binWidthDeg_(binWidthDeg), version_(nextVersion()), run_(nextVersion()) {
   const double count = 360.0 / binWidthDeg;
   if (!std::isfinite(count) || count < 1.0 || std::abs(count - std::round(count)) > 1e-9) {
     throw CaptureError("azimuth bin width must divide 360 deg");
@@ -67,6 +68,7 @@ void AzimuthBins::clear() {
   for (auto& bin : bins_)
     bin.clear();
   version_ = nextVersion();
+  run_ = nextVersion();
   clippedCache_.reset();
 }
 

@@ -110,6 +110,26 @@ std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& 
   return out;
 }
 
+std::vector<FrameCellPoints> cellPointsByFrame(const AzimuthBins& bins, SliceKind kind) {
+  std::vector<FrameCellPoints> out;
+  for (int b = 0; b < bins.binCount(); ++b)
+    for (const FrameSample& frame : bins.samplesIn(b)) {
+      if (!frame.cells) continue;
+      FrameCellPoints points;
+      for (const CellSample& cell : frame.cells->cells)
+        if (!cell.clipped && std::isfinite(cell.value.mean()))
+          points.push_back({{cell.light, cell.view, cell.value}, cell.variance});
+      if (!points.empty()) out.push_back(std::move(points));
+    }
+  // A bin no usable cell reached keeps its window-centre reading, as sliceFromCells does.
+  const std::vector<std::vector<const CellSample*>> cellsOfBin = usableCellsByBin(bins, kind);
+  for (int b = 0; b < bins.binCount(); ++b)
+    if (cellsOfBin[std::size_t(b)].empty())
+      if (std::optional<SliceSample> centre = bins.combineBin(b))
+        out.push_back({{*centre, Rgb{}}});
+  return out;
+}
+
 CellTexture addSweepSlices(SliceSet& set, const SliceId& id, const AzimuthBins& bins,
                            const CellTextureRule& rule, const CellSliceRule& sliceRule) {
   bool anyCells = false;
@@ -126,6 +146,8 @@ CellTexture addSweepSlices(SliceSet& set, const SliceId& id, const AzimuthBins& 
   if (!cells) return texture;
   for (const SliceSample& sample : sliceFromCells(*cells, id, sliceRule))
     set.addCellSample(id, sample);
+  for (FrameCellPoints& frame : cellPointsByFrame(*cells, id.kind))
+    set.addCellFrame(id, std::move(frame));
   return texture;
 }
 

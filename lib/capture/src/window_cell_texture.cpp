@@ -159,39 +159,69 @@ std::string CellTexture::describe() const {
   return text;
 }
 
+namespace {
+
+// A threshold of the rule as it is set (10, 5, 50).
+std::string rulePercent(double threshold) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%g", threshold);
+  return text;
+}
+
+// `value` in as few decimals (none up to 6) as show it on its side of `threshold`: a spread of
+// 10.3 is not "10 % over 10 %", an unexplained 5.2 not "5 % left, under 5 % needed".
+std::string percentBeside(double value, double threshold) {
+  char text[48];
+  for (int decimals = 0;; ++decimals) {
+    std::snprintf(text, sizeof text, "%.*f", decimals, value);
+    char other[48];
+    std::snprintf(other, sizeof other, "%.*f", decimals, threshold);
+    if (value == threshold || std::string(text) != other || decimals == 6) return text;
+  }
+}
+
+}  // namespace
+
 std::string verdictReason(const CellTexture& texture, const CellTextureRule& rule) {
-  char text[240];
+  const std::string spread = percentBeside(texture.spreadPercent, rule.textureSpreadPercent);
+  const std::string threshold = rulePercent(rule.textureSpreadPercent);
+  char text[320];
   if (rule.forced)
     std::snprintf(text, sizeof text, "set by the command line, whatever the cells show");
   else if (texture.albedoFactors.empty())
+    // The frames a channel was measured in, not framesUsed: a frame counts there when any of
+    // its channels is clear of the noise, so it may reach the count while no channel does.
     std::snprintf(text, sizeof text,
-                  "texture not measured: %d frames with every cell clear of the noise, %d needed",
-                  texture.framesUsed, rule.minFrames);
+                  "texture not measured: %d frames with every cell clear of the noise in a "
+                  "channel, %d needed",
+                  texture.framesInBestChannel, std::max(rule.minFrames, 1));
   else if (texture.action == CellTextureAction::AsRead)
-    std::snprintf(text, sizeof text, "spread %.0f %%, within the %.0f %% of a plain material",
-                  texture.spreadPercent, rule.textureSpreadPercent);
+    std::snprintf(text, sizeof text, "spread %s %%, within the %s %% of a plain material",
+                  spread.c_str(), threshold.c_str());
   else if (texture.matchedPairs == 0)
     std::snprintf(text, sizeof text,
-                  "texture (spread %.0f %% over %.0f %%), and no two cells of different spots at "
+                  "texture (spread %s %% over %s %%), and no two cells of different spots at "
                   "the same directions to show a factor explains it",
-                  texture.spreadPercent, rule.textureSpreadPercent);
+                  spread.c_str(), threshold.c_str());
   else if (texture.unexplainedPercent >= rule.unexplainedPercent)
     std::snprintf(text, sizeof text,
-                  "texture (spread %.0f %% over %.0f %%) that the albedo factors do not explain: "
-                  "%.0f %% left, under %.0f %% needed",
-                  texture.spreadPercent, rule.textureSpreadPercent, texture.unexplainedPercent,
-                  rule.unexplainedPercent);
+                  "texture (spread %s %% over %s %%) that the albedo factors do not explain: "
+                  "%s %% left, under %s %% needed",
+                  spread.c_str(), threshold.c_str(),
+                  percentBeside(texture.unexplainedPercent, rule.unexplainedPercent).c_str(),
+                  rulePercent(rule.unexplainedPercent).c_str());
   else if (texture.action == CellTextureAction::WindowCentres)
     std::snprintf(text, sizeof text,
-                  "texture (spread %.0f %% over %.0f %%) whose factors are shown in %d of %d bins "
-                  "only, %.0f %% needed",
-                  texture.spreadPercent, rule.textureSpreadPercent, texture.binsMatched,
-                  texture.binsWithCells, 100.0 * rule.matchedBinsFraction);
+                  "texture (spread %s %% over %s %%) whose factors are shown in %d of %d bins "
+                  "only, %s %% needed",
+                  spread.c_str(), threshold.c_str(), texture.binsMatched, texture.binsWithCells,
+                  rulePercent(100.0 * rule.matchedBinsFraction).c_str());
   else
     std::snprintf(text, sizeof text,
-                  "texture (spread %.0f %% over %.0f %%) that the albedo factors explain: %.0f %% "
+                  "texture (spread %s %% over %s %%) that the albedo factors explain: %s %% "
                   "left over %ld cell pairs in %d of %d bins",
-                  texture.spreadPercent, rule.textureSpreadPercent, texture.unexplainedPercent,
+                  spread.c_str(), threshold.c_str(),
+                  percentBeside(texture.unexplainedPercent, rule.unexplainedPercent).c_str(),
                   long(texture.matchedPairs), texture.binsMatched, texture.binsWithCells);
   return text;
 }
@@ -226,7 +256,10 @@ CellTexture cellTextureOf(const AzimuthBins& bins, const CellTextureRule& rule) 
       if (frames[f].measured[c]) framesOf[c].push_back(f);
   const std::size_t enough = std::size_t(std::max(rule.minFrames, 1));
   std::size_t channels = 0;
-  for (std::size_t c = 0; c < 3; ++c) channels += framesOf[c].size() >= enough ? 1 : 0;
+  for (std::size_t c = 0; c < 3; ++c) {
+    channels += framesOf[c].size() >= enough ? 1 : 0;
+    out.framesInBestChannel = std::max(out.framesInBestChannel, int(framesOf[c].size()));
+  }
   if (channels == 0) {
     if (rule.forced == CellTextureAction::WindowCentres) out.action = *rule.forced;
     return out;

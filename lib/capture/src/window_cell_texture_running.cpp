@@ -22,12 +22,14 @@ RunningCellTexture::RunningCellTexture(CellTextureRule rule, double regrowth)
 const CellTexture& RunningCellTexture::of(const AzimuthBins& bins) {
   const std::size_t frames = framesWithCells(bins);
   // Growth by a factor keeps the judgements' total cost a few times one judgement of the whole
-  // sweep; fewer frames than judged means the slice was redone, and the kept verdict is not its.
-  const bool redone = frames < framesJudged_;
+  // sweep. Another run (the slice redone, even if its frames have regrown past the kept count
+  // with no verdict asked in between) is not the kept verdict's: judged afresh.
+  const bool otherRun = runJudged_ != bins.run();
   const bool grown = frames > framesJudged_ && double(frames) >= regrowth_ * double(framesJudged_);
-  if (redone || grown) {
+  if (otherRun || grown) {
     texture_ = cellTextureOf(bins, rule_);
     framesJudged_ = frames;
+    runJudged_ = bins.run();
     // Too few frames for any verdict: the first frames of a textured sweep would otherwise name
     // its thread a missed peak. Once there are enough, a verdict of too few frames clear of the
     // noise reads the cells as they are, as a finished sweep's does.

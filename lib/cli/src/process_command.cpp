@@ -195,6 +195,8 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   if (const auto csv = args.value("cell-slices")) io::writeSliceCsv(*csv, slices.cellReading());
   methods::MethodOptions options;
   options.isotropic = args.flag("isotropic");
+  options.priorFitsEveryCell = args.flag("prior-every-cell") || args.flag("prior-cell-gls");
+  options.priorCellFrameEffect = args.flag("prior-cell-gls");
   const methods::MethodRun result = methods::runMethodOrPrior(method, slices, options);
   // A method on the cells' reading read its samples, not the window centres.
   const std::size_t samples = methods::readsCellSamples(method.id)
@@ -259,6 +261,12 @@ Command captureOfflineCommand() {
       {"slices", 0, "FILE", "also write the slice CSV"},
       {"cell-slices", 0, "FILE",
        "also write the slice CSV valued from the window cells (what b-cells reads)"},
+      {"prior-every-cell", 0, "",
+       "prior-cells fits every window cell as a point, one frame's cells as a group "
+       "(docs/method.md 9.4)"},
+      {"prior-cell-gls", 0, "",
+       "as --prior-every-cell, one frame's cells fitted with a random frame effect instead "
+       "(a comparison: docs/method.md 9.4)"},
 };
   for (auto& o : cellRuleOptions()) options.push_back(o);
   for (auto& o : pipelineOptions())

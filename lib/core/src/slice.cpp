@@ -67,6 +67,19 @@ void SliceSet::addCellSample(const SliceId& id, const SliceSample& sample) {
   it->cellSamples.push_back(sample);
 }
 
+void SliceSet::addCellFrame(const SliceId& id, FrameCellPoints cells) {
+  auto it = std::lower_bound(slices_.begin(), slices_.end(), id,
+                             [](const Slice& s, const SliceId& key) { return s.id < key; });
+  if (it == slices_.end() || it->id != id)
+    throw CoreError("slice " + toString(id) + ": cells of a frame for a slice without samples");
+  if (!cells.empty()) it->cellFrames.push_back(std::move(cells));
+}
+
+bool SliceSet::hasCellFrames() const {
+  return std::any_of(slices_.begin(), slices_.end(),
+                     [](const Slice& s) { return !s.cellFrames.empty(); });
+}
+
 bool SliceSet::hasCellSamples() const {
   return std::any_of(slices_.begin(), slices_.end(),
                      [](const Slice& s) { return !s.cellSamples.empty(); });
@@ -75,7 +88,8 @@ bool SliceSet::hasCellSamples() const {
 SliceSet SliceSet::cellReading() const {
   SliceSet out;
   for (const Slice& s : slices_)
-    out.slices_.push_back({s.id, s.cellSamples.empty() ? s.samples : s.cellSamples, {}});
+    out.slices_.push_back(
+        {s.id, s.cellSamples.empty() ? s.samples : s.cellSamples, {}, s.cellFrames});
   return out;
 }
 

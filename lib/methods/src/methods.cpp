@@ -171,9 +171,12 @@ MethodRun runHalfway(const SliceSet& slices, const MethodOptions& options) {
   return run;
 }
 
-MethodRun runPriorAs(MethodId id, const SliceSet& slices, const MethodOptions& options) {
+MethodRun runPriorAs(MethodId id, const SliceSet& slices, const MethodOptions& options,
+                     bool fitEveryCell = false) {
   prior::PriorParams params;
   params.isotropicOnly = options.isotropic;
+  params.fitEveryCell = fitEveryCell;
+  params.frameAsOneSample = !options.priorCellFrameEffect;
   prior::PriorReport report;
   MethodRun run{prior::reconstructWithPrior(slices, prior::defaultPriorModel(), params, &report),
                 exrMethodValue(id, options.isotropic),
@@ -188,7 +191,8 @@ MethodRun runPriorAs(MethodId id, const SliceSet& slices, const MethodOptions& o
       {"anisotropy_terms", report.anisotropyTermsUsed}, {"isotropic_gcv", report.isotropicScore},
       {"anisotropic_gcv", report.anisotropicScore},     {"fit_rms_log", report.fitRmsLog},
       {"dynamic_range_log", report.dynamicRangeLog},    {"prior_weight", report.priorWeight},
-      {"method_b_blended", report.methodBBlended}};
+      {"method_b_blended", report.methodBBlended},
+      {"points_fitted", report.samples},                {"frame_groups", report.frameGroups}};
   run.lines.push_back(
       "prior fit: RMS log residual " + std::to_string(report.fitRmsLog) +
       (report.anisotropyTermsUsed ? "; half-vector anisotropy terms used" : "; isotropic fit"));
@@ -211,8 +215,14 @@ MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
 
 // The prior fitted to each bin's value from the window cells (docs/method.md §9.4).
 MethodRun runPriorCells(const SliceSet& slices, const MethodOptions& options) {
-  MethodRun run = runPriorAs(MethodId::PriorCells, slices.cellReading(), options);
+  MethodRun run = runPriorAs(MethodId::PriorCells, slices.cellReading(), options,
+                             options.priorFitsEveryCell);
   sayCellReading(slices, run);
+  if (options.priorFitsEveryCell) {
+    const bool fitted = run.details["prior"]["frame_groups"].get<std::size_t>() > 0;
+    run.lines.push_back(fitted ? "prior fitted to every window cell, one frame's cells as a group"
+                               : "no window cells kept: the prior fitted each bin's value");
+  }
   return run;
 }
 

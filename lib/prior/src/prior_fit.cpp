@@ -2,6 +2,8 @@
 // samples, model selection by generalised cross-validation, one Gauss-Newton step to linear taps.
 #include "prior_fit.hpp"
 
+#include "frame_groups.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -61,7 +63,8 @@ RidgeFit ridgeFit(const NormalEquations& equations, int columns, const Eigen::Ve
 Eigen::MatrixXd refineOnLinearTaps(const std::vector<SampleRow>& rows, const TappedEntries& tapped,
                                    const PriorModel& model, const Rgb& floor,
                                    const Eigen::VectorXd& penalty,
-                                   const Eigen::MatrixXd& coefficients) {
+                                   const Eigen::MatrixXd& coefficients,
+                                   const FrameWhitening& whitening) {
   const int n = static_cast<int>(rows.size());
   const int columns = static_cast<int>(coefficients.rows());
   const int k = static_cast<int>(tapped.features.cols());
@@ -97,6 +100,8 @@ Eigen::MatrixXd refineOnLinearTaps(const std::vector<SampleRow>& rows, const Tap
       linearTargets(i, c) = std::log(rows[i].weighted[c] + floor[c]) - std::log(predicted[c]) +
                             jacobian.row(i).dot(coefficients.col(c));
   }
+  whiten(whitening, jacobian);
+  whiten(whitening, linearTargets);
   Eigen::MatrixXd system = Eigen::MatrixXd::Zero(columns, columns);
   system.selfadjointView<Eigen::Lower>().rankUpdate(jacobian.transpose());
   system.diagonal() += penalty;
@@ -150,6 +155,12 @@ PriorFit fitPrior(const SliceSet& slices, const std::vector<SampleRow>& rows,
   Eigen::MatrixXd design;
   Eigen::MatrixXd targets;
   buildDesign(rows, tapped, model, floor, design, targets);
+  // One frame's cells as one group with correlated errors (rows outside a group as they are).
+  const FrameWhitening whitening =
+      frameWhitening(rows, floor, params.cellOwnLogSigma, params.frameCommonLogSigma,
+                     params.frameAsOneSample);
+  whiten(whitening, design);
+  whiten(whitening, targets);
   PriorFit out;
   // Two or fewer measured elevation pairs (e.g. the two diagonal sweeps 30/30 and 75/75): the
   // lighter ridge of PriorParams::fewPairsRidge.
@@ -164,6 +175,9 @@ PriorFit fitPrior(const SliceSet& slices, const std::vector<SampleRow>& rows,
   penalty.tail(kHalfVectorTermCount).setConstant(params.anisotropyRidge);
 
   // The isotropic fit: the basis alone, or with the isotropic hats when they lower the GCV score.
+  // Its generalised cross-validation counts every row, each cell too: counting a frame's cells
+  // once (as the weights do) chose the isotropic fit on satin-blue-45's cells and did worse
+  // (docs/results/2026-12-06-window-cells.md, "The prior on every cell").
   const NormalEquations equations = normalEquations(design, targets);
   const RidgeFit basisOnly = ridgeFit(equations, k, penalty);
   const RidgeFit withHats = ridgeFit(equations, k + kIsotropicTermCount, penalty);
@@ -179,7 +193,7 @@ PriorFit fitPrior(const SliceSet& slices, const std::vector<SampleRow>& rows,
   const int columnsUsed = static_cast<int>(chosen.coefficients.rows());
   out.termsUsed = columnsUsed - k;
   out.coefficients = refineOnLinearTaps(rows, tapped, model, floor, penalty.head(columnsUsed),
-                                        chosen.coefficients);
+                                        chosen.coefficients, whitening);
   return out;
 }
 

@@ -164,11 +164,19 @@ Abrdf tableFromLog(const Eigen::MatrixXf& logTable, const Rgb& floor, const Abrd
 // The reconstruction; `basisByEntry` as for gatherTappedEntries.
 Abrdf reconstruct(const SliceSet& slices, const PriorModel& model, const PriorParams& params,
                   PriorReport* report, const float* basisByEntry) {
+  // The slices' samples give the residuals kept and the dynamic range; the fit reads every cell
+  // instead where asked and the slices have them (PriorParams::fitEveryCell).
   std::vector<SampleRow> rows = gatherSampleRows(slices, params.readAtMeasuredAngles);
-  const Rgb floor = logFloor(rows, model.floorFraction);
-  const TappedEntries tapped = gatherTappedEntries(rows, model, basisByEntry);
-  const PriorFit fit = fitPrior(slices, rows, tapped, model, params, floor);
+  std::vector<SampleRow> cellRows;
+  if (params.fitEveryCell && slices.hasCellFrames())
+    cellRows = gatherCellRows(slices, params.readAtMeasuredAngles);
+  std::vector<SampleRow>& fitRows = cellRows.empty() ? rows : cellRows;
+  const Rgb floor = logFloor(fitRows, model.floorFraction);
+  const TappedEntries fitTapped = gatherTappedEntries(fitRows, model, basisByEntry);
+  const PriorFit fit = fitPrior(slices, fitRows, fitTapped, model, params, floor);
   Eigen::MatrixXf logTable = fittedLogTable(model, fit);
+  const TappedEntries tapped =
+      cellRows.empty() ? fitTapped : gatherTappedEntries(rows, model, basisByEntry);
   const double squares = keepResiduals(rows, tapped, model, fit, floor, logTable);
 
   // Where the samples show little directional structure, blend with Method B (see PriorParams).
@@ -180,7 +188,8 @@ Abrdf reconstruct(const SliceSet& slices, const PriorModel& model, const PriorPa
   Abrdf table =
       tableFromLog(logTable, floor, priorWeight < 1.0f ? &*methodB : nullptr, priorWeight);
   if (report) {
-    report->samples = rows.size();
+    report->samples = fitRows.size();
+    report->frameGroups = std::size_t(frameGroupCount(fitRows));
     report->measuredPairs = fit.measuredPairs;
     report->anisotropyTermsUsed = fit.anisotropyTermsUsed;
     report->isotropicScore = fit.isotropicScore;
@@ -210,6 +219,10 @@ bool PriorParams::isValid(std::string* error) const {
   if (!std::isfinite(blendFromLog) || !std::isfinite(blendToLog) || !(blendFromLog >= 0.0) ||
       !(blendToLog > blendFromLog))
     return bad("the blend range must satisfy 0 <= from < to");
+  if (!(cellOwnLogSigma > 0.0) || !std::isfinite(cellOwnLogSigma))
+    return bad("a cell's own log sigma must be positive");
+  if (!(frameCommonLogSigma >= 0.0) || !std::isfinite(frameCommonLogSigma))
+    return bad("a frame's common log sigma must be 0 or more");
   return true;
 }
 

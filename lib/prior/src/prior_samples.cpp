@@ -33,34 +33,71 @@ void readDirections(SampleRow& row, const SliceSample& s, bool readAtMeasuredAng
 
 }  // namespace
 
+namespace {
+
+// One sample of `slice` as a row; `variance` the variance of its value.
+SampleRow sampleRow(const Slice& slice, const SliceSample& s, const Rgb& variance,
+                    bool readAtMeasuredAngles) {
+  SampleRow row{{}, {}, {}, {}, &slice.id, sliceParameterDeg(slice.id.kind, s)};
+  try {
+    readDirections(row, s, readAtMeasuredAngles);
+  } catch (const CoreError& e) {
+    throw recon::ReconstructionError("slice " + toString(slice.id) + ": " + e.what());
+  }
+  // The cos weighting the table's entries carry, read through the same taps: the sample is
+  // the taps' blend of f, so weighting it by its own angles' cosines would put a bias of up
+  // to 20 % on every jittered sample near 75 deg (cos 78 / cos 75) into the fit and the kept
+  // residuals.
+  double cc = 0.0;
+  for (const TableTap& tap : row.taps)
+    cc += tap.weight * bonn::cosines()[tap.light] * bonn::cosines()[tap.view];
+  for (std::size_t c = 0; c < 3; ++c) {
+    if (!std::isfinite(s.value[c]) || !std::isfinite(variance[c]))
+      throw recon::ReconstructionError("slice " + toString(slice.id) + ": non-finite sample");
+    row.weighted[c] = std::max(0.0, s.value[c]) * cc;
+    row.weightedVariance[c] = std::max(0.0, variance[c]) * cc * cc;
+  }
+  return row;
+}
+
+}  // namespace
+
 std::vector<SampleRow> gatherSampleRows(const SliceSet& slices, bool readAtMeasuredAngles) {
   std::vector<SampleRow> rows;
   rows.reserve(slices.sampleCount());
+  for (const Slice& slice : slices.slices())
+    for (const SliceSample& s : slice.samples)
+      rows.push_back(sampleRow(slice, s, Rgb{}, readAtMeasuredAngles));
+  if (rows.empty()) throw recon::ReconstructionError("the prior needs at least one sample");
+  return rows;
+}
+
+std::vector<SampleRow> gatherCellRows(const SliceSet& slices, bool readAtMeasuredAngles) {
+  std::vector<SampleRow> rows;
+  int frame = 0;
   for (const Slice& slice : slices.slices()) {
-    for (const SliceSample& s : slice.samples) {
-      SampleRow row{{}, {}, {}, {}, &slice.id, sliceParameterDeg(slice.id.kind, s)};
-      try {
-        readDirections(row, s, readAtMeasuredAngles);
-      } catch (const CoreError& e) {
-        throw recon::ReconstructionError("slice " + toString(slice.id) + ": " + e.what());
+    if (slice.cellFrames.empty()) {
+      for (const SliceSample& s : slice.samples)
+        rows.push_back(sampleRow(slice, s, Rgb{}, readAtMeasuredAngles));
+      continue;
+    }
+    for (const FrameCellPoints& cells : slice.cellFrames) {
+      for (const CellPoint& cell : cells) {
+        rows.push_back(sampleRow(slice, cell.sample, cell.variance, readAtMeasuredAngles));
+        rows.back().frame = frame;
       }
-      // The cos weighting the table's entries carry, read through the same taps: the sample is
-      // the taps' blend of f, so weighting it by its own angles' cosines would put a bias of up
-      // to 20 % on every jittered sample near 75 deg (cos 78 / cos 75) into the fit and the kept
-      // residuals.
-      double cc = 0.0;
-      for (const TableTap& tap : row.taps)
-        cc += tap.weight * bonn::cosines()[tap.light] * bonn::cosines()[tap.view];
-      for (std::size_t c = 0; c < 3; ++c) {
-        if (!std::isfinite(s.value[c]))
-          throw recon::ReconstructionError("slice " + toString(slice.id) + ": non-finite sample");
-        row.weighted[c] = std::max(0.0, s.value[c]) * cc;
-      }
-      rows.push_back(std::move(row));
+      ++frame;
     }
   }
   if (rows.empty()) throw recon::ReconstructionError("the prior needs at least one sample");
   return rows;
+}
+
+int frameGroupCount(const std::vector<SampleRow>& rows) {
+  int count = 0;
+  for (const SampleRow& r : rows)
+    count = std::max(count, r.frame + 1);
+  return count;
 }
 
 Rgb logFloor(const std::vector<SampleRow>& rows, double floorFraction) {

@@ -21,6 +21,8 @@ struct SampleRow {
   Rgb weighted;                ///< value times cos(theta_i) cos(theta_v), clipped at 0
   const SliceId* slice;
   double parameterDeg;
+  Rgb weightedVariance{};  ///< of `weighted` (a cell's noise times the cos weight squared)
+  int frame = -1;          ///< the frame group of a cell point (gatherCellRows); -1: none
 };
 
 /// \brief Every sample of `slices` as a row (they point into `slices`, which must outlive them),
@@ -28,6 +30,14 @@ struct SampleRow {
 /// readAtMeasuredAngles). Throws recon::ReconstructionError naming the slice for a sample off the
 /// hemisphere or a non-finite value, and when there are no samples.
 std::vector<SampleRow> gatherSampleRows(const SliceSet& slices, bool readAtMeasuredAngles);
+
+/// \brief The rows of a fit of every cell: each slice's cell frames (Slice::cellFrames), every
+/// cell a row with its frame's group number (0, 1, ...) and its noise; a slice without cell
+/// frames gives its samples as gatherSampleRows does (no group). Throws as gatherSampleRows.
+std::vector<SampleRow> gatherCellRows(const SliceSet& slices, bool readAtMeasuredAngles);
+
+/// \brief The number of frame groups of `rows` (the largest group number + 1).
+int frameGroupCount(const std::vector<SampleRow>& rows);
 
 /// \brief The floor of the log map per channel, relative to the largest sample (as in training).
 Rgb logFloor(const std::vector<SampleRow>& rows, double floorFraction);

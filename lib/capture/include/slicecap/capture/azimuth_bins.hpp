@@ -30,6 +30,10 @@ class AzimuthBins {
   /// \brief Changes whenever the bins do (add, clear), unique across every AzimuthBins of the
   /// process: what is worked out from the bins can be kept while it stays the same.
   std::uint64_t version() const { return version_; }
+  /// \brief Which run of samples the bins hold: set when they are made and on clear() (a redone
+  /// sweep), kept by add() (a sweep continued joins its run), unique across every AzimuthBins of
+  /// the process. What is judged of a run's samples (RunningCellTexture) is keyed on it.
+  std::uint64_t run() const { return run_; }
 
   void add(const FrameSample& sample);
   /// \brief Removes every sample (a redone sweep).
@@ -63,6 +67,7 @@ class AzimuthBins {
   double binWidthDeg_;
   std::vector<std::vector<FrameSample>> bins_;
   std::uint64_t version_;
+  std::uint64_t run_;
   mutable std::optional<std::vector<int>> clippedCache_;  // clippedBins() until add or clear
 };
 

@@ -34,6 +34,9 @@ struct CellTexture {
   /// \brief Frames whose every cell was usable (not clipped, finite) with some channel clear of
   /// the noise in every cell (CellTextureRule::minCellSnr), the ones measured.
   int framesUsed = 0;
+  /// \brief The most frames any one channel was measured in (under the rule's minFrames in
+  /// every channel: no factors).
+  int framesInBestChannel = 0;
   /// \brief Each cell position's albedo factor, row by row, per channel: the median over the
   /// frames of the cell's value over its frame's mean of cells (1 in a channel with too few
   /// frames measured). Empty when too few frames.
@@ -127,8 +130,8 @@ class RunningCellTexture {
  public:
   explicit RunningCellTexture(CellTextureRule rule = {}, double regrowth = 1.25);
   /// \brief The verdict for `bins`, the running sweep's frames so far: judged again when their
-  /// frames with cells reach `regrowth` x those of the kept verdict, or fall below them (the
-  /// slice redone). With fewer than the rule's minFrames frames with cells no verdict can be
+  /// frames with cells reach `regrowth` x those of the kept verdict, or when they are another
+  /// run's (AzimuthBins::run: the slice redone, or other bins), however many frames it has. With fewer than the rule's minFrames frames with cells no verdict can be
   /// made and the action is WindowCentres (the cells not read): the first frames of a textured
   /// sweep would otherwise name its thread a missed peak. Never throws.
   const CellTexture& of(const AzimuthBins& bins);
@@ -139,6 +142,7 @@ class RunningCellTexture {
   CellTextureRule rule_;
   double regrowth_;
   std::size_t framesJudged_ = 0;
+  std::optional<std::uint64_t> runJudged_;  // AzimuthBins::run() of the kept verdict
   CellTexture texture_;
 };
 

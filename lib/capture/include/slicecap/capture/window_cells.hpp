@@ -60,11 +60,17 @@ std::vector<std::vector<const CellSample*>> usableCellsByBin(const AzimuthBins& 
 std::vector<SliceSample> sliceFromCells(const AzimuthBins& bins, const SliceId& id,
                                         const CellSliceRule& rule = {});
 
+/// \brief Every usable cell (not clipped, a finite value) of the sweep's frames as a point, one
+/// group per frame, then a group of the window-centre sample (AzimuthBins::combineBin, variance
+/// 0) for each bin no usable cell of a slice of `kind` falls in: what a fit of every cell reads
+/// (Slice::cellFrames).
+std::vector<FrameCellPoints> cellPointsByFrame(const AzimuthBins& bins, SliceKind kind);
+
 /// \brief Adds the sweep's window-centre samples (AzimuthBins::combine) to `set` as slice `id`'s
 /// samples and, when any frame carries cells, its samples from the cells (sliceFromCells) as the
-/// slice's cell samples, as the sweep's texture says (cellTextureOf under `rule`): the cells as
-/// read, each divided by its albedo factor, or none (the cells' reading of the slice is then the
-/// window centres'). Returns the texture found (framesUsed 0 when no frame carries cells).
+/// slice's cell samples and its cell frames (cellPointsByFrame), as the sweep's texture says
+/// (cellTextureOf under `rule`): the cells as read, each divided by its albedo factor, or none
+/// (the cells' reading of the slice is then the window centres'). Returns the texture found (framesUsed 0 when no frame carries cells).
 CellTexture addSweepSlices(SliceSet& set, const SliceId& id, const AzimuthBins& bins,
                            const CellTextureRule& rule = {},
                            const CellSliceRule& sliceRule = {});

@@ -59,6 +59,17 @@ struct SliceSample {
   Rgb value;  ///< linear BRDF, 1/sr
 };
 
+/// \brief One window cell as a point of its own (docs/method.md §9.4, "The prior on every cell"):
+/// its directions and value, and the variance of its value from the noise model.
+struct CellPoint {
+  SliceSample sample;
+  Rgb variance;  ///< of sample.value; 0 for a reading whose noise is not known
+};
+
+/// \brief The usable cells of one frame. They share the frame's pose, exposure and irradiance
+/// fit, so their errors are correlated: a method that fits them takes them as one group.
+using FrameCellPoints = std::vector<CellPoint>;
+
 /// \brief The light and view azimuths of a point on a slice's line.
 struct AzimuthPair {
   double phiIDeg = 0.0;
@@ -83,6 +94,11 @@ struct Slice {
   /// which a method may read instead of `samples` (b-cells). Empty when the samples have no
   /// cells (a slice CSV, ideal slices of a table, a journal written before cells).
   std::vector<SliceSample> cellSamples{};
+  /// \brief Every usable cell of the slice's frames, frame by frame (a bin no usable cell reached
+  /// is a group of its window-centre sample, variance 0), for a method that fits each cell as a
+  /// point (the prior's `PriorParams::fitEveryCell`). Empty where cellSamples is, and where the
+  /// cells were not kept (a slice CSV; a textured window read as its centres).
+  std::vector<FrameCellPoints> cellFrames{};
 };
 
 /// \brief The slices of one material (up to 8 in a full capture; any subset is representable).
@@ -95,10 +111,15 @@ class SliceSet {
   /// slice must have samples already (CoreError naming it otherwise): a cell reading
   /// comes from frames, whose window centres are samples too.
   void addCellSample(const SliceId& id, const SliceSample& sample);
+  /// \brief Appends one frame's cell points to the slice `id` (Slice::cellFrames); CoreError
+  /// as addCellSample. An empty group is not stored.
+  void addCellFrame(const SliceId& id, FrameCellPoints cells);
+  /// \brief True when some slice has cell frames.
+  bool hasCellFrames() const;
   /// \brief True when some slice has cell samples.
   bool hasCellSamples() const;
   /// \brief The set with each slice's cell samples as its samples where it has any (its own
-  /// samples elsewhere), and no cell samples.
+  /// samples elsewhere), and no cell samples; each slice's cell frames are kept.
   SliceSet cellReading() const;
   /// \brief The slice with this id, or nullptr when it has no samples.
   const Slice* find(const SliceId& id) const;

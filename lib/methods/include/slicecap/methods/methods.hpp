@@ -22,6 +22,12 @@ struct MethodOptions {
   /// valueGamma 2.2): Method A's defaults unless an RBF spec says otherwise (rbf_spec.hpp).
   recon::RbfParams rbf = recon::MethodAParams{}.rbf;
   recon::OnionFrame onionFrame = recon::MethodAParams{}.frame;
+  /// \brief prior-cells fits every window cell as a point, one frame's cells as a group
+  /// (prior::PriorParams::fitEveryCell), instead of each bin's value from the cells.
+  bool priorFitsEveryCell = false;
+  /// \brief With priorFitsEveryCell: one frame's cells by generalised least squares with a random
+  /// frame effect (prior::PriorParams::frameAsOneSample false) instead of one sample per frame.
+  bool priorCellFrameEffect = false;
 };
 
 /// \brief What a method produced: the table and what a person or a script should know about it.
