@@ -139,35 +139,42 @@ std::optional<GateFailure> FramePipeline::State::roomLightFor(
 }
 
 // An LED-on frame between two LED-off frames (`terms`) whose room light on the window changes
-// between them by more than their noise, when the nearer was taken further than
-// maxRoomLightDistanceMm from it or either place is unknown: what the room gave at its own place
-// is known from neither. Where the room light does not change (a dark or evenly lit room) the
-// frames' places do not matter, so a loaded machine's dropped frames cost no sample there.
+// between them by more than their noise and by more than maxRoomLightChange of the window's LED
+// light (RGB vectors), when the nearer was taken further than maxRoomLightDistanceMm from it or
+// either place is unknown: what the room gave at its own place is known from neither, and can
+// be off by about that change. Where the room light does not change (a dark or evenly lit room)
+// the frames' places do not matter, so dropped frames cost no sample there.
 std::optional<GateFailure> FramePipeline::State::roomLightUnseen(
-    const std::vector<AmbientTerm>& terms, const vision::Pose& pose,
-    const RoomLightSpan& span) const {
+    const std::vector<AmbientTerm>& terms, const vision::Pose& pose, const RoomLightSpan& span,
+    const Rgb& windowReading) const {
   const double limitMm = settings.maxRoomLightDistanceMm;
   if (!(limitMm > 0.0) || terms.size() != 2) return std::nullopt;
   if (span.nearestMm && *span.nearestMm <= limitMm) return std::nullopt;
   const AreaReading a = ambientAt({{terms[0].frame, terms[0].pose, 1.0}}, windowArea, pose);
   const AreaReading b = ambientAt({{terms[1].frame, terms[1].pose, 1.0}}, windowArea, pose);
-  double sigmas = 0.0;
+  double sigmas = 0.0, change2 = 0.0, led2 = 0.0;
   for (int c = 0; c < 3; ++c) {
+    const double change = a.mean[c] - b.mean[c];
     const double sigma = std::sqrt(a.variance[c] + b.variance[c]);
-    if (sigma > 0.0) sigmas = std::max(sigmas, std::abs(a.mean[c] - b.mean[c]) / sigma);
+    if (sigma > 0.0) sigmas = std::max(sigmas, std::abs(change) / sigma);
+    const double led = std::max(0.0, windowReading[c] - 0.5 * (a.mean[c] + b.mean[c]));
+    change2 += change * change;
+    led2 += led * led;
   }
-  if (!(sigmas > settings.referenceNoiseSigmas)) return std::nullopt;
-  char detail[160];
+  const double toLed = led2 > 0.0 ? std::sqrt(change2 / led2) : 0.0;
+  if (!(sigmas > settings.referenceNoiseSigmas) || !(toLed > settings.maxRoomLightChange))
+    return std::nullopt;
+  char where[64];
   if (span.nearestMm)
-    std::snprintf(detail, sizeof detail,
-                  "the nearer LED-off frame was %.1f mm away (limit %.0f) and the room light on "
-                  "the window changed by %.1f sigma between the two",
-                  *span.nearestMm, limitMm, sigmas);
+    std::snprintf(where, sizeof where, "the nearer LED-off frame was %.1f mm away (limit %.0f)",
+                  *span.nearestMm, limitMm);
   else
-    std::snprintf(detail, sizeof detail,
-                  "an LED-off frame was not located and the room light on the window changed by "
-                  "%.1f sigma between the two",
-                  sigmas);
+    std::snprintf(where, sizeof where, "an LED-off frame was not located");
+  char detail[200];
+  std::snprintf(detail, sizeof detail,
+                "%s and the room light on the window changed by %.1f %% of the LED's between the "
+                "two (%.1f sigma)",
+                where, 100.0 * toLed, sigmas);
   return GateFailure{RejectReason::RoomLightUnseen, detail};
 }
 
@@ -211,7 +218,7 @@ std::optional<FrameOutcome> FramePipeline::State::measure(const hal::Frame& fram
     m.roomLightSequenceApart =
         static_cast<std::int64_t>(roomLight[1].frame->metadata.sequence) -
         static_cast<std::int64_t>(roomLight[0].frame->metadata.sequence);
-    if (auto failure = roomLightUnseen(roomLight, located.pose, span))
+    if (auto failure = roomLightUnseen(roomLight, located.pose, span, window.mean))
       return rejected(failure->reason, std::move(failure->detail), outcome);
   }
   Rgb windowRadiance;
