@@ -140,16 +140,17 @@ std::optional<GateFailure> FramePipeline::State::roomLightFor(
 
 // An LED-on frame between two LED-off frames (`terms`) whose room light on the window changes
 // between them by more than their noise and by more than maxRoomLightChange of the window's LED
-// light (RGB vectors), when the nearer was taken further than maxRoomLightDistanceMm from it or
-// either place is unknown: what the room gave at its own place is known from neither, and can
-// be off by about that change. Where the room light does not change (a dark or evenly lit room)
-// the frames' places do not matter, so dropped frames cost no sample there.
+// light (RGB vectors), when the nearer was taken further than maxRoomLightDistanceMm from it:
+// what the room gave at its own place is known from neither, and can be off by about that
+// change. Where the room light does not change (a dark or evenly lit room) the frames' places do
+// not matter, so dropped frames cost no sample there. An LED-off frame the live loop's detection
+// budget left unlocated is not judged: its place is unknown, not far.
 std::optional<GateFailure> FramePipeline::State::roomLightUnseen(
     const std::vector<AmbientTerm>& terms, const vision::Pose& pose, const RoomLightSpan& span,
     const Rgb& windowReading) const {
   const double limitMm = settings.maxRoomLightDistanceMm;
   if (!(limitMm > 0.0) || terms.size() != 2) return std::nullopt;
-  if (span.nearestMm && *span.nearestMm <= limitMm) return std::nullopt;
+  if (!span.nearestMm || *span.nearestMm <= limitMm) return std::nullopt;
   const AreaReading a = ambientAt({{terms[0].frame, terms[0].pose, 1.0}}, windowArea, pose);
   const AreaReading b = ambientAt({{terms[1].frame, terms[1].pose, 1.0}}, windowArea, pose);
   double sigmas = 0.0, change2 = 0.0, led2 = 0.0;
@@ -164,17 +165,11 @@ std::optional<GateFailure> FramePipeline::State::roomLightUnseen(
   const double toLed = led2 > 0.0 ? std::sqrt(change2 / led2) : 0.0;
   if (!(sigmas > settings.referenceNoiseSigmas) || !(toLed > settings.maxRoomLightChange))
     return std::nullopt;
-  char where[64];
-  if (span.nearestMm)
-    std::snprintf(where, sizeof where, "the nearer LED-off frame was %.1f mm away (limit %.0f)",
-                  *span.nearestMm, limitMm);
-  else
-    std::snprintf(where, sizeof where, "an LED-off frame was not located");
   char detail[200];
   std::snprintf(detail, sizeof detail,
-                "%s and the room light on the window changed by %.1f %% of the LED's between the "
-                "two (%.1f sigma)",
-                where, 100.0 * toLed, sigmas);
+                "the nearer LED-off frame was %.1f mm away (limit %.0f) and the room light on the "
+                "window changed by %.1f %% of the LED's between the two (%.1f sigma)",
+                *span.nearestMm, limitMm, 100.0 * toLed, sigmas);
   return GateFailure{RejectReason::RoomLightUnseen, detail};
 }
 

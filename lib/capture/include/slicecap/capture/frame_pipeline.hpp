@@ -73,8 +73,7 @@ struct PipelineSettings {
   /// light differ by more than referenceNoiseSigmas of their noise in a channel and by more than
   /// maxRoomLightChange of the window's LED light (RGB vectors: it changes along the camera's
   /// path there), while the nearer of them was taken more than this far from it (camera
-  /// centres, mm) or at a place not located: the room light at its own place was seen by
-  /// neither, and no weighting recovers it (a glint passed between them; the frames between
+  /// centres, mm; all three located): the room light at its own place was seen by neither, and no weighting recovers it (a glint passed between them; the frames between
   /// were dropped). 15 mm: a hand-held 8 s sweep at the 75 deg view elevation (a 290 mm circle)
   /// moves the camera about 9 mm a 40 ms frame period, so an LED-on frame with its LED-off
   /// neighbours delivered is kept. 0: off.
