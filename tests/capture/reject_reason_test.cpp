@@ -18,17 +18,17 @@ TEST(RejectReason, EveryReasonHasItsOwnNameAndParsesBack) {
     EXPECT_TRUE(names.insert(name).second) << name << " twice";
     EXPECT_EQ(parseRejectReason(name), reason) << name;
   }
-  EXPECT_EQ(names.size(), 10u);
+  EXPECT_EQ(names.size(), 11u);
   EXPECT_EQ(parseRejectReason("window occluded"), std::nullopt);
   EXPECT_EQ(parseRejectReason(""), std::nullopt);
 }
 
 TEST(RejectReason, TheNamesAreTheDocumentedOnesInAlphabeticalOrder) {
   // The order keeps per-reason counts (std::map by reason) listed as they were by name.
-  const std::string expected[] = {"bad_frame",      "blurred",         "detection_deferred",
-                                  "elevation_off",  "led_transition",  "no_ambient_frame",
-                                  "pose_residual",  "too_few_markers", "window_clipped",
-                                  "window_occluded"};
+  const std::string expected[] = {"bad_frame",       "blurred",           "detection_deferred",
+                                  "elevation_off",   "led_transition",    "no_ambient_frame",
+                                  "pose_residual",   "room_light_unseen", "too_few_markers",
+                                  "window_clipped",  "window_occluded"};
   std::size_t k = 0;
   for (RejectReason reason : kRejectReasons) {
     ASSERT_LT(k, std::size(expected));

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "slicecap/capture/frame_pipeline.hpp"
@@ -68,54 +70,107 @@ hal::Frame renderedFrame(const sim::FrameRenderer& renderer, const std::vector<f
   return frame;
 }
 
-// satin-blue-45 on the steady rig's axial 75/30 sweep, room light at 15 % of the LED (the lamp's
-// reflection in the satin changes from one planned position to the next). The LED-off frame
-// before the LED-on frame is at the position before; the LED-on frame and the LED-off frame
-// after it are at the next, the LED-on frame a third of the way in time: weighted in time, two
-// thirds of its room light would be the other position's reflection.
-TEST(RoomLightWeight, ASampleBetweenTwoPositionsTakesTheRoomLightOfItsOwn) {
-  sim::RigParams rig = sim::RigParams::steady();
-  rig.framesPerSlice = 32;
-  rig.ambientIrradiance = sim::roomIrradianceFor(rig, 0.15);
-  const auto material = sim::loadMaterial("satin-blue-45");
-  const vision::CameraModel camera = vision::defaultSimulatedCamera();
-  const sim::FrameRenderer renderer(camera, vision::defaultTarget(), material, rig);
-  const SliceId slice{SliceKind::Axial, {75, 30}};
-  const std::vector<sim::FramePlan> plans =
-      sim::planSweep(slice, kAxialOffsetDeg, rig, camera, renderer.target());
-  const sim::FramePlan &first = plans.at(9), &second = plans.at(10);
-  // The window centre's room light at each position, against the LED's there (per unit
-  // exposure): the precondition of the case.
-  const auto windowCentre = [&](const sim::FramePlan& plan, bool ledOn) {
+// satin-blue-45 on the steady rig's axial 75/30 sweep (32 positions, 29 mm apart), room light at
+// `roomToLed` of the LED: the lamp's reflection in the satin changes from one planned position to
+// the next. Noise-free frames, exposed as the daemon meters (the brightest pixels of position
+// `meteredAt`'s LED-on frame at 0.35 of full scale), 40 ms apart.
+struct AxialSweep {
+  explicit AxialSweep(double roomToLed, std::size_t meteredAt) {
+    rig.framesPerSlice = 32;
+    rig.ambientIrradiance = sim::roomIrradianceFor(rig, roomToLed);
+    renderer.emplace(camera, vision::defaultTarget(), material, rig);
+    plans = sim::planSweep(slice, kAxialOffsetDeg, rig, camera, renderer->target());
+    std::vector<float> sorted = ratesAt(*renderer, plans.at(meteredAt), true);
+    std::sort(sorted.begin(), sorted.end());
+    exposureUs = 0.35 / sorted[std::size_t(0.995 * double(sorted.size() - 1))] * 1e6;
+  }
+  // Position `at`'s frame, the `sequence`th of the sweep.
+  hal::Frame frame(std::size_t at, bool ledOn, std::uint64_t sequence) const {
+    return renderedFrame(*renderer, ratesAt(*renderer, plans.at(at), ledOn), ledOn, sequence,
+                         std::int64_t(sequence) * 40'000, exposureUs);
+  }
+  // The window centre's linear light at position `at` (per unit exposure).
+  Rgb windowCentre(std::size_t at, bool ledOn) const {
+    const sim::FramePlan& plan = plans.at(at);
     sim::FrameScene scene{plan.exposurePoses, plan.lightMm, ledOn, 1e6, 1.0, std::nullopt, 0};
-    return renderer.windowPoint(scene, {0.0, 0.0, 0.0}).expectedLinear;
-  };
-  const Rgb roomFirst = windowCentre(first, false), roomSecond = windowCentre(second, false);
-  const Rgb ledSecond = windowCentre(second, true) - roomSecond;
-  ASSERT_GT(std::abs(roomFirst[0] - roomSecond[0]), 0.3 * ledSecond[0]);
+    return renderer->windowPoint(scene, {0.0, 0.0, 0.0}).expectedLinear;
+  }
+  // The LED-on frame at position `on` (sequence `onSequence`) between the LED-off frames at
+  // `before` (sequence 0) and `after` (`afterSequence`), as the live loop and processRecording
+  // give them.
+  FrameOutcome process(std::size_t before, std::size_t on, std::uint64_t onSequence,
+                       std::size_t after, std::uint64_t afterSequence,
+                       PipelineSettings settings = {}) const {
+    settings.poseAmbientFrames = true;
+    settings.windowCellsPerSide = 0;
+    FramePipeline pipeline(renderer->target(), camera, settings);
+    pipeline.process(frame(before, false, 0), slice);
+    pipeline.setFollowingAmbientFrame(frame(after, false, afterSequence));
+    return pipeline.process(frame(on, true, onSequence), slice);
+  }
+  double sampleError(const FrameSample& sample, int channel) const {
+    const Rgb truth = material->evaluate(toUnitVector(sample.light), toUnitVector(sample.view));
+    return sample.value[channel] / truth[channel] - 1.0;
+  }
 
-  // The brightest pixels at 0.35 of full scale, as the daemon meters.
-  const std::vector<float> lit = ratesAt(renderer, second, true);
-  std::vector<float> sorted = lit;
-  std::sort(sorted.begin(), sorted.end());
-  const double exposureUs = 0.35 / sorted[std::size_t(0.995 * double(sorted.size() - 1))] * 1e6;
-  const double periodUs = 40'000;
-  PipelineSettings settings;
-  settings.poseAmbientFrames = true;
-  settings.windowCellsPerSide = 0;
-  FramePipeline pipeline(renderer.target(), camera, settings);
-  pipeline.process(
-      renderedFrame(renderer, ratesAt(renderer, first, false), false, 0, 0, exposureUs), slice);
-  const hal::Frame on = renderedFrame(renderer, lit, true, 1, std::int64_t(periodUs), exposureUs);
-  pipeline.setFollowingAmbientFrame(renderedFrame(renderer, ratesAt(renderer, second, false),
-                                                  false, 3, std::int64_t(3 * periodUs),
-                                                  exposureUs));
-  const FrameOutcome outcome = pipeline.process(on, slice);
+  sim::RigParams rig = sim::RigParams::steady();
+  std::shared_ptr<const models::ReflectanceModel> material = sim::loadMaterial("satin-blue-45");
+  vision::CameraModel camera = vision::defaultSimulatedCamera();
+  std::optional<sim::FrameRenderer> renderer;
+  SliceId slice{SliceKind::Axial, {75, 30}};
+  std::vector<sim::FramePlan> plans;
+  double exposureUs = 0.0;
+};
+
+// Positions 9 and 10. The LED-off frame before the LED-on frame is at the position before; the
+// LED-on frame and the LED-off frame after it are at the next, the LED-on frame a third of the
+// way in time: weighted in time, two thirds of its room light would be the other position's
+// reflection.
+TEST(RoomLightWeight, ASampleBetweenTwoPositionsTakesTheRoomLightOfItsOwn) {
+  const AxialSweep sweep(0.15, 10);
+  // The window centre's room light at each position, against the LED's there: the
+  // precondition of the case.
+  const Rgb roomFirst = sweep.windowCentre(9, false), roomSecond = sweep.windowCentre(10, false);
+  const Rgb ledSecond = sweep.windowCentre(10, true) - roomSecond;
+  ASSERT_GT(std::abs(roomFirst[0] - roomSecond[0]), 0.3 * ledSecond[0]);
+  const FrameOutcome outcome = sweep.process(9, 10, 1, 10, 3);
   ASSERT_EQ(outcome.kind, FrameOutcome::Kind::Sample) << outcome.detail;
-  const FrameSample& sample = *outcome.sample;
-  const Rgb truth = material->evaluate(toUnitVector(sample.light), toUnitVector(sample.view));
   for (int c = 0; c < 3; ++c)
-    EXPECT_NEAR(sample.value[c] / truth[c], 1.0, 0.02) << "channel " << c;
+    EXPECT_NEAR(sweep.sampleError(*outcome.sample, c), 0.0, 0.02) << "channel " << c;
+  ASSERT_TRUE(outcome.measurement.roomLightNearestMm);
+  EXPECT_LT(*outcome.measurement.roomLightNearestMm, 2.0);
+}
+
+// Frames dropped on a loaded machine: the LED-off frames around the LED-on frame at position 10
+// are at positions 8 and 12, one step (29 mm) away on either side, and the lamp's reflection at
+// 10 is seen by neither. Interpolated it is wrong by far more than noise; the gate rejects it
+// and names why.
+TEST(RoomLightUnseen, AnLedOnFrameWhoseRoomLightNoLedOffFrameSawIsRejected) {
+  const AxialSweep sweep(0.15, 10);
+  PipelineSettings ungated;
+  ungated.maxRoomLightDistanceMm = 0.0;
+  const FrameOutcome kept = sweep.process(8, 10, 5, 12, 10, ungated);
+  ASSERT_EQ(kept.kind, FrameOutcome::Kind::Sample) << kept.detail;
+  double worst = 0.0;
+  for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(sweep.sampleError(*kept.sample, c)));
+  ASSERT_GT(worst, 0.05) << "the case needs a room light the interpolation gets wrong";
+
+  const FrameOutcome outcome = sweep.process(8, 10, 5, 12, 10);
+  EXPECT_EQ(outcome.kind, FrameOutcome::Kind::Rejected);
+  EXPECT_EQ(outcome.rejectReason, RejectReason::RoomLightUnseen) << outcome.detail;
+  ASSERT_TRUE(outcome.measurement.roomLightNearestMm);
+  EXPECT_GT(*outcome.measurement.roomLightNearestMm, 15.0);
+  EXPECT_EQ(outcome.measurement.roomLightSequenceApart, 10);
+}
+
+// The same frames in a dark room: the LED-off frames see no room light that changes, so where
+// they were does not matter and the sample is kept (a dark room loses nothing to dropped frames).
+TEST(RoomLightUnseen, ARoomLightThatDoesNotChangeKeepsTheSample) {
+  const AxialSweep sweep(0.0, 10);
+  const FrameOutcome outcome = sweep.process(8, 10, 5, 12, 10);
+  ASSERT_EQ(outcome.kind, FrameOutcome::Kind::Sample) << outcome.detail;
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(sweep.sampleError(*outcome.sample, c), 0.0, 0.02) << "channel " << c;
 }
 
 }  // namespace

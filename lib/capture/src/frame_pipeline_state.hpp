@@ -305,6 +305,10 @@ struct FramePipeline::State {
   std::optional<frame_checks::GateFailure> roomLightFor(const hal::Frame& frame,
                                                         const vision::Pose& pose,
                                                         std::vector<AmbientTerm>& terms) const;
+  std::optional<frame_checks::GateFailure> roomLightUnseen(const std::vector<AmbientTerm>& terms,
+                                                           const vision::Pose& pose,
+                                                           const RoomLightSpan& span,
+                                                           const Rgb& windowReading) const;
   // FrameOutcome::Measurement::blackReading of an LED-on frame at `pose` (frame_stages.cpp).
   std::optional<double> blackReadingOf(const hal::Frame& frame, const vision::Pose& pose,
                                        const std::vector<AmbientTerm>& roomLight,

@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "frame_pipeline_state.hpp"
 #include "slicecap/core/angles.hpp"
@@ -137,6 +138,41 @@ std::optional<GateFailure> FramePipeline::State::roomLightFor(
   return std::nullopt;
 }
 
+// An LED-on frame between two LED-off frames (`terms`) whose room light on the window changes
+// between them by more than their noise and by more than maxRoomLightChange of the window's LED
+// light (RGB vectors), when the nearer was taken further than maxRoomLightDistanceMm from it:
+// what the room gave at its own place is known from neither, and can be off by about that
+// change. Where the room light does not change (a dark or evenly lit room) the frames' places do
+// not matter, so dropped frames cost no sample there. An LED-off frame the live loop's detection
+// budget left unlocated is not judged: its place is unknown, not far.
+std::optional<GateFailure> FramePipeline::State::roomLightUnseen(
+    const std::vector<AmbientTerm>& terms, const vision::Pose& pose, const RoomLightSpan& span,
+    const Rgb& windowReading) const {
+  const double limitMm = settings.maxRoomLightDistanceMm;
+  if (!(limitMm > 0.0) || terms.size() != 2) return std::nullopt;
+  if (!span.nearestMm || *span.nearestMm <= limitMm) return std::nullopt;
+  const AreaReading a = ambientAt({{terms[0].frame, terms[0].pose, 1.0}}, windowArea, pose);
+  const AreaReading b = ambientAt({{terms[1].frame, terms[1].pose, 1.0}}, windowArea, pose);
+  double sigmas = 0.0, change2 = 0.0, led2 = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    const double change = a.mean[c] - b.mean[c];
+    const double sigma = std::sqrt(a.variance[c] + b.variance[c]);
+    if (sigma > 0.0) sigmas = std::max(sigmas, std::abs(change) / sigma);
+    const double led = std::max(0.0, windowReading[c] - 0.5 * (a.mean[c] + b.mean[c]));
+    change2 += change * change;
+    led2 += led * led;
+  }
+  const double toLed = led2 > 0.0 ? std::sqrt(change2 / led2) : 0.0;
+  if (!(sigmas > settings.referenceNoiseSigmas) || !(toLed > settings.maxRoomLightChange))
+    return std::nullopt;
+  char detail[200];
+  std::snprintf(detail, sizeof detail,
+                "the nearer LED-off frame was %.1f mm away (limit %.0f) and the room light on the "
+                "window changed by %.1f %% of the LED's between the two (%.1f sigma)",
+                *span.nearestMm, limitMm, 100.0 * toLed, sigmas);
+  return GateFailure{RejectReason::RoomLightUnseen, detail};
+}
+
 // The black patch's LED light against what the fitted light and its albedo say it should be:
 // pi L / (E albedo), the channels' mean. Only a sample frame's: the light fit holds.
 std::optional<double> FramePipeline::State::blackReadingOf(const hal::Frame& frame,
@@ -170,6 +206,16 @@ std::optional<FrameOutcome> FramePipeline::State::measure(const hal::Frame& fram
   std::vector<AmbientTerm> roomLight;
   if (auto failure = roomLightFor(frame, located.pose, roomLight))
     return rejected(failure->reason, std::move(failure->detail), outcome);
+  if (roomLight.size() == 2) {
+    const RoomLightSpan span = roomLightSpan(roomLight[0].pose, roomLight[1].pose, located.pose);
+    m.roomLightApartMm = span.apartMm;
+    m.roomLightNearestMm = span.nearestMm;
+    m.roomLightSequenceApart =
+        static_cast<std::int64_t>(roomLight[1].frame->metadata.sequence) -
+        static_cast<std::int64_t>(roomLight[0].frame->metadata.sequence);
+    if (auto failure = roomLightUnseen(roomLight, located.pose, span, window.mean))
+      return rejected(failure->reason, std::move(failure->detail), outcome);
+  }
   Rgb windowRadiance;
   std::vector<ReferenceObservation> observations, unlit;
   LightFit fit;

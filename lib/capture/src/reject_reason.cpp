@@ -16,6 +16,7 @@ constexpr std::array<std::pair<RejectReason, std::string_view>, std::size(kRejec
     {RejectReason::WindowOccluded, "window_occluded"},
     {RejectReason::PoseResidual, "pose_residual"},
     {RejectReason::NoAmbientFrame, "no_ambient_frame"},
+    {RejectReason::RoomLightUnseen, "room_light_unseen"},
     {RejectReason::BadFrame, "bad_frame"},
     {RejectReason::LedTransition, "led_transition"},
 }};

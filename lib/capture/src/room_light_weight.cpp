@@ -18,4 +18,12 @@ double roomLightWeight(const TimedPlace& before, const TimedPlace& after, const 
   return std::clamp((static_cast<double>(at.timeUs) - t0) / (t1 - t0), 0.0, 1.0);
 }
 
+RoomLightSpan roomLightSpan(const std::optional<vision::Pose>& before,
+                            const std::optional<vision::Pose>& after, const vision::Pose& at) {
+  if (!before || !after) return {};
+  const Eigen::Vector3d a = before->cameraCentreMm(), b = after->cameraCentreMm();
+  const Eigen::Vector3d here = at.cameraCentreMm();
+  return {(b - a).norm(), std::min((here - a).norm(), (here - b).norm())};
+}
+
 }  // namespace slicecap::capture

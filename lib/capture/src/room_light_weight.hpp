@@ -24,4 +24,14 @@ inline constexpr double kSamePlaceMm = 2.0;
 /// apart; else linear in time (0.5 for equal times).
 double roomLightWeight(const TimedPlace& before, const TimedPlace& after, const TimedPlace& at);
 
+/// \brief How far apart in place an LED-on frame at `at` and its two LED-off frames were
+/// (FrameOutcome::Measurement::roomLightApartMm, roomLightNearestMm): each figure only when the
+/// poses it needs are known.
+struct RoomLightSpan {
+  std::optional<double> apartMm;    ///< the two LED-off frames' camera centres
+  std::optional<double> nearestMm;  ///< `at`'s camera centre from the nearer of theirs
+};
+RoomLightSpan roomLightSpan(const std::optional<vision::Pose>& before,
+                            const std::optional<vision::Pose>& after, const vision::Pose& at);
+
 }  // namespace slicecap::capture

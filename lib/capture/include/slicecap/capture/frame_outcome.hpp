@@ -3,6 +3,7 @@
 // `slicecap process`.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -63,6 +64,13 @@ struct FrameOutcome {
     /// \brief The room-light term over the white references as a fraction of their LED light
     /// (the LED-on reading less the term), whenever the references were read with one.
     std::optional<double> roomToLed;
+    /// \brief Where a sample's room light came from, whenever it was read from two LED-off
+    /// frames: their camera centres apart (mm, both located), the LED-on frame's camera centre
+    /// from the nearer one's (mm, all three located), and the frames between the two
+    /// (FrameMetadata::sequence apart; 2 when none was dropped with the LED alternating).
+    std::optional<double> roomLightApartMm;
+    std::optional<double> roomLightNearestMm;
+    std::optional<std::int64_t> roomLightSequenceApart;
     /// \brief An LED-off frame right after another (the next sequence number), both located:
     /// their room light over the white references apart, as a fraction of it (the sum over the
     /// references and channels of |difference| over the mean). A flicker the frame duration does

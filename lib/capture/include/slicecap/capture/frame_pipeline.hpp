@@ -69,6 +69,19 @@ struct PipelineSettings {
   /// camera moves between the two. Off in the live loop (the CPU budget), on offline
   /// (processRecording).
   bool poseAmbientFrames = false;
+  /// \brief "room_light_unseen": an LED-on frame whose two LED-off frames saw the window's room
+  /// light differ by more than referenceNoiseSigmas of their noise in a channel and by more than
+  /// maxRoomLightChange of the window's LED light (RGB vectors: it changes along the camera's
+  /// path there), while the nearer of them was taken more than this far from it (camera
+  /// centres, mm; all three located): the room light at its own place was seen by neither, and no weighting recovers it (a glint passed between them; the frames between
+  /// were dropped). 15 mm: a hand-held 8 s sweep at the 75 deg view elevation (a 290 mm circle)
+  /// moves the camera about 9 mm a 40 ms frame period, so an LED-on frame with its LED-off
+  /// neighbours delivered is kept. 0: off.
+  double maxRoomLightDistanceMm = 15.0;
+  /// \brief See maxRoomLightDistanceMm. 5 %: on simulated sweeps (`slicecap simulate`, every
+  /// frame 20-40 mm from the next) the far LED-on frames whose room light changed by less read
+  /// a median error of 0.3-1.1 %, those above 2.3-2.9 % (docs/real-sensors.md).
+  double maxRoomLightChange = 0.05;
   /// \brief processRecording's ambient term: false reproduces the live loop exactly (the LED-off
   /// frame before, at the LED-on frame's pixels), e.g. to compare a daemon's session with it.
   bool offlineTwoSidedAmbient = true;

@@ -12,7 +12,9 @@ namespace slicecap::capture {
 /// (MarkerDetectorSettings::frameBudgetPx) while the search wanted more (a wider region, the
 /// next re-acquisition passes), which go on in the next frames; "too_few_markers": the frame's
 /// whole planned search ran and found too few; "led_transition": the LED switched while the rows
-/// of the window or the white references were exposed (neither a sample nor room light).
+/// of the window or the white references were exposed (neither a sample nor room light);
+/// "room_light_unseen": the room light changes along the camera's path and neither LED-off frame
+/// was taken where the LED-on frame was (PipelineSettings::maxRoomLightDistanceMm).
 // In the alphabetical order of their names: counts kept by reason list in the order they always
 // did when the reasons were strings.
 enum class RejectReason {
@@ -23,6 +25,7 @@ enum class RejectReason {
   LedTransition,
   NoAmbientFrame,
   PoseResidual,
+  RoomLightUnseen,
   TooFewMarkers,
   WindowClipped,
   WindowOccluded,
@@ -32,8 +35,8 @@ enum class RejectReason {
 inline constexpr RejectReason kRejectReasons[] = {
     RejectReason::BadFrame,      RejectReason::Blurred,       RejectReason::DetectionDeferred,
     RejectReason::ElevationOff,  RejectReason::LedTransition, RejectReason::NoAmbientFrame,
-    RejectReason::PoseResidual,  RejectReason::TooFewMarkers, RejectReason::WindowClipped,
-    RejectReason::WindowOccluded};
+    RejectReason::PoseResidual,  RejectReason::RoomLightUnseen, RejectReason::TooFewMarkers,
+    RejectReason::WindowClipped, RejectReason::WindowOccluded};
 
 /// \brief The reason's stable name, e.g. "window_occluded".
 std::string_view toString(RejectReason reason);
