@@ -155,7 +155,11 @@ TEST(RoomLightUnseen, AnLedOnFrameWhoseRoomLightNoLedOffFrameSawIsRejected) {
   for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(sweep.sampleError(*kept.sample, c)));
   ASSERT_GT(worst, 0.05) << "the case needs a room light the interpolation gets wrong";
 
-  const FrameOutcome outcome = sweep.process(8, 10, 5, 12, 10);
+  // Off by default (room_light_unseen_mm = 0); 15 mm is the value a rig sets.
+  PipelineSettings gated;
+  gated.maxRoomLightDistanceMm = 15.0;
+  EXPECT_EQ(sweep.process(8, 10, 5, 12, 10).kind, FrameOutcome::Kind::Sample);
+  const FrameOutcome outcome = sweep.process(8, 10, 5, 12, 10, gated);
   EXPECT_EQ(outcome.kind, FrameOutcome::Kind::Rejected);
   EXPECT_EQ(outcome.rejectReason, RejectReason::RoomLightUnseen) << outcome.detail;
   ASSERT_TRUE(outcome.measurement.roomLightNearestMm);
@@ -167,7 +171,9 @@ TEST(RoomLightUnseen, AnLedOnFrameWhoseRoomLightNoLedOffFrameSawIsRejected) {
 // they were does not matter and the sample is kept (a dark room loses nothing to dropped frames).
 TEST(RoomLightUnseen, ARoomLightThatDoesNotChangeKeepsTheSample) {
   const AxialSweep sweep(0.0, 10);
-  const FrameOutcome outcome = sweep.process(8, 10, 5, 12, 10);
+  PipelineSettings gated;
+  gated.maxRoomLightDistanceMm = 15.0;
+  const FrameOutcome outcome = sweep.process(8, 10, 5, 12, 10, gated);
   ASSERT_EQ(outcome.kind, FrameOutcome::Kind::Sample) << outcome.detail;
   for (int c = 0; c < 3; ++c)
     EXPECT_NEAR(sweep.sampleError(*outcome.sample, c), 0.0, 0.02) << "channel " << c;

@@ -157,6 +157,16 @@ TEST(DaemonConfig, ReadsTheMainsFrequencyAndTheModelsRoomLight) {
   EXPECT_EQ(parse("model_flicker_hz = 0\n").modelFlickerHz, 0.0) << "0: steady room light";
 }
 
+TEST(DaemonConfig, RoomLightUnseenIsOffUnlessADistanceIsGiven) {
+  EXPECT_EQ(parse("").roomLightUnseenMm, 0.0);
+  EXPECT_EQ(parse("room_light_unseen_mm = 15\n").roomLightUnseenMm, 15.0);
+  for (const std::string bad : {"-1", "", "far", "15mm", "2000"})
+    EXPECT_EQ(error("room_light_unseen_mm = " + bad + "\n"),
+              "slicecapd.conf:1: room_light_unseen_mm: '" + bad +
+                  "' is not a distance in mm from 0 (off) to 1000")
+        << bad;
+}
+
 TEST(DaemonConfig, RefusesAMainsFrequencyOtherThan50Or60Or0NamingLineKeyAndValue) {
   // Any other value would pin frames to a flicker the room does not have: never a silent default.
   for (const std::string bad : {"55", "50.0", "100", "", "fifty", "-50", "120"}) {

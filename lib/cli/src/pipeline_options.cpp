@@ -2,6 +2,7 @@
 #include "pipeline_options.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <string>
 
 #include "slicecap/io/io_error.hpp"
@@ -21,6 +22,14 @@ capture::PipelineSettings pipelineSettingsOf(const ParsedArgs& args) {
   if (ambient != "both" && ambient != "previous")
     throw UsageError("--ambient must be both or previous");
   settings.offlineTwoSidedAmbient = ambient == "both";
+  if (const auto unseen = args.value("room-light-unseen-mm")) {
+    char* end = nullptr;
+    settings.maxRoomLightDistanceMm = std::strtod(unseen->c_str(), &end);
+    if (end == unseen->c_str() || *end != '\0' || !(settings.maxRoomLightDistanceMm >= 0.0) ||
+        !(settings.maxRoomLightDistanceMm <= 1000.0))
+      throw UsageError("--room-light-unseen-mm: '" + *unseen +
+                       "' is not a distance in mm from 0 (off) to 1000");
+  }
   if (!(settings.elevationToleranceDeg > 0) || !(settings.maxPoseResidualPx > 0) ||
       settings.minMarkers < 2)
     throw UsageError("--elevation-tolerance and --max-residual must be > 0, --min-markers >= 2");
@@ -42,7 +51,11 @@ std::vector<OptionSpec> pipelineOptions() {
           {"decimation", 0, "D", "the AprilTag detector's quad decimation, 1..16 (2)"},
           {"ambient", 0, "MODE",
            "room light from the LED-off frames on both sides (both, default) or the one before "
-           "at the same pixels, as slicecapd live (previous)"}};
+           "at the same pixels, as slicecapd live (previous)"},
+          {"room-light-unseen-mm", 0, "MM",
+           "reject an LED-on frame whose room light changed between its LED-off frames while the "
+           "nearer was taken more than MM away (room_light_unseen; 15 for frames dropped in a "
+           "bright room; 0, the default: off)"}};
 }
 
 std::vector<std::filesystem::path> sessionRecordings(const std::filesystem::path& session) {

@@ -117,6 +117,14 @@ std::vector<SetterEntry> cameraSetters() {
        c.readoutUs = v.empty() ? std::nullopt
                                : std::optional(positiveNumber(v, "a positive readout time in us"));
      }},
+    {"room_light_unseen_mm",
+     [](DaemonConfig& c, const std::string& v) {
+       char* end = nullptr;
+       const double mm = std::strtod(v.c_str(), &end);
+       if (v.empty() || *end != '\0' || !(mm >= 0.0 && mm <= 1000.0))
+         throw ConfigError("'" + v + "' is not a distance in mm from 0 (off) to 1000");
+       c.roomLightUnseenMm = mm;
+     }},
     {"mains_hz",
      [](DaemonConfig& c, const std::string& v) {
        // Never a silent default: a frame duration pinned to the wrong flicker hides nothing.

@@ -55,6 +55,14 @@ readout_us =
 # an LED-off frame then saw the room light the same row of the LED-on frames saw, at any exposure,
 # and it subtracts out. `slicecapd --check-hardware` measures the flicker.
 mains_hz = 0
+# An LED-on frame whose room light neither LED-off frame saw: the window's room light changed
+# between them (by more than their noise and 5 % of the LED's light) while the nearer was taken
+# more than this many mm of camera travel away, as when frames are dropped in a bright room with a
+# glossy material. Such a frame is rejected (room_light_unseen) instead of interpolated. 0: off
+# (the default: a rejected frame is a bin the table interpolates, which cost more than it saved on
+# the simulated session); 15 where `slicecap status` shows a bright room and dropped frames
+# (docs/real-sensors.md).
+room_light_unseen_mm = 0
 # The frames' noise, which the white-reference test allows for (an 8-bit frame's references near
 # black disagree by noise alone): read noise as a fraction of full scale, and shot noise as the
 # electrons a full-scale value stands for at gain 1. `slicecapd --check-hardware` measures both;

@@ -36,6 +36,7 @@ capture::PipelineSettings pipelineSettingsFrom(const daemon::DaemonConfig& confi
   // (a specular material's reflection of the room changes) and by a flicker the frame duration
   // does not hide.
   settings.poseAmbientFrames = config.ledAlternate;
+  settings.maxRoomLightDistanceMm = config.roomLightUnseenMm;
   return settings;
 }
 

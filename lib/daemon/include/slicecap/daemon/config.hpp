@@ -51,6 +51,8 @@ struct DaemonConfig {
   /// whole number of their flicker periods (hal::frameDurationUsForMains), 0 leaves the camera's
   /// own frame duration.
   int mainsHz = 0;
+  /// room_light_unseen_mm: capture::PipelineSettings::maxRoomLightDistanceMm (0: off).
+  double roomLightUnseenMm = 0.0;
   /// sensor_read_noise, sensor_full_well_electrons: the frames' noise as the white-reference
   /// test expects it (capture::SensorNoise; slicecapd --check-hardware measures both).
   double sensorReadNoise = 0.002;
