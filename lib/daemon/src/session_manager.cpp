@@ -375,10 +375,27 @@ void SessionManager::pauseSweep(const std::string& reason) {
   state_->lastError = reason;
 }
 
-void SessionManager::refuseSweep(const SliceId& slice, const std::string& reason) {
-  if (!state_->session) return;
-  state_->lastError = refuseSlice(*state_->session, slice, reason);
+std::optional<std::uint64_t> SessionManager::nextRecordNumber() const {
+  if (!state_->session) return std::nullopt;
+  return state_->session->nextRecordNumber();
+}
+
+bool SessionManager::refuseSweep(const SliceId& slice, const std::string& reason,
+                                 std::uint64_t firstRecord) {
+  if (!state_->session) return false;
+  const RefusalOutcome refused = refuseSlice(*state_->session, slice, reason, firstRecord);
+  // A run ended by a pause (an LED or storage error, a texture that cannot be written) is
+  // refused as it stops: both are said, the pause's reason first, as it happened first.
+  std::string& error = state_->lastError;
+  error = error.empty() ? refused.said : error + "; then " + refused.said;
   ++state_->samplesVersion;
+  return refused.recorded;
+}
+
+void SessionManager::addToError(const std::string& sentence) {
+  if (sentence.empty()) return;
+  std::string& error = state_->lastError;
+  error = error.empty() ? sentence : error + "; " + sentence;
 }
 
 std::optional<control::SweepView> SessionManager::sweepView() const {
