@@ -46,6 +46,15 @@ bool hasWindowCells(const capture::AzimuthBins& bins) {
 
 }  // namespace
 
+const std::vector<SliceId>& sweepOrder() {
+  static const std::vector<SliceId> order{
+      {SliceKind::Diagonal, {30, 30}}, {SliceKind::Diagonal, {75, 75}},
+      {SliceKind::Diagonal, {30, 75}}, {SliceKind::Diagonal, {75, 30}},
+      {SliceKind::Axial, {30, 30}},    {SliceKind::Axial, {30, 75}},
+      {SliceKind::Axial, {75, 30}},    {SliceKind::Axial, {75, 75}}};
+  return order;
+}
+
 control::SessionView statusSessionView(const capture::SessionStore& store) {
   control::SessionView session;
   session.id = store.info().id;
