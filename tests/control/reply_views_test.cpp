@@ -224,7 +224,7 @@ TEST(ReplyViews, TheDecodingCheckAndTheTuningFileAreReadBackAsWritten) {
   EXPECT_FALSE(written.contains("decoding_check"));
   EXPECT_TRUE(written["tuning_file"]["file"].is_null());
   status.decodingCheck = DecodingCheckView{
-      0.98, 0.031, 6.5, "G", 0.97, "G", 0.75, 0.25, -40.0, "refused as the run ends", "R",
+      0.98, 0.031, 6.5, "G", 0.97, "G", 0.75, 0.25, -40.0, -55.0, "refused as the run ends", "R",
       -0.013, 9.0};
   status.tuningFile->file = "/usr/share/slicecap/tuning/slicecap-imx708-pisp.json";
   written = toJson(status);

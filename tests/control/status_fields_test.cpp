@@ -37,7 +37,7 @@ StatusView everyField() {
   status.decoding = DecodingView{"srgb", "note"};
   status.roomLight = RoomLightView{0.1, 0.2, 0.02};
   status.decodingCheck =
-      DecodingCheckView{1.02, 0.01, 2.0, "G", 0.5, "G", 0.6, 0.1, 3.0, "kept", "R", 0.01, 5.0};
+      DecodingCheckView{1.02, 0.01, 2.0, "G", 0.5, "G", 0.6, 0.1, 3.0, 2.5, "kept", "R", 0.01, 5.0};
   status.tuningFile = TuningFileView{"auto", "/usr/share/slicecap/tuning/x.json", "processed path"};
   status.warnings = {"warning"};
   return status;

@@ -161,9 +161,10 @@ TEST(DecodingWatch, AnHdrSweepsShortLevelInTheDarkIsNotADecodingLost) {
 // its distance from 0) against an honest dark channel: Gaussian noise around a mean of +0.2 to
 // +1 standard deviations, a black material the LED barely lights. Over 2000 runs of each size:
 // every broken one refused, whether a highlight's samples take a quarter of it above 0 or the
-// clip pins it at exactly 0; the honest ones refused at most 3 % of the time with 4 samples,
-// 0.5 % with 8 and 0.1 % with 32 (measured: printed) (the rule of "more than half at or below 0" refused 14-35 % of them
-// at +0.2).
+// clip pins it at exactly 0, and with 32 samples 95 % of those whose noise is as wide as their
+// distance below 0; the honest ones refused at most 3 % of the time with 4 samples, 1.5 % with 8
+// and 0.1 % with 32 (the measured rates are printed, beside those of the rule
+// before, "more than half at or below 0": 13-21 % at +0.2).
 TEST(DecodingWatch, TellsADecodingThatLostAChannelFromAnHonestDarkOne) {
   std::mt19937 random(44);
   std::normal_distribution<double> noise(0.0, 1.0);
@@ -178,8 +179,13 @@ TEST(DecodingWatch, TellsADecodingThatLostAChannelFromAnHonestDarkOne) {
     return watched(samples, light).refusal().has_value();
   };
   for (const std::size_t samples : {std::size_t(4), std::size_t(8), std::size_t(32)}) {
-    int pinned = 0, clipped = 0;
+    int pinned = 0, clipped = 0, wide = 0;
     for (int r = 0; r < kRuns; ++r) {
+      // As the model's processed-isp diagonal 75/75 read: noise as wide as the distance below 0
+      // (a third of the samples above 0), and a highlight's samples far above.
+      wide += run(samples, [&](std::size_t i) {
+        return i % 8 == 4 ? 0.6 * (1.0 + 0.03 * noise(random)) : 0.006 * (noise(random) - 1.0);
+      });
       const double level = -0.0012 * (0.5 + 0.5 * double(r % 3));
       pinned += run(samples, [&](std::size_t i) {
         return i % 13 < 9 || samples < 8 ? level * (1.0 + 0.05 * noise(random))
@@ -189,6 +195,9 @@ TEST(DecodingWatch, TellsADecodingThatLostAChannelFromAnHonestDarkOne) {
     }
     EXPECT_EQ(pinned, kRuns) << samples;
     EXPECT_EQ(clipped, kRuns) << samples;
+    if (samples == 32) {
+      EXPECT_GE(wide, kRuns * 95 / 100) << samples;
+    }
     for (const double meanSigmas : {0.2, 0.5, 1.0}) {
       int refused = 0, halfUnlit = 0;
       for (int r = 0; r < kRuns; ++r) {
@@ -201,7 +210,7 @@ TEST(DecodingWatch, TellsADecodingThatLostAChannelFromAnHonestDarkOne) {
       std::printf("honest channel at +%.1f sigma, %zu samples: refused in %.2f %% of %d runs "
                   "(more than half at or below 0: %.1f %%)\n",
                   meanSigmas, samples, 100.0 * rate, kRuns, 100.0 * halfUnlit / kRuns);
-      EXPECT_LE(rate, samples < 8 ? 0.03 : samples < 32 ? 0.005 : 0.001)
+      EXPECT_LE(rate, samples < 8 ? 0.03 : samples < 32 ? 0.015 : 0.001)
           << samples << " samples, +" << meanSigmas << " sigma";
     }
   }

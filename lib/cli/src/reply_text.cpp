@@ -128,9 +128,13 @@ std::string decodingCheckLine(const control::DecodingCheckView& check) {
     line += std::string(line.back() == ':' ? "" : ",") + " window " + *check.windowUnlitChannel +
             " unlit by the LED in " + percent(*check.windowUnlit) + " of the samples";
     if (check.windowUnlitSigmas) {
-      std::snprintf(figure, sizeof figure, " (median %+.1f standard errors from 0)",
-                    *check.windowUnlitSigmas);
+      std::snprintf(figure, sizeof figure, " (median %+.1f", *check.windowUnlitSigmas);
       line += figure;
+      if (check.windowUnlitMeanSigmas) {
+        std::snprintf(figure, sizeof figure, ", mean %+.1f", *check.windowUnlitMeanSigmas);
+        line += figure;
+      }
+      line += " standard errors from 0)";
     }
     if (check.windowUnlitVerdict) line += " - " + *check.windowUnlitVerdict;
   }

@@ -21,6 +21,8 @@ json toJson(const DecodingCheckView& check) {
   if (check.windowUnlit) object["window_unlit"] = *check.windowUnlit;
   if (check.windowUnlitAtZero) object["window_unlit_at_zero"] = *check.windowUnlitAtZero;
   if (check.windowUnlitSigmas) object["window_unlit_sigmas"] = *check.windowUnlitSigmas;
+  if (check.windowUnlitMeanSigmas)
+    object["window_unlit_mean_sigmas"] = *check.windowUnlitMeanSigmas;
   if (check.windowUnlitVerdict) object["window_unlit_verdict"] = *check.windowUnlitVerdict;
   if (check.windowStepChannel) object["window_step_channel"] = *check.windowStepChannel;
   if (check.windowStep) object["window_step"] = *check.windowStep;
@@ -38,6 +40,7 @@ DecodingCheckView decodingCheckFromJson(const json& object) {
           optionalField<double>(object, "window_unlit"),
           optionalField<double>(object, "window_unlit_at_zero"),
           optionalField<double>(object, "window_unlit_sigmas"),
+          optionalField<double>(object, "window_unlit_mean_sigmas"),
           optionalField<std::string>(object, "window_unlit_verdict"),
           optionalField<std::string>(object, "window_step_channel"),
           optionalField<double>(object, "window_step"),

@@ -77,12 +77,16 @@ const std::vector<ReplyField>& statusFields() {
       {"decoding_check.window_unlit_channel",
        "the window's channel whose LED light (window less room light) sits lowest against its "
        "own spread"},
-      {"decoding_check.window_unlit", "that channel's fraction of the latest samples at or below 0"},
+      {"decoding_check.window_unlit",
+       "that channel's fraction of the latest samples at or below 0"},
       {"decoding_check.window_unlit_at_zero", "its fraction exactly at 0 (the clip pinned it)"},
       {"decoding_check.window_unlit_sigmas",
        "its median in robust standard errors, negative below 0 (an honest dark channel's sits "
-       "at or above 0; the refusal rule, docs/real-sensors.md \"Refused sweeps\": below -6, or "
-       "more than half exactly at 0)"},
+       "at or above 0; the refusal rule, docs/real-sensors.md \"Refused sweeps\": below -6, "
+       "window_unlit_mean_sigmas below -3, or more than half exactly at 0)"},
+      {"decoding_check.window_unlit_mean_sigmas",
+       "from 8 samples: the mean of its samples within 5 robust standard deviations of the median "
+       "(a highlight's left out), in its standard errors"},
       {"decoding_check.window_unlit_verdict",
        "what the rule makes of it: not judged (a RAW stream, fewer than 4 samples), kept, "
        "refused as the run ends, or only warned of (refuse_broken_decoding = false)"},

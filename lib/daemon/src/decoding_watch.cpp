@@ -36,6 +36,7 @@ struct UnlitFigures {
   double atOrBelowZero = 0.0;  // fraction
   double atZero = 0.0;         // fraction exactly 0
   double medianSigmas = 0.0;   // the median in its robust standard errors
+  std::optional<double> trimmedMeanSigmas;  // from kMinSamples samples on
 };
 
 double middle(std::vector<double> values) {  // the median; an even count's middle two averaged
@@ -56,14 +57,30 @@ UnlitFigures unlitFigures(const std::deque<double>& lights) {
   const double median = middle({lights.begin(), lights.end()});
   std::vector<double> deviations;
   for (double v : lights) deviations.push_back(std::abs(v - median));
-  // The median's standard error from the median absolute deviation (a Gaussian's sigma is 1.4826
-  // MAD; the median's error 1.2533 sigma / sqrt(n)): robust to a highlight's samples.
-  const double standardError = 1.2533 * 1.4826 * middle(std::move(deviations)) / std::sqrt(n);
+  // The noise from the median absolute deviation (a Gaussian's sigma is 1.4826 MAD): robust to
+  // a highlight's samples. The median's standard error is 1.2533 sigma / sqrt(n).
+  const double sigma = 1.4826 * middle(std::move(deviations));
+  const double standardError = 1.2533 * sigma / std::sqrt(n);
   const double cap = DecodingWatch::kSigmasCap;
-  out.medianSigmas = standardError > 0.0 ? std::clamp(median / standardError, -cap, cap)
-                     : median < 0.0      ? -cap
-                     : median > 0.0      ? cap
-                                         : 0.0;
+  const auto ratio = [cap](double value, double error) {
+    return error > 0.0 ? std::clamp(value / error, -cap, cap)
+           : value < 0.0 ? -cap
+           : value > 0.0 ? cap
+                         : 0.0;
+  };
+  out.medianSigmas = ratio(median, standardError);
+  // The mean of the samples within kTrimSigmas of the median (a highlight's are not the
+  // channel's dark level), against its own standard error: more sensitive than the median where
+  // the noise is wide, and steady enough from kMinSamples samples on.
+  double sum = 0.0, squares = 0.0, kept = 0.0;
+  for (double v : lights)
+    if (sigma == 0.0 || std::abs(v - median) <= DecodingWatch::kTrimSigmas * sigma)
+      sum += v, squares += v * v, kept += 1.0;
+  if (lights.size() >= DecodingWatch::kMinSamples && kept >= 2.0) {
+    const double mean = sum / kept;
+    const double variance = std::max(0.0, (squares - kept * mean * mean) / (kept - 1.0));
+    out.trimmedMeanSigmas = ratio(mean, std::sqrt(variance / kept));
+  }
   return out;
 }
 
@@ -141,10 +158,14 @@ control::DecodingCheckView DecodingWatch::view() const {
   for (int c = 0; c < 3; ++c) {
     if (lights_[c].empty()) continue;
     const UnlitFigures figures = unlitFigures(lights_[c]);
-    if (!view.windowUnlitSigmas || figures.medianSigmas < *view.windowUnlitSigmas) {
+    // Ties (a spread of 0 caps the figure): the channel most often at or below 0.
+    if (!view.windowUnlitSigmas || figures.medianSigmas < *view.windowUnlitSigmas ||
+        (figures.medianSigmas == *view.windowUnlitSigmas &&
+         figures.atOrBelowZero > *view.windowUnlit)) {
       view.windowUnlit = figures.atOrBelowZero;
       view.windowUnlitAtZero = figures.atZero;
       view.windowUnlitSigmas = figures.medianSigmas;
+      view.windowUnlitMeanSigmas = figures.trimmedMeanSigmas;
       view.windowUnlitChannel = kChannelNames[c];
     }
   }
@@ -212,15 +233,22 @@ std::optional<std::string> DecodingWatch::refusal() const {
   // another.
   for (int c = 0; c < 3; ++c) {
     const UnlitFigures figures = unlitFigures(lights_[c]);
-    const bool below = figures.medianSigmas < -kMinBelowBlackSigmas;
-    if (!below && !(figures.atZero > kMaxWindowPinned)) continue;
+    const bool medianBelow = figures.medianSigmas < -kMinBelowBlackSigmas;
+    const bool meanBelow =
+        figures.trimmedMeanSigmas && *figures.trimmedMeanSigmas < -kMinMeanBelowBlackSigmas;
+    if (!medianBelow && !meanBelow && !(figures.atZero > kMaxWindowPinned)) continue;
     char sigmas[32];
-    std::snprintf(sigmas, sizeof sigmas, "%.1f", -figures.medianSigmas);
+    std::snprintf(sigmas, sizeof sigmas, "%.1f",
+                  medianBelow ? -figures.medianSigmas : -figures.trimmedMeanSigmas.value_or(0.0));
     const std::string what =
-        below ? std::string("its median is ") + sigmas + " standard errors below 0 (more than " +
-                    std::to_string(int(kMinBelowBlackSigmas)) + ")"
-              : "it is exactly 0 in " + percent(figures.atZero) + " (more than " +
-                    percent(kMaxWindowPinned) + ": the clip pinned it)";
+        medianBelow ? std::string("its median is ") + sigmas +
+                          " standard errors below 0 (more than " +
+                          std::to_string(int(kMinBelowBlackSigmas)) + ")"
+        : meanBelow ? std::string("its mean (a highlight's samples left out) is ") + sigmas +
+                          " standard errors below 0 (more than " +
+                          std::to_string(int(kMinMeanBelowBlackSigmas)) + ")"
+                    : "it is exactly 0 in " + percent(figures.atZero) + " (more than " +
+                          percent(kMaxWindowPinned) + ": the clip pinned it)";
     return std::string("decoding broken: the window's ") + kChannelNames[c] +
            " light from the LED sits below black over the latest " +
            std::to_string(lights_[c].size()) + " samples: " + what + ", at or below 0 in " +

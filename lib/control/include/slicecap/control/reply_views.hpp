@@ -156,13 +156,15 @@ struct DecodingCheckView {
   std::optional<double> windowAtBlack;
   /// The window's channel whose LED light (window less room light) sits lowest against its own
   /// spread ("R", "G", "B"), the fraction of the latest samples in which that light is at or
-  /// below 0, the fraction exactly 0, and its median in robust standard errors (negative: below
-  /// 0). The LED only adds light: a median far below 0, or light pinned at exactly 0, is a
-  /// decoding that lost the channel. Whether that refuses the sweep is windowUnlitVerdict's.
+  /// below 0, the fraction exactly 0, its median in robust standard errors (negative: below 0)
+  /// and, from 8 samples, the mean of those near the median in its standard errors. The LED
+  /// only adds light: a median or mean far below 0, or light pinned at exactly 0, is a decoding
+  /// that lost the channel. Whether that refuses the sweep is windowUnlitVerdict's.
   std::optional<std::string> windowUnlitChannel;
   std::optional<double> windowUnlit;
   std::optional<double> windowUnlitAtZero;
   std::optional<double> windowUnlitSigmas;
+  std::optional<double> windowUnlitMeanSigmas;
   /// What the refusal rule makes of it: not judged (RAW, too few samples), kept, refused, or
   /// only warned of (refuse_broken_decoding = false).
   std::optional<std::string> windowUnlitVerdict;

@@ -59,10 +59,20 @@ class DecodingWatch {
   /// frames: G 35-110 standard errors below 0). The median, not the mean, and the standard
   /// error from the median absolute deviation (1.2533 x 1.4826 x MAD / sqrt(n)): a highlight's
   /// samples, where the matrix leaves the channel above 0, move neither. Honest channels with
-  /// Gaussian noise around +0.2 sigma are refused in 1.25 % of runs of 4 samples, 0.2 % of 8 and
-  /// none of 2000 of 32 (docs/real-sensors.md, "Refused sweeps"); the rule before this one (more
-  /// than half at or below 0) refused 13-21 %.
+  /// Gaussian noise around +0.2 sigma are refused in 1 % of runs of 4 samples, 0.55 % of 8 and
+  /// none of 2000 of 32, with kMinMeanBelowBlackSigmas (docs/real-sensors.md, "Refused sweeps");
+  /// the rule before this one (more than half at or below 0) refused 13-21 %.
   static constexpr double kMinBelowBlackSigmas = 6.0;
+  /// \brief From kMinSamples samples on, a channel is also refused when the mean of its samples
+  /// within kTrimSigmas robust standard deviations of their median (a highlight's samples, above
+  /// 0, left out) lies more than this many of its standard errors below 0: where a broken
+  /// channel's noise is as wide as its distance below 0 (the camera model's processed-isp
+  /// diagonal 75/75: median 2.3 standard errors below 0, this mean 5.4), the mean of the many
+  /// samples sees what the median's wider error hides. Honest channels, both rules together:
+  /// docs/real-sensors.md, "Refused sweeps" (under 1 % of runs of 8 samples at +0.2 sigma,
+  /// none of 32).
+  static constexpr double kMinMeanBelowBlackSigmas = 3.0;
+  static constexpr double kTrimSigmas = 5.0;
   /// \brief More than this fraction of the latest samples with a channel's LED light exactly 0
   /// is a channel the clip pinned (LED-on and LED-off frames read alike at black): refused too.
   /// Noise never lands an honest channel's light exactly on 0.
