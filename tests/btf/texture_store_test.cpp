@@ -16,6 +16,7 @@
 #include "slicecap/hal/clock.hpp"
 #include "slicecap/hal/file_camera.hpp"
 #include "slicecap/io/io_error.hpp"
+#include "slicecap/io/journal.hpp"
 #include "slicecap/sim/patterned_material.hpp"
 #include "slicecap/sim/simulate.hpp"
 
@@ -332,6 +333,32 @@ TEST(TextureStore, ARedoneSweepLosesItsFramesAndOnlyThose) {
   EXPECT_FALSE(fs::exists(dir / "axial-30-75"));
   EXPECT_EQ(TextureStore::open(dir).slices(), std::vector<SliceId>{kDiagonal});
   store.discard(kAxial);  // nothing left: no error
+}
+
+// A refused sweep run's frames are set aside: out of the index and of every store opened on the
+// folder (kept in the slice's set-aside folder), the slice's earlier run's frames kept, and the
+// bins the refused run held free for a later run.
+TEST(TextureStore, ARefusedRunsFramesAreSetAsideAndOnlyThose) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+  store.add(kAxial, frameAt(0.0, 1.0f));     // the good run
+  store.add(kDiagonal, frameAt(0.0, 1.0f));  // another slice
+  const std::uint64_t run = store.nextSequence();
+  store.add(kAxial, frameAt(1.0, 2.0f));  // the refused run: bin 0 beside the good frame
+  store.add(kAxial, frameAt(30.0, 4.0f));
+  EXPECT_EQ(store.setAside(kAxial, run), 2u);
+  EXPECT_EQ(store.frameCount(kAxial), 1u);
+  EXPECT_EQ(store.frameCount(kDiagonal), 1u);
+  EXPECT_EQ(store.filledBins(kAxial), 1);
+  EXPECT_EQ(frameFiles(dir / (std::string("axial-30-75") + io::kSetAsideSuffix)).size(), 2u);
+  const TextureStore reopened = TextureStore::open(dir);
+  EXPECT_EQ(reopened.frameCount(kAxial), 1u);
+  EXPECT_TRUE(reopened.recovery().droppedFiles.empty());
+  EXPECT_EQ(reopened.recovery().leftovers, 0u);
+  ASSERT_EQ(reopened.combine().size(), 2u);
+  EXPECT_NEAR(reopened.combine()[0].bins[0].texels[0], 1.0f, 1e-3);  // the good run's frame
+  EXPECT_TRUE(store.wouldKeep(kAxial, 30.0)) << "the refused run's bin is free again";
+  EXPECT_EQ(store.setAside(kAxial, store.nextSequence()), 0u);
 }
 
 // The daemon's path (frames from a camera through makeFramePipeline's observer into a

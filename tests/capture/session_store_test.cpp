@@ -144,13 +144,16 @@ TEST(SessionStore, ARefusedSweepsSamplesAreSetAsideKeptAndSaidAfterReopening) {
   const auto root = test::freshTempDir();
   {
     SessionStore store = SessionStore::create(root, "s", "m");
+    const std::uint64_t run = store.nextRecordNumber();
     store.recordSample(kAxial3030, sampleAt(0, 1));
     store.recordSample(kAxial3030, sampleAt(30, 2));
     store.recordSample(kDiagonal7575, sampleAt(0, 5));
-    store.refuse(kAxial3030, "decoding broken: the window's G ...");
+    store.refuse(kAxial3030, "decoding broken: the window's G ...", run);
     EXPECT_EQ(store.sampleCount(kAxial3030), 0u);
     EXPECT_EQ(store.setAsideCount(kAxial3030), 2u);
-    EXPECT_THROW(store.refuse(SliceId{SliceKind::Point, {30, 30}}, "x"), capture::CaptureError);
+    EXPECT_EQ(store.sampleCount(kDiagonal7575), 1u) << "another slice's samples are not the run's";
+    EXPECT_THROW(store.refuse(SliceId{SliceKind::Point, {30, 30}}, "x", run),
+                 capture::CaptureError);
     store.recordSample(kAxial3030, sampleAt(45, 3));  // the slice swept again: counts
   }
   SessionStore store = SessionStore::open(root, "s");
@@ -165,15 +168,85 @@ TEST(SessionStore, ARefusedSweepsSamplesAreSetAsideKeptAndSaidAfterReopening) {
   EXPECT_EQ(store.refusals()[0].reason, "decoding broken: the window's G ...");
   ASSERT_EQ(store.slices().find(kAxial3030)->samples.size(), 1u);
   EXPECT_DOUBLE_EQ(store.slices().find(kAxial3030)->samples[0].value.r(), 3.0);
+  EXPECT_EQ(store.refusedCount(kAxial3030), 2u);
   store.redo(kAxial3030);
   EXPECT_TRUE(store.refusals().empty());
   EXPECT_TRUE(SessionStore::open(root, "s").refusals().empty());
+  // Why they were set aside outlives the reason: a redo does not make them journal damage.
+  EXPECT_EQ(store.setAsideCount(kAxial3030), 2u);
+  EXPECT_EQ(store.refusedCount(kAxial3030), 2u);
+  EXPECT_EQ(SessionStore::open(root, "s").refusedCount(kAxial3030), 2u);
+}
+
+// A refusal judges one sweep run (its latest samples): the slice's earlier runs, good, keep
+// counting, with their samples in the bins the refused run also filled; reopening agrees.
+TEST(SessionStore, ARefusalSetsAsideTheRefusedRunsSamplesAlone) {
+  const auto root = test::freshTempDir();
+  {
+    SessionStore store = SessionStore::create(root, "s", "m");
+    store.recordSweepStarted(kAxial3030);
+    store.recordSample(kAxial3030, sampleAt(0, 1));
+    store.recordSample(kAxial3030, sampleAt(15, 2));
+    store.recordSweepStopped(kAxial3030);
+    store.recordSweepStarted(kAxial3030);
+    const std::uint64_t run = store.nextRecordNumber();
+    store.recordSample(kAxial3030, sampleAt(0, 7));   // the same bin as the good run's first
+    store.recordSample(kDiagonal7575, sampleAt(0, 5));  // no sweep of it runs; another slice
+    store.recordSample(kAxial3030, sampleAt(30, 8));
+    store.refuse(kAxial3030, "decoding broken", run);
+    store.recordSweepStopped(kAxial3030);
+    EXPECT_EQ(store.sampleCount(kAxial3030), 2u);
+    EXPECT_EQ(store.refusals().back().samplesSetAside, 2u);
+  }
+  const SessionStore store = SessionStore::open(root, "s");
+  EXPECT_TRUE(store.damage().empty());
+  EXPECT_EQ(store.sampleCount(kAxial3030), 2u);
+  EXPECT_EQ(store.setAsideCount(kAxial3030), 2u);
+  EXPECT_EQ(store.sampleCount(kDiagonal7575), 1u);
+  ASSERT_EQ(store.bins(kAxial3030).samplesIn(0).size(), 1u);
+  EXPECT_DOUBLE_EQ(store.bins(kAxial3030).samplesIn(0)[0].value.r(), 1.0);
+  EXPECT_EQ(store.bins(kAxial3030).samplesIn(1).size(), 1u);
+  EXPECT_TRUE(store.bins(kAxial3030).samplesIn(2).empty());
+  ASSERT_EQ(store.refusals().size(), 1u);
+  EXPECT_EQ(store.refusals()[0].samplesSetAside, 2u);
+}
+
+// A session written when a refusal set aside every sample of its slice (format 3: a `refuse`
+// record without "from") still opens and reads as it was written; its next refusal marks it 4.
+TEST(SessionStore, AFormatThreeRefusalStillSetsAsideEverySampleOfItsSlice) {
+  const auto root = test::freshTempDir();
+  std::filesystem::create_directories(root / "old");
+  std::ofstream(root / "old" / "session.json")
+      << R"({"format":3,"id":"old","material":"m","created":"2026-12-06T14:05:00Z"})";
+  {
+    io::Journal journal = io::Journal::open(root / "old" / "journal", nullptr);
+    const std::string slice = R"("slice":{"kind":"axial","theta_i":30,"theta_v":30})";
+    for (int n = 1; n <= 2; ++n)
+      journal.append(R"({"frame":3,"light":[30.0,)" + std::to_string(15 * n) + R"(],"n":)" +
+                     std::to_string(n) + R"(,"rgb":[0.5,0.5,0.5],)" + slice +
+                     R"(,"t":"sample","ts":99000,"view":[30.0,60.0]})");
+    journal.append(R"({"n":3,"reason":"decoding broken",)" + slice + R"(,"t":"refuse"})");
+    journal.append(R"({"frame":4,"light":[30.0,90.0],"n":4,"rgb":[0.5,0.5,0.5],)" + slice +
+                   R"(,"t":"sample","ts":99000,"view":[30.0,60.0]})");
+  }
+  SessionStore store = SessionStore::open(root, "old");
+  EXPECT_TRUE(store.damage().empty());
+  EXPECT_EQ(store.sampleCount(kAxial3030), 1u);
+  EXPECT_EQ(store.setAsideCount(kAxial3030), 2u);
+  EXPECT_EQ(store.refusedCount(kAxial3030), 2u);
+  ASSERT_EQ(store.refusals().size(), 1u);
+  EXPECT_EQ(store.refusals()[0].samplesSetAside, 2u);
+  store.refuse(kAxial3030, "decoding broken again", store.nextRecordNumber());
+  std::ifstream in(root / "old" / "session.json");
+  EXPECT_NE(std::string(std::istreambuf_iterator<char>(in), {}).find("\"format\": 4"),
+            std::string::npos);
 }
 
 // A version before the `refuse` record reads it as damage and sets aside every slice's samples
-// before it: a session is marked format 3 with its first refusal, which such a version (it reads
-// 1 to 2) refuses to open, naming the file (as AFormatOneSessionWithoutCellsStillOpens shows of a
-// format this version does not know); a session without a refusal stays format 2.
+// before it, and one before its "from" every sample of its slice: a session is marked format 4
+// with its first refusal, which such a version (it reads 1 to 2, or 1 to 3) refuses to open,
+// naming the file (as AFormatOneSessionWithoutCellsStillOpens shows of a format this version
+// does not know); a session without a refusal stays format 2.
 TEST(SessionStore, ASessionWithARefusalIsMarkedAFormatOlderVersionsRefuse) {
   const auto root = test::freshTempDir();
   const auto formatOf = [&](const std::string& id) {
@@ -188,15 +261,15 @@ TEST(SessionStore, ASessionWithARefusalIsMarkedAFormatOlderVersionsRefuse) {
     SessionStore refused = SessionStore::create(root, "refused", "m");
     refused.recordSample(kAxial3030, sampleAt(0, 1));
     EXPECT_EQ(formatOf("refused"), "2");
-    refused.refuse(kAxial3030, "decoding broken");
+    refused.refuse(kAxial3030, "decoding broken", 1);
   }
   EXPECT_EQ(formatOf("plain"), "2");
-  EXPECT_EQ(formatOf("refused"), "3");
+  EXPECT_EQ(formatOf("refused"), "4");
   SessionStore reopened = SessionStore::open(root, "refused");
   EXPECT_EQ(reopened.info().material, "m");
   EXPECT_EQ(reopened.refusals().size(), 1u);
   reopened.redo(kAxial3030);
-  EXPECT_EQ(formatOf("refused"), "3") << "the journal still holds the record";
+  EXPECT_EQ(formatOf("refused"), "4") << "the journal still holds the record";
 }
 
 TEST(SessionStore, ResumesAfterKillDashNineWithEveryAcknowledgedSample) {
@@ -507,12 +580,12 @@ TEST(SessionStore, AFormatOneSessionWithoutCellsStillOpens) {
   EXPECT_FALSE(store.slices().hasCellSamples());
   // A format this version does not know is refused, naming the file and what it reads.
   std::ofstream(root / "old" / "session.json")
-      << R"({"format":4,"id":"old","material":"m","created":"2026-11-23T14:05:00Z"})";
+      << R"({"format":5,"id":"old","material":"m","created":"2026-11-23T14:05:00Z"})";
   try {
     SessionStore::open(root, "old");
-    FAIL() << "format 4 opened";
+    FAIL() << "format 5 opened";
   } catch (const io::IoError& e) {
-    EXPECT_NE(std::string(e.what()).find("expected 1 to 3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("expected 1 to 4"), std::string::npos) << e.what();
   }
 }
 

@@ -347,28 +347,56 @@ TEST(DaemonCommands, ARefusedSweepIsSaidByTheStatusAndTheExport) {
   LiveDaemon daemon(dir / "storage");
   ASSERT_EQ(daemon.run({"session", "new", "felt", "--id", "felt"}).code, kExitOk);
   ASSERT_EQ(daemon.run({"sweep", "start", "axial", "30", "30"}).code, kExitOk);
+  const std::uint64_t run = daemon.manager().nextRecordNumber().value();
   for (int k = 0; k < 3; ++k)
     daemon.manager().acceptSample(
         {k, std::uint64_t(k), {30, k * 15.0}, {30, k * 15.0 + 15}, Rgb::gray(0.2)});
   ASSERT_EQ(daemon.run({"sweep", "stop"}).code, kExitOk);
   const SliceId slice{SliceKind::Axial, {30, 30}};
-  daemon.manager().refuseSweep(slice, "decoding broken: the window's G ...");
+  EXPECT_TRUE(daemon.manager().refuseSweep(slice, "decoding broken: the window's G ...", run));
   const Result status = daemon.run({"status"});
   EXPECT_THAT(status.out, HasSubstr("0 samples, 3 set aside (sweep refused)")) << status.out;
   EXPECT_THAT(status.out, HasSubstr("    refused: decoding broken: the window's G ...")) << status.out;
-  EXPECT_THAT(status.out, HasSubstr("sweep axial 30/30 refused, its samples set aside")) << status.out;
+  EXPECT_THAT(status.out, HasSubstr("sweep axial 30/30 refused, the run's 3 samples set aside"))
+      << status.out;
   const Result exported = daemon.run({"export", "felt", "-o", desk.string()});
   EXPECT_NE(exported.code, kExitOk);
   EXPECT_THAT(exported.err, HasSubstr("no samples to reconstruct from; sweep axial 30/30 refused: "
-                                      "its 3 samples are set aside"))
+                                      "the run's 3 samples are set aside"))
       << exported.err;
   ASSERT_EQ(daemon.run({"sweep", "start", "axial", "30", "30"}).code, kExitOk);
   daemon.manager().acceptSample({9, 9, {30, 0.0}, {30, 15.0}, Rgb::gray(0.2)});
   ASSERT_EQ(daemon.run({"sweep", "stop"}).code, kExitOk);
   const Result again = daemon.run({"export", "felt", "-o", desk.string()});
   ASSERT_EQ(again.code, kExitOk) << again.err;
-  EXPECT_THAT(again.err, HasSubstr("warning: sweep axial 30/30 refused: its 3 samples are set aside"))
+  EXPECT_THAT(again.err,
+              HasSubstr("warning: sweep axial 30/30 refused: the run's 3 samples are set aside"))
       << again.err;
+}
+
+// A run that ended in a pause (here the LED's error) and was then refused: the status's error
+// says both, the pause's reason first. A redo then discards the slice's samples and forgets the
+// refusal's reason, and the samples set aside are still said to be a refused sweep's, not the
+// journal's damage.
+TEST(DaemonCommands, ARefusalKeepsThePausesReasonAndARedoKeepsWhyItsSamplesWereSetAside) {
+  const auto dir = test::freshTempDir();
+  LiveDaemon daemon(dir / "storage");
+  ASSERT_EQ(daemon.run({"session", "new", "felt", "--id", "felt"}).code, kExitOk);
+  ASSERT_EQ(daemon.run({"sweep", "start", "axial", "30", "30"}).code, kExitOk);
+  const std::uint64_t run = daemon.manager().nextRecordNumber().value();
+  for (int k = 0; k < 2; ++k)
+    daemon.manager().acceptSample(
+        {k, std::uint64_t(k), {30, k * 15.0}, {30, k * 15.0 + 15}, Rgb::gray(0.2)});
+  daemon.manager().pauseSweep("LED error: the GPIO line is busy");
+  ASSERT_TRUE(daemon.manager().refuseSweep({SliceKind::Axial, {30, 30}}, "decoding broken", run));
+  const Result paused = daemon.run({"status"});
+  EXPECT_THAT(paused.out, HasSubstr("LED error: the GPIO line is busy")) << paused.out;
+  EXPECT_THAT(paused.out, HasSubstr("sweep axial 30/30 refused, the run's 2 samples set aside"))
+      << paused.out;
+  ASSERT_EQ(daemon.run({"sweep", "redo", "axial", "30", "30"}).code, kExitOk);
+  const Result redone = daemon.run({"status"});
+  EXPECT_THAT(redone.out, HasSubstr("2 set aside (sweep refused)")) << redone.out;
+  EXPECT_THAT(redone.out, Not(HasSubstr("damaged journal"))) << redone.out;
 }
 
 TEST(DaemonCommands, RefusesAWatchCountThatIsNoWholeNumberAndSaysWhyARequestIsTooLong) {

@@ -16,8 +16,8 @@ SessionView fullSession() {
   session.createdUtc = "2026-12-02T10:00:00Z";
   session.directory = "/var/lib/slicecap/s1";
   session.samples = 7;
-  session.slices = {{{SliceKind::Diagonal, {30, 30}}, 5, 4, 0, false, std::nullopt},
-                    {{SliceKind::Axial, {75, 30}}, 2, 1, 3, true, "decoding broken: ..."}};
+  session.slices = {{{SliceKind::Diagonal, {30, 30}}, 5, 4, 0, std::nullopt, false, std::nullopt},
+                    {{SliceKind::Axial, {75, 30}}, 2, 1, 3, 2, true, "decoding broken: ..."}};
   session.tornTailBytesDropped = 12;
   session.corruptJournalLines = {4, 9};
   session.journalDamage = {{9, "journal line 9: unreadable", {"axial 75/30"}, 3, 1}};
@@ -46,7 +46,9 @@ TEST(ReplyViews, SessionRoundTrips) {
   EXPECT_EQ(toJson(sessionFromJson(written)), written);
   EXPECT_EQ(written["slices"][1]["name"], "axial 75/30");
   EXPECT_EQ(written["slices"][1]["samples_set_aside"], 3);
+  EXPECT_EQ(written["slices"][1]["samples_refused"], 2);
   EXPECT_FALSE(written["slices"][0].contains("samples_set_aside"));
+  EXPECT_FALSE(written["slices"][0].contains("samples_refused"));
   EXPECT_FALSE(written["slices"][0].contains("damaged"));
   EXPECT_FALSE(written["slices"][0].contains("refused"));
   EXPECT_EQ(written["slices"][1]["refused"], "decoding broken: ...");
@@ -221,7 +223,9 @@ TEST(ReplyViews, TheDecodingCheckAndTheTuningFileAreReadBackAsWritten) {
   json written = toJson(status);
   EXPECT_FALSE(written.contains("decoding_check"));
   EXPECT_TRUE(written["tuning_file"]["file"].is_null());
-  status.decodingCheck = DecodingCheckView{0.98, 0.031, 6.5, "G", 0.97, "G", 0.75, "R", -0.013, 9.0};
+  status.decodingCheck = DecodingCheckView{
+      0.98, 0.031, 6.5, "G", 0.97, "G", 0.75, 0.25, -40.0, -55.0, "refused as the run ends", "R",
+      -0.013, 9.0};
   status.tuningFile->file = "/usr/share/slicecap/tuning/slicecap-imx708-pisp.json";
   written = toJson(status);
   EXPECT_EQ(written["decoding_check"]["window_at_black_channel"], "G");
@@ -232,6 +236,8 @@ TEST(ReplyViews, TheDecodingCheckAndTheTuningFileAreReadBackAsWritten) {
   EXPECT_EQ(read.decodingCheck->windowAtBlack, 0.97);
   EXPECT_EQ(read.decodingCheck->windowUnlitChannel, "G");
   EXPECT_EQ(read.decodingCheck->windowUnlit, 0.75);
+  EXPECT_EQ(read.decodingCheck->windowUnlitSigmas, -40.0);
+  EXPECT_EQ(read.decodingCheck->windowUnlitVerdict, "refused as the run ends");
   EXPECT_EQ(read.tuningFile->file, status.tuningFile->file);
   EXPECT_EQ(toJson(read), written);
 }

@@ -3,6 +3,7 @@
 // without a line, or a line for a key no longer written, fails here.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 #include <string>
 
@@ -35,7 +36,8 @@ StatusView everyField() {
   status.cameraFrames = CameraFramesView{};
   status.decoding = DecodingView{"srgb", "note"};
   status.roomLight = RoomLightView{0.1, 0.2, 0.02};
-  status.decodingCheck = DecodingCheckView{1.02, 0.01, 2.0, "G", 0.5, "G", 0.6, "R", 0.01, 5.0};
+  status.decodingCheck =
+      DecodingCheckView{1.02, 0.01, 2.0, "G", 0.5, "G", 0.6, 0.1, 3.0, 2.5, "kept", "R", 0.01, 5.0};
   status.tuningFile = TuningFileView{"auto", "/usr/share/slicecap/tuning/x.json", "processed path"};
   status.warnings = {"warning"};
   return status;
@@ -60,6 +62,20 @@ TEST(StatusFields, AreExactlyTheKeysTheStatusWrites) {
     for (const auto& [inner, ignored] : inside.items()) written.insert(key + "." + inner);
   }
   EXPECT_EQ(documented, written);
+}
+
+// window_unlit is a figure: whether it refuses the sweep depends on the stream, the setting and
+// the samples, which window_unlit_verdict says in each case (its values:
+// DecodingWatch.SaysWhatTheRuleMakesOfTheRunInEachCase), so the figure's text claims no refusal.
+TEST(StatusFields, TheUnlitFigureClaimsNoRefusalAndItsVerdictNamesEachCase) {
+  std::map<std::string, std::string> meaning;
+  for (const ReplyField& field : statusFields()) meaning[field.key] = field.meaning;
+  for (const char* figure : {"decoding_check.window_unlit", "decoding_check.window_unlit_channel",
+                             "decoding_check.window_unlit_at_zero"})
+    EXPECT_EQ(meaning.at(figure).find("refused"), std::string::npos) << figure;
+  const std::string& verdict = meaning.at("decoding_check.window_unlit_verdict");
+  for (const char* whenNot : {"RAW", "fewer than 4 samples", "refuse_broken_decoding = false"})
+    EXPECT_NE(verdict.find(whenNot), std::string::npos) << whenNot;
 }
 
 }  // namespace

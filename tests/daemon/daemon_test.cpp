@@ -101,9 +101,16 @@ class FakeTextureSink : public TextureSink {
     view.framesStored = std::size_t(log_->samplesStored);
     return view;
   }
+  void beginRun() override { runStart_ = log_->samplesStored; }
+  std::size_t setAsideRun() override {
+    const std::size_t frames = std::size_t(log_->samplesStored - runStart_);
+    log_->samplesStored = runStart_;
+    return frames;
+  }
 
  private:
   std::shared_ptr<TextureLog> log_;
+  int runStart_ = 0;
 };
 
 // The sweep's texture through the fake sink; no recordings.

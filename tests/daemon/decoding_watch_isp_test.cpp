@@ -129,9 +129,9 @@ TEST(DecodingWatchOnTheIsp, RefusesAWindowChannelTheColourMatrixTookBelowBlack) 
     SCOPED_TRACE(light.g());
     const DecodingWatch watch = watchThrough(piIsp(), light);
     const control::DecodingCheckView figures = watch.view();
-    ASSERT_TRUE(figures.windowUnlit);
+    ASSERT_TRUE(figures.windowUnlitSigmas);
     EXPECT_EQ(figures.windowUnlitChannel, "G");
-    EXPECT_GT(*figures.windowUnlit, DecodingWatch::kMaxWindowUnlit);
+    EXPECT_LT(*figures.windowUnlitSigmas, -DecodingWatch::kMinBelowBlackSigmas);
     const std::optional<std::string> refusal = watch.refusal();
     ASSERT_TRUE(refusal);
     EXPECT_NE(refusal->find("window's G"), std::string::npos) << *refusal;
@@ -148,8 +148,8 @@ TEST(DecodingWatchOnTheIsp, AcceptsTheIspsThatKeepEveryChannel) {
     for (const Rgb& light : {kSatinBlue, kSatinBlueHighlight, kDimRed}) {
       SCOPED_TRACE(std::string(name) + ", green " + std::to_string(light.g()));
       const DecodingWatch watch = watchThrough(isp, light);
-      ASSERT_TRUE(watch.view().windowUnlit);
-      EXPECT_LT(*watch.view().windowUnlit, DecodingWatch::kMaxWindowUnlit);
+      ASSERT_TRUE(watch.view().windowUnlitSigmas);
+      EXPECT_GT(*watch.view().windowUnlitSigmas, 0.0);
       EXPECT_FALSE(watch.refusal());
     }
 }

@@ -9,6 +9,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <fstream>
 #include <functional>
@@ -67,12 +68,19 @@ TEST(SessionExporter, ListsTheTextureFilesACopyNeeds) {
   touch(texture / "axial-30-30" / "0001.tex");
   touch(texture / "axial-30-30" / "0002.tex.tmp");  // a frame being written
   touch(texture / (std::string("axial-75-75") + io::kDiscardedSuffix) / "0001.tex");
+  // A refused run's frames, set aside beside the slice's frames of its other runs.
+  touch(texture / (std::string("axial-30-30") + io::kSetAsideSuffix) / "b00-00000003.tex");
+  touch(texture / (std::string("axial-30-30") + io::kSetAsideSuffix) / "b02-00000004.tex");
   const SessionExporter exporter(grayTable);
   const control::ExportView reply =
       exporter.exportSession(store, dir / "out", std::string("b"), {});
   ASSERT_EQ(reply.texture, texture.string());
   EXPECT_EQ(reply.textureFiles,
             (std::vector<std::string>{"axial-30-30/0001.tex", "slices.csv", "texture.json"}));
+  EXPECT_TRUE(std::any_of(reply.warnings.begin(), reply.warnings.end(), [](const std::string& w) {
+    return w.find("texture: 2 frames of refused sweep runs left out (kept in "
+                  "texture/axial-30-30.set-aside)") != std::string::npos;
+  })) << testing::PrintToString(reply.warnings);
   EXPECT_FALSE(reply.textureSkipped);
   for (const std::string& file : reply.files) EXPECT_TRUE(fs::is_regular_file(file)) << file;
   EXPECT_TRUE(fs::exists(dir / "out" / "felt-abrdf-b.exr"));

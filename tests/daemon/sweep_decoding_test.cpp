@@ -156,12 +156,15 @@ TEST(SweepDecoding, TheDecodingChecksWarningsAreKeptInTheSessionAndReadBack) {
   io::writeJsonFileAtomically(checked, toJson(decided, "model"));
   io::writeJsonFileAtomically(session / kDecodingFolder / "axial-30-75.json", toJson(decided, "model"));
   recordDecodingCheck(checked,
-                      control::DecodingCheckView{1.01, 0.05, 6.0, "G", 0.97, "G", 0.9, "R", 0.012, 5.0},
+                      control::DecodingCheckView{1.01, 0.05, 6.0, "G", 0.97, "G", 0.9, 0.0, -30.0,
+                                                 -45.0, "refused as the run ends", "R", 0.012, 5.0},
                       {"decoding: 97.0 % of the window's G pixels are at code 0"});
   const nlohmann::json record = io::readJsonFile(checked);
   EXPECT_EQ(record["note"], "measured curve") << "the record keeps what it said";
   EXPECT_EQ(record["check"]["window_at_black_channel"], "G");
   EXPECT_EQ(record["check"]["window_unlit"], 0.9);
+  EXPECT_EQ(record["check"]["window_unlit_sigmas"], -30.0);
+  EXPECT_EQ(record["check"]["window_unlit_mean_sigmas"], -45.0);
   EXPECT_EQ(record["check"]["window_step_channel"], "R");
   const std::vector<std::string> warnings = recordedDecodingWarnings(session);
   ASSERT_EQ(warnings.size(), 1u);

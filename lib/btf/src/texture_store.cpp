@@ -95,6 +95,8 @@ void TextureStore::load() {
       setAsideLeftover(folder.path());
       continue;
     }
+    // A refused sweep run's frames (setAside): kept, never read.
+    if (folder.path().extension() == io::kSetAsideSuffix) continue;
     findFramesIn(folder.path(), found, error);
     if (error) break;
   }
@@ -221,6 +223,31 @@ void TextureStore::discard(const SliceId& slice) {
   // The index follows the disk: if the folder cannot be discarded, its frames stay known.
   io::discardFolderDurably(directory_ / folderName(slice));
   index_.erase(slice);
+}
+
+std::size_t TextureStore::setAside(const SliceId& slice, std::uint64_t fromSequence) {
+  if (access_ != StoreAccess::Mend)
+    throw std::logic_error("texture store: " + directory_.string() + " was opened read-only");
+  const auto found = index_.find(slice);
+  if (found == index_.end()) return 0;
+  std::vector<fs::path> files;
+  for (const std::vector<Entry>& bin : found->second)
+    for (const Entry& e : bin)
+      if (e.sequence >= fromSequence) files.push_back(e.file);
+  // The index follows the disk: the frames leave it once they are moved (or if a move fails,
+  // once they may be: a frame read from the wrong folder is worse than one left out).
+  const auto forget = [&] {
+    for (std::vector<Entry>& bin : found->second)
+      std::erase_if(bin, [&](const Entry& e) { return e.sequence >= fromSequence; });
+  };
+  try {
+    io::moveFilesDurably(files, directory_ / (folderName(slice) + io::kSetAsideSuffix));
+  } catch (const io::IoError&) {
+    forget();
+    throw;
+  }
+  forget();
+  return files.size();
 }
 
 std::vector<SliceId> TextureStore::slices() const {

@@ -72,6 +72,14 @@ void AzimuthBins::clear() {
   clippedCache_.reset();
 }
 
+void AzimuthBins::removeLatest(int bin) {
+  std::vector<FrameSample>& samples = bins_.at(static_cast<std::size_t>(bin));
+  if (samples.empty()) return;
+  samples.pop_back();
+  version_ = nextVersion();
+  clippedCache_.reset();
+}
+
 int AzimuthBins::filledCount() const {
   return static_cast<int>(
       std::count_if(bins_.begin(), bins_.end(), [](const auto& b) { return !b.empty(); }));

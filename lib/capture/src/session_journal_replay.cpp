@@ -81,7 +81,7 @@ void SessionStore::replay(const std::vector<io::JournalLine>& lines) {
     if (line.intact) {
       try {
         if (!j) throw io::IoError(parsed.error);
-        apply(*j, line.line);
+        apply(*j, line.line, expected - 1);  // acceptRecordNumber moved past its number
       } catch (const std::exception& e) {
         // A valid checksum over content this version cannot use (a damaged writer, a newer
         // daemon): judged as a damaged record.
@@ -185,9 +185,9 @@ void SessionStore::setAside(std::size_t line, std::string what, std::optional<Sl
     if (count == 0) continue;
     setAside_[id] += count;
     damagedSlices_.insert(id);
-    binsFor(id).clear();
     damage.slicesSetAside.push_back(id);
     damage.samplesSetAside += count;
+    uncountAll(id);
     names += (names.empty() ? "" : ", ") + toString(id) + " (" + std::to_string(count) + ")";
   }
   if (damage.slicesSetAside.empty()) {
@@ -200,19 +200,23 @@ void SessionStore::setAside(std::size_t line, std::string what, std::optional<Sl
   damage_.push_back(std::move(damage));
 }
 
-void SessionStore::apply(const json& j, std::size_t line) {
+void SessionStore::apply(const json& j, std::size_t line, std::uint64_t number) {
   const std::string where = (directory_ / kJournal).string() + " line " + std::to_string(line);
   try {
     const std::string type = j.at("t").get<std::string>();
     const SliceId slice = sliceFrom(j.at("slice"));
     if (type == "sample") {
-      binsFor(slice).add(sampleFrom(j));
+      countSample(slice, sampleFrom(j), number);
     } else if (type == "redo") {
-      binsFor(slice).clear();
+      uncountAll(slice);
       damagedSlices_.erase(slice);  // what was set aside would be discarded now anyway
       forgetRefusals(slice);
     } else if (type == "refuse") {
-      applyRefusal(slice, j.at("reason").get<std::string>());
+      // Format 4 names the refused run's first record; a format 3 record refused every counted
+      // sample of its slice, and still does.
+      std::optional<std::uint64_t> first;
+      if (j.contains("from")) first = wholeNumber<std::uint64_t>(j, "from");
+      applyRefusal(slice, j.at("reason").get<std::string>(), first);
     } else if (type == "start") {
       activeSweep_ = slice;
     } else if (type == "stop") {

@@ -31,10 +31,14 @@ using namespace journal_records;
 // sets aside every slice's samples before it, not the refused slice's alone, so a session is
 // marked 3 when its first refusal is written, and such a version refuses to open it, naming the
 // file; a session without a refusal stays 2, readable by those versions.
-constexpr int kFormatVersion = 3;
+// 4: a `refuse` record names the first record of the refused sweep run ("from"), and only that
+// run's samples are set aside. A version reading 3 would set aside every sample of the slice
+// before it (earlier good runs too), so a session is marked 4 with its first such record. A
+// format 3 record (no "from") still reads as it was written: every counted sample of its slice.
+constexpr int kFormatVersion = 4;
 constexpr int kNewSessionFormatVersion = 2;
 constexpr int kOldestFormatVersion = 1;
-constexpr int kRefusalFormatVersion = 3;
+constexpr int kRunRefusalFormatVersion = 4;
 
 void writeDescription(const std::filesystem::path& directory, const SessionInfo& info, int format) {
   io::writeFileAtomically(directory / "session.json",
@@ -87,7 +91,8 @@ SessionInfo readInfo(const std::filesystem::path& directory) {
     return {directory.filename().string(),
             j.at("material").get<std::string>(),
             j.at("created").get<std::string>(),
-            {}};
+            {},
+            static_cast<int>(format.get<std::int64_t>())};
   } catch (const json::exception& e) {
     throw io::IoError(file.string() + ": " + e.what());
   }
@@ -111,7 +116,7 @@ SessionStore SessionStore::create(const std::filesystem::path& root, const std::
   // The journal before the description: a session.json without its journal then always means
   // the journal was lost, which opening says.
   io::Journal journal = io::Journal::open(directory / kJournal, nullptr);
-  SessionInfo info{id, material, utcNow(), {}};
+  SessionInfo info{id, material, utcNow(), {}, kNewSessionFormatVersion};
   writeDescription(directory, info, kNewSessionFormatVersion);
   return SessionStore(directory, std::move(info), std::move(journal));
 }
@@ -206,6 +211,23 @@ std::size_t SessionStore::setAsideCount(const SliceId& slice) const {
   return it == setAside_.end() ? 0 : it->second;
 }
 
+std::size_t SessionStore::refusedCount(const SliceId& slice) const {
+  const auto it = refusedAside_.find(slice);
+  return it == refusedAside_.end() ? 0 : it->second;
+}
+
+void SessionStore::countSample(const SliceId& slice, const FrameSample& sample,
+                               std::uint64_t record) {
+  AzimuthBins& bins = binsFor(slice);
+  bins.add(sample);
+  counted_[slice].push_back({record, bins.binOf(sample)});
+}
+
+void SessionStore::uncountAll(const SliceId& slice) {
+  binsFor(slice).clear();
+  counted_.erase(slice);
+}
+
 void SessionStore::append(json record) {
   record["n"] = nextSequence_;
   journal_.append(record.dump());
@@ -242,9 +264,10 @@ void SessionStore::recordSample(const SliceId& slice, const FrameSample& s) {
     }
     record["cells"] = cellsJson(*s.cells);
   }
+  const std::uint64_t number = nextSequence_;
   append(std::move(record));
   // durable first: only then does the sample count
-  binsFor(slice).add(s);
+  countSample(slice, s, number);
 }
 
 void SessionStore::recordSweepStarted(const SliceId& slice) {
@@ -261,24 +284,38 @@ void SessionStore::recordSweepStopped(const SliceId& slice) {
 void SessionStore::redo(const SliceId& slice) {
   requireSweepSlice(slice);
   append(json{{"t", "redo"}, {"slice", sliceJson(slice)}});
-  binsFor(slice).clear();
+  uncountAll(slice);
   damagedSlices_.erase(slice);
   forgetRefusals(slice);
 }
 
-void SessionStore::refuse(const SliceId& slice, const std::string& reason) {
+void SessionStore::refuse(const SliceId& slice, const std::string& reason,
+                          std::uint64_t firstRecord) {
   requireSweepSlice(slice);
-  // The description first: a session marked 3 without the record is still read right.
-  if (refusals_.empty()) writeDescription(directory_, info_, kRefusalFormatVersion);
-  append(json{{"t", "refuse"}, {"slice", sliceJson(slice)}, {"reason", reason}});
-  applyRefusal(slice, reason);
+  // The description first: a session marked 4 without the record is still read right.
+  if (info_.format < kRunRefusalFormatVersion) {
+    writeDescription(directory_, info_, kRunRefusalFormatVersion);
+    info_.format = kRunRefusalFormatVersion;
+  }
+  append(json{{"t", "refuse"}, {"slice", sliceJson(slice)}, {"reason", reason},
+              {"from", firstRecord}});
+  applyRefusal(slice, reason, firstRecord);
 }
 
-void SessionStore::applyRefusal(const SliceId& slice, std::string reason) {
-  const std::size_t count = sampleCount(slice);
-  setAside_[slice] += count;
-  binsFor(slice).clear();
-  refusals_.push_back({slice, std::move(reason), count});
+void SessionStore::applyRefusal(const SliceId& slice, std::string reason,
+                                std::optional<std::uint64_t> firstRecord) {
+  // The run's samples are the slice's latest (records are numbered in journal order): each is
+  // the latest of its bin when it is taken out, newest first.
+  std::vector<CountedSample>& counted = counted_[slice];
+  std::size_t refused = 0;
+  while (!counted.empty() && (!firstRecord || counted.back().record >= *firstRecord)) {
+    binsFor(slice).removeLatest(counted.back().bin);
+    counted.pop_back();
+    ++refused;
+  }
+  setAside_[slice] += refused;
+  refusedAside_[slice] += refused;
+  refusals_.push_back({slice, std::move(reason), refused});
 }
 
 void SessionStore::forgetRefusals(const SliceId& slice) {

@@ -2,6 +2,7 @@
 // (`slicecap session`, `sweep`, `status`), and the status's fields for `slicecap status --help`.
 #include "reply_text.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ostream>
@@ -25,6 +26,19 @@ std::string padded(std::string text, std::size_t width) {
   return text;
 }
 
+// Why a slice's samples were set aside, from the counts (a redo forgets a refusal's reason, not
+// which samples it set aside); a daemon before the counts were told apart says only the reason.
+std::string setAsideText(const control::SliceProgress& slice) {
+  const std::size_t refused =
+      slice.samplesRefused.value_or(slice.refused ? slice.samplesSetAside : 0);
+  const std::size_t damage = slice.samplesSetAside - std::min(refused, slice.samplesSetAside);
+  const std::string total = std::to_string(slice.samplesSetAside) + " set aside (";
+  if (damage == 0) return total + "sweep refused)";
+  if (refused == 0) return total + "damaged journal)";
+  return total + std::to_string(refused) + " sweep refused, " + std::to_string(damage) +
+         " damaged journal)";
+}
+
 void printSession(std::ostream& out, const control::SessionView& session) {
   out << "session " << session.id << " (" << session.material << "), " << session.samples
       << " samples";
@@ -33,9 +47,7 @@ void printSession(std::ostream& out, const control::SessionView& session) {
   for (const control::SliceProgress& slice : session.slices) {
     out << "  " << padded(toString(slice.slice), 16) << slice.binsFilled << "/"
         << control::kBinsPerSlice << " bins, " << slice.samples << " samples";
-    if (slice.samplesSetAside > 0)
-      out << ", " << slice.samplesSetAside << " set aside ("
-          << (slice.refused ? "sweep refused" : "damaged journal") << ")";
+    if (slice.samplesSetAside > 0) out << ", " << setAsideText(slice);
     out << "\n";
     // A refused sweep's reason names what to change: never only in --json.
     if (slice.refused) out << "    refused: " << *slice.refused << "\n";
@@ -112,9 +124,20 @@ std::string decodingCheckLine(const control::DecodingCheckView& check) {
   if (check.windowAtBlack && check.windowAtBlackChannel)
     line += std::string(check.blackReading || check.blackReadingStep ? "," : "") + " window " +
             *check.windowAtBlackChannel + " " + percent(*check.windowAtBlack) + " at code 0";
-  if (check.windowUnlit && check.windowUnlitChannel)
+  if (check.windowUnlit && check.windowUnlitChannel) {
     line += std::string(line.back() == ':' ? "" : ",") + " window " + *check.windowUnlitChannel +
             " unlit by the LED in " + percent(*check.windowUnlit) + " of the samples";
+    if (check.windowUnlitSigmas) {
+      std::snprintf(figure, sizeof figure, " (median %+.1f", *check.windowUnlitSigmas);
+      line += figure;
+      if (check.windowUnlitMeanSigmas) {
+        std::snprintf(figure, sizeof figure, ", mean %+.1f", *check.windowUnlitMeanSigmas);
+        line += figure;
+      }
+      line += " standard errors from 0)";
+    }
+    if (check.windowUnlitVerdict) line += " - " + *check.windowUnlitVerdict;
+  }
   if (check.windowStep && check.windowStepChannel) {
     std::snprintf(figure, sizeof figure, " (%.1f standard errors)",
                   check.windowStepSigmas.value_or(0.0));

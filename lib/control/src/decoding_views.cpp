@@ -19,6 +19,11 @@ json toJson(const DecodingCheckView& check) {
   if (check.windowAtBlack) object["window_at_black"] = *check.windowAtBlack;
   if (check.windowUnlitChannel) object["window_unlit_channel"] = *check.windowUnlitChannel;
   if (check.windowUnlit) object["window_unlit"] = *check.windowUnlit;
+  if (check.windowUnlitAtZero) object["window_unlit_at_zero"] = *check.windowUnlitAtZero;
+  if (check.windowUnlitSigmas) object["window_unlit_sigmas"] = *check.windowUnlitSigmas;
+  if (check.windowUnlitMeanSigmas)
+    object["window_unlit_mean_sigmas"] = *check.windowUnlitMeanSigmas;
+  if (check.windowUnlitVerdict) object["window_unlit_verdict"] = *check.windowUnlitVerdict;
   if (check.windowStepChannel) object["window_step_channel"] = *check.windowStepChannel;
   if (check.windowStep) object["window_step"] = *check.windowStep;
   if (check.windowStepSigmas) object["window_step_sigmas"] = *check.windowStepSigmas;
@@ -33,6 +38,10 @@ DecodingCheckView decodingCheckFromJson(const json& object) {
           optionalField<double>(object, "window_at_black"),
           optionalField<std::string>(object, "window_unlit_channel"),
           optionalField<double>(object, "window_unlit"),
+          optionalField<double>(object, "window_unlit_at_zero"),
+          optionalField<double>(object, "window_unlit_sigmas"),
+          optionalField<double>(object, "window_unlit_mean_sigmas"),
+          optionalField<std::string>(object, "window_unlit_verdict"),
           optionalField<std::string>(object, "window_step_channel"),
           optionalField<double>(object, "window_step"),
           optionalField<double>(object, "window_step_sigmas")};

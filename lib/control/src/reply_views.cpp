@@ -26,6 +26,7 @@ SliceProgress sliceProgressFromJson(const json& object) {
   return {sliceFromJson(object), field<std::size_t>(object, "samples"),
           field<int>(object, "bins_filled"),
           optionalField<std::size_t>(object, "samples_set_aside").value_or(0),
+          optionalField<std::size_t>(object, "samples_refused"),
           optionalField<bool>(object, "damaged").value_or(false),
           optionalField<std::string>(object, "refused")};
 }
@@ -61,6 +62,8 @@ json toJson(const SliceProgress& slice) {
   entry["samples"] = slice.samples;
   entry["bins_filled"] = slice.binsFilled;
   if (slice.samplesSetAside > 0) entry["samples_set_aside"] = slice.samplesSetAside;
+  // Written with the count, 0 too: a reader then knows the daemon tells them apart.
+  if (slice.samplesSetAside > 0) entry["samples_refused"] = slice.samplesRefused.value_or(0);
   if (slice.damaged) entry["damaged"] = true;
   if (slice.refused) entry["refused"] = *slice.refused;
   return entry;

@@ -75,10 +75,21 @@ const std::vector<ReplyField>& statusFields() {
        "that channel's median fraction of pixels at code 0 (near 1: a colour matrix took it below "
        "black)"},
       {"decoding_check.window_unlit_channel",
-       "the window's channel whose LED light (window less room light) is most often at or below 0"},
+       "the window's channel whose LED light (window less room light) sits lowest against its "
+       "own spread"},
       {"decoding_check.window_unlit",
-       "that channel's fraction of the latest samples at or below 0 (above 0.5: the decoding lost "
-       "the channel and the sweep is refused, docs/real-sensors.md)"},
+       "that channel's fraction of the latest samples at or below 0"},
+      {"decoding_check.window_unlit_at_zero", "its fraction exactly at 0 (the clip pinned it)"},
+      {"decoding_check.window_unlit_sigmas",
+       "its median in robust standard errors, negative below 0 (an honest dark channel's sits "
+       "at or above 0; the refusal rule, docs/real-sensors.md \"Refused sweeps\": below -6, "
+       "window_unlit_mean_sigmas below -3, or more than half exactly at 0)"},
+      {"decoding_check.window_unlit_mean_sigmas",
+       "from 8 samples: the mean of its samples within 5 robust standard deviations of the median "
+       "(a highlight's left out), in its standard errors"},
+      {"decoding_check.window_unlit_verdict",
+       "what the rule makes of it: not judged (a RAW stream, fewer than 4 samples), kept, "
+       "refused as the run ends, or only warned of (refuse_broken_decoding = false)"},
       {"decoding_check.window_step_channel",
        "the window's channel whose light over the white references steps most from a sample to "
        "the next frame's"},

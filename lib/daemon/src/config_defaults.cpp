@@ -80,13 +80,15 @@ sensor_full_well_electrons = 8000
 # same. srgb: no bracket; frames decoded as sRGB (only for
 # a camera known to encode sRGB).
 decoding = auto
-# A sweep whose 8-bit decoding is shown broken is refused as it ends: a window channel whose light
-# from the LED reads at or below 0 in more than half of the latest samples (the LED only adds
-# light; a colour matrix that takes a saturated colour's weak channel below black loses it, which
-# no decoding brings back). Its slice's samples so far are set aside: kept in the session's
-# journal, used by no table or export; `slicecap status` and the export say so, and sweeping the
-# slice again (after camera_raw or tuning_file is changed) or redoing it starts afresh. false: the
-# sweep is only warned about and its samples count.
+# A sweep run whose 8-bit decoding is shown broken is refused as it ends: a window channel whose
+# light from the LED sits below black: its median over the latest samples more than 6 standard
+# errors below 0, their mean (from 8 samples, a highlight's left out) more than 3, or the light
+# exactly 0 in more than half of them (the LED only adds light; a colour matrix that takes a
+# saturated colour's weak channel below black loses it, which no decoding brings back; an
+# honest dark channel scatters around a mean at or above 0). The run's samples and
+# texture frames are set aside: kept in the session, used by no table or export; `slicecap status`
+# and the export say so, and sweeping the slice again (after camera_raw or tuning_file is changed)
+# or redoing it starts afresh. false: the sweep is only warned about and its samples count.
 refuse_broken_decoding = true
 )";
 // The sensor's RAW stream.

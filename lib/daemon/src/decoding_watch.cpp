@@ -31,6 +31,59 @@ std::optional<std::pair<double, double>> meanAndSigmas(const std::deque<double>&
   return std::pair{mean, standardError > 0.0 ? std::abs(mean) / standardError : 0.0};
 }
 
+// A channel's LED light over the latest samples as the refusal judges it.
+struct UnlitFigures {
+  double atOrBelowZero = 0.0;  // fraction
+  double atZero = 0.0;         // fraction exactly 0
+  double medianSigmas = 0.0;   // the median in its robust standard errors
+  std::optional<double> trimmedMeanSigmas;  // from kMinSamples samples on
+};
+
+double middle(std::vector<double> values) {  // the median; an even count's middle two averaged
+  const std::size_t half = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + half, values.end());
+  const double upper = values[half];
+  if (values.size() % 2 == 1) return upper;
+  return (*std::max_element(values.begin(), values.begin() + half) + upper) / 2.0;
+}
+
+UnlitFigures unlitFigures(const std::deque<double>& lights) {
+  UnlitFigures out;
+  const double n = double(lights.size());
+  for (double v : lights) {
+    out.atOrBelowZero += v <= 0.0 ? 1.0 / n : 0.0;
+    out.atZero += v == 0.0 ? 1.0 / n : 0.0;
+  }
+  const double median = middle({lights.begin(), lights.end()});
+  std::vector<double> deviations;
+  for (double v : lights) deviations.push_back(std::abs(v - median));
+  // The noise from the median absolute deviation (a Gaussian's sigma is 1.4826 MAD): robust to
+  // a highlight's samples. The median's standard error is 1.2533 sigma / sqrt(n).
+  const double sigma = 1.4826 * middle(std::move(deviations));
+  const double standardError = 1.2533 * sigma / std::sqrt(n);
+  const double cap = DecodingWatch::kSigmasCap;
+  const auto ratio = [cap](double value, double error) {
+    return error > 0.0 ? std::clamp(value / error, -cap, cap)
+           : value < 0.0 ? -cap
+           : value > 0.0 ? cap
+                         : 0.0;
+  };
+  out.medianSigmas = ratio(median, standardError);
+  // The mean of the samples within kTrimSigmas of the median (a highlight's are not the
+  // channel's dark level), against its own standard error: more sensitive than the median where
+  // the noise is wide, and steady enough from kMinSamples samples on.
+  double sum = 0.0, squares = 0.0, kept = 0.0;
+  for (double v : lights)
+    if (sigma == 0.0 || std::abs(v - median) <= DecodingWatch::kTrimSigmas * sigma)
+      sum += v, squares += v * v, kept += 1.0;
+  if (lights.size() >= DecodingWatch::kMinSamples && kept >= 2.0) {
+    const double mean = sum / kept;
+    const double variance = std::max(0.0, (squares - kept * mean * mean) / (kept - 1.0));
+    out.trimmedMeanSigmas = ratio(mean, std::sqrt(variance / kept));
+  }
+  return out;
+}
+
 std::string percent(double fraction) {
   char text[32];
   std::snprintf(text, sizeof text, "%.1f %%", 100.0 * fraction);
@@ -45,7 +98,7 @@ void DecodingWatch::reset() {
   readings_.clear();
   steps_.clear();
   for (auto& channel : atBlack_) channel.clear();
-  for (auto& channel : unlit_) channel.clear();
+  for (auto& channel : lights_) channel.clear();
   for (auto& channel : windowSteps_) channel.clear();
   lastWindowLight_.reset();
   lastWindowSequence_.reset();
@@ -77,7 +130,7 @@ void DecodingWatch::note(const capture::FrameOutcome& outcome, std::uint64_t seq
   const bool shortLevel = outcome.sample && outcome.sample->hdr && outcome.sample->hdr->exposureLevel > 0;
   if (m.windowLight) {
     if (!shortLevel)
-      for (int c = 0; c < 3; ++c) keepLatest(unlit_[c], (*m.windowLight)[c] <= 0.0 ? 1.0 : 0.0);
+      for (int c = 0; c < 3; ++c) keepLatest(lights_[c], (*m.windowLight)[c]);
     // As the black reading: consecutive frames only, a channel the LED lights in both.
     if (lastWindowLight_ && lastWindowSequence_ && sequence == *lastWindowSequence_ + 1)
       for (int c = 0; c < 3; ++c)
@@ -101,13 +154,18 @@ control::DecodingCheckView DecodingWatch::view() const {
       view.windowAtBlack = fraction;
       view.windowAtBlackChannel = kChannelNames[c];
     }
+  // The channel whose light sits lowest against its own spread: the one the refusal judges.
   for (int c = 0; c < 3; ++c) {
-    if (unlit_[c].empty()) continue;
-    double sum = 0.0;
-    for (double v : unlit_[c]) sum += v;
-    const double fraction = sum / double(unlit_[c].size());
-    if (!view.windowUnlit || fraction > *view.windowUnlit) {
-      view.windowUnlit = fraction;
+    if (lights_[c].empty()) continue;
+    const UnlitFigures figures = unlitFigures(lights_[c]);
+    // Ties (a spread of 0 caps the figure): the channel most often at or below 0.
+    if (!view.windowUnlitSigmas || figures.medianSigmas < *view.windowUnlitSigmas ||
+        (figures.medianSigmas == *view.windowUnlitSigmas &&
+         figures.atOrBelowZero > *view.windowUnlit)) {
+      view.windowUnlit = figures.atOrBelowZero;
+      view.windowUnlitAtZero = figures.atZero;
+      view.windowUnlitSigmas = figures.medianSigmas;
+      view.windowUnlitMeanSigmas = figures.trimmedMeanSigmas;
       view.windowUnlitChannel = kChannelNames[c];
     }
   }
@@ -170,17 +228,49 @@ std::vector<std::string> DecodingWatch::warnings() const {
 }
 
 std::optional<std::string> DecodingWatch::refusal() const {
-  if (!eightBit_ || unlit_[0].size() < kMinRefusalSamples) return std::nullopt;
-  const control::DecodingCheckView figures = view();
-  if (!figures.windowUnlit || !(*figures.windowUnlit > kMaxWindowUnlit)) return std::nullopt;
-  return "decoding broken: the window's " + *figures.windowUnlitChannel +
-         " light from the LED is at or below 0 in " + percent(*figures.windowUnlit) +
-         " of the latest " + std::to_string(unlit_[0].size()) +
-         " samples (more than " + percent(kMaxWindowUnlit) +
-         "; the LED only adds light): the camera's processing lost that channel below black (a "
-         "colour matrix mixing the channels, a Raspberry Pi's rpi.ccm), and no decoding brings it "
-         "back. Use RAW (camera_raw = auto or on) or slicecap's tuning file (tuning_file = auto: "
-         "an identity matrix), then sweep the slice again";
+  if (!eightBit_ || lights_[0].size() < kMinRefusalSamples) return std::nullopt;
+  // Each channel judged on its own: the view names the lowest, and a pinned channel may be
+  // another.
+  for (int c = 0; c < 3; ++c) {
+    const UnlitFigures figures = unlitFigures(lights_[c]);
+    const bool medianBelow = figures.medianSigmas < -kMinBelowBlackSigmas;
+    const bool meanBelow =
+        figures.trimmedMeanSigmas && *figures.trimmedMeanSigmas < -kMinMeanBelowBlackSigmas;
+    if (!medianBelow && !meanBelow && !(figures.atZero > kMaxWindowPinned)) continue;
+    char sigmas[32];
+    std::snprintf(sigmas, sizeof sigmas, "%.1f",
+                  medianBelow ? -figures.medianSigmas : -figures.trimmedMeanSigmas.value_or(0.0));
+    const std::string what =
+        medianBelow ? std::string("its median is ") + sigmas +
+                          " standard errors below 0 (more than " +
+                          std::to_string(int(kMinBelowBlackSigmas)) + ")"
+        : meanBelow ? std::string("its mean (a highlight's samples left out) is ") + sigmas +
+                          " standard errors below 0 (more than " +
+                          std::to_string(int(kMinMeanBelowBlackSigmas)) + ")"
+                    : "it is exactly 0 in " + percent(figures.atZero) + " (more than " +
+                          percent(kMaxWindowPinned) + ": the clip pinned it)";
+    return std::string("decoding broken: the window's ") + kChannelNames[c] +
+           " light from the LED sits below black over the latest " +
+           std::to_string(lights_[c].size()) + " samples: " + what + ", at or below 0 in " +
+           percent(figures.atOrBelowZero) +
+           " (the LED only adds light: an honest dark channel scatters around a mean at or above "
+           "0): the camera's processing lost that channel below black (a colour matrix mixing the "
+           "channels, a Raspberry Pi's rpi.ccm; a tone curve the fit misses), and no decoding "
+           "brings it back. Use RAW (camera_raw = auto or on) or slicecap's tuning file "
+           "(tuning_file = auto: an identity matrix), then sweep the slice again";
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> DecodingWatch::unlitVerdict(bool refusing) const {
+  if (lights_[0].empty()) return std::nullopt;
+  if (!eightBit_) return "not judged: a linear (RAW) stream keeps the light below black";
+  if (lights_[0].size() < kMinRefusalSamples)
+    return "not judged yet: " + std::to_string(lights_[0].size()) + " of the " +
+           std::to_string(kMinRefusalSamples) + " samples a judgement needs";
+  if (!refusal()) return "kept: no channel sits below black";
+  return refusing ? "refused as the run ends: a channel sits below black"
+                  : "a channel sits below black; kept, as refuse_broken_decoding = false";
 }
 
 }  // namespace slicecap::daemon

@@ -57,14 +57,26 @@ void copyTable(const fs::path& table, const fs::path& copy) {
 }
 
 // The files of a session's texture folder a copy needs, relative to it: temporaries and the
-// folders of discarded sweeps are left out.
-std::vector<std::string> textureFiles(const fs::path& texture) {
+// folders of discarded sweeps are left out, and so are the frames of refused sweep runs (each
+// such folder said in `setAside`, with its frames).
+std::vector<std::string> textureFiles(const fs::path& texture, std::vector<std::string>& setAside) {
   std::vector<std::string> files;
   std::error_code error;
   fs::recursive_directory_iterator it(texture, error);
   for (const fs::recursive_directory_iterator end; !error && it != end; it.increment(error)) {
     if (it->path().extension() == io::kDiscardedSuffix) {
       it.disable_recursion_pending();
+      continue;
+    }
+    if (it->path().extension() == io::kSetAsideSuffix && it->is_directory(error)) {
+      it.disable_recursion_pending();
+      std::size_t frames = 0;
+      for (const fs::directory_entry& file : fs::directory_iterator(it->path(), error))
+        frames += file.is_regular_file(error) ? 1 : 0;
+      if (frames > 0)
+        setAside.push_back("texture: " + std::to_string(frames) +
+                           " frames of refused sweep runs left out (kept in " +
+                           fs::relative(it->path(), texture.parent_path()).string() + ")");
       continue;
     }
     if (it->is_regular_file(error) && it->path().extension() != ".tmp")
@@ -239,7 +251,9 @@ void SessionExporter::addTexture(const capture::SessionStore& store, const Slice
   // DIR/<id>-texture), as the folder can be hundreds of MB.
   if (const std::optional<fs::path> texture = prepareTexture(store, slices)) {
     reply.texture = texture->string();
-    reply.textureFiles = textureFiles(*texture);
+    std::vector<std::string> setAside;
+    reply.textureFiles = textureFiles(*texture, setAside);
+    for (std::string& said : setAside) reply.warnings.push_back(std::move(said));
   }
 }
 

@@ -32,19 +32,6 @@ RequestError noSuchSession(const std::string& id) {
   return RequestError(control::ErrorCode::NotFound, "no session '" + id + "'");
 }
 
-}  // namespace
-
-const std::vector<SliceId>& sweepOrder() {
-  static const std::vector<SliceId> order{
-      {SliceKind::Diagonal, {30, 30}}, {SliceKind::Diagonal, {75, 75}},
-      {SliceKind::Diagonal, {30, 75}}, {SliceKind::Diagonal, {75, 30}},
-      {SliceKind::Axial, {30, 30}},    {SliceKind::Axial, {30, 75}},
-      {SliceKind::Axial, {75, 30}},    {SliceKind::Axial, {75, 75}}};
-  return order;
-}
-
-namespace {
-
 // The storage folder, made if missing, before its lock is taken.
 const fs::path& preparedRoot(const fs::path& root) {
   std::error_code error;
@@ -375,10 +362,23 @@ void SessionManager::pauseSweep(const std::string& reason) {
   state_->lastError = reason;
 }
 
-void SessionManager::refuseSweep(const SliceId& slice, const std::string& reason) {
-  if (!state_->session) return;
-  state_->lastError = refuseSlice(*state_->session, slice, reason);
+std::optional<std::uint64_t> SessionManager::nextRecordNumber() const {
+  return state_->session ? std::optional(state_->session->nextRecordNumber()) : std::nullopt;
+}
+
+bool SessionManager::refuseSweep(const SliceId& slice, const std::string& reason,
+                                 std::uint64_t firstRecord) {
+  if (!state_->session) return false;
   ++state_->samplesVersion;
+  const RefusalOutcome refused = refuseSlice(*state_->session, slice, reason, firstRecord);
+  // After the reason of a pause that ended the run, if one did: both are said, in their order.
+  addToError(refused.said);
+  return refused.recorded;
+}
+
+void SessionManager::addToError(const std::string& sentence) {
+  std::string& error = state_->lastError;
+  if (!sentence.empty()) error = error.empty() ? sentence : error + "; " + sentence;
 }
 
 std::optional<control::SweepView> SessionManager::sweepView() const {

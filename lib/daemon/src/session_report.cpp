@@ -17,7 +17,8 @@ std::vector<control::SliceProgress> sliceProgress(const capture::SessionStore& s
     for (const capture::SweepRefusal& refusal : store.refusals())
       if (refusal.slice == slice) refused = refusal.reason;
     slices.push_back({slice, store.sampleCount(slice), store.bins(slice).filledCount(),
-                      store.setAsideCount(slice), store.damaged(slice), std::move(refused)});
+                      store.setAsideCount(slice), store.refusedCount(slice), store.damaged(slice),
+                      std::move(refused)});
   }
   return slices;
 }
@@ -44,6 +45,15 @@ bool hasWindowCells(const capture::AzimuthBins& bins) {
 }
 
 }  // namespace
+
+const std::vector<SliceId>& sweepOrder() {
+  static const std::vector<SliceId> order{
+      {SliceKind::Diagonal, {30, 30}}, {SliceKind::Diagonal, {75, 75}},
+      {SliceKind::Diagonal, {30, 75}}, {SliceKind::Diagonal, {75, 30}},
+      {SliceKind::Axial, {30, 30}},    {SliceKind::Axial, {30, 75}},
+      {SliceKind::Axial, {75, 30}},    {SliceKind::Axial, {75, 75}}};
+  return order;
+}
 
 control::SessionView statusSessionView(const capture::SessionStore& store) {
   control::SessionView session;
@@ -127,23 +137,26 @@ std::vector<control::PassAgainView> passAgainView(const capture::SessionStore& s
   return out;
 }
 
-std::string refuseSlice(capture::SessionStore& store, const SliceId& slice, const std::string& reason) {
+RefusalOutcome refuseSlice(capture::SessionStore& store, const SliceId& slice,
+                           const std::string& reason, std::uint64_t firstRecord) {
   const std::string what = "sweep " + toString(slice) + " refused";
   try {
-    store.refuse(slice, reason);
-    return what + ", its samples set aside (kept in the session, used by no table): " + reason;
+    store.refuse(slice, reason, firstRecord);
+    const std::size_t count = store.refusals().back().samplesSetAside;
+    return {true, what + ", the run's " + std::to_string(count) +
+                      " samples set aside (kept in the session, used by no table): " + reason};
   } catch (const std::exception& error) {
     std::cerr << "slicecapd: " << what << ", but the refusal was not recorded: " << error.what()
               << "\n";
-    return what + " (" + reason + "), but the refusal could not be recorded (" + error.what() +
-           "): its samples still count";
+    return {false, what + " (" + reason + "), but the refusal could not be recorded (" +
+                       error.what() + "): its samples still count"};
   }
 }
 
 std::vector<std::string> refusalWarnings(const capture::SessionStore& store) {
   std::vector<std::string> out;
   for (const capture::SweepRefusal& refusal : store.refusals())
-    out.push_back("sweep " + toString(refusal.slice) + " refused: its " +
+    out.push_back("sweep " + toString(refusal.slice) + " refused: the run's " +
                   std::to_string(refusal.samplesSetAside) +
                   " samples are set aside (kept in the session's journal, used by no table or "
                   "export): " + refusal.reason);

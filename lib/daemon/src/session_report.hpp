@@ -57,9 +57,16 @@ std::vector<control::CellTextureView> cellTextureView(const capture::SessionStor
 std::vector<control::PassAgainView> passAgainView(const capture::SessionStore& store,
                                                   const std::optional<SliceId>& sweeping,
                                                   PassAgainCache& cache);
-/// \brief Refuses `slice`'s samples so far in `store` (SessionStore::refuse) and says so for the
-/// status's error; a refusal that cannot be journaled is logged and said (the samples then count).
-std::string refuseSlice(capture::SessionStore& store, const SliceId& slice, const std::string& reason);
+/// \brief What refuseSlice did, and its sentence for the status's error.
+struct RefusalOutcome {
+  bool recorded = false;  ///< in the journal: the run's samples are set aside
+  std::string said;
+};
+/// \brief Refuses the sweep run of `slice` whose samples start at journal record `firstRecord`
+/// in `store` (SessionStore::refuse) and says so for the status's error; a refusal that cannot
+/// be journaled is logged and said (the samples then count).
+RefusalOutcome refuseSlice(capture::SessionStore& store, const SliceId& slice,
+                           const std::string& reason, std::uint64_t firstRecord);
 /// \brief One sentence for each refused sweep of the session (SessionStore::refusals), for the
 /// export: the slice, the samples set aside and why.
 std::vector<std::string> refusalWarnings(const capture::SessionStore& store);

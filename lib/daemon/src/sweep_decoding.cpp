@@ -63,6 +63,10 @@ void recordDecodingCheck(const std::filesystem::path& file, const control::Decod
   if (figures.windowAtBlack) check["window_at_black"] = *figures.windowAtBlack;
   if (figures.windowUnlitChannel) check["window_unlit_channel"] = *figures.windowUnlitChannel;
   if (figures.windowUnlit) check["window_unlit"] = *figures.windowUnlit;
+  if (figures.windowUnlitAtZero) check["window_unlit_at_zero"] = *figures.windowUnlitAtZero;
+  if (figures.windowUnlitSigmas) check["window_unlit_sigmas"] = *figures.windowUnlitSigmas;
+  if (figures.windowUnlitMeanSigmas)
+    check["window_unlit_mean_sigmas"] = *figures.windowUnlitMeanSigmas;
   if (figures.windowStepChannel) check["window_step_channel"] = *figures.windowStepChannel;
   if (figures.windowStep) check["window_step"] = *figures.windowStep;
   if (figures.windowStepSigmas) check["window_step_sigmas"] = *figures.windowStepSigmas;

@@ -49,9 +49,14 @@ void SweepDevices::ledOff() noexcept {
 }
 
 void SweepDevices::reconcile() {
-  outputs_.reconcileTexture();
-  const std::optional<SliceId> wanted =
-      manager_.capturing() ? manager_.sweepSlice() : std::optional<SliceId>();
+  const auto wantedSlice = [this] {
+    return manager_.capturing() ? manager_.sweepSlice() : std::optional<SliceId>();
+  };
+  // A run that ends is judged before its texture closes (a stopped sweep's texture closes here):
+  // a refusal sets aside the run's texture frames with its samples.
+  if (cameraSlice_ && cameraSlice_ != wantedSlice()) stopCamera();
+  outputs_.reconcileTexture();  // may pause the sweep: a texture that cannot be opened
+  const std::optional<SliceId> wanted = wantedSlice();
   if (cameraSlice_ && cameraSlice_ != wanted) stopCamera();
   if (wanted && !cameraSlice_) startCamera(*wanted);
   if (!manager_.capturing()) ledOff();
@@ -107,6 +112,9 @@ void SweepDevices::startCamera(const SliceId& slice) {
   hdr_.reset();
   roomLight_.reset();
   decodingCheck_.reset();
+  // The run's samples and texture frames start here: a refusal sets aside these alone.
+  runFirstRecord_ = manager_.nextRecordNumber();
+  outputs_.beginTextureRun();
   std::shared_ptr<hal::Camera> opened;
   if (!openCamera(slice, opened)) {
     ledOff();
@@ -165,8 +173,9 @@ void SweepDevices::describe(control::StatusView& status) const {
     status.roomLight = room;
     for (std::string& warning : roomLight_.warnings()) status.warnings.push_back(std::move(warning));
   }
-  if (const control::DecodingCheckView check = decodingCheck_.view();
+  if (control::DecodingCheckView check = decodingCheck_.view();
       check.blackReading || check.windowAtBlack || check.windowUnlit) {
+    check.windowUnlitVerdict = decodingCheck_.unlitVerdict(parts_.refuseBrokenDecoding);
     status.decodingCheck = check;
     for (std::string& warning : decodingCheck_.warnings())
       status.warnings.push_back(std::move(warning));

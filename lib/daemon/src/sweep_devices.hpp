@@ -82,6 +82,7 @@ class SweepDevices {
   // The running sweep's camera and pipeline; empty while nothing captures.
   std::shared_ptr<hal::Camera> camera_;
   std::optional<SliceId> cameraSlice_;
+  std::optional<std::uint64_t> runFirstRecord_;  ///< the run's first journal record
   capture::LiveFrameProcessor processor_;
   capture::FrameObserver observer_;
   std::optional<int> watchedFd_;

@@ -131,12 +131,14 @@ void SweepDevices::recordDecodingCheck() const noexcept {
 }
 
 void SweepDevices::refuseBrokenDecoding() {
-  if (!cameraSlice_ || !parts_.refuseBrokenDecoding) return;
+  if (!cameraSlice_ || !parts_.refuseBrokenDecoding || !runFirstRecord_) return;
   const std::optional<std::string> reason = decodingCheck_.refusal();
   if (!reason) return;
   std::cerr << "slicecapd: sweep " << toString(*cameraSlice_) << " refused: " << *reason << "\n";
-  // Once a run: stopCamera clears cameraSlice_, and a new run resets the watch.
-  manager_.refuseSweep(*cameraSlice_, *reason);
+  // Once a run: stopCamera clears cameraSlice_, and a new run resets the watch. The run's
+  // texture frames go with its samples, and only if those were set aside.
+  if (manager_.refuseSweep(*cameraSlice_, *reason, *runFirstRecord_))
+    manager_.addToError(outputs_.setAsideTextureRun());
 }
 
 /// A recorded frame says whether the LED was on, and the LED follows it (its log then shows

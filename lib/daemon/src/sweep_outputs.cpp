@@ -1,6 +1,7 @@
 // A sweep's raw-frame recording and texture, kept in line with the session manager's sweep.
 #include "sweep_outputs.hpp"
 
+#include <iostream>
 #include <system_error>
 
 #include "slicecap/control/reply_views.hpp"
@@ -41,6 +42,30 @@ void SweepOutputs::discardTexture(const SliceId& redone) {
   if (!session || (swept && *swept != redone)) return;
   if (textureSlice_ == redone) closeTexture();  // its index would still hold the frames
   io::discardFolderDurably(*session / kTextureFolder / folderName(redone));
+  // Refused runs' frames go with the slice's samples, as the redo discards those too.
+  io::discardFolderDurably(*session / kTextureFolder / (folderName(redone) + io::kSetAsideSuffix));
+}
+
+void SweepOutputs::beginTextureRun() {
+  if (texture_) texture_->beginRun();
+}
+
+std::string SweepOutputs::setAsideTextureRun() {
+  if (!texture_) return {};
+  const std::string folder = folderName(*textureSlice_) + io::kSetAsideSuffix;
+  try {
+    const std::size_t frames = texture_->setAsideRun();
+    if (frames == 0) return {};
+    std::cerr << "slicecapd: texture: " << frames << " frames of the refused run set aside in "
+              << folder << "\n";
+    return "its " + std::to_string(frames) + " texture frames set aside in " +
+           std::string(kTextureFolder) + "/" + folder + " (kept, not exported)";
+  } catch (const std::exception& error) {
+    std::cerr << "slicecapd: texture: setting the refused run's frames aside: " << error.what()
+              << "\n";
+    return std::string("its texture frames could not all be set aside (") + error.what() +
+           "): the export may still copy some";
+  }
 }
 
 bool SweepOutputs::capturesTexture() const {

@@ -37,6 +37,12 @@ class SweepOutputs {
   /// \brief A redone sweep's texture starts afresh, as its samples: its folder is discarded
   /// durably before the redo is journaled. Throws io::IoError (the redo is then refused).
   void discardTexture(const SliceId& redone);
+  /// \brief A sweep run begins: the texture's frames from now on are the run's.
+  void beginTextureRun();
+  /// \brief The run was refused: its texture frames are set aside (TextureSink::setAsideRun).
+  /// Returns a sentence for the status's error (empty without texture frames); a failure is
+  /// logged and said there, never thrown (the refusal stands).
+  std::string setAsideTextureRun();
   /// \brief A redone sweep starts its recording afresh, as its samples.
   void discardRecording(const SliceId& redone);
 

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstdio>
@@ -212,6 +213,22 @@ void discardFolderDurably(const std::filesystem::path& folder) {
     throw systemError(folder, "cannot discard (rename to " + doomed.filename().string() + ")");
   syncDirectory(folder.parent_path());
   std::filesystem::remove_all(doomed, error);
+}
+
+void moveFilesDurably(const std::vector<std::filesystem::path>& files,
+                      const std::filesystem::path& folder) {
+  if (files.empty()) return;
+  createFoldersDurably(folder);
+  std::vector<std::filesystem::path> sources;
+  for (const std::filesystem::path& file : files) {
+    const std::filesystem::path moved = folder / file.filename();
+    if (::rename(file.c_str(), moved.c_str()) != 0)
+      throw systemError(file, "cannot move into " + folder.string());
+    if (std::find(sources.begin(), sources.end(), file.parent_path()) == sources.end())
+      sources.push_back(file.parent_path());
+  }
+  syncDirectory(folder);
+  for (const std::filesystem::path& source : sources) syncDirectory(source);
 }
 
 }  // namespace slicecap::io

@@ -21,6 +21,8 @@ class StoreTextureSink final : public daemon::TextureSink {
   void add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
            const std::vector<capture::AmbientTerm>& ambient) override;
   control::TextureProgressView status() const override;
+  void beginRun() override { sweep_.beginRun(); }
+  std::size_t setAsideRun() override { return sweep_.setAsideRun(); }
 
  private:
   btf::TextureSweep sweep_;

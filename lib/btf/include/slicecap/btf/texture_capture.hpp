@@ -98,9 +98,15 @@ class TextureSweep {
            std::span<const capture::AmbientTerm> ambient);
   const TextureStore& store() const { return store_; }
   const SliceId& slice() const { return slice_; }
+  /// \brief A sweep run begins (the sweep opened, or continued after a pause): the frames stored
+  /// from now on are the run's.
+  void beginRun() { runStart_ = store_.nextSequence(); }
+  /// \brief The run was refused: its frames set aside (TextureStore::setAside); how many.
+  std::size_t setAsideRun() { return store_.setAside(slice_, runStart_); }
 
  private:
   TextureStore store_;
+  std::uint64_t runStart_ = 0;
   SliceId slice_;
   vision::CameraModel camera_;
   TextureGrid grid_;

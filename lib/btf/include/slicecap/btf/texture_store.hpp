@@ -71,6 +71,15 @@ class TextureStore {
   /// \brief Deletes every frame of the slice (a redone sweep), durably (io::discardFolderDurably);
   /// if it cannot, the frames stay and are still indexed (IoError).
   void discard(const SliceId& slice);
+  /// \brief The sequence number the next stored frame gets: a sweep run beginning now stores its
+  /// frames from this number on (what setAside takes).
+  std::uint64_t nextSequence() const { return nextSequence_; }
+  /// \brief Sets aside the slice's frames numbered `fromSequence` or later (a refused sweep run's):
+  /// moved durably into the folder `<slice folder>` + io::kSetAsideSuffix beside the slice's,
+  /// where no store reads them and no export copies them, and dropped from the index, so a later
+  /// run fills their bins. Frames that run replaced are gone (the keep rule deleted them). Returns
+  /// how many; IoError if one cannot be moved (those moved before it are out of the index).
+  std::size_t setAside(const SliceId& slice, std::uint64_t fromSequence);
 
   /// \brief The slices with at least one stored frame.
   std::vector<SliceId> slices() const;

@@ -38,6 +38,9 @@ class AzimuthBins {
   void add(const FrameSample& sample);
   /// \brief Removes every sample (a redone sweep).
   void clear();
+  /// \brief Removes the sample last added to bin `bin` (newest first: a refused sweep run's
+  /// samples are the latest of their bins). Nothing if the bin is empty.
+  void removeLatest(int bin);
 
   const std::vector<FrameSample>& samplesIn(int bin) const { return bins_[bin]; }
   int filledCount() const;

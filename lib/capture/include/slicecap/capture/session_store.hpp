@@ -27,6 +27,8 @@ struct SessionInfo {
   /// Empty for a readable session; else why its session.json cannot be read (the folder still
   /// holds a journal, so it is listed as a damaged session, not left out).
   std::string damage;
+  /// session.json's "format" as read (or written: a new session's 2, 4 from its first refusal).
+  int format = 0;
 };
 
 /// \brief Something the journal could no longer tell for sure, and what opening the session did
@@ -39,8 +41,8 @@ struct JournalDamage {
   std::size_t samplesLost = 0;          ///< samples in records that could not be read
 };
 
-/// \brief A sweep refused for a decoding shown broken (the daemon's decoding watch): the slice,
-/// why, and how many of its samples that set aside (in the journal, not counted).
+/// \brief A sweep run refused for a decoding shown broken (the daemon's decoding watch): the
+/// slice, why, and how many samples that set aside (the run's; in the journal, not counted).
 struct SweepRefusal {
   SliceId slice;
   std::string reason;
@@ -73,8 +75,12 @@ class SessionStore {
   /// samples of its slice (of every slice when its slice cannot be read); a damaged sample
   /// record is skipped; missing records, a torn tail, a missing journal are said too.
   const std::vector<JournalDamage>& damage() const { return damage_; }
-  /// \brief Samples of a slice that damage set aside: in the journal, but not counted.
+  /// \brief Samples of a slice that damage or refusals set aside: in the journal, but not counted.
+  /// Like refusedCount, kept after a redo (the journal still holds them).
   std::size_t setAsideCount(const SliceId& slice) const;
+  /// \brief Of setAsideCount, the samples refused sweep runs set aside (the rest: damage). Stays
+  /// true after a redo, which forgets the refusals' reasons but not why samples were set aside.
+  std::size_t refusedCount(const SliceId& slice) const;
   /// \brief True while a slice's counted samples are in doubt (damage set some aside); a redo of
   /// the slice ends the doubt.
   bool damaged(const SliceId& slice) const { return damagedSlices_.count(slice) > 0; }
@@ -91,10 +97,14 @@ class SessionStore {
   /// \brief Discards every sample of the slice so far (durable); later samples count again.
   /// Forgets the slice's refusals (their samples are discarded too).
   void redo(const SliceId& slice);
-  /// \brief Refuses the slice's samples so far for `reason` (durable): they stay in the journal
-  /// but are set aside, so no table, fit or export uses them; later samples count again. A
-  /// point slice is CaptureError, nothing written.
-  void refuse(const SliceId& slice, const std::string& reason);
+  /// \brief The number the next journal record gets: a sweep run beginning now has its samples
+  /// from this record on (what refuse takes).
+  std::uint64_t nextRecordNumber() const { return nextSequence_; }
+  /// \brief Refuses a sweep run of the slice for `reason` (durable): the slice's samples in
+  /// records numbered `firstRecord` or later (the run's: nextRecordNumber() as it began) stay in
+  /// the journal but are set aside, so no table, fit or export uses them; the slice's earlier
+  /// runs and later samples count. A point slice is CaptureError, nothing written.
+  void refuse(const SliceId& slice, const std::string& reason, std::uint64_t firstRecord);
   /// \brief The refusals since each slice's last redo, in journal order.
   const std::vector<SweepRefusal>& refusals() const { return refusals_; }
 
@@ -123,9 +133,15 @@ class SessionStore {
   void judgeDamagedRecord(std::size_t line, const std::string& where,
                           const std::optional<std::string>& type,
                           const std::optional<SliceId>& slice);
-  void apply(const nlohmann::json& record, std::size_t line);
+  void apply(const nlohmann::json& record, std::size_t line, std::uint64_t number);
   void setAside(std::size_t line, std::string what, std::optional<SliceId> slice);
-  void applyRefusal(const SliceId& slice, std::string reason);
+  // An old (format 3) record without a first record refuses every counted sample of the slice.
+  void applyRefusal(const SliceId& slice, std::string reason,
+                    std::optional<std::uint64_t> firstRecord);
+  // A sample counted in its bins, from the record numbered `record`.
+  void countSample(const SliceId& slice, const FrameSample& sample, std::uint64_t record);
+  // Every counted sample of the slice gone from the bins (a redo, a set-aside).
+  void uncountAll(const SliceId& slice);
   void forgetRefusals(const SliceId& slice);
   void append(nlohmann::json record);  // numbers it ("n") and makes it durable
   AzimuthBins& binsFor(const SliceId& slice);
@@ -140,6 +156,13 @@ class SessionStore {
   std::map<SliceId, std::size_t> setAside_;
   std::set<SliceId> damagedSlices_;
   std::vector<SweepRefusal> refusals_;
+  std::map<SliceId, std::size_t> refusedAside_;
+  // Each counted sample's record number and bin, in journal order (a refusal takes the latest).
+  struct CountedSample {
+    std::uint64_t record = 0;
+    int bin = 0;
+  };
+  std::map<SliceId, std::vector<CountedSample>> counted_;
   std::uint64_t nextSequence_ = 1;  ///< the "n" of the next record: records count their lines
 };
 

@@ -26,12 +26,15 @@ class ReplyError : public slicecap::Error {
 inline constexpr int kBinsPerSlice = 24;
 
 /// \brief One slice of a session: "name", "kind", "theta_i", "theta_v", "samples", "bins_filled",
-/// and "samples_set_aside" / "damaged" / "refused" only when there are any.
+/// and "samples_set_aside" / "samples_refused" / "damaged" / "refused" only when there are any.
 struct SliceProgress {
   SliceId slice;
   std::size_t samples = 0;
   int binsFilled = 0;
   std::size_t samplesSetAside = 0;
+  /// Of samplesSetAside, those refused sweep runs set aside (the rest: journal damage); kept after
+  /// a redo, as samplesSetAside is. Nullopt from a daemon before it (refused then says why).
+  std::optional<std::size_t> samplesRefused;
   bool damaged = false;
   /// Why a sweep of the slice was refused (its decoding shown broken; the samples it had then are
   /// set aside, kept in the session, used by no table), until the slice is redone.
@@ -151,12 +154,20 @@ struct DecodingCheckView {
   /// over the latest samples: nearly all where a colour matrix took the light below black.
   std::optional<std::string> windowAtBlackChannel;
   std::optional<double> windowAtBlack;
-  /// The window's channel the LED lights least often ("R", "G", "B") and the fraction of the
-  /// latest samples in which its LED light is at or below 0 (window less room light): the LED
-  /// only adds light, so more than half is a decoding that lost the channel (a colour matrix
-  /// taking it below black), and the sweep is refused.
+  /// The window's channel whose LED light (window less room light) sits lowest against its own
+  /// spread ("R", "G", "B"), the fraction of the latest samples in which that light is at or
+  /// below 0, the fraction exactly 0, its median in robust standard errors (negative: below 0)
+  /// and, from 8 samples, the mean of those near the median in its standard errors. The LED
+  /// only adds light: a median or mean far below 0, or light pinned at exactly 0, is a decoding
+  /// that lost the channel. Whether that refuses the sweep is windowUnlitVerdict's.
   std::optional<std::string> windowUnlitChannel;
   std::optional<double> windowUnlit;
+  std::optional<double> windowUnlitAtZero;
+  std::optional<double> windowUnlitSigmas;
+  std::optional<double> windowUnlitMeanSigmas;
+  /// What the refusal rule makes of it: not judged (RAW, too few samples), kept, refused, or
+  /// only warned of (refuse_broken_decoding = false).
+  std::optional<std::string> windowUnlitVerdict;
   /// The window channel whose light over the white references' (the sample's value) steps most
   /// from a sample to the next frame's, in standard errors, that mean relative step and its
   /// standard errors: a tone curve stretched per frame from the frame before moves a dark

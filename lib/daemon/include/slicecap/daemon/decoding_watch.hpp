@@ -48,21 +48,40 @@ class DecodingWatch {
   /// it. On an RGB stream nearly all its pixels are then at 0; a YUV420 stream's shared chroma
   /// spreads them over codes 0..3, and the camera model's processed-isp sweeps read 46-73 %.
   static constexpr double kMaxWindowAtBlack = 0.6;
-  /// \brief More than this fraction of the latest samples with a window channel's LED light
-  /// (FrameOutcome::Measurement::windowLight) at or below 0: the decoding lost the channel, and
-  /// the sweep is refused. The LED only adds light, so a channel it lights reads above 0 in
-  /// nearly every sample (a dark channel 2 standard errors above 0 falls at or below 0 in 2 % of
-  /// them) and one it truly left dark in half; more than half is light the decoding took below
-  /// black. A colour matrix that mixes the channels (a Raspberry Pi's rpi.ccm) clips a saturated
-  /// colour's weak channel at black, and the window's LED-on frames read it where the LED-off
-  /// frames read the dark, whatever the stream spreads over codes 0..3 (a YUV420 stream's shared
-  /// chroma): the sample's channel is 0 however much light the material reflects.
-  static constexpr double kMaxWindowUnlit = 0.5;
-  /// \brief The refusal needs this many samples in the run: more than half of 4 is 3 at or below
-  /// 0, which a channel the LED lights 2 standard errors above 0 gives once in 20000 runs (4 p^3,
-  /// p = 0.023). A run whose frames were mostly dropped (a loaded machine: 5 samples a sweep) is
-  /// still judged; fewer samples than this are not.
+  /// \brief A window channel's LED light (FrameOutcome::Measurement::windowLight, the sample's
+  /// value before its clip at 0) whose median over the latest samples lies more than this many
+  /// of its standard errors below 0 is light the decoding took below black, and the sweep is
+  /// refused. The LED only adds light: an honest channel, however dark (a black material), reads
+  /// noise around a mean at or above 0, while a colour matrix that mixes the channels (a
+  /// Raspberry Pi's rpi.ccm) clips a saturated colour's weak channel at black, or a tone curve
+  /// the fit misses puts it below the black reference, and the LED-on frames read it below
+  /// the LED-off frames, tightly, in nearly every sample (the camera model's processed-isp
+  /// frames: G 35-110 standard errors below 0). The median, not the mean, and the standard
+  /// error from the median absolute deviation (1.2533 x 1.4826 x MAD / sqrt(n)): a highlight's
+  /// samples, where the matrix leaves the channel above 0, move neither. Honest channels with
+  /// Gaussian noise around +0.2 sigma are refused in 1 % of runs of 4 samples, 0.55 % of 8 and
+  /// none of 2000 of 32, with kMinMeanBelowBlackSigmas (docs/real-sensors.md, "Refused sweeps");
+  /// the rule before this one (more than half at or below 0) refused 13-21 %.
+  static constexpr double kMinBelowBlackSigmas = 6.0;
+  /// \brief From kMinSamples samples on, a channel is also refused when the mean of its samples
+  /// within kTrimSigmas robust standard deviations of their median (a highlight's samples, above
+  /// 0, left out) lies more than this many of its standard errors below 0: where a broken
+  /// channel's noise is as wide as its distance below 0 (the camera model's processed-isp
+  /// diagonal 75/75: median 2.3 standard errors below 0, this mean 5.4), the mean of the many
+  /// samples sees what the median's wider error hides. Honest channels, both rules together:
+  /// docs/real-sensors.md, "Refused sweeps" (under 1 % of runs of 8 samples at +0.2 sigma,
+  /// none of 32).
+  static constexpr double kMinMeanBelowBlackSigmas = 3.0;
+  static constexpr double kTrimSigmas = 5.0;
+  /// \brief More than this fraction of the latest samples with a channel's LED light exactly 0
+  /// is a channel the clip pinned (LED-on and LED-off frames read alike at black): refused too.
+  /// Noise never lands an honest channel's light exactly on 0.
+  static constexpr double kMaxWindowPinned = 0.5;
+  /// \brief The refusal needs this many samples in the run: a run whose frames were mostly
+  /// dropped (a loaded machine: 5 samples a sweep) is still judged; fewer samples are not.
   static constexpr std::size_t kMinRefusalSamples = 4;
+  /// \brief window_unlit_sigmas is held within +-this (a spread of 0 gives no ratio).
+  static constexpr double kSigmasCap = 1000.0;
   /// \brief The figures of this many latest samples count.
   static constexpr std::size_t kSamples = 32;
   /// \brief A figure needs this many samples before it warns.
@@ -78,16 +97,21 @@ class DecodingWatch {
   /// \brief A sentence for each figure beyond its limit, naming it, the limit and what to do;
   /// only for 8-bit frames (a RAW stream's figures are noise).
   std::vector<std::string> warnings() const;
-  /// \brief Why the sweep run's samples must not be used: its decoding is shown broken (a window
-  /// channel unlit by the LED in more than kMaxWindowUnlit of at least kMinRefusalSamples), with
-  /// the figure, the limit and what to do; nullopt otherwise and for a linear 16-bit stream.
+  /// \brief Why the sweep run's samples must not be used: its decoding is shown broken (over at
+  /// least kMinRefusalSamples, a window channel's LED light below 0 by more than
+  /// kMinBelowBlackSigmas, or exactly 0 in more than kMaxWindowPinned of the samples), with the
+  /// figures, the limits and what to do; nullopt otherwise and for a linear 16-bit stream.
   std::optional<std::string> refusal() const;
+  /// \brief What the rule makes of the run so far, for the status's window_unlit_verdict: not
+  /// judged (a linear stream, too few samples), kept, or refused (`refusing`:
+  /// refuse_broken_decoding) or only warned of (not `refusing`). Nullopt before a sample.
+  std::optional<std::string> unlitVerdict(bool refusing) const;
 
  private:
   std::deque<double> readings_, steps_;
   std::optional<std::uint64_t> lastSequence_;  ///< the frame of readings_.back()
   std::array<std::deque<double>, 3> atBlack_;
-  std::array<std::deque<double>, 3> unlit_;  ///< 1 where the sample's channel was at or below 0
+  std::array<std::deque<double>, 3> lights_;  ///< the samples' windowLight, the longest level's
   std::array<std::deque<double>, 3> windowSteps_;
   std::optional<Rgb> lastWindowLight_;  ///< the window light of the frame lastWindowSequence_
   std::optional<std::uint64_t> lastWindowSequence_;

@@ -69,11 +69,19 @@ class SessionManager {
   void noteViewElevationErrorDeg(double errorDeg);
   /// \brief The camera or LED failed: the sweep pauses (samples kept) with the reason shown.
   void pauseSweep(const std::string& reason);
+  /// \brief The current session's next journal record number (SessionStore::nextRecordNumber):
+  /// where a sweep run beginning now starts. None without a session.
+  std::optional<std::uint64_t> nextRecordNumber() const;
   /// \brief A sweep run of `slice` whose decoding was shown broken (DecodingWatch::refusal): the
-  /// current session sets the slice's samples so far aside (capture::SessionStore::refuse: kept in
-  /// its journal, used by no table or export) and the status's error and the slice say why. A
-  /// storage failure is logged and shown as the error; the samples then still count.
-  void refuseSweep(const SliceId& slice, const std::string& reason);
+  /// current session sets the run's samples aside (those from journal record `firstRecord` on,
+  /// capture::SessionStore::refuse: kept in its journal, used by no table or export) and the
+  /// status's error (after the pause's reason, if the run ended in a pause) and the slice say
+  /// why. A storage failure is logged and shown as the error; the samples then still count, and
+  /// this returns false.
+  bool refuseSweep(const SliceId& slice, const std::string& reason, std::uint64_t firstRecord);
+  /// \brief A sentence added to the status's error, after what it says (a refusal's texture
+  /// frames); nothing for an empty one.
+  void addToError(const std::string& sentence);
 
   /// \brief The sweep (running or paused), as its replies show it.
   std::optional<control::SweepView> sweepView() const;

@@ -26,6 +26,13 @@ class TextureSink {
                    const std::vector<capture::AmbientTerm>& ambient) = 0;
   /// \brief What the status shows of the slice's texture (the store's figures where it has them).
   virtual control::TextureProgressView status() const = 0;
+  /// \brief A sweep run begins (its camera starts): the frames stored from now on are the run's.
+  virtual void beginRun() = 0;
+  /// \brief The run was refused (its samples set aside): its stored frames are set aside too,
+  /// into the slice's folder + io::kSetAsideSuffix (kept, read by nothing, exported by nothing),
+  /// so the texture holds the slice's other runs alone. Returns how many; throws io::IoError
+  /// when they cannot be moved.
+  virtual std::size_t setAsideRun() = 0;
 };
 
 }  // namespace slicecap::daemon

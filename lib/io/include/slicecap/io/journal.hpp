@@ -84,6 +84,17 @@ inline constexpr const char* kDiscardedSuffix = ".discarded";
 /// left to the owner's next clean-up.
 void discardFolderDurably(const std::filesystem::path& folder);
 
+/// \brief The suffix of a folder whose files were set aside (a refused sweep run's texture
+/// frames): kept on disk, read by no store, left out of every export.
+inline constexpr const char* kSetAsideSuffix = ".set-aside";
+
+/// \brief Moves each of `files` into `folder` (created durably if missing) under its own name, so
+/// that after a power cut each is in one of the two places: renamed, then both folders synced.
+/// The files must be on the folder's file system. Throws IoError naming the file that could not
+/// be moved (those before it are moved).
+void moveFilesDurably(const std::vector<std::filesystem::path>& files,
+                      const std::filesystem::path& folder);
+
 /// \brief CRC-32 (IEEE 802.3, as zlib) of bytes.
 std::uint32_t crc32(std::string_view bytes);
 
