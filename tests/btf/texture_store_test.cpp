@@ -361,6 +361,28 @@ TEST(TextureStore, ARefusedRunsFramesAreSetAsideAndOnlyThose) {
   EXPECT_EQ(store.setAside(kAxial, store.nextSequence()), 0u);
 }
 
+// A store opened after a refusal (a sweep again, a daemon restart) numbers its frames on from the
+// set-aside ones: a later run's frame never takes their names, and a second refusal of the same
+// bins keeps both runs' frames.
+TEST(TextureStore, FramesAfterARefusalNeverTakeTheSetAsideFramesNames) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  const fs::path setAside = dir / (std::string("axial-30-75") + io::kSetAsideSuffix);
+  {
+    TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+    const std::uint64_t run = store.nextSequence();
+    store.add(kAxial, frameAt(1.0, 2.0f));
+    store.add(kAxial, frameAt(30.0, 4.0f));
+    ASSERT_EQ(store.setAside(kAxial, run), 2u);
+  }
+  TextureStore again = TextureStore::openOrCreate(dir, kLayout);
+  const std::uint64_t run = again.nextSequence();
+  EXPECT_GE(run, 2u) << "the set-aside frames' sequence numbers are taken";
+  again.add(kAxial, frameAt(1.0, 2.0f));
+  again.add(kAxial, frameAt(30.0, 4.0f));
+  ASSERT_EQ(again.setAside(kAxial, run), 2u);
+  EXPECT_EQ(frameFiles(setAside).size(), 4u) << "both refused runs' frames kept";
+}
+
 // The daemon's path (frames from a camera through makeFramePipeline's observer into a
 // TextureSweep, stored per bin on disk) gives the texture `slicecap btf --ambient previous` gives
 // from the same frames: the live room-light term, the same rectification and bins.

@@ -95,13 +95,30 @@ void TextureStore::load() {
       setAsideLeftover(folder.path());
       continue;
     }
-    // A refused sweep run's frames (setAside): kept, never read.
-    if (folder.path().extension() == io::kSetAsideSuffix) continue;
+    // A refused sweep run's frames (setAside): kept, never read; their sequence numbers still
+    // count, so a later run's frame never takes (and a later refusal never overwrites) a name.
+    if (folder.path().extension() == io::kSetAsideSuffix) {
+      noteSequencesIn(folder.path());
+      continue;
+    }
     findFramesIn(folder.path(), found, error);
     if (error) break;
   }
   if (error) throw io::IoError(directory_.string() + ": cannot list: " + error.message());
   indexInStoredOrder(found);
+}
+
+void TextureStore::noteSequencesIn(const fs::path& folder) {
+  std::error_code error;
+  for (const fs::directory_entry& file : fs::directory_iterator(folder, error)) {
+    if (file.path().extension() != kFrameExtension) continue;
+    try {
+      nextSequence_ = std::max(nextSequence_,
+                               readFrameHeader(file.path(), layout_.resolution).sequence + 1);
+    } catch (const BadFrame&) {
+      // Not read anyway: a set-aside frame that cannot be read names no sequence.
+    }
+  }
 }
 
 void TextureStore::setAsideLeftover(const fs::path& path) {

@@ -41,9 +41,10 @@ void SweepOutputs::discardTexture(const SliceId& redone) {
   const std::optional<SliceId> swept = manager_.sweepSlice();
   if (!session || (swept && *swept != redone)) return;
   if (textureSlice_ == redone) closeTexture();  // its index would still hold the frames
-  io::discardFolderDurably(*session / kTextureFolder / folderName(redone));
-  // Refused runs' frames go with the slice's samples, as the redo discards those too.
+  // Refused runs' frames go with the slice's samples, as the redo discards those too. First: a
+  // failure here refuses the redo with the slice's texture still whole.
   io::discardFolderDurably(*session / kTextureFolder / (folderName(redone) + io::kSetAsideSuffix));
+  io::discardFolderDurably(*session / kTextureFolder / folderName(redone));
 }
 
 void SweepOutputs::beginTextureRun() {

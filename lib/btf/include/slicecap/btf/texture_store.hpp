@@ -110,6 +110,7 @@ class TextureStore {
   /// load's steps: a leftover (.tmp, a redo cut off) is counted, and removed when mending; a
   /// slice folder's frame files are listed; the frames found are indexed in stored order.
   void setAsideLeftover(const std::filesystem::path& path);
+  void noteSequencesIn(const std::filesystem::path& folder);
   void findFramesIn(const std::filesystem::path& folder, std::vector<StoredFrame>& found,
                     std::error_code& error);
   void indexInStoredOrder(std::vector<StoredFrame>& found);
