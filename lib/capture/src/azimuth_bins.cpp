@@ -77,6 +77,8 @@ void AzimuthBins::removeLatest(int bin) {
   if (samples.empty()) return;
   samples.pop_back();
   version_ = nextVersion();
+  // Frames taken out (a refused run's) leave a different run: what was judged on them is stale.
+  run_ = nextVersion();
   clippedCache_.reset();
 }
 
