@@ -124,7 +124,7 @@ void exposeRgbRow(int widthPx, const RowExposure& exposure, const float (&gains)
       // of that size has no fraction bits: the sum's low bits are the rounded code) instead of a
       // float-to-integer conversion, which qemu emulates with a change of rounding mode around
       // it; clamped as an integer: a positive float's bits grow with it, so every sum above the
-      // code 65535's (and a NaN) reads 65535, and a sum below the magic number (a negative code,
+      // code 65535's reads 65535 (a NaN reads 0), and a sum below the magic number (a negative code,
       // or a negative float, whose bits are negative) reads 0. Exact for |code| < 2^22; halves
       // round to even where they rounded up before (one code at exact ties only).
       constexpr float kMagic = 12582912.0f;  // 1.5 x 2^23
@@ -132,7 +132,9 @@ void exposeRgbRow(int widthPx, const RowExposure& exposure, const float (&gains)
       const float sum = value * gain[i] + kMagic;
       std::int32_t bits;
       std::memcpy(&bits, &sum, sizeof bits);
-      const std::int32_t low = bits > kMagicBits ? bits : kMagicBits;
+      // A NaN (whose sign differs: x86 makes -NaN, aarch64 +NaN) reads 0 on both.
+      const bool nan = (bits & 0x7fffffff) > 0x7f800000;
+      const std::int32_t low = bits > kMagicBits && !nan ? bits : kMagicBits;
       const std::int32_t code = (low < kMagicBits + 65535 ? low : kMagicBits + 65535) - kMagicBits;
       linear[i] = static_cast<std::uint16_t>(code);
     }
