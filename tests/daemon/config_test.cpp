@@ -116,7 +116,10 @@ TEST(DaemonConfig, NamesTheLineAndKeyOfEveryMistake) {
   EXPECT_NE(error("resolution = 99999x10\n").find("between 64 and 8192"), std::string::npos);
   EXPECT_EQ(error("gain = -2\n"), "slicecapd.conf:1: gain: '-2' is not a positive gain");
   EXPECT_EQ(error("camera_recording_speed = 0\n"),
-            "slicecapd.conf:1: camera_recording_speed: '0' is not a positive speed (1: as recorded)");
+            "slicecapd.conf:1: camera_recording_speed: '0' is not a speed from 0.01 to 1000 (1: as recorded)");
+  // A speed whose period overflows the clock's microseconds is refused, not undefined.
+  EXPECT_EQ(error("camera_recording_speed = 1e-300\n"),
+            "slicecapd.conf:1: camera_recording_speed: '1e-300' is not a speed from 0.01 to 1000 (1: as recorded)");
   EXPECT_EQ(error("led_alternate = maybe\n"),
             "slicecapd.conf:1: led_alternate: 'maybe' is not true or false");
   EXPECT_EQ(error("storage = /a\nstorage = /b\n"), "slicecapd.conf:2: storage: set twice");

@@ -84,7 +84,10 @@ std::vector<SetterEntry> cameraSetters() {
     {"camera_recording", [](DaemonConfig& c, const std::string& v) { c.recording = v; }},
     {"camera_recording_speed",
      [](DaemonConfig& c, const std::string& v) {
-       c.recordingSpeed = positiveNumber(v, "a positive speed (1: as recorded)");
+       const double speed = positiveNumber(v, "a speed from 0.01 to 1000 (1: as recorded)");
+       if (!(speed >= 0.01 && speed <= 1000.0))
+         throw ConfigError("'" + v + "' is not a speed from 0.01 to 1000 (1: as recorded)");
+       c.recordingSpeed = speed;
      }},
     {"resolution",
      [](DaemonConfig& c, const std::string& v) {

@@ -6,6 +6,7 @@
 
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/png_image.hpp"
+#include "slicecap/hal/camera_error.hpp"
 #include "slicecap/hal/recorded_frame.hpp"
 #include "slicecap/io/recording.hpp"
 
@@ -28,6 +29,10 @@ FileCamera::FileCamera(const std::filesystem::path& recording, Clock& clock,
     : state_(new State{recording, io::readRecording(recording), clock, options}) {
   const auto& frames = state_->recording.frames;
   if (frames.empty()) throw io::IoError(recording.string() + ": the recording has no frames");
+  // Outside it a frame's due time overflows the clock's microseconds.
+  if (!(options.speed >= 0.01 && options.speed <= 1000.0))
+    throw CameraError(recording.string() + ": a playing speed of " +
+                      std::to_string(options.speed) + " is not in 0.01..1000");
   // The frames' exposure levels as offline processing (processRecording) reads them: a recording
   // with no level above 0 is of one exposure (no levels at all), and in an HDR one a frame
   // without a level is at level 0.

@@ -17,7 +17,8 @@ struct FileCameraOptions {
   /// camera would; false: as fast as asked.
   bool paced = false;
   /// With paced: the recording's time runs this many times faster than the clock (1: as
-  /// recorded). The frames and their timestamps are the recorded ones whatever the speed.
+  /// recorded; 0.01..1000, else the constructor throws CameraError). The frames and their
+  /// timestamps are the recorded ones whatever the speed.
   double speed = 1.0;
   /// Start over after the last frame; timestamps keep increasing by the recording's frame period.
   bool loop = false;
