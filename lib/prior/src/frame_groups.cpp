@@ -24,6 +24,8 @@ FrameWhitening frameWhitening(const std::vector<SampleRow>& rows, const Rgb& flo
     double logVariance = 0.0;
     for (std::size_t c = 0; c < 3; ++c) {
       const double level = r.weighted[c] + floor[c];
+      // A channel dark in every row (its floor underflows) says nothing of the noise.
+      if (!(level * level > 1e-300)) continue;
       logVariance += r.weightedVariance[c] / (level * level) / 3.0;
     }
     weight[i] = own / (own + logVariance);
@@ -36,7 +38,8 @@ FrameWhitening frameWhitening(const std::vector<SampleRow>& rows, const Rgb& flo
         asOneSample ? 0.0 : 1.0 - 1.0 / std::sqrt(1.0 + rho * total[std::size_t(g)]);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     if (out.group[i] < 0) continue;
-    out.share[i] = weight[i] / total[std::size_t(out.group[i])];
+    const double groupTotal = total[std::size_t(out.group[i])];
+    out.share[i] = groupTotal > 0.0 ? weight[i] / groupTotal : 0.0;
     out.scale[i] = std::sqrt(asOneSample ? out.share[i] : (1.0 + rho) * weight[i]);
   }
   return out;
