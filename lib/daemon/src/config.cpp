@@ -84,10 +84,7 @@ std::vector<SetterEntry> cameraSetters() {
     {"camera_recording", [](DaemonConfig& c, const std::string& v) { c.recording = v; }},
     {"camera_recording_speed",
      [](DaemonConfig& c, const std::string& v) {
-       const double speed = positiveNumber(v, "a speed from 0.01 to 1000 (1: as recorded)");
-       if (!(speed >= 0.01 && speed <= 1000.0))
-         throw ConfigError("'" + v + "' is not a speed from 0.01 to 1000 (1: as recorded)");
-       c.recordingSpeed = speed;
+       c.recordingSpeed = numberIn(v, 0.01, 1000.0, "a speed from 0.01 to 1000 (1: as recorded)");
      }},
     {"resolution",
      [](DaemonConfig& c, const std::string& v) {
@@ -122,11 +119,7 @@ std::vector<SetterEntry> cameraSetters() {
      }},
     {"room_light_unseen_mm",
      [](DaemonConfig& c, const std::string& v) {
-       char* end = nullptr;
-       const double mm = std::strtod(v.c_str(), &end);
-       if (v.empty() || *end != '\0' || !(mm >= 0.0 && mm <= 1000.0))
-         throw ConfigError("'" + v + "' is not a distance in mm from 0 (off) to 1000");
-       c.roomLightUnseenMm = mm;
+       c.roomLightUnseenMm = numberIn(v, 0.0, 1000.0, "a distance in mm from 0 (off) to 1000");
      }},
     {"mains_hz",
      [](DaemonConfig& c, const std::string& v) {
