@@ -9,17 +9,10 @@
 #include "slicecap/capture/capture_error.hpp"
 #include "slicecap/capture/hdr_merge.hpp"
 #include "slicecap/core/angles.hpp"
+#include "slicecap/core/median.hpp"
 
 namespace slicecap::capture {
 namespace {
-
-double median(std::vector<double> values) {
-  const std::size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  if (values.size() % 2 == 1) return values[mid];
-  const double upper = values[mid];
-  return (*std::max_element(values.begin(), values.begin() + mid) + upper) / 2.0;
-}
 
 double circularMeanDeg(const std::vector<double>& azimuthsDeg) {
   double x = 0.0, y = 0.0;

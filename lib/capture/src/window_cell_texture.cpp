@@ -13,16 +13,10 @@
 
 #include "slicecap/capture/capture_error.hpp"
 #include "slicecap/core/grid.hpp"
+#include "slicecap/core/median.hpp"
 
 namespace slicecap::capture {
 namespace {
-
-double median(std::vector<double> values) {
-  const auto middle = values.begin() + std::ptrdiff_t(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  if (values.size() % 2 == 1) return *middle;
-  return 0.5 * (*middle + *std::max_element(values.begin(), middle));
-}
 
 bool usable(const CellSample& cell) {
   return !cell.clipped && std::isfinite(cell.value.mean());

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "slicecap/core/median.hpp"
+
 namespace slicecap::daemon {
 namespace {
 
@@ -39,14 +41,6 @@ struct UnlitFigures {
   std::optional<double> trimmedMeanSigmas;  // from kMinSamples samples on
 };
 
-double middle(std::vector<double> values) {  // the median; an even count's middle two averaged
-  const std::size_t half = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + half, values.end());
-  const double upper = values[half];
-  if (values.size() % 2 == 1) return upper;
-  return (*std::max_element(values.begin(), values.begin() + half) + upper) / 2.0;
-}
-
 UnlitFigures unlitFigures(const std::deque<double>& lights) {
   UnlitFigures out;
   const double n = double(lights.size());
@@ -54,12 +48,12 @@ UnlitFigures unlitFigures(const std::deque<double>& lights) {
     out.atOrBelowZero += v <= 0.0 ? 1.0 / n : 0.0;
     out.atZero += v == 0.0 ? 1.0 / n : 0.0;
   }
-  const double median = middle({lights.begin(), lights.end()});
+  const double median = slicecap::median({lights.begin(), lights.end()});
   std::vector<double> deviations;
   for (double v : lights) deviations.push_back(std::abs(v - median));
   // The noise from the median absolute deviation (a Gaussian's sigma is 1.4826 MAD): robust to
   // a highlight's samples. The median's standard error is 1.2533 sigma / sqrt(n).
-  const double sigma = 1.4826 * middle(std::move(deviations));
+  const double sigma = 1.4826 * slicecap::median(std::move(deviations));
   const double standardError = 1.2533 * sigma / std::sqrt(n);
   const double cap = DecodingWatch::kSigmasCap;
   const auto ratio = [cap](double value, double error) {
