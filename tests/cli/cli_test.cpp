@@ -55,6 +55,18 @@ TEST(Cli, BadUsageExitsWithTwo) {
   }
 }
 
+// A number option with a range (ParsedArgs::numberIn): text, NaN, an infinity and both sides of
+// the range are usage errors naming the option, the value and what it takes, before any input is read.
+TEST(Cli, ARangedNumberOptionNamesItsRange) {
+  for (const char* value : {"-1", "1000.5", "nan", "inf", "5mm", ""}) {
+    const Result r = run({"capture-offline", "no-session", "-o", "x.exr", "--room-light-unseen-mm", value});
+    EXPECT_EQ(r.code, kExitUsage) << value;
+    EXPECT_NE(r.err.find("--room-light-unseen-mm: '" + std::string(value) +
+                         "' is not a distance in mm from 0 (off) to 1000"),
+              std::string::npos) << r.err;
+  }
+}
+
 TEST(Cli, FailuresExitWithOneAndNameTheInput) {
   const auto dir = test::freshTempDir();
   const Result r =

@@ -30,6 +30,18 @@ std::optional<double> ParsedArgs::optionalNumber(const std::string& name) const 
   return number;
 }
 
+std::optional<double> ParsedArgs::numberIn(const std::string& name, double lowest,
+                                           double highest, const std::string& what) const {
+  auto v = value(name);
+  if (!v) return std::nullopt;
+  double number = 0.0;
+  const auto [end, ec] = std::from_chars(v->data(), v->data() + v->size(), number);
+  // The range's own words for every refusal: a person reads what the option takes, not why.
+  if (ec != std::errc() || end != v->data() + v->size() || !(number >= lowest && number <= highest))
+    throw UsageError("--" + name + ": '" + *v + "' is not " + what);
+  return number;
+}
+
 double ParsedArgs::number(const std::string& name, double fallback) const {
   return optionalNumber(name).value_or(fallback);
 }

@@ -2,7 +2,6 @@
 #include "pipeline_options.hpp"
 
 #include <algorithm>
-#include <cstdlib>
 #include <string>
 
 #include "slicecap/io/io_error.hpp"
@@ -22,14 +21,9 @@ capture::PipelineSettings pipelineSettingsOf(const ParsedArgs& args) {
   if (ambient != "both" && ambient != "previous")
     throw UsageError("--ambient must be both or previous");
   settings.offlineTwoSidedAmbient = ambient == "both";
-  if (const auto unseen = args.value("room-light-unseen-mm")) {
-    char* end = nullptr;
-    settings.maxRoomLightDistanceMm = std::strtod(unseen->c_str(), &end);
-    if (end == unseen->c_str() || *end != '\0' || !(settings.maxRoomLightDistanceMm >= 0.0) ||
-        !(settings.maxRoomLightDistanceMm <= 1000.0))
-      throw UsageError("--room-light-unseen-mm: '" + *unseen +
-                       "' is not a distance in mm from 0 (off) to 1000");
-  }
+  if (const auto unseenMm = args.numberIn("room-light-unseen-mm", 0.0, 1000.0,
+                                          "a distance in mm from 0 (off) to 1000"))
+    settings.maxRoomLightDistanceMm = *unseenMm;
   if (!(settings.elevationToleranceDeg > 0) || !(settings.maxPoseResidualPx > 0) ||
       settings.minMarkers < 2)
     throw UsageError("--elevation-tolerance and --max-residual must be > 0, --min-markers >= 2");

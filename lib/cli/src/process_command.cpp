@@ -1,7 +1,6 @@
 // `slicecap process` (recordings -> slice CSV) and `slicecap capture-offline` (session -> EXR).
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -75,15 +74,10 @@ CellRules cellRulesOf(const ParsedArgs& args) {
     if (!rules.texture.forced)
       throw UsageError("--cell-texture: '" + mode + "' is not auto, as-read, normalise or centres");
   }
-  if (const auto every = args.value("cell-points-every")) {
-    char* end = nullptr;
-    rules.slices.pointsEveryDeg = std::strtod(every->c_str(), &end);
-    // From a tenth of a degree (finer than the cells' own directions are known) to a bin's 15.
-    if (end == every->c_str() || *end != '\0' || !(rules.slices.pointsEveryDeg >= 0.1) ||
-        !(rules.slices.pointsEveryDeg <= 15.0))
-      throw UsageError("--cell-points-every: '" + *every +
-                       "' is not a number of degrees from 0.1 to 15 (a bin)");
-  }
+  // From a tenth of a degree (finer than the cells' own directions are known) to a bin's 15.
+  if (const auto everyDeg = args.numberIn("cell-points-every", 0.1, 15.0,
+                                          "a number of degrees from 0.1 to 15 (a bin)"))
+    rules.slices.pointsEveryDeg = *everyDeg;
   return rules;
 }
 

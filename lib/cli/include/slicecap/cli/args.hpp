@@ -47,6 +47,10 @@ class ParsedArgs {
   /// \brief A numeric option, or `fallback` if absent; UsageError if not a finite number.
   double number(const std::string& name, double fallback) const;
   std::optional<double> optionalNumber(const std::string& name) const;
+  /// \brief A numeric option within [lowest, highest], or none if absent; UsageError
+  /// "--NAME: 'VALUE' is not <what>" for anything else (text, NaN, out of range).
+  std::optional<double> numberIn(const std::string& name, double lowest, double highest,
+                                 const std::string& what) const;
 
   void setValue(const std::string& name, std::string v) { values_[name] = std::move(v); }
   void setFlag(const std::string& name) { flags_.insert(name); }
