@@ -25,7 +25,7 @@ constexpr Noise kNoises[] = {{1.0f / 8000.0f, 0.002f * 0.002f},
 
 TEST(ModelExposure, TheLookedUpDeviationIsWithinAFractionOfAPercentOfTheExactOne) {
   for (const Noise& n : kNoises) {
-    const float* table = sigmaTable(n.inverseFullWell, n.readVariance);
+    const float* table = sigmaTable(n.inverseFullWell, n.readVariance)->data();
     double largest = 0.0;
     // Signals from 2^-29 of full scale to 2^19 (clipped 500000 times), 64 a level's width.
     for (double signal = std::ldexp(1.0, -29); signal < std::ldexp(1.0, 19); signal *= 1.0 + 1.0 / 32768.0) {
@@ -39,6 +39,19 @@ TEST(ModelExposure, TheLookedUpDeviationIsWithinAFractionOfAPercentOfTheExactOne
     for (float s : {0.0f, -0.5f, -1e30f, 1e-12f})
       EXPECT_FLOAT_EQ(table[sigmaLevel(s)], std::sqrt(n.readVariance)) << s;
   }
+}
+
+// Two model cameras of different sensors on one thread (the tests' and the hardware check's case):
+// a frame's noise made for the first keeps the first's deviations when the second's are asked for.
+TEST(ModelExposure, AnotherSensorsTableLeavesAFramesNoiseAlone) {
+  const SampleNoise first = sampleNoise(8000.0, 0.002);
+  const std::vector<float> before(first.sigmas, first.sigmas + kSigmaLevels);
+  const SampleNoise second = sampleNoise(500.0, 0.01);
+  EXPECT_NE(first.sigmas, second.sigmas);
+  EXPECT_NE(before[kSigmaLevels / 2], second.sigmas[kSigmaLevels / 2]) << "the two sensors' tables would not differ";
+  EXPECT_TRUE(std::equal(before.begin(), before.end(), first.sigmas));
+  // Asked again, the same sensor's table is the one kept, not made anew.
+  EXPECT_EQ(sampleNoise(500.0, 0.01).sigmas, second.sigmas);
 }
 
 TEST(ModelExposure, RgbCodesAreThePerSampleSquareRootsToWithinOneCode) {
@@ -62,7 +75,8 @@ TEST(ModelExposure, RgbCodesAreThePerSampleSquareRootsToWithinOneCode) {
     noise.inverseFullWell = n.inverseFullWell;
     noise.readVariance = n.readVariance;
     noise.normals = draws.data();
-    noise.sigmas = sigmaTable(n.inverseFullWell, n.readVariance);
+    noise.sigmaTableKept = sigmaTable(n.inverseFullWell, n.readVariance);
+    noise.sigmas = noise.sigmaTableKept->data();
     noise.at = kNoiseTableSize - 1000;
     const std::size_t start = noise.at;
     RowExposure e{ambient.data(), lit.data(), 0, 0.5f, 0.01f};

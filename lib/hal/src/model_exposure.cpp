@@ -17,28 +17,28 @@ const std::vector<float>& normalTable() {
   return table;
 }
 
-const float* sigmaTable(float inverseFullWell, float readVariance) {
-  struct Table {
+std::shared_ptr<const std::vector<float>> sigmaTable(float inverseFullWell, float readVariance) {
+  struct Kept {
     float inverseFullWell = -1.0f, readVariance = -1.0f;
-    std::vector<float> sigmas;
+    std::shared_ptr<const std::vector<float>> sigmas;
   };
-  thread_local Table table;
-  if (table.inverseFullWell != inverseFullWell || table.readVariance != readVariance) {
-    table.sigmas.resize(kSigmaLevels);
-    table.sigmas[0] = exactSigma(0.0f, inverseFullWell, readVariance);
-    for (std::size_t level = 1; level < kSigmaLevels; ++level) {
-      // Level k >= 1 spans [2^(e0 + m), 2^(e0 + m) (1 + 2^-9)) with m = (k - 1) / 2^9 in steps
-      // of 2^-9 of the octave: its middle signal.
-      const double start = std::ldexp(1.0 + double((level - 1) & ((1u << kSigmaMantissaBits) - 1)) /
-                                                (1u << kSigmaMantissaBits),
-                                      kSigmaLowestExponent + int((level - 1) >> kSigmaMantissaBits));
-      const double middle = start * (1.0 + 0.5 / (1u << kSigmaMantissaBits));
-      table.sigmas[level] = float(std::sqrt(middle * inverseFullWell + double(readVariance)));
-    }
-    table.inverseFullWell = inverseFullWell;
-    table.readVariance = readVariance;
+  thread_local Kept kept;
+  if (kept.sigmas && kept.inverseFullWell == inverseFullWell && kept.readVariance == readVariance)
+    return kept.sigmas;
+  auto sigmas = std::make_shared<std::vector<float>>(kSigmaLevels);
+  (*sigmas)[0] = exactSigma(0.0f, inverseFullWell, readVariance);
+  for (std::size_t level = 1; level < kSigmaLevels; ++level) {
+    // Level k >= 1 spans [2^(e0 + m), 2^(e0 + m) (1 + 2^-9)) with m = (k - 1) / 2^9 in steps
+    // of 2^-9 of the octave: its middle signal.
+    const double start = std::ldexp(1.0 + double((level - 1) & ((1u << kSigmaMantissaBits) - 1)) /
+                                              (1u << kSigmaMantissaBits),
+                                    kSigmaLowestExponent + int((level - 1) >> kSigmaMantissaBits));
+    const double middle = start * (1.0 + 0.5 / (1u << kSigmaMantissaBits));
+    (*sigmas)[level] = float(std::sqrt(middle * inverseFullWell + double(readVariance)));
   }
-  return table.sigmas.data();
+  // A new table, never the old one rewritten: a SampleNoise made before holds the old one.
+  kept = {inverseFullWell, readVariance, std::move(sigmas)};
+  return kept.sigmas;
 }
 
 std::array<std::array<int, 2>, 2> cfaColours(BayerOrder order) {
@@ -65,7 +65,8 @@ SampleNoise sampleNoise(double fullWellElectrons, double readNoise) {
   noise.inverseFullWell = fullWellElectrons > 0 ? float(1.0 / fullWellElectrons) : 0.0f;
   noise.readVariance = float(readNoise * readNoise);
   noise.normals = normalTable().data();
-  noise.sigmas = sigmaTable(noise.inverseFullWell, noise.readVariance);
+  noise.sigmaTableKept = sigmaTable(noise.inverseFullWell, noise.readVariance);
+  noise.sigmas = noise.sigmaTableKept->data();
   return noise;
 }
 

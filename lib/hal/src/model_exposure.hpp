@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include "slicecap/hal/bayer_frame.hpp"
@@ -55,8 +56,9 @@ inline std::int32_t sigmaLevel(float signal) {
 
 // The deviation at every level for a sensor whose shot noise is `inverseFullWell` of the signal
 // (as a variance) and whose read noise has `readVariance`: at a level's middle signal (level 0:
-// at a zero signal). Cached per (inverseFullWell, readVariance), per thread.
-const float* sigmaTable(float inverseFullWell, float readVariance);
+// at a zero signal). The last one asked is kept per thread (making one is 2^14 square roots);
+// shared, so a frame's SampleNoise keeps its own table however another sensor's is asked for.
+std::shared_ptr<const std::vector<float>> sigmaTable(float inverseFullWell, float readVariance);
 
 // The exact deviation (the table's entries and the tests' reference).
 inline float exactSigma(float signal, float inverseFullWell, float readVariance) {
@@ -70,7 +72,8 @@ struct SampleNoise {
   float inverseFullWell = 0.0f;
   float readVariance = 0.0f;
   const float* normals = nullptr;
-  const float* sigmas = nullptr;  // sigmaTable(inverseFullWell, readVariance)
+  std::shared_ptr<const std::vector<float>> sigmaTableKept;  // what `sigmas` points into
+  const float* sigmas = nullptr;  // sigmaTable(inverseFullWell, readVariance)->data()
   std::size_t at = 0;
 
   float added(float signal) {
