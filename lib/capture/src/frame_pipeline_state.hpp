@@ -94,67 +94,24 @@ struct FramePipeline::State {
   // process() (`inTurn`) while no pose is tracked, to re-acquire the target for the LED-on frames
   // after it (the room light shows the markers too): the search then goes on in every frame, not
   // every other one. The offline setters do not re-acquire: frames are searched in their order.
-  Ambient makeAmbient(const hal::Frame& frame, bool inTurn) {
-    Ambient a{frame, std::nullopt};
-    const bool acquiring = inTurn && !search.tracking();
-    if (!settings.poseAmbientFrames && !acquiring) return a;
-    std::vector<PlaneCorrespondence> corners;
-    for (const auto& marker : search.search(frame, false).markers)
-      if (const vision::Marker* geometry = target.findMarker(marker.id))
-        for (int c = 0; c < 4; ++c)
-          corners.push_back(
-              {{geometry->cornersMm[c].xMm, geometry->cornersMm[c].yMm}, marker.cornersPx[c]});
-    if (static_cast<int>(corners.size()) < 4 * settings.minMarkers) return a;
-    const auto estimate = estimatePlanarPose(corners, camera);
-    if (!estimate || estimate->residualRmsPx > settings.maxPoseResidualPx) return a;
-    if (acquiring) locatedAt(estimate->pose, frame.metadata.timestampUs);
-    if (settings.poseAmbientFrames) a.pose = estimate->pose;
-    return a;
-  }
+  Ambient makeAmbient(const hal::Frame& frame, bool inTurn);
 
   // The rows an LED-off frame located at its own pose shows the window and references in, when
   // the LED was not off over all of them: the frame would be read there as room light carrying
   // the LED's. The rows were judged from the latest pose before it was located; after dropped
   // frames (the camera moved further than kRowMarginFraction covers) they can be elsewhere.
-  std::optional<RowSpan> litOwnRows(const Ambient& a) const {
-    if (!a.pose) return std::nullopt;
-    const RowSpan rows =
-        rowsOfInterest(target, camera, *a.pose, a.frame.image.height, kBlurRowMarginPx);
-    if (ledStateOver(a.frame, rows) == hal::LedExposure::State::Off) return std::nullopt;
-    return rows;
-  }
+  std::optional<RowSpan> litOwnRows(const Ambient& a) const;
 
   // The room light's radiance over a target area for an LED-on frame at `pose`, from its
   // ambient terms (zero for none), and its variance: each LED-off frame read at its own pose
   // when located, else at the LED-on frame's pixels.
   AreaReading ambientAt(const std::vector<AmbientTerm>& terms, AreaSpec area,
-                        const vision::Pose& pose) const {
-    area.clipFraction = 2.0;
-    AreaReading sum;
-    for (const AmbientTerm& term : terms) {
-      AreaReading value;
-      if (term.pose)
-        value = readArea(*term.frame, *term.pose, camera, area, settings.noise, *codes);
-      if (!value.inside) value = readArea(*term.frame, pose, camera, area, settings.noise, *codes);
-      sum.mean += term.weight * value.mean;
-      sum.variance += term.weight * term.weight * value.variance;
-    }
-    return sum;
-  }
+                        const vision::Pose& pose) const;
 
   // The window's pixels in an LED-on frame at `pose`, or why they give no sample.
   std::optional<frame_checks::GateFailure> readWindow(const hal::Frame& frame,
                                                       const vision::Pose& pose,
-                                                      AreaReading* window) const {
-    AreaSpec spec = windowArea;
-    spec.clipFraction = settings.clipFraction;
-    *window = readArea(frame, pose, camera, spec, settings.noise, *codes);
-    if (!window->inside)
-      return frame_checks::GateFailure{RejectReason::WindowOccluded, "window out of the image"};
-    if (window->clipped && !settings.hdr)
-      return frame_checks::GateFailure{RejectReason::WindowClipped, "window saturated"};
-    return std::nullopt;
-  }
+                                                      AreaReading* window) const;
 
   // The window's radiance (its reading minus the room light) and the white references' (room
   // light subtracted, with their noise) of an LED-on frame at `pose`, or why it gives none.
@@ -167,57 +124,13 @@ struct FramePipeline::State {
   // Two located LED-off frames' room light over the white references, apart as a fraction of
   // it (FrameOutcome::Measurement::roomChange); none when either is not located or nothing of
   // the references is lit.
-  std::optional<double> roomChangeBetween(const Ambient& a, const Ambient& b) const {
-    if (!a.pose || !b.pose) return std::nullopt;
-    double apart = 0.0, level = 0.0;
-    for (const auto& reference : references) {
-      AreaSpec area = reference.area;
-      area.clipFraction = 2.0;
-      const AreaReading ra = readArea(a.frame, *a.pose, camera, area, settings.noise, *codes);
-      const AreaReading rb = readArea(b.frame, *b.pose, camera, area, settings.noise, *codes);
-      if (!ra.inside || !rb.inside) continue;
-      for (int c = 0; c < 3; ++c) {
-        apart += std::abs(ra.mean[c] - rb.mean[c]);
-        level += 0.5 * (ra.mean[c] + rb.mean[c]);
-      }
-    }
-    if (!(level > 0.0)) return std::nullopt;
-    return apart / level;
-  }
+  std::optional<double> roomChangeBetween(const Ambient& a, const Ambient& b) const;
 
   std::optional<frame_checks::GateFailure> readReferences(
       const hal::Frame& frame, const vision::Pose& pose, const std::vector<AmbientTerm>& roomLight,
       const AreaReading& window, Rgb* windowRadiance,
       std::vector<ReferenceObservation>* observations,
-      std::vector<ReferenceObservation>* unlit, RoomShare* share) const {
-    *windowRadiance = window.mean - ambientAt(roomLight, windowArea, pose).mean;
-    for (const auto& reference : references) {
-      AreaSpec spec = reference.area;
-      spec.clipFraction = settings.clipFraction;
-      const AreaReading area = readArea(frame, pose, camera, spec, settings.noise, *codes);
-      if (!area.inside) continue;
-      if (area.clipped)
-        return frame_checks::GateFailure{RejectReason::WindowClipped, "white reference saturated"};
-      const AreaReading room = ambientAt(roomLight, reference.area, pose);
-      const Rgb value = area.mean - room.mean;
-      for (int c = 0; c < 3; ++c) {
-        share->room += room.mean[c];
-        share->led += value[c];
-      }
-      Rgb sigma;
-      for (int c = 0; c < 3; ++c)
-        sigma[c] = std::sqrt(area.variance[c] + room.variance[c]);
-      const ReferenceObservation observation{
-          {reference.centre.x(), reference.centre.y(), 0.0}, value, reference.albedo, sigma};
-      // No LED light (the arm covers it, or noise in a dark frame): not for the fit, but checked
-      // against the fitted light (fitLight).
-      (value.minChannel() > 0 ? observations : unlit)->push_back(observation);
-    }
-    if (observations->size() < 5)
-      return frame_checks::GateFailure{RejectReason::WindowOccluded,
-                                       "white references out of the image"};
-    return std::nullopt;
-  }
+      std::vector<ReferenceObservation>* unlit, RoomShare* share) const;
 
   // The point light fitted to the references, or a rejection when they disagree by more than
   // noise explains plus the margin for an occluder (maxReferenceResidual), or one that reads no
@@ -225,69 +138,13 @@ struct FramePipeline::State {
   std::optional<frame_checks::GateFailure> fitLight(
       const std::vector<ReferenceObservation>& observations,
       const std::vector<ReferenceObservation>& unlit, const Direction& nominalLight, LightFit* fit,
-      double* limit) const {
-    LightFitParams fitParams;
-    const UnitVector toLight = toUnitVector(nominalLight);
-    fitParams.initialPositionMm = {toLight.x * settings.nominalLightDistanceMm,
-                                   toLight.y * settings.nominalLightDistanceMm,
-                                   toLight.z * settings.nominalLightDistanceMm};
-    if (const std::optional<std::string> problem = lightFitProblem(observations, fitParams))
-      return frame_checks::GateFailure{RejectReason::WindowOccluded, *problem};
-    *fit = fitPointLight(observations, fitParams);
-    if (!fit->converged)
-      return frame_checks::GateFailure{RejectReason::WindowOccluded, "light fit: " + fit->message};
-    *limit = settings.maxReferenceResidual +
-             frame_checks::noiseAllowance(*fit, settings.referenceNoiseSigmas);
-    if (fit->weightedResidualRms > *limit)
-      return frame_checks::GateFailure{RejectReason::WindowOccluded,
-                                       "white references disagree by " +
-                                           std::to_string(fit->weightedResidualRms) +
-                                           ", noise and margin allow " + std::to_string(*limit)};
-    for (const ReferenceObservation& o : unlit) {
-      const Rgb irradiance = fit->light.irradianceAt(o.point);
-      for (int c = 0; c < 3; ++c) {
-        const double expected = o.albedo[c] / std::numbers::pi * irradiance[c];
-        if (expected - o.radiance[c] >
-            settings.referenceNoiseSigmas * o.sigma[c] + settings.maxReferenceResidual * expected)
-          return frame_checks::GateFailure{
-              RejectReason::WindowOccluded,
-              "a white reference (at " + std::to_string(o.point.x) + ", " +
-                  std::to_string(o.point.y) + " mm) gets no LED light, " +
-                  std::to_string(expected / o.sigma[c]) + " sigma expected"};
-      }
-    }
-    return std::nullopt;
-  }
+      double* limit) const;
 
   // The window's sample square in cells (HDR sweeps): each cell's radiance per unit exposure x
   // gain minus the room light (LED-off frames of the same level), its variance, its level as
   // exposed and whether it clipped; a cell out of the image counts as clipped (unusable).
   std::vector<HdrCell> readCells(const hal::Frame& frame, const vision::Pose& pose,
-                                 const std::vector<AmbientTerm>& roomLight) const {
-    const vision::RectMm& r = windowArea.rectMm;
-    const int n = kHdrCellsPerSide;
-    const double scale =
-        frame_checks::exposureKnown(frame) ? frame.metadata.exposureUs * frame.metadata.gain : 1.0;
-    std::vector<HdrCell> cells;
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const double x0 = r.xMinMm + i * r.widthMm() / n, y0 = r.yMinMm + j * r.heightMm() / n;
-        const AreaSpec spec{
-            {x0, y0, x0 + r.widthMm() / n, y0 + r.heightMm() / n}, 0.0, settings.clipFraction};
-        const AreaReading area = readArea(frame, pose, camera, spec, settings.noise, *codes);
-        const AreaReading room = ambientAt(roomLight, spec, pose);
-        HdrCell cell;
-        cell.radiance = area.mean - room.mean;
-        for (int c = 0; c < 3; ++c)
-          cell.variance[c] = area.variance[c] + room.variance[c];
-        // A cell darker than its noise can read below 0 (the censored mean of an area mostly at
-        // code 0, or RAW below its black level); as exposed it was at 0 of full scale.
-        cell.level = std::max(0.0, area.mean.maxChannel()) * scale;
-        cell.clipped = area.clipped || !area.inside;
-        cells.push_back(cell);
-      }
-    return cells;
-  }
+                                 const std::vector<AmbientTerm>& roomLight) const;
 
   // The whole window as settings.windowCellsPerSide^2 cells at their own directions
   // (window_cell_reading.cpp); nullopt without cells or when the window centre does not project.
@@ -321,20 +178,7 @@ struct FramePipeline::State {
   // else the one there is; another level's stand-ins when these are missing or not located and
   // there are any (setStandInAmbientFrames).
   std::vector<AmbientTerm> ambientTerms(std::int64_t timeUs,
-                                        const std::optional<vision::Pose>& pose) const {
-    std::vector<AmbientTerm> own = bracketingTerms(ambient ? &*ambient : nullptr,
-                                                   nextAmbient ? &*nextAmbient : nullptr, timeUs,
-                                                   pose);
-    const bool ownLocated =
-        !own.empty() &&
-        std::all_of(own.begin(), own.end(), [](const AmbientTerm& t) { return t.pose; });
-    if (ownLocated || standIns.empty()) return own;
-    const auto after = std::find_if(standIns.begin(), standIns.end(), [&](const Ambient& a) {
-      return a.frame.metadata.timestampUs > timeUs;
-    });
-    return bracketingTerms(after == standIns.begin() ? nullptr : &*std::prev(after),
-                           after == standIns.end() ? nullptr : &*after, timeUs, pose);
-  }
+                                        const std::optional<vision::Pose>& pose) const;
 
   // `before` and `after` (either may be missing) as the terms of a frame at `timeUs`: linear
   // between them when `after` is later, else the one there is (`before` first). The room and the
@@ -346,18 +190,7 @@ struct FramePipeline::State {
   // the view passes through in a few frames is then interpolated at the wrong place.
   static std::vector<AmbientTerm> bracketingTerms(const Ambient* before, const Ambient* after,
                                                   std::int64_t timeUs,
-                                                  const std::optional<vision::Pose>& pose) {
-    const auto term = [](const Ambient& a, double weight) {
-      return AmbientTerm{&a.frame, a.pose, weight};
-    };
-    if (!before && !after) return {};
-    if (!before) return {term(*after, 1.0)};
-    if (!after || after->frame.metadata.timestampUs <= timeUs) return {term(*before, 1.0)};
-    const double w = roomLightWeight(
-        {before->frame.metadata.timestampUs, before->pose},
-        {after->frame.metadata.timestampUs, after->pose}, {timeUs, pose});
-    return {term(*before, 1.0 - w), term(*after, w)};
-  }
+                                                  const std::optional<vision::Pose>& pose);
 };
 
 }  // namespace slicecap::capture
