@@ -8,10 +8,15 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <filesystem>
 #include <optional>
+#include <tuple>
 #include <vector>
 
+#include "../support/test_support.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
+#include "slicecap/capture/recording_processor.hpp"
+#include "slicecap/io/recording.hpp"
 #include "slicecap/sim/material.hpp"
 #include "slicecap/sim/renderer.hpp"
 #include "slicecap/sim/rig.hpp"
@@ -177,6 +182,41 @@ TEST(RoomLightUnseen, ARoomLightThatDoesNotChangeKeepsTheSample) {
   ASSERT_EQ(outcome.kind, FrameOutcome::Kind::Sample) << outcome.detail;
   for (int c = 0; c < 3; ++c)
     EXPECT_NEAR(sweep.sampleError(*outcome.sample, c), 0.0, 0.02) << "channel " << c;
+}
+
+// A sweep captured with the gate on says so in its recording (slicecapd's record_frames), and
+// processing the recording offline gates its frames as the sweep did, unless told otherwise: the
+// frames of the case above, as a recording of three frames.
+TEST(RoomLightUnseen, ARecordingIsProcessedWithTheGateItWasCapturedWith) {
+  const AxialSweep sweep(0.15, 10);
+  const auto recordingWith = [&](std::optional<double> unseenMm) {
+    const auto dir = test::freshTempDir() / "rec";
+    io::Recording header;
+    header.createdBy = "room_light_weight_test";
+    header.camera = sweep.camera;
+    header.target = sweep.renderer->target();
+    header.encoding = PixelEncoding::Linear16;
+    header.slice = io::RecordedSlice{sweep.slice};
+    header.roomLightUnseenMm = unseenMm;
+    io::RecordingWriter writer(dir, header);
+    for (const auto& [at, ledOn, sequence] :
+         {std::tuple{8, false, 0}, std::tuple{10, true, 5}, std::tuple{12, false, 10}}) {
+      const hal::Frame frame = sweep.frame(std::size_t(at), ledOn, std::uint64_t(sequence));
+      writer.append(frame.image, {"", frame.metadata.timestampUs, ledOn, sweep.exposureUs, 1.0});
+    }
+    return dir;
+  };
+  const auto ledOnOutcome = [](const std::filesystem::path& dir, PipelineSettings settings) {
+    const RecordingResult result = processRecording(dir, settings);
+    return result.outcomes.at(1);
+  };
+  const auto gated = recordingWith(15.0);
+  EXPECT_EQ(io::readRecording(gated).roomLightUnseenMm, std::optional<double>(15.0));
+  EXPECT_EQ(ledOnOutcome(gated, {}).rejectReason, RejectReason::RoomLightUnseen);
+  PipelineSettings off;
+  off.maxRoomLightDistanceMm = 0.0;
+  EXPECT_EQ(ledOnOutcome(gated, off).kind, FrameOutcome::Kind::Sample);
+  EXPECT_EQ(ledOnOutcome(recordingWith(std::nullopt), {}).kind, FrameOutcome::Kind::Sample);
 }
 
 }  // namespace

@@ -142,6 +142,9 @@ TEST(Recording, ReaderNamesTheFieldThatIsWrong) {
          j["decoding"] = "measured-curve";
          j["decoding_curve"] = {{"name", "measured"}, {"points", {{0, 0}, {0.5, 0.2}, {0.4, 0.6}, {1, 1}}}};
        }},
+      {"room_light_unseen_mm", [](auto& j) { j["room_light_unseen_mm"] = 0; }},
+      {"room_light_unseen_mm", [](auto& j) { j["room_light_unseen_mm"] = "15 mm"; }},
+      {"room_light_unseen_mm", [](auto& j) { j["room_light_unseen_mm"] = 1001; }},
       {"target", [](auto& j) { j.erase("target"); }},
       // Not tag 3 (the id was cast to int, which wrapped round).
       {"target.markers[0].id", [](auto& j) { j["target"]["markers"][0]["id"] = 4294967299; }},
@@ -207,6 +210,22 @@ TEST(Recording, ALinearRecordingsBlackRoundTripsAtVersionThree) {
   edited["decoding_black16"] = 65535;
   writeJsonFileAtomically(dir / kRecordingManifest, edited);
   EXPECT_NE(readError(dir).find("decoding_black16"), std::string::npos) << readError(dir);
+}
+
+// The capture's room-light gate (slicecapd's room_light_unseen_mm) travels with its frames; a
+// recording without it (every one before it was recorded) reads as ungated.
+TEST(Recording, TheRoomLightGateRoundTripsAndIsAbsentWhenOff) {
+  const auto dir = test::freshTempDir() / "rec";
+  Recording header = smallHeader(PixelEncoding::Srgb8);
+  header.roomLightUnseenMm = 15.0;
+  RecordingWriter writer(dir, header);
+  writer.append(gradient(3, 8, 0), {"", 0, true, 100.0, 1.0});
+  EXPECT_EQ(readJsonFile(dir / kRecordingManifest)["room_light_unseen_mm"], 15.0);
+  EXPECT_EQ(readRecording(dir), writer.recording());
+  const auto plain = test::freshTempDir() / "rec";
+  RecordingWriter(plain, smallHeader(PixelEncoding::Srgb8));
+  EXPECT_FALSE(readJsonFile(plain / kRecordingManifest).contains("room_light_unseen_mm"));
+  EXPECT_FALSE(readRecording(plain).roomLightUnseenMm);
 }
 
 TEST(Recording, CameraMayComeFromACalibrationFileInsideTheRecording) {

@@ -148,7 +148,7 @@ std::optional<GateFailure> FramePipeline::State::roomLightFor(
 std::optional<GateFailure> FramePipeline::State::roomLightUnseen(
     const std::vector<AmbientTerm>& terms, const vision::Pose& pose, const RoomLightSpan& span,
     const Rgb& windowReading) const {
-  const double limitMm = settings.maxRoomLightDistanceMm;
+  const double limitMm = settings.maxRoomLightDistanceMm.value_or(0.0);
   if (!(limitMm > 0.0) || terms.size() != 2) return std::nullopt;
   if (!span.nearestMm || *span.nearestMm <= limitMm) return std::nullopt;
   const AreaReading a = ambientAt({{terms[0].frame, terms[0].pose, 1.0}}, windowArea, pose);

@@ -234,6 +234,8 @@ PipelineSettings offlineSettings(const io::Recording& recording, const PipelineS
   if (offline.toneCurve) result.decoding = offline.toneCurve->name();
   if (settings.offlineTwoSidedAmbient)
     offline.detector.frameBudgetPx = std::numeric_limits<double>::infinity();
+  // The room-light gate the capture had, unless the caller set one (0: off).
+  if (!offline.maxRoomLightDistanceMm) offline.maxRoomLightDistanceMm = recording.roomLightUnseenMm;
   return offline;
 }
 

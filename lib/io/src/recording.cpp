@@ -122,6 +122,7 @@ json toJson(const Recording& r) {
                     {"theta_v_deg", r.slice->id.elevations.thetaVDeg},
                     {"alpha_deg", r.slice->alphaDeg}};
   }
+  if (r.roomLightUnseenMm) out["room_light_unseen_mm"] = *r.roomLightUnseenMm;
   out["target"] = targetToJson(r.target);
   out["frames"] = frames;
   return out;
@@ -302,6 +303,12 @@ Recording readRecording(const std::filesystem::path& input) {
     r.decoding = decodingFromJson(root, r.encoding, at);
   if (root.contains("slice") && !root["slice"].is_null())
     r.slice = sliceFromJson(root["slice"], at / "slice");
+  if (root.contains("room_light_unseen_mm")) {
+    const double unseenMm = f::number(root, "room_light_unseen_mm", at);
+    if (!(unseenMm > 0.0 && unseenMm <= 1000.0))
+      (at / "room_light_unseen_mm").fail("expected a distance in mm above 0 and up to 1000");
+    r.roomLightUnseenMm = unseenMm;
+  }
   r.target = targetFromJson(f::member(root, "target", at), manifest.string(), "target");
 
   const json& frames = f::array(root, "frames", at);

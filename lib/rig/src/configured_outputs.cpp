@@ -6,7 +6,8 @@
 namespace slicecap::rig {
 
 OutputSettings outputSettingsFrom(const daemon::DaemonConfig& config) {
-  return {config.recordFrames, config.textureResolution, config.textureFramesPerBin};
+  return {config.recordFrames, config.textureResolution, config.textureFramesPerBin,
+          config.roomLightUnseenMm};
 }
 
 ConfiguredSessionOutputs::ConfiguredSessionOutputs(const OutputSettings& settings,
@@ -15,6 +16,7 @@ ConfiguredSessionOutputs::ConfiguredSessionOutputs(const OutputSettings& setting
     : recordFrames_(settings.recordFrames),
       textureResolution_(settings.textureResolution),
       textureFramesPerBin_(settings.textureFramesPerBin),
+      roomLightUnseenMm_(settings.roomLightUnseenMm),
       rigFor_(std::move(rigFor)),
       createdBy_(std::move(createdBy)) {}
 
@@ -25,6 +27,7 @@ std::optional<io::Recording> ConfiguredSessionOutputs::recordingHeader(const Sli
   header.createdBy = createdBy_;
   header.camera = rig.camera;
   header.target = rig.target;
+  if (roomLightUnseenMm_ > 0.0) header.roomLightUnseenMm = roomLightUnseenMm_;
   return header;
 }
 

@@ -11,11 +11,13 @@
 namespace slicecap::rig {
 
 /// \brief What slicecapd.conf asks a sweep to keep: record_frames, texture_resolution,
-/// texture_frames_per_bin.
+/// texture_frames_per_bin; and room_light_unseen_mm, which a recording carries so that offline
+/// processing gates its frames as the sweep did.
 struct OutputSettings {
   bool recordFrames = false;
   int textureResolution = 0;
   int textureFramesPerBin = 0;
+  double roomLightUnseenMm = 0.0;
 };
 
 /// \brief The configuration's OutputSettings.
@@ -38,6 +40,7 @@ class ConfiguredSessionOutputs final : public daemon::SessionOutputs {
   bool recordFrames_;
   int textureResolution_;
   int textureFramesPerBin_;
+  double roomLightUnseenMm_;
   std::function<Rig(const SliceId&)> rigFor_;
   std::string createdBy_;
 };

@@ -81,8 +81,10 @@ struct PipelineSettings {
   /// from the next, 3 % room light) the gate cost the table more than the samples it removed
   /// were wrong (`capture-offline` dE 6.51 -> 7.11, slicecapd 7.52 -> 8.08), while on the RAW
   /// room-light session (15 % room light, 60 % of frames dropped) it helped (dE -13 %, one run).
-  /// slicecapd.conf room_light_unseen_mm, `--room-light-unseen-mm`.
-  double maxRoomLightDistanceMm = 0.0;
+  /// slicecapd.conf room_light_unseen_mm, `--room-light-unseen-mm`. None: off, except that
+  /// processRecording then takes the recording's own (io::Recording::roomLightUnseenMm), so a
+  /// gated session is reproduced offline; 0 is off whatever the recording says.
+  std::optional<double> maxRoomLightDistanceMm{};
   /// \brief See maxRoomLightDistanceMm. 5 %: on simulated sweeps (`slicecap simulate`, every
   /// frame 20-40 mm from the next) the far LED-on frames whose room light changed by less read
   /// a median error of 0.3-1.1 %, those above 2.3-2.9 % (docs/real-sensors.md).

@@ -104,6 +104,9 @@ struct Recording {
   /// nullopt: RecordedDecoding::defaultFor(encoding) (what recordings before version 2 mean).
   std::optional<RecordedDecoding> decoding{};
   std::optional<RecordedSlice> slice;  ///< absent for e.g. a calibration recording
+  /// The capture's room_light_unseen gate when it was on (slicecapd.conf room_light_unseen_mm >
+  /// 0): offline processing applies it unless told otherwise, so it reproduces the session.
+  std::optional<double> roomLightUnseenMm;
   vision::TargetGeometry target;
   std::vector<RecordedFrame> frames;
   friend bool operator==(const Recording&, const Recording&) = default;
