@@ -152,7 +152,6 @@ void setModelCameras(CameraSources& sources, const ModelCameraDescription& model
     if (scene == ModelScene::Still) source = std::make_shared<StillScene>(std::move(source));
     return std::make_shared<hal::ModelCamera>(std::move(source), modelLight, clock, sensor);
   };
-  sources.kind = "model camera";
 }
 
 // camera = file: each slice's recording, played at its recorded rate, with its own rig.
@@ -172,7 +171,6 @@ void setFileCameras(CameraSources& sources, const FileCameraDescription& file, h
     const io::Recording& recording = recordingFor(*recordings, configured, slice).second;
     return Rig{recording.target, recording.camera};
   };
-  sources.kind = "file camera";
 }
 
 }  // namespace
@@ -182,6 +180,10 @@ CameraSources makeCameraSources(const DeviceDescription& devices, hal::Clock& cl
                                 bool modelRealTime) {
   CameraSources sources;
   sources.firstSlice = SliceId{SliceKind::Diagonal, {30, 30}};
+  // The three kinds exclude each other. They are taken in the order of the modules they reach
+  // (lib/rig alone, sim's material, hal's devices), as the description's steps are.
+  if (const auto* file = std::get_if<FileCameraDescription>(&devices.camera))
+    setFileCameras(sources, *file, clock);
   if (const auto* model = std::get_if<ModelCameraDescription>(&devices.camera))
     setModelCameras(sources, *model, clock, modelLight, devices.rig, scene, modelRealTime);
   if (const auto* live = std::get_if<LiveCameraDescription>(&devices.camera)) {
@@ -191,10 +193,7 @@ CameraSources makeCameraSources(const DeviceDescription& devices, hal::Clock& cl
                                               ? hal::openV4l2Camera(live->device)
                                               : hal::openLibcameraCamera(live->device);
     sources.cameraFor = [camera](const SliceId&) { return camera; };
-    sources.kind = hal::backendName(live->backend);
   }
-  if (const auto* file = std::get_if<FileCameraDescription>(&devices.camera))
-    setFileCameras(sources, *file, clock);
   if (!sources.rigFor)
     sources.rigFor = [configured = devices.rig](const SliceId&) { return configured; };
   followDeliveredSize(sources);

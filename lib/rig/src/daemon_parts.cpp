@@ -19,10 +19,10 @@ namespace {
 using daemon::DaemonConfig;
 
 // What the recordings say made them: the daemon, and which simulated camera.
-std::string recordingsCreator(const DeviceDescription& devices, const CameraSources& sources) {
+std::string recordingsCreator(const DeviceDescription& devices) {
   std::string createdBy = std::string("slicecapd ") + kVersion;
-  if (!std::holds_alternative<LiveCameraDescription>(devices.camera))
-    createdBy += " (" + sources.kind + ")";
+  if (std::holds_alternative<ModelCameraDescription>(devices.camera)) createdBy += " (model camera)";
+  if (std::holds_alternative<FileCameraDescription>(devices.camera)) createdBy += " (file camera)";
   return createdBy;
 }
 
@@ -44,8 +44,10 @@ daemon::DaemonParts daemonPartsFrom(const DaemonConfig& config, hal::Clock& cloc
   const capture::PipelineSettings pipeline = pipelineSettingsFrom(config);
   const OutputSettings outputs = outputSettingsFrom(config);
 
-  // The devices, described once and opened from the description.
+  // The devices, described once and opened from the description. What the recordings will say
+  // made them is the description's too: named before anything opens.
   const DeviceDescription devices = describeDevices(config);
+  std::string createdBy = recordingsCreator(devices);
   // camera = model: the LED's light as the model camera sees it.
   auto modelLight = std::make_shared<hal::LedTimeline>();
   parts.led = openLed(devices.led, clock, modelLight);
@@ -53,8 +55,8 @@ daemon::DaemonParts daemonPartsFrom(const DaemonConfig& config, hal::Clock& cloc
   parts.decoding = devices.decoding;
   parts.refuseBrokenDecoding = config.refuseBrokenDecoding;
   CameraSources sources = makeCameraSources(devices, clock, modelLight, ModelScene::Sweep);
-  parts.outputs = std::make_unique<ConfiguredSessionOutputs>(outputs, sources.rigFor,
-                                                             recordingsCreator(devices, sources));
+  parts.outputs =
+      std::make_unique<ConfiguredSessionOutputs>(outputs, sources.rigFor, std::move(createdBy));
   parts.rig = std::make_unique<ConfiguredCaptureRig>(std::move(sources), pipeline);
   parts.tables = std::make_unique<MethodTables>();
   return parts;

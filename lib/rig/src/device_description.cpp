@@ -39,14 +39,13 @@ hal::SensorModel modelSensor(const DaemonConfig& config) {
   return sensor;
 }
 
-// camera = model: the virtual rig as configured.
+// camera = model: the virtual rig as configured (its room light is worked out from it in
+// describeDevices).
 sim::RigParams modelRig(const DaemonConfig& config) {
   sim::RigParams rig = config.modelRealistic ? sim::RigParams::realistic() : sim::RigParams::ideal();
   rig.framesPerSlice = config.modelPositions;
   rig.sweepSeconds = config.modelSweepSeconds;
   rig.seed = static_cast<std::uint64_t>(config.modelSeed);
-  // model_room_light: the room's irradiance against the LED's face-on at the rig's distance.
-  rig.ambientIrradiance = sim::roomIrradianceFor(rig, config.modelRoomLight);
   return rig;
 }
 
@@ -97,15 +96,20 @@ LedDescription describeLed(const DaemonConfig& config) {
 }
 
 // The values copied first, then each name parsed and each file read, from the daemon's own
-// vocabulary down to the files: the description is the one place that reads a device key.
+// vocabulary down to the files, one module at a time (daemon, sim, hal, io): the description is
+// the one place that reads a device key. None of these steps depends on another's result but the
+// model's room light, which needs its rig (copied first).
 DeviceDescription describeDevices(const DaemonConfig& config) {
   DeviceDescription devices;
   devices.led = describeLed(config);
   std::tie(devices.camera, devices.cameraName) = describeCamera(config);
   devices.cameraConfig = cameraConfigOf(config);
   devices.decoding = daemon::decodingModeFromString(config.decoding);
+  auto* model = std::get_if<ModelCameraDescription>(&devices.camera);
+  // model_room_light: the room's irradiance against the LED's face-on at the rig's distance.
+  if (model) model->rig.ambientIrradiance = sim::roomIrradianceFor(model->rig, config.modelRoomLight);
   devices.cameraConfig.frameDurationUs = hal::frameDurationUsForMains(config.mainsHz);
-  if (auto* model = std::get_if<ModelCameraDescription>(&devices.camera)) {
+  if (model) {
     // model_raw: the model's sensor offers a RAW stream, taken as camera_raw says.
     if (!config.modelRaw.empty())
       model->sensor.rawFormat = hal::bayerFormatFromLibcameraName(config.modelRaw);

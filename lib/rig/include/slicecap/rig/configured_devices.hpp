@@ -33,7 +33,6 @@ RecordingsBySlice findRecordings(const std::filesystem::path& configured);
 struct CameraSources {
   std::function<std::shared_ptr<hal::Camera>(const SliceId&)> cameraFor;
   std::function<Rig(const SliceId&)> rigFor;
-  std::string kind;  ///< e.g. "model camera", "file camera" (the recording's created_by says it)
   SliceId firstSlice;  ///< a slice to open the camera for outside a sweep (--check-hardware)
 };
 
