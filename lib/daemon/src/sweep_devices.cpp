@@ -65,7 +65,8 @@ void SweepDevices::reconcile() {
 
 void SweepDevices::stopCamera() {
   recordDecodingCheck();
-  refuseBrokenDecoding();
+  // The run is judged as it ends: refused, or kept (the earlier texture frames it replaced go).
+  if (!refuseBrokenDecoding()) outputs_.keepTextureRun();
   strobe_.stop();
   hdr_.stop();
   if (watchedFd_) loop_.unwatch(*watchedFd_);
