@@ -176,7 +176,11 @@ void SweepDevices::describe(control::StatusView& status) const {
   }
   if (control::DecodingCheckView check = decodingCheck_.view();
       check.blackReading || check.windowAtBlack || check.windowUnlit) {
-    check.windowUnlitVerdict = decodingCheck_.unlitVerdict(parts_.refuseBrokenDecoding);
+    // Refused only where refuseBrokenDecoding can: a run begun with a session (its first record).
+    const RefusalPolicy policy = !parts_.refuseBrokenDecoding ? RefusalPolicy::WarnOnly
+                                 : runFirstRecord_            ? RefusalPolicy::Refuse
+                                                              : RefusalPolicy::NoSession;
+    check.windowUnlitVerdict = decodingCheck_.unlitVerdict(policy);
     status.decodingCheck = check;
     for (std::string& warning : decodingCheck_.warnings())
       status.warnings.push_back(std::move(warning));
