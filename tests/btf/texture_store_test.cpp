@@ -361,6 +361,115 @@ TEST(TextureStore, ARefusedRunsFramesAreSetAsideAndOnlyThose) {
   EXPECT_EQ(store.setAside(kAxial, store.nextSequence()), 0u);
 }
 
+// Bin 1 (15 deg) full with a good run's three frames; a second run begun, its frame at 14 deg
+// replaces the one at 20 deg (value 2, the bin's median). Returns the second run's first
+// sequence number.
+std::uint64_t fillThenReplaceInASecondRun(TextureStore& store) {
+  store.beginRun(kAxial);
+  store.add(kAxial, frameAt(15.0, 1.0f));
+  store.add(kAxial, frameAt(16.0, 4.0f));
+  store.add(kAxial, frameAt(20.0, 2.0f));
+  store.keepRun(kAxial);
+  const std::uint64_t run = store.beginRun(kAxial);
+  EXPECT_TRUE(store.add(kAxial, frameAt(14.0, 16.0f)));
+  return run;
+}
+
+// Texel 0 of the slice's bin 1, as combined (the median of the bin's frames).
+float binOneTexel(const TextureStore& store) {
+  const std::vector<SliceTexture> combined = store.combine();
+  EXPECT_EQ(combined.size(), 1u);
+  return combined.empty() ? 0.0f : combined[0].bins[1].texels[0];
+}
+
+// A refused run's frame took the place of an earlier run's: the earlier frame is held, not
+// deleted, and the refusal puts it back in its bin; the good run's texture is whole again.
+TEST(TextureStore, ARefusedRunGivesBackTheEarlierFramesItReplaced) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+  const std::uint64_t run = fillThenReplaceInASecondRun(store);
+  EXPECT_EQ(store.frameCount(kAxial), 3u);
+  EXPECT_EQ(frameFiles(dir / (std::string("axial-30-75") + io::kHeldSuffix)).size(), 1u);
+  EXPECT_EQ(store.setAside(kAxial, run, store.nextSequence()), 1u);
+  EXPECT_EQ(store.frameCount(kAxial), 3u) << "the frame at 20 deg is back";
+  EXPECT_NEAR(binOneTexel(store), 2.0f, 1e-3) << "the median of 1, 4 and 2";
+  EXPECT_EQ(frameFiles(dir / "axial-30-75").size(), 3u);
+  EXPECT_EQ(frameFiles(dir / (std::string("axial-30-75") + io::kHeldSuffix)).size(), 0u);
+  const TextureStore reopened = TextureStore::open(dir);
+  EXPECT_EQ(reopened.frameCount(kAxial), 3u);
+  EXPECT_EQ(reopened.recovery().leftovers, 0u);
+  EXPECT_NEAR(binOneTexel(reopened), 2.0f, 1e-3);
+}
+
+// A kept run deletes what it replaced: the bin holds its frames alone, nothing stays held.
+TEST(TextureStore, AKeptRunDeletesTheEarlierFramesItReplaced) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+  fillThenReplaceInASecondRun(store);
+  store.keepRun(kAxial);
+  EXPECT_EQ(frameFiles(dir).size(), 3u);
+  EXPECT_NEAR(binOneTexel(store), 4.0f, 1e-3) << "the median of 1, 4 and 16";
+  EXPECT_EQ(store.setAside(kAxial, store.nextSequence()), 0u);
+  EXPECT_EQ(frameFiles(dir).size(), 3u);
+}
+
+// A crash before the run was judged: the store opens with the run's frames (the held frame not
+// read), and settling decides the held frame by the journal: no refusal of its run (the run counts
+// as kept) deletes it, a refusal of the run (journaled before the crash) sets the run's frames
+// aside and puts it back. Settling again changes nothing.
+TEST(TextureStore, SettlingAfterACrashJudgesTheHeldFramesByTheJournalsRefusals) {
+  for (const bool refused : {false, true}) {
+    const fs::path dir = test::freshTempDir() / "texture";
+    TextureRun run{kAxial, 0, 0};
+    {
+      TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+      run.fromSequence = fillThenReplaceInASecondRun(store);
+      run.toSequence = store.nextSequence();
+    }
+    TextureStore store = TextureStore::open(dir);
+    EXPECT_EQ(store.frameCount(kAxial), 3u);
+    EXPECT_NEAR(binOneTexel(store), 4.0f, 1e-3) << "1, 4 and the unjudged run's 16";
+    EXPECT_GT(store.nextSequence(), run.fromSequence);
+    std::vector<TextureRun> refusals;
+    if (refused) refusals.push_back(run);
+    EXPECT_EQ(store.settleRuns(refusals), refused ? 1u : 0u);
+    EXPECT_EQ(store.frameCount(kAxial), 3u);
+    EXPECT_NEAR(binOneTexel(store), refused ? 2.0f : 4.0f, 1e-3) << refused;
+    const fs::path setAside = dir / (std::string("axial-30-75") + io::kSetAsideSuffix);
+    EXPECT_EQ(fs::exists(setAside) ? frameFiles(setAside).size() : 0u, refused ? 1u : 0u);
+    EXPECT_EQ(frameFiles(dir).size(), refused ? 4u : 3u) << "held frame back or deleted";
+    EXPECT_FALSE(fs::exists(dir / (std::string("axial-30-75") + io::kHeldSuffix)));
+    EXPECT_EQ(store.settleRuns(refusals), 0u) << "settled already";
+    EXPECT_EQ(frameFiles(dir).size(), refused ? 4u : 3u);
+    const TextureStore reopened = TextureStore::open(dir);
+    EXPECT_EQ(reopened.frameCount(kAxial), 3u);
+    EXPECT_NEAR(binOneTexel(reopened), refused ? 2.0f : 4.0f, 1e-3) << refused;
+  }
+}
+
+// The journal refused two runs of the slice with a kept run between them (a crash before the
+// texture followed): settling sets aside the refused runs' frames alone.
+TEST(TextureStore, SettlingSetsAsideTheRefusedRunsFramesAndKeepsTheRunBetween) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  std::vector<TextureRun> refusals;
+  {
+    TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+    for (const double parameterDeg : {30.0, 60.0, 90.0}) {
+      const std::uint64_t run = store.beginRun(kAxial);
+      store.add(kAxial, frameAt(parameterDeg, 1.0f));
+      store.add(kAxial, frameAt(parameterDeg + 1.0, 1.0f));
+      store.keepRun(kAxial);
+      if (parameterDeg != 60.0) refusals.push_back({kAxial, run, store.nextSequence()});
+    }
+  }
+  TextureStore store = TextureStore::open(dir);
+  EXPECT_EQ(store.settleRuns(refusals), 4u);
+  EXPECT_EQ(store.frameCount(kAxial), 2u);
+  EXPECT_EQ(store.filledBins(kAxial), 1);
+  EXPECT_TRUE(store.wouldKeep(kAxial, 30.0));
+  EXPECT_EQ(TextureStore::open(dir).frameCount(kAxial), 2u);
+}
+
 // A store opened after a refusal (a sweep again, a daemon restart) numbers its frames on from the
 // set-aside ones: a later run's frame never takes their names, and a second refusal of the same
 // bins keeps both runs' frames.

@@ -211,6 +211,31 @@ TEST(SessionStore, ARefusalSetsAsideTheRefusedRunsSamplesAlone) {
   EXPECT_EQ(store.refusals()[0].samplesSetAside, 2u);
 }
 
+// A refusal names the run's texture frames when the sweep captured a texture: they are read back
+// with it (the daemon sets them aside again on opening); a refusal without them (no texture, or
+// a record from before the field) reads without them. No format step: the session stays 4.
+TEST(SessionStore, ARefusalKeepsTheRunsTextureFramesAcrossReopening) {
+  const auto root = test::freshTempDir();
+  {
+    SessionStore store = SessionStore::create(root, "s", "m");
+    std::uint64_t run = store.nextRecordNumber();
+    store.recordSample(kAxial3030, sampleAt(0, 1));
+    store.refuse(kAxial3030, "decoding broken", run, RunTextureFrames{12, 30});
+    run = store.nextRecordNumber();
+    store.recordSample(kDiagonal7575, sampleAt(0, 2));
+    store.refuse(kDiagonal7575, "decoding broken", run);
+  }
+  const SessionStore store = SessionStore::open(root, "s");
+  EXPECT_TRUE(store.damage().empty());
+  ASSERT_EQ(store.refusals().size(), 2u);
+  ASSERT_TRUE(store.refusals()[0].textureFrames);
+  EXPECT_EQ(store.refusals()[0].textureFrames->from, 12u);
+  EXPECT_EQ(store.refusals()[0].textureFrames->to, 30u);
+  EXPECT_EQ(store.refusals()[0].samplesSetAside, 1u);
+  EXPECT_FALSE(store.refusals()[1].textureFrames);
+  EXPECT_EQ(store.info().format, 4);
+}
+
 // A session written when a refusal set aside every sample of its slice (format 3: a `refuse`
 // record without "from") still opens and reads as it was written; its next refusal marks it 4.
 TEST(SessionStore, AFormatThreeRefusalStillSetsAsideEverySampleOfItsSlice) {

@@ -74,7 +74,8 @@ TEST(StatusFields, TheUnlitFigureClaimsNoRefusalAndItsVerdictNamesEachCase) {
                              "decoding_check.window_unlit_at_zero"})
     EXPECT_EQ(meaning.at(figure).find("refused"), std::string::npos) << figure;
   const std::string& verdict = meaning.at("decoding_check.window_unlit_verdict");
-  for (const char* whenNot : {"RAW", "fewer than 4 samples", "refuse_broken_decoding = false"})
+  for (const char* whenNot :
+       {"RAW", "fewer than 4 samples", "refuse_broken_decoding = false", "no session was open"})
     EXPECT_NE(verdict.find(whenNot), std::string::npos) << whenNot;
 }
 

@@ -14,10 +14,12 @@
 #include <atomic>
 #include <csignal>
 #include <fstream>
+#include <functional>
 #include <thread>
 
 #include "../support/request_as_user.hpp"
 #include "../support/test_support.hpp"
+#include "slicecap/capture/session_store.hpp"
 #include "slicecap/control/control_client.hpp"
 #include "slicecap/daemon/control_server.hpp"
 #include "slicecap/hal/camera_error.hpp"
@@ -81,6 +83,9 @@ struct TextureLog {
   int opened = 0;
   std::optional<int> failAtSample;  // add() throws io::IoError from this sample on (disk full)
   std::optional<std::string> failToOpen;
+  int runsKept = 0;
+  // What settleTexture was given, each time a session was made current.
+  std::vector<std::vector<capture::SweepRefusal>> settled;
 };
 
 class FakeTextureSink : public TextureSink {
@@ -102,6 +107,10 @@ class FakeTextureSink : public TextureSink {
     return view;
   }
   void beginRun() override { runStart_ = log_->samplesStored; }
+  capture::RunTextureFrames run() const override {
+    return {std::uint64_t(runStart_), std::uint64_t(log_->samplesStored)};
+  }
+  void keepRun() override { ++log_->runsKept; }
   std::size_t setAsideRun() override {
     const std::size_t frames = std::size_t(log_->samplesStored - runStart_);
     log_->samplesStored = runStart_;
@@ -123,6 +132,14 @@ class FakeOutputs : public SessionOutputs {
     ++log_->opened;
     if (log_->failToOpen) throw io::IoError(*log_->failToOpen);
     return std::make_unique<FakeTextureSink>(log_);
+  }
+  std::size_t settleTexture(const std::filesystem::path&,
+                            const std::vector<capture::SweepRefusal>& refused) override {
+    log_->settled.push_back(refused);
+    std::size_t frames = 0;
+    for (const capture::SweepRefusal& r : refused)
+      if (r.textureFrames) frames += r.textureFrames->to - r.textureFrames->from;
+    return frames;
   }
 
  private:
@@ -291,6 +308,7 @@ class DaemonOnFileCamera : public ::testing::Test {
   void start(std::optional<std::uint64_t> failAtSequence = std::nullopt,
              std::shared_ptr<TextureLog> texture = nullptr) {
     dir_ = test::freshTempDir();
+    if (prepareStorage_) prepareStorage_(dir_ / "storage");
     const auto recording = writeRecording(dir_ / "recording");
     socket_ = socketDir_ / "s.sock";
     ledLog_ = dir_ / "led.log";
@@ -367,6 +385,8 @@ class DaemonOnFileCamera : public ::testing::Test {
   std::optional<double> configuredExposureUs_;
   std::shared_ptr<LiveCameraLog> liveCamera_;  // set: a live camera instead of the recording
   bool bracketing_ = false;  // the rig has a bracket subject
+  // Writes what the storage holds before the daemon starts (a session a crash left).
+  std::function<void(const std::filesystem::path&)> prepareStorage_;
   std::shared_ptr<hal::Camera> liveCameraDevice_;
   test::SocketDir socketDir_;  // the socket path must fit sun_path
   std::filesystem::path dir_, socket_, ledLog_;
@@ -427,6 +447,7 @@ TEST_F(DaemonOnFileCamera, TheTextureSeesEveryFrameOfTheSweepAndItsStatusIsShown
   const json status = sweepUntilPaused();
   EXPECT_EQ(texture->framesSeen, kFrames);
   EXPECT_EQ(texture->samplesStored, kFrames / 2);
+  EXPECT_EQ(texture->runsKept, 1) << "the run ended in a pause, unrefused: kept";
   EXPECT_EQ(status["texture"]["frames_stored"], kFrames / 2);
   EXPECT_EQ(call(control::SweepStop{})["texture"]["frames_stored"], kFrames / 2);
   EXPECT_EQ(texture->opened, 1);
@@ -443,6 +464,37 @@ TEST_F(DaemonOnFileCamera, TheTextureSeesEveryFrameOfTheSweepAndItsStatusIsShown
   waitForPause();
   EXPECT_EQ(texture->opened, 2);
   EXPECT_EQ(texture->samplesStored, kFrames / 2);
+}
+
+// A crash between a refusal's journal record and the move of the run's texture frames: the record
+// names the frames, and the daemon has the texture set them aside when it makes the session
+// current (at its start, and again on each resume: idempotent), before any sweep opens it.
+TEST_F(DaemonOnFileCamera, MakingASessionCurrentSetsAsideTheTextureFramesOfItsRefusedRuns) {
+  auto texture = std::make_shared<TextureLog>();
+  prepareStorage_ = [](const std::filesystem::path& storage) {
+    capture::SessionStore store = capture::SessionStore::create(storage, "grey", "grey card");
+    const std::uint64_t run = store.nextRecordNumber();
+    store.recordSample(kAxial3030, {1, 1, {30, 0.0}, {30, 15.0}, Rgb::gray(0.2)});
+    store.refuse(kAxial3030, "decoding broken", run, capture::RunTextureFrames{3, 7});
+    std::ofstream(storage / "current") << "grey\n";
+  };
+  start(std::nullopt, texture);
+  const json status = call(control::Status{});
+  ASSERT_EQ(texture->settled.size(), 1u);
+  ASSERT_EQ(texture->settled[0].size(), 1u);
+  EXPECT_EQ(texture->settled[0][0].slice, kAxial3030);
+  ASSERT_TRUE(texture->settled[0][0].textureFrames);
+  EXPECT_EQ(texture->settled[0][0].textureFrames->from, 3u);
+  EXPECT_EQ(texture->settled[0][0].textureFrames->to, 7u);
+  EXPECT_EQ(texture->opened, 0) << "settled before any sweep opens the texture";
+  EXPECT_THAT(status["error"].get<std::string>(),
+              HasSubstr("4 frames of refused sweep runs, left in the texture, set aside now"));
+  call(control::SessionNew{"other", std::string("other")});
+  ASSERT_EQ(texture->settled.size(), 2u);
+  EXPECT_TRUE(texture->settled[1].empty());
+  call(control::SessionResume{"grey"});
+  ASSERT_EQ(texture->settled.size(), 3u);
+  EXPECT_EQ(texture->settled[2].size(), 1u);
 }
 
 TEST_F(DaemonOnFileCamera, ATextureStorageErrorPausesTheSweepAndKeepsTheSamples) {

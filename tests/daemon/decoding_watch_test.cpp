@@ -221,22 +221,27 @@ TEST(DecodingWatch, TellsADecodingThatLostAChannelFromAnHonestDarkOne) {
 // refuse_broken_decoding = false is kept, said so.
 TEST(DecodingWatch, SaysWhatTheRuleMakesOfTheRunInEachCase) {
   DecodingWatch none, linear, few, honest, broken;
-  EXPECT_FALSE(none.unlitVerdict(true));
+  EXPECT_FALSE(none.unlitVerdict(RefusalPolicy::Refuse));
   for (std::uint64_t i = 0; i < 8; ++i) {
     linear.note(lightSample({0.02, -0.01, 0.3}, false), 10 + i);
     honest.note(lightSample({0.02, i % 2 ? 0.001 : 0.0005, 0.3}), 10 + i);
     broken.note(lightSample({0.02, -0.01 - 0.0001 * double(i % 3), 0.3}), 10 + i);
   }
   few.note(lightSample({0.02, -0.01, 0.3}), 10);
-  EXPECT_EQ(linear.unlitVerdict(true).value_or(""),
+  EXPECT_EQ(linear.unlitVerdict(RefusalPolicy::Refuse).value_or(""),
             "not judged: a linear (RAW) stream keeps the light below black");
-  EXPECT_EQ(few.unlitVerdict(true).value_or(""),
+  EXPECT_EQ(few.unlitVerdict(RefusalPolicy::Refuse).value_or(""),
             "not judged yet: 1 of the 4 samples a judgement needs");
-  EXPECT_EQ(honest.unlitVerdict(true).value_or(""), "kept: no channel sits below black");
-  EXPECT_EQ(broken.unlitVerdict(true).value_or(""),
+  EXPECT_EQ(honest.unlitVerdict(RefusalPolicy::Refuse).value_or(""),
+            "kept: no channel sits below black");
+  EXPECT_EQ(broken.unlitVerdict(RefusalPolicy::Refuse).value_or(""),
             "refused as the run ends: a channel sits below black");
-  EXPECT_EQ(broken.unlitVerdict(false).value_or(""),
+  EXPECT_EQ(broken.unlitVerdict(RefusalPolicy::WarnOnly).value_or(""),
             "a channel sits below black; kept, as refuse_broken_decoding = false");
+  // Without a session nothing of the run was recorded, and nothing is refused: it says so.
+  EXPECT_EQ(broken.unlitVerdict(RefusalPolicy::NoSession).value_or(""),
+            "a channel sits below black; not refused: no session was open as the run began, so "
+            "none of its samples were recorded");
 }
 
 TEST(DecodingWatch, ALinearStreamOrAFewSamplesAreNotRefused) {

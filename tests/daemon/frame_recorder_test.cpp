@@ -197,6 +197,11 @@ class RecordingOutputs : public SessionOutputs {
   std::unique_ptr<TextureSink> openTexture(const SliceId&, const std::filesystem::path&) override {
     return nullptr;
   }
+  // No texture: a session's has nothing to set aside (these sessions never captured one).
+  std::size_t settleTexture(const std::filesystem::path&,
+                            const std::vector<capture::SweepRefusal>&) override {
+    return 0;
+  }
 
  private:
   io::Recording played_;

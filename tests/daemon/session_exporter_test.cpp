@@ -71,6 +71,8 @@ TEST(SessionExporter, ListsTheTextureFilesACopyNeeds) {
   // A refused run's frames, set aside beside the slice's frames of its other runs.
   touch(texture / (std::string("axial-30-30") + io::kSetAsideSuffix) / "b00-00000003.tex");
   touch(texture / (std::string("axial-30-30") + io::kSetAsideSuffix) / "b02-00000004.tex");
+  // A frame of an earlier run an unjudged run replaced: no longer the texture's, not copied.
+  touch(texture / (std::string("axial-30-30") + io::kHeldSuffix) / "00000005" / "b00-00000001.tex");
   const SessionExporter exporter(grayTable);
   const control::ExportView reply =
       exporter.exportSession(store, dir / "out", std::string("b"), {});

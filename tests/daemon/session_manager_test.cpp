@@ -106,6 +106,23 @@ TEST(SessionManager, WalksAPersonThroughASweep) {
   EXPECT_EQ(manager.status()["next"], "slicecap sweep start diagonal 75 75");
 }
 
+// A run ends at a pause: accepted_this_run counts the run that ended while paused, and the
+// continued sweep's new run from 0 (the slice's samples go on counting all of them).
+TEST(SessionManager, AcceptedThisRunRestartsWithEachRun) {
+  SessionManager manager(test::freshTempDir(), meanOfSlices);
+  ok(manager, control::SessionNew{"red felt", std::string("felt")});
+  ok(manager, control::SweepStart{kDiagonal3030});
+  for (int k = 0; k < 3; ++k) EXPECT_TRUE(manager.acceptSample(sampleAt(k * 15.0, 0.5, k)));
+  manager.pauseSweep("the camera's recording has ended");
+  EXPECT_EQ(manager.status()["sweep"]["accepted_this_run"], 3);
+  const json continued = ok(manager, control::SweepStart{kDiagonal3030});
+  EXPECT_EQ(continued["accepted_this_run"], 0);
+  EXPECT_TRUE(manager.acceptSample(sampleAt(60.0, 0.5, 3)));
+  const json status = manager.status();
+  EXPECT_EQ(status["sweep"]["accepted_this_run"], 1);
+  EXPECT_EQ(status["sweep"]["samples"], 4);
+}
+
 TEST(SessionManager, NamesTheBinsToPassAgainDuringAndAfterASweep) {
   SessionManager manager(test::freshTempDir(), meanOfSlices);
   ok(manager, control::SessionNew{"felt", std::string("felt")});

@@ -88,7 +88,7 @@ TextureSweep::TextureSweep(const std::filesystem::path& directory, const SliceId
                            const vision::CameraModel& camera, const TextureStoreLayout& layout,
                            const RectifyParams& rectify)
     : store_(TextureStore::openOrCreate(directory, layout)),
-      runStart_(store_.nextSequence()),
+      runStart_(store_.beginRun(slice)),
       slice_(slice),
       camera_(camera),
       grid_(store_.grid()),

@@ -101,7 +101,15 @@ void TextureStore::load() {
       noteSequencesIn(folder.path());
       continue;
     }
-    findFramesIn(folder.path(), found, error);
+    // Frames an unjudged run replaced (one folder per run): not read until the run is judged
+    // (settleRuns); their numbers count too.
+    if (folder.path().extension() == io::kHeldSuffix) {
+      for (const fs::directory_entry& run : fs::directory_iterator(folder.path(), error))
+        if (run.is_directory()) noteSequencesIn(run.path());
+      if (error) break;
+      continue;
+    }
+    findFramesIn(folder.path(), name, found, error);
     if (error) break;
   }
   if (error) throw io::IoError(directory_.string() + ": cannot list: " + error.message());
@@ -127,9 +135,8 @@ void TextureStore::setAsideLeftover(const fs::path& path) {
   ++recovery_.leftovers;
 }
 
-void TextureStore::findFramesIn(const fs::path& folder, std::vector<StoredFrame>& found,
-                                std::error_code& error) {
-  const std::string name = folder.filename().string();
+void TextureStore::findFramesIn(const fs::path& folder, const std::string& name,
+                                std::vector<StoredFrame>& found, std::error_code& error) {
   for (const fs::directory_entry& file : fs::directory_iterator(folder, error)) {
     if (file.path().extension() == ".tmp") {  // a write cut off (or, read-only, under way)
       setAsideLeftover(file.path());
@@ -200,10 +207,20 @@ void TextureStore::place(const SliceId& slice, Entry entry, int bin, std::size_t
     kept.push_back(std::move(entry));
     return;
   }
-  const fs::path replaced = kept[slot].file;
+  const Entry& replaced = kept[slot];
+  // A frame of an earlier run than the slice's unjudged one is held until that run is judged:
+  // if it is refused, this frame goes back (nothing captured by a kept run is lost). Held before
+  // the index changes: if it cannot be, the replacement is not stored (add throws).
+  if (const auto run = runStart_.find(slice);
+      run != runStart_.end() && replaced.sequence < run->second) {
+    io::moveFilesDurably({replaced.file}, heldFolder(slice, run->second));
+    kept[slot] = std::move(entry);
+    return;
+  }
+  const fs::path file = replaced.file;
   kept[slot] = std::move(entry);
   std::error_code error;
-  fs::remove(replaced, error);
+  fs::remove(file, error);
   // Left behind, the replaced frame is dropped again by the keep rule when the store is opened.
 }
 
@@ -212,8 +229,7 @@ bool TextureStore::wouldKeep(const SliceId& slice, double parameterDeg) const {
 }
 
 bool TextureStore::add(const SliceId& slice, const TextureFrame& frame) {
-  if (access_ != StoreAccess::Mend)
-    throw std::logic_error("texture store: " + directory_.string() + " was opened read-only");
+  requireMend();
   if (slice.kind != SliceKind::Axial && slice.kind != SliceKind::Diagonal)
     throw BtfError("texture store: only axial and diagonal slices have a texture");
   const std::size_t values = grid().texelCount() * 3;
@@ -230,41 +246,23 @@ bool TextureStore::add(const SliceId& slice, const TextureFrame& frame) {
                 static_cast<unsigned long long>(sequence), kFrameExtension);
   const fs::path file = folder / name;
   io::writeFileAtomically(file, encodeFrame(slice, layout_.resolution, sequence, frame));
-  place(slice, {frame.sliceParameterDeg, sequence, file}, where->first, where->second);
+  try {
+    place(slice, {frame.sliceParameterDeg, sequence, file}, where->first, where->second);
+  } catch (const io::IoError&) {
+    removeQuietly(file);  // the frame it would replace could not be held: that one stays
+    throw;
+  }
   return true;
 }
 
 void TextureStore::discard(const SliceId& slice) {
-  if (access_ != StoreAccess::Mend)
-    throw std::logic_error("texture store: " + directory_.string() + " was opened read-only");
-  // The index follows the disk: if the folder cannot be discarded, its frames stay known.
+  requireMend();
+  // The index follows the disk: if the folder cannot be discarded, its frames stay known. The
+  // frames its runs held go first: they are the slice's too.
+  io::discardFolderDurably(directory_ / (folderName(slice) + io::kHeldSuffix));
   io::discardFolderDurably(directory_ / folderName(slice));
   index_.erase(slice);
-}
-
-std::size_t TextureStore::setAside(const SliceId& slice, std::uint64_t fromSequence) {
-  if (access_ != StoreAccess::Mend)
-    throw std::logic_error("texture store: " + directory_.string() + " was opened read-only");
-  const auto found = index_.find(slice);
-  if (found == index_.end()) return 0;
-  std::vector<fs::path> files;
-  for (const std::vector<Entry>& bin : found->second)
-    for (const Entry& e : bin)
-      if (e.sequence >= fromSequence) files.push_back(e.file);
-  // The index follows the disk: the frames leave it once they are moved (or if a move fails,
-  // once they may be: a frame read from the wrong folder is worse than one left out).
-  const auto forget = [&] {
-    for (std::vector<Entry>& bin : found->second)
-      std::erase_if(bin, [&](const Entry& e) { return e.sequence >= fromSequence; });
-  };
-  try {
-    io::moveFilesDurably(files, directory_ / (folderName(slice) + io::kSetAsideSuffix));
-  } catch (const io::IoError&) {
-    forget();
-    throw;
-  }
-  forget();
-  return files.size();
+  runStart_.erase(slice);
 }
 
 std::vector<SliceId> TextureStore::slices() const {

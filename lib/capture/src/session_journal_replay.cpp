@@ -216,7 +216,12 @@ void SessionStore::apply(const json& j, std::size_t line, std::uint64_t number) 
       // sample of its slice, and still does.
       std::optional<std::uint64_t> first;
       if (j.contains("from")) first = wholeNumber<std::uint64_t>(j, "from");
-      applyRefusal(slice, j.at("reason").get<std::string>(), first);
+      // The run's texture frames, from texture capture; absent from older records and without it.
+      std::optional<RunTextureFrames> texture;
+      if (j.contains("texture_from"))
+        texture = RunTextureFrames{wholeNumber<std::uint64_t>(j, "texture_from"),
+                                   wholeNumber<std::uint64_t>(j, "texture_to")};
+      applyRefusal(slice, j.at("reason").get<std::string>(), first, texture);
     } else if (type == "start") {
       activeSweep_ = slice;
     } else if (type == "stop") {

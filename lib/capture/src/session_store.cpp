@@ -35,6 +35,9 @@ using namespace journal_records;
 // run's samples are set aside. A version reading 3 would set aside every sample of the slice
 // before it (earlier good runs too), so a session is marked 4 with its first such record. A
 // format 3 record (no "from") still reads as it was written: every counted sample of its slice.
+// A `refuse` record may also name the run's texture frames ("texture_from", "texture_to"): no
+// format step, as a version that ignores them reads the samples alike (it only does not set the
+// frames aside again on opening), and a record without them reads as before.
 constexpr int kFormatVersion = 4;
 constexpr int kNewSessionFormatVersion = 2;
 constexpr int kOldestFormatVersion = 1;
@@ -290,20 +293,27 @@ void SessionStore::redo(const SliceId& slice) {
 }
 
 void SessionStore::refuse(const SliceId& slice, const std::string& reason,
-                          std::uint64_t firstRecord) {
+                          std::uint64_t firstRecord,
+                          std::optional<RunTextureFrames> textureFrames) {
   requireSweepSlice(slice);
   // The description first: a session marked 4 without the record is still read right.
   if (info_.format < kRunRefusalFormatVersion) {
     writeDescription(directory_, info_, kRunRefusalFormatVersion);
     info_.format = kRunRefusalFormatVersion;
   }
-  append(json{{"t", "refuse"}, {"slice", sliceJson(slice)}, {"reason", reason},
-              {"from", firstRecord}});
-  applyRefusal(slice, reason, firstRecord);
+  json record{{"t", "refuse"}, {"slice", sliceJson(slice)}, {"reason", reason},
+              {"from", firstRecord}};
+  if (textureFrames) {
+    record["texture_from"] = textureFrames->from;
+    record["texture_to"] = textureFrames->to;
+  }
+  append(std::move(record));
+  applyRefusal(slice, reason, firstRecord, textureFrames);
 }
 
 void SessionStore::applyRefusal(const SliceId& slice, std::string reason,
-                                std::optional<std::uint64_t> firstRecord) {
+                                std::optional<std::uint64_t> firstRecord,
+                                std::optional<RunTextureFrames> textureFrames) {
   // The run's samples are the slice's latest (records are numbered in journal order): each is
   // the latest of its bin when it is taken out, newest first.
   std::vector<CountedSample>& counted = counted_[slice];
@@ -315,7 +325,7 @@ void SessionStore::applyRefusal(const SliceId& slice, std::string reason,
   }
   setAside_[slice] += refused;
   refusedAside_[slice] += refused;
-  refusals_.push_back({slice, std::move(reason), refused});
+  refusals_.push_back({slice, std::move(reason), refused, textureFrames});
 }
 
 void SessionStore::forgetRefusals(const SliceId& slice) {

@@ -89,7 +89,8 @@ const std::vector<ReplyField>& statusFields() {
        "(a highlight's left out), in its standard errors"},
       {"decoding_check.window_unlit_verdict",
        "what the rule makes of it: not judged (a RAW stream, fewer than 4 samples), kept, "
-       "refused as the run ends, or only warned of (refuse_broken_decoding = false)"},
+       "refused as the run ends, only warned of (refuse_broken_decoding = false), or not refused "
+       "as no session was open when the run began"},
       {"decoding_check.window_step_channel",
        "the window's channel whose light over the white references steps most from a sample to "
        "the next frame's"},

@@ -256,15 +256,23 @@ std::optional<std::string> DecodingWatch::refusal() const {
   return std::nullopt;
 }
 
-std::optional<std::string> DecodingWatch::unlitVerdict(bool refusing) const {
+std::optional<std::string> DecodingWatch::unlitVerdict(RefusalPolicy policy) const {
   if (lights_[0].empty()) return std::nullopt;
   if (!eightBit_) return "not judged: a linear (RAW) stream keeps the light below black";
   if (lights_[0].size() < kMinRefusalSamples)
     return "not judged yet: " + std::to_string(lights_[0].size()) + " of the " +
            std::to_string(kMinRefusalSamples) + " samples a judgement needs";
   if (!refusal()) return "kept: no channel sits below black";
-  return refusing ? "refused as the run ends: a channel sits below black"
-                  : "a channel sits below black; kept, as refuse_broken_decoding = false";
+  switch (policy) {
+    case RefusalPolicy::Refuse:
+      return "refused as the run ends: a channel sits below black";
+    case RefusalPolicy::WarnOnly:
+      return "a channel sits below black; kept, as refuse_broken_decoding = false";
+    case RefusalPolicy::NoSession:
+      break;
+  }
+  return "a channel sits below black; not refused: no session was open as the run began, so "
+         "none of its samples were recorded";
 }
 
 }  // namespace slicecap::daemon

@@ -56,15 +56,16 @@ void copyTable(const fs::path& table, const fs::path& copy) {
   if (error) throw io::IoError(copy.string() + ": cannot write: " + error.message());
 }
 
-// The files of a session's texture folder a copy needs, relative to it: temporaries and the
-// folders of discarded sweeps are left out, and so are the frames of refused sweep runs (each
-// such folder said in `setAside`, with its frames).
+// The files of a session's texture folder a copy needs, relative to it: temporaries, the
+// folders of discarded sweeps and the frames an unjudged run replaced (held) are left out, and
+// so are the frames of refused sweep runs (each such folder said in `setAside`, with its frames).
 std::vector<std::string> textureFiles(const fs::path& texture, std::vector<std::string>& setAside) {
   std::vector<std::string> files;
   std::error_code error;
   fs::recursive_directory_iterator it(texture, error);
   for (const fs::recursive_directory_iterator end; !error && it != end; it.increment(error)) {
-    if (it->path().extension() == io::kDiscardedSuffix) {
+    if (it->path().extension() == io::kDiscardedSuffix ||
+        it->path().extension() == io::kHeldSuffix) {
       it.disable_recursion_pending();
       continue;
     }

@@ -367,13 +367,20 @@ std::optional<std::uint64_t> SessionManager::nextRecordNumber() const {
 }
 
 bool SessionManager::refuseSweep(const SliceId& slice, const std::string& reason,
-                                 std::uint64_t firstRecord) {
+                                 std::uint64_t firstRecord,
+                                 std::optional<capture::RunTextureFrames> textureFrames) {
   if (!state_->session) return false;
   ++state_->samplesVersion;
-  const RefusalOutcome refused = refuseSlice(*state_->session, slice, reason, firstRecord);
+  const RefusalOutcome refused =
+      refuseSlice(*state_->session, slice, reason, firstRecord, textureFrames);
   // After the reason of a pause that ended the run, if one did: both are said, in their order.
   addToError(refused.said);
   return refused.recorded;
+}
+
+std::vector<capture::SweepRefusal> SessionManager::refusals() const {
+  if (!state_->session) return {};
+  return state_->session->refusals();
 }
 
 void SessionManager::addToError(const std::string& sentence) {

@@ -138,10 +138,11 @@ std::vector<control::PassAgainView> passAgainView(const capture::SessionStore& s
 }
 
 RefusalOutcome refuseSlice(capture::SessionStore& store, const SliceId& slice,
-                           const std::string& reason, std::uint64_t firstRecord) {
+                           const std::string& reason, std::uint64_t firstRecord,
+                           std::optional<capture::RunTextureFrames> textureFrames) {
   const std::string what = "sweep " + toString(slice) + " refused";
   try {
-    store.refuse(slice, reason, firstRecord);
+    store.refuse(slice, reason, firstRecord, textureFrames);
     const std::size_t count = store.refusals().back().samplesSetAside;
     return {true, what + ", the run's " + std::to_string(count) +
                       " samples set aside (kept in the session, used by no table): " + reason};

@@ -63,10 +63,11 @@ struct RefusalOutcome {
   std::string said;
 };
 /// \brief Refuses the sweep run of `slice` whose samples start at journal record `firstRecord`
-/// in `store` (SessionStore::refuse) and says so for the status's error; a refusal that cannot
+/// in `store` (SessionStore::refuse, with the run's texture frames) and says so for the status's error; a refusal that cannot
 /// be journaled is logged and said (the samples then count).
 RefusalOutcome refuseSlice(capture::SessionStore& store, const SliceId& slice,
-                           const std::string& reason, std::uint64_t firstRecord);
+                           const std::string& reason, std::uint64_t firstRecord,
+                           std::optional<capture::RunTextureFrames> textureFrames);
 /// \brief One sentence for each refused sweep of the session (SessionStore::refusals), for the
 /// export: the slice, the samples set aside and why.
 std::vector<std::string> refusalWarnings(const capture::SessionStore& store);

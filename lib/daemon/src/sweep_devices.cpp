@@ -65,7 +65,8 @@ void SweepDevices::reconcile() {
 
 void SweepDevices::stopCamera() {
   recordDecodingCheck();
-  refuseBrokenDecoding();
+  // The run is judged as it ends: refused, or kept (the earlier texture frames it replaced go).
+  if (!refuseBrokenDecoding()) outputs_.keepTextureRun();
   strobe_.stop();
   hdr_.stop();
   if (watchedFd_) loop_.unwatch(*watchedFd_);
@@ -175,7 +176,11 @@ void SweepDevices::describe(control::StatusView& status) const {
   }
   if (control::DecodingCheckView check = decodingCheck_.view();
       check.blackReading || check.windowAtBlack || check.windowUnlit) {
-    check.windowUnlitVerdict = decodingCheck_.unlitVerdict(parts_.refuseBrokenDecoding);
+    // Refused only where refuseBrokenDecoding can: a run begun with a session (its first record).
+    const RefusalPolicy policy = !parts_.refuseBrokenDecoding ? RefusalPolicy::WarnOnly
+                                 : runFirstRecord_            ? RefusalPolicy::Refuse
+                                                              : RefusalPolicy::NoSession;
+    check.windowUnlitVerdict = decodingCheck_.unlitVerdict(policy);
     status.decodingCheck = check;
     for (std::string& warning : decodingCheck_.warnings())
       status.warnings.push_back(std::move(warning));

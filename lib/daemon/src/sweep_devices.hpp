@@ -70,8 +70,9 @@ class SweepDevices {
   void recordDecoding(const SweepDecoding& decided, std::string& warning) const;
   /// The sweep run's decoding check into its decoding record, as the run stops (logged on failure).
   void recordDecodingCheck() const noexcept;
-  /// The sweep run's samples refused as it stops, when its decoding check shows them broken.
-  void refuseBrokenDecoding();
+  /// The sweep run's samples refused as it stops, when its decoding check shows them broken;
+  /// true when they were set aside (and the run's texture frames with them).
+  bool refuseBrokenDecoding();
   void strobe(hal::Frame& frame);
   void apply(const capture::SettledFrame& settled);
 

@@ -130,15 +130,18 @@ void SweepDevices::recordDecodingCheck() const noexcept {
   }
 }
 
-void SweepDevices::refuseBrokenDecoding() {
-  if (!cameraSlice_ || !parts_.refuseBrokenDecoding || !runFirstRecord_) return;
+bool SweepDevices::refuseBrokenDecoding() {
+  if (!cameraSlice_ || !parts_.refuseBrokenDecoding || !runFirstRecord_) return false;
   const std::optional<std::string> reason = decodingCheck_.refusal();
-  if (!reason) return;
+  if (!reason) return false;
   std::cerr << "slicecapd: sweep " << toString(*cameraSlice_) << " refused: " << *reason << "\n";
   // Once a run: stopCamera clears cameraSlice_, and a new run resets the watch. The run's
-  // texture frames go with its samples, and only if those were set aside.
-  if (manager_.refuseSweep(*cameraSlice_, *reason, *runFirstRecord_))
-    manager_.addToError(outputs_.setAsideTextureRun());
+  // texture frames go with its samples, and only if those were set aside; the journal names
+  // them first, so a crash before they move leaves them to be set aside on the next opening.
+  if (!manager_.refuseSweep(*cameraSlice_, *reason, *runFirstRecord_, outputs_.textureRun()))
+    return false;
+  manager_.addToError(outputs_.setAsideTextureRun());
+  return true;
 }
 
 /// A recorded frame says whether the LED was on, and the LED follows it (its log then shows

@@ -30,9 +30,34 @@ void SweepOutputs::openTexture(const SliceId& slice) {
 
 void SweepOutputs::reconcileTexture() {
   if (texture_ && textureSlice_ != manager_.sweepSlice()) closeTexture();
+  settleTexture();
   // The swept slice's texture is open before its frames flow (also after a redo of the running
   // sweep closed it); if it cannot be, the sweep pauses here and no camera starts.
   if (manager_.capturing() && !texture_) openTexture(*manager_.sweepSlice());
+}
+
+void SweepOutputs::settleTexture() {
+  const std::optional<fs::path> session = manager_.sessionDirectory();
+  if (session == settledSession_) return;
+  settledSession_ = session;
+  if (!session || !parts_.outputs) return;
+  // Before any of its sweeps opens the texture: a refusal journaled before a crash (or a move
+  // that failed) is applied now, and the frames a run cut off replaced are judged.
+  try {
+    const std::size_t frames = parts_.outputs->settleTexture(*session, manager_.refusals());
+    if (frames == 0) return;
+    std::cerr << "slicecapd: texture: " << frames << " frames of refused sweep runs set aside "
+              << "on opening the session (they were left in the texture)\n";
+    manager_.addToError("texture: " + std::to_string(frames) +
+                        " frames of refused sweep runs, left in the texture, set aside now");
+  } catch (const std::exception& error) {
+    std::cerr << "slicecapd: texture: settling the session's refused runs: " << error.what()
+              << "\n";
+    manager_.addToError(std::string("texture: the frames of refused sweep runs could not all be "
+                                    "set aside on opening the session (") +
+                        error.what() +
+                        "): the export may still copy some; restarting slicecapd tries again");
+  }
 }
 
 void SweepOutputs::discardTexture(const SliceId& redone) {
@@ -44,11 +69,28 @@ void SweepOutputs::discardTexture(const SliceId& redone) {
   // Refused runs' frames go with the slice's samples, as the redo discards those too. First: a
   // failure here refuses the redo with the slice's texture still whole.
   io::discardFolderDurably(*session / kTextureFolder / (folderName(redone) + io::kSetAsideSuffix));
+  io::discardFolderDurably(*session / kTextureFolder / (folderName(redone) + io::kHeldSuffix));
   io::discardFolderDurably(*session / kTextureFolder / folderName(redone));
 }
 
 void SweepOutputs::beginTextureRun() {
   if (texture_) texture_->beginRun();
+}
+
+std::optional<capture::RunTextureFrames> SweepOutputs::textureRun() const {
+  if (!texture_) return std::nullopt;
+  return texture_->run();
+}
+
+void SweepOutputs::keepTextureRun() {
+  if (!texture_) return;
+  try {
+    texture_->keepRun();
+  } catch (const std::exception& error) {
+    // Nothing is lost: the replaced frames stay held, read by nothing, until the next opening.
+    std::cerr << "slicecapd: texture: deleting the frames a kept run replaced: " << error.what()
+              << "\n";
+  }
 }
 
 std::string SweepOutputs::setAsideTextureRun() {
@@ -64,8 +106,9 @@ std::string SweepOutputs::setAsideTextureRun() {
   } catch (const std::exception& error) {
     std::cerr << "slicecapd: texture: setting the refused run's frames aside: " << error.what()
               << "\n";
+    // The refusal names the run's frames: the session's next opening sets them aside.
     return std::string("its texture frames could not all be set aside (") + error.what() +
-           "): the export may still copy some";
+           "): the export may still copy some until restarting slicecapd sets them aside";
   }
 }
 

@@ -26,8 +26,9 @@ class SweepOutputs {
   SweepOutputs(const DaemonParts& parts, SessionManager& manager)
       : parts_(parts), manager_(manager) {}
 
-  /// \brief Closes a texture of a slice no longer swept, and opens the swept slice's while it
-  /// captures (before its frames flow); one that cannot be opened pauses the sweep.
+  /// \brief Closes a texture of a slice no longer swept, settles the texture of a session just
+  /// made current (SessionOutputs::settleTexture with its refusals), and opens the swept slice's
+  /// while it captures (before its frames flow); one that cannot be opened pauses the sweep.
   void reconcileTexture();
   /// \brief One recorder per sweep of a slice: it lives while the sweep runs or is paused (a
   /// continued sweep appends to its recording) and retires when the sweep stops. A new one
@@ -39,6 +40,12 @@ class SweepOutputs {
   void discardTexture(const SliceId& redone);
   /// \brief A sweep run begins: the texture's frames from now on are the run's.
   void beginTextureRun();
+  /// \brief The run's texture frames so far (none without a texture), for its refusal's record.
+  std::optional<capture::RunTextureFrames> textureRun() const;
+  /// \brief The run ended unrefused: the earlier frames it replaced are deleted
+  /// (TextureSink::keepRun); a failure is logged (they stay held, dropped when the session is
+  /// next opened).
+  void keepTextureRun();
   /// \brief The run was refused: its texture frames are set aside (TextureSink::setAsideRun).
   /// Returns a sentence for the status's error (empty without texture frames); a failure is
   /// logged and said there, never thrown (the refusal stands).
@@ -66,6 +73,7 @@ class SweepOutputs {
  private:
   bool capturesTexture() const;
   void closeTexture();
+  void settleTexture();
   void openTexture(const SliceId& slice);
   static std::filesystem::path recordingDirectory(const std::filesystem::path& session,
                                                   const SliceId& slice);
@@ -80,6 +88,8 @@ class SweepOutputs {
   std::unique_ptr<TextureSink> texture_;
   std::optional<SliceId> textureSlice_;
   std::string textureError_;
+  // The session whose texture was settled last (settleTexture): each session made current once.
+  std::optional<std::filesystem::path> settledSession_;
 };
 
 }  // namespace slicecap::daemon

@@ -11,8 +11,9 @@
 
 namespace slicecap::daemon {
 
-/// \brief One sweep run: started, possibly paused with a reason, counting this run's accepted
-/// and rejected frames. The samples themselves are in the session's store.
+/// \brief One slice's sweep: started, possibly paused with a reason, counting the accepted
+/// frames of its current run (from its start or continuation to its pause: what a refusal
+/// judges) and its rejected frames. The samples themselves are in the session's store.
 struct SweepRun {
   explicit SweepRun(const SliceId& swept) : slice(swept) {}
 
@@ -21,9 +22,12 @@ struct SweepRun {
     paused = true;
     pauseReason = std::move(reason);
   }
+  /// \brief Continues after a pause: a new run, whose accepted frames count from 0 (the paused
+  /// view still showed the run that ended).
   void resume() {
     paused = false;
     pauseReason.clear();
+    acceptedThisRun = 0;
   }
   bool capturing() const { return !paused; }
   /// \brief "running" or "paused", for refusals.

@@ -3,6 +3,8 @@
 
 #include "store_texture_sink.hpp"
 
+#include "slicecap/btf/texture_store.hpp"
+
 namespace slicecap::rig {
 
 OutputSettings outputSettingsFrom(const daemon::DaemonConfig& config) {
@@ -37,6 +39,21 @@ std::unique_ptr<daemon::TextureSink> ConfiguredSessionOutputs::openTexture(
   return std::make_unique<StoreTextureSink>(
       session / daemon::kTextureFolder, slice, rig.camera,
       btf::TextureStoreLayout{textureResolution_, rig.target.window, textureFramesPerBin_});
+}
+
+std::size_t ConfiguredSessionOutputs::settleTexture(
+    const std::filesystem::path& session, const std::vector<capture::SweepRefusal>& refused) {
+  const std::filesystem::path texture = session / daemon::kTextureFolder;
+  // A session without a texture has nothing to settle; one captured with texture on is settled
+  // whatever the configuration says now (its frames are the session's).
+  if (!std::filesystem::exists(texture / btf::kTextureStoreManifest)) return 0;
+  std::vector<btf::TextureRun> runs;
+  for (const capture::SweepRefusal& refusal : refused)
+    if (refusal.textureFrames)
+      runs.push_back({refusal.slice, refusal.textureFrames->from, refusal.textureFrames->to});
+  btf::TextureStore store = btf::TextureStore::open(texture);
+  logTextureRecovery(store);
+  return store.settleRuns(runs);
 }
 
 }  // namespace slicecap::rig

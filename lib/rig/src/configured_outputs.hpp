@@ -35,6 +35,8 @@ class ConfiguredSessionOutputs final : public daemon::SessionOutputs {
   bool capturesTexture() const override { return textureResolution_ > 0; }
   std::unique_ptr<daemon::TextureSink> openTexture(const SliceId& slice,
                                                    const std::filesystem::path& session) override;
+  std::size_t settleTexture(const std::filesystem::path& session,
+                            const std::vector<capture::SweepRefusal>& refused) override;
 
  private:
   bool recordFrames_;

@@ -5,22 +5,31 @@
 
 namespace slicecap::rig {
 
-StoreTextureSink::StoreTextureSink(const std::filesystem::path& directory, const SliceId& slice,
-                                   const vision::CameraModel& camera,
-                                   const btf::TextureStoreLayout& layout)
-    : sweep_(directory, slice, camera, layout) {
+void logTextureRecovery(const btf::TextureStore& store) {
   // What opening mended after a crash goes to the journal (stderr under systemd).
-  const btf::TextureStoreRecovery& recovery = sweep_.store().recovery();
+  const btf::TextureStoreRecovery& recovery = store.recovery();
   for (const std::string& dropped : recovery.droppedFiles)
     std::cerr << "slicecapd: texture: removed a damaged frame: " << dropped << "\n";
   if (recovery.leftovers > 0)
     std::cerr << "slicecapd: texture: removed " << recovery.leftovers << " leftovers of an "
-              << "interrupted write or redo in " << directory.string() << "\n";
+              << "interrupted write or redo in " << store.directory().string() << "\n";
+}
+
+StoreTextureSink::StoreTextureSink(const std::filesystem::path& directory, const SliceId& slice,
+                                   const vision::CameraModel& camera,
+                                   const btf::TextureStoreLayout& layout)
+    : sweep_(directory, slice, camera, layout) {
+  logTextureRecovery(sweep_.store());
 }
 
 void StoreTextureSink::add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
                            const std::vector<capture::AmbientTerm>& ambient) {
   sweep_.add(frame, outcome, ambient);
+}
+
+capture::RunTextureFrames StoreTextureSink::run() const {
+  const btf::TextureRun run = sweep_.run();
+  return {run.fromSequence, run.toSequence};
 }
 
 control::TextureProgressView StoreTextureSink::status() const {

@@ -9,6 +9,9 @@
 
 namespace slicecap::rig {
 
+/// \brief Logs what opening `store` mended after a crash (the journal under systemd).
+void logTextureRecovery(const btf::TextureStore& store);
+
 /// \brief One slice's texture in a session's texture store (btf::TextureSweep). What opening the
 /// store mended after a crash is logged (the journal under systemd).
 class StoreTextureSink final : public daemon::TextureSink {
@@ -22,6 +25,8 @@ class StoreTextureSink final : public daemon::TextureSink {
            const std::vector<capture::AmbientTerm>& ambient) override;
   control::TextureProgressView status() const override;
   void beginRun() override { sweep_.beginRun(); }
+  capture::RunTextureFrames run() const override;
+  void keepRun() override { sweep_.keepRun(); }
   std::size_t setAsideRun() override { return sweep_.setAsideRun(); }
 
  private:

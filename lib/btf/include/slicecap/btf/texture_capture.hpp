@@ -99,10 +99,15 @@ class TextureSweep {
   const TextureStore& store() const { return store_; }
   const SliceId& slice() const { return slice_; }
   /// \brief A sweep run begins (the sweep opened, or continued after a pause): the frames stored
-  /// from now on are the run's.
-  void beginRun() { runStart_ = store_.nextSequence(); }
-  /// \brief The run was refused: its frames set aside (TextureStore::setAside); how many.
-  std::size_t setAsideRun() { return store_.setAside(slice_, runStart_); }
+  /// from now on are the run's (TextureStore::beginRun).
+  void beginRun() { runStart_ = store_.beginRun(slice_); }
+  /// \brief The run was kept: the earlier frames it replaced are deleted (TextureStore::keepRun).
+  void keepRun() { store_.keepRun(slice_); }
+  /// \brief The run was refused: its frames set aside and the earlier frames they replaced put
+  /// back (TextureStore::setAside); how many were set aside.
+  std::size_t setAsideRun() { return store_.setAside(slice_, runStart_, store_.nextSequence()); }
+  /// \brief The run's frames so far: numbered from its first to the store's next, excluded.
+  TextureRun run() const { return {slice_, runStart_, store_.nextSequence()}; }
 
  private:
   TextureStore store_;

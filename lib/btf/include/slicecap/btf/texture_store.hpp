@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -28,6 +29,14 @@ struct TextureStoreLayout {
 /// btf` on an export) changes nothing, as the folder may still be written by a daemon.
 enum class StoreAccess { Mend, ReadOnly };
 
+/// \brief A sweep run's frames in a store: those of `slice` numbered `fromSequence` to
+/// `toSequence` - 1 (what the journal's refusal of the run records, TextureStore::setAside).
+struct TextureRun {
+  SliceId slice;
+  std::uint64_t fromSequence = 0;
+  std::uint64_t toSequence = 0;
+};
+
 /// \brief What opening a store found (and, mending, removed): what a cut-off write, a crash
 /// between a write and an eviction, or a damaged disk left behind.
 struct TextureStoreRecovery {
@@ -39,7 +48,8 @@ struct TextureStoreRecovery {
 
 /// \brief The texture of one session. Every kept frame is a file written atomically (temporary,
 /// fsync, rename), so a killed daemon keeps every frame add() stored; a frame replaced by one
-/// nearer its bin's centre is deleted after its replacement is on disk. Memory holds only the
+/// nearer its bin's centre is deleted after its replacement is on disk, unless it is of an
+/// earlier sweep run than its replacement: then it is held until that run is judged (beginRun). Memory holds only the
 /// index: texels are read back when the slices are combined. Texels are stored as half floats
 /// (the BTF's own precision). Errors throw io::IoError naming the file.
 class TextureStore {
@@ -65,21 +75,42 @@ class TextureStore {
   /// rectifying a frame, as most frames of a long sweep are not kept.
   bool wouldKeep(const SliceId& slice, double parameterDeg) const;
   /// \brief Stores the frame if its bin keeps it (durable when this returns) and deletes the
-  /// frame it replaces; returns whether it was kept. BtfError for a frame of another
-  /// texel count.
+  /// frame it replaces, or holds it (moved durably into `<slice folder>.held/<run>/`) if it is of
+  /// an earlier run than the slice's run begun (beginRun); returns whether it was kept. BtfError
+  /// for a frame of another texel count; IoError if it cannot be written or the replaced frame
+  /// cannot be held (the frame is then not stored).
   bool add(const SliceId& slice, const TextureFrame& frame);
-  /// \brief Deletes every frame of the slice (a redone sweep), durably (io::discardFolderDurably);
-  /// if it cannot, the frames stay and are still indexed (IoError).
+  /// \brief Deletes every frame of the slice (a redone sweep) and the frames its runs held,
+  /// durably (io::discardFolderDurably); if it cannot, the frames stay and are still indexed
+  /// (IoError).
   void discard(const SliceId& slice);
   /// \brief The sequence number the next stored frame gets: a sweep run beginning now stores its
   /// frames from this number on (what setAside takes).
   std::uint64_t nextSequence() const { return nextSequence_; }
-  /// \brief Sets aside the slice's frames numbered `fromSequence` or later (a refused sweep run's):
-  /// moved durably into the folder `<slice folder>` + io::kSetAsideSuffix beside the slice's,
-  /// where no store reads them and no export copies them, and dropped from the index, so a later
-  /// run fills their bins. Frames that run replaced are gone (the keep rule deleted them). Returns
-  /// how many; IoError if one cannot be moved (those moved before it are out of the index).
-  std::size_t setAside(const SliceId& slice, std::uint64_t fromSequence);
+  /// \brief A sweep run of the slice begins: the frames stored from now on are the run's (until
+  /// the next beginRun), and a frame of an earlier run one of them replaces is held, not deleted,
+  /// until the run is judged: keepRun deletes them, setAside of the run puts them back. Returns
+  /// the run's first sequence number (what setAside takes).
+  std::uint64_t beginRun(const SliceId& slice);
+  /// \brief The slice's run (beginRun) is kept: the frames it replaced are deleted durably.
+  /// IoError if they cannot be (they stay held, never read, and settleRuns drops them).
+  void keepRun(const SliceId& slice);
+  /// \brief Sets aside the slice's frames numbered `fromSequence` to `toSequence` - 1 (a refused
+  /// sweep run's): moved durably into the folder `<slice folder>` + io::kSetAsideSuffix beside
+  /// the slice's, where no store reads them and no export copies them, and dropped from the
+  /// index, so a later run fills their bins. The frames of earlier runs the run replaced (held
+  /// for a run begun at `fromSequence`) go back into their bins, the keep rule re-applied in
+  /// stored order. Idempotent: frames set aside already are not in the index. Returns how many
+  /// frames were set aside; IoError if one cannot be moved (those moved before it are out of the
+  /// index, the held frames are left held).
+  std::size_t setAside(const SliceId& slice, std::uint64_t fromSequence,
+                       std::uint64_t toSequence = UINT64_MAX);
+  /// \brief What the daemon does when it opens a session: sets aside every run its journal
+  /// refused (setAside: a crash between the refusal and the move left their frames here), then
+  /// deletes every frame still held, as no refusal names its run (a run a crash cut off before
+  /// it was judged counts as kept). Returns the frames set aside; IoError as setAside, nothing
+  /// held deleted then.
+  std::size_t settleRuns(const std::vector<TextureRun>& refused);
 
   /// \brief The slices with at least one stored frame.
   std::vector<SliceId> slices() const;
@@ -111,20 +142,26 @@ class TextureStore {
   /// slice folder's frame files are listed; the frames found are indexed in stored order.
   void setAsideLeftover(const std::filesystem::path& path);
   void noteSequencesIn(const std::filesystem::path& folder);
-  void findFramesIn(const std::filesystem::path& folder, std::vector<StoredFrame>& found,
-                    std::error_code& error);
+  void findFramesIn(const std::filesystem::path& folder, const std::string& sliceFolder,
+                    std::vector<StoredFrame>& found, std::error_code& error);
   void indexInStoredOrder(std::vector<StoredFrame>& found);
   SliceIndex& indexFor(const SliceId& slice);
   /// The bin and slot a frame would take (slot == bin size: appended), or none.
   std::optional<std::pair<int, std::size_t>> placeOf(const SliceId& slice,
                                                      double parameterDeg) const;
   void place(const SliceId& slice, Entry entry, int bin, std::size_t slot);
+  void requireMend() const;
+  /// Where the frames replaced by the slice's run begun at `runStart` are held.
+  std::filesystem::path heldFolder(const SliceId& slice, std::uint64_t runStart) const;
+  /// The frames held for the run begun at `runStart` back into the slice's folder and bins.
+  void restoreHeld(const SliceId& slice, std::uint64_t runStart);
 
   std::filesystem::path directory_;
   TextureStoreLayout layout_;
   StoreAccess access_;
   TextureStoreRecovery recovery_;
   std::map<SliceId, SliceIndex> index_;
+  std::map<SliceId, std::uint64_t> runStart_;  // the slices' runs begun and not yet judged
   std::uint64_t nextSequence_ = 1;
 };
 

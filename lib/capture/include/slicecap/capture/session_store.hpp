@@ -41,12 +41,22 @@ struct JournalDamage {
   std::size_t samplesLost = 0;          ///< samples in records that could not be read
 };
 
+/// \brief The texture frames of a sweep run, as the session's texture store numbers them: from
+/// the run's first to `to`, excluded (what a refusal sets aside there too).
+struct RunTextureFrames {
+  std::uint64_t from = 0;
+  std::uint64_t to = 0;
+};
+
 /// \brief A sweep run refused for a decoding shown broken (the daemon's decoding watch): the
-/// slice, why, and how many samples that set aside (the run's; in the journal, not counted).
+/// slice, why, and how many samples that set aside (the run's; in the journal, not counted);
+/// with texture capture, the run's texture frames (the daemon sets them aside again whenever it
+/// opens the session, so a crash before it moved them leaves none in the texture).
 struct SweepRefusal {
   SliceId slice;
   std::string reason;
   std::size_t samplesSetAside = 0;
+  std::optional<RunTextureFrames> textureFrames;
 };
 
 /// \brief One session directory: `session.json` (written atomically) and `journal` (one record per
@@ -103,8 +113,10 @@ class SessionStore {
   /// \brief Refuses a sweep run of the slice for `reason` (durable): the slice's samples in
   /// records numbered `firstRecord` or later (the run's: nextRecordNumber() as it began) stay in
   /// the journal but are set aside, so no table, fit or export uses them; the slice's earlier
-  /// runs and later samples count. A point slice is CaptureError, nothing written.
-  void refuse(const SliceId& slice, const std::string& reason, std::uint64_t firstRecord);
+  /// runs and later samples count. `textureFrames` (texture capture) are the run's texture
+  /// frames, recorded with the refusal. A point slice is CaptureError, nothing written.
+  void refuse(const SliceId& slice, const std::string& reason, std::uint64_t firstRecord,
+              std::optional<RunTextureFrames> textureFrames = std::nullopt);
   /// \brief The refusals since each slice's last redo, in journal order.
   const std::vector<SweepRefusal>& refusals() const { return refusals_; }
 
@@ -137,7 +149,8 @@ class SessionStore {
   void setAside(std::size_t line, std::string what, std::optional<SliceId> slice);
   // An old (format 3) record without a first record refuses every counted sample of the slice.
   void applyRefusal(const SliceId& slice, std::string reason,
-                    std::optional<std::uint64_t> firstRecord);
+                    std::optional<std::uint64_t> firstRecord,
+                    std::optional<RunTextureFrames> textureFrames);
   // A sample counted in its bins, from the record numbered `record`.
   void countSample(const SliceId& slice, const FrameSample& sample, std::uint64_t record);
   // Every counted sample of the slice gone from the bins (a redo, a set-aside).

@@ -15,6 +15,14 @@
 
 namespace slicecap::daemon {
 
+/// \brief What becomes of a run the rule finds broken (DecodingWatch::unlitVerdict's words).
+enum class RefusalPolicy {
+  Refuse,     ///< refuse_broken_decoding, and a session takes the refusal as the run ends
+  WarnOnly,   ///< refuse_broken_decoding = false: kept, warned of
+  NoSession,  ///< refuse_broken_decoding, but no session was open as the run began: no samples
+              ///< of it were recorded, so none are set aside
+};
+
 /// \brief The latest samples' black-patch readings (FrameOutcome::Measurement::blackReading) and
 /// the window's pixels at code 0 (windowAtBlack), and the warnings they call for: a decoding no
 /// measured curve can be trusted with. Measured on the camera model (docs/results/
@@ -103,9 +111,10 @@ class DecodingWatch {
   /// figures, the limits and what to do; nullopt otherwise and for a linear 16-bit stream.
   std::optional<std::string> refusal() const;
   /// \brief What the rule makes of the run so far, for the status's window_unlit_verdict: not
-  /// judged (a linear stream, too few samples), kept, or refused (`refusing`:
-  /// refuse_broken_decoding) or only warned of (not `refusing`). Nullopt before a sample.
-  std::optional<std::string> unlitVerdict(bool refusing) const;
+  /// judged (a linear stream, too few samples), kept, or, broken, what `policy` does with it:
+  /// refused as the run ends, only warned of, or not refused for want of a session. Nullopt
+  /// before a sample.
+  std::optional<std::string> unlitVerdict(RefusalPolicy policy) const;
 
  private:
   std::deque<double> readings_, steps_;

@@ -76,9 +76,13 @@ class SessionManager {
   /// current session sets the run's samples aside (those from journal record `firstRecord` on,
   /// capture::SessionStore::refuse: kept in its journal, used by no table or export) and the
   /// status's error (after the pause's reason, if the run ended in a pause) and the slice say
-  /// why. A storage failure is logged and shown as the error; the samples then still count, and
-  /// this returns false.
-  bool refuseSweep(const SliceId& slice, const std::string& reason, std::uint64_t firstRecord);
+  /// why. `textureFrames`: the run's texture frames, recorded with the refusal so that opening
+  /// the session sets them aside again (refusals()). A storage failure is logged and shown as
+  /// the error; the samples then still count, and this returns false.
+  bool refuseSweep(const SliceId& slice, const std::string& reason, std::uint64_t firstRecord,
+                   std::optional<capture::RunTextureFrames> textureFrames = std::nullopt);
+  /// \brief The current session's refusals since each slice's last redo (none without a session).
+  std::vector<capture::SweepRefusal> refusals() const;
   /// \brief A sentence added to the status's error, after what it says (a refusal's texture
   /// frames); nothing for an empty one.
   void addToError(const std::string& sentence);

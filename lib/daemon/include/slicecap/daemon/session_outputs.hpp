@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "slicecap/core/slice.hpp"
 #include "slicecap/daemon/texture_sink.hpp"
@@ -29,6 +30,15 @@ class SessionOutputs {
   /// texture has another resolution; the sweep then pauses.
   virtual std::unique_ptr<TextureSink> openTexture(const SliceId& slice,
                                                    const std::filesystem::path& session) = 0;
+  /// \brief A session was made current: its texture (in <session>/kTextureFolder, whether or not
+  /// sweeps capture one now), if it has one, sets aside again the frames of every run in
+  /// `refused` that names them (a crash between the journal's refusal and the move left them in
+  /// the texture), puts back the frames those runs replaced, and deletes the frames a run cut
+  /// off before it was judged replaced (such a run counts as kept). Idempotent. Returns the
+  /// frames set aside now; throws (a std::exception with a message) when the texture cannot be
+  /// read or its files moved.
+  virtual std::size_t settleTexture(const std::filesystem::path& session,
+                                    const std::vector<capture::SweepRefusal>& refused) = 0;
 };
 
 }  // namespace slicecap::daemon

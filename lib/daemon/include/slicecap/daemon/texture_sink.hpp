@@ -6,6 +6,7 @@
 
 #include "slicecap/capture/frame_outcome.hpp"
 #include "slicecap/capture/frame_pipeline.hpp"
+#include "slicecap/capture/session_store.hpp"
 #include "slicecap/control/reply_views.hpp"
 #include "slicecap/hal/frame.hpp"
 
@@ -26,12 +27,18 @@ class TextureSink {
                    const std::vector<capture::AmbientTerm>& ambient) = 0;
   /// \brief What the status shows of the slice's texture (the store's figures where it has them).
   virtual control::TextureProgressView status() const = 0;
-  /// \brief A sweep run begins (its camera starts): the frames stored from now on are the run's.
+  /// \brief A sweep run begins (its camera starts): the frames stored from now on are the run's,
+  /// and the frames of earlier runs they replace are held until the run is judged.
   virtual void beginRun() = 0;
+  /// \brief The run's frames so far, as the store numbers them (what a refusal records).
+  virtual capture::RunTextureFrames run() const = 0;
+  /// \brief The run was kept (it ended unrefused): the earlier frames it replaced are deleted.
+  /// Throws io::IoError when they cannot be (they stay held; opening the session drops them).
+  virtual void keepRun() = 0;
   /// \brief The run was refused (its samples set aside): its stored frames are set aside too,
   /// into the slice's folder + io::kSetAsideSuffix (kept, read by nothing, exported by nothing),
-  /// so the texture holds the slice's other runs alone. Returns how many; throws io::IoError
-  /// when they cannot be moved.
+  /// and the earlier frames they replaced go back, so the texture holds the slice's other runs
+  /// alone. Returns how many were set aside; throws io::IoError when they cannot be moved.
   virtual std::size_t setAsideRun() = 0;
 };
 

@@ -88,6 +88,11 @@ void discardFolderDurably(const std::filesystem::path& folder);
 /// frames): kept on disk, read by no store, left out of every export.
 inline constexpr const char* kSetAsideSuffix = ".set-aside";
 
+/// \brief The suffix of a folder holding files an unjudged sweep run replaced (frames of earlier
+/// runs a texture bin no longer keeps): put back if the run is refused, deleted if it is kept;
+/// read by no store, left out of every export.
+inline constexpr const char* kHeldSuffix = ".held";
+
 /// \brief Moves each of `files` into `folder` (created durably if missing) under its own name, so
 /// that after a power cut each is in one of the two places: renamed, then both folders synced.
 /// The files must be on the folder's file system. Throws IoError naming the file that could not
