@@ -526,6 +526,21 @@ TEST(SessionManager, RefusesASecondManagerOnTheSameStorage) {
   EXPECT_TRUE(ok(restarted, control::SessionList{})["sessions"].size() == 1u) << "the lock is no session";
 }
 
+// A new rig's storage folder is made by its first daemon; a file where the folder should be is
+// refused naming it, before any lock or session is touched.
+TEST(SessionManager, MakesItsStorageFolderAndRefusesAFileInItsPlace) {
+  const auto parent = test::freshTempDir();
+  SessionManager made(parent / "new" / "storage", meanOfSlices);
+  EXPECT_TRUE(std::filesystem::is_directory(parent / "new" / "storage"));
+  std::ofstream(parent / "a-file") << "not a folder\n";
+  try {
+    SessionManager refused(parent / "a-file", meanOfSlices);
+    ADD_FAILURE() << "a file taken for the storage folder";
+  } catch (const io::IoError& error) {
+    EXPECT_THAT(error.what(), HasSubstr((parent / "a-file").string() + ": cannot use as session storage"));
+  }
+}
+
 TEST(SessionManager, RefusesTheSessionIdOfItsCurrentFile) {
   // A session named "current" became a folder where <storage>/current must be a file: its reply
   // was a storage error, and from then on no session could be made current (after a restart the

@@ -32,22 +32,12 @@ RequestError noSuchSession(const std::string& id) {
   return RequestError(control::ErrorCode::NotFound, "no session '" + id + "'");
 }
 
-// The storage folder, made if missing, before its lock is taken.
-const fs::path& preparedRoot(const fs::path& root) {
-  std::error_code error;
-  fs::create_directories(root, error);
-  if (error || !fs::is_directory(root))
-    throw io::IoError(root.string() + ": cannot use as session storage: " +
-                      (error ? error.message() : "not a folder"));
-  return root;
-}
-
 }  // namespace
 
 struct SessionManager::State {
   State(fs::path storageRoot, SessionExporter sessionExporter, IsotropyFunction isotropyTest)
       : root(std::move(storageRoot)),
-        lock(preparedRoot(root)),
+        lock(root),
         exporter(std::move(sessionExporter)),
         isotropy(std::move(isotropyTest)) {}
 

@@ -8,12 +8,19 @@
 #include <cerrno>
 #include <cstring>
 #include <string>
+#include <system_error>
 
 #include "slicecap/io/io_error.hpp"
 
 namespace slicecap::daemon {
 
 StorageLock::StorageLock(const std::filesystem::path& root) {
+  // The folder first: a new rig's storage does not exist until its first daemon starts.
+  std::error_code error;
+  std::filesystem::create_directories(root, error);
+  if (error || !std::filesystem::is_directory(root))
+    throw io::IoError(root.string() + ": cannot use as session storage: " +
+                      (error ? error.message() : "not a folder"));
   const std::filesystem::path lockFile = root / ".lock";
   fd_ = ::open(lockFile.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd_ < 0) throw io::IoError(lockFile.string() + ": cannot open: " + std::strerror(errno));

@@ -12,7 +12,8 @@ namespace slicecap::daemon {
 /// finds a stale one.
 class StorageLock {
  public:
-  /// \brief Takes the lock; io::IoError naming the folder (and the holder's pid) when another
+  /// \brief Makes the storage folder if it is missing and takes the lock; io::IoError naming the
+  /// folder when it cannot be made or is not a folder, or (with the holder's pid) when another
   /// process holds it, or naming the lock file when it cannot be opened or locked.
   explicit StorageLock(const std::filesystem::path& root);
   ~StorageLock();
