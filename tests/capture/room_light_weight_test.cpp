@@ -213,9 +213,12 @@ TEST(RoomLightUnseen, ARecordingIsProcessedWithTheGateItWasCapturedWith) {
   const auto gated = recordingWith(15.0);
   EXPECT_EQ(io::readRecording(gated).roomLightUnseenMm, std::optional<double>(15.0));
   EXPECT_EQ(ledOnOutcome(gated, {}).rejectReason, RejectReason::RoomLightUnseen);
+  EXPECT_EQ(processRecording(gated, PipelineSettings{}).roomLightUnseenMm, std::optional<double>(15.0))
+      << "the result (and so the report and `process`'s line) says which gate the frames went through";
   PipelineSettings off;
   off.maxRoomLightDistanceMm = 0.0;
   EXPECT_EQ(ledOnOutcome(gated, off).kind, FrameOutcome::Kind::Sample);
+  EXPECT_FALSE(processRecording(gated, off).roomLightUnseenMm);
   EXPECT_EQ(ledOnOutcome(recordingWith(std::nullopt), {}).kind, FrameOutcome::Kind::Sample);
 }
 

@@ -146,6 +146,31 @@ TEST(FrameRecorder, RecordsTheSweepsDecodingAndRefusesToMixTwoCurves) {
   EXPECT_EQ(io::readRecording(dir).frames.size(), 2u);  // nothing recorded before is lost
 }
 
+// A continued sweep whose room-light gate changed (slicecapd.conf edited between its runs) cannot
+// add to a recording offline processing reads with one gate: the recording stops, saying why.
+TEST(FrameRecorder, RefusesToMixFramesOfTwoRoomLightGates) {
+  const auto dir = test::freshTempDir() / "rec";
+  io::Recording gated = smallHeader();
+  gated.roomLightUnseenMm = 15.0;
+  {
+    FrameRecorder recorder(dir, gated, 16);
+    ASSERT_TRUE(recorder.offer(smallFrame(1000, true)));
+  }
+  EXPECT_EQ(io::readRecording(dir).roomLightUnseenMm, std::optional<double>(15.0));
+  {
+    FrameRecorder recorder(dir, gated, 16);  // the same gate: appended
+    ASSERT_TRUE(recorder.offer(smallFrame(2000, false)));
+  }
+  EXPECT_EQ(io::readRecording(dir).frames.size(), 2u);
+  FrameRecorder recorder(dir, smallHeader(), 16);
+  ASSERT_TRUE(recorder.offer(smallFrame(3000, true)));
+  ASSERT_TRUE(test::waitUntil([&] { return recorder.idle(); }))
+      << "the recorder did not finish its queue of one frame within 10 s";
+  EXPECT_NE(recorder.status().error.find("room_light_unseen_mm = 15"), std::string::npos)
+      << recorder.status().error;
+  EXPECT_EQ(io::readRecording(dir).frames.size(), 2u);  // nothing recorded before is lost
+}
+
 TEST(FrameRecorder, ARawSweepsBlackIsRecordedAndReadBackWithItsFrames) {
   const auto dir = test::freshTempDir() / "rec";
   hal::Frame frame = smallFrame(1000, true);

@@ -236,6 +236,8 @@ PipelineSettings offlineSettings(const io::Recording& recording, const PipelineS
     offline.detector.frameBudgetPx = std::numeric_limits<double>::infinity();
   // The room-light gate the capture had, unless the caller set one (0: off).
   if (!offline.maxRoomLightDistanceMm) offline.maxRoomLightDistanceMm = recording.roomLightUnseenMm;
+  if (offline.maxRoomLightDistanceMm.value_or(0.0) > 0.0)
+    result.roomLightUnseenMm = offline.maxRoomLightDistanceMm;
   return offline;
 }
 
@@ -379,6 +381,8 @@ nlohmann::json RecordingResult::toJson(const CellTexture& texture) const {
           {"decoding", decoding},
           {"bins_filled", bins.filledCount()},
           {"exposure_levels", exposureLevels},
+          {"room_light_unseen_mm", roomLightUnseenMm ? nlohmann::json(*roomLightUnseenMm)
+                                                     : nlohmann::json(nullptr)},
           {"room_light", roomLightSubtracted
                              ? "subtracted (the LED-off frames)"
                              : "not subtracted: the recording has no LED-off frame"},

@@ -49,7 +49,8 @@ std::vector<OptionSpec> pipelineOptions() {
           {"room-light-unseen-mm", 0, "MM",
            "reject an LED-on frame whose room light changed between its LED-off frames while the "
            "nearer was taken more than MM away (room_light_unseen; 15 for frames dropped in a "
-           "bright room; 0, the default: off)"}};
+           "bright room; 0: off; default: the recording's own, which slicecapd writes when "
+           "its room_light_unseen_mm is on, else off)"}};
 }
 
 std::vector<std::filesystem::path> sessionRecordings(const std::filesystem::path& session) {

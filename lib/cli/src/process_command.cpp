@@ -110,6 +110,8 @@ Processed processAll(const std::vector<std::filesystem::path>& recordings,
       io.err << ", " << count << " " << reason;
     if (!result.roomLightSubtracted)
       io.err << "; room light not subtracted: the LED is on in every frame";
+    if (result.roomLightUnseenMm)
+      io.err << "; room_light_unseen gate at " << *result.roomLightUnseenMm << " mm";
     io.err << "\n";
     if (texture.framesUsed > 0) io.err << "  " << texture.describe() << "\n";
     if (result.bins.filledCount() == 0) processed.withoutSamples.push_back(noSampleReason(result));

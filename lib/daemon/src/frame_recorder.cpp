@@ -63,6 +63,16 @@ struct FrameRecorder::State {
             "; this sweep run decodes as " + io::toString(wanted->kind) +
             (wanted->curve ? " (its own bracket's curve)" : "") + black(*wanted) +
             ": one recording cannot hold both (redo the sweep to record it whole)");
+      // Offline applies the recording's room-light gate to all its frames (offlineSettings).
+      if (held.roomLightUnseenMm != header.roomLightUnseenMm) {
+        const auto gate = [](const std::optional<double>& mm) {
+          return mm ? "room_light_unseen_mm = " + std::to_string(*mm) : std::string("no room-light gate");
+        };
+        throw SlicecapdError(directory.string() + " holds frames captured with " +
+                             gate(held.roomLightUnseenMm) + "; this sweep run has " +
+                             gate(header.roomLightUnseenMm) +
+                             ": one recording cannot hold both (redo the sweep to record it whole)");
+      }
     } else {
       header.encoding = first.encoding;
       if (wanted) header.decoding = wanted;

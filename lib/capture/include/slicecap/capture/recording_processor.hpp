@@ -5,6 +5,7 @@
 #include <functional>
 #include <map>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@ struct RecordingResult {
   int exposureLevels = 1;
   /// \brief How 8-bit frames were decoded: "srgb", or the curve's name ("measured", "linear").
   std::string decoding = "srgb";
+  /// \brief The room_light_unseen gate the frames went through (the caller's, else the
+  /// recording's own); none: off.
+  std::optional<double> roomLightUnseenMm;
   /// \brief The report's entry: per frame the pose, light, gate outcome; per bin its frames;
   /// the bins to pass again, their cells read as `texture` (the sweep's verdict) says.
   nlohmann::json toJson(const CellTexture& texture = {}) const;
