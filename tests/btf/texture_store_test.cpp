@@ -413,6 +413,30 @@ TEST(TextureStore, AKeptRunDeletesTheEarlierFramesItReplaced) {
   EXPECT_EQ(frameFiles(dir).size(), 3u);
 }
 
+// A refused run whose frames cannot be set aside (a file where the set-aside folder goes): the
+// camera stopping afterwards (keepRun) must not delete the earlier run's frame the run replaced,
+// which is then its only copy; settling the journal's refusal later gives it back.
+TEST(TextureStore, AFailedSetAsideLeavesTheReplacedFramesHeldForSettling) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  const fs::path held = dir / (std::string("axial-30-75") + io::kHeldSuffix);
+  const fs::path setAside = dir / (std::string("axial-30-75") + io::kSetAsideSuffix);
+  TextureRun run{kAxial, 0, 0};
+  {
+    TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+    run.fromSequence = fillThenReplaceInASecondRun(store);
+    run.toSequence = store.nextSequence();
+    std::ofstream(setAside) << "in the way";
+    EXPECT_THROW(store.setAside(kAxial, run.fromSequence, run.toSequence), io::IoError);
+    store.keepRun(kAxial);
+    EXPECT_EQ(frameFiles(held).size(), 1u) << "the earlier run's frame is still held";
+  }
+  fs::remove(setAside);
+  TextureStore store = TextureStore::open(dir);
+  EXPECT_EQ(store.settleRuns({run}), 1u);
+  EXPECT_EQ(store.frameCount(kAxial), 3u);
+  EXPECT_NEAR(binOneTexel(store), 2.0f, 1e-3) << "the median of 1, 4 and the held 2";
+}
+
 // A crash before the run was judged: the store opens with the run's frames (the held frame not
 // read), and settling decides the held frame by the journal: no refusal of its run (the run counts
 // as kept) deletes it, a refusal of the run (journaled before the crash) sets the run's frames

@@ -42,6 +42,11 @@ void TextureStore::keepRun(const SliceId& slice) {
 std::size_t TextureStore::setAside(const SliceId& slice, std::uint64_t fromSequence,
                                    std::uint64_t toSequence) {
   requireMend();
+  // The run is judged refused before anything can fail: were a move to throw with the run still
+  // open, a later keepRun (the camera stopping) would delete the frames it replaced, which are
+  // then the only copies of an earlier run's good frames. They stay held for settleRuns.
+  if (const auto run = runStart_.find(slice); run != runStart_.end() && run->second == fromSequence)
+    runStart_.erase(run);
   const auto inRun = [&](const Entry& e) {
     return e.sequence >= fromSequence && e.sequence < toSequence;
   };
@@ -65,8 +70,6 @@ std::size_t TextureStore::setAside(const SliceId& slice, std::uint64_t fromSeque
   forget();
   // Only once the run's frames are out: the frames they replaced take their places again.
   restoreHeld(slice, fromSequence);
-  if (const auto run = runStart_.find(slice); run != runStart_.end() && run->second == fromSequence)
-    runStart_.erase(run);
   return files.size();
 }
 

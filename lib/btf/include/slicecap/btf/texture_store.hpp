@@ -102,7 +102,8 @@ class TextureStore {
   /// for a run begun at `fromSequence`) go back into their bins, the keep rule re-applied in
   /// stored order. Idempotent: frames set aside already are not in the index. Returns how many
   /// frames were set aside; IoError if one cannot be moved (those moved before it are out of the
-  /// index, the held frames are left held).
+  /// index, the held frames are left held for settleRuns: the run counts as judged either way, so
+  /// keepRun never deletes them).
   std::size_t setAside(const SliceId& slice, std::uint64_t fromSequence,
                        std::uint64_t toSequence = UINT64_MAX);
   /// \brief What the daemon does when it opens a session: sets aside every run its journal
