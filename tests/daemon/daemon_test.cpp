@@ -128,7 +128,8 @@ class FakeOutputs : public SessionOutputs {
   explicit FakeOutputs(std::shared_ptr<TextureLog> log) : log_(std::move(log)) {}
   std::optional<io::Recording> recordingHeader(const SliceId&) override { return std::nullopt; }
   bool capturesTexture() const override { return true; }
-  std::unique_ptr<TextureSink> openTexture(const SliceId&, const std::filesystem::path&) override {
+  std::unique_ptr<TextureSink> openTexture(const SliceId&, const std::filesystem::path&,
+                                           const std::vector<capture::SweepRefusal>&) override {
     ++log_->opened;
     if (log_->failToOpen) throw io::IoError(*log_->failToOpen);
     return std::make_unique<FakeTextureSink>(log_);
