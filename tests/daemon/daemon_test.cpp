@@ -467,6 +467,17 @@ TEST_F(DaemonOnFileCamera, TheTextureSeesEveryFrameOfTheSweepAndItsStatusIsShown
   EXPECT_EQ(texture->samplesStored, kFrames / 2);
 }
 
+// A paused sweep has no camera and no run: stopping the daemon then judges nothing (keeping the
+// texture's last run would delete what a refused run, whose set-aside failed, replaced).
+TEST_F(DaemonOnFileCamera, StoppingWithTheSweepPausedKeepsNoTextureRun) {
+  auto texture = std::make_shared<TextureLog>();
+  start(std::nullopt, texture);
+  sweepUntilPaused();
+  ASSERT_EQ(texture->runsKept, 1) << "the run ended in a pause, unrefused: kept";
+  stoppedWithin(0);
+  EXPECT_EQ(texture->runsKept, 1) << "no run was live as the daemon stopped";
+}
+
 // A crash between a refusal's journal record and the move of the run's texture frames: the record
 // names the frames, and the daemon has the texture set them aside when it makes the session
 // current (at its start, and again on each resume: idempotent), before any sweep opens it.
