@@ -413,6 +413,82 @@ TEST(TextureStore, AKeptRunDeletesTheEarlierFramesItReplaced) {
   EXPECT_EQ(frameFiles(dir).size(), 3u);
 }
 
+// A refused run whose frames cannot be set aside (a file where the set-aside folder goes): the
+// camera stopping afterwards (keepRun) must not delete the earlier run's frame the run replaced,
+// which is then its only copy; settling the journal's refusal later gives it back.
+TEST(TextureStore, AFailedSetAsideLeavesTheReplacedFramesHeldForSettling) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  const fs::path held = dir / (std::string("axial-30-75") + io::kHeldSuffix);
+  const fs::path setAside = dir / (std::string("axial-30-75") + io::kSetAsideSuffix);
+  TextureRun run{kAxial, 0, 0};
+  {
+    TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+    run.fromSequence = fillThenReplaceInASecondRun(store);
+    run.toSequence = store.nextSequence();
+    std::ofstream(setAside) << "in the way";
+    EXPECT_THROW(store.setAside(kAxial, run.fromSequence, run.toSequence), io::IoError);
+    store.keepRun(kAxial);
+    EXPECT_EQ(frameFiles(held).size(), 1u) << "the earlier run's frame is still held";
+  }
+  fs::remove(setAside);
+  TextureStore store = TextureStore::open(dir);
+  EXPECT_EQ(store.settleRuns({run}), 1u);
+  EXPECT_EQ(store.frameCount(kAxial), 3u);
+  EXPECT_NEAR(binOneTexel(store), 2.0f, 1e-3) << "the median of 1, 4 and the held 2";
+}
+
+// A refused run's range reaching past its files (numbers that failed writes used): settling
+// numbers the next frames past the range, so re-applying the refusal never takes a later kept
+// run's frame; a store opened with the refusals does too.
+TEST(TextureStore, FramesAfterSettlingAreNumberedPastTheRefusedRanges) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  TextureRun refused{kAxial, 0, 0};
+  {
+    TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+    refused.fromSequence = store.beginRun(kAxial);
+    store.add(kAxial, frameAt(30.0, 1.0f));
+    refused.toSequence = store.nextSequence() + 5;
+  }
+  TextureStore store = TextureStore::open(dir);
+  ASSERT_LT(store.nextSequence(), refused.toSequence) << "the files alone number inside it";
+  EXPECT_EQ(store.settleRuns({refused}), 1u);
+  EXPECT_GE(store.nextSequence(), refused.toSequence);
+  store.beginRun(kAxial);
+  ASSERT_TRUE(store.add(kAxial, frameAt(60.0, 2.0f)));
+  store.keepRun(kAxial);
+  EXPECT_EQ(store.settleRuns({refused}), 0u) << "the kept run's frame stays";
+  EXPECT_EQ(store.frameCount(kAxial), 1u);
+  const TextureStore reopened = TextureStore::open(dir, StoreAccess::Mend, {refused});
+  EXPECT_EQ(reopened.frameCount(kAxial), 1u);
+  EXPECT_GE(reopened.nextSequence(), refused.toSequence);
+}
+
+// A refused run's frame left in the slice's folder (its set-aside failed) while a later run was
+// kept into the slots it left: opening with the journal's refusals sets it aside before the keep
+// rule, so it does not displace the kept run's frame (the rule would delete that one).
+TEST(TextureStore, OpeningSetsAsideRefusedFramesBeforeTheKeepRule) {
+  const fs::path dir = test::freshTempDir() / "texture";
+  const fs::path setAside = dir / (std::string("axial-30-75") + io::kSetAsideSuffix);
+  TextureRun refused{kAxial, 0, 0};
+  {
+    TextureStore store = TextureStore::openOrCreate(dir, kLayout);
+    refused.fromSequence = fillThenReplaceInASecondRun(store);  // 15, 16 kept; 14 refused
+    refused.toSequence = store.nextSequence();
+    std::ofstream(setAside) << "in the way";
+    EXPECT_THROW(store.setAside(kAxial, refused.fromSequence, refused.toSequence), io::IoError);
+    fs::remove(setAside);
+    store.beginRun(kAxial);
+    ASSERT_TRUE(store.add(kAxial, frameAt(20.5, 8.0f)));  // the slot the refused frame left
+    store.keepRun(kAxial);
+  }
+  ASSERT_EQ(frameFiles(dir / "axial-30-75").size(), 4u) << "over the bin's 3: 14 still there";
+  const TextureStore store = TextureStore::open(dir, StoreAccess::Mend, {refused});
+  EXPECT_EQ(store.frameCount(kAxial), 3u);
+  EXPECT_EQ(frameFiles(dir / "axial-30-75").size(), 3u) << "the kept run's frame stays";
+  EXPECT_EQ(frameFiles(setAside).size(), 1u) << "the refused frame set aside";
+  EXPECT_NEAR(binOneTexel(store), 4.0f, 1e-3) << "the median of 1, 4 and 8";
+}
+
 // A crash before the run was judged: the store opens with the run's frames (the held frame not
 // read), and settling decides the held frame by the journal: no refusal of its run (the run counts
 // as kept) deletes it, a refusal of the run (journaled before the crash) sets the run's frames

@@ -128,7 +128,8 @@ class FakeOutputs : public SessionOutputs {
   explicit FakeOutputs(std::shared_ptr<TextureLog> log) : log_(std::move(log)) {}
   std::optional<io::Recording> recordingHeader(const SliceId&) override { return std::nullopt; }
   bool capturesTexture() const override { return true; }
-  std::unique_ptr<TextureSink> openTexture(const SliceId&, const std::filesystem::path&) override {
+  std::unique_ptr<TextureSink> openTexture(const SliceId&, const std::filesystem::path&,
+                                           const std::vector<capture::SweepRefusal>&) override {
     ++log_->opened;
     if (log_->failToOpen) throw io::IoError(*log_->failToOpen);
     return std::make_unique<FakeTextureSink>(log_);
@@ -464,6 +465,17 @@ TEST_F(DaemonOnFileCamera, TheTextureSeesEveryFrameOfTheSweepAndItsStatusIsShown
   waitForPause();
   EXPECT_EQ(texture->opened, 2);
   EXPECT_EQ(texture->samplesStored, kFrames / 2);
+}
+
+// A paused sweep has no camera and no run: stopping the daemon then judges nothing (keeping the
+// texture's last run would delete what a refused run, whose set-aside failed, replaced).
+TEST_F(DaemonOnFileCamera, StoppingWithTheSweepPausedKeepsNoTextureRun) {
+  auto texture = std::make_shared<TextureLog>();
+  start(std::nullopt, texture);
+  sweepUntilPaused();
+  ASSERT_EQ(texture->runsKept, 1) << "the run ended in a pause, unrefused: kept";
+  stoppedWithin(0);
+  EXPECT_EQ(texture->runsKept, 1) << "no run was live as the daemon stopped";
 }
 
 // A crash between a refusal's journal record and the move of the run's texture frames: the record

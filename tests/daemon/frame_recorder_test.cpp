@@ -219,7 +219,8 @@ class RecordingOutputs : public SessionOutputs {
     return header;
   }
   bool capturesTexture() const override { return false; }
-  std::unique_ptr<TextureSink> openTexture(const SliceId&, const std::filesystem::path&) override {
+  std::unique_ptr<TextureSink> openTexture(const SliceId&, const std::filesystem::path&,
+                                           const std::vector<capture::SweepRefusal>&) override {
     return nullptr;
   }
   // No texture: a session's has nothing to set aside (these sessions never captured one).

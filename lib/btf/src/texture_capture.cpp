@@ -86,8 +86,8 @@ std::size_t TextureCapture::memoryBytes() const {
 
 TextureSweep::TextureSweep(const std::filesystem::path& directory, const SliceId& slice,
                            const vision::CameraModel& camera, const TextureStoreLayout& layout,
-                           const RectifyParams& rectify)
-    : store_(TextureStore::openOrCreate(directory, layout)),
+                           const RectifyParams& rectify, const std::vector<TextureRun>& refused)
+    : store_(TextureStore::openOrCreate(directory, layout, refused)),
       runStart_(store_.beginRun(slice)),
       slice_(slice),
       camera_(camera),

@@ -40,14 +40,15 @@ TextureStore::TextureStore(fs::path directory, TextureStoreLayout layout, StoreA
     : directory_(std::move(directory)), layout_(layout), access_(access) {}
 
 TextureStore TextureStore::openOrCreate(const fs::path& directory,
-                                        const TextureStoreLayout& layout) {
+                                        const TextureStoreLayout& layout,
+                                        const std::vector<TextureRun>& refused) {
   checkLayout(layout);
   const fs::path manifest = directory / kTextureStoreManifest;
   if (!fs::exists(manifest)) {
     io::createFoldersDurably(directory);
     io::writeFileAtomically(manifest, layoutJson(layout).dump(2) + "\n");
   }
-  TextureStore store = open(directory);
+  TextureStore store = open(directory, StoreAccess::Mend, refused);
   const TextureStoreLayout& found = store.layout();
   const auto describe = [](const TextureStoreLayout& l) {
     char text[160];
@@ -66,7 +67,8 @@ TextureStore TextureStore::openOrCreate(const fs::path& directory,
   return store;
 }
 
-TextureStore TextureStore::open(const fs::path& directory, StoreAccess access) {
+TextureStore TextureStore::open(const fs::path& directory, StoreAccess access,
+                                const std::vector<TextureRun>& refused) {
   const fs::path manifest = directory / kTextureStoreManifest;
   if (!fs::exists(manifest))
     throw io::IoError(directory.string() + ": not a texture store (no " + kTextureStoreManifest +
@@ -78,11 +80,12 @@ TextureStore TextureStore::open(const fs::path& directory, StoreAccess access) {
     throw io::IoError(manifest.string() + ": " + e.what());
   }
   TextureStore store(directory, layout, access);
-  store.load();
+  store.load(refused);
   return store;
 }
 
-void TextureStore::load() {
+void TextureStore::load(const std::vector<TextureRun>& refused) {
+  numberPast(refused);
   std::vector<StoredFrame> found;
   std::error_code error;
   for (const fs::directory_entry& folder : fs::directory_iterator(directory_, error)) {
@@ -113,6 +116,9 @@ void TextureStore::load() {
     if (error) break;
   }
   if (error) throw io::IoError(directory_.string() + ": cannot list: " + error.message());
+  // Before the keep rule: a refused run's frame left here (its set-aside failed or a crash cut
+  // it off) must not take a bin slot and make the rule drop a kept run's frame.
+  leaveOutRefused(refused, found);
   indexInStoredOrder(found);
 }
 

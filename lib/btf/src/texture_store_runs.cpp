@@ -42,6 +42,11 @@ void TextureStore::keepRun(const SliceId& slice) {
 std::size_t TextureStore::setAside(const SliceId& slice, std::uint64_t fromSequence,
                                    std::uint64_t toSequence) {
   requireMend();
+  // The run is judged refused before anything can fail: were a move to throw with the run still
+  // open, a later keepRun (the camera stopping) would delete the frames it replaced, which are
+  // then the only copies of an earlier run's good frames. They stay held for settleRuns.
+  if (const auto run = runStart_.find(slice); run != runStart_.end() && run->second == fromSequence)
+    runStart_.erase(run);
   const auto inRun = [&](const Entry& e) {
     return e.sequence >= fromSequence && e.sequence < toSequence;
   };
@@ -65,8 +70,6 @@ std::size_t TextureStore::setAside(const SliceId& slice, std::uint64_t fromSeque
   forget();
   // Only once the run's frames are out: the frames they replaced take their places again.
   restoreHeld(slice, fromSequence);
-  if (const auto run = runStart_.find(slice); run != runStart_.end() && run->second == fromSequence)
-    runStart_.erase(run);
   return files.size();
 }
 
@@ -96,8 +99,36 @@ void TextureStore::restoreHeld(const SliceId& slice, std::uint64_t runStart) {
   io::discardFolderDurably(held);
 }
 
+void TextureStore::numberPast(const std::vector<TextureRun>& refused) {
+  for (const TextureRun& run : refused)
+    if (run.toSequence != UINT64_MAX) nextSequence_ = std::max(nextSequence_, run.toSequence);
+}
+
+void TextureStore::leaveOutRefused(const std::vector<TextureRun>& refused,
+                                   std::vector<StoredFrame>& found) {
+  std::map<SliceId, std::vector<fs::path>> moved;
+  std::erase_if(found, [&](const StoredFrame& f) {
+    const bool inRefused = std::any_of(refused.begin(), refused.end(), [&](const TextureRun& r) {
+      return r.slice == f.slice && f.entry.sequence >= r.fromSequence &&
+             f.entry.sequence < r.toSequence;
+    });
+    if (inRefused) moved[f.slice].push_back(f.entry.file);
+    return inRefused;
+  });
+  if (access_ != StoreAccess::Mend) return;
+  for (const auto& [slice, files] : moved) {
+    try {
+      io::moveFilesDurably(files, directory_ / (folderName(slice) + io::kSetAsideSuffix));
+    } catch (const io::IoError&) {
+      // Left where they are, read by no opening given the refusals; the next one tries again.
+      ++recovery_.leftovers;
+    }
+  }
+}
+
 std::size_t TextureStore::settleRuns(const std::vector<TextureRun>& refused) {
   requireMend();
+  numberPast(refused);  // first: nothing settled below may be numbered inside a refused range
   std::size_t setAsideFrames = 0;
   for (const TextureRun& run : refused)
     setAsideFrames += setAside(run.slice, run.fromSequence, run.toSequence);

@@ -66,7 +66,9 @@ void SweepDevices::reconcile() {
 void SweepDevices::stopCamera() {
   recordDecodingCheck();
   // The run is judged as it ends: refused, or kept (the earlier texture frames it replaced go).
-  if (!refuseBrokenDecoding()) outputs_.keepTextureRun();
+  // Only a run with a live camera is judged: a stop without one (SIGTERM while paused) would
+  // otherwise keep whatever run the texture last had open, possibly a refused one.
+  if (cameraSlice_ && !refuseBrokenDecoding()) outputs_.keepTextureRun();
   strobe_.stop();
   hdr_.stop();
   if (watchedFd_) loop_.unwatch(*watchedFd_);

@@ -21,7 +21,9 @@ void SweepOutputs::openTexture(const SliceId& slice) {
   const std::optional<fs::path> session = manager_.sessionDirectory();
   if (!capturesTexture() || !session) return;
   try {
-    texture_ = parts_.outputs->openTexture(slice, *session);
+    // The refusals each time: one whose set-aside failed mid-session is applied before the keep
+    // rule, not only at the session's settling.
+    texture_ = parts_.outputs->openTexture(slice, *session, manager_.refusals());
     textureSlice_ = slice;
   } catch (const std::exception& error) {
     manager_.pauseSweep(std::string("texture capture: ") + error.what());

@@ -6,6 +6,18 @@
 #include "slicecap/btf/texture_store.hpp"
 
 namespace slicecap::rig {
+namespace {
+
+// The refusals that name texture frames, as the texture store takes them.
+std::vector<btf::TextureRun> textureRuns(const std::vector<capture::SweepRefusal>& refused) {
+  std::vector<btf::TextureRun> runs;
+  for (const capture::SweepRefusal& refusal : refused)
+    if (refusal.textureFrames)
+      runs.push_back({refusal.slice, refusal.textureFrames->from, refusal.textureFrames->to});
+  return runs;
+}
+
+}  // namespace
 
 OutputSettings outputSettingsFrom(const daemon::DaemonConfig& config) {
   return {config.recordFrames, config.textureResolution, config.textureFramesPerBin,
@@ -34,11 +46,13 @@ std::optional<io::Recording> ConfiguredSessionOutputs::recordingHeader(const Sli
 }
 
 std::unique_ptr<daemon::TextureSink> ConfiguredSessionOutputs::openTexture(
-    const SliceId& slice, const std::filesystem::path& session) {
+    const SliceId& slice, const std::filesystem::path& session,
+    const std::vector<capture::SweepRefusal>& refused) {
   const Rig rig = rigFor_(slice);
   return std::make_unique<StoreTextureSink>(
       session / daemon::kTextureFolder, slice, rig.camera,
-      btf::TextureStoreLayout{textureResolution_, rig.target.window, textureFramesPerBin_});
+      btf::TextureStoreLayout{textureResolution_, rig.target.window, textureFramesPerBin_},
+      textureRuns(refused));
 }
 
 std::size_t ConfiguredSessionOutputs::settleTexture(
@@ -47,11 +61,8 @@ std::size_t ConfiguredSessionOutputs::settleTexture(
   // A session without a texture has nothing to settle; one captured with texture on is settled
   // whatever the configuration says now (its frames are the session's).
   if (!std::filesystem::exists(texture / btf::kTextureStoreManifest)) return 0;
-  std::vector<btf::TextureRun> runs;
-  for (const capture::SweepRefusal& refusal : refused)
-    if (refusal.textureFrames)
-      runs.push_back({refusal.slice, refusal.textureFrames->from, refusal.textureFrames->to});
-  btf::TextureStore store = btf::TextureStore::open(texture);
+  const std::vector<btf::TextureRun> runs = textureRuns(refused);
+  btf::TextureStore store = btf::TextureStore::open(texture, btf::StoreAccess::Mend, runs);
   logTextureRecovery(store);
   return store.settleRuns(runs);
 }

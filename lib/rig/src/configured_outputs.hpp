@@ -33,8 +33,9 @@ class ConfiguredSessionOutputs final : public daemon::SessionOutputs {
 
   std::optional<io::Recording> recordingHeader(const SliceId& slice) override;
   bool capturesTexture() const override { return textureResolution_ > 0; }
-  std::unique_ptr<daemon::TextureSink> openTexture(const SliceId& slice,
-                                                   const std::filesystem::path& session) override;
+  std::unique_ptr<daemon::TextureSink> openTexture(
+      const SliceId& slice, const std::filesystem::path& session,
+      const std::vector<capture::SweepRefusal>& refused) override;
   std::size_t settleTexture(const std::filesystem::path& session,
                             const std::vector<capture::SweepRefusal>& refused) override;
 

@@ -17,8 +17,9 @@ void logTextureRecovery(const btf::TextureStore& store) {
 
 StoreTextureSink::StoreTextureSink(const std::filesystem::path& directory, const SliceId& slice,
                                    const vision::CameraModel& camera,
-                                   const btf::TextureStoreLayout& layout)
-    : sweep_(directory, slice, camera, layout) {
+                                   const btf::TextureStoreLayout& layout,
+                                   const std::vector<btf::TextureRun>& refused)
+    : sweep_(directory, slice, camera, layout, {}, refused) {
   logTextureRecovery(sweep_.store());
 }
 

@@ -18,8 +18,10 @@ class StoreTextureSink final : public daemon::TextureSink {
  public:
   /// \brief Throws what btf::TextureSweep throws (io::IoError naming the folder, or a store of
   /// another layout).
+  /// \brief `refused`: the session's refused runs, applied as the store opens.
   StoreTextureSink(const std::filesystem::path& directory, const SliceId& slice,
-                   const vision::CameraModel& camera, const btf::TextureStoreLayout& layout);
+                   const vision::CameraModel& camera, const btf::TextureStoreLayout& layout,
+                   const std::vector<btf::TextureRun>& refused = {});
 
   void add(const hal::Frame& frame, const capture::FrameOutcome& outcome,
            const std::vector<capture::AmbientTerm>& ambient) override;

@@ -87,10 +87,10 @@ class TextureCapture {
 class TextureSweep {
  public:
   /// \brief Opens (or creates) the store in `directory`; throws as TextureStore::openOrCreate, and
-  /// BtfError for a bad camera.
+  /// BtfError for a bad camera. `refused`: the journal's refused runs (TextureStore::open).
   TextureSweep(const std::filesystem::path& directory, const SliceId& slice,
                const vision::CameraModel& camera, const TextureStoreLayout& layout,
-               const RectifyParams& rectify = {});
+               const RectifyParams& rectify = {}, const std::vector<TextureRun>& refused = {});
 
   /// \brief One frame with its outcome and room-light term; returns whether it was stored.
   /// Throws io::IoError when it cannot be written.

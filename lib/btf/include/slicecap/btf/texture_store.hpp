@@ -58,13 +58,18 @@ class TextureStore {
   /// existing store with another resolution, window or frames per bin is an IoError (one session
   /// has one texture). BtfError for an invalid layout.
   static TextureStore openOrCreate(const std::filesystem::path& directory,
-                                   const TextureStoreLayout& layout);
+                                   const TextureStoreLayout& layout,
+                                   const std::vector<TextureRun>& refused = {});
   /// \brief Opens an existing store. Mend (the daemon's) removes what a crash left (see
   /// TextureStoreRecovery); ReadOnly (`slicecap btf`) leaves every file alone and refuses add and
   /// discard (std::logic_error). A frame file that cannot be opened is an IoError naming it (it
-  /// is not removed: the cause may pass).
+  /// is not removed: the cause may pass). `refused`: the journal's refused runs, applied before
+  /// the keep rule: their frames are never indexed (mending, they are moved aside as setAside
+  /// does; one that cannot be stays, unread, for the next opening), so they never cost a kept
+  /// frame its bin; and no frame stored from now on takes a number inside their ranges.
   static TextureStore open(const std::filesystem::path& directory,
-                           StoreAccess access = StoreAccess::Mend);
+                           StoreAccess access = StoreAccess::Mend,
+                           const std::vector<TextureRun>& refused = {});
 
   const std::filesystem::path& directory() const { return directory_; }
   const TextureStoreLayout& layout() const { return layout_; }
@@ -102,7 +107,8 @@ class TextureStore {
   /// for a run begun at `fromSequence`) go back into their bins, the keep rule re-applied in
   /// stored order. Idempotent: frames set aside already are not in the index. Returns how many
   /// frames were set aside; IoError if one cannot be moved (those moved before it are out of the
-  /// index, the held frames are left held).
+  /// index, the held frames are left held for settleRuns: the run counts as judged either way, so
+  /// keepRun never deletes them).
   std::size_t setAside(const SliceId& slice, std::uint64_t fromSequence,
                        std::uint64_t toSequence = UINT64_MAX);
   /// \brief What the daemon does when it opens a session: sets aside every run its journal
@@ -137,7 +143,12 @@ class TextureStore {
   };
 
   TextureStore(std::filesystem::path directory, TextureStoreLayout layout, StoreAccess access);
-  void load();
+  void load(const std::vector<TextureRun>& refused);
+  /// No frame stored from now on is numbered inside a refused run's range (a number a failed
+  /// write used leaves the files short of the range's end).
+  void numberPast(const std::vector<TextureRun>& refused);
+  /// The found frames of refused runs out of `found` (and, mending, moved aside).
+  void leaveOutRefused(const std::vector<TextureRun>& refused, std::vector<StoredFrame>& found);
   /// load's steps: a leftover (.tmp, a redo cut off) is counted, and removed when mending; a
   /// slice folder's frame files are listed; the frames found are indexed in stored order.
   void setAsideLeftover(const std::filesystem::path& path);

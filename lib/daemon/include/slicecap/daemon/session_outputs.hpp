@@ -27,9 +27,12 @@ class SessionOutputs {
   virtual bool capturesTexture() const = 0;
   /// \brief The texture of a sweep of `slice`, stored in <session>/texture (kTextureFolder).
   /// Throws (a std::exception with a message) when it cannot be opened, e.g. the session's
-  /// texture has another resolution; the sweep then pauses.
-  virtual std::unique_ptr<TextureSink> openTexture(const SliceId& slice,
-                                                   const std::filesystem::path& session) = 0;
+  /// texture has another resolution; the sweep then pauses. `refused`: the session's refusals,
+  /// applied at every opening before the keep rule (frames a failed set-aside left in the
+  /// texture never cost a kept frame) and numbered past.
+  virtual std::unique_ptr<TextureSink> openTexture(
+      const SliceId& slice, const std::filesystem::path& session,
+      const std::vector<capture::SweepRefusal>& refused) = 0;
   /// \brief A session was made current: its texture (in <session>/kTextureFolder, whether or not
   /// sweeps capture one now), if it has one, sets aside again the frames of every run in
   /// `refused` that names them (a crash between the journal's refusal and the move left them in
