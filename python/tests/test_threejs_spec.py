@@ -31,9 +31,15 @@ def run_node(tmp_path: pathlib.Path, body: str):
     node = shutil.which("node")
     if node is None or not THREE.is_file():
         pytest.skip("three.js is not installed (node and scripts/consumers-install)")
+    # Node reads a .js file outside a "type": "module" package as CommonJS unless it detects ES
+    # syntax itself, which Debian 12's Node 18 does not (a fresh Debian root failed here with
+    # "Unexpected token 'export'"); browsers load it as the module it is. A copy named .mjs is
+    # read as an ES module by every Node.
+    module = tmp_path / "threejs_spec.mjs"
+    shutil.copyfile(MODULE, module)
     script = tmp_path / "run.mjs"
     script.write_text(f"import * as THREE from '{THREE.as_uri()}';\n"
-                      f"import * as spec from '{MODULE.as_uri()}';\n{body}\n")
+                      f"import * as spec from '{module.as_uri()}';\n{body}\n")
     run = subprocess.run([node, script], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
     return json.loads(run.stdout)
