@@ -19,14 +19,24 @@ std::string ParsedArgs::required(const std::string& name) const {
   return *v;
 }
 
+namespace {
+
+// The whole of `text` as a double (none if anything is left over or it is not one at all).
+std::optional<double> wholeNumber(const std::string& text) {
+  double number = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), number);
+  if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return number;
+}
+
+}  // namespace
+
 std::optional<double> ParsedArgs::optionalNumber(const std::string& name) const {
   auto v = value(name);
   if (!v) return std::nullopt;
-  double number = 0.0;
-  const auto [end, ec] = std::from_chars(v->data(), v->data() + v->size(), number);
-  if (ec != std::errc() || end != v->data() + v->size() || !std::isfinite(number)) {
+  const std::optional<double> number = wholeNumber(*v);
+  if (!number || !std::isfinite(*number))
     throw UsageError("--" + name + ": '" + *v + "' is not a number");
-  }
   return number;
 }
 
@@ -34,10 +44,9 @@ std::optional<double> ParsedArgs::numberIn(const std::string& name, double lowes
                                            double highest, const std::string& what) const {
   auto v = value(name);
   if (!v) return std::nullopt;
-  double number = 0.0;
-  const auto [end, ec] = std::from_chars(v->data(), v->data() + v->size(), number);
+  const std::optional<double> number = wholeNumber(*v);
   // The range's own words for every refusal: a person reads what the option takes, not why.
-  if (ec != std::errc() || end != v->data() + v->size() || !(number >= lowest && number <= highest))
+  if (!number || !(*number >= lowest && *number <= highest))
     throw UsageError("--" + name + ": '" + *v + "' is not " + what);
   return number;
 }
