@@ -77,12 +77,20 @@ TEST(BtfRectifier, RoomLightIsReadAtTheLedOffFramesOwnPose) {
   // Room light on, the LED-off frame taken from where the camera was a frame later (7.5 deg on):
   // the same target point lies at another pixel there, and at the woven cells' edges the LED-on
   // frame's pixel shows the other material. Reading it through its own pose must subtract the
-  // room light better (measured 3.3 % mean relative error against 6.4 %; 15.9 % with none).
+  // room light better. Each reading is held against the texels of the same LED-on frame
+  // rendered without room light, so only the subtraction's error counts (not how the texels
+  // meet the threads' edges, which the pixels there mix). Measured: 2.6 % mean relative error at
+  // its own pose (the room light's reflection seen from 7.5 deg away) against 6.2 % at the LED-on
+  // pixel, 14.6 % with none.
   const auto woven = sim::makeWovenMaterial(10.0);
   sim::RigParams rig = cleanRig(48);
   rig.ambientIrradiance = 0.6;
   const sim::FrameRenderer renderer(vision::defaultSimulatedCamera(), vision::defaultTarget(),
                                     woven, rig);
+  sim::RigParams dark = rig;
+  dark.ambientIrradiance = 0.0;
+  const sim::FrameRenderer withoutRoomLight(vision::defaultSimulatedCamera(),
+                                            vision::defaultTarget(), woven, dark);
   const SliceId slice{SliceKind::Axial, {30, 30}};
   const auto plans = plannedSweep(slice, rig, renderer);
   const sim::FramePlan& lit = plans[2];
@@ -95,12 +103,14 @@ TEST(BtfRectifier, RoomLightIsReadAtTheLedOffFramesOwnPose) {
   darkScene.ledOn = false;
   darkScene.exposureUs = darkPlan.exposureUs;
   darkScene.gain = darkPlan.gain;
-  const hal::Frame dark{renderer.render(darkScene),
-                        PixelEncoding::Linear16,
-                        {3, darkPlan.timestampUs, darkPlan.exposureUs, darkPlan.gain, false}};
+  const hal::Frame off{renderer.render(darkScene),
+                       PixelEncoding::Linear16,
+                       {3, darkPlan.timestampUs, darkPlan.exposureUs, darkPlan.gain, false}};
   const capture::PointLight light{{lit.lightMm.x(), lit.lightMm.y(), lit.lightMm.z()},
                                   Rgb::gray(rig.sensorResponse * rig.ledIntensityWPerSr)};
   const TextureGrid grid(16, renderer.target().window);
+  const std::vector<float> truth = rectifyFrame(
+      grid, renderer.camera(), renderedFrame(withoutRoomLight, lit), {}, {lit.pose, light});
   const auto meanError = [&](const std::vector<capture::AmbientTerm>& ambient) {
     const std::vector<float> texels =
         rectifyFrame(grid, renderer.camera(), frame, ambient, {lit.pose, light});
@@ -108,28 +118,24 @@ TEST(BtfRectifier, RoomLightIsReadAtTheLedOffFramesOwnPose) {
     int counted = 0;
     for (int row = 0; row < 16; ++row) {
       for (int column = 0; column < 16; ++column) {
-        const Eigen::Vector3d p = grid.texelCentreMm(column, row);
-        const bool isWarp = woven->firstWeightAt(p.x(), p.y()) > 0.5;
-        const Rgb truth =
-            woven->component(isWarp ? 0 : 1)
-                .evaluate(unitToward(p, lit.lightMm), unitToward(p, lit.pose.cameraCentreMm()));
         const float* v = &texels[3 * grid.index(column, row)];
+        const float* t = &truth[3 * grid.index(column, row)];
         for (int c = 0; c < 3; ++c, ++counted)
-          sum += std::abs(v[c] - truth[c]) / truth[c];
+          sum += std::abs(v[c] - t[c]) / t[c];
       }
     }
     return sum / counted;
   };
-  const double ownPose = meanError({{&dark, darkPlan.pose, 1.0}});
-  const double samePixel = meanError({{&dark, std::nullopt, 1.0}});
+  const double ownPose = meanError({{&off, darkPlan.pose, 1.0}});
+  const double samePixel = meanError({{&off, std::nullopt, 1.0}});
   const double none = meanError({});
   std::cout << "room light: none " << none << ", at the LED-on pixel " << samePixel
             << ", at its own pose " << ownPose << " (mean relative error)\n";
-  EXPECT_LT(ownPose, 0.7 * samePixel);
+  EXPECT_LT(ownPose, 0.6 * samePixel);
   EXPECT_LT(ownPose, 0.3 * none);
   EXPECT_LT(ownPose, 0.05);
   // Split into two halves of the same frame, the term is the same.
-  EXPECT_NEAR(meanError({{&dark, darkPlan.pose, 0.5}, {&dark, darkPlan.pose, 0.5}}), ownPose, 1e-6);
+  EXPECT_NEAR(meanError({{&off, darkPlan.pose, 0.5}, {&off, darkPlan.pose, 0.5}}), ownPose, 1e-6);
 }
 
 }  // namespace

@@ -138,8 +138,10 @@ Command simulateCommand() {
        "BRDF at the window centre). --session renders all eight slices as eight recordings.\n"
        "MATERIAL: a built-in name (slicecap generate --list), a .exr/.f32 table, or\n"
        "lambert:albedo=R,G,B | ward:diffuse=..,specular=..,ax=..,ay=..,tangent=DEG |\n"
-       "ggx:diffuse=..,f0=..,ax=..,ay=..,tangent=DEG | woven[:cell=MM] (a spatially varying\n"
-       "plain weave of a blue satin along x and a red one along y, 10 mm cells, for slicecap btf).",
+       "ggx:diffuse=..,f0=..,ax=..,ay=..,tangent=DEG | woven[:cell=MM,fine=1] (a spatially\n"
+       "varying plain weave of a blue satin along x and a red one along y, 10 mm cells, for\n"
+       "slicecap btf; each pixel reads the weave over its footprint; fine=1: the threads finer\n"
+       "than a pixel, half each everywhere, the weave's plain counterpart).",
        {{"material", 0, "M", "the material in the window (required)"},
         {"output", 'o', "DIR", "one sweep's recording directory (must not exist yet)"},
         {"session", 0, "DIR", "all eight sweeps, as DIR/axial-30-30 ... DIR/diagonal-75-75"},

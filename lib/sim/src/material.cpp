@@ -119,7 +119,12 @@ std::shared_ptr<const models::ReflectanceModel> loadMaterial(const std::string& 
     model =
         models::makeAnisotropicGgx(diffuse, f0, ax, ay, p.scalar("tangent", 0.0, -360.0, 360.0));
   } else if (kind == "woven") {
-    model = makeWovenMaterial(p.scalar("cell", 10.0, 0.5, 100.0));
+    const double cellMm = p.scalar("cell", 10.0, 0.5, 100.0);
+    // fine=1: the threads finer than a pixel, the weave's plain counterpart (a flag: 0 or 1).
+    const double fine = p.scalar("fine", 0.0, 0.0, 1.0);
+    if (fine != 0.0 && fine != 1.0)
+      throw MaterialError(spec + ": parameter 'fine' is 0 or 1, not " + std::to_string(fine));
+    model = makeWovenMaterial(cellMm, fine == 1.0);
   } else {
     throw MaterialError("unknown material '" + spec +
                         "': not a built-in name (slicecap generate --list), a .exr/.f32 table, or "

@@ -277,8 +277,19 @@ void FrameRenderer::accumulateRow(const PoseState& state, const FrameScene& scen
   const float ledPart = lz > 0.0f ? ledFactor * lz : 0.0f;
   mapRowToPlane(h, ray, width, lx, ly, lz, ambient, ledPart, lambertScale, planeX.data(),
                 planeY.data(), lambertOf.data());
+  const vision::CameraIntrinsics& k = camera_.intrinsics;
   const WindowGrid window{
-      state.grid.data(), nodes, state.nodeStepX, state.nodeStepY, winX0, winY0, maxNode, pattern_};
+      state.grid.data(),
+      nodes,
+      state.nodeStepX,
+      state.nodeStepY,
+      winX0,
+      winY0,
+      maxNode,
+      pattern_,
+      {h(0, 0), h(0, 1), h(0, 2), h(1, 0), h(1, 1), h(1, 2), h(2, 0), h(2, 1), h(2, 2)},
+      static_cast<float>(1.0 / k.fxPx),
+      static_cast<float>(1.0 / k.fyPx)};
   // Pass 2: the target's raster, the desk, the window's radiance.
   for (int px = 0; px < width; ++px, out += 3) {
     const float lambert = lambertOf[px];
@@ -297,14 +308,14 @@ void FrameRenderer::accumulateRow(const PoseState& state, const FrameScene& scen
     sampleTexel(texels_.data(), texWidth_, tx, ty, texel);
     for (int c = 0; c < 3; ++c)
       out[c] += lambert * texel[c];
-    if (texel[3] > 0.0f) addWindowRadiance(window, x, y, texel[3], out);
+    if (texel[3] > 0.0f)
+      addWindowRadiance(window, x, y, ray[2 * px], ray[2 * px + 1], texel[3], out);
   }
 }
 
 template <typename RowSink>
 void FrameRenderer::renderRows(const FrameScene& scene, RowSink&& sink) const {
-  if (scene.exposurePoses.empty())
-    throw SimError("FrameRenderer: a scene needs a pose");
+  if (scene.exposurePoses.empty()) throw SimError("FrameRenderer: a scene needs a pose");
   const double scale = pixelScale(scene) / static_cast<double>(scene.exposurePoses.size());
   std::vector<PoseState> states;
   for (const vision::Pose& pose : scene.exposurePoses)
