@@ -61,9 +61,9 @@ TEST(Methods, EachRunNamesItsTableByTheRegistrysValue) {
     EXPECT_EQ(findMethod(id).run(diagonalOnly(slices), options).exrMethodName,
               exrMethodValue(id, true));
   }
-  const SliceSet points = recon::extractUniformSamples(
-      models::tabulate(*models::findMaterial("brushed-steel-30")),
-      recon::kUniformBaselineDirections);
+  const SliceSet points =
+      recon::extractUniformSamples(models::tabulate(*models::findMaterial("brushed-steel-30")),
+                                   recon::kUniformBaselineDirections);
   MethodOptions isotropic;
   isotropic.isotropic = true;
   EXPECT_EQ(findMethod(MethodId::Uniform).run(points, isotropic).exrMethodName, "uniform-RBF");
@@ -121,6 +121,30 @@ TEST(Methods, PriorCellsReadsTheCellSamplesAndWithoutThemIsThePrior) {
       withCells.addCellSample(slice.id, {sample.light, sample.view, sample.value * 2.0});
   EXPECT_GT(findMethod(MethodId::PriorCells).run(withCells, {}).table.at(40, 60).g(),
             1.5 * prior.table.at(40, 60).g());
+}
+
+// prior-cells fits every window cell by default (docs/method.md §9.4): cell frames at 2 x the
+// cells' per-bin reading pull its table up; asked per bin, the frames are not read.
+TEST(Methods, PriorCellsFitsEveryWindowCellUnlessAskedPerBin) {
+  const SliceSet& slices = brushedSteelSlices();
+  SliceSet withFrames = slices;
+  for (const Slice& slice : slices.slices())
+    for (const SliceSample& sample : slice.samples) {
+      withFrames.addCellSample(slice.id, sample);
+      withFrames.addCellFrame(slice.id, {{{sample.light, sample.view, sample.value * 2.0}, Rgb{}}});
+    }
+  const double prior = findMethod(MethodId::Prior).run(slices, {}).table.at(40, 60).g();
+  const MethodRun everyCell = findMethod(MethodId::PriorCells).run(withFrames, {});
+  EXPECT_GT(everyCell.table.at(40, 60).g(), 1.5 * prior);
+  EXPECT_GT(everyCell.details["prior"]["frame_groups"].get<std::size_t>(), 0u);
+  EXPECT_THAT(everyCell.lines, testing::Contains(HasSubstr("prior fitted to every window cell")));
+  MethodOptions perBin;
+  perBin.priorFitsEveryCell = false;
+  const MethodRun perBinRun = findMethod(MethodId::PriorCells).run(withFrames, perBin);
+  EXPECT_NEAR(perBinRun.table.at(40, 60).g(), prior, 1e-6 * prior);
+  EXPECT_EQ(perBinRun.details["prior"]["frame_groups"].get<std::size_t>(), 0u);
+  EXPECT_THAT(perBinRun.lines,
+              testing::Not(testing::Contains(HasSubstr("prior fitted to every window cell"))));
 }
 
 }  // namespace
