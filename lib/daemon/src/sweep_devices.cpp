@@ -28,7 +28,10 @@ SweepDevices::SweepDevices(DaemonParts& parts, EventLoop& loop, SessionManager& 
       outputs_(parts, manager),
       calibration_(parts),
       strobe_(loop, *parts.led, std::move(commanded), clock, parts.strobe,
-              {.switchedOn = [this] { if (camera_) hdr_.pairStarted(*camera_); },
+              {.switchedOn =
+                   [this] {
+                     if (camera_) hdr_.pairStarted(*camera_);
+                   },
                .failed =
                    [this](const std::string& error) {
                      manager_.pauseSweep("LED error: " + error);
@@ -98,7 +101,8 @@ bool SweepDevices::openCamera(const SliceId& slice, std::shared_ptr<hal::Camera>
     // the sweep's frames are comparable: the journal and the status say it.
     cameraAdjustment_.clear();
     if (result.status == hal::ConfigResult::Status::Adjusted) {
-      cameraAdjustment_ = "camera " + opened->id() + " adjusted the configuration: " + result.reason;
+      cameraAdjustment_ =
+          "camera " + opened->id() + " adjusted the configuration: " + result.reason;
       std::cerr << "slicecapd: " << cameraAdjustment_ << "\n";
     }
     opened->start();
@@ -117,6 +121,7 @@ void SweepDevices::startCamera(const SliceId& slice) {
   decodingCheck_.reset();
   // The run's samples and texture frames start here: a refusal sets aside these alone.
   runFirstRecord_ = manager_.nextRecordNumber();
+  runRefused_ = false;
   outputs_.beginTextureRun();
   std::shared_ptr<hal::Camera> opened;
   if (!openCamera(slice, opened)) {
@@ -174,12 +179,15 @@ void SweepDevices::describe(control::StatusView& status) const {
   calibration_.describeDecoding(status);
   if (const control::RoomLightView room = roomLight_.view(); room.toLed || room.change) {
     status.roomLight = room;
-    for (std::string& warning : roomLight_.warnings()) status.warnings.push_back(std::move(warning));
+    for (std::string& warning : roomLight_.warnings())
+      status.warnings.push_back(std::move(warning));
   }
   if (control::DecodingCheckView check = decodingCheck_.view();
       check.blackReading || check.windowAtBlack || check.windowUnlit) {
-    // Refused only where refuseBrokenDecoding can: a run begun with a session (its first record).
+    // Refused only where refuseBrokenDecoding can: a run begun with a session (its first record);
+    // once refused (the sweep paused until it is done again), said as done.
     const RefusalPolicy policy = !parts_.refuseBrokenDecoding ? RefusalPolicy::WarnOnly
+                                 : runRefused_                ? RefusalPolicy::Refused
                                  : runFirstRecord_            ? RefusalPolicy::Refuse
                                                               : RefusalPolicy::NoSession;
     check.windowUnlitVerdict = decodingCheck_.unlitVerdict(policy);

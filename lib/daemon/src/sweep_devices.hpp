@@ -9,8 +9,8 @@
 
 #include "slicecap/control/reply_views.hpp"
 #include "slicecap/daemon/daemon_parts.hpp"
-#include "slicecap/daemon/event_loop.hpp"
 #include "slicecap/daemon/decoding_watch.hpp"
+#include "slicecap/daemon/event_loop.hpp"
 #include "slicecap/daemon/room_light_watch.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 #include "slicecap/hal/led_timeline.hpp"
@@ -84,6 +84,7 @@ class SweepDevices {
   std::shared_ptr<hal::Camera> camera_;
   std::optional<SliceId> cameraSlice_;
   std::optional<std::uint64_t> runFirstRecord_;  ///< the run's first journal record
+  bool runRefused_ = false;  ///< the run ended refused (its watch kept for the status)
   capture::LiveFrameProcessor processor_;
   capture::FrameObserver observer_;
   std::optional<int> watchedFd_;

@@ -18,6 +18,7 @@ namespace slicecap::daemon {
 /// \brief What becomes of a run the rule finds broken (DecodingWatch::unlitVerdict's words).
 enum class RefusalPolicy {
   Refuse,     ///< refuse_broken_decoding, and a session takes the refusal as the run ends
+  Refused,    ///< the run has ended refused: its samples and texture frames were set aside
   WarnOnly,   ///< refuse_broken_decoding = false: kept, warned of
   NoSession,  ///< refuse_broken_decoding, but no session was open as the run began: no samples
               ///< of it were recorded, so none are set aside
@@ -112,8 +113,8 @@ class DecodingWatch {
   std::optional<std::string> refusal() const;
   /// \brief What the rule makes of the run so far, for the status's window_unlit_verdict: not
   /// judged (a linear stream, too few samples), kept, or, broken, what `policy` does with it:
-  /// refused as the run ends, only warned of, or not refused for want of a session. Nullopt
-  /// before a sample.
+  /// refused as the run ends (or, once it has ended, refused), only warned of, or not refused
+  /// for want of a session. Nullopt before a sample.
   std::optional<std::string> unlitVerdict(RefusalPolicy policy) const;
 
  private:
