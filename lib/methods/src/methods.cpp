@@ -274,8 +274,9 @@ const std::vector<Method>& reconstructionMethods() {
             "it",
             runMethodBCells),
       entry(MethodId::PriorCells,
-            "the learned prior on slice values from the window cells nearest each bin centre "
-            "(docs/method.md\nsection 9)",
+            "the learned prior fitted to every window cell of the capture, one frame's cells as "
+            "one sample\n(docs/method.md section 9); each bin's value from the cells with "
+            "--prior-cells-per-bin or a slice CSV",
             runPriorCells),
   };
   return methods;

@@ -27,17 +27,30 @@ struct WindowGrid {
   float pixelXn, pixelYn;
 };
 
-// The half-widths (mm) of the plane box that pixel (xn, yn), at plane point (x, y), covers: the
-// homography's Jacobian there times a pixel's size, each plane axis spanning what both image
-// axes move it (the bounding box of the pixel's parallelogram).
-inline void pixelFootprint(const WindowGrid& g, float xn, float yn, float x, float y, float& halfX,
-                           float& halfY) {
+// The share of a pattern's first component over pixel (xn, yn), at plane point (x, y): the
+// pixel's footprint is the parallelogram spanned by the homography's Jacobian there times a
+// pixel's size. A pattern's box mean is exact for boxes along the target's axes, and the
+// parallelogram's bounding box is up to ~3 x its area where a grazing view's long footprint lies
+// diagonal to them, so the parallelogram is cut into kFootprintSplit^2 smaller ones, each read as
+// its own bounding box (the excess then a thin fringe a third as wide).
+inline constexpr int kFootprintSplit = 3;
+
+inline double firstWeightOverPixel(const WindowGrid& g, float xn, float yn, float x, float y) {
   const float* h = g.h;
   const float invW = 1.0f / (h[6] * xn + h[7] * yn + h[8]);
-  const float dxdu = (h[0] - x * h[6]) * invW, dxdv = (h[1] - x * h[7]) * invW;
-  const float dydu = (h[3] - y * h[6]) * invW, dydv = (h[4] - y * h[7]) * invW;
-  halfX = 0.5f * (std::abs(dxdu) * g.pixelXn + std::abs(dxdv) * g.pixelYn);
-  halfY = 0.5f * (std::abs(dydu) * g.pixelXn + std::abs(dydv) * g.pixelYn);
+  // The footprint's two edges on the plane: one pixel along the image's x, one along its y.
+  const float ax = (h[0] - x * h[6]) * invW * g.pixelXn, ay = (h[3] - y * h[6]) * invW * g.pixelXn;
+  const float bx = (h[1] - x * h[7]) * invW * g.pixelYn, by = (h[4] - y * h[7]) * invW * g.pixelYn;
+  constexpr float kStep = 1.0f / kFootprintSplit;
+  const double halfX = 0.5 * kStep * (std::abs(ax) + std::abs(bx));
+  const double halfY = 0.5 * kStep * (std::abs(ay) + std::abs(by));
+  double sum = 0.0;
+  for (int i = 0; i < kFootprintSplit; ++i)
+    for (int j = 0; j < kFootprintSplit; ++j) {
+      const float s = (i + 0.5f) * kStep - 0.5f, t = (j + 0.5f) * kStep - 0.5f;
+      sum += g.pattern->firstWeightOver(x + s * ax + t * bx, y + s * ay + t * by, halfX, halfY);
+    }
+  return sum / (kFootprintSplit * kFootprintSplit);
 }
 
 // Adds the window's radiance at plane point (x, y) of pixel (xn, yn) (normalised image
@@ -53,12 +66,7 @@ inline void addWindowRadiance(const WindowGrid& g, float x, float y, float xn, f
   const float* g01 = g00 + 3 * nodes;
   // A patterned material: the pixel's mix of the two components' radiance.
   const std::size_t second = std::size_t(nodes) * nodes * 3;
-  float first = 1.0f;
-  if (g.pattern) {
-    float halfX = 0.0f, halfY = 0.0f;
-    pixelFootprint(g, xn, yn, x, y, halfX, halfY);
-    first = static_cast<float>(g.pattern->firstWeightOver(x, y, halfX, halfY));
-  }
+  const float first = g.pattern ? static_cast<float>(firstWeightOverPixel(g, xn, yn, x, y)) : 1.0f;
   for (int c = 0; c < 3; ++c) {
     float radiance = (1 - ey) * ((1 - ex) * g00[c] + ex * g00[c + 3]) +
                      ey * ((1 - ex) * g01[c] + ex * g01[c + 3]);

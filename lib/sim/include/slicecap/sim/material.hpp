@@ -28,8 +28,10 @@ std::shared_ptr<const models::ReflectanceModel> makeTableMaterial(Abrdf table, s
 ///    "ggx:diffuse=R,G,B,f0=R,G,B,ax=A,ay=A,tangent=DEG" (a colour may be one number for gray;
 ///    parameters may be left out: lambert albedo 0.5; ward diffuse 0.2, specular 0.1, ax 0.1,
 ///    ay 0.3, tangent 0; ggx diffuse 0.05, f0 0.9, ax 0.1, ay 0.3, tangent 0);
-///  - "woven" or "woven:cell=MM": a spatially varying plain weave of two satins
-///    (patterned_material.hpp; cell 10 mm), which the renderer shades pixel by pixel.
+///  - "woven", "woven:cell=MM", "woven:fine=1": a spatially varying plain weave of two satins
+///    (patterned_material.hpp; cell 10 mm), which the renderer shades pixel by pixel, each
+///    pixel its footprint's share of each thread; fine=1 (0 or 1): the threads mixed half and
+///    half at every point.
 /// Throws MaterialError naming the specification and the parameter, or io::IoError for a table.
 std::shared_ptr<const models::ReflectanceModel> loadMaterial(const std::string& spec);
 

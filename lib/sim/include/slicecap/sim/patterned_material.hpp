@@ -18,12 +18,12 @@ class PatternedMaterial : public models::ReflectanceModel {
   virtual const models::ReflectanceModel& component(int index) const = 0;
   /// \brief The fraction of component 0 at a target point, in [0, 1].
   virtual double firstWeightAt(double xMm, double yMm) const = 0;
-  /// \brief The fraction of component 0 over the box of half-widths halfXMm, halfYMm (>= 0)
-  /// about a target point: what a camera pixel whose footprint on the target spans that box
-  /// reads. A pixel integrates the light over its area; read at its centre alone, a pattern near
-  /// or finer than a pixel's footprint (a fine weave, foreshortened at a grazing view) aliases into
-  /// each pixel being all of one thread, which no sensor does. This default reads the centre;
-  /// a pattern overrides it with its area mean.
+  /// \brief The fraction of component 0 over the box of half-widths halfXMm, halfYMm (>= 0),
+  /// sides along the target's axes, about a target point. A pixel integrates the light over its
+  /// area; read at its centre alone, a pattern near or finer than a pixel's footprint (a fine
+  /// weave, foreshortened at a grazing view) aliases into each pixel being all of one thread,
+  /// which no sensor does. The renderer reads a pixel's footprint (a parallelogram) as 3 x 3
+  /// such boxes. This default reads the centre; a pattern overrides it with its area mean.
   virtual double firstWeightOver(double xMm, double yMm, double halfXMm, double halfYMm) const;
   /// \brief The BRDF at a target point.
   Rgb evaluateAt(double xMm, double yMm, const UnitVector& toLight, const UnitVector& toView) const;
