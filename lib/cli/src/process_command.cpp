@@ -16,12 +16,12 @@
 #include "slicecap/capture/window_cells.hpp"
 #include "slicecap/cli/command.hpp"
 #include "slicecap/cli/command_error.hpp"
+#include "slicecap/methods/method_fallback.hpp"
 #include "slicecap/io/abrdf_exr.hpp"
 #include "slicecap/io/file_replacement.hpp"
 #include "slicecap/io/io_error.hpp"
 #include "slicecap/io/recording.hpp"
 #include "slicecap/io/slice_csv.hpp"
-#include "slicecap/methods/method_fallback.hpp"
 
 namespace slicecap::cli {
 namespace {
@@ -90,14 +90,16 @@ struct Processed {
 
 // Reads and checks every recording (readRecordings), then runs each, printing its summary.
 Processed processAll(const std::vector<std::filesystem::path>& recordings,
-                     const capture::PipelineSettings& settings, const CellRules& cellRules,
-                     Streams& io, nlohmann::json* report) {
+                     const capture::PipelineSettings& settings,
+                     const CellRules& cellRules, Streams& io,
+                     nlohmann::json* report) {
   const std::vector<io::Recording> read = readRecordings(recordings);
   Processed processed;
   for (std::size_t k = 0; k < recordings.size(); ++k) {
     capture::RecordingResult result = capture::processRecording(recordings[k], read[k], settings);
-    const capture::CellTexture texture = capture::addSweepSlices(
-        processed.slices, result.slice, result.bins, cellRules.texture, cellRules.slices);
+    const capture::CellTexture texture =
+        capture::addSweepSlices(processed.slices, result.slice, result.bins, cellRules.texture,
+                                cellRules.slices);
     const int samples = static_cast<int>(
         std::count_if(result.outcomes.begin(), result.outcomes.end(),
                       [](const auto& o) { return o.kind == capture::FrameOutcome::Kind::Sample; }));
@@ -151,8 +153,9 @@ int runProcess(const ParsedArgs& args, Streams& io) {
   if (reportPath) outputs.push_back({"--report", *reportPath});
   if (const auto csv = args.value("cell-slices")) outputs.push_back({"--cell-slices", *csv});
   refuseClashingPaths(recordingInputs(recordings), outputs);
-  const Processed processed = processAll(recordings, pipelineSettingsOf(args), cellRulesOf(args),
-                                         io, reportPath ? &report : nullptr);
+  const Processed processed =
+      processAll(recordings, pipelineSettingsOf(args), cellRulesOf(args), io,
+                 reportPath ? &report : nullptr);
   if (reportPath) writeReport(*reportPath, report);
   refuseNoSamples(processed, reportPath, output, io);
   const SliceSet& slices = processed.slices;
@@ -183,8 +186,8 @@ int runCaptureOffline(const ParsedArgs& args, Streams& io) {
   // Bad options are usage errors before the session is even looked at.
   const capture::PipelineSettings settings = pipelineSettingsOf(args);
   const CellRules cellRules = cellRulesOf(args);
-  const methods::Method& method =
-      methods::findMethod(args.value("method").value_or(methods::cliName(methods::MethodId::B)));
+  const methods::Method& method = methods::findMethod(
+      args.value("method").value_or(methods::cliName(methods::MethodId::B)));
   const methods::MethodOptions options = methodOptionsOf(args);
   const std::vector<std::filesystem::path> recordings = sessionRecordings(session);
   nlohmann::json report = {{"recordings", nlohmann::json::array()}};
@@ -234,9 +237,8 @@ Command processCommand() {
       {"output", 'o', "SLICES.csv", "the slice CSV (required)"},
       {"cell-slices", 0, "FILE",
        "also write the slice CSV valued from the window cells (docs/method.md 9.4)"},
-  };
-  for (auto& o : cellRuleOptions())
-    options.push_back(o);
+};
+  for (auto& o : cellRuleOptions()) options.push_back(o);
   for (auto& o : pipelineOptions())
     options.push_back(o);
   return {{"process", "RECORDING... -o SLICES.csv [--report report.json] [options]",
@@ -274,9 +276,8 @@ Command captureOfflineCommand() {
       {"prior-cell-gls", 0, "",
        "as --prior-every-cell, one frame's cells fitted with a random frame effect instead "
        "(a comparison: docs/method.md 9.4)"},
-  };
-  for (auto& o : cellRuleOptions())
-    options.push_back(o);
+};
+  for (auto& o : cellRuleOptions()) options.push_back(o);
   for (auto& o : pipelineOptions())
     options.push_back(o);
   return {{"capture-offline", "SESSION_DIR -o OUT.exr [--method b] [options]",

@@ -1,46 +1,37 @@
-// What each key of the status reply holds: `slicecap status --help` prints it,
-// scripts/gen-reference copies it into docs/reference/protocol.md, and
-// tests/control/status_fields_test.cpp holds it equal to the keys toJson(StatusView) writes
-// (reply_views.cpp), so a field cannot go undocumented.
+// What each key of the status reply holds: `slicecap status --help` prints it, scripts/gen-reference
+// copies it into docs/reference/protocol.md, and tests/control/status_fields_test.cpp holds it equal
+// to the keys toJson(StatusView) writes (reply_views.cpp), so a field cannot go undocumented.
 #include "slicecap/control/reply_views.hpp"
 
 namespace slicecap::control {
 
 const std::vector<ReplyField>& statusFields() {
   static const std::vector<ReplyField> fields{
-      {"session",
-       "the current session as session.show gives it, without created, directory and "
-       "the journal's recovery figures (null: none)"},
+      {"session", "the current session as session.show gives it, without created, directory and "
+                  "the journal's recovery figures (null: none)"},
       {"sweep", "the sweep being captured or paused, as the sweep commands give it (null: none)"},
       {"next", "what to do next: a slicecap command or a sentence"},
-      {"isotropy",
-       "the isotropy test once the four diagonal sweeps are complete: isotropic, "
-       "informative, axial_sweeps_needed, reason (or error)"},
-      {"pass_again",
-       "the bins of the session's swept slices to pass over again, slowly: left "
-       "empty, or next to a peak the window cells rise toward but none reached "
-       "(docs/method.md 9.5); while a sweep runs, the empty bins still ahead of it "
-       "are not named (absent: none)"},
+      {"isotropy", "the isotropy test once the four diagonal sweeps are complete: isotropic, "
+                   "informative, axial_sweeps_needed, reason (or error)"},
+      {"pass_again", "the bins of the session's swept slices to pass over again, slowly: left "
+                     "empty, or next to a peak the window cells rise toward but none reached "
+                     "(docs/method.md 9.5); while a sweep runs, the empty bins still ahead of it "
+                     "are not named (absent: none)"},
       {"pass_again.slice", "the slice, as a sweep's slice (name, kind, theta_i, theta_v)"},
-      {"pass_again.azimuth_deg",
-       "the bin centre's slice parameter: light azimuth on an axial "
-       "slice, view azimuth on a diagonal one"},
+      {"pass_again.azimuth_deg", "the bin centre's slice parameter: light azimuth on an axial "
+                                 "slice, view azimuth on a diagonal one"},
       {"pass_again.reason", "empty, or peak_not_reached"},
-      {"cell_texture",
-       "the texture verdict of each finished sweep whose frames carry window "
-       "cells: how the export's cell slices and the bins to pass again read them "
-       "(docs/method.md 9.4; absent: none)"},
+      {"cell_texture", "the texture verdict of each finished sweep whose frames carry window "
+                       "cells: how the export's cell slices and the bins to pass again read them "
+                       "(docs/method.md 9.4; absent: none)"},
       {"cell_texture.slice", "the slice, as a sweep's slice (name, kind, theta_i, theta_v)"},
-      {"cell_texture.action",
-       "as read (no texture), albedo-normalised (each cell divided by its "
-       "spot's albedo factor) or window centres (the cells not used)"},
-      {"cell_texture.spread_percent",
-       "how far the cells' albedo factors are from 1, about in "
-       "percent (null: too few frames clear of the noise)"},
+      {"cell_texture.action", "as read (no texture), albedo-normalised (each cell divided by its "
+                              "spot's albedo factor) or window centres (the cells not used)"},
+      {"cell_texture.spread_percent", "how far the cells' albedo factors are from 1, about in "
+                                      "percent (null: too few frames clear of the noise)"},
       {"cell_texture.reason", "why that action, with the figures the rule compared"},
-      {"error",
-       "why the sweep last paused or the session's storage last failed (cleared when a "
-       "sweep starts or stops)"},
+      {"error", "why the sweep last paused or the session's storage last failed (cleared when a "
+                "sweep starts or stops)"},
       {"recording", "record_frames: the sweep's raw-frame recording"},
       {"recording.directory", "where its frames are written"},
       {"recording.frames_written", "frames written so far"},
@@ -71,9 +62,8 @@ const std::vector<ReplyField>& statusFields() {
       {"room_light.to_led", "its median ratio to the LED's light on the white references"},
       {"room_light.change", "its median change from one LED-off frame to the next, relative"},
       {"room_light.change_to_led", "change x to_led: the change as a fraction of the LED's light"},
-      {"decoding_check",
-       "whether the sweep run's 8-bit frames decode alike and stay above black, "
-       "each figure once known (docs/linear-light.md)"},
+      {"decoding_check", "whether the sweep run's 8-bit frames decode alike and stay above black, "
+                         "each figure once known (docs/linear-light.md)"},
       {"decoding_check.black_reading",
        "median of the black patch read against the white references (1: decoded right)"},
       {"decoding_check.black_reading_step",
@@ -112,9 +102,8 @@ const std::vector<ReplyField>& statusFields() {
       {"tuning_file.setting", "tuning_file in slicecapd.conf: auto, off or a path"},
       {"tuning_file.file", "the file the camera's IPA reads; null: the camera's own"},
       {"tuning_file.reason", "why that file"},
-      {"warnings",
-       "what the configuration, the camera, the strobe, the decoding, its checks or the "
-       "room light does wrong for a real capture, each naming what to do"},
+      {"warnings", "what the configuration, the camera, the strobe, the decoding, its checks or the "
+                   "room light does wrong for a real capture, each naming what to do"},
   };
   return fields;
 }

@@ -12,8 +12,7 @@ namespace {
 
 void keepLatest(std::deque<double>& values, double value) {
   values.push_back(value);
-  while (values.size() > DecodingWatch::kSamples)
-    values.pop_front();
+  while (values.size() > DecodingWatch::kSamples) values.pop_front();
 }
 
 std::optional<double> median(const std::deque<double>& values) {
@@ -27,8 +26,7 @@ std::optional<double> median(const std::deque<double>& values) {
 std::optional<std::pair<double, double>> meanAndSigmas(const std::deque<double>& values) {
   if (values.size() < 2) return std::nullopt;
   double sum = 0.0, sumSquares = 0.0;
-  for (double v : values)
-    sum += v, sumSquares += v * v;
+  for (double v : values) sum += v, sumSquares += v * v;
   const double n = double(values.size()), mean = sum / n;
   const double variance = std::max(0.0, (sumSquares - n * mean * mean) / (n - 1.0));
   const double standardError = std::sqrt(variance / n);
@@ -37,9 +35,9 @@ std::optional<std::pair<double, double>> meanAndSigmas(const std::deque<double>&
 
 // A channel's LED light over the latest samples as the refusal judges it.
 struct UnlitFigures {
-  double atOrBelowZero = 0.0;               // fraction
-  double atZero = 0.0;                      // fraction exactly 0
-  double medianSigmas = 0.0;                // the median in its robust standard errors
+  double atOrBelowZero = 0.0;  // fraction
+  double atZero = 0.0;         // fraction exactly 0
+  double medianSigmas = 0.0;   // the median in its robust standard errors
   std::optional<double> trimmedMeanSigmas;  // from kMinSamples samples on
 };
 
@@ -52,15 +50,14 @@ UnlitFigures unlitFigures(const std::deque<double>& lights) {
   }
   const double median = slicecap::median({lights.begin(), lights.end()});
   std::vector<double> deviations;
-  for (double v : lights)
-    deviations.push_back(std::abs(v - median));
+  for (double v : lights) deviations.push_back(std::abs(v - median));
   // The noise from the median absolute deviation (a Gaussian's sigma is 1.4826 MAD): robust to
   // a highlight's samples. The median's standard error is 1.2533 sigma / sqrt(n).
   const double sigma = 1.4826 * slicecap::median(std::move(deviations));
   const double standardError = 1.2533 * sigma / std::sqrt(n);
   const double cap = DecodingWatch::kSigmasCap;
   const auto ratio = [cap](double value, double error) {
-    return error > 0.0   ? std::clamp(value / error, -cap, cap)
+    return error > 0.0 ? std::clamp(value / error, -cap, cap)
            : value < 0.0 ? -cap
            : value > 0.0 ? cap
                          : 0.0;
@@ -94,12 +91,9 @@ constexpr const char* kChannelNames[3] = {"R", "G", "B"};
 void DecodingWatch::reset() {
   readings_.clear();
   steps_.clear();
-  for (auto& channel : atBlack_)
-    channel.clear();
-  for (auto& channel : lights_)
-    channel.clear();
-  for (auto& channel : windowSteps_)
-    channel.clear();
+  for (auto& channel : atBlack_) channel.clear();
+  for (auto& channel : lights_) channel.clear();
+  for (auto& channel : windowSteps_) channel.clear();
   lastWindowLight_.reset();
   lastWindowSequence_.reset();
   lastSequence_.reset();
@@ -122,18 +116,15 @@ void DecodingWatch::note(const capture::FrameOutcome& outcome, std::uint64_t seq
   }
   if (m.windowAtBlack) {
     eightBit_ = true;
-    for (int c = 0; c < 3; ++c)
-      keepLatest(atBlack_[c], (*m.windowAtBlack)[c]);
+    for (int c = 0; c < 3; ++c) keepLatest(atBlack_[c], (*m.windowAtBlack)[c]);
   }
   // An HDR sweep's shorter levels leave a dark channel in the noise of black by design (they are
   // exposed for the highlight): only the longest level, metered on the target, says whether the
   // decoding lost a channel the LED lights.
-  const bool shortLevel =
-      outcome.sample && outcome.sample->hdr && outcome.sample->hdr->exposureLevel > 0;
+  const bool shortLevel = outcome.sample && outcome.sample->hdr && outcome.sample->hdr->exposureLevel > 0;
   if (m.windowLight) {
     if (!shortLevel)
-      for (int c = 0; c < 3; ++c)
-        keepLatest(lights_[c], (*m.windowLight)[c]);
+      for (int c = 0; c < 3; ++c) keepLatest(lights_[c], (*m.windowLight)[c]);
     // As the black reading: consecutive frames only, a channel the LED lights in both.
     if (lastWindowLight_ && lastWindowSequence_ && sequence == *lastWindowSequence_ + 1)
       for (int c = 0; c < 3; ++c)
@@ -201,23 +192,20 @@ std::vector<std::string> DecodingWatch::warnings() const {
                   "camera whose processing is fixed");
   }
   std::size_t windowSteps = 0;
-  for (const auto& channel : windowSteps_)
-    windowSteps = std::max(windowSteps, channel.size());
+  for (const auto& channel : windowSteps_) windowSteps = std::max(windowSteps, channel.size());
   if (windowSteps >= kMinSamples && figures.windowStep && figures.windowStepSigmas &&
-      std::abs(*figures.windowStep) > kMaxWindowStep &&
-      *figures.windowStepSigmas > kMinStepSigmas) {
+      std::abs(*figures.windowStep) > kMaxWindowStep && *figures.windowStepSigmas > kMinStepSigmas) {
     char sigmas[32];
     std::snprintf(sigmas, sizeof sigmas, "%.1f", *figures.windowStepSigmas);
-    out.push_back(
-        "decoding: the window's " + *figures.windowStepChannel +
-        " light against the white references steps by " + percent(*figures.windowStep) +
-        " on average from a frame to the next (" + sigmas + " standard errors; more than " +
-        percent(kMaxWindowStep) +
-        " is a curve, not noise): the camera stretches its tone curve from frame to frame "
-        "(adaptive contrast: a Raspberry Pi's rpi.contrast ce_enable), which moves the "
-        "window's dark channels against the whites, so this sweep's samples cannot be "
-        "trusted. Use RAW (camera_raw = auto or on), slicecap's tuning file (tuning_file "
-        "= auto), or a camera whose processing is fixed");
+    out.push_back("decoding: the window's " + *figures.windowStepChannel +
+                  " light against the white references steps by " + percent(*figures.windowStep) +
+                  " on average from a frame to the next (" + sigmas +
+                  " standard errors; more than " + percent(kMaxWindowStep) +
+                  " is a curve, not noise): the camera stretches its tone curve from frame to frame "
+                  "(adaptive contrast: a Raspberry Pi's rpi.contrast ce_enable), which moves the "
+                  "window's dark channels against the whites, so this sweep's samples cannot be "
+                  "trusted. Use RAW (camera_raw = auto or on), slicecap's tuning file (tuning_file "
+                  "= auto), or a camera whose processing is fixed");
   }
   if (atBlack_[0].size() >= kMinSamples && figures.windowAtBlack &&
       *figures.windowAtBlack > kMaxWindowAtBlack)
@@ -247,9 +235,9 @@ std::optional<std::string> DecodingWatch::refusal() const {
     std::snprintf(sigmas, sizeof sigmas, "%.1f",
                   medianBelow ? -figures.medianSigmas : -figures.trimmedMeanSigmas.value_or(0.0));
     const std::string what =
-        medianBelow
-            ? std::string("its median is ") + sigmas + " standard errors below 0 (more than " +
-                  std::to_string(int(kMinBelowBlackSigmas)) + ")"
+        medianBelow ? std::string("its median is ") + sigmas +
+                          " standard errors below 0 (more than " +
+                          std::to_string(int(kMinBelowBlackSigmas)) + ")"
         : meanBelow ? std::string("its mean (a highlight's samples left out) is ") + sigmas +
                           " standard errors below 0 (more than " +
                           std::to_string(int(kMinMeanBelowBlackSigmas)) + ")"

@@ -28,10 +28,7 @@ SweepDevices::SweepDevices(DaemonParts& parts, EventLoop& loop, SessionManager& 
       outputs_(parts, manager),
       calibration_(parts),
       strobe_(loop, *parts.led, std::move(commanded), clock, parts.strobe,
-              {.switchedOn =
-                   [this] {
-                     if (camera_) hdr_.pairStarted(*camera_);
-                   },
+              {.switchedOn = [this] { if (camera_) hdr_.pairStarted(*camera_); },
                .failed =
                    [this](const std::string& error) {
                      manager_.pauseSweep("LED error: " + error);
@@ -101,8 +98,7 @@ bool SweepDevices::openCamera(const SliceId& slice, std::shared_ptr<hal::Camera>
     // the sweep's frames are comparable: the journal and the status say it.
     cameraAdjustment_.clear();
     if (result.status == hal::ConfigResult::Status::Adjusted) {
-      cameraAdjustment_ =
-          "camera " + opened->id() + " adjusted the configuration: " + result.reason;
+      cameraAdjustment_ = "camera " + opened->id() + " adjusted the configuration: " + result.reason;
       std::cerr << "slicecapd: " << cameraAdjustment_ << "\n";
     }
     opened->start();
@@ -179,8 +175,7 @@ void SweepDevices::describe(control::StatusView& status) const {
   calibration_.describeDecoding(status);
   if (const control::RoomLightView room = roomLight_.view(); room.toLed || room.change) {
     status.roomLight = room;
-    for (std::string& warning : roomLight_.warnings())
-      status.warnings.push_back(std::move(warning));
+    for (std::string& warning : roomLight_.warnings()) status.warnings.push_back(std::move(warning));
   }
   if (control::DecodingCheckView check = decodingCheck_.view();
       check.blackReading || check.windowAtBlack || check.windowUnlit) {

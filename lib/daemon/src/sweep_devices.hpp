@@ -9,8 +9,8 @@
 
 #include "slicecap/control/reply_views.hpp"
 #include "slicecap/daemon/daemon_parts.hpp"
-#include "slicecap/daemon/decoding_watch.hpp"
 #include "slicecap/daemon/event_loop.hpp"
+#include "slicecap/daemon/decoding_watch.hpp"
 #include "slicecap/daemon/room_light_watch.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 #include "slicecap/hal/led_timeline.hpp"

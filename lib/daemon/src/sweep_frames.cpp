@@ -28,8 +28,7 @@ void SweepDevices::pumpFrame() {
     outcome.detail = error.what();
     settled = {{frame.metadata, std::move(outcome)}};
   }
-  for (const capture::SettledFrame& each : settled)
-    apply(each);
+  for (const capture::SettledFrame& each : settled) apply(each);
   outputs_.pauseOnTextureError();
   strobe_.scheduleSwitch();
   outputs_.record(std::move(frame));
@@ -166,8 +165,7 @@ void SweepDevices::settleHeld() {
   } catch (const std::exception& error) {
     std::cerr << "slicecapd: settling the sweep's last frames: " << error.what() << "\n";
   }
-  for (const capture::SettledFrame& frame : settled)
-    apply(frame);
+  for (const capture::SettledFrame& frame : settled) apply(frame);
 }
 
 /// One settled outcome into the session, the HDR cycle, the room light and the strobe's rows.

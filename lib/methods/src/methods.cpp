@@ -81,8 +81,10 @@ MethodRun runMethodAWithGamma(const SliceSet& slices, const MethodOptions& optio
   params.rbf = options.rbf;
   params.rbf.valueGamma = valueGamma;
   const MethodId id = valueGamma == 1.0 ? MethodId::A : MethodId::AGamma;
-  MethodRun run{
-      recon::reconstructMethodA(slices, params), exrMethodValue(id, options.isotropic), {}, {}, {}};
+  MethodRun run{recon::reconstructMethodA(slices, params), exrMethodValue(id, options.isotropic),
+                {},
+                {},
+                {}};
   MethodOptions used = options;
   used.rbf.valueGamma = valueGamma;
   run.details["value_gamma"] = valueGamma;
@@ -184,17 +186,13 @@ MethodRun runPriorAs(MethodId id, const SliceSet& slices, const MethodOptions& o
   nlohmann::json pairs = nlohmann::json::array();
   for (ElevationPair p : report.measuredPairs)
     pairs.push_back(std::to_string(p.thetaIDeg) + "/" + std::to_string(p.thetaVDeg));
-  run.details["prior"] = {{"file", prior::locatePriorModel().string()},
-                          {"measured_pairs", pairs},
-                          {"anisotropy_terms", report.anisotropyTermsUsed},
-                          {"isotropic_gcv", report.isotropicScore},
-                          {"anisotropic_gcv", report.anisotropicScore},
-                          {"fit_rms_log", report.fitRmsLog},
-                          {"dynamic_range_log", report.dynamicRangeLog},
-                          {"prior_weight", report.priorWeight},
-                          {"method_b_blended", report.methodBBlended},
-                          {"points_fitted", report.samples},
-                          {"frame_groups", report.frameGroups}};
+  run.details["prior"] = {
+      {"file", prior::locatePriorModel().string()},     {"measured_pairs", pairs},
+      {"anisotropy_terms", report.anisotropyTermsUsed}, {"isotropic_gcv", report.isotropicScore},
+      {"anisotropic_gcv", report.anisotropicScore},     {"fit_rms_log", report.fitRmsLog},
+      {"dynamic_range_log", report.dynamicRangeLog},    {"prior_weight", report.priorWeight},
+      {"method_b_blended", report.methodBBlended},
+      {"points_fitted", report.samples},                {"frame_groups", report.frameGroups}};
   run.lines.push_back(
       "prior fit: RMS log residual " + std::to_string(report.fitRmsLog) +
       (report.anisotropyTermsUsed ? "; half-vector anisotropy terms used" : "; isotropic fit"));
@@ -217,8 +215,8 @@ MethodRun runPrior(const SliceSet& slices, const MethodOptions& options) {
 
 // The prior fitted to each bin's value from the window cells (docs/method.md §9.4).
 MethodRun runPriorCells(const SliceSet& slices, const MethodOptions& options) {
-  MethodRun run =
-      runPriorAs(MethodId::PriorCells, slices.cellReading(), options, options.priorFitsEveryCell);
+  MethodRun run = runPriorAs(MethodId::PriorCells, slices.cellReading(), options,
+                             options.priorFitsEveryCell);
   sayCellReading(slices, run);
   // Said only when every cell was fitted: slices without cell frames (a slice CSV, a session
   // read without cells) are the per-bin fit whatever the option, as before it was the default.
@@ -287,9 +285,7 @@ const Method& findMethod(MethodId id) {
   return method;
 }
 
-const Method& findMethod(const std::string& name) {
-  return findMethod(methodNamed(name));
-}
+const Method& findMethod(const std::string& name) { return findMethod(methodNamed(name)); }
 
 MethodRun runForSession(MethodId id, const SliceSet& slices) {
   MethodOptions options;

@@ -79,7 +79,8 @@ double PatternedMaterial::firstWeightOver(double xMm, double yMm, double, double
 
 std::shared_ptr<const PatternedMaterial> makeWovenMaterial(double cellMm, bool finerThanPixels) {
   if (!(cellMm >= 0.5 && cellMm <= 100.0))
-    throw SimError("woven material: cell must be 0.5 to 100 mm, not " + std::to_string(cellMm));
+    throw SimError("woven material: cell must be 0.5 to 100 mm, not " +
+                   std::to_string(cellMm));
   return std::make_shared<WovenMaterial>(cellMm, finerThanPixels);
 }
 

@@ -315,7 +315,8 @@ void FrameRenderer::accumulateRow(const PoseState& state, const FrameScene& scen
 
 template <typename RowSink>
 void FrameRenderer::renderRows(const FrameScene& scene, RowSink&& sink) const {
-  if (scene.exposurePoses.empty()) throw SimError("FrameRenderer: a scene needs a pose");
+  if (scene.exposurePoses.empty())
+    throw SimError("FrameRenderer: a scene needs a pose");
   const double scale = pixelScale(scene) / static_cast<double>(scene.exposurePoses.size());
   std::vector<PoseState> states;
   for (const vision::Pose& pose : scene.exposurePoses)
