@@ -47,9 +47,8 @@ std::size_t TextureStore::setAside(const SliceId& slice, std::uint64_t fromSeque
   // then the only copies of an earlier run's good frames. They stay held for settleRuns.
   if (const auto run = runStart_.find(slice); run != runStart_.end() && run->second == fromSequence)
     runStart_.erase(run);
-  const auto inRun = [&](const Entry& e) {
-    return e.sequence >= fromSequence && e.sequence < toSequence;
-  };
+  const TextureRun run{slice, fromSequence, toSequence};
+  const auto inRun = [&](const Entry& e) { return run.holds(slice, e.sequence); };
   std::vector<fs::path> files;
   if (const auto found = index_.find(slice); found != index_.end())
     for (const std::vector<Entry>& bin : found->second)
@@ -109,8 +108,7 @@ void TextureStore::leaveOutRefused(const std::vector<TextureRun>& refused,
   std::map<SliceId, std::vector<fs::path>> moved;
   std::erase_if(found, [&](const StoredFrame& f) {
     const bool inRefused = std::any_of(refused.begin(), refused.end(), [&](const TextureRun& r) {
-      return r.slice == f.slice && f.entry.sequence >= r.fromSequence &&
-             f.entry.sequence < r.toSequence;
+      return r.holds(f.slice, f.entry.sequence);
     });
     if (inRefused) moved[f.slice].push_back(f.entry.file);
     return inRefused;

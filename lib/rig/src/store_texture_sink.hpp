@@ -17,8 +17,7 @@ void logTextureRecovery(const btf::TextureStore& store);
 class StoreTextureSink final : public daemon::TextureSink {
  public:
   /// \brief Throws what btf::TextureSweep throws (io::IoError naming the folder, or a store of
-  /// another layout).
-  /// \brief `refused`: the session's refused runs, applied as the store opens.
+  /// another layout). `refused`: the session's refused runs, applied as the store opens.
   StoreTextureSink(const std::filesystem::path& directory, const SliceId& slice,
                    const vision::CameraModel& camera, const btf::TextureStoreLayout& layout,
                    const std::vector<btf::TextureRun>& refused = {});

@@ -35,6 +35,10 @@ struct TextureRun {
   SliceId slice;
   std::uint64_t fromSequence = 0;
   std::uint64_t toSequence = 0;
+  /// \brief Whether the frame numbered `sequence` of `frameSlice` is one of the run's.
+  bool holds(const SliceId& frameSlice, std::uint64_t sequence) const {
+    return frameSlice == slice && sequence >= fromSequence && sequence < toSequence;
+  }
 };
 
 /// \brief What opening a store found (and, mending, removed): what a cut-off write, a crash
