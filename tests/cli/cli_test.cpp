@@ -20,9 +20,7 @@ namespace {
 
 using Result = test::CliResult;
 
-Result run(const std::vector<std::string>& args) {
-  return test::runSlicecap(args);
-}
+Result run(const std::vector<std::string>& args) { return test::runSlicecap(args); }
 
 TEST(Cli, HelpAndVersionSucceed) {
   EXPECT_EQ(run({"--help"}).code, kExitOk);
@@ -50,8 +48,7 @@ TEST(Cli, BadUsageExitsWithTwo) {
   // An option given twice: the parser kept the last, so a first -o or --gltf was silently dropped.
   for (const std::vector<std::string>& twice :
        {std::vector<std::string>{"fit", "t.exr", "-o", "a.json", "-o", "b.json"},
-        std::vector<std::string>{"fit", "t.exr", "-o", "a.json", "--gltf", "1.gltf",
-                                 "--gltf=2.gltf"}}) {
+        std::vector<std::string>{"fit", "t.exr", "-o", "a.json", "--gltf", "1.gltf", "--gltf=2.gltf"}}) {
     const Result t = run(twice);
     EXPECT_EQ(t.code, kExitUsage) << t.err;
     EXPECT_NE(t.err.find("given twice"), std::string::npos) << t.err;
@@ -59,17 +56,14 @@ TEST(Cli, BadUsageExitsWithTwo) {
 }
 
 // A number option with a range (ParsedArgs::numberIn): text, NaN, an infinity and both sides of
-// the range are usage errors naming the option, the value and what it takes, before any input is
-// read.
+// the range are usage errors naming the option, the value and what it takes, before any input is read.
 TEST(Cli, ARangedNumberOptionNamesItsRange) {
   for (const char* value : {"-1", "1000.5", "nan", "inf", "5mm", ""}) {
-    const Result r =
-        run({"capture-offline", "no-session", "-o", "x.exr", "--room-light-unseen-mm", value});
+    const Result r = run({"capture-offline", "no-session", "-o", "x.exr", "--room-light-unseen-mm", value});
     EXPECT_EQ(r.code, kExitUsage) << value;
     EXPECT_NE(r.err.find("--room-light-unseen-mm: '" + std::string(value) +
                          "' is not a distance in mm from 0 (off) to 1000"),
-              std::string::npos)
-        << r.err;
+              std::string::npos) << r.err;
   }
 }
 
@@ -200,8 +194,8 @@ TEST(Cli, ReconstructWithALostSliceNamesItWithItsSweepAndExportsWithThePrior) {
   io::readAbrdfExr(out, &attributes);
   EXPECT_EQ(attributes.at("method"), "prior");
   // Asked for by name, the prior gives the same table without the warning.
-  const Result prior =
-      run({"reconstruct", lost, "-o", (dir / "p.exr").string(), "--method", "prior"});
+  const Result prior = run({"reconstruct", lost, "-o", (dir / "p.exr").string(), "--method",
+                            "prior"});
   ASSERT_EQ(prior.code, kExitOk) << prior.err;
   EXPECT_EQ(prior.err.find("sweep start"), std::string::npos) << prior.err;
   EXPECT_EQ(test::maxAbsDifference(io::readAbrdfExr(out), io::readAbrdfExr(dir / "p.exr")), 0.0);

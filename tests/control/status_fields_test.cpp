@@ -22,8 +22,8 @@ StatusView everyField() {
   status.next = "next";
   status.isotropy = IsotropyView{};
   status.passAgain = {PassAgainView{{SliceKind::Diagonal, {75, 75}}, 90.0, "peak_not_reached"}};
-  status.cellTextures = {
-      CellTextureView{{SliceKind::Diagonal, {75, 75}}, "window centres", 64.0, "reason"}};
+  status.cellTextures = {CellTextureView{{SliceKind::Diagonal, {75, 75}}, "window centres", 64.0,
+                                         "reason"}};
   status.error = "error";
   status.recording = RecordingView{"dir", 1, 2, 3, "stopped"};
   TextureProgressView texture;
@@ -59,8 +59,7 @@ TEST(StatusFields, AreExactlyTheKeysTheStatusWrites) {
     written.insert(key);
     if (!parents.count(key)) continue;
     const json& inside = value.is_array() && !value.empty() ? value.front() : value;
-    for (const auto& [inner, ignored] : inside.items())
-      written.insert(key + "." + inner);
+    for (const auto& [inner, ignored] : inside.items()) written.insert(key + "." + inner);
   }
   EXPECT_EQ(documented, written);
 }
@@ -70,14 +69,14 @@ TEST(StatusFields, AreExactlyTheKeysTheStatusWrites) {
 // DecodingWatch.SaysWhatTheRuleMakesOfTheRunInEachCase), so the figure's text claims no refusal.
 TEST(StatusFields, TheUnlitFigureClaimsNoRefusalAndItsVerdictNamesEachCase) {
   std::map<std::string, std::string> meaning;
-  for (const ReplyField& field : statusFields())
-    meaning[field.key] = field.meaning;
+  for (const ReplyField& field : statusFields()) meaning[field.key] = field.meaning;
   for (const char* figure : {"decoding_check.window_unlit", "decoding_check.window_unlit_channel",
                              "decoding_check.window_unlit_at_zero"})
     EXPECT_EQ(meaning.at(figure).find("refused"), std::string::npos) << figure;
   const std::string& verdict = meaning.at("decoding_check.window_unlit_verdict");
-  for (const char* whenNot : {"RAW", "fewer than 4 samples", "refuse_broken_decoding = false",
-                              "no session was open", "the run ended"})
+  for (const char* whenNot :
+       {"RAW", "fewer than 4 samples", "refuse_broken_decoding = false", "no session was open",
+        "the run ended"})
     EXPECT_NE(verdict.find(whenNot), std::string::npos) << whenNot;
 }
 

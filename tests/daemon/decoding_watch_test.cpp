@@ -62,8 +62,7 @@ TEST(DecodingWatch, WarnsOfACurveThatStepsEveryBlockAndOfAChannelBelowBlack) {
 TEST(DecodingWatch, ASmallStepWithinItsNoiseIsNotACurve) {
   // 2 % steps one way but the noise ten times that: not told apart from the noise.
   DecodingWatch watch;
-  for (int i = 0; i < 32; ++i)
-    noteBlock(watch, 1.0, 1.02 + (i % 2 ? 0.2 : -0.2), std::nullopt);
+  for (int i = 0; i < 32; ++i) noteBlock(watch, 1.0, 1.02 + (i % 2 ? 0.2 : -0.2), std::nullopt);
   ASSERT_TRUE(watch.view().blackReadingStepSigmas);
   EXPECT_LT(*watch.view().blackReadingStepSigmas, DecodingWatch::kMinStepSigmas);
   EXPECT_TRUE(watch.warnings().empty());
@@ -72,8 +71,7 @@ TEST(DecodingWatch, ASmallStepWithinItsNoiseIsNotACurve) {
 TEST(DecodingWatch, ALinearStreamIsNotWarnedAbout) {
   // RAW frames carry no window-at-black figure: their black reading's steps are not a curve's.
   DecodingWatch watch;
-  for (int i = 0; i < 32; ++i)
-    noteBlock(watch, 1.0, 1.05, std::nullopt);
+  for (int i = 0; i < 32; ++i) noteBlock(watch, 1.0, 1.05, std::nullopt);
   EXPECT_TRUE(watch.warnings().empty());
   EXPECT_TRUE(watch.view().blackReadingStep);
 }
@@ -96,8 +94,8 @@ TEST(DecodingWatch, AFewSamplesDoNotWarn) {
 
 // A sample whose window channels carry `light` (its LED light; 8-bit when `eightBit`).
 capture::FrameOutcome lightSample(const Rgb& light, bool eightBit = true) {
-  capture::FrameOutcome outcome =
-      sample(std::nullopt, eightBit ? std::optional<Rgb>(Rgb{0.4, 0.5, 0.0}) : std::nullopt);
+  capture::FrameOutcome outcome = sample(std::nullopt, eightBit ? std::optional<Rgb>(Rgb{0.4, 0.5, 0.0})
+                                                               : std::nullopt);
   outcome.measurement.windowLight = light;
   return outcome;
 }
@@ -209,13 +207,10 @@ TEST(DecodingWatch, TellsADecodingThatLostAChannelFromAnHonestDarkOne) {
         halfUnlit += *watch.view().windowUnlit > 0.5;  // the rule before this one
       }
       const double rate = double(refused) / kRuns;
-      std::printf(
-          "honest channel at +%.1f sigma, %zu samples: refused in %.2f %% of %d runs "
-          "(more than half at or below 0: %.1f %%)\n",
-          meanSigmas, samples, 100.0 * rate, kRuns, 100.0 * halfUnlit / kRuns);
-      EXPECT_LE(rate, samples < 8    ? 0.03
-                      : samples < 32 ? 0.015
-                                     : 0.001)
+      std::printf("honest channel at +%.1f sigma, %zu samples: refused in %.2f %% of %d runs "
+                  "(more than half at or below 0: %.1f %%)\n",
+                  meanSigmas, samples, 100.0 * rate, kRuns, 100.0 * halfUnlit / kRuns);
+      EXPECT_LE(rate, samples < 8 ? 0.03 : samples < 32 ? 0.015 : 0.001)
           << samples << " samples, +" << meanSigmas << " sigma";
     }
   }
@@ -255,8 +250,7 @@ TEST(DecodingWatch, SaysWhatTheRuleMakesOfTheRunInEachCase) {
 
 TEST(DecodingWatch, ALinearStreamOrAFewSamplesAreNotRefused) {
   DecodingWatch linear, few;
-  for (std::uint64_t i = 0; i < 32; ++i)
-    linear.note(lightSample({0.02, -0.01, 0.3}, false), 10 + i);
+  for (std::uint64_t i = 0; i < 32; ++i) linear.note(lightSample({0.02, -0.01, 0.3}, false), 10 + i);
   for (std::uint64_t i = 0; i + 1 < DecodingWatch::kMinRefusalSamples; ++i)
     few.note(lightSample({0.02, -0.01, 0.3}), 10 + i);
   EXPECT_FALSE(linear.refusal()) << "a RAW stream keeps what is below black";

@@ -61,9 +61,9 @@ TEST(Methods, EachRunNamesItsTableByTheRegistrysValue) {
     EXPECT_EQ(findMethod(id).run(diagonalOnly(slices), options).exrMethodName,
               exrMethodValue(id, true));
   }
-  const SliceSet points =
-      recon::extractUniformSamples(models::tabulate(*models::findMaterial("brushed-steel-30")),
-                                   recon::kUniformBaselineDirections);
+  const SliceSet points = recon::extractUniformSamples(
+      models::tabulate(*models::findMaterial("brushed-steel-30")),
+      recon::kUniformBaselineDirections);
   MethodOptions isotropic;
   isotropic.isotropic = true;
   EXPECT_EQ(findMethod(MethodId::Uniform).run(points, isotropic).exrMethodName, "uniform-RBF");
