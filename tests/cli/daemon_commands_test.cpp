@@ -197,7 +197,8 @@ TEST(DaemonCommands, ASessionFromNewToExport) {
   r = daemon.run({"export", "felt", "-o", (dir / "desk").string(), "--json"});
   ASSERT_EQ(r.code, kExitOk) << r.err;
   const json exported = json::parse(r.out);
-  EXPECT_EQ(exported["method"], "prior");   // one slice swept: the method that reads any subset
+  // One slice swept: the prior on the window cells, which reads any subset.
+  EXPECT_EQ(exported["method"], "prior-cells");
   EXPECT_EQ(exported["files"].size(), 3u);  // EXR, slices CSV, summary (no preview injected)
   for (const json& file : exported["files"])
     EXPECT_TRUE(std::filesystem::exists(file.get<std::string>())) << file;
@@ -277,7 +278,7 @@ TEST(DaemonCommands, AnExportFolderKeepsNoTableTheSamplesNoLongerGive) {
   EXPECT_THAT(r.err, HasSubstr("abrdf-halfway.exr (made from earlier samples) removed"));
   EXPECT_FALSE(std::filesystem::exists(desk / "felt-abrdf-halfway.exr"));
   EXPECT_FALSE(std::filesystem::exists(desk / "felt-abrdf-halfway.png"));
-  EXPECT_TRUE(std::filesystem::exists(desk / "felt-abrdf-prior.exr"));
+  EXPECT_TRUE(std::filesystem::exists(desk / "felt-abrdf-prior-cells.exr"));
   EXPECT_TRUE(std::filesystem::exists(desk / "felt-slices.csv"));
   EXPECT_TRUE(std::filesystem::exists(desk / "notes.txt"));
   EXPECT_TRUE(std::filesystem::exists(desk / "felt-abrdf-mine.exr"));

@@ -20,6 +20,7 @@
 #include "../support/small_disk.hpp"
 #include "../support/test_support.hpp"
 #include "slicecap/capture/window_cells.hpp"
+#include "slicecap/daemon/control_server.hpp"
 #include "slicecap/daemon/session_manager.hpp"
 #include "slicecap/daemon/texture_sink.hpp"
 #include "slicecap/io/io_error.hpp"
@@ -87,6 +88,45 @@ TEST(SessionExporter, ListsTheTextureFilesACopyNeeds) {
   for (const std::string& file : reply.files) EXPECT_TRUE(fs::is_regular_file(file)) << file;
   EXPECT_TRUE(fs::exists(dir / "out" / "felt-abrdf-b.exr"));
   EXPECT_EQ(reply.method, "b");
+}
+
+// Method B with every slice; while a slice is missing, the prior fitted to every window cell (a
+// slice set without cells is read at its window centres by the same method, so the default
+// depends only on which slices have samples).
+TEST(SessionExporter, DefaultsToMethodBElseThePriorOnEveryCell) {
+  SliceSet every, allButOne;
+  for (const SliceId& slice : sweepOrder()) {
+    const SliceSample sample{{double(slice.elevations.thetaIDeg), 0.0},
+                             {double(slice.elevations.thetaVDeg), 180.0},
+                             Rgb::gray(0.5)};
+    every.add(slice, sample);
+    if (slice != kAxial3030) allButOne.add(slice, sample);
+  }
+  EXPECT_EQ(defaultExportMethod(every), "b");
+  EXPECT_EQ(defaultExportMethod(allButOne), "prior-cells");
+}
+
+// A method that fails names the prior of its own reading, which reads any subset of the slices.
+TEST(SessionExporter, AFailedMethodNamesThePriorOfItsOwnReading) {
+  const auto dir = test::freshTempDir();
+  const capture::SessionStore store = sweptSession(dir / "storage");
+  const SessionExporter exporter([](const SliceSet&, const std::string&) -> Abrdf {
+    throw std::runtime_error("missing slices: diagonal 75/75");
+  });
+  const SliceSet slices = store.slices();
+  auto messageOf = [&](const std::string& method) {
+    try {
+      exporter.reconstruct(store, slices, method);
+    } catch (const RequestError& refusal) {
+      return std::string(refusal.what());
+    }
+    ADD_FAILURE() << method << " did not fail";
+    return std::string();
+  };
+  EXPECT_THAT(messageOf("b-cells"), HasSubstr("(`--method prior-cells` reconstructs from any subset"));
+  EXPECT_THAT(messageOf("b"), HasSubstr("(`--method prior` reconstructs from any subset"));
+  EXPECT_THAT(messageOf("prior-cells"), ::testing::Not(HasSubstr("--method prior")));
+  EXPECT_THAT(messageOf("prior"), ::testing::Not(HasSubstr("--method prior")));
 }
 
 TEST(SessionExporter, SkipsTheTextureWhileASweepCapturesIntoIt) {

@@ -451,18 +451,18 @@ TEST(SessionManager, ExportsTablesMadeFromTheSamplesAsTheyAreNow) {
   sweepFully(manager, kDiagonal3030, 0.25);
   ok(manager, control::Reconstruct{std::nullopt, "one-slice"});
 
-  // Not all eight slices: the prior, which reads any subset, is the default.
+  // Not all eight slices: the prior on the window cells, which reads any subset, is the default.
   json exported = ok(manager, control::Export{std::nullopt, "", std::nullopt});
-  EXPECT_EQ(exported["method"], "prior");
+  EXPECT_EQ(exported["method"], "prior-cells");
   EXPECT_FALSE(exported.contains("warnings"));
   const std::filesystem::path directory = exported["directory"].get<std::string>();
-  EXPECT_FLOAT_EQ(io::readAbrdfExr(directory / "felt-abrdf-prior.exr").at(3, 40).g(), 0.25);
+  EXPECT_FLOAT_EQ(io::readAbrdfExr(directory / "felt-abrdf-prior-cells.exr").at(3, 40).g(), 0.25);
   EXPECT_FLOAT_EQ(io::readAbrdfExr(directory / "felt-abrdf-one-slice.exr").at(3, 40).g(), 0.25);
 
   // A later sweep: the next export does not carry the tables made before it.
   sweepFully(manager, {SliceKind::Diagonal, {75, 75}}, 0.75);
   exported = ok(manager, control::Export{std::nullopt, "", std::nullopt});
-  EXPECT_FLOAT_EQ(io::readAbrdfExr(directory / "felt-abrdf-prior.exr").at(3, 40).g(), 0.5);
+  EXPECT_FLOAT_EQ(io::readAbrdfExr(directory / "felt-abrdf-prior-cells.exr").at(3, 40).g(), 0.5);
   ASSERT_EQ(exported["warnings"].size(), 1u);
   EXPECT_THAT(exported["warnings"][0].get<std::string>(),
               HasSubstr("abrdf-one-slice.exr (made from earlier samples) removed"));
@@ -505,7 +505,7 @@ TEST(SessionManager, AnExportFolderKeepsNoTableTheSamplesNoLongerGive) {
   ASSERT_FALSE(std::filesystem::exists(root / "felt" / "abrdf-one-slice.exr"));
   ok(manager, control::Export{std::nullopt, first.string(), std::nullopt});
   EXPECT_FALSE(std::filesystem::exists(first / "felt-abrdf-one-slice.exr"));
-  EXPECT_TRUE(std::filesystem::exists(first / "felt-abrdf-prior.exr"));
+  EXPECT_TRUE(std::filesystem::exists(first / "felt-abrdf-prior-cells.exr"));
   EXPECT_TRUE(std::filesystem::exists(first / "felt-slices.csv"));
 }
 

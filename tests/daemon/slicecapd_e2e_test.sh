@@ -40,9 +40,10 @@ for slice in "${session_slices[@]}"; do
       fail "$material called isotropic after the diagonal sweeps: $status"
     fi
     echo "after the diagonal sweeps: $("$slicecap" status | grep '^isotropy:')"
-    # An operator who stops here still gets a table: the prior reads the diagonal slices alone.
+    # An operator who stops here still gets a table: the prior (on the window cells, the
+    # default) reads the diagonal slices alone.
     "$slicecap" export e2e -o "$work/diagonal-only" >/dev/null || fail "export after the diagonal sweeps failed"
-    [[ -f $work/diagonal-only/e2e-abrdf-prior.exr ]] || fail "the diagonal sweeps' export has no prior EXR"
+    [[ -f $work/diagonal-only/e2e-abrdf-prior-cells.exr ]] || fail "the diagonal sweeps' export has no prior-cells EXR"
   fi
   if [[ $slice != "axial 75 30" ]]; then
     sweep "$slice"
@@ -96,11 +97,11 @@ one_sided_de=$(delta_e "$work/truth.exr" "$work/one-sided.exr")
 echo "dE against $material: daemon session $daemon_de, offline pipeline $offline_de," \
   "offline one-sided (the old live loop) $one_sided_de"
 # The prior's table of the first export is made afresh from all eight sweeps, not carried stale.
-[[ -f $work/desk/e2e-abrdf-prior.exr ]] || fail "the final export did not remake the prior table"
-cmp -s "$work/desk/e2e-abrdf-prior.exr" "$work/diagonal-only/e2e-abrdf-prior.exr" &&
-  fail "the prior table was exported stale (the same as after the diagonal sweeps)"
-echo "prior (slicecap export --method prior): dE $(delta_e "$work/truth.exr" "$work/diagonal-only/e2e-abrdf-prior.exr")" \
-  "from the diagonal sweeps, $(delta_e "$work/truth.exr" "$work/desk/e2e-abrdf-prior.exr") from all eight"
+[[ -f $work/desk/e2e-abrdf-prior-cells.exr ]] || fail "the final export did not remake the prior-cells table"
+cmp -s "$work/desk/e2e-abrdf-prior-cells.exr" "$work/diagonal-only/e2e-abrdf-prior-cells.exr" &&
+  fail "the prior-cells table was exported stale (the same as after the diagonal sweeps)"
+echo "prior-cells (the export after the diagonal sweeps): dE $(delta_e "$work/truth.exr" "$work/diagonal-only/e2e-abrdf-prior-cells.exr")" \
+  "from the diagonal sweeps, $(delta_e "$work/truth.exr" "$work/desk/e2e-abrdf-prior-cells.exr") from all eight"
 awk -v d="$daemon_de" -v o="$offline_de" -v p="$one_sided_de" \
   'BEGIN { exit !(d <= 1.10 * p + 1e-9 && d >= 0.90 * o - 1e-9) }' ||
   fail "the daemon's EXR (dE $daemon_de) is not between the offline pipeline's (dE $offline_de) and" \

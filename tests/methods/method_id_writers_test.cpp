@@ -101,10 +101,14 @@ TEST_F(WritersAgree, OnTheDiagonalSlicesOfAnIsotropicMaterial) {
 
 TEST_F(WritersAgree, OnASessionThatLacksSlicesWithThePrior) {
   sweep({SliceKind::Diagonal});
-  // Not all eight slices: the daemon's default is the prior, which reads the subset as it is.
+  // Not all eight slices: the daemon's default is the prior on every window cell, which reads
+  // the subset as it is (the CLI reads the export's slice CSV, which keeps no cells, by the same
+  // method and says so in the same words).
   const std::string daemon = daemonWrites(std::nullopt);
-  EXPECT_EQ(daemon, "prior");
-  EXPECT_EQ(cliWrites({"--method", "prior"}), daemon);
+  EXPECT_EQ(daemon, "prior-cells");
+  EXPECT_EQ(cliWrites({"--method", "prior-cells"}), daemon);
+  EXPECT_EQ(daemonWrites(std::string("prior")), "prior");
+  EXPECT_EQ(cliWrites({"--method", "prior"}), "prior");
 }
 
 }  // namespace

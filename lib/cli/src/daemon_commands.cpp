@@ -317,13 +317,14 @@ Command exportCommand() {
            "SESSION -o DIR [--method NAME] [--socket PATH] [--json]",
            "Export a session from slicecapd into DIR: its ABRDF as EXR, reconstructed now from "
            "the samples\nas they are (Method B when all eight slices have samples, else the "
-           "learned prior, which reads\nany subset: e.g. the diagonal sweeps of an isotropic "
-           "material; --method picks another), and\nany table made earlier, made afresh; a PNG "
-           "preview of each, the slices CSV and a JSON summary;\nwith texture capture on "
-           "(texture_resolution), also DIR/SESSION-texture: the texture's\nframes and the "
-           "slices, for `slicecap btf DIR/SESSION-texture -o BTF`.",
+           "learned prior fitted to\nevery window cell, prior-cells, which reads any subset: e.g. "
+           "the diagonal sweeps of an\nisotropic material; --method picks another), and any "
+           "table made earlier, made afresh;\na PNG preview of each, the slices CSV and a JSON "
+           "summary; with texture capture on\n"
+           "(texture_resolution), also DIR/SESSION-texture: the texture's frames and the slices,\n"
+           "for `slicecap btf DIR/SESSION-texture -o BTF`.",
            {{"output", 'o', "DIR", "the folder to copy the files into (required)"},
-            {"method", 0, "NAME", "the reconstruction method (b, prior, a, halfway, ...)"},
+            {"method", 0, "NAME", "the reconstruction method (b, prior-cells, prior, a, halfway, ...)"},
             kSocketOption,
             kJsonOption},
            1,

@@ -104,7 +104,8 @@ std::optional<fs::path> prepareTexture(const capture::SessionStore& store, const
 std::string defaultExportMethod(const SliceSet& slices) {
   for (const SliceId& slice : sweepOrder()) {
     const Slice* measured = slices.find(slice);
-    if (!measured || measured->samples.empty()) return methods::cliName(methods::MethodId::Prior);
+    if (!measured || measured->samples.empty())
+      return methods::cliName(methods::MethodId::PriorCells);
   }
   return methods::cliName(methods::MethodId::B);
 }
@@ -128,8 +129,13 @@ SessionTable SessionExporter::reconstruct(const capture::SessionStore& store,
     table = reconstruct_(slices, method);
   } catch (const std::exception& error) {
     std::string message = "reconstruction with method '" + method + "' failed: " + error.what();
-    if (methods::parseMethodName(method) != methods::MethodId::Prior)
-      message += " (`--method " + methods::cliName(methods::MethodId::Prior) +
+    // The prior of the same reading (window cells or centres) reads any subset of the slices.
+    const std::optional<methods::MethodId> asked = methods::parseMethodName(method);
+    const methods::MethodId prior = asked && methods::readsCellSamples(*asked)
+                                        ? methods::MethodId::PriorCells
+                                        : methods::MethodId::Prior;
+    if (asked != prior)
+      message += " (`--method " + methods::cliName(prior) +
                  "` reconstructs from any subset of the slices)";
     throw RequestError(control::ErrorCode::Conflict, message);
   }

@@ -92,8 +92,10 @@ class SessionExporter {
   MaterialFunction material_;
 };
 
-/// \brief The method `export` reconstructs with when none is asked for: Method B when each of
-/// the eight slices has samples, otherwise the learned prior ("prior"), which reads any subset.
+/// \brief The method `export` reconstructs with when none is asked for: Method B ("b", the window
+/// centres) when each of the eight slices has samples, otherwise the learned prior fitted to every
+/// window cell ("prior-cells"), which reads any subset (a slice without cells is read at its
+/// window centres). Why these two: docs/method.md §8.2.
 std::string defaultExportMethod(const SliceSet& slices);
 
 }  // namespace slicecap::daemon
