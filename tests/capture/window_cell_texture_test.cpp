@@ -97,6 +97,36 @@ TEST(WindowCellTexture, ASharpLobeOnAPlainMaterialIsReadAsItIs) {
     EXPECT_EQ(read[b].value, raw[b].value);
 }
 
+
+TEST(WindowCellTexture, CellsThatScatterFromFrameToFrameAreNotAPattern) {
+  // A plain material whose cells' ratios to their frame's mean change from frame to frame by a
+  // factor of e (log sigma 1: a sharp lobe that the hand's jitter moves across the window). The
+  // median over 120 frames still scatters by 1.25 / sqrt(120) of that, ~11 %, the same at every
+  // position: no spot stays brighter than another, and the spread counts only what the medians
+  // hold beyond their own scatter.
+  std::mt19937 random(11);
+  std::normal_distribution<double> jitter(0.0, 1.0);
+  const AzimuthBins bins = sweep(
+      [&](int, const UnitVector& l, const UnitVector& v) {
+        return kSatin->evaluate(l, v) * std::exp(jitter(random));
+      },
+      SliceKind::Diagonal, 30.0);
+  CellTextureRule medianOnly;
+  medianOnly.spreadBeyondScatter = false;
+  EXPECT_GT(cellTextureOf(bins, medianOnly).spreadPercent, medianOnly.textureSpreadPercent);
+  EXPECT_EQ(cellTextureOf(bins, medianOnly).action, CellTextureAction::WindowCentres);
+  const CellTexture texture = cellTextureOf(bins);
+  EXPECT_LT(texture.spreadPercent, CellTextureRule{}.textureSpreadPercent / 2);
+  EXPECT_EQ(texture.action, CellTextureAction::AsRead) << texture.describe();
+  // A print under the same scatter is still a print: its factors stay put over the frames.
+  const AzimuthBins printed = sweep(
+      [&](int k, const UnitVector& l, const UnitVector& v) {
+        return times(printAt(k), kSatin->evaluate(l, v)) * std::exp(jitter(random));
+      },
+      SliceKind::Diagonal, 30.0);
+  EXPECT_GT(cellTextureOf(printed).spreadPercent, 25.0);
+}
+
 TEST(WindowCellTexture, CellsInTheNoiseAreNotTakenForTexture) {
   // One exposure metered for the sharp Ward's peak: away from it the cells read a few noise
   // sigma either side of the dim diffuse, clamped at 0 as the pipeline clamps them. Their

@@ -41,8 +41,10 @@ struct CellTexture {
   /// frames of the cell's value over its frame's mean of cells (1 in a channel with too few
   /// frames measured). Empty when too few frames.
   std::vector<Rgb> albedoFactors;
-  /// \brief How far the factors are from 1: the root mean square of their logarithms over the
-  /// positions and channels, x 100 (about the spread in percent).
+  /// \brief How far the factors differ between positions: the root mean square of their
+  /// logarithms about each channel's mean over the positions, less the scatter their medians have
+  /// from the frames' own (CellTextureRule::spreadBeyondScatter), x 100 (about the spread in
+  /// percent).
   double spreadPercent = 0.0;
   /// \brief How much of the cells' differences the factors leave: over every two cells of
   /// different positions and frames whose directions lie within CellTextureRule::
@@ -78,8 +80,8 @@ struct CellTextureRule {
   /// for a metal's peak leaves most of its frames there, and read them as texture (spread up to
   /// 5 x on brushed-aluminium's diagonal 75/75) before this.
   double minCellSnr = 5.0;
-  /// \brief Texture when spreadPercent exceeds this: plain sharp metals measure 1-3 %, the woven
-  /// 63-73 % (docs/results/2026-12-06-window-cells.md).
+  /// \brief Texture when spreadPercent exceeds this: plain sharp metals measure 0-6 % (but
+  /// 10-24 % on a few mirror sweeps), the woven 23-67 % (docs/results/2026-12-06-window-cells.md).
   double textureSpreadPercent = 10.0;
   /// \brief Two cells are at the same directions within this (sqrt of the light and view
   /// angles squared): CellSliceRule::poolToleranceDeg, the cells sliceFromCells averages.
@@ -91,6 +93,12 @@ struct CellTextureRule {
   /// ~3 %, about the goal's 2 % margin over the window mean (docs/method.md §9.4).
   double unexplainedPercent = 5.0;
   double matchedBinsFraction = 0.5;
+  /// \brief The spread counts what the factors hold beyond a level common to every position and
+  /// beyond the scatter their medians have from the frames' own scatter (a lobe that the hand's
+  /// jitter moves across the window changes each position's ratio from frame to frame; a pattern
+  /// stays put). False: the root mean square of the log factors as they are (before 2026-12-07),
+  /// which read 9 of 176 mirror sweeps of plain metals on the virtual rig as textured, against 4.
+  bool spreadBeyondScatter = true;
 };
 
 /// \brief Why `texture` (cellTextureOf with `rule`) got its action, in words for a person: the
