@@ -479,7 +479,7 @@ TEST(SessionManager, ExportsTablesMadeFromTheSamplesAsTheyAreNow) {
   const control::ProtocolError failed =
       refused(manager, control::Export{std::nullopt, "", std::string("needs-more")});
   EXPECT_THAT(failed.message, HasSubstr("missing slices"));
-  EXPECT_THAT(failed.message, HasSubstr("--method prior"));
+  EXPECT_THAT(failed.message, HasSubstr("`--method prior` reconstructs from any subset"));
 
   // All eight slices: Method B, as the paper.
   for (const SliceId& slice : sweepOrder())

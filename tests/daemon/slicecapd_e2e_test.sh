@@ -100,7 +100,7 @@ echo "dE against $material: daemon session $daemon_de, offline pipeline $offline
 [[ -f $work/desk/e2e-abrdf-prior-cells.exr ]] || fail "the final export did not remake the prior-cells table"
 cmp -s "$work/desk/e2e-abrdf-prior-cells.exr" "$work/diagonal-only/e2e-abrdf-prior-cells.exr" &&
   fail "the prior-cells table was exported stale (the same as after the diagonal sweeps)"
-echo "prior-cells (the export after the diagonal sweeps): dE $(delta_e "$work/truth.exr" "$work/diagonal-only/e2e-abrdf-prior-cells.exr")" \
+echo "prior-cells: dE $(delta_e "$work/truth.exr" "$work/diagonal-only/e2e-abrdf-prior-cells.exr")" \
   "from the diagonal sweeps, $(delta_e "$work/truth.exr" "$work/desk/e2e-abrdf-prior-cells.exr") from all eight"
 awk -v d="$daemon_de" -v o="$offline_de" -v p="$one_sided_de" \
   'BEGIN { exit !(d <= 1.10 * p + 1e-9 && d >= 0.90 * o - 1e-9) }' ||

@@ -281,7 +281,10 @@ CellTexture cellTextureOf(const AzimuthBins& bins, const CellTextureRule& rule) 
   for (std::size_t c = 0; c < 3; ++c) {
     if (!measured[c]) continue;
     // A level common to every position (the median of ratios to a mean that a lobe's few bright
-    // cells raise puts every position below 1) is no pattern: the spread is about the mean.
+    // cells raise puts every position below 1) is no pattern: the spread is about the mean. The
+    // factors keep it, as before: they are ratios to the frame's mean of cells, which a sweep
+    // normalised by them reads. Taking each position's scatter off a spread about the mean
+    // over-counts the scatter by one mean's worth (1 / positions of it): negligible at 36-64.
     double level = 0.0;
     if (rule.spreadBeyondScatter)
       for (std::size_t k = 0; k < positions; ++k) level += logFactors[k][c] / double(positions);

@@ -324,7 +324,8 @@ Command exportCommand() {
            "(texture_resolution), also DIR/SESSION-texture: the texture's frames and the slices,\n"
            "for `slicecap btf DIR/SESSION-texture -o BTF`.",
            {{"output", 'o', "DIR", "the folder to copy the files into (required)"},
-            {"method", 0, "NAME", "the reconstruction method (b, prior-cells, prior, a, halfway, ...)"},
+            {"method", 0, "NAME",
+             "the reconstruction method (b, b-cells, prior-cells, prior, a, halfway, ...)"},
             kSocketOption,
             kJsonOption},
            1,

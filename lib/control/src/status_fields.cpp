@@ -27,8 +27,9 @@ const std::vector<ReplyField>& statusFields() {
       {"cell_texture.slice", "the slice, as a sweep's slice (name, kind, theta_i, theta_v)"},
       {"cell_texture.action", "as read (no texture), albedo-normalised (each cell divided by its "
                               "spot's albedo factor) or window centres (the cells not used)"},
-      {"cell_texture.spread_percent", "how far the cells' albedo factors are from 1, about in "
-                                      "percent (null: too few frames clear of the noise)"},
+      {"cell_texture.spread_percent",
+       "how far the cells' albedo factors differ between positions beyond the scatter of "
+       "frames, about in percent (null: too few frames clear of the noise)"},
       {"cell_texture.reason", "why that action, with the figures the rule compared"},
       {"error", "why the sweep last paused or the session's storage last failed (cleared when a "
                 "sweep starts or stops)"},

@@ -80,8 +80,8 @@ struct CellTextureRule {
   /// for a metal's peak leaves most of its frames there, and read them as texture (spread up to
   /// 5 x on brushed-aluminium's diagonal 75/75) before this.
   double minCellSnr = 5.0;
-  /// \brief Texture when spreadPercent exceeds this: plain sharp metals measure 0-6 % (but
-  /// 10-24 % on a few mirror sweeps), the woven 23-67 % (docs/results/2026-12-06-window-cells.md).
+  /// \brief Texture when spreadPercent exceeds this: plain materials' sweeps measure 0-9.4 % (but
+  /// 10-24 % on a few mirror sweeps), the woven 23-68 % (docs/results/2026-12-06-window-cells.md).
   double textureSpreadPercent = 10.0;
   /// \brief Two cells are at the same directions within this (sqrt of the light and view
   /// angles squared): CellSliceRule::poolToleranceDeg, the cells sliceFromCells averages.
@@ -97,7 +97,7 @@ struct CellTextureRule {
   /// beyond the scatter their medians have from the frames' own scatter (a lobe that the hand's
   /// jitter moves across the window changes each position's ratio from frame to frame; a pattern
   /// stays put). False: the root mean square of the log factors as they are (before 2026-12-07),
-  /// which read 9 of 176 mirror sweeps of plain metals on the virtual rig as textured, against 4.
+  /// which read 9 of 176 sweeps of plain materials on the virtual rig as textured, against 4.
   bool spreadBeyondScatter = true;
 };
 

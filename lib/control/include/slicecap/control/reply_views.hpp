@@ -199,7 +199,8 @@ struct PassAgainView {
 struct CellTextureView {
   SliceId slice;
   std::string action;  ///< "as read", "albedo-normalised" or "window centres"
-  /// How far the cells' albedo factors are from 1, about in percent; none: too few frames with
+  /// How far the cells' albedo factors differ between positions beyond the scatter of frames
+  /// (capture::CellTexture::spreadPercent), about in percent; none: too few frames with
   /// every cell clear of the noise to measure it.
   std::optional<double> spreadPercent;
   std::string reason;  ///< why that action, with the figures the rule compared
