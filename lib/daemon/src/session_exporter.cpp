@@ -131,9 +131,8 @@ SessionTable SessionExporter::reconstruct(const capture::SessionStore& store,
     std::string message = "reconstruction with method '" + method + "' failed: " + error.what();
     // The prior of the same reading (window cells or centres) reads any subset of the slices.
     const std::optional<methods::MethodId> asked = methods::parseMethodName(method);
-    const methods::MethodId prior = asked && methods::readsCellSamples(*asked)
-                                        ? methods::MethodId::PriorCells
-                                        : methods::MethodId::Prior;
+    const methods::MethodId prior =
+        asked ? methods::priorOfSameReading(*asked) : methods::MethodId::Prior;
     if (asked != prior)
       message += " (`--method " + methods::cliName(prior) +
                  "` reconstructs from any subset of the slices)";

@@ -47,8 +47,7 @@ MethodRun runMethodOrPrior(const Method& method, const SliceSet& slices,
   MethodRun run;
   try {
     // The cells' reading stays the cells' (b-cells falls back to prior-cells).
-    run = findMethod(readsCellSamples(method.id) ? MethodId::PriorCells : MethodId::Prior)
-              .run(slices, options);
+    run = findMethod(priorOfSameReading(method.id)).run(slices, options);
   } catch (const std::exception& error) {
     throw recon::ReconstructionError(lacks + "\n(and the prior, which reads any subset, failed: " +
                                      error.what() + ")");

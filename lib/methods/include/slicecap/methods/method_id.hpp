@@ -45,6 +45,12 @@ constexpr bool readsCellSamples(MethodId id) {
   return id == MethodId::BCells || id == MethodId::PriorCells;
 }
 
+/// \brief The learned prior on the same reading as `id` (prior-cells for a method on the window
+/// cells, prior otherwise): what reads any subset of the slices in its place.
+constexpr MethodId priorOfSameReading(MethodId id) {
+  return readsCellSamples(id) ? MethodId::PriorCells : MethodId::Prior;
+}
+
 /// \brief The table, one entry per MethodId in enum order.
 std::span<const MethodInfo> methodTable();
 
