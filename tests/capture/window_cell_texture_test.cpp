@@ -113,8 +113,9 @@ TEST(WindowCellTexture, CellsThatScatterFromFrameToFrameAreNotAPattern) {
       SliceKind::Diagonal, 30.0);
   CellTextureRule medianOnly;
   medianOnly.spreadBeyondScatter = false;
-  EXPECT_GT(cellTextureOf(bins, medianOnly).spreadPercent, medianOnly.textureSpreadPercent);
-  EXPECT_EQ(cellTextureOf(bins, medianOnly).action, CellTextureAction::WindowCentres);
+  const CellTexture asBefore = cellTextureOf(bins, medianOnly);
+  EXPECT_GT(asBefore.spreadPercent, medianOnly.textureSpreadPercent);
+  EXPECT_EQ(asBefore.action, CellTextureAction::WindowCentres);
   const CellTexture texture = cellTextureOf(bins);
   EXPECT_LT(texture.spreadPercent, CellTextureRule{}.textureSpreadPercent / 2);
   EXPECT_EQ(texture.action, CellTextureAction::AsRead) << texture.describe();

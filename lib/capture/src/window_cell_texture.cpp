@@ -258,28 +258,23 @@ CellTexture cellTextureOf(const AzimuthBins& bins, const CellTextureRule& rule) 
     if (rule.forced == CellTextureAction::WindowCentres) out.action = *rule.forced;
     return out;
   }
-  // Per position and channel the median over the frames, and the square of the scatter that
-  // median has from the frames' own scatter alone: (1.2533 sigma)^2 / n, sigma from the median
-  // absolute deviation (the median of n normal draws scatters by 1.2533 sigma / sqrt(n)).
-  std::vector<Rgb> logFactors(positions), medianScatter2(positions);
-  std::array<bool, 3> measured{};
-  std::vector<double> column;
+  out.albedoFactors.assign(positions, Rgb::gray(1.0));
+  double squares = 0.0;
+  std::vector<double> logFactor(positions), scatter2(positions), column;
   for (std::size_t c = 0; c < 3; ++c) {
-    measured[c] = framesOf[c].size() >= enough;
-    if (!measured[c]) continue;
+    if (framesOf[c].size() < enough) continue;
+    // Per position the median over the frames, and the square of the scatter that median has
+    // from the frames' own scatter alone: (1.2533 sigma)^2 / n, sigma from the median absolute
+    // deviation (the median of n normal draws scatters by 1.2533 sigma / sqrt(n)).
     for (std::size_t k = 0; k < positions; ++k) {
       column.clear();
       for (std::size_t f : framesOf[c]) column.push_back(frames[f].logRatio[k][c]);
-      logFactors[k][c] = median(column);
-      for (double& v : column) v = std::abs(v - logFactors[k][c]);
+      logFactor[k] = median(column);
+      out.albedoFactors[k][c] = std::exp(logFactor[k]);
+      for (double& v : column) v = std::abs(v - logFactor[k]);
       const double sigma = 1.4826 * median(column);
-      medianScatter2[k][c] = 1.2533 * 1.2533 * sigma * sigma / double(framesOf[c].size());
+      scatter2[k] = 1.2533 * 1.2533 * sigma * sigma / double(framesOf[c].size());
     }
-  }
-  out.albedoFactors.assign(positions, Rgb::gray(1.0));
-  double squares = 0.0;
-  for (std::size_t c = 0; c < 3; ++c) {
-    if (!measured[c]) continue;
     // A level common to every position (the median of ratios to a mean that a lobe's few bright
     // cells raise puts every position below 1) is no pattern: the spread is about the mean. The
     // factors keep it, as before: they are ratios to the frame's mean of cells, which a sweep
@@ -287,12 +282,9 @@ CellTexture cellTextureOf(const AzimuthBins& bins, const CellTextureRule& rule) 
     // over-counts the scatter by one mean's worth (1 / positions of it): negligible at 36-64.
     double level = 0.0;
     if (rule.spreadBeyondScatter)
-      for (std::size_t k = 0; k < positions; ++k) level += logFactors[k][c] / double(positions);
-    for (std::size_t k = 0; k < positions; ++k) {
-      out.albedoFactors[k][c] = std::exp(logFactors[k][c]);
-      squares += std::pow(logFactors[k][c] - level, 2) -
-                 (rule.spreadBeyondScatter ? medianScatter2[k][c] : 0.0);
-    }
+      for (std::size_t k = 0; k < positions; ++k) level += logFactor[k] / double(positions);
+    for (std::size_t k = 0; k < positions; ++k)
+      squares += std::pow(logFactor[k] - level, 2) - (rule.spreadBeyondScatter ? scatter2[k] : 0.0);
   }
   out.spreadPercent = 100.0 * std::sqrt(std::max(squares, 0.0) / double(channels * positions));
   measureUnexplained(bins, positions, rule, out);
